@@ -1,0 +1,544 @@
+/* relief: the command-line tool. One executable, one function per
+ * subcommand, getopt_long options, exit codes 0 (success), 1 (bad input or
+ * usage), 2 (internal or device failure). */
+#include <errno.h>
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include "relief/relief.h"
+
+#define EXIT_USAGE 1
+#define EXIT_INTERNAL 2
+
+/* ------------------------------------------------------------ helpers */
+
+static int fail_status(const char *cmd, const relief_error *err)
+{
+    fprintf(stderr, "relief %s: error: %s\n", cmd,
+            err->message[0] ? err->message : relief_strerror(err->status));
+    return relief_status_exit_code(err->status);
+}
+
+static int usage_error(const char *cmd, const char *fmt, const char *arg)
+{
+    fprintf(stderr, "relief %s: ", cmd);
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\nTry 'relief %s --help'.\n", cmd);
+    return EXIT_USAGE;
+}
+
+static int parse_int(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                     long *out)
+{
+    char *end;
+    long v;
+    errno = 0;
+    v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno != 0) {
+        fprintf(stderr, "relief %s: %s: '%s' is not an integer\n", cmd, opt, s);
+        return 0;
+    }
+    if (v < lo || v > hi) {
+        fprintf(stderr, "relief %s: %s: %ld is out of range: expected %ld..%ld\n", cmd,
+                opt, v, lo, hi);
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+static int parse_real(const char *cmd, const char *opt, const char *s, double *out)
+{
+    char *end;
+    double v;
+    errno = 0;
+    v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno != 0 || !isfinite(v)) {
+        fprintf(stderr, "relief %s: %s: '%s' is not a finite number\n", cmd, opt, s);
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+/* Comma-separated reals: "z0,z1" or "u0,v0,u1,v1". */
+static int parse_extent(const char *cmd, const char *s, relief_params *p)
+{
+    char buf[256], *tok, *save = NULL;
+    int n = 0;
+    snprintf(buf, sizeof buf, "%s", s);
+    for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        if (n == 4) {
+            fprintf(stderr, "relief %s: --extent: more than 4 values in '%s'\n", cmd, s);
+            return 0;
+        }
+        if (!parse_real(cmd, "--extent", tok, &p->extent[n]))
+            return 0;
+        ++n;
+    }
+    if (n != 2 && n != 4) {
+        fprintf(stderr,
+                "relief %s: --extent: expected z0,z1 (cylinder) or u0,v0,u1,v1 "
+                "(plane), got '%s'\n",
+                cmd, s);
+        return 0;
+    }
+    p->has_extent = 1;
+    p->n_extent = n;
+    return 1;
+}
+
+/* Is `out` the same file as `in` (by name or by inode)? */
+static int same_file(const char *in, const char *out)
+{
+    struct stat a, b;
+    if (strcmp(in, out) == 0)
+        return 1;
+    if (stat(in, &a) != 0 || stat(out, &b) != 0)
+        return 0;
+    return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+static const char *ext_of(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot && (!slash || dot > slash) ? dot : "";
+}
+
+static int known_ext(const char *path)
+{
+    const char *e = ext_of(path);
+    return strcasecmp(e, ".ply") == 0 || strcasecmp(e, ".obj") == 0 ||
+           strcasecmp(e, ".off") == 0 || strcasecmp(e, ".stl") == 0;
+}
+
+/* ------------------------------------------------ complete and smooth */
+
+enum {
+    OPT_REPORT = 256, OPT_FIT, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_SEED,
+    OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
+    OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
+    OPT_HELP
+};
+
+static const char complete_help[] =
+    "usage: relief complete IN -o OUT [options]\n"
+    "\n"
+    "Fit a primitive to the partial capture IN, lay the missing part on it, and\n"
+    "grow the capture's relief and colour over it. Writes OUT (PLY with a\n"
+    "per-vertex `label`: 0 captured, 1 completed).\n"
+    "\n"
+    "  -o, --output OUT      completed mesh (.ply, .obj, .off, .stl); required\n"
+    "  --report R.json       write a JSON report of the run\n"
+    "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
+    "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
+    "  --rotations R         rotations tried per sample, 1..64 (default 4)\n"
+    "  --error E             acceptance threshold e > 0 (default 0.1)\n"
+    "  --mu MU               shape weight 0..1 (default 1 without colour, 0.5 with)\n"
+    "  --seed N              random seed (default 1)\n"
+    "  --levels M            hierarchy levels 1..8 (default 1: mono-scale)\n"
+    "  --backend B           auto|scalar|opencl (default auto)\n"
+    "  --device N            OpenCL device index (see 'relief devices')\n"
+    "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
+    "  --spacing S           target vertex spacing (default: from the capture)\n"
+    "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
+    "  --ascii               write ascii PLY (default binary)\n"
+    "  --quiet               no progress output\n"
+    "  -h, --help            this help\n";
+
+static const char smooth_help[] =
+    "usage: relief smooth IN -o OUT [options]\n"
+    "\n"
+    "Fit a primitive to the partial capture IN and complete it smoothly (no\n"
+    "relief): the capture and target vertices on the primitive, in one\n"
+    "labelled triangulation.\n"
+    "\n"
+    "  -o, --output OUT      output mesh; required\n"
+    "  --report R.json       write a JSON report\n"
+    "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
+    "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
+    "  --spacing S           target vertex spacing (default: from the capture)\n"
+    "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
+    "  --ascii               write ascii PLY (default binary)\n"
+    "  --quiet               no progress output\n"
+    "  -h, --help            this help\n";
+
+static int parse_fit(const char *cmd, const char *s, relief_fit_model *out)
+{
+    static const relief_fit_model models[] = {RELIEF_FIT_AUTO, RELIEF_FIT_PLANE,
+                                              RELIEF_FIT_SPHERE, RELIEF_FIT_CYLINDER};
+    for (size_t i = 0; i < 4; ++i)
+        if (strcmp(s, relief_fit_model_name(models[i])) == 0) {
+            *out = models[i];
+            return 1;
+        }
+    fprintf(stderr, "relief %s: --fit: '%s' is not one of auto, plane, sphere, cylinder\n",
+            cmd, s);
+    return 0;
+}
+
+static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
+{
+    const char *cmd = smooth ? "smooth" : "complete";
+    static const struct option all_opts[] = {
+        {"output", required_argument, 0, 'o'},
+        {"report", required_argument, 0, OPT_REPORT},
+        {"fit", required_argument, 0, OPT_FIT},
+        {"oversample", required_argument, 0, OPT_OVERSAMPLE},
+        {"spacing", required_argument, 0, OPT_SPACING},
+        {"extent", required_argument, 0, OPT_EXTENT},
+        {"ascii", no_argument, 0, OPT_ASCII},
+        {"quiet", no_argument, 0, OPT_QUIET},
+        {"help", no_argument, 0, 'h'},
+        /* complete only, from here */
+        {"window", required_argument, 0, OPT_WINDOW},
+        {"rotations", required_argument, 0, OPT_ROTATIONS},
+        {"error", required_argument, 0, OPT_ERROR},
+        {"mu", required_argument, 0, OPT_MU},
+        {"seed", required_argument, 0, OPT_SEED},
+        {"levels", required_argument, 0, OPT_LEVELS},
+        {"backend", required_argument, 0, OPT_BACKEND},
+        {"device", required_argument, 0, OPT_DEVICE},
+        {0, 0, 0, 0}};
+    static const struct option smooth_opts[] = {
+        {"output", required_argument, 0, 'o'},
+        {"report", required_argument, 0, OPT_REPORT},
+        {"fit", required_argument, 0, OPT_FIT},
+        {"oversample", required_argument, 0, OPT_OVERSAMPLE},
+        {"spacing", required_argument, 0, OPT_SPACING},
+        {"extent", required_argument, 0, OPT_EXTENT},
+        {"ascii", no_argument, 0, OPT_ASCII},
+        {"quiet", no_argument, 0, OPT_QUIET},
+        {"help", no_argument, 0, 'h'},
+        {0, 0, 0, 0}};
+    relief_params p = relief_params_default();
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *in = NULL;
+    relief_read_info info;
+    const char *out = NULL, *report = NULL;
+    int c, ascii = 0, quiet = 0;
+    long v;
+    double d;
+
+    (void)ascii;
+    (void)quiet;
+    (void)report;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "o:h", smooth ? smooth_opts : all_opts, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case OPT_REPORT: report = optarg; break;
+        case OPT_FIT:
+            if (!parse_fit(cmd, optarg, &p.fit))
+                return EXIT_USAGE;
+            break;
+        case OPT_WINDOW:
+            if (!parse_int(cmd, "--window", optarg, 1, 16, &v))
+                return EXIT_USAGE;
+            p.window = (int)v;
+            break;
+        case OPT_ROTATIONS:
+            if (!parse_int(cmd, "--rotations", optarg, 1, 64, &v))
+                return EXIT_USAGE;
+            p.rotations = (int)v;
+            break;
+        case OPT_ERROR:
+            if (!parse_real(cmd, "--error", optarg, &p.error))
+                return EXIT_USAGE;
+            break;
+        case OPT_MU:
+            if (!parse_real(cmd, "--mu", optarg, &p.mu))
+                return EXIT_USAGE;
+            if (p.mu < 0.0 || p.mu > 1.0) {
+                fprintf(stderr, "relief %s: --mu: %s is out of range: expected 0..1\n",
+                        cmd, optarg);
+                return EXIT_USAGE;
+            }
+            break;
+        case OPT_SEED:
+            if (!parse_int(cmd, "--seed", optarg, 0, (long)UINT32_MAX, &v))
+                return EXIT_USAGE;
+            p.seed = (uint32_t)v;
+            break;
+        case OPT_LEVELS:
+            if (!parse_int(cmd, "--levels", optarg, 1, 8, &v))
+                return EXIT_USAGE;
+            p.levels = (int)v;
+            break;
+        case OPT_BACKEND:
+            if (strcmp(optarg, "auto") == 0)
+                p.backend = RELIEF_BACKEND_AUTO;
+            else if (strcmp(optarg, "scalar") == 0)
+                p.backend = RELIEF_BACKEND_SCALAR;
+            else if (strcmp(optarg, "opencl") == 0)
+                p.backend = RELIEF_BACKEND_OPENCL;
+            else
+                return usage_error(cmd, "--backend: '%s' is not one of auto, scalar, opencl",
+                                   optarg);
+            break;
+        case OPT_DEVICE:
+            if (!parse_int(cmd, "--device", optarg, 0, 255, &v))
+                return EXIT_USAGE;
+            p.device = (int)v;
+            break;
+        case OPT_OVERSAMPLE:
+            if (!parse_int(cmd, "--oversample", optarg, 0, 4, &v))
+                return EXIT_USAGE;
+            p.oversample = (int)v;
+            break;
+        case OPT_SPACING:
+            if (!parse_real(cmd, "--spacing", optarg, &d))
+                return EXIT_USAGE;
+            if (d <= 0.0) {
+                fprintf(stderr, "relief %s: --spacing: %s is out of range: expected a "
+                        "length > 0\n", cmd, optarg);
+                return EXIT_USAGE;
+            }
+            p.spacing = d;
+            break;
+        case OPT_EXTENT:
+            if (!parse_extent(cmd, optarg, &p))
+                return EXIT_USAGE;
+            break;
+        case OPT_ASCII: ascii = 1; break;
+        case OPT_QUIET: quiet = 1; break;
+        case 'h': fputs(smooth ? smooth_help : complete_help, stdout); return 0;
+        default: fprintf(stderr, "Try 'relief %s --help'.\n", cmd); return EXIT_USAGE;
+        }
+    }
+    if (optind >= argc)
+        return usage_error(cmd, "%smissing input mesh IN", "");
+    if (argc - optind > 1)
+        return usage_error(cmd, "unexpected argument '%s'", argv[optind + 1]);
+    if (!out)
+        return usage_error(cmd, "%smissing -o OUT", "");
+    if (!known_ext(out))
+        return usage_error(cmd, "-o: '%s' has no known mesh extension (.ply, .obj, .off, "
+                           ".stl)", out);
+    if (same_file(argv[optind], out))
+        return usage_error(cmd, "-o: '%s' is the input; relief never overwrites its input",
+                           out);
+    if (relief_params_validate(&p, &err) != RELIEF_OK)
+        return fail_status(cmd, &err);
+    if (relief_mesh_read(argv[optind], &in, &info, &err) != RELIEF_OK)
+        return fail_status(cmd, &err);
+    if (relief_mesh_triangle_count(in) == 0 && relief_mesh_vertex_count(in) < 3) {
+        fprintf(stderr, "relief %s: error: %s: %zu vertex(es) cannot define a surface\n",
+                cmd, argv[optind], relief_mesh_vertex_count(in));
+        relief_mesh_destroy(in);
+        return EXIT_USAGE;
+    }
+    relief_mesh_destroy(in);
+    fprintf(stderr, "relief %s: error: %s\n", cmd,
+            relief_strerror(RELIEF_E_NOT_IMPLEMENTED));
+    return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
+}
+
+/* ---------------------------------------------------------------- synth */
+
+static const char synth_help[] =
+    "usage: relief synth KIND -o OUT [--truth T] [--seed N] [--vertices N]\n"
+    "                    [--colour] [--noise SIGMA] [--ascii]\n"
+    "\n"
+    "Write a synthetic partial capture with known relief (OUT) and, with\n"
+    "--truth, the whole surface it was cut from (T; its `label` is 0 where the\n"
+    "capture has the vertex, 1 where a completion must produce it).\n"
+    "\n"
+    "KIND:\n"
+    "%s"
+    "\n"
+    "  -o, --output OUT      captured part; required\n"
+    "  --truth T             whole ground-truth surface\n"
+    "  --seed N              random seed (default 1)\n"
+    "  --vertices N          approximate vertex count of the truth, 100..4000000\n"
+    "                        (default 2000)\n"
+    "  --colour              per-vertex colour\n"
+    "  --noise SIGMA         scanner noise along the normal on the capture, as a\n"
+    "                        fraction of the primitive's size, 0..0.1 (default 0)\n"
+    "  --ascii               write ascii PLY (default binary)\n"
+    "  -h, --help            this help\n";
+
+static void print_synth_help(void)
+{
+    char kinds[1024];
+    size_t at = 0;
+    for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT; ++k)
+        at += (size_t)snprintf(kinds + at, sizeof kinds - at, "  %-16s %s\n",
+                               relief_synth_kind_name((relief_synth_kind)k),
+                               relief_synth_kind_description((relief_synth_kind)k));
+    printf(synth_help, kinds);
+}
+
+static int cmd_synth(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
+        {"seed", required_argument, 0, OPT_SEED},
+        {"vertices", required_argument, 0, OPT_VERTICES},
+        {"colour", no_argument, 0, OPT_COLOUR}, {"color", no_argument, 0, OPT_COLOUR},
+        {"noise", required_argument, 0, OPT_NOISE}, {"ascii", no_argument, 0, OPT_ASCII},
+        {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    relief_synth_params sp = relief_synth_params_default();
+    relief_write_options wo = {0};
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *cap = NULL, *truth = NULL;
+    const char *out = NULL, *truth_path = NULL;
+    int c, rc = 0;
+    long v;
+
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case OPT_TRUTH: truth_path = optarg; break;
+        case OPT_SEED:
+            if (!parse_int("synth", "--seed", optarg, 0, (long)UINT32_MAX, &v))
+                return EXIT_USAGE;
+            sp.seed = (uint32_t)v;
+            break;
+        case OPT_VERTICES:
+            if (!parse_int("synth", "--vertices", optarg, 100, 4000000, &v))
+                return EXIT_USAGE;
+            sp.vertices = (size_t)v;
+            break;
+        case OPT_COLOUR: sp.colour = 1; break;
+        case OPT_NOISE:
+            if (!parse_real("synth", "--noise", optarg, &sp.noise))
+                return EXIT_USAGE;
+            break;
+        case OPT_ASCII: wo.ascii = 1; break;
+        case 'h': print_synth_help(); return 0;
+        default: fprintf(stderr, "Try 'relief synth --help'.\n"); return EXIT_USAGE;
+        }
+    }
+    if (optind >= argc)
+        return usage_error("synth", "%smissing KIND", "");
+    if (argc - optind > 1)
+        return usage_error("synth", "unexpected argument '%s'", argv[optind + 1]);
+    if (!out)
+        return usage_error("synth", "%smissing -o OUT", "");
+    if (truth_path && same_file(out, truth_path))
+        return usage_error("synth", "--truth: '%s' is also the -o output", truth_path);
+    if (relief_synth_kind_parse(argv[optind], &sp.kind, &err) != RELIEF_OK)
+        return fail_status("synth", &err);
+    if (relief_synth(&sp, &cap, truth_path ? &truth : NULL, &err) != RELIEF_OK)
+        return fail_status("synth", &err);
+    if (relief_mesh_write(cap, out, &wo, &err) != RELIEF_OK ||
+        (truth && relief_mesh_write(truth, truth_path, &wo, &err) != RELIEF_OK)) {
+        rc = fail_status("synth", &err);
+        remove(out); /* both or neither: the capture alone is no use */
+    } else {
+        fprintf(stderr, "relief synth: %s: %zu vertices, %zu triangles (captured)\n", out,
+                relief_mesh_vertex_count(cap), relief_mesh_triangle_count(cap));
+        if (truth)
+            fprintf(stderr, "relief synth: %s: %zu vertices, %zu triangles (truth)\n",
+                    truth_path, relief_mesh_vertex_count(truth),
+                    relief_mesh_triangle_count(truth));
+    }
+    relief_mesh_destroy(truth);
+    relief_mesh_destroy(cap);
+    return rc;
+}
+
+/* ------------------------------------------------------ not yet there */
+
+static int cmd_pending(int argc, char **argv, const char *cmd, const char *help)
+{
+    static const struct option opts[] = {{"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    int c;
+    optind = 1;
+    opterr = 0; /* accept the options of the final interface */
+    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1)
+        if (c == 'h') {
+            fputs(help, stdout);
+            return 0;
+        }
+    opterr = 1;
+    fprintf(stderr, "relief %s: error: %s\n", cmd,
+            relief_strerror(RELIEF_E_NOT_IMPLEMENTED));
+    return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
+}
+
+static const char fit_help[] =
+    "usage: relief fit IN [--fit auto|plane|sphere|cylinder] [--json]\n"
+    "\n"
+    "Fit a primitive to the points of IN and print its parameters, the RMS\n"
+    "orthogonal residual and the inlier fraction.\n";
+static const char eval_help[] =
+    "usage: relief eval COMPLETED [--truth T] [--json]\n"
+    "\n"
+    "Measure a completion (uses the per-vertex `label`): MSI of the captured\n"
+    "and completed parts, histogram distances, the seam measure, and against a\n"
+    "truth mesh the relief RMS error and dominant frequencies.\n";
+static const char devices_help[] =
+    "usage: relief devices\n"
+    "\n"
+    "List the OpenCL platforms and devices relief can use, with their compute\n"
+    "units and memory.\n";
+
+/* ----------------------------------------------------------------- main */
+
+static const char main_help[] =
+    "usage: relief COMMAND [options]\n"
+    "\n"
+    "Complete the hidden part of a partially captured surface: fit a plane,\n"
+    "sphere or cylinder, then grow the capture's relief and colour over the\n"
+    "missing part by non-parametric sampling.\n"
+    "\n"
+    "commands:\n"
+    "  complete IN -o OUT    fit, smooth completion and relief/colour growth\n"
+    "  smooth IN -o OUT      fit and smooth completion only\n"
+    "  fit IN                fit a primitive and print it\n"
+    "  synth KIND -o OUT     write a synthetic partial surface with ground truth\n"
+    "  eval COMPLETED        measure a completion\n"
+    "  devices               list OpenCL devices\n"
+    "\n"
+    "  relief COMMAND --help    options of a command\n"
+    "  relief --version         version and build options\n"
+    "\n"
+    "Exit status: 0 success, 1 bad input or usage, 2 internal or device failure.\n";
+
+int main(int argc, char **argv)
+{
+    const char *cmd;
+    if (argc < 2) {
+        fputs(main_help, stderr);
+        return EXIT_USAGE;
+    }
+    cmd = argv[1];
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        fputs(main_help, stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "-V") == 0) {
+        printf("relief %s (OpenCL backend: %s)\n", RELIEF_VERSION_STRING,
+#ifdef RELIEF_HAVE_OPENCL
+               "built"
+#else
+               "not built"
+#endif
+        );
+        return 0;
+    }
+    /* Subcommands see argv from their own name on, as getopt expects. */
+    if (strcmp(cmd, "complete") == 0)
+        return cmd_complete_or_smooth(argc - 1, argv + 1, 0);
+    if (strcmp(cmd, "smooth") == 0)
+        return cmd_complete_or_smooth(argc - 1, argv + 1, 1);
+    if (strcmp(cmd, "synth") == 0)
+        return cmd_synth(argc - 1, argv + 1);
+    if (strcmp(cmd, "fit") == 0)
+        return cmd_pending(argc - 1, argv + 1, "fit", fit_help);
+    if (strcmp(cmd, "eval") == 0)
+        return cmd_pending(argc - 1, argv + 1, "eval", eval_help);
+    if (strcmp(cmd, "devices") == 0)
+        return cmd_pending(argc - 1, argv + 1, "devices", devices_help);
+    fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);
+    return EXIT_USAGE;
+}

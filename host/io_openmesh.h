@@ -1,0 +1,43 @@
+/* The OpenMesh adapter: the one C++ translation unit of relief. Every entry
+ * point catches every exception and returns a status. OpenMesh reports
+ * problems on its global `omerr()` stream; the adapter captures that text
+ * for the duration of a call and turns it into the error message, so these
+ * functions must not run concurrently with other OpenMesh I/O. */
+#ifndef RELIEF_HOST_IO_OPENMESH_H
+#define RELIEF_HOST_IO_OPENMESH_H
+
+#include "relief/relief.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What the adapter found besides the mesh. */
+typedef struct relief_om_read_result {
+    size_t invalid_index_faces; /* dropped: refer to a vertex that does not exist */
+    size_t repeated_vertex_faces; /* dropped: a vertex twice in one face */
+    size_t nonmanifold_faces;   /* kept, re-attached to their file vertices */
+    size_t polygon_faces_split; /* faces of more than 3 corners, fanned */
+    char messages[512];         /* what OpenMesh said, newline-separated */
+} relief_om_read_result;
+
+/* Read `path` through OpenMesh; `ext` is ".ply", ".obj", ".off" or ".stl".
+ * `ascii_char_label` tells that the file is an ascii PLY whose `label`
+ * property is a char type, which OpenMesh reads as a character code.
+ * On success `*out` holds positions, triangles and, when the file has them,
+ * colours, normals and labels. */
+relief_status relief_om_read(const char *path, const char *ext,
+                             int ascii_char_label, relief_mesh **out,
+                             relief_om_read_result *res, relief_error *err);
+
+/* Write `m` to `path` through OpenMesh in the format of `ext`. `ascii`
+ * applies to PLY. Colours go to PLY and OFF, labels to PLY as
+ * `property int label`. Writes `path` directly: callers handle atomicity. */
+relief_status relief_om_write(const relief_mesh *m, const char *path,
+                              const char *ext, int ascii, relief_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,39 @@
+/* Internal layout of relief_mesh. Host code reads and writes the arrays
+ * directly; the public API reaches them through accessors. */
+#ifndef RELIEF_HOST_MESH_H
+#define RELIEF_HOST_MESH_H
+
+#include "relief/relief.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct relief_mesh {
+    size_t nv;          /* vertex count */
+    size_t nt;          /* triangle count */
+    unsigned attrs;     /* RELIEF_MESH_* flags of the arrays present */
+    double *pos;        /* nv x 3 */
+    uint32_t *tri;      /* nt x 3, NULL when nt == 0 */
+    float *col;         /* nv x 3 in [0, 1], or NULL */
+    double *nrm;        /* nv x 3, or NULL */
+    uint8_t *label;     /* nv, or NULL */
+};
+
+/* Area of triangle t of m (input units squared). */
+double relief_mesh_triangle_area(const relief_mesh *m, size_t t);
+
+/* Build a new mesh from m keeping the vertices with keep[v] != 0 and the
+ * triangles whose three vertices are kept; vertices left in no triangle are
+ * dropped too when m has triangles. Attributes are copied; vertex order is
+ * kept. `old_to_new` (nv entries, may be NULL) receives each old vertex's new
+ * index, or UINT32_MAX for a dropped one. */
+relief_status relief_mesh_subset(const relief_mesh *m, const uint8_t *keep,
+                                 relief_mesh **out, uint32_t *old_to_new,
+                                 relief_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

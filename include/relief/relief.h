@@ -1,0 +1,265 @@
+/* relief: completion of surface relief and colour over a fitted primitive.
+ *
+ * Public C API of librelief. Everything here is plain C11: opaque handles,
+ * a status enum with relief_strerror(), parameter structs with documented
+ * defaults. No C++ type ever appears in this header.
+ *
+ * Conventions
+ * - Functions that can fail return relief_status and take a trailing
+ *   `relief_error *err` (may be NULL) that receives a message naming what
+ *   went wrong: the file, the line or element, the parameter and its range.
+ * - Outputs (`**out` pointers, files) are written only on success.
+ * - Arrays are row-major: "n x 3" means n consecutive triples.
+ * - Positions are in the input's units; colours are linear [0, 1] floats.
+ */
+#ifndef RELIEF_RELIEF_H
+#define RELIEF_RELIEF_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RELIEF_VERSION_MAJOR 0
+#define RELIEF_VERSION_MINOR 1
+#define RELIEF_VERSION_PATCH 0
+#define RELIEF_VERSION_STRING "0.1.0"
+
+/* ------------------------------------------------------------------ status */
+
+/* One list generates the enum, the names and the messages.
+ * X(code, value, name, message, exit code of the CLI) */
+#define RELIEF_STATUS_LIST(X)                                                  \
+    X(RELIEF_OK, 0, "ok", "success", 0)                                        \
+    X(RELIEF_E_USAGE, 1, "usage", "invalid usage or option", 1)                \
+    X(RELIEF_E_RANGE, 2, "range", "parameter out of range", 1)                 \
+    X(RELIEF_E_IO, 3, "io", "cannot open, read or write a file", 1)            \
+    X(RELIEF_E_FORMAT, 4, "format", "unknown or unsupported file format", 1)   \
+    X(RELIEF_E_PARSE, 5, "parse", "malformed or truncated file", 1)            \
+    X(RELIEF_E_MESH, 6, "mesh", "invalid mesh", 1)                             \
+    X(RELIEF_E_NOMEM, 7, "nomem", "out of memory", 2)                          \
+    X(RELIEF_E_DEVICE, 8, "device", "compute device failure", 2)               \
+    X(RELIEF_E_NOT_BUILT, 9, "not-built", "feature not built in", 2)           \
+    X(RELIEF_E_NOT_IMPLEMENTED, 10, "not-implemented",                         \
+      "not implemented yet", 2)                                                \
+    X(RELIEF_E_INTERNAL, 11, "internal", "internal error", 2)
+
+typedef enum relief_status {
+#define RELIEF_X_ENUM(code, value, name, msg, exit_code) code = value,
+    RELIEF_STATUS_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_status;
+
+/* Static, human-readable description of a status ("malformed or truncated
+ * file"). Never NULL; unknown values give "unknown status". */
+const char *relief_strerror(relief_status status);
+
+/* Short stable name of a status ("parse"), for JSON reports and logs. */
+const char *relief_status_name(relief_status status);
+
+/* Process exit code the CLI uses for a status: 0 success, 1 bad input or
+ * usage, 2 internal or device failure. */
+int relief_status_exit_code(relief_status status);
+
+#define RELIEF_ERROR_MESSAGE_MAX 1024
+
+/* Where a failed call explains itself. Owned by the caller; zero-initialise
+ * it or pass NULL when the detail is not wanted. */
+typedef struct relief_error {
+    relief_status status;
+    char message[RELIEF_ERROR_MESSAGE_MAX];
+} relief_error;
+
+/* ------------------------------------------------------------------- mesh */
+
+/* A triangle mesh or point cloud: positions, triangles and optional
+ * per-vertex colour, normal and label arrays. The mesh owns all arrays;
+ * pointers returned by the accessors stay valid until the mesh is destroyed.
+ */
+typedef struct relief_mesh relief_mesh;
+
+/* Which optional per-vertex attributes a mesh carries. */
+enum {
+    RELIEF_MESH_COLOURS = 1u << 0, /* n x 3 float, linear RGB in [0, 1] */
+    RELIEF_MESH_NORMALS = 1u << 1, /* n x 3 double, unit length */
+    RELIEF_MESH_LABELS = 1u << 2   /* n uint8: relief_label values */
+};
+
+/* Per-vertex label written to and read from the PLY `label` property. */
+typedef enum relief_label {
+    RELIEF_LABEL_CAPTURED = 0,  /* original sample vertex */
+    RELIEF_LABEL_COMPLETED = 1  /* vertex added by the completion */
+} relief_label;
+
+/* Create a mesh with n_vertices vertices and n_triangles triangles, all
+ * arrays zero-filled, carrying the attributes in `attributes`
+ * (RELIEF_MESH_* flags). */
+relief_status relief_mesh_create(size_t n_vertices, size_t n_triangles,
+                                 unsigned attributes, relief_mesh **out,
+                                 relief_error *err);
+
+/* Free a mesh and all its arrays. NULL is accepted. */
+void relief_mesh_destroy(relief_mesh *mesh);
+
+size_t relief_mesh_vertex_count(const relief_mesh *mesh);
+size_t relief_mesh_triangle_count(const relief_mesh *mesh);
+unsigned relief_mesh_attributes(const relief_mesh *mesh);
+
+/* n_vertices x 3 positions (double, input units). */
+double *relief_mesh_positions(relief_mesh *mesh);
+/* n_triangles x 3 vertex indices, counter-clockwise seen from outside. */
+uint32_t *relief_mesh_triangles(relief_mesh *mesh);
+/* n_vertices x 3 colours in [0, 1], or NULL when the mesh has none. */
+float *relief_mesh_colours(relief_mesh *mesh);
+/* n_vertices x 3 unit normals, or NULL when the mesh has none. */
+double *relief_mesh_normals(relief_mesh *mesh);
+/* n_vertices labels (relief_label), or NULL when the mesh has none. */
+uint8_t *relief_mesh_labels(relief_mesh *mesh);
+
+/* Check a mesh is usable: at least one vertex, finite coordinates, triangle
+ * indices in range and distinct, and, when it has triangles, at least one of
+ * non-zero area. Names the first offending vertex or triangle. */
+relief_status relief_mesh_validate(const relief_mesh *mesh, relief_error *err);
+
+/* -------------------------------------------------------------------- I/O */
+
+/* What a read found besides the mesh itself. */
+typedef struct relief_read_info {
+    char format[8];               /* "ply", "obj", "off" or "stl" */
+    int binary;                   /* 1 for binary PLY or STL */
+    size_t nonmanifold_triangles; /* kept, but not 2-manifold in the file */
+    size_t degenerate_triangles;  /* zero area; kept */
+} relief_read_info;
+
+/* Read PLY (ascii and binary), OBJ, OFF or STL, chosen by the file's
+ * extension (case-insensitive). Reads per-vertex colour, normals and the
+ * PLY `label` property when present. A file with vertices and no faces is
+ * read as a point cloud. Malformed, truncated or invalid content (NaN or Inf
+ * coordinates, face indices out of range, an empty or degenerate-only mesh)
+ * is rejected. `info` may be NULL. */
+relief_status relief_mesh_read(const char *path, relief_mesh **out,
+                               relief_read_info *info, relief_error *err);
+
+typedef struct relief_write_options {
+    int ascii; /* PLY only: 1 writes ascii, 0 (default) little-endian binary */
+} relief_write_options;
+
+/* Write a mesh as PLY, OBJ, OFF or STL by the path's extension. PLY keeps
+ * colour and the `label` property; OFF keeps colour; OBJ and STL keep
+ * geometry only. The file is written under a temporary name in the same
+ * folder and renamed into place, so `path` is either the complete new file
+ * or untouched. `opts` may be NULL (defaults). */
+relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
+                                const relief_write_options *opts,
+                                relief_error *err);
+
+/* ------------------------------------------------------ synthetic surfaces */
+
+/* Surfaces with known relief, for tests, demos and benchmarks. */
+#define RELIEF_SYNTH_KIND_LIST(X)                                             \
+    X(RELIEF_SYNTH_PLANE_WAVES, "plane-waves",                                \
+      "plane with sinusoidal relief; a disc is missing")                      \
+    X(RELIEF_SYNTH_PLANE_NOISE, "plane-noise",                                \
+      "plane with band-limited stochastic relief; a disc is missing")        \
+    X(RELIEF_SYNTH_CYLINDER_BANDS, "cylinder-bands",                          \
+      "cylinder with raised rings, seen from one side")                       \
+    X(RELIEF_SYNTH_CYLINDER_BARK, "cylinder-bark",                            \
+      "cylinder with stochastic ridges along the axis, seen from one side")   \
+    X(RELIEF_SYNTH_SPHERE_DIMPLES, "sphere-dimples",                          \
+      "golf ball: sphere with dimples, seen from one side")
+
+typedef enum relief_synth_kind {
+#define RELIEF_X_ENUM(code, name, desc) code,
+    RELIEF_SYNTH_KIND_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+    RELIEF_SYNTH_KIND_COUNT
+} relief_synth_kind;
+
+/* Name ("plane-waves") and one-line description of a kind; NULL if out of
+ * range. */
+const char *relief_synth_kind_name(relief_synth_kind kind);
+const char *relief_synth_kind_description(relief_synth_kind kind);
+/* Kind by name; RELIEF_E_USAGE (listing the valid names) if unknown. */
+relief_status relief_synth_kind_parse(const char *name,
+                                      relief_synth_kind *out,
+                                      relief_error *err);
+
+typedef struct relief_synth_params {
+    relief_synth_kind kind;
+    uint32_t seed;       /* MT19937 seed; default 1 */
+    size_t vertices;     /* approximate vertex count of the whole truth
+                            surface; default 2000, range [100, 4000000] */
+    int colour;          /* 1: per-vertex colour; default 0 */
+    double noise;        /* std. dev. of Gaussian scanner noise added along
+                            the normal of the captured part, in units of
+                            the primitive's size (radius or plane side);
+                            default 0, range [0, 0.1] */
+} relief_synth_params;
+
+/* Defaults as documented in relief_synth_params. */
+relief_synth_params relief_synth_params_default(void);
+
+/* Make a synthetic surface. `*truth` receives the whole textured surface,
+ * `*captured` the part a scanner sees (a cylinder or sphere seen from +x,
+ * a plane with a disc removed), labelled RELIEF_LABEL_CAPTURED. Either
+ * output pointer may be NULL when not wanted. Deterministic for a given
+ * parameter set on every platform. Units: plane side 1, cylinder and sphere
+ * radius 1. */
+relief_status relief_synth(const relief_synth_params *params,
+                           relief_mesh **captured, relief_mesh **truth,
+                           relief_error *err);
+
+/* ---------------------------------------------------- completion params */
+
+typedef enum relief_fit_model {
+    RELIEF_FIT_AUTO = 0,
+    RELIEF_FIT_PLANE,
+    RELIEF_FIT_SPHERE,
+    RELIEF_FIT_CYLINDER
+} relief_fit_model;
+
+typedef enum relief_backend {
+    RELIEF_BACKEND_AUTO = 0,
+    RELIEF_BACKEND_SCALAR,
+    RELIEF_BACKEND_OPENCL
+} relief_backend;
+
+/* Parameters of `relief complete` and `relief smooth`. Lengths are in the
+ * input's units; 0 for spacing means "derive from the capture". */
+typedef struct relief_params {
+    relief_fit_model fit;   /* default auto */
+    int window;             /* W, neighbourhood radius in edge hops; 3, [1, 16] */
+    int rotations;          /* R, rotations tried per sample; 4, [1, 64] */
+    double error;           /* e, acceptance threshold; 0.1, (0, 1e6] */
+    double mu;              /* shape weight; <0 means "1 without colour,
+                               0.5 with"; else [0, 1] */
+    uint32_t seed;          /* MT19937 seed; 1 */
+    int levels;             /* M hierarchy levels; 1 (mono-scale), [1, 8] */
+    relief_backend backend; /* default auto */
+    int device;             /* OpenCL device index; -1 = first usable */
+    int oversample;         /* oversampling passes; 1, [0, 4] */
+    double spacing;         /* target spacing; 0 = from capture, else > 0 */
+    int has_extent;         /* 1 when extent[] is set */
+    double extent[4];       /* cylinder: z0, z1 (2 values); plane: u0, v0,
+                               u1, v1 (4 values), in primitive coordinates */
+    int n_extent;           /* number of extent values given: 2 or 4 */
+} relief_params;
+
+/* Defaults as documented in relief_params. */
+relief_params relief_params_default(void);
+
+/* Check every field against its range; names the first one out of range
+ * with its allowed range. */
+relief_status relief_params_validate(const relief_params *params,
+                                     relief_error *err);
+
+const char *relief_fit_model_name(relief_fit_model model);
+const char *relief_backend_name(relief_backend backend);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RELIEF_RELIEF_H */

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# One-command set-up on a fresh Debian machine (as root):
+#   ./setup.sh          install what is missing, build, run the demo completion
+#   ./setup.sh deps     install what is missing, nothing else
+#   ./setup.sh build    install what is missing and build
+# Idempotent: packages already there are not reinstalled, the build is
+# incremental. Environment: BUILD_DIR (default build), JOBS (default nproc).
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PACKAGES=(cmake make gcc g++ pkg-config
+          libopenmesh-dev libflann-dev
+          ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo)
+BUILD_DIR=${BUILD_DIR:-build}
+JOBS=${JOBS:-$(nproc)}
+
+install_deps() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [[ ${#missing[@]} -eq 0 ]] && return 0
+  if [[ $(id -u) -ne 0 ]]; then
+    echo "setup: missing packages: ${missing[*]}; run this as root (or: sudo apt-get install ${missing[*]})" >&2
+    exit 1
+  fi
+  echo "setup: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+build() {
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
+  cmake --build "$BUILD_DIR" -j"$JOBS"
+}
+
+demo() {
+  local out=out/demo relief=$BUILD_DIR/relief
+  mkdir -p "$out"
+  "$relief" synth cylinder-bark --colour --seed 1 -o "$out/capture.ply" --truth "$out/truth.ply"
+  echo "setup: demo input: $out/capture.ply (a 2.5D capture of a bark-textured cylinder; truth in $out/truth.ply)"
+  set +e
+  "$relief" complete "$out/capture.ply" -o "$out/completed.ply" --report "$out/report.json" \
+    2> >(tee "$out/complete.log" >&2)
+  local rc=$?
+  set -e
+  wait
+  if [[ $rc -eq 0 ]]; then
+    echo "setup: completed mesh: $out/completed.ply"
+    echo "setup: report:         $out/report.json"
+  elif [[ $rc -eq 2 ]] && grep -q "not implemented yet" "$out/complete.log"; then
+    # Until the completion stages land, the demo stops at the capture.
+    echo "setup: this version builds the pipeline's input only: 'relief complete' is" >&2
+    echo "setup: not implemented yet, so no completed mesh or report was written." >&2
+  else
+    exit $rc
+  fi
+}
+
+case "${1:-all}" in
+  deps) install_deps ;;
+  build) install_deps; build ;;
+  all) install_deps; build; demo ;;
+  *) echo "usage: $0 [deps|build]" >&2; exit 1 ;;
+esac

@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# CLI contract: exit codes (0 success, 1 bad input or usage, 2 internal),
+# --help everywhere, synth determinism, no partial output, input never
+# overwritten. Usage: test_cli.sh PATH/TO/relief
+set -u
+relief=$1
+tmp=$(mktemp -d /tmp/relief-cli-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+
+# expect CODE [NEEDLE] -- COMMAND...: exit code CODE and, if given, NEEDLE in stderr.
+expect() {
+  local want=$1 needle=$2; shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  if [[ $got -ne $want ]]; then
+    echo "FAIL: exit $got, expected $want: $*"; sed 's/^/  /' "$tmp/err"; fail=$((fail+1)); return
+  fi
+  if [[ -n $needle ]] && ! grep -qF -- "$needle" "$tmp/err" "$tmp/out"; then
+    echo "FAIL: no '$needle' in the output of: $*"; sed 's/^/  /' "$tmp/err"; fail=$((fail+1)); return
+  fi
+  pass=$((pass+1))
+}
+
+# Help and version.
+expect 0 "usage: relief COMMAND" -- "$relief" --help
+expect 0 "relief 0." -- "$relief" --version
+for c in complete smooth fit synth eval devices; do
+  expect 0 "usage: relief $c" -- "$relief" $c --help
+done
+expect 1 "unknown command" -- "$relief" frobnicate
+expect 1 "" -- "$relief"
+
+# synth: real output, deterministic, both files or neither.
+expect 0 "" -- "$relief" synth cylinder-bark -o "$tmp/a.ply" --truth "$tmp/at.ply" --seed 7 --colour
+expect 0 "" -- "$relief" synth cylinder-bark -o "$tmp/b.ply" --truth "$tmp/bt.ply" --seed 7 --colour
+if cmp -s "$tmp/a.ply" "$tmp/b.ply" && cmp -s "$tmp/at.ply" "$tmp/bt.ply"; then pass=$((pass+1)); else echo "FAIL: synth is not byte-identical for one seed"; fail=$((fail+1)); fi
+expect 0 "" -- "$relief" synth cylinder-bark -o "$tmp/c.ply" --seed 8
+if cmp -s "$tmp/a.ply" "$tmp/c.ply"; then echo "FAIL: seeds 7 and 8 give the same file"; fail=$((fail+1)); else pass=$((pass+1)); fi
+for k in plane-waves plane-noise cylinder-bands sphere-dimples; do
+  expect 0 "" -- "$relief" synth $k -o "$tmp/$k.off" --vertices 500
+done
+expect 1 "unknown surface kind" -- "$relief" synth golf -o "$tmp/g.ply"
+expect 1 "out of range" -- "$relief" synth plane-waves -o "$tmp/g.ply" --vertices 5
+expect 1 "not an integer" -- "$relief" synth plane-waves -o "$tmp/g.ply" --seed x
+expect 1 "missing -o" -- "$relief" synth plane-waves
+expect 1 "cannot" -- "$relief" synth plane-waves -o "$tmp/nodir/g.ply"
+expect 1 "unknown output format" -- "$relief" synth plane-waves -o "$tmp/g.xyz"
+[[ ! -e $tmp/g.ply && ! -e $tmp/g.xyz ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed synth"; fail=$((fail+1)); }
+leftovers=$(find "$tmp" -name '*.tmp-*' | wc -l)
+[[ $leftovers -eq 0 ]] && pass=$((pass+1)) || { echo "FAIL: $leftovers temporary files left"; fail=$((fail+1)); }
+
+# complete and smooth validate options and input before anything else.
+in=$tmp/a.ply
+for c in complete smooth; do
+  expect 1 "missing -o" -- "$relief" $c "$in"
+  expect 1 "missing input" -- "$relief" $c -o "$tmp/o.ply"
+  expect 1 "never overwrites its input" -- "$relief" $c "$in" -o "$in"
+  expect 1 "never overwrites its input" -- "$relief" $c "$in" -o "$tmp/../$(basename "$tmp")/a.ply"
+  expect 1 "cannot open" -- "$relief" $c "$tmp/missing.ply" -o "$tmp/o.ply"
+  expect 1 "unknown mesh format" -- "$relief" $c "$tmp/out" -o "$tmp/o.ply"
+  expect 1 "no known mesh extension" -- "$relief" $c "$in" -o "$tmp/o.txt"
+  expect 1 "is not one of" -- "$relief" $c "$in" -o "$tmp/o.ply" --fit cone
+  expect 1 "expected a length > 0" -- "$relief" $c "$in" -o "$tmp/o.ply" --spacing -1
+  expect 1 "--extent" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 1,2,3
+  expect 1 "extent is empty" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 2,1
+  expect 1 "--oversample" -- "$relief" $c "$in" -o "$tmp/o.ply" --oversample 9
+  expect 1 "unrecognized option" -- "$relief" $c "$in" -o "$tmp/o.ply" --bogus
+done
+expect 1 "--window" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 0
+expect 1 "--window" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 17
+expect 1 "--rotations" -- "$relief" complete "$in" -o "$tmp/o.ply" --rotations 0
+expect 1 "--error" -- "$relief" complete "$in" -o "$tmp/o.ply" --error nan
+expect 1 "error threshold" -- "$relief" complete "$in" -o "$tmp/o.ply" --error -1
+expect 1 "--mu" -- "$relief" complete "$in" -o "$tmp/o.ply" --mu 1.5
+expect 1 "--levels" -- "$relief" complete "$in" -o "$tmp/o.ply" --levels 0
+expect 1 "--backend" -- "$relief" complete "$in" -o "$tmp/o.ply" --backend cuda
+expect 1 "--device" -- "$relief" complete "$in" -o "$tmp/o.ply" --device -3
+expect 1 "unrecognized option" -- "$relief" smooth "$in" -o "$tmp/o.ply" --window 3
+
+# Malformed input: exit 1 with the line named, no output.
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 zero 0\n' > "$tmp/bad.ply"
+expect 1 "bad.ply:9: vertex 1" -- "$relief" complete "$tmp/bad.ply" -o "$tmp/o.ply"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n' > "$tmp/bad.off"
+expect 1 "refers to vertex 5" -- "$relief" smooth "$tmp/bad.off" -o "$tmp/o.ply"
+[[ ! -e $tmp/o.ply ]] && pass=$((pass+1)) || { echo "FAIL: output written for bad input"; fail=$((fail+1)); }
+
+# Valid input and options reach the completion itself.
+cp "$in" "$tmp/keep.ply"
+"$relief" complete "$in" -o "$tmp/o.ply" --quiet --backend scalar 2>"$tmp/err"
+rc=$?
+if [[ $rc -eq 0 || $rc -eq 2 ]]; then pass=$((pass+1)); else echo "FAIL: complete on valid input exited $rc"; cat "$tmp/err"; fail=$((fail+1)); fi
+cmp -s "$in" "$tmp/keep.ply" && pass=$((pass+1)) || { echo "FAIL: the input changed"; fail=$((fail+1)); }
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
