@@ -482,6 +482,44 @@ static const char devices_help[] =
     "List the OpenCL platforms and devices relief can use, with their compute\n"
     "units and memory.\n";
 
+/* -------------------------------------------------------------- devices */
+
+static int cmd_devices(int argc, char **argv)
+{
+    static const struct option opts[] = {{"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    relief_device_info dev[64];
+    relief_error err = {RELIEF_OK, ""};
+    size_t n = 0;
+    int c;
+
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'h') {
+            fputs(devices_help, stdout);
+            return 0;
+        }
+        fprintf(stderr, "Try 'relief devices --help'.\n");
+        return EXIT_USAGE;
+    }
+    if (optind < argc)
+        return usage_error("devices", "unexpected argument '%s'", argv[optind]);
+    if (relief_devices(dev, sizeof dev / sizeof dev[0], &n, &err) != RELIEF_OK)
+        return fail_status("devices", &err);
+    if (n == 0) {
+        printf("no OpenCL platform or device found; relief will use the scalar backend\n");
+        return 0;
+    }
+    for (size_t i = 0; i < n && i < sizeof dev / sizeof dev[0]; ++i)
+        printf("device %d: %s [%s] on %s\n"
+               "          %s, driver %s, %u compute units, %.1f GiB global memory, "
+               "%.1f GiB max buffer\n",
+               dev[i].index, dev[i].name, dev[i].type, dev[i].platform, dev[i].version,
+               dev[i].driver, dev[i].compute_units,
+               (double)dev[i].global_mem_bytes / 1073741824.0,
+               (double)dev[i].max_alloc_bytes / 1073741824.0);
+    return 0;
+}
+
 /* ----------------------------------------------------------------- main */
 
 static const char main_help[] =
@@ -538,7 +576,7 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "eval") == 0)
         return cmd_pending(argc - 1, argv + 1, "eval", eval_help);
     if (strcmp(cmd, "devices") == 0)
-        return cmd_pending(argc - 1, argv + 1, "devices", devices_help);
+        return cmd_devices(argc - 1, argv + 1);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);
     return EXIT_USAGE;
 }

@@ -31,24 +31,29 @@ struct Traits : OpenMesh::DefaultTraits {
 typedef OpenMesh::TriMesh_ArrayKernelT<Traits> Mesh;
 
 // Routes OpenMesh's global error stream into a string for one call and
-// restores it to stderr afterwards, whatever happens.
+// restores it afterwards, whatever happens. It swaps the stream's buffer
+// rather than using mostream::connect/disconnect, whose disconnect leaks the
+// target it allocated.
 class OmerrCapture {
   public:
     OmerrCapture()
+        : saved_(omerr().rdbuf(&text_)), log_on_(omlog().is_enabled()),
+          out_on_(omout().is_enabled())
     {
-        omerr().disconnect(std::cerr);
-        omerr().connect(text_);
         omlog().disable();
         omout().disable();
     }
     ~OmerrCapture()
     {
         omerr().flush();
-        omerr().disconnect(text_);
-        omerr().connect(std::cerr);
-        omlog().enable();
-        omout().enable();
+        omerr().rdbuf(saved_);
+        if (log_on_)
+            omlog().enable();
+        if (out_on_)
+            omout().enable();
     }
+    OmerrCapture(const OmerrCapture &) = delete;
+    OmerrCapture &operator=(const OmerrCapture &) = delete;
     std::string str()
     {
         omerr().flush();
@@ -56,7 +61,9 @@ class OmerrCapture {
     }
 
   private:
-    std::ostringstream text_;
+    std::stringbuf text_;
+    std::streambuf *saved_;
+    bool log_on_, out_on_;
 };
 
 size_t count_lines_with(const std::string &text, const char *needle)

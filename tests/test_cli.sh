@@ -92,5 +92,13 @@ rc=$?
 if [[ $rc -eq 0 || $rc -eq 2 ]]; then pass=$((pass+1)); else echo "FAIL: complete on valid input exited $rc"; cat "$tmp/err"; fail=$((fail+1)); fi
 cmp -s "$in" "$tmp/keep.ply" && pass=$((pass+1)) || { echo "FAIL: the input changed"; fail=$((fail+1)); }
 
+# devices: lists what the ICD loader sees; an empty vendor folder means none.
+if command -v clinfo >/dev/null && clinfo -l 2>/dev/null | grep -q Device; then
+  expect 0 "compute units" -- "$relief" devices
+fi
+mkdir -p "$tmp/no-icd"
+expect 0 "no OpenCL platform" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" devices
+expect 1 "unexpected argument" -- "$relief" devices extra
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -258,6 +258,29 @@ relief_status relief_params_validate(const relief_params *params,
 const char *relief_fit_model_name(relief_fit_model model);
 const char *relief_backend_name(relief_backend backend);
 
+/* ---------------------------------------------------------------- devices */
+
+/* One OpenCL device as `relief devices` lists it and `--device` picks it. */
+typedef struct relief_device_info {
+    int index;                 /* the number --device takes */
+    char platform[128];        /* platform name */
+    char name[128];            /* device name */
+    char type[16];             /* "cpu", "gpu", "accelerator" or "other" */
+    char version[64];          /* the device's OpenCL version string */
+    char driver[64];           /* driver version */
+    unsigned compute_units;
+    uint64_t global_mem_bytes;
+    uint64_t max_alloc_bytes;  /* largest single buffer */
+} relief_device_info;
+
+/* Enumerate the OpenCL devices of every platform, numbered in platform then
+ * device order. Fills at most `cap` entries of `out` (may be NULL with cap 0)
+ * and sets `*count` to the number found; no platform is not an error (count
+ * 0). RELIEF_E_NOT_BUILT when relief was built without OpenCL;
+ * RELIEF_E_DEVICE, naming the OpenCL error, when a query fails. */
+relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
+                             relief_error *err);
+
 #ifdef __cplusplus
 }
 #endif
