@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # CLI contract: exit codes (0 success, 1 bad input or usage, 2 internal),
 # --help everywhere, synth determinism, no partial output, input never
-# overwritten. Usage: test_cli.sh PATH/TO/relief
+# overwritten. Usage: test_cli.sh PATH/TO/relief [DATA_DIR]
 set -u
 relief=$1
+data=${2:-}
 tmp=$(mktemp -d /tmp/relief-cli-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
@@ -91,6 +92,24 @@ cp "$in" "$tmp/keep.ply"
 rc=$?
 if [[ $rc -eq 0 || $rc -eq 2 ]]; then pass=$((pass+1)); else echo "FAIL: complete on valid input exited $rc"; cat "$tmp/err"; fail=$((fail+1)); fi
 cmp -s "$in" "$tmp/keep.ply" && pass=$((pass+1)) || { echo "FAIL: the input changed"; fail=$((fail+1)); }
+
+# fit: text and JSON with the contract's keys; the model follows the data.
+"$relief" synth sphere-dimples -o "$tmp/ball.ply" --noise 0.002 2>/dev/null
+expect 0 '"model": "sphere"' -- "$relief" fit "$tmp/ball.ply" --json
+expect 0 '"inlier_fraction"' -- "$relief" fit "$tmp/ball.ply" --json
+expect 0 '"center": [' -- "$relief" fit "$tmp/ball.ply" --json --fit sphere
+expect 0 '"axis_dir": [' -- "$relief" fit "$tmp/ball.ply" --json --fit cylinder
+expect 0 "why: sphere" -- "$relief" fit "$tmp/ball.ply"
+"$relief" synth plane-waves -o "$tmp/flat.ply" 2>/dev/null
+expect 0 '"normal": [' -- "$relief" fit "$tmp/flat.ply" --json
+expect 1 "is not one of" -- "$relief" fit "$tmp/ball.ply" --fit cone
+expect 1 "cannot open" -- "$relief" fit "$tmp/none.ply"
+printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 1 1\n' > "$tmp/two.ply"
+expect 1 "" -- "$relief" fit "$tmp/two.ply"
+if [[ -n $data && -f $data/stanford_drill/drill_shaft_vrip.ply ]]; then
+  expect 0 '"model": "cylinder"' -- "$relief" fit "$data/stanford_drill/drill_shaft_vrip.ply" --json
+  expect 0 '"model": "sphere"' -- "$relief" fit "$data/bennu_radar/bennu.obj" --json
+fi
 
 # devices: lists what the ICD loader sees; an empty vendor folder means none.
 if command -v clinfo >/dev/null && clinfo -l 2>/dev/null | grep -q Device; then

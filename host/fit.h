@@ -1,0 +1,161 @@
+/* Primitive fitting: the smooth base shape (plane, sphere or cylinder) that
+ * the completion continues, and the geometry the later stages need from it
+ * (signed distance, projection, outward normal).
+ *
+ * Method. Every model starts from a closed-form estimate and is then refined
+ * on the orthogonal (Euclidean) distances:
+ * - plane: principal component analysis (3 x 3 Jacobi eigen-solver). The
+ *   plane through the centroid normal to the direction of least spread IS the
+ *   orthogonal least-squares plane, so there is nothing left to refine.
+ * - sphere: algebraic linear least squares (|p|^2 = 2 c.p + d), then
+ *   Levenberg-Marquardt on |p - c| - r.
+ * - cylinder: for each start axis (6 directions 30 degrees apart in the
+ *   plane of the two larger principal axes, the smallest principal axis,
+ *   and the direction most orthogonal to the normals when normals are
+ *   given), an algebraic circle fit in the plane orthogonal to the axis, then
+ *   Levenberg-Marquardt on the 5 parameters (axis point 2, axis direction 2,
+ *   radius 1); the direction is updated by a local rotation about the two
+ *   axes orthogonal to it, so no parameterisation singularity exists. The
+ *   start axes are ranked by the median |distance| after a short
+ *   refinement; the best one is then fitted in full.
+ * All of this runs on points centred on their centroid and scaled to unit
+ * RMS radius, so the tolerances are scale-free (a drill bit in metres and a
+ * building in millimetres behave alike).
+ *
+ * Robustness. After the first fit on all points, points with |distance| >
+ * RELIEF_FIT_TRIM_K * s, s = 1.4826 * median |distance| (the MAD scale of a
+ * zero-centred residual), are dropped and the model refitted, until the
+ * inlier set stops changing (at most RELIEF_FIT_TRIM_PASSES passes). The
+ * threshold never drops more than half the points. Relief that is not
+ * noise (a drill's flutes) is partly trimmed too, which pulls a radius
+ * slightly towards the majority of the surface; rms_all reports the
+ * residual over every point.
+ *
+ * Model choice (RELIEF_FIT_AUTO). Each model (k = 3, 4, 5 parameters) is
+ * scored over ALL n points by
+ *     sqrt(sum_i min(d_i^2, T^2) / (n - k)) * (1 + RELIEF_FIT_GAIN)^(k - 3)
+ * with T the trimming threshold of the model whose threshold is smallest.
+ * The common cap makes a point that one model trims cost it as much as a
+ * gross outlier costs every model, so no model wins by discarding points
+ * (truncated least squares, as in MSAC or Torr's GRIC); n - k is the usual
+ * degrees-of-freedom correction. The lowest score wins, so every extra
+ * parameter must cut the residual by RELIEF_FIT_GAIN (10%): a sphere or
+ * cylinder fitted to a plane always reaches a slightly lower residual, and
+ * this keeps the plane. The reason string quotes each model's inlier rms.
+ * On more than 20000 points the choice (and the ranking of the cylinder's
+ * start axes) is made on an evenly strided subset of 20000, and the chosen
+ * model is then refitted on all points; model_rms of the models not chosen
+ * are then those of the subset.
+ *
+ * Units. Positions, distances, radii and rms are in the input's units; the
+ * fitted primitive is in the input's coordinate frame. Arrays are row-major:
+ * "n x 3" means n consecutive (x, y, z) triples.
+ */
+#ifndef RELIEF_HOST_FIT_H
+#define RELIEF_HOST_FIT_H
+
+#include <stddef.h>
+
+#include "relief/relief.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Robust trimming: inlier when |distance| <= K * 1.4826 * median|distance|. */
+#define RELIEF_FIT_TRIM_K 3.0
+/* Most refit-and-trim passes after the first fit. */
+#define RELIEF_FIT_TRIM_PASSES 10
+/* Fraction by which each extra parameter must cut the residual (auto). */
+#define RELIEF_FIT_GAIN 0.10
+/* A fit is poor when rms > RELIEF_FIT_POOR * the primitive's size. */
+#define RELIEF_FIT_POOR 0.10
+
+#define RELIEF_FIT_REASON_MAX 320
+
+/* A fitted surface. Signed distances are positive on the side `normal`
+ * points to: outside a sphere or cylinder, along `dir` for a plane. */
+typedef struct relief_fit_primitive {
+    relief_fit_model model; /* RELIEF_FIT_PLANE, _SPHERE or _CYLINDER */
+    double point[3]; /* plane: its point nearest the input centroid;
+                        sphere: the centre;
+                        cylinder: the axis point nearest the input centroid */
+    double dir[3];   /* plane: unit normal; cylinder: unit axis direction;
+                        sphere: (0, 0, 0). Sign: along the mean of the
+                        input normals (plane, when normals were given),
+                        else its largest-magnitude component is positive. */
+    double radius;   /* sphere and cylinder: > 0; plane: 0 */
+} relief_fit_primitive;
+
+/* What relief_fit found. */
+typedef struct relief_fit_result {
+    relief_fit_primitive prim;
+    double rms;             /* RMS orthogonal distance over the inliers of
+                               the robust trimming (input units) */
+    double rms_all;         /* the same over all n points */
+    double inlier_fraction; /* fraction of ALL points with |distance| <=
+                               3 * rms, in [0, 1] */
+    size_t n_points;        /* points given */
+    size_t n_inliers;       /* points the rms is taken over */
+    double size;            /* sphere, cylinder: the radius; plane: the
+                               inliers' RMS distance from their centroid
+                               within the plane (input units) */
+    int poor_fit;           /* 1 when rms > RELIEF_FIT_POOR * size */
+    double model_rms[4];    /* indexed by relief_fit_model: inlier rms of
+                               each model tried (all three under auto, one
+                               otherwise); -1 for a model not tried or that
+                               could not be fitted. [RELIEF_FIT_AUTO] = -1. */
+    char reason[RELIEF_FIT_REASON_MAX]; /* one sentence, e.g. "sphere: rms
+                               0.0119 vs plane 0.1335, cylinder 0.0507" */
+} relief_fit_result;
+
+/* Fit `model` (or choose one, RELIEF_FIT_AUTO) to n points.
+ *
+ * pts      n x 3 positions (input units), finite.
+ * normals  n x 3 unit normals of the points, or NULL. Used only to estimate
+ *          a cylinder's axis (one more start) and to orient a plane's
+ *          normal; zero rows are allowed and ignored.
+ * n        number of points: at least 3 (plane, auto), 4 (sphere),
+ *          5 (cylinder).
+ * model    RELIEF_FIT_AUTO, _PLANE, _SPHERE or _CYLINDER.
+ * out      receives the result, written only on success.
+ *
+ * Errors: RELIEF_E_USAGE for NULL arrays or an unknown model; RELIEF_E_MESH
+ * for too few points, a non-finite coordinate, points that all coincide or
+ * are collinear, coplanar points asked to fit a sphere, or a requested model
+ * that cannot be fitted (its radius diverges); RELIEF_E_NOMEM. The message
+ * names the problem (which point, how many, which model). */
+relief_status relief_fit(const double *pts, const double *normals, size_t n,
+                         relief_fit_model model, relief_fit_result *out,
+                         relief_error *err);
+
+/* relief_fit on a mesh's vertices. Normals: the mesh's own when it has
+ * them, else area-weighted triangle normals when it has triangles, else
+ * none. */
+relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
+                              relief_fit_result *out, relief_error *err);
+
+/* Signed orthogonal distance (input units) from p (3 doubles) to the
+ * primitive: plane (p - point).dir; sphere |p - point| - radius; cylinder
+ * distance to the axis - radius. */
+double relief_fit_distance(const relief_fit_primitive *prim, const double p[3]);
+
+/* Unit outward normal of the primitive at the foot of p, written to
+ * nrm[3]: the plane's dir; (p - centre) / |p - centre| for a sphere; the
+ * radial direction from the axis for a cylinder. At a sphere's centre or on
+ * a cylinder's axis, where it is undefined, a fixed unit vector (orthogonal
+ * to the axis for a cylinder) is returned. */
+void relief_fit_normal(const relief_fit_primitive *prim, const double p[3],
+                       double nrm[3]);
+
+/* Orthogonal projection q[3] of p[3] onto the primitive, the closest point
+ * of the (infinite) surface: q = p - distance(p) * normal(p). The
+ * displacement of p from the primitive is D = p - q. q may alias p. */
+void relief_fit_project(const relief_fit_primitive *prim, const double p[3],
+                        double q[3]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
