@@ -11,7 +11,11 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "atomic.h"
 #include "fit.h"
+#include "json.h"
+#include "report.h"
+#include "surface.h"
 #include "relief/relief.h"
 
 #define EXIT_USAGE 1
@@ -125,7 +129,7 @@ enum {
     OPT_REPORT = 256, OPT_FIT, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_SEED,
     OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
     OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
-    OPT_HELP
+    OPT_FRAMES, OPT_HELP
 };
 
 static const char complete_help[] =
@@ -149,6 +153,7 @@ static const char complete_help[] =
     "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
     "  --spacing S           target vertex spacing (default: from the capture)\n"
     "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
+    "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
@@ -157,15 +162,25 @@ static const char smooth_help[] =
     "usage: relief smooth IN -o OUT [options]\n"
     "\n"
     "Fit a primitive to the partial capture IN and complete it smoothly (no\n"
-    "relief): the capture and target vertices on the primitive, in one\n"
-    "labelled triangulation.\n"
+    "relief yet): the capture's samples and target vertices laid on the\n"
+    "primitive over the missing region, in one manifold triangulation. OUT's\n"
+    "per-vertex `label` is 0 for samples and 1 for targets.\n"
+    "\n"
+    "Region: cylinder, the full turn over the capture's axial extent; sphere,\n"
+    "the whole sphere; plane, the holes inside the capture's outline.\n"
+    "Target spacing: the 10th percentile of the capture's edge lengths (a\n"
+    "robust minimum: real scans have slivers), or --spacing.\n"
     "\n"
     "  -o, --output OUT      output mesh; required\n"
-    "  --report R.json       write a JSON report\n"
+    "  --report R.json       write a JSON report (fit, spacing, counts, frame,\n"
+    "                        seconds per stage)\n"
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
-    "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
-    "  --spacing S           target vertex spacing (default: from the capture)\n"
-    "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
+    "  --oversample N        1-to-4 subdivisions of the capture, 0..4 (default 1)\n"
+    "  --spacing S           target vertex spacing in the input's units\n"
+    "  --extent A,B[,C,D]    cylinder: z0,z1 along the fitted axis from its axis\n"
+    "                        point; plane: u0,v0,u1,v1 in the plane's (e1, e2)\n"
+    "                        frame from its fitted point (both in the report)\n"
+    "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
@@ -184,6 +199,90 @@ static int parse_fit(const char *cmd, const char *s, relief_fit_model *out)
     return 0;
 }
 
+typedef struct smooth_report {
+    const char *input, *output;
+    const relief_params *params;
+    const relief_smooth_options *opts;
+    const relief_surface *surface;
+    double seconds;
+} smooth_report;
+
+static void report_params(relief_json *j, const relief_params *p,
+                          const relief_smooth_options *o)
+{
+    rj_begin_object(j, "parameters");
+    rj_string(j, "fit", relief_fit_model_name(p->fit));
+    rj_int(j, "oversample", p->oversample);
+    if (p->spacing > 0.0)
+        rj_number(j, "spacing", p->spacing);
+    else
+        rj_null(j, "spacing");
+    rj_number(j, "spacing_percentile", o->spacing_percentile);
+    rj_string(j, "frames", o->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive");
+    if (p->has_extent) {
+        rj_begin_array(j, "extent");
+        for (int i = 0; i < p->n_extent; ++i)
+            rj_number(j, NULL, p->extent[i]);
+        rj_end_array(j);
+    }
+    rj_end_object(j);
+}
+
+static int write_smooth_report(FILE *f, void *ctx)
+{
+    const smooth_report *r = ctx;
+    relief_json j;
+    rj_init(&j, f);
+    rj_begin_object(&j, NULL);
+    rj_string(&j, "relief_version", RELIEF_VERSION_STRING);
+    rj_string(&j, "command", "smooth");
+    rj_string(&j, "input", r->input);
+    rj_string(&j, "output", r->output);
+    report_params(&j, r->params, r->opts);
+    relief_report_surface_fields(&j, r->surface);
+    rj_number(&j, "seconds_total", r->seconds);
+    rj_end_object(&j);
+    return 0;
+}
+
+static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
+                      const char *report, const relief_params *p,
+                      const relief_smooth_options *o, int ascii, int quiet)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_write_options wo = {ascii};
+    relief_surface *s = NULL;
+    double t0 = relief_seconds();
+    relief_status st = relief_smooth(in, p, o, &s, &err);
+    relief_mesh_destroy(in);
+    if (st != RELIEF_OK)
+        return fail_status("smooth", &err);
+    if (report) {
+        smooth_report r = {in_path, out, p, o, s, relief_seconds() - t0};
+        st = relief_atomic_write_text(report, write_smooth_report, &r, &err);
+    }
+    if (st == RELIEF_OK) {
+        st = relief_mesh_write(s->mesh, out, &wo, &err);
+        if (st != RELIEF_OK && report)
+            remove(report); /* both outputs or neither */
+    }
+    if (st == RELIEF_OK && !quiet) {
+        const relief_fit_primitive *pr = &s->fit.prim;
+        fprintf(stderr,
+                "relief smooth: %s (rms %.3g%s%.4g), spacing %.4g (%s): %zu samples + "
+                "%zu targets, %zu triangles -> %s\n",
+                relief_fit_model_name(pr->model), s->fit.rms,
+                pr->model == RELIEF_FIT_PLANE ? "" : ", radius ",
+                pr->model == RELIEF_FIT_PLANE ? 0.0 : pr->radius, s->spacing,
+                s->spacing_from_capture ? "from the capture" : "--spacing", s->n_samples,
+                s->n_targets, relief_mesh_triangle_count(s->mesh), out);
+        if (report)
+            fprintf(stderr, "relief smooth: report: %s\n", report);
+    }
+    relief_surface_destroy(s);
+    return st == RELIEF_OK ? 0 : fail_status("smooth", &err);
+}
+
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
 {
     const char *cmd = smooth ? "smooth" : "complete";
@@ -196,6 +295,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"extent", required_argument, 0, OPT_EXTENT},
         {"ascii", no_argument, 0, OPT_ASCII},
         {"quiet", no_argument, 0, OPT_QUIET},
+        {"frames", required_argument, 0, OPT_FRAMES},
         {"help", no_argument, 0, 'h'},
         /* complete only, from here */
         {"window", required_argument, 0, OPT_WINDOW},
@@ -216,9 +316,11 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"extent", required_argument, 0, OPT_EXTENT},
         {"ascii", no_argument, 0, OPT_ASCII},
         {"quiet", no_argument, 0, OPT_QUIET},
+        {"frames", required_argument, 0, OPT_FRAMES},
         {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0}};
     relief_params p = relief_params_default();
+    relief_smooth_options sopts = relief_smooth_options_default();
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL;
     relief_read_info info;
@@ -227,9 +329,6 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     long v;
     double d;
 
-    (void)ascii;
-    (void)quiet;
-    (void)report;
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:h", smooth ? smooth_opts : all_opts, NULL)) != -1) {
         switch (c) {
@@ -309,6 +408,15 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
             break;
         case OPT_ASCII: ascii = 1; break;
         case OPT_QUIET: quiet = 1; break;
+        case OPT_FRAMES:
+            if (strcmp(optarg, "paper") == 0)
+                sopts.frames = RELIEF_FRAMES_PAPER;
+            else if (strcmp(optarg, "primitive") == 0)
+                sopts.frames = RELIEF_FRAMES_PRIMITIVE;
+            else
+                return usage_error(cmd, "--frames: '%s' is not one of paper, primitive",
+                                   optarg);
+            break;
         case 'h': fputs(smooth ? smooth_help : complete_help, stdout); return 0;
         default: fprintf(stderr, "Try 'relief %s --help'.\n", cmd); return EXIT_USAGE;
         }
@@ -329,16 +437,16 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         return fail_status(cmd, &err);
     if (relief_mesh_read(argv[optind], &in, &info, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
-    if (relief_mesh_triangle_count(in) == 0 && relief_mesh_vertex_count(in) < 3) {
-        fprintf(stderr, "relief %s: error: %s: %zu vertex(es) cannot define a surface\n",
-                cmd, argv[optind], relief_mesh_vertex_count(in));
+    if (info.nonmanifold_triangles > 0 && !quiet)
+        fprintf(stderr, "relief %s: warning: %s: %zu non-manifold triangle(s)\n", cmd,
+                argv[optind], info.nonmanifold_triangles);
+    if (!smooth) {
         relief_mesh_destroy(in);
-        return EXIT_USAGE;
+        fprintf(stderr, "relief %s: error: %s\n", cmd,
+                relief_strerror(RELIEF_E_NOT_IMPLEMENTED));
+        return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
     }
-    relief_mesh_destroy(in);
-    fprintf(stderr, "relief %s: error: %s\n", cmd,
-            relief_strerror(RELIEF_E_NOT_IMPLEMENTED));
-    return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
+    return run_smooth(argv[optind], in, out, report, &p, &sopts, ascii, quiet);
 }
 
 /* ---------------------------------------------------------------- synth */
@@ -494,47 +602,14 @@ static const char devices_help[] =
 
 /* ------------------------------------------------------------------ fit */
 
-static void json_vec(FILE *f, const char *key, const double v[3])
-{
-    fprintf(f, ", \"%s\": [%.10g, %.10g, %.10g]", key, v[0], v[1], v[2]);
-}
-
-/* Print a fit as one JSON object (keys fixed by the CLI contract). */
 static void print_fit_json(FILE *f, const char *path, const relief_fit_result *r)
 {
-    const relief_fit_primitive *p = &r->prim;
-    fprintf(f, "{\"input\": \"");
-    for (const char *c = path; *c; ++c) /* escape what JSON requires */
-        if (*c == '"' || *c == '\\')
-            fprintf(f, "\\%c", *c);
-        else if ((unsigned char)*c < 0x20)
-            fprintf(f, "\\u%04x", (unsigned)(unsigned char)*c);
-        else
-            fputc(*c, f);
-    fprintf(f, "\", \"model\": \"%s\", \"rms\": %.10g, \"inlier_fraction\": %.6f",
-            relief_fit_model_name(p->model), r->rms, r->inlier_fraction);
-    if (p->model == RELIEF_FIT_PLANE) {
-        json_vec(f, "point", p->point);
-        json_vec(f, "normal", p->dir);
-    } else if (p->model == RELIEF_FIT_SPHERE) {
-        json_vec(f, "center", p->point);
-        fprintf(f, ", \"radius\": %.10g", p->radius);
-    } else {
-        json_vec(f, "axis_point", p->point);
-        json_vec(f, "axis_dir", p->dir);
-        fprintf(f, ", \"radius\": %.10g", p->radius);
-    }
-    fprintf(f, ", \"n_points\": %zu, \"n_inliers\": %zu, \"size\": %.10g, "
-            "\"poor_fit\": %s, \"poor_fit_limit\": %g, \"model_rms\": {",
-            r->n_points, r->n_inliers, r->size, r->poor_fit ? "true" : "false",
-            RELIEF_FIT_POOR);
-    for (int m = RELIEF_FIT_PLANE, first = 1; m <= RELIEF_FIT_CYLINDER; ++m)
-        if (r->model_rms[m] >= 0.0) {
-            fprintf(f, "%s\"%s\": %.10g", first ? "" : ", ",
-                    relief_fit_model_name((relief_fit_model)m), r->model_rms[m]);
-            first = 0;
-        }
-    fprintf(f, "}, \"reason\": \"%s\"}\n", r->reason);
+    relief_json j;
+    rj_init(&j, f);
+    rj_begin_object(&j, NULL);
+    rj_string(&j, "input", path);
+    relief_report_fit_fields(&j, r);
+    rj_end_object(&j);
 }
 
 static int cmd_fit(int argc, char **argv)

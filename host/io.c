@@ -1,13 +1,10 @@
 /* Mesh I/O: structural check, OpenMesh read, validation; atomic writes. */
-#define _GNU_SOURCE /* mkstemps */
 #include <errno.h>
-#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
+#include "atomic.h"
 #include "error.h"
 #include "io_check.h"
 #include "io_openmesh.h"
@@ -84,8 +81,6 @@ relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
     static const char *const exts[] = {".ply", ".obj", ".off", ".stl"};
     relief_file_format fmt;
     char *tmp = NULL;
-    size_t len;
-    int fd;
     relief_status st;
 
     if (!mesh || !path)
@@ -100,35 +95,14 @@ relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
     if (st != RELIEF_OK)
         return st;
 
-    /* A temporary name beside the target keeps the rename on one file
-     * system; it ends in the format's extension because OpenMesh picks the
-     * writer by extension. */
-    len = strlen(path) + 32;
-    tmp = malloc(len);
-    if (!tmp)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a file name");
-    snprintf(tmp, len, "%s.tmp-XXXXXX%s", path, exts[fmt]);
-    fd = mkstemps(tmp, 4);
-    if (fd < 0) {
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot create a temporary file: %s",
-                         path, strerror(errno));
-        free(tmp);
+    st = relief_atomic_create(path, &tmp, err);
+    if (st != RELIEF_OK)
+        return st;
+    /* OpenMesh picks its writer by the temporary name's extension. */
+    st = relief_om_write(mesh, tmp, exts[fmt], opts ? opts->ascii : 0, err);
+    if (st != RELIEF_OK) {
+        relief_atomic_abort(tmp);
         return st;
     }
-    {
-        /* mkstemps makes the file 0600; give it what a plain create would. */
-        mode_t mask = umask(0);
-        umask(mask);
-        if (fchmod(fd, 0666 & ~mask) != 0) { /* not fatal: keep 0600 */
-        }
-    }
-    close(fd);
-    st = relief_om_write(mesh, tmp, exts[fmt], opts ? opts->ascii : 0, err);
-    if (st == RELIEF_OK && rename(tmp, path) != 0)
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot rename the finished file into "
-                         "place: %s", path, strerror(errno));
-    if (st != RELIEF_OK)
-        unlink(tmp);
-    free(tmp);
-    return st;
+    return relief_atomic_commit(tmp, path, err);
 }

@@ -111,6 +111,24 @@ if [[ -n $data && -f $data/stanford_drill/drill_shaft_vrip.ply ]]; then
   expect 0 '"model": "sphere"' -- "$relief" fit "$data/bennu_radar/bennu.obj" --json
 fi
 
+# smooth: a labelled mesh and a report; nothing to complete or no fit is exit 1.
+expect 0 "targets" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm.ply" --report "$tmp/sm.json"
+[[ -s $tmp/sm.ply && -s $tmp/sm.json ]] && pass=$((pass+1)) || { echo "FAIL: smooth wrote no mesh or report"; fail=$((fail+1)); }
+for key in '"model": "cylinder"' '"spacing":' '"targets":' '"samples":' '"triangulate":' '"e1":'; do
+  grep -qF "$key" "$tmp/sm.json" && pass=$((pass+1)) || { echo "FAIL: smooth report lacks $key"; fail=$((fail+1)); }
+done
+grep -q "property int label" "$tmp/sm.ply" && pass=$((pass+1)) || { echo "FAIL: smooth output has no label"; fail=$((fail+1)); }
+expect 0 "" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm2.ply" --report "$tmp/sm2.json" --spacing 0.1 --frames primitive --quiet
+grep -qF '"spacing_source": "--spacing"' "$tmp/sm2.json" && pass=$((pass+1)) || { echo "FAIL: --spacing not reported"; fail=$((fail+1)); }
+expect 1 "--frames" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm3.ply" --frames local
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n' > "$tmp/square.off"
+expect 1 "nothing to complete" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --report "$tmp/sq.json"
+[[ ! -e $tmp/sq.ply && ! -e $tmp/sq.json ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed smooth"; fail=$((fail+1)); }
+expect 0 "" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --extent=-1,-1,2,2 --spacing 0.2
+if [[ -n $data && -f $data/meshlab_screwdriver/screwdriver.ply ]]; then
+  expect 1 "fits no primitive well" -- "$relief" smooth "$data/meshlab_screwdriver/screwdriver.ply" -o "$tmp/sd.ply"
+fi
+
 # devices: lists what the ICD loader sees; an empty vendor folder means none.
 if command -v clinfo >/dev/null && clinfo -l 2>/dev/null | grep -q Device; then
   expect 0 "compute units" -- "$relief" devices

@@ -1,0 +1,307 @@
+/* Smooth completion: the combined triangulation is manifold, oriented with
+ * the primitive, of the expected topology (closed sphere, cylinder band,
+ * plane disc), its targets sit on the primitive at the target spacing, and
+ * the per-vertex state (D, normals, frames) is consistent. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "check.h"
+#include "fit.h"
+#include "mesh.h"
+#include "surface.h"
+
+typedef struct edge {
+    uint32_t a, b;
+} edge;
+
+static int edge_cmp(const void *x, const void *y)
+{
+    const edge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    return (p->b > q->b) - (p->b < q->b);
+}
+
+typedef struct topology {
+    long euler;
+    size_t boundary_edges;
+    size_t boundary_targets; /* boundary edges touching a target */
+    int oriented;            /* no directed edge twice */
+} topology;
+
+static topology topology_of(const relief_surface *s)
+{
+    const relief_mesh *m = s->mesh;
+    topology t = {0, 0, 0, 1};
+    edge *e = malloc(3 * m->nt * sizeof *e);
+    size_t undirected = 0;
+    for (size_t i = 0; i < m->nt; ++i)
+        for (int k = 0; k < 3; ++k)
+            e[3 * i + k].a = m->tri[3 * i + k], e[3 * i + k].b = m->tri[3 * i + (k + 1) % 3];
+    qsort(e, 3 * m->nt, sizeof *e, edge_cmp);
+    for (size_t i = 0; i < 3 * m->nt; ++i) {
+        edge r = {e[i].b, e[i].a};
+        if (i > 0 && edge_cmp(&e[i - 1], &e[i]) == 0)
+            t.oriented = 0;
+        if (!bsearch(&r, e, 3 * m->nt, sizeof *e, edge_cmp)) {
+            ++t.boundary_edges;
+            ++undirected;
+            if (e[i].a >= s->n_samples || e[i].b >= s->n_samples)
+                ++t.boundary_targets;
+        } else if (e[i].a < e[i].b) {
+            ++undirected;
+        }
+    }
+    t.euler = (long)m->nv - (long)undirected + (long)m->nt;
+    free(e);
+    return t;
+}
+
+/* Triangles facing away from the primitive's normal, and target-target
+ * edges outside [0.5, 2] x spacing. */
+static void check_geometry(const relief_surface *s, const char *what)
+{
+    const relief_mesh *m = s->mesh;
+    size_t flipped = 0, bad_edges = 0, tt_edges = 0;
+    double worst_target = 0.0, worst_disp = 0.0;
+    for (size_t t = 0; t < m->nt; ++t) {
+        const uint32_t *f = m->tri + 3 * t;
+        const double *a = s->proj + 3 * f[0], *b = s->proj + 3 * f[1], *c = s->proj + 3 * f[2];
+        double e1[3], e2[3], n[3], mid[3], pn[3];
+        for (int k = 0; k < 3; ++k)
+            e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], mid[k] = (a[k] + b[k] + c[k]) / 3.0;
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        relief_fit_normal(&s->fit.prim, mid, pn);
+        flipped += n[0] * pn[0] + n[1] * pn[1] + n[2] * pn[2] <= 0.0;
+        for (int k = 0; k < 3; ++k) {
+            uint32_t p = f[k], q = f[(k + 1) % 3];
+            if (p >= s->n_samples && q >= s->n_samples) {
+                const double *x = m->pos + 3 * (size_t)p, *y = m->pos + 3 * (size_t)q;
+                double l = sqrt((x[0] - y[0]) * (x[0] - y[0]) + (x[1] - y[1]) * (x[1] - y[1]) +
+                                (x[2] - y[2]) * (x[2] - y[2]));
+                ++tt_edges;
+                bad_edges += l < 0.5 * s->spacing || l > 2.0 * s->spacing;
+            }
+        }
+    }
+    CHECK(flipped == 0, "%s: %zu of %zu triangles face against the primitive", what,
+          flipped, m->nt);
+    CHECK(tt_edges > 0 && bad_edges == 0,
+          "%s: %zu of %zu target-target edges outside [0.5, 2] x spacing %g", what,
+          bad_edges, tt_edges, s->spacing);
+    for (size_t v = 0; v < m->nv; ++v) {
+        const double *p = m->pos + 3 * v, *q = s->proj + 3 * v, *d = s->disp + 3 * v;
+        const double *n = s->nrm + 3 * v, *f = s->frame + 9 * v;
+        double dist = relief_fit_distance(&s->fit.prim, p);
+        double dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+        for (int k = 0; k < 3; ++k)
+            worst_disp = fmax(worst_disp, fabs(p[k] - q[k] - d[k]));
+        /* D = p - p' is the offset along the normal by the signed distance. */
+        worst_disp = fmax(worst_disp, fabs(dn - dist));
+        if (v >= s->n_samples)
+            worst_target = fmax(worst_target, fabs(dist));
+        /* Frames orthonormal, right-handed, third row the normal. */
+        {
+            double uv = f[0] * f[3] + f[1] * f[4] + f[2] * f[5];
+            double cz[3] = {f[1] * f[5] - f[2] * f[4], f[2] * f[3] - f[0] * f[5],
+                            f[0] * f[4] - f[1] * f[3]};
+            double err = fabs(uv) + fabs(cz[0] - n[0]) + fabs(cz[1] - n[1]) +
+                         fabs(cz[2] - n[2]) + fabs(f[6] - n[0]) + fabs(f[7] - n[1]) +
+                         fabs(f[8] - n[2]);
+            if (err > 1e-9) {
+                CHECK(0, "%s: vertex %zu frame is not [u v n] orthonormal (err %g)", what,
+                      v, err);
+                break;
+            }
+        }
+    }
+    CHECK(worst_disp < 1e-9, "%s: D disagrees with p - p' or the signed distance by %g",
+          what, worst_disp);
+    CHECK(worst_target < 1e-9, "%s: a target is %g off the primitive", what, worst_target);
+}
+
+static relief_surface *smooth_synth(relief_synth_kind kind, size_t n, const char *what)
+{
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    sp.kind = kind;
+    sp.vertices = n;
+    sp.colour = 1;
+    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s: %s", what, err.message);
+    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s: %s", what, err.message);
+    relief_mesh_destroy(cap);
+    return s;
+}
+
+static void test_sphere(void)
+{
+    relief_surface *s = smooth_synth(RELIEF_SYNTH_SPHERE_DIMPLES, 2000, "sphere");
+    topology t;
+    if (!s)
+        return;
+    CHECK(s->fit.prim.model == RELIEF_FIT_SPHERE, "sphere fitted as %s",
+          relief_fit_model_name(s->fit.prim.model));
+    t = topology_of(s);
+    CHECK(t.oriented && t.boundary_edges == 0 && t.euler == 2,
+          "sphere: not a closed oriented sphere (euler %ld, %zu boundary edges)", t.euler,
+          t.boundary_edges);
+    CHECK(s->n_targets > s->n_captured / 2, "sphere: only %zu targets", s->n_targets);
+    check_geometry(s, "sphere");
+    relief_surface_destroy(s);
+}
+
+static void test_cylinder(void)
+{
+    relief_surface *s = smooth_synth(RELIEF_SYNTH_CYLINDER_BARK, 2000, "cylinder");
+    topology t;
+    if (!s)
+        return;
+    CHECK(s->fit.prim.model == RELIEF_FIT_CYLINDER, "cylinder fitted as %s",
+          relief_fit_model_name(s->fit.prim.model));
+    t = topology_of(s);
+    CHECK(t.oriented && t.euler == 0, "cylinder: not an oriented band (euler %ld)", t.euler);
+    /* The only boundary is the two rims: every boundary vertex near an end. */
+    {
+        double zmin = 1e300, zmax = -1e300;
+        size_t off_rim = 0;
+        const relief_mesh *m = s->mesh;
+        for (size_t v = 0; v < m->nv; ++v) {
+            double z = (s->proj[3 * v] - s->fit.prim.point[0]) * s->fit.prim.dir[0] +
+                       (s->proj[3 * v + 1] - s->fit.prim.point[1]) * s->fit.prim.dir[1] +
+                       (s->proj[3 * v + 2] - s->fit.prim.point[2]) * s->fit.prim.dir[2];
+            zmin = fmin(zmin, z);
+            zmax = fmax(zmax, z);
+        }
+        for (size_t i = 0; i < m->nt; ++i)
+            for (int k = 0; k < 3; ++k) {
+                uint32_t a = m->tri[3 * i + k], b = m->tri[3 * i + (k + 1) % 3];
+                int shared = 0;
+                for (size_t j = 0; j < m->nt && !shared; ++j)
+                    for (int q = 0; q < 3; ++q)
+                        if (m->tri[3 * j + q] == b && m->tri[3 * j + (q + 1) % 3] == a)
+                            shared = 1;
+                if (!shared) {
+                    const double *p = s->proj + 3 * (size_t)a;
+                    double z = (p[0] - s->fit.prim.point[0]) * s->fit.prim.dir[0] +
+                               (p[1] - s->fit.prim.point[1]) * s->fit.prim.dir[1] +
+                               (p[2] - s->fit.prim.point[2]) * s->fit.prim.dir[2];
+                    off_rim += z > zmin + 1.5 * s->spacing && z < zmax - 1.5 * s->spacing;
+                }
+            }
+        CHECK(off_rim == 0, "cylinder: %zu boundary edges away from the rims (a gap)",
+              off_rim);
+    }
+    check_geometry(s, "cylinder");
+    relief_surface_destroy(s);
+}
+
+static void test_plane(void)
+{
+    relief_surface *s = smooth_synth(RELIEF_SYNTH_PLANE_WAVES, 2000, "plane");
+    topology t;
+    if (!s)
+        return;
+    CHECK(s->fit.prim.model == RELIEF_FIT_PLANE, "plane fitted as %s",
+          relief_fit_model_name(s->fit.prim.model));
+    t = topology_of(s);
+    CHECK(t.oriented && t.euler == 1, "plane: hole not filled to a disc (euler %ld)", t.euler);
+    CHECK(t.boundary_targets == 0, "plane: %zu boundary edges touch a target: targets "
+          "escaped the outline", t.boundary_targets);
+    /* The hole is a disc of radius 0.25: about pi 0.25^2 / (spacing^2 sqrt3/2) targets. */
+    {
+        double want = 3.14159265 * 0.0625 / (s->spacing * s->spacing * sqrt(3.0) / 2.0);
+        CHECK(s->n_targets > 0.6 * want && s->n_targets < 1.4 * want,
+              "plane: %zu targets for a hole that needs about %.0f", s->n_targets, want);
+    }
+    check_geometry(s, "plane");
+    relief_surface_destroy(s);
+}
+
+static void test_errors(void)
+{
+    relief_params p = relief_params_default();
+    relief_mesh *m = NULL;
+    relief_surface *s = NULL;
+    relief_error err = {RELIEF_OK, ""};
+
+    /* A flat square with no hole: nothing to complete without --extent. */
+    relief_mesh_create(4, 2, 0, &m, &err);
+    {
+        const double pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+        const uint32_t tri[6] = {0, 1, 2, 0, 2, 3};
+        memcpy(relief_mesh_positions(m), pos, sizeof pos);
+        memcpy(relief_mesh_triangles(m), tri, sizeof tri);
+    }
+    CHECK(relief_smooth(m, &p, NULL, &s, &err) == RELIEF_E_MESH && !s &&
+              strstr(err.message, "nothing to complete"),
+          "square without hole: %s", err.message);
+    /* With an extent the plane grows past the square. */
+    p.has_extent = 1;
+    p.n_extent = 4;
+    p.extent[0] = -1.0, p.extent[1] = -1.0, p.extent[2] = 2.0, p.extent[3] = 2.0;
+    p.spacing = 0.25;
+    CHECK(relief_smooth(m, &p, NULL, &s, &err) == RELIEF_OK, "square with extent: %s",
+          err.message);
+    if (s) {
+        topology t = topology_of(s);
+        CHECK(t.euler == 1 && s->n_targets > 100, "extent: euler %ld, %zu targets", t.euler,
+              s->n_targets);
+        relief_surface_destroy(s);
+        s = NULL;
+    }
+    relief_mesh_destroy(m);
+
+    /* A point cloud cannot tell what it covers. */
+    relief_mesh_create(10, 0, 0, &m, &err);
+    for (int i = 0; i < 10; ++i)
+        relief_mesh_positions(m)[3 * i] = i, relief_mesh_positions(m)[3 * i + 1] = i * i % 7;
+    p = relief_params_default();
+    CHECK(relief_smooth(m, &p, NULL, &s, &err) == RELIEF_E_MESH && !s, "point cloud: %s",
+          err.message);
+    relief_mesh_destroy(m);
+}
+
+static void test_real(const char *data)
+{
+    char path[512];
+    struct stat sb;
+    relief_mesh *m = NULL;
+    relief_surface *s = NULL;
+    relief_params p = relief_params_default();
+    relief_error err = {RELIEF_OK, ""};
+    snprintf(path, sizeof path, "%s/bennu_radar/bennu.obj", data);
+    if (stat(path, &sb) != 0) {
+        printf("skip %s: not found\n", path);
+        return;
+    }
+    /* Bennu is a whole body: as a sphere, there is nothing left to complete. */
+    CHECK(relief_mesh_read(path, &m, NULL, &err) == RELIEF_OK, "%s", err.message);
+    if (!m)
+        return;
+    p.fit = RELIEF_FIT_SPHERE;
+    {
+        relief_status st = relief_smooth(m, &p, NULL, &s, &err);
+        CHECK(st == RELIEF_E_MESH && strstr(err.message, "nothing to complete"),
+              "bennu: %s (%s)", relief_status_name(st), err.message);
+    }
+    relief_surface_destroy(s);
+    relief_mesh_destroy(m);
+}
+
+int main(int argc, char **argv)
+{
+    test_sphere();
+    test_cylinder();
+    test_plane();
+    test_errors();
+    if (argc > 1)
+        test_real(argv[1]);
+    return check_result();
+}
