@@ -10,9 +10,12 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "atomic.h"
 #include "fit.h"
+#include "grow.h"
+#include "matcher.h"
 #include "json.h"
 #include "report.h"
 #include "surface.h"
@@ -129,7 +132,7 @@ enum {
     OPT_REPORT = 256, OPT_FIT, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_SEED,
     OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
     OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
-    OPT_FRAMES, OPT_HELP
+    OPT_FRAMES, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP
 };
 
 static const char complete_help[] =
@@ -154,6 +157,9 @@ static const char complete_help[] =
     "  --spacing S           target vertex spacing (default: from the capture)\n"
     "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
+    "  --bootstrap           completed targets become matchable too\n"
+    "  --no-prune            score every candidate in full (the paper's exhaustive\n"
+    "                        search; same result, slower)\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
@@ -283,6 +289,155 @@ static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
     return st == RELIEF_OK ? 0 : fail_status("smooth", &err);
 }
 
+typedef struct complete_report {
+    const char *input, *output;
+    const relief_params *params;
+    const relief_smooth_options *opts;
+    const relief_grow_options *gopts;
+    const relief_surface *surface;
+    const relief_grow_stats *stats;
+    const relief_matcher *matcher;
+    double seconds;
+} complete_report;
+
+static int write_complete_report(FILE *f, void *ctx)
+{
+    const complete_report *r = ctx;
+    const relief_grow_stats *g = r->stats;
+    relief_json j;
+    rj_init(&j, f);
+    rj_begin_object(&j, NULL);
+    rj_string(&j, "relief_version", RELIEF_VERSION_STRING);
+    rj_string(&j, "command", "complete");
+    rj_string(&j, "input", r->input);
+    rj_string(&j, "output", r->output);
+    report_params(&j, r->params, r->opts);
+    rj_begin_object(&j, "growth_parameters");
+    rj_int(&j, "window", r->params->window);
+    rj_int(&j, "rotations", r->params->rotations);
+    rj_number(&j, "error", r->params->error);
+    rj_number(&j, "mu", g->mu);
+    rj_int(&j, "seed", (long long)r->params->seed);
+    rj_int(&j, "levels", r->params->levels);
+    rj_bool(&j, "prune", r->gopts->prune);
+    rj_bool(&j, "bootstrap", r->gopts->bootstrap);
+    rj_end_object(&j);
+    relief_report_surface_fields(&j, r->surface);
+    rj_begin_object(&j, "growth");
+    rj_int(&j, "targets", (long long)g->targets);
+    rj_int(&j, "passes", (long long)g->passes);
+    rj_int(&j, "candidates_scored", (long long)g->candidates);
+    rj_int(&j, "pruned", (long long)g->pruned);
+    rj_int(&j, "invalid", (long long)g->invalid);
+    rj_int(&j, "acceptances", (long long)g->acceptances);
+    rj_int(&j, "rejections", (long long)g->rejections);
+    rj_int(&j, "no_valid_candidate", (long long)g->no_candidate);
+    rj_int(&j, "threshold_raises", (long long)g->threshold_raises);
+    rj_int(&j, "window_shrinks", (long long)g->window_shrinks);
+    rj_number(&j, "error_final", g->error_final);
+    rj_number(&j, "b_shape", g->b_shape);
+    rj_number(&j, "seconds", g->seconds);
+    rj_number(&j, "match_seconds", g->match_seconds);
+    rj_end_object(&j);
+    rj_begin_object(&j, "backend");
+    rj_string(&j, "name", relief_backend_name(r->matcher->backend));
+    rj_string(&j, "requested", relief_backend_name(r->params->backend));
+    rj_string(&j, "device", r->matcher->device);
+    rj_number(&j, "kernel_seconds", r->matcher->kernel_seconds);
+    rj_end_object(&j);
+    rj_number(&j, "seconds_total", r->seconds);
+    rj_end_object(&j);
+    return 0;
+}
+
+/* "123/456 targets, e 0.1, 52/s, ETA 6 s" on one rewritten stderr line. */
+static void print_progress(void *ctx, const relief_grow_progress *p)
+{
+    double *last = ctx, rate = p->seconds > 0 ? (double)p->done / p->seconds : 0.0;
+    if (p->done != p->total && p->seconds - *last < 0.25)
+        return;
+    *last = p->seconds;
+    fprintf(stderr, "\rrelief complete: %zu/%zu targets, e %.3g, %.1f/s, ETA %.0f s   ",
+            p->done, p->total, p->error, rate,
+            rate > 0 ? (double)(p->total - p->done) / rate : 0.0);
+    if (p->done == p->total)
+        fputc('\n', stderr);
+}
+
+static int run_complete(const char *in_path, relief_mesh *in, const char *out,
+                        const char *report, const relief_params *p,
+                        const relief_smooth_options *o, relief_grow_options *go, int ascii,
+                        int quiet)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_write_options wo = {ascii};
+    relief_surface *s = NULL;
+    relief_match_data *d = NULL;
+    relief_matcher *m = NULL;
+    relief_grow_stats stats;
+    double t0 = relief_seconds(), last = -1.0;
+    relief_status st;
+
+    memset(&stats, 0, sizeof stats);
+    if (p->levels > 1) {
+        relief_mesh_destroy(in);
+        fprintf(stderr, "relief complete: error: --levels %d: hierarchical completion is "
+                "not implemented yet; use --levels 1\n", p->levels);
+        return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
+    }
+    if (p->backend == RELIEF_BACKEND_OPENCL) {
+        relief_mesh_destroy(in);
+        fprintf(stderr, "relief complete: error: --backend opencl: the OpenCL matcher is not "
+                "implemented yet; use --backend scalar\n");
+        return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
+    }
+    st = relief_smooth(in, p, o, &s, &err);
+    if (st == RELIEF_OK)
+        st = relief_match_data_build(s, p->rotations,
+                                     relief_grow_mu(p, relief_mesh_colours(in) != NULL), &d,
+                                     &err);
+    relief_mesh_destroy(in);
+    if (st == RELIEF_OK) {
+        st = relief_matcher_scalar_create(d, &m, &err);
+        if (st == RELIEF_OK && p->backend == RELIEF_BACKEND_AUTO && !quiet)
+            fprintf(stderr, "relief complete: backend auto: using the scalar matcher (the "
+                    "OpenCL matcher is not built yet)\n");
+    }
+    if (st == RELIEF_OK && !quiet)
+        fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "
+                "W %d, R %d, e %g, mu %g\n",
+                relief_fit_model_name(s->fit.prim.model), s->spacing, s->n_samples,
+                s->n_targets, p->window, p->rotations, p->error, (double)d->mu);
+    if (st == RELIEF_OK) {
+        if (!quiet && isatty(2)) {
+            go->progress = print_progress;
+            go->progress_ctx = &last;
+        }
+        st = relief_grow(s, d, m, p, go, &stats, &err);
+    }
+    if (st == RELIEF_OK && report) {
+        complete_report r = {in_path, out, p, o, go, s, &stats, m, relief_seconds() - t0};
+        st = relief_atomic_write_text(report, write_complete_report, &r, &err);
+    }
+    if (st == RELIEF_OK) {
+        st = relief_mesh_write(s->mesh, out, &wo, &err);
+        if (st != RELIEF_OK && report)
+            remove(report);
+    }
+    if (st == RELIEF_OK && !quiet) {
+        fprintf(stderr, "relief complete: %zu targets textured in %zu passes (%zu rejections, "
+                "%zu threshold raises, final e %.3g) in %.2f s -> %s\n",
+                stats.acceptances, stats.passes, stats.rejections, stats.threshold_raises,
+                stats.error_final, stats.seconds, out);
+        if (report)
+            fprintf(stderr, "relief complete: report: %s\n", report);
+    }
+    relief_matcher_destroy(m);
+    relief_match_data_destroy(d);
+    relief_surface_destroy(s);
+    return st == RELIEF_OK ? 0 : fail_status("complete", &err);
+}
+
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
 {
     const char *cmd = smooth ? "smooth" : "complete";
@@ -306,6 +461,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"levels", required_argument, 0, OPT_LEVELS},
         {"backend", required_argument, 0, OPT_BACKEND},
         {"device", required_argument, 0, OPT_DEVICE},
+        {"bootstrap", no_argument, 0, OPT_BOOTSTRAP},
+        {"no-prune", no_argument, 0, OPT_NO_PRUNE},
         {0, 0, 0, 0}};
     static const struct option smooth_opts[] = {
         {"output", required_argument, 0, 'o'},
@@ -321,6 +478,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {0, 0, 0, 0}};
     relief_params p = relief_params_default();
     relief_smooth_options sopts = relief_smooth_options_default();
+    relief_grow_options gopts = relief_grow_options_default();
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL;
     relief_read_info info;
@@ -408,6 +566,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
             break;
         case OPT_ASCII: ascii = 1; break;
         case OPT_QUIET: quiet = 1; break;
+        case OPT_BOOTSTRAP: gopts.bootstrap = 1; break;
+        case OPT_NO_PRUNE: gopts.prune = 0; break;
         case OPT_FRAMES:
             if (strcmp(optarg, "paper") == 0)
                 sopts.frames = RELIEF_FRAMES_PAPER;
@@ -440,12 +600,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     if (info.nonmanifold_triangles > 0 && !quiet)
         fprintf(stderr, "relief %s: warning: %s: %zu non-manifold triangle(s)\n", cmd,
                 argv[optind], info.nonmanifold_triangles);
-    if (!smooth) {
-        relief_mesh_destroy(in);
-        fprintf(stderr, "relief %s: error: %s\n", cmd,
-                relief_strerror(RELIEF_E_NOT_IMPLEMENTED));
-        return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
-    }
+    if (!smooth)
+        return run_complete(argv[optind], in, out, report, &p, &sopts, &gopts, ascii, quiet);
     return run_smooth(argv[optind], in, out, report, &p, &sopts, ascii, quiet);
 }
 

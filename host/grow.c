@@ -1,0 +1,380 @@
+/* Non-parametric growth (paper 000 appendix A, as DESIGN.md reads it):
+ *
+ *   until every target is textured:
+ *     L = untextured targets with a textured 1-ring neighbour, by decreasing
+ *         number of textured vertices in their window (ties: vertex id)
+ *     for t in L: score every (sample, rotation); best set = SSD within 10 %
+ *         of the minimum; draw one uniformly (MT19937); accept it if its SSD
+ *         is below e: copy D (re-expressed in t's frame) and colour;
+ *         otherwise shrink t's window by one (not below 1)
+ *     a pass with no acceptance raises e by 10 %
+ */
+#include "grow.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "mesh.h"
+#include "report.h"
+#include "rng.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "../kernels/relief_math.h"
+
+#define PI 3.14159265358979323846
+#define MAX_RAISES 400 /* 1.1^400 ~ 4e16: e has stopped meaning anything */
+
+relief_grow_options relief_grow_options_default(void)
+{
+    relief_grow_options o;
+    o.prune = 1;
+    o.bootstrap = 0;
+    o.progress = NULL;
+    o.progress_ctx = NULL;
+    return o;
+}
+
+double relief_grow_mu(const relief_params *params, int has_colour)
+{
+    if (params->mu >= 0.0)
+        return has_colour ? params->mu : 1.0;
+    return has_colour ? 0.5 : 1.0;
+}
+
+/* Vertex adjacency as CSR: nbr[start[v] .. start[v + 1]) ascending. */
+typedef struct adjacency {
+    uint32_t *start, *nbr;
+} adjacency;
+
+static int edge_cmp(const void *x, const void *y)
+{
+    const uint32_t *a = x, *b = y;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+static relief_status build_adjacency(const relief_mesh *m, adjacency *adj, relief_error *err)
+{
+    size_t ne = 6 * m->nt, k = 0;
+    uint32_t *e = malloc((ne + 1) * 2 * sizeof *e);
+    adj->start = calloc(m->nv + 1, sizeof *adj->start);
+    adj->nbr = malloc((ne + 1) * sizeof *adj->nbr);
+    if (!e || !adj->start || !adj->nbr) {
+        free(e);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the vertex adjacency");
+    }
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int i = 0; i < 3; ++i) {
+            uint32_t a = m->tri[3 * t + i], b = m->tri[3 * t + (i + 1) % 3];
+            e[2 * k] = a, e[2 * k + 1] = b, ++k;
+            e[2 * k] = b, e[2 * k + 1] = a, ++k;
+        }
+    qsort(e, ne, 2 * sizeof *e, edge_cmp);
+    k = 0;
+    for (size_t i = 0; i < ne; ++i) {
+        if (i > 0 && e[2 * i] == e[2 * i - 2] && e[2 * i + 1] == e[2 * i - 1])
+            continue;
+        adj->nbr[k++] = e[2 * i + 1];
+        ++adj->start[e[2 * i] + 1];
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        adj->start[v + 1] += adj->start[v];
+    free(e);
+    return RELIEF_OK;
+}
+
+/* Breadth-first search state reused across targets. */
+typedef struct walker {
+    uint32_t *stamp, *depth, *queue;
+    uint32_t now;
+} walker;
+
+/* Textured vertices within `hops` edges of t (t excluded) into out[],
+ * in breadth-first order; returns their count. */
+static size_t window(walker *w, const adjacency *adj, const uint8_t *textured, uint32_t t,
+                     int hops, uint32_t *out)
+{
+    size_t head = 0, tail = 0, n = 0;
+    ++w->now;
+    w->stamp[t] = w->now;
+    w->depth[t] = 0;
+    w->queue[tail++] = t;
+    while (head < tail) {
+        uint32_t v = w->queue[head++];
+        if (v != t && textured[v])
+            out[n++] = v;
+        if ((int)w->depth[v] == hops)
+            continue;
+        for (uint32_t i = adj->start[v]; i < adj->start[v + 1]; ++i) {
+            uint32_t u = adj->nbr[i];
+            if (w->stamp[u] != w->now) {
+                w->stamp[u] = w->now;
+                w->depth[u] = w->depth[v] + 1;
+                w->queue[tail++] = u;
+            }
+        }
+    }
+    return n;
+}
+
+typedef struct ranked {
+    uint32_t v;
+    uint32_t key; /* textured vertices in the window */
+} ranked;
+
+static int ranked_cmp(const void *x, const void *y)
+{
+    const ranked *a = x, *b = y;
+    if (a->key != b->key)
+        return a->key > b->key ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
+typedef struct neighbour {
+    uint32_t v;
+    double g;
+} neighbour;
+
+static int neighbour_cmp(const void *x, const void *y)
+{
+    const neighbour *a = x, *b = y;
+    if (a->g != b->g)
+        return a->g > b->g ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
+relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
+                          const relief_params *params, const relief_grow_options *opts,
+                          relief_grow_stats *stats, relief_error *err)
+{
+    relief_mesh *mesh = s->mesh;
+    const size_t nv = mesh->nv, ncand = (size_t)d->ns * (size_t)d->rotations;
+    relief_grow_options dflt = relief_grow_options_default();
+    adjacency adj = {NULL, NULL};
+    walker w = {NULL, NULL, NULL, 0};
+    uint8_t *textured = NULL, *flag = NULL;
+    int *win = NULL;
+    uint32_t *nb = NULL, *best = NULL;
+    neighbour *nbs = NULL;
+    ranked *list = NULL;
+    float *ssd = NULL, *qp = NULL, *q = NULL, *g = NULL, *qcol = NULL;
+    relief_rng rng;
+    relief_status st;
+    size_t remaining = s->n_targets;
+    double e = params->error, t0 = relief_seconds();
+
+    if (!opts)
+        opts = &dflt;
+    memset(stats, 0, sizeof *stats);
+    stats->targets = s->n_targets;
+    stats->b_shape = d->b_shape;
+    stats->mu = d->mu;
+    if (d->ns == 0)
+        return relief_fail(err, RELIEF_E_MESH, "no sample vertex to grow from");
+    st = build_adjacency(mesh, &adj, err);
+    if (st != RELIEF_OK)
+        goto done;
+    textured = calloc(nv, 1);
+    win = malloc(nv * sizeof *win);
+    w.stamp = calloc(nv, sizeof *w.stamp);
+    w.depth = malloc(nv * sizeof *w.depth);
+    w.queue = malloc(nv * sizeof *w.queue);
+    nb = malloc(nv * sizeof *nb);
+    nbs = malloc(nv * sizeof *nbs);
+    list = malloc((s->n_targets + 1) * sizeof *list);
+    ssd = malloc(ncand * sizeof *ssd);
+    flag = malloc(ncand);
+    best = malloc(ncand * sizeof *best);
+    qp = malloc(nv * 3 * sizeof *qp);
+    q = malloc(nv * 3 * sizeof *q);
+    g = malloc(nv * sizeof *g);
+    qcol = malloc(nv * 3 * sizeof *qcol);
+    if (!textured || !win || !w.stamp || !w.depth || !w.queue || !nb || !nbs || !list || !ssd ||
+        !flag || !best || !qp || !q || !g || !qcol) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
+                         "vertices and %zu candidates", nv, ncand);
+        goto done;
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        textured[v] = v < s->n_samples;
+        win[v] = params->window;
+    }
+    relief_rng_seed(&rng, params->seed);
+
+    while (remaining > 0) {
+        size_t nl = 0, accepted = 0, any_valid = 0, all_min_window = 1;
+        /* The boundary list, ranked by how constrained each target is. */
+        for (size_t t = s->n_samples; t < nv; ++t) {
+            int boundary = 0;
+            if (textured[t])
+                continue;
+            for (uint32_t i = adj.start[t]; i < adj.start[t + 1] && !boundary; ++i)
+                boundary = textured[adj.nbr[i]];
+            if (boundary) {
+                list[nl].v = (uint32_t)t;
+                list[nl].key = (uint32_t)window(&w, &adj, textured, (uint32_t)t, win[t], nb);
+                ++nl;
+            }
+        }
+        if (nl == 0) {
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "%zu target(s) can never be reached: no path joins them to the "
+                             "capture in the triangulation",
+                             remaining);
+            goto done;
+        }
+        qsort(list, nl, sizeof *list, ranked_cmp);
+        ++stats->passes;
+
+        for (size_t li = 0; li < nl; ++li) {
+            const uint32_t t = list[li].v;
+            const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
+            const double reach = win[t] * s->spacing;
+            size_t n = window(&w, &adj, textured, t, win[t], nb), nbest = 0;
+            relief_match_query query;
+            double wsum = 0.0, minv = INFINITY;
+
+            /* The neighbourhood in t's frame, heaviest first. */
+            for (size_t i = 0; i < n; ++i) {
+                const double *vp = s->proj + 3 * (size_t)nb[i];
+                double dp[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
+                double dd = sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / reach;
+                nbs[i].v = nb[i];
+                nbs[i].g = exp(-0.5 * dd * dd);
+            }
+            qsort(nbs, n, sizeof *nbs, neighbour_cmp);
+            for (size_t i = 0; i < n; ++i) {
+                const uint32_t v = nbs[i].v;
+                const double *vp = s->proj + 3 * (size_t)v, *vr = mesh->pos + 3 * (size_t)v;
+                for (int r = 0; r < 3; ++r) {
+                    const double *axis = rt + 3 * r;
+                    qp[3 * i + r] = (float)(axis[0] * (vp[0] - tp[0]) + axis[1] * (vp[1] - tp[1]) +
+                                            axis[2] * (vp[2] - tp[2]));
+                    q[3 * i + r] = (float)(axis[0] * (vr[0] - tp[0]) + axis[1] * (vr[1] - tp[1]) +
+                                           axis[2] * (vr[2] - tp[2]));
+                    qcol[3 * i + r] = d->col[3 * (size_t)v + r];
+                }
+                g[i] = (float)nbs[i].g;
+                wsum += (double)g[i];
+            }
+            query.n = (uint32_t)n;
+            query.qp = qp;
+            query.q = q;
+            query.g = g;
+            query.qcol = qcol;
+            query.inv_wsum = (float)(1.0 / wsum);
+            query.cutoff = FLT_MAX;
+            query.running = opts->prune;
+            st = relief_matcher_score(m, d, &query, ssd, flag, err);
+            if (st != RELIEF_OK)
+                goto done;
+            stats->candidates += ncand;
+            for (size_t c = 0; c < ncand; ++c) {
+                stats->pruned += flag[c] == RM_PRUNED;
+                stats->invalid += flag[c] == RM_INVALID;
+                if (flag[c] == RM_VALID && ssd[c] < minv)
+                    minv = ssd[c];
+            }
+            if (isfinite(minv)) {
+                any_valid = 1;
+                for (size_t c = 0; c < ncand; ++c)
+                    if (flag[c] == RM_VALID && (double)ssd[c] <= 1.1 * minv)
+                        best[nbest++] = (uint32_t)c;
+            }
+            if (nbest > 0) {
+                const uint32_t c = best[relief_rng_below(&rng, (uint32_t)nbest)];
+                if ((double)ssd[c] < e) {
+                    const uint32_t si = c / (uint32_t)d->rotations;
+                    const int r = (int)(c % (uint32_t)d->rotations);
+                    const uint32_t sv = d->sample[si];
+                    const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
+                    const double th = 2.0 * PI * r / d->rotations, ct = cos(th), sn = sin(th);
+                    double a[3], b[3];
+                    /* D(t) = R_t Rz(-theta) R_s^T D(s). */
+                    for (int k = 0; k < 3; ++k)
+                        a[k] = rs[3 * k] * ds[0] + rs[3 * k + 1] * ds[1] + rs[3 * k + 2] * ds[2];
+                    b[0] = ct * a[0] + sn * a[1];
+                    b[1] = -sn * a[0] + ct * a[1];
+                    b[2] = a[2];
+                    for (int k = 0; k < 3; ++k) {
+                        double dk = rt[k] * b[0] + rt[3 + k] * b[1] + rt[6 + k] * b[2];
+                        s->disp[3 * (size_t)t + k] = dk;
+                        mesh->pos[3 * (size_t)t + k] = tp[k] + dk;
+                        d->pos[3 * (size_t)t + k] = (float)(tp[k] + dk);
+                        d->col[3 * (size_t)t + k] = d->col[3 * (size_t)sv + k];
+                        if (mesh->col)
+                            mesh->col[3 * (size_t)t + k] = mesh->col[3 * (size_t)sv + k];
+                    }
+                    textured[t] = 1;
+                    if (opts->bootstrap)
+                        d->matchable[t] = 1;
+                    st = relief_matcher_update(m, d, t, err);
+                    if (st != RELIEF_OK)
+                        goto done;
+                    ++accepted;
+                    ++stats->acceptances;
+                    --remaining;
+                    if (opts->progress) {
+                        relief_grow_progress p = {s->n_targets - remaining, s->n_targets, e,
+                                                  relief_seconds() - t0};
+                        opts->progress(opts->progress_ctx, &p);
+                    }
+                    continue;
+                }
+            } else {
+                ++stats->no_candidate;
+            }
+            ++stats->rejections;
+            if (win[t] > 1) {
+                --win[t];
+                ++stats->window_shrinks;
+            }
+            all_min_window &= win[t] == 1;
+        }
+        if (accepted == 0) {
+            if (!any_valid && all_min_window) {
+                st = relief_fail(err, RELIEF_E_MESH,
+                                 "no sample has a neighbourhood that matches: every "
+                                 "candidate maps a neighbour onto a target (is the capture "
+                                 "smaller than the window?)");
+                goto done;
+            }
+            if (stats->threshold_raises == MAX_RAISES) {
+                st = relief_fail(err, RELIEF_E_MESH,
+                                 "the error threshold was raised %d times without progress",
+                                 MAX_RAISES);
+                goto done;
+            }
+            e *= 1.1;
+            ++stats->threshold_raises;
+        }
+    }
+    st = RELIEF_OK;
+done:
+    stats->error_final = e;
+    stats->seconds = relief_seconds() - t0;
+    stats->match_seconds = m->kernel_seconds;
+    free(qcol);
+    free(g);
+    free(q);
+    free(qp);
+    free(best);
+    free(flag);
+    free(ssd);
+    free(list);
+    free(nbs);
+    free(nb);
+    free(w.queue);
+    free(w.depth);
+    free(w.stamp);
+    free(win);
+    free(textured);
+    free(adj.nbr);
+    free(adj.start);
+    return st;
+}

@@ -1,0 +1,101 @@
+/* Neighbourhood matching: one interface, a scalar reference and an OpenCL
+ * backend with identical semantics (DESIGN.md, "Matching backends").
+ *
+ * The host builds a float copy of the surface once (relief_match_data),
+ * updates it as targets become textured, and for each target asks the
+ * matcher to score every candidate (sample s, rotation r): candidate index
+ * c = s * R + r, over the samples in relief_match_data.sample order. */
+#ifndef RELIEF_HOST_MATCHER_H
+#define RELIEF_HOST_MATCHER_H
+
+#include <stdint.h>
+
+#include "relief/relief.h"
+#include "surface.h"
+
+/* The surface as the matcher reads it; the layouts are those documented in
+ * kernels/relief_math.h. Owned by the host; backends keep their own copies
+ * (device buffers) in step through relief_matcher_update. */
+typedef struct relief_match_data {
+    uint32_t nv, nt, ns;  /* vertices, triangles, samples (candidate centres) */
+    float *proj;          /* nv x 3 projected positions v' */
+    float *pos;           /* nv x 3 real positions v */
+    float *col;           /* nv x 3 colours in [0, 1]; grey when uncoloured */
+    uint8_t *matchable;   /* nv */
+    uint32_t *tri;        /* nt x 3 */
+    uint32_t *vt_start;   /* nv + 1 */
+    uint32_t *vt;         /* vt_start[nv] incident triangle ids */
+    float grid[4];        /* grid origin x, y, z and cell size */
+    uint32_t dims[3];     /* cells per axis */
+    uint32_t *cell_start; /* dims[0] * dims[1] * dims[2] + 1 */
+    uint32_t *cell_items; /* nv vertex ids by cell, then id */
+    uint32_t *sample;     /* ns vertex ids of the samples */
+    float *s_proj;        /* ns x 3 s' */
+    float *s_frame;       /* ns x 9 R_s as rows u, v, n */
+    int rotations;        /* R */
+    float *cos_r, *sin_r; /* R: cos and sin of 2 pi r / R */
+    float mu;             /* shape weight */
+    float inv_b2;         /* 1 / B_shape^2 */
+    double b_shape;       /* the shape bound B_shape (input units) */
+} relief_match_data;
+
+/* Build the match data of a surface: R rotations, shape weight mu.
+ * B_shape (paper 000 section 6) is read here as the range of the samples'
+ * signed displacement along the normal, max(D.n) - min(D.n): the largest
+ * difference between two samples' displacements, on either side of the
+ * fit; a flat capture (range 0) uses the target spacing instead. */
+relief_status relief_match_data_build(const relief_surface *s, int rotations, double mu,
+                                      relief_match_data **out, relief_error *err);
+void relief_match_data_destroy(relief_match_data *d);
+
+/* One target's textured neighbourhood, transformed into its frame. */
+typedef struct relief_match_query {
+    uint32_t n;        /* neighbours */
+    const float *qp;   /* n x 3 projected offsets R_t^T (v' - t) */
+    const float *q;    /* n x 3 real offsets R_t^T (v - t) */
+    const float *g;    /* n Gaussian weights */
+    const float *qcol; /* n x 3 colours */
+    float inv_wsum;    /* 1 / sum of g */
+    float cutoff;      /* prune a candidate once its partial SSD exceeds
+                          this (FLT_MAX: never) */
+    int running;       /* 1: the backend may lower the cutoff to just above
+                          1.1 x the best SSD found so far, which never drops
+                          a member of the best set */
+} relief_match_query;
+
+/* Per-candidate results: flag RM_VALID, RM_INVALID or RM_PRUNED (see
+ * relief_math.h) and the SSD (valid) or partial SSD (pruned). */
+typedef struct relief_matcher relief_matcher;
+
+typedef struct relief_matcher_ops {
+    const char *name;
+    /* Score all ns x R candidates into ssd[] and flag[]. */
+    relief_status (*score)(void *ctx, const relief_match_data *d, const relief_match_query *q,
+                           float *ssd, uint8_t *flag, relief_error *err);
+    /* Vertex v's position, colour or matchable flag changed in d. */
+    relief_status (*update)(void *ctx, const relief_match_data *d, uint32_t v,
+                            relief_error *err);
+    void (*destroy)(void *ctx);
+} relief_matcher_ops;
+
+struct relief_matcher {
+    const relief_matcher_ops *ops;
+    void *ctx;
+    relief_backend backend;  /* the one actually used */
+    char device[256];        /* "scalar (1 thread)" or the OpenCL device */
+    double kernel_seconds;   /* time spent scoring */
+};
+
+/* The scalar reference: plain C, one thread, obviously correct. */
+relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
+                                           relief_error *err);
+
+/* Score through the matcher, timing it. */
+relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,
+                                   const relief_match_query *q, float *ssd, uint8_t *flag,
+                                   relief_error *err);
+relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *d, uint32_t v,
+                                    relief_error *err);
+void relief_matcher_destroy(relief_matcher *m);
+
+#endif

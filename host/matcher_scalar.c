@@ -1,0 +1,96 @@
+/* The scalar reference matcher: every candidate in order, one thread, the
+ * shared rm_score_candidate. Every other backend is tested against it. */
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "error.h"
+#include "matcher.h"
+#include "report.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "../kernels/relief_math.h"
+
+static relief_status scalar_score(void *ctx, const relief_match_data *d,
+                                  const relief_match_query *q, float *ssd, uint8_t *flag,
+                                  relief_error *err)
+{
+    float cutoff = q->cutoff;
+    (void)ctx;
+    (void)err;
+    for (uint32_t si = 0; si < d->ns; ++si) {
+        const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
+        for (int r = 0; r < d->rotations; ++r) {
+            size_t c = (size_t)si * (size_t)d->rotations + (size_t)r;
+            int f = rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri,
+                                       d->vt_start, d->vt, d->cell_start, d->cell_items,
+                                       d->grid, d->dims, sp, sf, d->cos_r[r], d->sin_r[r],
+                                       q->n, q->qp, q->q, q->g, q->qcol, d->mu, d->inv_b2,
+                                       q->inv_wsum, cutoff, &ssd[c]);
+            flag[c] = (uint8_t)f;
+            if (q->running && f == RM_VALID) {
+                /* Just above 1.1 x the best so far: a best-set member
+                 * (SSD <= 1.1 x the final minimum) stays below it. */
+                float c11 = nextafterf((float)(1.1 * (double)ssd[c]), FLT_MAX);
+                if (c11 < cutoff)
+                    cutoff = c11;
+            }
+        }
+    }
+    return RELIEF_OK;
+}
+
+static relief_status scalar_update(void *ctx, const relief_match_data *d, uint32_t v,
+                                   relief_error *err)
+{
+    /* The scalar matcher reads the host's arrays directly. */
+    (void)ctx;
+    (void)d;
+    (void)v;
+    (void)err;
+    return RELIEF_OK;
+}
+
+static void scalar_destroy(void *ctx) { (void)ctx; }
+
+static const relief_matcher_ops scalar_ops = {"scalar", scalar_score, scalar_update,
+                                              scalar_destroy};
+
+relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
+                                           relief_error *err)
+{
+    relief_matcher *m = calloc(1, sizeof *m);
+    (void)d;
+    if (!m)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a matcher");
+    m->ops = &scalar_ops;
+    m->backend = RELIEF_BACKEND_SCALAR;
+    snprintf(m->device, sizeof m->device, "scalar reference (1 thread)");
+    *out = m;
+    return RELIEF_OK;
+}
+
+relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,
+                                   const relief_match_query *q, float *ssd, uint8_t *flag,
+                                   relief_error *err)
+{
+    double t0 = relief_seconds();
+    relief_status st = m->ops->score(m->ctx, d, q, ssd, flag, err);
+    m->kernel_seconds += relief_seconds() - t0;
+    return st;
+}
+
+relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *d, uint32_t v,
+                                    relief_error *err)
+{
+    return m->ops->update(m->ctx, d, v, err);
+}
+
+void relief_matcher_destroy(relief_matcher *m)
+{
+    if (!m)
+        return;
+    m->ops->destroy(m->ctx);
+    free(m);
+}

@@ -1,0 +1,246 @@
+/* Scoring one candidate (DESIGN.md "Scoring one candidate"): hand-computed
+ * cases on a tiny grid, the point-triangle distance, the exact closest-
+ * vertex search, and pruning that never changes the best set. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "matcher.h"
+#include "mesh.h"
+#include "rng.h"
+#include "surface.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "../kernels/relief_math.h"
+
+/* A 5 x 5 grid of unit spacing on the plane z = 0: vertex j * 5 + i at
+ * (i, j, h), diagonals from (i, j) to (i + 1, j + 1); identity frames.
+ * Every vertex is a sample but `target`. */
+static relief_surface *grid_surface(const double *h, int target, int colour)
+{
+    relief_surface *s = calloc(1, sizeof *s);
+    relief_error err;
+    size_t t = 0;
+    relief_mesh_create(25, 32, RELIEF_MESH_LABELS | (colour ? RELIEF_MESH_COLOURS : 0u),
+                       &s->mesh, &err);
+    s->proj = calloc(75, sizeof(double));
+    s->disp = calloc(75, sizeof(double));
+    s->nrm = calloc(75, sizeof(double));
+    s->frame = calloc(225, sizeof(double));
+    for (int v = 0; v < 25; ++v) {
+        double *p = s->mesh->pos + 3 * v;
+        p[0] = v % 5, p[1] = v / 5, p[2] = h ? h[v] : 0.0;
+        s->proj[3 * v] = p[0], s->proj[3 * v + 1] = p[1];
+        s->disp[3 * v + 2] = p[2];
+        s->nrm[3 * v + 2] = 1.0;
+        s->frame[9 * v] = 1.0, s->frame[9 * v + 4] = 1.0, s->frame[9 * v + 8] = 1.0;
+    }
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            uint32_t a = (uint32_t)(j * 5 + i);
+            uint32_t *f = s->mesh->tri + 3 * t;
+            f[0] = a, f[1] = a + 1, f[2] = a + 6, f[3] = a, f[4] = a + 6, f[5] = a + 5;
+            t += 2;
+        }
+    /* Samples first, as relief_smooth lays them out: move the target last by
+     * swapping it with vertex 24 everywhere. */
+    if (target != 24) {
+        for (int k = 0; k < 3; ++k) {
+            double tmp = s->mesh->pos[3 * target + k];
+            s->mesh->pos[3 * target + k] = s->mesh->pos[72 + k];
+            s->mesh->pos[72 + k] = tmp;
+            tmp = s->proj[3 * target + k];
+            s->proj[3 * target + k] = s->proj[72 + k];
+            s->proj[72 + k] = tmp;
+            tmp = s->disp[3 * target + k];
+            s->disp[3 * target + k] = s->disp[72 + k];
+            s->disp[72 + k] = tmp;
+        }
+        for (size_t i = 0; i < 3 * t; ++i)
+            if (s->mesh->tri[i] == (uint32_t)target)
+                s->mesh->tri[i] = 24;
+            else if (s->mesh->tri[i] == 24)
+                s->mesh->tri[i] = (uint32_t)target;
+    }
+    s->n_samples = 24;
+    s->n_targets = 1;
+    s->spacing = 1.0;
+    return s;
+}
+
+/* Id of the vertex at grid (i, j) after the swap of `target` with 24. */
+static uint32_t at(int i, int j, int target)
+{
+    int v = j * 5 + i;
+    return (uint32_t)(v == target ? 24 : v == 24 ? target : v);
+}
+
+static int score(const relief_match_data *d, uint32_t s, int r, const float *qp,
+                 const float *q, const float *qcol, uint32_t n, float *ssd)
+{
+    float g[8] = {1, 1, 1, 1, 1, 1, 1, 1};
+    return rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
+                              d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
+                              d->s_proj + 3 * s, d->s_frame + 9 * s, d->cos_r[r],
+                              d->sin_r[r], n, qp, q, g, qcol, d->mu, d->inv_b2,
+                              1.0f / (float)n, FLT_MAX, ssd);
+}
+
+static void test_hand_cases(void)
+{
+    const int target = 12; /* grid (2, 2) */
+    relief_match_data *d = NULL;
+    relief_error err;
+    float ssd;
+    int f;
+
+    /* Flat: any valid candidate scores 0. Neighbour (1, 2) seen from the
+     * target (2, 2) is at offset (-1, 0, 0). */
+    {
+        relief_surface *s = grid_surface(NULL, target, 0);
+        const float qp[3] = {-1, 0, 0}, q[3] = {-1, 0, 0};
+        CHECK(relief_match_data_build(s, 4, 1.0, &d, &err) == RELIEF_OK, "%s", err.message);
+        f = score(d, at(2, 1, target), 0, qp, q, NULL, 1, &ssd);
+        CHECK(f == RM_VALID && ssd == 0.0f, "flat: flag %d ssd %g", f, (double)ssd);
+        /* From (3, 2) the neighbour lands on (2, 2), the target: invalid. */
+        f = score(d, at(3, 2, target), 0, qp, q, NULL, 1, &ssd);
+        CHECK(f == RM_INVALID, "landing on a target: flag %d, expected invalid", f);
+        /* Rotated by pi (r = 2 of 4) from (1, 2) it lands on (2, 2) too. */
+        f = score(d, at(1, 2, target), 2, qp, q, NULL, 1, &ssd);
+        CHECK(f == RM_INVALID, "rotated onto a target: flag %d", f);
+        /* The flat capture's shape bound falls back to the spacing. */
+        CHECK(fabs(d->b_shape - 1.0) < 1e-12, "flat B_shape %g, expected the spacing 1",
+              d->b_shape);
+        relief_match_data_destroy(d);
+        relief_surface_destroy(s);
+    }
+
+    /* Rotation by pi/2: one bump of 0.5 at (1, 2); B_shape = 0.5. The
+     * neighbour at offset (1, 0) with height 0.5, scored from s = (1, 1):
+     * r = 1 turns it to (0, 1), onto the bump: SSD 0; r = 0 puts it over
+     * (2, 1), whose triangles are flat at 0: d^2 = 0.25, SSD 0.25/0.5^2 = 1. */
+    {
+        double h[25] = {0};
+        const float qp[3] = {1, 0, 0}, q[3] = {1, 0, 0.5f};
+        relief_surface *s;
+        h[11] = 0.5; /* grid (1, 2) */
+        s = grid_surface(h, target, 0);
+        CHECK(relief_match_data_build(s, 4, 1.0, &d, &err) == RELIEF_OK, "%s", err.message);
+        CHECK(fabs(d->b_shape - 0.5) < 1e-12, "B_shape %g, expected 0.5", d->b_shape);
+        f = score(d, at(1, 1, target), 1, qp, q, NULL, 1, &ssd);
+        CHECK(f == RM_VALID && fabsf(ssd) < 1e-6f, "pi/2: flag %d ssd %g, expected 0", f,
+              (double)ssd);
+        f = score(d, at(1, 1, target), 0, qp, q, NULL, 1, &ssd);
+        CHECK(f == RM_VALID && fabsf(ssd - 1.0f) < 1e-6f, "r = 0: flag %d ssd %g, expected 1",
+              f, (double)ssd);
+        /* Two neighbours average: (r = 0) one at 0.25 away, one exact. */
+        {
+            const float qp2[6] = {1, 0, 0, -1, 0, 0}, q2[6] = {1, 0, 0.5f, -1, 0, 0};
+            f = score(d, at(1, 1, target), 0, qp2, q2, NULL, 2, &ssd);
+            CHECK(f == RM_VALID && fabsf(ssd - 0.5f) < 1e-6f, "two neighbours: ssd %g, "
+                  "expected 0.5", (double)ssd);
+        }
+        relief_match_data_destroy(d);
+        relief_surface_destroy(s);
+    }
+
+    /* Colour: mu = 0.5, neighbour red (1, 0, 0) over a blue (0, 0, 1)
+     * vertex: colour term (1 + 0 + 1) / 3; flat shape term 0. */
+    {
+        relief_surface *s = grid_surface(NULL, target, 1);
+        const float qp[3] = {-1, 0, 0}, q[3] = {-1, 0, 0}, red[3] = {1, 0, 0};
+        uint32_t v2 = at(1, 1, target);
+        CHECK(relief_match_data_build(s, 4, 0.5, &d, &err) == RELIEF_OK, "%s", err.message);
+        for (uint32_t v = 0; v < 25; ++v)
+            d->col[3 * v] = 0, d->col[3 * v + 1] = 0, d->col[3 * v + 2] = 1;
+        f = score(d, at(2, 1, target), 0, qp, q, red, 1, &ssd);
+        CHECK(f == RM_VALID && fabsf(ssd - 0.5f * 2.0f / 3.0f) < 1e-6f,
+              "colour: ssd %g, expected %g", (double)ssd, 1.0 / 3.0);
+        (void)v2;
+        relief_match_data_destroy(d);
+        relief_surface_destroy(s);
+    }
+}
+
+static void test_point_triangle(void)
+{
+    const float a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 1, 0};
+    static const struct {
+        float p[3];
+        float d2;
+        const char *region;
+    } cases[] = {{{0.25f, 0.25f, 1}, 1, "face"},     {{-1, -1, 0}, 2, "vertex a"},
+                 {{2, 0, 0}, 1, "vertex b"},         {{0, 2, 0}, 1, "vertex c"},
+                 {{0.5f, -1, 0}, 1, "edge ab"},      {{-1, 0.5f, 0}, 1, "edge ac"},
+                 {{1, 1, 0}, 0.5f, "edge bc"},       {{0.2f, 0.3f, 0}, 0, "on the face"},
+                 {{0.5f, -1, 2}, 5, "edge ab, above"}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        float d2 = rm_point_triangle_d2(cases[i].p, a, b, c);
+        CHECK(fabsf(d2 - cases[i].d2) < 1e-6f, "point-triangle %s: %g, expected %g",
+              cases[i].region, (double)d2, (double)cases[i].d2);
+    }
+}
+
+/* The grid search against brute force, ties to the lowest id included. */
+static void test_closest_vertex(void)
+{
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_match_data *d = NULL;
+    relief_error err;
+    relief_rng rng;
+    size_t wrong = 0;
+
+    sp.kind = RELIEF_SYNTH_CYLINDER_BANDS;
+    sp.vertices = 600;
+    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(s && relief_match_data_build(s, 4, 1.0, &d, &err) == RELIEF_OK, "%s", err.message);
+    if (!d)
+        goto done;
+    relief_rng_seed(&rng, 3);
+    for (int i = 0; i < 2000; ++i) {
+        float x[3];
+        uint32_t got, want = 0;
+        float best = FLT_MAX;
+        /* Around the surface, with some queries exactly on vertices (ties
+         * with themselves) and some far outside the grid. */
+        if (i % 10 == 0) {
+            uint32_t v = relief_rng_below(&rng, d->nv);
+            memcpy(x, d->proj + 3 * v, sizeof x);
+        } else {
+            double spread = i % 10 == 1 ? 8.0 : 2.6;
+            for (int k = 0; k < 3; ++k)
+                x[k] = (float)((relief_rng_uniform(&rng) - 0.5) * spread);
+        }
+        for (uint32_t v = 0; v < d->nv; ++v) {
+            float dx = d->proj[3 * v] - x[0], dy = d->proj[3 * v + 1] - x[1];
+            float dz = d->proj[3 * v + 2] - x[2];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 < best) {
+                best = d2;
+                want = v;
+            }
+        }
+        got = rm_closest_vertex(x, d->proj, d->cell_start, d->cell_items, d->grid, d->dims);
+        wrong += got != want;
+    }
+    CHECK(wrong == 0, "closest vertex: %zu of 2000 queries disagree with brute force", wrong);
+done:
+    relief_match_data_destroy(d);
+    relief_surface_destroy(s);
+    relief_mesh_destroy(cap);
+}
+
+int main(void)
+{
+    test_hand_cases();
+    test_point_triangle();
+    test_closest_vertex();
+    return check_result();
+}
