@@ -16,6 +16,7 @@
 #include "fit.h"
 #include "grow.h"
 #include "matcher.h"
+#include "measures.h"
 #include "json.h"
 #include "report.h"
 #include "surface.h"
@@ -297,6 +298,7 @@ typedef struct complete_report {
     const relief_surface *surface;
     const relief_grow_stats *stats;
     const relief_matcher *matcher;
+    const relief_measures *measures; /* NULL when they could not be taken */
     double seconds;
 } complete_report;
 
@@ -339,6 +341,11 @@ static int write_complete_report(FILE *f, void *ctx)
     rj_number(&j, "seconds", g->seconds);
     rj_number(&j, "match_seconds", g->match_seconds);
     rj_end_object(&j);
+    if (r->measures) {
+        rj_begin_object(&j, "measures");
+        relief_report_measures_fields(&j, r->measures);
+        rj_end_object(&j);
+    }
     rj_begin_object(&j, "backend");
     rj_string(&j, "name", relief_backend_name(r->matcher->backend));
     rj_string(&j, "requested", relief_backend_name(r->params->backend));
@@ -416,7 +423,14 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         st = relief_grow(s, d, m, p, go, &stats, &err);
     }
     if (st == RELIEF_OK && report) {
-        complete_report r = {in_path, out, p, o, go, s, &stats, m, relief_seconds() - t0};
+        relief_measures meas;
+        relief_error merr = {RELIEF_OK, ""};
+        int have = relief_measure(s->mesh, NULL, &s->fit.prim, &meas, &merr) == RELIEF_OK;
+        complete_report r = {in_path, out, p, o, go, s, &stats, m, have ? &meas : NULL,
+                             relief_seconds() - t0};
+        if (!have && !quiet)
+            fprintf(stderr, "relief complete: warning: no measures in the report: %s\n",
+                    merr.message);
         st = relief_atomic_write_text(report, write_complete_report, &r, &err);
     }
     if (st == RELIEF_OK) {
@@ -711,24 +725,7 @@ static int cmd_synth(int argc, char **argv)
     return rc;
 }
 
-/* ------------------------------------------------------ not yet there */
-
-static int cmd_pending(int argc, char **argv, const char *cmd, const char *help)
-{
-    static const struct option opts[] = {{"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
-    int c;
-    optind = 1;
-    opterr = 0; /* accept the options of the final interface */
-    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1)
-        if (c == 'h') {
-            fputs(help, stdout);
-            return 0;
-        }
-    opterr = 1;
-    fprintf(stderr, "relief %s: error: %s\n", cmd,
-            relief_strerror(RELIEF_E_NOT_IMPLEMENTED));
-    return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
-}
+/* ----------------------------------------------------------------- help */
 
 static const char fit_help[] =
     "usage: relief fit IN [--fit auto|plane|sphere|cylinder] [--json]\n"
@@ -747,9 +744,20 @@ static const char fit_help[] =
 static const char eval_help[] =
     "usage: relief eval COMPLETED [--truth T] [--json]\n"
     "\n"
-    "Measure a completion (uses the per-vertex `label`): MSI of the captured\n"
-    "and completed parts, histogram distances, the seam measure, and against a\n"
-    "truth mesh the relief RMS error and dominant frequencies.\n";
+    "Measure a completion, using its per-vertex `label` (0 captured, 1\n"
+    "completed) and a primitive fitted to the captured part: the mean surface\n"
+    "integral (mean |D.n|) of each part and their % difference, the total-\n"
+    "variation distance between the parts' displacement histograms (and RGB\n"
+    "histograms when there is colour), the seam measure (mean |D| jump across\n"
+    "captured-completed edges over the same inside the capture), and the\n"
+    "dominant spatial frequency of each part. With --truth (a mesh whose label\n"
+    "1 marks the missing part, as `relief synth --truth` writes): the RMS\n"
+    "relief error against the truth and the truth's dominant frequency.\n"
+    "\n"
+    "  --truth T             ground-truth mesh in the same coordinates\n"
+    "  --json                one JSON object (msi_captured, msi_completed,\n"
+    "                        msi_diff_percent, seam_ratio, hist_distance_*, ...)\n"
+    "  -h, --help            this help\n";
 static const char devices_help[] =
     "usage: relief devices\n"
     "\n"
@@ -829,6 +837,75 @@ static int cmd_fit(int argc, char **argv)
                 "size %.4g; the capture may not be a %s\n",
                 r.rms, 100.0 * RELIEF_FIT_POOR, relief_fit_model_name(r.prim.model), r.size,
                 relief_fit_model_name(r.prim.model));
+    return 0;
+}
+
+/* ----------------------------------------------------------------- eval */
+
+static void print_measures_text(const relief_measures *m)
+{
+    printf("primitive: %s\n", relief_fit_model_name(m->prim.model));
+    printf("vertices: %zu captured, %zu completed\n", m->n_captured, m->n_completed);
+    printf("msi_captured: %.6g\nmsi_completed: %.6g\nmsi_diff_percent: %.3f\n",
+           m->msi_captured, m->msi_completed, m->msi_diff_percent);
+    printf("hist_distance_displacement: %.4f\n", m->hist_distance_displacement);
+    if (m->has_colour)
+        printf("hist_distance_colour: %.4f\n", m->hist_distance_colour);
+    printf("seam: %.6g (over %zu edges), inside: %.6g (%zu edges), seam_ratio: %.3f\n",
+           m->seam, m->n_seam_edges, m->inside, m->n_inside_edges, m->seam_ratio);
+    printf("freq_captured: %.4g\nfreq_completed: %.4g\n", m->freq_captured.freq,
+           m->freq_completed.freq);
+    if (m->has_truth)
+        printf("truth_rms: %.6g\nfreq_truth: %.4g\n", m->truth_rms, m->freq_truth.freq);
+}
+
+static int cmd_eval(int argc, char **argv)
+{
+    static const struct option opts[] = {{"truth", required_argument, 0, OPT_TRUTH},
+                                         {"json", no_argument, 0, OPT_JSON},
+                                         {"help", no_argument, 0, 'h'},
+                                         {0, 0, 0, 0}};
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *done = NULL, *truth = NULL;
+    const char *truth_path = NULL;
+    relief_measures m;
+    relief_status st;
+    int c, json = 0;
+
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+        switch (c) {
+        case OPT_TRUTH: truth_path = optarg; break;
+        case OPT_JSON: json = 1; break;
+        case 'h': fputs(eval_help, stdout); return 0;
+        default: fprintf(stderr, "Try 'relief eval --help'.\n"); return EXIT_USAGE;
+        }
+    }
+    if (optind >= argc)
+        return usage_error("eval", "%smissing mesh COMPLETED", "");
+    if (argc - optind > 1)
+        return usage_error("eval", "unexpected argument '%s'", argv[optind + 1]);
+    st = relief_mesh_read(argv[optind], &done, NULL, &err);
+    if (st == RELIEF_OK && truth_path)
+        st = relief_mesh_read(truth_path, &truth, NULL, &err);
+    if (st == RELIEF_OK)
+        st = relief_measure(done, truth, NULL, &m, &err);
+    relief_mesh_destroy(truth);
+    relief_mesh_destroy(done);
+    if (st != RELIEF_OK)
+        return fail_status("eval", &err);
+    if (json) {
+        relief_json j;
+        rj_init(&j, stdout);
+        rj_begin_object(&j, NULL);
+        rj_string(&j, "input", argv[optind]);
+        if (truth_path)
+            rj_string(&j, "truth", truth_path);
+        relief_report_measures_fields(&j, &m);
+        rj_end_object(&j);
+    } else {
+        print_measures_text(&m);
+    }
     return 0;
 }
 
@@ -924,7 +1001,7 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "fit") == 0)
         return cmd_fit(argc - 1, argv + 1);
     if (strcmp(cmd, "eval") == 0)
-        return cmd_pending(argc - 1, argv + 1, "eval", eval_help);
+        return cmd_eval(argc - 1, argv + 1);
     if (strcmp(cmd, "devices") == 0)
         return cmd_devices(argc - 1, argv + 1);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);

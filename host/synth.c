@@ -126,14 +126,18 @@ static double relief_height(const relief_field *f, const double b[3], double u, 
     case RELIEF_SYNTH_PLANE_NOISE:
         return 0.01 * f->norm * wave_sum(f->w, u, v);
     case RELIEF_SYNTH_CYLINDER_BANDS: {
-        /* Raised rings of period 0.4 along the axis. */
-        double c = cos(2.0 * PI * v / 0.4);
+        /* Raised rings of period 0.5 along the axis: about 6 vertices per
+         * period at the default 2000, so the capture resolves them. */
+        double c = cos(2.0 * PI * v / 0.5);
         return c > 0.0 ? 0.05 * c * c : 0.0;
     }
     case RELIEF_SYNTH_CYLINDER_BARK: {
-        /* Furrowed ridges: fold the field so furrows are sharp, crests round. */
+        /* Furrowed ridges: fold the field so furrows are sharp, crests round.
+         * E|s| = sqrt(2 / pi) for a unit normal s: subtracting half of it
+         * keeps the relief's mean near zero, so a fit to one side of the
+         * trunk is not pulled off the axis. */
         double s = f->norm * wave_sum(f->w, u, v);
-        return 0.03 * (0.5 - fabs(s) / 2.0);
+        return 0.03 * (0.3989422804014327 - fabs(s) / 2.0);
     }
     case RELIEF_SYNTH_SPHERE_DIMPLES: {
         const double rd = 0.16; /* dimple radius, radians */
@@ -478,7 +482,9 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
     case RELIEF_SYNTH_CYLINDER_BANDS:
     case RELIEF_SYNTH_CYLINDER_BARK:
         ok = make_cylinder(&b, params->vertices);
-        make_waves(field.w, &rng, 0.15, 0.45, 1);
+        /* Folding doubles the ridges' frequency: wavelengths from 0.35 keep
+         * a ridge over about two vertex spacings at the default 2000. */
+        make_waves(field.w, &rng, 0.35, 0.9, 1);
         break;
     default:
         ok = make_sphere(&b, params->vertices) && make_dimples(&field, &rng);
