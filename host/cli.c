@@ -392,12 +392,6 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                 "not implemented yet; use --levels 1\n", p->levels);
         return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
     }
-    if (p->backend == RELIEF_BACKEND_OPENCL) {
-        relief_mesh_destroy(in);
-        fprintf(stderr, "relief complete: error: --backend opencl: the OpenCL matcher is not "
-                "implemented yet; use --backend scalar\n");
-        return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
-    }
     st = relief_smooth(in, p, o, &s, &err);
     if (st == RELIEF_OK)
         st = relief_match_data_build(s, p->rotations,
@@ -405,10 +399,13 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                                      &err);
     relief_mesh_destroy(in);
     if (st == RELIEF_OK) {
-        st = relief_matcher_scalar_create(d, &m, &err);
-        if (st == RELIEF_OK && p->backend == RELIEF_BACKEND_AUTO && !quiet)
-            fprintf(stderr, "relief complete: backend auto: using the scalar matcher (the "
-                    "OpenCL matcher is not built yet)\n");
+        char note[RELIEF_ERROR_MESSAGE_MAX + 64];
+        st = relief_matcher_create(p->backend, p->device, d, &m, note, sizeof note, &err);
+        if (st == RELIEF_OK && note[0])
+            fprintf(stderr, "relief complete: backend auto: %s\n", note);
+        else if (st == RELIEF_OK && !quiet)
+            fprintf(stderr, "relief complete: backend %s: %s\n",
+                    relief_backend_name(m->backend), m->device);
     }
     if (st == RELIEF_OK && !quiet)
         fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "

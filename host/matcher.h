@@ -90,6 +90,19 @@ struct relief_matcher {
 relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
                                            relief_error *err);
 
+/* The OpenCL matcher on device `device` (relief_devices order; -1: the
+ * first). RELIEF_E_DEVICE naming the reason (no platform, the build log of
+ * a failed kernel build, out of device memory); RELIEF_E_NOT_BUILT in a
+ * build without OpenCL. */
+relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
+                                           relief_matcher **out, relief_error *err);
+
+/* The matcher for `backend`: scalar, OpenCL, or for auto OpenCL when it can
+ * run, else scalar with the reason written to `note` (may be NULL). */
+relief_status relief_matcher_create(relief_backend backend, int device,
+                                    const relief_match_data *d, relief_matcher **out,
+                                    char *note, size_t note_size, relief_error *err);
+
 /* Score through the matcher, timing it. */
 relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,
                                    const relief_match_query *q, float *ssd, uint8_t *flag,

@@ -6,7 +6,6 @@
 
 #include "error.h"
 #include "matcher.h"
-#include "report.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
@@ -69,28 +68,4 @@ relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_ma
     snprintf(m->device, sizeof m->device, "scalar reference (1 thread)");
     *out = m;
     return RELIEF_OK;
-}
-
-relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,
-                                   const relief_match_query *q, float *ssd, uint8_t *flag,
-                                   relief_error *err)
-{
-    double t0 = relief_seconds();
-    relief_status st = m->ops->score(m->ctx, d, q, ssd, flag, err);
-    m->kernel_seconds += relief_seconds() - t0;
-    return st;
-}
-
-relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *d, uint32_t v,
-                                    relief_error *err)
-{
-    return m->ops->update(m->ctx, d, v, err);
-}
-
-void relief_matcher_destroy(relief_matcher *m)
-{
-    if (!m)
-        return;
-    m->ops->destroy(m->ctx);
-    free(m);
 }

@@ -155,5 +155,26 @@ mkdir -p "$tmp/no-icd"
 expect 0 "no OpenCL platform" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" devices
 expect 1 "unexpected argument" -- "$relief" devices extra
 
+# OpenCL backend: no platform, a kernel that does not build, and auto's fallback.
+small=$tmp/small.ply
+"$relief" synth plane-waves -o "$small" --vertices 300 2>/dev/null
+expect 2 "no OpenCL platform" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
+expect 0 "OpenCL unavailable" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/ocl.ply" --window 2
+[[ -s $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: auto fallback wrote nothing"; fail=$((fail+1)); }
+rm -f "$tmp/ocl.ply"
+if "$relief" devices | grep -q "^device 0"; then
+  kdir=$(cd "$(dirname "$0")/../kernels" && pwd)
+  mkdir -p "$tmp/badk"
+  cp "$kdir/relief_math.h" "$tmp/badk/"
+  printf '__kernel void score(__global float *x) { this is not C; }\n' > "$tmp/badk/score.cl"
+  expect 2 "build log" -- env RELIEF_KERNEL_DIR="$tmp/badk" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
+  expect 2 "cannot read" -- env RELIEF_KERNEL_DIR="$tmp/nowhere" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
+  [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a failed OpenCL run"; fail=$((fail+1)); }
+  expect 2 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --device 7 --quiet
+  expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
+  expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
+  cmp -s "$tmp/ocl.ply" "$tmp/scl.ply" && pass=$((pass+1)) || { echo "FAIL: OpenCL and scalar outputs differ"; fail=$((fail+1)); }
+fi
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

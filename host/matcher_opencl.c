@@ -1,0 +1,371 @@
+/* The OpenCL matcher: kernels/score.cl, one work-item per (sample,
+ * rotation), running the same rm_score_candidate as the scalar reference.
+ *
+ * The surface goes to the device once; a textured target updates its
+ * position, colour and matchable flag there (a few bytes); per target only
+ * the neighbourhood travels. With pruning, the host first scores 64 evenly
+ * spread candidates itself to bound the minimum, and the launch prunes
+ * above just over 1.1 x that bound, which can never drop a best-set member.
+ * Kernel sources are embedded at build time; RELIEF_KERNEL_DIR names a
+ * folder to read relief_math.h and score.cl from instead (development). */
+#include <errno.h>
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "error.h"
+#include "matcher.h"
+#include "ocl.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "../kernels/relief_math.h"
+
+#define WG_SIZE 64
+#define PROBES 64
+
+extern const char relief_kernel_relief_math_h[];
+extern const char relief_kernel_score_cl[];
+
+typedef struct ocl {
+    cl_context ctx;
+    cl_command_queue queue;
+    cl_program prog;
+    cl_kernel kernel;
+    cl_mem proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items;
+    cl_mem s_proj, s_frame, cos_r, sin_r, ssd, flag;
+    cl_mem qp, q, g, qcol;
+    size_t qcap; /* neighbours the query buffers hold */
+} ocl;
+
+static void ocl_free(ocl *o)
+{
+    cl_mem *mems[] = {&o->proj,  &o->pos,    &o->col,     &o->matchable, &o->tri,
+                      &o->vt_start, &o->vt, &o->cell_start, &o->cell_items, &o->s_proj,
+                      &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag,
+                      &o->qp, &o->q, &o->g, &o->qcol};
+    if (!o)
+        return;
+    for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
+        if (*mems[i])
+            clReleaseMemObject(*mems[i]);
+    if (o->kernel)
+        clReleaseKernel(o->kernel);
+    if (o->prog)
+        clReleaseProgram(o->prog);
+    if (o->queue)
+        clReleaseCommandQueue(o->queue);
+    if (o->ctx)
+        clReleaseContext(o->ctx);
+    free(o);
+}
+
+/* Read a whole file into a NUL-terminated buffer. */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    long n;
+    if (!f)
+        return NULL;
+    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0) {
+        buf = malloc((size_t)n + 1);
+        if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+            free(buf);
+            buf = NULL;
+        } else if (buf) {
+            buf[n] = '\0';
+        }
+    }
+    fclose(f);
+    return buf;
+}
+
+static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
+{
+    const char *dir = getenv("RELIEF_KERNEL_DIR");
+    char *files[2] = {NULL, NULL}, options[256], *log = NULL;
+    const char *src[3];
+    cl_device_fp_config fp = 0;
+    cl_int rc;
+    size_t loglen = 0;
+    relief_status st = RELIEF_OK;
+
+    src[0] = "#define RM_WITH_SCORING 1\n";
+    src[1] = relief_kernel_relief_math_h;
+    src[2] = relief_kernel_score_cl;
+    if (dir && *dir) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/relief_math.h", dir);
+        files[0] = slurp(path);
+        snprintf(path, sizeof path, "%s/score.cl", dir);
+        files[1] = slurp(path);
+        if (!files[0] || !files[1]) {
+            st = relief_fail(err, RELIEF_E_DEVICE,
+                             "RELIEF_KERNEL_DIR=%s: cannot read relief_math.h and score.cl "
+                             "there: %s",
+                             dir, strerror(errno));
+            goto done;
+        }
+        src[1] = files[0];
+        src[2] = files[1];
+    }
+    /* Division must round as the host's does for the scores to agree bit
+     * for bit; ask for it where the device offers it. */
+    clGetDeviceInfo(dev, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
+    snprintf(options, sizeof options, "-cl-std=CL1.2 -DRELIEF_WG_SIZE=%d%s", WG_SIZE,
+             (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
+                 ? " -cl-fp32-correctly-rounded-divide-sqrt"
+                 : "");
+    o->prog = clCreateProgramWithSource(o->ctx, 3, src, NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateProgramWithSource: %s",
+                         relief_cl_error_name(rc));
+        goto done;
+    }
+    rc = clBuildProgram(o->prog, 1, &dev, options, NULL, NULL);
+    if (rc != CL_SUCCESS) {
+        clGetProgramBuildInfo(o->prog, dev, CL_PROGRAM_BUILD_LOG, 0, NULL, &loglen);
+        log = malloc(loglen + 1);
+        if (log) {
+            clGetProgramBuildInfo(o->prog, dev, CL_PROGRAM_BUILD_LOG, loglen, log, NULL);
+            log[loglen] = '\0';
+        }
+        st = relief_fail(err, RELIEF_E_DEVICE,
+                         "the OpenCL kernel failed to build (%s), options '%s'%s; build "
+                         "log:\n%s",
+                         relief_cl_error_name(rc), options,
+                         dir && *dir ? ", sources from RELIEF_KERNEL_DIR" : "",
+                         log ? log : "(none)");
+        goto done;
+    }
+    o->kernel = clCreateKernel(o->prog, "score", &rc);
+    if (rc != CL_SUCCESS)
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(score): %s",
+                         relief_cl_error_name(rc));
+done:
+    free(log);
+    free(files[0]);
+    free(files[1]);
+    return st;
+}
+
+/* A device buffer holding `bytes` from `host` (at least 1 byte). */
+static relief_status upload(ocl *o, cl_mem *mem, const void *host, size_t bytes,
+                            cl_mem_flags flags, const char *what, relief_error *err)
+{
+    cl_int rc;
+    *mem = clCreateBuffer(o->ctx, flags | (host && bytes ? CL_MEM_COPY_HOST_PTR : 0),
+                          bytes ? bytes : 1, bytes ? (void *)host : NULL, &rc);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "cannot allocate %zu bytes of device memory "
+                           "for %s: %s", bytes, what, relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+static relief_status ocl_score(void *ctx, const relief_match_data *d,
+                               const relief_match_query *qr, float *ssd, uint8_t *flag,
+                               relief_error *err)
+{
+    ocl *o = ctx;
+    const size_t ncand = (size_t)d->ns * (size_t)d->rotations;
+    const size_t global = (ncand + WG_SIZE - 1) / WG_SIZE * WG_SIZE, local = WG_SIZE;
+    float cutoff = qr->cutoff;
+    cl_float4 grid;
+    cl_uint4 dims;
+    cl_uint ns = d->ns, rot = (cl_uint)d->rotations, n = qr->n;
+    cl_int rc = CL_SUCCESS;
+    cl_uint a = 0;
+    relief_status st;
+
+    if (qr->n > o->qcap) { /* grow the query buffers */
+        size_t cap = qr->n * 2;
+        cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};
+        size_t per[4] = {3, 3, 1, 3};
+        for (int i = 0; i < 4; ++i) {
+            if (*qb[i])
+                clReleaseMemObject(*qb[i]);
+            *qb[i] = NULL;
+            st = upload(o, qb[i], NULL, cap * per[i] * sizeof(float), CL_MEM_READ_ONLY,
+                        "the neighbourhood", err);
+            if (st != RELIEF_OK)
+                return st;
+        }
+        o->qcap = cap;
+    }
+    if (qr->running && ncand > 0) {
+        /* Bound the minimum from a spread of candidates scored here. */
+        float best = FLT_MAX;
+        for (size_t i = 0; i < PROBES && i < ncand; ++i) {
+            size_t c = i * ncand / PROBES;
+            uint32_t si = (uint32_t)(c / (size_t)d->rotations);
+            int r = (int)(c % (size_t)d->rotations);
+            float s;
+            if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
+                                   d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
+                                   d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
+                                   d->cos_r[r], d->sin_r[r], qr->n, qr->qp, qr->q, qr->g,
+                                   qr->qcol, d->mu, d->inv_b2, qr->inv_wsum, best,
+                                   &s) == RM_VALID &&
+                s < best)
+                best = s;
+        }
+        if (best < FLT_MAX) {
+            float c11 = nextafterf((float)(1.1 * (double)best), FLT_MAX);
+            if (c11 < cutoff)
+                cutoff = c11;
+        }
+    }
+    rc |= clEnqueueWriteBuffer(o->queue, o->qp, CL_FALSE, 0, n * 3 * sizeof(float), qr->qp, 0,
+                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->q, CL_FALSE, 0, n * 3 * sizeof(float), qr->q, 0,
+                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->g, CL_FALSE, 0, n * sizeof(float), qr->g, 0, NULL,
+                               NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, n * 3 * sizeof(float), qr->qcol,
+                               0, NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
+    grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
+    grid.s[3] = d->grid[3];
+    dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
+#define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
+    ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
+    ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
+    ARG(dims); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(ns);
+    ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
+    ARG(d->inv_b2); ARG(qr->inv_wsum); ARG(cutoff); ARG(o->ssd); ARG(o->flag);
+#undef ARG
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
+    rc = clEnqueueNDRangeKernel(o->queue, o->kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: %s",
+                           relief_cl_error_name(rc));
+    rc = clEnqueueReadBuffer(o->queue, o->ssd, CL_FALSE, 0, ncand * sizeof(float), ssd, 0,
+                             NULL, NULL);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueReadBuffer(o->queue, o->flag, CL_TRUE, 0, ncand, flag, 0, NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "reading the scores back: %s",
+                           relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t v,
+                                relief_error *err)
+{
+    ocl *o = ctx;
+    cl_int rc = CL_SUCCESS;
+    rc |= clEnqueueWriteBuffer(o->queue, o->pos, CL_FALSE, (size_t)v * 3 * sizeof(float),
+                               3 * sizeof(float), d->pos + 3 * (size_t)v, 0, NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->col, CL_FALSE, (size_t)v * 3 * sizeof(float),
+                               3 * sizeof(float), d->col + 3 * (size_t)v, 0, NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->matchable, CL_FALSE, v, 1, d->matchable + v, 0,
+                               NULL, NULL);
+    /* The host arrays change again on the next acceptance: finish now. */
+    if (rc == CL_SUCCESS)
+        rc = clFinish(o->queue);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "updating vertex %u on the device: %s",
+                           (unsigned)v, relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+static void ocl_destroy(void *ctx) { ocl_free(ctx); }
+
+static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_destroy};
+
+relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
+                                           relief_matcher **out, relief_error *err)
+{
+    relief_device_info info[64];
+    cl_platform_id plats[16];
+    cl_device_id dev = NULL;
+    cl_uint np = 0;
+    size_t ndev = 0, want, seen = 0;
+    cl_int rc;
+    ocl *o = NULL;
+    relief_matcher *m = NULL;
+    relief_status st;
+    size_t ncand = (size_t)d->ns * (size_t)d->rotations;
+
+    st = relief_devices(info, 64, &ndev, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (ndev == 0)
+        return relief_fail(err, RELIEF_E_DEVICE, "no OpenCL platform or device found");
+    want = device < 0 ? 0 : (size_t)device;
+    if (want >= ndev)
+        return relief_fail(err, RELIEF_E_DEVICE,
+                           "--device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
+                           "devices')", device, ndev, ndev - 1);
+    /* Walk the platforms in relief_devices' order to the wanted device. */
+    clGetPlatformIDs(16, plats, &np);
+    for (cl_uint p = 0; p < np && !dev; ++p) {
+        cl_device_id devs[32];
+        cl_uint nd = 0;
+        if (clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, 32, devs, &nd) != CL_SUCCESS)
+            continue;
+        for (cl_uint i = 0; i < nd && !dev; ++i, ++seen)
+            if (seen == want)
+                dev = devs[i];
+    }
+    if (!dev)
+        return relief_fail(err, RELIEF_E_DEVICE, "OpenCL device %zu disappeared", want);
+
+    o = calloc(1, sizeof *o);
+    m = calloc(1, sizeof *m);
+    if (!o || !m) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the OpenCL matcher");
+        goto fail;
+    }
+    o->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateContext: %s", relief_cl_error_name(rc));
+        goto fail;
+    }
+    o->queue = clCreateCommandQueue(o->ctx, dev, 0, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateCommandQueue: %s",
+                         relief_cl_error_name(rc));
+        goto fail;
+    }
+    st = build_program(o, dev, err);
+    if (st != RELIEF_OK)
+        goto fail;
+#define UP(mem, ptr, bytes, what)                                                         \
+    if ((st = upload(o, &o->mem, ptr, bytes, CL_MEM_READ_ONLY, what, err)) != RELIEF_OK) \
+        goto fail;
+    UP(proj, d->proj, (size_t)d->nv * 3 * sizeof(float), "projected positions");
+    UP(pos, d->pos, (size_t)d->nv * 3 * sizeof(float), "positions");
+    UP(col, d->col, (size_t)d->nv * 3 * sizeof(float), "colours");
+    UP(matchable, d->matchable, d->nv, "labels");
+    UP(tri, d->tri, (size_t)d->nt * 3 * sizeof(uint32_t), "triangles");
+    UP(vt_start, d->vt_start, ((size_t)d->nv + 1) * sizeof(uint32_t), "vertex-triangle lists");
+    UP(vt, d->vt, (size_t)d->vt_start[d->nv] * sizeof(uint32_t), "vertex-triangle lists");
+    UP(cell_start, d->cell_start,
+       ((size_t)d->dims[0] * d->dims[1] * d->dims[2] + 1) * sizeof(uint32_t), "the grid");
+    UP(cell_items, d->cell_items, (size_t)d->nv * sizeof(uint32_t), "the grid");
+    UP(s_proj, d->s_proj, (size_t)d->ns * 3 * sizeof(float), "sample positions");
+    UP(s_frame, d->s_frame, (size_t)d->ns * 9 * sizeof(float), "sample frames");
+    UP(cos_r, d->cos_r, (size_t)d->rotations * sizeof(float), "rotations");
+    UP(sin_r, d->sin_r, (size_t)d->rotations * sizeof(float), "rotations");
+#undef UP
+    if ((st = upload(o, &o->ssd, NULL, ncand * sizeof(float), CL_MEM_WRITE_ONLY, "scores",
+                     err)) != RELIEF_OK ||
+        (st = upload(o, &o->flag, NULL, ncand, CL_MEM_WRITE_ONLY, "scores", err)) != RELIEF_OK)
+        goto fail;
+    m->ops = &ocl_ops;
+    m->ctx = o;
+    m->backend = RELIEF_BACKEND_OPENCL;
+    snprintf(m->device, sizeof m->device, "%s (%s, %u compute units) on %s", info[want].name,
+             info[want].type, info[want].compute_units, info[want].platform);
+    *out = m;
+    return RELIEF_OK;
+fail:
+    ocl_free(o);
+    free(m);
+    return st;
+}
