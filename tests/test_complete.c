@@ -6,7 +6,8 @@
  * seam measure within 2x that inside the capture, the dominant frequency of
  * periodic reliefs within 10 % of the truth's, and with colour an RGB
  * histogram distance below 0.25 (total variation; identical distributions
- * give 0, disjoint ones 1). */
+ * give 0, disjoint ones 1). Where an OpenCL device exists the completion
+ * is run again with the OpenCL matcher and must come out byte-identical. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -75,6 +76,33 @@ int main(int argc, char **argv)
         if (sp.colour)
             CHECK(me.hist_distance_colour <= 0.25, "colour histogram distance %.3f (bound "
                   "0.25)", me.hist_distance_colour);
+    }
+    /* The same completion through OpenCL, from a fresh smooth surface. */
+    if (st == RELIEF_OK) {
+        relief_surface *s2 = NULL;
+        relief_match_data *d2 = NULL;
+        relief_matcher *m2 = NULL;
+        relief_grow_stats stats2;
+        st = relief_smooth(cap, &p, NULL, &s2, &err);
+        if (st == RELIEF_OK)
+            st = relief_match_data_build(s2, p.rotations, relief_grow_mu(&p, sp.colour), &d2,
+                                         &err);
+        if (st == RELIEF_OK && relief_matcher_opencl_create(d2, -1, &m2, &err) != RELIEF_OK) {
+            printf("OpenCL comparison skipped: %s\n", err.message);
+        } else if (st == RELIEF_OK) {
+            st = relief_grow(s2, d2, m2, &p, &go, &stats2, &err);
+            CHECK(st == RELIEF_OK, "OpenCL: %s", err.message);
+            if (st == RELIEF_OK) {
+                const relief_mesh *a = s->mesh, *b = s2->mesh;
+                printf("OpenCL: %.1f s (scalar %.1f s)\n", stats2.seconds, stats.seconds);
+                CHECK(a->nv == b->nv && memcmp(a->pos, b->pos, 3 * a->nv * sizeof(double)) == 0 &&
+                          (!a->col || memcmp(a->col, b->col, 3 * a->nv * sizeof(float)) == 0),
+                      "the OpenCL completion differs from the scalar one");
+            }
+        }
+        relief_matcher_destroy(m2);
+        relief_match_data_destroy(d2);
+        relief_surface_destroy(s2);
     }
     relief_matcher_destroy(m);
     relief_match_data_destroy(d);

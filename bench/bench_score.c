@@ -1,0 +1,191 @@
+/* Matching throughput, scalar against OpenCL in one process: candidates
+ * (sample x rotation) scored per second for W = 2, 3, 4 and R = 1, 4, 8,
+ * exhaustive and pruned, on real target neighbourhoods of a synthetic
+ * capture. Each cell is the median of several repetitions; the OpenCL /
+ * scalar ratio is of the medians.
+ *   usage: bench_score [--vertices N] [--targets K] [--reps N] [--csv FILE]
+ * Prints a table and writes CSV rows: machine, device, backend, W, R,
+ * prune, reps, median, min, max (candidates per second). */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "grow.h"
+#include "matcher.h"
+#include "mesh.h"
+#include "report.h"
+#include "rng.h"
+#include "surface.h"
+
+#define MAX_NB 512
+
+typedef struct query_set {
+    size_t n;
+    relief_match_query q[64];
+    float *buf; /* qp, q, g, qcol of all queries */
+} query_set;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Neighbourhoods of `k` targets next to the capture: samples within
+ * W x spacing, as the growth builds them at the first pass. */
+static void make_queries(const relief_surface *s, const relief_match_data *d, int w, size_t k,
+                         query_set *qs)
+{
+    relief_rng rng;
+    float *b;
+    qs->n = 0;
+    qs->buf = malloc(k * MAX_NB * 10 * sizeof(float));
+    b = qs->buf;
+    relief_rng_seed(&rng, 5);
+    for (size_t tries = 0; qs->n < k && tries < 100 * k; ++tries) {
+        size_t t = s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets);
+        const double *tp = s->proj + 3 * t, *rt = s->frame + 9 * t;
+        double reach = w * s->spacing, wsum = 0.0;
+        float *qp = b, *q = b + 3 * MAX_NB, *g = b + 6 * MAX_NB, *qc = b + 7 * MAX_NB;
+        uint32_t n = 0;
+        for (size_t v = 0; v < s->n_samples && n < MAX_NB; ++v) {
+            const double *vp = s->proj + 3 * v, *vr = s->mesh->pos + 3 * v;
+            double dv[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
+            double dd = sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]) / reach;
+            if (dd > 1.0)
+                continue;
+            for (int r = 0; r < 3; ++r) {
+                const double *ax = rt + 3 * r;
+                qp[3 * n + r] = (float)(ax[0] * dv[0] + ax[1] * dv[1] + ax[2] * dv[2]);
+                q[3 * n + r] = (float)(ax[0] * (vr[0] - tp[0]) + ax[1] * (vr[1] - tp[1]) +
+                                       ax[2] * (vr[2] - tp[2]));
+                qc[3 * n + r] = d->col[3 * v + r];
+            }
+            g[n] = (float)exp(-0.5 * dd * dd);
+            wsum += g[n];
+            ++n;
+        }
+        if (n < 3)
+            continue; /* not on the boundary yet */
+        qs->q[qs->n].n = n;
+        qs->q[qs->n].qp = qp, qs->q[qs->n].q = q, qs->q[qs->n].g = g, qs->q[qs->n].qcol = qc;
+        qs->q[qs->n].inv_wsum = (float)(1.0 / wsum);
+        qs->q[qs->n].cutoff = FLT_MAX;
+        qs->q[qs->n].running = 0;
+        ++qs->n;
+        b += 10 * MAX_NB;
+    }
+}
+
+int main(int argc, char **argv)
+{
+    size_t vertices = 2000, ntargets = 8;
+    int reps = 5;
+    const char *csv = "bench-out/bench_score.csv";
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    relief_device_info dev[8];
+    size_t ndev = 0;
+    char machine[256], devname[200] = "none";
+    FILE *out;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (strcmp(argv[i], "--vertices") == 0)
+            vertices = (size_t)atol(argv[i + 1]);
+        else if (strcmp(argv[i], "--targets") == 0)
+            ntargets = (size_t)atol(argv[i + 1]);
+        else if (strcmp(argv[i], "--reps") == 0)
+            reps = atoi(argv[i + 1]);
+        else if (strcmp(argv[i], "--csv") == 0)
+            csv = argv[i + 1];
+    }
+    if (ntargets > 64)
+        ntargets = 64;
+    if (reps < 1)
+        reps = 1;
+    if (relief_devices(dev, 8, &ndev, &err) == RELIEF_OK && ndev > 0)
+        snprintf(devname, sizeof devname, "%s", dev[0].name);
+    snprintf(machine, sizeof machine, "%ld cores", cores);
+
+    sp.kind = RELIEF_SYNTH_CYLINDER_BARK;
+    sp.vertices = vertices;
+    sp.colour = 1;
+    if (relief_synth(&sp, &cap, NULL, &err) != RELIEF_OK ||
+        relief_smooth(cap, &p, NULL, &s, &err) != RELIEF_OK) {
+        fprintf(stderr, "bench_score: %s\n", err.message);
+        return 2;
+    }
+    out = fopen(csv, "w");
+    if (!out) {
+        perror(csv);
+        return 2;
+    }
+    fprintf(out, "machine,device,backend,W,R,prune,reps,targets,samples,median_cps,min_cps,"
+                 "max_cps\n");
+    printf("bench_score: cylinder-bark %zu vertices: %zu samples, %zu targets; %zu "
+           "neighbourhoods per cell, %d repetitions; %s; OpenCL device: %s\n",
+           vertices, s->n_samples, s->n_targets, ntargets, reps, machine, devname);
+    printf("%2s %2s %-6s %14s %14s %8s\n", "W", "R", "prune", "scalar c/s", "opencl c/s",
+           "ratio");
+    for (int w = 2; w <= 4; ++w)
+        for (int rr = 0; rr < 3; ++rr) {
+            const int R = rr == 0 ? 1 : rr == 1 ? 4 : 8;
+            relief_match_data *d = NULL;
+            relief_matcher *m[2] = {NULL, NULL};
+            query_set qs;
+            if (relief_match_data_build(s, R, 0.5, &d, &err) != RELIEF_OK) {
+                fprintf(stderr, "bench_score: %s\n", err.message);
+                return 2;
+            }
+            make_queries(s, d, w, ntargets, &qs);
+            relief_matcher_scalar_create(d, &m[0], &err);
+            if (relief_matcher_opencl_create(d, -1, &m[1], &err) != RELIEF_OK)
+                m[1] = NULL;
+            for (int prune = 0; prune < 2; ++prune) {
+                double med[2] = {NAN, NAN};
+                size_t nc = (size_t)d->ns * (size_t)R;
+                float *ssd = malloc(nc * sizeof *ssd);
+                uint8_t *flag = malloc(nc);
+                for (int b = 0; b < 2; ++b) {
+                    double rate[64];
+                    if (!m[b])
+                        continue;
+                    /* A warm-up pass, then the timed repetitions. */
+                    for (int r = -1; r < reps; ++r) {
+                        double t0 = relief_seconds();
+                        for (size_t i = 0; i < qs.n; ++i) {
+                            qs.q[i].running = prune;
+                            relief_matcher_score(m[b], d, &qs.q[i], ssd, flag, &err);
+                        }
+                        if (r >= 0)
+                            rate[r] = (double)(nc * qs.n) / (relief_seconds() - t0);
+                    }
+                    qsort(rate, (size_t)reps, sizeof rate[0], cmp_double);
+                    med[b] = rate[reps / 2];
+                    fprintf(out, "%s,%s,%s,%d,%d,%d,%d,%zu,%zu,%.6g,%.6g,%.6g\n", machine,
+                            b ? devname : "scalar (1 thread)", b ? "opencl" : "scalar", w, R,
+                            prune, reps, qs.n, s->n_samples, med[b], rate[0], rate[reps - 1]);
+                }
+                printf("%2d %2d %-6s %14.4g %14.4g %8.2f\n", w, R, prune ? "yes" : "no",
+                       med[0], med[1], med[1] / med[0]);
+                free(ssd);
+                free(flag);
+            }
+            free(qs.buf);
+            relief_matcher_destroy(m[1]);
+            relief_matcher_destroy(m[0]);
+            relief_match_data_destroy(d);
+        }
+    fclose(out);
+    printf("CSV: %s\n", csv);
+    relief_surface_destroy(s);
+    relief_mesh_destroy(cap);
+    return 0;
+}
