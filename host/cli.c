@@ -449,6 +449,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     return st == RELIEF_OK ? 0 : fail_status("complete", &err);
 }
 
+#define SMOOTH_OPTS 10
+
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
 {
     const char *cmd = smooth ? "smooth" : "complete";
@@ -463,7 +465,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"quiet", no_argument, 0, OPT_QUIET},
         {"frames", required_argument, 0, OPT_FRAMES},
         {"help", no_argument, 0, 'h'},
-        /* complete only, from here */
+        /* complete only, from here (SMOOTH_OPTS entries above) */
         {"window", required_argument, 0, OPT_WINDOW},
         {"rotations", required_argument, 0, OPT_ROTATIONS},
         {"error", required_argument, 0, OPT_ERROR},
@@ -475,18 +477,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"bootstrap", no_argument, 0, OPT_BOOTSTRAP},
         {"no-prune", no_argument, 0, OPT_NO_PRUNE},
         {0, 0, 0, 0}};
-    static const struct option smooth_opts[] = {
-        {"output", required_argument, 0, 'o'},
-        {"report", required_argument, 0, OPT_REPORT},
-        {"fit", required_argument, 0, OPT_FIT},
-        {"oversample", required_argument, 0, OPT_OVERSAMPLE},
-        {"spacing", required_argument, 0, OPT_SPACING},
-        {"extent", required_argument, 0, OPT_EXTENT},
-        {"ascii", no_argument, 0, OPT_ASCII},
-        {"quiet", no_argument, 0, OPT_QUIET},
-        {"frames", required_argument, 0, OPT_FRAMES},
-        {"help", no_argument, 0, 'h'},
-        {0, 0, 0, 0}};
+    /* smooth takes the options before the complete-only ones. */
+    struct option smooth_opts[SMOOTH_OPTS + 1];
     relief_params p = relief_params_default();
     relief_smooth_options sopts = relief_smooth_options_default();
     relief_grow_options gopts = relief_grow_options_default();
@@ -498,6 +490,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     long v;
     double d;
 
+    memcpy(smooth_opts, all_opts, SMOOTH_OPTS * sizeof all_opts[0]);
+    memset(&smooth_opts[SMOOTH_OPTS], 0, sizeof smooth_opts[0]);
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:h", smooth ? smooth_opts : all_opts, NULL)) != -1) {
         switch (c) {

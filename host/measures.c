@@ -1,6 +1,6 @@
 #include "measures.h"
 
-#include <flann/flann.h>
+#include "knn.h"
 #include <limits.h>
 #include <math.h>
 #include <stdint.h>
@@ -21,22 +21,6 @@
 
 /* ------------------------------------------------------------- helpers */
 
-/* Exact, deterministic kd-tree: a single tree with median splits and
- * unlimited checks. random_seed stays 0: a positive seed makes FLANN call
- * srand(), which is the caller's global state. */
-static struct FLANNParameters flann_exact(void)
-{
-    struct FLANNParameters fp = DEFAULT_FLANN_PARAMETERS;
-    fp.algorithm = FLANN_INDEX_KDTREE_SINGLE;
-    fp.checks = FLANN_CHECKS_UNLIMITED;
-    fp.eps = 0.0f;
-    fp.cores = 1;
-    fp.trees = 1;
-    fp.leaf_max_size = 10;
-    fp.log_level = FLANN_LOG_NONE;
-    fp.random_seed = 0;
-    return fp;
-}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -201,7 +185,7 @@ static double power_at(const double *uv, const double *f, size_t n, double ku, d
 static relief_status median_spacing(const double *uv, size_t n, double *out,
                                     relief_error *err)
 {
-    struct FLANNParameters fp = flann_exact();
+    struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
     int *idx = malloc(2 * n * sizeof *idx);
     double *d2 = malloc(2 * n * sizeof *d2), *d = malloc(n * sizeof *d);
@@ -435,7 +419,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
                                    const relief_mesh *tm, double *ht_out, size_t *n_outside,
                                    relief_error *err)
 {
-    struct FLANNParameters fp = flann_exact();
+    struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
     const size_t nv = tm->nv;
     double *tq = NULL, *th = NULL, *qq = NULL, *d2 = NULL;
@@ -798,18 +782,7 @@ void relief_report_measures_fields(relief_json *j, const relief_measures *m)
     rj_int(j, "n_captured", (long long)m->n_captured);
     rj_int(j, "n_completed", (long long)m->n_completed);
     rj_begin_object(j, "primitive");
-    rj_string(j, "model", relief_fit_model_name(p->model));
-    if (p->model == RELIEF_FIT_PLANE) {
-        rj_vec3(j, "point", p->point);
-        rj_vec3(j, "normal", p->dir);
-    } else if (p->model == RELIEF_FIT_SPHERE) {
-        rj_vec3(j, "center", p->point);
-        rj_number(j, "radius", p->radius);
-    } else {
-        rj_vec3(j, "axis_point", p->point);
-        rj_vec3(j, "axis_dir", p->dir);
-        rj_number(j, "radius", p->radius);
-    }
+    relief_report_primitive_fields(j, p);
     rj_string(j, "source", m->fitted ? "fitted to the captured part (auto)" : "given");
     rj_end_object(j);
     if (m->fitted) {

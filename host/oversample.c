@@ -1,6 +1,6 @@
 #include "oversample.h"
 
-#include <flann/flann.h>
+#include "knn.h"
 #include <limits.h>
 #include <math.h>
 #include <stdint.h>
@@ -241,7 +241,7 @@ static relief_status transfer_colour(const relief_mesh *in, relief_mesh *out,
                                      int k, double sigma, relief_error *err)
 {
     const size_t nv0 = in->nv, nnew = out->nv - in->nv;
-    struct FLANNParameters fp = DEFAULT_FLANN_PARAMETERS;
+    struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
     int *idx = NULL;
     double *d2 = NULL;
@@ -272,20 +272,6 @@ static relief_status transfer_colour(const relief_mesh *in, relief_mesh *out,
         goto done;
     }
 
-    /* Single kd-tree with eps 0 is an exact search and builds without
-     * randomness (median splits), so it is deterministic by construction.
-     * random_seed stays 0 on purpose: FLANN reseeds the process-wide rand()
-     * (srand) on every call when it is > 0, and the library must not touch
-     * its caller's global state. Log level none: a library does not print;
-     * a failure is reported through err. */
-    fp.algorithm = FLANN_INDEX_KDTREE_SINGLE;
-    fp.checks = FLANN_CHECKS_UNLIMITED;
-    fp.eps = 0.0f;
-    fp.cores = 1;
-    fp.trees = 1;
-    fp.leaf_max_size = 10;
-    fp.log_level = FLANN_LOG_NONE;
-    fp.random_seed = 0;
     /* FLANN's C API takes non-const data; it only reads it (and copies it,
      * as the single kd-tree reorders its points). */
     index = flann_build_index_double((double *)in->pos, (int)nv0, 3, &speedup,

@@ -9,13 +9,9 @@ double relief_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-void relief_report_fit_fields(relief_json *j, const relief_fit_result *r)
+void relief_report_primitive_fields(relief_json *j, const relief_fit_primitive *p)
 {
-    const relief_fit_primitive *p = &r->prim;
     rj_string(j, "model", relief_fit_model_name(p->model));
-    rj_number(j, "rms", r->rms);
-    rj_number(j, "rms_all", r->rms_all);
-    rj_number(j, "inlier_fraction", r->inlier_fraction);
     if (p->model == RELIEF_FIT_PLANE) {
         rj_vec3(j, "point", p->point);
         rj_vec3(j, "normal", p->dir);
@@ -27,6 +23,14 @@ void relief_report_fit_fields(relief_json *j, const relief_fit_result *r)
         rj_vec3(j, "axis_dir", p->dir);
         rj_number(j, "radius", p->radius);
     }
+}
+
+void relief_report_fit_fields(relief_json *j, const relief_fit_result *r)
+{
+    relief_report_primitive_fields(j, &r->prim);
+    rj_number(j, "rms", r->rms);
+    rj_number(j, "rms_all", r->rms_all);
+    rj_number(j, "inlier_fraction", r->inlier_fraction);
     rj_int(j, "n_points", (long long)r->n_points);
     rj_int(j, "n_inliers", (long long)r->n_inliers);
     rj_number(j, "size", r->size);

@@ -6,6 +6,10 @@
 #include "json.h"
 #include "surface.h"
 
+/* The primitive's fields into the current object: model and plane point,
+ * normal; sphere center, radius; or cylinder axis_point, axis_dir, radius. */
+void relief_report_primitive_fields(relief_json *j, const relief_fit_primitive *p);
+
 /* The fit's fields into the current object: model, rms, rms_all,
  * inlier_fraction, the parameters (plane point, normal; sphere center,
  * radius; cylinder axis_point, axis_dir, radius), n_points, n_inliers,

@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <flann/flann.h>
+#include "knn.h"
 
 #include "delaunay.h"
 #include "error.h"
@@ -138,11 +138,7 @@ static relief_status coverage_build(coverage *c, const relief_mesh *cap,
             c->centroid[3 * t + k] = (c->proj[3 * cap->tri[3 * t] + k] +
                                       c->proj[3 * cap->tri[3 * t + 1] + k] +
                                       c->proj[3 * cap->tri[3 * t + 2] + k]) / 3.0;
-    c->fp = DEFAULT_FLANN_PARAMETERS;
-    c->fp.algorithm = FLANN_INDEX_KDTREE_SINGLE;
-    c->fp.checks = FLANN_CHECKS_UNLIMITED;
-    c->fp.random_seed = 0; /* > 0 makes FLANN call srand(): process-wide state */
-    c->fp.log_level = FLANN_LOG_NONE;
+    c->fp = relief_knn_exact_params();
     c->k = cap->nt < 16 ? (int)cap->nt : 16;
     c->index = flann_build_index_double(c->centroid, (int)cap->nt, 3, &speedup, &c->fp);
     if (!c->index)
