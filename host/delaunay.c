@@ -37,6 +37,7 @@
  * writes, so that nothing reaches stderr and failures can quote it. */
 typedef struct qhull_run {
     qhT qh;
+    coordT *points; /* qhull's copy of the input: it must outlive qh */
     FILE *log;
     char *text;
     size_t len;
@@ -57,24 +58,39 @@ static const char *qhull_first_line(qhull_run *run, char *buf, size_t cap)
     return buf[0] ? buf : "no message";
 }
 
-/* Run qhull on m points of dimension dim with `options` (after "qhull ").
- * On success the hull is in run->qh; qhull_end must follow in every case
- * once this returned, and `points` must outlive it. */
-static relief_status qhull_begin(qhull_run *run, int dim, size_t m,
-                                 coordT *points, const char *options,
-                                 const char *what, relief_error *err)
+/* Run qhull on a copy of the m points of dimension dim in `xyz` (m x dim)
+ * with `options` (after "qhull "). *out receives the run, whose hull is in
+ * (*out)->qh on success; qhull_end(*out) must follow in every case, success
+ * or not (it accepts NULL). */
+static relief_status qhull_begin(const double *xyz, int dim, size_t m,
+                                 const char *options, const char *what,
+                                 qhull_run **out, relief_error *err)
 {
     char cmd[64], line[400];
     int code;
     relief_status st;
+    qhull_run *run;
 
+    *out = NULL;
+    if (m >= (size_t)INT_MAX)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "%s: %zu points are more than qhull takes", what, m);
+    run = calloc(1, sizeof *run);
+    if (!run)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: no memory for qhull", what);
+    *out = run;
+    run->points = malloc((size_t)dim * m * sizeof *run->points);
+    if (!run->points)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: no memory for %zu points",
+                           what, m);
+    memcpy(run->points, xyz, (size_t)dim * m * sizeof *run->points);
     run->log = open_memstream(&run->text, &run->len);
     if (!run->log)
         return relief_fail(err, RELIEF_E_NOMEM,
                            "%s: cannot open a memory stream for qhull", what);
     qh_zero(&run->qh, run->log);
     snprintf(cmd, sizeof cmd, "qhull %s", options);
-    code = qh_new_qhull(&run->qh, dim, (int)m, points, False, cmd, NULL,
+    code = qh_new_qhull(&run->qh, dim, (int)m, run->points, False, cmd, NULL,
                         run->log);
     if (code == 0)
         return RELIEF_OK;
@@ -98,18 +114,20 @@ static relief_status qhull_begin(qhull_run *run, int dim, size_t m,
                        qhull_first_line(run, line, sizeof line));
 }
 
-/* Free everything qhull_begin made; harmless on a run never begun. */
+/* Free everything qhull_begin made, however far it got; NULL accepted. */
 static void qhull_end(qhull_run *run)
 {
     int curlong, totlong;
-    if (!run->log)
+    if (!run)
         return;
-    qh_freeqhull(&run->qh, !qh_ALL);
-    qh_memfreeshort(&run->qh, &curlong, &totlong);
-    fclose(run->log);
-    free(run->text);
-    run->log = NULL;
-    run->text = NULL;
+    if (run->log) {
+        qh_freeqhull(&run->qh, !qh_ALL);
+        qh_memfreeshort(&run->qh, &curlong, &totlong);
+        fclose(run->log);
+        free(run->text);
+    }
+    free(run->points);
+    free(run);
 }
 
 /* ------------------------------------------------------------- geometry */
@@ -218,7 +236,6 @@ static relief_status delaunay_cells(const double *xy, size_t m,
                                     relief_error *err)
 {
     qhull_run *run = NULL;
-    coordT *pts = NULL;
     uint32_t *out = NULL;
     ring_vertex *ring = NULL;
     size_t count = 0, widest = 0, t = 0;
@@ -229,24 +246,13 @@ static relief_status delaunay_cells(const double *xy, size_t m,
 
     if (st)
         return st;
-    if (m >= (size_t)INT_MAX)
-        return relief_fail(err, RELIEF_E_MESH,
-                           "%s: %zu points are more than qhull takes", what, m);
-    pts = malloc(2 * m * sizeof *pts);
-    run = calloc(1, sizeof *run);
-    if (!pts || !run) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "%s: no memory for %zu points",
-                         what, m);
-        goto done;
-    }
-    memcpy(pts, xy, 2 * m * sizeof *pts);
     /* 'Qbb' scales the lifted coordinate to the others' range; 'Qz' adds a
      * point at infinity, which keeps cocircular input (a regular grid, or
      * all points on one circle: a flat lifted hull) within qhull's
      * precision. No 'Qt': the cells are split here, the same way in every
      * copy (see above). No 'Qc': unused points are counted from the
      * triangles. */
-    st = qhull_begin(run, 2, m, pts, "d Qbb Qz", what, err);
+    st = qhull_begin(xy, 2, m, "d Qbb Qz", what, &run, err);
     if (st)
         goto done;
     qh = &run->qh;
@@ -317,10 +323,7 @@ static relief_status delaunay_cells(const double *xy, size_t m,
 done:
     free(ring);
     free(out);
-    if (run)
-        qhull_end(run);
-    free(run);
-    free(pts);
+    qhull_end(run);
     return st;
 }
 
@@ -772,7 +775,6 @@ relief_status relief_hull_sphere(const double *dirs, size_t n, uint32_t **tri,
 {
     static const char what[] = "relief_hull_sphere";
     qhull_run *run = NULL;
-    coordT *pts = NULL;
     uint32_t *out = NULL;
     size_t count = 0, t = 0;
     facetT *facet;
@@ -785,18 +787,7 @@ relief_status relief_hull_sphere(const double *dirs, size_t n, uint32_t **tri,
     st = check_solid(dirs, n, what, err);
     if (st)
         return st;
-    if (n >= (size_t)INT_MAX)
-        return relief_fail(err, RELIEF_E_MESH,
-                           "%s: %zu points are more than qhull takes", what, n);
-    pts = malloc(3 * n * sizeof *pts);
-    run = calloc(1, sizeof *run);
-    if (!pts || !run) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "%s: no memory for %zu points",
-                         what, n);
-        goto done;
-    }
-    memcpy(pts, dirs, 3 * n * sizeof *pts);
-    st = qhull_begin(run, 3, n, pts, "Qt", what, err);
+    st = qhull_begin(dirs, 3, n, "Qt", what, &run, err);
     if (st)
         goto done;
     qh = &run->qh;
@@ -852,9 +843,6 @@ relief_status relief_hull_sphere(const double *dirs, size_t n, uint32_t **tri,
     out = NULL;
 done:
     free(out);
-    if (run)
-        qhull_end(run);
-    free(run);
-    free(pts);
+    qhull_end(run);
     return st;
 }
