@@ -47,6 +47,8 @@ static void ocl_free(ocl *o)
                       &o->qp, &o->q, &o->g, &o->qcol};
     if (!o)
         return;
+    if (o->queue)
+        clFinish(o->queue); /* pending writes still read the host's arrays */
     for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
         if (*mems[i])
             clReleaseMemObject(*mems[i]);
@@ -264,9 +266,9 @@ static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t 
                                3 * sizeof(float), d->col + 3 * (size_t)v, 0, NULL, NULL);
     rc |= clEnqueueWriteBuffer(o->queue, o->matchable, CL_FALSE, v, 1, d->matchable + v, 0,
                                NULL, NULL);
-    /* The host arrays change again on the next acceptance: finish now. */
-    if (rc == CL_SUCCESS)
-        rc = clFinish(o->queue);
+    /* No wait here: a target is textured once, so these host bytes never
+     * change again, and the in-order queue runs the writes before the next
+     * launch. ocl_free finishes the queue before anything is released. */
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "updating vertex %u on the device: %s",
                            (unsigned)v, relief_cl_error_name(rc));
