@@ -1,7 +1,7 @@
 /* Matching throughput, scalar against OpenCL in one process: candidates
  * (sample x rotation) scored per second for W = 2, 3, 4 and R = 1, 4, 8,
- * exhaustive and pruned, on real target neighbourhoods of a synthetic
- * capture. Each cell is the median of several repetitions; the OpenCL /
+ * exhaustive and pruned, on the queries the growth builds for targets on
+ * the first boundary of a synthetic capture (relief_query_build). Each cell is the median of several repetitions; the OpenCL /
  * scalar ratio is of the medians.
  *   usage: bench_score [--vertices N] [--targets K] [--reps N] [--csv FILE]
  * Prints a table and writes CSV rows: machine, device, backend, W, R,
@@ -34,50 +34,42 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Neighbourhoods of `k` targets next to the capture: samples within
- * W x spacing, as the growth builds them at the first pass. */
+/* The growth's own queries (window w) for up to `k` targets next to the
+ * capture, copied out of the builder so they can be replayed. */
 static void make_queries(const relief_surface *s, const relief_match_data *d, int w, size_t k,
                          query_set *qs)
 {
+    relief_query_builder *qb = NULL;
+    relief_error err;
     relief_rng rng;
+    uint8_t *textured = calloc(d->nv, 1);
     float *b;
     qs->n = 0;
     qs->buf = malloc(k * MAX_NB * 10 * sizeof(float));
     b = qs->buf;
+    if (!textured || !qs->buf || relief_query_builder_create(s, d, &qb, &err) != RELIEF_OK) {
+        free(textured);
+        return;
+    }
+    for (size_t v = 0; v < s->n_samples; ++v)
+        textured[v] = 1; /* the first pass: only the samples are textured */
     relief_rng_seed(&rng, 5);
     for (size_t tries = 0; qs->n < k && tries < 100 * k; ++tries) {
-        size_t t = s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets);
-        const double *tp = s->proj + 3 * t, *rt = s->frame + 9 * t;
-        double reach = w * s->spacing, wsum = 0.0;
-        float *qp = b, *q = b + 3 * MAX_NB, *g = b + 6 * MAX_NB, *qc = b + 7 * MAX_NB;
-        uint32_t n = 0;
-        for (size_t v = 0; v < s->n_samples && n < MAX_NB; ++v) {
-            const double *vp = s->proj + 3 * v, *vr = s->mesh->pos + 3 * v;
-            double dv[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
-            double dd = sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]) / reach;
-            if (dd > 1.0)
-                continue;
-            for (int r = 0; r < 3; ++r) {
-                const double *ax = rt + 3 * r;
-                qp[3 * n + r] = (float)(ax[0] * dv[0] + ax[1] * dv[1] + ax[2] * dv[2]);
-                q[3 * n + r] = (float)(ax[0] * (vr[0] - tp[0]) + ax[1] * (vr[1] - tp[1]) +
-                                       ax[2] * (vr[2] - tp[2]));
-                qc[3 * n + r] = d->col[3 * v + r];
-            }
-            g[n] = (float)exp(-0.5 * dd * dd);
-            wsum += g[n];
-            ++n;
-        }
-        if (n < 3)
+        uint32_t t = (uint32_t)(s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets));
+        relief_match_query q;
+        relief_query_build(qb, textured, t, w, &q);
+        if (q.n < 3 || q.n > MAX_NB)
             continue; /* not on the boundary yet */
-        qs->q[qs->n].n = n;
-        qs->q[qs->n].qp = qp, qs->q[qs->n].q = q, qs->q[qs->n].g = g, qs->q[qs->n].qcol = qc;
-        qs->q[qs->n].inv_wsum = (float)(1.0 / wsum);
-        qs->q[qs->n].cutoff = FLT_MAX;
-        qs->q[qs->n].running = 0;
-        ++qs->n;
+        memcpy(b, q.qp, 3 * q.n * sizeof(float));
+        memcpy(b + 3 * MAX_NB, q.q, 3 * q.n * sizeof(float));
+        memcpy(b + 6 * MAX_NB, q.g, q.n * sizeof(float));
+        memcpy(b + 7 * MAX_NB, q.qcol, 3 * q.n * sizeof(float));
+        q.qp = b, q.q = b + 3 * MAX_NB, q.g = b + 6 * MAX_NB, q.qcol = b + 7 * MAX_NB;
+        qs->q[qs->n++] = q;
         b += 10 * MAX_NB;
     }
+    relief_query_builder_destroy(qb);
+    free(textured);
 }
 
 int main(int argc, char **argv)

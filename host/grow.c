@@ -148,6 +148,128 @@ static int neighbour_cmp(const void *x, const void *y)
     return (a->v > b->v) - (a->v < b->v);
 }
 
+/* ------------------------------------------------------- neighbourhoods */
+
+struct relief_query_builder {
+    const relief_surface *s;
+    const relief_match_data *d;
+    adjacency adj;
+    walker w;
+    uint32_t *nb;   /* nv: a window's textured vertices */
+    neighbour *nbs; /* nv: the same with their weights */
+    float *qp, *q, *g, *qcol;
+};
+
+void relief_query_builder_destroy(relief_query_builder *b)
+{
+    if (!b)
+        return;
+    free(b->qcol);
+    free(b->g);
+    free(b->q);
+    free(b->qp);
+    free(b->nbs);
+    free(b->nb);
+    free(b->w.queue);
+    free(b->w.depth);
+    free(b->w.stamp);
+    free(b->adj.nbr);
+    free(b->adj.start);
+    free(b);
+}
+
+relief_status relief_query_builder_create(const relief_surface *s, const relief_match_data *d,
+                                          relief_query_builder **out, relief_error *err)
+{
+    const size_t nv = s->mesh->nv;
+    relief_query_builder *b = calloc(1, sizeof *b);
+    relief_status st;
+    if (!b)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a query builder");
+    b->s = s;
+    b->d = d;
+    st = build_adjacency(s->mesh, &b->adj, err);
+    if (st != RELIEF_OK) {
+        relief_query_builder_destroy(b);
+        return st;
+    }
+    b->w.stamp = calloc(nv, sizeof *b->w.stamp);
+    b->w.depth = malloc(nv * sizeof *b->w.depth);
+    b->w.queue = malloc(nv * sizeof *b->w.queue);
+    b->nb = malloc(nv * sizeof *b->nb);
+    b->nbs = malloc(nv * sizeof *b->nbs);
+    b->qp = malloc(nv * 3 * sizeof *b->qp);
+    b->q = malloc(nv * 3 * sizeof *b->q);
+    b->g = malloc(nv * sizeof *b->g);
+    b->qcol = malloc(nv * 3 * sizeof *b->qcol);
+    if (!b->w.stamp || !b->w.depth || !b->w.queue || !b->nb || !b->nbs || !b->qp || !b->q ||
+        !b->g || !b->qcol) {
+        relief_query_builder_destroy(b);
+        return relief_fail(err, RELIEF_E_NOMEM,
+                           "cannot allocate neighbourhood state for %zu vertices", nv);
+    }
+    *out = b;
+    return RELIEF_OK;
+}
+
+size_t relief_query_count(relief_query_builder *b, const uint8_t *textured, uint32_t t,
+                          int hops)
+{
+    return window(&b->w, &b->adj, textured, t, hops, b->nb);
+}
+
+int relief_query_has_textured_neighbour(const relief_query_builder *b,
+                                        const uint8_t *textured, uint32_t t)
+{
+    for (uint32_t i = b->adj.start[t]; i < b->adj.start[t + 1]; ++i)
+        if (textured[b->adj.nbr[i]])
+            return 1;
+    return 0;
+}
+
+void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32_t t, int hops,
+                        relief_match_query *query)
+{
+    const relief_surface *s = b->s;
+    const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
+    const double *pos = s->mesh->pos;
+    const double reach = hops * s->spacing;
+    size_t n = window(&b->w, &b->adj, textured, t, hops, b->nb);
+    double wsum = 0.0;
+
+    /* The neighbourhood in t's frame, heaviest first. */
+    for (size_t i = 0; i < n; ++i) {
+        const double *vp = s->proj + 3 * (size_t)b->nb[i];
+        double dp[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
+        double dd = sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / reach;
+        b->nbs[i].v = b->nb[i];
+        b->nbs[i].g = exp(-0.5 * dd * dd);
+    }
+    qsort(b->nbs, n, sizeof *b->nbs, neighbour_cmp);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t v = b->nbs[i].v;
+        const double *vp = s->proj + 3 * (size_t)v, *vr = pos + 3 * (size_t)v;
+        for (int r = 0; r < 3; ++r) {
+            const double *axis = rt + 3 * r;
+            b->qp[3 * i + r] = (float)(axis[0] * (vp[0] - tp[0]) + axis[1] * (vp[1] - tp[1]) +
+                                       axis[2] * (vp[2] - tp[2]));
+            b->q[3 * i + r] = (float)(axis[0] * (vr[0] - tp[0]) + axis[1] * (vr[1] - tp[1]) +
+                                      axis[2] * (vr[2] - tp[2]));
+            b->qcol[3 * i + r] = b->d->col[3 * (size_t)v + r];
+        }
+        b->g[i] = (float)b->nbs[i].g;
+        wsum += (double)b->g[i];
+    }
+    query->n = (uint32_t)n;
+    query->qp = b->qp;
+    query->q = b->q;
+    query->g = b->g;
+    query->qcol = b->qcol;
+    query->inv_wsum = (float)(1.0 / wsum);
+    query->cutoff = FLT_MAX;
+    query->running = 0;
+}
+
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
                           const relief_params *params, const relief_grow_options *opts,
                           relief_grow_stats *stats, relief_error *err)
@@ -155,14 +277,12 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     relief_mesh *mesh = s->mesh;
     const size_t nv = mesh->nv, ncand = (size_t)d->ns * (size_t)d->rotations;
     relief_grow_options dflt = relief_grow_options_default();
-    adjacency adj = {NULL, NULL};
-    walker w = {NULL, NULL, NULL, 0};
+    relief_query_builder *qb = NULL;
     uint8_t *textured = NULL, *flag = NULL;
     int *win = NULL;
-    uint32_t *nb = NULL, *best = NULL;
-    neighbour *nbs = NULL;
+    uint32_t *best = NULL;
     ranked *list = NULL;
-    float *ssd = NULL, *qp = NULL, *q = NULL, *g = NULL, *qcol = NULL;
+    float *ssd = NULL;
     relief_rng rng;
     relief_status st;
     size_t remaining = s->n_targets;
@@ -176,26 +296,16 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     stats->mu = d->mu;
     if (d->ns == 0)
         return relief_fail(err, RELIEF_E_MESH, "no sample vertex to grow from");
-    st = build_adjacency(mesh, &adj, err);
+    st = relief_query_builder_create(s, d, &qb, err);
     if (st != RELIEF_OK)
         goto done;
     textured = calloc(nv, 1);
     win = malloc(nv * sizeof *win);
-    w.stamp = calloc(nv, sizeof *w.stamp);
-    w.depth = malloc(nv * sizeof *w.depth);
-    w.queue = malloc(nv * sizeof *w.queue);
-    nb = malloc(nv * sizeof *nb);
-    nbs = malloc(nv * sizeof *nbs);
     list = malloc((s->n_targets + 1) * sizeof *list);
     ssd = malloc(ncand * sizeof *ssd);
     flag = malloc(ncand);
     best = malloc(ncand * sizeof *best);
-    qp = malloc(nv * 3 * sizeof *qp);
-    q = malloc(nv * 3 * sizeof *q);
-    g = malloc(nv * sizeof *g);
-    qcol = malloc(nv * 3 * sizeof *qcol);
-    if (!textured || !win || !w.stamp || !w.depth || !w.queue || !nb || !nbs || !list || !ssd ||
-        !flag || !best || !qp || !q || !g || !qcol) {
+    if (!textured || !win || !list || !ssd || !flag || !best) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
                          "vertices and %zu candidates", nv, ncand);
         goto done;
@@ -210,16 +320,11 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         size_t nl = 0, accepted = 0, any_valid = 0, all_min_window = 1;
         /* The boundary list, ranked by how constrained each target is. */
         for (size_t t = s->n_samples; t < nv; ++t) {
-            int boundary = 0;
-            if (textured[t])
+            if (textured[t] || !relief_query_has_textured_neighbour(qb, textured, (uint32_t)t))
                 continue;
-            for (uint32_t i = adj.start[t]; i < adj.start[t + 1] && !boundary; ++i)
-                boundary = textured[adj.nbr[i]];
-            if (boundary) {
-                list[nl].v = (uint32_t)t;
-                list[nl].key = (uint32_t)window(&w, &adj, textured, (uint32_t)t, win[t], nb);
-                ++nl;
-            }
+            list[nl].v = (uint32_t)t;
+            list[nl].key = (uint32_t)relief_query_count(qb, textured, (uint32_t)t, win[t]);
+            ++nl;
         }
         if (nl == 0) {
             st = relief_fail(err, RELIEF_E_MESH,
@@ -234,41 +339,11 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         for (size_t li = 0; li < nl; ++li) {
             const uint32_t t = list[li].v;
             const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
-            const double reach = win[t] * s->spacing;
-            size_t n = window(&w, &adj, textured, t, win[t], nb), nbest = 0;
+            size_t nbest = 0;
             relief_match_query query;
-            double wsum = 0.0, minv = INFINITY;
+            double minv = INFINITY;
 
-            /* The neighbourhood in t's frame, heaviest first. */
-            for (size_t i = 0; i < n; ++i) {
-                const double *vp = s->proj + 3 * (size_t)nb[i];
-                double dp[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
-                double dd = sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / reach;
-                nbs[i].v = nb[i];
-                nbs[i].g = exp(-0.5 * dd * dd);
-            }
-            qsort(nbs, n, sizeof *nbs, neighbour_cmp);
-            for (size_t i = 0; i < n; ++i) {
-                const uint32_t v = nbs[i].v;
-                const double *vp = s->proj + 3 * (size_t)v, *vr = mesh->pos + 3 * (size_t)v;
-                for (int r = 0; r < 3; ++r) {
-                    const double *axis = rt + 3 * r;
-                    qp[3 * i + r] = (float)(axis[0] * (vp[0] - tp[0]) + axis[1] * (vp[1] - tp[1]) +
-                                            axis[2] * (vp[2] - tp[2]));
-                    q[3 * i + r] = (float)(axis[0] * (vr[0] - tp[0]) + axis[1] * (vr[1] - tp[1]) +
-                                           axis[2] * (vr[2] - tp[2]));
-                    qcol[3 * i + r] = d->col[3 * (size_t)v + r];
-                }
-                g[i] = (float)nbs[i].g;
-                wsum += (double)g[i];
-            }
-            query.n = (uint32_t)n;
-            query.qp = qp;
-            query.q = q;
-            query.g = g;
-            query.qcol = qcol;
-            query.inv_wsum = (float)(1.0 / wsum);
-            query.cutoff = FLT_MAX;
+            relief_query_build(qb, textured, t, win[t], &query);
             query.running = opts->prune;
             st = relief_matcher_score(m, d, &query, ssd, flag, err);
             if (st != RELIEF_OK)
@@ -359,22 +434,12 @@ done:
     stats->error_final = e;
     stats->seconds = relief_seconds() - t0;
     stats->match_seconds = m->kernel_seconds;
-    free(qcol);
-    free(g);
-    free(q);
-    free(qp);
     free(best);
     free(flag);
     free(ssd);
     free(list);
-    free(nbs);
-    free(nb);
-    free(w.queue);
-    free(w.depth);
-    free(w.stamp);
     free(win);
     free(textured);
-    free(adj.nbr);
-    free(adj.start);
+    relief_query_builder_destroy(qb);
     return st;
 }

@@ -44,6 +44,32 @@ typedef struct relief_grow_options {
 
 relief_grow_options relief_grow_options_default(void);
 
+/* Builds a target's neighbourhood query exactly as the growth does: the
+ * textured vertices within `hops` edges of it (itself excluded), in its
+ * frame, heaviest Gaussian weight first (ties: vertex id). Tests and the
+ * bench use it so that they score what the growth scores. */
+typedef struct relief_query_builder relief_query_builder;
+
+relief_status relief_query_builder_create(const relief_surface *s, const relief_match_data *d,
+                                          relief_query_builder **out, relief_error *err);
+void relief_query_builder_destroy(relief_query_builder *b);
+
+/* 1 when some 1-ring neighbour of t is textured (t is on the boundary). */
+int relief_query_has_textured_neighbour(const relief_query_builder *b,
+                                        const uint8_t *textured, uint32_t t);
+
+/* Textured vertices within `hops` of t: the boundary list's ranking key. */
+size_t relief_query_count(relief_query_builder *b, const uint8_t *textured, uint32_t t,
+                          int hops);
+
+/* Fill *query for target t (textured[v] != 0 marks textured vertices; the
+ * surface's current positions and the match data's colours are read).
+ * The arrays belong to the builder and stay valid until its next call;
+ * cutoff is FLT_MAX and running 0. query->n is 0 when t has no textured
+ * vertex within reach. */
+void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32_t t, int hops,
+                        relief_match_query *query);
+
 /* Grow the targets of `s` in place: positions p = p' + D and colours of the
  * targets change; labels stay (1 completed). `params` gives W, R, e, mu
  * (<0: 1 without colour, 0.5 with) and the seed. The matcher must have been

@@ -5,49 +5,22 @@
 #include <string.h>
 
 #include "check.h"
+#include "pipeline.h"
 #include "grow.h"
 #include "matcher.h"
 #include "mesh.h"
 #include "surface.h"
 
-/* Complete a small synthetic capture; returns the surface (caller frees). */
+/* Complete a small synthetic capture with window 2; returns the surface
+ * (caller frees) or NULL. */
 static relief_surface *complete(relief_synth_kind kind, size_t n, int colour, uint32_t seed,
                                 int prune, int bootstrap, relief_grow_stats *stats)
 {
-    relief_synth_params sp = relief_synth_params_default();
-    relief_params p = relief_params_default();
-    relief_grow_options go = relief_grow_options_default();
-    relief_mesh *cap = NULL;
+    const pipeline pl = {kind, n, colour, seed, 2, prune, bootstrap, 0};
     relief_surface *s = NULL;
-    relief_match_data *d = NULL;
-    relief_matcher *m = NULL;
     relief_error err = {RELIEF_OK, ""};
-    relief_status st;
-
-    sp.kind = kind;
-    sp.vertices = n;
-    sp.colour = colour;
-    p.seed = seed;
-    p.window = 2;
-    go.prune = prune;
-    go.bootstrap = bootstrap;
-    st = relief_synth(&sp, &cap, NULL, &err);
-    if (st == RELIEF_OK)
-        st = relief_smooth(cap, &p, NULL, &s, &err);
-    if (st == RELIEF_OK)
-        st = relief_match_data_build(s, p.rotations, relief_grow_mu(&p, colour), &d, &err);
-    if (st == RELIEF_OK)
-        st = relief_matcher_scalar_create(d, &m, &err);
-    if (st == RELIEF_OK)
-        st = relief_grow(s, d, m, &p, &go, stats, &err);
-    CHECK(st == RELIEF_OK, "%s: %s", relief_synth_kind_name(kind), err.message);
-    relief_matcher_destroy(m);
-    relief_match_data_destroy(d);
-    relief_mesh_destroy(cap);
-    if (st != RELIEF_OK) {
-        relief_surface_destroy(s);
-        return NULL;
-    }
+    CHECK(pipeline_run(&pl, &s, stats, &err) == RELIEF_OK, "%s: %s",
+          relief_synth_kind_name(kind), err.message);
     return s;
 }
 

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "pipeline.h"
 #include "grow.h"
 #include "matcher.h"
 #include "mesh.h"
@@ -18,36 +19,6 @@
 #define RM_REAL float
 #define RM_WITH_SCORING
 #include "../kernels/relief_math.h"
-
-/* The textured neighbourhood of target t within `reach` of it, in t's
- * frame, as the growth builds it (samples only: nothing is grown yet). */
-static uint32_t neighbourhood(const relief_surface *s, size_t t, double reach, float *qp,
-                              float *q, float *g, float *qcol, const float *col,
-                              float *inv_wsum)
-{
-    const double *tp = s->proj + 3 * t, *rt = s->frame + 9 * t;
-    uint32_t n = 0;
-    double wsum = 0.0;
-    for (size_t v = 0; v < s->n_samples && n < 64; ++v) {
-        const double *vp = s->proj + 3 * v, *vr = s->mesh->pos + 3 * v;
-        double d[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
-        double dd = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / reach;
-        if (dd > 1.0)
-            continue;
-        for (int r = 0; r < 3; ++r) {
-            const double *ax = rt + 3 * r;
-            qp[3 * n + r] = (float)(ax[0] * d[0] + ax[1] * d[1] + ax[2] * d[2]);
-            q[3 * n + r] = (float)(ax[0] * (vr[0] - tp[0]) + ax[1] * (vr[1] - tp[1]) +
-                                   ax[2] * (vr[2] - tp[2]));
-            qcol[3 * n + r] = col[3 * v + r];
-        }
-        g[n] = (float)exp(-0.5 * dd * dd);
-        wsum += g[n];
-        ++n;
-    }
-    *inv_wsum = (float)(1.0 / wsum);
-    return n;
-}
 
 static int compare_surface(relief_synth_kind kind, int colour)
 {
@@ -59,7 +30,8 @@ static int compare_surface(relief_synth_kind kind, int colour)
     relief_matcher *ms = NULL, *mo = NULL;
     relief_error err = {RELIEF_OK, ""};
     relief_rng rng;
-    float qp[192], q[192], g[64], qcol[192];
+    relief_query_builder *qb = NULL;
+    uint8_t *textured = NULL;
     float *ss = NULL, *so = NULL;
     uint8_t *fs = NULL, *fo = NULL;
     size_t compared = 0, bad_flag = 0, bad_ssd = 0, pruned = 0, invalid = 0;
@@ -83,6 +55,12 @@ static int compare_surface(relief_synth_kind kind, int colour)
         goto done;
     }
     relief_matcher_scalar_create(d, &ms, &err);
+    CHECK(relief_query_builder_create(s, d, &qb, &err) == RELIEF_OK, "%s", err.message);
+    textured = calloc(d->nv, 1);
+    if (!qb || !textured)
+        goto done;
+    for (size_t v = 0; v < s->n_samples; ++v)
+        textured[v] = 1; /* the first pass: only the samples are textured */
     {
         size_t nc = (size_t)d->ns * 4;
         ss = malloc(nc * sizeof *ss), so = malloc(nc * sizeof *so);
@@ -91,10 +69,10 @@ static int compare_surface(relief_synth_kind kind, int colour)
         for (int trial = 0; trial < 6; ++trial) {
             size_t t = s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets);
             relief_match_query qr;
-            qr.n = neighbourhood(s, t, 3.0 * s->spacing, qp, q, g, qcol, d->col, &qr.inv_wsum);
+            /* The growth's own query for t with window 3. */
+            relief_query_build(qb, textured, (uint32_t)t, 3, &qr);
             if (qr.n == 0)
                 continue; /* deep inside the missing part: no neighbour yet */
-            qr.qp = qp, qr.q = q, qr.g = g, qr.qcol = qcol, qr.running = 0;
             /* Half the trials with no cutoff, half with one that prunes. */
             qr.cutoff = FLT_MAX;
             if (trial % 2) {
@@ -132,6 +110,8 @@ static int compare_surface(relief_synth_kind kind, int colour)
           "(%zu) candidates", relief_synth_kind_name(kind), pruned, invalid);
 done:
     free(ss), free(so), free(fs), free(fo);
+    free(textured);
+    relief_query_builder_destroy(qb);
     relief_matcher_destroy(mo);
     relief_matcher_destroy(ms);
     relief_match_data_destroy(d);
@@ -145,35 +125,11 @@ static void compare_completion(relief_synth_kind kind, int colour)
 {
     relief_surface *out[2] = {NULL, NULL};
     for (int b = 0; b < 2; ++b) {
-        relief_synth_params sp = relief_synth_params_default();
-        relief_params p = relief_params_default();
-        relief_grow_options go = relief_grow_options_default();
+        const pipeline pl = {kind, 500, colour, 1, 2, 1, 0, b};
         relief_grow_stats stats;
-        relief_mesh *cap = NULL;
-        relief_match_data *d = NULL;
-        relief_matcher *m = NULL;
         relief_error err = {RELIEF_OK, ""};
-        relief_status st;
-        sp.kind = kind;
-        sp.vertices = 500;
-        sp.colour = colour;
-        p.window = 2;
-        st = relief_synth(&sp, &cap, NULL, &err);
-        if (st == RELIEF_OK)
-            st = relief_smooth(cap, &p, NULL, &out[b], &err);
-        if (st == RELIEF_OK)
-            st = relief_match_data_build(out[b], p.rotations, relief_grow_mu(&p, colour), &d,
-                                         &err);
-        if (st == RELIEF_OK)
-            st = b ? relief_matcher_opencl_create(d, -1, &m, &err)
-                   : relief_matcher_scalar_create(d, &m, &err);
-        if (st == RELIEF_OK)
-            st = relief_grow(out[b], d, m, &p, &go, &stats, &err);
-        CHECK(st == RELIEF_OK, "%s backend %d: %s", relief_synth_kind_name(kind), b,
-              err.message);
-        relief_matcher_destroy(m);
-        relief_match_data_destroy(d);
-        relief_mesh_destroy(cap);
+        CHECK(pipeline_run(&pl, &out[b], &stats, &err) == RELIEF_OK, "%s backend %d: %s",
+              relief_synth_kind_name(kind), b, err.message);
     }
     if (out[0] && out[1]) {
         const relief_mesh *a = out[0]->mesh, *b = out[1]->mesh;

@@ -1,0 +1,63 @@
+/* Test helper: a whole completion of a synthetic capture, synth -> smooth
+ * -> match data -> matcher -> grow, with the knobs the tests vary. */
+#ifndef RELIEF_TESTS_PIPELINE_H
+#define RELIEF_TESTS_PIPELINE_H
+
+#include "grow.h"
+#include "matcher.h"
+#include "mesh.h"
+#include "surface.h"
+
+typedef struct pipeline {
+    relief_synth_kind kind;
+    size_t vertices;
+    int colour;
+    uint32_t seed;
+    int window;
+    int prune;
+    int bootstrap;
+    int opencl; /* 1: the OpenCL matcher, 0: the scalar reference */
+} pipeline;
+
+/* Run it; *out receives the grown surface (caller frees) on success. */
+static inline relief_status pipeline_run(const pipeline *pl, relief_surface **out,
+                                         relief_grow_stats *stats, relief_error *err)
+{
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_grow_options go = relief_grow_options_default();
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_match_data *d = NULL;
+    relief_matcher *m = NULL;
+    relief_status st;
+
+    sp.kind = pl->kind;
+    sp.vertices = pl->vertices;
+    sp.colour = pl->colour;
+    p.seed = pl->seed;
+    p.window = pl->window;
+    go.prune = pl->prune;
+    go.bootstrap = pl->bootstrap;
+    st = relief_synth(&sp, &cap, NULL, err);
+    if (st == RELIEF_OK)
+        st = relief_smooth(cap, &p, NULL, &s, err);
+    if (st == RELIEF_OK)
+        st = relief_match_data_build(s, p.rotations, relief_grow_mu(&p, pl->colour), &d, err);
+    if (st == RELIEF_OK)
+        st = pl->opencl ? relief_matcher_opencl_create(d, -1, &m, err)
+                        : relief_matcher_scalar_create(d, &m, err);
+    if (st == RELIEF_OK)
+        st = relief_grow(s, d, m, &p, &go, stats, err);
+    relief_matcher_destroy(m);
+    relief_match_data_destroy(d);
+    relief_mesh_destroy(cap);
+    if (st != RELIEF_OK) {
+        relief_surface_destroy(s);
+        return st;
+    }
+    *out = s;
+    return RELIEF_OK;
+}
+
+#endif
