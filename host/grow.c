@@ -268,6 +268,8 @@ void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32
     query->inv_wsum = (float)(1.0 / wsum);
     query->cutoff = FLT_MAX;
     query->running = 0;
+    query->subset = NULL;
+    query->n_subset = 0;
 }
 
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,

@@ -37,6 +37,11 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     return relief_matcher_scalar_create(d, out, err);
 }
 
+size_t relief_match_query_candidates(const relief_match_data *d, const relief_match_query *q)
+{
+    return (size_t)(q->subset ? q->n_subset : d->ns) * (size_t)d->rotations;
+}
+
 relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,
                                    const relief_match_query *q, float *ssd, uint8_t *flag,
                                    relief_error *err)

@@ -4,7 +4,9 @@
  * The host builds a float copy of the surface once (relief_match_data),
  * updates it as targets become textured, and for each target asks the
  * matcher to score every candidate (sample s, rotation r): candidate index
- * c = s * R + r, over the samples in relief_match_data.sample order. */
+ * c = s * R + r, over the samples in relief_match_data.sample order, or
+ * over a subset of them (the hierarchy's sample pyramids): c = i * R + r for
+ * the i-th sample of relief_match_query.subset. */
 #ifndef RELIEF_HOST_MATCHER_H
 #define RELIEF_HOST_MATCHER_H
 
@@ -61,7 +63,21 @@ typedef struct relief_match_query {
     int running;       /* 1: the backend may lower the cutoff to just above
                           1.1 x the best SSD found so far, which never drops
                           a member of the best set */
+    const uint32_t *subset; /* NULL: every sample is a candidate centre;
+                               else n_subset distinct indices into
+                               d->sample (any order), and the candidates are those samples'
+                               rotations */
+    uint32_t n_subset;
 } relief_match_query;
+
+/* Candidates the query asks for: ns x R, or n_subset x R. */
+size_t relief_match_query_candidates(const relief_match_data *d, const relief_match_query *q);
+
+/* The sample index (into d->sample) of the i-th candidate centre. */
+static inline uint32_t relief_match_query_sample(const relief_match_query *q, uint32_t i)
+{
+    return q->subset ? q->subset[i] : i;
+}
 
 /* Per-candidate results: flag RM_VALID, RM_INVALID or RM_PRUNED (see
  * relief_math.h) and the SSD (valid) or partial SSD (pruned). */
@@ -69,7 +85,8 @@ typedef struct relief_matcher relief_matcher;
 
 typedef struct relief_matcher_ops {
     const char *name;
-    /* Score all ns x R candidates into ssd[] and flag[]. */
+    /* Score the query's candidates (relief_match_query_candidates) into
+     * ssd[] and flag[]. */
     relief_status (*score)(void *ctx, const relief_match_data *d, const relief_match_query *q,
                            float *ssd, uint8_t *flag, relief_error *err);
     /* Vertex v's position, colour or matchable flag changed in d. */

@@ -34,7 +34,7 @@ typedef struct ocl {
     cl_program prog;
     cl_kernel kernel;
     cl_mem proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items;
-    cl_mem s_proj, s_frame, cos_r, sin_r, ssd, flag;
+    cl_mem s_proj, s_frame, cos_r, sin_r, ssd, flag, subset;
     cl_mem qp, q, g, qcol;
     size_t qcap; /* neighbours the query buffers hold */
 } ocl;
@@ -43,7 +43,7 @@ static void ocl_free(ocl *o)
 {
     cl_mem *mems[] = {&o->proj,  &o->pos,    &o->col,     &o->matchable, &o->tri,
                       &o->vt_start, &o->vt, &o->cell_start, &o->cell_items, &o->s_proj,
-                      &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag,
+                      &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag, &o->subset,
                       &o->qp, &o->q, &o->g, &o->qcol};
     if (!o)
         return;
@@ -171,12 +171,13 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
                                relief_error *err)
 {
     ocl *o = ctx;
-    const size_t ncand = (size_t)d->ns * (size_t)d->rotations;
+    const size_t ncand = relief_match_query_candidates(d, qr);
     const size_t global = (ncand + WG_SIZE - 1) / WG_SIZE * WG_SIZE, local = WG_SIZE;
     float cutoff = qr->cutoff;
     cl_float4 grid;
     cl_uint4 dims;
-    cl_uint ns = d->ns, rot = (cl_uint)d->rotations, n = qr->n;
+    cl_uint centres = qr->subset ? qr->n_subset : d->ns, use_subset = qr->subset != NULL;
+    cl_uint rot = (cl_uint)d->rotations, n = qr->n;
     cl_int rc = CL_SUCCESS;
     cl_uint a = 0;
     relief_status st;
@@ -201,7 +202,7 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         float best = FLT_MAX;
         for (size_t i = 0; i < PROBES && i < ncand; ++i) {
             size_t c = i * ncand / PROBES;
-            uint32_t si = (uint32_t)(c / (size_t)d->rotations);
+            uint32_t si = relief_match_query_sample(qr, (uint32_t)(c / (size_t)d->rotations));
             int r = (int)(c % (size_t)d->rotations);
             float s;
             if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
@@ -227,16 +228,21 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
                                NULL);
     rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, n * 3 * sizeof(float), qr->qcol,
                                0, NULL, NULL);
+    if (use_subset && centres > 0)
+        rc |= clEnqueueWriteBuffer(o->queue, o->subset, CL_FALSE, 0, centres * sizeof(cl_uint),
+                                   qr->subset, 0, NULL, NULL);
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
+    if (ncand == 0)
+        return RELIEF_OK;
     grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
     grid.s[3] = d->grid[3];
     dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
 #define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
     ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
     ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
-    ARG(dims); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(ns);
-    ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
+    ARG(dims); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(centres);
+    ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
     ARG(d->inv_b2); ARG(qr->inv_wsum); ARG(cutoff); ARG(o->ssd); ARG(o->flag);
 #undef ARG
     if (rc != CL_SUCCESS)
@@ -355,7 +361,9 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     UP(cos_r, d->cos_r, (size_t)d->rotations * sizeof(float), "rotations");
     UP(sin_r, d->sin_r, (size_t)d->rotations * sizeof(float), "rotations");
 #undef UP
-    if ((st = upload(o, &o->ssd, NULL, ncand * sizeof(float), CL_MEM_WRITE_ONLY, "scores",
+    if ((st = upload(o, &o->subset, NULL, (size_t)d->ns * sizeof(cl_uint), CL_MEM_READ_ONLY,
+                     "the sample subset", err)) != RELIEF_OK ||
+        (st = upload(o, &o->ssd, NULL, ncand * sizeof(float), CL_MEM_WRITE_ONLY, "scores",
                      err)) != RELIEF_OK ||
         (st = upload(o, &o->flag, NULL, ncand, CL_MEM_WRITE_ONLY, "scores", err)) != RELIEF_OK)
         goto fail;

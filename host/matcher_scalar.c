@@ -15,13 +15,15 @@ static relief_status scalar_score(void *ctx, const relief_match_data *d,
                                   const relief_match_query *q, float *ssd, uint8_t *flag,
                                   relief_error *err)
 {
+    const uint32_t centres = q->subset ? q->n_subset : d->ns;
     float cutoff = q->cutoff;
     (void)ctx;
     (void)err;
-    for (uint32_t si = 0; si < d->ns; ++si) {
+    for (uint32_t i = 0; i < centres; ++i) {
+        const uint32_t si = relief_match_query_sample(q, i);
         const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
         for (int r = 0; r < d->rotations; ++r) {
-            size_t c = (size_t)si * (size_t)d->rotations + (size_t)r;
+            size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
             int f = rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri,
                                        d->vt_start, d->vt, d->cell_start, d->cell_items,
                                        d->grid, d->dims, sp, sf, d->cos_r[r], d->sin_r[r],

@@ -1,5 +1,6 @@
 /* Score every candidate (sample s, rotation r) of one target's neighbourhood:
- * one work-item per candidate c = s * R + r. The scoring itself is
+ * one work-item per candidate c = i * R + r, i the i-th candidate centre:
+ * sample i, or sample subset[i] when use_subset is set (sample pyramids). The scoring itself is
  * rm_score_candidate in relief_math.h, the very function the scalar
  * reference runs; the host puts relief_math.h (with RM_WITH_SCORING
  * defined) before this file when it builds the program.
@@ -16,8 +17,8 @@ void score(__global const float *proj, __global const float *pos,
            __global const uint *vt, __global const uint *cell_start,
            __global const uint *cell_items, float4 grid4, uint4 dims4,
            __global const float *s_proj, __global const float *s_frame,
-           __global const float *cos_r, __global const float *sin_r, uint ns,
-           uint rotations, uint n, __global const float *qp,
+           __global const float *cos_r, __global const float *sin_r, uint centres,
+           __global const uint *subset, uint use_subset, uint rotations, uint n, __global const float *qp,
            __global const float *q, __global const float *g,
            __global const float *qcol, float mu, float inv_b2, float inv_wsum,
            float cutoff, __global float *ssd_out, __global uchar *flag_out)
@@ -26,9 +27,9 @@ void score(__global const float *proj, __global const float *pos,
     float grid[4], sp[3], sf[9], ssd;
     uint dims[3], si, r;
     int k, f;
-    if (c >= ns * rotations)
+    if (c >= centres * rotations)
         return;
-    si = c / rotations;
+    si = use_subset ? subset[c / rotations] : c / rotations;
     r = c % rotations;
     grid[0] = grid4.x;
     grid[1] = grid4.y;

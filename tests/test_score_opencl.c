@@ -87,6 +87,40 @@ static int compare_surface(relief_synth_kind kind, int colour)
                   err.message);
             CHECK(relief_matcher_score(mo, d, &qr, so, fo, &err) == RELIEF_OK, "%s",
                   err.message);
+            if (trial % 2 == 0) {
+                /* A subset of the samples (the hierarchy's sample pyramids),
+                 * out of order: each backend scores exactly those
+                 * candidates, and as the full search scored them. */
+                uint32_t *sub = malloc(d->ns * sizeof *sub), nsub = 0;
+                float *sub_s = malloc(nc * sizeof *sub_s), *sub_o = malloc(nc * sizeof *sub_o);
+                uint8_t *sub_fs = malloc(nc), *sub_fo = malloc(nc);
+                CHECK(sub && sub_s && sub_o && sub_fs && sub_fo, "out of memory");
+                if (sub && sub_s && sub_o && sub_fs && sub_fo) {
+                    for (uint32_t i = d->ns; i-- > 0;)
+                        if (i % 3 == (uint32_t)trial % 3)
+                            sub[nsub++] = i;
+                    qr.subset = sub;
+                    qr.n_subset = nsub;
+                    CHECK(relief_match_query_candidates(d, &qr) == (size_t)nsub * 4,
+                          "subset candidates");
+                    CHECK(relief_matcher_score(ms, d, &qr, sub_s, sub_fs, &err) == RELIEF_OK,
+                          "%s", err.message);
+                    CHECK(relief_matcher_score(mo, d, &qr, sub_o, sub_fo, &err) == RELIEF_OK,
+                          "%s", err.message);
+                    for (size_t c = 0; c < (size_t)nsub * 4; ++c) {
+                        size_t full = (size_t)sub[c / 4] * 4 + c % 4;
+                        CHECK(sub_fs[c] == fs[full] && sub_fo[c] == fs[full] &&
+                                  (fs[full] == RM_INVALID ||
+                                   (sub_s[c] == ss[full] &&
+                                    fabs(sub_o[c] - ss[full]) <= 1e-5 * fabs(ss[full]))),
+                              "subset candidate %zu (sample %u) scores differently",
+                              c, (unsigned)sub[c / 4]);
+                    }
+                    qr.subset = NULL;
+                    qr.n_subset = 0;
+                }
+                free(sub), free(sub_s), free(sub_o), free(sub_fs), free(sub_fo);
+            }
             for (size_t c = 0; c < nc; ++c) {
                 ++compared;
                 pruned += fs[c] == RM_PRUNED;
