@@ -104,7 +104,26 @@ int main(int argc, char **argv)
         reps = 1;
     if (relief_devices(dev, 8, &ndev, &err) == RELIEF_OK && ndev > 0)
         snprintf(devname, sizeof devname, "%s", dev[0].name);
-    snprintf(machine, sizeof machine, "%ld cores", cores);
+    {
+        /* CPU model and cores; no commas (CSV). */
+        FILE *f = fopen("/proc/cpuinfo", "r");
+        char line[512], cpu[160] = "unknown CPU";
+        while (f && fgets(line, sizeof line, f))
+            if (strncmp(line, "model name", 10) == 0 && strchr(line, ':')) {
+                char *c = strchr(line, ':') + 1;
+                c += *c == ' ';
+                c[strcspn(c, "\n")] = '\0';
+                snprintf(cpu, sizeof cpu, "%s", c);
+                break;
+            }
+        if (f)
+            fclose(f);
+        snprintf(machine, sizeof machine, "%s; %ld cores", cpu, cores);
+        for (char *c = machine; *c; ++c)
+            *c = *c == ',' ? ';' : *c;
+        for (char *c = devname; *c; ++c)
+            *c = *c == ',' ? ';' : *c;
+    }
 
     sp.kind = RELIEF_SYNTH_CYLINDER_BARK;
     sp.vertices = vertices;

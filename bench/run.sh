@@ -1,13 +1,103 @@
 #!/usr/bin/env bash
-# Build and run the benchmarks; figures go to stdout and CSV under OUT
-# (default bench-out/). Both backends run side by side in one process.
+# The benchmark suite: builds, runs every case with both backends, writes
+# CSV, a summary and PNG plots under OUT (default bench-out/).
 #   bench/run.sh [--quick]
+# Environment: OUT (output folder), BUILD (build folder, default build),
+# JOBS (build jobs, default nproc).
+#
+# Cases (bench/README.md says what each measures):
+#   1 throughput.csv   candidates scored per second, W 2..4 x R 1, 4, 8,
+#                      exhaustive and pruned, both backends in one process
+#   2 papers.csv       whole completions at the papers' sizes: paper 001's
+#                      small cylinder, paper 000's tree bark
+#   3 scaling.csv      set-up stages, matching time per target and peak
+#                      memory as the surface grows to about a million
+#                      vertices; scaling_full.csv: whole growths where they
+#                      take a few minutes at most
+#   4 prune.csv        pruned against exhaustive on the same completion
+# --quick shrinks every case (the bark runs at a quarter of its size) so the
+# whole suite takes a few minutes; its figures are for checking, not quoting.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick=0
+case ${1:-} in
+  --quick) quick=1 ;;
+  "") ;;
+  *) echo "usage: bench/run.sh [--quick]" >&2; exit 1 ;;
+esac
 OUT=${OUT:-bench-out}
-mkdir -p "$OUT"
+BUILD=${BUILD:-build}
+JOBS=${JOBS:-$(nproc)}
+
 ./setup.sh deps
-cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
-cmake --build build -j"$(nproc)" >/dev/null
-if [[ ${1:-} == --quick ]]; then args=(--vertices 1000 --targets 4 --reps 3); else args=(--vertices 2000 --targets 8 --reps 5); fi
-build/bench/bench_score "${args[@]}" --csv "$OUT/bench_score.csv"
+if ! command -v gnuplot >/dev/null; then
+  if [[ $(id -u) -eq 0 ]]; then
+    echo "bench: installing gnuplot-nox for the plots"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends gnuplot-nox >/dev/null ||
+      echo "bench: could not install gnuplot-nox; no plots" >&2
+  else
+    echo "bench: gnuplot is missing (apt-get install gnuplot-nox); CSV only, no plots" >&2
+  fi
+fi
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
+cmake --build "$BUILD" -j"$JOBS" --target bench_score bench_complete >/dev/null
+BS=$BUILD/bench/bench_score
+BC=$BUILD/bench/bench_complete
+
+mkdir -p "$OUT"
+rm -f "$OUT"/{throughput,papers,scaling,scaling_full,prune}.csv "$OUT"/*.png "$OUT/summary.txt"
+log() { echo "== $*" >&2; }
+
+# Sizes. Paper 001: "720 sample vertices on average, 561 targets", W 2, R 4
+# (cylinder-bands --vertices 420 --spacing 0.128 gives 725 and 560).
+# Paper 000: t = 7200, s = 12852, W 3, R 4 on the bark (--vertices 7150
+# --spacing 0.0333 gives 12901 samples and 7210 targets).
+P001=(--kind cylinder-bands --vertices 420 --spacing 0.128 --window 2 --rotations 4)
+BARK=(--kind cylinder-bark --colour --vertices 7150 --spacing 0.0333 --window 3 --rotations 4)
+if ((quick)); then
+  REPS=3; BARK_REPS=(--reps 1); SCORE=(--vertices 1000 --targets 4 --reps 3)
+  BARK=(--kind cylinder-bark --colour --vertices 1800 --spacing 0.0666 --window 3 --rotations 4)
+  SETUP_SIZES=(1000 4000 16000 64000); FULL_SIZES=(500 1000 2000); TARGETS=4
+else
+  REPS=5; BARK_REPS=(--reps 3); SCORE=(--vertices 2000 --targets 8 --reps 5)
+  SETUP_SIZES=(1000 2000 4000 8000 16000 32000 64000 128000 256000 512000)
+  FULL_SIZES=(500 1000 2000 4000); TARGETS=8
+fi
+
+log "1/4 matching throughput"
+"$BS" "${SCORE[@]}" --csv "$OUT/throughput.csv"
+
+log "2/4 the papers' sizes"
+"$BC" --case paper001-cylinder "${P001[@]}" --reps "$REPS" --csv "$OUT/papers.csv"
+"$BC" --case paper000-bark "${BARK[@]}" "${BARK_REPS[@]}" --csv "$OUT/papers.csv"
+
+log "4/4 pruned against exhaustive"
+for prune in 1 0; do
+  "$BC" --case prune-vs-exhaustive "${P001[@]}" --prune $prune --reps "$REPS" --csv "$OUT/prune.csv"
+done
+
+log "3/4 scaling"
+# One process per size and backend, so that each peak resident memory is
+# that of one completion's set-up with one backend.
+for n in "${SETUP_SIZES[@]}"; do
+  reps=3
+  ((n >= 256000)) && reps=2
+  for b in scalar opencl; do
+    "$BC" --case scaling --kind cylinder-bark --colour --vertices "$n" --window 3 --rotations 4 \
+      --mode setup --backends $b --targets "$TARGETS" --reps $reps --csv "$OUT/scaling.csv"
+  done
+done
+for n in "${FULL_SIZES[@]}"; do
+  for b in scalar opencl; do
+    "$BC" --case scaling-full --kind cylinder-bark --colour --vertices "$n" --window 3 \
+      --rotations 4 --backends $b --reps 3 --csv "$OUT/scaling_full.csv"
+  done
+done
+
+log "summary and plots"
+bench/summary.sh "$OUT" | tee "$OUT/summary.txt"
+if command -v gnuplot >/dev/null; then
+  gnuplot -e "out='$OUT'" bench/plots.gp
+  echo "bench: plots: $(cd "$OUT" && ls ./*.png | tr '\n' ' ')"
+fi
+echo "bench: CSV, summary.txt and plots in $OUT/"

@@ -1,0 +1,494 @@
+/* Whole completions and their stages, per backend, on a synthetic surface:
+ * the papers' problem sizes, pruned against exhaustive, and the scaling of
+ * time and peak memory with the surface's size.
+ *
+ *   usage: bench_complete --case NAME [--kind KIND] [--vertices N] [--colour]
+ *          [--spacing S] [--oversample N] [--window W] [--rotations R]
+ *          [--error E] [--seed N] [--prune 0|1] [--backends scalar,opencl]
+ *          [--reps N] [--scalar-reps N] [--mode full|setup] [--targets K]
+ *          [--csv FILE]
+ *
+ * --mode full (default): per repetition and backend, the whole completion
+ * after the capture is made: smooth completion, match data, matcher
+ * creation (for OpenCL: context, kernel build, upload), growth. The
+ * backends alternate within a repetition so that a noisy machine slows
+ * both alike; the outputs of the backends are compared (a checksum of the
+ * completed positions and colours) and the row says whether they agree.
+ *
+ * --mode setup: the stages up to the growth (synth, smooth, match data,
+ * matcher creation, the growth's query builder), then the matching time
+ * per target on K targets of the first boundary (the query the growth
+ * builds, scored as the growth scores it). For sizes whose whole growth
+ * would take hours: the per-target time times the targets extrapolates it.
+ *
+ * Every CSV row: case, machine (CPU model, cores), device, backend,
+ * parameters, the surface's counts, stage, unit, repetitions, median, min,
+ * max, and the process's peak resident memory so far (KiB, getrusage
+ * ru_maxrss). Times are seconds of wall clock. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "error.h"
+#include "grow.h"
+#include "matcher.h"
+#include "mesh.h"
+#include "report.h"
+#include "rng.h"
+#include "surface.h"
+
+#define MAX_REPS 64
+#define MAX_TARGETS 256
+
+enum { B_SCALAR, B_OPENCL, NB };
+enum { S_SYNTH, S_SMOOTH, S_MATCH_DATA, S_MATCHER, S_GROW, S_TOTAL, S_PER_TARGET, NS };
+static const char *const stage_name[NS] = {"synth", "smooth",      "match_data", "matcher_create",
+                                           "grow",  "completion", "per_target"};
+
+typedef struct config {
+    const char *name, *csv;
+    relief_synth_params sp;
+    relief_params p;
+    int prune, reps, scalar_reps, setup, targets;
+    int use[NB];
+} config;
+
+typedef struct machine {
+    char cpu[160], device[200];
+    long cores;
+} machine;
+
+/* Measurements of one backend: t[stage][rep] (NAN: not taken). */
+typedef struct series {
+    double t[NS][MAX_REPS];
+    int n[NS];
+    size_t samples, targets, nv;
+    relief_grow_stats stats; /* of the last full run */
+    uint64_t checksum;       /* of the last full run */
+    char device[256];
+} series;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void stats3(const double *v, int n, double *med, double *lo, double *hi)
+{
+    double s[MAX_REPS];
+    memcpy(s, v, (size_t)n * sizeof *s);
+    qsort(s, (size_t)n, sizeof *s, cmp_double);
+    *lo = s[0];
+    *hi = s[n - 1];
+    *med = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+}
+
+static long peak_rss_kib(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : -1;
+}
+
+static void read_machine(machine *m)
+{
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    relief_device_info dev[8];
+    size_t ndev = 0;
+    relief_error err;
+    snprintf(m->cpu, sizeof m->cpu, "unknown CPU");
+    snprintf(m->device, sizeof m->device, "none");
+    m->cores = sysconf(_SC_NPROCESSORS_ONLN);
+    while (f && fgets(line, sizeof line, f))
+        if (strncmp(line, "model name", 10) == 0) {
+            char *c = strchr(line, ':');
+            if (c) {
+                c += 1 + (c[1] == ' ');
+                c[strcspn(c, "\n")] = '\0';
+                snprintf(m->cpu, sizeof m->cpu, "%s", c);
+            }
+            break;
+        }
+    if (f)
+        fclose(f);
+    if (relief_devices(dev, 8, &ndev, &err) == RELIEF_OK && ndev > 0)
+        snprintf(m->device, sizeof m->device, "%s", dev[0].name);
+    /* CSV fields: no commas inside. */
+    for (char *c = m->cpu; *c; ++c)
+        if (*c == ',')
+            *c = ';';
+    for (char *c = m->device; *c; ++c)
+        if (*c == ',')
+            *c = ';';
+}
+
+/* FNV-1a over the completed positions (float) and colours: equal outputs
+ * give equal sums. */
+static uint64_t checksum(const relief_mesh *m)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < 3 * m->nv; ++i) {
+        float v[2] = {(float)m->pos[i], m->col ? m->col[i] : 0.0f};
+        const unsigned char *b = (const unsigned char *)v;
+        for (size_t k = 0; k < sizeof v; ++k)
+            h = (h ^ b[k]) * 1099511628211ull;
+    }
+    return h;
+}
+
+static relief_status make_matcher(int b, const relief_match_data *d, relief_matcher **m,
+                                  relief_error *err)
+{
+    return b == B_SCALAR ? relief_matcher_scalar_create(d, m, err)
+                         : relief_matcher_opencl_create(d, -1, m, err);
+}
+
+/* One whole completion of `cap` with backend b; stage times into rep `r`. */
+static relief_status run_full(const config *c, const relief_mesh *cap, int b, int r,
+                              series *se, relief_error *err)
+{
+    relief_surface *s = NULL;
+    relief_match_data *d = NULL;
+    relief_matcher *m = NULL;
+    relief_grow_options go = relief_grow_options_default();
+    double t0 = relief_seconds(), t1, t2, t3, t4;
+    relief_status st = relief_smooth(cap, &c->p, NULL, &s, err);
+    t1 = relief_seconds();
+    if (st == RELIEF_OK)
+        st = relief_match_data_build(s, c->p.rotations,
+                                     relief_grow_mu(&c->p, cap->col != NULL),
+                                     &d, err);
+    t2 = relief_seconds();
+    if (st == RELIEF_OK)
+        st = make_matcher(b, d, &m, err);
+    t3 = relief_seconds();
+    go.prune = c->prune;
+    if (st == RELIEF_OK)
+        st = relief_grow(s, d, m, &c->p, &go, &se->stats, err);
+    t4 = relief_seconds();
+    if (st == RELIEF_OK) {
+        se->t[S_SMOOTH][r] = t1 - t0;
+        se->t[S_MATCH_DATA][r] = t2 - t1;
+        se->t[S_MATCHER][r] = t3 - t2;
+        se->t[S_GROW][r] = t4 - t3;
+        se->t[S_TOTAL][r] = t4 - t0;
+        for (int k = S_SMOOTH; k <= S_TOTAL; ++k)
+            se->n[k] = r + 1;
+        se->samples = s->n_samples;
+        se->targets = s->n_targets;
+        se->nv = s->mesh->nv;
+        se->checksum = checksum(s->mesh);
+        snprintf(se->device, sizeof se->device, "%s", m->device);
+    }
+    relief_matcher_destroy(m);
+    relief_match_data_destroy(d);
+    relief_surface_destroy(s);
+    return st;
+}
+
+/* The stages before the growth, then the matching time per target on up to
+ * c->targets targets of the first boundary (rep `r`). */
+static relief_status run_setup(const config *c, int b, int r, series *se, relief_error *err)
+{
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_match_data *d = NULL;
+    relief_matcher *m = NULL;
+    relief_query_builder *qb = NULL;
+    uint8_t *textured = NULL, *flag = NULL;
+    float *ssd = NULL;
+    relief_rng rng;
+    size_t ncand = 0, done = 0;
+    double t0 = relief_seconds(), t1, t2, t3, t4, t5, match = 0.0;
+    relief_status st = relief_synth(&c->sp, &cap, NULL, err);
+    t1 = relief_seconds();
+    if (st == RELIEF_OK)
+        st = relief_smooth(cap, &c->p, NULL, &s, err);
+    t2 = relief_seconds();
+    if (st == RELIEF_OK)
+        st = relief_match_data_build(s, c->p.rotations,
+                                     relief_grow_mu(&c->p, cap->col != NULL),
+                                     &d, err);
+    t3 = relief_seconds();
+    if (st == RELIEF_OK)
+        st = make_matcher(b, d, &m, err);
+    t4 = relief_seconds();
+    if (st == RELIEF_OK)
+        st = relief_query_builder_create(s, d, &qb, err);
+    t5 = relief_seconds();
+    if (st != RELIEF_OK)
+        goto done;
+    ncand = (size_t)d->ns * (size_t)d->rotations;
+    textured = calloc(s->mesh->nv, 1);
+    ssd = malloc(ncand * sizeof *ssd);
+    flag = malloc(ncand);
+    if (!textured || !ssd || !flag) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the scores of %zu candidates",
+                         ncand);
+        goto done;
+    }
+    memset(textured, 1, s->n_samples); /* the first pass: the samples */
+    relief_rng_seed(&rng, 5);
+    for (size_t tries = 0; done < (size_t)c->targets && tries < 100 * (size_t)c->targets;
+         ++tries) {
+        uint32_t t = (uint32_t)(s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets));
+        relief_match_query q;
+        double q0;
+        if (!relief_query_has_textured_neighbour(qb, textured, t))
+            continue;
+        relief_query_build(qb, textured, t, c->p.window, &q);
+        if (q.n < 3)
+            continue;
+        q.running = c->prune;
+        q0 = relief_seconds();
+        st = relief_matcher_score(m, d, &q, ssd, flag, err);
+        match += relief_seconds() - q0;
+        if (st != RELIEF_OK)
+            goto done;
+        ++done;
+    }
+    se->t[S_SYNTH][r] = t1 - t0;
+    se->t[S_SMOOTH][r] = t2 - t1;
+    se->t[S_MATCH_DATA][r] = t3 - t2;
+    se->t[S_MATCHER][r] = t4 - t3;
+    se->t[S_GROW][r] = t5 - t4; /* the growth's set-up: adjacency, walker */
+    se->t[S_PER_TARGET][r] = done ? match / (double)done : NAN;
+    for (int k = S_SYNTH; k <= S_GROW; ++k)
+        se->n[k] = r + 1;
+    se->n[S_PER_TARGET] = done ? r + 1 : 0;
+    se->samples = s->n_samples;
+    se->targets = s->n_targets;
+    se->nv = s->mesh->nv;
+    snprintf(se->device, sizeof se->device, "%s", m->device);
+done:
+    free(flag);
+    free(ssd);
+    free(textured);
+    relief_query_builder_destroy(qb);
+    relief_matcher_destroy(m);
+    relief_match_data_destroy(d);
+    relief_surface_destroy(s);
+    relief_mesh_destroy(cap);
+    return st;
+}
+
+static int parse_backends(const char *s, int use[NB])
+{
+    use[B_SCALAR] = strstr(s, "scalar") != NULL;
+    use[B_OPENCL] = strstr(s, "opencl") != NULL;
+    return use[B_SCALAR] || use[B_OPENCL];
+}
+
+static int parse_kind(const char *s, relief_synth_kind *k)
+{
+    for (int i = 0; i < RELIEF_SYNTH_KIND_COUNT; ++i)
+        if (strcmp(s, relief_synth_kind_name((relief_synth_kind)i)) == 0) {
+            *k = (relief_synth_kind)i;
+            return 1;
+        }
+    return 0;
+}
+
+static int usage(void)
+{
+    fprintf(stderr,
+            "usage: bench_complete --case NAME [--kind KIND] [--vertices N] [--colour]\n"
+            "       [--spacing S] [--oversample N] [--window W] [--rotations R] [--error E]\n"
+            "       [--seed N] [--prune 0|1] [--backends scalar,opencl] [--reps N]\n"
+            "       [--scalar-reps N] [--mode full|setup] [--targets K] [--csv FILE]\n");
+    return 1;
+}
+
+static int parse_args(int argc, char **argv, config *c)
+{
+    c->name = "case";
+    c->csv = NULL;
+    c->sp = relief_synth_params_default();
+    c->sp.kind = RELIEF_SYNTH_CYLINDER_BARK;
+    c->p = relief_params_default();
+    c->p.fit = RELIEF_FIT_CYLINDER;
+    c->prune = 1;
+    c->reps = 3;
+    c->scalar_reps = -1;
+    c->setup = 0;
+    c->targets = 8;
+    c->use[B_SCALAR] = c->use[B_OPENCL] = 1;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "--colour") == 0) {
+            c->sp.colour = 1;
+            continue;
+        }
+        if (!v)
+            return usage();
+        ++i;
+        if (strcmp(a, "--case") == 0)
+            c->name = v;
+        else if (strcmp(a, "--kind") == 0) {
+            if (!parse_kind(v, &c->sp.kind))
+                return usage();
+            if (c->sp.kind == RELIEF_SYNTH_PLANE_WAVES || c->sp.kind == RELIEF_SYNTH_PLANE_NOISE)
+                c->p.fit = RELIEF_FIT_PLANE;
+            else if (c->sp.kind == RELIEF_SYNTH_SPHERE_DIMPLES)
+                c->p.fit = RELIEF_FIT_SPHERE;
+        } else if (strcmp(a, "--vertices") == 0)
+            c->sp.vertices = (size_t)atol(v);
+        else if (strcmp(a, "--spacing") == 0)
+            c->p.spacing = atof(v);
+        else if (strcmp(a, "--oversample") == 0)
+            c->p.oversample = atoi(v);
+        else if (strcmp(a, "--window") == 0)
+            c->p.window = atoi(v);
+        else if (strcmp(a, "--rotations") == 0)
+            c->p.rotations = atoi(v);
+        else if (strcmp(a, "--error") == 0)
+            c->p.error = atof(v);
+        else if (strcmp(a, "--seed") == 0)
+            c->p.seed = (uint32_t)atol(v);
+        else if (strcmp(a, "--prune") == 0)
+            c->prune = atoi(v) != 0;
+        else if (strcmp(a, "--backends") == 0) {
+            if (!parse_backends(v, c->use))
+                return usage();
+        } else if (strcmp(a, "--reps") == 0)
+            c->reps = atoi(v);
+        else if (strcmp(a, "--scalar-reps") == 0)
+            c->scalar_reps = atoi(v);
+        else if (strcmp(a, "--mode") == 0) {
+            if (strcmp(v, "full") != 0 && strcmp(v, "setup") != 0)
+                return usage();
+            c->setup = strcmp(v, "setup") == 0;
+        } else if (strcmp(a, "--targets") == 0)
+            c->targets = atoi(v);
+        else if (strcmp(a, "--csv") == 0)
+            c->csv = v;
+        else
+            return usage();
+    }
+    if (c->reps < 1 || c->reps > MAX_REPS || c->targets < 1 || c->targets > MAX_TARGETS)
+        return usage();
+    if (c->scalar_reps < 1 || c->scalar_reps > c->reps)
+        c->scalar_reps = c->reps;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    config c;
+    machine mc;
+    series *se = calloc(NB, sizeof *se);
+    relief_mesh *cap = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    FILE *out = NULL;
+    int rc = parse_args(argc, argv, &c);
+    if (rc != 0 || !se) {
+        free(se);
+        return rc ? rc : 2;
+    }
+    read_machine(&mc);
+    if (!c.setup) {
+        double t0 = relief_seconds();
+        if (relief_synth(&c.sp, &cap, NULL, &err) != RELIEF_OK)
+            goto fail;
+        for (int b = 0; b < NB; ++b)
+            se[b].t[S_SYNTH][0] = relief_seconds() - t0, se[b].n[S_SYNTH] = 1;
+    }
+    for (int r = 0; r < c.reps; ++r)
+        for (int b = 0; b < NB; ++b) {
+            relief_status st;
+            if (!c.use[b] || (b == B_SCALAR && r >= c.scalar_reps))
+                continue;
+            st = c.setup ? run_setup(&c, b, r, &se[b], &err)
+                         : run_full(&c, cap, b, r, &se[b], &err);
+            if (st != RELIEF_OK)
+                goto fail;
+            fprintf(stderr, "bench_complete %s: %s rep %d/%d: %s %.3f s\n", c.name,
+                    b ? "opencl" : "scalar", r + 1, b == B_SCALAR ? c.scalar_reps : c.reps,
+                    c.setup ? "per target" : "completion",
+                    c.setup ? se[b].t[S_PER_TARGET][r] : se[b].t[S_TOTAL][r]);
+        }
+    if (c.csv) {
+        FILE *probe = fopen(c.csv, "r");
+        int fresh = !probe;
+        if (probe)
+            fclose(probe);
+        out = fopen(c.csv, "a");
+        if (!out) {
+            perror(c.csv);
+            goto fail;
+        }
+        if (fresh)
+            fprintf(out, "case,cpu,cores,device,backend,kind,vertices,samples,targets,"
+                         "surface_vertices,W,R,prune,colour,stage,unit,reps,median,min,max,"
+                         "peak_rss_kib,scored_targets,candidates,pruned,identical\n");
+    }
+    printf("%s: %s %zu vertices, W %d, R %d, %s; %s (%ld cores); OpenCL device: %s\n", c.name,
+           relief_synth_kind_name(c.sp.kind), c.sp.vertices, c.p.window, c.p.rotations,
+           c.prune ? "pruned" : "exhaustive", mc.cpu, mc.cores, mc.device);
+    for (int b = 0; b < NB; ++b) {
+        const series *s = &se[b];
+        double scored = 0.0;
+        const char *same = "n/a";
+        if (!c.use[b])
+            continue;
+        if (!c.setup && c.use[B_SCALAR] && c.use[B_OPENCL])
+            same = se[B_SCALAR].checksum == se[B_OPENCL].checksum ? "yes" : "NO";
+        if (!c.setup && s->stats.targets)
+            scored = (double)s->stats.candidates /
+                     ((double)s->samples * (double)c.p.rotations);
+        printf("  %s, %zu samples, %zu targets (%zu vertices):\n", s->device, s->samples,
+               s->targets, s->nv);
+        for (int k = 0; k < NS; ++k) {
+            double med, lo, hi;
+            if (s->n[k] == 0)
+                continue;
+            stats3(s->t[k], s->n[k], &med, &lo, &hi);
+            printf("    %-15s median %10.4g s  min %10.4g  max %10.4g  (%d reps)\n",
+                   stage_name[k], med, lo, hi, s->n[k]);
+            if (out)
+                fprintf(out,
+                        "%s,%s,%ld,%s,%s,%s,%zu,%zu,%zu,%zu,%d,%d,%d,%d,%s,s,%d,%.6g,%.6g,%.6g,"
+                        "%ld,%.0f,%zu,%zu,%s\n",
+                        c.name, mc.cpu, mc.cores, b ? mc.device : "scalar (1 thread)",
+                        b ? "opencl" : "scalar", relief_synth_kind_name(c.sp.kind),
+                        c.sp.vertices, s->samples, s->targets, s->nv, c.p.window,
+                        c.p.rotations, c.prune, c.sp.colour, stage_name[k], s->n[k], med, lo,
+                        hi, peak_rss_kib(), scored, s->stats.candidates, s->stats.pruned,
+                        same);
+        }
+        if (!c.setup)
+            printf("    scored %.0f targets for %zu (%zu candidates, %.1f %% pruned); "
+                   "output identical to the other backend: %s\n",
+                   scored, s->targets, s->stats.candidates,
+                   s->stats.candidates ? 100.0 * (double)s->stats.pruned /
+                                             (double)s->stats.candidates
+                                       : 0.0,
+                   same);
+    }
+    if (!c.setup && c.use[B_SCALAR] && c.use[B_OPENCL] && se[0].n[S_TOTAL] && se[1].n[S_TOTAL]) {
+        double m0, m1, lo, hi;
+        stats3(se[0].t[S_GROW], se[0].n[S_GROW], &m0, &lo, &hi);
+        stats3(se[1].t[S_GROW], se[1].n[S_GROW], &m1, &lo, &hi);
+        printf("  growth: scalar / OpenCL median time = %.2f\n", m0 / m1);
+        stats3(se[0].t[S_TOTAL], se[0].n[S_TOTAL], &m0, &lo, &hi);
+        stats3(se[1].t[S_TOTAL], se[1].n[S_TOTAL], &m1, &lo, &hi);
+        printf("  completion: scalar / OpenCL median time = %.2f\n", m0 / m1);
+    }
+    printf("  peak resident memory: %.1f MiB\n", (double)peak_rss_kib() / 1024.0);
+    if (out)
+        fclose(out);
+    relief_mesh_destroy(cap);
+    free(se);
+    return 0;
+fail:
+    fprintf(stderr, "bench_complete %s: %s\n", c.name, err.message);
+    if (out)
+        fclose(out);
+    relief_mesh_destroy(cap);
+    free(se);
+    return 2;
+}
