@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(cmake make gcc g++ pkg-config
-          libopenmesh-dev libflann-dev libqhull-dev
+          libopenmesh-dev libflann-dev libqhull-dev zlib1g-dev
           ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo)
 BUILD_DIR=${BUILD_DIR:-build}
 JOBS=${JOBS:-$(nproc)}
