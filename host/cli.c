@@ -17,6 +17,7 @@
 #include "checkpoint.h"
 #include "fit.h"
 #include "grow.h"
+#include "hierarchy.h"
 #include "matcher.h"
 #include "measures.h"
 #include "json.h"
@@ -311,10 +312,41 @@ typedef struct complete_report {
     const relief_grow_options *gopts;
     const relief_surface *surface;
     const relief_grow_stats *stats;
-    const relief_matcher *matcher;
+    relief_backend backend;              /* the matcher's (the last level's) */
+    const char *device;
+    double kernel_seconds;               /* in the matcher, all levels */
+    const relief_hierarchy_stats *hier;  /* NULL for a mono-scale run */
     const relief_measures *measures; /* NULL when they could not be taken */
     double seconds;
 } complete_report;
+
+/* Per level of a hierarchical run: sizes, sample pyramids, growth. */
+static void report_levels(relief_json *j, const relief_hierarchy_stats *hs)
+{
+    rj_number(j, "hierarchy_build_seconds", hs->build_seconds);
+    rj_begin_array(j, "levels");
+    for (int k = 0; k < hs->levels; ++k) {
+        const relief_level_stats *l = &hs->level[k];
+        rj_begin_object(j, NULL);
+        rj_int(j, "level", k + 1);
+        rj_int(j, "vertices", (long long)l->vertices);
+        rj_int(j, "samples", (long long)l->samples);
+        rj_int(j, "targets", (long long)l->targets);
+        rj_int(j, "pyramid_boxes", (long long)l->boxes);
+        rj_number(j, "pyramid_box_samples_mean", l->box_samples);
+        rj_int(j, "restricted_matches", (long long)l->grow.pyramid_hits);
+        rj_int(j, "fallbacks_nothing_passed", (long long)l->grow.pyramid_misses);
+        rj_int(j, "fallbacks_no_box", (long long)l->grow.pyramid_empty);
+        rj_int(j, "candidates_scored", (long long)l->grow.candidates);
+        rj_int(j, "acceptances", (long long)l->grow.acceptances);
+        rj_int(j, "rejections", (long long)l->grow.rejections);
+        rj_int(j, "threshold_raises", (long long)l->grow.threshold_raises);
+        rj_number(j, "error_final", l->grow.error_final);
+        rj_number(j, "seconds", l->seconds);
+        rj_end_object(j);
+    }
+    rj_end_array(j);
+}
 
 static int write_complete_report(FILE *f, void *ctx)
 {
@@ -355,16 +387,18 @@ static int write_complete_report(FILE *f, void *ctx)
     rj_number(&j, "seconds", g->seconds);
     rj_number(&j, "match_seconds", g->match_seconds);
     rj_end_object(&j);
+    if (r->hier)
+        report_levels(&j, r->hier);
     if (r->measures) {
         rj_begin_object(&j, "measures");
         relief_report_measures_fields(&j, r->measures);
         rj_end_object(&j);
     }
     rj_begin_object(&j, "backend");
-    rj_string(&j, "name", relief_backend_name(r->matcher->backend));
+    rj_string(&j, "name", relief_backend_name(r->backend));
     rj_string(&j, "requested", relief_backend_name(r->params->backend));
-    rj_string(&j, "device", r->matcher->device);
-    rj_number(&j, "kernel_seconds", r->matcher->kernel_seconds);
+    rj_string(&j, "device", r->device);
+    rj_number(&j, "kernel_seconds", r->kernel_seconds);
     rj_end_object(&j);
     rj_number(&j, "seconds_total", r->seconds);
     rj_end_object(&j);
@@ -447,12 +481,17 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     relief_status st;
     relief_checkpoint_key key;
     relief_checkpoint *ck = NULL;
+    relief_hierarchy *hier = NULL;      /* --levels > 1 */
+    relief_hierarchy_stats hstats;
+    relief_backend used_backend = RELIEF_BACKEND_SCALAR;
+    char used_device[256] = "";
     saver sv = {rc->checkpoint, &key};
     progress_hook hook = {-1.0, !quiet && isatty(2), 0, 0};
     const char *hook_env = getenv("RELIEF_TEST_SIGINT_AFTER");
     struct sigaction sa, old_sa;
 
     memset(&stats, 0, sizeof stats);
+    memset(&hstats, 0, sizeof hstats);
     /* A first SIGINT stops the growth cleanly; SA_RESETHAND lets a second
      * one kill the process as usual. */
     interrupted = 0;
@@ -479,19 +518,17 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         go->save_ctx = &sv;
         go->save_every = rc->checkpoint_every;
     }
-    if (p->levels > 1) {
-        relief_mesh_destroy(in);
-        fprintf(stderr, "relief complete: error: --levels %d: hierarchical completion is "
-                "not implemented yet; use --levels 1\n", p->levels);
-        return relief_status_exit_code(RELIEF_E_NOT_IMPLEMENTED);
-    }
     st = relief_smooth(in, p, o, &s, &err);
-    if (st == RELIEF_OK)
+    if (st == RELIEF_OK && p->levels > 1) {
+        double th = relief_seconds();
+        st = relief_hierarchy_build(s, p->levels, &hier, &err);
+        hstats.build_seconds = relief_seconds() - th;
+    } else if (st == RELIEF_OK)
         st = relief_match_data_build(s, p->rotations,
                                      relief_grow_mu(p, relief_mesh_colours(in) != NULL), &d,
                                      &err);
     relief_mesh_destroy(in);
-    if (st == RELIEF_OK) {
+    if (st == RELIEF_OK && !hier) {
         char note[RELIEF_ERROR_MESSAGE_MAX + 64];
         st = relief_matcher_create(p->backend, p->device, d, &m, note, sizeof note, &err);
         if (st == RELIEF_OK && note[0])
@@ -504,7 +541,16 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "
                 "W %d, R %d, e %g, mu %g\n",
                 relief_fit_model_name(s->fit.prim.model), s->spacing, s->n_samples,
-                s->n_targets, p->window, p->rotations, p->error, (double)d->mu);
+                s->n_targets, p->window, p->rotations, p->error,
+                relief_grow_mu(p, relief_mesh_colours(s->mesh) != NULL));
+    if (st == RELIEF_OK && hier && !quiet) {
+        fprintf(stderr, "relief complete: %d levels of", p->levels);
+        for (int k = 0; k < p->levels; ++k)
+            fprintf(stderr, " %zu%s", relief_mesh_vertex_count(hier->level[k]->mesh),
+                    k + 1 < p->levels ? "," : "");
+        fprintf(stderr, " vertices (%.2f s)\n", hstats.build_seconds);
+    }
+
     if (st == RELIEF_OK) {
         if (hook.print || hook.sigint_after) {
             go->progress = on_progress;
@@ -513,7 +559,25 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         if (go->resume && !quiet)
             fprintf(stderr, "relief complete: resuming from %s: %zu of %zu targets done\n",
                     rc->resume, go->resume->stats.acceptances, go->resume->stats.targets);
-        st = relief_grow(s, d, m, p, go, &stats, &err);
+        if (hier) {
+            relief_hierarchy_options ho = relief_hierarchy_options_default();
+            relief_hierarchy_stats hs;
+            char note[RELIEF_ERROR_MESSAGE_MAX + 64];
+            ho.backend = p->backend;
+            ho.device = p->device;
+            st = relief_hierarchy_grow(hier, s, p, go, &ho, &hs, &stats, &used_backend,
+                                       used_device, sizeof used_device, note, sizeof note,
+                                       &err);
+            hs.build_seconds = hstats.build_seconds;
+            hstats = hs;
+            if (note[0])
+                fprintf(stderr, "relief complete: backend auto: %s\n", note);
+            else if (st == RELIEF_OK && !quiet)
+                fprintf(stderr, "relief complete: backend %s: %s\n",
+                        relief_backend_name(used_backend), used_device);
+        } else {
+            st = relief_grow(s, d, m, p, go, &stats, &err);
+        }
         if (hook.print && st != RELIEF_OK)
             fputc('\n', stderr); /* end the progress line */
         if (st != RELIEF_OK && rc->checkpoint && stats.acceptances > 0 &&
@@ -525,7 +589,10 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         relief_measures meas;
         relief_error merr = {RELIEF_OK, ""};
         int have = relief_measure(s->mesh, NULL, &s->fit.prim, &meas, &merr) == RELIEF_OK;
-        complete_report r = {in_path, out, p, o, go, s, &stats, m, have ? &meas : NULL,
+        complete_report r = {in_path, out, p, o, go, s, &stats,
+                             m ? m->backend : used_backend, m ? m->device : used_device,
+                             m ? m->kernel_seconds : stats.match_seconds,
+                             hier ? &hstats : NULL, have ? &meas : NULL,
                              relief_seconds() - t0};
         if (!have && !quiet)
             fprintf(stderr, "relief complete: warning: no measures in the report: %s\n",
@@ -547,6 +614,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     }
     if (st == RELIEF_OK && rc->checkpoint)
         remove(rc->checkpoint); /* it described an unfinished run */
+    relief_hierarchy_destroy(hier);
     relief_matcher_destroy(m);
     relief_match_data_destroy(d);
     relief_surface_destroy(s);

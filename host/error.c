@@ -60,3 +60,25 @@ void relief_error_clear(relief_error *err)
         err->message[0] = '\0';
     }
 }
+
+relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...)
+{
+    char head[RELIEF_ERROR_MESSAGE_MAX / 4], msg[RELIEF_ERROR_MESSAGE_MAX];
+    size_t n;
+    va_list ap;
+    if (!err)
+        return RELIEF_E_INTERNAL;
+    va_start(ap, fmt);
+    vsnprintf(head, sizeof head, fmt, ap);
+    va_end(ap);
+    memcpy(msg, err->message, sizeof msg);
+    msg[sizeof msg - 1] = '\0';
+    /* Truncating the message, never the context, when it is too long. */
+    n = strlen(head);
+    memcpy(err->message, head, n);
+    memcpy(err->message + n, ": ", 2);
+    n += 2;
+    memcpy(err->message + n, msg, strnlen(msg, sizeof err->message - n - 1));
+    err->message[n + strnlen(msg, sizeof err->message - n - 1)] = '\0';
+    return err->status;
+}

@@ -19,6 +19,10 @@ extern "C" {
 relief_status relief_fail(relief_error *err, relief_status status,
                           const char *fmt, ...) RELIEF_PRINTF(3, 4);
 
+/* Put a printf-formatted context in front of err's message (err may be
+ * NULL) and return its status: "level 2 of 3: <message>". */
+relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...) RELIEF_PRINTF(2, 3);
+
 /* Clear `err` to RELIEF_OK with an empty message (NULL accepted). */
 void relief_error_clear(relief_error *err);
 

@@ -35,6 +35,9 @@ relief_grow_options relief_grow_options_default(void)
     o.bootstrap = 0;
     o.progress = NULL;
     o.progress_ctx = NULL;
+    o.pyramid_start = NULL;
+    o.pyramid_items = NULL;
+    o.matched = NULL;
     o.cancel = NULL;
     o.save = NULL;
     o.save_ctx = NULL;
@@ -364,7 +367,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                           relief_grow_stats *stats, relief_error *err)
 {
     relief_mesh *mesh = s->mesh;
-    const size_t nv = mesh->nv, ncand = (size_t)d->ns * (size_t)d->rotations;
+    const size_t nv = mesh->nv, ncand_max = (size_t)d->ns * (size_t)d->rotations;
     relief_grow_options dflt = relief_grow_options_default();
     relief_query_builder *qb = NULL;
     uint8_t *textured = NULL, *flag = NULL;
@@ -392,12 +395,12 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     textured = calloc(nv, 1);
     win = malloc(nv * sizeof *win);
     list = malloc((s->n_targets + 1) * sizeof *list);
-    ssd = malloc(ncand * sizeof *ssd);
-    flag = malloc(ncand);
-    best = malloc(ncand * sizeof *best);
+    ssd = malloc((ncand_max + 1) * sizeof *ssd);
+    flag = malloc(ncand_max + 1);
+    best = malloc((ncand_max + 1) * sizeof *best);
     if (!textured || !win || !list || !ssd || !flag || !best) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
-                         "vertices and %zu candidates", nv, ncand);
+                         "vertices and %zu candidates", nv, ncand_max);
         goto done;
     }
     for (size_t v = 0; v < nv; ++v) {
@@ -455,7 +458,8 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         for (size_t li = first; li < nl; ++li) {
             const uint32_t t = list[li].v;
             const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
-            size_t nbest = 0;
+            size_t nbest = 0, ncand;
+            uint32_t chosen;
             relief_match_query query;
             double minv = INFINITY;
             const int stop = (opts->cancel && *opts->cancel) ||
@@ -482,6 +486,16 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
 
             relief_query_build(qb, textured, t, win[t], &query);
             query.running = opts->prune;
+            if (opts->pyramid_start) { /* sample pyramids: the box first */
+                query.subset = opts->pyramid_items + opts->pyramid_start[t];
+                query.n_subset = opts->pyramid_start[t + 1] - opts->pyramid_start[t];
+                if (query.n_subset == 0) {
+                    query.subset = NULL;
+                    ++stats->pyramid_empty;
+                }
+            }
+        score:
+            ncand = relief_match_query_candidates(d, &query);
             st = relief_matcher_score(m, d, &query, ssd, flag, err);
             if (st != RELIEF_OK) {
                 /* Keep the work done so far: nothing of t has changed yet. */
@@ -512,10 +526,23 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                     if (flag[c] == RM_VALID && (double)ssd[c] <= 1.1 * minv)
                         best[nbest++] = (uint32_t)c;
             }
+            chosen = nbest > 0 ? best[relief_rng_below(&rng, (uint32_t)nbest)] : UINT32_MAX;
+            if (query.subset && query.n_subset < d->ns &&
+                (chosen == UINT32_MAX || !((double)ssd[chosen] < e))) {
+                /* Nothing in the box passes e: every sample (001 section 3.4). */
+                ++stats->pyramid_misses;
+                query.subset = NULL;
+                query.n_subset = 0;
+                query.cutoff = FLT_MAX;
+                minv = INFINITY;
+                nbest = 0;
+                goto score;
+            }
             if (nbest > 0) {
-                const uint32_t c = best[relief_rng_below(&rng, (uint32_t)nbest)];
+                const uint32_t c = chosen;
                 if ((double)ssd[c] < e) {
-                    const uint32_t si = c / (uint32_t)d->rotations;
+                    const uint32_t si =
+                        relief_match_query_sample(&query, c / (uint32_t)d->rotations);
                     const int r = (int)(c % (uint32_t)d->rotations);
                     const uint32_t sv = d->sample[si];
                     const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
@@ -537,6 +564,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                             mesh->col[3 * (size_t)t + k] = mesh->col[3 * (size_t)sv + k];
                     }
                     textured[t] = 1;
+                    if (opts->matched)
+                        opts->matched[t] = sv;
+                    stats->pyramid_hits += query.subset != NULL;
                     if (opts->bootstrap)
                         d->matchable[t] = 1;
                     st = relief_matcher_update(m, d, t, err);

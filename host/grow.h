@@ -22,6 +22,9 @@ typedef struct relief_grow_stats {
     size_t no_candidate;      /* of the rejections: no valid candidate at all */
     size_t threshold_raises;  /* passes with no acceptance: e *= 1.1 */
     size_t window_shrinks;
+    size_t pyramid_hits;      /* sample pyramids: targets accepted from their box */
+    size_t pyramid_misses;    /* boxes where nothing passed e: all samples scored */
+    size_t pyramid_empty;     /* targets with no box or an empty one: all samples */
     double error_final;       /* e at the end */
     double b_shape;           /* the shape bound used (input units) */
     double mu;                /* the shape weight used */
@@ -77,6 +80,14 @@ typedef struct relief_grow_options {
     int bootstrap;  /* 1: textured targets become matchable */
     relief_grow_progress_fn progress; /* may be NULL; called after each target */
     void *progress_ctx;
+    /* Sample pyramids (hierarchy.h; may be NULL): target t first scores only
+     * the samples pyramid_items[pyramid_start[t] .. pyramid_start[t + 1])
+     * (indices into the match data's samples, distinct); when that range is
+     * empty or its draw does not pass e, every sample. nv + 1 entries. */
+    const uint32_t *pyramid_start, *pyramid_items;
+    /* May be NULL; else nv entries: each accepted target's entry is set to
+     * the sample vertex it copied from. */
+    uint32_t *matched;
     /* Stop between two targets once *cancel is non-zero (may be NULL): the
      * CLI's SIGINT handler sets it. The growth then calls save (when set)
      * and returns RELIEF_E_CANCELLED. */

@@ -4,6 +4,7 @@
 
 #include "error.h"
 #include "matcher.h"
+#include "memlimit.h"
 #include "report.h"
 
 #ifndef RELIEF_HAVE_OPENCL
@@ -18,6 +19,40 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
 }
 #endif
 
+/* Refuse a device the surface cannot fit on before uploading anything. */
+static relief_status device_fits(int device, const relief_match_data *d, relief_error *err)
+{
+    relief_device_info info[64];
+    size_t n = 0, want = device < 0 ? 0 : (size_t)device;
+    /* Enumeration failures are reported by relief_matcher_opencl_create. */
+    if (relief_devices(info, 64, &n, NULL) != RELIEF_OK || want >= n || want >= 64)
+        return RELIEF_OK;
+    return relief_device_fits(&info[want], d, err);
+}
+
+/* auto, after a device failure: the scalar reference from here on. */
+static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
+                               const relief_error *why, relief_error *err)
+{
+    relief_matcher *sc = NULL;
+    relief_status st = relief_matcher_scalar_create(d, &sc, err);
+    if (st != RELIEF_OK)
+        return st;
+    snprintf(m->fallback_note, sizeof m->fallback_note,
+             "the OpenCL device failed during the run (%s); continued on the scalar "
+             "matcher from there", why ? why->message : "no detail");
+    m->ops->destroy(m->ctx);
+    m->ops = sc->ops;
+    m->ctx = sc->ctx;
+    m->backend = sc->backend;
+    snprintf(m->device, sizeof m->device, "%s", sc->device);
+    m->fallback = 0;
+    m->inject = NULL; /* the hook stands for the device, which is gone */
+    free(sc);
+    relief_error_clear(err);
+    return RELIEF_OK;
+}
+
 relief_status relief_matcher_create(relief_backend backend, int device,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err)
@@ -27,7 +62,11 @@ relief_status relief_matcher_create(relief_backend backend, int device,
         note[0] = '\0';
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_matcher_scalar_create(d, out, err);
-    st = relief_matcher_opencl_create(d, device, out, err);
+    st = device_fits(device, d, err);
+    if (st == RELIEF_OK)
+        st = relief_matcher_opencl_create(d, device, out, err);
+    if (st == RELIEF_OK)
+        (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
     if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL)
         return st;
     /* auto: say why, then fall back to the reference. */
@@ -47,7 +86,15 @@ relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d
                                    relief_error *err)
 {
     double t0 = relief_seconds();
-    relief_status st = m->ops->score(m->ctx, d, q, ssd, flag, err);
+    relief_status st = m->inject ? m->inject(m->inject_ctx, err) : RELIEF_OK;
+    if (st == RELIEF_OK)
+        st = m->ops->score(m->ctx, d, q, ssd, flag, err);
+    if (st == RELIEF_E_DEVICE && m->fallback) {
+        /* Scoring has no side effect: the same query on the reference. */
+        st = fall_back(m, d, err, err);
+        if (st == RELIEF_OK)
+            st = m->ops->score(m->ctx, d, q, ssd, flag, err);
+    }
     m->kernel_seconds += relief_seconds() - t0;
     return st;
 }
@@ -55,7 +102,10 @@ relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d
 relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *d, uint32_t v,
                                     relief_error *err)
 {
-    return m->ops->update(m->ctx, d, v, err);
+    relief_status st = m->ops->update(m->ctx, d, v, err);
+    if (st == RELIEF_E_DEVICE && m->fallback)
+        st = fall_back(m, d, err, err); /* the reference reads d itself */
+    return st;
 }
 
 void relief_matcher_destroy(relief_matcher *m)

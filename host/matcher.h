@@ -101,6 +101,16 @@ struct relief_matcher {
     relief_backend backend;  /* the one actually used */
     char device[256];        /* "scalar (1 thread)" or the OpenCL device */
     double kernel_seconds;   /* time spent scoring */
+    /* Set by relief_matcher_create for auto: when the device fails during
+     * a run (out of resources, lost), switch to the scalar reference, which
+     * reads the host's arrays, and go on from the same target; the reason
+     * is then in fallback_note (else ""). */
+    int fallback;
+    char fallback_note[RELIEF_ERROR_MESSAGE_MAX + 128];
+    /* Test hook (NULL: none): called before each score; a failure it
+     * returns is taken as the backend's own. */
+    relief_status (*inject)(void *ctx, relief_error *err);
+    void *inject_ctx;
 };
 
 /* The scalar reference: plain C, one thread, obviously correct. */
@@ -115,7 +125,9 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
                                            relief_matcher **out, relief_error *err);
 
 /* The matcher for `backend`: scalar, OpenCL, or for auto OpenCL when it can
- * run, else scalar with the reason written to `note` (may be NULL). */
+ * run, else scalar with the reason written to `note` (may be NULL). OpenCL
+ * is refused (RELIEF_E_NOMEM, naming the need and the device's memory) when
+ * the surface does not fit on the device (memlimit.h). */
 relief_status relief_matcher_create(relief_backend backend, int device,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err);

@@ -218,3 +218,50 @@ done:
     free(remap);
     return st;
 }
+
+static int edge_cmp(const void *x, const void *y)
+{
+    const uint32_t *a = x, *b = y;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+relief_status relief_mesh_adjacency(const relief_mesh *m, relief_adjacency *adj,
+                                    relief_error *err)
+{
+    size_t ne = 6 * m->nt, k = 0;
+    uint32_t *e = malloc((ne + 1) * 2 * sizeof *e);
+    adj->start = calloc(m->nv + 1, sizeof *adj->start);
+    adj->nbr = malloc((ne + 1) * sizeof *adj->nbr);
+    if (!e || !adj->start || !adj->nbr) {
+        free(e);
+        relief_adjacency_free(adj);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the vertex adjacency");
+    }
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int i = 0; i < 3; ++i) {
+            uint32_t a = m->tri[3 * t + i], b = m->tri[3 * t + (i + 1) % 3];
+            e[2 * k] = a, e[2 * k + 1] = b, ++k;
+            e[2 * k] = b, e[2 * k + 1] = a, ++k;
+        }
+    qsort(e, ne, 2 * sizeof *e, edge_cmp);
+    k = 0;
+    for (size_t i = 0; i < ne; ++i) {
+        if (i > 0 && e[2 * i] == e[2 * i - 2] && e[2 * i + 1] == e[2 * i - 1])
+            continue;
+        adj->nbr[k++] = e[2 * i + 1];
+        ++adj->start[e[2 * i] + 1];
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        adj->start[v + 1] += adj->start[v];
+    free(e);
+    return RELIEF_OK;
+}
+
+void relief_adjacency_free(relief_adjacency *adj)
+{
+    free(adj->start);
+    free(adj->nbr);
+    adj->start = adj->nbr = NULL;
+}

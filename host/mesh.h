@@ -23,6 +23,17 @@ struct relief_mesh {
 /* Area of triangle t of m (input units squared). */
 double relief_mesh_triangle_area(const relief_mesh *m, size_t t);
 
+/* Vertex adjacency as CSR: the neighbours of v are
+ * nbr[start[v] .. start[v + 1]), ascending, each edge once per direction. */
+typedef struct relief_adjacency {
+    uint32_t *start; /* nv + 1 */
+    uint32_t *nbr;   /* start[nv] */
+} relief_adjacency;
+
+relief_status relief_mesh_adjacency(const relief_mesh *m, relief_adjacency *adj,
+                                    relief_error *err);
+void relief_adjacency_free(relief_adjacency *adj);
+
 /* Build a new mesh from m keeping the vertices with keep[v] != 0 and the
  * triangles whose three vertices are kept; vertices left in no triangle are
  * dropped too when m has triangles. Attributes are copied; vertex order is

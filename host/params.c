@@ -19,6 +19,7 @@ relief_params relief_params_default(void)
     p.spacing = 0.0;
     p.has_extent = 0;
     p.n_extent = 0;
+    p.max_memory = 0;
     for (int i = 0; i < 4; ++i)
         p.extent[i] = 0.0;
     return p;

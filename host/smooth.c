@@ -15,6 +15,7 @@
  * capture's outline and dropped: what remains are its holes. */
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,7 @@
 
 #include "delaunay.h"
 #include "error.h"
+#include "memlimit.h"
 #include "mesh.h"
 #include "oversample.h"
 #include "param.h"
@@ -375,7 +377,7 @@ static relief_status triangulate(relief_surface *s, double alpha, relief_error *
 /* Drop the vertices no triangle uses: points the triangulation merged with
  * a coincident one (real scans repeat points) or isolated by the width
  * filter. Keeps the order, and so samples before targets. */
-static relief_status drop_unused(relief_surface *s, relief_error *err)
+static relief_status drop_unused(relief_surface *s, uint32_t *ids, relief_error *err)
 {
     relief_mesh *m = s->mesh, *c = NULL;
     uint8_t *used = calloc(m->nv, 1);
@@ -403,6 +405,8 @@ static relief_status drop_unused(relief_surface *s, relief_error *err)
         memmove(s->disp + 3 * w, s->disp + 3 * v, 3 * sizeof(double));
         memmove(s->nrm + 3 * w, s->nrm + 3 * v, 3 * sizeof(double));
         memmove(s->frame + 9 * w, s->frame + 9 * v, 9 * sizeof(double));
+        if (ids)
+            ids[w] = ids[v];
         samples += v < s->n_samples;
     }
     s->n_dropped = m->nv - n;
@@ -592,6 +596,22 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
 
     s->seconds[RELIEF_STAGE_TARGETS] = relief_seconds() - t0;
 
+    /* Refuse before the big allocations: each oversampling pass about
+     * quadruples the capture's vertices. */
+    {
+        double nsamp = (double)capture->nv * pow(4.0, params->oversample);
+        char what[160];
+        snprintf(what, sizeof what,
+                 "the smooth completion of about %.0f samples (%zu captured vertices, "
+                 "oversampled %d times) and %zu targets",
+                 nsamp, capture->nv, params->oversample, targets.n);
+        st = relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
+                                                              targets.n),
+                                 relief_memory_limit(params), err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+
     /* Samples: the oversampled capture, then the targets after them. */
     t0 = relief_seconds();
     st = relief_oversample(capture, params->oversample, &op, &samples, err);
@@ -638,9 +658,10 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
 
     t0 = relief_seconds();
     alpha = 2.0 * fmax(s->spacing, edge_percentile(capture, 95.0));
+    s->alpha = alpha;
     st = triangulate(s, alpha, err);
     if (st == RELIEF_OK)
-        st = drop_unused(s, err);
+        st = drop_unused(s, NULL, err);
     if (st == RELIEF_OK)
         st = check_manifold(s, err);
     s->seconds[RELIEF_STAGE_TRIANGULATE] = relief_seconds() - t0;
@@ -658,5 +679,65 @@ fail:
     relief_mesh_destroy(samples);
     free(targets.p);
     relief_surface_destroy(s);
+    return st;
+}
+
+relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,
+                                   relief_surface **out, uint32_t *ids, relief_error *err)
+{
+    const relief_mesh *m = s->mesh;
+    relief_surface *l = calloc(1, sizeof *l);
+    size_t n = 0, w = 0;
+    relief_status st;
+
+    if (!l)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level surface");
+    for (size_t v = 0; v < m->nv; ++v)
+        n += keep[v] != 0;
+    l->fit = s->fit;
+    l->param = s->param;
+    l->spacing = s->spacing;
+    l->spacing_from_capture = s->spacing_from_capture;
+    l->alpha = alpha;
+    l->n_captured = s->n_captured;
+    st = relief_mesh_create(n, 0, m->attrs & (RELIEF_MESH_LABELS | RELIEF_MESH_COLOURS), &l->mesh,
+                            err);
+    if (st != RELIEF_OK)
+        goto fail;
+    l->proj = malloc((n + 1) * 3 * sizeof *l->proj);
+    l->disp = malloc((n + 1) * 3 * sizeof *l->disp);
+    l->nrm = malloc((n + 1) * 3 * sizeof *l->nrm);
+    l->frame = malloc((n + 1) * 9 * sizeof *l->frame);
+    if (!l->proj || !l->disp || !l->nrm || !l->frame) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's per-vertex state");
+        goto fail;
+    }
+    for (size_t v = 0; v < m->nv; ++v) {
+        if (!keep[v])
+            continue;
+        memcpy(l->mesh->pos + 3 * w, m->pos + 3 * v, 3 * sizeof(double));
+        if (m->col && l->mesh->col)
+            memcpy(l->mesh->col + 3 * w, m->col + 3 * v, 3 * sizeof(float));
+        if (m->label && l->mesh->label)
+            l->mesh->label[w] = m->label[v];
+        memcpy(l->proj + 3 * w, s->proj + 3 * v, 3 * sizeof(double));
+        memcpy(l->disp + 3 * w, s->disp + 3 * v, 3 * sizeof(double));
+        memcpy(l->nrm + 3 * w, s->nrm + 3 * v, 3 * sizeof(double));
+        memcpy(l->frame + 9 * w, s->frame + 9 * v, 9 * sizeof(double));
+        l->n_samples += v < s->n_samples;
+        ids[w++] = (uint32_t)v;
+    }
+    l->n_targets = n - l->n_samples;
+    st = triangulate(l, alpha, err);
+    if (st == RELIEF_OK)
+        st = drop_unused(l, ids, err);
+    if (st == RELIEF_OK)
+        st = check_manifold(l, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    *out = l;
+    return RELIEF_OK;
+fail:
+    relief_surface_destroy(l);
     return st;
 }

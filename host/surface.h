@@ -42,6 +42,8 @@ typedef struct relief_surface {
                            get mid grey until textured. */
     relief_fit_result fit;  /* the primitive and how well it fits */
     double spacing;     /* target spacing (input units) */
+    double alpha;       /* widest triangle kept (circumradius in the parameter
+                           domain, input units; plane and cylinder) */
     int spacing_from_capture; /* 1: derived from the capture, 0: --spacing */
     size_t n_captured;  /* capture vertices before oversampling */
     size_t n_samples;   /* samples, after oversampling */
@@ -70,5 +72,16 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
                             relief_error *err);
 
 void relief_surface_destroy(relief_surface *s);
+
+/* A sub-surface of s for the hierarchy (hierarchy.c): the vertices with
+ * keep[v] != 0 (s->mesh->nv entries), in s's order (so samples first),
+ * with their per-vertex state, labels and colours, re-triangulated as
+ * relief_smooth triangulates (qhull in the primitive's parameter domain, or
+ * on the sphere), keeping triangles of circumradius <= alpha (input units;
+ * plane and cylinder). Vertices no triangle uses are left out.
+ * ids (at least as many entries as kept vertices) receives each level
+ * vertex's id in s. RELIEF_E_MESH when the result is not manifold. */
+relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,
+                                   relief_surface **out, uint32_t *ids, relief_error *err);
 
 #endif

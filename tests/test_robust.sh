@@ -74,5 +74,33 @@ ok '[[ ! -e $tmp/r.ply ]]' "output written by a refused resume"
 expect 0 "" -- "$relief" complete "$pw" --window 2 --error 0.03 --quiet -o "$tmp/r2.ply" --resume "$tmp/ck"
 ok 'cmp -s "$tmp/full.ply" "$tmp/r2.ply"' "resumed on another backend, the output differs"
 
+# ------------------------------------------------------------ memory limits
+# Refused up front, with the estimate and the limit, and nothing written.
+expect 2 "over the limit of 1.00 MiB (--max-memory" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 1M
+expect 2 "needs about" -- "$relief" smooth "$pw" -o "$tmp/m.ply" --max-memory 1M
+ok '[[ ! -e $tmp/m.ply ]]' "output written over the memory limit"
+expect 0 "" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 1G
+ok 'cmp -s "$tmp/full.ply" "$tmp/m.ply"' "--max-memory changed the result"
+for bad in 12Q -5 0 x 1.5X; do
+  expect 1 "--max-memory: '$bad'" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory "$bad"
+done
+
+# ------------------------------------------------------- device failure mid-run
+# Every OpenCL score after the 20th fails as an exhausted device would:
+# auto goes on with the scalar reference from the same target (same bytes
+# as a scalar run); an explicit --backend opencl exits 2 with the work done
+# so far in its checkpoint, which the scalar matcher finishes.
+if "$relief" devices 2>/dev/null | grep -q "^device 0"; then
+  expect 0 "continued on the scalar matcher" -- env RELIEF_TEST_DEVICE_FAIL_AFTER=20 "$relief" complete "$pw" --window 2 --error 0.03 -o "$tmp/fb.ply"
+  ok 'cmp -s "$tmp/full.ply" "$tmp/fb.ply"' "the fallback changed the result"
+  expect 2 "CL_OUT_OF_RESOURCES" -- env RELIEF_TEST_DEVICE_FAIL_AFTER=20 "$relief" complete "$pw" --window 2 --error 0.03 --backend opencl -o "$tmp/ex.ply" --checkpoint "$tmp/ex.ck"
+  ok '[[ ! -e $tmp/ex.ply && -s $tmp/ex.ck ]]' "explicit opencl failure: output written or no checkpoint"
+  grep -qF "state saved to $tmp/ex.ck" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no 'state saved' after a device failure"; fail=$((fail+1)); }
+  expect 0 "resuming from" -- "$relief" complete "$pw" --window 2 --error 0.03 --backend scalar -o "$tmp/ex.ply" --resume "$tmp/ex.ck"
+  ok 'cmp -s "$tmp/full.ply" "$tmp/ex.ply"' "resumed after a device failure, the output differs"
+else
+  echo "no OpenCL device: device-failure cases skipped"
+fi
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -247,6 +247,10 @@ typedef struct relief_params {
     double extent[4];       /* cylinder: z0, z1 (2 values); plane: u0, v0,
                                u1, v1 (4 values), in primitive coordinates */
     int n_extent;           /* number of extent values given: 2 or 4 */
+    uint64_t max_memory;    /* host memory limit in bytes; a run whose
+                               estimate exceeds it is refused before it
+                               allocates. 0 (default): 80% of physical
+                               memory */
 } relief_params;
 
 /* Defaults as documented in relief_params. */

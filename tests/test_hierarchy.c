@@ -1,0 +1,340 @@
+/* Hierarchical completion (hierarchy.h): level sizes and nesting, parent
+ * relations, inherited labels, the displacement bookkeeping across levels,
+ * sample-pyramid restriction and fallback, determinism and backend
+ * equivalence. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "grow.h"
+#include "hierarchy.h"
+#include "matcher.h"
+#include "mesh.h"
+#include "surface.h"
+
+#define LEVELS 3
+
+static relief_surface *smooth_of(relief_synth_kind kind, size_t vertices, int colour)
+{
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    sp.kind = kind;
+    sp.vertices = vertices;
+    sp.colour = colour;
+    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
+    if (cap)
+        CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
+    relief_mesh_destroy(cap);
+    return s;
+}
+
+static double dist2(const double *a, const double *b)
+{
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* Sizes about k n / M, nested, labels and state inherited, Euler 0 (the
+ * cylinder's band) at every level, parents and barycentric links right. */
+static void check_structure(const relief_surface *s, const relief_hierarchy *h)
+{
+    const size_t n = s->mesh->nv;
+    for (int k = 1; k <= LEVELS; ++k) {
+        const relief_surface *l = h->level[k - 1];
+        const uint32_t *ids = h->ids[k - 1];
+        const size_t want = (size_t)((double)k * (double)n / LEVELS + 0.5);
+        size_t edges2 = 0, bad_label = 0, bad_first = 0, bad_order = 0;
+        CHECK(l->mesh->nv <= want && l->mesh->nv >= want - want / 50,
+              "level %d: %zu vertices, wanted about %zu", k, l->mesh->nv, want);
+        CHECK(l->n_samples + l->n_targets == l->mesh->nv && l->n_samples > 0 &&
+                  l->n_targets > 0, "level %d: %zu samples, %zu targets", k, l->n_samples,
+              l->n_targets);
+        for (size_t v = 0; v < l->mesh->nv; ++v) {
+            bad_label += l->mesh->label[v] != s->mesh->label[ids[v]] ||
+                         (v < l->n_samples) != (ids[v] < s->n_samples);
+            bad_first += h->first_level[ids[v]] > k;
+            bad_order += v > 0 && ids[v] <= ids[v - 1];
+        }
+        CHECK(bad_label == 0, "level %d: %zu vertices lost their label", k, bad_label);
+        CHECK(bad_first == 0 && bad_order == 0, "level %d: %zu not nested, %zu out of order",
+              k, bad_first, bad_order);
+        edges2 = 3 * l->mesh->nt; /* a band: every interior edge twice */
+        {
+            relief_adjacency adj;
+            relief_error err = {RELIEF_OK, ""};
+            CHECK(relief_mesh_adjacency(l->mesh, &adj, &err) == RELIEF_OK, "%s", err.message);
+            if (adj.start) {
+                long e = (long)adj.start[l->mesh->nv] / 2;
+                long euler = (long)l->mesh->nv - e + (long)l->mesh->nt;
+                CHECK(euler == 0, "level %d: Euler characteristic %ld, a band has 0", k, euler);
+                relief_adjacency_free(&adj);
+            }
+        }
+        (void)edges2;
+        if (k == 1)
+            continue;
+        {
+            const relief_surface *c = h->level[k - 2];
+            size_t bad_parent = 0, bad_self = 0, bad_w = 0;
+            for (size_t v = 0; v < l->mesh->nv; ++v) {
+                const uint32_t p = h->parent[k - 1][v];
+                const double *w = h->weight[k - 1] + 3 * v;
+                const double *q = s->proj + 3 * (size_t)ids[v];
+                if (h->first_level[ids[v]] < k) {
+                    bad_self += h->ids[k - 2][p] != ids[v];
+                } else {
+                    /* The nearest level k - 1 vertex, by brute force. */
+                    double best = DBL_MAX;
+                    for (size_t u = 0; u < c->mesh->nv; ++u)
+                        best = fmin(best, dist2(q, s->proj + 3 * (size_t)h->ids[k - 2][u]));
+                    bad_parent +=
+                        dist2(q, s->proj + 3 * (size_t)h->ids[k - 2][p]) > best + 1e-12;
+                }
+                bad_w += !(fabs(w[0] + w[1] + w[2] - 1.0) < 1e-12 && w[0] >= 0 && w[1] >= 0 &&
+                           w[2] >= 0);
+            }
+            CHECK(bad_self == 0, "level %d: %zu vertices of level %d not their own parent", k,
+                  bad_self, k - 1);
+            CHECK(bad_parent == 0, "level %d: %zu parents are not the nearest vertex", k,
+                  bad_parent);
+            CHECK(bad_w == 0, "level %d: %zu barycentric weights off", k, bad_w);
+        }
+    }
+}
+
+/* Run the hierarchy on a fresh copy; heights filled; caller frees. */
+static relief_surface *run(relief_synth_kind kind, size_t vertices, int colour,
+                           relief_backend backend, relief_level_heights *heights,
+                           relief_hierarchy_stats *hs, relief_hierarchy **hout)
+{
+    relief_surface *s = smooth_of(kind, vertices, colour);
+    relief_params p = relief_params_default();
+    relief_grow_options go = relief_grow_options_default();
+    relief_hierarchy_options ho = relief_hierarchy_options_default();
+    relief_hierarchy *h = NULL;
+    relief_grow_stats total;
+    relief_backend used;
+    relief_error err = {RELIEF_OK, ""};
+    char device[256];
+    if (!s)
+        return NULL;
+    p.levels = LEVELS;
+    p.window = 2;
+    p.seed = 7;
+    ho.backend = backend;
+    ho.heights = heights;
+    CHECK(relief_hierarchy_build(s, LEVELS, &h, &err) == RELIEF_OK, "%s", err.message);
+    if (h)
+        CHECK(relief_hierarchy_grow(h, s, &p, &go, &ho, hs, &total, &used, device,
+                                    sizeof device, NULL, 0, &err) == RELIEF_OK,
+              "%s", err.message);
+    CHECK(hs->level[LEVELS - 1].grow.acceptances == s->n_targets,
+          "%zu of %zu targets textured at the last level",
+          hs->level[LEVELS - 1].grow.acceptances, s->n_targets);
+    if (hout)
+        *hout = h;
+    else
+        relief_hierarchy_destroy(h);
+    return s;
+}
+
+static void free_heights(relief_level_heights *lh)
+{
+    for (int k = 0; k < RELIEF_MAX_LEVELS; ++k) {
+        free(lh[k].base);
+        free(lh[k].disp);
+        free(lh[k].smoothed);
+    }
+}
+
+/* Every sample at every level sits where it was captured: primitive +
+ * (base + its displacement) along the normal, the base being the smoothed
+ * level below interpolated; targets end at primitive + base + grown. */
+static void check_bookkeeping(void)
+{
+    relief_level_heights lh[RELIEF_MAX_LEVELS];
+    relief_hierarchy_stats hs;
+    relief_hierarchy *h = NULL;
+    relief_surface *orig = smooth_of(RELIEF_SYNTH_CYLINDER_BANDS, 700, 0);
+    relief_surface *s;
+    memset(lh, 0, sizeof lh);
+    s = run(RELIEF_SYNTH_CYLINDER_BANDS, 700, 0, RELIEF_BACKEND_SCALAR, lh, &hs, &h);
+    if (!s || !h || !orig)
+        goto done;
+    check_structure(s, h);
+    for (int k = 1; k <= LEVELS; ++k) {
+        const relief_surface *l = h->level[k - 1];
+        const uint32_t *ids = h->ids[k - 1];
+        double worst_s = 0.0, worst_b = 0.0, worst_t = 0.0;
+        for (size_t v = 0; v < l->mesh->nv; ++v) {
+            const uint32_t f = ids[v];
+            const double *n = s->nrm + 3 * (size_t)f, *pp = s->proj + 3 * (size_t)f;
+            double x[3], base = 0.0;
+            for (int i = 0; i < 3; ++i)
+                x[i] = pp[i] + (lh[k - 1].base[v] + lh[k - 1].disp[v]) * n[i];
+            if (f < s->n_samples)
+                worst_s = fmax(worst_s, sqrt(dist2(x, orig->mesh->pos + 3 * (size_t)f)));
+            else if (k == LEVELS)
+                worst_t = fmax(worst_t, sqrt(dist2(x, s->mesh->pos + 3 * (size_t)f)));
+            if (k > 1)
+                for (int i = 0; i < 3; ++i)
+                    base += h->weight[k - 1][3 * v + i] *
+                            lh[k - 2].smoothed[h->corner[k - 1][3 * v + i]];
+            worst_b = fmax(worst_b, fabs(base - lh[k - 1].base[v]));
+        }
+        CHECK(worst_s < 1e-9, "level %d: a sample is %.3g off its captured position", k,
+              worst_s);
+        CHECK(worst_b < 1e-12, "level %d: a base is %.3g off the level below", k, worst_b);
+        CHECK(worst_t < 1e-9, "level %d: a target is %.3g off base + displacement", k, worst_t);
+        printf("level %d: %zu vertices (%zu samples, %zu targets), %zu boxes of %.1f samples "
+               "on average, %zu restricted matches, %zu + %zu fallbacks\n",
+               k, hs.level[k - 1].vertices, hs.level[k - 1].samples, hs.level[k - 1].targets,
+               hs.level[k - 1].boxes, hs.level[k - 1].box_samples,
+               hs.level[k - 1].grow.pyramid_hits, hs.level[k - 1].grow.pyramid_misses,
+               hs.level[k - 1].grow.pyramid_empty);
+        if (k > 1) {
+            const relief_level_stats *ls = &hs.level[k - 1];
+            CHECK(ls->boxes > ls->targets / 2 && ls->box_samples < 0.5 * (double)ls->samples,
+                  "level %d: %zu boxes of %.1f samples (of %zu): the pyramids should restrict",
+                  k, ls->boxes, ls->box_samples, ls->samples);
+            CHECK(ls->grow.pyramid_hits > 0 &&
+                      ls->grow.pyramid_hits + ls->grow.pyramid_misses + ls->grow.pyramid_empty >=
+                          ls->targets,
+                  "level %d: %zu restricted, %zu + %zu fallbacks for %zu targets", k,
+                  ls->grow.pyramid_hits, ls->grow.pyramid_misses, ls->grow.pyramid_empty,
+                  ls->targets);
+            CHECK(ls->grow.candidates < ls->targets * ls->samples * 4 / 2,
+                  "level %d: %zu candidates scored: the pyramids should cut the search", k,
+                  ls->grow.candidates);
+        } else {
+            CHECK(hs.level[0].boxes == 0 && hs.level[0].grow.pyramid_hits == 0,
+                  "level 1 matches exhaustively");
+        }
+    }
+    /* The samples of the output are the capture's, bit for bit. */
+    CHECK(memcmp(s->mesh->pos, orig->mesh->pos, s->n_samples * 3 * sizeof(double)) == 0,
+          "samples moved");
+    CHECK(memcmp(s->proj, orig->proj, s->mesh->nv * 3 * sizeof(double)) == 0,
+          "projections not restored to the primitive");
+done:
+    free_heights(lh);
+    relief_hierarchy_destroy(h);
+    relief_surface_destroy(s);
+    relief_surface_destroy(orig);
+}
+
+/* The growth's pyramid mechanism on its own: a box holding every sample
+ * gives the mono-scale growth exactly; a box of one far sample makes
+ * nothing pass e, so each target falls back to all samples and still
+ * completes. */
+static void check_restriction_and_fallback(void)
+{
+    relief_surface *s[3] = {NULL, NULL, NULL};
+    relief_grow_stats st[3];
+    for (int mode = 0; mode < 3; ++mode) {
+        relief_params p = relief_params_default();
+        relief_grow_options go = relief_grow_options_default();
+        relief_match_data *d = NULL;
+        relief_matcher *m = NULL;
+        relief_error err = {RELIEF_OK, ""};
+        uint32_t *start = NULL, *items = NULL;
+        s[mode] = smooth_of(RELIEF_SYNTH_PLANE_WAVES, 600, 1);
+        if (!s[mode])
+            return;
+        p.window = 2;
+        CHECK(relief_match_data_build(s[mode], p.rotations, relief_grow_mu(&p, 1), &d, &err) ==
+                  RELIEF_OK, "%s", err.message);
+        CHECK(relief_matcher_scalar_create(d, &m, &err) == RELIEF_OK, "%s", err.message);
+        if (mode > 0) {
+            const size_t nv = s[mode]->mesh->nv, ns = s[mode]->n_samples;
+            start = calloc(nv + 1, sizeof *start);
+            items = malloc(nv * ns * sizeof *items);
+            if (!start || !items)
+                return;
+            for (size_t t = 0; t < nv; ++t) {
+                size_t k = start[t];
+                if (t >= ns && mode == 1)
+                    for (uint32_t i = 0; i < ns; ++i)
+                        items[k++] = i;
+                if (t >= ns && mode == 2)
+                    items[k++] = 0; /* a corner of the capture */
+                start[t + 1] = (uint32_t)k;
+            }
+            go.pyramid_start = start;
+            go.pyramid_items = items;
+        }
+        CHECK(relief_grow(s[mode], d, m, &p, &go, &st[mode], &err) == RELIEF_OK, "%s",
+              err.message);
+        free(start);
+        free(items);
+        relief_matcher_destroy(m);
+        relief_match_data_destroy(d);
+    }
+    CHECK(st[0].pyramid_hits == 0 && st[1].pyramid_hits == st[1].acceptances &&
+              st[1].pyramid_misses == 0,
+          "a box of all samples: %zu of %zu restricted", st[1].pyramid_hits,
+          st[1].acceptances);
+    CHECK(memcmp(s[0]->mesh->pos, s[1]->mesh->pos, s[0]->mesh->nv * 3 * sizeof(double)) == 0 &&
+              memcmp(s[0]->mesh->col, s[1]->mesh->col, s[0]->mesh->nv * 3 * sizeof(float)) == 0,
+          "a box of all samples should give the mono-scale growth exactly");
+    CHECK(st[2].pyramid_misses > 0 && st[2].acceptances == s[2]->n_targets,
+          "a useless box: %zu fallbacks, %zu of %zu textured", st[2].pyramid_misses,
+          st[2].acceptances, s[2]->n_targets);
+    printf("restriction: %zu/%zu restricted with the full box; %zu fallbacks with a "
+           "one-sample box\n", st[1].pyramid_hits, st[1].acceptances, st[2].pyramid_misses);
+    for (int i = 0; i < 3; ++i)
+        relief_surface_destroy(s[i]);
+}
+
+/* The same seed, the same bytes; and the same on OpenCL when there is one. */
+static void check_determinism(void)
+{
+    relief_hierarchy_stats hs;
+    relief_surface *a = run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR, NULL,
+                            &hs, NULL);
+    relief_surface *b = run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR, NULL,
+                            &hs, NULL);
+    relief_device_info info[4];
+    size_t ndev = 0;
+    relief_error err = {RELIEF_OK, ""};
+    if (a && b)
+        CHECK(memcmp(a->mesh->pos, b->mesh->pos, a->mesh->nv * 3 * sizeof(double)) == 0 &&
+                  memcmp(a->mesh->col, b->mesh->col, a->mesh->nv * 3 * sizeof(float)) == 0,
+              "two runs with the same seed differ");
+    if (relief_devices(info, 4, &ndev, &err) == RELIEF_OK && ndev > 0) {
+        relief_surface *c = run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_OPENCL,
+                                NULL, &hs, NULL);
+        if (a && c)
+            CHECK(memcmp(a->mesh->pos, c->mesh->pos, a->mesh->nv * 3 * sizeof(double)) == 0 &&
+                      memcmp(a->mesh->col, c->mesh->col, a->mesh->nv * 3 * sizeof(float)) == 0,
+                  "scalar and OpenCL hierarchies differ");
+        printf("OpenCL (%s) and scalar hierarchies compared\n", info[0].name);
+        relief_surface_destroy(c);
+    } else {
+        printf("no OpenCL device: scalar determinism only\n");
+    }
+    relief_surface_destroy(a);
+    relief_surface_destroy(b);
+}
+
+int main(void)
+{
+    relief_hierarchy *h = NULL;
+    relief_surface *s = smooth_of(RELIEF_SYNTH_CYLINDER_BANDS, 400, 0);
+    relief_error err = {RELIEF_OK, ""};
+    if (s) {
+        CHECK(relief_hierarchy_build(s, 1, &h, &err) == RELIEF_E_RANGE, "1 level is mono-scale");
+        CHECK(relief_hierarchy_build(s, RELIEF_MAX_LEVELS + 1, &h, &err) == RELIEF_E_RANGE,
+              "too many levels");
+    }
+    relief_surface_destroy(s);
+    check_bookkeeping();
+    check_restriction_and_fallback();
+    check_determinism();
+    return check_result();
+}
