@@ -14,12 +14,14 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "error.h"
 #include "checkpoint.h"
 #include "fit.h"
 #include "grow.h"
 #include "hierarchy.h"
 #include "matcher.h"
 #include "measures.h"
+#include "memlimit.h"
 #include "json.h"
 #include "report.h"
 #include "surface.h"
@@ -137,7 +139,7 @@ enum {
     OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
     OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
     OPT_FRAMES, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
-    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY
+    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_MAX_MEMORY
 };
 
 static const char complete_help[] =
@@ -162,6 +164,8 @@ static const char complete_help[] =
     "  --spacing S           target vertex spacing (default: from the capture)\n"
     "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
+    "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
+    "                        physical memory); a larger run is refused up front\n"
     "  --bootstrap           completed targets become matchable too\n"
     "  --no-prune            score every candidate in full (the paper's exhaustive\n"
     "                        search; same result, slower)\n"
@@ -203,6 +207,8 @@ static const char smooth_help[] =
     "                        point; plane: u0,v0,u1,v1 in the plane's (e1, e2)\n"
     "                        frame from its fitted point (both in the report)\n"
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
+    "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
+    "                        physical memory); a larger run is refused up front\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
@@ -466,6 +472,36 @@ static void on_progress(void *ctx, const relief_grow_progress *p)
         raise(SIGINT);
 }
 
+/* Test hook: RELIEF_TEST_DEVICE_FAIL_AFTER=N makes every OpenCL score after
+ * the first N fail as an exhausted device would, so that the CLI test sees
+ * auto continue on the scalar matcher and an explicit --backend opencl exit
+ * 2 with its checkpoint saved. */
+typedef struct device_failure {
+    size_t after, calls;
+} device_failure;
+
+static relief_status inject_device_failure(void *ctx, relief_error *err)
+{
+    device_failure *f = ctx;
+    if (f->calls++ < f->after)
+        return RELIEF_OK;
+    return relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: CL_OUT_OF_RESOURCES "
+                       "(injected by RELIEF_TEST_DEVICE_FAIL_AFTER=%zu)", f->after);
+}
+
+/* Refuse a growth that cannot fit before its match data and state exist. */
+static relief_status check_growth_memory(const relief_surface *s, const relief_params *p,
+                                         relief_error *err)
+{
+    const size_t nv = relief_mesh_vertex_count(s->mesh);
+    const size_t nt = relief_mesh_triangle_count(s->mesh);
+    char what[160];
+    snprintf(what, sizeof what, "the growth over %zu vertices (%zu samples x %d rotations)",
+             nv, s->n_samples, p->rotations);
+    return relief_memory_check(what, relief_estimate_growth(nv, nt, s->n_samples, p->rotations),
+                               relief_memory_limit(p), err);
+}
+
 static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                         const char *report, const relief_params *p,
                         const relief_smooth_options *o, relief_grow_options *go, int ascii,
@@ -488,6 +524,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     saver sv = {rc->checkpoint, &key};
     progress_hook hook = {-1.0, !quiet && isatty(2), 0, 0};
     const char *hook_env = getenv("RELIEF_TEST_SIGINT_AFTER");
+    const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
+    device_failure fail_hook = {0, 0};
     struct sigaction sa, old_sa;
 
     memset(&stats, 0, sizeof stats);
@@ -519,6 +557,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         go->save_every = rc->checkpoint_every;
     }
     st = relief_smooth(in, p, o, &s, &err);
+    if (st == RELIEF_OK)
+        st = check_growth_memory(s, p, &err);
     if (st == RELIEF_OK && p->levels > 1) {
         double th = relief_seconds();
         st = relief_hierarchy_build(s, p->levels, &hier, &err);
@@ -536,6 +576,11 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         else if (st == RELIEF_OK && !quiet)
             fprintf(stderr, "relief complete: backend %s: %s\n",
                     relief_backend_name(m->backend), m->device);
+        if (st == RELIEF_OK && fail_env && m->backend == RELIEF_BACKEND_OPENCL) {
+            fail_hook.after = strtoul(fail_env, NULL, 10);
+            m->inject = inject_device_failure;
+            m->inject_ctx = &fail_hook;
+        }
     }
     if (st == RELIEF_OK && !quiet)
         fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "
@@ -577,6 +622,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                         relief_backend_name(used_backend), used_device);
         } else {
             st = relief_grow(s, d, m, p, go, &stats, &err);
+            if (m->fallback_note[0])
+                fprintf(stderr, "relief complete: backend auto: %s\n", m->fallback_note);
         }
         if (hook.print && st != RELIEF_OK)
             fputc('\n', stderr); /* end the progress line */
@@ -623,7 +670,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     return st == RELIEF_OK ? 0 : fail_status("complete", &err);
 }
 
-#define SMOOTH_OPTS 10
+#define SMOOTH_OPTS 11
 
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
 {
@@ -638,6 +685,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"ascii", no_argument, 0, OPT_ASCII},
         {"quiet", no_argument, 0, OPT_QUIET},
         {"frames", required_argument, 0, OPT_FRAMES},
+        {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
         {"help", no_argument, 0, 'h'},
         /* complete only, from here (SMOOTH_OPTS entries above) */
         {"window", required_argument, 0, OPT_WINDOW},
@@ -759,6 +807,12 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
             if (control.checkpoint_every < 0.0) {
                 fprintf(stderr, "relief %s: --checkpoint-every: %s is out of range: expected "
                         "seconds >= 0\n", cmd, optarg);
+                return EXIT_USAGE;
+            }
+            break;
+        case OPT_MAX_MEMORY:
+            if (relief_parse_size(optarg, &p.max_memory, &err) != RELIEF_OK) {
+                fprintf(stderr, "relief %s: --max-memory: %s\n", cmd, err.message);
                 return EXIT_USAGE;
             }
             break;
