@@ -20,6 +20,7 @@
 #include "mesh.h"
 #include "report.h"
 #include "rng.h"
+#include "surface_check.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
@@ -54,49 +55,6 @@ double relief_grow_mu(const relief_params *params, int has_colour)
     return has_colour ? 0.5 : 1.0;
 }
 
-/* Vertex adjacency as CSR: nbr[start[v] .. start[v + 1]) ascending. */
-typedef struct adjacency {
-    uint32_t *start, *nbr;
-} adjacency;
-
-static int edge_cmp(const void *x, const void *y)
-{
-    const uint32_t *a = x, *b = y;
-    if (a[0] != b[0])
-        return a[0] < b[0] ? -1 : 1;
-    return (a[1] > b[1]) - (a[1] < b[1]);
-}
-
-static relief_status build_adjacency(const relief_mesh *m, adjacency *adj, relief_error *err)
-{
-    size_t ne = 6 * m->nt, k = 0;
-    uint32_t *e = malloc((ne + 1) * 2 * sizeof *e);
-    adj->start = calloc(m->nv + 1, sizeof *adj->start);
-    adj->nbr = malloc((ne + 1) * sizeof *adj->nbr);
-    if (!e || !adj->start || !adj->nbr) {
-        free(e);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the vertex adjacency");
-    }
-    for (size_t t = 0; t < m->nt; ++t)
-        for (int i = 0; i < 3; ++i) {
-            uint32_t a = m->tri[3 * t + i], b = m->tri[3 * t + (i + 1) % 3];
-            e[2 * k] = a, e[2 * k + 1] = b, ++k;
-            e[2 * k] = b, e[2 * k + 1] = a, ++k;
-        }
-    qsort(e, ne, 2 * sizeof *e, edge_cmp);
-    k = 0;
-    for (size_t i = 0; i < ne; ++i) {
-        if (i > 0 && e[2 * i] == e[2 * i - 2] && e[2 * i + 1] == e[2 * i - 1])
-            continue;
-        adj->nbr[k++] = e[2 * i + 1];
-        ++adj->start[e[2 * i] + 1];
-    }
-    for (size_t v = 0; v < m->nv; ++v)
-        adj->start[v + 1] += adj->start[v];
-    free(e);
-    return RELIEF_OK;
-}
-
 /* Breadth-first search state reused across targets. */
 typedef struct walker {
     uint32_t *stamp, *depth, *queue;
@@ -105,7 +63,7 @@ typedef struct walker {
 
 /* Textured vertices within `hops` edges of t (t excluded) into out[],
  * in breadth-first order; returns their count. */
-static size_t window(walker *w, const adjacency *adj, const uint8_t *textured, uint32_t t,
+static size_t window(walker *w, const relief_adjacency *adj, const uint8_t *textured, uint32_t t,
                      int hops, uint32_t *out)
 {
     size_t head = 0, tail = 0, n = 0;
@@ -162,7 +120,7 @@ static int neighbour_cmp(const void *x, const void *y)
 struct relief_query_builder {
     const relief_surface *s;
     const relief_match_data *d;
-    adjacency adj;
+    relief_adjacency adj;
     walker w;
     uint32_t *nb;   /* nv: a window's textured vertices */
     neighbour *nbs; /* nv: the same with their weights */
@@ -182,8 +140,7 @@ void relief_query_builder_destroy(relief_query_builder *b)
     free(b->w.queue);
     free(b->w.depth);
     free(b->w.stamp);
-    free(b->adj.nbr);
-    free(b->adj.start);
+    relief_adjacency_free(&b->adj);
     free(b);
 }
 
@@ -197,7 +154,7 @@ relief_status relief_query_builder_create(const relief_surface *s, const relief_
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a query builder");
     b->s = s;
     b->d = d;
-    st = build_adjacency(s->mesh, &b->adj, err);
+    st = relief_mesh_adjacency(s->mesh, &b->adj, err);
     if (st != RELIEF_OK) {
         relief_query_builder_destroy(b);
         return st;
@@ -389,6 +346,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     stats->mu = d->mu;
     if (d->ns == 0)
         return relief_fail(err, RELIEF_E_MESH, "no sample vertex to grow from");
+    st = relief_surface_check_growth(s, params->window, err);
+    if (st != RELIEF_OK)
+        return st;
     st = relief_query_builder_create(s, d, &qb, err);
     if (st != RELIEF_OK)
         goto done;
