@@ -31,6 +31,19 @@ typedef struct relief_match_data {
     uint32_t dims[3];     /* cells per axis */
     uint32_t *cell_start; /* dims[0] * dims[1] * dims[2] + 1 */
     uint32_t *cell_items; /* nv vertex ids by cell, then id */
+    /* Closest-vertex lists (relief_math.h, rm_closest_vertex_listed): a
+     * sparse grid finer than the one above, cells of size lgrid[3] from the
+     * origin lgrid[0..2], ldims[0..2] cells per axis; a hash table of
+     * lmask + 1 slots (a power of two), 3 values per slot: cell id or
+     * RM_EMPTY, offset and count into litems; each listed cell's items are
+     * every vertex that can be the closest to a point of the cell, in
+     * ascending id. Cells without a list use the grid above. */
+    float lgrid[4];
+    uint32_t ldims[3];
+    uint32_t lmask;
+    uint32_t *lslot;      /* (lmask + 1) x 3 */
+    uint32_t *litems;     /* n_litems vertex ids */
+    size_t n_litems;
     uint32_t *sample;     /* ns vertex ids of the samples */
     float *s_proj;        /* ns x 3 s' */
     float *s_frame;       /* ns x 9 R_s as rows u, v, n */

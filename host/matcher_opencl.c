@@ -33,7 +33,7 @@ typedef struct ocl {
     cl_command_queue queue;
     cl_program prog;
     cl_kernel kernel;
-    cl_mem proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items;
+    cl_mem proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items, lslot, litems;
     cl_mem s_proj, s_frame, cos_r, sin_r, ssd, flag, subset;
     cl_mem qp, q, g, qcol;
     size_t qcap; /* neighbours the query buffers hold */
@@ -42,7 +42,7 @@ typedef struct ocl {
 static void ocl_free(ocl *o)
 {
     cl_mem *mems[] = {&o->proj,  &o->pos,    &o->col,     &o->matchable, &o->tri,
-                      &o->vt_start, &o->vt, &o->cell_start, &o->cell_items, &o->s_proj,
+                      &o->vt_start, &o->vt, &o->cell_start, &o->cell_items, &o->lslot, &o->litems, &o->s_proj,
                       &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag, &o->subset,
                       &o->qp, &o->q, &o->g, &o->qcol};
     if (!o)
@@ -174,8 +174,8 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     const size_t ncand = relief_match_query_candidates(d, qr);
     const size_t global = (ncand + WG_SIZE - 1) / WG_SIZE * WG_SIZE, local = WG_SIZE;
     float cutoff = qr->cutoff;
-    cl_float4 grid;
-    cl_uint4 dims;
+    cl_float4 grid, lgrid;
+    cl_uint4 dims, ldims;
     cl_uint centres = qr->subset ? qr->n_subset : d->ns, use_subset = qr->subset != NULL;
     cl_uint rot = (cl_uint)d->rotations, n = qr->n;
     cl_int rc = CL_SUCCESS;
@@ -207,6 +207,7 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
             float s;
             if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
                                    d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
+                                   d->lgrid, d->ldims, d->lmask, d->lslot, d->litems,
                                    d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
                                    d->cos_r[r], d->sin_r[r], qr->n, qr->qp, qr->q, qr->g,
                                    qr->qcol, d->mu, d->inv_b2, qr->inv_wsum, best,
@@ -238,10 +239,15 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
     grid.s[3] = d->grid[3];
     dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
+    for (int k = 0; k < 4; ++k)
+        lgrid.s[k] = d->lgrid[k];
+    for (int k = 0; k < 3; ++k)
+        ldims.s[k] = d->ldims[k];
+    ldims.s[3] = d->lmask; /* the kernel reads the mask from .w */
 #define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
     ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
     ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
-    ARG(dims); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(centres);
+    ARG(dims); ARG(lgrid); ARG(ldims); ARG(o->lslot); ARG(o->litems); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(centres);
     ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
     ARG(d->inv_b2); ARG(qr->inv_wsum); ARG(cutoff); ARG(o->ssd); ARG(o->flag);
 #undef ARG
@@ -356,6 +362,9 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     UP(cell_start, d->cell_start,
        ((size_t)d->dims[0] * d->dims[1] * d->dims[2] + 1) * sizeof(uint32_t), "the grid");
     UP(cell_items, d->cell_items, (size_t)d->nv * sizeof(uint32_t), "the grid");
+    UP(lslot, d->lslot, ((size_t)d->lmask + 1) * 3 * sizeof(uint32_t), "the closest-vertex lists");
+    UP(litems, d->litems, (d->n_litems ? d->n_litems : 1) * sizeof(uint32_t),
+       "the closest-vertex lists");
     UP(s_proj, d->s_proj, (size_t)d->ns * 3 * sizeof(float), "sample positions");
     UP(s_frame, d->s_frame, (size_t)d->ns * 9 * sizeof(float), "sample frames");
     UP(cos_r, d->cos_r, (size_t)d->rotations * sizeof(float), "rotations");

@@ -26,7 +26,8 @@ static relief_status scalar_score(void *ctx, const relief_match_data *d,
             size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
             int f = rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri,
                                        d->vt_start, d->vt, d->cell_start, d->cell_items,
-                                       d->grid, d->dims, sp, sf, d->cos_r[r], d->sin_r[r],
+                                       d->grid, d->dims, d->lgrid, d->ldims, d->lmask,
+                                       d->lslot, d->litems, sp, sf, d->cos_r[r], d->sin_r[r],
                                        q->n, q->qp, q->q, q->g, q->qcol, d->mu, d->inv_b2,
                                        q->inv_wsum, cutoff, &ssd[c]);
             flag[c] = (uint8_t)f;

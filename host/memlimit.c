@@ -141,6 +141,8 @@ uint64_t relief_estimate_device(const relief_match_data *d, uint64_t *largest,
         {"sample positions", ns * 12},    {"sample frames", ns * 36},
         {"rotations", r * 8},             {"scores", ns * r * 4},
         {"scores", ns * r},               {"candidate subsets", ns * 4},
+        {"the closest-vertex lists", ((uint64_t)d->lmask + 1) * 12},
+        {"the closest-vertex lists", (d->n_litems ? (uint64_t)d->n_litems : 1) * 4},
     };
     uint64_t total = 0, big = 0;
     const char *big_what = "";

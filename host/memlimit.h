@@ -20,7 +20,9 @@
 #define RELIEF_MEM_SMOOTH_PER_VERTEX 2500u /* relief_smooth's peak, qhull included */
 #define RELIEF_MEM_SURFACE_PER_VERTEX 240u /* relief_surface after smooth */
 #define RELIEF_MEM_SURFACE_PER_TRIANGLE 12u
-#define RELIEF_MEM_MATCH_PER_VERTEX 64u    /* match data: float copies, grid, lists */
+#define RELIEF_MEM_MATCH_PER_VERTEX 240u   /* match data: float copies, grid, and
+                                              the closest-vertex lists (about 170
+                                              measured on cylinder-bark) */
 #define RELIEF_MEM_MATCH_PER_TRIANGLE 24u
 #define RELIEF_MEM_MATCH_PER_SAMPLE 52u
 #define RELIEF_MEM_GROW_PER_VERTEX 96u     /* growth: window search, neighbourhood */

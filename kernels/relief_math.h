@@ -170,6 +170,8 @@ RM_FN RM_REAL rm_point_triangle_d2(const RM_REAL p[3], const RM_REAL a[3],
  *   vt                 incident triangle ids
  *   cell_start ncell+1 CSR offsets into cell_items of each grid cell
  *   cell_items nv      vertex ids sorted by cell, then id
+ *   lgrid, ldims, lmask, lslot, litems: the closest-vertex lists (see
+ *              rm_closest_vertex_listed)
  * The uniform grid over the projected positions has its origin at
  * grid[0..2], cell size grid[3], and dims[0..2] cells per axis. */
 
@@ -234,6 +236,72 @@ RM_FN RM_UINT rm_closest_vertex(const float x[3], RM_GLOBAL const float *proj,
     return best_id;
 }
 
+/* Slot of a cell id in the closest-vertex lists' hash table (before the
+ * mask): the 32-bit finaliser of MurmurHash3, the same in C and OpenCL C. */
+RM_FN RM_UINT rm_cell_hash(RM_UINT k)
+{
+    k ^= k >> 16;
+    k *= 0x85ebca6bu;
+    k ^= k >> 13;
+    k *= 0xc2b2ae35u;
+    k ^= k >> 16;
+    return k;
+}
+
+#define RM_EMPTY 0xffffffffu /* an empty slot of the lists' hash table */
+
+/* The same vertex as rm_closest_vertex (the closest by projected position,
+ * ties: the lowest id), from the cell's precomputed list when x falls in a
+ * listed cell of the fine sparse grid: one short scan, the same work for
+ * most queries, instead of rings of cells. The lists hold every vertex
+ * that can be the closest to any point of their (slightly enlarged) cell,
+ * so the answer is exact; anywhere else the rings answer.
+ *   lgrid      origin x, y, z and cell size of the fine grid
+ *   ldims      its cells per axis; cell id (l * ldims[1] + j) * ldims[0] + i
+ *   lmask      hash table slots - 1 (a power of two - 1)
+ *   lslot      (lmask + 1) x 3: cell id or RM_EMPTY, offset, count
+ *   litems     the lists' vertex ids, ascending within a list */
+RM_FN RM_UINT rm_closest_vertex_listed(
+    const float x[3], RM_GLOBAL const float *proj, RM_GLOBAL const RM_UINT *cell_start,
+    RM_GLOBAL const RM_UINT *cell_items, const float grid[4], const RM_UINT dims[3],
+    const float lgrid[4], const RM_UINT ldims[3], RM_UINT lmask,
+    RM_GLOBAL const RM_UINT *lslot, RM_GLOBAL const RM_UINT *litems)
+{
+    RM_UINT c[3], cell, h, probe;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        float f = (x[k] - lgrid[k]) / lgrid[3];
+        if (!(f >= 0) || f >= (float)ldims[k]) /* outside (or NaN) */
+            return rm_closest_vertex(x, proj, cell_start, cell_items, grid, dims);
+        c[k] = (RM_UINT)f;
+    }
+    cell = (c[2] * ldims[1] + c[1]) * ldims[0] + c[0];
+    h = rm_cell_hash(cell) & lmask;
+    for (probe = 0; probe <= lmask; ++probe) {
+        RM_UINT key = lslot[3 * h];
+        if (key == cell) {
+            RM_UINT it = lslot[3 * h + 1], end = it + lslot[3 * h + 2];
+            RM_UINT best_id = 0xffffffffu;
+            float best = FLT_MAX;
+            for (; it < end; ++it) {
+                RM_UINT id = litems[it];
+                float dx = proj[3 * id] - x[0], dy = proj[3 * id + 1] - x[1];
+                float dz = proj[3 * id + 2] - x[2];
+                float d2 = dx * dx + dy * dy + dz * dz;
+                if (d2 < best) { /* ascending ids: the first of equals stays */
+                    best = d2;
+                    best_id = id;
+                }
+            }
+            return best_id;
+        }
+        if (key == RM_EMPTY)
+            break;
+        h = (h + 1) & lmask;
+    }
+    return rm_closest_vertex(x, proj, cell_start, cell_items, grid, dims);
+}
+
 /* Score candidate (s, r) for one target's neighbourhood (DESIGN.md,
  * "Scoring one candidate").
  *   s_proj    s', the sample's projected position (3)
@@ -252,7 +320,9 @@ RM_FN int rm_score_candidate(
     RM_GLOBAL const RM_UCHAR *matchable, RM_GLOBAL const RM_UINT *tri,
     RM_GLOBAL const RM_UINT *vt_start, RM_GLOBAL const RM_UINT *vt,
     RM_GLOBAL const RM_UINT *cell_start, RM_GLOBAL const RM_UINT *cell_items,
-    const float grid[4], const RM_UINT dims[3], const float s_proj[3],
+    const float grid[4], const RM_UINT dims[3], const float lgrid[4], const RM_UINT ldims[3],
+    RM_UINT lmask, RM_GLOBAL const RM_UINT *lslot, RM_GLOBAL const RM_UINT *litems,
+    const float s_proj[3],
     const float s_frame[9], float cr, float sr, RM_UINT n, RM_GLOBAL const float *qp,
     RM_GLOBAL const float *q, RM_GLOBAL const float *g, RM_GLOBAL const float *qcol,
     float mu, float inv_b2, float inv_wsum, float cutoff, float *ssd)
@@ -269,7 +339,8 @@ RM_FN int rm_score_candidate(
         for (k = 0; k < 3; ++k)
             xp[k] = s_proj[k] + a * s_frame[k] + b * s_frame[3 + k] +
                     qp[3 * i + 2] * s_frame[6 + k];
-        v2 = rm_closest_vertex(xp, proj, cell_start, cell_items, grid, dims);
+        v2 = rm_closest_vertex_listed(xp, proj, cell_start, cell_items, grid, dims, lgrid,
+                                      ldims, lmask, lslot, litems);
         if (v2 == 0xffffffffu || !matchable[v2]) {
             *ssd = FLT_MAX;
             return RM_INVALID;

@@ -84,6 +84,7 @@ static int score(const relief_match_data *d, uint32_t s, int r, const float *qp,
     float g[8] = {1, 1, 1, 1, 1, 1, 1, 1};
     return rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
                               d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
+                              d->lgrid, d->ldims, d->lmask, d->lslot, d->litems,
                               d->s_proj + 3 * s, d->s_frame + 9 * s, d->cos_r[r],
                               d->sin_r[r], n, qp, q, g, qcol, d->mu, d->inv_b2,
                               1.0f / (float)n, FLT_MAX, ssd);
@@ -194,7 +195,7 @@ static void test_closest_vertex(void)
     relief_match_data *d = NULL;
     relief_error err;
     relief_rng rng;
-    size_t wrong = 0;
+    size_t wrong = 0, wrong_listed = 0;
 
     sp.kind = RELIEF_SYNTH_CYLINDER_BANDS;
     sp.vertices = 600;
@@ -204,15 +205,22 @@ static void test_closest_vertex(void)
     if (!d)
         goto done;
     relief_rng_seed(&rng, 3);
-    for (int i = 0; i < 2000; ++i) {
+    CHECK(d->n_litems > 0, "no closest-vertex lists were built");
+    for (int i = 0; i < 6000; ++i) {
         float x[3];
         uint32_t got, want = 0;
         float best = FLT_MAX;
         /* Around the surface, with some queries exactly on vertices (ties
-         * with themselves) and some far outside the grid. */
+         * with themselves), many within a spacing of a vertex (where the
+         * growth asks: the lists answer), some far outside the grid. */
         if (i % 10 == 0) {
             uint32_t v = relief_rng_below(&rng, d->nv);
             memcpy(x, d->proj + 3 * v, sizeof x);
+        } else if (i % 10 >= 4) {
+            uint32_t v = relief_rng_below(&rng, d->nv);
+            for (int k = 0; k < 3; ++k)
+                x[k] = d->proj[3 * v + k] +
+                       (float)((relief_rng_uniform(&rng) - 0.5) * 2.0 * s->spacing);
         } else {
             double spread = i % 10 == 1 ? 8.0 : 2.6;
             for (int k = 0; k < 3; ++k)
@@ -229,8 +237,15 @@ static void test_closest_vertex(void)
         }
         got = rm_closest_vertex(x, d->proj, d->cell_start, d->cell_items, d->grid, d->dims);
         wrong += got != want;
+        got = rm_closest_vertex_listed(x, d->proj, d->cell_start, d->cell_items, d->grid,
+                                       d->dims, d->lgrid, d->ldims, d->lmask, d->lslot,
+                                       d->litems);
+        wrong_listed += got != want;
     }
-    CHECK(wrong == 0, "closest vertex: %zu of 2000 queries disagree with brute force", wrong);
+    CHECK(wrong == 0, "closest vertex: %zu of 6000 queries disagree with brute force", wrong);
+    CHECK(wrong_listed == 0,
+          "closest vertex from the lists: %zu of 6000 queries disagree with brute force",
+          wrong_listed);
 done:
     relief_match_data_destroy(d);
     relief_surface_destroy(s);
