@@ -5,8 +5,8 @@
  *   usage: bench_complete --case NAME [--kind KIND] [--vertices N] [--colour]
  *          [--spacing S] [--oversample N] [--window W] [--rotations R]
  *          [--error E] [--seed N] [--prune 0|1] [--backends scalar,opencl]
- *          [--reps N] [--scalar-reps N] [--mode full|setup] [--targets K]
- *          [--csv FILE]
+ *          [--reps N] [--scalar-reps N] [--smooth-reps N] [--mode full|setup]
+ *          [--targets K] [--csv FILE]
  *
  * --mode full (default): per repetition and backend, the whole completion
  * after the capture is made: smooth completion, match data, matcher
@@ -20,6 +20,8 @@
  * per target on K targets of the first boundary (the query the growth
  * builds, scored as the growth scores it). For sizes whose whole growth
  * would take hours: the per-target time times the targets extrapolates it.
+ * --smooth-reps N: synthesis and smooth completion only in the first N
+ * repetitions (the rest reuse the surface).
  *
  * Every CSV row: case, machine (CPU model, cores), device, backend,
  * parameters, the surface's counts, stage, unit, repetitions, median, min,
@@ -44,15 +46,26 @@
 #define MAX_TARGETS 256
 
 enum { B_SCALAR, B_OPENCL, NB };
-enum { S_SYNTH, S_SMOOTH, S_MATCH_DATA, S_MATCHER, S_GROW, S_TOTAL, S_PER_TARGET, NS };
-static const char *const stage_name[NS] = {"synth", "smooth",      "match_data", "matcher_create",
-                                           "grow",  "completion", "per_target"};
+enum {
+    S_SYNTH,
+    S_SMOOTH,
+    S_MATCH_DATA,
+    S_MATCHER,
+    S_GROW,
+    S_TOTAL,
+    S_PER_TARGET,
+    S_GROW_SETUP,
+    NS
+};
+static const char *const stage_name[NS] = {
+    "synth", "smooth", "match_data", "matcher_create", "grow", "completion", "per_target",
+    "grow_setup"};
 
 typedef struct config {
     const char *name, *csv;
     relief_synth_params sp;
     relief_params p;
-    int prune, reps, scalar_reps, setup, targets;
+    int prune, reps, scalar_reps, smooth_reps, setup, targets;
     int use[NB];
 } config;
 
@@ -69,6 +82,7 @@ typedef struct series {
     relief_grow_stats stats; /* of the last full run */
     uint64_t checksum;       /* of the last full run */
     char device[256];
+    double list_bytes; /* the closest-vertex lists: hash table and items */
 } series;
 
 static int cmp_double(const void *a, const void *b)
@@ -190,12 +204,28 @@ static relief_status run_full(const config *c, const relief_mesh *cap, int b, in
     return st;
 }
 
-/* The stages before the growth, then the matching time per target on up to
- * c->targets targets of the first boundary (rep `r`). */
-static relief_status run_setup(const config *c, int b, int r, series *se, relief_error *err)
+/* The capture and its smooth completion, for --mode setup. */
+typedef struct prepared {
+    relief_mesh *cap;
+    relief_surface *s;
+} prepared;
+
+static void prepared_clear(prepared *pp)
 {
-    relief_mesh *cap = NULL;
-    relief_surface *s = NULL;
+    relief_surface_destroy(pp->s);
+    relief_mesh_destroy(pp->cap);
+    pp->s = NULL;
+    pp->cap = NULL;
+}
+
+/* The stages before the growth, then the matching time per target on up to
+ * c->targets targets of the first boundary (rep `r`). The synthesis and
+ * smooth completion are redone for the first c->smooth_reps repetitions
+ * only (they take minutes at a million vertices); later repetitions reuse
+ * the surface, which the matching does not change. */
+static relief_status run_setup(const config *c, int b, int r, prepared *pp, series *se,
+                               relief_error *err)
+{
     relief_match_data *d = NULL;
     relief_matcher *m = NULL;
     relief_query_builder *qb = NULL;
@@ -203,16 +233,27 @@ static relief_status run_setup(const config *c, int b, int r, series *se, relief
     float *ssd = NULL;
     relief_rng rng;
     size_t ncand = 0, done = 0;
-    double t0 = relief_seconds(), t1, t2, t3, t4, t5, match = 0.0;
-    relief_status st = relief_synth(&c->sp, &cap, NULL, err);
-    t1 = relief_seconds();
-    if (st == RELIEF_OK)
-        st = relief_smooth(cap, &c->p, NULL, &s, err);
+    double t0, t1, t2, t3, t4, t5, match = 0.0;
+    relief_status st = RELIEF_OK;
+    relief_surface *s;
+
+    if (!pp->s || r < c->smooth_reps) {
+        prepared_clear(pp);
+        t0 = relief_seconds();
+        st = relief_synth(&c->sp, &pp->cap, NULL, err);
+        t1 = relief_seconds();
+        if (st == RELIEF_OK)
+            st = relief_smooth(pp->cap, &c->p, NULL, &pp->s, err);
+        t2 = relief_seconds();
+        if (st != RELIEF_OK)
+            return st;
+        se->t[S_SYNTH][se->n[S_SYNTH]++] = t1 - t0;
+        se->t[S_SMOOTH][se->n[S_SMOOTH]++] = t2 - t1;
+    }
+    s = pp->s;
     t2 = relief_seconds();
-    if (st == RELIEF_OK)
-        st = relief_match_data_build(s, c->p.rotations,
-                                     relief_grow_mu(&c->p, cap->col != NULL),
-                                     &d, err);
+    st = relief_match_data_build(s, c->p.rotations,
+                                 relief_grow_mu(&c->p, pp->cap->col != NULL), &d, err);
     t3 = relief_seconds();
     if (st == RELIEF_OK)
         st = make_matcher(b, d, &m, err);
@@ -251,14 +292,12 @@ static relief_status run_setup(const config *c, int b, int r, series *se, relief
             goto done;
         ++done;
     }
-    se->t[S_SYNTH][r] = t1 - t0;
-    se->t[S_SMOOTH][r] = t2 - t1;
+    se->list_bytes = ((double)d->lmask + 1.0) * 12.0 + (double)d->n_litems * 4.0;
     se->t[S_MATCH_DATA][r] = t3 - t2;
     se->t[S_MATCHER][r] = t4 - t3;
-    se->t[S_GROW][r] = t5 - t4; /* the growth's set-up: adjacency, walker */
+    se->t[S_GROW_SETUP][r] = t5 - t4; /* the growth's adjacency, walker */
     se->t[S_PER_TARGET][r] = done ? match / (double)done : NAN;
-    for (int k = S_SYNTH; k <= S_GROW; ++k)
-        se->n[k] = r + 1;
+    se->n[S_MATCH_DATA] = se->n[S_MATCHER] = se->n[S_GROW_SETUP] = r + 1;
     se->n[S_PER_TARGET] = done ? r + 1 : 0;
     se->samples = s->n_samples;
     se->targets = s->n_targets;
@@ -271,8 +310,6 @@ done:
     relief_query_builder_destroy(qb);
     relief_matcher_destroy(m);
     relief_match_data_destroy(d);
-    relief_surface_destroy(s);
-    relief_mesh_destroy(cap);
     return st;
 }
 
@@ -299,7 +336,8 @@ static int usage(void)
             "usage: bench_complete --case NAME [--kind KIND] [--vertices N] [--colour]\n"
             "       [--spacing S] [--oversample N] [--window W] [--rotations R] [--error E]\n"
             "       [--seed N] [--prune 0|1] [--backends scalar,opencl] [--reps N]\n"
-            "       [--scalar-reps N] [--mode full|setup] [--targets K] [--csv FILE]\n");
+            "       [--scalar-reps N] [--smooth-reps N] [--mode full|setup] [--targets K]\n"
+            "       [--csv FILE]\n");
     return 1;
 }
 
@@ -314,6 +352,7 @@ static int parse_args(int argc, char **argv, config *c)
     c->prune = 1;
     c->reps = 3;
     c->scalar_reps = -1;
+    c->smooth_reps = -1;
     c->setup = 0;
     c->targets = 8;
     c->use[B_SCALAR] = c->use[B_OPENCL] = 1;
@@ -358,6 +397,8 @@ static int parse_args(int argc, char **argv, config *c)
             c->reps = atoi(v);
         else if (strcmp(a, "--scalar-reps") == 0)
             c->scalar_reps = atoi(v);
+        else if (strcmp(a, "--smooth-reps") == 0)
+            c->smooth_reps = atoi(v);
         else if (strcmp(a, "--mode") == 0) {
             if (strcmp(v, "full") != 0 && strcmp(v, "setup") != 0)
                 return usage();
@@ -373,6 +414,8 @@ static int parse_args(int argc, char **argv, config *c)
         return usage();
     if (c->scalar_reps < 1 || c->scalar_reps > c->reps)
         c->scalar_reps = c->reps;
+    if (c->smooth_reps < 1 || c->smooth_reps > c->reps)
+        c->smooth_reps = c->reps;
     return 0;
 }
 
@@ -380,6 +423,7 @@ int main(int argc, char **argv)
 {
     config c;
     machine mc;
+    prepared pp = {NULL, NULL};
     series *se = calloc(NB, sizeof *se);
     relief_mesh *cap = NULL;
     relief_error err = {RELIEF_OK, ""};
@@ -402,7 +446,7 @@ int main(int argc, char **argv)
             relief_status st;
             if (!c.use[b] || (b == B_SCALAR && r >= c.scalar_reps))
                 continue;
-            st = c.setup ? run_setup(&c, b, r, &se[b], &err)
+            st = c.setup ? run_setup(&c, b, r, &pp, &se[b], &err)
                          : run_full(&c, cap, b, r, &se[b], &err);
             if (st != RELIEF_OK)
                 goto fail;
@@ -442,6 +486,9 @@ int main(int argc, char **argv)
                      ((double)s->samples * (double)c.p.rotations);
         printf("  %s, %zu samples, %zu targets (%zu vertices):\n", s->device, s->samples,
                s->targets, s->nv);
+        if (s->list_bytes > 0)
+            printf("    closest-vertex lists: %.1f MiB (%.0f bytes per vertex)\n",
+                   s->list_bytes / 1048576.0, s->list_bytes / (double)s->nv);
         for (int k = 0; k < NS; ++k) {
             double med, lo, hi;
             if (s->n[k] == 0)
@@ -481,6 +528,7 @@ int main(int argc, char **argv)
     printf("  peak resident memory: %.1f MiB\n", (double)peak_rss_kib() / 1024.0);
     if (out)
         fclose(out);
+    prepared_clear(&pp);
     relief_mesh_destroy(cap);
     free(se);
     return 0;
@@ -488,6 +536,7 @@ fail:
     fprintf(stderr, "bench_complete %s: %s\n", c.name, err.message);
     if (out)
         fclose(out);
+    prepared_clear(&pp);
     relief_mesh_destroy(cap);
     free(se);
     return 2;

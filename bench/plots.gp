@@ -67,7 +67,7 @@ plot out."/scaling.csv" every ::1 using 10:(is(15, "per_target") && is(5, "scala
      "" every ::1 using 10:(is(15, "smooth") && is(5, "scalar") ? $18 : nan) with points lc rgb "#2ca02c" pt 5 title ttl("smooth_scalar", "smooth completion (fit, targets, oversample, Delaunay)"), \
      "" every ::1 using 10:(is(15, "match_data") && is(5, "scalar") ? $18 : nan) with points lc rgb "#9467bd" pt 5 title ttl("md_scalar", "match data (float copy, grid)"), \
      "" every ::1 using 10:(is(15, "matcher_create") && is(5, "opencl") ? $18 : nan) with points lc rgb "#8c564b" pt 5 title "OpenCL matcher (kernel build, upload)", \
-     "" every ::1 using 10:(is(15, "grow") && is(5, "scalar") ? $18 : nan) with points lc rgb "#7f7f7f" pt 5 title "growth set-up (adjacency)", \
+     "" every ::1 using 10:(is(15, "grow_setup") && is(5, "scalar") ? $18 : nan) with points lc rgb "#7f7f7f" pt 5 title "growth set-up (adjacency)", \
      out."/scaling_full.csv" every ::1 using 10:(is(15, "grow") && is(5, "scalar") ? $18 : nan) with points lc rgb "#1f77b4" pt 9 dt 2 title ttl("grow_scalar", "whole growth, scalar"), \
      line("grow_scalar", x) lc rgb "#1f77b4" dt 2 notitle, \
      "" every ::1 using 10:(is(15, "grow") && is(5, "opencl") ? $18 : nan) with points lc rgb "#d62728" pt 9 dt 2 title ttl("grow_opencl", "whole growth, OpenCL"), \
