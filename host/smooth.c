@@ -29,6 +29,7 @@
 #include "param.h"
 #include "report.h"
 #include "surface.h"
+#include "surface_check.h"
 
 #define RM_REAL double
 #include "../kernels/relief_math.h"
@@ -204,6 +205,13 @@ static relief_status lattice_targets(const relief_surface *s, const coverage *co
     size_t *stack = NULL, top = 0;
     relief_status st = RELIEF_OK;
 
+    /* Count in double first: a tiny spacing must not overflow size_t. */
+    if (!((floor((u1 - u0) / sp) + 2.0) * (floor((v1 - v0) / row) + 1.0) <= 50000000.0))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the target lattice would have about %.3g points (spacing %g over "
+                           "a %g x %g region); raise --spacing",
+                           (floor((u1 - u0) / sp) + 1.0) * (floor((v1 - v0) / row) + 1.0), sp,
+                           u1 - u0, v1 - v0);
     if (periodic) {
         nu = (size_t)floor((u1 - u0) / sp + 0.5);
         if (nu < 3)
@@ -528,6 +536,9 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
                          relief_fit_model_name(pr->model), s->fit.size);
         goto fail;
     }
+    st = relief_capture_check(capture, pr, err);
+    if (st != RELIEF_OK)
+        goto fail;
     relief_param_init(&s->param, pr);
 
     s->spacing_from_capture = params->spacing <= 0.0;

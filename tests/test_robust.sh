@@ -102,5 +102,26 @@ else
   echo "no OpenCL device: device-failure cases skipped"
 fi
 
+# ------------------------------------------- geometry the method cannot handle
+# Crafted captures (tests/data/crafted.py): exit 1, the place named, no output.
+data=$(cd "$(dirname "$0")/data" && pwd)
+expect 1 "edge 12-23 at (0.1, 0.15, 0) is shared by 3 triangles" -- "$relief" complete "$data/fin.off" -o "$tmp/g.ply" --fit plane
+expect 1 "overlaps itself over the fitted plane" -- "$relief" smooth "$data/fold.off" -o "$tmp/g.ply" --fit plane
+grep -qF "the largest triangle 210 (vertices 115, 126, 127) at (1, 0.5, 0)" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: the fold is not located"; fail=$((fail+1)); }
+expect 1 "fits no primitive well" -- "$relief" complete "$data/zigzag.off" -o "$tmp/g.ply"
+expect 1 "the capture is smaller than the window: a window of 3" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=-1,-1,1,1 --spacing 0.05 --backend scalar
+grep -qF "use --window 2 or less" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no window suggested"; fail=$((fail+1)); }
+expect 0 "" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=-0.2,-0.2,0.4,0.4 --spacing 0.05 --backend scalar --window 2 --quiet
+rm -f "$tmp/g.ply"
+expect 1 "no sample has a complete neighbourhood" -- "$relief" complete "$data/strip.off" -o "$tmp/g.ply" --extent=-1,-1,2,1 --spacing 0.1 --backend scalar --window 1
+expect 1 "504 of 504 targets can never be reached" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=5,5,6,6 --spacing 0.05 --backend scalar --window 1
+expect 1 "raise --spacing" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing 1e-300
+expect 1 "raise --spacing" -- "$relief" smooth "$data/tiny.off" -o "$tmp/g.ply" --extent=-1,-1,1,1 --spacing 1e-6
+expect 1 "expected a length > 0" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing 0
+expect 1 "expected a length > 0" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing -0.1
+expect 1 "--window: 0 is out of range: expected 1..16" -- "$relief" complete "$pw" -o "$tmp/g.ply" --window 0
+expect 1 "--rotations: 65 is out of range: expected 1..64" -- "$relief" complete "$pw" -o "$tmp/g.ply" --rotations 65
+ok '[[ ! -e $tmp/g.ply ]]' "output written for geometry relief cannot handle"
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
