@@ -21,7 +21,6 @@
 #include "report.h"
 #include "rng.h"
 #include "surface_check.h"
-#include "surface_check.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
@@ -347,9 +346,6 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     stats->mu = d->mu;
     if (d->ns == 0)
         return relief_fail(err, RELIEF_E_MESH, "no sample vertex to grow from");
-    st = relief_surface_check_growth(s, params->window, err);
-    if (st != RELIEF_OK)
-        return st;
     st = relief_surface_check_growth(s, params->window, err);
     if (st != RELIEF_OK)
         return st;
