@@ -42,6 +42,7 @@ demo() {
   echo "setup: demo input: $out/capture.ply (a 2.5D capture of a bark-textured cylinder; truth in $out/truth.ply)"
   set +e
   "$relief" complete "$out/capture.ply" -o "$out/completed.ply" --report "$out/report.json" \
+    --report-dir "$out/report" \
     2> >(tee "$out/complete.log" >&2)
   local rc=$?
   set -e
@@ -49,6 +50,7 @@ demo() {
   if [[ $rc -eq 0 ]]; then
     echo "setup: completed mesh: $out/completed.ply"
     echo "setup: report:         $out/report.json"
+    echo "setup: pictures:       $(pwd)/$out/report/index.html (open it in a browser)"
   elif [[ $rc -eq 2 ]] && grep -q "not implemented yet" "$out/complete.log"; then
     # Until the completion stages land, the demo stops at the capture.
     echo "setup: this version builds the pipeline's input only: 'relief complete' is" >&2

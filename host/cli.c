@@ -22,8 +22,12 @@
 #include "matcher.h"
 #include "measures.h"
 #include "memlimit.h"
+#include "mesh.h"
 #include "json.h"
+#include "png.h"
+#include "render.h"
 #include "report.h"
+#include "report_dir.h"
 #include "surface.h"
 #include "relief/relief.h"
 
@@ -139,7 +143,8 @@ enum {
     OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
     OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
     OPT_FRAMES, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
-    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_MAX_MEMORY
+    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_MAX_MEMORY,
+    OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE, OPT_COLOUR_BY
 };
 
 static const char complete_help[] =
@@ -151,6 +156,8 @@ static const char complete_help[] =
     "\n"
     "  -o, --output OUT      completed mesh (.ply, .obj, .off, .stl); required\n"
     "  --report R.json       write a JSON report of the run\n"
+    "  --report-dir DIR      write report.json, renders, histograms and index.html\n"
+    "                        (open it in a browser) into the folder DIR\n"
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
     "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
     "  --rotations R         rotations tried per sample, 1..64 (default 4)\n"
@@ -411,6 +418,43 @@ static int write_complete_report(FILE *f, void *ctx)
     return 0;
 }
 
+/* A copy of `m` (all its vertices and triangles). */
+static relief_status copy_mesh(const relief_mesh *m, relief_mesh **out, relief_error *err)
+{
+    uint8_t *keep = malloc(relief_mesh_vertex_count(m) ? relief_mesh_vertex_count(m) : 1);
+    relief_status st;
+    if (!keep)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot copy a mesh of %zu vertices",
+                           relief_mesh_vertex_count(m));
+    memset(keep, 1, relief_mesh_vertex_count(m));
+    st = relief_mesh_subset(m, keep, out, NULL, err);
+    free(keep);
+    return st;
+}
+
+/* Build the --report-dir folder beside its final place (report_dir.h). */
+static relief_status stage_report_dir(const char *dir, complete_report *r,
+                                      const relief_mesh *capture, const relief_mesh *smooth,
+                                      relief_report_dir **staged, relief_error *err)
+{
+    relief_report_content c;
+    memset(&c, 0, sizeof c);
+    c.input = r->input;
+    c.output = r->output;
+    c.capture = capture;
+    c.smooth = smooth;
+    c.surface = r->surface;
+    c.params = r->params;
+    c.stats = r->stats;
+    c.measures = r->measures;
+    c.backend = relief_backend_name(r->backend);
+    c.device = r->device;
+    c.seconds_total = r->seconds;
+    c.write_json = write_complete_report;
+    c.json_ctx = r;
+    return relief_report_dir_stage(dir, &c, staged, err);
+}
+
 /* "123/456 targets, e 0.1, 52/s, ETA 6 s" on one rewritten stderr line. */
 static void print_progress(void *ctx, const relief_grow_progress *p)
 {
@@ -503,7 +547,7 @@ static relief_status check_growth_memory(const relief_surface *s, const relief_p
 }
 
 static int run_complete(const char *in_path, relief_mesh *in, const char *out,
-                        const char *report, const relief_params *p,
+                        const char *report, const char *report_dir, const relief_params *p,
                         const relief_smooth_options *o, relief_grow_options *go, int ascii,
                         int quiet, const run_control *rc)
 {
@@ -517,6 +561,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     relief_status st;
     relief_checkpoint_key key;
     relief_checkpoint *ck = NULL;
+    relief_mesh *smooth_mesh = NULL; /* before growth, for --report-dir */
+    relief_report_dir *staged = NULL;
     relief_hierarchy *hier = NULL;      /* --levels > 1 */
     relief_hierarchy_stats hstats;
     relief_backend used_backend = RELIEF_BACKEND_SCALAR;
@@ -567,7 +613,10 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         st = relief_match_data_build(s, p->rotations,
                                      relief_grow_mu(p, relief_mesh_colours(in) != NULL), &d,
                                      &err);
-    relief_mesh_destroy(in);
+    if (!report_dir) { /* else the report renders the capture */
+        relief_mesh_destroy(in);
+        in = NULL;
+    }
     if (st == RELIEF_OK && !hier) {
         char note[RELIEF_ERROR_MESSAGE_MAX + 64];
         st = relief_matcher_create(p->backend, p->device, d, &m, note, sizeof note, &err);
@@ -596,6 +645,10 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         fprintf(stderr, " vertices (%.2f s)\n", hstats.build_seconds);
     }
 
+    /* The report shows the surface before growth, which relief_grow changes
+     * in place. */
+    if (st == RELIEF_OK && report_dir)
+        st = copy_mesh(s->mesh, &smooth_mesh, &err);
     if (st == RELIEF_OK) {
         if (hook.print || hook.sigint_after) {
             go->progress = on_progress;
@@ -632,7 +685,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
             fprintf(stderr, "relief complete: state saved to %s; continue with the same "
                     "command and --resume %s\n", rc->checkpoint, rc->checkpoint);
     }
-    if (st == RELIEF_OK && report) {
+    if (st == RELIEF_OK && (report || report_dir)) {
         relief_measures meas;
         relief_error merr = {RELIEF_OK, ""};
         int have = relief_measure(s->mesh, NULL, &s->fit.prim, &meas, &merr) == RELIEF_OK;
@@ -644,13 +697,29 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         if (!have && !quiet)
             fprintf(stderr, "relief complete: warning: no measures in the report: %s\n",
                     merr.message);
-        st = relief_atomic_write_text(report, write_complete_report, &r, &err);
+        if (report)
+            st = relief_atomic_write_text(report, write_complete_report, &r, &err);
+        if (st == RELIEF_OK && report_dir)
+            st = stage_report_dir(report_dir, &r, in, smooth_mesh, &staged, &err);
+        if (st != RELIEF_OK && report)
+            remove(report);
     }
     if (st == RELIEF_OK) {
         st = relief_mesh_write(s->mesh, out, &wo, &err);
         if (st != RELIEF_OK && report)
             remove(report);
     }
+    /* The folder goes into place last: all outputs or none. */
+    if (st == RELIEF_OK && staged) {
+        st = relief_report_dir_commit(staged, &err);
+        staged = NULL;
+        if (st != RELIEF_OK) {
+            remove(out);
+            if (report)
+                remove(report);
+        }
+    }
+    relief_report_dir_abort(staged);
     if (st == RELIEF_OK && !quiet) {
         fprintf(stderr, "relief complete: %zu targets textured in %zu passes (%zu rejections, "
                 "%zu threshold raises, final e %.3g) in %.2f s -> %s\n",
@@ -659,12 +728,16 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         if (report)
             fprintf(stderr, "relief complete: report: %s\n", report);
     }
+    if (st == RELIEF_OK && report_dir && !quiet)
+        fprintf(stderr, "relief complete: report folder: %s/index.html\n", report_dir);
     if (st == RELIEF_OK && rc->checkpoint)
         remove(rc->checkpoint); /* it described an unfinished run */
     relief_hierarchy_destroy(hier);
     relief_matcher_destroy(m);
     relief_match_data_destroy(d);
     relief_surface_destroy(s);
+    relief_mesh_destroy(smooth_mesh);
+    relief_mesh_destroy(in);
     relief_checkpoint_destroy(ck);
     sigaction(SIGINT, &old_sa, NULL);
     return st == RELIEF_OK ? 0 : fail_status("complete", &err);
@@ -698,6 +771,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         {"device", required_argument, 0, OPT_DEVICE},
         {"bootstrap", no_argument, 0, OPT_BOOTSTRAP},
         {"no-prune", no_argument, 0, OPT_NO_PRUNE},
+        {"report-dir", required_argument, 0, OPT_REPORT_DIR},
         {"checkpoint", required_argument, 0, OPT_CHECKPOINT},
         {"checkpoint-every", required_argument, 0, OPT_CHECKPOINT_EVERY},
         {"resume", required_argument, 0, OPT_RESUME},
@@ -712,6 +786,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     relief_mesh *in = NULL;
     relief_read_info info;
     const char *out = NULL, *report = NULL;
+    const char *report_dir = NULL;
     int c, ascii = 0, quiet = 0;
     long v;
     double d;
@@ -799,6 +874,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
         case OPT_QUIET: quiet = 1; break;
         case OPT_BOOTSTRAP: gopts.bootstrap = 1; break;
         case OPT_NO_PRUNE: gopts.prune = 0; break;
+        case OPT_REPORT_DIR: report_dir = optarg; break;
         case OPT_CHECKPOINT: control.checkpoint = optarg; break;
         case OPT_RESUME: control.resume = optarg; break;
         case OPT_CHECKPOINT_EVERY:
@@ -853,14 +929,17 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     }
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
+    /* A report folder that cannot be written fails now, not after the growth. */
+    if (report_dir && relief_report_dir_check(report_dir, &err) != RELIEF_OK)
+        return fail_status(cmd, &err);
     if (relief_mesh_read(argv[optind], &in, &info, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
     if (info.nonmanifold_triangles > 0 && !quiet)
         fprintf(stderr, "relief %s: warning: %s: %zu non-manifold triangle(s)\n", cmd,
                 argv[optind], info.nonmanifold_triangles);
     if (!smooth)
-        return run_complete(argv[optind], in, out, report, &p, &sopts, &gopts, ascii, quiet,
-                            &control);
+        return run_complete(argv[optind], in, out, report, report_dir, &p, &sopts, &gopts,
+                            ascii, quiet, &control);
     return run_smooth(argv[optind], in, out, report, &p, &sopts, ascii, quiet);
 }
 
@@ -1154,6 +1233,161 @@ static int cmd_eval(int argc, char **argv)
     return 0;
 }
 
+/* --------------------------------------------------------------- render */
+
+static const char render_help[] =
+    "usage: relief render MESH -o OUT.png [--view AZ,EL] [--size WxH]\n"
+    "                     [--colour-by auto|label|colour|displacement|none]\n"
+    "\n"
+    "Render MESH shaded (z-buffer, one light, per-vertex colour) into a PNG,\n"
+    "headless.\n"
+    "\n"
+    "  -o, --output OUT.png  the image; required\n"
+    "  --view AZ,EL          camera direction from the object, degrees: azimuth\n"
+    "                        about +z from +x, elevation -90..90 above the xy\n"
+    "                        plane (default: facing the captured part, turned\n"
+    "                        25 and 20 degrees so that relief shows)\n"
+    "  --size WxH            pixels, 1..8192 each (default 800x600)\n"
+    "  --colour-by C         colour: the mesh's colours; label: captured grey,\n"
+    "                        completed orange; displacement: height above (red)\n"
+    "                        or below (blue) a primitive fitted to the captured\n"
+    "                        part; none: grey; auto (default): colour, else label,\n"
+    "                        else none\n";
+
+/* "WxH" into two sides. */
+static int parse_size(const char *s, int *w, int *h)
+{
+    char *end;
+    const char *second;
+    long a, b;
+    errno = 0;
+    a = strtol(s, &end, 10);
+    if (end == s || (*end != 'x' && *end != 'X'))
+        goto bad;
+    second = end + 1;
+    b = strtol(second, &end, 10);
+    if (end == second || *end != '\0' || errno != 0)
+        goto bad;
+    if (a < 1 || b < 1 || a > RELIEF_RENDER_MAX_SIDE || b > RELIEF_RENDER_MAX_SIDE) {
+        fprintf(stderr, "relief render: --size: %ldx%ld is out of range: expected 1..%d "
+                "pixels per side\n", a, b, RELIEF_RENDER_MAX_SIDE);
+        return 0;
+    }
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+bad:
+    fprintf(stderr, "relief render: --size: '%s' is not WIDTHxHEIGHT in pixels (e.g. "
+            "800x600)\nTry 'relief render --help'.\n", s);
+    return 0;
+}
+
+/* "AZ,EL" in degrees. */
+static int parse_view(const char *s, double *az, double *el)
+{
+    char *end;
+    const char *second;
+    errno = 0;
+    *az = strtod(s, &end);
+    if (end == s || *end != ',' || !isfinite(*az))
+        goto bad;
+    second = end + 1;
+    *el = strtod(second, &end);
+    if (end == second || *end != '\0' || errno != 0 || !isfinite(*el))
+        goto bad;
+    if (*el < -90.0 || *el > 90.0) {
+        fprintf(stderr, "relief render: --view: elevation %g is out of range: expected "
+                "-90..90 degrees\n", *el);
+        return 0;
+    }
+    return 1;
+bad:
+    fprintf(stderr, "relief render: --view: '%s' is not AZIMUTH,ELEVATION in degrees (e.g. "
+            "30,20)\nTry 'relief render --help'.\n", s);
+    return 0;
+}
+
+static int cmd_render(int argc, char **argv)
+{
+    static const struct option opts[] = {{"output", required_argument, 0, 'o'},
+                                         {"view", required_argument, 0, OPT_VIEW},
+                                         {"size", required_argument, 0, OPT_SIZE},
+                                         {"colour-by", required_argument, 0, OPT_COLOUR_BY},
+                                         {"help", no_argument, 0, 'h'},
+                                         {0, 0, 0, 0}};
+    static const relief_colour_by bys[] = {RELIEF_COLOUR_BY_AUTO, RELIEF_COLOUR_BY_LABEL,
+                                           RELIEF_COLOUR_BY_COLOUR,
+                                           RELIEF_COLOUR_BY_DISPLACEMENT, RELIEF_COLOUR_BY_NONE};
+    relief_render_options ro = relief_render_options_default();
+    relief_render_info info;
+    relief_error err = {RELIEF_OK, ""};
+    relief_image img = {0, 0, NULL};
+    relief_mesh *mesh = NULL;
+    const char *out = NULL, *in;
+    relief_status st;
+    int c, found;
+
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case OPT_VIEW:
+            if (!parse_view(optarg, &ro.azimuth, &ro.elevation))
+                return EXIT_USAGE;
+            ro.has_view = 1;
+            break;
+        case OPT_SIZE:
+            if (!parse_size(optarg, &ro.width, &ro.height))
+                return EXIT_USAGE;
+            break;
+        case OPT_COLOUR_BY:
+            found = 0;
+            for (size_t i = 0; i < sizeof bys / sizeof bys[0]; ++i)
+                if (strcmp(optarg, relief_colour_by_name(bys[i])) == 0) {
+                    ro.colour_by = bys[i];
+                    found = 1;
+                }
+            if (!found)
+                return usage_error("render", "--colour-by: '%s' is not one of auto, label, "
+                                   "colour, displacement, none", optarg);
+            break;
+        case 'h': fputs(render_help, stdout); return 0;
+        default: fprintf(stderr, "Try 'relief render --help'.\n"); return EXIT_USAGE;
+        }
+    }
+    if (optind >= argc)
+        return usage_error("render", "%smissing input MESH", "");
+    if (argc - optind > 1)
+        return usage_error("render", "unexpected argument '%s'", argv[optind + 1]);
+    in = argv[optind];
+    if (!out)
+        return usage_error("render", "%smissing -o OUT.png", "");
+    if (strcasecmp(ext_of(out), ".png") != 0)
+        return usage_error("render", "-o: '%s' does not end in .png; relief renders PNG "
+                           "images", out);
+    if (same_file(in, out))
+        return usage_error("render", "-o: '%s' is the input; relief never overwrites its input",
+                           out);
+    st = relief_mesh_read(in, &mesh, NULL, &err);
+    if (st == RELIEF_OK) {
+        st = relief_render(mesh, &ro, &img, &info, &err);
+        if (st == RELIEF_E_MESH) { /* name the file the mesh came from */
+            char why[RELIEF_ERROR_MESSAGE_MAX];
+            snprintf(why, sizeof why, "%s", err.message);
+            relief_fail(&err, st, "%s: %s", in, why);
+        }
+    }
+    if (st == RELIEF_OK)
+        st = relief_png_write(out, img.rgb, img.width, img.height, &err);
+    if (st == RELIEF_OK)
+        fprintf(stderr, "relief render: %s -> %s (%dx%d, view %.1f,%.1f, colour by %s)\n", in,
+                out, img.width, img.height, info.azimuth, info.elevation,
+                relief_colour_by_name(info.colour_by));
+    relief_image_free(&img);
+    relief_mesh_destroy(mesh);
+    return st == RELIEF_OK ? 0 : fail_status("render", &err);
+}
+
 /* -------------------------------------------------------------- devices */
 
 static int cmd_devices(int argc, char **argv)
@@ -1207,6 +1441,7 @@ static const char main_help[] =
     "  fit IN                fit a primitive and print it\n"
     "  synth KIND -o OUT     write a synthetic partial surface with ground truth\n"
     "  eval COMPLETED        measure a completion\n"
+    "  render MESH -o P.png  a shaded picture of a mesh\n"
     "  devices               list OpenCL devices\n"
     "\n"
     "  relief COMMAND --help    options of a command\n"
@@ -1249,6 +1484,8 @@ int main(int argc, char **argv)
         return cmd_eval(argc - 1, argv + 1);
     if (strcmp(cmd, "devices") == 0)
         return cmd_devices(argc - 1, argv + 1);
+    if (strcmp(cmd, "render") == 0)
+        return cmd_render(argc - 1, argv + 1);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);
     return EXIT_USAGE;
 }
