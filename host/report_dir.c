@@ -372,7 +372,7 @@ static const char css[] =
     ".figs{display:flex;flex-wrap:wrap;gap:24px;align-items:flex-start}"
     "table.kv{border-collapse:collapse;font-size:13px}"
     "table.kv th{text-align:left;font-weight:normal;color:#555;padding:2px 14px 2px 0}"
-    "table.kv td{font-family:monospace;padding:2px 0}"
+    "table.kv td{font-family:monospace;padding:2px 0;max-width:460px;overflow-wrap:anywhere}"
     "table.kv caption{text-align:left;font-weight:bold;padding-bottom:4px}"
     "table.renders{border-collapse:collapse}"
     "table.renders td,table.renders th{padding:4px;vertical-align:top;font-size:13px}"
