@@ -345,6 +345,19 @@ RM_FN int rm_score_candidate(
             *ssd = FLT_MAX;
             return RM_INVALID;
         }
+        if (mu < 1) {
+            float c0 = qcol[3 * i] - col[3 * v2], c1 = qcol[3 * i + 1] - col[3 * v2 + 1];
+            float c2 = qcol[3 * i + 2] - col[3 * v2 + 2];
+            term = (RM_ABSF(c0) + RM_ABSF(c1) + RM_ABSF(c2)) / 3;
+            colour += g[i] * term;
+            /* The partial SSD without this neighbour's shape term bounds
+             * the one with it from below (every term >= 0, and rounding is
+             * monotonic), so stopping here prunes exactly the candidates
+             * the check below would, only before the triangles are read. */
+            *ssd = (mu * shape * inv_b2 + (1 - mu) * colour) * inv_wsum;
+            if (*ssd > cutoff)
+                return RM_PRUNED;
+        }
         a = cr * q[3 * i] - sr * q[3 * i + 1];
         b = sr * q[3 * i] + cr * q[3 * i + 1];
         for (k = 0; k < 3; ++k)
@@ -364,12 +377,6 @@ RM_FN int rm_score_candidate(
                 best = d2;
         }
         shape += g[i] * best;
-        if (mu < 1) {
-            float c0 = qcol[3 * i] - col[3 * v2], c1 = qcol[3 * i + 1] - col[3 * v2 + 1];
-            float c2 = qcol[3 * i + 2] - col[3 * v2 + 2];
-            term = (RM_ABSF(c0) + RM_ABSF(c1) + RM_ABSF(c2)) / 3;
-            colour += g[i] * term;
-        }
         *ssd = (mu * shape * inv_b2 + (1 - mu) * colour) * inv_wsum;
         if (*ssd > cutoff)
             return RM_PRUNED;
