@@ -55,17 +55,17 @@ log() { echo "== $*" >&2; }
 P001=(--kind cylinder-bands --vertices 420 --spacing 0.128 --window 2 --rotations 4)
 BARK=(--kind cylinder-bark --colour --vertices 7150 --spacing 0.0333 --window 3 --rotations 4)
 if ((quick)); then
-  REPS=3; BARK_REPS=(--reps 1); SCORE=(--vertices 1000 --targets 4 --reps 3)
+  REPS=3; BARK_REPS=(--reps 2); SCORE=(--vertices 1000 --targets 4 --reps 3)
   BARK=(--kind cylinder-bark --colour --vertices 1800 --spacing 0.0666 --window 3 --rotations 4)
   SETUP_SIZES=(1000 4000 16000); FULL_SIZES=(500 1000 2000); TARGETS=4
 else
-  REPS=5; BARK_REPS=(--reps 3); SCORE=(--vertices 2000 --targets 8 --reps 5)
+  REPS=5; BARK_REPS=(--reps 3 --scalar-reps 2); SCORE=(--vertices 2000 --targets 8 --reps 5)
   # Truth vertices; the surface (samples + targets) is about 2.4 times as
-  # many: 256000 gives about 620 000 vertices. SCALING_MAX=512000 adds the
-  # size of about 1.2 million, whose smooth completion alone takes over
-  # 20 minutes and 2.8 GB here.
-  SETUP_SIZES=(1000 2000 4000 8000 16000 32000 64000 128000 256000)
-  ((${SCALING_MAX:-0} >= 512000)) && SETUP_SIZES+=(512000)
+  # many: 128000 gives about 310 000 vertices. SCALING_MAX=256000 or 512000
+  # adds sizes up to about 1.2 million vertices, whose smooth completion
+  # alone takes over 20 minutes (and 2.8 GB) on this 2-core machine.
+  SETUP_SIZES=(1000 2000 4000 8000 16000 32000 64000 128000)
+  for n in 256000 512000; do ((${SCALING_MAX:-0} >= n)) && SETUP_SIZES+=($n); done
   FULL_SIZES=(500 1000 2000 4000); TARGETS=8
 fi
 
