@@ -280,6 +280,26 @@ static int write_smooth_report(FILE *f, void *ctx)
     return 0;
 }
 
+/* Outputs appear whole or not at all even on Ctrl-C or SIGTERM: both are
+ * held back while the files are written (temporary names, then renames)
+ * and delivered once every file is in place or removed. The test hook
+ * RELIEF_TEST_SIGINT_IN_WRITE raises SIGINT just as the writing starts. */
+static void hold_signals(sigset_t *old)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigprocmask(SIG_BLOCK, &set, old);
+    if (getenv("RELIEF_TEST_SIGINT_IN_WRITE"))
+        raise(SIGINT); /* pending until release_signals */
+}
+
+static void release_signals(const sigset_t *old)
+{
+    sigprocmask(SIG_SETMASK, old, NULL);
+}
+
 static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
                       const char *report, const relief_params *p,
                       const relief_smooth_options *o, int ascii, int quiet)
@@ -289,9 +309,11 @@ static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
     relief_surface *s = NULL;
     double t0 = relief_seconds();
     relief_status st = relief_smooth(in, p, o, &s, &err);
+    sigset_t held;
     relief_mesh_destroy(in);
     if (st != RELIEF_OK)
         return fail_status("smooth", &err);
+    hold_signals(&held);
     if (report) {
         smooth_report r = {in_path, out, p, o, s, relief_seconds() - t0};
         st = relief_atomic_write_text(report, write_smooth_report, &r, &err);
@@ -301,6 +323,7 @@ static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
         if (st != RELIEF_OK && report)
             remove(report); /* both outputs or neither */
     }
+    release_signals(&held);
     if (st == RELIEF_OK && !quiet) {
         const relief_fit_primitive *pr = &s->fit.prim;
         fprintf(stderr,
@@ -573,6 +596,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
     device_failure fail_hook = {0, 0};
     struct sigaction sa, old_sa;
+    sigset_t held;
 
     memset(&stats, 0, sizeof stats);
     memset(&hstats, 0, sizeof hstats);
@@ -685,6 +709,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
             fprintf(stderr, "relief complete: state saved to %s; continue with the same "
                     "command and --resume %s\n", rc->checkpoint, rc->checkpoint);
     }
+    hold_signals(&held);
     if (st == RELIEF_OK && (report || report_dir)) {
         relief_measures meas;
         relief_error merr = {RELIEF_OK, ""};
@@ -720,6 +745,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         }
     }
     relief_report_dir_abort(staged);
+    release_signals(&held);
     if (st == RELIEF_OK && !quiet) {
         fprintf(stderr, "relief complete: %zu targets textured in %zu passes (%zu rejections, "
                 "%zu threshold raises, final e %.3g) in %.2f s -> %s\n",
@@ -992,6 +1018,7 @@ static int cmd_synth(int argc, char **argv)
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *cap = NULL, *truth = NULL;
     const char *out = NULL, *truth_path = NULL;
+    sigset_t held;
     int c, rc = 0;
     long v;
 
@@ -1032,6 +1059,7 @@ static int cmd_synth(int argc, char **argv)
         return fail_status("synth", &err);
     if (relief_synth(&sp, &cap, truth_path ? &truth : NULL, &err) != RELIEF_OK)
         return fail_status("synth", &err);
+    hold_signals(&held);
     if (relief_mesh_write(cap, out, &wo, &err) != RELIEF_OK ||
         (truth && relief_mesh_write(truth, truth_path, &wo, &err) != RELIEF_OK)) {
         rc = fail_status("synth", &err);
@@ -1044,6 +1072,7 @@ static int cmd_synth(int argc, char **argv)
                     truth_path, relief_mesh_vertex_count(truth),
                     relief_mesh_triangle_count(truth));
     }
+    release_signals(&held);
     relief_mesh_destroy(truth);
     relief_mesh_destroy(cap);
     return rc;

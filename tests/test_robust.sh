@@ -52,6 +52,17 @@ done
 ok '[[ ! -e $tmp/ck ]]' "the checkpoint of a finished run was not removed"
 ok '[[ $(find "$tmp" -name "*.tmp-*" | wc -l) -eq 0 ]]' "temporary files left"
 
+# SIGINT while the outputs are written waits until they are whole and in
+# place: smooth and synth then die of it (130), complete, done, exits 0.
+expect 0 "" -- "$relief" smooth "$pw" -o "$tmp/s0.ply" --quiet
+expect 130 "" -- env RELIEF_TEST_SIGINT_IN_WRITE=1 "$relief" smooth "$pw" -o "$tmp/s1.ply" --report "$tmp/s1.json" --quiet
+ok 'cmp -s "$tmp/s0.ply" "$tmp/s1.ply" && [[ -s $tmp/s1.json ]]' "smooth interrupted while writing: outputs not whole"
+expect 130 "" -- env RELIEF_TEST_SIGINT_IN_WRITE=1 "$relief" synth plane-waves -o "$tmp/y.ply" --truth "$tmp/yt.ply"
+ok '[[ -s $tmp/y.ply && -s $tmp/yt.ply ]]' "synth interrupted while writing: outputs missing"
+expect 0 "" -- env RELIEF_TEST_SIGINT_IN_WRITE=1 "$relief" "${run[@]}" -o "$tmp/w.ply" --report "$tmp/w.json"
+ok 'cmp -s "$tmp/full.ply" "$tmp/w.ply" && [[ -s $tmp/w.json ]]' "complete interrupted while writing: outputs not whole"
+ok '[[ $(find "$tmp" -name "*.tmp-*" | wc -l) -eq 0 ]]' "temporary files left by an interrupted write"
+
 # A checkpoint is tied to its input and parameters, and checked.
 rm -f "$tmp/r.ply"
 expect 130 "" -- env RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck"
