@@ -1,6 +1,9 @@
 /* relief: the command-line tool. One executable, one function per
  * subcommand, getopt_long options, exit codes 0 (success), 1 (bad input or
- * usage), 2 (internal or device failure). */
+ * usage), 2 (internal or device failure). Each subcommand sets optind = 0,
+ * which makes GNU getopt forget all state from an earlier parse (a pointer
+ * into the previous argv among it), so relief_cli_main can run many times in
+ * one process (tests/fuzz/fuzz_cli.c). */
 #include <errno.h>
 #include <getopt.h>
 #include <limits.h>
@@ -16,6 +19,7 @@
 #include "atomic.h"
 #include "error.h"
 #include "checkpoint.h"
+#include "cli.h"
 #include "fit.h"
 #include "grow.h"
 #include "hierarchy.h"
@@ -668,7 +672,6 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                     k + 1 < p->levels ? "," : "");
         fprintf(stderr, " vertices (%.2f s)\n", hstats.build_seconds);
     }
-
     /* The report shows the surface before growth, which relief_grow changes
      * in place. */
     if (st == RELIEF_OK && report_dir)
@@ -771,7 +774,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
 
 #define SMOOTH_OPTS 11
 
-static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
+static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_only)
 {
     const char *cmd = smooth ? "smooth" : "complete";
     static const struct option all_opts[] = {
@@ -819,7 +822,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
 
     memcpy(smooth_opts, all_opts, SMOOTH_OPTS * sizeof all_opts[0]);
     memset(&smooth_opts[SMOOTH_OPTS], 0, sizeof smooth_opts[0]);
-    optind = 1;
+    optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", smooth ? smooth_opts : all_opts, NULL)) != -1) {
         switch (c) {
         case 'o': out = optarg; break;
@@ -955,6 +958,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth)
     }
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
+    if (parse_only)
+        return 0;
     /* A report folder that cannot be written fails now, not after the growth. */
     if (report_dir && relief_report_dir_check(report_dir, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
@@ -1004,7 +1009,7 @@ static void print_synth_help(void)
     printf(synth_help, kinds);
 }
 
-static int cmd_synth(int argc, char **argv)
+static int cmd_synth(int argc, char **argv, int parse_only)
 {
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
@@ -1022,7 +1027,7 @@ static int cmd_synth(int argc, char **argv)
     int c, rc = 0;
     long v;
 
-    optind = 1;
+    optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
         switch (c) {
         case 'o': out = optarg; break;
@@ -1057,6 +1062,8 @@ static int cmd_synth(int argc, char **argv)
         return usage_error("synth", "--truth: '%s' is also the -o output", truth_path);
     if (relief_synth_kind_parse(argv[optind], &sp.kind, &err) != RELIEF_OK)
         return fail_status("synth", &err);
+    if (parse_only)
+        return 0;
     if (relief_synth(&sp, &cap, truth_path ? &truth : NULL, &err) != RELIEF_OK)
         return fail_status("synth", &err);
     hold_signals(&held);
@@ -1129,7 +1136,7 @@ static void print_fit_json(FILE *f, const char *path, const relief_fit_result *r
     rj_end_object(&j);
 }
 
-static int cmd_fit(int argc, char **argv)
+static int cmd_fit(int argc, char **argv, int parse_only)
 {
     static const struct option opts[] = {{"fit", required_argument, 0, OPT_FIT},
                                          {"json", no_argument, 0, OPT_JSON},
@@ -1142,7 +1149,7 @@ static int cmd_fit(int argc, char **argv)
     relief_status st;
     int c, json = 0;
 
-    optind = 1;
+    optind = 0;
     while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
         case OPT_FIT:
@@ -1158,6 +1165,8 @@ static int cmd_fit(int argc, char **argv)
         return usage_error("fit", "%smissing input mesh IN", "");
     if (argc - optind > 1)
         return usage_error("fit", "unexpected argument '%s'", argv[optind + 1]);
+    if (parse_only)
+        return 0;
     if (relief_mesh_read(argv[optind], &in, NULL, &err) != RELIEF_OK)
         return fail_status("fit", &err);
     st = relief_fit_mesh(in, model, &r, &err);
@@ -1212,7 +1221,7 @@ static void print_measures_text(const relief_measures *m)
         printf("truth_rms: %.6g\nfreq_truth: %.4g\n", m->truth_rms, m->freq_truth.freq);
 }
 
-static int cmd_eval(int argc, char **argv)
+static int cmd_eval(int argc, char **argv, int parse_only)
 {
     static const struct option opts[] = {{"truth", required_argument, 0, OPT_TRUTH},
                                          {"json", no_argument, 0, OPT_JSON},
@@ -1225,7 +1234,7 @@ static int cmd_eval(int argc, char **argv)
     relief_status st;
     int c, json = 0;
 
-    optind = 1;
+    optind = 0;
     while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
         case OPT_TRUTH: truth_path = optarg; break;
@@ -1238,6 +1247,8 @@ static int cmd_eval(int argc, char **argv)
         return usage_error("eval", "%smissing mesh COMPLETED", "");
     if (argc - optind > 1)
         return usage_error("eval", "unexpected argument '%s'", argv[optind + 1]);
+    if (parse_only)
+        return 0;
     st = relief_mesh_read(argv[optind], &done, NULL, &err);
     if (st == RELIEF_OK && truth_path)
         st = relief_mesh_read(truth_path, &truth, NULL, &err);
@@ -1336,7 +1347,7 @@ bad:
     return 0;
 }
 
-static int cmd_render(int argc, char **argv)
+static int cmd_render(int argc, char **argv, int parse_only)
 {
     static const struct option opts[] = {{"output", required_argument, 0, 'o'},
                                          {"view", required_argument, 0, OPT_VIEW},
@@ -1356,7 +1367,7 @@ static int cmd_render(int argc, char **argv)
     relief_status st;
     int c, found;
 
-    optind = 1;
+    optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
         switch (c) {
         case 'o': out = optarg; break;
@@ -1397,6 +1408,8 @@ static int cmd_render(int argc, char **argv)
     if (same_file(in, out))
         return usage_error("render", "-o: '%s' is the input; relief never overwrites its input",
                            out);
+    if (parse_only)
+        return 0;
     st = relief_mesh_read(in, &mesh, NULL, &err);
     if (st == RELIEF_OK) {
         st = relief_render(mesh, &ro, &img, &info, &err);
@@ -1419,7 +1432,7 @@ static int cmd_render(int argc, char **argv)
 
 /* -------------------------------------------------------------- devices */
 
-static int cmd_devices(int argc, char **argv)
+static int cmd_devices(int argc, char **argv, int parse_only)
 {
     static const struct option opts[] = {{"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
     relief_device_info dev[64];
@@ -1427,7 +1440,7 @@ static int cmd_devices(int argc, char **argv)
     size_t n = 0;
     int c;
 
-    optind = 1;
+    optind = 0;
     while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         if (c == 'h') {
             fputs(devices_help, stdout);
@@ -1438,6 +1451,8 @@ static int cmd_devices(int argc, char **argv)
     }
     if (optind < argc)
         return usage_error("devices", "unexpected argument '%s'", argv[optind]);
+    if (parse_only)
+        return 0;
     if (relief_devices(dev, sizeof dev / sizeof dev[0], &n, &err) != RELIEF_OK)
         return fail_status("devices", &err);
     if (n == 0) {
@@ -1478,7 +1493,7 @@ static const char main_help[] =
     "\n"
     "Exit status: 0 success, 1 bad input or usage, 2 internal or device failure.\n";
 
-int main(int argc, char **argv)
+int relief_cli_main(int argc, char **argv, int parse_only)
 {
     const char *cmd;
     if (argc < 2) {
@@ -1502,19 +1517,19 @@ int main(int argc, char **argv)
     }
     /* Subcommands see argv from their own name on, as getopt expects. */
     if (strcmp(cmd, "complete") == 0)
-        return cmd_complete_or_smooth(argc - 1, argv + 1, 0);
+        return cmd_complete_or_smooth(argc - 1, argv + 1, 0, parse_only);
     if (strcmp(cmd, "smooth") == 0)
-        return cmd_complete_or_smooth(argc - 1, argv + 1, 1);
+        return cmd_complete_or_smooth(argc - 1, argv + 1, 1, parse_only);
     if (strcmp(cmd, "synth") == 0)
-        return cmd_synth(argc - 1, argv + 1);
+        return cmd_synth(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "fit") == 0)
-        return cmd_fit(argc - 1, argv + 1);
+        return cmd_fit(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "eval") == 0)
-        return cmd_eval(argc - 1, argv + 1);
+        return cmd_eval(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "devices") == 0)
-        return cmd_devices(argc - 1, argv + 1);
+        return cmd_devices(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "render") == 0)
-        return cmd_render(argc - 1, argv + 1);
+        return cmd_render(argc - 1, argv + 1, parse_only);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);
     return EXIT_USAGE;
 }
