@@ -2,6 +2,8 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,10 +42,13 @@ typedef struct reader {
     long lineno;
     char *tok[MAX_TOKENS];
     int ntok;
+    long nul_line; /* first line holding a NUL byte, 0 if none */
 } reader;
 
 /* Next line split into whitespace tokens; '#' starts a comment when
- * `comments` is set. Returns 0 at end of file. */
+ * `comments` is set. Returns 0 at end of file, and at a NUL byte, which
+ * ends a token here but not in OpenMesh's readers (a PLY 'end_header\0'
+ * would make OpenMesh read on forever); relief_io_check reports it. */
 static int next_line(reader *r, int comments)
 {
     ssize_t len = getline(&r->line, &r->cap, r->f);
@@ -51,6 +56,11 @@ static int next_line(reader *r, int comments)
     if (len < 0)
         return 0;
     ++r->lineno;
+    if ((size_t)len != strlen(r->line)) {
+        if (!r->nul_line)
+            r->nul_line = r->lineno;
+        return 0;
+    }
     if (comments) {
         char *hash = strchr(r->line, '#');
         if (hash)
@@ -104,11 +114,12 @@ static relief_status check_coords(reader *r, int first, const char *what,
                                "%s:%ld: %s %lld: %c coordinate '%s' is not a number",
                                r->path, r->lineno, what, index, axis[k],
                                r->tok[first + k]);
-        if (!isfinite(v))
+        /* OpenMesh reads OFF, OBJ and STL coordinates as floats. */
+        if (!isfinite(v) || fabs(v) > FLT_MAX)
             return relief_fail(err, RELIEF_E_MESH,
-                               "%s:%ld: %s %lld: %c coordinate '%s' is not finite",
+                               "%s:%ld: %s %lld: %c coordinate '%s' is not finite%s",
                                r->path, r->lineno, what, index, axis[k],
-                               r->tok[first + k]);
+                               r->tok[first + k], isfinite(v) ? " as a float" : "");
     }
     return RELIEF_OK;
 }
@@ -144,7 +155,11 @@ typedef struct ply_prop {
     int size;       /* bytes of the scalar, or of the list's items */
     int count_size; /* 0 for a scalar; bytes of the list's count otherwise */
     int is_char;
+    int kind;       /* of the scalar or the list's items: PLY_UNSIGNED, ... */
+    int count_kind; /* of the list's count */
 } ply_prop;
+
+enum { PLY_UNSIGNED, PLY_SIGNED, PLY_FLOAT };
 
 typedef struct ply_element {
     char name[32];
@@ -153,29 +168,172 @@ typedef struct ply_element {
     int nprop;
 } ply_element;
 
-static int ply_type_size(const char *t, int *is_char)
+/* Bytes of a PLY scalar type, 0 if unknown; `kind` gets PLY_UNSIGNED,
+ * PLY_SIGNED or PLY_FLOAT. */
+static int ply_type_size(const char *t, int *is_char, int *kind)
 {
     static const struct {
         const char *name;
-        int size;
-    } types[] = {{"char", 1},   {"uchar", 1},   {"int8", 1},    {"uint8", 1},
-                 {"short", 2},  {"ushort", 2},  {"int16", 2},   {"uint16", 2},
-                 {"int", 4},    {"uint", 4},    {"int32", 4},   {"uint32", 4},
-                 {"float", 4},  {"float32", 4}, {"double", 8},  {"float64", 8}};
+        int size, kind;
+    } types[] = {{"char", 1, PLY_SIGNED},    {"uchar", 1, PLY_UNSIGNED},
+                 {"int8", 1, PLY_SIGNED},    {"uint8", 1, PLY_UNSIGNED},
+                 {"short", 2, PLY_SIGNED},   {"ushort", 2, PLY_UNSIGNED},
+                 {"int16", 2, PLY_SIGNED},   {"uint16", 2, PLY_UNSIGNED},
+                 {"int", 4, PLY_SIGNED},     {"uint", 4, PLY_UNSIGNED},
+                 {"int32", 4, PLY_SIGNED},   {"uint32", 4, PLY_UNSIGNED},
+                 {"float", 4, PLY_FLOAT},    {"float32", 4, PLY_FLOAT},
+                 {"double", 8, PLY_FLOAT},   {"float64", 8, PLY_FLOAT}};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i)
         if (strcmp(t, types[i].name) == 0) {
             if (is_char)
                 *is_char = types[i].size == 1;
+            *kind = types[i].kind;
             return types[i].size;
         }
     return 0;
+}
+
+/* An integer of `size` bytes (1, 2 or 4) from the file; 0 at end of file. */
+static int read_ply_int(FILE *f, int size, int kind, int big, long long *out)
+{
+    unsigned char b[4];
+    unsigned long v = 0;
+    if (fread(b, 1, (size_t)size, f) != (size_t)size)
+        return 0;
+    for (int k = 0; k < size; ++k)
+        v |= (unsigned long)b[big ? size - 1 - k : k] << (8 * k);
+    if (kind == PLY_SIGNED && (v >> (8 * size - 1)) & 1)
+        *out = (long long)v - (1LL << (8 * size));
+    else
+        *out = (long long)v;
+    return 1;
+}
+
+/* Skips n bytes of the file through its buffer (fseek would drop the buffer
+ * at every call); 0 when the file ends first. */
+static int skip_bytes(FILE *f, long long n)
+{
+    char buf[4096];
+    while (n > 0) {
+        size_t want = n < (long long)sizeof buf ? (size_t)n : sizeof buf;
+        if (fread(buf, 1, want, f) != want)
+            return 0;
+        n -= (long long)want;
+    }
+    return 1;
+}
+
+/* Binary body, item by item where an element has lists: every list count
+ * must fit in what is left of the file, and each face must list 3 to
+ * MAX_TOKENS - 1 distinct vertices that exist. OpenMesh trusts these counts
+ * (it sizes a face by its count before reading it). */
+static relief_status check_ply_body(reader *r, const ply_element *el, int nel,
+                                    const ply_element *vert, const ply_element *face,
+                                    int big, long long have, relief_error *err)
+{
+    long long at = 0; /* bytes of the body read so far */
+    for (int e = 0; e < nel; ++e) {
+        long long per = 0;
+        int lists = 0;
+        for (int p = 0; p < el[e].nprop; ++p) {
+            per += el[e].prop[p].count_size ? 0 : el[e].prop[p].size;
+            lists |= el[e].prop[p].count_size != 0;
+        }
+        if (!lists) { /* fixed size: the pre-check has counted it */
+            if (!skip_bytes(r->f, per * el[e].count))
+                return relief_fail(err, RELIEF_E_PARSE,
+                                   "%s: truncated: the file ends in the '%s' items",
+                                   r->path, el[e].name);
+            at += per * el[e].count;
+            continue;
+        }
+        for (long long i = 0; i < el[e].count; ++i) {
+            for (int p = 0; p < el[e].nprop; ++p) {
+                const ply_prop *pp = &el[e].prop[p];
+                long long n, idx[MAX_TOKENS];
+                int corners = &el[e] == face && (strcmp(pp->name, "vertex_indices") == 0 ||
+                                                 strcmp(pp->name, "vertex_index") == 0);
+                if (!pp->count_size) {
+                    if (!skip_bytes(r->f, pp->size))
+                        goto truncated;
+                    at += pp->size;
+                    continue;
+                }
+                if (pp->count_kind == PLY_FLOAT)
+                    return relief_fail(err, RELIEF_E_PARSE,
+                                       "%s: '%s' list '%s' has a floating-point count type",
+                                       r->path, el[e].name, pp->name);
+                if (!read_ply_int(r->f, pp->count_size, pp->count_kind, big, &n))
+                    goto truncated;
+                at += pp->count_size;
+                if (n < 0 || n * pp->size > have - at)
+                    return relief_fail(err, RELIEF_E_PARSE,
+                                       "%s: '%s' item %lld: list '%s' declares %lld items "
+                                       "(byte %lld of the body), more than the %lld bytes "
+                                       "left",
+                                       r->path, el[e].name, i, pp->name, n, at, have - at);
+                if (!corners) {
+                    if (!skip_bytes(r->f, n * pp->size))
+                        goto truncated;
+                    at += n * pp->size;
+                    continue;
+                }
+                if (n < 3 || n >= MAX_TOKENS)
+                    return relief_fail(err, RELIEF_E_PARSE,
+                                       "%s: face %lld has %lld corners; expected 3 to %d",
+                                       r->path, i, n, MAX_TOKENS - 1);
+                if (pp->kind == PLY_FLOAT || pp->size > 4)
+                    return relief_fail(err, RELIEF_E_PARSE,
+                                       "%s: face vertex indices have a floating-point type",
+                                       r->path);
+                for (int k = 0; k < n; ++k) {
+                    if (!read_ply_int(r->f, pp->size, pp->kind, big, &idx[k]))
+                        goto truncated;
+                    if (idx[k] < 0 || idx[k] >= vert->count)
+                        return relief_fail(err, RELIEF_E_MESH,
+                                           "%s: face %lld refers to vertex %lld but the "
+                                           "file has %lld vertices",
+                                           r->path, i, idx[k], vert->count);
+                    for (int j = 0; j < k; ++j)
+                        if (idx[j] == idx[k])
+                            return relief_fail(err, RELIEF_E_MESH,
+                                               "%s: face %lld uses vertex %lld twice",
+                                               r->path, i, idx[k]);
+                }
+                at += n * pp->size;
+            }
+            continue;
+        truncated:
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s: truncated: the file ends in '%s' item %lld of the "
+                               "%lld the header declares",
+                               r->path, el[e].name, i, el[e].count);
+        }
+    }
+    return RELIEF_OK;
+}
+
+/* A PLY version as written in practice ("1.0"): digits with at most one dot.
+ * Anything else may not read as a float (OpenMesh's "0.e" fails). */
+static int plain_version(const char *s)
+{
+    int digits = 0, dots = 0;
+    for (; *s; ++s) {
+        if (*s >= '0' && *s <= '9')
+            ++digits;
+        else if (*s == '.' && dots == 0)
+            ++dots;
+        else
+            return 0;
+    }
+    return digits > 0;
 }
 
 static relief_status check_ply(reader *r, relief_file_check *out, long long fsize,
                                relief_error *err)
 {
     ply_element el[16];
-    int nel = 0, fmt = -1; /* 0 ascii, 1 binary */
+    int nel = 0, fmt = -1, big = 0; /* fmt: 0 ascii, 1 binary */
     ply_element *vert = NULL, *face = NULL;
     int ended = 0;
 
@@ -183,21 +341,41 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
         return relief_fail(err, RELIEF_E_PARSE,
                            "%s:1: expected the PLY magic line 'ply'", r->path);
     while (next_line(r, 0)) {
-        if (r->ntok == 0 || strcmp(r->tok[0], "comment") == 0 ||
-            strcmp(r->tok[0], "obj_info") == 0)
+        if (r->ntok == 0 || strcmp(r->tok[0], "comment") == 0)
             continue;
+        if (strcmp(r->tok[0], "obj_info") == 0) {
+            /* OpenMesh reads the header as a stream of words, not lines: after
+             * obj_info it takes each word as a keyword, and a header keyword
+             * there would start an element or property we never checked. */
+            for (int t = 1; t < r->ntok; ++t)
+                if (strcmp(r->tok[t], "element") == 0 ||
+                    strcmp(r->tok[t], "property") == 0 ||
+                    strcmp(r->tok[t], "end_header") == 0)
+                    return relief_fail(err, RELIEF_E_PARSE,
+                                       "%s:%ld: the obj_info line holds the header "
+                                       "keyword '%s'",
+                                       r->path, r->lineno, r->tok[t]);
+            continue;
+        }
         if (strcmp(r->tok[0], "end_header") == 0) {
             ended = 1;
             break;
         }
         if (strcmp(r->tok[0], "format") == 0) {
-            if (r->ntok < 2)
-                goto bad_line;
+            /* OpenMesh reads the version as a float and loops forever on a
+             * header word it cannot read, so only plain versions pass. */
+            if (r->ntok != 3 || !plain_version(r->tok[2]))
+                return relief_fail(err, RELIEF_E_PARSE,
+                                   "%s:%ld: expected 'format ascii|binary_little_endian|"
+                                   "binary_big_endian VERSION' with VERSION such as 1.0",
+                                   r->path, r->lineno);
             if (strcmp(r->tok[1], "ascii") == 0)
                 fmt = 0;
             else if (strcmp(r->tok[1], "binary_little_endian") == 0 ||
-                     strcmp(r->tok[1], "binary_big_endian") == 0)
+                     strcmp(r->tok[1], "binary_big_endian") == 0) {
                 fmt = 1;
+                big = r->tok[1][7] == 'b';
+            }
             else
                 return relief_fail(err, RELIEF_E_PARSE,
                                    "%s:%ld: unknown PLY format '%s'; expected ascii, "
@@ -205,10 +383,13 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
                                    r->path, r->lineno, r->tok[1]);
         } else if (strcmp(r->tok[0], "element") == 0) {
             long long n;
-            if (r->ntok != 3 || !parse_long(r->tok[2], &n) || n < 0)
+            /* OpenMesh reads COUNT as an unsigned int (and loops forever on
+             * one it cannot read). */
+            if (r->ntok != 3 || !parse_long(r->tok[2], &n) || n < 0 || n > UINT_MAX)
                 return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: expected 'element NAME COUNT' with COUNT >= 0",
-                                   r->path, r->lineno);
+                                   "%s:%ld: expected 'element NAME COUNT' with COUNT in "
+                                   "0..%u",
+                                   r->path, r->lineno, UINT_MAX);
             if (nel == 16)
                 return relief_fail(err, RELIEF_E_PARSE,
                                    "%s:%ld: more than 16 elements", r->path, r->lineno);
@@ -227,15 +408,15 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
                                    "%s:%ld: more than 32 properties", r->path, r->lineno);
             p = &el[nel - 1].prop[el[nel - 1].nprop];
             if (r->ntok == 3) {
-                p->size = ply_type_size(r->tok[1], &p->is_char);
+                p->size = ply_type_size(r->tok[1], &p->is_char, &p->kind);
                 snprintf(p->name, sizeof p->name, "%s", r->tok[2]);
                 if (!p->size)
                     return relief_fail(err, RELIEF_E_PARSE,
                                        "%s:%ld: unknown property type '%s'",
                                        r->path, r->lineno, r->tok[1]);
             } else if (r->ntok == 5 && strcmp(r->tok[1], "list") == 0) {
-                p->count_size = ply_type_size(r->tok[2], NULL);
-                p->size = ply_type_size(r->tok[3], NULL);
+                p->count_size = ply_type_size(r->tok[2], NULL, &p->count_kind);
+                p->size = ply_type_size(r->tok[3], NULL, &p->kind);
                 snprintf(p->name, sizeof p->name, "%s", r->tok[4]);
                 if (!p->count_size || !p->size)
                     return relief_fail(err, RELIEF_E_PARSE,
@@ -306,7 +487,7 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
                                "%lld faces, which need at least %lld bytes after the "
                                "header, but only %lld follow",
                                r->path, vert->count, face ? face->count : 0LL, need, have);
-        return RELIEF_OK;
+        return check_ply_body(r, el, nel, vert, face, big, have, err);
     }
 
     /* Ascii: one line per element item, in header order. */
@@ -392,55 +573,72 @@ bad_line:
 static relief_status check_off(reader *r, relief_file_check *out, relief_error *err)
 {
     long long n[3];
-    int t = 1;
-    const char *magic;
-    size_t len;
+    int colour, normals;
+    char magic[32];
+    const char *p;
 
-    if (!next_nonblank(r, 1))
-        return relief_fail(err, RELIEF_E_PARSE, "%s: the file has no OFF header", r->path);
-    magic = r->tok[0];
-    len = strlen(magic);
-    if (len < 3 || strcmp(magic + len - 3, "OFF") != 0)
+    /* OpenMesh takes the whole first line as the magic line and then reads
+     * the counts, the coordinates and the faces as a stream of words, with
+     * no comments. This check follows the same reading, so that the counts
+     * and corner counts OpenMesh will trust are the ones checked here (a
+     * count it misreads makes it reserve or loop without bound). */
+    if (!next_line(r, 0) || r->ntok == 0)
         return relief_fail(err, RELIEF_E_PARSE,
-                           "%s:%ld: expected an OFF magic word (OFF, COFF, NOFF, ...), "
-                           "found '%s'",
+                           "%s:1: expected an OFF magic word (OFF, COFF, NOFF, ...) on "
+                           "the first line",
+                           r->path);
+    snprintf(magic, sizeof magic, "%s", r->tok[0]);
+    /* [ST][C][N]OFF, as OpenMesh parses it: ST texture coordinates, C
+     * colour, N normals (3 more numbers on each vertex line). */
+    p = magic + (strncmp(magic, "ST", 2) == 0 ? 2 : 0);
+    colour = *p == 'C';
+    p += colour;
+    normals = *p == 'N';
+    p += normals;
+    if (strcmp(p, "OFF") != 0)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: expected an OFF magic word ([ST][C][N]OFF: OFF, COFF, "
+                           "NOFF, ...), found '%s'",
                            r->path, r->lineno, magic);
-    if (r->ntok > 1 && strcmp(r->tok[1], "BINARY") == 0) {
-        out->binary = 1; /* rare; OpenMesh reads it, we check no further */
-        return RELIEF_OK;
-    }
-    for (int k = 0; k < 3; ++k) {
-        if (t >= r->ntok) {
-            if (!next_nonblank(r, 1))
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: truncated: missing the vertex, face and "
-                                   "edge counts",
-                                   r->path, r->lineno);
-            t = 0;
-        }
-        if (!parse_long(r->tok[t], &n[k]) || n[k] < 0)
+    if (r->ntok > 1 && strcmp(r->tok[1], "BINARY") == 0)
+        return relief_fail(err, RELIEF_E_FORMAT,
+                           "%s:1: binary OFF is not supported (its records cannot be "
+                           "checked before OpenMesh reads them); convert it to binary PLY",
+                           r->path);
+    if (r->ntok > 1)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:1: expected the magic word '%s' alone on the first line, "
+                           "found '%s' after it (the counts go on the next line)",
+                           r->path, magic, r->tok[1]);
+    if (!next_nonblank(r, 0))
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: truncated: missing the vertex, face and edge counts",
+                           r->path, r->lineno);
+    for (int k = 0; k < 3; ++k)
+        if (r->ntok != 3 || !parse_long(r->tok[k], &n[k]) || n[k] < 0 || n[k] > UINT_MAX)
             return relief_fail(err, RELIEF_E_PARSE,
-                               "%s:%ld: expected vertex, face and edge counts, found '%s'",
-                               r->path, r->lineno, r->tok[t]);
-        ++t;
-    }
+                               "%s:%ld: expected the vertex, face and edge counts (three "
+                               "integers in 0..%u, no comment), found '%s'",
+                               r->path, r->lineno, UINT_MAX, r->tok[0]);
     out->vertices = n[0];
     out->faces = n[1];
     for (long long i = 0; i < n[0]; ++i) {
         relief_status st;
-        if (!next_nonblank(r, 1))
+        if (!next_nonblank(r, 0))
             return relief_fail(err, RELIEF_E_PARSE,
                                "%s:%ld: truncated: the file ends after %lld of the %lld "
                                "vertices its header declares",
                                r->path, r->lineno, i, n[0]);
         st = check_coords(r, 0, "vertex", i, err);
+        if (st == RELIEF_OK && normals)
+            st = check_coords(r, 3, "vertex normal", i, err);
         if (st != RELIEF_OK)
             return st;
     }
     for (long long i = 0; i < n[1]; ++i) {
         long long k, idx[MAX_TOKENS];
         relief_status st;
-        if (!next_nonblank(r, 1))
+        if (!next_nonblank(r, 0))
             return relief_fail(err, RELIEF_E_PARSE,
                                "%s:%ld: truncated: the file ends after %lld of the %lld "
                                "faces its header declares",
@@ -450,6 +648,12 @@ static relief_status check_off(reader *r, relief_file_check *out, relief_error *
                                "%s:%ld: face %lld: expected a corner count followed by "
                                "that many vertex indices",
                                r->path, r->lineno, i);
+        /* Without colour OpenMesh would take an extra word as the next face. */
+        if (!colour && r->ntok > 1 + k)
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: face %lld: %d value(s) after its %lld vertex "
+                               "indices, but a '%s' file has no face colour",
+                               r->path, r->lineno, i, r->ntok - 1 - (int)k, k, magic);
         for (int c = 0; c < k; ++c)
             if (!parse_long(r->tok[1 + c], &idx[c]))
                 return relief_fail(err, RELIEF_E_PARSE,
@@ -464,18 +668,22 @@ static relief_status check_off(reader *r, relief_file_check *out, relief_error *
 
 /* ---------------------------------------------------------------- OBJ */
 
+/* OpenMesh's OBJ reader skips only lines that begin with '#' (a '#' later
+ * in a face line is read as a vertex reference: index -1, whose normal it
+ * then writes out of bounds), so comments are taken the same way here. It
+ * checks texture and normal references itself. */
 static relief_status check_obj(reader *r, relief_file_check *out, relief_error *err)
 {
     long long nv = 0, nf = 0, seen_v = 0;
 
     /* Pass 1 counts vertices, so that faces may refer forward. */
-    while (next_line(r, 1))
+    while (next_line(r, 0))
         if (r->ntok > 0 && strcmp(r->tok[0], "v") == 0)
             ++nv;
     rewind(r->f);
     r->lineno = 0;
-    while (next_line(r, 1)) {
-        if (r->ntok == 0)
+    while (next_line(r, 0)) {
+        if (r->ntok == 0 || r->tok[0][0] == '#')
             continue;
         if (strcmp(r->tok[0], "v") == 0) {
             relief_status st = check_coords(r, 1, "vertex", seen_v, err);
@@ -486,6 +694,10 @@ static relief_status check_obj(reader *r, relief_file_check *out, relief_error *
             long long idx[MAX_TOKENS];
             int n = r->ntok - 1;
             relief_status st;
+            if (r->ntok == MAX_TOKENS) /* next_line kept only MAX_TOKENS words */
+                return relief_fail(err, RELIEF_E_PARSE,
+                                   "%s:%ld: face %lld has more than %d corners",
+                                   r->path, r->lineno, nf, MAX_TOKENS - 2);
             for (int k = 0; k < n; ++k) {
                 long long i;
                 char *slash = strchr(r->tok[1 + k], '/');
@@ -531,6 +743,7 @@ static relief_status check_stl(reader *r, relief_file_check *out, long long fsiz
     rewind(r->f);
     ascii = next_nonblank(r, 0) && strcmp(r->tok[0], "solid") == 0;
     if (!ascii) {
+        r->nul_line = 0; /* binary, and not of the size it declares */
         if (fsize < 84)
             return relief_fail(err, RELIEF_E_PARSE,
                                "%s: truncated: a binary STL needs at least 84 bytes, "
@@ -605,7 +818,12 @@ relief_status relief_io_check(const char *path, relief_file_check *out,
         st = check_stl(&r, out, (long long)sb.st_size, err);
         break;
     }
-    if (st == RELIEF_OK && ferror(r.f))
+    if (r.nul_line)
+        st = relief_fail(err, RELIEF_E_PARSE,
+                         "%s:%ld: a NUL byte in a text line (binary data where text "
+                         "was expected)",
+                         path, r.nul_line);
+    else if (st == RELIEF_OK && ferror(r.f))
         st = relief_fail(err, RELIEF_E_IO, "%s: read error", path);
     free(r.line);
     fclose(r.f);

@@ -30,6 +30,16 @@ struct Traits : OpenMesh::DefaultTraits {
 };
 typedef OpenMesh::TriMesh_ArrayKernelT<Traits> Mesh;
 
+// Reading keeps colours as floats: OpenMesh's importer converts a float
+// colour (OBJ, OFF, PLY float) to unsigned char by a cast that is undefined
+// behaviour outside [0, 1]; as floats they arrive as written, read_impl
+// rejects what is out of range and keeps 8 bits of the rest, as before.
+// Integer colours come as c / 255.
+struct ReadTraits : Traits {
+    typedef OpenMesh::Vec3f Color;
+};
+typedef OpenMesh::TriMesh_ArrayKernelT<ReadTraits> ReadMesh;
+
 // Routes OpenMesh's global error stream into a string for one call and
 // restores it afterwards, whatever happens. It swaps the stream's buffer
 // rather than using mostream::connect/disconnect, whose disconnect leaks the
@@ -77,7 +87,7 @@ size_t count_lines_with(const std::string &text, const char *needle)
 
 // Reads the `label` property whatever integer type the file declared.
 template <typename T>
-bool copy_label(Mesh &mesh, const std::vector<int> &keep_index,
+bool copy_label(ReadMesh &mesh, const std::vector<int> &keep_index,
                 relief_mesh *out, int char_fix)
 {
     OpenMesh::VPropHandleT<T> h;
@@ -87,7 +97,7 @@ bool copy_label(Mesh &mesh, const std::vector<int> &keep_index,
         int to = keep_index[v];
         if (to < 0)
             continue;
-        long value = (long)mesh.property(h, Mesh::VertexHandle((int)v));
+        long value = (long)mesh.property(h, ReadMesh::VertexHandle((int)v));
         if (char_fix)
             value -= '0';
         out->label[to] = value < 0 || value > 255 ? 255 : (uint8_t)value;
@@ -95,7 +105,7 @@ bool copy_label(Mesh &mesh, const std::vector<int> &keep_index,
     return true;
 }
 
-bool has_label(Mesh &mesh)
+bool has_label(ReadMesh &mesh)
 {
     OpenMesh::VPropHandleT<unsigned char> h1;
     OpenMesh::VPropHandleT<signed char> h2;
@@ -117,7 +127,7 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
                         relief_mesh **out, relief_om_read_result *res,
                         relief_error *err)
 {
-    Mesh mesh;
+    ReadMesh mesh;
     mesh.request_vertex_colors();
     mesh.request_vertex_normals();
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor |
@@ -159,14 +169,14 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
     size_t nv = 0;
     for (size_t v = 0; v < nv_all; ++v) {
         original[v] = (int)v;
-        if (!mesh.status(Mesh::VertexHandle((int)v)).fixed_nonmanifold())
+        if (!mesh.status(ReadMesh::VertexHandle((int)v)).fixed_nonmanifold())
             keep_index[v] = (int)nv++;
         order.push_back(v);
     }
     if (nv != nv_all) {
         auto less = [&](size_t a, size_t b) {
-            const Mesh::Point &pa = mesh.point(Mesh::VertexHandle((int)a));
-            const Mesh::Point &pb = mesh.point(Mesh::VertexHandle((int)b));
+            const ReadMesh::Point &pa = mesh.point(ReadMesh::VertexHandle((int)a));
+            const ReadMesh::Point &pb = mesh.point(ReadMesh::VertexHandle((int)b));
             for (int k = 0; k < 3; ++k)
                 if (pa[k] != pb[k])
                     return pa[k] < pb[k];
@@ -176,9 +186,9 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
         size_t run = 0;
         while (run < order.size()) {
             size_t end = run + 1;
-            const Mesh::Point &p0 = mesh.point(Mesh::VertexHandle((int)order[run]));
+            const ReadMesh::Point &p0 = mesh.point(ReadMesh::VertexHandle((int)order[run]));
             while (end < order.size() &&
-                   mesh.point(Mesh::VertexHandle((int)order[end])) == p0)
+                   mesh.point(ReadMesh::VertexHandle((int)order[end])) == p0)
                 ++end;
             int first_kept = -1;
             for (size_t i = run; i < end && first_kept < 0; ++i)
@@ -213,17 +223,26 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
         int to = keep_index[v];
         if (to < 0)
             continue;
-        Mesh::VertexHandle vh((int)v);
-        const Mesh::Point &p = mesh.point(vh);
+        ReadMesh::VertexHandle vh((int)v);
+        const ReadMesh::Point &p = mesh.point(vh);
         for (int k = 0; k < 3; ++k)
             m->pos[3 * to + k] = p[k];
         if (colours) {
-            const Mesh::Color &c = mesh.color(vh);
-            for (int k = 0; k < 3; ++k)
-                m->col[3 * to + k] = (float)c[k] / 255.0f;
+            const ReadMesh::Color &c = mesh.color(vh);
+            for (int k = 0; k < 3; ++k) {
+                if (!(c[k] >= 0.0f && c[k] <= 1.0f)) {
+                    relief_mesh_destroy(m);
+                    return relief_fail(err, RELIEF_E_MESH,
+                                       "%s: vertex %zu: colour (%g, %g, %g) is outside "
+                                       "0..1 (floating-point colours are fractions)",
+                                       path, v, (double)c[0], (double)c[1], (double)c[2]);
+                }
+                // As 8 bits, as relief keeps colours (and writes them).
+                m->col[3 * to + k] = std::round(c[k] * 255.0f) / 255.0f;
+            }
         }
         if (normals) {
-            const Mesh::Normal &n = mesh.normal(vh);
+            const ReadMesh::Normal &n = mesh.normal(vh);
             for (int k = 0; k < 3; ++k)
                 m->nrm[3 * to + k] = n[k];
         }

@@ -201,7 +201,8 @@ static void test_bad_input(void)
                   RELIEF_E_MESH, "empty");
 
     expect_reject(binary_ply("bin_trunc.ply", 3, -1, 5), RELIEF_E_PARSE, "truncated");
-    expect_reject(binary_ply("bin_range.ply", 9, -1, 0), RELIEF_E_MESH, "do not exist");
+    expect_reject(binary_ply("bin_range.ply", 9, -1, 0), RELIEF_E_MESH,
+                  "face 1 refers to vertex 9 but the file has 4 vertices");
     expect_reject(binary_ply("bin_nan.ply", 3, 2, 0), RELIEF_E_MESH, "vertex 2");
 
     expect_reject(put("magic.off", "FOO\n3 1 0\n"), RELIEF_E_PARSE, "OFF magic");
@@ -211,6 +212,26 @@ static void test_bad_input(void)
                   RELIEF_E_MESH, "refers to vertex 3");
     expect_reject(put("inf.off", "OFF\n3 1 0\n0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n"),
                   RELIEF_E_MESH, ":4: vertex 1");
+    /* What OpenMesh would misread (found by fuzzing, tests/fuzz/regressions). */
+    expect_reject(put("magicline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                  RELIEF_E_PARSE, ":1: expected the magic word 'OFF' alone");
+    expect_reject(put("extra.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 7\n"),
+                  RELIEF_E_PARSE, ":6: face 0: 1 value(s) after its 3 vertex indices");
+    expect_reject(put("colour.off", "COFF\n3 1 0\n0 0 0 0.5 0.5 9.5\n1 0 0 0.5 0.5 0.5\n"
+                                    "0 1 0 0.5 0.5 0.5\n3 0 1 2\n"),
+                  RELIEF_E_MESH, "vertex 0: colour (0.5, 0.5, 9.5) is outside 0..1");
+    expect_reject(put("version.ply", "ply\nformat ascii 0.e\nelement vertex 0\nend_header\n"),
+                  RELIEF_E_PARSE, ":2: expected 'format");
+    expect_reject(put("hash.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 #3\n"), RELIEF_E_PARSE,
+                  ":4: face 0: vertex reference '#3'");
+    {
+        static const char nul[] = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                                  "property float y\nproperty float z\nend_header\0\n0 0 0\n";
+        char path[512];
+        snprintf(path, sizeof path, "%s/nul.ply", check_tmpdir());
+        check_write_file(path, nul, sizeof nul - 1);
+        expect_reject(path, RELIEF_E_PARSE, ":7: a NUL byte");
+    }
 
     expect_reject(put("short.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n"), RELIEF_E_PARSE,
                   ":2: vertex 1");
