@@ -1,7 +1,8 @@
 /* Checkpoints: a growth stopped after N acceptances, saved, read back and
  * resumed gives the same surface and counts as one never stopped, whatever
- * N; the cancel flag stops it between two targets; a checkpoint that is
- * truncated, corrupt or of another input or parameters is refused. */
+ * N; saving before every target changes nothing; the cancel flag stops it
+ * between two targets; a checkpoint that is truncated, corrupt or of
+ * another input or parameters is refused. */
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,6 +150,29 @@ int main(void)
                   ref_stats.candidates, ref_stats.rejections);
         }
         relief_checkpoint_destroy(ck);
+        setup_free(&u);
+    }
+
+    /* Saving every moment (before each target) changes nothing. */
+    {
+        setup u;
+        saver sv = {path, &key, 0};
+        relief_grow_options g = relief_grow_options_default();
+        relief_grow_stats st1;
+        if (setup_make(&u, &err)) {
+            g.save = save;
+            g.save_ctx = &sv;
+            g.save_every = 1e-12;
+            CHECK(relief_grow(u.s, u.d, u.m, &u.p, &g, &st1, &err) == RELIEF_OK,
+                  "saving all the time: %s", err.message);
+            CHECK((size_t)sv.calls == st1.acceptances + st1.rejections,
+                  "%d periodic saves for %zu targets scored", sv.calls,
+                  st1.acceptances + st1.rejections);
+            CHECK(memcmp(u.s->mesh->pos, ref.s->mesh->pos,
+                         u.s->mesh->nv * 3 * sizeof(double)) == 0 &&
+                      same_counts(&st1, &ref_stats),
+                  "periodic saves changed the result");
+        }
         setup_free(&u);
     }
 
