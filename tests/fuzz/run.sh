@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Build the libFuzzer harnesses with clang and fuzz each for a bounded time.
+#   tests/fuzz/run.sh BUILD_DIR SECONDS [TARGET...]
+# TARGETs (default all): read_ply read_obj read_off read_stl cli. Each starts
+# from its working corpus in BUILD_DIR/corpus/TARGET (kept between runs),
+# the seeds in tests/fuzz/corpus/TARGET and the inputs of past crashes in
+# tests/fuzz/regressions/TARGET. A crash, leak, hang (10 s) or out-of-memory
+# (2 GiB) leaves the input in BUILD_DIR/artifacts/TARGET/ and fails the run:
+# fix it, then copy the input into tests/fuzz/regressions/TARGET/, which the
+# normal test suite replays (fuzz_replay_TARGET). Exits 77 (skipped) when
+# clang or its libFuzzer runtime is missing. Environment: JOBS (default 2).
+set -euo pipefail
+[[ $# -ge 2 ]] || { echo "usage: $0 BUILD_DIR SECONDS [TARGET...]" >&2; exit 1; }
+src=$(cd "$(dirname "$0")/../.." && pwd)
+build=$1 secs=$2; shift 2
+targets=("$@")
+[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl cli)
+
+for cc in clang clang++; do
+  command -v $cc >/dev/null || { echo "fuzz: $cc not found; skipped (setup.sh installs clang)"; exit 77; }
+done
+mkdir -p "$build"
+probe=$build/probe.c
+printf '#include <stddef.h>\n#include <stdint.h>\nint LLVMFuzzerTestOneInput(const uint8_t *d, size_t n) { (void)d; (void)n; return 0; }\n' > "$probe"
+if ! clang -fsanitize=fuzzer,address,undefined "$probe" -o "$build/probe" 2>"$build/probe.log"; then
+  echo "fuzz: clang cannot link -fsanitize=fuzzer (libclang-rt-dev missing?); skipped:"
+  cat "$build/probe.log"
+  exit 77
+fi
+
+cmake -S "$src" -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_FUZZ=ON -DRELIEF_BUILD_TESTS=OFF \
+  -DRELIEF_BUILD_BENCH=OFF -DRELIEF_WITH_OPENCL=OFF >/dev/null
+cmake --build "$build" -j"${JOBS:-2}" --target $(printf 'fuzz_%s ' "${targets[@]}") >/dev/null
+
+failed=()
+for t in "${targets[@]}"; do
+  case $t in cli) dict=cli.dict ;; *) dict=mesh.dict ;; esac
+  work=$build/corpus/$t art=$build/artifacts/$t log=$build/fuzz_$t.log
+  mkdir -p "$work" "$art"
+  dirs=("$work" "$src/tests/fuzz/corpus/$t")
+  [[ -d $src/tests/fuzz/regressions/$t ]] && dirs+=("$src/tests/fuzz/regressions/$t")
+  set +e
+  "$build/tests/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
+    -max_len=4096 -dict="$src/tests/fuzz/$dict" -artifact_prefix="$art/" -close_fd_mask=3 \
+    -print_final_stats=1 "${dirs[@]}" >"$log" 2>&1
+  rc=$?
+  set -e
+  # The last status line: executions, coverage (edges), features, corpus.
+  stats=$(grep -E '^#[0-9]+' "$log" | tail -1 | sed -E 's/ +(lim|exec\/s|rss|L|MS):.*//' || true)
+  if [[ $rc -eq 0 ]]; then
+    echo "fuzz_$t: ${secs}s, ok: $stats"
+  else
+    echo "fuzz_$t: FAILED (exit $rc): $stats"
+    grep -E 'ERROR|SUMMARY|Test unit written' "$log" | head -5 | sed 's/^/  /'
+    echo "  full log: $log"
+    failed+=("$t")
+  fi
+done
+if [[ ${#failed[@]} -gt 0 ]]; then
+  echo "fuzz: failed: ${failed[*]}; inputs in $build/artifacts/"
+  exit 1
+fi
