@@ -570,7 +570,8 @@ static relief_status check_growth_memory(const relief_surface *s, const relief_p
     snprintf(what, sizeof what, "the growth over %zu vertices (%zu samples x %d rotations)",
              nv, s->n_samples, p->rotations);
     return relief_memory_check(what, relief_estimate_growth(nv, nt, s->n_samples, p->rotations),
-                               relief_memory_limit(p), err);
+                               relief_memory_limit(p),
+                               "; raise --spacing or lower --rotations", err);
 }
 
 static int run_complete(const char *in_path, relief_mesh *in, const char *out,
@@ -963,6 +964,15 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
     /* A report folder that cannot be written fails now, not after the growth. */
     if (report_dir && relief_report_dir_check(report_dir, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
+    {
+        struct stat sb;
+        char what[RELIEF_ERROR_MESSAGE_MAX / 2];
+        snprintf(what, sizeof what, "reading %s", argv[optind]);
+        if (stat(argv[optind], &sb) == 0 && S_ISREG(sb.st_mode) &&
+            relief_memory_check(what, relief_estimate_read((uint64_t)sb.st_size),
+                                relief_memory_limit(&p), "", &err) != RELIEF_OK)
+            return fail_status(cmd, &err);
+    }
     if (relief_mesh_read(argv[optind], &in, &info, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
     if (info.nonmanifold_triangles > 0 && !quiet)

@@ -91,6 +91,11 @@ static uint64_t mul_add(uint64_t a, uint64_t b, uint64_t c)
     return a * b + c;
 }
 
+uint64_t relief_estimate_read(uint64_t file_bytes)
+{
+    return mul_add(file_bytes, RELIEF_MEM_READ_PER_FILE_BYTE, 0);
+}
+
 uint64_t relief_estimate_smooth(size_t vertices)
 {
     return mul_add(vertices, RELIEF_MEM_SMOOTH_PER_VERTEX, 0);
@@ -110,7 +115,7 @@ uint64_t relief_estimate_growth(size_t nv, size_t nt, size_t ns, int rotations)
 }
 
 relief_status relief_memory_check(const char *what, uint64_t need, uint64_t limit,
-                                  relief_error *err)
+                                  const char *hint, relief_error *err)
 {
     char a[32], b[32];
     if (need <= limit)
@@ -119,9 +124,8 @@ relief_status relief_memory_check(const char *what, uint64_t need, uint64_t limi
     relief_format_size(limit, b, sizeof b);
     return relief_fail(err, RELIEF_E_NOMEM,
                        "%s needs about %s of memory, over the limit of %s (--max-memory; the "
-                       "default is 80%% of physical memory); raise the limit, or lower "
-                       "--oversample or raise --spacing",
-                       what, a, b);
+                       "default is 80%% of physical memory)%s",
+                       what, a, b, hint);
 }
 
 uint64_t relief_estimate_device(const relief_match_data *d, uint64_t *largest,

@@ -48,6 +48,12 @@ relief_status relief_parse_size(const char *text, uint64_t *out, relief_error *e
 /* "1.5 GiB", "512 MiB", "900 B" into buf. */
 void relief_format_size(uint64_t bytes, char *buf, size_t cap);
 
+/* Host bytes reading a mesh file of `file_bytes` takes at its peak:
+ * OpenMesh's own structures and relief's copy, about 6 times a binary
+ * PLY's size measured, taken as 16 to cover the other formats. */
+#define RELIEF_MEM_READ_PER_FILE_BYTE 16u
+uint64_t relief_estimate_read(uint64_t file_bytes);
+
 /* Host bytes relief_smooth needs at its peak for a surface of `vertices`
  * vertices (samples after oversampling, plus targets). */
 uint64_t relief_estimate_smooth(size_t vertices);
@@ -57,10 +63,11 @@ uint64_t relief_estimate_smooth(size_t vertices);
  * and the growth's own state. */
 uint64_t relief_estimate_growth(size_t nv, size_t nt, size_t ns, int rotations);
 
-/* RELIEF_E_NOMEM "<what> needs about <need>, over the <limit> memory limit
- * (<how to change it>)" when need > limit. */
+/* RELIEF_E_NOMEM "<what> needs about <need> of memory, over the limit of
+ * <limit> (--max-memory ...)<hint>" when need > limit; hint (may be "")
+ * says what else makes the run smaller. */
 relief_status relief_memory_check(const char *what, uint64_t need, uint64_t limit,
-                                  relief_error *err);
+                                  const char *hint, relief_error *err);
 
 /* Device bytes the OpenCL matcher allocates for `d`, in all and in its
  * largest single buffer (*largest_what names it). */

@@ -618,7 +618,8 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
                  nsamp, capture->nv, params->oversample, targets.n);
         st = relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
                                                               targets.n),
-                                 relief_memory_limit(params), err);
+                                 relief_memory_limit(params),
+                                 "; lower --oversample or raise --spacing", err);
         if (st != RELIEF_OK)
             goto fail;
     }

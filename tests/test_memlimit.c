@@ -59,11 +59,15 @@ int main(void)
               relief_estimate_growth(1000, 2000, 700, 8) > relief_estimate_growth(1000, 2000, 700, 4),
           "the growth estimate does not grow with the problem");
     CHECK(relief_estimate_growth(SIZE_MAX, SIZE_MAX, SIZE_MAX, 64) == UINT64_MAX &&
-              relief_estimate_smooth(SIZE_MAX) == UINT64_MAX,
+              relief_estimate_smooth(SIZE_MAX) == UINT64_MAX &&
+              relief_estimate_read(UINT64_MAX / 2) == UINT64_MAX &&
+              relief_estimate_read(1000) == 16000,
           "the estimates wrap instead of saturating");
-    CHECK(relief_memory_check("x", 10, 10, &err) == RELIEF_OK, "need == limit refused");
-    CHECK(relief_memory_check("the thing", 3ull << 30, 1ull << 30, &err) == RELIEF_E_NOMEM &&
+    CHECK(relief_memory_check("x", 10, 10, "", &err) == RELIEF_OK, "need == limit refused");
+    CHECK(relief_memory_check("the thing", 3ull << 30, 1ull << 30, "; try less", &err) ==
+                  RELIEF_E_NOMEM &&
               strstr(err.message, "the thing needs about 3.00 GiB") &&
+              strstr(err.message, "physical memory); try less") &&
               strstr(err.message, "limit of 1.00 GiB"),
           "over the limit: %s", err.message);
 

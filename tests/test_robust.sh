@@ -89,6 +89,9 @@ ok 'cmp -s "$tmp/full.ply" "$tmp/r2.ply"' "resumed on another backend, the outpu
 # Refused up front, with the estimate and the limit, and nothing written.
 expect 2 "over the limit of 1.00 MiB (--max-memory" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 1M
 expect 2 "needs about" -- "$relief" smooth "$pw" -o "$tmp/m.ply" --max-memory 1M
+grep -qF "lower --oversample or raise --spacing" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no advice with the memory refusal"; fail=$((fail+1)); }
+# Reading the input: 16 x the file's size, checked before OpenMesh reads it.
+expect 2 "reading $pw needs about" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 100K
 ok '[[ ! -e $tmp/m.ply ]]' "output written over the memory limit"
 expect 0 "" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 1G
 ok 'cmp -s "$tmp/full.ply" "$tmp/m.ply"' "--max-memory changed the result"
