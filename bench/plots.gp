@@ -35,7 +35,7 @@ set style fill solid 0.6
 set boxwidth 0.2
 set yrange [0.1:*]
 set format y "%g"
-cx(s) = s eq "paper001-cylinder" ? 0 : 1
+cx(s) = s eq "paper001-cylinder" ? 0 : 1  # --quick: the eighth-size bark sits in the bark's place
 plot out."/papers.csv" every ::1 using (cx(strcol(1)) - 0.22):(is(15, "completion") && is(5, "scalar") ? $18 : nan) with boxes lc rgb "#1f77b4" title "scalar", \
      "" every ::1 using (cx(strcol(1)) - 0.22):(is(15, "completion") && is(5, "scalar") ? $18 : nan):19:20 with yerrorbars lc rgb "black" pt 0 notitle, \
      "" every ::1 using (cx(strcol(1))):(is(15, "completion") && is(5, "opencl") ? $18 : nan) with boxes lc rgb "#d62728" title "OpenCL (PoCL)", \
