@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
 # The benchmark suite: builds, runs every case with both backends, writes
 # CSV, a summary and PNG plots under OUT (default bench-out/).
-#   bench/run.sh [--quick]
-# Environment: OUT (output folder), BUILD (build folder, default build),
-# JOBS (build jobs, default nproc).
+#   bench/run.sh [--quick] [throughput|papers|prune|scaling ...]
+# (no case named: all four). Environment: OUT (output folder), BUILD (build
+# folder, default build), JOBS (build jobs, default nproc), SCALING_MAX.
 #
-# Cases (bench/README.md says what each measures):
+# Cases (README.md, "Benchmarks", says what each measures):
 #   1 throughput.csv   candidates scored per second, W 2..4 x R 1, 4, 8,
 #                      exhaustive and pruned, both backends in one process
 #   2 papers.csv       whole completions at the papers' sizes: paper 001's
 #                      small cylinder, paper 000's tree bark
 #   3 scaling.csv      set-up stages, matching time per target and peak
-#                      memory as the surface grows to about a million
-#                      vertices; scaling_full.csv: whole growths where they
-#                      take a few minutes at most
+#                      memory as the surface grows (310 000 vertices; with
+#                      SCALING_MAX=512000, 1.2 million); scaling_full.csv:
+#                      whole growths where they take a few minutes at most
 #   4 prune.csv        pruned against exhaustive on the same completion
 # --quick shrinks every case (the bark runs at an eighth of its size) so the
 # whole suite takes a few minutes on a quiet machine; its figures are for
@@ -21,11 +21,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
-case ${1:-} in
-  --quick) quick=1 ;;
-  "") ;;
-  *) echo "usage: bench/run.sh [--quick]" >&2; exit 1 ;;
-esac
+cases=()
+for a in "$@"; do
+  case $a in
+    --quick) quick=1 ;;
+    throughput|papers|prune|scaling) cases+=("$a") ;;
+    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling ...]" >&2; exit 1 ;;
+  esac
+done
+((${#cases[@]})) || cases=(throughput papers prune scaling)
+want() { [[ " ${cases[*]} " == *" $1 "* ]]; }
 OUT=${OUT:-bench-out}
 BUILD=${BUILD:-build}
 JOBS=${JOBS:-$(nproc)}
@@ -46,7 +51,10 @@ BS=$BUILD/bench/bench_score
 BC=$BUILD/bench/bench_complete
 
 mkdir -p "$OUT"
-rm -f "$OUT"/{throughput,papers,scaling,scaling_full,prune}.csv "$OUT"/*.png "$OUT/summary.txt"
+# A run of some cases keeps the other cases' CSV (the summary and plots
+# cover every CSV there).
+for c in "${cases[@]}"; do rm -f "$OUT/$c.csv"; [[ $c == scaling ]] && rm -f "$OUT/scaling_full.csv"; done
+rm -f "$OUT"/*.png "$OUT/summary.txt" "$OUT/fits.gp"
 log() { echo "== $*" >&2; }
 
 # Sizes. Paper 001: "720 sample vertices on average, 561 targets", W 2, R 4
@@ -72,23 +80,30 @@ else
   FULL_SIZES=(500 1000 2000 4000); TARGETS=8
 fi
 
-log "1/4 matching throughput"
-"$BS" "${SCORE[@]}" --csv "$OUT/throughput.csv"
+if want throughput; then
+  log "1/4 matching throughput"
+  "$BS" "${SCORE[@]}" --csv "$OUT/throughput.csv"
+fi
 
-log "2/4 the papers' sizes"
-"$BC" --case paper001-cylinder "${P001[@]}" --reps "$REPS" --csv "$OUT/papers.csv"
-"$BC" --case "$BARK_CASE" "${BARK[@]}" "${BARK_REPS[@]}" --csv "$OUT/papers.csv"
+if want papers; then
+  log "2/4 the papers' sizes"
+  "$BC" --case paper001-cylinder "${P001[@]}" --reps "$REPS" --csv "$OUT/papers.csv"
+  "$BC" --case "$BARK_CASE" "${BARK[@]}" "${BARK_REPS[@]}" --csv "$OUT/papers.csv"
+fi
 
-log "4/4 pruned against exhaustive"
-for prune in 1 0; do
-  "$BC" --case prune-vs-exhaustive "${P001[@]}" --prune $prune --reps "$REPS" --csv "$OUT/prune.csv"
-done
+if want prune; then
+  log "4/4 pruned against exhaustive"
+  for prune in 1 0; do
+    "$BC" --case prune-vs-exhaustive "${P001[@]}" --prune $prune --reps "$REPS" --csv "$OUT/prune.csv"
+  done
+fi
 
-log "3/4 scaling"
+want scaling && log "3/4 scaling"
 # One process per size and backend, so that each peak resident memory is
 # that of one completion's set-up with one backend.
 # The smooth completion is redone in every repetition up to 16000 and once
 # per process above (each size still has one per backend).
+want scaling || SETUP_SIZES=() FULL_SIZES=()
 for n in "${SETUP_SIZES[@]}"; do
   reps=3; smooth_reps=3
   ((n > 16000)) && smooth_reps=1
