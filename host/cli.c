@@ -358,6 +358,7 @@ typedef struct complete_report {
     const relief_hierarchy_stats *hier;  /* NULL for a mono-scale run */
     const relief_measures *measures; /* NULL when they could not be taken */
     double seconds;
+    const char *fallback; /* why auto left OpenCL during the run, or NULL */
 } complete_report;
 
 /* Per level of a hierarchical run: sizes, sample pyramids, growth. */
@@ -439,6 +440,8 @@ static int write_complete_report(FILE *f, void *ctx)
     rj_string(&j, "requested", relief_backend_name(r->params->backend));
     rj_string(&j, "device", r->device);
     rj_number(&j, "kernel_seconds", r->kernel_seconds);
+    if (r->fallback && r->fallback[0])
+        rj_string(&j, "fallback", r->fallback);
     rj_end_object(&j);
     rj_number(&j, "seconds_total", r->seconds);
     rj_end_object(&j);
@@ -722,7 +725,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                              m ? m->backend : used_backend, m ? m->device : used_device,
                              m ? m->kernel_seconds : stats.match_seconds,
                              hier ? &hstats : NULL, have ? &meas : NULL,
-                             relief_seconds() - t0};
+                             relief_seconds() - t0, m ? m->fallback_note : NULL};
         if (!have && !quiet)
             fprintf(stderr, "relief complete: warning: no measures in the report: %s\n",
                     merr.message);
