@@ -1,19 +1,24 @@
 #!/usr/bin/env bash
-# Build and run the whole default test suite (what CI runs, through .ci/run).
+# Build and run the whole test suite (what CI runs, through .ci/run).
 # Installs missing packages first when run as root. Slow tests are labelled
 # `slow` and left out; run them with: ctest --test-dir build -L slow
-#   ./test.sh            default suite
-#   ./test.sh sanitize   the same under ASan + UBSan, in build-asan/, less the
-#                        end-to-end completions (minutes each when sanitised;
-#                        test_grow and test_score_opencl cover that code)
+#   ./test.sh            both passes below, default first
+#   ./test.sh default    the suite in build/, with a short fuzzing run (build/fuzz,
+#                        clang) and valgrind memcheck on one completion
+#   ./test.sh sanitize   the suite again under ASan + UBSan, in build-asan/; its
+#                        end-to-end completions take a 1000-vertex truth
 set -euo pipefail
 cd "$(dirname "$0")"
 ./setup.sh deps
+suite() { # DIR CMAKE_OPTIONS...
+  local dir=$1; shift
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
+  cmake --build "$dir" -j"$(nproc)"
+  ctest --test-dir "$dir" --output-on-failure -j2 -LE slow
+}
 case "${1:-}" in
-  sanitize) dir=build-asan; extra=(-DRELIEF_SANITIZE=ON -DRELIEF_BUILD_BENCH=OFF); skip='slow|end-to-end' ;;
-  "") dir=build; extra=(); skip=slow ;;
-  *) echo "usage: $0 [sanitize]" >&2; exit 1 ;;
+  default) suite build ;;
+  sanitize) suite build-asan -DRELIEF_SANITIZE=ON -DRELIEF_BUILD_BENCH=OFF ;;
+  "") suite build && suite build-asan -DRELIEF_SANITIZE=ON -DRELIEF_BUILD_BENCH=OFF ;;
+  *) echo "usage: $0 [default|sanitize]" >&2; exit 1 ;;
 esac
-cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo "${extra[@]}" >/dev/null
-cmake --build "$dir" -j"$(nproc)"
-ctest --test-dir "$dir" --output-on-failure -j2 -LE "$skip"
