@@ -67,8 +67,10 @@ static int next_line(reader *r, int comments)
             *hash = '\0';
     }
     r->ntok = 0;
-    for (s = strtok(r->line, " \t\r\n"); s && r->ntok < MAX_TOKENS;
-         s = strtok(NULL, " \t\r\n"))
+    /* Every character isspace() takes, as the C++ streams OpenMesh reads
+     * with: "f\v2" is a face for OpenMesh, so it must be one here. */
+    for (s = strtok(r->line, " \t\r\n\v\f"); s && r->ntok < MAX_TOKENS;
+         s = strtok(NULL, " \t\r\n\v\f"))
         r->tok[r->ntok++] = s;
     return 1;
 }
