@@ -195,6 +195,24 @@ static int ply_type_size(const char *t, int *is_char, int *kind)
     return 0;
 }
 
+/* Can an ascii value `s` (read as `v`) be read as the property's type:
+ * finite and within a float's range, or an integer within the type's? */
+static int ply_value_fits(const char *s, double v, const ply_prop *pp)
+{
+    long long n;
+    char *end;
+    if (pp->kind == PLY_FLOAT)
+        return isfinite(v) && (pp->size == 8 || fabs(v) <= FLT_MAX);
+    errno = 0;
+    n = strtoll(s, &end, 10);
+    if (end == s || *end != '\0' || errno != 0)
+        return 0;
+    if (pp->kind == PLY_UNSIGNED)
+        return n >= 0 && n <= (long long)(pp->size == 4 ? 0xffffffffLL
+                                                         : (1LL << (8 * pp->size)) - 1);
+    return n >= -(1LL << (8 * pp->size - 1)) && n < (1LL << (8 * pp->size - 1));
+}
+
 /* An integer of `size` bytes (1, 2 or 4) from the file; 0 at end of file. */
 static int read_ply_int(FILE *f, int size, int kind, int big, long long *out)
 {
@@ -529,6 +547,20 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
                                            "%s:%ld: vertex %lld: %s coordinate '%s' "
                                            "is not finite",
                                            r->path, r->lineno, i, pp->name, r->tok[t]);
+                    /* A value OpenMesh's stream cannot read as the declared
+                     * type (NaN, beyond a float, negative or too large for the
+                     * integer) puts the stream out of step: the next face
+                     * then takes some value as a corner count (found by
+                     * fuzzing: a 2 GiB face). */
+                    if (!ply_value_fits(r->tok[t], v, pp))
+                        return relief_fail(err, RELIEF_E_PARSE,
+                                           "%s:%ld: vertex %lld: property '%s' value '%s' "
+                                           "does not fit its %s%d-byte type",
+                                           r->path, r->lineno, i, pp->name, r->tok[t],
+                                           pp->kind == PLY_FLOAT      ? "floating-point "
+                                           : pp->kind == PLY_SIGNED ? "signed "
+                                                                    : "unsigned ",
+                                           pp->size);
                     ++t;
                 }
             } else if (&el[e] == face) {
