@@ -68,6 +68,10 @@ if [[ -f $OUT/scaling.csv ]]; then
     mem=$(awk -F, -v b=$b '$5 == b && $15 == "smooth" { print $10, $21 }' "$OUT/scaling.csv" |
           sort -n | awk '{ l[NR] = $0 } END { for (i = int(NR / 2) + 1; i <= NR; ++i) print l[i] }' | fit mem_$b)
     echo "   $b: exponents: matching time per target vs samples $pt; smooth $sm; match data $md; peak memory $mem (upper half of the sizes)"
+    # Linear in the vertices: peak = fixed + per-vertex x n, least squares.
+    awk -F, -v b=$b '$5 == b && $15 == "smooth" { x = $10; y = $21 / 1024; n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
+      END { if (n < 2) exit; k = (n * sxy - sx * sy) / (n * sxx - sx * sx); c = (sy - k * sx) / n
+            printf "   %s: peak memory, linear fit: %.0f MiB + %.2f KiB per vertex: %.0f MiB at 1 000 000 vertices\n", b, c, k * 1024, c + k * 1e6 }' "$OUT/scaling.csv"
     awk -v b=$b -F'[=;]' '$1 ~ "^mem_" b "_b" { printf "   %s: peak memory at 1 000 000 vertices by that fit: %.0f MiB\n", b, exp($4 + $2 * log(1e6)) / 1024 }' "$fits"
   done
   awk -F, 'NR == 1 { next } $15 == "smooth" { k = $5 " " $10; if ($10 > big[$5]) { big[$5] = $10; rss[$5] = $21; sam[$5] = $8; tar[$5] = $9 } }
