@@ -130,6 +130,12 @@ struct relief_matcher {
 relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
                                            relief_error *err);
 
+/* The scalar reference's loop: score the query's candidates in order on
+ * this thread, lowering a running cutoff when q->running. The OpenCL
+ * matcher also runs it for launches too small to pay for themselves. */
+void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
+                       uint8_t *flag);
+
 /* The OpenCL matcher on device `device` (relief_devices order; -1: the
  * first). RELIEF_E_DEVICE naming the reason (no platform, the build log of
  * a failed kernel build, out of device memory); RELIEF_E_NOT_BUILT in a

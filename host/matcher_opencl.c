@@ -29,6 +29,7 @@
  * candidate; 512 bring it to the exhaustive kernel's efficiency (about 1 %
  * of the bark's candidates, a millisecond on the host); 2048 gain little. */
 #define PROBES 512
+#define HOST_MAX 1024 /* candidates scored on the host instead of launching */
 
 extern const char relief_kernel_relief_math_h[];
 extern const char relief_kernel_score_cl[];
@@ -187,6 +188,13 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     cl_uint a = 0;
     relief_status st;
 
+    if (ncand <= HOST_MAX) {
+        /* A few hundred candidates (a sample pyramid's box) take less time
+         * here than a launch and its transfers; the same function scores
+         * them, so the results are the same. */
+        relief_score_host(d, qr, ssd, flag);
+        return RELIEF_OK;
+    }
     if (qr->n > o->qcap) { /* grow the query buffers */
         size_t cap = qr->n * 2;
         cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};

@@ -11,14 +11,11 @@
 #define RM_WITH_SCORING
 #include "../kernels/relief_math.h"
 
-static relief_status scalar_score(void *ctx, const relief_match_data *d,
-                                  const relief_match_query *q, float *ssd, uint8_t *flag,
-                                  relief_error *err)
+void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
+                       uint8_t *flag)
 {
     const uint32_t centres = q->subset ? q->n_subset : d->ns;
     float cutoff = q->cutoff;
-    (void)ctx;
-    (void)err;
     for (uint32_t i = 0; i < centres; ++i) {
         const uint32_t si = relief_match_query_sample(q, i);
         const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
@@ -40,6 +37,15 @@ static relief_status scalar_score(void *ctx, const relief_match_data *d,
             }
         }
     }
+}
+
+static relief_status scalar_score(void *ctx, const relief_match_data *d,
+                                  const relief_match_query *q, float *ssd, uint8_t *flag,
+                                  relief_error *err)
+{
+    (void)ctx;
+    (void)err;
+    relief_score_host(d, q, ssd, flag);
     return RELIEF_OK;
 }
 
