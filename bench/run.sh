@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The benchmark suite: builds, runs every case with both backends, writes
 # CSV, a summary and PNG plots under OUT (default bench-out/).
-#   bench/run.sh [--quick] [throughput|papers|prune|scaling ...]
-# (no case named: all four). Environment: OUT (output folder), BUILD (build
+#   bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy ...]
+# (no case named: all five). Environment: OUT (output folder), BUILD (build
 # folder, default build), JOBS (build jobs, default nproc), SCALING_MAX.
 #
 # Cases (README.md, "Benchmarks", says what each measures):
@@ -15,6 +15,8 @@
 #                      SCALING_MAX=512000, 1.2 million); scaling_full.csv:
 #                      whole growths where they take a few minutes at most
 #   4 prune.csv        pruned against exhaustive on the same completion
+#   5 hierarchy.csv    mono-scale against hierarchical (--levels) completion
+#                      on OpenCL, same capture: times, ratio, MSI of each
 # --quick shrinks every case (the bark runs at an eighth of its size) so the
 # whole suite takes a few minutes on a quiet machine; its figures are for
 # checking, not quoting. The full suite takes about 45 minutes on 2 cores.
@@ -25,11 +27,11 @@ cases=()
 for a in "$@"; do
   case $a in
     --quick) quick=1 ;;
-    throughput|papers|prune|scaling) cases+=("$a") ;;
-    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling ...]" >&2; exit 1 ;;
+    throughput|papers|prune|scaling|hierarchy) cases+=("$a") ;;
+    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy ...]" >&2; exit 1 ;;
   esac
 done
-((${#cases[@]})) || cases=(throughput papers prune scaling)
+((${#cases[@]})) || cases=(throughput papers prune scaling hierarchy)
 want() { [[ " ${cases[*]} " == *" $1 "* ]]; }
 OUT=${OUT:-bench-out}
 BUILD=${BUILD:-build}
@@ -46,9 +48,10 @@ if ! command -v gnuplot >/dev/null; then
   fi
 fi
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
-cmake --build "$BUILD" -j"$JOBS" --target bench_score bench_complete >/dev/null
+cmake --build "$BUILD" -j"$JOBS" --target bench_score bench_complete bench_hierarchy >/dev/null
 BS=$BUILD/bench/bench_score
 BC=$BUILD/bench/bench_complete
+BH=$BUILD/bench/bench_hierarchy
 
 mkdir -p "$OUT"
 # A run of some cases keeps the other cases' CSV (the summary and plots
@@ -91,6 +94,17 @@ if want papers; then
   "$BC" --case "$BARK_CASE" "${BARK[@]}" "${BARK_REPS[@]}" --csv "$OUT/papers.csv"
 fi
 
+if want hierarchy; then
+  log "5/5 mono-scale against hierarchical"
+  # Paper 001 used 2 levels for its small cylinders; larger surfaces take 3.
+  "$BH" --case paper001-cylinder "${P001[@]}" --levels 2 --backend opencl --reps "$REPS" \
+    --csv "$OUT/hierarchy.csv"
+  "$BH" --case cylinder-bands-2000 --kind cylinder-bands --levels 3 --backend opencl \
+    --reps "$REPS" --csv "$OUT/hierarchy.csv"
+  "$BH" --case "$BARK_CASE" "${BARK[@]}" --levels 3 --backend opencl --reps 1 \
+    --csv "$OUT/hierarchy.csv"
+fi
+
 if want prune; then
   log "4/4 pruned against exhaustive"
   for prune in 1 0; do
@@ -125,6 +139,6 @@ log "summary and plots"
 bench/summary.sh "$OUT" | tee "$OUT/summary.txt"
 if command -v gnuplot >/dev/null; then
   gnuplot -e "out='$OUT'" bench/plots.gp
-  echo "bench: plots: $(cd "$OUT" && ls ./*.png | tr '\n' ' ')"
+  echo "bench: plots: $(cd "$OUT" && ls ./*.png 2>/dev/null | tr '\n' ' ')"
 fi
 echo "bench: CSV, summary.txt and plots in $OUT/"

@@ -98,3 +98,13 @@ if [[ -f $OUT/scaling.csv ]]; then
     done
   fi
 fi
+
+if [[ -f $OUT/hierarchy.csv ]]; then
+  echo "5. mono-scale against hierarchical completion (same capture and backend)"
+  awk -F, 'NR == 1 { next }
+    $12 == 1 { mono[$1] = $14; mmsi[$1] = $18; order[++n] = $1; sz[$1] = $8 " samples, " $9 " targets" }
+    $12 > 1 { hier[$1] = $14; hmsi[$1] = $18; lv[$1] = $12 }
+    END { for (i = 1; i <= n; ++i) { c = order[i]
+            printf "   %s (%s): mono %.3g s, %d levels %.3g s: %.2fx; MSI difference %.2f %% / %.2f %%\n",
+              c, sz[c], mono[c], lv[c], hier[c], mono[c] / hier[c], mmsi[c], hmsi[c] } }' "$OUT/hierarchy.csv"
+fi
