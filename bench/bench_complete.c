@@ -31,9 +31,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
+#include "bench_util.h"
 #include "error.h"
 #include "grow.h"
 #include "matcher.h"
@@ -69,11 +68,6 @@ typedef struct config {
     int use[NB];
 } config;
 
-typedef struct machine {
-    char cpu[160], device[200];
-    long cores;
-} machine;
-
 /* Measurements of one backend: t[stage][rep] (NAN: not taken). */
 typedef struct series {
     double t[NS][MAX_REPS];
@@ -84,61 +78,6 @@ typedef struct series {
     char device[256];
     double list_bytes; /* the closest-vertex lists: hash table and items */
 } series;
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static void stats3(const double *v, int n, double *med, double *lo, double *hi)
-{
-    double s[MAX_REPS];
-    memcpy(s, v, (size_t)n * sizeof *s);
-    qsort(s, (size_t)n, sizeof *s, cmp_double);
-    *lo = s[0];
-    *hi = s[n - 1];
-    *med = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-}
-
-static long peak_rss_kib(void)
-{
-    struct rusage ru;
-    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : -1;
-}
-
-static void read_machine(machine *m)
-{
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    char line[512];
-    relief_device_info dev[8];
-    size_t ndev = 0;
-    relief_error err;
-    snprintf(m->cpu, sizeof m->cpu, "unknown CPU");
-    snprintf(m->device, sizeof m->device, "none");
-    m->cores = sysconf(_SC_NPROCESSORS_ONLN);
-    while (f && fgets(line, sizeof line, f))
-        if (strncmp(line, "model name", 10) == 0) {
-            char *c = strchr(line, ':');
-            if (c) {
-                c += 1 + (c[1] == ' ');
-                c[strcspn(c, "\n")] = '\0';
-                snprintf(m->cpu, sizeof m->cpu, "%s", c);
-            }
-            break;
-        }
-    if (f)
-        fclose(f);
-    if (relief_devices(dev, 8, &ndev, &err) == RELIEF_OK && ndev > 0)
-        snprintf(m->device, sizeof m->device, "%s", dev[0].name);
-    /* CSV fields: no commas inside. */
-    for (char *c = m->cpu; *c; ++c)
-        if (*c == ',')
-            *c = ';';
-    for (char *c = m->device; *c; ++c)
-        if (*c == ',')
-            *c = ';';
-}
 
 /* FNV-1a over the completed positions (float) and colours: equal outputs
  * give equal sums. */
@@ -422,7 +361,7 @@ static int parse_args(int argc, char **argv, config *c)
 int main(int argc, char **argv)
 {
     config c;
-    machine mc;
+    bench_machine mc;
     prepared pp = {NULL, NULL};
     series *se = calloc(NB, sizeof *se);
     relief_mesh *cap = NULL;
@@ -433,7 +372,7 @@ int main(int argc, char **argv)
         free(se);
         return rc ? rc : 2;
     }
-    read_machine(&mc);
+    bench_read_machine(&mc);
     if (!c.setup) {
         double t0 = relief_seconds();
         if (relief_synth(&c.sp, &cap, NULL, &err) != RELIEF_OK)
@@ -493,7 +432,7 @@ int main(int argc, char **argv)
             double med, lo, hi;
             if (s->n[k] == 0)
                 continue;
-            stats3(s->t[k], s->n[k], &med, &lo, &hi);
+            bench_stats3(s->t[k], s->n[k], &med, &lo, &hi);
             printf("    %-15s median %10.4g s  min %10.4g  max %10.4g  (%d reps)\n",
                    stage_name[k], med, lo, hi, s->n[k]);
             if (out)
@@ -504,7 +443,7 @@ int main(int argc, char **argv)
                         b ? "opencl" : "scalar", relief_synth_kind_name(c.sp.kind),
                         c.sp.vertices, s->samples, s->targets, s->nv, c.p.window,
                         c.p.rotations, c.prune, c.sp.colour, stage_name[k], s->n[k], med, lo,
-                        hi, peak_rss_kib(), scored, s->stats.candidates, s->stats.pruned,
+                        hi, bench_peak_rss_kib(), scored, s->stats.candidates, s->stats.pruned,
                         same);
         }
         if (!c.setup)
@@ -518,14 +457,14 @@ int main(int argc, char **argv)
     }
     if (!c.setup && c.use[B_SCALAR] && c.use[B_OPENCL] && se[0].n[S_TOTAL] && se[1].n[S_TOTAL]) {
         double m0, m1, lo, hi;
-        stats3(se[0].t[S_GROW], se[0].n[S_GROW], &m0, &lo, &hi);
-        stats3(se[1].t[S_GROW], se[1].n[S_GROW], &m1, &lo, &hi);
+        bench_stats3(se[0].t[S_GROW], se[0].n[S_GROW], &m0, &lo, &hi);
+        bench_stats3(se[1].t[S_GROW], se[1].n[S_GROW], &m1, &lo, &hi);
         printf("  growth: scalar / OpenCL median time = %.2f\n", m0 / m1);
-        stats3(se[0].t[S_TOTAL], se[0].n[S_TOTAL], &m0, &lo, &hi);
-        stats3(se[1].t[S_TOTAL], se[1].n[S_TOTAL], &m1, &lo, &hi);
+        bench_stats3(se[0].t[S_TOTAL], se[0].n[S_TOTAL], &m0, &lo, &hi);
+        bench_stats3(se[1].t[S_TOTAL], se[1].n[S_TOTAL], &m1, &lo, &hi);
         printf("  completion: scalar / OpenCL median time = %.2f\n", m0 / m1);
     }
-    printf("  peak resident memory: %.1f MiB\n", (double)peak_rss_kib() / 1024.0);
+    printf("  peak resident memory: %.1f MiB\n", (double)bench_peak_rss_kib() / 1024.0);
     if (out)
         fclose(out);
     prepared_clear(&pp);

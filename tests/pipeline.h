@@ -19,6 +19,26 @@ typedef struct pipeline {
     int opencl; /* 1: the OpenCL matcher, 0: the scalar reference */
 } pipeline;
 
+/* A synthetic capture's smooth completion with default parameters; *out
+ * receives the surface (caller frees) on success. */
+static inline relief_status pipeline_smooth(relief_synth_kind kind, size_t vertices, int colour,
+                                            relief_surface **out, relief_error *err)
+{
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_mesh *cap = NULL;
+    relief_status st;
+    sp.kind = kind;
+    sp.vertices = vertices;
+    sp.colour = colour;
+    *out = NULL;
+    st = relief_synth(&sp, &cap, NULL, err);
+    if (st == RELIEF_OK)
+        st = relief_smooth(cap, &p, NULL, out, err);
+    relief_mesh_destroy(cap);
+    return st;
+}
+
 /* Run it; *out receives the grown surface (caller frees) on success. */
 static inline relief_status pipeline_run(const pipeline *pl, relief_surface **out,
                                          relief_grow_stats *stats, relief_error *err)

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "pipeline.h"
 #include "grow.h"
 #include "hierarchy.h"
 #include "matcher.h"
@@ -18,18 +19,9 @@
 
 static relief_surface *smooth_of(relief_synth_kind kind, size_t vertices, int colour)
 {
-    relief_synth_params sp = relief_synth_params_default();
-    relief_params p = relief_params_default();
-    relief_mesh *cap = NULL;
     relief_surface *s = NULL;
     relief_error err = {RELIEF_OK, ""};
-    sp.kind = kind;
-    sp.vertices = vertices;
-    sp.colour = colour;
-    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
-    if (cap)
-        CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
-    relief_mesh_destroy(cap);
+    CHECK(pipeline_smooth(kind, vertices, colour, &s, &err) == RELIEF_OK, "%s", err.message);
     return s;
 }
 

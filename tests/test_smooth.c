@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "check.h"
+#include "pipeline.h"
 #include "fit.h"
 #include "mesh.h"
 #include "surface.h"
@@ -126,17 +127,9 @@ static void check_geometry(const relief_surface *s, const char *what)
 
 static relief_surface *smooth_synth(relief_synth_kind kind, size_t n, const char *what)
 {
-    relief_synth_params sp = relief_synth_params_default();
-    relief_params p = relief_params_default();
-    relief_mesh *cap = NULL;
     relief_surface *s = NULL;
     relief_error err = {RELIEF_OK, ""};
-    sp.kind = kind;
-    sp.vertices = n;
-    sp.colour = 1;
-    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s: %s", what, err.message);
-    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s: %s", what, err.message);
-    relief_mesh_destroy(cap);
+    CHECK(pipeline_smooth(kind, n, 1, &s, &err) == RELIEF_OK, "%s: %s", what, err.message);
     return s;
 }
 
