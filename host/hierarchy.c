@@ -227,31 +227,6 @@ void relief_hierarchy_destroy(relief_hierarchy *h)
     free(h);
 }
 
-/* Barycentric coordinates of p projected on the plane of triangle abc. */
-static void barycentric(const double *p, const double *a, const double *b, const double *c,
-                        double w[3])
-{
-    double e0[3], e1[3], e2[3], d00 = 0, d01 = 0, d11 = 0, d20 = 0, d21 = 0, den;
-    for (int k = 0; k < 3; ++k) {
-        e0[k] = b[k] - a[k];
-        e1[k] = c[k] - a[k];
-        e2[k] = p[k] - a[k];
-        d00 += e0[k] * e0[k];
-        d01 += e0[k] * e1[k];
-        d11 += e1[k] * e1[k];
-        d20 += e2[k] * e0[k];
-        d21 += e2[k] * e1[k];
-    }
-    den = d00 * d11 - d01 * d01;
-    if (!(den > 0.0)) {
-        w[0] = 1.0, w[1] = w[2] = 0.0;
-        return;
-    }
-    w[1] = (d11 * d20 - d01 * d21) / den;
-    w[2] = (d00 * d21 - d01 * d20) / den;
-    w[0] = 1.0 - w[1] - w[2];
-}
-
 #define LOCATE_NN 4
 
 /* parent, corner and weight of level k (index ki) on level k - 1. */
@@ -260,7 +235,8 @@ static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
     const relief_surface *fine = h->level[ki], *coarse = h->level[ki - 1];
     const size_t nf = fine->mesh->nv, nc = coarse->mesh->nv, nfull = h->full->mesh->nv;
     const double *pp = h->full->proj;
-    uint32_t *loc = malloc(nfull * sizeof *loc), *vt_start = calloc(nc + 1, sizeof *vt_start);
+    uint32_t *loc = malloc(nfull * sizeof *loc);
+    uint32_t *vt_start = malloc((nc + 1) * sizeof *vt_start);
     uint32_t *vt = malloc((3 * coarse->mesh->nt + 1) * sizeof *vt);
     double *cpos = malloc((nc + 1) * 3 * sizeof *cpos);
     struct FLANNParameters fp = relief_knn_exact_params();
@@ -282,22 +258,7 @@ static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
         loc[h->ids[ki - 1][v]] = (uint32_t)v;
         memcpy(cpos + 3 * v, pp + 3 * (size_t)h->ids[ki - 1][v], 3 * sizeof(double));
     }
-    for (size_t i = 0; i < 3 * coarse->mesh->nt; ++i)
-        ++vt_start[coarse->mesh->tri[i] + 1];
-    for (size_t v = 0; v < nc; ++v)
-        vt_start[v + 1] += vt_start[v];
-    {
-        uint32_t *fill = malloc((nc + 1) * sizeof *fill);
-        if (!fill) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hierarchy's links");
-            goto done;
-        }
-        memcpy(fill, vt_start, (nc + 1) * sizeof *fill);
-        for (size_t t = 0; t < coarse->mesh->nt; ++t)
-            for (int k = 0; k < 3; ++k)
-                vt[fill[coarse->mesh->tri[3 * t + k]]++] = (uint32_t)t;
-        free(fill);
-    }
+    relief_mesh_vertex_triangles(coarse->mesh, vt_start, vt);
     index = flann_build_index_double(cpos, (int)nc, 3, &speedup, &fp);
     if (!index) {
         st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a hierarchy level");
@@ -329,8 +290,9 @@ static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
             for (uint32_t i = vt_start[idx[j]]; i < vt_start[idx[j] + 1]; ++i) {
                 const uint32_t *t = coarse->mesh->tri + 3 * (size_t)vt[i];
                 double w[3];
-                barycentric(p, cpos + 3 * (size_t)t[0], cpos + 3 * (size_t)t[1],
-                            cpos + 3 * (size_t)t[2], w);
+                if (!relief_barycentric(p, cpos + 3 * (size_t)t[0], cpos + 3 * (size_t)t[1],
+                                        cpos + 3 * (size_t)t[2], w))
+                    continue; /* degenerate once projected */
                 if (fmin(w[0], fmin(w[1], w[2])) > best) {
                     double sum = 0.0;
                     best = fmin(w[0], fmin(w[1], w[2]));

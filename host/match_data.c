@@ -516,23 +516,7 @@ relief_status relief_match_data_build(const relief_surface *s, int rotations, do
     }
     for (size_t i = 0; i < 3 * m->nt; ++i)
         d->tri[i] = m->tri[i];
-    /* Vertex-to-triangle lists, triangles in ascending order. */
-    for (size_t i = 0; i < 3 * m->nt; ++i)
-        ++d->vt_start[m->tri[i] + 1];
-    for (size_t v = 0; v < m->nv; ++v)
-        d->vt_start[v + 1] += d->vt_start[v];
-    {
-        uint32_t *fill = malloc((m->nv + 1) * sizeof *fill);
-        if (!fill) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate match data");
-            goto done;
-        }
-        memcpy(fill, d->vt_start, (m->nv + 1) * sizeof *fill);
-        for (size_t t = 0; t < m->nt; ++t)
-            for (int k = 0; k < 3; ++k)
-                d->vt[fill[m->tri[3 * t + k]]++] = (uint32_t)t;
-        free(fill);
-    }
+    relief_mesh_vertex_triangles(m, d->vt_start, d->vt);
     for (size_t v = 0; v < s->n_samples; ++v) {
         double h = s->disp[3 * v] * s->nrm[3 * v] + s->disp[3 * v + 1] * s->nrm[3 * v + 1] +
                    s->disp[3 * v + 2] * s->nrm[3 * v + 2];

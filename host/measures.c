@@ -424,7 +424,8 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
     const size_t nv = tm->nv;
     double *tq = NULL, *th = NULL, *qq = NULL, *d2 = NULL;
     int *idx = NULL;
-    size_t *vt_start = NULL, *vt = NULL, nq = 0;
+    uint32_t *vt_start = NULL, *vt = NULL;
+    size_t nq = 0;
     const int k = nv < TRUTH_K ? (int)nv : TRUTH_K;
     float speedup = 0.0f;
     relief_status st = RELIEF_OK;
@@ -440,7 +441,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
     qq = malloc(3 * cm->nv * sizeof *qq);
     idx = malloc((size_t)k * cm->nv * sizeof *idx);
     d2 = malloc((size_t)k * cm->nv * sizeof *d2);
-    vt_start = calloc(nv + 1, sizeof *vt_start);
+    vt_start = malloc((nv + 1) * sizeof *vt_start);
     vt = malloc((3 * tm->nt + 1) * sizeof *vt);
     if (!tq || !th || !qq || !idx || !d2 || !vt_start || !vt) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the truth lookup of %zu vertices",
@@ -451,21 +452,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
         th[v] = relief_fit_distance(prim, tm->pos + 3 * v);
         relief_fit_project(prim, tm->pos + 3 * v, tq + 3 * v);
     }
-    /* Vertex-to-triangle lists (CSR). */
-    for (size_t t = 0; t < tm->nt; ++t)
-        for (int c = 0; c < 3; ++c)
-            ++vt_start[tm->tri[3 * t + c] + 1];
-    for (size_t v = 0; v < nv; ++v)
-        vt_start[v + 1] += vt_start[v];
-    {
-        size_t *fill = vt_start; /* advanced, then shifted back */
-        for (size_t t = 0; t < tm->nt; ++t)
-            for (int c = 0; c < 3; ++c)
-                vt[fill[tm->tri[3 * t + c]]++] = t;
-        for (size_t v = nv; v > 0; --v)
-            vt_start[v] = vt_start[v - 1];
-        vt_start[0] = 0;
-    }
+    relief_mesh_vertex_triangles(tm, vt_start, vt);
 
     for (size_t v = 0; v < cm->nv; ++v)
         if (cm->label[v] == RELIEF_LABEL_COMPLETED)
@@ -499,27 +486,13 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
         for (int j = 0; j < k; ++j) {
             if (nb[j] < 0 || (size_t)nb[j] >= nv)
                 continue;
-            for (size_t e = vt_start[nb[j]]; e < vt_start[nb[j] + 1]; ++e) {
+            for (uint32_t e = vt_start[nb[j]]; e < vt_start[nb[j] + 1]; ++e) {
                 const uint32_t *t = tm->tri + 3 * vt[e];
                 const double *a = tq + 3 * t[0], *b = tq + 3 * t[1], *c = tq + 3 * t[2];
-                double e0[3], e1[3], e2[3], d00 = 0, d01 = 0, d11 = 0, d20 = 0, d21 = 0;
-                double den, wb, wc, wa, s;
-                for (int x = 0; x < 3; ++x) {
-                    e0[x] = b[x] - a[x];
-                    e1[x] = c[x] - a[x];
-                    e2[x] = q[x] - a[x];
-                    d00 += e0[x] * e0[x];
-                    d01 += e0[x] * e1[x];
-                    d11 += e1[x] * e1[x];
-                    d20 += e2[x] * e0[x];
-                    d21 += e2[x] * e1[x];
-                }
-                den = d00 * d11 - d01 * d01;
-                if (!(den > 1e-24 * d00 * d11))
+                double w[3], wa, wb, wc, s;
+                if (!relief_barycentric(q, a, b, c, w))
                     continue; /* degenerate once projected */
-                wb = (d11 * d20 - d01 * d21) / den;
-                wc = (d00 * d21 - d01 * d20) / den;
-                wa = 1.0 - wb - wc;
+                wa = w[0], wb = w[1], wc = w[2];
                 s = wa < wb ? wa : wb;
                 s = s < wc ? s : wc;
                 if (s > bscore) {

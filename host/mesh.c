@@ -265,3 +265,42 @@ void relief_adjacency_free(relief_adjacency *adj)
     free(adj->nbr);
     adj->start = adj->nbr = NULL;
 }
+
+void relief_mesh_vertex_triangles(const relief_mesh *m, uint32_t *start, uint32_t *ids)
+{
+    memset(start, 0, (m->nv + 1) * sizeof *start);
+    for (size_t i = 0; i < 3 * m->nt; ++i)
+        ++start[m->tri[i] + 1];
+    for (size_t v = 0; v < m->nv; ++v)
+        start[v + 1] += start[v];
+    /* start[v] serves as v's cursor, then everything moves back one. */
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            ids[start[m->tri[3 * t + k]]++] = (uint32_t)t;
+    for (size_t v = m->nv; v > 0; --v)
+        start[v] = start[v - 1];
+    start[0] = 0;
+}
+
+int relief_barycentric(const double *p, const double *a, const double *b, const double *c,
+                       double w[3])
+{
+    double e0[3], e1[3], e2[3], d00 = 0, d01 = 0, d11 = 0, d20 = 0, d21 = 0, den;
+    for (int k = 0; k < 3; ++k) {
+        e0[k] = b[k] - a[k];
+        e1[k] = c[k] - a[k];
+        e2[k] = p[k] - a[k];
+        d00 += e0[k] * e0[k];
+        d01 += e0[k] * e1[k];
+        d11 += e1[k] * e1[k];
+        d20 += e2[k] * e0[k];
+        d21 += e2[k] * e1[k];
+    }
+    den = d00 * d11 - d01 * d01;
+    if (!(den > 1e-24 * d00 * d11))
+        return 0;
+    w[1] = (d11 * d20 - d01 * d21) / den;
+    w[2] = (d00 * d21 - d01 * d20) / den;
+    w[0] = 1.0 - w[1] - w[2];
+    return 1;
+}

@@ -34,6 +34,17 @@ relief_status relief_mesh_adjacency(const relief_mesh *m, relief_adjacency *adj,
                                     relief_error *err);
 void relief_adjacency_free(relief_adjacency *adj);
 
+/* Vertex-to-triangle lists as CSR: the triangles around v are
+ * ids[start[v] .. start[v + 1]), ascending. start: nv + 1 entries, ids:
+ * 3 nt entries, both the caller's. */
+void relief_mesh_vertex_triangles(const relief_mesh *m, uint32_t *start, uint32_t *ids);
+
+/* Barycentric weights w (of a, b, c) of p projected on the plane of the
+ * triangle abc (3-vectors). 0 when the triangle is degenerate (w untouched),
+ * else 1. */
+int relief_barycentric(const double *p, const double *a, const double *b, const double *c,
+                       double w[3]);
+
 /* Build a new mesh from m keeping the vertices with keep[v] != 0 and the
  * triangles whose three vertices are kept; vertices left in no triangle are
  * dropped too when m has triangles. Attributes are copied; vertex order is
