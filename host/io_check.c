@@ -475,6 +475,14 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
                 ++xyz;
             if (strcmp(n, "label") == 0 && vert->prop[p].is_char && fmt == 0)
                 out->ascii_char_label = 1;
+            /* OpenMesh reads a vertex's list as more scalars (ascii: the
+             * coordinates come out shifted; binary: the faces then fail),
+             * and with some headers from uninitialised memory. */
+            if (vert->prop[p].count_size)
+                return relief_fail(err, RELIEF_E_PARSE,
+                                   "%s: the PLY 'vertex' element has a list property "
+                                   "'%s'; only scalar vertex properties can be read",
+                                   r->path, n);
         }
         if (xyz != 3)
             return relief_fail(err, RELIEF_E_PARSE,
@@ -523,13 +531,6 @@ static relief_status check_ply(reader *r, relief_file_check *out, long long fsiz
                 for (int p = 0; p < vert->nprop; ++p) {
                     const ply_prop *pp = &vert->prop[p];
                     double v;
-                    if (pp->count_size) { /* a list in a vertex: skip it */
-                        long long n;
-                        if (t >= r->ntok || !parse_long(r->tok[t], &n) || n < 0)
-                            goto bad_item;
-                        t += 1 + (int)n;
-                        continue;
-                    }
                     if (t >= r->ntok)
                         return relief_fail(err, RELIEF_E_PARSE,
                                            "%s:%ld: vertex %lld has %d value(s); the "

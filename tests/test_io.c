@@ -205,6 +205,13 @@ static void test_bad_input(void)
                   "face 1 refers to vertex 9 but the file has 4 vertices");
     expect_reject(binary_ply("bin_nan.ply", 3, 2, 0), RELIEF_E_MESH, "vertex 2");
 
+    /* A list on the vertices: OpenMesh reads its items as more scalars
+     * (shifted coordinates, then faces that fail), so it is refused. */
+    expect_reject(put("vertex_list.ply",
+                      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                      "property float y\nproperty float z\nproperty list uchar int foo\n"
+                      "end_header\n0 0 0 2 5 6\n1 0 0 1 7\n0 1 0 0\n"),
+                  RELIEF_E_PARSE, "list property 'foo'");
     expect_reject(put("magic.off", "FOO\n3 1 0\n"), RELIEF_E_PARSE, "OFF magic");
     expect_reject(put("trunc.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"), RELIEF_E_PARSE,
                   "truncated");
