@@ -70,6 +70,12 @@ enum { PLANE_SIDE = 1 };
 static const double CYL_HEIGHT = 2.0;      /* axis from z = 0 to z = 2 */
 static const double VIEW_HALF_ANGLE = 80.0; /* degrees seen around +x */
 static const double HOLE_RADIUS = 0.25;    /* plane: disc removed */
+/* cylinder-bark: the unfolded ridges' cycles around the circumference
+ * (wavelength 2 pi / 12 = 0.52, so 24 crests 0.26 apart after folding,
+ * three vertex spacings at the default 2000), and the standard deviation of
+ * their phase field in radians. */
+static const double BARK_RIDGES = 12.0;
+static const double BARK_MEANDER = 1.5;
 
 typedef struct wave {
     double k[2];  /* wave vector, radians per unit (plane) or per (rad, unit) */
@@ -88,8 +94,7 @@ typedef struct relief_field {
 /* A band-limited random field: N_WAVES plane waves with random directions
  * and wavelengths in [lmin, lmax]. For the cylinder (`angular`), the first
  * coordinate is the angle and its frequency an integer (the field wraps),
- * and directions lie within 15 degrees of the circumference so that ridges
- * run along the axis. */
+ * and directions lie within 15 degrees of the circumference. */
 static void make_waves(wave *w, relief_rng *rng, double lmin, double lmax, int angular)
 {
     for (int i = 0; i < N_WAVES; ++i) {
@@ -101,6 +106,19 @@ static void make_waves(wave *w, relief_rng *rng, double lmin, double lmax, int a
         w[i].k[1] = kmag * sin(dir) * (angular ? 0.15 : 1.0);
         if (angular) /* cycles around the circumference (radius 1) */
             w[i].k[0] = floor(w[i].k[0] + 0.5);
+        w[i].phase = 2.0 * PI * relief_rng_uniform(rng);
+    }
+}
+
+/* cylinder-bark's phase field: slow waves, -3 to 3 cycles around the
+ * circumference and wavelengths 1 to 3 along the axis, so crests drift
+ * sideways, and merge or split, over half a trunk's height. */
+static void make_meander(wave *w, relief_rng *rng)
+{
+    for (int i = 0; i < N_WAVES; ++i) {
+        double len = 1.0 + 2.0 * relief_rng_uniform(rng);
+        w[i].k[0] = floor(7.0 * relief_rng_uniform(rng)) - 3.0;
+        w[i].k[1] = 2.0 * PI / len * (relief_rng_uniform(rng) < 0.5 ? -1.0 : 1.0);
         w[i].phase = 2.0 * PI * relief_rng_uniform(rng);
     }
 }
@@ -132,12 +150,16 @@ static double relief_height(const relief_field *f, const double b[3], double u, 
         return c > 0.0 ? 0.05 * c * c : 0.0;
     }
     case RELIEF_SYNTH_CYLINDER_BARK: {
-        /* Furrowed ridges: fold the field so furrows are sharp, crests round.
-         * E|s| = sqrt(2 / pi) for a unit normal s: subtracting half of it
-         * keeps the relief's mean near zero, so a fit to one side of the
-         * trunk is not pulled off the axis. */
-        double s = f->norm * wave_sum(f->w, u, v);
-        return 0.03 * (0.3989422804014327 - fabs(s) / 2.0);
+        /* Furrowed ridges along the axis: BARK_RIDGES crests around the
+         * circumference whose phase meanders with a smooth random field,
+         * folded so furrows are sharp and crests round. Only the phase is
+         * random, so sin(.) keeps its arcsine distribution everywhere and
+         * the relief is stationary: every part of the trunk has the same
+         * height statistics (a completion can only copy the capture's).
+         * E|sin| = 2 / pi: subtracting half of it keeps the relief's mean
+         * at zero, so a fit to one side is not pulled off the axis. */
+        double s = sin(BARK_RIDGES * u + BARK_MEANDER * f->norm * wave_sum(f->w, u, v));
+        return 0.03 * (0.3183098861837907 - fabs(s) / 2.0);
     }
     case RELIEF_SYNTH_SPHERE_DIMPLES: {
         const double rd = 0.16; /* dimple radius, radians */
@@ -482,9 +504,10 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
     case RELIEF_SYNTH_CYLINDER_BANDS:
     case RELIEF_SYNTH_CYLINDER_BARK:
         ok = make_cylinder(&b, params->vertices);
-        /* Folding doubles the ridges' frequency: wavelengths from 0.35 keep
-         * a ridge over about two vertex spacings at the default 2000. */
-        make_waves(field.w, &rng, 0.35, 0.9, 1);
+        if (params->kind == RELIEF_SYNTH_CYLINDER_BARK)
+            make_meander(field.w, &rng);
+        else
+            make_waves(field.w, &rng, 0.35, 0.9, 1);
         break;
     default:
         ok = make_sphere(&b, params->vertices) && make_dimples(&field, &rng);
