@@ -11,6 +11,7 @@
 
 #include "atomic.h"
 #include "error.h"
+#include "oversample.h"
 #include "mesh.h"
 
 #define MAGIC "RELIEFCK"
@@ -74,10 +75,11 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
      * not (the tests hold them to byte-identical outputs). */
     snprintf(key->params, sizeof key->params,
              "fit=%s window=%d rotations=%d error=%s mu=%s seed=%u levels=%d "
-             "oversample=%d spacing=%s extent=%s frames=%s spacing_percentile=%s "
-             "bootstrap=%d",
+             "oversample=%d oversample_scheme=%s spacing=%s extent=%s frames=%s "
+             "spacing_percentile=%s bootstrap=%d",
              relief_fit_model_name(p->fit), p->window, p->rotations, error, mu,
-             (unsigned)p->seed, p->levels, p->oversample, spacing, extent,
+             (unsigned)p->seed, p->levels, p->oversample,
+             relief_oversample_scheme_name(so->oversample_scheme), spacing, extent,
              so->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive", pct,
              go ? go->bootstrap : 0);
 }

@@ -27,6 +27,7 @@
 #include "measures.h"
 #include "memlimit.h"
 #include "mesh.h"
+#include "oversample.h"
 #include "json.h"
 #include "png.h"
 #include "render.h"
@@ -146,7 +147,7 @@ enum {
     OPT_REPORT = 256, OPT_FIT, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_SEED,
     OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
     OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
-    OPT_FRAMES, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
+    OPT_FRAMES, OPT_OVERSAMPLE_SCHEME, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
     OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_MAX_MEMORY,
     OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE, OPT_COLOUR_BY
 };
@@ -172,6 +173,9 @@ static const char complete_help[] =
     "  --backend B           auto|scalar|opencl (default auto)\n"
     "  --device N            OpenCL device index (see 'relief devices')\n"
     "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
+    "  --oversample-scheme S butterfly (default: new samples on the smooth\n"
+    "                        surface through the capture) or midpoint (the\n"
+    "                        papers' coplanar edge midpoints)\n"
     "  --spacing S           target vertex spacing (default: from the capture)\n"
     "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
@@ -213,6 +217,7 @@ static const char smooth_help[] =
     "                        seconds per stage)\n"
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
     "  --oversample N        1-to-4 subdivisions of the capture, 0..4 (default 1)\n"
+    "  --oversample-scheme S butterfly (default) or midpoint (the papers')\n"
     "  --spacing S           target vertex spacing in the input's units\n"
     "  --extent A,B[,C,D]    cylinder: z0,z1 along the fitted axis from its axis\n"
     "                        point; plane: u0,v0,u1,v1 in the plane's (e1, e2)\n"
@@ -252,6 +257,7 @@ static void report_params(relief_json *j, const relief_params *p,
     rj_begin_object(j, "parameters");
     rj_string(j, "fit", relief_fit_model_name(p->fit));
     rj_int(j, "oversample", p->oversample);
+    rj_string(j, "oversample_scheme", relief_oversample_scheme_name(o->oversample_scheme));
     if (p->spacing > 0.0)
         rj_number(j, "spacing", p->spacing);
     else
@@ -776,7 +782,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     return st == RELIEF_OK ? 0 : fail_status("complete", &err);
 }
 
-#define SMOOTH_OPTS 11
+#define SMOOTH_OPTS 12
 
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_only)
 {
@@ -791,9 +797,11 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"ascii", no_argument, 0, OPT_ASCII},
         {"quiet", no_argument, 0, OPT_QUIET},
         {"frames", required_argument, 0, OPT_FRAMES},
+        {"oversample-scheme", required_argument, 0, OPT_OVERSAMPLE_SCHEME},
         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
         {"help", no_argument, 0, 'h'},
-        /* complete only, from here (SMOOTH_OPTS entries above) */
+        /* complete only, from here (SMOOTH_OPTS entries above; checked
+         * below, so a new shared option cannot silently drop --help) */
         {"window", required_argument, 0, OPT_WINDOW},
         {"rotations", required_argument, 0, OPT_ROTATIONS},
         {"error", required_argument, 0, OPT_ERROR},
@@ -824,6 +832,11 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
     long v;
     double d;
 
+    if (strcmp(all_opts[SMOOTH_OPTS].name, "window") != 0) {
+        fprintf(stderr, "relief %s: internal error: SMOOTH_OPTS does not end the shared "
+                "options\n", cmd);
+        return EXIT_INTERNAL;
+    }
     memcpy(smooth_opts, all_opts, SMOOTH_OPTS * sizeof all_opts[0]);
     memset(&smooth_opts[SMOOTH_OPTS], 0, sizeof smooth_opts[0]);
     optind = 0;
@@ -924,6 +937,15 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                 fprintf(stderr, "relief %s: --max-memory: %s\n", cmd, err.message);
                 return EXIT_USAGE;
             }
+            break;
+        case OPT_OVERSAMPLE_SCHEME:
+            if (strcmp(optarg, "butterfly") == 0)
+                sopts.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
+            else if (strcmp(optarg, "midpoint") == 0)
+                sopts.oversample_scheme = RELIEF_OVERSAMPLE_MIDPOINT;
+            else
+                return usage_error(cmd, "--oversample-scheme: '%s' is not one of "
+                                   "butterfly, midpoint", optarg);
             break;
         case OPT_FRAMES:
             if (strcmp(optarg, "paper") == 0)

@@ -15,11 +15,19 @@
 /* Bound on the (index, distance) entries one FLANN query batch holds. */
 #define QUERY_BATCH_ENTRIES ((size_t)1 << 22)
 
+const char *relief_oversample_scheme_name(int scheme)
+{
+    return scheme == RELIEF_OVERSAMPLE_MIDPOINT    ? "midpoint"
+           : scheme == RELIEF_OVERSAMPLE_BUTTERFLY ? "butterfly"
+                                                   : "unknown";
+}
+
 relief_oversample_params relief_oversample_params_default(void)
 {
     relief_oversample_params p;
     p.k = 6;
     p.sigma = 0.0;
+    p.scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
     return p;
 }
 
@@ -66,7 +74,145 @@ static uint32_t slot_end(const uint32_t *tri, size_t s)
  * labels are propagated when both carry them; colour is left zero for the
  * caller). When `edge_len` is not NULL it receives the length of each
  * distinct edge of src (malloc'd, *n_edges entries). */
-static relief_status split_once(const relief_mesh *src, unsigned attrs,
+/* Largest valence the butterfly stencils take; a vertex with more keeps
+ * its edges' midpoints. */
+#define RING_MAX 64
+
+/* The 1-ring of vertex a in rotational order from b (ring[0] = b), walked
+ * across a's n triangles `vt`. Returns its length k (the valence), or 0
+ * when a is on the boundary, its triangles do not form one closed fan, or
+ * k > RING_MAX. Either direction: the stencils are symmetric. */
+static int ring_from(const uint32_t *tri, const uint32_t *vt, size_t n, uint32_t a,
+                     uint32_t b, uint32_t *ring)
+{
+    uint32_t cur = b, prev = UINT32_MAX;
+    int k = 0;
+
+    if (n < 3 || n > RING_MAX)
+        return 0;
+    for (;;) {
+        uint32_t next = UINT32_MAX, t_next = UINT32_MAX;
+        ring[k++] = cur;
+        for (size_t i = 0; i < n && t_next == UINT32_MAX; ++i) {
+            const uint32_t *f = tri + 3 * (size_t)vt[i];
+            int has_a = 0, has_cur = 0;
+            if (vt[i] == prev)
+                continue;
+            for (int c = 0; c < 3; ++c) {
+                has_a |= f[c] == a;
+                has_cur |= f[c] == cur;
+            }
+            if (!has_a || !has_cur)
+                continue;
+            t_next = vt[i];
+            for (int c = 0; c < 3; ++c)
+                if (f[c] != a && f[c] != cur)
+                    next = f[c];
+        }
+        if (t_next == UINT32_MAX || next == UINT32_MAX)
+            return 0; /* a boundary edge (a, cur) */
+        if (next == b)
+            return (size_t)k == n ? k : 0;
+        if ((size_t)k >= n)
+            return 0;
+        prev = t_next;
+        cur = next;
+    }
+}
+
+/* Adds w times the stencil of an extraordinary vertex a of valence k with
+ * ring[0] the edge's other end (Zorin, Schroeder and Sweldens 1996):
+ * 3/4 a + sum_j s_j ring[j], s_j = (1/4 + cos(2 pi j / k) + cos(4 pi j / k)
+ * / 2) / k for k >= 5, {5/12, -1/12, -1/12} for k = 3 and {3/8, 0, -1/8, 0}
+ * for k = 4. */
+static void add_ring_stencil(const double *pos, uint32_t a, const uint32_t *ring, int k,
+                             double w, double q[3])
+{
+    static const double PI_ = 3.14159265358979323846;
+    for (int i = 0; i < 3; ++i)
+        q[i] += w * 0.75 * pos[3 * (size_t)a + i];
+    for (int j = 0; j < k; ++j) {
+        double sj;
+        if (k == 3)
+            sj = j == 0 ? 5.0 / 12.0 : -1.0 / 12.0;
+        else if (k == 4)
+            sj = j == 0 ? 3.0 / 8.0 : j == 2 ? -1.0 / 8.0 : 0.0;
+        else
+            sj = (0.25 + cos(2.0 * PI_ * j / k) + 0.5 * cos(4.0 * PI_ * j / k)) / k;
+        for (int i = 0; i < 3; ++i)
+            q[i] += w * sj * pos[3 * (size_t)ring[j] + i];
+    }
+}
+
+/* Moves every new vertex of m (nv + e for edge e of src) from its edge's
+ * midpoint to the modified butterfly point (oversample.h). */
+static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
+                               size_t ne, relief_mesh *m, relief_error *err)
+{
+    const uint32_t *tri = src->tri;
+    const size_t ns = 3 * src->nt, nv = src->nv;
+    const double *pos = src->pos;
+    uint32_t *first = malloc(ne * sizeof *first);
+    uint8_t *cnt = calloc(ne, 1);
+    uint32_t *vt_start = malloc((nv + 1) * sizeof *vt_start);
+    uint32_t *vt = malloc(ns * sizeof *vt);
+    uint32_t ra[RING_MAX], rb[RING_MAX];
+
+    if (!first || !cnt || !vt_start || !vt) {
+        free(first);
+        free(cnt);
+        free(vt_start);
+        free(vt);
+        return relief_fail(err, RELIEF_E_NOMEM,
+                           "cannot allocate the butterfly tables of %zu edges", ne);
+    }
+    relief_mesh_vertex_triangles(src, vt_start, vt);
+    for (size_t s = 0; s < ns; ++s) {
+        const uint32_t e = edge[s];
+        if (cnt[e] == 0)
+            first[e] = (uint32_t)s;
+        if (cnt[e] < 3)
+            ++cnt[e];
+    }
+    for (size_t e = 0; e < ne; ++e) {
+        const uint32_t a = tri[first[e]], b = slot_end(tri, first[e]);
+        double *q = m->pos + 3 * (nv + e);
+        int ka, kb;
+
+        if (cnt[e] != 2)
+            continue; /* a boundary or non-manifold edge */
+        ka = ring_from(tri, vt + vt_start[a], vt_start[a + 1] - vt_start[a], a, b, ra);
+        kb = ring_from(tri, vt + vt_start[b], vt_start[b + 1] - vt_start[b], b, a, rb);
+        if (!ka || !kb)
+            continue; /* an end on the boundary */
+        if (ka == 6 && kb == 6) {
+            /* Regular: 1/2 (a + b) + 1/8 (c + d) - 1/16 (wings), with c, d
+             * = ra[1], ra[5] and the wings ra[2], ra[4], rb[2], rb[4]. */
+            for (int i = 0; i < 3; ++i)
+                q[i] = 0.5 * (pos[3 * (size_t)a + i] + pos[3 * (size_t)b + i]) +
+                       0.125 * (pos[3 * (size_t)ra[1] + i] + pos[3 * (size_t)ra[5] + i]) -
+                       0.0625 * (pos[3 * (size_t)ra[2] + i] + pos[3 * (size_t)ra[4] + i] +
+                                 pos[3 * (size_t)rb[2] + i] + pos[3 * (size_t)rb[4] + i]);
+            continue;
+        }
+        q[0] = q[1] = q[2] = 0.0;
+        if (ka != 6 && kb != 6) {
+            add_ring_stencil(pos, a, ra, ka, 0.5, q);
+            add_ring_stencil(pos, b, rb, kb, 0.5, q);
+        } else if (ka != 6) {
+            add_ring_stencil(pos, a, ra, ka, 1.0, q);
+        } else {
+            add_ring_stencil(pos, b, rb, kb, 1.0, q);
+        }
+    }
+    free(first);
+    free(cnt);
+    free(vt_start);
+    free(vt);
+    return RELIEF_OK;
+}
+
+static relief_status split_once(const relief_mesh *src, unsigned attrs, int scheme,
                                 relief_mesh **dst, double **edge_len,
                                 size_t *n_edges, relief_error *err)
 {
@@ -196,6 +342,12 @@ static relief_status split_once(const relief_mesh *src, unsigned attrs,
                                   ? src->label[lo]
                                   : (uint8_t)RELIEF_LABEL_CAPTURED;
         }
+    }
+
+    if (scheme == RELIEF_OVERSAMPLE_BUTTERFLY) {
+        st = butterfly(src, edge, ne, m, err);
+        if (st != RELIEF_OK)
+            goto done;
     }
 
     for (size_t t = 0; t < nt; ++t) {
@@ -390,6 +542,11 @@ relief_status relief_oversample(const relief_mesh *in, int passes,
         return relief_fail(err, RELIEF_E_RANGE,
                            "oversampling passes = %d is out of range [0, %d]",
                            passes, RELIEF_OVERSAMPLE_PASSES_MAX);
+    if (prm.scheme != RELIEF_OVERSAMPLE_MIDPOINT && prm.scheme != RELIEF_OVERSAMPLE_BUTTERFLY)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "oversampling scheme %d is not one of midpoint (%d), "
+                           "butterfly (%d)", prm.scheme, RELIEF_OVERSAMPLE_MIDPOINT,
+                           RELIEF_OVERSAMPLE_BUTTERFLY);
     if (prm.k < 1 || prm.k > RELIEF_OVERSAMPLE_K_MAX)
         return relief_fail(err, RELIEF_E_RANGE,
                            "oversampling colour neighbours k = %d is out of "
@@ -415,7 +572,7 @@ relief_status relief_oversample(const relief_mesh *in, int passes,
         const unsigned attrs = (in->attrs & ~(unsigned)RELIEF_MESH_COLOURS) |
                                (last ? in->attrs & RELIEF_MESH_COLOURS : 0u);
         const int want_len = pass == 0 && in->col && sigma == 0.0;
-        st = split_once(cur ? cur : in, attrs, &next, want_len ? &len : NULL,
+        st = split_once(cur ? cur : in, attrs, prm.scheme, &next, want_len ? &len : NULL,
                         &ne, err);
         relief_mesh_destroy(cur);
         cur = next;

@@ -41,6 +41,7 @@ relief_smooth_options relief_smooth_options_default(void)
     relief_smooth_options o;
     o.frames = RELIEF_FRAMES_PAPER;
     o.spacing_percentile = 10.0;
+    o.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
     return o;
 }
 
@@ -514,6 +515,7 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
     memset(&cov, 0, sizeof cov);
     if (!opts)
         opts = &dflt;
+    op.scheme = opts->oversample_scheme;
     if (capture->nt == 0)
         return relief_fail(err, RELIEF_E_MESH,
                            "the capture is a point cloud (no triangles); triangulate it "

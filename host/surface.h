@@ -20,6 +20,8 @@ typedef struct relief_smooth_options {
     double spacing_percentile; /* robust low percentile of the capture's edge
                                   lengths taken as the target spacing when
                                   relief_params.spacing is 0; default 10 */
+    int oversample_scheme;     /* RELIEF_OVERSAMPLE_* (oversample.h);
+                                  default butterfly */
 } relief_smooth_options;
 
 relief_smooth_options relief_smooth_options_default(void);

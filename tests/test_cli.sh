@@ -147,6 +147,14 @@ grep -q "property int label" "$tmp/sm.ply" && pass=$((pass+1)) || { echo "FAIL: 
 expect 0 "" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm2.ply" --report "$tmp/sm2.json" --spacing 0.1 --frames primitive --quiet
 grep -qF '"spacing_source": "--spacing"' "$tmp/sm2.json" && pass=$((pass+1)) || { echo "FAIL: --spacing not reported"; fail=$((fail+1)); }
 expect 1 "--frames" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm3.ply" --frames local
+grep -qF '"oversample_scheme": "butterfly"' "$tmp/sm.json" && pass=$((pass+1)) || { echo "FAIL: default oversampling scheme not reported as butterfly"; fail=$((fail+1)); }
+# The papers' midpoints: the captured part keeps its planar triangles, so the
+# two schemes' samples differ, and the choice is reported.
+expect 0 "" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm4.ply" --report "$tmp/sm4.json" --oversample-scheme midpoint --quiet
+grep -qF '"oversample_scheme": "midpoint"' "$tmp/sm4.json" && pass=$((pass+1)) || { echo "FAIL: --oversample-scheme midpoint not reported"; fail=$((fail+1)); }
+cmp -s "$tmp/sm.ply" "$tmp/sm4.ply" && { echo "FAIL: butterfly and midpoint oversampling gave the same mesh"; fail=$((fail+1)); } || pass=$((pass+1))
+expect 1 "--oversample-scheme" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm5.ply" --oversample-scheme loop
+[[ ! -e $tmp/sm5.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left after a bad --oversample-scheme"; fail=$((fail+1)); }
 expect 1 "nothing to complete" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --report "$tmp/sq.json"
 [[ ! -e $tmp/sq.ply && ! -e $tmp/sq.json ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed smooth"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --extent=-1,-1,2,2 --spacing 0.2

@@ -1,6 +1,7 @@
 /* relief_oversample on small grids with known answers: counts, geometry
- * (on the surface, area, orientation, shared midpoints), attributes,
- * colour transfer, determinism and errors. */
+ * (midpoint: on the surface, area, orientation, shared midpoints; butterfly:
+ * interpolation, flatness, cubic reproduction, boundary fallback),
+ * attributes, colour transfer, determinism and errors. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -164,6 +165,10 @@ static int pos_cmp(const void *x, const void *y)
     return 0;
 }
 
+/* The papers' coplanar midpoints, for the checks that need a new vertex
+ * exactly halfway along its edge. */
+static const relief_oversample_params MIDPOINT = {RELIEF_OVERSAMPLE_MIDPOINT, 6, 0.0};
+
 static relief_mesh *oversample_or_die(const relief_mesh *in, int passes,
                                       const relief_oversample_params *p)
 {
@@ -203,8 +208,8 @@ static void test_counts(void)
     const unsigned attrs = RELIEF_MESH_NORMALS | RELIEF_MESH_LABELS;
     relief_mesh *in = grid(nx, ny, 0.25, 0.0, attrs);
     const size_t V = in->nv, T = in->nt, E = grid_edges(nx, ny);
-    relief_mesh *o1 = oversample_or_die(in, 1, NULL);
-    relief_mesh *o2 = oversample_or_die(in, 2, NULL);
+    relief_mesh *o1 = oversample_or_die(in, 1, &MIDPOINT);
+    relief_mesh *o2 = oversample_or_die(in, 2, &MIDPOINT);
     relief_mesh *o0 = oversample_or_die(in, 0, NULL);
     /* After one pass E' = 2 E + 3 T: each edge splits in two and each
      * triangle adds 3 inner edges. */
@@ -272,7 +277,7 @@ static void test_geometry(void)
 {
     relief_mesh *in = grid(7, 6, 0.2, 0.3, 0);
     for (int passes = 1; passes <= 2; ++passes) {
-        relief_mesh *o = oversample_or_die(in, passes, NULL);
+        relief_mesh *o = oversample_or_die(in, passes, &MIDPOINT);
         const size_t fan = (size_t)1 << (2 * passes); /* children per input triangle */
         double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
         double diag, dmax = 0.0, area_in = 0.0, area_out = 0.0, parent_err = 0.0;
@@ -409,7 +414,7 @@ static void test_colour(void)
      *   ~1.8 h away (the k = 6 nearest of a corner's midpoint), so the
      *   tolerance is the plain bound 2 h x slope. */
     for (int passes = 1; passes <= 2; ++passes) {
-        relief_mesh *o = oversample_or_die(in, passes, NULL);
+        relief_mesh *o = oversample_or_die(in, passes, &MIDPOINT);
         double e_in = 0.0, e_all = 0.0;
         size_t n_in = 0;
         const double slope_x = 1.0 / ((nx - 1) * h), slope_y = 1.0 / ((ny - 1) * h);
@@ -492,6 +497,107 @@ static void test_colour(void)
     }
 }
 
+/* A cubic height field, which the butterfly scheme reproduces exactly on a
+ * regular three-direction grid. */
+static double cubic(double x, double y)
+{
+    return 0.3 * x * x * x - 0.2 * x * x * y + 0.1 * y * y + 0.05 * x * y - 0.1 * y;
+}
+
+static void test_butterfly(void)
+{
+    const int nx = 9, ny = 8;
+    const double h = 0.125;
+    const relief_oversample_params mid = MIDPOINT;
+    relief_mesh *flat = grid(nx, ny, h, 0.0, 0), *bump = grid(nx, ny, h, 0.2, 0);
+    relief_mesh *reg = grid(nx, ny, h, 0.0, 0), *o = NULL, *om = NULL;
+    double zmax = 0.0, moved = 0.0, err_b = 0.0, err_m = 0.0, cub_b = 0.0, cub_m = 0.0;
+    double bnd = 0.0;
+    size_t n_inner = 0, n_bnd = 0;
+
+    CHECK(relief_oversample_params_default().scheme == RELIEF_OVERSAMPLE_BUTTERFLY,
+          "the default scheme is not butterfly");
+
+    /* Interpolating: the original vertices do not move; a plane stays flat
+     * (the stencil's weights sum to 1) even with alternating diagonals. */
+    o = oversample_or_die(flat, 1, NULL);
+    for (size_t v = 0; v < flat->nv; ++v)
+        for (int i = 0; i < 3; ++i)
+            moved = fmax(moved, fabs(o->pos[3 * v + i] - flat->pos[3 * v + i]));
+    for (size_t v = 0; v < o->nv; ++v)
+        zmax = fmax(zmax, fabs(o->pos[3 * v + 2]));
+    CHECK(moved == 0.0, "an original vertex moved by %g", moved);
+    CHECK(zmax < 1e-15, "a flat grid left the plane by %g", zmax);
+    relief_mesh_destroy(o);
+
+    /* On a smooth bump the new vertices land much nearer the surface than
+     * the chords' midpoints, even on this grid of valences 4 and 8 (the
+     * extraordinary stencils); edges on the boundary keep the midpoint. */
+    o = oversample_or_die(bump, 1, NULL);
+    om = oversample_or_die(bump, 1, &mid);
+    for (size_t v = bump->nv; v < o->nv; ++v) {
+        const double *p = o->pos + 3 * v, *q = om->pos + 3 * v;
+        double zb = 0.2 * sin(3.0 * p[0]) * cos(2.0 * p[1] + 0.3);
+        double zm = 0.2 * sin(3.0 * q[0]) * cos(2.0 * q[1] + 0.3);
+        if (boundary_distance(q, nx, ny, h) < 1e-12) {
+            for (int i = 0; i < 3; ++i)
+                bnd = fmax(bnd, fabs(p[i] - q[i]));
+            ++n_bnd;
+        } else if (boundary_distance(q, nx, ny, h) > 1.5 * h) {
+            err_b += fabs(p[2] - zb);
+            err_m += fabs(q[2] - zm);
+            ++n_inner;
+        }
+    }
+    CHECK(n_bnd == 2 * (size_t)(nx - 1 + ny - 1), "%zu boundary edges", n_bnd);
+    CHECK(bnd == 0.0, "a boundary edge's new vertex is %g off its midpoint", bnd);
+    err_b /= (double)(n_inner ? n_inner : 1);
+    err_m /= (double)(n_inner ? n_inner : 1);
+    CHECK(n_inner > 0 && err_b < err_m / 3.0,
+          "butterfly mean error %g is not 3x below the midpoints' %g (%zu inner edges)",
+          err_b, err_m, n_inner);
+    relief_mesh_destroy(o);
+    relief_mesh_destroy(om);
+
+    /* Regular three-direction grid (every cell split the same way): the
+     * stencil is symmetric, so a new vertex sits above its edge's midpoint,
+     * and a cubic height field is reproduced exactly away from the
+     * boundary. */
+    for (size_t t = 0; t < reg->nt; t += 2) {
+        size_t cell = t / 2, i = cell % (size_t)(nx - 1), j = cell / (size_t)(nx - 1);
+        uint32_t v00 = (uint32_t)(j * (size_t)nx + i), v10 = v00 + 1;
+        uint32_t v01 = v00 + (uint32_t)nx, v11 = v01 + 1;
+        uint32_t q[6] = {v00, v10, v11, v00, v11, v01};
+        memcpy(reg->tri + 3 * t, q, sizeof q);
+    }
+    for (size_t v = 0; v < reg->nv; ++v)
+        reg->pos[3 * v + 2] = cubic(reg->pos[3 * v], reg->pos[3 * v + 1]);
+    o = oversample_or_die(reg, 1, NULL);
+    om = oversample_or_die(reg, 1, &mid);
+    n_inner = 0;
+    for (size_t v = reg->nv; v < o->nv; ++v) {
+        const double *p = o->pos + 3 * v, *q = om->pos + 3 * v;
+        if (boundary_distance(q, nx, ny, h) <= 1.5 * h)
+            continue;
+        ++n_inner;
+        cub_b = fmax(cub_b, fabs(p[0] - q[0]) + fabs(p[1] - q[1]) +
+                                fabs(p[2] - cubic(q[0], q[1])));
+        cub_m = fmax(cub_m, fabs(q[2] - cubic(q[0], q[1])));
+    }
+    CHECK(n_inner > 0 && cub_b < 1e-14, "cubic: butterfly error %g (%zu inner edges)", cub_b,
+          n_inner);
+    CHECK(cub_m > 1e-4, "cubic: the midpoints' error %g is not visible", cub_m);
+    printf("butterfly: originals moved %g, flat grid |z| <= %g, bump mean error %.3g vs "
+           "midpoint %.3g (%zu inner edges), %zu boundary edges at their midpoints, "
+           "cubic max error %.3g vs midpoint %.3g\n",
+           moved, zmax, err_b, err_m, n_inner, n_bnd, cub_b, cub_m);
+    relief_mesh_destroy(o);
+    relief_mesh_destroy(om);
+    relief_mesh_destroy(flat);
+    relief_mesh_destroy(bump);
+    relief_mesh_destroy(reg);
+}
+
 static void test_determinism(void)
 {
     relief_mesh *in = grid(9, 8, 0.125, 0.2,
@@ -522,6 +628,11 @@ static void test_errors(void)
     CHECK(st == RELIEF_E_RANGE && out == NULL, "passes -1: %s", relief_status_name(st));
     st = relief_oversample(in, RELIEF_OVERSAMPLE_PASSES_MAX + 1, NULL, &out, &err);
     CHECK(st == RELIEF_E_RANGE && out == NULL, "passes 9: %s", relief_status_name(st));
+    p.scheme = 7;
+    st = relief_oversample(in, 1, &p, &out, &err);
+    CHECK(st == RELIEF_E_RANGE && out == NULL && strstr(err.message, "scheme"),
+          "scheme 7: %s (%s)", relief_status_name(st), err.message);
+    p.scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
     p.k = 0;
     st = relief_oversample(in, 1, &p, &out, &err);
     CHECK(st == RELIEF_E_RANGE && out == NULL, "k 0: %s", relief_status_name(st));
@@ -548,6 +659,7 @@ int main(void)
 {
     test_counts();
     test_geometry();
+    test_butterfly();
     test_colour();
     test_determinism();
     test_errors();
