@@ -551,7 +551,7 @@ done:
 /* Gaussian smoothing of a level's displacement heights over each vertex's
  * 1-ring and itself; sigma is the level's mean edge length. */
 static relief_status smooth_heights(const relief_hierarchy *h, int ki, const double *disp,
-                                    double *out, relief_error *err)
+                                    size_t n_use, double *out, relief_error *err)
 {
     const relief_surface *lv = h->level[ki];
     const size_t nv = lv->mesh->nv;
@@ -573,8 +573,14 @@ static relief_status smooth_heights(const relief_hierarchy *h, int ki, const dou
     inv2s2 = ne ? 1.0 / (2.0 * (sum / ne) * (sum / ne)) : 0.0;
     for (size_t v = 0; v < nv; ++v) {
         double acc = disp[v], wsum = 1.0;
+        if (v >= n_use) {
+            out[v] = disp[v];
+            continue;
+        }
         for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
             const uint32_t u = adj.nbr[i];
+            if (u >= n_use)
+                continue;
             const double *a = pp + 3 * (size_t)ids[v], *b = pp + 3 * (size_t)ids[u];
             double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
             double w = exp(-dot3(d, d) * inv2s2);
@@ -677,13 +683,28 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
                     base[v] += h->weight[ki][3 * v + k] *
                                smoothed_prev[h->corner[ki][3 * v + k]];
         }
+        /* Below the finest level the samples' relief is low-passed at the
+         * level's own scale first (a Gaussian over each sample's 1-ring
+         * of samples), as an image pyramid filters before it subsamples:
+         * a coarse level's vertices are too far apart for the full relief,
+         * which would alias into false coarse structure. */
+        if (ki < M - 1) {
+            for (size_t v = 0; v < lv->n_samples; ++v)
+                disp[v] = dot3(s->disp + 3 * (size_t)ids[v], s->nrm + 3 * (size_t)ids[v]);
+            st = smooth_heights(h, ki, disp, lv->n_samples, smoothed, err);
+            if (st != RELIEF_OK)
+                goto level_done;
+        }
         for (size_t v = 0; v < nv; ++v) {
             const double *p0 = prim + 3 * (size_t)ids[v], *n = s->nrm + 3 * (size_t)ids[v];
             double *pv = lm->pos + 3 * v;
             for (int k = 0; k < 3; ++k)
                 lv->proj[3 * v + k] = p0[k] + base[v] * n[k];
-            if (v < lv->n_samples) { /* samples stay where they were captured */
-                if (lv != s)
+            if (v < lv->n_samples) { /* samples: low-passed, or as captured */
+                if (ki < M - 1) {
+                    for (int k = 0; k < 3; ++k)
+                        pv[k] = p0[k] + smoothed[v] * n[k];
+                } else if (lv != s)
                     memcpy(pv, s->mesh->pos + 3 * (size_t)ids[v], 3 * sizeof *pv);
             } else
                 memcpy(pv, lv->proj + 3 * v, 3 * sizeof *pv);
@@ -726,7 +747,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         for (size_t v = 0; v < nv; ++v)
             disp[v] = dot3(lv->disp + 3 * v, s->nrm + 3 * (size_t)ids[v]);
         if (ki < M - 1) {
-            st = smooth_heights(h, ki, disp, smoothed, err);
+            st = smooth_heights(h, ki, disp, nv, smoothed, err);
             if (st != RELIEF_OK)
                 goto level_done;
         } else {

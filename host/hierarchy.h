@@ -11,7 +11,15 @@
  * Relief is a height along the primitive's normal. Level 1 grows the
  * displacements from the primitive (level 0); level k grows them from the
  * completed, smoothed level k-1 surface (001 figure 4), interpolated
- * linearly over level k-1's triangles: its base. Each level runs the
+ * linearly over level k-1's triangles: its base. The samples of a level
+ * k < M carry their captured height low-passed at that level's scale (a
+ * Gaussian over each sample's 1-ring of samples at the level, sigma its
+ * mean edge), as an image pyramid filters before it subsamples: the full
+ * relief on vertices that far apart aliases into false coarse structure,
+ * which the finer levels then cannot undo (on paper 001's cylinder, M = 2:
+ * MSI difference 7.5 % unfiltered, 1.8 % filtered). At level M the samples
+ * are where they were captured, so the levels' displacements sum to the
+ * capture. Each level runs the
  * mono-scale growth (grow.h) with the same matcher backends; after levels
  * 1..M-1 the displacement field (samples and targets alike) is smoothed by
  * a Gaussian over each vertex's 1-ring. Sample pyramids: at level k >= 2 a

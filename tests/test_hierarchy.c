@@ -25,6 +25,18 @@ static relief_surface *smooth_of(relief_synth_kind kind, size_t vertices, int co
     return s;
 }
 
+static void sub3(const double *a, const double *b, double *r)
+{
+    r[0] = a[0] - b[0];
+    r[1] = a[1] - b[1];
+    r[2] = a[2] - b[2];
+}
+
+static double dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
 static double dist2(const double *a, const double *b)
 {
     double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
@@ -144,9 +156,13 @@ static void free_heights(relief_level_heights *lh)
     }
 }
 
-/* Every sample at every level sits where it was captured: primitive +
+/* At the finest level every sample sits where it was captured: primitive +
  * (base + its displacement) along the normal, the base being the smoothed
- * level below interpolated; targets end at primitive + base + grown. */
+ * level below interpolated, so the levels' displacements sum to the
+ * capture. Below it a sample's height is its captured relief low-passed
+ * over its level's 1-ring: a weighted mean of its own and its sample
+ * neighbours' captured heights, so within their range, and smaller on
+ * average. Targets end at primitive + base + grown. */
 static void check_bookkeeping(void)
 {
     relief_level_heights lh[RELIEF_MAX_LEVELS];
@@ -162,16 +178,36 @@ static void check_bookkeeping(void)
     for (int k = 1; k <= LEVELS; ++k) {
         const relief_surface *l = h->level[k - 1];
         const uint32_t *ids = h->ids[k - 1];
-        double worst_s = 0.0, worst_b = 0.0, worst_t = 0.0;
-        for (size_t v = 0; v < l->mesh->nv; ++v) {
+        double worst_s = 0.0, worst_b = 0.0, worst_t = 0.0, outside = 0.0;
+        double sum_cap = 0.0, sum_lev = 0.0;
+        relief_adjacency adj = {NULL, NULL};
+        CHECK(relief_mesh_adjacency(l->mesh, &adj, NULL) == RELIEF_OK, "adjacency");
+        for (size_t v = 0; v < l->mesh->nv && adj.start; ++v) {
             const uint32_t f = ids[v];
             const double *n = s->nrm + 3 * (size_t)f, *pp = s->proj + 3 * (size_t)f;
             double x[3], base = 0.0;
             for (int i = 0; i < 3; ++i)
                 x[i] = pp[i] + (lh[k - 1].base[v] + lh[k - 1].disp[v]) * n[i];
-            if (f < s->n_samples)
+            if (f < s->n_samples && k == LEVELS) {
                 worst_s = fmax(worst_s, sqrt(dist2(x, orig->mesh->pos + 3 * (size_t)f)));
-            else if (k == LEVELS)
+            } else if (f < s->n_samples) {
+                const double hv = lh[k - 1].base[v] + lh[k - 1].disp[v];
+                double hc[3], lo, hi;
+                sub3(orig->mesh->pos + 3 * (size_t)f, pp, hc);
+                lo = hi = dot3(hc, n);
+                sum_cap += fabs(lo);
+                sum_lev += fabs(hv);
+                for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
+                    const uint32_t u = adj.nbr[i], fu = ids[u];
+                    double hu[3];
+                    if (fu >= s->n_samples)
+                        continue;
+                    sub3(orig->mesh->pos + 3 * (size_t)fu, s->proj + 3 * (size_t)fu, hu);
+                    lo = fmin(lo, dot3(hu, s->nrm + 3 * (size_t)fu));
+                    hi = fmax(hi, dot3(hu, s->nrm + 3 * (size_t)fu));
+                }
+                outside = fmax(outside, fmax(lo - hv, hv - hi));
+            } else if (k == LEVELS)
                 worst_t = fmax(worst_t, sqrt(dist2(x, s->mesh->pos + 3 * (size_t)f)));
             if (k > 1)
                 for (int i = 0; i < 3; ++i)
@@ -179,8 +215,17 @@ static void check_bookkeeping(void)
                             lh[k - 2].smoothed[h->corner[k - 1][3 * v + i]];
             worst_b = fmax(worst_b, fabs(base - lh[k - 1].base[v]));
         }
+        relief_adjacency_free(&adj);
         CHECK(worst_s < 1e-9, "level %d: a sample is %.3g off its captured position", k,
               worst_s);
+        if (k < LEVELS) {
+            CHECK(outside < 1e-12, "level %d: a sample's height is %.3g outside its "
+                  "1-ring's captured heights", k, outside);
+            CHECK(sum_lev < 0.95 * sum_cap, "level %d: samples' mean |height| %.4g is not "
+                  "below the captured %.4g: no low-pass", k, sum_lev, sum_cap);
+            printf("level %d: samples' mean |height| %.4g, captured %.4g\n", k,
+                   sum_lev / (double)l->n_samples, sum_cap / (double)l->n_samples);
+        }
         CHECK(worst_b < 1e-12, "level %d: a base is %.3g off the level below", k, worst_b);
         CHECK(worst_t < 1e-9, "level %d: a target is %.3g off base + displacement", k, worst_t);
         printf("level %d: %zu vertices (%zu samples, %zu targets), %zu boxes of %.1f samples "
