@@ -630,6 +630,8 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     uint32_t *match_prev = NULL;
     relief_status st = RELIEF_OK;
     const double mu = relief_grow_mu(params, s->mesh->col != NULL);
+    relief_matcher *m = NULL;         /* every level's, rebound per level */
+    relief_match_data *d_prev = NULL; /* the previous level's match data */
 
     memset(hs, 0, sizeof *hs);
     memset(total, 0, sizeof *total);
@@ -660,7 +662,6 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         const uint32_t *ids = h->ids[ki];
         relief_level_stats *ls = &hs->level[ki];
         relief_match_data *d = NULL;
-        relief_matcher *m = NULL;
         relief_grow_options lo = go ? *go : relief_grow_options_default();
         uint32_t *pstart = NULL, *pitems = NULL, *matched = malloc((nv + 1) * sizeof *matched);
         double *base = malloc((nv + 1) * sizeof *base), *disp = malloc((nv + 1) * sizeof *disp);
@@ -717,11 +718,18 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             goto level_done;
         d->b_shape = b_shape;
         d->inv_b2 = (float)(1.0 / (b_shape * b_shape));
-        st = relief_matcher_create(ho->backend, ho->device, d, &m, lnote, sizeof lnote, err);
+        /* One matcher for every level: OpenCL keeps its context and built
+         * program, and only the surface's buffers change. */
+        if (!m) {
+            st = relief_matcher_create(ho->backend, ho->device, d, &m, lnote, sizeof lnote,
+                                       err);
+            if (st == RELIEF_OK && lnote[0] && note && note_size && !note[0])
+                snprintf(note, note_size, "%s", lnote);
+        } else {
+            st = relief_matcher_rebind(m, d, err);
+        }
         if (st != RELIEF_OK)
             goto level_done;
-        if (lnote[0] && note && note_size && !note[0])
-            snprintf(note, note_size, "%s", lnote);
         if (ki > 0 && ho->pyramids) {
             st = build_pyramids(h, ki, match_prev, params->window, &pstart, &pitems, &ls->boxes,
                                 err);
@@ -734,6 +742,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             lo.pyramid_start = lo.pyramid_items = NULL;
         }
         lo.matched = matched;
+        m->kernel_seconds = 0.0; /* this level's scoring time only */
         st = relief_grow(lv, d, m, params, &lo, &ls->grow, err);
         if (st != RELIEF_OK) {
             relief_fail_prefix(err, "hierarchy level %d of %d", ki + 1, M);
@@ -771,8 +780,15 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         matched = NULL;
     level_done:
         ls->seconds = relief_seconds() - t0;
-        relief_matcher_destroy(m);
-        relief_match_data_destroy(d);
+        /* The matcher may still read the level's data (queued writes)
+         * until the next rebind, which waits for them; d goes after it.
+         * On failure the matcher goes first. */
+        if (st != RELIEF_OK) {
+            relief_matcher_destroy(m);
+            m = NULL;
+        }
+        relief_match_data_destroy(d_prev);
+        d_prev = d;
         free(pstart);
         free(pitems);
         free(matched);
@@ -782,6 +798,8 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         if (st != RELIEF_OK)
             break;
     }
+    relief_matcher_destroy(m);
+    relief_match_data_destroy(d_prev);
     /* s is level M: back to displacements from the primitive. */
     memcpy(s->proj, prim, nfull * 3 * sizeof *prim);
     for (size_t v = 0; v < nfull; ++v)

@@ -65,8 +65,10 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     st = device_fits(device, d, err);
     if (st == RELIEF_OK)
         st = relief_matcher_opencl_create(d, device, out, err);
-    if (st == RELIEF_OK)
+    if (st == RELIEF_OK) {
         (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
+        (*out)->device_index = device;
+    }
     if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL)
         return st;
     /* auto: say why, then fall back to the reference. */
@@ -105,6 +107,20 @@ relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *
     relief_status st = m->ops->update(m->ctx, d, v, err);
     if (st == RELIEF_E_DEVICE && m->fallback)
         st = fall_back(m, d, err, err); /* the reference reads d itself */
+    return st;
+}
+
+relief_status relief_matcher_rebind(relief_matcher *m, const relief_match_data *d,
+                                    relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+    if (m->backend == RELIEF_BACKEND_OPENCL)
+        st = device_fits(m->device_index, d, err);
+    if (st == RELIEF_OK)
+        st = m->ops->rebind(m->ctx, d, err);
+    if (st != RELIEF_OK && m->backend == RELIEF_BACKEND_OPENCL && m->fallback &&
+        (st == RELIEF_E_DEVICE || st == RELIEF_E_NOMEM))
+        st = fall_back(m, d, err, err);
     return st;
 }
 

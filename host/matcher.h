@@ -105,6 +105,9 @@ typedef struct relief_matcher_ops {
     /* Vertex v's position, colour or matchable flag changed in d. */
     relief_status (*update)(void *ctx, const relief_match_data *d, uint32_t v,
                             relief_error *err);
+    /* From now on score against d, another surface (the next level of a
+     * hierarchy); what does not depend on the surface is kept. */
+    relief_status (*rebind)(void *ctx, const relief_match_data *d, relief_error *err);
     void (*destroy)(void *ctx);
 } relief_matcher_ops;
 
@@ -112,6 +115,7 @@ struct relief_matcher {
     const relief_matcher_ops *ops;
     void *ctx;
     relief_backend backend;  /* the one actually used */
+    int device_index;        /* the OpenCL device asked for (-1: first) */
     char device[256];        /* "scalar (1 thread)" or the OpenCL device */
     double kernel_seconds;   /* time spent scoring */
     /* Set by relief_matcher_create for auto: when the device fails during
@@ -156,6 +160,13 @@ relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d
                                    const relief_match_query *q, float *ssd, uint8_t *flag,
                                    relief_error *err);
 relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *d, uint32_t v,
+                                    relief_error *err);
+/* Score against another surface d from now on, keeping the backend's
+ * set-up (for OpenCL the context and the built program): the levels of a
+ * hierarchy. The surface is checked against the device's memory again;
+ * under auto a device that cannot take it falls back to the scalar
+ * reference (fallback_note says why). */
+relief_status relief_matcher_rebind(relief_matcher *m, const relief_match_data *d,
                                     relief_error *err);
 void relief_matcher_destroy(relief_matcher *m);
 

@@ -172,6 +172,67 @@ static relief_status upload(ocl *o, cl_mem *mem, const void *host, size_t bytes,
     return RELIEF_OK;
 }
 
+/* The surface's buffers for match data d (device-resident for the run). */
+static relief_status upload_data(ocl *o, const relief_match_data *d, relief_error *err)
+{
+    const size_t ncand = (size_t)d->ns * (size_t)d->rotations;
+    relief_status st;
+#define UP(mem, ptr, bytes, what)                                                         \
+    if ((st = upload(o, &o->mem, ptr, bytes, CL_MEM_READ_ONLY, what, err)) != RELIEF_OK) \
+        return st;
+    UP(proj, d->proj, (size_t)d->nv * 3 * sizeof(float), "projected positions");
+    UP(pos, d->pos, (size_t)d->nv * 3 * sizeof(float), "positions");
+    UP(col, d->col, (size_t)d->nv * 3 * sizeof(float), "colours");
+    UP(matchable, d->matchable, d->nv, "labels");
+    UP(tri, d->tri, (size_t)d->nt * 3 * sizeof(uint32_t), "triangles");
+    UP(vt_start, d->vt_start, ((size_t)d->nv + 1) * sizeof(uint32_t), "vertex-triangle lists");
+    UP(vt, d->vt, (size_t)d->vt_start[d->nv] * sizeof(uint32_t), "vertex-triangle lists");
+    UP(cell_start, d->cell_start,
+       ((size_t)d->dims[0] * d->dims[1] * d->dims[2] + 1) * sizeof(uint32_t), "the grid");
+    UP(cell_items, d->cell_items, (size_t)d->nv * sizeof(uint32_t), "the grid");
+    UP(lslot, d->lslot, ((size_t)d->lmask + 1) * 3 * sizeof(uint32_t), "the closest-vertex lists");
+    UP(litems, d->litems, (d->n_litems ? d->n_litems : 1) * sizeof(uint32_t),
+       "the closest-vertex lists");
+    UP(s_proj, d->s_proj, (size_t)d->ns * 3 * sizeof(float), "sample positions");
+    UP(s_frame, d->s_frame, (size_t)d->ns * 9 * sizeof(float), "sample frames");
+    UP(cos_r, d->cos_r, (size_t)d->rotations * sizeof(float), "rotations");
+    UP(sin_r, d->sin_r, (size_t)d->rotations * sizeof(float), "rotations");
+#undef UP
+    if ((st = upload(o, &o->subset, NULL, (size_t)d->ns * sizeof(cl_uint), CL_MEM_READ_ONLY,
+                     "the sample subset", err)) != RELIEF_OK ||
+        (st = upload(o, &o->ssd, NULL, ncand * sizeof(float), CL_MEM_WRITE_ONLY, "scores",
+                     err)) != RELIEF_OK ||
+        (st = upload(o, &o->flag, NULL, ncand, CL_MEM_WRITE_ONLY, "scores", err)) != RELIEF_OK)
+        return st;
+    return RELIEF_OK;
+}
+
+/* Release the buffers upload_data made (the program, queue and query
+ * buffers stay). */
+static void release_data(ocl *o)
+{
+    cl_mem *mems[] = {&o->proj, &o->pos, &o->col, &o->matchable, &o->tri, &o->vt_start,
+                      &o->vt, &o->cell_start, &o->cell_items, &o->lslot, &o->litems,
+                      &o->s_proj, &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag,
+                      &o->subset};
+    if (o->queue)
+        clFinish(o->queue);
+    for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
+        if (*mems[i]) {
+            clReleaseMemObject(*mems[i]);
+            *mems[i] = NULL;
+        }
+}
+
+/* Another surface on the same device: keeps the context, queue and built
+ * program (the hierarchy's levels), replaces the surface's buffers. */
+static relief_status ocl_rebind(void *ctx, const relief_match_data *d, relief_error *err)
+{
+    ocl *o = ctx;
+    release_data(o);
+    return upload_data(o, d, err);
+}
+
 static relief_status ocl_score(void *ctx, const relief_match_data *d,
                                const relief_match_query *qr, float *ssd, uint8_t *flag,
                                relief_error *err)
@@ -303,7 +364,8 @@ static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t 
 
 static void ocl_destroy(void *ctx) { ocl_free(ctx); }
 
-static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_destroy};
+static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_rebind,
+                                           ocl_destroy};
 
 relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
                                            relief_matcher **out, relief_error *err)
@@ -317,7 +379,6 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     ocl *o = NULL;
     relief_matcher *m = NULL;
     relief_status st;
-    size_t ncand = (size_t)d->ns * (size_t)d->rotations;
 
     st = relief_devices(info, 64, &ndev, err);
     if (st != RELIEF_OK)
@@ -363,32 +424,8 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     st = build_program(o, dev, err);
     if (st != RELIEF_OK)
         goto fail;
-#define UP(mem, ptr, bytes, what)                                                         \
-    if ((st = upload(o, &o->mem, ptr, bytes, CL_MEM_READ_ONLY, what, err)) != RELIEF_OK) \
-        goto fail;
-    UP(proj, d->proj, (size_t)d->nv * 3 * sizeof(float), "projected positions");
-    UP(pos, d->pos, (size_t)d->nv * 3 * sizeof(float), "positions");
-    UP(col, d->col, (size_t)d->nv * 3 * sizeof(float), "colours");
-    UP(matchable, d->matchable, d->nv, "labels");
-    UP(tri, d->tri, (size_t)d->nt * 3 * sizeof(uint32_t), "triangles");
-    UP(vt_start, d->vt_start, ((size_t)d->nv + 1) * sizeof(uint32_t), "vertex-triangle lists");
-    UP(vt, d->vt, (size_t)d->vt_start[d->nv] * sizeof(uint32_t), "vertex-triangle lists");
-    UP(cell_start, d->cell_start,
-       ((size_t)d->dims[0] * d->dims[1] * d->dims[2] + 1) * sizeof(uint32_t), "the grid");
-    UP(cell_items, d->cell_items, (size_t)d->nv * sizeof(uint32_t), "the grid");
-    UP(lslot, d->lslot, ((size_t)d->lmask + 1) * 3 * sizeof(uint32_t), "the closest-vertex lists");
-    UP(litems, d->litems, (d->n_litems ? d->n_litems : 1) * sizeof(uint32_t),
-       "the closest-vertex lists");
-    UP(s_proj, d->s_proj, (size_t)d->ns * 3 * sizeof(float), "sample positions");
-    UP(s_frame, d->s_frame, (size_t)d->ns * 9 * sizeof(float), "sample frames");
-    UP(cos_r, d->cos_r, (size_t)d->rotations * sizeof(float), "rotations");
-    UP(sin_r, d->sin_r, (size_t)d->rotations * sizeof(float), "rotations");
-#undef UP
-    if ((st = upload(o, &o->subset, NULL, (size_t)d->ns * sizeof(cl_uint), CL_MEM_READ_ONLY,
-                     "the sample subset", err)) != RELIEF_OK ||
-        (st = upload(o, &o->ssd, NULL, ncand * sizeof(float), CL_MEM_WRITE_ONLY, "scores",
-                     err)) != RELIEF_OK ||
-        (st = upload(o, &o->flag, NULL, ncand, CL_MEM_WRITE_ONLY, "scores", err)) != RELIEF_OK)
+    st = upload_data(o, d, err);
+    if (st != RELIEF_OK)
         goto fail;
     m->ops = &ocl_ops;
     m->ctx = o;

@@ -60,10 +60,19 @@ static relief_status scalar_update(void *ctx, const relief_match_data *d, uint32
     return RELIEF_OK;
 }
 
+static relief_status scalar_rebind(void *ctx, const relief_match_data *d, relief_error *err)
+{
+    /* Nothing kept per surface. */
+    (void)ctx;
+    (void)d;
+    (void)err;
+    return RELIEF_OK;
+}
+
 static void scalar_destroy(void *ctx) { (void)ctx; }
 
 static const relief_matcher_ops scalar_ops = {"scalar", scalar_score, scalar_update,
-                                              scalar_destroy};
+                                              scalar_rebind, scalar_destroy};
 
 relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
                                            relief_error *err)
