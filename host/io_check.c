@@ -333,11 +333,14 @@ static relief_status check_ply_body(reader *r, const ply_element *el, int nel,
     return RELIEF_OK;
 }
 
-/* A PLY version as written in practice ("1.0"): digits with at most one dot.
- * Anything else may not read as a float (OpenMesh's "0.e" fails). */
+/* A PLY version as written in practice ("1.0"): digits with at most one dot,
+ * short, and at most 1000. Anything else may not read as a float: OpenMesh's
+ * "0.e" fails, and a long run of digits overflows a float (both hang it). */
 static int plain_version(const char *s)
 {
     int digits = 0, dots = 0;
+    if (strlen(s) > 16 || strtod(s, NULL) > 1000.0)
+        return 0;
     for (; *s; ++s) {
         if (*s >= '0' && *s <= '9')
             ++digits;

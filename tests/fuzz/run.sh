@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
 # Build the libFuzzer harnesses with clang and fuzz each for a bounded time.
-#   tests/fuzz/run.sh BUILD_DIR SECONDS [TARGET...]
+#   tests/fuzz/run.sh BUILD_DIR SECONDS|runs=N [TARGET...]
+# SECONDS: fuzz each target that long from a random seed, to find new bugs.
+# runs=N: a bounded run instead (the default test suite's fuzz_short): seed
+# 1, N executions per mesh reader and 30 N for the command line, from the
+# checked-in seeds and regressions only, so that the suite's verdict does
+# not depend on the machine's speed or on earlier runs.
 # TARGETs (default all): read_ply read_obj read_off read_stl cli. Each starts
 # from its working corpus in BUILD_DIR/corpus/TARGET (kept between runs),
 # the seeds in tests/fuzz/corpus/TARGET and the inputs of past crashes in
@@ -13,6 +18,8 @@ set -euo pipefail
 [[ $# -ge 2 ]] || { echo "usage: $0 BUILD_DIR SECONDS [TARGET...]" >&2; exit 1; }
 src=$(cd "$(dirname "$0")/../.." && pwd)
 build=$1 secs=$2; shift 2
+runs=
+if [[ $secs == runs=* ]]; then runs=${secs#runs=}; fi
 targets=("$@")
 [[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl cli)
 
@@ -37,11 +44,19 @@ failed=()
 for t in "${targets[@]}"; do
   case $t in cli) dict=cli.dict ;; *) dict=mesh.dict ;; esac
   work=$build/corpus/$t art=$build/artifacts/$t log=$build/fuzz_$t.log
+  if [[ -n $runs ]]; then
+    n=$runs; [[ $t == cli ]] && n=$((runs * 30))
+    bound=(-seed=1 -runs="$n")
+    work=$build/corpus-repro/$t
+    rm -rf "$work"
+  else
+    bound=(-max_total_time="$secs")
+  fi
   mkdir -p "$work" "$art"
   dirs=("$work" "$src/tests/fuzz/corpus/$t")
   [[ -d $src/tests/fuzz/regressions/$t ]] && dirs+=("$src/tests/fuzz/regressions/$t")
   set +e
-  "$build/tests/fuzz/fuzz_$t" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
+  "$build/tests/fuzz/fuzz_$t" "${bound[@]}" -timeout=10 -rss_limit_mb=2048 \
     -max_len=4096 -dict="$src/tests/fuzz/$dict" -artifact_prefix="$art/" -close_fd_mask=3 \
     -print_final_stats=1 "${dirs[@]}" >"$log" 2>&1
   rc=$?
@@ -49,7 +64,8 @@ for t in "${targets[@]}"; do
   # The last status line: executions, coverage (edges), features, corpus.
   stats=$(grep -E '^#[0-9]+' "$log" | tail -1 | sed -E 's/ +(lim|exec\/s|rss|L|MS):.*//' || true)
   if [[ $rc -eq 0 ]]; then
-    echo "fuzz_$t: ${secs}s, ok: $stats"
+    if [[ -n $runs ]]; then echo "fuzz_$t: seed 1, $n runs, ok: $stats"
+    else echo "fuzz_$t: ${secs}s, ok: $stats"; fi
   else
     echo "fuzz_$t: FAILED (exit $rc): $stats"
     grep -E 'ERROR|SUMMARY|Test unit written' "$log" | head -5 | sed 's/^/  /'
