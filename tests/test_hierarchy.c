@@ -13,6 +13,7 @@
 #include "hierarchy.h"
 #include "matcher.h"
 #include "mesh.h"
+#include "param.h"
 #include "surface.h"
 
 #define LEVELS 3
@@ -359,6 +360,107 @@ static void check_determinism(void)
     relief_surface_destroy(b);
 }
 
+/* Do the rings meet at the back? cylinder-bands' rings repeat every
+ * RING_PERIOD along the axis. The phase and strength of that period over
+ * the capture, and over each 30-degree sector of the completed part, come
+ * from sum h exp(-2 pi i z / P) (h: height over the primitive). Rings that
+ * run on round the trunk and close keep the capture's phase in every
+ * sector; fronts that meet out of step leave a sector off in phase, or,
+ * when the step falls inside it, weak (two phases cancel). Returns the
+ * worst sector's phase error in periods, and in *weak its amplitude over
+ * the capture's (per vertex), the smallest of any sector. */
+#define RING_PERIOD 0.5
+#define RING_PI 3.14159265358979323846
+#define RING_SECTORS 12
+static double ring_misalignment(const relief_surface *s, double *weak)
+{
+    relief_param pm;
+    double cre = 0.0, cim = 0.0, re[RING_SECTORS] = {0}, im[RING_SECTORS] = {0};
+    double worst = 0.0, amp_cap;
+    size_t ncap = 0, n[RING_SECTORS] = {0};
+    relief_param_init(&pm, &s->fit.prim);
+    for (size_t v = 0; v < s->mesh->nv; ++v) {
+        double uv[2], d[3], h, ph;
+        const double *p = s->mesh->pos + 3 * v;
+        relief_param_coords(&pm, p, uv);
+        sub3(p, s->proj + 3 * v, d);
+        h = dot3(d, s->nrm + 3 * v);
+        ph = 2.0 * RING_PI * uv[1] / RING_PERIOD;
+        if (v < s->n_samples) {
+            cre += h * cos(ph), cim -= h * sin(ph), ++ncap;
+        } else {
+            double a = uv[0] / s->fit.prim.radius; /* angle, (-pi, pi] */
+            int b = (int)floor((a + RING_PI) / (2.0 * RING_PI) * RING_SECTORS);
+            b = b < 0 ? 0 : b >= RING_SECTORS ? RING_SECTORS - 1 : b;
+            re[b] += h * cos(ph), im[b] -= h * sin(ph), ++n[b];
+        }
+    }
+    amp_cap = hypot(cre, cim) / (double)ncap;
+    *weak = DBL_MAX;
+    for (int b = 0; b < RING_SECTORS; ++b) {
+        double dphi;
+        if (n[b] < 20)
+            continue; /* the sector is mostly captured */
+        dphi = fabs(remainder(atan2(im[b], re[b]) - atan2(cim, cre), 2.0 * RING_PI));
+        worst = fmax(worst, dphi / (2.0 * RING_PI));
+        *weak = fmin(*weak, hypot(re[b], im[b]) / (double)n[b] / amp_cap);
+    }
+    return worst;
+}
+
+/* cylinder-bands (2000 vertices, capture 44 % of the turn): the hierarchy
+ * closes the rings at the back. Mono-scale is measured beside it: on this
+ * surface it closes them as well, so the issue's "smaller seam measure than
+ * M = 1" is reported, not asserted. */
+static void check_rings(void)
+{
+    relief_hierarchy_stats hs;
+    relief_grow_stats gs;
+    relief_error err = {RELIEF_OK, ""};
+    pipeline pl = {RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, 7, 2, 1, 0, 0};
+    relief_surface *hier = run(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_AUTO, NULL,
+                               &hs, NULL);
+    relief_surface *mono = NULL;
+    double weak_h = 0.0, weak_m = 0.0, off_h, off_m;
+    CHECK(pipeline_run(&pl, &mono, &gs, &err) == RELIEF_OK, "mono-scale: %s", err.message);
+    if (!hier || !mono)
+        goto done;
+    off_h = ring_misalignment(hier, &weak_h);
+    off_m = ring_misalignment(mono, &weak_m);
+    printf("rings at the back (cylinder-bands 2000, W 2, seed 7): M = %d worst sector "
+           "%.3f period off, weakest %.2f of the capture's strength; mono-scale %.3f "
+           "period, %.2f\n", LEVELS, off_h, weak_h, off_m, weak_m);
+    CHECK(off_h < 0.1, "M = %d: a sector's rings are %.3f period out of step", LEVELS, off_h);
+    CHECK(weak_h > 0.5 && weak_h < 1.5, "M = %d: a sector's rings have %.2f of the capture's "
+          "strength", LEVELS, weak_h);
+    /* The measure itself: turn the completed rings upside down (half a
+     * period out of step) over a third of the turn; it must see that. */
+    {
+        relief_param pm;
+        double weak_x = 0.0, off_x;
+        relief_param_init(&pm, &mono->fit.prim);
+        for (size_t v = mono->n_samples; v < mono->mesh->nv; ++v) {
+            double uv[2], d[3], h, *p = mono->mesh->pos + 3 * v;
+            const double *n = mono->nrm + 3 * v;
+            relief_param_coords(&pm, p, uv);
+            if (fabs(uv[0] / mono->fit.prim.radius) < 2.0 * RING_PI / 3.0)
+                continue;
+            sub3(p, mono->proj + 3 * v, d);
+            h = dot3(d, n);
+            for (int i = 0; i < 3; ++i)
+                p[i] += (0.05 - 2.0 * h) * n[i]; /* h -> 0.05 - h */
+        }
+        off_x = ring_misalignment(mono, &weak_x);
+        CHECK(off_x > 0.4, "rings turned upside down at the back read only %.3f period off",
+              off_x);
+        printf("the same mono-scale result with the rings upside down at the back: %.3f "
+               "period off\n", off_x);
+    }
+done:
+    relief_surface_destroy(hier);
+    relief_surface_destroy(mono);
+}
+
 int main(void)
 {
     relief_hierarchy *h = NULL;
@@ -373,5 +475,6 @@ int main(void)
     check_bookkeeping();
     check_restriction_and_fallback();
     check_determinism();
+    check_rings();
     return check_result();
 }
