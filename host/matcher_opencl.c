@@ -45,19 +45,34 @@ typedef struct ocl {
     size_t qcap; /* neighbours the query buffers hold */
 } ocl;
 
+/* Release the surface's buffers (upload_data's; the program, queue and
+ * query buffers stay), once the queue has finished. */
+static void release_data(ocl *o)
+{
+    cl_mem *mems[] = {&o->proj, &o->pos, &o->col, &o->matchable, &o->tri, &o->vt_start,
+                      &o->vt, &o->cell_start, &o->cell_items, &o->lslot, &o->litems,
+                      &o->s_proj, &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag,
+                      &o->subset};
+    if (o->queue)
+        clFinish(o->queue);
+    for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
+        if (*mems[i]) {
+            clReleaseMemObject(*mems[i]);
+            *mems[i] = NULL;
+        }
+}
+
 static void ocl_free(ocl *o)
 {
-    cl_mem *mems[] = {&o->proj,  &o->pos,    &o->col,     &o->matchable, &o->tri,
-                      &o->vt_start, &o->vt, &o->cell_start, &o->cell_items, &o->lslot, &o->litems, &o->s_proj,
-                      &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag, &o->subset,
-                      &o->qp, &o->q, &o->g, &o->qcol};
     if (!o)
         return;
-    if (o->queue)
-        clFinish(o->queue); /* pending writes still read the host's arrays */
-    for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
-        if (*mems[i])
-            clReleaseMemObject(*mems[i]);
+    release_data(o); /* waits for pending writes, which read the host's arrays */
+    {
+        cl_mem query[] = {o->qp, o->q, o->g, o->qcol};
+        for (size_t i = 0; i < sizeof query / sizeof query[0]; ++i)
+            if (query[i])
+                clReleaseMemObject(query[i]);
+    }
     if (o->kernel)
         clReleaseKernel(o->kernel);
     if (o->prog)
@@ -205,23 +220,6 @@ static relief_status upload_data(ocl *o, const relief_match_data *d, relief_erro
         (st = upload(o, &o->flag, NULL, ncand, CL_MEM_WRITE_ONLY, "scores", err)) != RELIEF_OK)
         return st;
     return RELIEF_OK;
-}
-
-/* Release the buffers upload_data made (the program, queue and query
- * buffers stay). */
-static void release_data(ocl *o)
-{
-    cl_mem *mems[] = {&o->proj, &o->pos, &o->col, &o->matchable, &o->tri, &o->vt_start,
-                      &o->vt, &o->cell_start, &o->cell_items, &o->lslot, &o->litems,
-                      &o->s_proj, &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag,
-                      &o->subset};
-    if (o->queue)
-        clFinish(o->queue);
-    for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
-        if (*mems[i]) {
-            clReleaseMemObject(*mems[i]);
-            *mems[i] = NULL;
-        }
 }
 
 /* Another surface on the same device: keeps the context, queue and built

@@ -70,10 +70,6 @@ static uint32_t slot_end(const uint32_t *tri, size_t s)
     return tri[s - s % 3 + (s % 3 + 1) % 3];
 }
 
-/* One 1-to-4 pass of src into a new mesh carrying `attrs` (src's normals and
- * labels are propagated when both carry them; colour is left zero for the
- * caller). When `edge_len` is not NULL it receives the length of each
- * distinct edge of src (malloc'd, *n_edges entries). */
 /* Largest valence the butterfly stencils take; a vertex with more keeps
  * its edges' midpoints. */
 #define RING_MAX 64
@@ -212,6 +208,11 @@ static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
     return RELIEF_OK;
 }
 
+/* One 1-to-4 pass of src into a new mesh carrying `attrs` (src's normals and
+ * labels are propagated when both carry them; colour is left zero for the
+ * caller), the new vertices placed by `scheme`. When `edge_len` is not NULL
+ * it receives the length of each distinct edge of src (malloc'd, *n_edges
+ * entries). */
 static relief_status split_once(const relief_mesh *src, unsigned attrs, int scheme,
                                 relief_mesh **dst, double **edge_len,
                                 size_t *n_edges, relief_error *err)
