@@ -549,7 +549,9 @@ done:
 }
 
 /* Gaussian smoothing of a level's displacement heights over each vertex's
- * 1-ring and itself; sigma is the level's mean edge length. */
+ * 1-ring and itself; sigma is the level's mean edge length. Only vertices
+ * below n_use take part (the level's samples come first): those from n_use
+ * on are copied unchanged and left out of their neighbours' means. */
 static relief_status smooth_heights(const relief_hierarchy *h, int ki, const double *disp,
                                     size_t n_use, double *out, relief_error *err)
 {
