@@ -153,6 +153,7 @@ static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
     uint32_t *vt_start = malloc((nv + 1) * sizeof *vt_start);
     uint32_t *vt = malloc(ns * sizeof *vt);
     uint32_t ra[RING_MAX], rb[RING_MAX];
+    double bf[3];
 
     if (!first || !cnt || !vt_start || !vt) {
         free(first);
@@ -185,20 +186,35 @@ static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
             /* Regular: 1/2 (a + b) + 1/8 (c + d) - 1/16 (wings), with c, d
              * = ra[1], ra[5] and the wings ra[2], ra[4], rb[2], rb[4]. */
             for (int i = 0; i < 3; ++i)
-                q[i] = 0.5 * (pos[3 * (size_t)a + i] + pos[3 * (size_t)b + i]) +
-                       0.125 * (pos[3 * (size_t)ra[1] + i] + pos[3 * (size_t)ra[5] + i]) -
-                       0.0625 * (pos[3 * (size_t)ra[2] + i] + pos[3 * (size_t)ra[4] + i] +
-                                 pos[3 * (size_t)rb[2] + i] + pos[3 * (size_t)rb[4] + i]);
-            continue;
-        }
-        q[0] = q[1] = q[2] = 0.0;
-        if (ka != 6 && kb != 6) {
-            add_ring_stencil(pos, a, ra, ka, 0.5, q);
-            add_ring_stencil(pos, b, rb, kb, 0.5, q);
-        } else if (ka != 6) {
-            add_ring_stencil(pos, a, ra, ka, 1.0, q);
+                bf[i] = 0.5 * (pos[3 * (size_t)a + i] + pos[3 * (size_t)b + i]) +
+                        0.125 * (pos[3 * (size_t)ra[1] + i] + pos[3 * (size_t)ra[5] + i]) -
+                        0.0625 * (pos[3 * (size_t)ra[2] + i] + pos[3 * (size_t)ra[4] + i] +
+                                  pos[3 * (size_t)rb[2] + i] + pos[3 * (size_t)rb[4] + i]);
         } else {
-            add_ring_stencil(pos, b, rb, kb, 1.0, q);
+            bf[0] = bf[1] = bf[2] = 0.0;
+            if (ka != 6 && kb != 6) {
+                add_ring_stencil(pos, a, ra, ka, 0.5, bf);
+                add_ring_stencil(pos, b, rb, kb, 0.5, bf);
+            } else if (ka != 6) {
+                add_ring_stencil(pos, a, ra, ka, 1.0, bf);
+            } else {
+                add_ring_stencil(pos, b, rb, kb, 1.0, bf);
+            }
+        }
+        /* q holds the midpoint. A smooth surface moves it by a small part
+         * of the edge; a spike or sliver in the capture can throw it far
+         * off, and a sample out there would be copied into the completion:
+         * keep the midpoint when the move exceeds half the edge. */
+        {
+            double move2 = 0.0, len2 = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                const double dm = bf[i] - q[i];
+                const double de = pos[3 * (size_t)a + i] - pos[3 * (size_t)b + i];
+                move2 += dm * dm;
+                len2 += de * de;
+            }
+            if (move2 <= 0.25 * len2)
+                memcpy(q, bf, sizeof bf);
         }
     }
     free(first);

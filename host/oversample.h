@@ -23,7 +23,9 @@
  *   plane flat and reproduces cubic relief exactly on a regular grid, so
  *   the new samples carry the relief the capture implies rather than its
  *   chords. An edge on the boundary, or with an end on it, or next to a
- *   non-manifold or valence > 64 vertex, gets its midpoint.
+ *   non-manifold or valence > 64 vertex, gets its midpoint, and so does
+ *   one whose butterfly point lies farther than half the edge's length
+ *   from the midpoint (a spike or a sliver in the capture).
  *
  * Output layout (deterministic for a given input):
  * - vertices: the input's vertices first, with their indices (0..nv-1) and

@@ -587,6 +587,39 @@ static void test_butterfly(void)
     CHECK(n_inner > 0 && cub_b < 1e-14, "cubic: butterfly error %g (%zu inner edges)", cub_b,
           n_inner);
     CHECK(cub_m > 1e-4, "cubic: the midpoints' error %g is not visible", cub_m);
+    /* A spike (one vertex 20 spacings up) throws the stencils of the edges
+     * around it far off; those keep their midpoint, so no new vertex moves
+     * more than half its edge's length off the midpoint. A new vertex's
+     * edge: children 4t and 4t + 1 of parent t = (a, b, c) are (a, ab, ca)
+     * and (ab, b, bc) (oversample.h). */
+    {
+        relief_mesh *spike = grid(nx, ny, h, 0.0, 0), *os = NULL;
+        const size_t apex = (size_t)(ny / 2) * (size_t)nx + (size_t)(nx / 2);
+        double worst = 0.0;
+        spike->pos[3 * apex + 2] = 20.0 * h;
+        os = oversample_or_die(spike, 1, NULL);
+        for (size_t t = 0; t < spike->nt; ++t) {
+            const uint32_t *f = spike->tri + 3 * t, *c = os->tri + 12 * t;
+            const uint32_t nv_edge[3] = {c[1], c[5], c[2]}; /* ab, bc, ca */
+            for (int e = 0; e < 3; ++e) {
+                const double *pa = spike->pos + 3 * (size_t)f[e];
+                const double *pb = spike->pos + 3 * (size_t)f[(e + 1) % 3];
+                const double *p = os->pos + 3 * (size_t)nv_edge[e];
+                double move2 = 0.0, len2 = 0.0;
+                for (int i = 0; i < 3; ++i) {
+                    const double dm = p[i] - 0.5 * (pa[i] + pb[i]), de = pa[i] - pb[i];
+                    move2 += dm * dm;
+                    len2 += de * de;
+                }
+                worst = fmax(worst, sqrt(move2 / len2));
+            }
+        }
+        CHECK(worst <= 0.5 + 1e-12, "spike: a new vertex moved %.3g of its edge off the "
+              "midpoint", worst);
+        printf("spike: largest move off a midpoint %.3g of the edge\n", worst);
+        relief_mesh_destroy(os);
+        relief_mesh_destroy(spike);
+    }
     printf("butterfly: originals moved %g, flat grid |z| <= %g, bump mean error %.3g vs "
            "midpoint %.3g (%zu inner edges), %zu boundary edges at their midpoints, "
            "cubic max error %.3g vs midpoint %.3g\n",
