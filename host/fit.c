@@ -11,6 +11,7 @@
 
 #include "error.h"
 #include "mesh.h"
+#include "vec3.h"
 
 /* 1 / Phi^-1(3/4): turns the median |residual| of Gaussian noise into its
  * standard deviation. */
@@ -60,18 +61,6 @@ typedef struct fit_candidate {
 } fit_candidate;
 
 /* ------------------------------------------------------------ small math */
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 /* Scale a to unit length; returns its former length (0 leaves a as is). */
 static double normalize3(double a[3])

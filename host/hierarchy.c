@@ -22,6 +22,7 @@
 #include "matcher.h"
 #include "mesh.h"
 #include "report.h"
+#include "vec3.h"
 
 /* ------------------------------------------------------ disc selection */
 
@@ -401,11 +402,6 @@ relief_hierarchy_options relief_hierarchy_options_default(void)
     o.pyramids = 1;
     o.heights = NULL;
     return o;
-}
-
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 /* The sample pyramids of level k (index ki): for each target, the level k

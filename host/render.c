@@ -8,6 +8,7 @@
 
 #include "error.h"
 #include "mesh.h"
+#include "vec3.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -43,25 +44,6 @@ void relief_image_free(relief_image *img)
         img->rgb = NULL;
         img->width = img->height = 0;
     }
-}
-
-static void sub3(const double *a, const double *b, double *r)
-{
-    r[0] = a[0] - b[0];
-    r[1] = a[1] - b[1];
-    r[2] = a[2] - b[2];
-}
-
-static void cross3(const double *a, const double *b, double *r)
-{
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static double normalise3(double *a)

@@ -15,6 +15,7 @@
 #include "mesh.h"
 #include "param.h"
 #include "surface.h"
+#include "vec3.h"
 
 #define LEVELS 3
 
@@ -24,18 +25,6 @@ static relief_surface *smooth_of(relief_synth_kind kind, size_t vertices, int co
     relief_error err = {RELIEF_OK, ""};
     CHECK(pipeline_smooth(kind, vertices, colour, &s, &err) == RELIEF_OK, "%s", err.message);
     return s;
-}
-
-static void sub3(const double *a, const double *b, double *r)
-{
-    r[0] = a[0] - b[0];
-    r[1] = a[1] - b[1];
-    r[2] = a[2] - b[2];
-}
-
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static double dist2(const double *a, const double *b)

@@ -12,6 +12,7 @@
 #include "check.h"
 #include "mesh.h"
 #include "oversample.h"
+#include "vec3.h"
 
 /* nx x ny grid of spacing h in the xy plane (z = bump * sin cos when bump
  * != 0), two triangles per cell with alternating diagonals, counter-
@@ -64,23 +65,6 @@ static relief_mesh *grid(int nx, int ny, double h, double bump, unsigned attrs)
 static size_t grid_edges(size_t nx, size_t ny)
 {
     return (nx - 1) * ny + nx * (ny - 1) + (nx - 1) * (ny - 1);
-}
-
-static void sub3(const double *a, const double *b, double *r)
-{
-    r[0] = a[0] - b[0];
-    r[1] = a[1] - b[1];
-    r[2] = a[2] - b[2];
-}
-static double dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-static void cross3(const double *a, const double *b, double *r)
-{
-    r[0] = a[1] * b[2] - a[2] * b[1];
-    r[1] = a[2] * b[0] - a[0] * b[2];
-    r[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /* Unnormalised normal (twice the area vector) of triangle t of m. */
