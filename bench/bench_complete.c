@@ -395,19 +395,12 @@ int main(int argc, char **argv)
                     c.setup ? se[b].t[S_PER_TARGET][r] : se[b].t[S_TOTAL][r]);
         }
     if (c.csv) {
-        FILE *probe = fopen(c.csv, "r");
-        int fresh = !probe;
-        if (probe)
-            fclose(probe);
-        out = fopen(c.csv, "a");
-        if (!out) {
-            perror(c.csv);
+        out = bench_csv_append(c.csv,
+                               "case,cpu,cores,device,backend,kind,vertices,samples,targets,"
+                               "surface_vertices,W,R,prune,colour,stage,unit,reps,median,min,"
+                               "max,peak_rss_kib,scored_targets,candidates,pruned,identical\n");
+        if (!out)
             goto fail;
-        }
-        if (fresh)
-            fprintf(out, "case,cpu,cores,device,backend,kind,vertices,samples,targets,"
-                         "surface_vertices,W,R,prune,colour,stage,unit,reps,median,min,max,"
-                         "peak_rss_kib,scored_targets,candidates,pruned,identical\n");
     }
     printf("%s: %s %zu vertices, W %d, R %d, %s; %s (%ld cores); OpenCL device: %s\n", c.name,
            relief_synth_kind_name(c.sp.kind), c.sp.vertices, c.p.window, c.p.rotations,

@@ -187,19 +187,12 @@ int main(int argc, char **argv)
            relief_synth_kind_name(c.sp.kind), c.sp.vertices, c.p.window, c.p.rotations, mc.cpu,
            mc.cores, res[0].device);
     if (c.csv) {
-        FILE *probe = fopen(c.csv, "r");
-        int fresh = !probe;
-        if (probe)
-            fclose(probe);
-        out = fopen(c.csv, "a");
-        if (!out) {
-            perror(c.csv);
+        out = bench_csv_append(c.csv,
+                               "case,cpu,cores,device,backend,kind,vertices,samples,targets,W,"
+                               "R,levels,reps,median,min,max,candidates,msi_diff_percent,"
+                               "truth_rms,peak_rss_kib\n");
+        if (!out)
             goto fail;
-        }
-        if (fresh)
-            fprintf(out, "case,cpu,cores,device,backend,kind,vertices,samples,targets,W,R,"
-                         "levels,reps,median,min,max,candidates,msi_diff_percent,truth_rms,"
-                         "peak_rss_kib\n");
     }
     for (int k = 0; k < 2; ++k) {
         const result *r = &res[k];

@@ -65,6 +65,24 @@ static inline void bench_stats3(const double *v, int n, double *med, double *lo,
     *med = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
 }
 
+/* `path` opened for appending rows; `header` is written first when the
+ * file did not exist yet. NULL (with perror) when it cannot be opened. */
+static inline FILE *bench_csv_append(const char *path, const char *header)
+{
+    FILE *probe = fopen(path, "r"), *out;
+    const int fresh = !probe;
+    if (probe)
+        fclose(probe);
+    out = fopen(path, "a");
+    if (!out) {
+        perror(path);
+        return NULL;
+    }
+    if (fresh)
+        fputs(header, out);
+    return out;
+}
+
 /* The process's peak resident memory so far, KiB. */
 static inline long bench_peak_rss_kib(void)
 {
