@@ -409,14 +409,15 @@ relief_hierarchy_options relief_hierarchy_options_default(void)
  * parent matched at level k - 1 (prev_match, level k - 1 ids; UINT32_MAX
  * for the samples). CSR over level k's vertices; *boxes counts the
  * targets given a non-empty box. */
-static relief_status build_pyramids(const relief_hierarchy *h, int ki, const uint32_t *prev_match,
-                                    int hops, uint32_t **start_out, uint32_t **items_out,
-                                    size_t *boxes, relief_error *err)
+static relief_status build_pyramids(const relief_hierarchy *h, int ki,
+                                    const relief_adjacency *prev_adj,
+                                    const uint32_t *prev_match, int hops, uint32_t **start_out,
+                                    uint32_t **items_out, size_t *boxes, relief_error *err)
 {
     const relief_surface *lv = h->level[ki], *prev = h->level[ki - 1];
     const size_t nv = lv->mesh->nv, ns = lv->n_samples, npv = prev->mesh->nv;
     const double *pp = h->full->proj;
-    relief_adjacency adj = {NULL, NULL};
+    const relief_adjacency adj = *prev_adj;
     uint32_t *start = calloc(nv + 1, sizeof *start), *items = NULL;
     uint32_t *stamp = calloc(npv, sizeof *stamp), *depth = malloc(npv * sizeof *depth);
     uint32_t *queue = malloc(npv * sizeof *queue);
@@ -433,9 +434,6 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki, const uin
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sample pyramids");
         goto done;
     }
-    st = relief_mesh_adjacency(prev->mesh, &adj, err);
-    if (st != RELIEF_OK)
-        goto done;
     for (size_t v = 0; v < ns; ++v)
         memcpy(spos + 3 * v, pp + 3 * (size_t)h->ids[ki][v], 3 * sizeof(double));
     index = flann_build_index_double(spos, (int)ns, 3, &speedup, &fp);
@@ -525,7 +523,6 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki, const uin
 done:
     if (index)
         flann_free_index_double(index, &fp);
-    relief_adjacency_free(&adj);
     free(idx);
     free(dist);
     free(spos);
@@ -545,22 +542,20 @@ done:
 }
 
 /* Gaussian smoothing of a level's displacement heights over each vertex's
- * 1-ring and itself; sigma is the level's mean edge length. Only vertices
+ * 1-ring (level_adj, the level's adjacency) and itself; sigma is the
+ * level's mean edge length. Only vertices
  * below n_use take part (the level's samples come first): those from n_use
  * on are copied unchanged and left out of their neighbours' means. */
-static relief_status smooth_heights(const relief_hierarchy *h, int ki, const double *disp,
-                                    size_t n_use, double *out, relief_error *err)
+static void smooth_heights(const relief_hierarchy *h, int ki, const relief_adjacency *level_adj,
+                           const double *disp, size_t n_use, double *out)
 {
     const relief_surface *lv = h->level[ki];
     const size_t nv = lv->mesh->nv;
     const double *pp = h->full->proj;
     const uint32_t *ids = h->ids[ki];
-    relief_adjacency adj;
+    const relief_adjacency adj = *level_adj;
     double sum = 0.0, inv2s2;
     size_t ne = 0;
-    relief_status st = relief_mesh_adjacency(lv->mesh, &adj, err);
-    if (st != RELIEF_OK)
-        return st;
     for (size_t v = 0; v < nv; ++v)
         for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
             const double *a = pp + 3 * (size_t)ids[v], *b = pp + 3 * (size_t)ids[adj.nbr[i]];
@@ -587,8 +582,6 @@ static relief_status smooth_heights(const relief_hierarchy *h, int ki, const dou
         }
         out[v] = acc / wsum;
     }
-    relief_adjacency_free(&adj);
-    return RELIEF_OK;
 }
 
 static void add_stats(relief_grow_stats *t, const relief_grow_stats *s)
@@ -630,6 +623,9 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     const double mu = relief_grow_mu(params, s->mesh->col != NULL);
     relief_matcher *m = NULL;         /* every level's, rebound per level */
     relief_match_data *d_prev = NULL; /* the previous level's match data */
+    /* Each level's adjacency, built once: its smoothing passes use it, and
+     * the next level's pyramids walk it. */
+    relief_adjacency adj = {NULL, NULL}, adj_prev = {NULL, NULL};
 
     memset(hs, 0, sizeof *hs);
     memset(total, 0, sizeof *total);
@@ -674,6 +670,9 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         ls->vertices = nv;
         ls->samples = lv->n_samples;
         ls->targets = lv->n_targets;
+        st = relief_mesh_adjacency(lm, &adj, err);
+        if (st != RELIEF_OK)
+            goto level_done;
         /* The level k - 1 surface under each vertex: its base. */
         for (size_t v = 0; v < nv; ++v) {
             base[v] = 0.0;
@@ -690,9 +689,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         if (ki < M - 1) {
             for (size_t v = 0; v < lv->n_samples; ++v)
                 disp[v] = dot3(s->disp + 3 * (size_t)ids[v], s->nrm + 3 * (size_t)ids[v]);
-            st = smooth_heights(h, ki, disp, lv->n_samples, smoothed, err);
-            if (st != RELIEF_OK)
-                goto level_done;
+            smooth_heights(h, ki, &adj, disp, lv->n_samples, smoothed);
         }
         for (size_t v = 0; v < nv; ++v) {
             const double *p0 = prim + 3 * (size_t)ids[v], *n = s->nrm + 3 * (size_t)ids[v];
@@ -729,8 +726,8 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         if (st != RELIEF_OK)
             goto level_done;
         if (ki > 0 && ho->pyramids) {
-            st = build_pyramids(h, ki, match_prev, params->window, &pstart, &pitems, &ls->boxes,
-                                err);
+            st = build_pyramids(h, ki, &adj_prev, match_prev, params->window, &pstart, &pitems,
+                                &ls->boxes, err);
             if (st != RELIEF_OK)
                 goto level_done;
             ls->box_samples = ls->boxes ? (double)pstart[nv] / (double)ls->boxes : 0.0;
@@ -754,9 +751,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         for (size_t v = 0; v < nv; ++v)
             disp[v] = dot3(lv->disp + 3 * v, s->nrm + 3 * (size_t)ids[v]);
         if (ki < M - 1) {
-            st = smooth_heights(h, ki, disp, nv, smoothed, err);
-            if (st != RELIEF_OK)
-                goto level_done;
+            smooth_heights(h, ki, &adj, disp, nv, smoothed);
         } else {
             memcpy(smoothed, disp, nv * sizeof *smoothed);
         }
@@ -787,6 +782,10 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         }
         relief_match_data_destroy(d_prev);
         d_prev = d;
+        relief_adjacency_free(&adj_prev);
+        adj_prev = adj;
+        adj.start = NULL;
+        adj.nbr = NULL;
         free(pstart);
         free(pitems);
         free(matched);
@@ -798,6 +797,8 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     }
     relief_matcher_destroy(m);
     relief_match_data_destroy(d_prev);
+    relief_adjacency_free(&adj_prev);
+    relief_adjacency_free(&adj);
     /* s is level M: back to displacements from the primitive. */
     memcpy(s->proj, prim, nfull * 3 * sizeof *prim);
     for (size_t v = 0; v < nfull; ++v)
