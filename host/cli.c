@@ -782,8 +782,6 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     return st == RELIEF_OK ? 0 : fail_status("complete", &err);
 }
 
-#define SMOOTH_OPTS 12
-
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_only)
 {
     const char *cmd = smooth ? "smooth" : "complete";
@@ -800,8 +798,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"oversample-scheme", required_argument, 0, OPT_OVERSAMPLE_SCHEME},
         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
         {"help", no_argument, 0, 'h'},
-        /* complete only, from here (SMOOTH_OPTS entries above; checked
-         * below, so a new shared option cannot silently drop --help) */
+        /* complete only, from here ("window" ends smooth's options) */
         {"window", required_argument, 0, OPT_WINDOW},
         {"rotations", required_argument, 0, OPT_ROTATIONS},
         {"error", required_argument, 0, OPT_ERROR},
@@ -818,7 +815,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"resume", required_argument, 0, OPT_RESUME},
         {0, 0, 0, 0}};
     /* smooth takes the options before the complete-only ones. */
-    struct option smooth_opts[SMOOTH_OPTS + 1];
+    struct option smooth_opts[sizeof all_opts / sizeof all_opts[0]];
+    size_t n_smooth = 0;
     relief_params p = relief_params_default();
     relief_smooth_options sopts = relief_smooth_options_default();
     relief_grow_options gopts = relief_grow_options_default();
@@ -832,13 +830,10 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
     long v;
     double d;
 
-    if (strcmp(all_opts[SMOOTH_OPTS].name, "window") != 0) {
-        fprintf(stderr, "relief %s: internal error: SMOOTH_OPTS does not end the shared "
-                "options\n", cmd);
-        return EXIT_INTERNAL;
-    }
-    memcpy(smooth_opts, all_opts, SMOOTH_OPTS * sizeof all_opts[0]);
-    memset(&smooth_opts[SMOOTH_OPTS], 0, sizeof smooth_opts[0]);
+    while (strcmp(all_opts[n_smooth].name, "window") != 0)
+        ++n_smooth;
+    memcpy(smooth_opts, all_opts, n_smooth * sizeof all_opts[0]);
+    memset(&smooth_opts[n_smooth], 0, sizeof smooth_opts[0]);
     optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", smooth ? smooth_opts : all_opts, NULL)) != -1) {
         switch (c) {
