@@ -1,9 +1,11 @@
-/* Synthetic surfaces: determinism, sizes, topology, orientation, labels. */
+/* Synthetic surfaces: determinism, sizes, topology, orientation, labels,
+ * and the stochastic kinds' stationarity. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
+#include "measures.h"
 #include "mesh.h"
 
 typedef struct edge { uint32_t a, b; } edge;
@@ -121,6 +123,33 @@ static void check_kind(relief_synth_kind kind)
     relief_mesh_destroy(t2), relief_mesh_destroy(c3);
 }
 
+/* The stochastic kinds are stationary at the scale of the missing part:
+ * the truth's own two parts differ in MSI by less than the 5 % a
+ * completion is held to (test_complete), whatever the seed. */
+static void check_stationary(relief_synth_kind kind)
+{
+    relief_synth_params p = relief_synth_params_default();
+    double worst = 0.0;
+    p.kind = kind;
+    for (uint32_t seed = 1; seed <= 8; ++seed) {
+        relief_mesh *t = NULL;
+        relief_measures me;
+        relief_error err = {RELIEF_OK, ""};
+        p.seed = seed;
+        CHECK(relief_synth(&p, NULL, &t, &err) == RELIEF_OK, "%s", err.message);
+        if (t) {
+            CHECK(relief_measure(t, NULL, NULL, &me, &err) == RELIEF_OK, "%s", err.message);
+            if (me.msi_diff_percent > worst)
+                worst = me.msi_diff_percent;
+        }
+        relief_mesh_destroy(t);
+    }
+    printf("%s: the truth's parts differ in MSI by at most %.2f %% over seeds 1 to 8\n",
+           relief_synth_kind_name(kind), worst);
+    CHECK(worst < 5.0, "%s: the truth's own parts differ in MSI by %.2f %%",
+          relief_synth_kind_name(kind), worst);
+}
+
 static void check_params(void)
 {
     relief_synth_params p = relief_synth_params_default();
@@ -172,6 +201,8 @@ int main(void)
 {
     for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT; ++k)
         check_kind((relief_synth_kind)k);
+    check_stationary(RELIEF_SYNTH_PLANE_NOISE);
+    check_stationary(RELIEF_SYNTH_CYLINDER_BARK);
     check_params();
     return check_result();
 }

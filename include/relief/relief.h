@@ -164,7 +164,7 @@ relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
     X(RELIEF_SYNTH_PLANE_WAVES, "plane-waves",                                \
       "plane with sinusoidal relief; a disc is missing")                      \
     X(RELIEF_SYNTH_PLANE_NOISE, "plane-noise",                                \
-      "plane with band-limited stochastic relief; a disc is missing")        \
+      "plane with stochastic pebbles; a disc is missing")                     \
     X(RELIEF_SYNTH_CYLINDER_BANDS, "cylinder-bands",                          \
       "cylinder with raised rings, seen from one side")                       \
     X(RELIEF_SYNTH_CYLINDER_BARK, "cylinder-bark",                            \
