@@ -404,6 +404,18 @@ relief_hierarchy_options relief_hierarchy_options_default(void)
     return o;
 }
 
+/* Is sample a nearer to m than sample b (ties: the lower id)? */
+static int nearer(const double *spos, const double *m, uint32_t a, uint32_t b)
+{
+    double da = 0.0, db = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double x = spos[3 * (size_t)a + k] - m[k], y = spos[3 * (size_t)b + k] - m[k];
+        da += x * x;
+        db += y * y;
+    }
+    return da < db || (da == db && a < b);
+}
+
 /* The sample pyramids of level k (index ki): for each target, the level k
  * samples inside the box of the samples within `hops` of the sample its
  * parent matched at level k - 1 (prev_match, level k - 1 ids; UINT32_MAX
@@ -507,10 +519,13 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki,
                 if (in)
                     items[n_items++] = (uint32_t)idx[i];
             }
-            /* Ascending ids: the candidates' order, and so the draw, must not
-             * depend on the kd-tree's. */
+            /* Nearest first to the parent's match (its own vertex at this
+             * level, the likeliest good match), ties by id: a running cutoff
+             * then drops at once and prunes the rest early. The order, and
+             * so the draw, must not depend on the kd-tree's. */
+            const double *mp = pp + 3 * (size_t)h->ids[ki - 1][ms];
             for (size_t i = first + 1; i < n_items; ++i)
-                for (size_t j = i; j > first && items[j - 1] > items[j]; --j) {
+                for (size_t j = i; j > first && nearer(spos, mp, items[j], items[j - 1]); --j) {
                     uint32_t x = items[j];
                     items[j] = items[j - 1];
                     items[j - 1] = x;
