@@ -140,6 +140,13 @@ relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_ma
 void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
                        uint8_t *flag);
 
+/* The same loop over the query's centres first, first + step, ... only
+ * (their candidates' entries of ssd[] and flag[]), with a running cutoff
+ * of its own starting from q->cutoff: what each of the step threads of a
+ * score_pool.h pool runs. */
+void relief_score_host_strided(const relief_match_data *d, const relief_match_query *q,
+                               uint32_t first, uint32_t step, float *ssd, uint8_t *flag);
+
 /* The OpenCL matcher on device `device` (relief_devices order; -1: the
  * first). RELIEF_E_DEVICE naming the reason (no platform, the build log of
  * a failed kernel build, out of device memory); RELIEF_E_NOT_BUILT in a

@@ -17,6 +17,7 @@
 #include "error.h"
 #include "matcher.h"
 #include "ocl.h"
+#include "score_pool.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
@@ -43,6 +44,7 @@ typedef struct ocl {
     cl_mem s_proj, s_frame, cos_r, sin_r, ssd, flag, subset;
     cl_mem qp, q, g, qcol;
     size_t qcap; /* neighbours the query buffers hold */
+    relief_score_pool *pool; /* scores the launches too small to pay */
 } ocl;
 
 /* Release the surface's buffers (upload_data's; the program, queue and
@@ -67,6 +69,7 @@ static void ocl_free(ocl *o)
     if (!o)
         return;
     release_data(o); /* waits for pending writes, which read the host's arrays */
+    relief_score_pool_destroy(o->pool);
     {
         cl_mem query[] = {o->qp, o->q, o->g, o->qcol};
         for (size_t i = 0; i < sizeof query / sizeof query[0]; ++i)
@@ -249,9 +252,9 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
 
     if (ncand <= HOST_MAX) {
         /* A few hundred candidates (a sample pyramid's box) take less time
-         * here than a launch and its transfers; the same function scores
-         * them, so the results are the same. */
-        relief_score_host(d, qr, ssd, flag);
+         * here, on the host's cores, than a launch and its transfers; the
+         * same function scores them, so the results are the same. */
+        relief_score_pool_run(o->pool, d, qr, ssd, flag);
         return RELIEF_OK;
     }
     if (qr->n > o->qcap) { /* grow the query buffers */
@@ -420,6 +423,8 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         goto fail;
     }
     st = build_program(o, dev, err);
+    if (st == RELIEF_OK)
+        st = relief_score_pool_create(relief_score_pool_default_threads(), &o->pool, err);
     if (st != RELIEF_OK)
         goto fail;
     st = upload_data(o, d, err);

@@ -1,0 +1,149 @@
+/* The host scoring pool (score_pool.h) against the scalar reference's loop:
+ * with a fixed cutoff every flag and score is the same whatever the thread
+ * count; with a running cutoff the best set (VALID within 1.1 x the
+ * minimum), the growth's only use of the scores, is the same candidates
+ * with the same scores. Random targets of two surfaces, all the samples and
+ * a subset, 1, 2, 3 and 5 threads. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "pipeline.h"
+#include "matcher.h"
+#include "mesh.h"
+#include "rng.h"
+#include "score_pool.h"
+#include "surface.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "../kernels/relief_math.h"
+
+/* Is candidate c of (ssd, flag), n of them, in the best set? */
+static int in_best(const float *ssd, const uint8_t *flag, size_t n, size_t c)
+{
+    double minv = INFINITY;
+    for (size_t i = 0; i < n; ++i)
+        if (flag[i] == RM_VALID && ssd[i] < minv)
+            minv = ssd[i];
+    return flag[c] == RM_VALID && (double)ssd[c] <= 1.1 * minv;
+}
+
+static void check_surface(relief_synth_kind kind, int colour)
+{
+    static const int threads[] = {1, 2, 3, 5};
+    relief_synth_params sp = relief_synth_params_default();
+    relief_params p = relief_params_default();
+    relief_mesh *cap = NULL;
+    relief_surface *s = NULL;
+    relief_match_data *d = NULL;
+    relief_query_builder *qb = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    relief_rng rng;
+    uint8_t *textured = NULL, *fh = NULL, *fp = NULL;
+    float *sh = NULL, *spool = NULL;
+    uint32_t *sub = NULL;
+    size_t nc, best_seen = 0;
+
+    sp.kind = kind;
+    sp.vertices = 700;
+    sp.colour = colour;
+    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(s && relief_match_data_build(s, 4, colour ? 0.5 : 1.0, &d, &err) == RELIEF_OK, "%s",
+          err.message);
+    CHECK(d && relief_query_builder_create(s, d, &qb, &err) == RELIEF_OK, "%s", err.message);
+    if (!qb)
+        goto done;
+    nc = (size_t)d->ns * 4;
+    textured = calloc(d->nv, 1);
+    fh = malloc(nc), fp = malloc(nc);
+    sh = malloc(nc * sizeof *sh), spool = malloc(nc * sizeof *spool);
+    sub = malloc(d->ns * sizeof *sub);
+    if (!textured || !fh || !fp || !sh || !spool || !sub)
+        goto done;
+    for (size_t v = 0; v < s->n_samples; ++v)
+        textured[v] = 1;
+    relief_rng_seed(&rng, 5);
+    for (int trial = 0; trial < 8; ++trial) {
+        relief_match_query q;
+        uint32_t t;
+        int tries = 0;
+        do {
+            t = (uint32_t)(s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets));
+            relief_query_build(qb, textured, t, 3, &q);
+        } while (q.n == 0 && ++tries < 10000);
+        if (q.n == 0)
+            continue;
+        if (trial % 2) { /* every third sample, from the last down */
+            uint32_t n = 0;
+            for (uint32_t i = d->ns; i-- > 0;)
+                if (i % 3 == 1)
+                    sub[n++] = i;
+            q.subset = sub;
+            q.n_subset = n;
+        }
+        for (int running = 0; running <= 1; ++running) {
+            size_t n;
+            q.running = running;
+            q.cutoff = FLT_MAX;
+            if (!running) { /* a fixed cutoff that prunes */
+                relief_score_host(d, &q, sh, fh);
+                q.cutoff = 0.0f;
+                for (size_t c = 0; c < relief_match_query_candidates(d, &q); ++c)
+                    if (fh[c] == RM_VALID && 0.5f * sh[c] > q.cutoff)
+                        q.cutoff = 0.5f * sh[c];
+            }
+            n = relief_match_query_candidates(d, &q);
+            relief_score_host(d, &q, sh, fh);
+            for (size_t k = 0; k < sizeof threads / sizeof threads[0]; ++k) {
+                relief_score_pool *pool = NULL;
+                size_t bad = 0;
+                CHECK(relief_score_pool_create(threads[k], &pool, &err) == RELIEF_OK, "%s",
+                      err.message);
+                if (!pool)
+                    continue;
+                memset(fp, 0xff, n);
+                relief_score_pool_run(pool, d, &q, spool, fp);
+                for (size_t c = 0; c < n; ++c) {
+                    if (!running) {
+                        bad += fp[c] != fh[c] || (fh[c] != RM_INVALID && spool[c] != sh[c]);
+                    } else {
+                        int bh = in_best(sh, fh, n, c), bp = in_best(spool, fp, n, c);
+                        bad += bh != bp || (bh && spool[c] != sh[c]);
+                        best_seen += bh && k == 0;
+                    }
+                }
+                CHECK(bad == 0, "%s colour %d, target %u, %s, %s cutoff, %d threads: %zu of %zu "
+                      "candidates differ", relief_synth_kind_name(kind), colour, (unsigned)t,
+                      q.subset ? "subset" : "all samples", running ? "running" : "fixed",
+                      threads[k], bad, n);
+                relief_score_pool_destroy(pool);
+            }
+        }
+    }
+    CHECK(best_seen > 0, "%s: no best set compared", relief_synth_kind_name(kind));
+done:
+    free(sub), free(spool), free(sh), free(fp), free(fh), free(textured);
+    relief_query_builder_destroy(qb);
+    relief_match_data_destroy(d);
+    relief_surface_destroy(s);
+    relief_mesh_destroy(cap);
+}
+
+int main(void)
+{
+    relief_score_pool *pool = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    CHECK(relief_score_pool_create(0, &pool, &err) == RELIEF_E_RANGE && !pool,
+          "0 threads accepted");
+    CHECK(relief_score_pool_create(RELIEF_SCORE_POOL_MAX + 1, &pool, &err) == RELIEF_E_RANGE,
+          "too many threads accepted");
+    CHECK(relief_score_pool_default_threads() >= 1, "no default thread count");
+    relief_score_pool_destroy(NULL);
+    check_surface(RELIEF_SYNTH_PLANE_NOISE, 0);
+    check_surface(RELIEF_SYNTH_CYLINDER_BANDS, 1);
+    return check_result();
+}
