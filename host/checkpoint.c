@@ -11,11 +11,12 @@
 
 #include "atomic.h"
 #include "error.h"
+#include "hierarchy.h"
 #include "oversample.h"
 #include "mesh.h"
 
 #define MAGIC "RELIEFCK"
-#define FORMAT 1u
+#define FORMAT 2u /* 2: the matches and a hierarchy's place */
 #define ORDER 0x01020304u
 
 /* ------------------------------------------------------------ fingerprint */
@@ -94,7 +95,7 @@ typedef struct buffer {
 
 static void put(buffer *b, const void *p, size_t n)
 {
-    if (b->failed)
+    if (b->failed || n == 0) /* n == 0: p may be NULL (level 1 has no previous level) */
         return;
     if (b->n + n > b->cap) {
         size_t cap = b->cap ? b->cap : 4096;
@@ -163,6 +164,21 @@ relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_
     put(&b, g->rng.mt, sizeof g->rng.mt);
     put_u32(&b, (uint32_t)g->rng.index);
     put_stats(&b, &g->stats);
+    put_u32(&b, g->matched != NULL);
+    if (g->matched)
+        put(&b, g->matched, nt * sizeof *g->matched);
+    put_u32(&b, g->hier != NULL);
+    if (g->hier) {
+        const relief_hierarchy_state *h = g->hier;
+        put_u32(&b, (uint32_t)h->levels);
+        put_u32(&b, (uint32_t)h->level);
+        put_u64(&b, h->prev_nv);
+        put(&b, h->smoothed_prev, h->prev_nv * sizeof *h->smoothed_prev);
+        put(&b, h->match_prev, h->prev_nv * sizeof *h->match_prev);
+        /* As the stats: in memory (size_t and double only), behind their size. */
+        put_u32(&b, (uint32_t)sizeof *h->done);
+        put(&b, h->done, (size_t)(h->level - 1) * sizeof *h->done);
+    }
     put_u64(&b, fnv1a(FNV_START, b.data, b.n));
     if (b.failed) {
         free(b.data);
@@ -200,13 +216,20 @@ struct relief_checkpoint {
     int *window;
     double *disp;
     float *colour, *mesh_colour;
-    uint32_t *list;
+    uint32_t *list, *matched;
+    relief_hierarchy_state hier;
+    double *smoothed_prev;
+    uint32_t *match_prev;
+    relief_level_stats done[RELIEF_MAX_LEVELS];
 };
 
 void relief_checkpoint_destroy(relief_checkpoint *c)
 {
     if (!c)
         return;
+    free(c->match_prev);
+    free(c->smoothed_prev);
+    free(c->matched);
     free(c->list);
     free(c->mesh_colour);
     free(c->colour);
@@ -229,6 +252,8 @@ typedef struct reader {
 
 static int get(reader *r, void *out, size_t n)
 {
+    if (n == 0)
+        return !r->short_read;
     if (r->short_read || n > r->n - r->at) {
         r->short_read = 1;
         return 0;
@@ -321,6 +346,84 @@ static void first_difference(const char *a, const char *b, char *out, size_t cap
     snprintf(theirs, tcap, "?");
 }
 
+/* The matches of a growth that keeps them: a textured target's is a
+ * vertex, an untextured one's UINT32_MAX - 1. */
+static relief_status parse_matches(const char *path, reader *r, relief_checkpoint *c,
+                                   relief_error *err)
+{
+    const relief_grow_state *g = &c->state;
+    const size_t nt = g->nv - g->n_samples;
+    const uint32_t has = get_u32(r);
+    if (r->short_read)
+        return RELIEF_OK; /* reported as truncated */
+    if (has > 1 || (has && nt * 4 > r->n - r->at))
+        return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint matches are malformed", path);
+    if (!has)
+        return RELIEF_OK;
+    c->matched = malloc((nt + 1) * sizeof *c->matched);
+    if (!c->matched)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint", path);
+    get(r, c->matched, nt * sizeof *c->matched);
+    for (size_t i = 0; i < nt; ++i)
+        if (c->textured[i] ? c->matched[i] >= g->nv : c->matched[i] != UINT32_MAX - 1)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: target %zu: match %u is not a "
+                               "vertex of its %s target", path, g->n_samples + i,
+                               c->matched[i], c->textured[i] ? "textured" : "untextured");
+    return RELIEF_OK;
+}
+
+/* A hierarchical run's place (hierarchy.h). */
+static relief_status parse_hierarchy(const char *path, reader *r, relief_checkpoint *c,
+                                     relief_error *err)
+{
+    relief_hierarchy_state *h = &c->hier;
+    uint32_t has = get_u32(r), levels, level, size;
+    uint64_t np;
+    if (r->short_read)
+        return RELIEF_OK;
+    if (has > 1)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint hierarchy flag %u", path, has);
+    if (!has)
+        return RELIEF_OK;
+    levels = get_u32(r);
+    level = get_u32(r);
+    np = get_u64(r);
+    if (r->short_read)
+        return RELIEF_OK;
+    if (levels < 2 || levels > RELIEF_MAX_LEVELS || level < 1 || level > levels ||
+        (level == 1) != (np == 0) || np > UINT32_MAX || np * 12 > r->n - r->at)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint at level %u of %u with %llu "
+                           "vertices before it is malformed", path, level, levels,
+                           (unsigned long long)np);
+    if (!c->matched)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: a hierarchy's checkpoint without its "
+                           "matches", path);
+    c->smoothed_prev = malloc((np + 1) * sizeof *c->smoothed_prev);
+    c->match_prev = malloc((np + 1) * sizeof *c->match_prev);
+    if (!c->smoothed_prev || !c->match_prev)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint", path);
+    get(r, c->smoothed_prev, np * sizeof *c->smoothed_prev);
+    get(r, c->match_prev, np * sizeof *c->match_prev);
+    for (size_t v = 0; v < np; ++v)
+        if (!isfinite(c->smoothed_prev[v]) ||
+            (c->match_prev[v] >= np && c->match_prev[v] < UINT32_MAX - 1))
+            return relief_fail(err, RELIEF_E_PARSE, "%s: level %u vertex %zu: height %g or "
+                               "match %u is malformed", path, level - 1, v,
+                               c->smoothed_prev[v], c->match_prev[v]);
+    size = get_u32(r);
+    if (!r->short_read && size != sizeof *h->done)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint level statistics are of "
+                           "another layout", path);
+    get(r, c->done, (size_t)(level - 1) * sizeof *c->done);
+    h->levels = (int)levels;
+    h->level = (int)level;
+    h->prev_nv = (size_t)np;
+    h->smoothed_prev = c->smoothed_prev;
+    h->match_prev = c->match_prev;
+    h->done = c->done;
+    return RELIEF_OK;
+}
+
 static relief_status parse(const char *path, reader *r, const relief_checkpoint_key *key,
                            relief_checkpoint *c, relief_error *err)
 {
@@ -329,6 +432,7 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
     uint32_t plen;
     uint64_t nv, ns, nt, nl, hash;
     size_t textured = 0;
+    relief_status st;
 
     if (!get(r, magic, 8) || memcmp(magic, MAGIC, 8) != 0)
         return relief_fail(err, RELIEF_E_PARSE, "%s: not a relief checkpoint (no '%s' magic)",
@@ -445,6 +549,11 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
     if (!get_stats(r, &g->stats) && !r->short_read)
         return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint statistics are of another "
                            "layout", path);
+    st = parse_matches(path, r, c, err);
+    if (st == RELIEF_OK)
+        st = parse_hierarchy(path, r, c, err);
+    if (st != RELIEF_OK)
+        return st;
     if (r->short_read || r->at != r->n)
         return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint is %s", path,
                            r->short_read ? "truncated" : "longer than its content");
@@ -467,6 +576,8 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
     g->colour = c->colour;
     g->mesh_colour = c->mesh_colour;
     g->list = c->list;
+    g->matched = c->matched;
+    g->hier = c->hier.levels ? &c->hier : NULL;
     return RELIEF_OK;
 }
 

@@ -10,11 +10,16 @@
  * not part of it: they never change the result, so a run interrupted on
  * OpenCL may be resumed on the scalar reference.
  *
+ * A hierarchical run (--levels M) saves the level in progress, its growth's
+ * state and what it takes from the finished levels (relief_hierarchy_state:
+ * their heights, matches and figures), so it resumes at that level.
+ *
  * File layout (native byte order, little-endian on every platform relief
  * runs on; an order marker rejects the others): magic "RELIEFCK", format
- * version, the fingerprint, the state, and an FNV-1a 64 checksum of all
- * that precedes it. Written under a temporary name and renamed into place,
- * so the file is always the previous or the new checkpoint, never half. */
+ * version, the fingerprint, the state (with a hierarchy's place, if any),
+ * and an FNV-1a 64 checksum of all that precedes it. Written under a
+ * temporary name and renamed into place, so the file is always the previous
+ * or the new checkpoint, never half. */
 #ifndef RELIEF_HOST_CHECKPOINT_H
 #define RELIEF_HOST_CHECKPOINT_H
 

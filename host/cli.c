@@ -691,7 +691,12 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
             go->progress = on_progress;
             go->progress_ctx = &hook;
         }
-        if (go->resume && !quiet)
+        if (go->resume && !quiet && go->resume->hier)
+            fprintf(stderr, "relief complete: resuming from %s: level %d of %d, %zu of %zu "
+                    "targets done\n", rc->resume, go->resume->hier->level,
+                    go->resume->hier->levels, go->resume->stats.acceptances,
+                    go->resume->stats.targets);
+        else if (go->resume && !quiet)
             fprintf(stderr, "relief complete: resuming from %s: %zu of %zu targets done\n",
                     rc->resume, go->resume->stats.acceptances, go->resume->stats.targets);
         if (hier) {
@@ -710,6 +715,9 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
             else if (st == RELIEF_OK && !quiet)
                 fprintf(stderr, "relief complete: backend %s: %s\n",
                         relief_backend_name(used_backend), used_device);
+        } else if (go->resume && go->resume->hier) {
+            st = relief_fail(&err, RELIEF_E_USAGE, "%s: the checkpoint is of a %d-level run",
+                             rc->resume, go->resume->hier->levels);
         } else {
             st = relief_grow(s, d, m, p, go, &stats, &err);
             if (m->fallback_note[0])
@@ -972,11 +980,6 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                                (report && same_file(report, control.checkpoint))))
         return usage_error(cmd, "--checkpoint: '%s' is the input or an output",
                            control.checkpoint);
-    if ((control.checkpoint || control.resume) && p.levels > 1) {
-        fprintf(stderr, "relief %s: --checkpoint and --resume work with --levels 1 only "
-                "(mono-scale), not --levels %d\n", cmd, p.levels);
-        return EXIT_USAGE;
-    }
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return fail_status(cmd, &err);
     if (parse_only)

@@ -272,6 +272,8 @@ static relief_status save_state(const relief_grow_options *opts, const relief_su
     g.error = e;
     g.rng = *rng;
     g.stats = *stats;
+    g.matched = opts->matched ? opts->matched + ns : NULL;
+    g.hier = NULL;
     st = opts->save(opts->save_ctx, &g, err);
     free(ids);
     return st;
@@ -373,6 +375,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         st = restore_state(r, s, d, m, opts->bootstrap, textured, win, &remaining, err);
         if (st != RELIEF_OK)
             goto done;
+        if (opts->matched && r->matched)
+            memcpy(opts->matched + s->n_samples, r->matched,
+                   s->n_targets * sizeof *opts->matched);
         rng = r->rng;
         e = r->error;
         *stats = r->stats;

@@ -46,6 +46,8 @@ typedef void (*relief_grow_progress_fn)(void *ctx, const relief_grow_progress *p
  * the targets only: entry i is vertex n_samples + i. Filled by relief_grow
  * for a save callback (valid during the call only), or by
  * relief_checkpoint_read for opts.resume (owned by the checkpoint). */
+struct relief_hierarchy_state; /* hierarchy.h */
+
 typedef struct relief_grow_state {
     size_t nv;                /* vertices of the surface */
     size_t n_samples;         /* vertices 0..n_samples-1 are the samples */
@@ -70,6 +72,14 @@ typedef struct relief_grow_state {
     relief_rng rng;           /* the draw's MT19937, mid-sequence */
     relief_grow_stats stats;  /* counts so far (seconds: the growth's wall
                                  time so far) */
+    const uint32_t *matched;  /* n_targets: the sample vertex each textured
+                                 target copied (UINT32_MAX - 1 while
+                                 untextured), when the growth keeps it
+                                 (opts.matched, a hierarchy's level); else
+                                 NULL */
+    /* A hierarchical run's place (hierarchy.h), or NULL for a mono-scale
+     * growth: relief_grow leaves it NULL, a hierarchy's levels set it. */
+    const struct relief_hierarchy_state *hier;
 } relief_grow_state;
 
 typedef relief_status (*relief_grow_save_fn)(void *ctx, const relief_grow_state *state,

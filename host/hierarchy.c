@@ -621,6 +621,46 @@ static void add_stats(relief_grow_stats *t, const relief_grow_stats *s)
     t->match_seconds += s->match_seconds;
 }
 
+/* A level's save callback: the caller's, given the growth's state with the
+ * hierarchy's place attached. */
+typedef struct level_saver {
+    relief_grow_save_fn save;
+    void *ctx;
+    relief_hierarchy_state place;
+} level_saver;
+
+static relief_status save_level(void *ctx, const relief_grow_state *g, relief_error *err)
+{
+    const level_saver *ls = ctx;
+    relief_grow_state with = *g;
+    with.hier = &ls->place;
+    return ls->save(ls->ctx, &with, err);
+}
+
+/* Check a saved hierarchical run against h; the level to continue (0-based). */
+static relief_status check_resume(const relief_hierarchy *h, const relief_grow_state *g,
+                                  const relief_hierarchy_options *ho, int *k0,
+                                  relief_error *err)
+{
+    const relief_hierarchy_state *r = g->hier;
+    size_t want;
+    if (!r)
+        return relief_fail(err, RELIEF_E_USAGE, "the checkpoint is of a mono-scale run "
+                           "(--levels 1), not of %d levels", h->levels);
+    if (r->levels != h->levels || r->level < 1 || r->level > h->levels)
+        return relief_fail(err, RELIEF_E_USAGE, "the checkpoint is at level %d of %d, not of "
+                           "a %d-level run", r->level, r->levels, h->levels);
+    if (ho->heights)
+        return relief_fail(err, RELIEF_E_USAGE, "a resumed hierarchy cannot return the "
+                           "finished levels' heights");
+    want = r->level > 1 ? h->level[r->level - 2]->mesh->nv : 0;
+    if (r->prev_nv != want)
+        return relief_fail(err, RELIEF_E_USAGE, "the checkpoint's level %d has %zu vertices; "
+                           "this hierarchy's has %zu", r->level - 1, r->prev_nv, want);
+    *k0 = r->level - 1;
+    return RELIEF_OK;
+}
+
 relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
                                     const relief_params *params,
                                     const relief_grow_options *go,
@@ -641,6 +681,9 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     /* Each level's adjacency, built once: its smoothing passes use it, and
      * the next level's pyramids walk it. */
     relief_adjacency adj = {NULL, NULL}, adj_prev = {NULL, NULL};
+    const relief_grow_state *resume = go ? go->resume : NULL;
+    level_saver saver;
+    int k0 = 0; /* the first level to grow: 0, or a saved run's */
 
     memset(hs, 0, sizeof *hs);
     memset(total, 0, sizeof *total);
@@ -664,7 +707,37 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     }
     b_shape = hmax > hmin ? hmax - hmin : s->spacing;
 
-    for (int ki = 0; ki < M; ++ki) {
+    /* A saved run: the finished levels' heights, matches and figures back,
+     * and the adjacency of the last of them for the pyramids. */
+    if (resume) {
+        const relief_hierarchy_state *r = resume->hier;
+        st = check_resume(h, resume, ho, &k0, err);
+        if (st == RELIEF_OK && k0 > 0) {
+            const size_t np = r->prev_nv;
+            smoothed_prev = malloc((np + 1) * sizeof *smoothed_prev);
+            match_prev = malloc((np + 1) * sizeof *match_prev);
+            if (!smoothed_prev || !match_prev)
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the saved levels");
+            else {
+                memcpy(smoothed_prev, r->smoothed_prev, np * sizeof *smoothed_prev);
+                memcpy(match_prev, r->match_prev, np * sizeof *match_prev);
+                st = relief_mesh_adjacency(h->level[k0 - 1]->mesh, &adj_prev, err);
+            }
+            for (int ki = 0; ki < k0; ++ki) {
+                hs->level[ki] = r->done[ki];
+                add_stats(total, &r->done[ki].grow);
+            }
+        }
+        if (st != RELIEF_OK) {
+            free(smoothed_prev);
+            free(match_prev);
+            free(prim);
+            relief_adjacency_free(&adj_prev);
+            return st;
+        }
+    }
+
+    for (int ki = k0; ki < M; ++ki) {
         relief_surface *lv = h->level[ki];
         relief_mesh *lm = lv->mesh;
         const size_t nv = lm->nv;
@@ -752,9 +825,23 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             lo.pyramid_start = lo.pyramid_items = NULL;
         }
         lo.matched = matched;
+        lo.resume = ki == k0 ? resume : NULL;
+        if (go && go->save) {
+            saver.save = go->save;
+            saver.ctx = go->save_ctx;
+            saver.place.levels = M;
+            saver.place.level = ki + 1;
+            saver.place.prev_nv = ki > 0 ? h->level[ki - 1]->mesh->nv : 0;
+            saver.place.smoothed_prev = smoothed_prev;
+            saver.place.match_prev = match_prev;
+            saver.place.done = hs->level;
+            lo.save = save_level;
+            lo.save_ctx = &saver;
+        }
         m->kernel_seconds = 0.0; /* this level's scoring time only */
         st = relief_grow(lv, d, m, params, &lo, &ls->grow, err);
         if (st != RELIEF_OK) {
+            add_stats(total, &ls->grow);
             relief_fail_prefix(err, "hierarchy level %d of %d", ki + 1, M);
             goto level_done;
         }

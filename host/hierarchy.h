@@ -72,6 +72,21 @@ typedef struct relief_level_stats {
     double seconds;       /* setup, growth and smoothing */
 } relief_level_stats;
 
+/* Where a hierarchical run is, for a checkpoint (checkpoint.h): the level
+ * in progress and what it takes from the finished ones. Its growth's own
+ * state is the relief_grow_state that points here. */
+typedef struct relief_hierarchy_state {
+    int levels;                     /* M */
+    int level;                      /* the level in progress, 1..M */
+    size_t prev_nv;                 /* vertices of level - 1 (0 at level 1) */
+    const double *smoothed_prev;    /* prev_nv: level - 1's completed and
+                                       smoothed heights (input units) */
+    const uint32_t *match_prev;     /* prev_nv: the level - 1 sample each of
+                                       its vertices copied (>= UINT32_MAX - 1:
+                                       none, a sample) */
+    const relief_level_stats *done; /* level - 1 entries: the finished levels */
+} relief_hierarchy_state;
+
 typedef struct relief_hierarchy_stats {
     int levels;
     double build_seconds;
@@ -103,7 +118,13 @@ relief_hierarchy_options relief_hierarchy_options_default(void);
  * s's targets hold their final positions and colours (as relief_grow leaves
  * them), s->proj and s->disp are relative to the primitive again, and the
  * samples are where they were. `go` as for relief_grow (progress, pruning,
- * bootstrap; its pyramid and matched fields are the hierarchy's own).
+ * bootstrap, cancel; its pyramid and matched fields are the hierarchy's
+ * own). Its save callback receives each level's growth state with `hier`
+ * set; go->resume, such a state read back (with the same input and
+ * parameters), continues the run at its level to the same result as a run
+ * never stopped (RELIEF_E_USAGE for a mono-scale or another hierarchy's
+ * state, or with ho->heights). On failure `total` holds the finished
+ * levels and the one that stopped.
  * `total` sums the levels' growth; `device` receives the last level's
  * matcher description and `note` (may be NULL) auto's fallback reason. */
 relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,

@@ -2,7 +2,8 @@
  * resumed gives the same surface and counts as one never stopped, whatever
  * N; saving before every target changes nothing; the cancel flag stops it
  * between two targets; a checkpoint that is truncated, corrupt or of
- * another input or parameters is refused. */
+ * another input or parameters is refused. The same for a hierarchical run
+ * (M = 3), stopped in each level and at a level's end. */
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include "check.h"
 #include "checkpoint.h"
 #include "grow.h"
+#include "hierarchy.h"
 #include "matcher.h"
 #include "mesh.h"
 #include "surface.h"
@@ -81,6 +83,169 @@ static size_t file_size(const char *path)
     if (f)
         fclose(f);
     return n < 0 ? 0 : (size_t)n;
+}
+
+/* Cancel once `after` targets have been accepted in all (the levels
+ * included), as the CLI's SIGINT hook does. */
+typedef struct stopper {
+    size_t after, seen;
+    volatile sig_atomic_t flag;
+} stopper;
+
+static void count_progress(void *ctx, const relief_grow_progress *p)
+{
+    stopper *s = ctx;
+    (void)p;
+    if (++s->seen == s->after)
+        s->flag = 1;
+}
+
+/* A hierarchical run of u's surface, from `resume` when not NULL. */
+static relief_status grow_levels(setup *u, const relief_grow_options *go,
+                                 relief_hierarchy_stats *hs, relief_grow_stats *total,
+                                 relief_error *err)
+{
+    relief_hierarchy *h = NULL;
+    relief_hierarchy_options ho = relief_hierarchy_options_default();
+    relief_backend used;
+    char dev[256];
+    relief_status st = relief_hierarchy_build(u->s, u->p.levels, &h, err);
+    ho.backend = RELIEF_BACKEND_SCALAR;
+    if (st == RELIEF_OK)
+        st = relief_hierarchy_grow(h, u->s, &u->p, go, &ho, hs, total, &used, dev, sizeof dev,
+                                   NULL, 0, err);
+    relief_hierarchy_destroy(h);
+    return st;
+}
+
+static void check_hierarchy(const char *path)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_grow_options go = relief_grow_options_default();
+    relief_hierarchy_stats ref_hs;
+    relief_grow_stats ref_total;
+    relief_checkpoint_key key;
+    setup ref;
+    size_t stops[] = {5, 0, 120, 0};
+
+    if (!setup_make(&ref, &err)) {
+        CHECK(0, "set-up: %s", err.message);
+        return;
+    }
+    ref.p.levels = 3;
+    relief_checkpoint_key_make(ref.capture, &ref.p, NULL, &go, &key);
+    CHECK(grow_levels(&ref, &go, &ref_hs, &ref_total, &err) == RELIEF_OK, "levels: %s",
+          err.message);
+    stops[1] = ref_hs.level[0].targets;      /* level 1's end */
+    stops[3] = ref_total.acceptances - 3;    /* late in level 3 */
+    for (size_t i = 0; i < sizeof stops / sizeof stops[0]; ++i) {
+        setup u, v;
+        saver sv = {path, &key, 0};
+        stopper stop = {stops[i], 0, 0};
+        relief_grow_options g1 = relief_grow_options_default(), g2 = g1;
+        relief_hierarchy_stats hs1, hs2;
+        relief_grow_stats t1, t2;
+        relief_checkpoint *ck = NULL;
+        relief_status st;
+        const relief_grow_state *g;
+        if (!setup_make(&u, &err) || !setup_make(&v, &err)) {
+            CHECK(0, "set-up: %s", err.message);
+            return;
+        }
+        u.p.levels = v.p.levels = 3;
+        g1.save = save;
+        g1.save_ctx = &sv;
+        g1.progress = count_progress;
+        g1.progress_ctx = &stop;
+        g1.cancel = &stop.flag;
+        st = grow_levels(&u, &g1, &hs1, &t1, &err);
+        CHECK(st == RELIEF_E_CANCELLED && sv.calls == 1, "levels, stop after %zu: %s, %d saves",
+              stops[i], relief_status_name(st), sv.calls);
+        CHECK(t1.acceptances == stops[i], "levels, stopped after %zu: %zu counted", stops[i],
+              t1.acceptances);
+        st = relief_checkpoint_read(path, &key, &ck, &err);
+        CHECK(st == RELIEF_OK, "levels, read after %zu: %s", stops[i], err.message);
+        if (st != RELIEF_OK) {
+            setup_free(&u), setup_free(&v);
+            continue;
+        }
+        g = relief_checkpoint_state(ck);
+        CHECK(g->hier && g->hier->levels == 3 && g->matched, "levels: no hierarchy state");
+        if (g->hier)
+            printf("levels: stopped after %zu, saved at level %d with %zu of %zu done\n",
+                   stops[i], g->hier->level, g->stats.acceptances, g->stats.targets);
+        if (i == 1)
+            CHECK(g->hier && g->hier->level == 2 && g->stats.acceptances == 0,
+                  "stopped at level 1's end: saved at level %d with %zu done",
+                  g->hier ? g->hier->level : 0, g->stats.acceptances);
+        /* Resumed on a surface built afresh: the uninterrupted result. */
+        g2.resume = g;
+        st = grow_levels(&v, &g2, &hs2, &t2, &err);
+        CHECK(st == RELIEF_OK, "levels, resume after %zu: %s", stops[i], err.message);
+        CHECK(memcmp(v.s->mesh->pos, ref.s->mesh->pos,
+                     ref.s->mesh->nv * 3 * sizeof *ref.s->mesh->pos) == 0 &&
+                  memcmp(v.s->mesh->col, ref.s->mesh->col,
+                         ref.s->mesh->nv * 3 * sizeof *ref.s->mesh->col) == 0,
+              "levels, resumed after %zu: the surface differs", stops[i]);
+        CHECK(same_counts(&t2, &ref_total), "levels, resumed after %zu: the counts differ",
+              stops[i]);
+        for (int k = 0; k < 3; ++k)
+            CHECK(same_counts(&hs2.level[k].grow, &ref_hs.level[k].grow) &&
+                      hs2.level[k].boxes == ref_hs.level[k].boxes,
+                  "levels, resumed after %zu: level %d's counts differ", stops[i], k + 1);
+        /* A place that does not fit this hierarchy is refused. */
+        if (g->hier && i == 2) {
+            relief_hierarchy_state bad = *g->hier;
+            relief_grow_state gb = *g;
+            relief_checkpoint *ck2 = NULL;
+            gb.hier = &bad;
+            bad.level = 4;
+            CHECK(relief_checkpoint_write(path, &key, &gb, &err) == RELIEF_OK, "%s",
+                  err.message);
+            CHECK(relief_checkpoint_read(path, &key, &ck2, &err) == RELIEF_E_PARSE &&
+                      strstr(err.message, "level 4 of 3"),
+                  "level 4 of 3 read back: %s", err.message);
+            relief_checkpoint_destroy(ck2);
+            bad = *g->hier;
+            gb.matched = NULL;
+            CHECK(relief_checkpoint_write(path, &key, &gb, &err) == RELIEF_OK, "%s",
+                  err.message);
+            CHECK(relief_checkpoint_read(path, &key, &ck2, &err) == RELIEF_E_PARSE &&
+                      strstr(err.message, "without its matches"),
+                  "a hierarchy's checkpoint without matches read back: %s", err.message);
+            relief_checkpoint_destroy(ck2);
+        }
+        relief_checkpoint_destroy(ck);
+        setup_free(&u), setup_free(&v);
+    }
+    /* A mono-scale state given to a hierarchy is refused. */
+    {
+        setup u;
+        saver sv = {path, &key, 0};
+        relief_grow_options g1 = relief_grow_options_default(), g2 = g1;
+        relief_grow_stats st1, t2;
+        relief_hierarchy_stats hs2;
+        relief_checkpoint *ck = NULL;
+        if (setup_make(&u, &err)) {
+            g1.save = save;
+            g1.save_ctx = &sv;
+            g1.cancel_after = 10;
+            relief_grow(u.s, u.d, u.m, &u.p, &g1, &st1, &err);
+            if (relief_checkpoint_read(path, &key, &ck, &err) == RELIEF_OK) {
+                u.p.levels = 3;
+                g2.resume = relief_checkpoint_state(ck);
+                CHECK(grow_levels(&u, &g2, &hs2, &t2, &err) == RELIEF_E_USAGE &&
+                          strstr(err.message, "mono-scale"),
+                      "a mono-scale state resumed by a hierarchy: %s", err.message);
+            } else {
+                CHECK(0, "mono-scale checkpoint: %s", err.message);
+            }
+            relief_checkpoint_destroy(ck);
+            setup_free(&u);
+        }
+    }
+    remove(path);
+    setup_free(&ref);
 }
 
 int main(void)
@@ -258,6 +423,7 @@ int main(void)
         relief_checkpoint_destroy(ck);
     }
     remove(path);
+    check_hierarchy(path);
     rmdir(check_tmpdir());
     setup_free(&ref);
     return check_result();

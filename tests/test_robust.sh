@@ -78,12 +78,35 @@ expect 1 "not a relief checkpoint" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --re
 expect 1 "cannot open" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/none"
 expect 1 "is the input or an output" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$pw"
 expect 1 "--checkpoint-every" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck2" --checkpoint-every -1
-expect 1 "with --levels 1 only" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck2" --levels 2
+expect 1 "made with levels=1, this run has levels=2" -- "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/ck" --levels 2
 ok '[[ ! -e $tmp/r.ply ]]' "output written by a refused resume"
 # The backend is not part of the fingerprint: auto (OpenCL where there is a
 # device) resumes a scalar run to the same bytes.
 expect 0 "" -- "$relief" complete "$pw" --window 2 --error 0.03 --quiet -o "$tmp/r2.ply" --resume "$tmp/ck"
 ok 'cmp -s "$tmp/full.ply" "$tmp/r2.ply"' "resumed on another backend, the output differs"
+
+# A hierarchical run saves the level it is at and resumes there: stopped
+# in level 1 (94 targets), resumed on OpenCL (where there is a device) and
+# stopped again in level 2, then finished on the scalar reference: the same
+# bytes and the same counts, per level and in all, as a run never stopped.
+hrun=("${run[@]}" --levels 3)
+rm -f "$tmp/h.ply"
+expect 0 "" -- "$relief" "${hrun[@]}" -o "$tmp/hfull.ply" --report "$tmp/hfull.json"
+expect 130 "hierarchy level 1 of 3: interrupted after 20 of 94" -- env RELIEF_TEST_SIGINT_AFTER=20 "$relief" "${hrun[@]}" -o "$tmp/h.ply" --checkpoint "$tmp/hck"
+expect 1 "made with levels=3, this run has levels=2" -- "$relief" "${run[@]}" --levels 2 -o "$tmp/h.ply" --resume "$tmp/hck"
+expect 1 "made with levels=3, this run has levels=1" -- "$relief" "${run[@]}" -o "$tmp/h.ply" --resume "$tmp/hck"
+expect 130 "hierarchy level 2 of 3: interrupted after 26 of 97" -- env RELIEF_TEST_SIGINT_AFTER=100 "$relief" complete "$pw" --window 2 --error 0.03 --levels 3 --quiet -o "$tmp/h.ply" --resume "$tmp/hck" --checkpoint "$tmp/hck"
+expect 0 "level 2 of 3, 26 of 97 targets done" -- "$relief" complete "$pw" --backend scalar --window 2 --error 0.03 --levels 3 -o "$tmp/h.ply" --resume "$tmp/hck" --checkpoint "$tmp/hck" --report "$tmp/h.json"
+ok 'cmp -s "$tmp/hfull.ply" "$tmp/h.ply"' "resumed hierarchical output differs from the uninterrupted one"
+for key in passes candidates_scored acceptances rejections threshold_raises restricted_matches fallbacks_nothing_passed; do
+  a=$(grep -o "\"$key\": [^,]*" "$tmp/hfull.json" | tr '\n' ' '); b=$(grep -o "\"$key\": [^,]*" "$tmp/h.json" | tr '\n' ' ')
+  ok '[[ -n $a && $a == "$b" ]]' "resumed hierarchical report: $b, uninterrupted: $a"
+done
+ok '[[ ! -e $tmp/hck ]]' "the checkpoint of a finished hierarchical run was not removed"
+# Stopped right at a level's end: saved at the start of the next.
+expect 130 "hierarchy level 2 of 3: interrupted after 0 of 97" -- env RELIEF_TEST_SIGINT_AFTER=94 "$relief" "${hrun[@]}" -o "$tmp/h2.ply" --checkpoint "$tmp/hck"
+expect 0 "" -- "$relief" "${hrun[@]}" -o "$tmp/h2.ply" --resume "$tmp/hck"
+ok 'cmp -s "$tmp/hfull.ply" "$tmp/h2.ply"' "resumed at a level's start, the output differs"
 
 # ------------------------------------------------------------ memory limits
 # Refused up front, with the estimate and the limit, and nothing written.
