@@ -510,7 +510,10 @@ static void seam_free(seam_copies *s)
 
 /* 1 when a copy of some point (not a duplicate) left out of the extended
  * set lies inside or on the circumcircle of (a, b, c): the triangle may
- * then not be Delaunay for the whole periodic set. */
+ * then not be Delaunay for the whole periodic set. 2 when that copy is
+ * more than a period away, which no margin short of the last resort's
+ * whole period settles (a long sliver along a jagged rim, whose circle
+ * spans periods). */
 static int circle_misses_copy(const double *a, const double *b,
                               const double *c, const double *w,
                               const uint8_t *dup, size_t n, double period,
@@ -533,7 +536,7 @@ static int circle_misses_copy(const double *a, const double *b,
         if (kmin > kmax)
             continue;
         if (kmin < -1.0 || kmax > 1.0)
-            return 1; /* no copy is ever made more than a period away */
+            return 2; /* no copy is ever made more than a period away */
         for (int k = (int)kmin; k <= (int)kmax; ++k)
             if (!copy_present(w[2 * j], k, period, margin))
                 return 1;
@@ -551,7 +554,8 @@ static double corner_angle(const double *p, const double *q, const double *r)
 
 /* From the triangles et (ent x 3, indices into s), put one copy of each
  * periodic triangle into out as original indices. Returns 1 when the
- * margin was too narrow to trust them: then a wider one is needed.
+ * margin was too narrow to trust them: then a wider one is needed; 2 when
+ * only a whole period can do (circle_misses_copy).
  *
  * Why the checks suffice. If every triangle at an original (unshifted)
  * point has no copy of any point inside its circumcircle, and the angles
@@ -581,10 +585,10 @@ static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
         }
         if (!any0)
             continue; /* only copies away from [0, period) */
-        if (circle_misses_copy(p[0], p[1], p[2], w, dup, n, period,
-                               margin)) {
+        int miss = circle_misses_copy(p[0], p[1], p[2], w, dup, n, period, margin);
+        if (miss) {
             if (!last)
-                return 1;
+                return miss;
             continue;
         }
         for (int k = 0; k < 3; ++k) {
@@ -694,7 +698,7 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
             break;
         free(out);
         out = NULL;
-        margin = fmin(period, 2.0 * margin);
+        margin = wider == 2 ? period : fmin(period, 2.0 * margin);
     }
     if (kept == 0) {
         st = relief_fail(err, RELIEF_E_MESH,
