@@ -147,6 +147,14 @@ void relief_score_host(const relief_match_data *d, const relief_match_query *q, 
 void relief_score_host_strided(const relief_match_data *d, const relief_match_query *q,
                                uint32_t first, uint32_t step, float *ssd, uint8_t *flag);
 
+/* The lowest valid SSD among the probes first, first + step, ... of
+ * `probes` candidates spread evenly over the query's (probe i: candidate
+ * i * ncand / probes), FLT_MAX when none is valid. Each probe is scored
+ * with the best so far as its cutoff, so the result is the exact minimum
+ * over those probes, however they are split between threads. */
+float relief_score_host_probe(const relief_match_data *d, const relief_match_query *q,
+                              size_t probes, uint32_t first, uint32_t step);
+
 /* The OpenCL matcher on device `device` (relief_devices order; -1: the
  * first). RELIEF_E_DEVICE naming the reason (no platform, the build log of
  * a failed kernel build, out of device memory); RELIEF_E_NOT_BUILT in a

@@ -275,22 +275,7 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     if (qr->running && ncand > 0) {
         /* Bound the minimum from a spread of candidates scored here. */
         const size_t probes = ncand < PROBES ? ncand : PROBES;
-        float best = FLT_MAX;
-        for (size_t i = 0; i < probes; ++i) {
-            size_t c = i * ncand / probes;
-            uint32_t si = relief_match_query_sample(qr, (uint32_t)(c / (size_t)d->rotations));
-            int r = (int)(c % (size_t)d->rotations);
-            float s;
-            if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
-                                   d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
-                                   d->lgrid, d->ldims, d->lmask, d->lslot, d->litems,
-                                   d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
-                                   d->cos_r[r], d->sin_r[r], qr->n, qr->qp, qr->q, qr->g,
-                                   qr->qcol, d->mu, d->inv_b2, qr->inv_wsum, best,
-                                   &s) == RM_VALID &&
-                s < best)
-                best = s;
-        }
+        const float best = relief_score_pool_probe(o->pool, d, qr, probes);
         if (best < FLT_MAX) {
             float c11 = nextafterf((float)(1.1 * (double)best), FLT_MAX);
             if (c11 < cutoff)

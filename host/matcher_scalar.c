@@ -45,6 +45,28 @@ void relief_score_host_strided(const relief_match_data *d, const relief_match_qu
     }
 }
 
+float relief_score_host_probe(const relief_match_data *d, const relief_match_query *q,
+                              size_t probes, uint32_t first, uint32_t step)
+{
+    const size_t ncand = relief_match_query_candidates(d, q);
+    float best = FLT_MAX;
+    for (size_t i = first; i < probes; i += step) {
+        const size_t c = i * ncand / probes;
+        const uint32_t si = relief_match_query_sample(q, (uint32_t)(c / (size_t)d->rotations));
+        const int r = (int)(c % (size_t)d->rotations);
+        float s;
+        if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
+                               d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
+                               d->lgrid, d->ldims, d->lmask, d->lslot, d->litems,
+                               d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
+                               d->cos_r[r], d->sin_r[r], q->n, q->qp, q->q, q->g, q->qcol,
+                               d->mu, d->inv_b2, q->inv_wsum, best, &s) == RM_VALID &&
+            s < best)
+            best = s;
+    }
+    return best;
+}
+
 static relief_status scalar_score(void *ctx, const relief_match_data *d,
                                   const relief_match_query *q, float *ssd, uint8_t *flag,
                                   relief_error *err)

@@ -1,6 +1,7 @@
 /* Host threads scoring one query side by side (score_pool.h). */
 #include "score_pool.h"
 
+#include <float.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -25,16 +26,38 @@ struct relief_score_pool {
     unsigned long generation; /* bumped once per query */
     int pending;              /* workers still scoring this query */
     int quit;
-    /* The query in progress. */
+    /* The query in progress: scores (probes == 0) or a probe. */
     const relief_match_data *d;
     const relief_match_query *q;
     float *ssd;
     uint8_t *flag;
+    size_t probes;
+    float best[RELIEF_SCORE_POOL_MAX]; /* each thread's probe minimum */
 };
 
 static void run_part(relief_score_pool *p, int k)
 {
-    relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)p->threads, p->ssd, p->flag);
+    if (p->probes)
+        p->best[k] = relief_score_host_probe(p->d, p->q, p->probes, (uint32_t)k,
+                                             (uint32_t)p->threads);
+    else
+        relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)p->threads, p->ssd,
+                                  p->flag);
+}
+
+/* Run the job set in p on every thread and wait for them. */
+static void run_all(relief_score_pool *p)
+{
+    pthread_mutex_lock(&p->mu);
+    p->pending = p->threads - 1;
+    ++p->generation;
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+    run_part(p, 0);
+    pthread_mutex_lock(&p->mu);
+    while (p->pending > 0)
+        pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
 }
 
 static void *worker_main(void *arg)
@@ -107,17 +130,21 @@ void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
         relief_score_host(d, q, ssd, flag);
         return;
     }
-    pthread_mutex_lock(&p->mu);
-    p->d = d, p->q = q, p->ssd = ssd, p->flag = flag;
-    p->pending = p->threads - 1;
-    ++p->generation;
-    pthread_cond_broadcast(&p->go);
-    pthread_mutex_unlock(&p->mu);
-    run_part(p, 0);
-    pthread_mutex_lock(&p->mu);
-    while (p->pending > 0)
-        pthread_cond_wait(&p->done, &p->mu);
-    pthread_mutex_unlock(&p->mu);
+    p->d = d, p->q = q, p->ssd = ssd, p->flag = flag, p->probes = 0;
+    run_all(p);
+}
+
+float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
+                              const relief_match_query *q, size_t probes)
+{
+    float best = FLT_MAX;
+    if (p->threads == 1 || probes < (size_t)p->threads * MIN_CENTRES_PER_THREAD)
+        return relief_score_host_probe(d, q, probes, 0, 1);
+    p->d = d, p->q = q, p->probes = probes;
+    run_all(p);
+    for (int k = 0; k < p->threads; ++k)
+        best = p->best[k] < best ? p->best[k] : best;
+    return best;
 }
 
 void relief_score_pool_destroy(relief_score_pool *p)

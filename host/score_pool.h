@@ -33,6 +33,10 @@ int relief_score_pool_default_threads(void);
 void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
                            const relief_match_query *q, float *ssd, uint8_t *flag);
 
+/* relief_score_host_probe over the pool: the same minimum. */
+float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
+                              const relief_match_query *q, size_t probes);
+
 void relief_score_pool_destroy(relief_score_pool *p);
 
 #endif

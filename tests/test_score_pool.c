@@ -2,7 +2,8 @@
  * with a fixed cutoff every flag and score is the same whatever the thread
  * count; with a running cutoff the best set (VALID within 1.1 x the
  * minimum), the growth's only use of the scores, is the same candidates
- * with the same scores. Random targets of two surfaces, all the samples and
+ * with the same scores; the probes that bound a launch's cutoff give the
+ * same minimum. Random targets of two surfaces, all the samples and
  * a subset, 1, 2, 3 and 5 threads. */
 #include <float.h>
 #include <math.h>
@@ -120,6 +121,14 @@ static void check_surface(relief_synth_kind kind, int colour)
                       "candidates differ", relief_synth_kind_name(kind), colour, (unsigned)t,
                       q.subset ? "subset" : "all samples", running ? "running" : "fixed",
                       threads[k], bad, n);
+                if (running) { /* the OpenCL matcher's probes: the same minimum */
+                    const size_t probes = n < 512 ? n : 512;
+                    const float a = relief_score_host_probe(d, &q, probes, 0, 1);
+                    const float b = relief_score_pool_probe(pool, d, &q, probes);
+                    CHECK(a == b && a < FLT_MAX, "%s, target %u, %d threads: probe minimum %g, "
+                          "one thread %g", relief_synth_kind_name(kind), (unsigned)t,
+                          threads[k], b, a);
+                }
                 relief_score_pool_destroy(pool);
             }
         }
