@@ -35,9 +35,6 @@ static int in_best(const float *ssd, const uint8_t *flag, size_t n, size_t c)
 static void check_surface(relief_synth_kind kind, int colour)
 {
     static const int threads[] = {1, 2, 3, 5};
-    relief_synth_params sp = relief_synth_params_default();
-    relief_params p = relief_params_default();
-    relief_mesh *cap = NULL;
     relief_surface *s = NULL;
     relief_match_data *d = NULL;
     relief_query_builder *qb = NULL;
@@ -48,11 +45,7 @@ static void check_surface(relief_synth_kind kind, int colour)
     uint32_t *sub = NULL;
     size_t nc, best_seen = 0;
 
-    sp.kind = kind;
-    sp.vertices = 700;
-    sp.colour = colour;
-    CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
-    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(pipeline_smooth(kind, 700, colour, &s, &err) == RELIEF_OK, "%s", err.message);
     CHECK(s && relief_match_data_build(s, 4, colour ? 0.5 : 1.0, &d, &err) == RELIEF_OK, "%s",
           err.message);
     CHECK(d && relief_query_builder_create(s, d, &qb, &err) == RELIEF_OK, "%s", err.message);
@@ -139,7 +132,6 @@ done:
     relief_query_builder_destroy(qb);
     relief_match_data_destroy(d);
     relief_surface_destroy(s);
-    relief_mesh_destroy(cap);
 }
 
 int main(void)
