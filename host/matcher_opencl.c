@@ -10,6 +10,7 @@
  * folder to read relief_math.h and score.cl from instead (development). */
 #include <errno.h>
 #include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,10 +19,6 @@
 #include "matcher.h"
 #include "ocl.h"
 #include "score_pool.h"
-
-#define RM_REAL float
-#define RM_WITH_SCORING
-#include "../kernels/relief_math.h"
 
 #define WG_SIZE 64
 /* Candidates the host scores to bound the minimum before a pruned launch.
