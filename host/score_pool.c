@@ -8,9 +8,9 @@
 
 #include "error.h"
 
-/* Fewer centres per thread than this and the hand-over costs more than it
- * saves: the query runs on the caller's thread alone. */
-#define MIN_CENTRES_PER_THREAD 16
+/* Fewer centres (or probes) per thread than this and the hand-over costs
+ * more than it saves: the work runs on the caller's thread alone. */
+#define MIN_PER_THREAD 16
 
 typedef struct worker {
     relief_score_pool *pool;
@@ -126,7 +126,7 @@ void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
                            const relief_match_query *q, float *ssd, uint8_t *flag)
 {
     const uint32_t centres = q->subset ? q->n_subset : d->ns;
-    if (p->threads == 1 || centres < (uint32_t)p->threads * MIN_CENTRES_PER_THREAD) {
+    if (p->threads == 1 || centres < (uint32_t)p->threads * MIN_PER_THREAD) {
         relief_score_host(d, q, ssd, flag);
         return;
     }
@@ -138,7 +138,7 @@ float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
                               const relief_match_query *q, size_t probes)
 {
     float best = FLT_MAX;
-    if (p->threads == 1 || probes < (size_t)p->threads * MIN_CENTRES_PER_THREAD)
+    if (p->threads == 1 || probes < (size_t)p->threads * MIN_PER_THREAD)
         return relief_score_host_probe(d, q, probes, 0, 1);
     p->d = d, p->q = q, p->probes = probes;
     run_all(p);
