@@ -715,9 +715,6 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
             else if (st == RELIEF_OK && !quiet)
                 fprintf(stderr, "relief complete: backend %s: %s\n",
                         relief_backend_name(used_backend), used_device);
-        } else if (go->resume && go->resume->hier) {
-            st = relief_fail(&err, RELIEF_E_USAGE, "%s: the checkpoint is of a %d-level run",
-                             rc->resume, go->resume->hier->levels);
         } else {
             st = relief_grow(s, d, m, p, go, &stats, &err);
             if (m->fallback_note[0])
