@@ -88,13 +88,15 @@ typedef struct relief_field {
     relief_synth_kind kind;
     wave w[N_WAVES];     /* cylinder-bark's meander */
     wave cw[N_WAVES];    /* an independent field for colour variation */
-    double norm;         /* scales the wave sums to unit standard deviation;
-                          * plane-noise: the bumps' mean height */
+    double norm;         /* scales the wave sums to unit standard deviation */
     double (*dimple)[3]; /* sphere-dimples: unit centres */
     int n_dimples;
     double (*pebble)[4]; /* plane-noise: per cell x, y, height, radius */
     int pebble_side;     /* cells per side, row-major from pebble_lo */
     double pebble_lo, pebble_cell;
+    double pebble_mean;  /* the bumps' mean height over the plane */
+    double colour_var;   /* amplitude of the colour's variation that is
+                          * not a function of height (cw, unit deviation) */
 } relief_field;
 
 /* A band-limited random field: N_WAVES plane waves with random directions
@@ -152,7 +154,7 @@ static double relief_height(const relief_field *f, const double b[3], double u, 
         const int n = f->pebble_side;
         const int ci = (int)floor((u - f->pebble_lo) / f->pebble_cell);
         const int cj = (int)floor((v - f->pebble_lo) / f->pebble_cell);
-        double h = -f->norm; /* the bumps' mean height: relief about 0 */
+        double h = -f->pebble_mean; /* relief about 0 */
         for (int j = cj - 1; j <= cj + 1; ++j)
             for (int i = ci - 1; i <= ci + 1; ++i) {
                 const double *pb;
@@ -216,7 +218,7 @@ static void relief_colour(const relief_field *f, double t, double var, float out
     };
     for (int k = 0; k < 3; ++k) {
         double c = pal[f->kind][0][k] + (pal[f->kind][1][k] - pal[f->kind][0][k]) * t +
-                   0.06 * var;
+                   f->colour_var * var;
         out[k] = (float)(c < 0.0 ? 0.0 : c > 1.0 ? 1.0 : c);
     }
 }
@@ -506,7 +508,7 @@ static int make_pebbles(relief_field *f, relief_rng *rng)
             pb[3] = 0.6 * cell * (1.0 - 0.1 * relief_rng_uniform(rng));
             volume += pb[2] * PI * pb[3] * pb[3] / 3.0; /* of h (1 - q)^2 over the disc */
         }
-    f->norm = volume / ((double)n * (double)n * cell * cell); /* mean height */
+    f->pebble_mean = volume / ((double)n * (double)n * cell * cell);
     return 1;
 }
 
@@ -572,8 +574,13 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
     }
     make_waves(field.cw, &rng, 0.1, 0.3, params->kind == RELIEF_SYNTH_CYLINDER_BANDS ||
                                              params->kind == RELIEF_SYNTH_CYLINDER_BARK);
-    if (params->kind != RELIEF_SYNTH_PLANE_NOISE)
-        field.norm = 1.0 / sqrt(N_WAVES / 2.0);
+    field.norm = 1.0 / sqrt(N_WAVES / 2.0);
+    /* plane-noise's colour follows its height alone: colour takes half of
+     * a match's weight, and with the other kinds' variation (0.06) as well
+     * its colour completions at 2000 vertices over seeds 1 to 8 differed in
+     * MSI by up to 6.2 %, against 4.1 % without (the truth's own parts
+     * differ by up to 4.8 %). The other kinds keep the variation. */
+    field.colour_var = params->kind == RELIEF_SYNTH_PLANE_NOISE ? 0.0 : 0.06;
     if (!ok) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-vertex surface",
                          params->vertices);
