@@ -7,6 +7,7 @@
 #                        clang) and valgrind memcheck on one completion
 #   ./test.sh sanitize   the suite again under ASan + UBSan, in build-asan/; its
 #                        end-to-end completions take a 1000-vertex truth
+#                        (the bark and plane-noise keep 2000)
 set -euo pipefail
 cd "$(dirname "$0")"
 ./setup.sh deps
