@@ -42,6 +42,9 @@ typedef struct ocl {
     cl_mem qp, q, g, qcol;
     size_t qcap; /* neighbours the query buffers hold */
     relief_score_pool *pool; /* scores the launches too small to pay */
+    /* Vertices textured since the device's copy was last brought up to
+     * date: ids dirty_lo..dirty_hi (none when dirty_lo > dirty_hi). */
+    uint32_t dirty_lo, dirty_hi;
 } ocl;
 
 /* Release the surface's buffers (upload_data's; the program, queue and
@@ -192,6 +195,7 @@ static relief_status upload_data(ocl *o, const relief_match_data *d, relief_erro
 {
     const size_t ncand = (size_t)d->ns * (size_t)d->rotations;
     relief_status st;
+    o->dirty_lo = UINT32_MAX, o->dirty_hi = 0; /* the whole surface goes now */
 #define UP(mem, ptr, bytes, what)                                                         \
     if ((st = upload(o, &o->mem, ptr, bytes, CL_MEM_READ_ONLY, what, err)) != RELIEF_OK) \
         return st;
@@ -231,6 +235,32 @@ static relief_status ocl_rebind(void *ctx, const relief_match_data *d, relief_er
     return upload_data(o, d, err);
 }
 
+/* Bring the device's positions, colours and matchable flags up to date
+ * with the textured vertices' (ocl_update), in one write per array over
+ * the range of ids they span: vertices in between rewrite the values the
+ * device already has. Called only before a launch; no wait here, since the
+ * in-order queue runs the writes before the launch, and the launch ends in
+ * a blocking read, so the host's bytes stay as they are until the writes
+ * are done (release_data finishes the queue after a failure). */
+static relief_status flush_updates(ocl *o, const relief_match_data *d, relief_error *err)
+{
+    const size_t lo = o->dirty_lo, n = lo <= o->dirty_hi ? o->dirty_hi - lo + 1 : 0;
+    cl_int rc = CL_SUCCESS;
+    if (n == 0)
+        return RELIEF_OK;
+    rc |= clEnqueueWriteBuffer(o->queue, o->pos, CL_FALSE, lo * 3 * sizeof(float),
+                               n * 3 * sizeof(float), d->pos + 3 * lo, 0, NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->col, CL_FALSE, lo * 3 * sizeof(float),
+                               n * 3 * sizeof(float), d->col + 3 * lo, 0, NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->matchable, CL_FALSE, lo, n, d->matchable + lo, 0,
+                               NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "updating vertices %zu to %zu on the device: "
+                           "%s", lo, lo + n - 1, relief_cl_error_name(rc));
+    o->dirty_lo = UINT32_MAX, o->dirty_hi = 0;
+    return RELIEF_OK;
+}
+
 static relief_status ocl_score(void *ctx, const relief_match_data *d,
                                const relief_match_query *qr, float *ssd, uint8_t *flag,
                                relief_error *err)
@@ -254,6 +284,9 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         relief_score_pool_run(o->pool, d, qr, ssd, flag);
         return RELIEF_OK;
     }
+    st = flush_updates(o, d, err);
+    if (st != RELIEF_OK)
+        return st;
     if (qr->n > o->qcap) { /* grow the query buffers */
         size_t cap = qr->n * 2;
         cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};
@@ -328,20 +361,16 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
 static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t v,
                                 relief_error *err)
 {
+    /* Only noted here: the host scores most small launches itself, so the
+     * device's copy is written just before the next launch that reads it
+     * (flush_updates), not once per textured vertex. */
     ocl *o = ctx;
-    cl_int rc = CL_SUCCESS;
-    rc |= clEnqueueWriteBuffer(o->queue, o->pos, CL_FALSE, (size_t)v * 3 * sizeof(float),
-                               3 * sizeof(float), d->pos + 3 * (size_t)v, 0, NULL, NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->col, CL_FALSE, (size_t)v * 3 * sizeof(float),
-                               3 * sizeof(float), d->col + 3 * (size_t)v, 0, NULL, NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->matchable, CL_FALSE, v, 1, d->matchable + v, 0,
-                               NULL, NULL);
-    /* No wait here: a target is textured once, so these host bytes never
-     * change again, and the in-order queue runs the writes before the next
-     * launch. ocl_free finishes the queue before anything is released. */
-    if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "updating vertex %u on the device: %s",
-                           (unsigned)v, relief_cl_error_name(rc));
+    (void)d;
+    (void)err;
+    if (v < o->dirty_lo)
+        o->dirty_lo = v;
+    if (v > o->dirty_hi)
+        o->dirty_hi = v;
     return RELIEF_OK;
 }
 
