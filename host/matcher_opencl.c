@@ -27,7 +27,19 @@
  * candidate; 512 bring it to the exhaustive kernel's efficiency (about 1 %
  * of the bark's candidates, a millisecond on the host); 2048 gain little. */
 #define PROBES 512
-#define HOST_MAX 1024 /* candidates scored on the host instead of launching */
+/* Launches of at most this many candidates are scored on the host instead
+ * (relief_score_pool_run); RELIEF_OPENCL_HOST_MAX overrides it.
+ * A CPU device runs on the very cores the pool would use, and its launch
+ * first pays the 512 probes there: up to 4096 candidates they are at least
+ * an eighth of the work. Measured with PoCL on 2 cores (medians of 3 to
+ * 5): bands 2000's level 1 (1005 launches of 2548) 1.33 s as launches,
+ * 0.91 s on the pool; paper 001's mono-scale run (2900 each) 0.75 and
+ * 0.59 s. The pool kept ahead above that too (14484: 12 %), so the kernel
+ * keeps the large launches, where it is closest, and a GPU every launch
+ * from 1024 up (a guess: no GPU was at hand to measure). */
+#define HOST_MAX_CPU 4096
+#define HOST_MAX_OTHER 1024
+#define HOST_MAX_LIMIT 1000000000
 
 extern const char relief_kernel_relief_math_h[];
 extern const char relief_kernel_score_cl[];
@@ -42,6 +54,7 @@ typedef struct ocl {
     cl_mem qp, q, g, qcol;
     size_t qcap; /* neighbours the query buffers hold */
     relief_score_pool *pool; /* scores the launches too small to pay */
+    size_t host_max;          /* launches up to this many candidates go there */
     /* Vertices textured since the device's copy was last brought up to
      * date: ids dirty_lo..dirty_hi (none when dirty_lo > dirty_hi). */
     uint32_t dirty_lo, dirty_hi;
@@ -106,6 +119,30 @@ static char *slurp(const char *path)
     }
     fclose(f);
     return buf;
+}
+
+/* The largest launch the host scores itself on this device (HOST_MAX_CPU
+ * and HOST_MAX_OTHER), or RELIEF_OPENCL_HOST_MAX's value when set. */
+static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *err)
+{
+    const char *env = getenv("RELIEF_OPENCL_HOST_MAX");
+    cl_device_type type = 0;
+    if (env && *env) {
+        char *end = NULL;
+        unsigned long long v;
+        errno = 0;
+        v = strtoull(env, &end, 10);
+        if (errno || *end || env[0] == '-' || v > HOST_MAX_LIMIT)
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "RELIEF_OPENCL_HOST_MAX='%.40s': expected a number of "
+                               "candidates, 0..%d", env, HOST_MAX_LIMIT);
+        *out = (size_t)v;
+        return RELIEF_OK;
+    }
+    if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
+        type = 0;
+    *out = (type & CL_DEVICE_TYPE_CPU) ? HOST_MAX_CPU : HOST_MAX_OTHER;
+    return RELIEF_OK;
 }
 
 static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
@@ -277,7 +314,7 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     cl_uint a = 0;
     relief_status st;
 
-    if (ncand <= HOST_MAX) {
+    if (ncand <= o->host_max) {
         /* A few hundred candidates (a sample pyramid's box) take less time
          * here, on the host's cores, than a launch and its transfers; the
          * same function scores them, so the results are the same. */
@@ -422,6 +459,9 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the OpenCL matcher");
         goto fail;
     }
+    st = host_max_for(dev, &o->host_max, err);
+    if (st != RELIEF_OK)
+        goto fail;
     o->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
     if (rc != CL_SUCCESS) {
         st = relief_fail(err, RELIEF_E_DEVICE, "clCreateContext: %s", relief_cl_error_name(rc));
