@@ -10,6 +10,8 @@
 #ifndef RELIEF_HOST_MATCHER_H
 #define RELIEF_HOST_MATCHER_H
 
+#include <float.h>
+#include <math.h>
 #include <stdint.h>
 
 #include "relief/relief.h"
@@ -82,6 +84,14 @@ typedef struct relief_match_query {
                                rotations */
     uint32_t n_subset;
 } relief_match_query;
+
+/* The cutoff a running query may drop to once a candidate scores `ssd`
+ * (valid): just above 1.1 x ssd, so no member of the best set (SSD at
+ * most 1.1 x the final minimum, itself at most ssd) is ever pruned. */
+static inline float relief_match_cutoff_after(float ssd)
+{
+    return nextafterf((float)(1.1 * (double)ssd), FLT_MAX);
+}
 
 /* Candidates the query asks for: ns x R, or n_subset x R. */
 size_t relief_match_query_candidates(const relief_match_data *d, const relief_match_query *q);

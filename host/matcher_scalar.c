@@ -35,9 +35,7 @@ void relief_score_host_strided(const relief_match_data *d, const relief_match_qu
                                        q->inv_wsum, cutoff, &ssd[c]);
             flag[c] = (uint8_t)f;
             if (q->running && f == RM_VALID) {
-                /* Just above 1.1 x the best so far: a best-set member
-                 * (SSD <= 1.1 x the final minimum) stays below it. */
-                float c11 = nextafterf((float)(1.1 * (double)ssd[c]), FLT_MAX);
+                float c11 = relief_match_cutoff_after(ssd[c]);
                 if (c11 < cutoff)
                     cutoff = c11;
             }

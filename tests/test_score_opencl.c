@@ -20,7 +20,65 @@
 #define RM_WITH_SCORING
 #include "../kernels/relief_math.h"
 
-static int compare_surface(relief_synth_kind kind, int colour)
+/* The running query again over the samples reordered so that the one with
+ * the minimum comes first and the other best-set members last: a launch's
+ * later chunks then hold members whose SSD lies above the minimum the
+ * first chunk found, which its cutoff must still let through (just over
+ * 1.1 x, not the minimum itself). ss and fs hold the scalar loop's
+ * results over all samples; returns the members put last. */
+static size_t check_best_last(relief_matcher *ms, relief_matcher *mo,
+                              const relief_match_data *d, relief_match_query *qr,
+                              const float *ss, const uint8_t *fs, float min_s,
+                              relief_synth_kind kind, int trial)
+{
+    const size_t nc = (size_t)d->ns * 4;
+    uint32_t *sub = malloc(d->ns * sizeof *sub), nsub = 0, first = UINT32_MAX;
+    uint8_t *best = calloc(d->ns, 1), *f1 = malloc(nc), *f2 = malloc(nc);
+    float *s1 = malloc(nc * sizeof *s1), *s2 = malloc(nc * sizeof *s2);
+    size_t late = 0, differ = 0;
+    relief_error err = {RELIEF_OK, ""};
+    CHECK(sub && best && f1 && f2 && s1 && s2, "out of memory");
+    if (!sub || !best || !f1 || !f2 || !s1 || !s2)
+        goto done;
+    for (size_t c = 0; c < nc; ++c)
+        if (fs[c] == RM_VALID && (double)ss[c] <= 1.1 * min_s) {
+            best[c / 4] = 1;
+            if (ss[c] == min_s && first == UINT32_MAX)
+                first = (uint32_t)(c / 4);
+        }
+    sub[nsub++] = first;
+    for (uint32_t i = 0; i < d->ns; ++i)
+        if (!best[i])
+            sub[nsub++] = i;
+    for (uint32_t i = 0; i < d->ns; ++i)
+        if (best[i] && i != first) {
+            sub[nsub++] = i;
+            late += 1;
+        }
+    qr->subset = sub;
+    qr->n_subset = nsub;
+    qr->running = 1;
+    CHECK(relief_matcher_score(ms, d, qr, s1, f1, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_matcher_score(mo, d, qr, s2, f2, &err) == RELIEF_OK, "%s", err.message);
+    for (size_t c = 0; c < (size_t)nsub * 4; ++c) {
+        const size_t full = (size_t)sub[c / 4] * 4 + c % 4;
+        const int member = fs[full] == RM_VALID && (double)ss[full] <= 1.1 * min_s;
+        const int in1 = f1[c] == RM_VALID && (double)s1[c] <= 1.1 * min_s;
+        const int in2 = f2[c] == RM_VALID && (double)s2[c] <= 1.1 * min_s;
+        differ += member != in1 || (member && s1[c] != ss[full]);
+        differ += member != in2 || (member && fabsf(s2[c] - ss[full]) > 1e-5f * ss[full]);
+    }
+    CHECK(differ == 0, "%s trial %d: best set last: %zu candidates in or out wrongly",
+          relief_synth_kind_name(kind), trial, differ);
+done:
+    qr->subset = NULL;
+    qr->n_subset = 0;
+    qr->running = 0;
+    free(s2), free(s1), free(f2), free(f1), free(best), free(sub);
+    return late;
+}
+
+static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
 {
     relief_synth_params sp = relief_synth_params_default();
     relief_params p = relief_params_default();
@@ -35,10 +93,11 @@ static int compare_surface(relief_synth_kind kind, int colour)
     float *ss = NULL, *so = NULL;
     uint8_t *fs = NULL, *fo = NULL;
     size_t compared = 0, bad_flag = 0, bad_ssd = 0, pruned = 0, invalid = 0;
+    size_t running_best = 0, running_late = 0;
     int skip = 0;
 
     sp.kind = kind;
-    sp.vertices = 700;
+    sp.vertices = vertices;
     sp.colour = colour;
     CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
     CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
@@ -140,10 +199,49 @@ static int compare_surface(relief_synth_kind kind, int colour)
                     bad_ssd += fabs(a - b) > tol;
                 }
             }
+            /* The growth's own query, with a running cutoff: whatever
+             * each backend cuts short on the way (the OpenCL matcher
+             * splits a large launch into chunks, each pruning under the
+             * minimum so far), the best set and its scores are the scalar
+             * loop's. */
+            qr.running = 1;
+            CHECK(relief_matcher_score(ms, d, &qr, ss, fs, &err) == RELIEF_OK, "%s",
+                  err.message);
+            CHECK(relief_matcher_score(mo, d, &qr, so, fo, &err) == RELIEF_OK, "%s",
+                  err.message);
+            qr.running = 0;
+            {
+                float min_s = FLT_MAX, min_o = FLT_MAX;
+                size_t in_s = 0, in_o = 0, differ = 0;
+                for (size_t c = 0; c < nc; ++c) {
+                    if (fs[c] == RM_VALID && ss[c] < min_s)
+                        min_s = ss[c];
+                    if (fo[c] == RM_VALID && so[c] < min_o)
+                        min_o = so[c];
+                }
+                for (size_t c = 0; c < nc; ++c) {
+                    int a = fs[c] == RM_VALID && (double)ss[c] <= 1.1 * min_s;
+                    int b = fo[c] == RM_VALID && (double)so[c] <= 1.1 * min_o;
+                    in_s += a, in_o += b;
+                    differ += a != b || (a && fabs(ss[c] - so[c]) > 1e-5 * ss[c] + 1e-12);
+                }
+                CHECK(min_s < FLT_MAX && in_s > 0 && differ == 0,
+                      "%s trial %d: running query, %zu of %zu (scalar) / %zu (OpenCL) best-set "
+                      "members differ", relief_synth_kind_name(kind), trial, differ, in_s, in_o);
+                running_best += in_s;
+                if (min_s < FLT_MAX)
+                    running_late += check_best_last(ms, mo, d, &qr, ss, fs, min_s, kind, trial);
+            }
         }
     }
-    printf("%s colour %d: %zu candidates compared, %zu pruned, %zu invalid\n",
-           relief_synth_kind_name(kind), colour, compared, pruned, invalid);
+    printf("%s colour %d: %zu candidates compared, %zu pruned, %zu invalid; running "
+           "queries: %zu best-set members alike, %zu of them also scored last\n",
+           relief_synth_kind_name(kind), colour, compared, pruned, invalid, running_best,
+           running_late);
+    /* The OpenCL matcher's first chunk is 16384 candidates. */
+    if (d && (size_t)d->ns * 4 > 16384)
+        CHECK(running_late > 0, "%s: no best-set member was left to a later chunk",
+              relief_synth_kind_name(kind));
     CHECK(compared > 0 && bad_flag == 0, "%s: %zu of %zu flags differ",
           relief_synth_kind_name(kind), bad_flag, compared);
     CHECK(bad_ssd == 0, "%s: %zu of %zu scores differ beyond 1e-5",
@@ -199,13 +297,15 @@ int main(void)
     /* Candidate by candidate, the kernel itself: no query on the host
      * (test_score_pool checks the host's split against the scalar loop). */
     setenv("RELIEF_OPENCL_HOST_MAX", "0", 1);
-    if (compare_surface(RELIEF_SYNTH_PLANE_WAVES, 0)) {
+    if (compare_surface(RELIEF_SYNTH_PLANE_WAVES, 0, 700)) {
         printf("no OpenCL platform: skipped\n");
         return 77;
     }
-    compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1);
-    compare_surface(RELIEF_SYNTH_CYLINDER_BARK, 0);
-    compare_surface(RELIEF_SYNTH_SPHERE_DIMPLES, 1);
+    compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1, 700);
+    compare_surface(RELIEF_SYNTH_CYLINDER_BARK, 0, 700);
+    compare_surface(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 700);
+    /* Large enough that a running query's launch comes in chunks. */
+    compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1, 2500);
     compare_completion(RELIEF_SYNTH_PLANE_WAVES, 1, 0, "0");
     compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 0, 0, "0");
     compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, "0");
