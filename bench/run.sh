@@ -63,7 +63,7 @@ log() { echo "== $*" >&2; }
 # Sizes. Paper 001: "720 sample vertices on average, 561 targets", W 2, R 4
 # (cylinder-bands --vertices 420 --spacing 0.128 gives 725 and 560).
 # Paper 000: t = 7200, s = 12852, W 3, R 4 on the bark (--vertices 7150
-# --spacing 0.0333 gives 12901 samples and 7210 targets).
+# --spacing 0.0333 gives 12901 samples and 7350 targets).
 P001=(--kind cylinder-bands --vertices 420 --spacing 0.128 --window 2 --rotations 4)
 BARK=(--kind cylinder-bark --colour --vertices 7150 --spacing 0.0333 --window 3 --rotations 4)
 if ((quick)); then

@@ -1,11 +1,14 @@
 /* The OpenCL matcher: kernels/score.cl, one work-item per (sample,
  * rotation), running the same rm_score_candidate as the scalar reference.
  *
- * The surface goes to the device once; a textured target updates its
- * position, colour and matchable flag there (a few bytes); per target only
- * the neighbourhood travels. With pruning, the host first scores 512 evenly
- * spread candidates itself to bound the minimum, and the launch prunes
- * above just over 1.1 x that bound, which can never drop a best-set member.
+ * The surface goes to the device once; textured targets update their
+ * positions, colours and matchable flags there just before the next
+ * launch; per target only the neighbourhood travels. With pruning, the
+ * host first scores 512 evenly spread candidates itself to bound the
+ * minimum, and the launch prunes above just over 1.1 x that bound, which
+ * can never drop a best-set member; a large launch goes in chunks, each
+ * under the minimum of those before it. Queries too small to pay for a
+ * launch are scored on the host's cores (score_pool.h) instead.
  * Kernel sources are embedded at build time; RELIEF_KERNEL_DIR names a
  * folder to read relief_math.h and score.cl from instead (development). */
 #include <errno.h>
@@ -35,22 +38,22 @@
  * A CPU device runs on the very cores the pool would use, and its launch
  * first pays the 512 probes there: up to 4096 candidates they are at least
  * an eighth of the work. Measured with PoCL on 2 cores (medians of 3 to
- * 5): bands 2000's level 1 (1005 launches of 2548) 1.33 s as launches,
- * 0.91 s on the pool; paper 001's mono-scale run (2900 each) 0.75 and
- * 0.59 s. The pool kept ahead above that too (14484: 12 %), so the kernel
+ * 5): bands 2000's level 1 (1005 launches of 2548) 1.31 s as launches,
+ * 0.93 s on the pool; paper 001's mono-scale run (2900 each) 0.71 and
+ * 0.54 s. The pool kept ahead above that too (14484: 13 %), so the kernel
  * keeps the large launches, where it is closest, and a GPU every launch
  * from 1024 up (a guess: no GPU was at hand to measure). */
-/* A running query's launch goes in chunks: the first of CHUNK_FIRST
- * candidates, each next one twice the last, each pruning under just over
- * 1.1 x the minimum of everything scored before it. With only the probes'
- * bound, a launch of 226 000 candidates (a 32 000-vertex bark) spent 0.107
- * s per target against 0.067 s so; below 16384 a second launch cost more
- * than it saved (the bands' mono-scale run, launches of 14 484: 6.88 s
- * in one, 7.09 s in two of 8192 and 6292). */
-#define CHUNK_FIRST 16384
 #define HOST_MAX_CPU 4096
 #define HOST_MAX_OTHER 1024
 #define HOST_MAX_LIMIT 1000000000
+/* A running query's launch goes in chunks: the first of CHUNK_FIRST
+ * candidates, each next one twice the last, each pruning under just over
+ * 1.1 x the minimum of everything scored before it. With only the probes'
+ * bound, a launch of 226 000 candidates (a 32 000-vertex bark) took 0.102
+ * s per target against 0.066 s so; below 16384 a second launch cost more
+ * than it saved (the bands' mono-scale run, launches of 14 484: 6.88 s
+ * in one, 7.09 s in two of 8192 and 6292). */
+#define CHUNK_FIRST 16384
 
 extern const char relief_kernel_relief_math_h[];
 extern const char relief_kernel_score_cl[];
@@ -326,9 +329,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     relief_status st;
 
     if (ncand <= o->host_max) {
-        /* A few hundred candidates (a sample pyramid's box) take less time
-         * here, on the host's cores, than a launch and its transfers; the
-         * same function scores them, so the results are the same. */
+        /* A small query (a sample pyramid's box, a coarse level) takes
+         * less time here, on the host's cores, than a launch and its
+         * probes; the same function scores it, so the best set is the
+         * same. */
         relief_score_pool_run(o->pool, d, qr, ssd, flag);
         return RELIEF_OK;
     }

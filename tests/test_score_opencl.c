@@ -25,7 +25,7 @@
  * later chunks then hold members whose SSD lies above the minimum the
  * first chunk found, which its cutoff must still let through (just over
  * 1.1 x, not the minimum itself). ss and fs hold the scalar loop's
- * results over all samples; returns the members put last. */
+ * results over all samples; returns the samples put last. */
 static size_t check_best_last(relief_matcher *ms, relief_matcher *mo,
                               const relief_match_data *d, relief_match_query *qr,
                               const float *ss, const uint8_t *fs, float min_s,
@@ -205,6 +205,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
              * minimum so far), the best set and its scores are the scalar
              * loop's. */
             qr.running = 1;
+            qr.cutoff = FLT_MAX; /* as the growth starts it */
             CHECK(relief_matcher_score(ms, d, &qr, ss, fs, &err) == RELIEF_OK, "%s",
                   err.message);
             CHECK(relief_matcher_score(mo, d, &qr, so, fo, &err) == RELIEF_OK, "%s",
@@ -235,7 +236,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
         }
     }
     printf("%s colour %d: %zu candidates compared, %zu pruned, %zu invalid; running "
-           "queries: %zu best-set members alike, %zu of them also scored last\n",
+           "queries: %zu best-set members alike; %zu samples with members scored last\n",
            relief_synth_kind_name(kind), colour, compared, pruned, invalid, running_best,
            running_late);
     /* The OpenCL matcher's first chunk is 16384 candidates. */
