@@ -69,7 +69,9 @@ relief_status relief_matcher_create(relief_backend backend, int device,
         (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
         (*out)->device_index = device;
     }
-    if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL)
+    /* A bad setting (RELIEF_OPENCL_HOST_MAX) is the user's to mend, not a
+     * reason to run on another backend. */
+    if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL || st == RELIEF_E_RANGE)
         return st;
     /* auto: say why, then fall back to the reference. */
     if (note && note_size)

@@ -6,11 +6,12 @@
  * launch; per target only the neighbourhood travels. With pruning, the
  * host first scores 512 evenly spread candidates itself to bound the
  * minimum, and the launch prunes above just over 1.1 x that bound, which
- * can never drop a best-set member; a large launch goes in chunks, each
- * under the minimum of those before it. Queries too small to pay for a
+ * can never drop a best-set member; a large pruned launch goes in chunks,
+ * each under the minimum of those before it. Queries too small to pay for a
  * launch are scored on the host's cores (score_pool.h) instead.
  * Kernel sources are embedded at build time; RELIEF_KERNEL_DIR names a
  * folder to read relief_math.h and score.cl from instead (development). */
+#include <ctype.h>
 #include <errno.h>
 #include <float.h>
 #include <stdio.h>
@@ -146,7 +147,7 @@ static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *e
         unsigned long long v;
         errno = 0;
         v = strtoull(env, &end, 10);
-        if (errno || *end || env[0] == '-' || v > HOST_MAX_LIMIT)
+        if (!isdigit((unsigned char)env[0]) || errno || *end || v > HOST_MAX_LIMIT)
             return relief_fail(err, RELIEF_E_RANGE,
                                "RELIEF_OPENCL_HOST_MAX='%.40s': expected a number of "
                                "candidates, 0..%d", env, HOST_MAX_LIMIT);
@@ -291,8 +292,8 @@ static relief_status ocl_rebind(void *ctx, const relief_match_data *d, relief_er
  * the range of ids they span: vertices in between rewrite the values the
  * device already has. Called only before a launch; no wait here, since the
  * in-order queue runs the writes before the launch, and the launch ends in
- * a blocking read, so the host's bytes stay as they are until the writes
- * are done (release_data finishes the queue after a failure). */
+ * a blocking read (or, after a failure, a clFinish), so the host's bytes
+ * stay as they are until the writes are done. */
 static relief_status flush_updates(ocl *o, const relief_match_data *d, relief_error *err)
 {
     const size_t lo = o->dirty_lo, n = lo <= o->dirty_hi ? o->dirty_hi - lo + 1 : 0;
@@ -328,7 +329,7 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     cl_uint a = 0, cutoff_arg = 0;
     relief_status st;
 
-    if (ncand <= o->host_max) {
+    if (ncand <= o->host_max) { /* also every empty query */
         /* A small query (a sample pyramid's box, a coarse level) takes
          * less time here, on the host's cores, than a launch and its
          * probes; the same function scores it, so the best set is the
@@ -336,9 +337,12 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         relief_score_pool_run(o->pool, d, qr, ssd, flag);
         return RELIEF_OK;
     }
+    /* From here on a failure goes to `fail`, which waits for the queue:
+     * writes and reads not waited for still use the caller's buffers
+     * (the query, ssd, flag), which it may free once this returns. */
     st = flush_updates(o, d, err);
     if (st != RELIEF_OK)
-        return st;
+        goto fail;
     if (qr->n > o->qcap) { /* grow the query buffers */
         size_t cap = qr->n * 2;
         cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};
@@ -350,11 +354,11 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
             st = upload(o, qb[i], NULL, cap * per[i] * sizeof(float), CL_MEM_READ_ONLY,
                         "the neighbourhood", err);
             if (st != RELIEF_OK)
-                return st;
+                goto fail;
         }
         o->qcap = cap;
     }
-    if (qr->running && ncand > 0) {
+    if (qr->running) {
         /* Bound the minimum from a spread of candidates scored here. */
         const size_t probes = ncand < PROBES ? ncand : PROBES;
         const float best = relief_score_pool_probe(o->pool, d, qr, probes);
@@ -375,10 +379,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     if (use_subset && centres > 0)
         rc |= clEnqueueWriteBuffer(o->queue, o->subset, CL_FALSE, 0, centres * sizeof(cl_uint),
                                    qr->subset, 0, NULL, NULL);
-    if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
-    if (ncand == 0)
-        return RELIEF_OK;
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
+        goto fail;
+    }
     grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
     grid.s[3] = d->grid[3];
     dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
@@ -394,8 +398,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
     ARG(d->inv_b2); ARG(qr->inv_wsum); cutoff_arg = a; ARG(cutoff); ARG(o->ssd); ARG(o->flag);
 #undef ARG
-    if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
+        goto fail;
+    }
     for (size_t first = 0, chunk = qr->running ? CHUNK_FIRST : ncand; first < ncand;
          first += chunk, chunk *= 2) {
         size_t global;
@@ -406,17 +412,21 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         if (rc == CL_SUCCESS)
             rc = clEnqueueNDRangeKernel(o->queue, o->kernel, 1, &first, &global, &local, 0,
                                         NULL, NULL);
-        if (rc != CL_SUCCESS)
-            return relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: %s",
-                               relief_cl_error_name(rc));
+        if (rc != CL_SUCCESS) {
+            st = relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: %s",
+                             relief_cl_error_name(rc));
+            goto fail;
+        }
         rc = clEnqueueReadBuffer(o->queue, o->ssd, CL_FALSE, first * sizeof(float),
                                  chunk * sizeof(float), ssd + first, 0, NULL, NULL);
         if (rc == CL_SUCCESS)
             rc = clEnqueueReadBuffer(o->queue, o->flag, CL_TRUE, first, chunk, flag + first, 0,
                                      NULL, NULL);
-        if (rc != CL_SUCCESS)
-            return relief_fail(err, RELIEF_E_DEVICE, "reading the scores back: %s",
-                               relief_cl_error_name(rc));
+        if (rc != CL_SUCCESS) {
+            st = relief_fail(err, RELIEF_E_DEVICE, "reading the scores back: %s",
+                             relief_cl_error_name(rc));
+            goto fail;
+        }
         if (qr->running)
             for (size_t c = first; c < first + chunk; ++c)
                 if (flag[c] == RM_VALID) {
@@ -426,6 +436,9 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
                 }
     }
     return RELIEF_OK;
+fail:
+    clFinish(o->queue);
+    return st;
 }
 
 static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t v,

@@ -186,9 +186,11 @@ if "$relief" devices | grep -q "^device 0"; then
   expect 2 "cannot read" -- env RELIEF_KERNEL_DIR="$tmp/nowhere" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a failed OpenCL run"; fail=$((fail+1)); }
   expect 2 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --device 7 --quiet
-  for bad in abc -5 1e3 2000000000; do
+  for bad in abc -5 " -0" +5 1e3 2000000000; do
     expect 1 "RELIEF_OPENCL_HOST_MAX='$bad'" -- env RELIEF_OPENCL_HOST_MAX="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   done
+  # Under auto too: a bad setting is not a reason to fall back to scalar.
+  expect 1 "RELIEF_OPENCL_HOST_MAX='x'" -- env RELIEF_OPENCL_HOST_MAX=x "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_HOST_MAX"; fail=$((fail+1)); }
   expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
   expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet

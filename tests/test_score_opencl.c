@@ -20,6 +20,10 @@
 #define RM_WITH_SCORING
 #include "../kernels/relief_math.h"
 
+/* The OpenCL matcher's first chunk of a running query's launch, in
+ * candidates (matcher_opencl.c). */
+#define CHUNK_FIRST 16384
+
 /* The running query again over the samples reordered so that the one with
  * the minimum comes first and the other best-set members last: a launch's
  * later chunks then hold members whose SSD lies above the minimum the
@@ -35,7 +39,8 @@ static size_t check_best_last(relief_matcher *ms, relief_matcher *mo,
     uint32_t *sub = malloc(d->ns * sizeof *sub), nsub = 0, first = UINT32_MAX;
     uint8_t *best = calloc(d->ns, 1), *f1 = malloc(nc), *f2 = malloc(nc);
     float *s1 = malloc(nc * sizeof *s1), *s2 = malloc(nc * sizeof *s2);
-    size_t late = 0, differ = 0;
+    size_t late = 0, differ = 0, loose = 0;
+    float min_o = FLT_MAX;
     relief_error err = {RELIEF_OK, ""};
     CHECK(sub && best && f1 && f2 && s1 && s2, "out of memory");
     if (!sub || !best || !f1 || !f2 || !s1 || !s2)
@@ -60,16 +65,30 @@ static size_t check_best_last(relief_matcher *ms, relief_matcher *mo,
     qr->running = 1;
     CHECK(relief_matcher_score(ms, d, qr, s1, f1, &err) == RELIEF_OK, "%s", err.message);
     CHECK(relief_matcher_score(mo, d, qr, s2, f2, &err) == RELIEF_OK, "%s", err.message);
+    for (size_t c = 0; c < (size_t)nsub * 4; ++c)
+        if (f2[c] == RM_VALID && s2[c] < min_o)
+            min_o = s2[c];
     for (size_t c = 0; c < (size_t)nsub * 4; ++c) {
         const size_t full = (size_t)sub[c / 4] * 4 + c % 4;
         const int member = fs[full] == RM_VALID && (double)ss[full] <= 1.1 * min_s;
         const int in1 = f1[c] == RM_VALID && (double)s1[c] <= 1.1 * min_s;
-        const int in2 = f2[c] == RM_VALID && (double)s2[c] <= 1.1 * min_s;
+        const int in2 = f2[c] == RM_VALID && (double)s2[c] <= 1.1 * min_o;
         differ += member != in1 || (member && s1[c] != ss[full]);
         differ += member != in2 || (member && fabsf(s2[c] - ss[full]) > 1e-5f * ss[full]);
+        /* Past the first chunk the cutoff is the minimum's, and nothing
+         * above it may come out valid. */
+        loose += c >= CHUNK_FIRST && f2[c] == RM_VALID &&
+                 s2[c] > relief_match_cutoff_after(min_o);
     }
     CHECK(differ == 0, "%s trial %d: best set last: %zu candidates in or out wrongly",
           relief_synth_kind_name(kind), trial, differ);
+    if (nc > CHUNK_FIRST) {
+        CHECK((nsub - late) * (size_t)4 >= CHUNK_FIRST,
+              "%s trial %d: the members put last are not past the first chunk",
+              relief_synth_kind_name(kind), trial);
+        CHECK(loose == 0, "%s trial %d: %zu candidates past the first chunk are valid above "
+              "the cutoff of its minimum", relief_synth_kind_name(kind), trial, loose);
+    }
 done:
     qr->subset = NULL;
     qr->n_subset = 0;
@@ -239,8 +258,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
            "queries: %zu best-set members alike; %zu samples with members scored last\n",
            relief_synth_kind_name(kind), colour, compared, pruned, invalid, running_best,
            running_late);
-    /* The OpenCL matcher's first chunk is 16384 candidates. */
-    if (d && (size_t)d->ns * 4 > 16384)
+    if (d && (size_t)d->ns * 4 > CHUNK_FIRST)
         CHECK(running_late > 0, "%s: no best-set member was left to a later chunk",
               relief_synth_kind_name(kind));
     CHECK(compared > 0 && bad_flag == 0, "%s: %zu of %zu flags differ",
