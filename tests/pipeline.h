@@ -6,6 +6,7 @@
 #include "grow.h"
 #include "matcher.h"
 #include "mesh.h"
+#include "rng.h"
 #include "surface.h"
 
 typedef struct pipeline {
@@ -78,6 +79,23 @@ static inline relief_status pipeline_run(const pipeline *pl, relief_surface **ou
     }
     *out = s;
     return RELIEF_OK;
+}
+
+/* The growth's own query (window `hops`) for a target drawn with rng until
+ * it has a textured neighbour: on the first pass most targets lie deep in
+ * the missing part and have none. Returns the target; q->n is 0 when
+ * 10000 draws found none. */
+static inline uint32_t pipeline_draw_query(relief_query_builder *qb, const relief_surface *s,
+                                           const uint8_t *textured, relief_rng *rng, int hops,
+                                           relief_match_query *q)
+{
+    uint32_t t;
+    int tries = 0;
+    do {
+        t = (uint32_t)(s->n_samples + relief_rng_below(rng, (uint32_t)s->n_targets));
+        relief_query_build(qb, textured, t, hops, q);
+    } while (q->n == 0 && ++tries < 10000);
+    return t;
 }
 
 #endif

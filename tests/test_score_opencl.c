@@ -145,16 +145,8 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
         fs = malloc(nc), fo = malloc(nc);
         relief_rng_seed(&rng, 11);
         for (int trial = 0; trial < 6; ++trial) {
-            size_t t;
             relief_match_query qr;
-            int tries = 0;
-            /* The growth's own query for a target t with window 3, drawn
-             * until t has a textured neighbour (most targets lie deep in
-             * the missing part and have none yet on the first pass). */
-            do {
-                t = s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets);
-                relief_query_build(qb, textured, (uint32_t)t, 3, &qr);
-            } while (qr.n == 0 && ++tries < 10000);
+            pipeline_draw_query(qb, s, textured, &rng, 3, &qr);
             CHECK(qr.n > 0, "%s: no target with a textured neighbour",
                   relief_synth_kind_name(kind));
             if (qr.n == 0)

@@ -63,12 +63,7 @@ static void check_surface(relief_synth_kind kind, int colour)
     relief_rng_seed(&rng, 5);
     for (int trial = 0; trial < 8; ++trial) {
         relief_match_query q;
-        uint32_t t;
-        int tries = 0;
-        do {
-            t = (uint32_t)(s->n_samples + relief_rng_below(&rng, (uint32_t)s->n_targets));
-            relief_query_build(qb, textured, t, 3, &q);
-        } while (q.n == 0 && ++tries < 10000);
+        const uint32_t t = pipeline_draw_query(qb, s, textured, &rng, 3, &q);
         if (q.n == 0)
             continue;
         if (trial % 2) { /* every third sample, from the last down */
