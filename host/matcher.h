@@ -165,6 +165,17 @@ void relief_score_host_strided(const relief_match_data *d, const relief_match_qu
 float relief_score_host_probe(const relief_match_data *d, const relief_match_query *q,
                               size_t probes, uint32_t first, uint32_t step);
 
+/* The OpenCL matcher sends a running query's launch in chunks: the first
+ * of RELIEF_OPENCL_CHUNK_FIRST candidates, each next one twice the last,
+ * each pruning under just over 1.1 x the minimum of everything scored
+ * before it. With only the probes' bound, a launch of 226 000 candidates
+ * (a 32 000-vertex bark) took 0.102 s per target against 0.066 s so;
+ * below 16384 a second launch cost more than it saved (the bands'
+ * mono-scale run, launches of 14 484: 6.88 s in one, 7.09 s in two of
+ * 8192 and 6292). Here so that the tests can place candidates past the
+ * first chunk. */
+#define RELIEF_OPENCL_CHUNK_FIRST 16384
+
 /* The OpenCL matcher on device `device` (relief_devices order; -1: the
  * first). RELIEF_E_DEVICE naming the reason (no platform, the build log of
  * a failed kernel build, out of device memory); RELIEF_E_NOT_BUILT in a

@@ -47,14 +47,6 @@
 #define HOST_MAX_CPU 4096
 #define HOST_MAX_OTHER 1024
 #define HOST_MAX_LIMIT 1000000000
-/* A running query's launch goes in chunks: the first of CHUNK_FIRST
- * candidates, each next one twice the last, each pruning under just over
- * 1.1 x the minimum of everything scored before it. With only the probes'
- * bound, a launch of 226 000 candidates (a 32 000-vertex bark) took 0.102
- * s per target against 0.066 s so; below 16384 a second launch cost more
- * than it saved (the bands' mono-scale run, launches of 14 484: 6.88 s
- * in one, 7.09 s in two of 8192 and 6292). */
-#define CHUNK_FIRST 16384
 
 extern const char relief_kernel_relief_math_h[];
 extern const char relief_kernel_score_cl[];
@@ -402,8 +394,8 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         st = relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
         goto fail;
     }
-    for (size_t first = 0, chunk = qr->running ? CHUNK_FIRST : ncand; first < ncand;
-         first += chunk, chunk *= 2) {
+    for (size_t first = 0, chunk = qr->running ? RELIEF_OPENCL_CHUNK_FIRST : ncand;
+         first < ncand; first += chunk, chunk *= 2) {
         size_t global;
         if (chunk > ncand - first)
             chunk = ncand - first;

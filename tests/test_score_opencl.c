@@ -20,10 +20,6 @@
 #define RM_WITH_SCORING
 #include "../kernels/relief_math.h"
 
-/* The OpenCL matcher's first chunk of a running query's launch, in
- * candidates (matcher_opencl.c). */
-#define CHUNK_FIRST 16384
-
 /* The running query again over the samples reordered so that the one with
  * the minimum comes first and the other best-set members last: a launch's
  * later chunks then hold members whose SSD lies above the minimum the
@@ -77,13 +73,13 @@ static size_t check_best_last(relief_matcher *ms, relief_matcher *mo,
         differ += member != in2 || (member && fabsf(s2[c] - ss[full]) > 1e-5f * ss[full]);
         /* Past the first chunk the cutoff is the minimum's, and nothing
          * above it may come out valid. */
-        loose += c >= CHUNK_FIRST && f2[c] == RM_VALID &&
+        loose += c >= RELIEF_OPENCL_CHUNK_FIRST && f2[c] == RM_VALID &&
                  s2[c] > relief_match_cutoff_after(min_o);
     }
     CHECK(differ == 0, "%s trial %d: best set last: %zu candidates in or out wrongly",
           relief_synth_kind_name(kind), trial, differ);
-    if (nc > CHUNK_FIRST) {
-        CHECK((nsub - late) * (size_t)4 >= CHUNK_FIRST,
+    if (nc > RELIEF_OPENCL_CHUNK_FIRST) {
+        CHECK((nsub - late) * (size_t)4 >= RELIEF_OPENCL_CHUNK_FIRST,
               "%s trial %d: the members put last are not past the first chunk",
               relief_synth_kind_name(kind), trial);
         CHECK(loose == 0, "%s trial %d: %zu candidates past the first chunk are valid above "
@@ -250,7 +246,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
            "queries: %zu best-set members alike; %zu samples with members scored last\n",
            relief_synth_kind_name(kind), colour, compared, pruned, invalid, running_best,
            running_late);
-    if (d && (size_t)d->ns * 4 > CHUNK_FIRST)
+    if (d && (size_t)d->ns * 4 > RELIEF_OPENCL_CHUNK_FIRST)
         CHECK(running_late > 0, "%s: no best-set member was left to a later chunk",
               relief_synth_kind_name(kind));
     CHECK(compared > 0 && bad_flag == 0, "%s: %zu of %zu flags differ",
