@@ -33,13 +33,13 @@
 #include <string.h>
 
 #include "bench_util.h"
-#include "error.h"
-#include "grow.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "report.h"
-#include "rng.h"
-#include "surface.h"
+#include "base/error.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "report/report.h"
+#include "base/rng.h"
+#include "smooth/surface.h"
 
 #define MAX_REPS 64
 #define MAX_TARGETS 256

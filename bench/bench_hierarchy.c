@@ -23,13 +23,13 @@
 #include <string.h>
 
 #include "bench_util.h"
-#include "grow.h"
-#include "hierarchy.h"
-#include "matcher.h"
-#include "measures.h"
-#include "mesh.h"
-#include "report.h"
-#include "surface.h"
+#include "grow/grow.h"
+#include "grow/hierarchy.h"
+#include "match/matcher.h"
+#include "report/measures.h"
+#include "mesh/mesh.h"
+#include "report/report.h"
+#include "smooth/surface.h"
 
 #define MAX_REPS 32
 

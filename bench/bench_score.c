@@ -13,12 +13,12 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "grow.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "report.h"
-#include "rng.h"
-#include "surface.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "report/report.h"
+#include "base/rng.h"
+#include "smooth/surface.h"
 
 #define MAX_NB 512
 

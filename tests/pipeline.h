@@ -3,11 +3,11 @@
 #ifndef RELIEF_TESTS_PIPELINE_H
 #define RELIEF_TESTS_PIPELINE_H
 
-#include "grow.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "rng.h"
-#include "surface.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "base/rng.h"
+#include "smooth/surface.h"
 
 typedef struct pipeline {
     relief_synth_kind kind;

@@ -9,12 +9,12 @@
 #include <string.h>
 
 #include "check.h"
-#include "checkpoint.h"
-#include "grow.h"
-#include "hierarchy.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "surface.h"
+#include "grow/checkpoint.h"
+#include "grow/grow.h"
+#include "grow/hierarchy.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "smooth/surface.h"
 
 typedef struct setup {
     relief_mesh *capture;

@@ -13,11 +13,11 @@
 #include <string.h>
 
 #include "check.h"
-#include "grow.h"
-#include "matcher.h"
-#include "measures.h"
-#include "mesh.h"
-#include "surface.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "report/measures.h"
+#include "mesh/mesh.h"
+#include "smooth/surface.h"
 
 int main(int argc, char **argv)
 {

@@ -12,10 +12,10 @@
 #include <time.h>
 
 #include "check.h"
-#include "error.h"
-#include "fit.h"
-#include "mesh.h"
-#include "rng.h"
+#include "base/error.h"
+#include "smooth/fit.h"
+#include "mesh/mesh.h"
+#include "base/rng.h"
 
 #define PI 3.14159265358979323846
 

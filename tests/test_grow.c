@@ -6,10 +6,10 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "grow.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "surface.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "smooth/surface.h"
 
 /* Complete a small synthetic capture with window 2; returns the surface
  * (caller frees) or NULL. */

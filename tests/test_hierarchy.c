@@ -9,13 +9,13 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "grow.h"
-#include "hierarchy.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "param.h"
-#include "surface.h"
-#include "vec3.h"
+#include "grow/grow.h"
+#include "grow/hierarchy.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "smooth/param.h"
+#include "smooth/surface.h"
+#include "base/vec3.h"
 
 #define LEVELS 3
 

@@ -7,7 +7,7 @@
 #include <sys/stat.h>
 
 #include "check.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 
 /* A 5 x 4 grid, 20 vertices and 24 triangles, with coordinates, colours and
  * labels that survive float32 and 8-bit colour exactly. */

@@ -8,12 +8,12 @@
 #include <string.h>
 
 #include "check.h"
-#include "error.h"
-#include "fit.h"
-#include "json.h"
-#include "measures.h"
-#include "mesh.h"
-#include "rng.h"
+#include "base/error.h"
+#include "smooth/fit.h"
+#include "base/json.h"
+#include "report/measures.h"
+#include "mesh/mesh.h"
+#include "base/rng.h"
 
 #define PI 3.14159265358979323846
 

@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "check.h"
-#include "matcher.h"
-#include "memlimit.h"
-#include "surface.h"
+#include "match/matcher.h"
+#include "base/memlimit.h"
+#include "smooth/surface.h"
 
 int main(void)
 {

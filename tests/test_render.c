@@ -15,9 +15,9 @@
 #include <zlib.h>
 
 #include "check.h"
-#include "mesh.h"
-#include "png.h"
-#include "render.h"
+#include "mesh/mesh.h"
+#include "report/png.h"
+#include "report/render.h"
 
 /* --------------------------------------------------------- PNG decoder */
 

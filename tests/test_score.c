@@ -7,14 +7,14 @@
 #include <string.h>
 
 #include "check.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "rng.h"
-#include "surface.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "base/rng.h"
+#include "smooth/surface.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
-#include "../kernels/relief_math.h"
+#include "kernels/relief_math.h"
 
 /* A 5 x 5 grid of unit spacing on the plane z = 0: vertex j * 5 + i at
  * (i, j, h), diagonals from (i, j) to (i + 1, j + 1); identity frames.

@@ -10,15 +10,15 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "grow.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "rng.h"
-#include "surface.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "base/rng.h"
+#include "smooth/surface.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
-#include "../kernels/relief_math.h"
+#include "kernels/relief_math.h"
 
 /* The running query again over the samples reordered so that the one with
  * the minimum comes first and the other best-set members last: a launch's

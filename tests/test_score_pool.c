@@ -12,15 +12,15 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "matcher.h"
-#include "mesh.h"
-#include "rng.h"
-#include "score_pool.h"
-#include "surface.h"
+#include "match/matcher.h"
+#include "mesh/mesh.h"
+#include "base/rng.h"
+#include "match/score_pool.h"
+#include "smooth/surface.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING
-#include "../kernels/relief_math.h"
+#include "kernels/relief_math.h"
 
 /* Is candidate c of (ssd, flag), n of them, in the best set? */
 static int in_best(const float *ssd, const uint8_t *flag, size_t n, size_t c)

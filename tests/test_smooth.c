@@ -9,9 +9,9 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "fit.h"
-#include "mesh.h"
-#include "surface.h"
+#include "smooth/fit.h"
+#include "mesh/mesh.h"
+#include "smooth/surface.h"
 
 typedef struct edge {
     uint32_t a, b;

@@ -5,8 +5,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "mesh.h"
-#include "surface_check.h"
+#include "mesh/mesh.h"
+#include "smooth/surface_check.h"
 
 /* An n x n grid of unit cells in z = 0, two triangles per cell, wound
  * counter-clockwise seen from +z (flip: clockwise), with room for `extra`

@@ -1,0 +1,104 @@
+#include "base/json.h"
+
+#include <math.h>
+
+void rj_init(relief_json *j, FILE *f)
+{
+    j->f = f;
+    j->depth = 0;
+    j->count[0] = 0;
+}
+
+static void put_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; ++s) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c == '\n')
+            fputs("\\n", f);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+/* Comma, newline and indentation before an item, then its key. */
+static void item(relief_json *j, const char *key)
+{
+    if (j->count[j->depth]++ > 0)
+        fputc(',', j->f);
+    if (j->depth > 0)
+        fprintf(j->f, "\n%*s", 2 * j->depth, "");
+    if (key) {
+        put_string(j->f, key);
+        fputs(": ", j->f);
+    }
+}
+
+static void open_(relief_json *j, const char *key, char c)
+{
+    item(j, key);
+    fputc(c, j->f);
+    if (j->depth + 1 < RELIEF_JSON_MAX_DEPTH)
+        j->count[++j->depth] = 0;
+}
+
+static void close_(relief_json *j, char c)
+{
+    int had = j->count[j->depth] > 0;
+    if (j->depth > 0)
+        --j->depth;
+    if (had)
+        fprintf(j->f, "\n%*s", 2 * j->depth, "");
+    fputc(c, j->f);
+    if (j->depth == 0)
+        fputc('\n', j->f);
+}
+
+void rj_begin_object(relief_json *j, const char *key) { open_(j, key, '{'); }
+void rj_end_object(relief_json *j) { close_(j, '}'); }
+void rj_begin_array(relief_json *j, const char *key) { open_(j, key, '['); }
+void rj_end_array(relief_json *j) { close_(j, ']'); }
+
+void rj_string(relief_json *j, const char *key, const char *value)
+{
+    item(j, key);
+    put_string(j->f, value ? value : "");
+}
+
+void rj_number(relief_json *j, const char *key, double value)
+{
+    item(j, key);
+    if (isfinite(value))
+        fprintf(j->f, "%.10g", value);
+    else
+        fputs("null", j->f);
+}
+
+void rj_int(relief_json *j, const char *key, long long value)
+{
+    item(j, key);
+    fprintf(j->f, "%lld", value);
+}
+
+void rj_bool(relief_json *j, const char *key, int value)
+{
+    item(j, key);
+    fputs(value ? "true" : "false", j->f);
+}
+
+void rj_null(relief_json *j, const char *key)
+{
+    item(j, key);
+    fputs("null", j->f);
+}
+
+void rj_vec3(relief_json *j, const char *key, const double v[3])
+{
+    item(j, key);
+    fprintf(j->f, "[%.10g, %.10g, %.10g]", v[0], v[1], v[2]);
+}

@@ -1,0 +1,102 @@
+#include <math.h>
+#include <stddef.h>
+
+#include "base/error.h"
+
+relief_params relief_params_default(void)
+{
+    relief_params p;
+    p.fit = RELIEF_FIT_AUTO;
+    p.window = 3;
+    p.rotations = 4;
+    p.error = 0.1;
+    p.mu = -1.0;
+    p.seed = 1;
+    p.levels = 1;
+    p.backend = RELIEF_BACKEND_AUTO;
+    p.device = -1;
+    p.oversample = 1;
+    p.spacing = 0.0;
+    p.has_extent = 0;
+    p.n_extent = 0;
+    p.max_memory = 0;
+    for (int i = 0; i < 4; ++i)
+        p.extent[i] = 0.0;
+    return p;
+}
+
+relief_status relief_params_validate(const relief_params *p, relief_error *err)
+{
+    if (p->fit < RELIEF_FIT_AUTO || p->fit > RELIEF_FIT_CYLINDER)
+        return relief_fail(err, RELIEF_E_RANGE, "fit model %d is not one of "
+                           "auto, plane, sphere, cylinder", (int)p->fit);
+    if (p->window < 1 || p->window > 16)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "window %d out of range: expected 1..16 edge hops", p->window);
+    if (p->rotations < 1 || p->rotations > 64)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "rotations %d out of range: expected 1..64", p->rotations);
+    if (!(p->error > 0.0 && p->error <= 1e6))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "error threshold %g out of range: expected 0 < e <= 1e6",
+                           p->error);
+    if (!(p->mu < 0.0 && p->mu == -1.0) && !(p->mu >= 0.0 && p->mu <= 1.0))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "mu %g out of range: expected 0 <= mu <= 1", p->mu);
+    if (p->levels < 1 || p->levels > 8)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "levels %d out of range: expected 1..8", p->levels);
+    if (p->backend < RELIEF_BACKEND_AUTO || p->backend > RELIEF_BACKEND_OPENCL)
+        return relief_fail(err, RELIEF_E_RANGE, "backend %d is not one of "
+                           "auto, scalar, opencl", (int)p->backend);
+    if (p->device < -1 || p->device > 255)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "device %d out of range: expected 0..255", p->device);
+    if (p->oversample < 0 || p->oversample > 4)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "oversample %d out of range: expected 0..4", p->oversample);
+    if (!(p->spacing == 0.0 || (p->spacing > 0.0 && isfinite(p->spacing))))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "spacing %g out of range: expected a finite value > 0 "
+                           "(or 0 for the capture's own)", p->spacing);
+    if (p->has_extent) {
+        if (p->n_extent != 2 && p->n_extent != 4)
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "extent has %d values: expected 2 (cylinder z0,z1) or "
+                               "4 (plane u0,v0,u1,v1)", p->n_extent);
+        for (int i = 0; i < p->n_extent; ++i)
+            if (!isfinite(p->extent[i]))
+                return relief_fail(err, RELIEF_E_RANGE, "extent value %d is not finite",
+                                   i + 1);
+        if (p->extent[0] >= p->extent[p->n_extent / 2])
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "extent is empty: the lower bound %g is not below the "
+                               "upper bound %g", p->extent[0], p->extent[p->n_extent / 2]);
+        if (p->n_extent == 4 && p->extent[1] >= p->extent[3])
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "extent is empty: v0 %g is not below v1 %g",
+                               p->extent[1], p->extent[3]);
+    }
+    return RELIEF_OK;
+}
+
+const char *relief_fit_model_name(relief_fit_model m)
+{
+    switch (m) {
+    case RELIEF_FIT_AUTO: return "auto";
+    case RELIEF_FIT_PLANE: return "plane";
+    case RELIEF_FIT_SPHERE: return "sphere";
+    case RELIEF_FIT_CYLINDER: return "cylinder";
+    }
+    return "unknown";
+}
+
+const char *relief_backend_name(relief_backend b)
+{
+    switch (b) {
+    case RELIEF_BACKEND_AUTO: return "auto";
+    case RELIEF_BACKEND_SCALAR: return "scalar";
+    case RELIEF_BACKEND_OPENCL: return "opencl";
+    }
+    return "unknown";
+}

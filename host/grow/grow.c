@@ -1,0 +1,592 @@
+/* Non-parametric growth (paper 000 appendix A, as DESIGN.md reads it):
+ *
+ *   until every target is textured:
+ *     L = untextured targets with a textured 1-ring neighbour, by decreasing
+ *         number of textured vertices in their window (ties: vertex id)
+ *     for t in L: score every (sample, rotation); best set = SSD within 10 %
+ *         of the minimum; draw one uniformly (MT19937); accept it if its SSD
+ *         is below e: copy D (re-expressed in t's frame) and colour;
+ *         otherwise shrink t's window by one (not below 1)
+ *     a pass with no acceptance raises e by 10 %
+ */
+#include "grow/grow.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "mesh/mesh.h"
+#include "report/report.h"
+#include "base/rng.h"
+#include "smooth/surface_check.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "kernels/relief_math.h"
+
+#define PI 3.14159265358979323846
+#define MAX_RAISES 400 /* 1.1^400 ~ 4e16: e has stopped meaning anything */
+
+relief_grow_options relief_grow_options_default(void)
+{
+    relief_grow_options o;
+    o.prune = 1;
+    o.bootstrap = 0;
+    o.progress = NULL;
+    o.progress_ctx = NULL;
+    o.pyramid_start = NULL;
+    o.pyramid_items = NULL;
+    o.matched = NULL;
+    o.cancel = NULL;
+    o.save = NULL;
+    o.save_ctx = NULL;
+    o.save_every = 0.0;
+    o.resume = NULL;
+    o.cancel_after = 0;
+    return o;
+}
+
+double relief_grow_mu(const relief_params *params, int has_colour)
+{
+    if (params->mu >= 0.0)
+        return has_colour ? params->mu : 1.0;
+    return has_colour ? 0.5 : 1.0;
+}
+
+/* Breadth-first search state reused across targets. */
+typedef struct walker {
+    uint32_t *stamp, *depth, *queue;
+    uint32_t now;
+} walker;
+
+/* Textured vertices within `hops` edges of t (t excluded) into out[],
+ * in breadth-first order; returns their count. */
+static size_t window(walker *w, const relief_adjacency *adj, const uint8_t *textured, uint32_t t,
+                     int hops, uint32_t *out)
+{
+    size_t head = 0, tail = 0, n = 0;
+    ++w->now;
+    w->stamp[t] = w->now;
+    w->depth[t] = 0;
+    w->queue[tail++] = t;
+    while (head < tail) {
+        uint32_t v = w->queue[head++];
+        if (v != t && textured[v])
+            out[n++] = v;
+        if ((int)w->depth[v] == hops)
+            continue;
+        for (uint32_t i = adj->start[v]; i < adj->start[v + 1]; ++i) {
+            uint32_t u = adj->nbr[i];
+            if (w->stamp[u] != w->now) {
+                w->stamp[u] = w->now;
+                w->depth[u] = w->depth[v] + 1;
+                w->queue[tail++] = u;
+            }
+        }
+    }
+    return n;
+}
+
+typedef struct ranked {
+    uint32_t v;
+    uint32_t key; /* textured vertices in the window */
+} ranked;
+
+static int ranked_cmp(const void *x, const void *y)
+{
+    const ranked *a = x, *b = y;
+    if (a->key != b->key)
+        return a->key > b->key ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
+typedef struct neighbour {
+    uint32_t v;
+    double g;
+} neighbour;
+
+static int neighbour_cmp(const void *x, const void *y)
+{
+    const neighbour *a = x, *b = y;
+    if (a->g != b->g)
+        return a->g > b->g ? -1 : 1;
+    return (a->v > b->v) - (a->v < b->v);
+}
+
+/* ------------------------------------------------------- neighbourhoods */
+
+struct relief_query_builder {
+    const relief_surface *s;
+    const relief_match_data *d;
+    relief_adjacency adj;
+    walker w;
+    uint32_t *nb;   /* nv: a window's textured vertices */
+    neighbour *nbs; /* nv: the same with their weights */
+    float *qp, *q, *g, *qcol;
+};
+
+void relief_query_builder_destroy(relief_query_builder *b)
+{
+    if (!b)
+        return;
+    free(b->qcol);
+    free(b->g);
+    free(b->q);
+    free(b->qp);
+    free(b->nbs);
+    free(b->nb);
+    free(b->w.queue);
+    free(b->w.depth);
+    free(b->w.stamp);
+    relief_adjacency_free(&b->adj);
+    free(b);
+}
+
+relief_status relief_query_builder_create(const relief_surface *s, const relief_match_data *d,
+                                          relief_query_builder **out, relief_error *err)
+{
+    const size_t nv = s->mesh->nv;
+    relief_query_builder *b = calloc(1, sizeof *b);
+    relief_status st;
+    if (!b)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a query builder");
+    b->s = s;
+    b->d = d;
+    st = relief_mesh_adjacency(s->mesh, &b->adj, err);
+    if (st != RELIEF_OK) {
+        relief_query_builder_destroy(b);
+        return st;
+    }
+    b->w.stamp = calloc(nv, sizeof *b->w.stamp);
+    b->w.depth = malloc(nv * sizeof *b->w.depth);
+    b->w.queue = malloc(nv * sizeof *b->w.queue);
+    b->nb = malloc(nv * sizeof *b->nb);
+    b->nbs = malloc(nv * sizeof *b->nbs);
+    b->qp = malloc(nv * 3 * sizeof *b->qp);
+    b->q = malloc(nv * 3 * sizeof *b->q);
+    b->g = malloc(nv * sizeof *b->g);
+    b->qcol = malloc(nv * 3 * sizeof *b->qcol);
+    if (!b->w.stamp || !b->w.depth || !b->w.queue || !b->nb || !b->nbs || !b->qp || !b->q ||
+        !b->g || !b->qcol) {
+        relief_query_builder_destroy(b);
+        return relief_fail(err, RELIEF_E_NOMEM,
+                           "cannot allocate neighbourhood state for %zu vertices", nv);
+    }
+    *out = b;
+    return RELIEF_OK;
+}
+
+size_t relief_query_count(relief_query_builder *b, const uint8_t *textured, uint32_t t,
+                          int hops)
+{
+    return window(&b->w, &b->adj, textured, t, hops, b->nb);
+}
+
+int relief_query_has_textured_neighbour(const relief_query_builder *b,
+                                        const uint8_t *textured, uint32_t t)
+{
+    for (uint32_t i = b->adj.start[t]; i < b->adj.start[t + 1]; ++i)
+        if (textured[b->adj.nbr[i]])
+            return 1;
+    return 0;
+}
+
+void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32_t t, int hops,
+                        relief_match_query *query)
+{
+    const relief_surface *s = b->s;
+    const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
+    const double *pos = s->mesh->pos;
+    const double reach = hops * s->spacing;
+    size_t n = window(&b->w, &b->adj, textured, t, hops, b->nb);
+    double wsum = 0.0;
+
+    /* The neighbourhood in t's frame, heaviest first. */
+    for (size_t i = 0; i < n; ++i) {
+        const double *vp = s->proj + 3 * (size_t)b->nb[i];
+        double dp[3] = {vp[0] - tp[0], vp[1] - tp[1], vp[2] - tp[2]};
+        double dd = sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / reach;
+        b->nbs[i].v = b->nb[i];
+        b->nbs[i].g = exp(-0.5 * dd * dd);
+    }
+    qsort(b->nbs, n, sizeof *b->nbs, neighbour_cmp);
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t v = b->nbs[i].v;
+        const double *vp = s->proj + 3 * (size_t)v, *vr = pos + 3 * (size_t)v;
+        for (int r = 0; r < 3; ++r) {
+            const double *axis = rt + 3 * r;
+            b->qp[3 * i + r] = (float)(axis[0] * (vp[0] - tp[0]) + axis[1] * (vp[1] - tp[1]) +
+                                       axis[2] * (vp[2] - tp[2]));
+            b->q[3 * i + r] = (float)(axis[0] * (vr[0] - tp[0]) + axis[1] * (vr[1] - tp[1]) +
+                                      axis[2] * (vr[2] - tp[2]));
+            b->qcol[3 * i + r] = b->d->col[3 * (size_t)v + r];
+        }
+        b->g[i] = (float)b->nbs[i].g;
+        wsum += (double)b->g[i];
+    }
+    query->n = (uint32_t)n;
+    query->qp = b->qp;
+    query->q = b->q;
+    query->g = b->g;
+    query->qcol = b->qcol;
+    query->inv_wsum = (float)(1.0 / wsum);
+    query->cutoff = FLT_MAX;
+    query->running = 0;
+    query->subset = NULL;
+    query->n_subset = 0;
+}
+
+/* ------------------------------------------------ checkpoint and resume */
+
+/* Hand the growth's state to opts->save; list[next] is the next target. */
+static relief_status save_state(const relief_grow_options *opts, const relief_surface *s,
+                                const relief_match_data *d, const uint8_t *textured,
+                                const int *win, const ranked *list, size_t nl, size_t next,
+                                size_t accepted, int any_valid, int all_min_window, double e,
+                                const relief_rng *rng, const relief_grow_stats *stats,
+                                relief_error *err)
+{
+    const size_t ns = s->n_samples;
+    relief_grow_state g;
+    relief_status st;
+    uint32_t *ids = malloc((nl + 1) * sizeof *ids);
+    if (!ids)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a checkpoint's list");
+    for (size_t i = 0; i < nl; ++i)
+        ids[i] = list[i].v;
+    g.nv = s->mesh->nv;
+    g.n_samples = ns;
+    g.textured = textured + ns;
+    g.window = win + ns;
+    g.disp = s->disp + 3 * ns;
+    g.colour = d->col + 3 * ns;
+    g.mesh_colour = s->mesh->col ? s->mesh->col + 3 * ns : NULL;
+    g.n_list = nl;
+    g.list = ids;
+    g.next = next;
+    g.pass_accepted = accepted;
+    g.pass_any_valid = any_valid;
+    g.pass_all_min_window = all_min_window;
+    g.error = e;
+    g.rng = *rng;
+    g.stats = *stats;
+    g.matched = opts->matched ? opts->matched + ns : NULL;
+    g.hier = NULL;
+    st = opts->save(opts->save_ctx, &g, err);
+    free(ids);
+    return st;
+}
+
+/* Put a saved growth back on the surface, the match data and the matcher;
+ * *remaining drops by the targets it had textured. */
+static relief_status restore_state(const relief_grow_state *r, relief_surface *s,
+                                   relief_match_data *d, relief_matcher *m, int bootstrap,
+                                   uint8_t *textured, int *win, size_t *remaining,
+                                   relief_error *err)
+{
+    relief_mesh *mesh = s->mesh;
+    if (r->nv != mesh->nv || r->n_samples != s->n_samples)
+        return relief_fail(err, RELIEF_E_USAGE,
+                           "the saved growth is of a surface with %zu vertices (%zu samples); "
+                           "this one has %zu (%zu)",
+                           r->nv, r->n_samples, mesh->nv, s->n_samples);
+    if (!r->mesh_colour != !mesh->col)
+        return relief_fail(err, RELIEF_E_USAGE, "the saved growth %s colour; this surface %s",
+                           r->mesh_colour ? "has" : "has no", mesh->col ? "has" : "has none");
+    for (size_t i = 0; i < s->n_targets; ++i) {
+        const size_t t = s->n_samples + i;
+        relief_status st;
+        win[t] = r->window[i];
+        if (!r->textured[i])
+            continue;
+        for (int k = 0; k < 3; ++k) {
+            const double dk = r->disp[3 * i + k], tp = s->proj[3 * t + k];
+            s->disp[3 * t + k] = dk;
+            mesh->pos[3 * t + k] = tp + dk; /* as the growth computes it */
+            d->pos[3 * t + k] = (float)(tp + dk);
+            d->col[3 * t + k] = r->colour[3 * i + k];
+            if (mesh->col)
+                mesh->col[3 * t + k] = r->mesh_colour[3 * i + k];
+        }
+        textured[t] = 1;
+        if (bootstrap)
+            d->matchable[t] = 1;
+        st = relief_matcher_update(m, d, (uint32_t)t, err);
+        if (st != RELIEF_OK)
+            return st;
+        --*remaining;
+    }
+    return RELIEF_OK;
+}
+
+relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
+                          const relief_params *params, const relief_grow_options *opts,
+                          relief_grow_stats *stats, relief_error *err)
+{
+    relief_mesh *mesh = s->mesh;
+    const size_t nv = mesh->nv, ncand_max = (size_t)d->ns * (size_t)d->rotations;
+    relief_grow_options dflt = relief_grow_options_default();
+    relief_query_builder *qb = NULL;
+    uint8_t *textured = NULL, *flag = NULL;
+    int *win = NULL;
+    uint32_t *best = NULL;
+    ranked *list = NULL;
+    float *ssd = NULL;
+    relief_rng rng;
+    relief_status st;
+    size_t remaining = s->n_targets, run_acceptances = 0;
+    double e = params->error, t0 = relief_seconds(), last_save;
+    int resume_pass = 0;
+
+    if (!opts)
+        opts = &dflt;
+    memset(stats, 0, sizeof *stats);
+    stats->targets = s->n_targets;
+    stats->b_shape = d->b_shape;
+    stats->mu = d->mu;
+    if (d->ns == 0)
+        return relief_fail(err, RELIEF_E_MESH, "no sample vertex to grow from");
+    st = relief_surface_check_growth(s, params->window, err);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_query_builder_create(s, d, &qb, err);
+    if (st != RELIEF_OK)
+        goto done;
+    textured = calloc(nv, 1);
+    win = malloc(nv * sizeof *win);
+    list = malloc((s->n_targets + 1) * sizeof *list);
+    ssd = malloc((ncand_max + 1) * sizeof *ssd);
+    flag = malloc(ncand_max + 1);
+    best = malloc((ncand_max + 1) * sizeof *best);
+    if (!textured || !win || !list || !ssd || !flag || !best) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
+                         "vertices and %zu candidates", nv, ncand_max);
+        goto done;
+    }
+    for (size_t v = 0; v < nv; ++v) {
+        textured[v] = v < s->n_samples;
+        win[v] = params->window;
+    }
+    relief_rng_seed(&rng, params->seed);
+    if (opts->resume) {
+        const relief_grow_state *r = opts->resume;
+        st = restore_state(r, s, d, m, opts->bootstrap, textured, win, &remaining, err);
+        if (st != RELIEF_OK)
+            goto done;
+        if (opts->matched && r->matched)
+            memcpy(opts->matched + s->n_samples, r->matched,
+                   s->n_targets * sizeof *opts->matched);
+        rng = r->rng;
+        e = r->error;
+        *stats = r->stats;
+        t0 -= r->stats.seconds;
+        m->kernel_seconds += r->stats.match_seconds;
+        resume_pass = r->n_list > 0;
+    }
+    last_save = relief_seconds();
+
+    while (remaining > 0) {
+        size_t nl = 0, accepted = 0, any_valid = 0, all_min_window = 1, first = 0;
+        if (resume_pass) { /* the saved pass, from where it stopped */
+            const relief_grow_state *r = opts->resume;
+            for (nl = 0; nl < r->n_list; ++nl) {
+                list[nl].v = r->list[nl];
+                list[nl].key = 0;
+            }
+            first = r->next;
+            accepted = r->pass_accepted;
+            any_valid = (size_t)r->pass_any_valid;
+            all_min_window = (size_t)r->pass_all_min_window;
+            resume_pass = 0;
+            goto pass;
+        }
+        /* The boundary list, ranked by how constrained each target is. */
+        for (size_t t = s->n_samples; t < nv; ++t) {
+            if (textured[t] || !relief_query_has_textured_neighbour(qb, textured, (uint32_t)t))
+                continue;
+            list[nl].v = (uint32_t)t;
+            list[nl].key = (uint32_t)relief_query_count(qb, textured, (uint32_t)t, win[t]);
+            ++nl;
+        }
+        if (nl == 0) {
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "%zu target(s) can never be reached: no path joins them to the "
+                             "capture in the triangulation",
+                             remaining);
+            goto done;
+        }
+        qsort(list, nl, sizeof *list, ranked_cmp);
+        ++stats->passes;
+    pass:
+        for (size_t li = first; li < nl; ++li) {
+            const uint32_t t = list[li].v;
+            const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
+            size_t nbest = 0, ncand;
+            uint32_t chosen;
+            relief_match_query query;
+            double minv = INFINITY;
+            const int stop = (opts->cancel && *opts->cancel) ||
+                             (opts->cancel_after && run_acceptances >= opts->cancel_after);
+
+            /* Between two targets: stop when asked, save when due. */
+            if (opts->save && (stop || (opts->save_every > 0.0 &&
+                                        relief_seconds() - last_save >= opts->save_every))) {
+                stats->seconds = relief_seconds() - t0;
+                stats->match_seconds = m->kernel_seconds;
+                stats->error_final = e;
+                st = save_state(opts, s, d, textured, win, list, nl, li, accepted,
+                                any_valid != 0, all_min_window != 0, e, &rng, stats, err);
+                if (st != RELIEF_OK)
+                    goto done;
+                last_save = relief_seconds();
+            }
+            if (stop) {
+                st = relief_fail(err, RELIEF_E_CANCELLED,
+                                 "interrupted after %zu of %zu targets%s", s->n_targets -
+                                 remaining, s->n_targets, opts->save ? "; state saved" : "");
+                goto done;
+            }
+
+            relief_query_build(qb, textured, t, win[t], &query);
+            query.running = opts->prune;
+            if (opts->pyramid_start) { /* sample pyramids: the box first */
+                query.subset = opts->pyramid_items + opts->pyramid_start[t];
+                query.n_subset = opts->pyramid_start[t + 1] - opts->pyramid_start[t];
+                if (query.n_subset == 0) {
+                    query.subset = NULL;
+                    ++stats->pyramid_empty;
+                }
+            }
+        score:
+            ncand = relief_match_query_candidates(d, &query);
+            st = relief_matcher_score(m, d, &query, ssd, flag, err);
+            if (st != RELIEF_OK) {
+                /* Keep the work done so far: nothing of t has changed yet. */
+                relief_error serr = {RELIEF_OK, ""};
+                stats->seconds = relief_seconds() - t0;
+                stats->match_seconds = m->kernel_seconds;
+                stats->error_final = e;
+                if (opts->save && save_state(opts, s, d, textured, win, list, nl, li, accepted,
+                                             any_valid != 0, all_min_window != 0, e, &rng,
+                                             stats, &serr) != RELIEF_OK && err) {
+                    char msg[RELIEF_ERROR_MESSAGE_MAX];
+                    memcpy(msg, err->message, sizeof msg);
+                    relief_fail(err, st, "%.600s (and no checkpoint: %.380s)", msg,
+                                serr.message);
+                }
+                goto done;
+            }
+            stats->candidates += ncand;
+            for (size_t c = 0; c < ncand; ++c) {
+                stats->pruned += flag[c] == RM_PRUNED;
+                stats->invalid += flag[c] == RM_INVALID;
+                if (flag[c] == RM_VALID && ssd[c] < minv)
+                    minv = ssd[c];
+            }
+            if (isfinite(minv)) {
+                any_valid = 1;
+                for (size_t c = 0; c < ncand; ++c)
+                    if (flag[c] == RM_VALID && (double)ssd[c] <= 1.1 * minv)
+                        best[nbest++] = (uint32_t)c;
+            }
+            chosen = nbest > 0 ? best[relief_rng_below(&rng, (uint32_t)nbest)] : UINT32_MAX;
+            if (query.subset && query.n_subset < d->ns &&
+                (chosen == UINT32_MAX || !((double)ssd[chosen] < e))) {
+                /* Nothing in the box passes e: every sample (001 section 3.4). */
+                ++stats->pyramid_misses;
+                query.subset = NULL;
+                query.n_subset = 0;
+                query.cutoff = FLT_MAX;
+                minv = INFINITY;
+                nbest = 0;
+                goto score;
+            }
+            if (nbest > 0) {
+                const uint32_t c = chosen;
+                if ((double)ssd[c] < e) {
+                    const uint32_t si =
+                        relief_match_query_sample(&query, c / (uint32_t)d->rotations);
+                    const int r = (int)(c % (uint32_t)d->rotations);
+                    const uint32_t sv = d->sample[si];
+                    const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
+                    const double th = 2.0 * PI * r / d->rotations, ct = cos(th), sn = sin(th);
+                    double a[3], b[3];
+                    /* D(t) = R_t Rz(-theta) R_s^T D(s). */
+                    for (int k = 0; k < 3; ++k)
+                        a[k] = rs[3 * k] * ds[0] + rs[3 * k + 1] * ds[1] + rs[3 * k + 2] * ds[2];
+                    b[0] = ct * a[0] + sn * a[1];
+                    b[1] = -sn * a[0] + ct * a[1];
+                    b[2] = a[2];
+                    for (int k = 0; k < 3; ++k) {
+                        double dk = rt[k] * b[0] + rt[3 + k] * b[1] + rt[6 + k] * b[2];
+                        s->disp[3 * (size_t)t + k] = dk;
+                        mesh->pos[3 * (size_t)t + k] = tp[k] + dk;
+                        d->pos[3 * (size_t)t + k] = (float)(tp[k] + dk);
+                        d->col[3 * (size_t)t + k] = d->col[3 * (size_t)sv + k];
+                        if (mesh->col)
+                            mesh->col[3 * (size_t)t + k] = mesh->col[3 * (size_t)sv + k];
+                    }
+                    textured[t] = 1;
+                    if (opts->matched)
+                        opts->matched[t] = sv;
+                    stats->pyramid_hits += query.subset != NULL;
+                    if (opts->bootstrap)
+                        d->matchable[t] = 1;
+                    st = relief_matcher_update(m, d, t, err);
+                    if (st != RELIEF_OK)
+                        goto done;
+                    ++accepted;
+                    ++stats->acceptances;
+                    ++run_acceptances;
+                    --remaining;
+                    if (opts->progress) {
+                        relief_grow_progress p = {s->n_targets - remaining, s->n_targets, e,
+                                                  relief_seconds() - t0};
+                        opts->progress(opts->progress_ctx, &p);
+                    }
+                    continue;
+                }
+            } else {
+                ++stats->no_candidate;
+            }
+            ++stats->rejections;
+            if (win[t] > 1) {
+                --win[t];
+                ++stats->window_shrinks;
+            }
+            all_min_window &= win[t] == 1;
+        }
+        if (accepted == 0) {
+            if (!any_valid && all_min_window) {
+                st = relief_fail(err, RELIEF_E_MESH,
+                                 "no sample has a neighbourhood that matches: every "
+                                 "candidate maps a neighbour onto a target (is the capture "
+                                 "smaller than the window?)");
+                goto done;
+            }
+            if (stats->threshold_raises == MAX_RAISES) {
+                st = relief_fail(err, RELIEF_E_MESH,
+                                 "the error threshold was raised %d times without progress",
+                                 MAX_RAISES);
+                goto done;
+            }
+            e *= 1.1;
+            ++stats->threshold_raises;
+        }
+    }
+    st = RELIEF_OK;
+done:
+    stats->error_final = e;
+    stats->seconds = relief_seconds() - t0;
+    stats->match_seconds = m->kernel_seconds;
+    free(best);
+    free(flag);
+    free(ssd);
+    free(list);
+    free(win);
+    free(textured);
+    relief_query_builder_destroy(qb);
+    return st;
+}

@@ -1,0 +1,138 @@
+/* Hierarchical completion (stage 7 of DESIGN.md; paper 001 section 3).
+ *
+ * An M-level hierarchy of the combined surface: level M is the surface
+ * itself, level k < M about k/M of its vertices, spread evenly (a nested
+ * Poisson-disc selection on the primitive, so a vertex of level k is a
+ * vertex of every finer level: the discrete levels of a progressive mesh),
+ * re-triangulated as the smooth completion triangulates. Each vertex keeps
+ * its own label at every level; a vertex new at level k descends from the
+ * nearest vertex of level k-1 (its parent).
+ *
+ * Relief is a height along the primitive's normal. Level 1 grows the
+ * displacements from the primitive (level 0); level k grows them from the
+ * completed, smoothed level k-1 surface (001 figure 4), interpolated
+ * linearly over level k-1's triangles: its base. The samples of a level
+ * k < M carry their captured height low-passed at that level's scale (a
+ * Gaussian over each sample's 1-ring of samples at the level, sigma its
+ * mean edge), as an image pyramid filters before it subsamples: the full
+ * relief on vertices that far apart aliases into false coarse structure,
+ * which the finer levels then cannot undo (on paper 001's cylinder, M = 2:
+ * MSI difference 7.5 % unfiltered, 1.8 % filtered). At level M the samples
+ * are where they were captured, so the levels' displacements sum to the
+ * capture. Each level runs the
+ * mono-scale growth (grow.h) with the same matcher backends; after levels
+ * 1..M-1 the displacement field (samples and targets alike) is smoothed by
+ * a Gaussian over each vertex's 1-ring. Sample pyramids: at level k >= 2 a
+ * target first considers only the samples inside the axis-aligned box of
+ * the samples within W hops of the sample its parent matched at level k-1
+ * (found with a FLANN kd-tree), and all samples when the box is empty or
+ * nothing in it passes e. */
+#ifndef RELIEF_HOST_HIERARCHY_H
+#define RELIEF_HOST_HIERARCHY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "grow/grow.h"
+#include "smooth/surface.h"
+
+#define RELIEF_MAX_LEVELS 8
+
+typedef struct relief_hierarchy {
+    int levels;               /* M */
+    const relief_surface *full; /* the surface it was built from (borrowed) */
+    uint8_t *first_level;     /* full nv: the coarsest level (1..M) holding v */
+    /* Per level k = 1..M at index k - 1. Level M is `full` itself. */
+    relief_surface *level[RELIEF_MAX_LEVELS]; /* owned for k < M */
+    uint32_t *ids[RELIEF_MAX_LEVELS];    /* level nv: the vertex's id in full */
+    double radius[RELIEF_MAX_LEVELS];    /* the selection's disc radius (input
+                                            units; 0 at level M) */
+    /* For k >= 2, per vertex of level k (level-local ids):
+     * parent: the level k-1 vertex it descends from (itself when present);
+     * corner/weight: where it lies on level k-1's triangulation, as the
+     * corners of the level k-1 triangle under it and barycentric weights
+     * (clamped to the triangle; weight 1 on itself when present). */
+    uint32_t *parent[RELIEF_MAX_LEVELS];
+    uint32_t *corner[RELIEF_MAX_LEVELS]; /* level nv x 3 */
+    double *weight[RELIEF_MAX_LEVELS];   /* level nv x 3 */
+} relief_hierarchy;
+
+/* Build the M-level hierarchy of s (2 <= levels <= RELIEF_MAX_LEVELS). */
+relief_status relief_hierarchy_build(const relief_surface *s, int levels,
+                                     relief_hierarchy **out, relief_error *err);
+void relief_hierarchy_destroy(relief_hierarchy *h);
+
+/* What one level did. */
+typedef struct relief_level_stats {
+    size_t vertices, samples, targets;
+    size_t boxes;         /* targets given a sample-pyramid box */
+    double box_samples;   /* mean samples per box */
+    relief_grow_stats grow; /* its growth (pyramid_hits: restricted matches;
+                               pyramid_misses + pyramid_empty: fallbacks) */
+    double seconds;       /* setup, growth and smoothing */
+} relief_level_stats;
+
+/* Where a hierarchical run is, for a checkpoint (checkpoint.h): the level
+ * in progress and what it takes from the finished ones. Its growth's own
+ * state is the relief_grow_state that points here. */
+typedef struct relief_hierarchy_state {
+    int levels;                     /* M */
+    int level;                      /* the level in progress, 1..M */
+    size_t prev_nv;                 /* vertices of level - 1 (0 at level 1) */
+    const double *smoothed_prev;    /* prev_nv: level - 1's completed and
+                                       smoothed heights (input units) */
+    const uint32_t *match_prev;     /* prev_nv: the level - 1 sample each of
+                                       its vertices copied (>= UINT32_MAX - 1:
+                                       none, a sample) */
+    const relief_level_stats *done; /* level - 1 entries: the finished levels */
+} relief_hierarchy_state;
+
+typedef struct relief_hierarchy_stats {
+    int levels;
+    double build_seconds;
+    relief_level_stats level[RELIEF_MAX_LEVELS];
+} relief_hierarchy_stats;
+
+/* Heights along the normal (input units) of one level's vertices, kept for
+ * inspection and tests: base[v] is the level k-1 surface under v (0 at
+ * level 1), disp[v] the displacement grown (targets) or measured (samples)
+ * over it, before smoothing; smoothed[v] = base + smoothed displacement,
+ * what level k+1 interpolates (equal to base + disp at level M). */
+typedef struct relief_level_heights {
+    double *base, *disp, *smoothed;
+} relief_level_heights;
+
+/* Options of a hierarchical run. */
+typedef struct relief_hierarchy_options {
+    relief_backend backend;   /* per level, as relief_matcher_create */
+    int device;
+    int pyramids;             /* 1 (default): sample pyramids; 0: every
+                                 target scores every sample at every level */
+    relief_level_heights *heights; /* NULL, or RELIEF_MAX_LEVELS entries the
+                                      run fills (caller frees the arrays) */
+} relief_hierarchy_options;
+
+relief_hierarchy_options relief_hierarchy_options_default(void);
+
+/* Complete s's targets through the hierarchy h built from s: on return
+ * s's targets hold their final positions and colours (as relief_grow leaves
+ * them), s->proj and s->disp are relative to the primitive again, and the
+ * samples are where they were. `go` as for relief_grow (progress, pruning,
+ * bootstrap, cancel; its pyramid and matched fields are the hierarchy's
+ * own). Its save callback receives each level's growth state with `hier`
+ * set; go->resume, such a state read back (with the same input and
+ * parameters), continues the run at its level to the same result as a run
+ * never stopped (RELIEF_E_USAGE for a mono-scale or another hierarchy's
+ * state, or with ho->heights). On failure `total` holds the finished
+ * levels and the one that stopped.
+ * `total` sums the levels' growth; `device` receives the last level's
+ * matcher description and `note` (may be NULL) auto's fallback reason. */
+relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
+                                    const relief_params *params,
+                                    const relief_grow_options *go,
+                                    const relief_hierarchy_options *ho,
+                                    relief_hierarchy_stats *hs, relief_grow_stats *total,
+                                    relief_backend *backend, char *device, size_t device_size,
+                                    char *note, size_t note_size, relief_error *err);
+
+#endif

@@ -1,7 +1,0 @@
-/* The relief executable: the command line lives in cli.c. */
-#include "cli.h"
-
-int main(int argc, char **argv)
-{
-    return relief_cli_main(argc, argv, 0);
-}

@@ -1,0 +1,135 @@
+/* Backend choice and the calls every backend goes through. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "base/error.h"
+#include "match/matcher.h"
+#include "base/memlimit.h"
+#include "report/report.h"
+
+#ifndef RELIEF_HAVE_OPENCL
+relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
+                                           relief_matcher **out, relief_error *err)
+{
+    (void)d;
+    (void)device;
+    (void)out;
+    return relief_fail(err, RELIEF_E_NOT_BUILT,
+                       "relief was built without OpenCL (RELIEF_WITH_OPENCL=OFF)");
+}
+#endif
+
+/* Refuse a device the surface cannot fit on before uploading anything. */
+static relief_status device_fits(int device, const relief_match_data *d, relief_error *err)
+{
+    relief_device_info info[64];
+    size_t n = 0, want = device < 0 ? 0 : (size_t)device;
+    /* Enumeration failures are reported by relief_matcher_opencl_create. */
+    if (relief_devices(info, 64, &n, NULL) != RELIEF_OK || want >= n || want >= 64)
+        return RELIEF_OK;
+    return relief_device_fits(&info[want], d, err);
+}
+
+/* auto, after a device failure: the scalar reference from here on. */
+static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
+                               const relief_error *why, relief_error *err)
+{
+    relief_matcher *sc = NULL;
+    relief_status st = relief_matcher_scalar_create(d, &sc, err);
+    if (st != RELIEF_OK)
+        return st;
+    snprintf(m->fallback_note, sizeof m->fallback_note,
+             "the OpenCL device failed during the run (%s); continued on the scalar "
+             "matcher from there", why ? why->message : "no detail");
+    m->ops->destroy(m->ctx);
+    m->ops = sc->ops;
+    m->ctx = sc->ctx;
+    m->backend = sc->backend;
+    snprintf(m->device, sizeof m->device, "%s", sc->device);
+    m->fallback = 0;
+    m->inject = NULL; /* the hook stands for the device, which is gone */
+    free(sc);
+    relief_error_clear(err);
+    return RELIEF_OK;
+}
+
+relief_status relief_matcher_create(relief_backend backend, int device,
+                                    const relief_match_data *d, relief_matcher **out,
+                                    char *note, size_t note_size, relief_error *err)
+{
+    relief_status st;
+    if (note && note_size)
+        note[0] = '\0';
+    if (backend == RELIEF_BACKEND_SCALAR)
+        return relief_matcher_scalar_create(d, out, err);
+    st = device_fits(device, d, err);
+    if (st == RELIEF_OK)
+        st = relief_matcher_opencl_create(d, device, out, err);
+    if (st == RELIEF_OK) {
+        (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
+        (*out)->device_index = device;
+    }
+    /* A bad setting (RELIEF_OPENCL_HOST_MAX) is the user's to mend, not a
+     * reason to run on another backend. */
+    if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL || st == RELIEF_E_RANGE)
+        return st;
+    /* auto: say why, then fall back to the reference. */
+    if (note && note_size)
+        snprintf(note, note_size, "OpenCL unavailable (%s); using the scalar matcher",
+                 err ? err->message : relief_strerror(st));
+    return relief_matcher_scalar_create(d, out, err);
+}
+
+size_t relief_match_query_candidates(const relief_match_data *d, const relief_match_query *q)
+{
+    return (size_t)(q->subset ? q->n_subset : d->ns) * (size_t)d->rotations;
+}
+
+relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,
+                                   const relief_match_query *q, float *ssd, uint8_t *flag,
+                                   relief_error *err)
+{
+    double t0 = relief_seconds();
+    relief_status st = m->inject ? m->inject(m->inject_ctx, err) : RELIEF_OK;
+    if (st == RELIEF_OK)
+        st = m->ops->score(m->ctx, d, q, ssd, flag, err);
+    if (st == RELIEF_E_DEVICE && m->fallback) {
+        /* Scoring has no side effect: the same query on the reference. */
+        st = fall_back(m, d, err, err);
+        if (st == RELIEF_OK)
+            st = m->ops->score(m->ctx, d, q, ssd, flag, err);
+    }
+    m->kernel_seconds += relief_seconds() - t0;
+    return st;
+}
+
+relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *d, uint32_t v,
+                                    relief_error *err)
+{
+    relief_status st = m->ops->update(m->ctx, d, v, err);
+    if (st == RELIEF_E_DEVICE && m->fallback)
+        st = fall_back(m, d, err, err); /* the reference reads d itself */
+    return st;
+}
+
+relief_status relief_matcher_rebind(relief_matcher *m, const relief_match_data *d,
+                                    relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+    if (m->backend == RELIEF_BACKEND_OPENCL)
+        st = device_fits(m->device_index, d, err);
+    if (st == RELIEF_OK)
+        st = m->ops->rebind(m->ctx, d, err);
+    if (st != RELIEF_OK && m->backend == RELIEF_BACKEND_OPENCL && m->fallback &&
+        (st == RELIEF_E_DEVICE || st == RELIEF_E_NOMEM))
+        st = fall_back(m, d, err, err);
+    return st;
+}
+
+void relief_matcher_destroy(relief_matcher *m)
+{
+    if (!m)
+        return;
+    m->ops->destroy(m->ctx);
+    free(m);
+}

@@ -1,0 +1,533 @@
+/* The OpenCL matcher: kernels/score.cl, one work-item per (sample,
+ * rotation), running the same rm_score_candidate as the scalar reference.
+ *
+ * The surface goes to the device once; textured targets update their
+ * positions, colours and matchable flags there just before the next
+ * launch; per target only the neighbourhood travels. With pruning, the
+ * host first scores 512 evenly spread candidates itself to bound the
+ * minimum, and the launch prunes above just over 1.1 x that bound, which
+ * can never drop a best-set member; a large pruned launch goes in chunks,
+ * each under the minimum of those before it. Queries too small to pay for a
+ * launch are scored on the host's cores (score_pool.h) instead.
+ * Kernel sources are embedded at build time; RELIEF_KERNEL_DIR names a
+ * folder to read relief_math.h and score.cl from instead (development). */
+#include <ctype.h>
+#include <errno.h>
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "match/matcher.h"
+#include "match/ocl.h"
+#include "match/score_pool.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "kernels/relief_math.h" /* RM_VALID */
+
+#define WG_SIZE 64
+/* Candidates the host scores to bound the minimum before a pruned launch.
+ * Measured on the bark with PoCL on one thread: 64 probes left the bound
+ * loose enough that the kernel spent twice the scalar reference's time per
+ * candidate; 512 bring it to the exhaustive kernel's efficiency (about 1 %
+ * of the bark's candidates, a millisecond on the host); 2048 gain little. */
+#define PROBES 512
+/* Launches of at most this many candidates are scored on the host instead
+ * (relief_score_pool_run); RELIEF_OPENCL_HOST_MAX overrides it.
+ * A CPU device runs on the very cores the pool would use, and its launch
+ * first pays the 512 probes there: up to 4096 candidates they are at least
+ * an eighth of the work. Measured with PoCL on 2 cores (medians of 3 to
+ * 5): bands 2000's level 1 (1005 launches of 2548) 1.31 s as launches,
+ * 0.93 s on the pool; paper 001's mono-scale run (2900 each) 0.71 and
+ * 0.54 s. The pool kept ahead above that too (14484: 13 %), so the kernel
+ * keeps the large launches, where it is closest, and a GPU every launch
+ * from 1024 up (a guess: no GPU was at hand to measure). */
+#define HOST_MAX_CPU 4096
+#define HOST_MAX_OTHER 1024
+#define HOST_MAX_LIMIT 1000000000
+
+extern const char relief_kernel_relief_math_h[];
+extern const char relief_kernel_score_cl[];
+
+typedef struct ocl {
+    cl_context ctx;
+    cl_command_queue queue;
+    cl_program prog;
+    cl_kernel kernel;
+    cl_mem proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items, lslot, litems;
+    cl_mem s_proj, s_frame, cos_r, sin_r, ssd, flag, subset;
+    cl_mem qp, q, g, qcol;
+    size_t qcap; /* neighbours the query buffers hold */
+    relief_score_pool *pool; /* scores the launches too small to pay */
+    size_t host_max;          /* launches up to this many candidates go there */
+    /* Vertices textured since the device's copy was last brought up to
+     * date: ids dirty_lo..dirty_hi (none when dirty_lo > dirty_hi). */
+    uint32_t dirty_lo, dirty_hi;
+} ocl;
+
+/* Release the surface's buffers (upload_data's; the program, queue and
+ * query buffers stay), once the queue has finished. */
+static void release_data(ocl *o)
+{
+    cl_mem *mems[] = {&o->proj, &o->pos, &o->col, &o->matchable, &o->tri, &o->vt_start,
+                      &o->vt, &o->cell_start, &o->cell_items, &o->lslot, &o->litems,
+                      &o->s_proj, &o->s_frame, &o->cos_r, &o->sin_r, &o->ssd, &o->flag,
+                      &o->subset};
+    if (o->queue)
+        clFinish(o->queue);
+    for (size_t i = sizeof mems / sizeof mems[0]; i-- > 0;)
+        if (*mems[i]) {
+            clReleaseMemObject(*mems[i]);
+            *mems[i] = NULL;
+        }
+}
+
+static void ocl_free(ocl *o)
+{
+    if (!o)
+        return;
+    release_data(o); /* waits for pending writes, which read the host's arrays */
+    relief_score_pool_destroy(o->pool);
+    {
+        cl_mem query[] = {o->qp, o->q, o->g, o->qcol};
+        for (size_t i = 0; i < sizeof query / sizeof query[0]; ++i)
+            if (query[i])
+                clReleaseMemObject(query[i]);
+    }
+    if (o->kernel)
+        clReleaseKernel(o->kernel);
+    if (o->prog)
+        clReleaseProgram(o->prog);
+    if (o->queue)
+        clReleaseCommandQueue(o->queue);
+    if (o->ctx)
+        clReleaseContext(o->ctx);
+    free(o);
+}
+
+/* Read a whole file into a NUL-terminated buffer. */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    long n;
+    if (!f)
+        return NULL;
+    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0) {
+        buf = malloc((size_t)n + 1);
+        if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+            free(buf);
+            buf = NULL;
+        } else if (buf) {
+            buf[n] = '\0';
+        }
+    }
+    fclose(f);
+    return buf;
+}
+
+/* The largest launch the host scores itself on this device (HOST_MAX_CPU
+ * and HOST_MAX_OTHER), or RELIEF_OPENCL_HOST_MAX's value when set. */
+static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *err)
+{
+    const char *env = getenv("RELIEF_OPENCL_HOST_MAX");
+    cl_device_type type = 0;
+    if (env && *env) {
+        char *end = NULL;
+        unsigned long long v;
+        errno = 0;
+        v = strtoull(env, &end, 10);
+        if (!isdigit((unsigned char)env[0]) || errno || *end || v > HOST_MAX_LIMIT)
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "RELIEF_OPENCL_HOST_MAX='%.40s': expected a number of "
+                               "candidates, 0..%d", env, HOST_MAX_LIMIT);
+        *out = (size_t)v;
+        return RELIEF_OK;
+    }
+    if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
+        type = 0;
+    *out = (type & CL_DEVICE_TYPE_CPU) ? HOST_MAX_CPU : HOST_MAX_OTHER;
+    return RELIEF_OK;
+}
+
+static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
+{
+    const char *dir = getenv("RELIEF_KERNEL_DIR");
+    char *files[2] = {NULL, NULL}, options[256], *log = NULL;
+    const char *src[3];
+    cl_device_fp_config fp = 0;
+    cl_int rc;
+    size_t loglen = 0;
+    relief_status st = RELIEF_OK;
+
+    src[0] = "#define RM_WITH_SCORING 1\n";
+    src[1] = relief_kernel_relief_math_h;
+    src[2] = relief_kernel_score_cl;
+    if (dir && *dir) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/relief_math.h", dir);
+        files[0] = slurp(path);
+        snprintf(path, sizeof path, "%s/score.cl", dir);
+        files[1] = slurp(path);
+        if (!files[0] || !files[1]) {
+            st = relief_fail(err, RELIEF_E_DEVICE,
+                             "RELIEF_KERNEL_DIR=%s: cannot read relief_math.h and score.cl "
+                             "there: %s",
+                             dir, strerror(errno));
+            goto done;
+        }
+        src[1] = files[0];
+        src[2] = files[1];
+    }
+    /* Division must round as the host's does for the scores to agree bit
+     * for bit; ask for it where the device offers it. */
+    clGetDeviceInfo(dev, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
+    snprintf(options, sizeof options, "-cl-std=CL1.2 -DRELIEF_WG_SIZE=%d%s", WG_SIZE,
+             (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
+                 ? " -cl-fp32-correctly-rounded-divide-sqrt"
+                 : "");
+    o->prog = clCreateProgramWithSource(o->ctx, 3, src, NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateProgramWithSource: %s",
+                         relief_cl_error_name(rc));
+        goto done;
+    }
+    rc = clBuildProgram(o->prog, 1, &dev, options, NULL, NULL);
+    if (rc != CL_SUCCESS) {
+        clGetProgramBuildInfo(o->prog, dev, CL_PROGRAM_BUILD_LOG, 0, NULL, &loglen);
+        log = malloc(loglen + 1);
+        if (log) {
+            clGetProgramBuildInfo(o->prog, dev, CL_PROGRAM_BUILD_LOG, loglen, log, NULL);
+            log[loglen] = '\0';
+        }
+        st = relief_fail(err, RELIEF_E_DEVICE,
+                         "the OpenCL kernel failed to build (%s), options '%s'%s; build "
+                         "log:\n%s",
+                         relief_cl_error_name(rc), options,
+                         dir && *dir ? ", sources from RELIEF_KERNEL_DIR" : "",
+                         log ? log : "(none)");
+        goto done;
+    }
+    o->kernel = clCreateKernel(o->prog, "score", &rc);
+    if (rc != CL_SUCCESS)
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(score): %s",
+                         relief_cl_error_name(rc));
+done:
+    free(log);
+    free(files[0]);
+    free(files[1]);
+    return st;
+}
+
+/* A device buffer holding `bytes` from `host` (at least 1 byte). */
+static relief_status upload(ocl *o, cl_mem *mem, const void *host, size_t bytes,
+                            cl_mem_flags flags, const char *what, relief_error *err)
+{
+    cl_int rc;
+    *mem = clCreateBuffer(o->ctx, flags | (host && bytes ? CL_MEM_COPY_HOST_PTR : 0),
+                          bytes ? bytes : 1, bytes ? (void *)host : NULL, &rc);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "cannot allocate %zu bytes of device memory "
+                           "for %s: %s", bytes, what, relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+/* The surface's buffers for match data d (device-resident for the run). */
+static relief_status upload_data(ocl *o, const relief_match_data *d, relief_error *err)
+{
+    const size_t ncand = (size_t)d->ns * (size_t)d->rotations;
+    relief_status st;
+    o->dirty_lo = UINT32_MAX, o->dirty_hi = 0; /* the whole surface goes now */
+#define UP(mem, ptr, bytes, what)                                                         \
+    if ((st = upload(o, &o->mem, ptr, bytes, CL_MEM_READ_ONLY, what, err)) != RELIEF_OK) \
+        return st;
+    UP(proj, d->proj, (size_t)d->nv * 3 * sizeof(float), "projected positions");
+    UP(pos, d->pos, (size_t)d->nv * 3 * sizeof(float), "positions");
+    UP(col, d->col, (size_t)d->nv * 3 * sizeof(float), "colours");
+    UP(matchable, d->matchable, d->nv, "labels");
+    UP(tri, d->tri, (size_t)d->nt * 3 * sizeof(uint32_t), "triangles");
+    UP(vt_start, d->vt_start, ((size_t)d->nv + 1) * sizeof(uint32_t), "vertex-triangle lists");
+    UP(vt, d->vt, (size_t)d->vt_start[d->nv] * sizeof(uint32_t), "vertex-triangle lists");
+    UP(cell_start, d->cell_start,
+       ((size_t)d->dims[0] * d->dims[1] * d->dims[2] + 1) * sizeof(uint32_t), "the grid");
+    UP(cell_items, d->cell_items, (size_t)d->nv * sizeof(uint32_t), "the grid");
+    UP(lslot, d->lslot, ((size_t)d->lmask + 1) * 3 * sizeof(uint32_t), "the closest-vertex lists");
+    UP(litems, d->litems, (d->n_litems ? d->n_litems : 1) * sizeof(uint32_t),
+       "the closest-vertex lists");
+    UP(s_proj, d->s_proj, (size_t)d->ns * 3 * sizeof(float), "sample positions");
+    UP(s_frame, d->s_frame, (size_t)d->ns * 9 * sizeof(float), "sample frames");
+    UP(cos_r, d->cos_r, (size_t)d->rotations * sizeof(float), "rotations");
+    UP(sin_r, d->sin_r, (size_t)d->rotations * sizeof(float), "rotations");
+#undef UP
+    if ((st = upload(o, &o->subset, NULL, (size_t)d->ns * sizeof(cl_uint), CL_MEM_READ_ONLY,
+                     "the sample subset", err)) != RELIEF_OK ||
+        (st = upload(o, &o->ssd, NULL, ncand * sizeof(float), CL_MEM_WRITE_ONLY, "scores",
+                     err)) != RELIEF_OK ||
+        (st = upload(o, &o->flag, NULL, ncand, CL_MEM_WRITE_ONLY, "scores", err)) != RELIEF_OK)
+        return st;
+    return RELIEF_OK;
+}
+
+/* Another surface on the same device: keeps the context, queue and built
+ * program (the hierarchy's levels), replaces the surface's buffers. */
+static relief_status ocl_rebind(void *ctx, const relief_match_data *d, relief_error *err)
+{
+    ocl *o = ctx;
+    release_data(o);
+    return upload_data(o, d, err);
+}
+
+/* Bring the device's positions, colours and matchable flags up to date
+ * with the textured vertices' (ocl_update), in one write per array over
+ * the range of ids they span: vertices in between rewrite the values the
+ * device already has. Called only before a launch; no wait here, since the
+ * in-order queue runs the writes before the launch, and the launch ends in
+ * a blocking read (or, after a failure, a clFinish), so the host's bytes
+ * stay as they are until the writes are done. */
+static relief_status flush_updates(ocl *o, const relief_match_data *d, relief_error *err)
+{
+    const size_t lo = o->dirty_lo, n = lo <= o->dirty_hi ? o->dirty_hi - lo + 1 : 0;
+    cl_int rc = CL_SUCCESS;
+    if (n == 0)
+        return RELIEF_OK;
+    rc |= clEnqueueWriteBuffer(o->queue, o->pos, CL_FALSE, lo * 3 * sizeof(float),
+                               n * 3 * sizeof(float), d->pos + 3 * lo, 0, NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->col, CL_FALSE, lo * 3 * sizeof(float),
+                               n * 3 * sizeof(float), d->col + 3 * lo, 0, NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->matchable, CL_FALSE, lo, n, d->matchable + lo, 0,
+                               NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "updating vertices %zu to %zu on the device: "
+                           "%s", lo, lo + n - 1, relief_cl_error_name(rc));
+    o->dirty_lo = UINT32_MAX, o->dirty_hi = 0;
+    return RELIEF_OK;
+}
+
+static relief_status ocl_score(void *ctx, const relief_match_data *d,
+                               const relief_match_query *qr, float *ssd, uint8_t *flag,
+                               relief_error *err)
+{
+    ocl *o = ctx;
+    const size_t ncand = relief_match_query_candidates(d, qr);
+    const size_t local = WG_SIZE;
+    float cutoff = qr->cutoff;
+    cl_float4 grid, lgrid;
+    cl_uint4 dims, ldims;
+    cl_uint centres = qr->subset ? qr->n_subset : d->ns, use_subset = qr->subset != NULL;
+    cl_uint rot = (cl_uint)d->rotations, n = qr->n;
+    cl_int rc = CL_SUCCESS;
+    cl_uint a = 0, cutoff_arg = 0;
+    relief_status st;
+
+    if (ncand <= o->host_max) { /* also every empty query */
+        /* A small query (a sample pyramid's box, a coarse level) takes
+         * less time here, on the host's cores, than a launch and its
+         * probes; the same function scores it, so the best set is the
+         * same. */
+        relief_score_pool_run(o->pool, d, qr, ssd, flag);
+        return RELIEF_OK;
+    }
+    /* From here on a failure goes to `fail`, which waits for the queue:
+     * writes and reads not waited for still use the caller's buffers
+     * (the query, ssd, flag), which it may free once this returns. */
+    st = flush_updates(o, d, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    if (qr->n > o->qcap) { /* grow the query buffers */
+        size_t cap = qr->n * 2;
+        cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};
+        size_t per[4] = {3, 3, 1, 3};
+        for (int i = 0; i < 4; ++i) {
+            if (*qb[i])
+                clReleaseMemObject(*qb[i]);
+            *qb[i] = NULL;
+            st = upload(o, qb[i], NULL, cap * per[i] * sizeof(float), CL_MEM_READ_ONLY,
+                        "the neighbourhood", err);
+            if (st != RELIEF_OK)
+                goto fail;
+        }
+        o->qcap = cap;
+    }
+    if (qr->running) {
+        /* Bound the minimum from a spread of candidates scored here. */
+        const size_t probes = ncand < PROBES ? ncand : PROBES;
+        const float best = relief_score_pool_probe(o->pool, d, qr, probes);
+        if (best < FLT_MAX) {
+            float c11 = relief_match_cutoff_after(best);
+            if (c11 < cutoff)
+                cutoff = c11;
+        }
+    }
+    rc |= clEnqueueWriteBuffer(o->queue, o->qp, CL_FALSE, 0, n * 3 * sizeof(float), qr->qp, 0,
+                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->q, CL_FALSE, 0, n * 3 * sizeof(float), qr->q, 0,
+                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->g, CL_FALSE, 0, n * sizeof(float), qr->g, 0, NULL,
+                               NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, n * 3 * sizeof(float), qr->qcol,
+                               0, NULL, NULL);
+    if (use_subset && centres > 0)
+        rc |= clEnqueueWriteBuffer(o->queue, o->subset, CL_FALSE, 0, centres * sizeof(cl_uint),
+                                   qr->subset, 0, NULL, NULL);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
+        goto fail;
+    }
+    grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
+    grid.s[3] = d->grid[3];
+    dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
+    for (int k = 0; k < 4; ++k)
+        lgrid.s[k] = d->lgrid[k];
+    for (int k = 0; k < 3; ++k)
+        ldims.s[k] = d->ldims[k];
+    ldims.s[3] = d->lmask; /* the kernel reads the mask from .w */
+#define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
+    ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
+    ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
+    ARG(dims); ARG(lgrid); ARG(ldims); ARG(o->lslot); ARG(o->litems); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(centres);
+    ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
+    ARG(d->inv_b2); ARG(qr->inv_wsum); cutoff_arg = a; ARG(cutoff); ARG(o->ssd); ARG(o->flag);
+#undef ARG
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
+        goto fail;
+    }
+    for (size_t first = 0, chunk = qr->running ? RELIEF_OPENCL_CHUNK_FIRST : ncand;
+         first < ncand; first += chunk, chunk *= 2) {
+        size_t global;
+        if (chunk > ncand - first)
+            chunk = ncand - first;
+        global = (chunk + WG_SIZE - 1) / WG_SIZE * WG_SIZE;
+        rc = clSetKernelArg(o->kernel, cutoff_arg, sizeof cutoff, &cutoff);
+        if (rc == CL_SUCCESS)
+            rc = clEnqueueNDRangeKernel(o->queue, o->kernel, 1, &first, &global, &local, 0,
+                                        NULL, NULL);
+        if (rc != CL_SUCCESS) {
+            st = relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: %s",
+                             relief_cl_error_name(rc));
+            goto fail;
+        }
+        rc = clEnqueueReadBuffer(o->queue, o->ssd, CL_FALSE, first * sizeof(float),
+                                 chunk * sizeof(float), ssd + first, 0, NULL, NULL);
+        if (rc == CL_SUCCESS)
+            rc = clEnqueueReadBuffer(o->queue, o->flag, CL_TRUE, first, chunk, flag + first, 0,
+                                     NULL, NULL);
+        if (rc != CL_SUCCESS) {
+            st = relief_fail(err, RELIEF_E_DEVICE, "reading the scores back: %s",
+                             relief_cl_error_name(rc));
+            goto fail;
+        }
+        if (qr->running)
+            for (size_t c = first; c < first + chunk; ++c)
+                if (flag[c] == RM_VALID) {
+                    float c11 = relief_match_cutoff_after(ssd[c]);
+                    if (c11 < cutoff)
+                        cutoff = c11;
+                }
+    }
+    return RELIEF_OK;
+fail:
+    clFinish(o->queue);
+    return st;
+}
+
+static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t v,
+                                relief_error *err)
+{
+    /* Only noted here: the host scores most small launches itself, so the
+     * device's copy is written just before the next launch that reads it
+     * (flush_updates), not once per textured vertex. */
+    ocl *o = ctx;
+    (void)d;
+    (void)err;
+    if (v < o->dirty_lo)
+        o->dirty_lo = v;
+    if (v > o->dirty_hi)
+        o->dirty_hi = v;
+    return RELIEF_OK;
+}
+
+static void ocl_destroy(void *ctx) { ocl_free(ctx); }
+
+static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_rebind,
+                                           ocl_destroy};
+
+relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
+                                           relief_matcher **out, relief_error *err)
+{
+    relief_device_info info[64];
+    cl_platform_id plats[16];
+    cl_device_id dev = NULL;
+    cl_uint np = 0;
+    size_t ndev = 0, want, seen = 0;
+    cl_int rc;
+    ocl *o = NULL;
+    relief_matcher *m = NULL;
+    relief_status st;
+
+    st = relief_devices(info, 64, &ndev, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (ndev == 0)
+        return relief_fail(err, RELIEF_E_DEVICE, "no OpenCL platform or device found");
+    want = device < 0 ? 0 : (size_t)device;
+    if (want >= ndev)
+        return relief_fail(err, RELIEF_E_DEVICE,
+                           "--device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
+                           "devices')", device, ndev, ndev - 1);
+    /* Walk the platforms in relief_devices' order to the wanted device. */
+    clGetPlatformIDs(16, plats, &np);
+    for (cl_uint p = 0; p < np && !dev; ++p) {
+        cl_device_id devs[32];
+        cl_uint nd = 0;
+        if (clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, 32, devs, &nd) != CL_SUCCESS)
+            continue;
+        for (cl_uint i = 0; i < nd && !dev; ++i, ++seen)
+            if (seen == want)
+                dev = devs[i];
+    }
+    if (!dev)
+        return relief_fail(err, RELIEF_E_DEVICE, "OpenCL device %zu disappeared", want);
+
+    o = calloc(1, sizeof *o);
+    m = calloc(1, sizeof *m);
+    if (!o || !m) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the OpenCL matcher");
+        goto fail;
+    }
+    st = host_max_for(dev, &o->host_max, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    o->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateContext: %s", relief_cl_error_name(rc));
+        goto fail;
+    }
+    o->queue = clCreateCommandQueue(o->ctx, dev, 0, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateCommandQueue: %s",
+                         relief_cl_error_name(rc));
+        goto fail;
+    }
+    st = build_program(o, dev, err);
+    if (st == RELIEF_OK)
+        st = relief_score_pool_create(relief_score_pool_default_threads(), &o->pool, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    st = upload_data(o, d, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    m->ops = &ocl_ops;
+    m->ctx = o;
+    m->backend = RELIEF_BACKEND_OPENCL;
+    snprintf(m->device, sizeof m->device, "%s (%s, %u compute units) on %s", info[want].name,
+             info[want].type, info[want].compute_units, info[want].platform);
+    *out = m;
+    return RELIEF_OK;
+fail:
+    ocl_free(o);
+    free(m);
+    return st;
+}

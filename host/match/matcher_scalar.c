@@ -1,0 +1,115 @@
+/* The scalar reference matcher: every candidate in order, one thread, the
+ * shared rm_score_candidate. Every other backend is tested against it. */
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "base/error.h"
+#include "match/matcher.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "kernels/relief_math.h"
+
+void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
+                       uint8_t *flag)
+{
+    relief_score_host_strided(d, q, 0, 1, ssd, flag);
+}
+
+void relief_score_host_strided(const relief_match_data *d, const relief_match_query *q,
+                               uint32_t first, uint32_t step, float *ssd, uint8_t *flag)
+{
+    const uint32_t centres = q->subset ? q->n_subset : d->ns;
+    float cutoff = q->cutoff;
+    for (uint32_t i = first; i < centres; i += step) {
+        const uint32_t si = relief_match_query_sample(q, i);
+        const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
+        for (int r = 0; r < d->rotations; ++r) {
+            size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
+            int f = rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri,
+                                       d->vt_start, d->vt, d->cell_start, d->cell_items,
+                                       d->grid, d->dims, d->lgrid, d->ldims, d->lmask,
+                                       d->lslot, d->litems, sp, sf, d->cos_r[r], d->sin_r[r],
+                                       q->n, q->qp, q->q, q->g, q->qcol, d->mu, d->inv_b2,
+                                       q->inv_wsum, cutoff, &ssd[c]);
+            flag[c] = (uint8_t)f;
+            if (q->running && f == RM_VALID) {
+                float c11 = relief_match_cutoff_after(ssd[c]);
+                if (c11 < cutoff)
+                    cutoff = c11;
+            }
+        }
+    }
+}
+
+float relief_score_host_probe(const relief_match_data *d, const relief_match_query *q,
+                              size_t probes, uint32_t first, uint32_t step)
+{
+    const size_t ncand = relief_match_query_candidates(d, q);
+    float best = FLT_MAX;
+    for (size_t i = first; i < probes; i += step) {
+        const size_t c = i * ncand / probes;
+        const uint32_t si = relief_match_query_sample(q, (uint32_t)(c / (size_t)d->rotations));
+        const int r = (int)(c % (size_t)d->rotations);
+        float s;
+        if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
+                               d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
+                               d->lgrid, d->ldims, d->lmask, d->lslot, d->litems,
+                               d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
+                               d->cos_r[r], d->sin_r[r], q->n, q->qp, q->q, q->g, q->qcol,
+                               d->mu, d->inv_b2, q->inv_wsum, best, &s) == RM_VALID &&
+            s < best)
+            best = s;
+    }
+    return best;
+}
+
+static relief_status scalar_score(void *ctx, const relief_match_data *d,
+                                  const relief_match_query *q, float *ssd, uint8_t *flag,
+                                  relief_error *err)
+{
+    (void)ctx;
+    (void)err;
+    relief_score_host(d, q, ssd, flag);
+    return RELIEF_OK;
+}
+
+static relief_status scalar_update(void *ctx, const relief_match_data *d, uint32_t v,
+                                   relief_error *err)
+{
+    /* The scalar matcher reads the host's arrays directly. */
+    (void)ctx;
+    (void)d;
+    (void)v;
+    (void)err;
+    return RELIEF_OK;
+}
+
+static relief_status scalar_rebind(void *ctx, const relief_match_data *d, relief_error *err)
+{
+    /* Nothing kept per surface. */
+    (void)ctx;
+    (void)d;
+    (void)err;
+    return RELIEF_OK;
+}
+
+static void scalar_destroy(void *ctx) { (void)ctx; }
+
+static const relief_matcher_ops scalar_ops = {"scalar", scalar_score, scalar_update,
+                                              scalar_rebind, scalar_destroy};
+
+relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
+                                           relief_error *err)
+{
+    relief_matcher *m = calloc(1, sizeof *m);
+    (void)d;
+    if (!m)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a matcher");
+    m->ops = &scalar_ops;
+    m->backend = RELIEF_BACKEND_SCALAR;
+    snprintf(m->device, sizeof m->device, "scalar reference (1 thread)");
+    *out = m;
+    return RELIEF_OK;
+}

@@ -1,0 +1,42 @@
+/* Host threads that score one query's candidates side by side: the OpenCL
+ * matcher's path for launches too small to pay for themselves (a sample
+ * pyramid's box, a coarse level), which would otherwise leave all but one
+ * core idle.
+ *
+ * Thread k of n scores the query's centres k, k + n, k + 2 n, ... in that
+ * order (relief_score_host_strided) with its own running cutoff: dealt out
+ * so, each thread meets the candidates a caller put first (the nearest to
+ * a pyramid's parent match) first, and its cutoff drops as early as one
+ * thread's would.
+ * Pruning is exact, so every candidate within 1.1 x the minimum comes out
+ * VALID with the same SSD as from the scalar reference; only which of the
+ * others are cut short (RM_PRUNED, and their partial sums) depends on the
+ * split, which is fixed for a given thread count. */
+#ifndef RELIEF_SCORE_POOL_H
+#define RELIEF_SCORE_POOL_H
+
+#include "match/matcher.h"
+
+typedef struct relief_score_pool relief_score_pool;
+
+/* A pool of `threads` (1..RELIEF_SCORE_POOL_MAX; the caller's thread is one
+ * of them, so threads - 1 are started). */
+#define RELIEF_SCORE_POOL_MAX 16
+relief_status relief_score_pool_create(int threads, relief_score_pool **out,
+                                       relief_error *err);
+
+/* The threads to use here: the online processors, at most
+ * RELIEF_SCORE_POOL_MAX. */
+int relief_score_pool_default_threads(void);
+
+/* Score the query as relief_score_host does, split over the pool. */
+void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
+                           const relief_match_query *q, float *ssd, uint8_t *flag);
+
+/* relief_score_host_probe over the pool: the same minimum. */
+float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
+                              const relief_match_query *q, size_t probes);
+
+void relief_score_pool_destroy(relief_score_pool *p);
+
+#endif

@@ -1,0 +1,108 @@
+/* Mesh I/O: structural check, OpenMesh read, validation; atomic writes. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/atomic.h"
+#include "base/error.h"
+#include "mesh/io_check.h"
+#include "mesh/io_openmesh.h"
+#include "mesh/mesh.h"
+
+relief_status relief_mesh_read(const char *path, relief_mesh **out,
+                               relief_read_info *info, relief_error *err)
+{
+    relief_file_check chk;
+    relief_om_read_result res;
+    relief_mesh *m = NULL;
+    relief_status st;
+    size_t degenerate = 0;
+
+    if (!path || !out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_mesh_read: NULL argument");
+    st = relief_io_check(path, &chk, err);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_om_read(path, chk.ext, chk.ascii_char_label, &m, &res, err);
+    if (st != RELIEF_OK)
+        return st;
+
+    /* What the structural check could not see (binary files) shows up here. */
+    if (res.invalid_index_faces > 0)
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "%s: %zu face(s) could not be added: they refer to vertices "
+                         "that do not exist or use a vertex twice",
+                         path, res.invalid_index_faces);
+    else if (res.repeated_vertex_faces > 0)
+        st = relief_fail(err, RELIEF_E_MESH, "%s: %zu face(s) use a vertex twice",
+                         path, res.repeated_vertex_faces);
+    else if (chk.vertices >= 0 && chk.format != RELIEF_FILE_STL &&
+             (long long)m->nv != chk.vertices)
+        st = relief_fail(err, RELIEF_E_PARSE,
+                         "%s: the file declares %lld vertices but %zu could be read "
+                         "(truncated or malformed)",
+                         path, chk.vertices, m->nv);
+    else if (chk.faces > 0 && m->nt == 0)
+        st = relief_fail(err, RELIEF_E_PARSE,
+                         "%s: the file declares %lld faces but none could be read%s%s",
+                         path, chk.faces, res.messages[0] ? ": " : "", res.messages);
+    if (st == RELIEF_OK) {
+        st = relief_mesh_validate(m, err);
+        if (st != RELIEF_OK) {
+            /* Prefix the file name: the validator knows only the mesh. */
+            char msg[RELIEF_ERROR_MESSAGE_MAX];
+            snprintf(msg, sizeof msg, "%s", err ? err->message : "");
+            relief_fail(err, st, "%s: %s", path, msg);
+        }
+    }
+    if (st != RELIEF_OK) {
+        relief_mesh_destroy(m);
+        return st;
+    }
+    for (size_t t = 0; t < m->nt; ++t)
+        if (relief_mesh_triangle_area(m, t) == 0.0)
+            ++degenerate;
+    if (info) {
+        memset(info, 0, sizeof *info);
+        snprintf(info->format, sizeof info->format, "%s", chk.ext + 1);
+        info->binary = chk.binary;
+        info->nonmanifold_triangles = res.nonmanifold_faces;
+        info->degenerate_triangles = degenerate;
+    }
+    *out = m;
+    return RELIEF_OK;
+}
+
+relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
+                                const relief_write_options *opts,
+                                relief_error *err)
+{
+    static const char *const exts[] = {".ply", ".obj", ".off", ".stl"};
+    relief_file_format fmt;
+    char *tmp = NULL;
+    relief_status st;
+
+    if (!mesh || !path)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_mesh_write: NULL argument");
+    fmt = relief_file_format_of(path);
+    if (fmt == RELIEF_FILE_UNKNOWN)
+        return relief_fail(err, RELIEF_E_FORMAT,
+                           "%s: unknown output format; expected a name ending in .ply, "
+                           ".obj, .off or .stl",
+                           path);
+    st = relief_mesh_validate(mesh, err);
+    if (st != RELIEF_OK)
+        return st;
+
+    st = relief_atomic_create(path, &tmp, err);
+    if (st != RELIEF_OK)
+        return st;
+    /* OpenMesh picks its writer by the temporary name's extension. */
+    st = relief_om_write(mesh, tmp, exts[fmt], opts ? opts->ascii : 0, err);
+    if (st != RELIEF_OK) {
+        relief_atomic_abort(tmp);
+        return st;
+    }
+    return relief_atomic_commit(tmp, path, err);
+}

@@ -1,0 +1,383 @@
+// The OpenMesh adapter: the only C++ file of relief (see io_openmesh.h).
+
+#include "mesh/io_openmesh.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+#include "mesh/mesh.h"
+
+namespace {
+
+struct Traits : OpenMesh::DefaultTraits {
+    typedef OpenMesh::Vec3d Point;
+    typedef OpenMesh::Vec3d Normal;
+    // Colours stay Vec3uc: OpenMesh's exporters cannot cast float colours.
+    VertexAttributes(OpenMesh::Attributes::Normal | OpenMesh::Attributes::Color |
+                     OpenMesh::Attributes::Status);
+    FaceAttributes(OpenMesh::Attributes::Status);
+};
+typedef OpenMesh::TriMesh_ArrayKernelT<Traits> Mesh;
+
+// Reading keeps colours as floats: OpenMesh's importer converts a float
+// colour (OBJ, OFF, PLY float) to unsigned char by a cast that is undefined
+// behaviour outside [0, 1]; as floats they arrive as written, read_impl
+// rejects what is out of range and keeps 8 bits of the rest, as before.
+// Integer colours come as c / 255.
+struct ReadTraits : Traits {
+    typedef OpenMesh::Vec3f Color;
+};
+typedef OpenMesh::TriMesh_ArrayKernelT<ReadTraits> ReadMesh;
+
+// Routes OpenMesh's global error stream into a string for one call and
+// restores it afterwards, whatever happens. It swaps the stream's buffer
+// rather than using mostream::connect/disconnect, whose disconnect leaks the
+// target it allocated.
+class OmerrCapture {
+  public:
+    OmerrCapture()
+        : saved_(omerr().rdbuf(&text_)), log_on_(omlog().is_enabled()),
+          out_on_(omout().is_enabled())
+    {
+        omlog().disable();
+        omout().disable();
+    }
+    ~OmerrCapture()
+    {
+        omerr().flush();
+        omerr().rdbuf(saved_);
+        if (log_on_)
+            omlog().enable();
+        if (out_on_)
+            omout().enable();
+    }
+    OmerrCapture(const OmerrCapture &) = delete;
+    OmerrCapture &operator=(const OmerrCapture &) = delete;
+    std::string str()
+    {
+        omerr().flush();
+        return text_.str();
+    }
+
+  private:
+    std::stringbuf text_;
+    std::streambuf *saved_;
+    bool log_on_, out_on_;
+};
+
+size_t count_lines_with(const std::string &text, const char *needle)
+{
+    size_t n = 0;
+    for (size_t at = text.find(needle); at != std::string::npos;
+         at = text.find(needle, at + 1))
+        ++n;
+    return n;
+}
+
+// Reads the `label` property whatever integer type the file declared.
+template <typename T>
+bool copy_label(ReadMesh &mesh, const std::vector<int> &keep_index,
+                relief_mesh *out, int char_fix)
+{
+    OpenMesh::VPropHandleT<T> h;
+    if (!mesh.get_property_handle(h, "label"))
+        return false;
+    for (size_t v = 0; v < mesh.n_vertices(); ++v) {
+        int to = keep_index[v];
+        if (to < 0)
+            continue;
+        long value = (long)mesh.property(h, ReadMesh::VertexHandle((int)v));
+        if (char_fix)
+            value -= '0';
+        out->label[to] = value < 0 || value > 255 ? 255 : (uint8_t)value;
+    }
+    return true;
+}
+
+bool has_label(ReadMesh &mesh)
+{
+    OpenMesh::VPropHandleT<unsigned char> h1;
+    OpenMesh::VPropHandleT<signed char> h2;
+    OpenMesh::VPropHandleT<char> h3;
+    OpenMesh::VPropHandleT<int> h4;
+    OpenMesh::VPropHandleT<unsigned int> h5;
+    OpenMesh::VPropHandleT<short> h6;
+    OpenMesh::VPropHandleT<unsigned short> h7;
+    return mesh.get_property_handle(h1, "label") ||
+           mesh.get_property_handle(h2, "label") ||
+           mesh.get_property_handle(h3, "label") ||
+           mesh.get_property_handle(h4, "label") ||
+           mesh.get_property_handle(h5, "label") ||
+           mesh.get_property_handle(h6, "label") ||
+           mesh.get_property_handle(h7, "label");
+}
+
+relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
+                        relief_mesh **out, relief_om_read_result *res,
+                        relief_error *err)
+{
+    ReadMesh mesh;
+    mesh.request_vertex_colors();
+    mesh.request_vertex_normals();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexColor |
+                                OpenMesh::IO::Options::VertexNormal |
+                                OpenMesh::IO::Options::Custom;
+    bool ok;
+    std::string said;
+    {
+        OmerrCapture capture;
+        ok = OpenMesh::IO::read_mesh(mesh, path, opt);
+        said = capture.str();
+    }
+    std::replace(said.begin(), said.end(), '\n', ' ');
+    snprintf(res->messages, sizeof res->messages, "%s", said.c_str());
+    if (!ok)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s: OpenMesh could not read the file%s%s", path,
+                           said.empty() ? "" : ": ", said.c_str());
+    res->invalid_index_faces = count_lines_with(said, "invalid vertex index");
+    // The PLY reader counts its own rejects: "<n>The reader encountered
+    // invalid faces, that could not be added."
+    const size_t ply_bad = said.find("The reader encountered invalid faces");
+    if (ply_bad != std::string::npos) {
+        size_t start = ply_bad;
+        while (start > 0 && std::isdigit((unsigned char)said[start - 1]))
+            --start;
+        res->invalid_index_faces +=
+            start < ply_bad ? std::stoul(said.substr(start, ply_bad - start)) : 1;
+    }
+    res->repeated_vertex_faces = count_lines_with(said, "equal vertices");
+
+    // Non-manifold faces come back on fresh copies of their vertices, flagged
+    // "fixed non-manifold"; map each copy back to the file's vertex at the
+    // same position so the vertex list matches the file.
+    const size_t nv_all = mesh.n_vertices();
+    std::vector<int> keep_index(nv_all, -1);
+    std::vector<int> original(nv_all);
+    std::vector<size_t> order;
+    size_t nv = 0;
+    for (size_t v = 0; v < nv_all; ++v) {
+        original[v] = (int)v;
+        if (!mesh.status(ReadMesh::VertexHandle((int)v)).fixed_nonmanifold())
+            keep_index[v] = (int)nv++;
+        order.push_back(v);
+    }
+    if (nv != nv_all) {
+        auto less = [&](size_t a, size_t b) {
+            const ReadMesh::Point &pa = mesh.point(ReadMesh::VertexHandle((int)a));
+            const ReadMesh::Point &pb = mesh.point(ReadMesh::VertexHandle((int)b));
+            for (int k = 0; k < 3; ++k)
+                if (pa[k] != pb[k])
+                    return pa[k] < pb[k];
+            return a < b;
+        };
+        std::sort(order.begin(), order.end(), less);
+        size_t run = 0;
+        while (run < order.size()) {
+            size_t end = run + 1;
+            const ReadMesh::Point &p0 = mesh.point(ReadMesh::VertexHandle((int)order[run]));
+            while (end < order.size() &&
+                   mesh.point(ReadMesh::VertexHandle((int)order[end])) == p0)
+                ++end;
+            int first_kept = -1;
+            for (size_t i = run; i < end && first_kept < 0; ++i)
+                if (keep_index[order[i]] >= 0)
+                    first_kept = (int)order[i];
+            for (size_t i = run; i < end; ++i)
+                if (keep_index[order[i]] < 0 && first_kept >= 0)
+                    original[order[i]] = first_kept;
+            run = end;
+        }
+    }
+
+    size_t nt = 0;
+    for (auto f : mesh.faces())
+        nt += (size_t)(mesh.valence(f) - 2);
+    const bool colours = opt.vertex_has_color() && std::strcmp(ext, ".stl") != 0;
+    const bool normals = opt.vertex_has_normal() && std::strcmp(ext, ".stl") != 0;
+    const bool labels = has_label(mesh);
+    unsigned attrs = 0;
+    if (colours)
+        attrs |= RELIEF_MESH_COLOURS;
+    if (normals)
+        attrs |= RELIEF_MESH_NORMALS;
+    if (labels)
+        attrs |= RELIEF_MESH_LABELS;
+    relief_mesh *m = nullptr;
+    relief_status st = relief_mesh_create(nv, nt, attrs, &m, err);
+    if (st != RELIEF_OK)
+        return st;
+
+    for (size_t v = 0; v < nv_all; ++v) {
+        int to = keep_index[v];
+        if (to < 0)
+            continue;
+        ReadMesh::VertexHandle vh((int)v);
+        const ReadMesh::Point &p = mesh.point(vh);
+        for (int k = 0; k < 3; ++k)
+            m->pos[3 * to + k] = p[k];
+        if (colours) {
+            const ReadMesh::Color &c = mesh.color(vh);
+            for (int k = 0; k < 3; ++k) {
+                if (!(c[k] >= 0.0f && c[k] <= 1.0f)) {
+                    relief_mesh_destroy(m);
+                    return relief_fail(err, RELIEF_E_MESH,
+                                       "%s: vertex %zu: colour (%g, %g, %g) is outside "
+                                       "0..1 (floating-point colours are fractions)",
+                                       path, v, (double)c[0], (double)c[1], (double)c[2]);
+                }
+                // As 8 bits, as relief keeps colours (and writes them).
+                m->col[3 * to + k] = std::round(c[k] * 255.0f) / 255.0f;
+            }
+        }
+        if (normals) {
+            const ReadMesh::Normal &n = mesh.normal(vh);
+            for (int k = 0; k < 3; ++k)
+                m->nrm[3 * to + k] = n[k];
+        }
+    }
+    if (labels) {
+        copy_label<unsigned char>(mesh, keep_index, m, ascii_char_label) ||
+            copy_label<signed char>(mesh, keep_index, m, ascii_char_label) ||
+            copy_label<char>(mesh, keep_index, m, ascii_char_label) ||
+            copy_label<int>(mesh, keep_index, m, 0) ||
+            copy_label<unsigned int>(mesh, keep_index, m, 0) ||
+            copy_label<short>(mesh, keep_index, m, 0) ||
+            copy_label<unsigned short>(mesh, keep_index, m, 0);
+    }
+
+    size_t t = 0;
+    for (auto f : mesh.faces()) {
+        std::vector<uint32_t> corner;
+        for (auto vh : mesh.fv_range(f))
+            corner.push_back((uint32_t)keep_index[original[vh.idx()]]);
+        if (mesh.status(f).fixed_nonmanifold())
+            ++res->nonmanifold_faces;
+        if (corner.size() > 3)
+            ++res->polygon_faces_split;
+        for (size_t k = 1; k + 1 < corner.size(); ++k, ++t) {
+            m->tri[3 * t] = corner[0];
+            m->tri[3 * t + 1] = corner[k];
+            m->tri[3 * t + 2] = corner[k + 1];
+        }
+    }
+    *out = m;
+    return RELIEF_OK;
+}
+
+relief_status write_impl(const relief_mesh *m, const char *path, const char *ext,
+                         int ascii, relief_error *err)
+{
+    Mesh mesh;
+    const bool colours = m->col && (std::strcmp(ext, ".ply") == 0 ||
+                                    std::strcmp(ext, ".off") == 0);
+    const bool normals = m->nrm && std::strcmp(ext, ".ply") == 0;
+    const bool labels = m->label && std::strcmp(ext, ".ply") == 0;
+    mesh.request_vertex_colors();
+    mesh.request_vertex_normals();
+    OpenMesh::VPropHandleT<int> label;
+    if (labels) {
+        mesh.add_property(label, "label");
+        mesh.property(label).set_persistent(true);
+    }
+    for (size_t v = 0; v < m->nv; ++v) {
+        const double *p = m->pos + 3 * v;
+        Mesh::VertexHandle vh = mesh.add_vertex(Mesh::Point(p[0], p[1], p[2]));
+        if (colours) {
+            const float *c = m->col + 3 * v;
+            Mesh::Color uc;
+            for (int k = 0; k < 3; ++k)
+                uc[k] = (unsigned char)std::lround(
+                    std::min(1.0f, std::max(0.0f, c[k])) * 255.0f);
+            mesh.set_color(vh, uc);
+        }
+        if (normals) {
+            const double *n = m->nrm + 3 * v;
+            mesh.set_normal(vh, Mesh::Normal(n[0], n[1], n[2]));
+        }
+        if (labels)
+            mesh.property(label, vh) = m->label[v];
+    }
+    std::string said;
+    {
+        OmerrCapture capture;
+        for (size_t t = 0; t < m->nt; ++t) {
+            const uint32_t *f = m->tri + 3 * t;
+            Mesh::FaceHandle fh = mesh.add_face(Mesh::VertexHandle((int)f[0]),
+                                                Mesh::VertexHandle((int)f[1]),
+                                                Mesh::VertexHandle((int)f[2]));
+            if (!fh.is_valid())
+                return relief_fail(err, RELIEF_E_MESH,
+                                   "%s: triangle %zu (%u %u %u) would make the "
+                                   "mesh non-manifold; OpenMesh cannot store it",
+                                   path, t, (unsigned)f[0], (unsigned)f[1],
+                                   (unsigned)f[2]);
+        }
+        OpenMesh::IO::Options opt;
+        if (colours)
+            opt += OpenMesh::IO::Options::VertexColor;
+        if (normals)
+            opt += OpenMesh::IO::Options::VertexNormal;
+        if (labels)
+            opt += OpenMesh::IO::Options::Custom;
+        if (!ascii && (std::strcmp(ext, ".ply") == 0 || std::strcmp(ext, ".stl") == 0))
+            opt += OpenMesh::IO::Options::Binary;
+        if (!OpenMesh::IO::write_mesh(mesh, path, opt, 9)) {
+            said = capture.str();
+            return relief_fail(err, RELIEF_E_IO, "%s: OpenMesh could not write it%s%s",
+                               path, said.empty() ? "" : ": ", said.c_str());
+        }
+    }
+    return RELIEF_OK;
+}
+
+} // namespace
+
+extern "C" relief_status relief_om_read(const char *path, const char *ext,
+                                        int ascii_char_label, relief_mesh **out,
+                                        relief_om_read_result *res,
+                                        relief_error *err)
+{
+    try {
+        *res = relief_om_read_result();
+        return read_impl(path, ext, ascii_char_label, out, res, err);
+    } catch (const std::bad_alloc &) {
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: out of memory while reading",
+                           path);
+    } catch (const std::exception &e) {
+        return relief_fail(err, RELIEF_E_PARSE, "%s: OpenMesh failed: %s", path,
+                           e.what());
+    } catch (...) {
+        return relief_fail(err, RELIEF_E_INTERNAL,
+                           "%s: unknown exception in OpenMesh", path);
+    }
+}
+
+extern "C" relief_status relief_om_write(const relief_mesh *m, const char *path,
+                                         const char *ext, int ascii,
+                                         relief_error *err)
+{
+    try {
+        return write_impl(m, path, ext, ascii, err);
+    } catch (const std::bad_alloc &) {
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: out of memory while writing",
+                           path);
+    } catch (const std::exception &e) {
+        return relief_fail(err, RELIEF_E_IO, "%s: OpenMesh failed: %s", path,
+                           e.what());
+    } catch (...) {
+        return relief_fail(err, RELIEF_E_INTERNAL,
+                           "%s: unknown exception in OpenMesh", path);
+    }
+}

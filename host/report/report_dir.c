@@ -1,0 +1,664 @@
+#include "report/report_dir.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "base/error.h"
+#include "mesh/mesh.h"
+#include "report/png.h"
+#include "report/render.h"
+
+struct relief_report_dir {
+    char *dir; /* where the report goes, without trailing slashes */
+    char *tmp; /* the staged folder beside it */
+};
+
+#define N_VIEWS 3
+#define N_STAGES 5
+
+static const struct {
+    const char *file, *title, *note;
+} stages[N_STAGES] = {
+    {"captured", "Captured input", "the input as read"},
+    {"smooth", "Smooth completion", "the primitive laid over the missing part, before growth"},
+    {"final", "Final completion", "relief and colour grown over the missing part"},
+    {"labels", "Completed vertices", "grey: captured, orange: completed"},
+    {"displacement", "Displacement", "height above (red) or below (blue) the primitive"},
+};
+
+/* ------------------------------------------------------------ folders */
+
+static int is_report_file(const char *name)
+{
+    size_t n = strlen(name);
+    return strcmp(name, "index.html") == 0 || strcmp(name, "report.json") == 0 ||
+           (n > 4 && (strcmp(name + n - 4, ".png") == 0 || strcmp(name + n - 4, ".svg") == 0));
+}
+
+/* Is `path` absent (1), an empty folder or a previous report (2)? 0 with
+ * err set otherwise. */
+static int replaceable(const char *path, relief_error *err)
+{
+    struct stat sb;
+    DIR *d;
+    struct dirent *e;
+    int ok = 2;
+    if (lstat(path, &sb) != 0) {
+        if (errno == ENOENT)
+            return 1;
+        relief_fail(err, RELIEF_E_IO, "%s: cannot inspect: %s", path, strerror(errno));
+        return 0;
+    }
+    if (!S_ISDIR(sb.st_mode)) {
+        relief_fail(err, RELIEF_E_IO, "%s: exists and is not a folder; --report-dir needs a "
+                    "folder name", path);
+        return 0;
+    }
+    if (!(d = opendir(path))) {
+        relief_fail(err, RELIEF_E_IO, "%s: cannot read the folder: %s", path, strerror(errno));
+        return 0;
+    }
+    while ((e = readdir(d)) != NULL) {
+        char full[4096];
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        snprintf(full, sizeof full, "%s/%s", path, e->d_name);
+        if (!is_report_file(e->d_name) || lstat(full, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+            relief_fail(err, RELIEF_E_IO, "%s: holds '%s', which a relief report does not "
+                        "write; refusing to replace the folder", path, e->d_name);
+            ok = 0;
+            break;
+        }
+    }
+    closedir(d);
+    return ok;
+}
+
+/* Remove a folder holding only plain files (the staged or the old report). */
+static void remove_flat_folder(const char *path)
+{
+    DIR *d = opendir(path);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d)) != NULL) {
+        char full[4096];
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        snprintf(full, sizeof full, "%s/%s", path, e->d_name);
+        unlink(full);
+    }
+    closedir(d);
+    rmdir(path);
+}
+
+/* `dir` without trailing slashes (malloc'ed), or NULL. */
+static char *normalised(const char *dir)
+{
+    size_t n = strlen(dir);
+    char *s;
+    while (n > 1 && dir[n - 1] == '/')
+        --n;
+    if (!(s = malloc(n + 1)))
+        return NULL;
+    memcpy(s, dir, n);
+    s[n] = '\0';
+    return s;
+}
+
+relief_status relief_report_dir_check(const char *dir_in, relief_error *err)
+{
+    char *dir, *parent, *slash;
+    struct stat sb;
+    relief_status st = RELIEF_OK;
+    if (!dir_in || !dir_in[0])
+        return relief_fail(err, RELIEF_E_USAGE, "--report-dir: empty folder name");
+    if (!(dir = normalised(dir_in)) || !(parent = strdup(dir))) {
+        free(dir);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
+    }
+    slash = strrchr(parent, '/');
+    if (!slash)
+        strcpy(parent, ".");
+    else if (slash == parent)
+        parent[1] = '\0';
+    else
+        *slash = '\0';
+    if (stat(parent, &sb) != 0 || !S_ISDIR(sb.st_mode))
+        st = relief_fail(err, RELIEF_E_IO, "%s: the folder it goes in, '%s', does not exist",
+                         dir, parent);
+    else if (access(parent, W_OK | X_OK) != 0)
+        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write in '%s': %s", dir, parent,
+                         strerror(errno));
+    else if (!replaceable(dir, err))
+        st = err ? err->status : RELIEF_E_IO;
+    free(parent);
+    free(dir);
+    return st;
+}
+
+void relief_report_dir_abort(relief_report_dir *r)
+{
+    if (!r)
+        return;
+    if (r->tmp)
+        remove_flat_folder(r->tmp);
+    free(r->tmp);
+    free(r->dir);
+    free(r);
+}
+
+relief_status relief_report_dir_commit(relief_report_dir *r, relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+    char *old = NULL;
+    int kind;
+    if (!r)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_report_dir_commit: NULL report");
+    kind = replaceable(r->dir, err);
+    if (kind == 0) {
+        relief_report_dir_abort(r);
+        return err ? err->status : RELIEF_E_IO;
+    }
+    if (kind == 2) {
+        /* Move the old report aside first so that a failure can put it back. */
+        size_t n = strlen(r->tmp) + 8;
+        if (!(old = malloc(n))) {
+            relief_report_dir_abort(r);
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
+        }
+        snprintf(old, n, "%s.old", r->tmp);
+        if (rename(r->dir, old) != 0) {
+            st = relief_fail(err, RELIEF_E_IO, "%s: cannot move the previous report aside: %s",
+                             r->dir, strerror(errno));
+            free(old);
+            relief_report_dir_abort(r);
+            return st;
+        }
+    }
+    if (rename(r->tmp, r->dir) != 0) {
+        st = relief_fail(err, RELIEF_E_IO, "%s: cannot move the finished report into place: "
+                         "%s", r->dir, strerror(errno));
+        if (old)
+            rename(old, r->dir);
+        relief_report_dir_abort(r);
+    } else {
+        free(r->tmp);
+        r->tmp = NULL;
+        relief_report_dir_abort(r);
+        if (old)
+            remove_flat_folder(old);
+    }
+    free(old);
+    return st;
+}
+
+/* ------------------------------------------------------------ writers */
+
+static FILE *open_in(const relief_report_dir *r, const char *name, relief_error *err)
+{
+    char path[4096];
+    FILE *f;
+    snprintf(path, sizeof path, "%s/%s", r->tmp, name);
+    if (!(f = fopen(path, "w")))
+        relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
+    return f;
+}
+
+static relief_status close_in(const relief_report_dir *r, const char *name, FILE *f, int ok,
+                              relief_error *err)
+{
+    ok = !ferror(f) && ok;
+    ok = fclose(f) == 0 && ok;
+    if (!ok)
+        return relief_fail(err, RELIEF_E_IO, "%s/%s: write failed", r->tmp, name);
+    return RELIEF_OK;
+}
+
+/* Text with &, <, > and " escaped. */
+static void html_text(FILE *f, const char *s)
+{
+    for (; *s; ++s)
+        switch (*s) {
+        case '&': fputs("&amp;", f); break;
+        case '<': fputs("&lt;", f); break;
+        case '>': fputs("&gt;", f); break;
+        case '"': fputs("&quot;", f); break;
+        default: fputc(*s, f);
+        }
+}
+
+/* A number for people: 4 significant digits, "n/a" for NaN. */
+static const char *num(char *buf, size_t n, double v)
+{
+    if (isnan(v))
+        snprintf(buf, n, "n/a");
+    else
+        snprintf(buf, n, "%.4g", v);
+    return buf;
+}
+
+/* ---------------------------------------------------------- histograms */
+
+typedef struct histogram {
+    double p[2][RELIEF_MEASURE_HIST_BINS]; /* captured, completed; each sums to 1 */
+    size_t n[2];
+    double lo, hi;                         /* the bins span [lo, hi] */
+    double tv;                             /* 0.5 sum |p0 - p1| */
+} histogram;
+
+/* Bin x[v] over [lo, hi] by the vertices' labels (the measures' binning:
+ * the maximum goes in the last bin). */
+static void histogram_fill(histogram *h, const double *x, const uint8_t *label,
+                           size_t nv, double lo, double hi)
+{
+    const int bins = RELIEF_MEASURE_HIST_BINS;
+    memset(h, 0, sizeof *h);
+    h->lo = lo;
+    h->hi = hi;
+    for (size_t v = 0; v < nv; ++v) {
+        int part = label[v] == RELIEF_LABEL_COMPLETED, b = 0;
+        double t = x[v];
+        if (hi > lo)
+            b = (int)floor((fmin(hi, fmax(lo, t)) - lo) / (hi - lo) * bins);
+        b = b < 0 ? 0 : b >= bins ? bins - 1 : b;
+        h->p[part][b] += 1.0;
+        h->n[part]++;
+    }
+    for (int part = 0; part < 2; ++part)
+        for (int b = 0; b < bins; ++b)
+            h->p[part][b] /= h->n[part] ? (double)h->n[part] : 1.0;
+    for (int b = 0; b < bins; ++b)
+        h->tv += 0.5 * fabs(h->p[0][b] - h->p[1][b]);
+}
+
+static const char *part_fill[2] = {"rgba(74,111,165,0.45)", "rgba(240,133,25,0.45)"};
+static const char *part_line[2] = {"#35557f", "#c0640a"};
+
+static int svg_histogram(FILE *f, const histogram *h, const char *title, const char *xlabel)
+{
+    const int bins = RELIEF_MEASURE_HIST_BINS, W = 440, H = 280, L = 56, R = 30, T = 52,
+              B = 48;
+    const double pw = W - L - R, ph = H - T - B;
+    double top = 0.0;
+    char a[32], b[32], c[32];
+    for (int part = 0; part < 2; ++part)
+        for (int i = 0; i < bins; ++i)
+            top = fmax(top, h->p[part][i]);
+    top = top > 0.0 ? top * 1.08 : 1.0; /* headroom above the highest bar */
+    fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
+               "viewBox=\"0 0 %d %d\" font-family=\"sans-serif\" font-size=\"12\">\n",
+            W, H, W, H);
+    fprintf(f, "<rect width=\"%d\" height=\"%d\" fill=\"white\"/>\n", W, H);
+    fprintf(f, "<text x=\"%d\" y=\"18\" font-size=\"14\" font-weight=\"bold\">", L);
+    html_text(f, title);
+    fprintf(f, "</text>\n<text x=\"%d\" y=\"18\" text-anchor=\"end\" fill=\"#444\">"
+               "TV distance %.3f</text>\n", W - R, h->tv);
+    for (int part = 0; part < 2; ++part) {
+        fprintf(f, "<path fill=\"%s\" stroke=\"%s\" stroke-width=\"1.2\" d=\"M%.1f %.1f",
+                part_fill[part], part_line[part], (double)L, (double)(T + ph));
+        for (int i = 0; i < bins; ++i) {
+            double y = T + ph - ph * h->p[part][i] / top;
+            fprintf(f, " L%.1f %.1f L%.1f %.1f", L + pw * i / bins, y, L + pw * (i + 1) / bins,
+                    y);
+        }
+        fprintf(f, " L%.1f %.1f Z\"/>\n", L + pw, (double)(T + ph));
+    }
+    /* axes, ticks at both ends and the middle */
+    fprintf(f, "<path stroke=\"#222\" fill=\"none\" d=\"M%d %d V%.1f H%.1f\"/>\n", L, T,
+            T + ph, L + pw);
+    for (int i = 0; i <= 2; ++i) {
+        double x = L + pw * i / 2.0, y = T + ph - ph * i / 2.0;
+        fprintf(f, "<path stroke=\"#222\" d=\"M%.1f %.1f v5 M%d %.1f h-5\"/>\n", x, T + ph, L,
+                y);
+        fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%s</text>\n", x,
+                T + ph + 18, num(a, sizeof a, h->lo + (h->hi - h->lo) * i / 2.0));
+        fprintf(f, "<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%.1f%%</text>\n", L - 8,
+                y + 4, 100.0 * top * i / 2.0);
+    }
+    fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" fill=\"#444\">", L + pw / 2,
+            H - 8);
+    html_text(f, xlabel);
+    fputs("</text>\n", f);
+    snprintf(b, sizeof b, "%zu", h->n[0]);
+    snprintf(c, sizeof c, "%zu", h->n[1]);
+    for (int part = 0; part < 2; ++part) { /* legend: one row under the title */
+        double x = L + 190.0 * part;
+        fprintf(f, "<rect x=\"%.1f\" y=\"29\" width=\"14\" height=\"10\" fill=\"%s\" "
+                   "stroke=\"%s\"/>\n<text x=\"%.1f\" y=\"38\">%s (%s vertices)</text>\n",
+                x, part_fill[part], part_line[part], x + 20, part ? "completed" : "captured",
+                part ? c : b);
+    }
+    fputs("</svg>\n", f);
+    return 0;
+}
+
+static relief_status write_svg(const relief_report_dir *r, const char *name,
+                               const histogram *h, const char *title, const char *xlabel,
+                               relief_error *err)
+{
+    FILE *f = open_in(r, name, err);
+    if (!f)
+        return err ? err->status : RELIEF_E_IO;
+    return close_in(r, name, f, svg_histogram(f, h, title, xlabel) == 0, err);
+}
+
+/* --------------------------------------------------------------- html */
+
+static void row(FILE *f, const char *name, const char *fmt, ...) RELIEF_PRINTF(3, 4);
+static void row(FILE *f, const char *name, const char *fmt, ...)
+{
+    char buf[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    fputs("<tr><th>", f);
+    html_text(f, name);
+    fputs("</th><td>", f);
+    html_text(f, buf);
+    fputs("</td></tr>\n", f);
+}
+
+static const char css[] =
+    "body{font-family:sans-serif;margin:24px;color:#222;max-width:1400px}"
+    "h1{font-size:22px}h2{font-size:18px;margin-top:28px;border-bottom:1px solid #ccc}"
+    ".figs{display:flex;flex-wrap:wrap;gap:24px;align-items:flex-start}"
+    "table.kv{border-collapse:collapse;font-size:13px}"
+    "table.kv th{text-align:left;font-weight:normal;color:#555;padding:2px 14px 2px 0}"
+    "table.kv td{font-family:monospace;padding:2px 0;max-width:460px;overflow-wrap:anywhere}"
+    "table.kv caption{text-align:left;font-weight:bold;padding-bottom:4px}"
+    "table.renders{border-collapse:collapse}"
+    "table.renders td,table.renders th{padding:4px;vertical-align:top;font-size:13px}"
+    "table.renders th{text-align:left;font-weight:normal}"
+    "table.renders img{width:100%;max-width:420px;border:1px solid #ddd}"
+    ".note{color:#666;font-size:12px}"
+    ".swatch{display:inline-block;width:12px;height:12px;border:1px solid #888;"
+    "vertical-align:middle;margin:0 4px}"
+    ".bar{display:inline-block;width:160px;height:12px;vertical-align:middle;margin:0 6px;"
+    "background:linear-gradient(to right,rgb(59,77,191),rgb(222,222,222),rgb(181,5,38))}";
+
+static void write_figures(FILE *f, const relief_report_content *c)
+{
+    const relief_surface *s = c->surface;
+    const relief_grow_stats *g = c->stats;
+    const relief_measures *m = c->measures;
+    char a[32], b[32];
+
+    fputs("<div class=\"figs\">\n<table class=\"kv\"><caption>Input and fit</caption>\n", f);
+    row(f, "input", "%s", c->input);
+    row(f, "output", "%s", c->output);
+    row(f, "primitive", "%s", relief_fit_model_name(s->fit.prim.model));
+    row(f, "fit rms", "%s (%s)", num(a, sizeof a, s->fit.rms), s->fit.reason);
+    row(f, "spacing", "%s (%s)", num(b, sizeof b, s->spacing),
+        s->spacing_from_capture ? "from the capture" : "--spacing");
+    fputs("</table>\n<table class=\"kv\"><caption>Counts</caption>\n", f);
+    row(f, "captured vertices", "%zu", s->n_captured);
+    row(f, "samples (oversampled)", "%zu", s->n_samples);
+    row(f, "targets", "%zu", s->n_targets);
+    row(f, "triangles", "%zu", s->mesh->nt);
+    row(f, "left out (duplicates)", "%zu", s->n_dropped);
+    fputs("</table>\n<table class=\"kv\"><caption>Growth</caption>\n", f);
+    row(f, "levels, window, rotations", "%d, %d, %d", c->params->levels, c->params->window,
+        c->params->rotations);
+    row(f, "mu, seed", "%s, %lu", num(a, sizeof a, g->mu), (unsigned long)c->params->seed);
+    row(f, "passes", "%zu", g->passes);
+    row(f, "acceptances", "%zu", g->acceptances);
+    row(f, "rejections", "%zu", g->rejections);
+    row(f, "threshold raises", "%zu (e %s to %s)", g->threshold_raises,
+        num(a, sizeof a, c->params->error), num(b, sizeof b, g->error_final));
+    row(f, "candidates scored", "%zu (%zu pruned)", g->candidates, g->pruned);
+    row(f, "backend", "%s: %s", c->backend, c->device);
+    fputs("</table>\n<table class=\"kv\"><caption>Timings (s)</caption>\n", f);
+    row(f, "fit", "%.3f", s->seconds[RELIEF_STAGE_FIT]);
+    row(f, "targets", "%.3f", s->seconds[RELIEF_STAGE_TARGETS]);
+    row(f, "oversample", "%.3f", s->seconds[RELIEF_STAGE_OVERSAMPLE]);
+    row(f, "triangulate", "%.3f", s->seconds[RELIEF_STAGE_TRIANGULATE]);
+    row(f, "growth", "%.3f", g->seconds);
+    row(f, "of which matching", "%.3f", g->match_seconds);
+    row(f, "total", "%.3f", c->seconds_total);
+    fputs("</table>\n", f);
+    if (m) {
+        fputs("<table class=\"kv\"><caption>Measures</caption>\n", f);
+        row(f, "MSI captured", "%s", num(a, sizeof a, m->msi_captured));
+        row(f, "MSI completed", "%s", num(a, sizeof a, m->msi_completed));
+        row(f, "MSI difference", "%s %%", num(a, sizeof a, m->msi_diff_percent));
+        row(f, "displacement histogram distance", "%s",
+            num(a, sizeof a, m->hist_distance_displacement));
+        if (m->has_colour)
+            row(f, "colour histogram distance", "%s",
+                num(a, sizeof a, m->hist_distance_colour));
+        row(f, "seam ratio", "%s", num(a, sizeof a, m->seam_ratio));
+        row(f, "frequency captured, completed", "%s, %s",
+            num(a, sizeof a, m->freq_captured.freq), num(b, sizeof b, m->freq_completed.freq));
+        fputs("</table>\n", f);
+    }
+    fputs("</div>\n", f);
+}
+
+static int write_html(FILE *f, const relief_report_content *c, const double view[N_VIEWS][2],
+                      double range, int has_colour)
+{
+    char a[32];
+    fputs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>relief: ",
+          f);
+    html_text(f, c->input);
+    fprintf(f, "</title>\n<style>%s</style></head><body>\n<h1>relief complete: ", css);
+    html_text(f, c->input);
+    fputs("</h1>\n<p class=\"note\">relief " RELIEF_VERSION_STRING
+          "; every figure is also in <a href=\"report.json\">report.json</a>.</p>\n",
+          f);
+    write_figures(f, c);
+    fputs("<h2>Renders</h2>\n<p class=\"note\">Orthographic, framed on the final surface. "
+          "Labels: <span class=\"swatch\" style=\"background:rgb(184,184,184)\"></span>"
+          "captured <span class=\"swatch\" style=\"background:rgb(245,133,26)\"></span>"
+          "completed. Displacement: ",
+          f);
+    fprintf(f, "&minus;%s<span class=\"bar\"></span>+%s (input units).</p>\n",
+            num(a, sizeof a, range), num(a, sizeof a, range));
+    fputs("<table class=\"renders\">\n<tr><th></th>", f);
+    for (int v = 0; v < N_VIEWS; ++v)
+        fprintf(f, "<th>azimuth %.0f&deg;, elevation %.0f&deg;</th>", view[v][0], view[v][1]);
+    fputs("</tr>\n", f);
+    for (int s = 0; s < N_STAGES; ++s) {
+        fprintf(f, "<tr><th>%s<br><span class=\"note\">%s</span></th>", stages[s].title,
+                stages[s].note);
+        for (int v = 0; v < N_VIEWS; ++v)
+            fprintf(f, "<td><a href=\"%s-view%d.png\"><img src=\"%s-view%d.png\" alt=\"%s, "
+                       "view %d\"></a></td>",
+                    stages[s].file, v + 1, stages[s].file, v + 1, stages[s].title, v + 1);
+        fputs("</tr>\n", f);
+    }
+    fputs("</table>\n<h2>Histograms of the captured and completed parts</h2>\n"
+          "<p class=\"note\">As paper 000's figure 13: each part's distribution, "
+          "normalised to sum 1, and their total-variation distance (0 same, 1 disjoint)."
+          "</p>\n<div class=\"figs\">\n<img src=\"hist-displacement.svg\" "
+          "alt=\"displacement histogram\">\n",
+          f);
+    if (has_colour)
+        fputs("<img src=\"hist-red.svg\" alt=\"red histogram\">\n"
+              "<img src=\"hist-green.svg\" alt=\"green histogram\">\n"
+              "<img src=\"hist-blue.svg\" alt=\"blue histogram\">\n",
+              f);
+    fputs("</div>\n</body></html>\n", f);
+    return 0;
+}
+
+/* ------------------------------------------------------------- stage */
+
+static relief_status render_to(const relief_report_dir *r, const relief_mesh *mesh,
+                               const relief_render_options *o, const char *name,
+                               relief_error *err)
+{
+    relief_image img = {0, 0, NULL};
+    char path[4096];
+    relief_status st = relief_render(mesh, o, &img, NULL, err);
+    if (st == RELIEF_OK) {
+        snprintf(path, sizeof path, "%s/%s", r->tmp, name);
+        st = relief_png_write(path, img.rgb, img.width, img.height, err);
+    }
+    relief_image_free(&img);
+    return st;
+}
+
+static void direction(const double *view, double *d)
+{
+    const double deg = 3.14159265358979323846 / 180.0;
+    d[0] = cos(view[1] * deg) * cos(view[0] * deg);
+    d[1] = cos(view[1] * deg) * sin(view[0] * deg);
+    d[2] = sin(view[1] * deg);
+}
+
+/* Three views that between them show the captured side, the completed
+ * side and the seam: the capture's default view; the completed part's,
+ * or, when that part faces the same way (a hole in a plane), the first
+ * view lowered 45 degrees towards grazing, where relief shows in profile;
+ * and the first turned 90 degrees in azimuth. */
+static void choose_views(const relief_mesh *capture, const relief_mesh *fin,
+                         double view[N_VIEWS][2])
+{
+    double a[3], b[3];
+    relief_render_default_view(capture, &view[0][0], &view[0][1]);
+    relief_render_part_view(fin, RELIEF_LABEL_COMPLETED, &view[1][0], &view[1][1]);
+    direction(view[0], a);
+    direction(view[1], b);
+    if (a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0.5) { /* within 60 degrees */
+        view[1][0] = view[0][0];
+        view[1][1] = view[0][1] > 0.0 ? view[0][1] - 45.0 : view[0][1] + 45.0;
+    }
+    view[2][0] = fmod(view[0][0] + 90.0 + 540.0, 360.0) - 180.0;
+    view[2][1] = view[0][1];
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+relief_status relief_report_dir_stage(const char *dir, const relief_report_content *c,
+                                      relief_report_dir **out, relief_error *err)
+{
+    const relief_mesh *fin;
+    relief_report_dir *r = NULL;
+    double view[N_VIEWS][2], *h = NULL, range = 1.0, lo = 0.0, hi = 0.0;
+    relief_status st;
+    FILE *f;
+    mode_t mask;
+    size_t n;
+
+    if (!dir || !c || !out || !c->capture || !c->smooth || !c->surface || !c->params ||
+        !c->stats || !c->write_json)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_report_dir_stage: NULL argument");
+    fin = c->surface->mesh;
+    if (!fin->label)
+        return relief_fail(err, RELIEF_E_MESH, "the completed surface has no labels");
+    if ((st = relief_report_dir_check(dir, err)) != RELIEF_OK)
+        return st;
+    if (!(r = calloc(1, sizeof *r)) || !(r->dir = normalised(dir)) ||
+        !(r->tmp = malloc(strlen(r->dir) + 16))) {
+        relief_report_dir_abort(r);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
+    }
+    snprintf(r->tmp, strlen(r->dir) + 16, "%s.tmp-XXXXXX", r->dir);
+    if (!mkdtemp(r->tmp)) {
+        st = relief_fail(err, RELIEF_E_IO, "%s: cannot create a folder there: %s", r->tmp,
+                         strerror(errno));
+        free(r->tmp);
+        r->tmp = NULL;
+        relief_report_dir_abort(r);
+        return st;
+    }
+    /* mkdtemp makes the folder 0700; give it what mkdir would. */
+    mask = umask(0);
+    umask(mask);
+    if (chmod(r->tmp, 0777 & ~mask) != 0) { /* not fatal: the folder stays private */
+    }
+
+    if (!(f = open_in(r, "report.json", err)))
+        st = err ? err->status : RELIEF_E_IO;
+    else
+        st = close_in(r, "report.json", f, c->write_json(f, c->json_ctx) == 0, err);
+
+    /* Heights of the final surface: the histogram, and one colour range
+     * for every displacement render. */
+    n = fin->nv;
+    if (st == RELIEF_OK && !(h = malloc(2 * n * sizeof *h)))
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu heights", n);
+    if (st == RELIEF_OK) {
+        lo = INFINITY;
+        hi = -INFINITY;
+        for (size_t v = 0; v < n; ++v) {
+            h[v] = relief_fit_distance(&c->surface->fit.prim, fin->pos + 3 * v);
+            h[n + v] = fabs(h[v]);
+            lo = fmin(lo, h[v]);
+            hi = fmax(hi, h[v]);
+        }
+        qsort(h + n, n, sizeof *h, cmp_double);
+        range = h[n + (size_t)(0.99 * (double)(n - 1))];
+        if (!(range > 0.0))
+            range = 1.0;
+    }
+
+    choose_views(c->capture, fin, view);
+    for (int v = 0; v < N_VIEWS && st == RELIEF_OK; ++v)
+        for (int s = 0; s < N_STAGES && st == RELIEF_OK; ++s) {
+            relief_render_options o = relief_render_options_default();
+            const relief_mesh *mesh = s == 0 ? c->capture : s == 1 ? c->smooth : fin;
+            char name[64];
+            o.width = RELIEF_REPORT_DIR_WIDTH;
+            o.height = RELIEF_REPORT_DIR_HEIGHT;
+            o.has_view = 1;
+            o.azimuth = view[v][0];
+            o.elevation = view[v][1];
+            o.frame = fin;
+            o.prim = &c->surface->fit.prim;
+            o.displacement_range = range;
+            o.colour_by = s == 0 ? RELIEF_COLOUR_BY_AUTO
+                          : s == 3 ? RELIEF_COLOUR_BY_LABEL
+                          : s == 4 ? RELIEF_COLOUR_BY_DISPLACEMENT
+                          : mesh->col ? RELIEF_COLOUR_BY_COLOUR : RELIEF_COLOUR_BY_NONE;
+            snprintf(name, sizeof name, "%s-view%d.png", stages[s].file, v + 1);
+            st = render_to(r, mesh, &o, name, err);
+        }
+
+    if (st == RELIEF_OK) {
+        histogram hist;
+        histogram_fill(&hist, h, fin->label, n, lo, hi);
+        st = write_svg(r, "hist-displacement.svg", &hist, "Displacement",
+                       "height above the primitive (input units)", err);
+        if (fin->col) {
+            static const char *names[3] = {"red", "green", "blue"},
+                              *titles[3] = {"Red", "Green", "Blue"};
+            for (int k = 0; k < 3 && st == RELIEF_OK; ++k) {
+                char file[32];
+                for (size_t v = 0; v < n; ++v) /* float colours into the heights' room */
+                    h[v] = fin->col[3 * v + k];
+                histogram_fill(&hist, h, fin->label, n, 0.0, 1.0);
+                snprintf(file, sizeof file, "hist-%s.svg", names[k]);
+                st = write_svg(r, file, &hist, titles[k], "channel value", err);
+            }
+        }
+    }
+    if (st == RELIEF_OK) {
+        if (!(f = open_in(r, "index.html", err)))
+            st = err ? err->status : RELIEF_E_IO;
+        else
+            st = close_in(r, "index.html", f,
+                          write_html(f, c, (const double(*)[2])view, range, fin->col != NULL) == 0,
+                          err);
+    }
+    free(h);
+    if (st != RELIEF_OK) {
+        relief_report_dir_abort(r);
+        return st;
+    }
+    *out = r;
+    return RELIEF_OK;
+}

@@ -1,0 +1,776 @@
+/* Smooth completion: the fitted primitive's "good continuation" of the
+ * capture, as one labelled triangulation (stages 2 to 5 of DESIGN.md).
+ *
+ * Parameter domains. Plane: (u, v) along (e1, e2), e1 x e2 = the normal.
+ * Cylinder: u = radius * angle in [0, 2 pi radius) around the axis from e1
+ * toward e2 = axis x e1, v = coordinate along the axis; counter-clockwise
+ * in (u, v) is outward. Sphere: unit directions from the centre.
+ *
+ * Targets are laid on a triangular lattice of edge `spacing` (plane,
+ * cylinder) or a Fibonacci lattice of the same density (sphere) and kept
+ * where the capture does not cover the primitive: a lattice point is
+ * covered when it lies within half a spacing of a capture triangle
+ * projected on the primitive. On a plane without --extent, uncovered
+ * lattice points connected to the lattice's border are outside the
+ * capture's outline and dropped: what remains are its holes. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/knn.h"
+
+#include "smooth/delaunay.h"
+#include "base/error.h"
+#include "base/memlimit.h"
+#include "mesh/mesh.h"
+#include "smooth/oversample.h"
+#include "smooth/param.h"
+#include "report/report.h"
+#include "smooth/surface.h"
+#include "smooth/surface_check.h"
+
+#define RM_REAL double
+#include "kernels/relief_math.h"
+
+#define PI 3.14159265358979323846
+
+relief_smooth_options relief_smooth_options_default(void)
+{
+    relief_smooth_options o;
+    o.frames = RELIEF_FRAMES_PAPER;
+    o.spacing_percentile = 10.0;
+    o.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
+    return o;
+}
+
+void relief_surface_destroy(relief_surface *s)
+{
+    if (!s)
+        return;
+    relief_mesh_destroy(s->mesh);
+    free(s->proj);
+    free(s->disp);
+    free(s->nrm);
+    free(s->frame);
+    free(s);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The p-th percentile (0..100) of the mesh's edge lengths, each edge counted
+ * once per triangle side (interior edges twice, which does not move a
+ * percentile of a regular mesh). 0 when the mesh has no triangle. */
+static double edge_percentile(const relief_mesh *m, double p)
+{
+    size_t n = 3 * m->nt, k = 0;
+    double *len, r;
+    if (n == 0)
+        return 0.0;
+    len = malloc(n * sizeof *len);
+    if (!len)
+        return 0.0;
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int e = 0; e < 3; ++e) {
+            const double *a = m->pos + 3 * (size_t)m->tri[3 * t + e];
+            const double *b = m->pos + 3 * (size_t)m->tri[3 * t + (e + 1) % 3];
+            double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+            double l = sqrt(rm_dot(d, d));
+            if (l > 0.0)
+                len[k++] = l;
+        }
+    if (k == 0) {
+        free(len);
+        return 0.0;
+    }
+    qsort(len, k, sizeof *len, cmp_double);
+    r = len[(size_t)floor(p / 100.0 * (double)(k - 1) + 0.5)];
+    free(len);
+    return r;
+}
+
+static void to_param(const relief_surface *s, const double p[3], double uv[2])
+{
+    relief_param_coords(&s->param, p, uv);
+}
+
+static void from_param(const relief_surface *s, double u, double v, double p[3])
+{
+    relief_param_point(&s->param, u, v, p);
+}
+
+/* ---------------------------------------------------------- coverage */
+
+/* The capture's triangles projected on the primitive, with a kd-tree over
+ * their centroids, to ask "is this point of the primitive covered?". */
+typedef struct coverage {
+    const relief_mesh *cap;
+    double *proj;      /* cap->nv x 3 projected capture vertices */
+    double *centroid;  /* cap->nt x 3 */
+    flann_index_t index;
+    struct FLANNParameters fp;
+    int k;
+    double lo[3], hi[3]; /* the projected capture's bounding box */
+} coverage;
+
+static void coverage_free(coverage *c)
+{
+    if (c->index)
+        flann_free_index_double(c->index, &c->fp);
+    free(c->proj);
+    free(c->centroid);
+}
+
+static relief_status coverage_build(coverage *c, const relief_mesh *cap,
+                                    const relief_fit_primitive *prim, relief_error *err)
+{
+    float speedup;
+    memset(c, 0, sizeof *c);
+    c->cap = cap;
+    c->proj = malloc(cap->nv * 3 * sizeof *c->proj);
+    c->centroid = malloc(cap->nt * 3 * sizeof *c->centroid);
+    if (!c->proj || !c->centroid)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the coverage index");
+    for (int k = 0; k < 3; ++k) {
+        c->lo[k] = DBL_MAX;
+        c->hi[k] = -DBL_MAX;
+    }
+    for (size_t v = 0; v < cap->nv; ++v) {
+        relief_fit_project(prim, cap->pos + 3 * v, c->proj + 3 * v);
+        for (int k = 0; k < 3; ++k) {
+            c->lo[k] = fmin(c->lo[k], c->proj[3 * v + k]);
+            c->hi[k] = fmax(c->hi[k], c->proj[3 * v + k]);
+        }
+    }
+    for (size_t t = 0; t < cap->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            c->centroid[3 * t + k] = (c->proj[3 * cap->tri[3 * t] + k] +
+                                      c->proj[3 * cap->tri[3 * t + 1] + k] +
+                                      c->proj[3 * cap->tri[3 * t + 2] + k]) / 3.0;
+    c->fp = relief_knn_exact_params();
+    c->k = cap->nt < 16 ? (int)cap->nt : 16;
+    c->index = flann_build_index_double(c->centroid, (int)cap->nt, 3, &speedup, &c->fp);
+    if (!c->index)
+        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not build a kd-tree");
+    return RELIEF_OK;
+}
+
+/* Is p (on the primitive) within sqrt(r2) of the nearest of the k projected
+ * capture triangles whose centroids are nearest p? A point farther than
+ * that from the capture's bounding box is not, without a search: most of a
+ * sphere's or a cylinder's lattice lies far from a one-sided capture, and
+ * there a kd-tree search visits most of the tree (a 2-million-target
+ * sphere took minutes). */
+static int covered(const coverage *c, const double p[3], double r2)
+{
+    int idx[16];
+    double dist[16], box2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double d = p[k] < c->lo[k] ? c->lo[k] - p[k] : p[k] > c->hi[k] ? p[k] - c->hi[k] : 0.0;
+        box2 += d * d;
+    }
+    if (box2 > r2)
+        return 0;
+    if (flann_find_nearest_neighbors_index_double(c->index, (double *)p, 1, idx, dist,
+                                                  c->k, (struct FLANNParameters *)&c->fp) != 0)
+        return 0;
+    for (int i = 0; i < c->k; ++i) {
+        const uint32_t *f = c->cap->tri + 3 * (size_t)idx[i];
+        if (rm_point_triangle_d2(p, c->proj + 3 * f[0], c->proj + 3 * f[1],
+                                 c->proj + 3 * f[2]) <= r2)
+            return 1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------ targets */
+
+typedef struct point_list {
+    double *p; /* n x 3 */
+    size_t n, cap;
+} point_list;
+
+static int push_point(point_list *l, const double p[3])
+{
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 1024;
+        double *q = realloc(l->p, cap * 3 * sizeof *q);
+        if (!q)
+            return 0;
+        l->p = q;
+        l->cap = cap;
+    }
+    memcpy(l->p + 3 * l->n++, p, 3 * sizeof(double));
+    return 1;
+}
+
+/* Triangular lattice over [u0, u1] x [v0, v1] (plane) or the full turn
+ * times [v0, v1] (cylinder, periodic in u); keep uncovered points, and on a
+ * plane without extent only those enclosed by the capture. */
+static relief_status lattice_targets(const relief_surface *s, const coverage *cov,
+                                     double u0, double u1, double v0, double v1,
+                                     int periodic, int holes_only, point_list *out,
+                                     relief_error *err)
+{
+    const double sp = s->spacing, row = sp * sqrt(3.0) / 2.0;
+    const double cover2 = 0.25 * sp * sp; /* (half a spacing)^2 */
+    size_t nu, nv, n;
+    double du;
+    uint8_t *state = NULL; /* 0 covered, 1 uncovered, 2 outside */
+    size_t *stack = NULL, top = 0;
+    relief_status st = RELIEF_OK;
+
+    /* Count in double first: a tiny spacing must not overflow size_t. */
+    if (!((floor((u1 - u0) / sp) + 2.0) * (floor((v1 - v0) / row) + 1.0) <= 50000000.0))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the target lattice would have about %.3g points (spacing %g over "
+                           "a %g x %g region); raise --spacing",
+                           (floor((u1 - u0) / sp) + 1.0) * (floor((v1 - v0) / row) + 1.0), sp,
+                           u1 - u0, v1 - v0);
+    if (periodic) {
+        nu = (size_t)floor((u1 - u0) / sp + 0.5);
+        if (nu < 3)
+            nu = 3;
+        du = (u1 - u0) / (double)nu;
+    } else {
+        nu = (size_t)floor((u1 - u0) / sp) + 1;
+        du = sp;
+    }
+    nv = (size_t)floor((v1 - v0) / row) + 1;
+    if (nu * nv > 50000000)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the target lattice would have %zu x %zu points; raise --spacing",
+                           nu, nv);
+    n = nu * nv;
+    state = malloc(n);
+    stack = malloc(n * sizeof *stack);
+    if (!state || !stack) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-point lattice", n);
+        goto done;
+    }
+    /* Centre the rows in [v0, v1] so both ends get the same margin. */
+    v0 += 0.5 * ((v1 - v0) - (double)(nv - 1) * row);
+    for (size_t j = 0; j < nv; ++j)
+        for (size_t i = 0; i < nu; ++i) {
+            double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
+            from_param(s, u, v0 + (double)j * row, p);
+            state[j * nu + i] = !covered(cov, p, cover2);
+        }
+    if (holes_only) {
+        /* Flood the uncovered region from the lattice border: it is outside. */
+        for (size_t j = 0; j < nv; ++j)
+            for (size_t i = 0; i < nu; ++i)
+                if ((i == 0 || j == 0 || i == nu - 1 || j == nv - 1) &&
+                    state[j * nu + i] == 1) {
+                    state[j * nu + i] = 2;
+                    stack[top++] = j * nu + i;
+                }
+        while (top > 0) {
+            size_t at = stack[--top], i = at % nu, j = at / nu;
+            /* Six neighbours; odd rows sit half a column to the right. */
+            long di[6] = {-1, 1, 0, 1, 0, 1}, dj[6] = {0, 0, -1, -1, 1, 1};
+            if (j % 2 == 0)
+                di[2] = -1, di[3] = 0, di[4] = -1, di[5] = 0;
+            for (int q = 0; q < 6; ++q) {
+                long ii = (long)i + di[q], jj = (long)j + dj[q];
+                size_t nb;
+                if (ii < 0 || jj < 0 || ii >= (long)nu || jj >= (long)nv)
+                    continue;
+                nb = (size_t)jj * nu + (size_t)ii;
+                if (state[nb] == 1) {
+                    state[nb] = 2;
+                    stack[top++] = nb;
+                }
+            }
+        }
+    }
+    for (size_t j = 0; j < nv && st == RELIEF_OK; ++j)
+        for (size_t i = 0; i < nu; ++i)
+            if (state[j * nu + i] == 1) {
+                double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
+                if (periodic && u >= u1)
+                    u -= u1 - u0;
+                from_param(s, u, v0 + (double)j * row, p);
+                if (!push_point(out, p)) {
+                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+                    break;
+                }
+            }
+done:
+    free(stack);
+    free(state);
+    return st;
+}
+
+/* Fibonacci lattice on the sphere at the density of a triangular lattice of
+ * edge `spacing`; keep the uncovered points. */
+static relief_status sphere_targets(const relief_surface *s, const coverage *cov,
+                                    point_list *out, relief_error *err)
+{
+    const relief_fit_primitive *pr = &s->fit.prim;
+    const double sp = s->spacing, golden = PI * (3.0 - sqrt(5.0));
+    double area = 4.0 * PI * pr->radius * pr->radius;
+    double nf = area / (sp * sp * sqrt(3.0) / 2.0), e3[3];
+    size_t n;
+    if (nf > 50000000.0)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the sphere would need %.0f targets; raise --spacing", nf);
+    n = (size_t)nf;
+    if (n < 12)
+        n = 12;
+    rm_cross(s->param.e1, s->param.e2, e3);
+    for (size_t i = 0; i < n; ++i) {
+        double z = 1.0 - 2.0 * ((double)i + 0.5) / (double)n, r = sqrt(1.0 - z * z);
+        double a = golden * (double)i, p[3];
+        for (int k = 0; k < 3; ++k)
+            p[k] = pr->point[k] + pr->radius * (r * cos(a) * s->param.e1[k] +
+                                                r * sin(a) * s->param.e2[k] + z * e3[k]);
+        if (!covered(cov, p, 0.25 * sp * sp) && !push_point(out, p))
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+    }
+    return RELIEF_OK;
+}
+
+/* ------------------------------------------------------- triangulation */
+
+/* Triangulate all vertices of s->mesh in the parameter domain and keep the
+ * triangles no wider than `alpha` (circumradius), which drops the long
+ * triangles Delaunay spans across concave parts of the outline. */
+static relief_status triangulate(relief_surface *s, double alpha, relief_error *err)
+{
+    const relief_fit_primitive *pr = &s->fit.prim;
+    relief_mesh *m = s->mesh;
+    uint32_t *tri = NULL;
+    size_t nt = 0, kept = 0;
+    double *uv = NULL;
+    relief_status st;
+
+    if (pr->model == RELIEF_FIT_SPHERE) {
+        double *dir = malloc(m->nv * 3 * sizeof *dir);
+        if (!dir)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate directions");
+        for (size_t v = 0; v < m->nv; ++v) {
+            for (int k = 0; k < 3; ++k)
+                dir[3 * v + k] = s->proj[3 * v + k] - pr->point[k];
+            rm_normalise(dir + 3 * v);
+        }
+        st = relief_hull_sphere(dir, m->nv, &tri, &nt, NULL, err);
+        free(dir);
+        kept = nt;
+    } else {
+        uv = malloc(m->nv * 2 * sizeof *uv);
+        if (!uv)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate parameters");
+        for (size_t v = 0; v < m->nv; ++v)
+            to_param(s, s->proj + 3 * v, uv + 2 * v);
+        if (pr->model == RELIEF_FIT_PLANE)
+            st = relief_delaunay_2d(uv, m->nv, &tri, &nt, NULL, err);
+        else
+            st = relief_delaunay_periodic(uv, m->nv, 2.0 * PI * pr->radius, &tri, &nt, NULL,
+                                          err);
+        if (st == RELIEF_OK) {
+            const double period = 2.0 * PI * pr->radius;
+            for (size_t t = 0; t < nt; ++t) {
+                double a[2], b[2], c[2];
+                memcpy(a, uv + 2 * tri[3 * t], sizeof a);
+                memcpy(b, uv + 2 * tri[3 * t + 1], sizeof b);
+                memcpy(c, uv + 2 * tri[3 * t + 2], sizeof c);
+                if (pr->model == RELIEF_FIT_CYLINDER) { /* unwrap across the seam */
+                    if (b[0] - a[0] > period / 2) b[0] -= period;
+                    if (a[0] - b[0] > period / 2) b[0] += period;
+                    if (c[0] - a[0] > period / 2) c[0] -= period;
+                    if (a[0] - c[0] > period / 2) c[0] += period;
+                }
+                if (relief_circumradius_2d(a, b, c) <= alpha)
+                    memmove(tri + 3 * kept++, tri + 3 * t, 3 * sizeof *tri);
+            }
+        }
+        free(uv);
+    }
+    if (st != RELIEF_OK) {
+        free(tri);
+        return st;
+    }
+    free(m->tri);
+    m->tri = tri;
+    m->nt = kept;
+    return RELIEF_OK;
+}
+
+/* Drop the vertices no triangle uses: points the triangulation merged with
+ * a coincident one (real scans repeat points) or isolated by the width
+ * filter. Keeps the order, and so samples before targets. */
+static relief_status drop_unused(relief_surface *s, uint32_t *ids, relief_error *err)
+{
+    relief_mesh *m = s->mesh, *c = NULL;
+    uint8_t *used = calloc(m->nv, 1);
+    uint32_t *remap = malloc(m->nv * sizeof *remap);
+    size_t n = 0, samples = 0;
+    relief_status st = RELIEF_OK;
+    if (!used || !remap) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a vertex map");
+        goto done;
+    }
+    for (size_t i = 0; i < 3 * m->nt; ++i)
+        used[m->tri[i]] = 1;
+    for (size_t v = 0; v < m->nv; ++v)
+        n += used[v];
+    if (n == m->nv)
+        goto done;
+    st = relief_mesh_subset(m, used, &c, remap, err);
+    if (st != RELIEF_OK)
+        goto done;
+    for (size_t v = 0; v < m->nv; ++v) {
+        size_t w = remap[v];
+        if (w == UINT32_MAX)
+            continue;
+        memmove(s->proj + 3 * w, s->proj + 3 * v, 3 * sizeof(double));
+        memmove(s->disp + 3 * w, s->disp + 3 * v, 3 * sizeof(double));
+        memmove(s->nrm + 3 * w, s->nrm + 3 * v, 3 * sizeof(double));
+        memmove(s->frame + 9 * w, s->frame + 9 * v, 9 * sizeof(double));
+        if (ids)
+            ids[w] = ids[v];
+        samples += v < s->n_samples;
+    }
+    s->n_dropped = m->nv - n;
+    s->n_samples = samples;
+    s->n_targets = n - samples;
+    relief_mesh_destroy(m);
+    s->mesh = c;
+done:
+    free(remap);
+    free(used);
+    return st;
+}
+
+/* Every edge in at most two triangles, opposite ways round. Names the
+ * first offence. */
+typedef struct dir_edge {
+    uint32_t a, b;
+} dir_edge;
+
+static int dir_edge_cmp(const void *x, const void *y)
+{
+    const dir_edge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    return (p->b > q->b) - (p->b < q->b);
+}
+
+static relief_status check_manifold(const relief_surface *s, relief_error *err)
+{
+    const relief_mesh *m = s->mesh;
+    dir_edge *e = malloc((3 * m->nt + 1) * sizeof *e);
+    relief_status st = RELIEF_OK;
+    if (!e)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the edge list");
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            e[3 * t + k].a = m->tri[3 * t + k];
+            e[3 * t + k].b = m->tri[3 * t + (k + 1) % 3];
+        }
+    qsort(e, 3 * m->nt, sizeof *e, dir_edge_cmp);
+    for (size_t i = 1; i < 3 * m->nt; ++i)
+        if (dir_edge_cmp(&e[i - 1], &e[i]) == 0) {
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "the combined triangulation is not manifold: edge %u-%u is "
+                             "used twice in the same direction",
+                             (unsigned)e[i].a, (unsigned)e[i].b);
+            break;
+        }
+    free(e);
+    return st;
+}
+
+/* --------------------------------------------------------------- state */
+
+static void set_frame(const relief_surface *s, relief_frames rule, const double n[3],
+                      double f[9])
+{
+    const relief_fit_primitive *pr = &s->fit.prim;
+    double u[3], v[3];
+    if (rule == RELIEF_FRAMES_PRIMITIVE && pr->model != RELIEF_FIT_SPHERE) {
+        /* Plane: e1; cylinder: the axis, so u runs along bark-like ridges. */
+        memcpy(u, pr->model == RELIEF_FIT_PLANE ? s->param.e1 : pr->dir, sizeof u);
+        rm_cross(n, u, v);
+    } else if (rule == RELIEF_FRAMES_PRIMITIVE) {
+        /* Sphere: u points east about e3; the paper's rule near the poles. */
+        double e3[3];
+        rm_cross(s->param.e1, s->param.e2, e3);
+        rm_cross(e3, n, u);
+        if (rm_dot(u, u) < 1e-12)
+            rm_frame_from_normal(n, u, v);
+        else {
+            rm_normalise(u);
+            rm_cross(n, u, v);
+        }
+    } else {
+        rm_frame_from_normal(n, u, v);
+    }
+    memcpy(f, u, sizeof u);
+    memcpy(f + 3, v, sizeof v);
+    memcpy(f + 6, n, 3 * sizeof(double));
+}
+
+relief_status relief_smooth(const relief_mesh *capture, const relief_params *params,
+                            const relief_smooth_options *opts, relief_surface **out,
+                            relief_error *err)
+{
+    relief_smooth_options dflt = relief_smooth_options_default();
+    relief_oversample_params op = relief_oversample_params_default();
+    relief_surface *s = NULL;
+    relief_mesh *samples = NULL, *m = NULL;
+    point_list targets = {0};
+    coverage cov;
+    relief_status st;
+    double alpha, t0;
+    const relief_fit_primitive *pr;
+
+    memset(&cov, 0, sizeof cov);
+    if (!opts)
+        opts = &dflt;
+    op.scheme = opts->oversample_scheme;
+    if (capture->nt == 0)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the capture is a point cloud (no triangles); triangulate it "
+                           "first: relief needs the capture's surface to know what it covers");
+    s = calloc(1, sizeof *s);
+    if (!s)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a surface");
+
+    t0 = relief_seconds();
+    st = relief_fit_mesh(capture, params->fit, &s->fit, err);
+    s->seconds[RELIEF_STAGE_FIT] = relief_seconds() - t0;
+    if (st != RELIEF_OK)
+        goto fail;
+    pr = &s->fit.prim;
+    if (s->fit.poor_fit) {
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "the capture fits no primitive well: %s (rms %.4g is more than "
+                         "%.0f%% of the %s's size %.4g)",
+                         s->fit.reason, s->fit.rms, 100.0 * RELIEF_FIT_POOR,
+                         relief_fit_model_name(pr->model), s->fit.size);
+        goto fail;
+    }
+    st = relief_capture_check(capture, pr, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    relief_param_init(&s->param, pr);
+
+    s->spacing_from_capture = params->spacing <= 0.0;
+    s->spacing = s->spacing_from_capture ? edge_percentile(capture, opts->spacing_percentile)
+                                         : params->spacing;
+    if (!(s->spacing > 0.0)) {
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "the capture's edges all have zero length; give --spacing");
+        goto fail;
+    }
+
+    /* Targets, from the capture as scanned (oversampling adds no coverage). */
+    t0 = relief_seconds();
+    st = coverage_build(&cov, capture, pr, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    if (pr->model == RELIEF_FIT_SPHERE) {
+        st = sphere_targets(s, &cov, &targets, err);
+    } else {
+        double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
+        for (size_t v = 0; v < capture->nv; ++v) {
+            double uv[2];
+            to_param(s, cov.proj + 3 * v, uv);
+            for (int k = 0; k < 2; ++k) {
+                lo[k] = fmin(lo[k], uv[k]);
+                hi[k] = fmax(hi[k], uv[k]);
+            }
+        }
+        if (pr->model == RELIEF_FIT_CYLINDER) {
+            double z0 = lo[1], z1 = hi[1];
+            if (params->has_extent) {
+                if (params->n_extent != 2) {
+                    st = relief_fail(err, RELIEF_E_USAGE,
+                                     "--extent for a cylinder takes 2 values z0,z1");
+                    goto fail;
+                }
+                z0 = params->extent[0];
+                z1 = params->extent[1];
+            }
+            st = lattice_targets(s, &cov, 0.0, 2.0 * PI * pr->radius, z0, z1, 1, 0,
+                                 &targets, err);
+        } else if (params->has_extent) {
+            if (params->n_extent != 4) {
+                st = relief_fail(err, RELIEF_E_USAGE,
+                                 "--extent for a plane takes 4 values u0,v0,u1,v1");
+                goto fail;
+            }
+            st = lattice_targets(s, &cov, params->extent[0], params->extent[2],
+                                 params->extent[1], params->extent[3], 0, 0, &targets, err);
+        } else {
+            st = lattice_targets(s, &cov, lo[0] - s->spacing, hi[0] + s->spacing,
+                                 lo[1] - s->spacing, hi[1] + s->spacing, 0, 1, &targets, err);
+        }
+    }
+    if (st != RELIEF_OK)
+        goto fail;
+    if (targets.n == 0) {
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "nothing to complete: the capture covers the whole region%s",
+                         pr->model == RELIEF_FIT_PLANE && !params->has_extent
+                             ? " (a plane is completed inside holes of its outline; "
+                               "give --extent u0,v0,u1,v1 to extend it)"
+                             : "");
+        goto fail;
+    }
+
+    s->seconds[RELIEF_STAGE_TARGETS] = relief_seconds() - t0;
+
+    /* Refuse before the big allocations: each oversampling pass about
+     * quadruples the capture's vertices. */
+    {
+        double nsamp = (double)capture->nv * pow(4.0, params->oversample);
+        char what[160];
+        snprintf(what, sizeof what,
+                 "the smooth completion of about %.0f samples (%zu captured vertices, "
+                 "oversampled %d times) and %zu targets",
+                 nsamp, capture->nv, params->oversample, targets.n);
+        st = relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
+                                                              targets.n),
+                                 relief_memory_limit(params),
+                                 "; lower --oversample or raise --spacing", err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+
+    /* Samples: the oversampled capture, then the targets after them. */
+    t0 = relief_seconds();
+    st = relief_oversample(capture, params->oversample, &op, &samples, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    s->seconds[RELIEF_STAGE_OVERSAMPLE] = relief_seconds() - t0;
+    s->n_captured = capture->nv;
+    s->n_samples = samples->nv;
+    s->n_targets = targets.n;
+    st = relief_mesh_create(samples->nv + targets.n, 0,
+                            RELIEF_MESH_LABELS | (samples->col ? RELIEF_MESH_COLOURS : 0u),
+                            &m, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    s->mesh = m;
+    memcpy(m->pos, samples->pos, samples->nv * 3 * sizeof(double));
+    memcpy(m->pos + 3 * samples->nv, targets.p, targets.n * 3 * sizeof(double));
+    if (m->col) {
+        memcpy(m->col, samples->col, samples->nv * 3 * sizeof(float));
+        for (size_t i = 3 * samples->nv; i < 3 * m->nv; ++i)
+            m->col[i] = 0.5f;
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        m->label[v] = v < s->n_samples ? RELIEF_LABEL_CAPTURED : RELIEF_LABEL_COMPLETED;
+
+    s->proj = malloc(m->nv * 3 * sizeof *s->proj);
+    s->disp = malloc(m->nv * 3 * sizeof *s->disp);
+    s->nrm = malloc(m->nv * 3 * sizeof *s->nrm);
+    s->frame = malloc(m->nv * 9 * sizeof *s->frame);
+    if (!s->proj || !s->disp || !s->nrm || !s->frame) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate per-vertex state");
+        goto fail;
+    }
+    for (size_t v = 0; v < m->nv; ++v) {
+        double *p = m->pos + 3 * v, *q = s->proj + 3 * v;
+        relief_fit_project(pr, p, q);
+        if (v >= s->n_samples) /* targets sit on the primitive exactly */
+            memcpy(p, q, 3 * sizeof *p);
+        for (int k = 0; k < 3; ++k)
+            s->disp[3 * v + k] = p[k] - q[k];
+        relief_fit_normal(pr, q, s->nrm + 3 * v);
+        set_frame(s, opts->frames, s->nrm + 3 * v, s->frame + 9 * v);
+    }
+
+    t0 = relief_seconds();
+    alpha = 2.0 * fmax(s->spacing, edge_percentile(capture, 95.0));
+    s->alpha = alpha;
+    st = triangulate(s, alpha, err);
+    if (st == RELIEF_OK)
+        st = drop_unused(s, NULL, err);
+    if (st == RELIEF_OK)
+        st = check_manifold(s, err);
+    s->seconds[RELIEF_STAGE_TRIANGULATE] = relief_seconds() - t0;
+    if (st != RELIEF_OK)
+        goto fail;
+
+    coverage_free(&cov);
+    relief_mesh_destroy(samples);
+    free(targets.p);
+    *out = s;
+    return RELIEF_OK;
+
+fail:
+    coverage_free(&cov);
+    relief_mesh_destroy(samples);
+    free(targets.p);
+    relief_surface_destroy(s);
+    return st;
+}
+
+relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,
+                                   relief_surface **out, uint32_t *ids, relief_error *err)
+{
+    const relief_mesh *m = s->mesh;
+    relief_surface *l = calloc(1, sizeof *l);
+    size_t n = 0, w = 0;
+    relief_status st;
+
+    if (!l)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level surface");
+    for (size_t v = 0; v < m->nv; ++v)
+        n += keep[v] != 0;
+    l->fit = s->fit;
+    l->param = s->param;
+    l->spacing = s->spacing;
+    l->spacing_from_capture = s->spacing_from_capture;
+    l->alpha = alpha;
+    l->n_captured = s->n_captured;
+    st = relief_mesh_create(n, 0, m->attrs & (RELIEF_MESH_LABELS | RELIEF_MESH_COLOURS), &l->mesh,
+                            err);
+    if (st != RELIEF_OK)
+        goto fail;
+    l->proj = malloc((n + 1) * 3 * sizeof *l->proj);
+    l->disp = malloc((n + 1) * 3 * sizeof *l->disp);
+    l->nrm = malloc((n + 1) * 3 * sizeof *l->nrm);
+    l->frame = malloc((n + 1) * 9 * sizeof *l->frame);
+    if (!l->proj || !l->disp || !l->nrm || !l->frame) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's per-vertex state");
+        goto fail;
+    }
+    for (size_t v = 0; v < m->nv; ++v) {
+        if (!keep[v])
+            continue;
+        memcpy(l->mesh->pos + 3 * w, m->pos + 3 * v, 3 * sizeof(double));
+        if (m->col && l->mesh->col)
+            memcpy(l->mesh->col + 3 * w, m->col + 3 * v, 3 * sizeof(float));
+        if (m->label && l->mesh->label)
+            l->mesh->label[w] = m->label[v];
+        memcpy(l->proj + 3 * w, s->proj + 3 * v, 3 * sizeof(double));
+        memcpy(l->disp + 3 * w, s->disp + 3 * v, 3 * sizeof(double));
+        memcpy(l->nrm + 3 * w, s->nrm + 3 * v, 3 * sizeof(double));
+        memcpy(l->frame + 9 * w, s->frame + 9 * v, 9 * sizeof(double));
+        l->n_samples += v < s->n_samples;
+        ids[w++] = (uint32_t)v;
+    }
+    l->n_targets = n - l->n_samples;
+    st = triangulate(l, alpha, err);
+    if (st == RELIEF_OK)
+        st = drop_unused(l, ids, err);
+    if (st == RELIEF_OK)
+        st = check_manifold(l, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    *out = l;
+    return RELIEF_OK;
+fail:
+    relief_surface_destroy(l);
+    return st;
+}

@@ -1,0 +1,89 @@
+/* The combined surface on which relief grows (stages 3 to 5 of DESIGN.md):
+ * the capture's samples and the target vertices laid on the fitted
+ * primitive, in one triangulation, with the per-vertex state the growth
+ * needs. Built by relief_smooth (smooth.c). */
+#ifndef RELIEF_HOST_SURFACE_H
+#define RELIEF_HOST_SURFACE_H
+
+#include "smooth/fit.h"
+#include "smooth/param.h"
+#include "relief/relief.h"
+
+typedef enum relief_frames {
+    RELIEF_FRAMES_PAPER = 0, /* paper 000's deterministic rule on the normal */
+    RELIEF_FRAMES_PRIMITIVE  /* aligned with the primitive's parameterisation */
+} relief_frames;
+
+/* Options of the smooth completion beyond relief_params. */
+typedef struct relief_smooth_options {
+    relief_frames frames;     /* default RELIEF_FRAMES_PAPER */
+    double spacing_percentile; /* robust low percentile of the capture's edge
+                                  lengths taken as the target spacing when
+                                  relief_params.spacing is 0; default 10 */
+    int oversample_scheme;     /* RELIEF_OVERSAMPLE_* (oversample.h);
+                                  default butterfly */
+} relief_smooth_options;
+
+relief_smooth_options relief_smooth_options_default(void);
+
+/* Stages timed by relief_smooth. */
+enum {
+    RELIEF_STAGE_FIT,
+    RELIEF_STAGE_TARGETS,
+    RELIEF_STAGE_OVERSAMPLE,
+    RELIEF_STAGE_TRIANGULATE,
+    RELIEF_STAGE_COUNT
+};
+
+typedef struct relief_surface {
+    relief_mesh *mesh;  /* the combined triangulation (owned). Vertices
+                           0..n_samples-1 are samples (label 0, the capture
+                           after oversampling, at their captured positions),
+                           n_samples..nv-1 targets (label 1, on the
+                           primitive). Colour when the capture has it; targets
+                           get mid grey until textured. */
+    relief_fit_result fit;  /* the primitive and how well it fits */
+    double spacing;     /* target spacing (input units) */
+    double alpha;       /* widest triangle kept (circumradius in the parameter
+                           domain, input units; plane and cylinder) */
+    int spacing_from_capture; /* 1: derived from the capture, 0: --spacing */
+    size_t n_captured;  /* capture vertices before oversampling */
+    size_t n_samples;   /* samples, after oversampling */
+    size_t n_targets;
+    size_t n_dropped;   /* vertices left out: in no triangle (duplicates) */
+    double *proj;       /* nv x 3: projection p' of each vertex on the primitive */
+    double *disp;       /* nv x 3: displacement D = p - p' (0 for targets) */
+    double *nrm;        /* nv x 3: the primitive's unit outward normal at p' */
+    double *frame;      /* nv x 9: the local frame, rows u, v, n (n = nrm) */
+    relief_param param;  /* the primitive's parameter domain (param.h): the
+                            frame --extent is given in */
+    double seconds[RELIEF_STAGE_COUNT]; /* wall time of each stage */
+} relief_surface;
+
+/* Fit a primitive to `capture`, oversample it (`params->oversample`
+ * passes), lay targets on the primitive over the region to complete at the
+ * target spacing, triangulate samples and targets together, and compute the
+ * per-vertex state. Region: cylinder, the full turn over the capture's
+ * axial extent (or params->extent z0,z1 along the axis from the fitted axis
+ * point); sphere, the whole sphere; plane, the holes inside the capture's
+ * outline (or params->extent u0,v0,u1,v1 in the plane's (e1, e2) frame
+ * from the fitted point). RELIEF_E_MESH when the capture fits no primitive
+ * well, has nothing to complete, or cannot be joined into a manifold. */
+relief_status relief_smooth(const relief_mesh *capture, const relief_params *params,
+                            const relief_smooth_options *opts, relief_surface **out,
+                            relief_error *err);
+
+void relief_surface_destroy(relief_surface *s);
+
+/* A sub-surface of s for the hierarchy (hierarchy.c): the vertices with
+ * keep[v] != 0 (s->mesh->nv entries), in s's order (so samples first),
+ * with their per-vertex state, labels and colours, re-triangulated as
+ * relief_smooth triangulates (qhull in the primitive's parameter domain, or
+ * on the sphere), keeping triangles of circumradius <= alpha (input units;
+ * plane and cylinder). Vertices no triangle uses are left out.
+ * ids (at least as many entries as kept vertices) receives each level
+ * vertex's id in s. RELIEF_E_MESH when the result is not manifold. */
+relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,
+                                   relief_surface **out, uint32_t *ids, relief_error *err);
+
+#endif

@@ -1,0 +1,259 @@
+/* Geometry the method cannot handle (surface_check.h). */
+#include "smooth/surface_check.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/knn.h"
+#include "mesh/mesh.h"
+
+/* ---------------------------------------------------------------- capture */
+
+typedef struct half_edge {
+    uint32_t a, b; /* a < b */
+    uint32_t t;    /* triangle */
+} half_edge;
+
+static int half_edge_cmp(const void *x, const void *y)
+{
+    const half_edge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    if (p->b != q->b)
+        return p->b < q->b ? -1 : 1;
+    return (p->t > q->t) - (p->t < q->t);
+}
+
+/* Edges shared by more than two triangles: a fin, or a second layer
+ * joined along an edge. (A vertex where two fans of triangles touch, common
+ * in range scans, is harmless: relief re-triangulates the capture's points
+ * on the primitive.) */
+static relief_status check_manifold(const relief_mesh *m, relief_error *err)
+{
+    const size_t ne = 3 * m->nt;
+    half_edge *e = malloc((ne + 1) * sizeof *e);
+    relief_status st = RELIEF_OK;
+
+    if (!e)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's edge list");
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int i = 0; i < 3; ++i) {
+            uint32_t a = m->tri[3 * t + i], b = m->tri[3 * t + (i + 1) % 3];
+            e[3 * t + i].a = a < b ? a : b;
+            e[3 * t + i].b = a < b ? b : a;
+            e[3 * t + i].t = (uint32_t)t;
+        }
+    qsort(e, ne, sizeof *e, half_edge_cmp);
+    for (size_t i = 0, j; i < ne; i = j) {
+        for (j = i + 1; j < ne && e[j].a == e[i].a && e[j].b == e[i].b; ++j)
+            ;
+        if (j - i > 2) {
+            const double *p = m->pos + 3 * (size_t)e[i].a, *q = m->pos + 3 * (size_t)e[i].b;
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "the capture is not manifold: edge %u-%u at (%.6g, %.6g, %.6g) "
+                             "is shared by %zu triangles (%u, %u, %u%s); relief needs a "
+                             "single-layer surface",
+                             e[i].a, e[i].b, 0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]),
+                             0.5 * (p[2] + q[2]), j - i, e[i].t, e[i + 1].t, e[i + 2].t,
+                             j - i > 3 ? ", ..." : "");
+            break;
+        }
+    }
+    free(e);
+    return st;
+}
+
+/* Triangles whose normal turns away from the primitive's: the capture
+ * folds back over itself (or its triangles are not consistently wound). */
+static relief_status check_folds(const relief_mesh *m, const relief_fit_primitive *pr,
+                                 relief_error *err)
+{
+    double with = 0.0, against = 0.0, total = 0.0, folded = 0.0, largest = 0.0;
+    size_t n_folded = 0, worst = 0;
+    signed char *side = malloc(m->nt + 1);
+    if (!side)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's orientations");
+    for (size_t t = 0; t < m->nt; ++t) {
+        const double *a = m->pos + 3 * (size_t)m->tri[3 * t];
+        const double *b = m->pos + 3 * (size_t)m->tri[3 * t + 1];
+        const double *c = m->pos + 3 * (size_t)m->tri[3 * t + 2];
+        double u[3], w[3], n[3], g[3], q[3], pn[3], len, cosv;
+        for (int k = 0; k < 3; ++k) {
+            u[k] = b[k] - a[k];
+            w[k] = c[k] - a[k];
+            g[k] = (a[k] + b[k] + c[k]) / 3.0;
+        }
+        n[0] = u[1] * w[2] - u[2] * w[1];
+        n[1] = u[2] * w[0] - u[0] * w[2];
+        n[2] = u[0] * w[1] - u[1] * w[0];
+        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        side[t] = 0;
+        if (!(len > 0.0))
+            continue;
+        relief_fit_project(pr, g, q);
+        relief_fit_normal(pr, q, pn);
+        cosv = (n[0] * pn[0] + n[1] * pn[1] + n[2] * pn[2]) / len;
+        total += 0.5 * len;
+        if (cosv > -RELIEF_FOLD_COS)
+            side[t] = 1, with += 0.5 * len;
+        else if (cosv < RELIEF_FOLD_COS)
+            side[t] = -1, against += 0.5 * len;
+    }
+    /* The file may wind every triangle the other way: the majority decides
+     * which side is "with". */
+    for (size_t t = 0; t < m->nt; ++t) {
+        double area;
+        if (side[t] == 0 || (side[t] > 0) == (with >= against))
+            continue;
+        area = relief_mesh_triangle_area(m, t);
+        ++n_folded;
+        folded += area;
+        if (area > largest) {
+            largest = area;
+            worst = t;
+        }
+    }
+    free(side);
+    if (total > 0.0 && folded > RELIEF_FOLD_AREA_MAX * total) {
+        const uint32_t *f = m->tri + 3 * worst;
+        const double *p = m->pos + 3 * (size_t)f[0];
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the capture overlaps itself over the fitted %s: %zu triangles "
+                           "(%.1f%% of its area, more than %.0f%%) face away from it, the "
+                           "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "
+                           "%.6g); relief needs a height field over the primitive (or the "
+                           "file's triangles are not consistently wound)",
+                           relief_fit_model_name(pr->model), n_folded, 100.0 * folded / total,
+                           100.0 * RELIEF_FOLD_AREA_MAX, worst, f[0], f[1], f[2], p[0], p[1],
+                           p[2]);
+    }
+    return RELIEF_OK;
+}
+
+relief_status relief_capture_check(const relief_mesh *capture,
+                                   const relief_fit_primitive *prim, relief_error *err)
+{
+    relief_status st = check_manifold(capture, err);
+    if (st == RELIEF_OK)
+        st = check_folds(capture, prim, err);
+    return st;
+}
+
+/* ---------------------------------------------------------------- growth */
+
+/* Targets no path joins to a sample: breadth-first from every sample. */
+static relief_status check_reachable(const relief_surface *s, relief_error *err)
+{
+    const relief_mesh *m = s->mesh;
+    uint32_t *start = calloc(m->nv + 2, sizeof *start);
+    uint32_t *nbr = malloc((6 * m->nt + 1) * sizeof *nbr);
+    uint32_t *queue = malloc((m->nv + 1) * sizeof *queue);
+    uint8_t *seen = calloc(m->nv + 1, 1);
+    size_t head = 0, tail = 0, lost = 0, first = 0;
+    relief_status st = RELIEF_OK;
+
+    if (!start || !nbr || !queue || !seen) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the reachability search");
+        goto done;
+    }
+    for (size_t i = 0; i < 3 * m->nt; ++i)
+        start[m->tri[i] + 2] += 2;
+    for (size_t v = 0; v < m->nv; ++v)
+        start[v + 2] += start[v + 1];
+    for (size_t t = 0; t < m->nt; ++t)
+        for (int i = 0; i < 3; ++i) {
+            const uint32_t a = m->tri[3 * t + i];
+            nbr[start[a + 1]++] = m->tri[3 * t + (i + 1) % 3];
+            nbr[start[a + 1]++] = m->tri[3 * t + (i + 2) % 3];
+        }
+    for (size_t v = 0; v < s->n_samples; ++v) {
+        seen[v] = 1;
+        queue[tail++] = (uint32_t)v;
+    }
+    while (head < tail) {
+        const uint32_t v = queue[head++];
+        for (uint32_t i = start[v]; i < start[v + 1]; ++i)
+            if (!seen[nbr[i]]) {
+                seen[nbr[i]] = 1;
+                queue[tail++] = nbr[i];
+            }
+    }
+    for (size_t v = m->nv; v-- > s->n_samples;)
+        if (!seen[v]) {
+            ++lost;
+            first = v;
+        }
+    if (lost > 0) {
+        const double *p = m->pos + 3 * first;
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "%zu of %zu targets can never be reached: no path in the "
+                         "triangulation joins them to the capture (target %zu at (%.6g, "
+                         "%.6g, %.6g) is one); is --extent far from the capture?",
+                         lost, s->n_targets, first, p[0], p[1], p[2]);
+    }
+done:
+    free(seen);
+    free(queue);
+    free(nbr);
+    free(start);
+    return st;
+}
+
+/* A target's window reaches about window x spacing from it; mapped around
+ * a sample, its neighbours land on samples only where the nearest target
+ * is half a spacing farther still. */
+static relief_status check_window(const relief_surface *s, int window, relief_error *err)
+{
+    const size_t ns = s->n_samples, nt = s->n_targets;
+    struct FLANNParameters fp = relief_knn_exact_params();
+    flann_index_t index = NULL;
+    float speedup;
+    double far = 0.0;
+    size_t best = 0;
+    int fits;
+
+    if (ns == 0 || nt == 0)
+        return RELIEF_OK;
+    index = flann_build_index_double(s->proj + 3 * ns, (int)nt, 3, &speedup, &fp);
+    if (!index)
+        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not build a kd-tree");
+    for (size_t v = 0; v < ns; ++v) {
+        int idx;
+        double d2;
+        if (flann_find_nearest_neighbors_index_double(index, s->proj + 3 * v, 1, &idx, &d2, 1,
+                                                      &fp) != 0)
+            continue;
+        if (d2 > far) {
+            far = d2;
+            best = v;
+        }
+    }
+    flann_free_index_double(index, &fp);
+    far = sqrt(far);
+    fits = (int)fmin(floor(far / s->spacing - 0.5), 1e6);
+    if (fits < 1)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "no sample has a complete neighbourhood: every sample lies within "
+                           "1.5 target spacings (%.4g) of a target, the farthest %.4g (sample "
+                           "%zu); the capture is too small or too thin to grow from",
+                           1.5 * s->spacing, far, best);
+    if (fits < window)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the capture is smaller than the window: a window of %d needs a "
+                           "sample %.4g from the missing part, but none is farther than %.4g "
+                           "(sample %zu); use --window %d or less",
+                           window, (window + 0.5) * s->spacing, far, best, fits);
+    return RELIEF_OK;
+}
+
+relief_status relief_surface_check_growth(const relief_surface *s, int window,
+                                          relief_error *err)
+{
+    relief_status st = check_reachable(s, err);
+    if (st == RELIEF_OK)
+        st = check_window(s, window, err);
+    return st;
+}

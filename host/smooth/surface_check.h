@@ -1,0 +1,46 @@
+/* Geometry the method cannot handle, refused with the place named instead
+ * of a wrong answer (issue 8).
+ *
+ * The capture must be a single-layer height field over its primitive:
+ * relief projects it onto the primitive and triangulates it there, so an
+ * edge shared by three or more triangles (a fin, or a second layer) or a
+ * part folded back over another (two layers over one spot of the
+ * primitive) would be woven into one layer. A vertex where two fans of
+ * triangles touch, common in range scans, is harmless for the same reason
+ * and accepted. The growth needs every target
+ * joined to the capture and at least one sample whose window lies wholly
+ * in the capture. */
+#ifndef RELIEF_HOST_SURFACE_CHECK_H
+#define RELIEF_HOST_SURFACE_CHECK_H
+
+#include "smooth/fit.h"
+#include "relief/relief.h"
+#include "smooth/surface.h"
+
+/* Fraction of the capture's area that may face away from the primitive
+ * (scanner noise at steep silhouettes) before it counts as folded. */
+#define RELIEF_FOLD_AREA_MAX 0.01
+
+/* A triangle faces away when its normal makes more than this angle's
+ * cosine with the primitive's normal (120 degrees). */
+#define RELIEF_FOLD_COS -0.5
+
+/* Check the capture against its fitted primitive. RELIEF_E_MESH naming
+ * the place: an edge shared by more than two triangles (its vertex ids,
+ * midpoint and triangles), or triangles folded back over the primitive (how
+ * many, their share of the area, the largest one's id, vertices and
+ * position). */
+relief_status relief_capture_check(const relief_mesh *capture,
+                                   const relief_fit_primitive *prim, relief_error *err);
+
+/* Check a surface can be grown with windows of `window` edge hops.
+ * RELIEF_E_MESH when targets have no path to a sample in the triangulation
+ * (how many, and one of them with its position), when no sample has a
+ * complete neighbourhood (every sample is next to a target), or when no
+ * sample has its whole `window`-hop neighbourhood among the samples (the
+ * capture is smaller than the window; the message gives the largest window
+ * that would fit). */
+relief_status relief_surface_check_growth(const relief_surface *s, int window,
+                                          relief_error *err);
+
+#endif
