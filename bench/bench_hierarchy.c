@@ -28,7 +28,7 @@
 #include "match/matcher.h"
 #include "report/measures.h"
 #include "mesh/mesh.h"
-#include "report/report.h"
+#include "base/clock.h"
 #include "smooth/surface.h"
 
 #define MAX_REPS 32

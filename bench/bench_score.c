@@ -16,7 +16,7 @@
 #include "grow/grow.h"
 #include "match/matcher.h"
 #include "mesh/mesh.h"
-#include "report/report.h"
+#include "base/clock.h"
 #include "base/rng.h"
 #include "smooth/surface.h"
 

@@ -8,6 +8,7 @@
 #include "check.h"
 #include "match/matcher.h"
 #include "base/memlimit.h"
+#include "match/device_memory.h"
 #include "smooth/surface.h"
 
 int main(void)

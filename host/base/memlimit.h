@@ -5,15 +5,14 @@
  * Host estimates are per vertex and per triangle of the combined surface,
  * measured on synthetic captures (the smooth completion's peak is qhull's
  * triangulation: 1.14 GB for 482 000 vertices, about 2.4 KB per vertex)
- * with a margin; device figures are the exact buffer sizes the OpenCL
- * matcher uploads. */
+ * with a margin. What a device needs is the matcher's to say
+ * (match/device_memory.h). */
 #ifndef RELIEF_HOST_MEMLIMIT_H
 #define RELIEF_HOST_MEMLIMIT_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#include "match/matcher.h"
 #include "relief/relief.h"
 
 /* Bytes of host memory, per item, that the estimates use. */
@@ -68,16 +67,5 @@ uint64_t relief_estimate_growth(size_t nv, size_t nt, size_t ns, int rotations);
  * says what else makes the run smaller. */
 relief_status relief_memory_check(const char *what, uint64_t need, uint64_t limit,
                                   const char *hint, relief_error *err);
-
-/* Device bytes the OpenCL matcher allocates for `d`, in all and in its
- * largest single buffer (*largest_what names it). */
-uint64_t relief_estimate_device(const relief_match_data *d, uint64_t *largest,
-                                const char **largest_what);
-
-/* Can `d` go on `dev`? RELIEF_E_NOMEM naming the device, the need and its
- * global memory (or the largest buffer and CL_DEVICE_MAX_MEM_ALLOC_SIZE)
- * when not. A device with 0 for a size is taken as unknown: not checked. */
-relief_status relief_device_fits(const relief_device_info *dev, const relief_match_data *d,
-                                 relief_error *err);
 
 #endif

@@ -31,6 +31,7 @@
 #include "base/json.h"
 #include "report/png.h"
 #include "report/render.h"
+#include "base/clock.h"
 #include "report/report.h"
 #include "report/report_dir.h"
 #include "smooth/surface.h"

@@ -18,7 +18,7 @@
 
 #include "base/error.h"
 #include "mesh/mesh.h"
-#include "report/report.h"
+#include "base/clock.h"
 #include "base/rng.h"
 #include "smooth/surface_check.h"
 

@@ -14,6 +14,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,7 +22,7 @@
 #include "base/knn.h"
 #include "match/matcher.h"
 #include "mesh/mesh.h"
-#include "report/report.h"
+#include "base/clock.h"
 #include "base/vec3.h"
 
 /* ------------------------------------------------------ disc selection */

@@ -4,8 +4,8 @@
 
 #include "base/error.h"
 #include "match/matcher.h"
-#include "base/memlimit.h"
-#include "report/report.h"
+#include "match/device_memory.h"
+#include "base/clock.h"
 
 #ifndef RELIEF_HAVE_OPENCL
 relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,

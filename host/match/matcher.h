@@ -186,7 +186,7 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
 /* The matcher for `backend`: scalar, OpenCL, or for auto OpenCL when it can
  * run, else scalar with the reason written to `note` (may be NULL). OpenCL
  * is refused (RELIEF_E_NOMEM, naming the need and the device's memory) when
- * the surface does not fit on the device (memlimit.h). */
+ * the surface does not fit on the device (device_memory.h). */
 relief_status relief_matcher_create(relief_backend backend, int device,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err);

@@ -1,14 +1,5 @@
 #include "report/report.h"
 
-#include <time.h>
-
-double relief_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 void relief_report_primitive_fields(relief_json *j, const relief_fit_primitive *p)
 {
     rj_string(j, "model", relief_fit_model_name(p->model));

@@ -21,7 +21,4 @@ void relief_report_fit_fields(relief_json *j, const relief_fit_result *r);
  * frame, and per-stage seconds. */
 void relief_report_surface_fields(relief_json *j, const relief_surface *s);
 
-/* Seconds on a monotonic clock, for stage timings. */
-double relief_seconds(void);
-
 #endif

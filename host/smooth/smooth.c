@@ -27,7 +27,7 @@
 #include "mesh/mesh.h"
 #include "smooth/oversample.h"
 #include "smooth/param.h"
-#include "report/report.h"
+#include "base/clock.h"
 #include "smooth/surface.h"
 #include "smooth/surface_check.h"
 
