@@ -33,12 +33,14 @@
 #include <string.h>
 
 #include "bench_util.h"
+#include "base/clock.h"
 #include "base/error.h"
+#include "base/rng.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
-#include "base/clock.h"
-#include "base/rng.h"
 #include "smooth/surface.h"
 
 #define MAX_REPS 64

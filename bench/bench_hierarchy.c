@@ -23,12 +23,12 @@
 #include <string.h>
 
 #include "bench_util.h"
+#include "base/clock.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
-#include "report/measures.h"
 #include "mesh/mesh.h"
-#include "base/clock.h"
+#include "report/measures.h"
 #include "smooth/surface.h"
 
 #define MAX_REPS 32

@@ -13,11 +13,13 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "grow/grow.h"
-#include "match/matcher.h"
-#include "mesh/mesh.h"
 #include "base/clock.h"
 #include "base/rng.h"
+#include "grow/grow.h"
+#include "match/matcher.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
+#include "mesh/mesh.h"
 #include "smooth/surface.h"
 
 #define MAX_NB 512

@@ -3,10 +3,12 @@
 #ifndef RELIEF_TESTS_PIPELINE_H
 #define RELIEF_TESTS_PIPELINE_H
 
+#include "base/rng.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
-#include "base/rng.h"
 #include "smooth/surface.h"
 
 typedef struct pipeline {

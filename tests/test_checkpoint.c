@@ -13,6 +13,7 @@
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
 #include "smooth/surface.h"
 

@@ -15,8 +15,10 @@
 #include "check.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
-#include "report/measures.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
+#include "report/measures.h"
 #include "smooth/surface.h"
 
 int main(int argc, char **argv)

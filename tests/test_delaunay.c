@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "smooth/delaunay.h"
 #include "base/rng.h"
+#include "smooth/delaunay.h"
 
 #define PI 3.14159265358979323846
 

@@ -13,9 +13,9 @@
 
 #include "check.h"
 #include "base/error.h"
-#include "smooth/fit.h"
-#include "mesh/mesh.h"
 #include "base/rng.h"
+#include "mesh/mesh.h"
+#include "smooth/fit.h"
 
 #define PI 3.14159265358979323846
 

@@ -9,13 +9,14 @@
 
 #include "check.h"
 #include "pipeline.h"
+#include "base/vec3.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
 #include "smooth/param.h"
 #include "smooth/surface.h"
-#include "base/vec3.h"
 
 #define LEVELS 3
 

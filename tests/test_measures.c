@@ -9,11 +9,11 @@
 
 #include "check.h"
 #include "base/error.h"
-#include "smooth/fit.h"
 #include "base/json.h"
-#include "report/measures.h"
-#include "mesh/mesh.h"
 #include "base/rng.h"
+#include "mesh/mesh.h"
+#include "report/measures.h"
+#include "smooth/fit.h"
 
 #define PI 3.14159265358979323846
 

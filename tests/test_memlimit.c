@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "check.h"
-#include "match/matcher.h"
 #include "base/memlimit.h"
 #include "match/device_memory.h"
+#include "match/matcher.h"
 #include "smooth/surface.h"
 
 int main(void)

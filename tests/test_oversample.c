@@ -10,9 +10,9 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "smooth/oversample.h"
-#include "base/vec3.h"
 
 /* nx x ny grid of spacing h in the xy plane (z = bump * sin cos when bump
  * != 0), two triangles per cell with alternating diagonals, counter-

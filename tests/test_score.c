@@ -7,9 +7,9 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/rng.h"
 #include "match/matcher.h"
 #include "mesh/mesh.h"
-#include "base/rng.h"
 #include "smooth/surface.h"
 
 #define RM_REAL float

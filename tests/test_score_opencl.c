@@ -10,10 +10,12 @@
 
 #include "check.h"
 #include "pipeline.h"
+#include "base/rng.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
-#include "base/rng.h"
 #include "smooth/surface.h"
 
 #define RM_REAL float

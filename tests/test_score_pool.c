@@ -12,10 +12,11 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "match/matcher.h"
-#include "mesh/mesh.h"
 #include "base/rng.h"
+#include "match/matcher.h"
+#include "match/matcher_scalar.h"
 #include "match/score_pool.h"
+#include "mesh/mesh.h"
 #include "smooth/surface.h"
 
 #define RM_REAL float

@@ -9,8 +9,8 @@
 
 #include "check.h"
 #include "pipeline.h"
-#include "smooth/fit.h"
 #include "mesh/mesh.h"
+#include "smooth/fit.h"
 #include "smooth/surface.h"
 
 typedef struct edge {

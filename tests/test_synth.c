@@ -5,8 +5,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "report/measures.h"
 #include "mesh/mesh.h"
+#include "report/measures.h"
 
 typedef struct edge { uint32_t a, b; } edge;
 

@@ -16,26 +16,26 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "relief/relief.h"
 #include "base/atomic.h"
+#include "base/clock.h"
 #include "base/error.h"
-#include "grow/checkpoint.h"
+#include "base/json.h"
+#include "base/memlimit.h"
 #include "cli/cli.h"
-#include "smooth/fit.h"
+#include "grow/checkpoint.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
-#include "report/measures.h"
-#include "base/memlimit.h"
 #include "mesh/mesh.h"
-#include "smooth/oversample.h"
-#include "base/json.h"
+#include "report/measures.h"
 #include "report/png.h"
 #include "report/render.h"
-#include "base/clock.h"
 #include "report/report.h"
 #include "report/report_dir.h"
+#include "smooth/fit.h"
+#include "smooth/oversample.h"
 #include "smooth/surface.h"
-#include "relief/relief.h"
 
 #define EXIT_USAGE 1
 #define EXIT_INTERNAL 2

@@ -12,8 +12,8 @@
 #include "base/atomic.h"
 #include "base/error.h"
 #include "grow/hierarchy.h"
-#include "smooth/oversample.h"
 #include "mesh/mesh.h"
+#include "smooth/oversample.h"
 
 #define MAGIC "RELIEFCK"
 #define FORMAT 2u /* 2: the matches and a hierarchy's place */

@@ -25,8 +25,8 @@
 
 #include <stdint.h>
 
-#include "grow/grow.h"
 #include "relief/relief.h"
+#include "grow/grow.h"
 #include "smooth/surface.h"
 
 #define RELIEF_CHECKPOINT_PARAMS_MAX 512

@@ -16,10 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/error.h"
-#include "mesh/mesh.h"
 #include "base/clock.h"
+#include "base/error.h"
 #include "base/rng.h"
+#include "mesh/mesh.h"
 #include "smooth/surface_check.h"
 
 #define RM_REAL float

@@ -7,8 +7,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "match/matcher.h"
 #include "base/rng.h"
+#include "match/matcher.h"
 #include "smooth/surface.h"
 
 typedef struct relief_grow_stats {

@@ -18,12 +18,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/clock.h"
 #include "base/error.h"
 #include "base/knn.h"
+#include "base/vec3.h"
 #include "match/matcher.h"
 #include "mesh/mesh.h"
-#include "base/clock.h"
-#include "base/vec3.h"
 
 /* ------------------------------------------------------ disc selection */
 

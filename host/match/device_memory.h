@@ -6,8 +6,8 @@
 
 #include <stdint.h>
 
-#include "match/matcher.h"
 #include "relief/relief.h"
+#include "match/match_data.h"
 
 /* Device bytes the OpenCL matcher allocates for `d`, in all and in its
  * largest single buffer (*largest_what names it). */

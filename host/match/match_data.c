@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "match/matcher.h"
+#include "match/match_data.h"
 #include "mesh/mesh.h"
 
 #define RM_REAL float
@@ -547,4 +547,9 @@ done:
     }
     *out = d;
     return RELIEF_OK;
+}
+
+size_t relief_match_query_candidates(const relief_match_data *d, const relief_match_query *q)
+{
+    return (size_t)(q->subset ? q->n_subset : d->ns) * (size_t)d->rotations;
 }

@@ -1,23 +1,14 @@
 /* Backend choice and the calls every backend goes through. */
+#include "match/matcher.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "base/error.h"
-#include "match/matcher.h"
-#include "match/device_memory.h"
 #include "base/clock.h"
-
-#ifndef RELIEF_HAVE_OPENCL
-relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
-                                           relief_matcher **out, relief_error *err)
-{
-    (void)d;
-    (void)device;
-    (void)out;
-    return relief_fail(err, RELIEF_E_NOT_BUILT,
-                       "relief was built without OpenCL (RELIEF_WITH_OPENCL=OFF)");
-}
-#endif
+#include "base/error.h"
+#include "match/device_memory.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
 
 /* Refuse a device the surface cannot fit on before uploading anything. */
 static relief_status device_fits(int device, const relief_match_data *d, relief_error *err)
@@ -78,11 +69,6 @@ relief_status relief_matcher_create(relief_backend backend, int device,
         snprintf(note, note_size, "OpenCL unavailable (%s); using the scalar matcher",
                  err ? err->message : relief_strerror(st));
     return relief_matcher_scalar_create(d, out, err);
-}
-
-size_t relief_match_query_candidates(const relief_match_data *d, const relief_match_query *q)
-{
-    return (size_t)(q->subset ? q->n_subset : d->ns) * (size_t)d->rotations;
 }
 
 relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,

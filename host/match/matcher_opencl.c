@@ -19,7 +19,8 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "match/matcher.h"
+#include "match/matcher_opencl.h"
+#include "match/matcher_scalar.h"
 #include "match/ocl.h"
 #include "match/score_pool.h"
 

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 
 #include "base/error.h"
-#include "match/matcher.h"
+#include "match/matcher_scalar.h"
 
 #define RM_REAL float
 #define RM_WITH_SCORING

@@ -1,4 +1,5 @@
 /* Host threads scoring one query side by side (score_pool.h). */
+#include "match/matcher_scalar.h"
 #include "match/score_pool.h"
 
 #include <float.h>

@@ -15,7 +15,7 @@
 #ifndef RELIEF_SCORE_POOL_H
 #define RELIEF_SCORE_POOL_H
 
-#include "match/matcher.h"
+#include "match/match_data.h"
 
 typedef struct relief_score_pool relief_score_pool;
 

@@ -8,10 +8,10 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "mesh/mesh.h"
-#include "smooth/param.h"
-#include "report/report.h"
 #include "base/rng.h"
+#include "mesh/mesh.h"
+#include "report/report.h"
+#include "smooth/param.h"
 
 #define PI 3.14159265358979323846
 /* Barycentric slack for "inside a truth triangle". */

@@ -72,9 +72,9 @@
 
 #include <stddef.h>
 
-#include "smooth/fit.h"
-#include "base/json.h"
 #include "relief/relief.h"
+#include "base/json.h"
+#include "smooth/fit.h"
 
 /* Bins of the displacement and colour histograms. */
 #define RELIEF_MEASURE_HIST_BINS 32

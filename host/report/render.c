@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "mesh/mesh.h"
 #include "base/vec3.h"
+#include "mesh/mesh.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
 

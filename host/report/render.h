@@ -49,8 +49,8 @@
 
 #include <stdint.h>
 
-#include "smooth/fit.h"
 #include "relief/relief.h"
+#include "smooth/fit.h"
 
 #define RELIEF_RENDER_DEFAULT_WIDTH 800
 #define RELIEF_RENDER_DEFAULT_HEIGHT 600

@@ -2,8 +2,8 @@
 #ifndef RELIEF_HOST_REPORT_H
 #define RELIEF_HOST_REPORT_H
 
-#include "smooth/fit.h"
 #include "base/json.h"
+#include "smooth/fit.h"
 #include "smooth/surface.h"
 
 /* The primitive's fields into the current object: model and plane point,

@@ -29,10 +29,10 @@
 
 #include <stdio.h>
 
-#include "smooth/fit.h"
+#include "relief/relief.h"
 #include "grow/grow.h"
 #include "report/measures.h"
-#include "relief/relief.h"
+#include "smooth/fit.h"
 #include "smooth/surface.h"
 
 #define RELIEF_REPORT_DIR_WIDTH 640

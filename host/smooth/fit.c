@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "mesh/mesh.h"
 #include "base/vec3.h"
+#include "mesh/mesh.h"
 
 /* 1 / Phi^-1(3/4): turns the median |residual| of Gaussian noise into its
  * standard deviation. */

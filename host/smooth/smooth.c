@@ -21,13 +21,13 @@
 
 #include "base/knn.h"
 
-#include "smooth/delaunay.h"
+#include "base/clock.h"
 #include "base/error.h"
 #include "base/memlimit.h"
 #include "mesh/mesh.h"
+#include "smooth/delaunay.h"
 #include "smooth/oversample.h"
 #include "smooth/param.h"
-#include "base/clock.h"
 #include "smooth/surface.h"
 #include "smooth/surface_check.h"
 

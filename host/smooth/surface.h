@@ -5,9 +5,9 @@
 #ifndef RELIEF_HOST_SURFACE_H
 #define RELIEF_HOST_SURFACE_H
 
+#include "relief/relief.h"
 #include "smooth/fit.h"
 #include "smooth/param.h"
-#include "relief/relief.h"
 
 typedef enum relief_frames {
     RELIEF_FRAMES_PAPER = 0, /* paper 000's deterministic rule on the normal */

@@ -13,8 +13,8 @@
 #ifndef RELIEF_HOST_SURFACE_CHECK_H
 #define RELIEF_HOST_SURFACE_CHECK_H
 
-#include "smooth/fit.h"
 #include "relief/relief.h"
+#include "smooth/fit.h"
 #include "smooth/surface.h"
 
 /* Fraction of the capture's area that may face away from the primitive

@@ -12,8 +12,8 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "mesh/mesh.h"
 #include "base/rng.h"
+#include "mesh/mesh.h"
 
 #define PI 3.14159265358979323846
 #define N_WAVES 24
