@@ -1,0 +1,52 @@
+/* relief devices: the OpenCL devices relief can use. */
+#include "cli/commands.h"
+
+#include <getopt.h>
+#include <stdio.h>
+
+#include "relief/relief.h"
+#include "cli/options.h"
+
+static const char devices_help[] =
+    "usage: relief devices\n"
+    "\n"
+    "List the OpenCL platforms and devices relief can use, with their compute\n"
+    "units and memory.\n";
+
+int cli_cmd_devices(int argc, char **argv, int parse_only)
+{
+    static const struct option opts[] = {{"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    relief_device_info dev[64];
+    relief_error err = {RELIEF_OK, ""};
+    size_t n = 0;
+    int c;
+
+    optind = 0;
+    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'h') {
+            fputs(devices_help, stdout);
+            return 0;
+        }
+        fprintf(stderr, "Try 'relief devices --help'.\n");
+        return EXIT_USAGE;
+    }
+    if (optind < argc)
+        return cli_usage_error("devices", "unexpected argument '%s'", argv[optind]);
+    if (parse_only)
+        return 0;
+    if (relief_devices(dev, sizeof dev / sizeof dev[0], &n, &err) != RELIEF_OK)
+        return cli_fail("devices", &err);
+    if (n == 0) {
+        printf("no OpenCL platform or device found; relief will use the scalar backend\n");
+        return 0;
+    }
+    for (size_t i = 0; i < n && i < sizeof dev / sizeof dev[0]; ++i)
+        printf("device %d: %s [%s] on %s\n"
+               "          %s, driver %s, %u compute units, %.1f GiB global memory, "
+               "%.1f GiB max buffer\n",
+               dev[i].index, dev[i].name, dev[i].type, dev[i].platform, dev[i].version,
+               dev[i].driver, dev[i].compute_units,
+               (double)dev[i].global_mem_bytes / 1073741824.0,
+               (double)dev[i].max_alloc_bytes / 1073741824.0);
+    return 0;
+}

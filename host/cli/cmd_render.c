@@ -1,0 +1,171 @@
+/* relief render: a shaded picture of a mesh (report/render.h). */
+#include "cli/commands.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "relief/relief.h"
+#include "base/error.h"
+#include "cli/options.h"
+#include "report/png.h"
+#include "report/render.h"
+
+static const char render_help[] =
+    "usage: relief render MESH -o OUT.png [--view AZ,EL] [--size WxH]\n"
+    "                     [--colour-by auto|label|colour|displacement|none]\n"
+    "\n"
+    "Render MESH shaded (z-buffer, one light, per-vertex colour) into a PNG,\n"
+    "headless.\n"
+    "\n"
+    "  -o, --output OUT.png  the image; required\n"
+    "  --view AZ,EL          camera direction from the object, degrees: azimuth\n"
+    "                        about +z from +x, elevation -90..90 above the xy\n"
+    "                        plane (default: facing the captured part, turned\n"
+    "                        25 and 20 degrees so that relief shows)\n"
+    "  --size WxH            pixels, 1..8192 each (default 800x600)\n"
+    "  --colour-by C         colour: the mesh's colours; label: captured grey,\n"
+    "                        completed orange; displacement: height above (red)\n"
+    "                        or below (blue) a primitive fitted to the captured\n"
+    "                        part; none: grey; auto (default): colour, else label,\n"
+    "                        else none\n";
+
+/* "WxH" into two sides. */
+static int parse_size(const char *s, int *w, int *h)
+{
+    char *end;
+    const char *second;
+    long a, b;
+    errno = 0;
+    a = strtol(s, &end, 10);
+    if (end == s || (*end != 'x' && *end != 'X'))
+        goto bad;
+    second = end + 1;
+    b = strtol(second, &end, 10);
+    if (end == second || *end != '\0' || errno != 0)
+        goto bad;
+    if (a < 1 || b < 1 || a > RELIEF_RENDER_MAX_SIDE || b > RELIEF_RENDER_MAX_SIDE) {
+        fprintf(stderr, "relief render: --size: %ldx%ld is out of range: expected 1..%d "
+                "pixels per side\n", a, b, RELIEF_RENDER_MAX_SIDE);
+        return 0;
+    }
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+bad:
+    fprintf(stderr, "relief render: --size: '%s' is not WIDTHxHEIGHT in pixels (e.g. "
+            "800x600)\nTry 'relief render --help'.\n", s);
+    return 0;
+}
+
+/* "AZ,EL" in degrees. */
+static int parse_view(const char *s, double *az, double *el)
+{
+    char *end;
+    const char *second;
+    errno = 0;
+    *az = strtod(s, &end);
+    if (end == s || *end != ',' || !isfinite(*az))
+        goto bad;
+    second = end + 1;
+    *el = strtod(second, &end);
+    if (end == second || *end != '\0' || errno != 0 || !isfinite(*el))
+        goto bad;
+    if (*el < -90.0 || *el > 90.0) {
+        fprintf(stderr, "relief render: --view: elevation %g is out of range: expected "
+                "-90..90 degrees\n", *el);
+        return 0;
+    }
+    return 1;
+bad:
+    fprintf(stderr, "relief render: --view: '%s' is not AZIMUTH,ELEVATION in degrees (e.g. "
+            "30,20)\nTry 'relief render --help'.\n", s);
+    return 0;
+}
+
+int cli_cmd_render(int argc, char **argv, int parse_only)
+{
+    static const struct option opts[] = {{"output", required_argument, 0, 'o'},
+                                         {"view", required_argument, 0, OPT_VIEW},
+                                         {"size", required_argument, 0, OPT_SIZE},
+                                         {"colour-by", required_argument, 0, OPT_COLOUR_BY},
+                                         {"help", no_argument, 0, 'h'},
+                                         {0, 0, 0, 0}};
+    static const relief_colour_by bys[] = {RELIEF_COLOUR_BY_AUTO, RELIEF_COLOUR_BY_LABEL,
+                                           RELIEF_COLOUR_BY_COLOUR,
+                                           RELIEF_COLOUR_BY_DISPLACEMENT, RELIEF_COLOUR_BY_NONE};
+    relief_render_options ro = relief_render_options_default();
+    relief_render_info info;
+    relief_error err = {RELIEF_OK, ""};
+    relief_image img = {0, 0, NULL};
+    relief_mesh *mesh = NULL;
+    const char *out = NULL, *in;
+    relief_status st;
+    int c, found;
+
+    optind = 0;
+    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case OPT_VIEW:
+            if (!parse_view(optarg, &ro.azimuth, &ro.elevation))
+                return EXIT_USAGE;
+            ro.has_view = 1;
+            break;
+        case OPT_SIZE:
+            if (!parse_size(optarg, &ro.width, &ro.height))
+                return EXIT_USAGE;
+            break;
+        case OPT_COLOUR_BY:
+            found = 0;
+            for (size_t i = 0; i < sizeof bys / sizeof bys[0]; ++i)
+                if (strcmp(optarg, relief_colour_by_name(bys[i])) == 0) {
+                    ro.colour_by = bys[i];
+                    found = 1;
+                }
+            if (!found)
+                return cli_usage_error("render", "--colour-by: '%s' is not one of auto, label, "
+                                   "colour, displacement, none", optarg);
+            break;
+        case 'h': fputs(render_help, stdout); return 0;
+        default: fprintf(stderr, "Try 'relief render --help'.\n"); return EXIT_USAGE;
+        }
+    }
+    if (optind >= argc)
+        return cli_usage_error("render", "%smissing input MESH", "");
+    if (argc - optind > 1)
+        return cli_usage_error("render", "unexpected argument '%s'", argv[optind + 1]);
+    in = argv[optind];
+    if (!out)
+        return cli_usage_error("render", "%smissing -o OUT.png", "");
+    if (strcasecmp(cli_ext_of(out), ".png") != 0)
+        return cli_usage_error("render", "-o: '%s' does not end in .png; relief renders PNG "
+                           "images", out);
+    if (cli_same_file(in, out))
+        return cli_usage_error("render", "-o: '%s' is the input; relief never overwrites its input",
+                           out);
+    if (parse_only)
+        return 0;
+    st = relief_mesh_read(in, &mesh, NULL, &err);
+    if (st == RELIEF_OK) {
+        st = relief_render(mesh, &ro, &img, &info, &err);
+        if (st == RELIEF_E_MESH) { /* name the file the mesh came from */
+            char why[RELIEF_ERROR_MESSAGE_MAX];
+            snprintf(why, sizeof why, "%s", err.message);
+            relief_fail(&err, st, "%s: %s", in, why);
+        }
+    }
+    if (st == RELIEF_OK)
+        st = relief_png_write(out, img.rgb, img.width, img.height, &err);
+    if (st == RELIEF_OK)
+        fprintf(stderr, "relief render: %s -> %s (%dx%d, view %.1f,%.1f, colour by %s)\n", in,
+                out, img.width, img.height, info.azimuth, info.elevation,
+                relief_colour_by_name(info.colour_by));
+    relief_image_free(&img);
+    relief_mesh_destroy(mesh);
+    return st == RELIEF_OK ? 0 : cli_fail("render", &err);
+}

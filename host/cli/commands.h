@@ -1,0 +1,15 @@
+/* The commands, one file each (cmd_*.c); cli.c dispatches to them. Each
+ * takes argv from its own name on, as getopt expects, and follows
+ * relief_cli_main's contract (cli.h): exit status, parse_only, reentrant. */
+#ifndef RELIEF_HOST_CLI_COMMANDS_H
+#define RELIEF_HOST_CLI_COMMANDS_H
+
+int cli_cmd_complete(int argc, char **argv, int parse_only);
+int cli_cmd_smooth(int argc, char **argv, int parse_only);
+int cli_cmd_synth(int argc, char **argv, int parse_only);
+int cli_cmd_fit(int argc, char **argv, int parse_only);
+int cli_cmd_eval(int argc, char **argv, int parse_only);
+int cli_cmd_render(int argc, char **argv, int parse_only);
+int cli_cmd_devices(int argc, char **argv, int parse_only);
+
+#endif
