@@ -178,7 +178,7 @@ expect 0 "OpenCL unavailable" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" com
 [[ -s $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: auto fallback wrote nothing"; fail=$((fail+1)); }
 rm -f "$tmp/ocl.ply"
 if "$relief" devices | grep -q "^device 0"; then
-  kdir=$(cd "$(dirname "$0")/../kernels" && pwd)
+  kdir=$(cd "$(dirname "$0")/../../kernels" && pwd)
   mkdir -p "$tmp/badk"
   cp "$kdir/relief_math.h" "$tmp/badk/"
   printf '__kernel void score(__global float *x) { this is not C; }\n' > "$tmp/badk/score.cl"

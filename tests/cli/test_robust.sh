@@ -142,7 +142,7 @@ fi
 
 # ------------------------------------------- geometry the method cannot handle
 # Crafted captures (tests/data/crafted.py): exit 1, the place named, no output.
-data=$(cd "$(dirname "$0")/data" && pwd)
+data=$(cd "$(dirname "$0")/../data" && pwd)
 expect 1 "edge 12-23 at (0.1, 0.15, 0) is shared by 3 triangles" -- "$relief" complete "$data/fin.off" -o "$tmp/g.ply" --fit plane
 expect 1 "overlaps itself over the fitted plane" -- "$relief" smooth "$data/fold.off" -o "$tmp/g.ply" --fit plane
 grep -qF "the largest triangle 210 (vertices 115, 126, 127) at (1, 0.5, 0)" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: the fold is not located"; fail=$((fail+1)); }

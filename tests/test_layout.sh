@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# The layering of host/ (README, Layout): each folder includes only itself,
+# the public header (relief/), the shared math header (kernels/) where the
+# table allows it, and the folders listed for it; lower folders never include
+# higher ones. Also: every include names its folder, no source file sits
+# directly in host/, and no include climbs out with "../".
+#   tests/test_layout.sh [SOURCE_DIR]
+set -euo pipefail
+src=${1:-$(cd "$(dirname "$0")/.." && pwd)}
+cd "$src/host"
+
+# folder: what it may include besides itself and relief/
+declare -A allowed=(
+  [base]=""
+  [mesh]="base"
+  [smooth]="base mesh kernels"
+  [match]="base mesh smooth kernels"
+  [grow]="base mesh smooth match kernels"
+  [report]="base mesh smooth match grow"
+  [synth]="base mesh"
+  [image]="base report match kernels"
+  [depth]="base mesh smooth report match image kernels"
+  [points]="base mesh smooth report match grow kernels"
+  [cli]="base mesh smooth match grow report synth image depth points"
+)
+
+fail=0
+complain() { echo "layout: $*" >&2; fail=1; }
+
+for f in *; do
+  [[ -f $f ]] && complain "host/$f: a file directly in host/; it belongs in one of its folders"
+done
+for dir in */; do
+  dir=${dir%/}
+  [[ -v allowed[$dir] ]] || { complain "host/$dir/: a folder the layering table does not know; add it to tests/test_layout.sh and README's Layout"; continue; }
+  ok=" $dir relief ${allowed[$dir]} "
+  while IFS=: read -r file line text; do
+    name=${text#*\"}; name=${name%%\"*}
+    case $name in
+      ../*|*/../*) complain "host/$file:$line: \"$name\" climbs out of its folder"; continue ;;
+      */*) ;;
+      *) complain "host/$file:$line: \"$name\" does not name its folder (\"FOLDER/$name\")"; continue ;;
+    esac
+    top=${name%%/*}
+    [[ $ok == *" $top "* ]] ||
+      complain "host/$file:$line: $dir/ may not include $name (allowed: ${allowed[$dir]:-none})"
+  done < <(grep -Hn '^[[:space:]]*#[[:space:]]*include[[:space:]]*"' "$dir"/* || true)
+done
+if [[ $fail -ne 0 ]]; then
+  echo "layout: FAILED" >&2
+  exit 1
+fi
+echo "layout: host/ keeps its layering ($(ls -d */ | wc -l) folders, $(ls */* | wc -l) files)"
