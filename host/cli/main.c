@@ -1,4 +1,5 @@
-/* The relief executable: the command line lives in cli.c. */
+/* The relief executable: the command line lives in the cli/ library (cli.c
+ * dispatches to one file per command). */
 #include "cli/cli.h"
 
 int main(int argc, char **argv)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the small crafted captures that tests/test_robust.sh feeds to
+"""Writes the small crafted captures that tests/cli/test_robust.sh feeds to
 relief: geometry the method cannot handle, each with a known answer.
 Run from tests/data: python3 crafted.py (the .off files are committed)."""
 

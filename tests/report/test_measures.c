@@ -1,4 +1,4 @@
-/* Tests of host/measures.c: hand-made meshes with answers computed by
+/* Tests of host/report/measures.c: hand-made meshes with answers computed by
  * hand, the synthetic truths used as perfect completions, truths with the
  * missing part flattened, the spectrum on scattered points, colour present
  * and absent, bad input, and the JSON keys of the CLI contract. */

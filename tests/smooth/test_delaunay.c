@@ -1,4 +1,4 @@
-/* Tests of host/delaunay.c: a regular grid (cocircular points), random
+/* Tests of host/smooth/delaunay.c: a regular grid (cocircular points), random
  * points against a brute-force empty-circle check, periodic bands (jittered
  * and regular, the seam anywhere), points on a sphere, and bad input.
  * Exit 0 on pass, 1 on failure. */

@@ -1,4 +1,4 @@
-/* Tests of host/fit.c: the geometry helpers on known primitives, synthetic
+/* Tests of host/smooth/fit.c: the geometry helpers on known primitives, synthetic
  * noisy primitives with and without gross outliers, degenerate input, and
  * three real scans whose primitive is known (see each SOURCE.txt).
  *
