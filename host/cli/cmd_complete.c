@@ -25,6 +25,7 @@
 #include "match/matcher.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
+#include "report/pattern.h"
 #include "report/report_dir.h"
 #include "smooth/oversample.h"
 #include "smooth/surface.h"
@@ -400,16 +401,20 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     cli_hold_signals(&held);
     if (st == RELIEF_OK && (report || report_dir)) {
         relief_measures meas;
+        relief_pattern pat;
         relief_error merr = {RELIEF_OK, ""};
         int have = relief_measure(s->mesh, NULL, &s->fit.prim, &meas, &merr) == RELIEF_OK;
+        int have_pat = have && relief_pattern_measure(s->mesh, &s->fit.prim, NULL, &pat,
+                                                      &merr) == RELIEF_OK;
         complete_report r = {in_path, out, p, o, go, s, &stats,
                              m ? m->backend : used_backend, m ? m->device : used_device,
                              m ? m->kernel_seconds : stats.match_seconds,
                              hier ? &hstats : NULL, have ? &meas : NULL,
-                             relief_seconds() - t0, m ? m->fallback_note : NULL};
-        if (!have && !quiet)
-            fprintf(stderr, "relief complete: warning: no measures in the report: %s\n",
-                    merr.message);
+                             relief_seconds() - t0, m ? m->fallback_note : NULL,
+                             have_pat ? &pat : NULL};
+        if ((!have || !have_pat) && !quiet)
+            fprintf(stderr, "relief complete: warning: no %smeasures in the report: %s\n",
+                    have ? "pattern " : "", merr.message);
         if (report)
             st = relief_atomic_write_text(report, cli_write_complete_report, &r, &err);
         if (st == RELIEF_OK && report_dir)

@@ -2,12 +2,14 @@
 #include "cli/commands.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "relief/relief.h"
 #include "base/json.h"
 #include "cli/options.h"
 #include "report/measures.h"
+#include "report/pattern.h"
 #include "smooth/fit.h"
 
 static const char eval_help[] =
@@ -19,13 +21,20 @@ static const char eval_help[] =
     "variation distance between the parts' displacement histograms (and RGB\n"
     "histograms when there is colour), the seam measure (mean |D| jump across\n"
     "captured-completed edges over the same inside the capture), and the\n"
-    "dominant spatial frequency of each part. With --truth (a mesh whose label\n"
-    "1 marks the missing part, as `relief synth --truth` writes): the RMS\n"
-    "relief error against the truth and the truth's dominant frequency.\n"
+    "dominant spatial frequency of each part; and pattern distances (total\n"
+    "variation, 0 same to 1 disjoint) between the parts' height power spectra\n"
+    "binned by orientation and scale, their orientation and scale marginals,\n"
+    "and their structure-tensor orientation histograms (the same for\n"
+    "luminance when there is colour). With --truth (a mesh whose label 1\n"
+    "marks the missing part, as `relief synth --truth` writes): the RMS relief\n"
+    "error against the truth, the truth's dominant frequency, and beside each\n"
+    "pattern distance the truth's own between its captured and missing parts,\n"
+    "the floor a completion cannot be expected to beat.\n"
     "\n"
     "  --truth T             ground-truth mesh in the same coordinates\n"
     "  --json                one JSON object (msi_captured, msi_completed,\n"
-    "                        msi_diff_percent, seam_ratio, hist_distance_*, ...)\n"
+    "                        msi_diff_percent, seam_ratio, hist_distance_*,\n"
+    "                        pattern_*_distance[_colour][_truth], ...)\n"
     "  -h, --help            this help\n";
 
 static void print_measures_text(const relief_measures *m)
@@ -45,6 +54,22 @@ static void print_measures_text(const relief_measures *m)
         printf("truth_rms: %.6g\nfreq_truth: %.4g\n", m->truth_rms, m->freq_truth.freq);
 }
 
+/* One line per pattern distance, the truth's own floor beside it. */
+static void print_pattern_text(const char *what, const relief_pattern_distance *d,
+                               const relief_pattern_distance *floor)
+{
+    static const char *const names[] = {"spectrum", "orientation", "radial", "tensor"};
+    const double v[] = {d->spectrum, d->orientation, d->radial, d->tensor};
+    const double f[] = {floor ? floor->spectrum : NAN, floor ? floor->orientation : NAN,
+                        floor ? floor->radial : NAN, floor ? floor->tensor : NAN};
+    for (int i = 0; i < 4; ++i) {
+        printf("pattern_%s_distance%s: %.4f", names[i], what, v[i]);
+        if (floor)
+            printf(" (truth's own: %.4f)", f[i]);
+        putchar('\n');
+    }
+}
+
 int cli_cmd_eval(int argc, char **argv, int parse_only)
 {
     static const struct option opts[] = {{"truth", required_argument, 0, OPT_TRUTH},
@@ -55,6 +80,7 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
     relief_mesh *done = NULL, *truth = NULL;
     const char *truth_path = NULL;
     relief_measures m;
+    relief_pattern pat;
     relief_status st;
     int c, json = 0;
 
@@ -78,6 +104,8 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
         st = relief_mesh_read(truth_path, &truth, NULL, &err);
     if (st == RELIEF_OK)
         st = relief_measure(done, truth, NULL, &m, &err);
+    if (st == RELIEF_OK)
+        st = relief_pattern_measure(done, &m.prim, truth, &pat, &err);
     relief_mesh_destroy(truth);
     relief_mesh_destroy(done);
     if (st != RELIEF_OK)
@@ -90,9 +118,14 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
         if (truth_path)
             rj_string(&j, "truth", truth_path);
         relief_report_measures_fields(&j, &m);
+        relief_pattern_json_fields(&j, &pat);
         rj_end_object(&j);
     } else {
         print_measures_text(&m);
+        print_pattern_text("", &pat.d_height, pat.has_truth ? &pat.d_truth_height : NULL);
+        if (pat.has_colour)
+            print_pattern_text("_colour", &pat.d_colour,
+                               pat.has_truth_colour ? &pat.d_truth_colour : NULL);
     }
     return 0;
 }

@@ -5,6 +5,7 @@
 
 #include "relief/relief.h"
 #include "base/json.h"
+#include "report/pattern.h"
 #include "report/report.h"
 #include "smooth/oversample.h"
 
@@ -119,6 +120,8 @@ int cli_write_complete_report(FILE *f, void *ctx)
     if (r->measures) {
         rj_begin_object(&j, "measures");
         relief_report_measures_fields(&j, r->measures);
+        if (r->pattern)
+            relief_pattern_json_fields(&j, r->pattern);
         rj_end_object(&j);
     }
     rj_begin_object(&j, "backend");

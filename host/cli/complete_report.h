@@ -10,6 +10,7 @@
 #include "grow/hierarchy.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
+#include "report/pattern.h"
 #include "report/report_dir.h"
 #include "smooth/surface.h"
 
@@ -35,6 +36,7 @@ typedef struct complete_report {
     const relief_measures *measures; /* NULL when they could not be taken */
     double seconds;
     const char *fallback; /* why auto left OpenCL during the run, or NULL */
+    const relief_pattern *pattern; /* NULL when it could not be taken */
 } complete_report;
 
 /* relief_atomic_write_text writers; ctx is a smooth_report or a

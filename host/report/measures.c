@@ -93,8 +93,8 @@ static relief_status unique_edges(const relief_mesh *m, uint64_t **edges, size_t
 }
 
 /* Labels present and 0 or 1; counts of each. */
-static relief_status check_labels(const relief_mesh *m, const char *what, size_t *n0,
-                                  size_t *n1, relief_error *err)
+relief_status relief_measure_check_labels(const relief_mesh *m, const char *what, size_t *n0,
+                                          size_t *n1, relief_error *err)
 {
     *n0 = *n1 = 0;
     if (!m->label)
@@ -116,8 +116,8 @@ static relief_status check_labels(const relief_mesh *m, const char *what, size_t
     return RELIEF_OK;
 }
 
-static relief_status fit_captured(const relief_mesh *m, relief_fit_result *fit,
-                                  relief_error *err)
+relief_status relief_measure_fit_captured(const relief_mesh *m, relief_fit_result *fit,
+                                          relief_error *err)
 {
     relief_mesh *sub = NULL;
     uint8_t *keep = malloc(m->nv);
@@ -145,7 +145,8 @@ static relief_status fit_captured(const relief_mesh *m, relief_fit_result *fit,
  * written to uv (count x 2); the angular coordinate of a cylinder or
  * sphere is taken from the points' circular mean direction, in
  * (-pi r, pi r]. Returns the count. */
-static size_t part_uv(const relief_param *pm, const relief_mesh *m, int want, double *uv)
+size_t relief_measure_part_uv(const relief_param *pm, const relief_mesh *m, int want,
+                              double *uv)
 {
     const relief_fit_primitive *pr = &pm->prim;
     size_t n = 0;
@@ -402,7 +403,7 @@ static relief_status part_frequency(const relief_param *pm, const relief_mesh *m
         free(f);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-point spectrum", m->nv);
     }
-    part_uv(pm, m, want, uv);
+    relief_measure_part_uv(pm, m, want, uv);
     for (size_t v = 0; v < m->nv; ++v)
         if (m->label[v] == want)
             f[n++] = relief_fit_distance(&pm->prim, m->pos + 3 * v);
@@ -550,7 +551,7 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
     st = relief_mesh_validate(cm, err);
     if (st != RELIEF_OK)
         return st;
-    st = check_labels(cm, "completed", &r.n_captured, &r.n_completed, err);
+    st = relief_measure_check_labels(cm, "completed", &r.n_captured, &r.n_completed, err);
     if (st != RELIEF_OK)
         return st;
     if (r.n_captured == 0 || r.n_completed == 0)
@@ -564,7 +565,7 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
         st = relief_mesh_validate(tm, err);
         if (st != RELIEF_OK)
             return st;
-        st = check_labels(tm, "truth", &t0, &t1, err);
+        st = relief_measure_check_labels(tm, "truth", &t0, &t1, err);
         if (st != RELIEF_OK)
             return st;
         if (t1 == 0)
@@ -578,7 +579,7 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
     if (prim) {
         r.prim = *prim;
     } else {
-        st = fit_captured(cm, &r.fit, err);
+        st = relief_measure_fit_captured(cm, &r.fit, err);
         if (st != RELIEF_OK)
             return st;
         r.prim = r.fit.prim;

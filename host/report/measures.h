@@ -75,6 +75,7 @@
 #include "relief/relief.h"
 #include "base/json.h"
 #include "smooth/fit.h"
+#include "smooth/param.h"
 
 /* Bins of the displacement and colour histograms. */
 #define RELIEF_MEASURE_HIST_BINS 32
@@ -190,5 +191,30 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
  * and with a truth n_truth_missing, truth_max_abs, truth_outside.
  * Undefined values (NaN) are written as null. */
 void relief_report_measures_fields(relief_json *j, const relief_measures *m);
+
+/* ------------------------------------------ helpers shared with pattern.c */
+/* relief_measure's own steps, exposed so the other measures of a
+ * completion (pattern.h) read labels, fit and parameterise exactly as it
+ * does. */
+
+/* Check that m has labels and that each is 0 or 1; count them into *n0
+ * (captured) and *n1 (completed). `what` names the mesh in the message
+ * ("completed", "truth"). Errors: RELIEF_E_MESH, naming the vertex. */
+relief_status relief_measure_check_labels(const relief_mesh *m, const char *what, size_t *n0,
+                                          size_t *n1, relief_error *err);
+
+/* The primitive relief_measure fits when given none: RELIEF_FIT_AUTO on
+ * relief_mesh_subset of m's label-0 vertices. m must have labels. Errors:
+ * those of relief_fit_mesh, the message prefixed with what was fitted. */
+relief_status relief_measure_fit_captured(const relief_mesh *m, relief_fit_result *fit,
+                                          relief_error *err);
+
+/* (u, v) (param.h, input units) of m's vertices labelled `want` (all when
+ * want < 0), in vertex order, written to uv (count x 2, room for m->nv x 2
+ * is enough); on a cylinder or sphere u is taken relative to the points'
+ * circular mean direction, in (-pi r, pi r], so a part that straddles the
+ * parameterisation's cut stays contiguous. Returns the count. */
+size_t relief_measure_part_uv(const relief_param *pm, const relief_mesh *m, int want,
+                              double *uv);
 
 #endif
