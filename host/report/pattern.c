@@ -8,6 +8,7 @@
 #include "mesh/mesh.h"
 #include "report/measures.h"
 #include "report/pattern_grid.h"
+#include "report/pattern_layout.h"
 
 #define PI 3.14159265358979323846
 
@@ -32,6 +33,7 @@ static void part_nan(relief_pattern_part *p)
     for (int r = 0; r < NR; ++r)
         p->radial[r] = NAN;
     p->coherence = NAN;
+    p->spacing = p->dominant = p->lean_rms = p->lean_across = NAN;
 }
 
 /* Total variation between two histograms of n bins; NaN if either is. */
@@ -50,6 +52,7 @@ static void distances(const relief_pattern_part *a, const relief_pattern_part *b
     d->orientation = tv(a->orientation, b->orientation, NO);
     d->radial = tv(a->radial, b->radial, NR);
     d->tensor = tv(a->tensor, b->tensor, NO);
+    d->lean = fabs(a->lean_across - b->lean_across);
 }
 
 /* Share weight w between the two orientation bins nearest theta (radians,
@@ -73,7 +76,7 @@ static relief_status grid_spectrum(const part_grid *gr, int f, const double *tap
 {
     const size_t nx = gr->nx, ny = gr->ny, nku = 2 * KG + 1;
     const double dk = k_max / KG, lr = log(k_max / k_min);
-    double tc[2 * KG], ts[2 * KG], sw = 0.0, mean = 0.0, total = 0.0;
+    double tc[2 * KG], ts[2 * KG], sw = 0.0, mean = 0.0, total = 0.0, sk = 0.0;
     double *fw = malloc(nx * ny * sizeof *fw), *A = malloc(2 * ny * nku * sizeof *A);
     double hist[NO][NR] = {{0}};
 
@@ -136,6 +139,7 @@ static relief_status grid_spectrum(const part_grid *gr, int f, const double *tap
             }
             p = re * re + im * im;
             total += p;
+            sk += p * kk;
             /* Scale: linear in log |k| between the bin centres. */
             y = log(kk / k_min) / lr * NR - 0.5;
             x = y <= 0.0 ? 0.0 : y >= NR - 1 ? NR - 1 : y;
@@ -162,6 +166,7 @@ static relief_status grid_spectrum(const part_grid *gr, int f, const double *tap
     }
     for (int r = 0; r < NR; ++r)
         out->radial[r] = 0.0;
+    out->spacing = total / sk; /* 1 / the power-weighted mean |k| */
     for (int o = 0; o < NO; ++o)
         for (int r = 0; r < NR; ++r) {
             out->orientation[o] += out->spectrum[o][r];
@@ -202,9 +207,11 @@ static void smooth(double *const *ch, int n_ch, size_t nx, size_t ny, const doub
     }
 }
 
-/* Coherence-weighted orientation histogram of field f (header, 2). */
+/* Coherence-weighted orientation histogram of field f (header, 2); at
+ * each node z = c (cos 2 theta, sin 2 theta), NaN without a tensor (2 per
+ * node, for the layout). */
 static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part *out,
-                                 relief_error *err)
+                                 double *z, relief_error *err)
 {
     const size_t nx = gr->nx, ny = gr->ny, nn = nx * ny;
     const long R = (long)ceil(3.0 * RELIEF_PATTERN_TENSOR_SIGMA);
@@ -248,6 +255,7 @@ static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part
     smooth(ch, 4, nx, ny, kern, R, buf + 4 * nn);
     for (size_t c = 0; c < nn; ++c) {
         double juu, juv, jvv, tr, zc, zs, coh;
+        z[2 * c] = z[2 * c + 1] = NAN;
         if (!has[c])
             continue;
         /* Normalised convolution: the mean over the nodes that have a
@@ -264,6 +272,8 @@ static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part
         zs = 2.0 * juv / tr;
         coh = sqrt(zc * zc + zs * zs); /* (l1 - l2) / (l1 + l2) */
         coh = coh > 1.0 ? 1.0 : coh;
+        z[2 * c] = zc;
+        z[2 * c + 1] = zs;
         orient_add(hist, 0.5 * atan2(zs, zc), coh);
         sc += coh;
         ++count;
@@ -286,7 +296,7 @@ static relief_status analyse_part(const part_points *pp, double g, double k_min,
                                   relief_pattern_part out[NF], relief_error *err)
 {
     part_grid gr;
-    double *taper = NULL;
+    double *taper = NULL, *z = NULL;
     relief_status st;
 
     for (int f = 0; f < NF; ++f) {
@@ -304,8 +314,10 @@ static relief_status analyse_part(const part_points *pp, double g, double k_min,
     if (gr.n_inside < RELIEF_PATTERN_MIN_NODES)
         goto done;
     taper = malloc(gr.nx * gr.ny * sizeof *taper);
-    if (!taper) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu x %zu taper", gr.nx, gr.ny);
+    z = malloc(2 * gr.nx * gr.ny * sizeof *z);
+    if (!taper || !z) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu x %zu taper and tensor",
+                         gr.nx, gr.ny);
         goto done;
     }
     pattern_grid_taper(&gr, taper);
@@ -315,9 +327,12 @@ static relief_status analyse_part(const part_points *pp, double g, double k_min,
         if (k_min > 0.0 && k_min < k_max)
             st = grid_spectrum(&gr, f, taper, k_min, k_max, &out[f], err);
         if (st == RELIEF_OK)
-            st = grid_tensor(&gr, f, &out[f], err);
+            st = grid_tensor(&gr, f, &out[f], z, err);
+        if (st == RELIEF_OK)
+            pattern_layout(&gr, z, out[f].spacing, &out[f]);
     }
 done:
+    free(z);
     free(taper);
     pattern_grid_free(&gr);
     return st;
@@ -325,7 +340,7 @@ done:
 
 static void pattern_nan(relief_pattern *r)
 {
-    relief_pattern_distance dn = {NAN, NAN, NAN, NAN};
+    relief_pattern_distance dn = {NAN, NAN, NAN, NAN, NAN};
     for (int p = 0; p < 2; ++p) {
         part_nan(&r->height[p]);
         part_nan(&r->colour[p]);
@@ -481,6 +496,10 @@ static void part_fields(relief_json *j, const char *key, const relief_pattern_pa
     rj_int(j, "nodes", (long long)p->n_nodes);
     rj_int(j, "tensor_nodes", (long long)p->n_tensor_nodes);
     rj_number(j, "coherence", p->coherence);
+    rj_number(j, "spacing", p->spacing);
+    rj_number(j, "dominant_orientation", p->dominant);
+    rj_number(j, "lean_rms", p->lean_rms);
+    rj_number(j, "lean_across", p->lean_across);
     numbers(j, "orientation", p->orientation, NO);
     numbers(j, "radial", p->radial, NR);
     numbers(j, "tensor", p->tensor, NO);
@@ -499,6 +518,21 @@ static void distance_fields(relief_json *j, const char *suffix,
     rj_number(j, key, d->radial);
     snprintf(key, sizeof key, "pattern_tensor_distance%s", suffix);
     rj_number(j, key, d->tensor);
+    snprintf(key, sizeof key, "pattern_lean_distance%s", suffix);
+    rj_number(j, key, d->lean);
+}
+
+/* The parts' lean-across shares as top-level keys. */
+static void lean_fields(relief_json *j, const char *suffix, const relief_pattern_part *a,
+                        const relief_pattern_part *t)
+{
+    static const char *const part[] = {"captured", "completed", "truth_captured",
+                                       "truth_missing"};
+    char key[64];
+    for (int i = 0; i < (t ? 4 : 2); ++i) {
+        snprintf(key, sizeof key, "pattern_lean_across_%s%s", part[i], suffix);
+        rj_number(j, key, i < 2 ? a[i].lean_across : t[i - 2].lean_across);
+    }
 }
 
 void relief_pattern_json_fields(relief_json *j, const relief_pattern *p)
@@ -510,6 +544,9 @@ void relief_pattern_json_fields(relief_json *j, const relief_pattern *p)
         distance_fields(j, "_truth", &p->d_truth_height);
     if (p->has_truth_colour)
         distance_fields(j, "_colour_truth", &p->d_truth_colour);
+    lean_fields(j, "", p->height, p->has_truth ? p->truth_height : NULL);
+    if (p->has_colour)
+        lean_fields(j, "_colour", p->colour, p->has_truth_colour ? p->truth_colour : NULL);
     rj_begin_object(j, "pattern");
     rj_number(j, "step", p->step);
     rj_number(j, "k_min", p->k_min);
