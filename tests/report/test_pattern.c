@@ -1,9 +1,11 @@
-/* Tests of host/pattern.c: stripes on a plane whose completed part runs
- * the same way or turned by hand; the same stripes in colour; the
- * cylinder-bark truth against itself (the floor) and against a completion
- * made by hand from its captured relief turned by 45 and 90 degrees;
- * isotropic noise against itself; bad input, NaN cases, determinism and
- * the JSON keys.
+/* Tests of host/report/pattern.c, pattern_grid.c and pattern_layout.c:
+ * stripes on a plane whose completed part runs the same way or turned by
+ * hand; the same stripes in colour; the cylinder-bark truth against
+ * itself (the floor) and against a completion made by hand from its
+ * captured relief turned by 45 and 90 degrees; isotropic noise against
+ * itself; the lean's layout: swaying or straight ridges completed as
+ * chevrons (flagged) or as zigzags in phase (not); bad input, NaN cases,
+ * determinism and the JSON keys.
  *
  * Thresholds were set from measured values (printed by this test; the
  * figures in each comment are the ones measured when it was written):
@@ -35,19 +37,52 @@ typedef struct field {
     double angle1; /* the same on the completed part */
     double amp1;   /* the completed part's amplitude factor */
     relief_rng rng;
+    int kind1;     /* the completed part's kind; 0: the same as `kind` */
 } field;
 
-enum { STRIPES, NOISE };
+enum { SAME, STRIPES, NOISE, MEANDER, CHEVRON, ZIGZAG };
 
-/* Stripes of wavelength 0.1 (10 cycles per unit), or white noise. */
+/* The lean of the layout kinds' ridges, 25 degrees (the demo's chevrons
+ * lean 15 to 30), and the width of their bands of one lean, 1.5
+ * wavelengths. */
+#define LEAN_DEG 25.0
+#define BAND 0.15
+
+/* A triangle wave of slope +-1 and period 2 w: the fold of x into [0, w]. */
+static double tri(double x, double w)
+{
+    double t = fmod(x, 2.0 * w);
+    if (t < 0.0)
+        t += 2.0 * w;
+    return t <= w ? t : 2.0 * w - t;
+}
+
+/* Stripes of wavelength 0.1 (10 cycles per unit); white noise; or ridges
+ * along v (wavelength 0.1 across them, k along u) laid out three ways,
+ * each leaning up to LEAN_DEG from v:
+ * - MEANDER: every ridge swaying in phase, x = u - A sin(2 pi v / 0.4),
+ *   the lean running smoothly from -LEAN_DEG to +LEAN_DEG along v;
+ * - CHEVRON: bands BAND wide across the ridges (along u) leaning +LEAN_DEG
+ *   and -LEAN_DEG in turn, each the mirror image of the next, the ridges
+ *   meeting in V's at the folds (the demo's defect);
+ * - ZIGZAG: the same leans in bands BAND long along the ridges, every
+ *   ridge zigzagging in phase with its neighbours (consistent). */
 static double field_value(field *f, const double uv[2], int label)
 {
-    if (f->kind == NOISE)
-        return relief_rng_normal(&f->rng);
-    {
+    const int kind = label && f->kind1 ? f->kind1 : f->kind;
+    const double t = tan(LEAN_DEG * PI / 180.0);
+    double x;
+    switch (kind) {
+    case NOISE: return relief_rng_normal(&f->rng);
+    case MEANDER: x = uv[0] - t * 0.4 / (2.0 * PI) * sin(2.0 * PI * uv[1] / 0.4); break;
+    case CHEVRON: x = tri(uv[0], BAND) - t * uv[1]; break;
+    case ZIGZAG: x = uv[0] - t * tri(uv[1], BAND); break;
+    default: {
         double a = label ? f->angle1 : f->angle, amp = label ? f->amp1 : 1.0;
         return amp * sin(2.0 * PI * 10.0 * (uv[0] * cos(a) + uv[1] * sin(a)) + 0.3);
     }
+    }
+    return sin(2.0 * PI * 10.0 * x + 0.3);
 }
 
 /* The unit square in z = 0 as an n x n grid of spacing 1 / (n - 1),
@@ -99,13 +134,14 @@ static int peak(const double *h, int n)
 
 static void show(const char *what, const relief_pattern_distance *d)
 {
-    printf("%-34s spectrum %.3f orientation %.3f radial %.3f tensor %.3f\n", what, d->spectrum,
-           d->orientation, d->radial, d->tensor);
+    printf("%-34s spectrum %.3f orientation %.3f radial %.3f tensor %.3f lean %.3f\n", what,
+           d->spectrum, d->orientation, d->radial, d->tensor, d->lean);
 }
 
 static int all_nan(const relief_pattern_distance *d)
 {
-    return isnan(d->spectrum) && isnan(d->orientation) && isnan(d->radial) && isnan(d->tensor);
+    return isnan(d->spectrum) && isnan(d->orientation) && isnan(d->radial) && isnan(d->tensor) &&
+           isnan(d->lean);
 }
 
 /* --------------------------------------------------------- plane stripes */
@@ -124,7 +160,7 @@ static relief_pattern measure(const relief_mesh *m, const relief_fit_primitive *
 
 static void test_stripes_height(void)
 {
-    field f = {STRIPES, 0.0, 0.0, 1.0, {{0}, 0}};
+    field f = {STRIPES, 0.0, 0.0, 1.0, {{0}, 0}, SAME};
     relief_mesh *m = plane(65, &f, 1, 0);
     relief_pattern p = measure(m, &plane_z, NULL, "stripes along v");
     const relief_pattern_distance same = p.d_height;
@@ -195,15 +231,16 @@ static void test_stripes_height(void)
     p = measure(m, &plane_z, NULL, "half amplitude");
     half = p.d_height;
     show("height stripes, completed at half height", &half);
-    CHECK(fabs(half.spectrum - same.spectrum) < 1e-9 && fabs(half.tensor - same.tensor) < 1e-9,
-          "amplitude does not change the distances: %g vs %g, %g vs %g", half.spectrum,
-          same.spectrum, half.tensor, same.tensor);
+    CHECK(fabs(half.spectrum - same.spectrum) < 1e-9 && fabs(half.tensor - same.tensor) < 1e-9 &&
+              fabs(half.lean - same.lean) < 1e-9,
+          "amplitude does not change the distances: %g vs %g, %g vs %g, %g vs %g",
+          half.spectrum, same.spectrum, half.tensor, same.tensor, half.lean, same.lean);
     relief_mesh_destroy(m);
 }
 
 static void test_stripes_colour(void)
 {
-    field f = {STRIPES, 0.0, 0.0, 1.0, {{0}, 0}};
+    field f = {STRIPES, 0.0, 0.0, 1.0, {{0}, 0}, SAME};
     relief_mesh *m = plane(65, &f, 0, 1);
     relief_pattern p = measure(m, &plane_z, NULL, "colour stripes");
     relief_pattern_distance same = p.d_colour, turned;
@@ -238,7 +275,7 @@ static void test_stripes_colour(void)
 
 static void test_noise(void)
 {
-    field f = {NOISE, 0.0, 0.0, 1.0, {{0}, 0}};
+    field f = {NOISE, 0.0, 0.0, 1.0, {{0}, 0}, SAME};
     relief_mesh *m;
     relief_pattern p;
     relief_rng_seed(&f.rng, 3);
@@ -262,6 +299,71 @@ static void test_noise(void)
               p.d_colour.radial < 0.15 && p.d_colour.tensor < 0.45,
           "colour noise vs noise: small distances");
     relief_mesh_destroy(m);
+}
+
+/* ----------------------------------------------------------------- layout */
+
+/* The plane of `plane` (97 x 97 vertices, the disc completed), its
+ * captured part laid out as `kind`, its completed part as `kind1`. */
+static relief_pattern layout_case(int kind, int kind1, const char *what)
+{
+    field f = {kind, 0.0, 0.0, 1.0, {{0}, 0}, kind1};
+    relief_mesh *m = plane(97, &f, 1, 0);
+    relief_pattern p = measure(m, &plane_z, NULL, what);
+    printf("%-26s lean_across %.3f -> %.3f, lean distance %.3f; lean rms %.1f -> %.1f deg; "
+           "orientation distance %.3f\n",
+           what, p.height[0].lean_across, p.height[1].lean_across, p.d_height.lean,
+           p.height[0].lean_rms, p.height[1].lean_rms, p.d_height.orientation);
+    relief_mesh_destroy(m);
+    return p;
+}
+
+/* Ridges leaning +-25 degrees, mirrored into chevrons or zigzagging in
+ * phase: the same leans, the same orientation histograms; only the
+ * layout differs. Measured (lean_across captured -> completed, lean
+ * distance): from the meander, chevrons 0.000 -> 0.965 (0.965), zigzag
+ * 0.000 -> 0.017 (0.017), the meander itself 0.000 -> 0.001 (0.001);
+ * from straight stripes, chevrons 0.002 -> 0.965 (0.963), zigzag
+ * 0.002 -> 0.017 (0.015), straight 0.002 -> 0.003 (0.000). The
+ * orientation distance cannot tell them apart: 0.467 chevrons, 0.198
+ * zigzag (from straight stripes 0.754 and 0.638, both leaning away from
+ * the capture's straight ridges). */
+static void test_layout(void)
+{
+    static const struct {
+        int kind, kind1, chevrons;
+        const char *what;
+    } cases[] = {{MEANDER, CHEVRON, 1, "meander -> chevrons"},
+                 {MEANDER, ZIGZAG, 0, "meander -> zigzag"},
+                 {MEANDER, SAME, 0, "meander -> meander"},
+                 {STRIPES, CHEVRON, 1, "straight -> chevrons"},
+                 {STRIPES, ZIGZAG, 0, "straight -> zigzag"},
+                 {STRIPES, SAME, 0, "straight -> straight"}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        relief_pattern p = layout_case(cases[i].kind, cases[i].kind1, cases[i].what);
+        const relief_pattern_part *a = &p.height[0], *b = &p.height[1];
+        /* Wavelength 0.1 across the ridges (0.09 for the leaning ones,
+         * 0.1 cos 25 degrees), dominant gradient along u. */
+        CHECK(a->spacing > 0.08 && a->spacing < 0.11 && b->spacing > 0.08 && b->spacing < 0.11,
+              "%s: spacing %.4f %.4f", cases[i].what, a->spacing, b->spacing);
+        CHECK(fabs(remainder(a->dominant, 180.0)) < 10.0 &&
+                  fabs(remainder(b->dominant, 180.0)) < 10.0,
+              "%s: dominant %.1f %.1f", cases[i].what, a->dominant, b->dominant);
+        /* The consistent layouts: lean changing along the ridges only. */
+        CHECK(a->lean_across < 0.05, "%s: captured lean_across %.3f", cases[i].what,
+              a->lean_across);
+        if (cases[i].chevrons)
+            CHECK(b->lean_across > 0.8 && p.d_height.lean > 0.6,
+                  "%s: flagged, lean_across %.3f, distance %.3f", cases[i].what, b->lean_across,
+                  p.d_height.lean);
+        else
+            CHECK(b->lean_across < 0.05 && p.d_height.lean < 0.05,
+                  "%s: not flagged, lean_across %.3f, distance %.3f", cases[i].what,
+                  b->lean_across, p.d_height.lean);
+        if (cases[i].kind1 != SAME)
+            CHECK(b->lean_rms > 15.0 && b->lean_rms < 30.0, "%s: completed lean rms %.1f deg",
+                  cases[i].what, b->lean_rms);
+    }
 }
 
 /* ------------------------------------------------------------------- bark */
@@ -353,8 +455,16 @@ static void test_bark(void)
     CHECK(p.has_truth && p.has_truth_colour, "truth flags %d %d", p.has_truth,
           p.has_truth_colour);
     CHECK(p.d_height.spectrum == p.d_truth_height.spectrum &&
-              p.d_height.tensor == p.d_truth_height.tensor,
+              p.d_height.tensor == p.d_truth_height.tensor &&
+              p.d_height.lean == p.d_truth_height.lean,
           "truth as completion: the distance is the floor");
+    /* The lean's layout: measured lean_across 0.187 captured, 0.200
+     * missing, floor 0.013 (the demo's completion: 0.171 -> 0.341,
+     * distance 0.170, `relief eval`). */
+    printf("bark truth lean_across %.3f %.3f, lean rms %.1f %.1f deg\n",
+           p.truth_height[0].lean_across, p.truth_height[1].lean_across,
+           p.truth_height[0].lean_rms, p.truth_height[1].lean_rms);
+    CHECK(p.d_truth_height.lean < 0.05, "bark lean floor small: %.3f", p.d_truth_height.lean);
     /* Ridges along the axis: orientation peaks within 15 degrees of 0. */
     for (int s = 0; s < 2; ++s) {
         int b = peak(p.height[s].orientation, RELIEF_PATTERN_ORIENT_BINS);
@@ -396,7 +506,7 @@ static void test_bark(void)
 
 static void test_bad_input(void)
 {
-    field f = {STRIPES, 0.0, 0.0, 1.0, {{0}, 0}};
+    field f = {STRIPES, 0.0, 0.0, 1.0, {{0}, 0}, SAME};
     relief_mesh *m = plane(17, &f, 1, 0), *nolabel = NULL;
     relief_pattern p;
     relief_error err = {0};
@@ -452,6 +562,9 @@ static void test_bad_input(void)
     CHECK(isnan(p.k_min) && isnan(p.d_height.spectrum) && isnan(p.height[0].orientation[0]),
           "a strip 6 steps wide has no spectrum: k_min %g", p.k_min);
     CHECK(!isnan(p.d_height.tensor), "a strip still has a tensor distance");
+    CHECK(isnan(p.d_height.lean) && isnan(p.height[1].lean_across) &&
+              !isnan(p.height[1].lean_rms),
+          "no spectrum, no spacing, no lean-across share (its lean rms is still measured)");
     relief_mesh_destroy(m);
 }
 
@@ -459,7 +572,7 @@ static void test_bad_input(void)
 
 static void test_json_and_determinism(void)
 {
-    field f = {STRIPES, 0.0, 0.5 * PI, 1.0, {{0}, 0}};
+    field f = {STRIPES, 0.0, 0.5 * PI, 1.0, {{0}, 0}, SAME};
     relief_mesh *m = plane(33, &f, 1, 1);
     relief_pattern a = measure(m, &plane_z, m, "json a"), b = measure(m, &plane_z, m, "json b");
     char *buf = NULL;
@@ -487,7 +600,10 @@ static void test_json_and_determinism(void)
             "\"pattern_spectrum_distance_colour\":", "\"pattern_tensor_distance_colour\":",
             "\"pattern_orientation_distance_truth\":",
             "\"pattern_orientation_distance_colour_truth\":", "\"pattern\":", "\"step\":",
-            "\"truth_missing\":", "\"coherence\":"};
+            "\"truth_missing\":", "\"coherence\":", "\"pattern_lean_distance\":",
+            "\"pattern_lean_distance_colour_truth\":", "\"pattern_lean_across_captured\":",
+            "\"pattern_lean_across_truth_missing_colour\":", "\"lean_across\":",
+            "\"spacing\":", "\"dominant_orientation\":"};
         for (size_t k = 0; k < sizeof keys / sizeof *keys; ++k)
             CHECK(strstr(buf, keys[k]) != NULL, "JSON has %s", keys[k]);
     }
@@ -520,6 +636,7 @@ int main(void)
     test_stripes_height();
     test_stripes_colour();
     test_noise();
+    test_layout();
     test_bark();
     test_bad_input();
     test_json_and_determinism();
