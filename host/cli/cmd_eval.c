@@ -24,17 +24,22 @@ static const char eval_help[] =
     "dominant spatial frequency of each part; and pattern distances (total\n"
     "variation, 0 same to 1 disjoint) between the parts' height power spectra\n"
     "binned by orientation and scale, their orientation and scale marginals,\n"
-    "and their structure-tensor orientation histograms (the same for\n"
-    "luminance when there is colour). With --truth (a mesh whose label 1\n"
-    "marks the missing part, as `relief synth --truth` writes): the RMS relief\n"
-    "error against the truth, the truth's dominant frequency, and beside each\n"
-    "pattern distance the truth's own between its captured and missing parts,\n"
-    "the floor a completion cannot be expected to beat.\n"
+    "and their structure-tensor orientation histograms; and the layout of\n"
+    "the ridges' lean about their dominant orientation: in each part, the\n"
+    "share of the lean's change over one ridge spacing that runs across the\n"
+    "ridges (high where neighbouring ridges lean opposite ways, as in\n"
+    "chevrons), and the parts' difference (the same for luminance when there\n"
+    "is colour). With --truth (a mesh whose label 1 marks the missing part,\n"
+    "as `relief synth --truth` writes): the RMS relief error against the\n"
+    "truth, the truth's dominant frequency, and beside each pattern figure\n"
+    "the truth's own, between (or of) its captured and missing parts: the\n"
+    "floor a completion cannot be expected to beat.\n"
     "\n"
     "  --truth T             ground-truth mesh in the same coordinates\n"
     "  --json                one JSON object (msi_captured, msi_completed,\n"
     "                        msi_diff_percent, seam_ratio, hist_distance_*,\n"
-    "                        pattern_*_distance[_colour][_truth], ...)\n"
+    "                        pattern_*_distance[_colour][_truth],\n"
+    "                        pattern_lean_across_PART[_colour], ...)\n"
     "  -h, --help            this help\n";
 
 static void print_measures_text(const relief_measures *m)
@@ -54,20 +59,30 @@ static void print_measures_text(const relief_measures *m)
         printf("truth_rms: %.6g\nfreq_truth: %.4g\n", m->truth_rms, m->freq_truth.freq);
 }
 
-/* One line per pattern distance, the truth's own floor beside it. */
+/* One line per pattern distance, the truth's own floor beside it; then
+ * the parts' lean-across shares, the truth's parts beside them. */
 static void print_pattern_text(const char *what, const relief_pattern_distance *d,
-                               const relief_pattern_distance *floor)
+                               const relief_pattern_distance *floor,
+                               const relief_pattern_part *part,
+                               const relief_pattern_part *truth)
 {
-    static const char *const names[] = {"spectrum", "orientation", "radial", "tensor"};
-    const double v[] = {d->spectrum, d->orientation, d->radial, d->tensor};
+    static const char *const names[] = {"spectrum", "orientation", "radial", "tensor", "lean"};
+    const double v[] = {d->spectrum, d->orientation, d->radial, d->tensor, d->lean};
     const double f[] = {floor ? floor->spectrum : NAN, floor ? floor->orientation : NAN,
-                        floor ? floor->radial : NAN, floor ? floor->tensor : NAN};
-    for (int i = 0; i < 4; ++i) {
+                        floor ? floor->radial : NAN, floor ? floor->tensor : NAN,
+                        floor ? floor->lean : NAN};
+    for (int i = 0; i < 5; ++i) {
         printf("pattern_%s_distance%s: %.4f", names[i], what, v[i]);
         if (floor)
             printf(" (truth's own: %.4f)", f[i]);
         putchar('\n');
     }
+    printf("pattern_lean_across%s: captured %.4f, completed %.4f", what, part[0].lean_across,
+           part[1].lean_across);
+    if (truth)
+        printf(" (truth's own: captured %.4f, missing %.4f)", truth[0].lean_across,
+               truth[1].lean_across);
+    putchar('\n');
 }
 
 int cli_cmd_eval(int argc, char **argv, int parse_only)
@@ -122,10 +137,12 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
         rj_end_object(&j);
     } else {
         print_measures_text(&m);
-        print_pattern_text("", &pat.d_height, pat.has_truth ? &pat.d_truth_height : NULL);
+        print_pattern_text("", &pat.d_height, pat.has_truth ? &pat.d_truth_height : NULL,
+                           pat.height, pat.has_truth ? pat.truth_height : NULL);
         if (pat.has_colour)
             print_pattern_text("_colour", &pat.d_colour,
-                               pat.has_truth_colour ? &pat.d_truth_colour : NULL);
+                               pat.has_truth_colour ? &pat.d_truth_colour : NULL, pat.colour,
+                               pat.has_truth_colour ? pat.truth_colour : NULL);
     }
     return 0;
 }

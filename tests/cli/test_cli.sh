@@ -116,6 +116,8 @@ expect 0 '"truth_rms":' -- "$relief" eval "$tmp/pwc.ply" --truth "$tmp/pwt.ply" 
 expect 0 '"freq_completed":' -- "$relief" eval "$tmp/pwc.ply" --truth "$tmp/pwt.ply" --json
 expect 0 '"hist_distance_colour":' -- "$relief" eval "$tmp/pwc.ply" --json
 expect 0 "seam_ratio" -- "$relief" eval "$tmp/pwc.ply"
+expect 0 "pattern_lean_across: captured" -- "$relief" eval "$tmp/pwc.ply" --truth "$tmp/pwt.ply"
+expect 0 '"pattern_lean_across_truth_missing":' -- "$relief" eval "$tmp/pwc.ply" --truth "$tmp/pwt.ply" --json
 expect 1 "label" -- "$relief" eval "$tmp/square.off"
 expect 1 "cannot open" -- "$relief" eval "$tmp/none.ply"
 
