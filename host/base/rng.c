@@ -1,6 +1,9 @@
 #include "base/rng.h"
 
 #include <math.h>
+#include <stdlib.h>
+
+#include "base/compare.h"
 
 void relief_rng_seed(relief_rng *rng, uint32_t seed)
 {
@@ -51,4 +54,20 @@ double relief_rng_normal(relief_rng *rng)
     if (u1 < 1e-300)
         u1 = 1e-300;
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+void relief_rng_subset(size_t *pick, size_t n, size_t m, uint32_t seed)
+{
+    for (size_t i = 0; i < n; ++i)
+        pick[i] = i;
+    if (m >= n)
+        return;
+    relief_rng rng;
+    relief_rng_seed(&rng, seed);
+    for (size_t i = 0; i < m; ++i) {
+        size_t j = i + (size_t)relief_rng_below(&rng, (uint32_t)(n - i)), t = pick[i];
+        pick[i] = pick[j];
+        pick[j] = t;
+    }
+    qsort(pick, m, sizeof *pick, relief_cmp_size);
 }

@@ -3,6 +3,7 @@
 #ifndef RELIEF_HOST_RNG_H
 #define RELIEF_HOST_RNG_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct relief_rng {
@@ -24,5 +25,11 @@ uint32_t relief_rng_below(relief_rng *rng, uint32_t n);
 
 /* Standard normal deviate (Box-Muller, two uniforms per call). */
 double relief_rng_normal(relief_rng *rng);
+
+/* A deterministic random subset: pick[0..m-1] = m distinct indices of
+ * 0..n-1 in ascending order, drawn without replacement by a partial
+ * Fisher-Yates shuffle from an MT19937 seeded with `seed` (all of them when
+ * m >= n). pick has room for n; pick[m..n-1] is scratch. n < 2^32. */
+void relief_rng_subset(size_t *pick, size_t n, size_t m, uint32_t seed);
 
 #endif

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "match/match_data.h"
 #include "mesh/mesh.h"
@@ -157,18 +158,6 @@ static int set_add(cellset *t, uint32_t cell)
     return 1;
 }
 
-static int cmp_u32(const void *a, const void *b)
-{
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return (x > y) - (x < y);
-}
-
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
-}
-
 /* Squared distance from p to the box [lo, hi] (0 inside), and to the
  * box's farthest point. */
 static double box_min2(const double lo[3], const double hi[3], const double p[3])
@@ -269,7 +258,7 @@ static relief_status build_lists(relief_match_data *d, double spacing, relief_er
         }
         pair[v] = ((uint64_t)((c[2] * d->ldims[1] + c[1]) * d->ldims[0] + c[0]) << 32) | v;
     }
-    qsort(pair, nv, sizeof *pair, cmp_u64);
+    qsort(pair, nv, sizeof *pair, relief_cmp_u64);
     for (uint32_t i = 0; i < nv; ++i) {
         if (i == 0 || (pair[i] >> 32) != (pair[i - 1] >> 32)) {
             run_start[nrun] = i;
@@ -319,7 +308,7 @@ static relief_status build_lists(relief_match_data *d, double spacing, relief_er
         for (size_t i = 0; i <= active.mask; ++i)
             if (active.key[i] != RM_EMPTY)
                 act[n++] = active.key[i];
-        qsort(act, n, sizeof *act, cmp_u32);
+        qsort(act, n, sizeof *act, relief_cmp_u32);
     }
 
     for (uint32_t a = 0; a < active.n; ++a) {
@@ -422,7 +411,7 @@ static relief_status build_lists(relief_match_data *d, double spacing, relief_er
                 }
         if (too_long || n == 0)
             continue;
-        qsort(cand, n, sizeof *cand, cmp_u32);
+        qsort(cand, n, sizeof *cand, relief_cmp_u32);
         if (d->n_litems + n > items_cap) {
             size_t cap = 2 * (d->n_litems + n) + 1024;
             uint32_t *t = realloc(d->litems, cap * sizeof *t);

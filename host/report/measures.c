@@ -1,5 +1,6 @@
 #include "report/measures.h"
 
+#include "base/compare.h"
 #include "base/knn.h"
 #include <limits.h>
 #include <math.h>
@@ -20,25 +21,6 @@
 #define TRUTH_K 3
 
 /* ------------------------------------------------------------- helpers */
-
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return (x > y) - (x < y);
-}
-
-static int cmp_size(const void *a, const void *b)
-{
-    size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return (x > y) - (x < y);
-}
 
 /* Total variation between the normalised histograms of a (na values) and
  * b (nb values) over RELIEF_MEASURE_HIST_BINS bins of [lo, hi]. */
@@ -83,7 +65,7 @@ static relief_status unique_edges(const relief_mesh *m, uint64_t **edges, size_t
             uint64_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
             e[3 * t + k] = a < b ? a << 32 | b : b << 32 | a;
         }
-    qsort(e, 3 * m->nt, sizeof *e, cmp_u64);
+    qsort(e, 3 * m->nt, sizeof *e, relief_cmp_u64);
     for (size_t i = 0; i < 3 * m->nt; ++i)
         if (n == 0 || e[i] != e[n - 1])
             e[n++] = e[i];
@@ -113,6 +95,37 @@ relief_status relief_measure_check_labels(const relief_mesh *m, const char *what
         else
             ++*n1;
     }
+    return RELIEF_OK;
+}
+
+relief_status relief_measure_check_parts(const relief_mesh *cm, const relief_mesh *tm,
+                                         size_t *n_captured, size_t *n_completed,
+                                         size_t *n_truth_missing, relief_error *err)
+{
+    size_t t0 = 0, t1 = 0;
+    relief_status st = relief_mesh_validate(cm, err);
+    if (st == RELIEF_OK)
+        st = relief_measure_check_labels(cm, "completed", n_captured, n_completed, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (*n_captured == 0 || *n_completed == 0)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the completed mesh has no %s vertex (label %d): both parts are "
+                           "needed to compare them",
+                           *n_captured == 0 ? "captured" : "completed", *n_captured == 0 ? 0 : 1);
+    if (tm) {
+        st = relief_mesh_validate(tm, err);
+        if (st == RELIEF_OK)
+            st = relief_measure_check_labels(tm, "truth", &t0, &t1, err);
+        if (st != RELIEF_OK)
+            return st;
+        if (t1 == 0)
+            return relief_fail(err, RELIEF_E_MESH,
+                               "the truth mesh has no vertex labelled 1: it does not say "
+                               "which part the capture misses");
+    }
+    if (n_truth_missing)
+        *n_truth_missing = t1;
     return RELIEF_OK;
 }
 
@@ -213,7 +226,7 @@ static relief_status median_spacing(const double *uv, size_t n, double *out,
      * order when they coincide: the larger is the neighbour's distance. */
     for (size_t i = 0; i < n; ++i)
         d[i] = sqrt(d2[2 * i] > d2[2 * i + 1] ? d2[2 * i] : d2[2 * i + 1]);
-    qsort(d, n, sizeof *d, cmp_double);
+    qsort(d, n, sizeof *d, relief_cmp_double);
     *out = n % 2 ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
 done:
     if (index)
@@ -279,19 +292,7 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a spectrum of %zu points", m);
         goto done;
     }
-    for (size_t i = 0; i < n; ++i)
-        pick[i] = i;
-    if (m < n) {
-        relief_rng rng;
-        relief_rng_seed(&rng, 1);
-        for (size_t i = 0; i < m; ++i) {
-            size_t j = i + (size_t)relief_rng_below(&rng, (uint32_t)(n - i));
-            size_t t = pick[i];
-            pick[i] = pick[j];
-            pick[j] = t;
-        }
-        qsort(pick, m, sizeof *pick, cmp_size);
-    }
+    relief_rng_subset(pick, n, m, 1);
     for (size_t i = 0; i < m; ++i) {
         suv[2 * i] = uv[2 * pick[i]];
         suv[2 * i + 1] = uv[2 * pick[i] + 1];
@@ -548,33 +549,11 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
         return relief_fail(err, RELIEF_E_USAGE, "relief_measure: %s is NULL",
                            !cm ? "the completed mesh" : "out");
     memset(&r, 0, sizeof r);
-    st = relief_mesh_validate(cm, err);
+    st = relief_measure_check_parts(cm, tm, &r.n_captured, &r.n_completed, &r.n_truth_missing,
+                                    err);
     if (st != RELIEF_OK)
         return st;
-    st = relief_measure_check_labels(cm, "completed", &r.n_captured, &r.n_completed, err);
-    if (st != RELIEF_OK)
-        return st;
-    if (r.n_captured == 0 || r.n_completed == 0)
-        return relief_fail(err, RELIEF_E_MESH,
-                           "the completed mesh has no %s vertex (label %d): both parts are "
-                           "needed to compare them",
-                           r.n_captured == 0 ? "captured" : "completed",
-                           r.n_captured == 0 ? 0 : 1);
-    if (tm) {
-        size_t t0, t1;
-        st = relief_mesh_validate(tm, err);
-        if (st != RELIEF_OK)
-            return st;
-        st = relief_measure_check_labels(tm, "truth", &t0, &t1, err);
-        if (st != RELIEF_OK)
-            return st;
-        if (t1 == 0)
-            return relief_fail(err, RELIEF_E_MESH,
-                               "the truth mesh has no vertex labelled 1: it does not say "
-                               "which part the capture misses");
-        r.has_truth = 1;
-        r.n_truth_missing = t1;
-    }
+    r.has_truth = tm != NULL;
 
     if (prim) {
         r.prim = *prim;

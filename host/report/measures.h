@@ -203,6 +203,16 @@ void relief_report_measures_fields(relief_json *j, const relief_measures *m);
 relief_status relief_measure_check_labels(const relief_mesh *m, const char *what, size_t *n0,
                                           size_t *n1, relief_error *err);
 
+/* What both relief_measure and relief_pattern_measure require of their
+ * inputs: a valid completed mesh with labels 0 and 1, both present (counts
+ * into *n_captured, *n_completed), and a truth, when tm is not NULL, that
+ * is valid, labelled and has a label-1 part (its count into
+ * *n_truth_missing, 0 without a truth; the pointer may be NULL). Errors:
+ * RELIEF_E_MESH naming the mesh and, for a bad label, the vertex. */
+relief_status relief_measure_check_parts(const relief_mesh *cm, const relief_mesh *tm,
+                                         size_t *n_captured, size_t *n_completed,
+                                         size_t *n_truth_missing, relief_error *err);
+
 /* The primitive relief_measure fits when given none: RELIEF_FIT_AUTO on
  * relief_mesh_subset of m's label-0 vertices. m must have labels. Errors:
  * those of relief_fit_mesh, the message prefixed with what was fitted. */

@@ -359,7 +359,6 @@ relief_status relief_pattern_measure(const relief_mesh *cm, const relief_fit_pri
     relief_param pm;
     relief_status st;
     part_points pts[2], tpts[2];
-    size_t t0 = 0, t1 = 0;
     const int colour = cm && cm->col != NULL;
 
     memset(pts, 0, sizeof pts);
@@ -369,29 +368,10 @@ relief_status relief_pattern_measure(const relief_mesh *cm, const relief_fit_pri
                            !cm ? "the completed mesh" : "out");
     memset(&r, 0, sizeof r);
     pattern_nan(&r);
-    st = relief_mesh_validate(cm, err);
-    if (st == RELIEF_OK)
-        st = relief_measure_check_labels(cm, "completed", &r.n_captured, &r.n_completed, err);
+    st = relief_measure_check_parts(cm, tm, &r.n_captured, &r.n_completed, NULL, err);
     if (st != RELIEF_OK)
         return st;
-    if (r.n_captured == 0 || r.n_completed == 0)
-        return relief_fail(err, RELIEF_E_MESH,
-                           "the completed mesh has no %s vertex (label %d): both parts are "
-                           "needed to compare them",
-                           r.n_captured == 0 ? "captured" : "completed",
-                           r.n_captured == 0 ? 0 : 1);
-    if (tm) {
-        st = relief_mesh_validate(tm, err);
-        if (st == RELIEF_OK)
-            st = relief_measure_check_labels(tm, "truth", &t0, &t1, err);
-        if (st != RELIEF_OK)
-            return st;
-        if (t1 == 0)
-            return relief_fail(err, RELIEF_E_MESH,
-                               "the truth mesh has no vertex labelled 1: it does not say "
-                               "which part the capture misses");
-        r.has_truth = 1;
-    }
+    r.has_truth = tm != NULL;
     if (prim) {
         r.prim = *prim;
     } else {

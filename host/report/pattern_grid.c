@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "base/rng.h"
 #include "mesh/mesh.h"
@@ -15,18 +16,6 @@
 #define PI 3.14159265358979323846
 
 enum { NF = RELIEF_PATTERN_FIELDS };
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static int cmp_size(const void *a, const void *b)
-{
-    size_t x = *(const size_t *)a, y = *(const size_t *)b;
-    return (x > y) - (x < y);
-}
 
 /* ------------------------------------------------------------- points */
 
@@ -57,18 +46,7 @@ static relief_status points_spacing(part_points *pp, relief_error *err)
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the spacing of %zu points", n);
         goto done;
     }
-    for (size_t i = 0; i < n; ++i)
-        pick[i] = i;
-    if (m < n) {
-        relief_rng rng;
-        relief_rng_seed(&rng, 1);
-        for (size_t i = 0; i < m; ++i) {
-            size_t j = i + (size_t)relief_rng_below(&rng, (uint32_t)(n - i)), t = pick[i];
-            pick[i] = pick[j];
-            pick[j] = t;
-        }
-        qsort(pick, m, sizeof *pick, cmp_size);
-    }
+    relief_rng_subset(pick, n, m, 1);
     for (size_t i = 0; i < m; ++i) {
         q[2 * i] = pp->uv[2 * pick[i]];
         q[2 * i + 1] = pp->uv[2 * pick[i] + 1];
@@ -83,7 +61,7 @@ static relief_status points_spacing(part_points *pp, relief_error *err)
      * coincide: the larger is the neighbour's distance. */
     for (size_t i = 0; i < m; ++i)
         d[i] = sqrt(d2[2 * i] > d2[2 * i + 1] ? d2[2 * i] : d2[2 * i + 1]);
-    qsort(d, m, sizeof *d, cmp_double);
+    qsort(d, m, sizeof *d, relief_cmp_double);
     pp->spacing = m % 2 ? d[m / 2] : 0.5 * (d[m / 2 - 1] + d[m / 2]);
 done:
     free(idx);
@@ -253,7 +231,7 @@ relief_status pattern_grid_resample(const part_points *pp, double g, part_grid *
                                  "FLANN returned a neighbour outside 0..%zu", pp->n - 1);
                 goto done;
             }
-            qsort(ds, (size_t)k, sizeof *ds, cmp_double);
+            qsort(ds, (size_t)k, sizeof *ds, relief_cmp_double);
             if (!(sqrt(ds[0]) <= RELIEF_PATTERN_REACH * g))
                 continue;
             r = sqrt(ds[k < 6 ? k - 1 : 5]) * 1.25;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
@@ -117,12 +118,6 @@ void relief_render_part_view(const relief_mesh *m, int part, double *azimuth,
 
 /* ------------------------------------------------------------ colours */
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The primitive displacement colours are measured from: fitted to the
  * captured part as relief_measure does, so `relief render --colour-by
  * displacement` and `relief eval` agree on the heights. */
@@ -218,7 +213,7 @@ static relief_status vertex_colours(const relief_mesh *m, const relief_render_op
         }
         if (!(range > 0.0)) {
             /* A robust range: a few spikes must not wash the map out. */
-            qsort(h + m->nv, m->nv, sizeof *h, cmp_double);
+            qsort(h + m->nv, m->nv, sizeof *h, relief_cmp_double);
             range = h[m->nv + (size_t)(0.99 * (double)(m->nv - 1))];
             if (!(range > 0.0))
                 range = 1.0; /* every height 0: all mid grey */

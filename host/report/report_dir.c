@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "mesh/mesh.h"
 #include "report/png.h"
@@ -536,12 +537,6 @@ static void choose_views(const relief_mesh *capture, const relief_mesh *fin,
     view[2][1] = view[0][1];
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 relief_status relief_report_dir_stage(const char *dir, const relief_report_content *c,
                                       relief_report_dir **out, relief_error *err)
 {
@@ -600,7 +595,7 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
             lo = fmin(lo, h[v]);
             hi = fmax(hi, h[v]);
         }
-        qsort(h + n, n, sizeof *h, cmp_double);
+        qsort(h + n, n, sizeof *h, relief_cmp_double);
         range = h[n + (size_t)(0.99 * (double)(n - 1))];
         if (!(range > 0.0))
             range = 1.0;

@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/knn.h"
 
 #include "base/clock.h"
@@ -57,12 +58,6 @@ void relief_surface_destroy(relief_surface *s)
     free(s);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The p-th percentile (0..100) of the mesh's edge lengths, each edge counted
  * once per triangle side (interior edges twice, which does not move a
  * percentile of a regular mesh). 0 when the mesh has no triangle. */
@@ -88,7 +83,7 @@ static double edge_percentile(const relief_mesh *m, double p)
         free(len);
         return 0.0;
     }
-    qsort(len, k, sizeof *len, cmp_double);
+    qsort(len, k, sizeof *len, relief_cmp_double);
     r = len[(size_t)floor(p / 100.0 * (double)(k - 1) + 0.5)];
     free(len);
     return r;
