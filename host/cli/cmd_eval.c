@@ -55,8 +55,14 @@ static void print_measures_text(const relief_measures *m)
            m->seam, m->n_seam_edges, m->inside, m->n_inside_edges, m->seam_ratio);
     printf("freq_captured: %.4g\nfreq_completed: %.4g\n", m->freq_captured.freq,
            m->freq_completed.freq);
-    if (m->has_truth)
-        printf("truth_rms: %.6g\nfreq_truth: %.4g\n", m->truth_rms, m->freq_truth.freq);
+    if (m->has_truth) {
+        printf("truth_rms: %.6g (over %zu completed vertices on the truth)\n", m->truth_rms,
+               m->n_completed - m->n_truth_outside);
+        printf("truth_outside: %zu", m->n_truth_outside);
+        if (m->n_truth_outside)
+            printf(" (rms %.6g against the nearest truth vertex)", m->truth_rms_outside);
+        printf("\nfreq_truth: %.4g\n", m->freq_truth.freq);
+    }
 }
 
 /* One line per pattern distance, the truth's own floor beside it; then

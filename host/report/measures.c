@@ -418,8 +418,8 @@ static relief_status part_frequency(const relief_param *pm, const relief_mesh *m
 
 /* Truth heights at the completed vertices' places (see the header). */
 static relief_status truth_heights(const relief_fit_primitive *prim, const relief_mesh *cm,
-                                   const relief_mesh *tm, double *ht_out, size_t *n_outside,
-                                   relief_error *err)
+                                   const relief_mesh *tm, double *ht_out, uint8_t *outside,
+                                   size_t *n_outside, relief_error *err)
 {
     struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
@@ -481,6 +481,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
                              "FLANN returned truth vertex %d, outside 0..%zu", nb[0], nv - 1);
             goto done;
         }
+        outside[i] = 0;
         if (d2[(size_t)k * i] == 0.0) {
             ht_out[i] = th[nb[0]];
             continue;
@@ -515,6 +516,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
             ht_out[i] = sh / sw;
         } else {
             ht_out[i] = th[nb[0]];
+            outside[i] = 1;
             ++*n_outside;
         }
     }
@@ -542,6 +544,7 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
     relief_param pm;
     relief_status st;
     double *h = NULL, *D = NULL, *ha = NULL, *hb = NULL, *ht = NULL;
+    uint8_t *out_flag = NULL; /* completed vertex i lies outside the truth */
     uint64_t *edges = NULL;
     size_t ne = 0, na, nb;
 
@@ -672,29 +675,42 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
         goto done;
 
     /* Truth. */
-    r.truth_rms = r.truth_max_abs = NAN;
+    r.truth_rms = r.truth_max_abs = r.truth_rms_outside = NAN;
     r.freq_truth.freq = r.freq_truth.limit = r.freq_truth.min = NAN;
     r.freq_truth.k[0] = r.freq_truth.k[1] = NAN;
     if (tm) {
-        double s2 = 0.0, mx = 0.0;
-        size_t i = 0;
+        double s2 = 0.0, s2_out = 0.0, mx = 0.0;
+        size_t i = 0, n_in;
         ht = malloc(r.n_completed * sizeof *ht);
-        if (!ht) {
+        out_flag = malloc(r.n_completed ? r.n_completed : 1);
+        if (!ht || !out_flag) {
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu truth heights",
                              r.n_completed);
             goto done;
         }
-        st = truth_heights(&r.prim, cm, tm, ht, &r.n_truth_outside, err);
+        st = truth_heights(&r.prim, cm, tm, ht, out_flag, &r.n_truth_outside, err);
         if (st != RELIEF_OK)
             goto done;
+        /* Only where the truth is: a completed vertex past the truth's
+         * outline has nothing to be compared with, and the nearest truth
+         * vertex's height would pass a guess off as an error. */
         for (size_t v = 0; v < cm->nv; ++v)
             if (cm->label[v] == RELIEF_LABEL_COMPLETED) {
-                double d = h[v] - ht[i++];
+                double d = h[v] - ht[i];
+                if (out_flag[i++]) {
+                    s2_out += d * d;
+                    continue;
+                }
                 s2 += d * d;
                 mx = fabs(d) > mx ? fabs(d) : mx;
             }
-        r.truth_rms = sqrt(s2 / (double)r.n_completed);
-        r.truth_max_abs = mx;
+        n_in = r.n_completed - r.n_truth_outside;
+        if (n_in > 0) {
+            r.truth_rms = sqrt(s2 / (double)n_in);
+            r.truth_max_abs = mx;
+        }
+        if (r.n_truth_outside > 0)
+            r.truth_rms_outside = sqrt(s2_out / (double)r.n_truth_outside);
         st = part_frequency(&pm, tm, RELIEF_LABEL_COMPLETED, &r.freq_truth, err);
         if (st != RELIEF_OK)
             goto done;
@@ -705,6 +721,7 @@ done:
         *out = r;
     free(edges);
     free(ht);
+    free(out_flag);
     free(hb);
     free(ha);
     free(D);
@@ -765,6 +782,7 @@ void relief_report_measures_fields(relief_json *j, const relief_measures *m)
         rj_number(j, "truth_rms", m->truth_rms);
         rj_number(j, "truth_max_abs", m->truth_max_abs);
         rj_int(j, "truth_outside", (long long)m->n_truth_outside);
+        rj_number(j, "truth_rms_outside", m->truth_rms_outside);
         rj_int(j, "n_truth_missing", (long long)m->n_truth_missing);
         rj_number(j, "freq_truth", m->freq_truth.freq);
     }

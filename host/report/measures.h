@@ -49,8 +49,9 @@
  *   parameterisation's cut stays contiguous in u.
  * - With a truth mesh (the true whole surface in the same coordinates; its
  *   label 1 marks the part the capture misses):
- *   truth_rms = sqrt(mean over completed vertices of (h_i - h_truth(i))^2)
- *   where h_truth(i) is the truth's height at the same place: the truth
+ *   truth_rms = sqrt(mean over the completed vertices that lie on the truth
+ *   of (h_i - h_truth(i))^2) where h_truth(i) is the truth's height at the
+ *   same place: the truth
  *   vertices' projections q are indexed in a kd-tree (FLANN, exact), the 3
  *   nearest to q_i are found, and h is interpolated linearly on the
  *   triangle incident to one of them whose projection contains q_i (its
@@ -58,8 +59,13 @@
  *   are all >= -1e-9; the one with the largest smallest coordinate wins).
  *   A query that coincides with a truth vertex takes that vertex's h
  *   exactly; one contained in no such triangle (outside the truth, or a
- *   truth without triangles) takes the nearest vertex's h and is counted in
- *   n_truth_outside. freq_truth is the dominant frequency over the truth's
+ *   truth without triangles) has no truth under it: it is counted in
+ *   n_truth_outside and left out of truth_rms and truth_max_abs, and
+ *   truth_rms_outside is the RMS over those vertices against the nearest
+ *   truth vertex's h (a guess, reported apart: a completion that spills
+ *   past the truth would otherwise fold its spill into the error; NaN when
+ *   there is none). truth_rms is NaN when no completed vertex lies on the
+ *   truth. freq_truth is the dominant frequency over the truth's
  *   missing part (label 1), heights measured against the same primitive.
  *
  * The primitive is the caller's, or else fitted here (RELIEF_FIT_AUTO) to
@@ -134,10 +140,13 @@ typedef struct relief_measures {
 
     int has_truth;          /* 1 when a truth was given; the rest valid */
     size_t n_truth_missing; /* truth's label-1 vertices */
-    double truth_rms;       /* RMS of h - h_truth over completed vertices */
+    double truth_rms;       /* RMS of h - h_truth over completed vertices
+                               on the truth; NaN when none is */
     double truth_max_abs;   /* largest |h - h_truth| there */
-    size_t n_truth_outside; /* completed vertices given the nearest truth
-                               vertex's h (no containing triangle) */
+    size_t n_truth_outside; /* completed vertices with no truth under them
+                               (no containing triangle) */
+    double truth_rms_outside; /* RMS over those against the nearest truth
+                                 vertex's h; NaN when there are none */
     relief_measure_freq freq_truth; /* h over the truth's missing part */
 } relief_measures;
 
@@ -188,7 +197,8 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
  * hist_bins, colour (bool), hist_distance_rgb [3], seam, inside,
  * seam_edges, inside_edges, freq_captured, freq_completed (always),
  * spectrum {captured, completed[, truth]: {freq, k, min, limit, points}},
- * and with a truth n_truth_missing, truth_max_abs, truth_outside.
+ * and with a truth n_truth_missing, truth_max_abs, truth_outside,
+ * truth_rms_outside.
  * Undefined values (NaN) are written as null. */
 void relief_report_measures_fields(relief_json *j, const relief_measures *m);
 

@@ -445,6 +445,38 @@ static void test_interpolation(void)
           r.n_truth_outside);
     CHECK(isnan(r.seam_ratio) && r.n_seam_edges == 0, "point cloud: no seam %g", r.seam_ratio);
     printf("interpolation: truth_rms %.3g max %.3g\n", r.truth_rms, r.truth_max_abs);
+
+    /* A truth that stops at x = 0.8: the completed vertices past it have no
+     * truth under them. They are counted and measured apart, and truth_rms
+     * stays what it is where the truth is (issue 17: one real case folded
+     * 25 656 such vertices into the RMS and tripled it). */
+    relief_mesh_destroy(t);
+    t = grid(41, 51, 0.02, 25, RELIEF_MESH_LABELS, wave_h);
+    {
+        relief_measures rs;
+        size_t past = 0;
+        double s2 = 0.0;
+        for (size_t v = 0; v < c->nv; ++v)
+            if (c->label[v] && c->pos[3 * v] > 0.8) {
+                /* the nearest truth vertex is on the column x = 0.8 */
+                double y = c->pos[3 * v + 1], yn = 0.02 * floor(y / 0.02 + 0.5);
+                double d = c->pos[3 * v + 2] - (0.01 * sin(2.0 * PI * 0.02 * 40.0) + 0.005 * yn);
+                s2 += d * d;
+                ++past;
+            }
+        st = relief_measure(c, t, &plane_z, &rs, &err);
+        CHECK(st == RELIEF_OK, "truth past its outline: %s", err.message);
+        CHECK(past > 100 && rs.n_truth_outside == past,
+              "vertices past the truth: %zu counted, %zu expected", rs.n_truth_outside, past);
+        CHECK(rs.truth_rms < 2e-5 && rs.truth_max_abs < 2.5e-5,
+              "truth_rms only where the truth is: %g (max %g)", rs.truth_rms, rs.truth_max_abs);
+        CHECK(near(rs.truth_rms_outside, sqrt(s2 / (double)past), 1e-12) &&
+                  rs.truth_rms_outside > 100.0 * rs.truth_rms,
+              "outside rms %g, expected %g", rs.truth_rms_outside, sqrt(s2 / (double)past));
+        CHECK(isnan(r.truth_rms_outside), "no vertex outside: NaN, got %g", r.truth_rms_outside);
+        printf("truth past its outline: %zu outside, rms %.3g there, %.3g inside\n", past,
+               rs.truth_rms_outside, rs.truth_rms);
+    }
     relief_mesh_destroy(c);
     relief_mesh_destroy(t);
 }
