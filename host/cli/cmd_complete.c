@@ -59,6 +59,11 @@ static const char complete_help[] =
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
     "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
     "                        physical memory); a larger run is refused up front\n"
+    "  --max-growth R        refuse more than R targets per captured vertex, the\n"
+    "                        sign of a primitive that does not suit the capture\n"
+    "                        (default 100; 0: no limit)\n"
+    "  --accept-poor-fit     go on, with a warning, when the fit's rms is over 10%\n"
+    "                        of the primitive's size (default: refuse)\n"
     "  --bootstrap           completed targets become matchable too\n"
     "  --no-prune            score every candidate in full (the paper's exhaustive\n"
     "                        search; same result, slower)\n"
@@ -103,9 +108,19 @@ static const char smooth_help[] =
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
     "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
     "                        physical memory); a larger run is refused up front\n"
+    "  --max-growth R        refuse more than R targets per captured vertex\n"
+    "                        (default 100; 0: no limit)\n"
+    "  --accept-poor-fit     go on, with a warning, when the fit is poor\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
+
+/* A poor fit the user accepted (--accept-poor-fit) is still said. */
+static void warn_poor_fit(const char *cmd, const relief_surface *s)
+{
+    if (s->fit.poor_fit)
+        fprintf(stderr, "relief %s: warning: poor fit accepted: %s\n", cmd, s->fit.reason);
+}
 
 static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
                       const char *report, const relief_params *p,
@@ -120,6 +135,7 @@ static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
     relief_mesh_destroy(in);
     if (st != RELIEF_OK)
         return cli_fail("smooth", &err);
+    warn_poor_fit("smooth", s);
     cli_hold_signals(&held);
     if (report) {
         smooth_report r = {in_path, out, p, o, s, relief_seconds() - t0};
@@ -313,6 +329,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     }
     st = relief_smooth(in, p, o, &s, &err);
     if (st == RELIEF_OK)
+        warn_poor_fit("complete", s);
+    if (st == RELIEF_OK)
         st = check_growth_memory(s, p, &err);
     if (st == RELIEF_OK && p->levels > 1) {
         double th = relief_seconds();
@@ -477,6 +495,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"frames", required_argument, 0, OPT_FRAMES},
         {"oversample-scheme", required_argument, 0, OPT_OVERSAMPLE_SCHEME},
         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
+        {"accept-poor-fit", no_argument, 0, OPT_ACCEPT_POOR_FIT},
+        {"max-growth", required_argument, 0, OPT_MAX_GROWTH},
         {"help", no_argument, 0, 'h'},
         /* complete only, from here ("window" ends smooth's options) */
         {"window", required_argument, 0, OPT_WINDOW},
@@ -610,6 +630,16 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         case OPT_MAX_MEMORY:
             if (relief_parse_size(optarg, &p.max_memory, &err) != RELIEF_OK) {
                 fprintf(stderr, "relief %s: --max-memory: %s\n", cmd, err.message);
+                return EXIT_USAGE;
+            }
+            break;
+        case OPT_ACCEPT_POOR_FIT: sopts.accept_poor_fit = 1; break;
+        case OPT_MAX_GROWTH:
+            if (!cli_parse_real(cmd, "--max-growth", optarg, &sopts.max_growth))
+                return EXIT_USAGE;
+            if (sopts.max_growth < 0.0) {
+                fprintf(stderr, "relief %s: --max-growth: %s is out of range: expected "
+                        "targets per captured vertex >= 0 (0: no limit)\n", cmd, optarg);
                 return EXIT_USAGE;
             }
             break;

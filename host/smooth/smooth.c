@@ -43,6 +43,8 @@ relief_smooth_options relief_smooth_options_default(void)
     o.frames = RELIEF_FRAMES_PAPER;
     o.spacing_percentile = 10.0;
     o.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
+    o.accept_poor_fit = 0;
+    o.max_growth = RELIEF_MAX_GROWTH;
     return o;
 }
 
@@ -544,10 +546,10 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
     if (st != RELIEF_OK)
         goto fail;
     pr = &s->fit.prim;
-    if (s->fit.poor_fit) {
+    if (s->fit.poor_fit && !opts->accept_poor_fit) {
         st = relief_fail(err, RELIEF_E_MESH,
                          "the capture fits no primitive well: %s (rms %.4g is more than "
-                         "%.0f%% of the %s's size %.4g)",
+                         "%.0f%% of the %s's size %.4g); --accept-poor-fit goes on anyway",
                          s->fit.reason, s->fit.rms, 100.0 * RELIEF_FIT_POOR,
                          relief_fit_model_name(pr->model), s->fit.size);
         goto fail;
@@ -621,6 +623,21 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
         goto fail;
     }
 
+    if (opts->max_growth > 0.0 && (double)targets.n > opts->max_growth * (double)capture->nv) {
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "the %s fit (%s) asks for %zu targets, %.0f per captured vertex "
+                         "(%zu): far more than the capture can supply samples for (the "
+                         "limit is %g, --max-growth). %s; --max-growth 0 lifts the limit",
+                         relief_fit_model_name(pr->model),
+                         params->fit == RELIEF_FIT_AUTO ? "chosen by --fit auto" : "requested",
+                         targets.n, (double)targets.n / (double)capture->nv, capture->nv,
+                         opts->max_growth,
+                         pr->model == RELIEF_FIT_PLANE
+                             ? "Bound the region with a smaller --extent or raise --spacing"
+                             : "If the capture is nearly flat, try --fit plane; else bound "
+                               "the region with --extent or raise --spacing");
+        goto fail;
+    }
     s->seconds[RELIEF_STAGE_TARGETS] = relief_seconds() - t0;
 
     /* Refuse before the big allocations: each oversampling pass about

@@ -22,7 +22,20 @@ typedef struct relief_smooth_options {
                                   relief_params.spacing is 0; default 10 */
     int oversample_scheme;     /* RELIEF_OVERSAMPLE_* (oversample.h);
                                   default butterfly */
+    int accept_poor_fit;       /* 0 (default): refuse a fit whose rms is
+                                  over RELIEF_FIT_POOR of the primitive's
+                                  size; 1: go on (the caller warns) */
+    double max_growth;         /* refuse a completion of more than this many
+                                  targets per captured vertex, the sign of a
+                                  primitive that does not suit the capture
+                                  (a nearly flat patch fitted as a huge
+                                  cylinder or sphere); default
+                                  RELIEF_MAX_GROWTH, 0: no limit */
 } relief_smooth_options;
+
+/* Default relief_smooth_options.max_growth: targets per captured vertex. A
+ * one-sided capture of a cylinder or sphere asks for about 1 to 3. */
+#define RELIEF_MAX_GROWTH 100.0
 
 relief_smooth_options relief_smooth_options_default(void);
 

@@ -147,6 +147,20 @@ expect 1 "edge 12-23 at (0.1, 0.15, 0) is shared by 3 triangles" -- "$relief" co
 expect 1 "overlaps itself over the fitted plane" -- "$relief" smooth "$data/fold.off" -o "$tmp/g.ply" --fit plane
 grep -qF "the largest triangle 210 (vertices 115, 126, 127) at (1, 0.5, 0)" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: the fold is not located"; fail=$((fail+1)); }
 expect 1 "fits no primitive well" -- "$relief" complete "$data/zigzag.off" -o "$tmp/g.ply"
+grep -qF -- "--accept-poor-fit goes on anyway" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no override named for a poor fit"; fail=$((fail+1)); }
+# A poor fit the user accepts goes on, and says so.
+"$relief" synth sphere-dimples -o "$tmp/sd.ply" --vertices 500 2>/dev/null
+expect 1 "fits no primitive well" -- "$relief" smooth "$tmp/sd.ply" -o "$tmp/g.ply" --fit cylinder
+expect 0 "warning: poor fit accepted: cylinder (requested)" -- "$relief" smooth "$tmp/sd.ply" -o "$tmp/g.ply" --fit cylinder --accept-poor-fit
+rm -f "$tmp/g.ply"
+# A nearly flat patch that --fit auto takes for a cylinder of radius 30
+# would ask for 204 targets per captured vertex: refused, with the way out.
+expect 1 "the cylinder fit (chosen by --fit auto) asks for 89974 targets, 204 per captured vertex (441)" -- "$relief" complete "$data/bent.off" -o "$tmp/g.ply"
+grep -qF "try --fit plane" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: --fit plane not suggested"; fail=$((fail+1)); }
+expect 1 "asks for 12 targets, 0 per captured vertex" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --fit plane --max-growth 0.01
+expect 0 "" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --fit plane --quiet
+rm -f "$tmp/g.ply"
+expect 1 "--max-growth: -1 is out of range" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --max-growth -1
 expect 1 "the capture is smaller than the window: a window of 3" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=-1,-1,1,1 --spacing 0.05 --backend scalar
 grep -qF "use --window 2 or less" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no window suggested"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=-0.2,-0.2,0.4,0.4 --spacing 0.05 --backend scalar --window 2 --quiet

@@ -66,3 +66,12 @@ write("tiny.off", v, f, "a small patch: smaller than the window")
 # strip.off: a strip one cell wide: every sample lies next to a target.
 v, f = grid(20, 1, step=0.05)
 write("strip.off", v, f, "a strip one cell wide: no sample has a complete neighbourhood")
+
+# bent.off: a 1 x 1 patch with a hole, bent on a cylinder of radius 30 along
+# y: nearly flat (sag 0.004), so --fit auto takes the cylinder, whose full
+# turn of 188 units holds about 170 targets per captured vertex.
+import math
+R = 30.0
+v, f = grid(20, 20, step=0.05, z=lambda i, j: R - math.sqrt(R * R - (i * 0.05 - 0.5) ** 2),
+            skip=lambda i, j: 8 <= i <= 11 and 8 <= j <= 11)
+write("bent.off", v, f, "a nearly flat patch on a cylinder of radius 30")
