@@ -12,6 +12,7 @@ relief_params relief_params_default(void)
     p.error = 0.1;
     p.mu = -1.0;
     p.seed = 1;
+    p.coherence = 0.0;
     p.levels = 1;
     p.backend = RELIEF_BACKEND_AUTO;
     p.device = -1;
@@ -40,6 +41,9 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
         return relief_fail(err, RELIEF_E_RANGE,
                            "error threshold %g out of range: expected 0 < e <= 1e6",
                            p->error);
+    if (!(p->coherence == 0.0 || (p->coherence >= 1.0 && p->coherence <= 100.0)))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "coherence %g out of range: expected 0 (off) or 1..100", p->coherence);
     if (!(p->mu < 0.0 && p->mu == -1.0) && !(p->mu >= 0.0 && p->mu <= 1.0))
         return relief_fail(err, RELIEF_E_RANGE,
                            "mu %g out of range: expected 0 <= mu <= 1", p->mu);

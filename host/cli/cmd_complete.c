@@ -47,6 +47,10 @@ static const char complete_help[] =
     "  --error E             acceptance threshold e > 0 (default 0.1)\n"
     "  --mu MU               shape weight 0..1 (default 1 without colour, 0.5 with)\n"
     "  --seed N              random seed (default 1)\n"
+    "  --coherence K         copy patches: take the best candidate that continues\n"
+    "                        a neighbour's source when its score is within K x\n"
+    "                        the best; 0 = off, the paper's draw alone (default),\n"
+    "                        else 1..100 (2 helps the coloured demo: README)\n"
     "  --levels M            hierarchy levels 1..8 (default 1: mono-scale)\n"
     "  --backend B           auto|scalar|opencl (default auto)\n"
     "  --device N            OpenCL device index (see 'relief devices')\n"
@@ -502,6 +506,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"window", required_argument, 0, OPT_WINDOW},
         {"rotations", required_argument, 0, OPT_ROTATIONS},
         {"error", required_argument, 0, OPT_ERROR},
+        {"coherence", required_argument, 0, OPT_COHERENCE},
         {"mu", required_argument, 0, OPT_MU},
         {"seed", required_argument, 0, OPT_SEED},
         {"levels", required_argument, 0, OPT_LEVELS},
@@ -556,6 +561,15 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         case OPT_ERROR:
             if (!cli_parse_real(cmd, "--error", optarg, &p.error))
                 return EXIT_USAGE;
+            break;
+        case OPT_COHERENCE:
+            if (!cli_parse_real(cmd, "--coherence", optarg, &p.coherence))
+                return EXIT_USAGE;
+            if (!(p.coherence == 0.0 || (p.coherence >= 1.0 && p.coherence <= 100.0))) {
+                fprintf(stderr, "relief %s: --coherence: %s is out of range: expected 0 "
+                        "(off) or 1..100\n", cmd, optarg);
+                return EXIT_USAGE;
+            }
             break;
         case OPT_MU:
             if (!cli_parse_real(cmd, "--mu", optarg, &p.mu))

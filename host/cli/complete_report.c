@@ -67,6 +67,7 @@ static void report_levels(relief_json *j, const relief_hierarchy_stats *hs)
         rj_int(j, "fallbacks_no_box", (long long)l->grow.pyramid_empty);
         rj_int(j, "candidates_scored", (long long)l->grow.candidates);
         rj_int(j, "acceptances", (long long)l->grow.acceptances);
+        rj_int(j, "coherent", (long long)l->grow.coherent);
         rj_int(j, "rejections", (long long)l->grow.rejections);
         rj_int(j, "threshold_raises", (long long)l->grow.threshold_raises);
         rj_number(j, "error_final", l->grow.error_final);
@@ -93,6 +94,7 @@ int cli_write_complete_report(FILE *f, void *ctx)
     rj_int(&j, "rotations", r->params->rotations);
     rj_number(&j, "error", r->params->error);
     rj_number(&j, "mu", g->mu);
+    rj_number(&j, "coherence", r->params->coherence);
     rj_int(&j, "seed", (long long)r->params->seed);
     rj_int(&j, "levels", r->params->levels);
     rj_bool(&j, "prune", r->gopts->prune);
@@ -106,6 +108,7 @@ int cli_write_complete_report(FILE *f, void *ctx)
     rj_int(&j, "pruned", (long long)g->pruned);
     rj_int(&j, "invalid", (long long)g->invalid);
     rj_int(&j, "acceptances", (long long)g->acceptances);
+    rj_int(&j, "coherent", (long long)g->coherent);
     rj_int(&j, "rejections", (long long)g->rejections);
     rj_int(&j, "no_valid_candidate", (long long)g->no_candidate);
     rj_int(&j, "threshold_raises", (long long)g->threshold_raises);

@@ -16,7 +16,7 @@
 #include "smooth/oversample.h"
 
 #define MAGIC "RELIEFCK"
-#define FORMAT 2u /* 2: the matches and a hierarchy's place */
+#define FORMAT 3u /* 2: the matches and a hierarchy's place; 3: the sources */
 #define ORDER 0x01020304u
 
 /* ------------------------------------------------------------ fingerprint */
@@ -50,7 +50,7 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
 {
     relief_smooth_options sd = relief_smooth_options_default();
     uint64_t h = FNV_START, counts[2] = {in->nv, in->nt};
-    char extent[128] = "none", error[32], mu[32], spacing[32], pct[32];
+    char extent[128] = "none", error[32], mu[32], spacing[32], pct[32], coherence[32];
     if (!so)
         so = &sd;
     h = fnv1a(h, counts, sizeof counts);
@@ -70,6 +70,7 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
     }
     exact(error, sizeof error, p->error);
     exact(mu, sizeof mu, p->mu);
+    exact(coherence, sizeof coherence, p->coherence);
     exact(spacing, sizeof spacing, p->spacing);
     exact(pct, sizeof pct, so->spacing_percentile);
     /* Everything that changes the result; backend, device and pruning do
@@ -77,12 +78,12 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
     snprintf(key->params, sizeof key->params,
              "fit=%s window=%d rotations=%d error=%s mu=%s seed=%u levels=%d "
              "oversample=%d oversample_scheme=%s spacing=%s extent=%s frames=%s "
-             "spacing_percentile=%s bootstrap=%d",
+             "spacing_percentile=%s bootstrap=%d coherence=%s",
              relief_fit_model_name(p->fit), p->window, p->rotations, error, mu,
              (unsigned)p->seed, p->levels, p->oversample,
              relief_oversample_scheme_name(so->oversample_scheme), spacing, extent,
              so->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive", pct,
-             go ? go->bootstrap : 0);
+             go ? go->bootstrap : 0, coherence);
 }
 
 /* --------------------------------------------------------------- writing */
@@ -154,6 +155,7 @@ relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_
     put(&b, g->colour, nt * 3 * sizeof *g->colour);
     if (g->mesh_colour)
         put(&b, g->mesh_colour, nt * 3 * sizeof *g->mesh_colour);
+    put(&b, g->source, nt * sizeof *g->source);
     put_u64(&b, g->n_list);
     put(&b, g->list, g->n_list * sizeof *g->list);
     put_u64(&b, g->next);
@@ -216,7 +218,7 @@ struct relief_checkpoint {
     int *window;
     double *disp;
     float *colour, *mesh_colour;
-    uint32_t *list, *matched;
+    uint32_t *source, *list, *matched;
     relief_hierarchy_state hier;
     double *smoothed_prev;
     uint32_t *match_prev;
@@ -231,6 +233,7 @@ void relief_checkpoint_destroy(relief_checkpoint *c)
     free(c->smoothed_prev);
     free(c->matched);
     free(c->list);
+    free(c->source);
     free(c->mesh_colour);
     free(c->colour);
     free(c->disp);
@@ -487,7 +490,7 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
     {
         const uint32_t has_col = get_u32(r);
         /* The arrays must fit in what is left before they are allocated. */
-        const size_t need = (size_t)nt * (1 + 4 + 24 + 12 + (has_col ? 12 : 0));
+        const size_t need = (size_t)nt * (1 + 4 + 24 + 12 + (has_col ? 12 : 0) + 4);
         if (has_col > 1 || r->short_read || need > r->n - r->at)
             return relief_fail(err, RELIEF_E_PARSE,
                                "%s: checkpoint is truncated: %llu targets need %zu bytes",
@@ -497,7 +500,9 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
         c->disp = malloc((nt + 1) * 3 * sizeof *c->disp);
         c->colour = malloc((nt + 1) * 3 * sizeof *c->colour);
         c->mesh_colour = has_col ? malloc((nt + 1) * 3 * sizeof *c->mesh_colour) : NULL;
-        if (!c->textured || !c->window || !c->disp || !c->colour || (has_col && !c->mesh_colour))
+        c->source = malloc((nt + 1) * sizeof *c->source);
+        if (!c->textured || !c->window || !c->disp || !c->colour ||
+            (has_col && !c->mesh_colour) || !c->source)
             return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint",
                                path);
         get(r, c->textured, nt);
@@ -515,6 +520,13 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
         get(r, c->colour, nt * 3 * sizeof *c->colour);
         if (has_col)
             get(r, c->mesh_colour, nt * 3 * sizeof *c->mesh_colour);
+        get(r, c->source, nt * sizeof *c->source);
+        for (size_t i = 0; i < nt; ++i)
+            if ((c->source[i] == UINT32_MAX) != !c->textured[i])
+                return relief_fail(err, RELIEF_E_PARSE,
+                                   "%s: target %zu: source %u for a%s target", path,
+                                   (size_t)ns + i, c->source[i],
+                                   c->textured[i] ? " textured" : "n untextured");
         for (size_t i = 0; i < 3 * nt; ++i)
             if (!isfinite(c->disp[i]) || !isfinite(c->colour[i]) ||
                 (has_col && !isfinite(c->mesh_colour[i])))
@@ -575,6 +587,7 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
     g->disp = c->disp;
     g->colour = c->colour;
     g->mesh_colour = c->mesh_colour;
+    g->source = c->source;
     g->list = c->list;
     g->matched = c->matched;
     g->hier = c->hier.levels ? &c->hier : NULL;

@@ -8,6 +8,15 @@
  *         is below e: copy D (re-expressed in t's frame) and colour;
  *         otherwise shrink t's window by one (not below 1)
  *     a pass with no acceptance raises e by 10 %
+ *
+ * with one addition, coherence (params->coherence = kappa > 0, see
+ * coherent_best): before the draw, the candidates that continue the source
+ * patches of t's textured neighbours are scored, and the best of them is
+ * taken instead of the draw when its SSD is at most kappa x the minimum.
+ * The paper's draw alone copies each target from anywhere: a ridge's shape
+ * at the capture's edge is then repeated across the whole completion
+ * (chevrons, README), and smooth places win over rough ones. Copying
+ * patches keeps the capture's own arrangement (Ashikhmin 2001).
  */
 #include "grow/grow.h"
 
@@ -243,7 +252,8 @@ void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32
 /* Hand the growth's state to opts->save; list[next] is the next target. */
 static relief_status save_state(const relief_grow_options *opts, const relief_surface *s,
                                 const relief_match_data *d, const uint8_t *textured,
-                                const int *win, const ranked *list, size_t nl, size_t next,
+                                const int *win, const uint32_t *src, const ranked *list,
+                                size_t nl, size_t next,
                                 size_t accepted, int any_valid, int all_min_window, double e,
                                 const relief_rng *rng, const relief_grow_stats *stats,
                                 relief_error *err)
@@ -272,6 +282,7 @@ static relief_status save_state(const relief_grow_options *opts, const relief_su
     g.error = e;
     g.rng = *rng;
     g.stats = *stats;
+    g.source = src + ns;
     g.matched = opts->matched ? opts->matched + ns : NULL;
     g.hier = NULL;
     st = opts->save(opts->save_ctx, &g, err);
@@ -283,7 +294,8 @@ static relief_status save_state(const relief_grow_options *opts, const relief_su
  * *remaining drops by the targets it had textured. */
 static relief_status restore_state(const relief_grow_state *r, relief_surface *s,
                                    relief_match_data *d, relief_matcher *m, int bootstrap,
-                                   uint8_t *textured, int *win, size_t *remaining,
+                                   uint8_t *textured, int *win, uint32_t *src,
+                                   size_t *remaining,
                                    relief_error *err)
 {
     relief_mesh *mesh = s->mesh;
@@ -299,8 +311,13 @@ static relief_status restore_state(const relief_grow_state *r, relief_surface *s
         const size_t t = s->n_samples + i;
         relief_status st;
         win[t] = r->window[i];
+        src[t] = r->source[i];
         if (!r->textured[i])
             continue;
+        if (src[t] / (uint32_t)d->rotations >= d->ns)
+            return relief_fail(err, RELIEF_E_USAGE, "the saved growth's target %zu copied "
+                               "candidate %u; this surface has %u samples x %d rotations",
+                               t, src[t], d->ns, d->rotations);
         for (int k = 0; k < 3; ++k) {
             const double dk = r->disp[3 * i + k], tp = s->proj[3 * t + k];
             s->disp[3 * t + k] = dk;
@@ -321,6 +338,76 @@ static relief_status restore_state(const relief_grow_state *r, relief_surface *s
     return RELIEF_OK;
 }
 
+/* ------------------------------------------------------------ coherence */
+
+/* The coherent candidates of target t (Ashikhmin 2001): for each textured
+ * neighbour n in t's window that copied sample s_n at rotation r_n
+ * (src[n] = s_n x R + r_n), the sample lying where t would be if the patch
+ * around s_n continued past n, x = s_n' + R_s Rz(theta_n) (R_n^T (t' - n')),
+ * at rotation r_n; its closest vertex, when that is a sample. Each distinct
+ * candidate is scored in full by the matchers' own rm_score_candidate, on
+ * the host, so every backend takes the same one. The lowest SSD (ties: the
+ * lower candidate index) goes to *ssd_out, its sample and rotation to
+ * *si_out and *r_out. Returns 0 when no coherent candidate is valid. */
+static int coherent_best(const relief_surface *s, const relief_match_data *d,
+                         const relief_query_builder *qb, const relief_match_query *q,
+                         const uint32_t *src, uint32_t t, float *ssd_out, uint32_t *si_out,
+                         int *r_out)
+{
+    enum { MAX_SEEN = 64 };
+    uint32_t seen[MAX_SEEN];
+    size_t nseen = 0;
+    int found = 0;
+    const double *tp = s->proj + 3 * (size_t)t;
+    const uint32_t R = (uint32_t)d->rotations;
+    for (uint32_t i = 0; i < q->n; ++i) {
+        const uint32_t nv = qb->nbs[i].v, c = src[nv];
+        const double *np = s->proj + 3 * (size_t)nv, *nf = s->frame + 9 * (size_t)nv;
+        uint32_t si, r, v2, cand;
+        double o[3];
+        float a, b, x[3], ssd;
+        size_t k;
+        if (c == UINT32_MAX)
+            continue;
+        si = c / R;
+        r = c % R;
+        for (int j = 0; j < 3; ++j)
+            o[j] = nf[3 * j] * (tp[0] - np[0]) + nf[3 * j + 1] * (tp[1] - np[1]) +
+                   nf[3 * j + 2] * (tp[2] - np[2]);
+        a = d->cos_r[r] * (float)o[0] - d->sin_r[r] * (float)o[1];
+        b = d->sin_r[r] * (float)o[0] + d->cos_r[r] * (float)o[1];
+        for (int j = 0; j < 3; ++j)
+            x[j] = d->s_proj[3 * si + j] + a * d->s_frame[9 * si + j] +
+                   b * d->s_frame[9 * si + 3 + j] + (float)o[2] * d->s_frame[9 * si + 6 + j];
+        v2 = rm_closest_vertex_listed(x, d->proj, d->cell_start, d->cell_items, d->grid, d->dims,
+                                      d->lgrid, d->ldims, d->lmask, d->lslot, d->litems);
+        if (v2 >= d->ns) /* not a sample (samples are vertices 0..ns-1) */
+            continue;
+        cand = v2 * R + r;
+        for (k = 0; k < nseen && seen[k] != cand; ++k)
+            ;
+        if (k < nseen)
+            continue;
+        if (nseen < MAX_SEEN)
+            seen[nseen++] = cand;
+        if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start, d->vt,
+                               d->cell_start, d->cell_items, d->grid, d->dims, d->lgrid,
+                               d->ldims, d->lmask, d->lslot, d->litems, d->s_proj + 3 * v2,
+                               d->s_frame + 9 * v2, d->cos_r[r], d->sin_r[r], q->n, q->qp, q->q,
+                               q->g, q->qcol, d->mu, d->inv_b2, q->inv_wsum, FLT_MAX,
+                               &ssd) != RM_VALID)
+            continue;
+        if (!found || ssd < *ssd_out ||
+            (ssd == *ssd_out && cand < *si_out * R + (uint32_t)*r_out)) {
+            *ssd_out = ssd;
+            *si_out = v2;
+            *r_out = (int)r;
+            found = 1;
+        }
+    }
+    return found;
+}
+
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
                           const relief_params *params, const relief_grow_options *opts,
                           relief_grow_stats *stats, relief_error *err)
@@ -331,8 +418,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     relief_query_builder *qb = NULL;
     uint8_t *textured = NULL, *flag = NULL;
     int *win = NULL;
-    uint32_t *best = NULL;
+    uint32_t *best = NULL, *src = NULL;
     ranked *list = NULL;
+    const double kappa = params->coherence;
     float *ssd = NULL;
     relief_rng rng;
     relief_status st;
@@ -360,7 +448,8 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     ssd = malloc((ncand_max + 1) * sizeof *ssd);
     flag = malloc(ncand_max + 1);
     best = malloc((ncand_max + 1) * sizeof *best);
-    if (!textured || !win || !list || !ssd || !flag || !best) {
+    src = malloc(nv * sizeof *src);
+    if (!textured || !win || !list || !ssd || !flag || !best || !src) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
                          "vertices and %zu candidates", nv, ncand_max);
         goto done;
@@ -368,11 +457,13 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     for (size_t v = 0; v < nv; ++v) {
         textured[v] = v < s->n_samples;
         win[v] = params->window;
+        src[v] = UINT32_MAX;
     }
     relief_rng_seed(&rng, params->seed);
     if (opts->resume) {
         const relief_grow_state *r = opts->resume;
-        st = restore_state(r, s, d, m, opts->bootstrap, textured, win, &remaining, err);
+        st = restore_state(r, s, d, m, opts->bootstrap, textured, win, src, &remaining,
+                           err);
         if (st != RELIEF_OK)
             goto done;
         if (opts->matched && r->matched)
@@ -424,7 +515,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
             const uint32_t t = list[li].v;
             const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
             size_t nbest = 0, ncand;
-            uint32_t chosen;
+            uint32_t chosen, coh_si = 0;
+            float coh_ssd = 0.0f;
+            int coh_r = 0, use_coh = 0;
             relief_match_query query;
             double minv = INFINITY;
             const int stop = (opts->cancel && *opts->cancel) ||
@@ -436,7 +529,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                 stats->seconds = relief_seconds() - t0;
                 stats->match_seconds = m->kernel_seconds;
                 stats->error_final = e;
-                st = save_state(opts, s, d, textured, win, list, nl, li, accepted,
+                st = save_state(opts, s, d, textured, win, src, list, nl, li, accepted,
                                 any_valid != 0, all_min_window != 0, e, &rng, stats, err);
                 if (st != RELIEF_OK)
                     goto done;
@@ -468,7 +561,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                 stats->seconds = relief_seconds() - t0;
                 stats->match_seconds = m->kernel_seconds;
                 stats->error_final = e;
-                if (opts->save && save_state(opts, s, d, textured, win, list, nl, li, accepted,
+                if (opts->save && save_state(opts, s, d, textured, win, src, list, nl, li, accepted,
                                              any_valid != 0, all_min_window != 0, e, &rng,
                                              stats, &serr) != RELIEF_OK && err) {
                     char msg[RELIEF_ERROR_MESSAGE_MAX];
@@ -503,12 +596,25 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                 nbest = 0;
                 goto score;
             }
-            if (nbest > 0) {
+            if (kappa > 0.0) {
+                float cssd = 0.0f;
+                uint32_t csi = 0;
+                int cr = 0;
+                if (coherent_best(s, d, qb, &query, src, t, &cssd, &csi, &cr) &&
+                    (nbest == 0 || (double)cssd <= kappa * minv)) {
+                    coh_ssd = cssd;
+                    coh_si = csi;
+                    coh_r = cr;
+                    use_coh = 1;
+                }
+            }
+            if (nbest > 0 || use_coh) {
                 const uint32_t c = chosen;
-                if ((double)ssd[c] < e) {
-                    const uint32_t si =
+                const float score = use_coh ? coh_ssd : ssd[c];
+                if ((double)score < e) {
+                    const uint32_t si = use_coh ? coh_si :
                         relief_match_query_sample(&query, c / (uint32_t)d->rotations);
-                    const int r = (int)(c % (uint32_t)d->rotations);
+                    const int r = use_coh ? coh_r : (int)(c % (uint32_t)d->rotations);
                     const uint32_t sv = d->sample[si];
                     const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
                     const double th = 2.0 * PI * r / d->rotations, ct = cos(th), sn = sin(th);
@@ -529,6 +635,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                             mesh->col[3 * (size_t)t + k] = mesh->col[3 * (size_t)sv + k];
                     }
                     textured[t] = 1;
+                    src[t] = si * (uint32_t)d->rotations + (uint32_t)r;
                     if (opts->matched)
                         opts->matched[t] = sv;
                     stats->pyramid_hits += query.subset != NULL;
@@ -539,6 +646,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                         goto done;
                     ++accepted;
                     ++stats->acceptances;
+                    stats->coherent += (size_t)use_coh;
                     ++run_acceptances;
                     --remaining;
                     if (opts->progress) {
@@ -581,6 +689,7 @@ done:
     stats->error_final = e;
     stats->seconds = relief_seconds() - t0;
     stats->match_seconds = m->kernel_seconds;
+    free(src);
     free(best);
     free(flag);
     free(ssd);

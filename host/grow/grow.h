@@ -21,6 +21,7 @@ typedef struct relief_grow_stats {
     size_t rejections;        /* draws at or above e, or no valid candidate */
     size_t no_candidate;      /* of the rejections: no valid candidate at all */
     size_t threshold_raises;  /* passes with no acceptance: e *= 1.1 */
+    size_t coherent;          /* of the acceptances: coherent candidates */
     size_t window_shrinks;
     size_t pyramid_hits;      /* sample pyramids: targets accepted from their box */
     size_t pyramid_misses;    /* boxes where nothing passed e: all samples scored */
@@ -72,6 +73,10 @@ typedef struct relief_grow_state {
     relief_rng rng;           /* the draw's MT19937, mid-sequence */
     relief_grow_stats stats;  /* counts so far (seconds: the growth's wall
                                  time so far) */
+    const uint32_t *source;   /* n_targets: the candidate each textured target
+                                 copied, sample vertex x R + rotation
+                                 (UINT32_MAX while untextured): where its
+                                 coherent candidates come from */
     const uint32_t *matched;  /* n_targets: the sample vertex each textured
                                  target copied (UINT32_MAX - 1 while
                                  untextured), when the growth keeps it

@@ -228,6 +228,7 @@ static void add_stats(relief_grow_stats *t, const relief_grow_stats *s)
     t->pruned += s->pruned;
     t->invalid += s->invalid;
     t->acceptances += s->acceptances;
+    t->coherent += s->coherent;
     t->rejections += s->rejections;
     t->no_candidate += s->no_candidate;
     t->threshold_raises += s->threshold_raises;

@@ -408,9 +408,10 @@ static void write_figures(FILE *f, const relief_report_content *c)
     fputs("</table>\n<table class=\"kv\"><caption>Growth</caption>\n", f);
     row(f, "levels, window, rotations", "%d, %d, %d", c->params->levels, c->params->window,
         c->params->rotations);
-    row(f, "mu, seed", "%s, %lu", num(a, sizeof a, g->mu), (unsigned long)c->params->seed);
+    row(f, "mu, seed, coherence", "%s, %lu, %s", num(a, sizeof a, g->mu),
+        (unsigned long)c->params->seed, num(b, sizeof b, c->params->coherence));
     row(f, "passes", "%zu", g->passes);
-    row(f, "acceptances", "%zu", g->acceptances);
+    row(f, "acceptances", "%zu (%zu coherent)", g->acceptances, g->coherent);
     row(f, "rejections", "%zu", g->rejections);
     row(f, "threshold raises", "%zu (e %s to %s)", g->threshold_raises,
         num(a, sizeof a, c->params->error), num(b, sizeof b, g->error_final));

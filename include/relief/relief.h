@@ -238,6 +238,11 @@ typedef struct relief_params {
     double mu;              /* shape weight; <0 means "1 without colour,
                                0.5 with"; else [0, 1] */
     uint32_t seed;          /* MT19937 seed; 1 */
+    double coherence;       /* kappa: a target takes its best coherent
+                               candidate (the sample that continues a
+                               neighbour's source patch) when that one's SSD
+                               is at most kappa x the minimum; 0 = off (paper
+                               000's draw alone); 0, or [1, 100] */
     int levels;             /* M hierarchy levels; 1 (mono-scale), [1, 8] */
     relief_backend backend; /* default auto */
     int device;             /* OpenCL device index; -1 = first usable */

@@ -33,8 +33,9 @@ static void setup_free(setup *u)
     relief_mesh_destroy(u->capture);
 }
 
-/* A small coloured plane with a low threshold: rejections, shrunk windows
- * and threshold raises, so every part of the state matters. */
+/* A small coloured plane with a low threshold and coherence: rejections,
+ * shrunk windows, threshold raises and coherent picks, so every part of the
+ * state matters. */
 static int setup_make(setup *u, relief_error *err)
 {
     relief_synth_params sp = relief_synth_params_default();
@@ -45,6 +46,9 @@ static int setup_make(setup *u, relief_error *err)
     u->p = relief_params_default();
     u->p.window = 2;
     u->p.error = 0.03;
+    /* Coherent candidates come from the targets' sources, which a resumed
+     * run must read back: without them it continues other patches. */
+    u->p.coherence = 2.0;
     return relief_synth(&sp, &u->capture, NULL, err) == RELIEF_OK &&
            relief_smooth(u->capture, &u->p, NULL, &u->s, err) == RELIEF_OK &&
            relief_match_data_build(u->s, u->p.rotations, relief_grow_mu(&u->p, 1), &u->d,
