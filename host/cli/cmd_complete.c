@@ -565,11 +565,6 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         case OPT_COHERENCE:
             if (!cli_parse_real(cmd, "--coherence", optarg, &p.coherence))
                 return EXIT_USAGE;
-            if (!(p.coherence == 0.0 || (p.coherence >= 1.0 && p.coherence <= 100.0))) {
-                fprintf(stderr, "relief %s: --coherence: %s is out of range: expected 0 "
-                        "(off) or 1..100\n", cmd, optarg);
-                return EXIT_USAGE;
-            }
             break;
         case OPT_MU:
             if (!cli_parse_real(cmd, "--mu", optarg, &p.mu))

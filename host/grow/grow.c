@@ -28,6 +28,7 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/rng.h"
+#include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
 #include "smooth/surface_check.h"
 
@@ -345,8 +346,9 @@ static relief_status restore_state(const relief_grow_state *r, relief_surface *s
  * (src[n] = s_n x R + r_n), the sample lying where t would be if the patch
  * around s_n continued past n, x = s_n' + R_s Rz(theta_n) (R_n^T (t' - n')),
  * at rotation r_n; its closest vertex, when that is a sample. Each distinct
- * candidate is scored in full by the matchers' own rm_score_candidate, on
- * the host, so every backend takes the same one. The lowest SSD (ties: the
+ * candidate is scored in full by the scalar reference
+ * (relief_score_host_one), on the host, so every backend takes the same
+ * one. The lowest SSD (ties: the
  * lower candidate index) goes to *ssd_out, its sample and rotation to
  * *si_out and *r_out. Returns 0 when no coherent candidate is valid. */
 static int coherent_best(const relief_surface *s, const relief_match_data *d,
@@ -390,12 +392,7 @@ static int coherent_best(const relief_surface *s, const relief_match_data *d,
             continue;
         if (nseen < MAX_SEEN)
             seen[nseen++] = cand;
-        if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start, d->vt,
-                               d->cell_start, d->cell_items, d->grid, d->dims, d->lgrid,
-                               d->ldims, d->lmask, d->lslot, d->litems, d->s_proj + 3 * v2,
-                               d->s_frame + 9 * v2, d->cos_r[r], d->sin_r[r], q->n, q->qp, q->q,
-                               q->g, q->qcol, d->mu, d->inv_b2, q->inv_wsum, FLT_MAX,
-                               &ssd) != RM_VALID)
+        if (relief_score_host_one(d, q, v2, (int)r, FLT_MAX, &ssd) != RM_VALID)
             continue;
         if (!found || ssd < *ssd_out ||
             (ssd == *ssd_out && cand < *si_out * R + (uint32_t)*r_out)) {

@@ -11,6 +11,17 @@
 #define RM_WITH_SCORING
 #include "kernels/relief_math.h"
 
+int relief_score_host_one(const relief_match_data *d, const relief_match_query *q,
+                          uint32_t si, int r, float cutoff, float *ssd)
+{
+    return rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start, d->vt,
+                              d->cell_start, d->cell_items, d->grid, d->dims, d->lgrid,
+                              d->ldims, d->lmask, d->lslot, d->litems,
+                              d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
+                              d->cos_r[r], d->sin_r[r], q->n, q->qp, q->q, q->g, q->qcol,
+                              d->mu, d->inv_b2, q->inv_wsum, cutoff, ssd);
+}
+
 void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
                        uint8_t *flag)
 {
@@ -24,15 +35,9 @@ void relief_score_host_strided(const relief_match_data *d, const relief_match_qu
     float cutoff = q->cutoff;
     for (uint32_t i = first; i < centres; i += step) {
         const uint32_t si = relief_match_query_sample(q, i);
-        const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
         for (int r = 0; r < d->rotations; ++r) {
             size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
-            int f = rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri,
-                                       d->vt_start, d->vt, d->cell_start, d->cell_items,
-                                       d->grid, d->dims, d->lgrid, d->ldims, d->lmask,
-                                       d->lslot, d->litems, sp, sf, d->cos_r[r], d->sin_r[r],
-                                       q->n, q->qp, q->q, q->g, q->qcol, d->mu, d->inv_b2,
-                                       q->inv_wsum, cutoff, &ssd[c]);
+            int f = relief_score_host_one(d, q, si, r, cutoff, &ssd[c]);
             flag[c] = (uint8_t)f;
             if (q->running && f == RM_VALID) {
                 float c11 = relief_match_cutoff_after(ssd[c]);
@@ -53,12 +58,7 @@ float relief_score_host_probe(const relief_match_data *d, const relief_match_que
         const uint32_t si = relief_match_query_sample(q, (uint32_t)(c / (size_t)d->rotations));
         const int r = (int)(c % (size_t)d->rotations);
         float s;
-        if (rm_score_candidate(d->proj, d->pos, d->col, d->matchable, d->tri, d->vt_start,
-                               d->vt, d->cell_start, d->cell_items, d->grid, d->dims,
-                               d->lgrid, d->ldims, d->lmask, d->lslot, d->litems,
-                               d->s_proj + 3 * (size_t)si, d->s_frame + 9 * (size_t)si,
-                               d->cos_r[r], d->sin_r[r], q->n, q->qp, q->q, q->g, q->qcol,
-                               d->mu, d->inv_b2, q->inv_wsum, best, &s) == RM_VALID &&
+        if (relief_score_host_one(d, q, si, r, best, &s) == RM_VALID &&
             s < best)
             best = s;
     }

@@ -12,6 +12,12 @@
 relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
                                            relief_error *err);
 
+/* Score one candidate, sample index si (into d->sample) at rotation r,
+ * against the query with the given cutoff: rm_score_candidate on the
+ * host's arrays. Returns its RM_VALID / RM_PRUNED / RM_INVALID flag. */
+int relief_score_host_one(const relief_match_data *d, const relief_match_query *q,
+                          uint32_t si, int r, float cutoff, float *ssd);
+
 /* The scalar reference's loop: score the query's candidates in order on
  * this thread, lowering a running cutoff when q->running. The OpenCL
  * matcher also runs it for launches too small to pay for themselves. */

@@ -76,7 +76,7 @@ expect 1 "--rotations" -- "$relief" complete "$in" -o "$tmp/o.ply" --rotations 0
 expect 1 "--error" -- "$relief" complete "$in" -o "$tmp/o.ply" --error nan
 expect 1 "error threshold" -- "$relief" complete "$in" -o "$tmp/o.ply" --error -1
 expect 1 "--mu" -- "$relief" complete "$in" -o "$tmp/o.ply" --mu 1.5
-expect 1 "--coherence" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence 0.5
+expect 1 "coherence 0.5 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence 0.5
 expect 1 "--coherence" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence nan
 expect 1 "--levels" -- "$relief" complete "$in" -o "$tmp/o.ply" --levels 0
 expect 1 "--backend" -- "$relief" complete "$in" -o "$tmp/o.ply" --backend cuda
