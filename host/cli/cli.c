@@ -25,6 +25,7 @@ static const char main_help[] =
     "  smooth IN -o OUT      fit and smooth completion only\n"
     "  fit IN                fit a primitive and print it\n"
     "  synth KIND -o OUT     write a synthetic partial surface with ground truth\n"
+    "  cut IN -o OUT         cut a hole out of a whole mesh, with ground truth\n"
     "  eval COMPLETED        measure a completion\n"
     "  render MESH -o P.png  a shaded picture of a mesh\n"
     "  devices               list OpenCL devices\n"
@@ -61,6 +62,8 @@ int relief_cli_main(int argc, char **argv, int parse_only)
         return cli_cmd_complete(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "smooth") == 0)
         return cli_cmd_smooth(argc - 1, argv + 1, parse_only);
+    if (strcmp(cmd, "cut") == 0)
+        return cli_cmd_cut(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "synth") == 0)
         return cli_cmd_synth(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "fit") == 0)

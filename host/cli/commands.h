@@ -6,6 +6,7 @@
 
 int cli_cmd_complete(int argc, char **argv, int parse_only);
 int cli_cmd_smooth(int argc, char **argv, int parse_only);
+int cli_cmd_cut(int argc, char **argv, int parse_only);
 int cli_cmd_synth(int argc, char **argv, int parse_only);
 int cli_cmd_fit(int argc, char **argv, int parse_only);
 int cli_cmd_eval(int argc, char **argv, int parse_only);

@@ -59,21 +59,35 @@ int cli_parse_real(const char *cmd, const char *opt, const char *s, double *out)
     return 1;
 }
 
-/* Comma-separated reals: "z0,z1" or "u0,v0,u1,v1". */
-int cli_parse_extent(const char *cmd, const char *s, relief_params *p)
+/* Comma-separated reals, each checked as cli_parse_real does. */
+int cli_parse_reals(const char *cmd, const char *opt, const char *s, double *out, int max,
+                    int *n)
 {
     char buf[256], *tok, *save = NULL;
-    int n = 0;
+    if (strlen(s) >= sizeof buf) {
+        fprintf(stderr, "relief %s: %s: '%.40s...' is too long\n", cmd, opt, s);
+        return 0;
+    }
     snprintf(buf, sizeof buf, "%s", s);
+    *n = 0;
     for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        if (n == 4) {
-            fprintf(stderr, "relief %s: --extent: more than 4 values in '%s'\n", cmd, s);
+        if (*n == max) {
+            fprintf(stderr, "relief %s: %s: more than %d values in '%s'\n", cmd, opt, max, s);
             return 0;
         }
-        if (!cli_parse_real(cmd, "--extent", tok, &p->extent[n]))
+        if (!cli_parse_real(cmd, opt, tok, &out[*n]))
             return 0;
-        ++n;
+        ++*n;
     }
+    return 1;
+}
+
+/* "z0,z1" or "u0,v0,u1,v1". */
+int cli_parse_extent(const char *cmd, const char *s, relief_params *p)
+{
+    int n;
+    if (!cli_parse_reals(cmd, "--extent", s, p->extent, 4, &n))
+        return 0;
     if (n != 2 && n != 4) {
         fprintf(stderr,
                 "relief %s: --extent: expected z0,z1 (cylinder) or u0,v0,u1,v1 "

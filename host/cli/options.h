@@ -22,7 +22,7 @@ enum {
     OPT_FRAMES, OPT_OVERSAMPLE_SCHEME, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
     OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_MAX_MEMORY,
     OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE, OPT_COLOUR_BY, OPT_ACCEPT_POOR_FIT, OPT_MAX_GROWTH,
-    OPT_COHERENCE
+    OPT_COHERENCE, OPT_BALL, OPT_SLAB
 };
 
 /* Print "relief CMD: error: <message>" and return the status's exit code. */
@@ -37,6 +37,10 @@ int cli_parse_int(const char *cmd, const char *opt, const char *s, long lo, long
 
 /* A finite real. */
 int cli_parse_real(const char *cmd, const char *opt, const char *s, double *out);
+
+/* A comma-separated list of at most `max` finite reals into out[0 .. *n). */
+int cli_parse_reals(const char *cmd, const char *opt, const char *s, double *out, int max,
+                    int *n);
 
 /* --extent: "z0,z1" (cylinder) or "u0,v0,u1,v1" (plane) into p->extent. */
 int cli_parse_extent(const char *cmd, const char *s, relief_params *p);

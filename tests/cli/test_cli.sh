@@ -28,7 +28,7 @@ printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n' > "$tmp/squa
 # Help and version.
 expect 0 "usage: relief COMMAND" -- "$relief" --help
 expect 0 "relief 0." -- "$relief" --version
-for c in complete smooth fit synth eval devices; do
+for c in complete smooth fit synth cut eval devices; do
   expect 0 "usage: relief $c" -- "$relief" $c --help
 done
 expect 1 "unknown command" -- "$relief" frobnicate
@@ -52,6 +52,27 @@ expect 1 "unknown output format" -- "$relief" synth plane-waves -o "$tmp/g.xyz"
 [[ ! -e $tmp/g.ply && ! -e $tmp/g.xyz ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed synth"; fail=$((fail+1)); }
 leftovers=$(find "$tmp" -name '*.tmp-*' | wc -l)
 [[ $leftovers -eq 0 ]] && pass=$((pass+1)) || { echo "FAIL: $leftovers temporary files left"; fail=$((fail+1)); }
+
+# cut: a hole where the truth is known; the truth's labels say which part
+# the capture lacks; bad regions and outputs are refused with nothing written.
+expect 0 "vertices cut" -- "$relief" cut "$tmp/at.ply" -o "$tmp/cut.ply" --truth "$tmp/cutt.ply" --ball 1,0,0,0.5
+ncut=$(grep -o '^relief cut: .*: [0-9]* of' "$tmp/err" | grep -o '[0-9]* of$' | cut -d' ' -f1)
+expect 0 "" -- "$relief" eval "$tmp/cutt.ply"
+if [[ -n $ncut ]] && grep -q "vertices: [0-9]* captured, $ncut completed" "$tmp/out"; then pass=$((pass+1)); else echo "FAIL: cut's truth does not label its $ncut cut vertices 1"; fail=$((fail+1)); fi
+expect 0 "" -- "$relief" cut "$tmp/at.ply" -o "$tmp/band.off" --slab 0,0,0,0,0,1,0.3
+expect 1 "exactly one region" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply"
+expect 1 "exactly one region" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,0,1 --slab 0,0,0,0,0,1,1
+expect 1 "expected X,Y,Z,R" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,0
+expect 1 "not a finite number" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,0,nan
+expect 1 "radius > 0" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,0,0
+expect 1 "zero vector" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --slab 0,0,0,0,0,0,1
+expect 1 "nothing to fill" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 100,0,0,1
+expect 1 "nothing is left captured" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,0,1000
+expect 1 "never overwrites" -- "$relief" cut "$tmp/at.ply" -o "$tmp/at.ply" --ball 1,0,0,0.5
+expect 1 "never overwrites" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --truth "$tmp/at.ply" --ball 1,0,0,0.5
+expect 1 "no mesh extension" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.xyz" --ball 1,0,0,0.5
+[[ ! -e $tmp/x.ply && ! -e $tmp/x.xyz ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed cut"; fail=$((fail+1)); }
+cmp -s "$tmp/at.ply" "$tmp/bt.ply" && pass=$((pass+1)) || { echo "FAIL: cut changed its input"; fail=$((fail+1)); }
 
 # complete and smooth validate options and input before anything else.
 in=$tmp/a.ply
