@@ -230,13 +230,43 @@ static relief_status save_checkpoint(void *ctx, const relief_grow_state *g, reli
  * interrupts at a known point. */
 typedef struct progress_hook {
     double last;
-    int print;
+    int print;    /* the progress line (a terminal) */
+    int estimate; /* say once how long a long growth will take */
+    int checkpoint; /* --checkpoint given */
+    double estimate_after, estimate_min; /* seconds */
     size_t sigint_after, seen;
 } progress_hook;
+
+/* After `estimate_after` seconds of growth (2), the time left by the rate
+ * measured so far, printed once (terminal or not) when it is over
+ * `estimate_min` seconds (60): a user who did not expect hours can stop it
+ * while it is cheap. The CLI test sets both to 0 with
+ * RELIEF_TEST_ESTIMATE_NOW=1. */
+
+static void print_estimate(progress_hook *h, const relief_grow_progress *p)
+{
+    double rate, left;
+    if (p->done == 0 || !(p->seconds > 0))
+        return; /* no rate yet */
+    h->estimate = 0;
+    if (p->done >= p->total)
+        return;
+    rate = (double)p->done / p->seconds;
+    left = (double)(p->total - p->done) / rate;
+    if (left < h->estimate_min)
+        return;
+    fprintf(stderr,
+            "%srelief complete: estimated %.1f min more for the %zu targets left "
+            "(%.2f targets/s over the first %.0f s); SIGINT stops it%s\n",
+            h->print ? "\r" : "", left / 60.0, p->total - p->done, rate, p->seconds,
+            h->checkpoint ? " and saves the checkpoint" : "");
+}
 
 static void on_progress(void *ctx, const relief_grow_progress *p)
 {
     progress_hook *h = ctx;
+    if (h->estimate && p->seconds >= h->estimate_after)
+        print_estimate(h, p);
     if (h->print)
         print_progress(&h->last, p);
     if (h->sigint_after && ++h->seen == h->sigint_after)
@@ -296,7 +326,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     relief_backend used_backend = RELIEF_BACKEND_SCALAR;
     char used_device[256] = "";
     saver sv = {rc->checkpoint, &key};
-    progress_hook hook = {-1.0, !quiet && isatty(2), 0, 0};
+    progress_hook hook = {-1.0, !quiet && isatty(2), !quiet, rc->checkpoint != NULL, 2.0, 60.0,
+                          0, 0};
     const char *hook_env = getenv("RELIEF_TEST_SIGINT_AFTER");
     const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
     device_failure fail_hook = {0, 0};
@@ -316,6 +347,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     go->cancel = &interrupted;
     if (hook_env)
         hook.sigint_after = strtoul(hook_env, NULL, 10);
+    if (getenv("RELIEF_TEST_ESTIMATE_NOW"))
+        hook.estimate_after = hook.estimate_min = 0.0;
     relief_checkpoint_key_make(in, p, o, go, &key);
     if (rc->resume) {
         st = relief_checkpoint_read(rc->resume, &key, &ck, &err);
@@ -364,10 +397,14 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     }
     if (st == RELIEF_OK && !quiet)
         fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "
-                "W %d, R %d, e %g, mu %g\n",
+                "W %d, R %d, e %g, mu %g; growth memory about %.0f MiB\n",
                 relief_fit_model_name(s->fit.prim.model), s->spacing, s->n_samples,
                 s->n_targets, p->window, p->rotations, p->error,
-                relief_grow_mu(p, relief_mesh_colours(s->mesh) != NULL));
+                relief_grow_mu(p, relief_mesh_colours(s->mesh) != NULL),
+                (double)relief_estimate_growth(relief_mesh_vertex_count(s->mesh),
+                                               relief_mesh_triangle_count(s->mesh),
+                                               s->n_samples, p->rotations) /
+                    (1024.0 * 1024.0));
     if (st == RELIEF_OK && hier && !quiet) {
         fprintf(stderr, "relief complete: %d levels of", p->levels);
         for (int k = 0; k < p->levels; ++k)
@@ -380,7 +417,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     if (st == RELIEF_OK && report_dir)
         st = copy_mesh(s->mesh, &smooth_mesh, &err);
     if (st == RELIEF_OK) {
-        if (hook.print || hook.sigint_after) {
+        if (hook.print || hook.estimate || hook.sigint_after) {
             go->progress = on_progress;
             go->progress_ctx = &hook;
         }

@@ -40,6 +40,11 @@ ok '[[ ! -e $tmp/i.ply && ! -e $tmp/i.json ]]' "output left by an interrupted ru
 
 # Interrupted twice (the second time while resuming), then finished: the
 # same bytes and the same counts as the run never interrupted.
+# The time a growth will take, said once (here at once, by the test hook).
+expect 130 "SIGINT stops it and saves the checkpoint" -- env RELIEF_TEST_ESTIMATE_NOW=1 RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]/--quiet/--window=2}" -o "$tmp/r.ply" --checkpoint "$tmp/ck"
+grep -q "estimated .* min more for the .* targets left" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no time estimate"; fail=$((fail+1)); }
+expect 130 "" -- env RELIEF_TEST_ESTIMATE_NOW=1 RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]}" -o "$tmp/r.ply"
+grep -q "estimated" "$tmp/err" && { echo "FAIL: -q prints the time estimate"; fail=$((fail+1)); } || pass=$((pass+1))
 expect 130 "state saved to $tmp/ck" -- env RELIEF_TEST_SIGINT_AFTER=10 "$relief" "${run[@]}" -o "$tmp/r.ply" --checkpoint "$tmp/ck"
 ok '[[ -s $tmp/ck && ! -e $tmp/r.ply ]]' "no checkpoint, or an output, after the first interruption"
 expect 130 "interrupted after 40 of" -- env RELIEF_TEST_SIGINT_AFTER=30 "$relief" "${run[@]}" -o "$tmp/r.ply" --resume "$tmp/ck" --checkpoint "$tmp/ck"
