@@ -119,11 +119,21 @@ static const char smooth_help[] =
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
 
-/* A poor fit the user accepted (--accept-poor-fit) is still said. */
+/* A poor fit the user accepted (--accept-poor-fit) is still said, and so
+ * are the folded triangles the capture check dropped. */
 static void warn_poor_fit(const char *cmd, const relief_surface *s)
 {
+    const relief_fold_stats *f = &s->folds;
     if (s->fit.poor_fit)
         fprintf(stderr, "relief %s: warning: poor fit accepted: %s\n", cmd, s->fit.reason);
+    if (f->triangles > 0)
+        fprintf(stderr,
+                "relief %s: warning: %zu triangles (%.2f%% of the capture's area) fold back "
+                "over the fitted %s; they, the %zu vertices they touch and %zu triangles in "
+                "all were dropped, and the hole is completed\n",
+                cmd, f->triangles, 100.0 * f->area_fraction,
+                relief_fit_model_name(s->fit.prim.model), f->vertices_dropped,
+                f->triangles_dropped);
 }
 
 static int run_smooth(const char *in_path, relief_mesh *in, const char *out,

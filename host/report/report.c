@@ -49,6 +49,10 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_int(j, "samples", (long long)s->n_samples);
     rj_int(j, "targets", (long long)s->n_targets);
     rj_int(j, "dropped", (long long)s->n_dropped);
+    rj_int(j, "folded_triangles", (long long)s->folds.triangles);
+    rj_number(j, "folded_area_fraction", s->folds.area_fraction);
+    rj_int(j, "folded_triangles_dropped", (long long)s->folds.triangles_dropped);
+    rj_int(j, "folded_vertices_dropped", (long long)s->folds.vertices_dropped);
     rj_int(j, "vertices", (long long)relief_mesh_vertex_count(s->mesh));
     rj_int(j, "triangles", (long long)relief_mesh_triangle_count(s->mesh));
     rj_end_object(j);

@@ -514,10 +514,12 @@ static void set_frame(const relief_surface *s, relief_frames rule, const double 
     memcpy(f + 6, n, 3 * sizeof(double));
 }
 
-relief_status relief_smooth(const relief_mesh *capture, const relief_params *params,
+relief_status relief_smooth(const relief_mesh *input, const relief_params *params,
                             const relief_smooth_options *opts, relief_surface **out,
                             relief_error *err)
 {
+    const relief_mesh *capture = input; /* or `unfolded`, once checked */
+    relief_mesh *unfolded = NULL;
     relief_smooth_options dflt = relief_smooth_options_default();
     relief_oversample_params op = relief_oversample_params_default();
     relief_surface *s = NULL;
@@ -554,9 +556,11 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
                          relief_fit_model_name(pr->model), s->fit.size);
         goto fail;
     }
-    st = relief_capture_check(capture, pr, err);
+    st = relief_capture_check(capture, pr, &unfolded, &s->folds, err);
     if (st != RELIEF_OK)
         goto fail;
+    if (unfolded)
+        capture = unfolded;
     relief_param_init(&s->param, pr);
 
     s->spacing_from_capture = params->spacing <= 0.0;
@@ -715,6 +719,7 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
 
     coverage_free(&cov);
     relief_mesh_destroy(samples);
+    relief_mesh_destroy(unfolded);
     free(targets.p);
     *out = s;
     return RELIEF_OK;
@@ -722,6 +727,7 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_params *par
 fail:
     coverage_free(&cov);
     relief_mesh_destroy(samples);
+    relief_mesh_destroy(unfolded);
     free(targets.p);
     relief_surface_destroy(s);
     return st;

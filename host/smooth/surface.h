@@ -39,6 +39,15 @@ typedef struct relief_smooth_options {
 
 relief_smooth_options relief_smooth_options_default(void);
 
+/* What the capture check (surface_check.h) found folded and dropped. */
+typedef struct relief_fold_stats {
+    size_t triangles;         /* triangles facing away from the primitive */
+    double area_fraction;     /* their share of the capture's area */
+    size_t triangles_dropped; /* they and the triangles around their vertices */
+    size_t vertices_dropped;  /* every vertex of a folded triangle, and any
+                                 vertex left in no triangle */
+} relief_fold_stats;
+
 /* Stages timed by relief_smooth. */
 enum {
     RELIEF_STAGE_FIT,
@@ -64,6 +73,8 @@ typedef struct relief_surface {
     size_t n_samples;   /* samples, after oversampling */
     size_t n_targets;
     size_t n_dropped;   /* vertices left out: in no triangle (duplicates) */
+    relief_fold_stats folds; /* triangles folded over the primitive, dropped
+                                with their vertices before the fit's use */
     double *proj;       /* nv x 3: projection p' of each vertex on the primitive */
     double *disp;       /* nv x 3: displacement D = p - p' (0 for targets) */
     double *nrm;        /* nv x 3: the primitive's unit outward normal at p' */

@@ -67,13 +67,20 @@ static relief_status check_manifold(const relief_mesh *m, relief_error *err)
 }
 
 /* Triangles whose normal turns away from the primitive's: the capture
- * folds back over itself (or its triangles are not consistently wound). */
+ * folds back over itself (or its triangles are not consistently wound).
+ * Those over RELIEF_FOLD_AREA_MAX of the area are refused; fewer are the
+ * fringes a depth camera leaves at depth edges, and go, with every vertex
+ * they touch, so that the fold becomes a hole the completion fills. */
 static relief_status check_folds(const relief_mesh *m, const relief_fit_primitive *pr,
+                                 relief_mesh **unfolded, relief_fold_stats *fs,
                                  relief_error *err)
 {
     double with = 0.0, against = 0.0, total = 0.0, folded = 0.0, largest = 0.0;
     size_t n_folded = 0, worst = 0;
     signed char *side = malloc(m->nt + 1);
+    uint8_t *keep = NULL;
+    relief_status st = RELIEF_OK;
+
     if (!side)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's orientations");
     for (size_t t = 0; t < m->nt; ++t) {
@@ -103,11 +110,14 @@ static relief_status check_folds(const relief_mesh *m, const relief_fit_primitiv
             side[t] = -1, against += 0.5 * len;
     }
     /* The file may wind every triangle the other way: the majority decides
-     * which side is "with". */
+     * which side is "with". side[t] becomes 1 for a folded triangle. */
     for (size_t t = 0; t < m->nt; ++t) {
         double area;
-        if (side[t] == 0 || (side[t] > 0) == (with >= against))
+        if (side[t] == 0 || (side[t] > 0) == (with >= against)) {
+            side[t] = 0;
             continue;
+        }
+        side[t] = 1;
         area = relief_mesh_triangle_area(m, t);
         ++n_folded;
         folded += area;
@@ -116,29 +126,62 @@ static relief_status check_folds(const relief_mesh *m, const relief_fit_primitiv
             worst = t;
         }
     }
-    free(side);
+    fs->triangles = n_folded;
+    fs->area_fraction = total > 0.0 ? folded / total : 0.0;
     if (total > 0.0 && folded > RELIEF_FOLD_AREA_MAX * total) {
         const uint32_t *f = m->tri + 3 * worst;
         const double *p = m->pos + 3 * (size_t)f[0];
-        return relief_fail(err, RELIEF_E_MESH,
-                           "the capture overlaps itself over the fitted %s: %zu triangles "
-                           "(%.1f%% of its area, more than %.0f%%) face away from it, the "
-                           "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "
-                           "%.6g); relief needs a height field over the primitive (or the "
-                           "file's triangles are not consistently wound)",
-                           relief_fit_model_name(pr->model), n_folded, 100.0 * folded / total,
-                           100.0 * RELIEF_FOLD_AREA_MAX, worst, f[0], f[1], f[2], p[0], p[1],
-                           p[2]);
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "the capture overlaps itself over the fitted %s: %zu triangles "
+                         "(%.1f%% of its area, more than %.0f%%) face away from it, the "
+                         "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "
+                         "%.6g); relief needs a height field over the primitive (or the "
+                         "file's triangles are not consistently wound)",
+                         relief_fit_model_name(pr->model), n_folded, 100.0 * folded / total,
+                         100.0 * RELIEF_FOLD_AREA_MAX, worst, f[0], f[1], f[2], p[0], p[1],
+                         p[2]);
+    } else if (n_folded > 0) {
+        keep = malloc(m->nv);
+        if (!keep) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the unfolded capture");
+        } else {
+            memset(keep, 1, m->nv);
+            for (size_t t = 0; t < m->nt; ++t)
+                if (side[t])
+                    for (int i = 0; i < 3; ++i)
+                        keep[m->tri[3 * t + i]] = 0;
+            st = relief_mesh_subset(m, keep, unfolded, NULL, err);
+            if (st == RELIEF_OK && (*unfolded)->nt == 0) {
+                relief_mesh_destroy(*unfolded);
+                *unfolded = NULL;
+                st = relief_fail(err, RELIEF_E_MESH,
+                                 "the capture has no triangle left once its %zu folded "
+                                 "triangles and their vertices are dropped", n_folded);
+            }
+            if (st == RELIEF_OK) {
+                fs->vertices_dropped = m->nv - (*unfolded)->nv;
+                fs->triangles_dropped = m->nt - (*unfolded)->nt;
+            }
+        }
     }
-    return RELIEF_OK;
+    free(keep);
+    free(side);
+    return st;
 }
 
 relief_status relief_capture_check(const relief_mesh *capture,
-                                   const relief_fit_primitive *prim, relief_error *err)
+                                   const relief_fit_primitive *prim, relief_mesh **unfolded,
+                                   relief_fold_stats *folds, relief_error *err)
 {
-    relief_status st = check_manifold(capture, err);
+    relief_fold_stats dummy;
+    relief_status st;
+    if (!folds)
+        folds = &dummy;
+    memset(folds, 0, sizeof *folds);
+    *unfolded = NULL;
+    st = check_manifold(capture, err);
     if (st == RELIEF_OK)
-        st = check_folds(capture, prim, err);
+        st = check_folds(capture, prim, unfolded, folds, err);
     return st;
 }
 
