@@ -68,6 +68,9 @@ static const char complete_help[] =
     "                        (default 100; 0: no limit)\n"
     "  --accept-poor-fit     go on, with a warning, when the fit's rms is over 10%\n"
     "                        of the primitive's size (default: refuse)\n"
+    "  --keep-spikes         keep the capture's spikes as relief (default: a vertex\n"
+    "                        over 8 robust roughness scales outside its neighbours'\n"
+    "                        heights is a scanner spike, left out and completed)\n"
     "  --bootstrap           completed targets become matchable too\n"
     "  --no-prune            score every candidate in full (the paper's exhaustive\n"
     "                        search; same result, slower)\n"
@@ -115,12 +118,13 @@ static const char smooth_help[] =
     "  --max-growth R        refuse more than R targets per captured vertex\n"
     "                        (default 100; 0: no limit)\n"
     "  --accept-poor-fit     go on, with a warning, when the fit is poor\n"
+    "  --keep-spikes         keep the capture's spikes (default: left out)\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  --quiet               no progress output\n"
     "  -h, --help            this help\n";
 
 /* A poor fit the user accepted (--accept-poor-fit) is still said, and so
- * are the folded triangles the capture check dropped. */
+ * are the folded triangles and the spikes the capture check dropped. */
 static void warn_poor_fit(const char *cmd, const relief_surface *s)
 {
     const relief_fold_stats *f = &s->folds;
@@ -134,6 +138,14 @@ static void warn_poor_fit(const char *cmd, const relief_surface *s)
                 cmd, f->triangles, 100.0 * f->area_fraction,
                 relief_fit_model_name(s->fit.prim.model), f->vertices_dropped,
                 f->triangles_dropped);
+    if (s->spikes.vertices > 0)
+        fprintf(stderr,
+                "relief %s: warning: %zu capture vertices stand out of their neighbours' "
+                "heights by more than %.4g (8 robust scales of %.4g; the largest by %.4g): "
+                "taken for scanner spikes, left out with %zu triangles and completed "
+                "(--keep-spikes keeps them)\n",
+                cmd, s->spikes.vertices, s->spikes.threshold, s->spikes.scale,
+                s->spikes.largest, s->spikes.triangles_dropped);
 }
 
 static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
@@ -547,6 +559,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"oversample-scheme", required_argument, 0, OPT_OVERSAMPLE_SCHEME},
         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
         {"accept-poor-fit", no_argument, 0, OPT_ACCEPT_POOR_FIT},
+        {"keep-spikes", no_argument, 0, OPT_KEEP_SPIKES},
         {"max-growth", required_argument, 0, OPT_MAX_GROWTH},
         {"help", no_argument, 0, 'h'},
         /* complete only, from here ("window" ends smooth's options) */
@@ -690,6 +703,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
             }
             break;
         case OPT_ACCEPT_POOR_FIT: sopts.accept_poor_fit = 1; break;
+        case OPT_KEEP_SPIKES: sopts.spike_k = 0.0; break;
         case OPT_MAX_GROWTH:
             if (!cli_parse_real(cmd, "--max-growth", optarg, &sopts.max_growth))
                 return EXIT_USAGE;

@@ -50,7 +50,8 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
 {
     relief_smooth_options sd = relief_smooth_options_default();
     uint64_t h = FNV_START, counts[2] = {in->nv, in->nt};
-    char extent[128] = "none", error[32], mu[32], spacing[32], pct[32], coherence[32];
+    char extent[128] = "none", error[32], mu[32], spacing[32], pct[32], coherence[32],
+         spike_k[32];
     if (!so)
         so = &sd;
     h = fnv1a(h, counts, sizeof counts);
@@ -73,17 +74,18 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
     exact(coherence, sizeof coherence, p->coherence);
     exact(spacing, sizeof spacing, p->spacing);
     exact(pct, sizeof pct, so->spacing_percentile);
+    exact(spike_k, sizeof spike_k, so->spike_k);
     /* Everything that changes the result; backend, device and pruning do
      * not (the tests hold them to byte-identical outputs). */
     snprintf(key->params, sizeof key->params,
              "fit=%s window=%d rotations=%d error=%s mu=%s seed=%u levels=%d "
              "oversample=%d oversample_scheme=%s spacing=%s extent=%s frames=%s "
-             "spacing_percentile=%s bootstrap=%d coherence=%s",
+             "spacing_percentile=%s bootstrap=%d coherence=%s spike_k=%s",
              relief_fit_model_name(p->fit), p->window, p->rotations, error, mu,
              (unsigned)p->seed, p->levels, p->oversample,
              relief_oversample_scheme_name(so->oversample_scheme), spacing, extent,
              so->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive", pct,
-             go ? go->bootstrap : 0, coherence);
+             go ? go->bootstrap : 0, coherence, spike_k);
 }
 
 /* --------------------------------------------------------------- writing */

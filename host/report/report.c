@@ -53,6 +53,8 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_number(j, "folded_area_fraction", s->folds.area_fraction);
     rj_int(j, "folded_triangles_dropped", (long long)s->folds.triangles_dropped);
     rj_int(j, "folded_vertices_dropped", (long long)s->folds.vertices_dropped);
+    rj_int(j, "spikes_dropped", (long long)s->spikes.vertices);
+    rj_number(j, "spike_threshold", s->spikes.threshold);
     rj_int(j, "vertices", (long long)relief_mesh_vertex_count(s->mesh));
     rj_int(j, "triangles", (long long)relief_mesh_triangle_count(s->mesh));
     rj_end_object(j);

@@ -407,6 +407,7 @@ static void write_figures(FILE *f, const relief_report_content *c)
     row(f, "left out (duplicates)", "%zu", s->n_dropped);
     row(f, "folded triangles (dropped with their vertices)", "%zu (%zu vertices)",
         s->folds.triangles, s->folds.vertices_dropped);
+    row(f, "scanner spikes left out", "%zu", s->spikes.vertices);
     fputs("</table>\n<table class=\"kv\"><caption>Growth</caption>\n", f);
     row(f, "levels, window, rotations", "%d, %d, %d", c->params->levels, c->params->window,
         c->params->rotations);

@@ -45,6 +45,7 @@ relief_smooth_options relief_smooth_options_default(void)
     o.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
     o.accept_poor_fit = 0;
     o.max_growth = RELIEF_MAX_GROWTH;
+    o.spike_k = RELIEF_SPIKE_K;
     return o;
 }
 
@@ -518,8 +519,8 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
                             const relief_smooth_options *opts, relief_surface **out,
                             relief_error *err)
 {
-    const relief_mesh *capture = input; /* or `unfolded`, once checked */
-    relief_mesh *unfolded = NULL;
+    const relief_mesh *capture = input; /* or `unfolded`, `despiked`, once checked */
+    relief_mesh *unfolded = NULL, *despiked = NULL;
     relief_smooth_options dflt = relief_smooth_options_default();
     relief_oversample_params op = relief_oversample_params_default();
     relief_surface *s = NULL;
@@ -561,6 +562,13 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
         goto fail;
     if (unfolded)
         capture = unfolded;
+    if (opts->spike_k > 0.0) {
+        st = relief_capture_spikes(capture, pr, opts->spike_k, &despiked, &s->spikes, err);
+        if (st != RELIEF_OK)
+            goto fail;
+        if (despiked)
+            capture = despiked;
+    }
     relief_param_init(&s->param, pr);
 
     s->spacing_from_capture = params->spacing <= 0.0;
@@ -719,6 +727,7 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
 
     coverage_free(&cov);
     relief_mesh_destroy(samples);
+    relief_mesh_destroy(despiked);
     relief_mesh_destroy(unfolded);
     free(targets.p);
     *out = s;
@@ -727,6 +736,7 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
 fail:
     coverage_free(&cov);
     relief_mesh_destroy(samples);
+    relief_mesh_destroy(despiked);
     relief_mesh_destroy(unfolded);
     free(targets.p);
     relief_surface_destroy(s);

@@ -1,6 +1,7 @@
 /* Geometry the method cannot handle (surface_check.h). */
 #include "smooth/surface_check.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 
 #include "base/error.h"
 #include "base/knn.h"
+#include "base/linalg.h"
 #include "mesh/mesh.h"
 
 /* ---------------------------------------------------------------- capture */
@@ -182,6 +184,105 @@ relief_status relief_capture_check(const relief_mesh *capture,
     st = check_manifold(capture, err);
     if (st == RELIEF_OK)
         st = check_folds(capture, prim, unfolded, folds, err);
+    return st;
+}
+
+/* ----------------------------------------------------------------- spikes */
+
+relief_status relief_capture_spikes(const relief_mesh *m, const relief_fit_primitive *pr,
+                                    double k, relief_mesh **despiked, relief_spike_stats *sp,
+                                    relief_error *err)
+{
+    relief_adjacency adj = {NULL, NULL};
+    double *h = malloc((m->nv + 1) * sizeof *h), *r = malloc((m->nv + 1) * sizeof *r);
+    double *ring = NULL, *absr = malloc((m->nv + 1) * sizeof *absr);
+    uint8_t *keep = NULL;
+    size_t n_tested = 0, ring_max = 0;
+    relief_status st;
+
+    memset(sp, 0, sizeof *sp);
+    *despiked = NULL;
+    if (!h || !r || !absr) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's spike test");
+        goto done;
+    }
+    st = relief_mesh_adjacency(m, &adj, err);
+    if (st != RELIEF_OK)
+        goto done;
+    for (size_t v = 0; v < m->nv; ++v) {
+        h[v] = relief_fit_distance(pr, m->pos + 3 * v);
+        if (adj.start[v + 1] - adj.start[v] > ring_max)
+            ring_max = adj.start[v + 1] - adj.start[v];
+    }
+    ring = malloc((ring_max + 1) * sizeof *ring);
+    keep = malloc(m->nv + 1);
+    if (!ring || !keep) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's spike test");
+        goto done;
+    }
+    /* r: each vertex's excess outside its neighbours' heights (0 for a
+     * vertex with fewer than 3 neighbours: no local test); absr: |h - the
+     * neighbours' median|, whose median gives the scale. */
+    for (size_t v = 0; v < m->nv; ++v) {
+        size_t n = adj.start[v + 1] - adj.start[v];
+        double lo = DBL_MAX, hi = -DBL_MAX;
+        r[v] = 0.0;
+        if (n < 3)
+            continue;
+        for (size_t i = 0; i < n; ++i) {
+            ring[i] = h[adj.nbr[adj.start[v] + i]];
+            lo = fmin(lo, ring[i]);
+            hi = fmax(hi, ring[i]);
+        }
+        absr[n_tested++] = fabs(h[v] - relief_select_median(ring, n));
+        r[v] = h[v] > hi ? h[v] - hi : h[v] < lo ? lo - h[v] : 0.0; /* the excess */
+    }
+    if (n_tested == 0)
+        goto done;
+    /* Never below the precision of a float file (1e-6 of the capture's
+     * size): over a noise-free surface that is exactly flat in places the
+     * median is 0 and rounding alone would stand out. */
+    {
+        double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+        for (size_t v = 0; v < m->nv; ++v)
+            for (int k3 = 0; k3 < 3; ++k3) {
+                lo[k3] = fmin(lo[k3], m->pos[3 * v + k3]);
+                hi[k3] = fmax(hi[k3], m->pos[3 * v + k3]);
+            }
+        sp->scale = fmax(1.4826 * relief_select_median(absr, n_tested),
+                         1e-6 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                                     (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                     (hi[2] - lo[2]) * (hi[2] - lo[2])));
+    }
+    sp->threshold = k * sp->scale;
+    memset(keep, 1, m->nv);
+    for (size_t v = 0; v < m->nv; ++v) {
+        if (fabs(r[v]) > sp->largest)
+            sp->largest = fabs(r[v]);
+        if (fabs(r[v]) > sp->threshold) {
+            keep[v] = 0;
+            ++sp->vertices;
+        }
+    }
+    if (sp->vertices == 0)
+        goto done;
+    st = relief_mesh_subset(m, keep, despiked, NULL, err);
+    if (st == RELIEF_OK && (*despiked)->nt == 0) {
+        relief_mesh_destroy(*despiked);
+        *despiked = NULL;
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "the capture has no triangle left once its %zu spikes are dropped; "
+                         "--keep-spikes keeps them", sp->vertices);
+    }
+    if (st == RELIEF_OK)
+        sp->triangles_dropped = m->nt - (*despiked)->nt;
+done:
+    relief_adjacency_free(&adj);
+    free(keep);
+    free(ring);
+    free(absr);
+    free(r);
+    free(h);
     return st;
 }
 

@@ -40,6 +40,23 @@ relief_status relief_capture_check(const relief_mesh *capture,
                                    const relief_fit_primitive *prim, relief_mesh **unfolded,
                                    relief_fold_stats *folds, relief_error *err);
 
+/* Scanner spikes, flying pixels and rim fringes are not relief. For each
+ * capture vertex v with 3 or more neighbours (h: the signed distance to the
+ * primitive), its excess is how far h(v) lies outside [min, max] of its
+ * neighbours' h (0 inside: a band's edge or a dimple's rim is not a
+ * spike); the scale is 1.4826 x the median of |h(v) - the median of its
+ * neighbours' h| over those vertices (the standard deviation for Gaussian
+ * roughness), and at least 1e-6 of the capture's bounding-box diagonal
+ * (a float file's precision); a vertex whose excess is over k x scale is
+ * a spike. *despiked (the
+ * caller's) is the capture without the spikes and their triangles, NULL
+ * when there is none; *sp counts them. RELIEF_E_MESH when nothing would be
+ * left. */
+relief_status relief_capture_spikes(const relief_mesh *capture,
+                                    const relief_fit_primitive *prim, double k,
+                                    relief_mesh **despiked, relief_spike_stats *sp,
+                                    relief_error *err);
+
 /* Check a surface can be grown with windows of `window` edge hops.
  * RELIEF_E_MESH when targets have no path to a sample in the triangulation
  * (how many, and one of them with its position), when no sample has a

@@ -7,6 +7,7 @@
 
 #include "check.h"
 #include "mesh/mesh.h"
+#include "smooth/surface.h"
 #include "smooth/surface_check.h"
 
 /* An n x n grid of unit cells in z = 0, two triangles per cell, wound
@@ -139,6 +140,36 @@ int main(void)
         CHECK(relief_capture_check(m, &plane, &u, &fs, &err) == RELIEF_OK && !u &&
                   fs.triangles == 0,
               "a flat grid gave an unfolded copy: %s", err.message);
+        relief_mesh_destroy(u);
+        relief_mesh_destroy(m);
+    }
+    { /* Spikes: a rough grid (heights 0.01 x a fixed pattern) with one
+       * vertex lifted 1 above it: dropped, with its 6 triangles; the rough
+       * grid alone, and a step (a band's edge, every vertex inside its
+       * neighbours' range), keep everything. */
+        relief_mesh *m = grid(8, 0, 0), *u = NULL;
+        relief_spike_stats sp;
+        for (size_t v = 0; v < m->nv; ++v)
+            m->pos[3 * v + 2] = 0.01 * (double)((v * 7) % 5) / 4.0;
+        CHECK(relief_capture_spikes(m, &plane, RELIEF_SPIKE_K, &u, &sp, &err) == RELIEF_OK &&
+                  !u && sp.vertices == 0 && sp.scale > 0.0,
+              "a rough grid has %zu spikes (scale %g, largest %g): %s", sp.vertices, sp.scale,
+              sp.largest, err.message);
+        relief_mesh_destroy(u);
+        u = NULL;
+        m->pos[3 * 40 + 2] = 1.0; /* vertex 40: (4, 4), inside */
+        CHECK(relief_capture_spikes(m, &plane, RELIEF_SPIKE_K, &u, &sp, &err) == RELIEF_OK &&
+                  u && sp.vertices == 1 && sp.triangles_dropped == 6 && u->nv == m->nv - 1 &&
+                  sp.largest > 0.98,
+              "a spike: %zu dropped (%zu triangles), largest %g: %s", sp.vertices,
+              sp.triangles_dropped, sp.largest, err.message);
+        relief_mesh_destroy(u);
+        u = NULL;
+        for (size_t v = 0; v < m->nv; ++v) /* a step of 1 at x = 4 */
+            m->pos[3 * v + 2] = m->pos[3 * v] >= 4.0 ? 1.0 : 0.0;
+        CHECK(relief_capture_spikes(m, &plane, RELIEF_SPIKE_K, &u, &sp, &err) == RELIEF_OK &&
+                  !u && sp.vertices == 0,
+              "a step has %zu spikes: %s", sp.vertices, err.message);
         relief_mesh_destroy(u);
         relief_mesh_destroy(m);
     }
