@@ -60,6 +60,8 @@ static const char complete_help[] =
     "                        papers' coplanar edge midpoints)\n"
     "  --spacing S           target vertex spacing (default: from the capture)\n"
     "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
+    "  --fill REGION         auto (default), holes or whole: what to complete of\n"
+    "                        the uncovered primitive (see 'relief smooth --help')\n"
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
     "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
     "                        physical memory); a larger run is refused up front\n"
@@ -97,8 +99,13 @@ static const char smooth_help[] =
     "primitive over the missing region, in one manifold triangulation. OUT's\n"
     "per-vertex `label` is 0 for samples and 1 for targets.\n"
     "\n"
-    "Region: cylinder, the full turn over the capture's axial extent; sphere,\n"
-    "the whole sphere; plane, the holes inside the capture's outline.\n"
+    "Region (--fill): the holes inside the capture's outline, or the whole\n"
+    "uncovered primitive: the full turn of a cylinder over the capture's axial\n"
+    "extent (or --extent), the whole sphere, a plane's --extent. auto: a plane\n"
+    "its holes (the whole --extent when given); a cylinder or sphere the whole,\n"
+    "as for a one-sided scan's hidden side, unless the capture covers less\n"
+    "than 20% of it and has holes: a patch of a larger object, whose holes\n"
+    "alone are completed.\n"
     "Target spacing: the 10th percentile of the capture's edge lengths (a\n"
     "robust minimum: real scans have slivers), or --spacing.\n"
     "\n"
@@ -112,6 +119,7 @@ static const char smooth_help[] =
     "  --extent A,B[,C,D]    cylinder: z0,z1 along the fitted axis from its axis\n"
     "                        point; plane: u0,v0,u1,v1 in the plane's (e1, e2)\n"
     "                        frame from its fitted point (both in the report)\n"
+    "  --fill REGION         auto (default), holes or whole (above)\n"
     "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
     "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
     "                        physical memory); a larger run is refused up front\n"
@@ -124,7 +132,8 @@ static const char smooth_help[] =
     "  -h, --help            this help\n";
 
 /* A poor fit the user accepted (--accept-poor-fit) is still said, and so
- * are the folded triangles and the spikes the capture check dropped. */
+ * are the folded triangles and the spikes the capture check dropped, and a
+ * curved primitive's outside left alone. */
 static void warn_poor_fit(const char *cmd, const relief_surface *s)
 {
     const relief_fold_stats *f = &s->folds;
@@ -146,6 +155,15 @@ static void warn_poor_fit(const char *cmd, const relief_surface *s)
                 "(--keep-spikes keeps them)\n",
                 cmd, s->spikes.vertices, s->spikes.threshold, s->spikes.scale,
                 s->spikes.largest, s->spikes.triangles_dropped);
+    if (s->fill.region == RELIEF_FILL_HOLES && s->fill.outside_points > 0 &&
+        s->fit.prim.model != RELIEF_FIT_PLANE)
+        fprintf(stderr,
+                "relief %s: the capture covers %.1f%% of the fitted %s: completing the %zu "
+                "hole%s inside its outline (%zu targets); --fill whole completes the rest of "
+                "the %s too (%zu more)\n",
+                cmd, 100.0 * s->fill.cover, relief_fit_model_name(s->fit.prim.model),
+                s->fill.holes, s->fill.holes == 1 ? "" : "s", s->fill.hole_points,
+                relief_fit_model_name(s->fit.prim.model), s->fill.outside_points);
 }
 
 static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
@@ -560,6 +578,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"max-memory", required_argument, 0, OPT_MAX_MEMORY},
         {"accept-poor-fit", no_argument, 0, OPT_ACCEPT_POOR_FIT},
         {"keep-spikes", no_argument, 0, OPT_KEEP_SPIKES},
+        {"fill", required_argument, 0, OPT_FILL},
         {"max-growth", required_argument, 0, OPT_MAX_GROWTH},
         {"help", no_argument, 0, 'h'},
         /* complete only, from here ("window" ends smooth's options) */
@@ -721,6 +740,17 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
             else
                 return cli_usage_error(cmd, "--oversample-scheme: '%s' is not one of "
                                    "butterfly, midpoint", optarg);
+            break;
+        case OPT_FILL:
+            if (strcmp(optarg, "auto") == 0)
+                sopts.fill = RELIEF_FILL_AUTO;
+            else if (strcmp(optarg, "holes") == 0)
+                sopts.fill = RELIEF_FILL_HOLES;
+            else if (strcmp(optarg, "whole") == 0)
+                sopts.fill = RELIEF_FILL_WHOLE;
+            else
+                return cli_usage_error(cmd, "--fill: '%s' is not one of auto, holes, whole",
+                                       optarg);
             break;
         case OPT_FRAMES:
             if (strcmp(optarg, "paper") == 0)

@@ -10,13 +10,14 @@
 
 static const char cut_help[] =
     "usage: relief cut IN -o OUT (--ball X,Y,Z,R | --slab X,Y,Z,NX,NY,NZ,H)\n"
-    "                  [--truth T] [--ascii]\n"
+    "                  [--crop] [--truth T] [--ascii]\n"
     "\n"
     "Cut a hole where the truth is known: OUT is IN without the vertices inside\n"
     "the region (and the triangles touching them), a capture to complete; T is\n"
     "IN whole with `label` 1 on the vertices OUT lacks and 0 elsewhere, the\n"
     "truth `relief eval --truth` measures a completion against. Coordinates are\n"
-    "in IN's units. IN is never written.\n"
+    "in IN's units. IN is never written. With --crop OUT keeps only the region:\n"
+    "a patch of a larger scan, to cut a hole in next.\n"
     "\n"
     "  -o, --output OUT      the capture; required\n"
     "  --ball X,Y,Z,R        the vertices within R of the point (X, Y, Z)\n"
@@ -24,6 +25,7 @@ static const char cut_help[] =
     "                        the vertices within H of the plane through (X, Y, Z)\n"
     "                        with normal (NX, NY, NZ): a band across a cylinder\n"
     "                        when the normal is its axis\n"
+    "  --crop                keep the region and cut away the rest\n"
     "  --truth T             the whole mesh, labelled\n"
     "  --ascii               write ascii PLY (default binary)\n"
     "  -h, --help            this help\n";
@@ -34,8 +36,9 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
         {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
         {"ball", required_argument, 0, OPT_BALL}, {"slab", required_argument, 0, OPT_SLAB},
         {"ascii", no_argument, 0, OPT_ASCII},   {"help", no_argument, 0, 'h'},
+        {"crop", no_argument, 0, OPT_CROP},
         {0, 0, 0, 0}};
-    relief_cut_region region = {RELIEF_CUT_BALL, {0, 0, 0}, {0, 0, 0}, 0};
+    relief_cut_region region = {RELIEF_CUT_BALL, {0, 0, 0}, {0, 0, 0}, 0, 0};
     relief_write_options wo = {0};
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL, *cap = NULL, *truth = NULL;
@@ -43,7 +46,7 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
     double v[7];
     sigset_t held;
     size_t n_cut = 0;
-    int c, n, rc = 0, regions = 0;
+    int c, n, rc = 0, regions = 0, crop = 0;
 
     optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
@@ -55,7 +58,7 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
                 return EXIT_USAGE;
             if (n != 4)
                 return cli_usage_error("cut", "--ball: expected X,Y,Z,R, got '%s'", optarg);
-            region = (relief_cut_region){RELIEF_CUT_BALL, {v[0], v[1], v[2]}, {0, 0, 0}, v[3]};
+            region = (relief_cut_region){RELIEF_CUT_BALL, {v[0], v[1], v[2]}, {0, 0, 0}, v[3], 0};
             ++regions;
             break;
         case OPT_SLAB:
@@ -65,10 +68,11 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
                 return cli_usage_error("cut", "--slab: expected X,Y,Z,NX,NY,NZ,H, got '%s'",
                                        optarg);
             region = (relief_cut_region){RELIEF_CUT_SLAB, {v[0], v[1], v[2]},
-                                         {v[3], v[4], v[5]}, v[6]};
+                                         {v[3], v[4], v[5]}, v[6], 0};
             ++regions;
             break;
         case OPT_ASCII: wo.ascii = 1; break;
+        case OPT_CROP: crop = 1; break;
         case 'h': fputs(cut_help, stdout); return 0;
         default: fprintf(stderr, "Try 'relief cut --help'.\n"); return EXIT_USAGE;
         }
@@ -100,6 +104,7 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
         return 0;
     if (relief_mesh_read(in_path, &in, NULL, &err) != RELIEF_OK)
         return cli_fail("cut", &err);
+    region.crop = crop;
     if (relief_mesh_cut(in, &region, &cap, &truth, &n_cut, &err) != RELIEF_OK) {
         relief_mesh_destroy(in);
         return cli_fail("cut", &err);

@@ -22,6 +22,7 @@ static void report_params(relief_json *j, const relief_params *p,
         rj_null(j, "spacing");
     rj_number(j, "spacing_percentile", o->spacing_percentile);
     rj_string(j, "frames", o->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive");
+    rj_string(j, "fill", relief_fill_name(o->fill));
     if (p->has_extent) {
         rj_begin_array(j, "extent");
         for (int i = 0; i < p->n_extent; ++i)

@@ -80,12 +80,12 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
     snprintf(key->params, sizeof key->params,
              "fit=%s window=%d rotations=%d error=%s mu=%s seed=%u levels=%d "
              "oversample=%d oversample_scheme=%s spacing=%s extent=%s frames=%s "
-             "spacing_percentile=%s bootstrap=%d coherence=%s spike_k=%s",
+             "spacing_percentile=%s bootstrap=%d coherence=%s spike_k=%s fill=%s",
              relief_fit_model_name(p->fit), p->window, p->rotations, error, mu,
              (unsigned)p->seed, p->levels, p->oversample,
              relief_oversample_scheme_name(so->oversample_scheme), spacing, extent,
              so->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive", pct,
-             go ? go->bootstrap : 0, coherence, spike_k);
+             go ? go->bootstrap : 0, coherence, spike_k, relief_fill_name(so->fill));
 }
 
 /* --------------------------------------------------------------- writing */

@@ -44,6 +44,8 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_string(j, "spacing_source", s->spacing_from_capture
                                        ? "capture edge-length percentile"
                                        : "--spacing");
+    rj_string(j, "region", relief_fill_name(s->fill.region));
+    rj_number(j, "cover", s->fill.cover);
     rj_begin_object(j, "counts");
     rj_int(j, "captured", (long long)s->n_captured);
     rj_int(j, "samples", (long long)s->n_samples);
@@ -55,6 +57,9 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_int(j, "folded_vertices_dropped", (long long)s->folds.vertices_dropped);
     rj_int(j, "spikes_dropped", (long long)s->spikes.vertices);
     rj_number(j, "spike_threshold", s->spikes.threshold);
+    rj_int(j, "holes", (long long)s->fill.holes);
+    rj_int(j, "hole_points", (long long)s->fill.hole_points);
+    rj_int(j, "outside_points", (long long)s->fill.outside_points);
     rj_int(j, "vertices", (long long)relief_mesh_vertex_count(s->mesh));
     rj_int(j, "triangles", (long long)relief_mesh_triangle_count(s->mesh));
     rj_end_object(j);

@@ -403,6 +403,9 @@ static void write_figures(FILE *f, const relief_report_content *c)
     row(f, "captured vertices", "%zu", s->n_captured);
     row(f, "samples (oversampled)", "%zu", s->n_samples);
     row(f, "targets", "%zu", s->n_targets);
+    row(f, "region completed", "%s: %zu holes (%zu points); %zu points outside the outline; "
+        "the capture covers %.1f%%", relief_fill_name(s->fill.region), s->fill.holes,
+        s->fill.hole_points, s->fill.outside_points, 100.0 * s->fill.cover);
     row(f, "triangles", "%zu", s->mesh->nt);
     row(f, "left out (duplicates)", "%zu", s->n_dropped);
     row(f, "folded triangles (dropped with their vertices)", "%zu (%zu vertices)",

@@ -10,17 +10,14 @@
  * cylinder) or a Fibonacci lattice of the same density (sphere) and kept
  * where the capture does not cover the primitive: a lattice point is
  * covered when it lies within half a spacing of a capture triangle
- * projected on the primitive. On a plane without --extent, uncovered
- * lattice points connected to the lattice's border are outside the
- * capture's outline and dropped: what remains are its holes. */
-#include <float.h>
+ * projected on the primitive. Of the uncovered points, the holes the
+ * capture's outline encloses or all of them are kept (targets.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/compare.h"
-#include "base/knn.h"
 
 #include "base/clock.h"
 #include "base/error.h"
@@ -31,6 +28,7 @@
 #include "smooth/param.h"
 #include "smooth/surface.h"
 #include "smooth/surface_check.h"
+#include "smooth/targets.h"
 
 #define RM_REAL double
 #include "kernels/relief_math.h"
@@ -44,9 +42,15 @@ relief_smooth_options relief_smooth_options_default(void)
     o.spacing_percentile = 10.0;
     o.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
     o.accept_poor_fit = 0;
+    o.fill = RELIEF_FILL_AUTO;
     o.max_growth = RELIEF_MAX_GROWTH;
     o.spike_k = RELIEF_SPIKE_K;
     return o;
+}
+
+const char *relief_fill_name(relief_fill f)
+{
+    return f == RELIEF_FILL_HOLES ? "holes" : f == RELIEF_FILL_WHOLE ? "whole" : "auto";
 }
 
 void relief_surface_destroy(relief_surface *s)
@@ -97,248 +101,12 @@ static void to_param(const relief_surface *s, const double p[3], double uv[2])
     relief_param_coords(&s->param, p, uv);
 }
 
-static void from_param(const relief_surface *s, double u, double v, double p[3])
-{
-    relief_param_point(&s->param, u, v, p);
-}
-
-/* ---------------------------------------------------------- coverage */
-
-/* The capture's triangles projected on the primitive, with a kd-tree over
- * their centroids, to ask "is this point of the primitive covered?". */
-typedef struct coverage {
-    const relief_mesh *cap;
-    double *proj;      /* cap->nv x 3 projected capture vertices */
-    double *centroid;  /* cap->nt x 3 */
-    flann_index_t index;
-    struct FLANNParameters fp;
-    int k;
-    double lo[3], hi[3]; /* the projected capture's bounding box */
-} coverage;
-
-static void coverage_free(coverage *c)
-{
-    if (c->index)
-        flann_free_index_double(c->index, &c->fp);
-    free(c->proj);
-    free(c->centroid);
-}
-
-static relief_status coverage_build(coverage *c, const relief_mesh *cap,
-                                    const relief_fit_primitive *prim, relief_error *err)
-{
-    float speedup;
-    memset(c, 0, sizeof *c);
-    c->cap = cap;
-    c->proj = malloc(cap->nv * 3 * sizeof *c->proj);
-    c->centroid = malloc(cap->nt * 3 * sizeof *c->centroid);
-    if (!c->proj || !c->centroid)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the coverage index");
-    for (int k = 0; k < 3; ++k) {
-        c->lo[k] = DBL_MAX;
-        c->hi[k] = -DBL_MAX;
-    }
-    for (size_t v = 0; v < cap->nv; ++v) {
-        relief_fit_project(prim, cap->pos + 3 * v, c->proj + 3 * v);
-        for (int k = 0; k < 3; ++k) {
-            c->lo[k] = fmin(c->lo[k], c->proj[3 * v + k]);
-            c->hi[k] = fmax(c->hi[k], c->proj[3 * v + k]);
-        }
-    }
-    for (size_t t = 0; t < cap->nt; ++t)
-        for (int k = 0; k < 3; ++k)
-            c->centroid[3 * t + k] = (c->proj[3 * cap->tri[3 * t] + k] +
-                                      c->proj[3 * cap->tri[3 * t + 1] + k] +
-                                      c->proj[3 * cap->tri[3 * t + 2] + k]) / 3.0;
-    c->fp = relief_knn_exact_params();
-    c->k = cap->nt < 16 ? (int)cap->nt : 16;
-    c->index = flann_build_index_double(c->centroid, (int)cap->nt, 3, &speedup, &c->fp);
-    if (!c->index)
-        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not build a kd-tree");
-    return RELIEF_OK;
-}
-
-/* Is p (on the primitive) within sqrt(r2) of the nearest of the k projected
- * capture triangles whose centroids are nearest p? A point farther than
- * that from the capture's bounding box is not, without a search: most of a
- * sphere's or a cylinder's lattice lies far from a one-sided capture, and
- * there a kd-tree search visits most of the tree (a 2-million-target
- * sphere took minutes). */
-static int covered(const coverage *c, const double p[3], double r2)
-{
-    int idx[16];
-    double dist[16], box2 = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        double d = p[k] < c->lo[k] ? c->lo[k] - p[k] : p[k] > c->hi[k] ? p[k] - c->hi[k] : 0.0;
-        box2 += d * d;
-    }
-    if (box2 > r2)
-        return 0;
-    if (flann_find_nearest_neighbors_index_double(c->index, (double *)p, 1, idx, dist,
-                                                  c->k, (struct FLANNParameters *)&c->fp) != 0)
-        return 0;
-    for (int i = 0; i < c->k; ++i) {
-        const uint32_t *f = c->cap->tri + 3 * (size_t)idx[i];
-        if (rm_point_triangle_d2(p, c->proj + 3 * f[0], c->proj + 3 * f[1],
-                                 c->proj + 3 * f[2]) <= r2)
-            return 1;
-    }
-    return 0;
-}
-
-/* ------------------------------------------------------------ targets */
-
-typedef struct point_list {
-    double *p; /* n x 3 */
-    size_t n, cap;
-} point_list;
-
-static int push_point(point_list *l, const double p[3])
-{
-    if (l->n == l->cap) {
-        size_t cap = l->cap ? 2 * l->cap : 1024;
-        double *q = realloc(l->p, cap * 3 * sizeof *q);
-        if (!q)
-            return 0;
-        l->p = q;
-        l->cap = cap;
-    }
-    memcpy(l->p + 3 * l->n++, p, 3 * sizeof(double));
-    return 1;
-}
-
-/* Triangular lattice over [u0, u1] x [v0, v1] (plane) or the full turn
- * times [v0, v1] (cylinder, periodic in u); keep uncovered points, and on a
- * plane without extent only those enclosed by the capture. */
-static relief_status lattice_targets(const relief_surface *s, const coverage *cov,
-                                     double u0, double u1, double v0, double v1,
-                                     int periodic, int holes_only, point_list *out,
-                                     relief_error *err)
-{
-    const double sp = s->spacing, row = sp * sqrt(3.0) / 2.0;
-    const double cover2 = 0.25 * sp * sp; /* (half a spacing)^2 */
-    size_t nu, nv, n;
-    double du;
-    uint8_t *state = NULL; /* 0 covered, 1 uncovered, 2 outside */
-    size_t *stack = NULL, top = 0;
-    relief_status st = RELIEF_OK;
-
-    /* Count in double first: a tiny spacing must not overflow size_t. */
-    if (!((floor((u1 - u0) / sp) + 2.0) * (floor((v1 - v0) / row) + 1.0) <= 50000000.0))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "the target lattice would have about %.3g points (spacing %g over "
-                           "a %g x %g region); raise --spacing",
-                           (floor((u1 - u0) / sp) + 1.0) * (floor((v1 - v0) / row) + 1.0), sp,
-                           u1 - u0, v1 - v0);
-    if (periodic) {
-        nu = (size_t)floor((u1 - u0) / sp + 0.5);
-        if (nu < 3)
-            nu = 3;
-        du = (u1 - u0) / (double)nu;
-    } else {
-        nu = (size_t)floor((u1 - u0) / sp) + 1;
-        du = sp;
-    }
-    nv = (size_t)floor((v1 - v0) / row) + 1;
-    if (nu * nv > 50000000)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "the target lattice would have %zu x %zu points; raise --spacing",
-                           nu, nv);
-    n = nu * nv;
-    state = malloc(n);
-    stack = malloc(n * sizeof *stack);
-    if (!state || !stack) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-point lattice", n);
-        goto done;
-    }
-    /* Centre the rows in [v0, v1] so both ends get the same margin. */
-    v0 += 0.5 * ((v1 - v0) - (double)(nv - 1) * row);
-    for (size_t j = 0; j < nv; ++j)
-        for (size_t i = 0; i < nu; ++i) {
-            double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
-            from_param(s, u, v0 + (double)j * row, p);
-            state[j * nu + i] = !covered(cov, p, cover2);
-        }
-    if (holes_only) {
-        /* Flood the uncovered region from the lattice border: it is outside. */
-        for (size_t j = 0; j < nv; ++j)
-            for (size_t i = 0; i < nu; ++i)
-                if ((i == 0 || j == 0 || i == nu - 1 || j == nv - 1) &&
-                    state[j * nu + i] == 1) {
-                    state[j * nu + i] = 2;
-                    stack[top++] = j * nu + i;
-                }
-        while (top > 0) {
-            size_t at = stack[--top], i = at % nu, j = at / nu;
-            /* Six neighbours; odd rows sit half a column to the right. */
-            long di[6] = {-1, 1, 0, 1, 0, 1}, dj[6] = {0, 0, -1, -1, 1, 1};
-            if (j % 2 == 0)
-                di[2] = -1, di[3] = 0, di[4] = -1, di[5] = 0;
-            for (int q = 0; q < 6; ++q) {
-                long ii = (long)i + di[q], jj = (long)j + dj[q];
-                size_t nb;
-                if (ii < 0 || jj < 0 || ii >= (long)nu || jj >= (long)nv)
-                    continue;
-                nb = (size_t)jj * nu + (size_t)ii;
-                if (state[nb] == 1) {
-                    state[nb] = 2;
-                    stack[top++] = nb;
-                }
-            }
-        }
-    }
-    for (size_t j = 0; j < nv && st == RELIEF_OK; ++j)
-        for (size_t i = 0; i < nu; ++i)
-            if (state[j * nu + i] == 1) {
-                double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
-                if (periodic && u >= u1)
-                    u -= u1 - u0;
-                from_param(s, u, v0 + (double)j * row, p);
-                if (!push_point(out, p)) {
-                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
-                    break;
-                }
-            }
-done:
-    free(stack);
-    free(state);
-    return st;
-}
-
-/* Fibonacci lattice on the sphere at the density of a triangular lattice of
- * edge `spacing`; keep the uncovered points. */
-static relief_status sphere_targets(const relief_surface *s, const coverage *cov,
-                                    point_list *out, relief_error *err)
-{
-    const relief_fit_primitive *pr = &s->fit.prim;
-    const double sp = s->spacing, golden = PI * (3.0 - sqrt(5.0));
-    double area = 4.0 * PI * pr->radius * pr->radius;
-    double nf = area / (sp * sp * sqrt(3.0) / 2.0), e3[3];
-    size_t n;
-    if (nf > 50000000.0)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "the sphere would need %.0f targets; raise --spacing", nf);
-    n = (size_t)nf;
-    if (n < 12)
-        n = 12;
-    rm_cross(s->param.e1, s->param.e2, e3);
-    for (size_t i = 0; i < n; ++i) {
-        double z = 1.0 - 2.0 * ((double)i + 0.5) / (double)n, r = sqrt(1.0 - z * z);
-        double a = golden * (double)i, p[3];
-        for (int k = 0; k < 3; ++k)
-            p[k] = pr->point[k] + pr->radius * (r * cos(a) * s->param.e1[k] +
-                                                r * sin(a) * s->param.e2[k] + z * e3[k]);
-        if (!covered(cov, p, 0.25 * sp * sp) && !push_point(out, p))
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
-    }
-    return RELIEF_OK;
-}
-
 /* ------------------------------------------------------- triangulation */
 
-/* Triangulate all vertices of s->mesh in the parameter domain and keep the
- * triangles no wider than `alpha` (circumradius), which drops the long
- * triangles Delaunay spans across concave parts of the outline. */
+/* Triangulate all vertices of s->mesh in the parameter domain (on the
+ * sphere, their directions' convex hull) and keep the triangles no wider
+ * than `alpha` (circumradius, input units), which drops the long triangles
+ * Delaunay spans across concave parts of the outline. */
 static relief_status triangulate(relief_surface *s, double alpha, relief_error *err)
 {
     const relief_fit_primitive *pr = &s->fit.prim;
@@ -359,7 +127,22 @@ static relief_status triangulate(relief_surface *s, double alpha, relief_error *
         }
         st = relief_hull_sphere(dir, m->nv, &tri, &nt, NULL, err);
         free(dir);
-        kept = nt;
+        /* The hull also closes whatever the completion leaves open (the
+         * outside of a patch whose holes alone are filled) with faces
+         * across the sphere: drop them as the plane drops its long ones. */
+        for (size_t t = 0; st == RELIEF_OK && t < nt; ++t) {
+            const double *a = s->proj + 3 * (size_t)tri[3 * t];
+            const double *b = s->proj + 3 * (size_t)tri[3 * t + 1];
+            const double *c = s->proj + 3 * (size_t)tri[3 * t + 2];
+            double ab[3], ac[3], bc[3], x[3], r;
+            for (int k = 0; k < 3; ++k)
+                ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], bc[k] = c[k] - b[k];
+            rm_cross(ab, ac, x);
+            r = sqrt(rm_dot(ab, ab) * rm_dot(ac, ac) * rm_dot(bc, bc)) /
+                (2.0 * sqrt(rm_dot(x, x)));
+            if (!(r > alpha)) /* a degenerate triangle (r NaN) stays: not ours to judge */
+                memmove(tri + 3 * kept++, tri + 3 * t, 3 * sizeof *tri);
+        }
     } else {
         uv = malloc(m->nv * 2 * sizeof *uv);
         if (!uv)
@@ -525,13 +308,11 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
     relief_oversample_params op = relief_oversample_params_default();
     relief_surface *s = NULL;
     relief_mesh *samples = NULL, *m = NULL;
-    point_list targets = {0};
-    coverage cov;
+    relief_target_list targets = {0};
     relief_status st;
     double alpha, t0;
     const relief_fit_primitive *pr;
 
-    memset(&cov, 0, sizeof cov);
     if (!opts)
         opts = &dflt;
     op.scheme = opts->oversample_scheme;
@@ -582,56 +363,21 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
 
     /* Targets, from the capture as scanned (oversampling adds no coverage). */
     t0 = relief_seconds();
-    st = coverage_build(&cov, capture, pr, err);
-    if (st != RELIEF_OK)
-        goto fail;
-    if (pr->model == RELIEF_FIT_SPHERE) {
-        st = sphere_targets(s, &cov, &targets, err);
-    } else {
-        double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
-        for (size_t v = 0; v < capture->nv; ++v) {
-            double uv[2];
-            to_param(s, cov.proj + 3 * v, uv);
-            for (int k = 0; k < 2; ++k) {
-                lo[k] = fmin(lo[k], uv[k]);
-                hi[k] = fmax(hi[k], uv[k]);
-            }
-        }
-        if (pr->model == RELIEF_FIT_CYLINDER) {
-            double z0 = lo[1], z1 = hi[1];
-            if (params->has_extent) {
-                if (params->n_extent != 2) {
-                    st = relief_fail(err, RELIEF_E_USAGE,
-                                     "--extent for a cylinder takes 2 values z0,z1");
-                    goto fail;
-                }
-                z0 = params->extent[0];
-                z1 = params->extent[1];
-            }
-            st = lattice_targets(s, &cov, 0.0, 2.0 * PI * pr->radius, z0, z1, 1, 0,
-                                 &targets, err);
-        } else if (params->has_extent) {
-            if (params->n_extent != 4) {
-                st = relief_fail(err, RELIEF_E_USAGE,
-                                 "--extent for a plane takes 4 values u0,v0,u1,v1");
-                goto fail;
-            }
-            st = lattice_targets(s, &cov, params->extent[0], params->extent[2],
-                                 params->extent[1], params->extent[3], 0, 0, &targets, err);
-        } else {
-            st = lattice_targets(s, &cov, lo[0] - s->spacing, hi[0] + s->spacing,
-                                 lo[1] - s->spacing, hi[1] + s->spacing, 0, 1, &targets, err);
-        }
-    }
+    st = relief_targets_lay(capture, &s->param, s->spacing, params, opts->fill, &targets,
+                            &s->fill, err);
     if (st != RELIEF_OK)
         goto fail;
     if (targets.n == 0) {
-        st = relief_fail(err, RELIEF_E_MESH,
-                         "nothing to complete: the capture covers the whole region%s",
-                         pr->model == RELIEF_FIT_PLANE && !params->has_extent
-                             ? " (a plane is completed inside holes of its outline; "
-                               "give --extent u0,v0,u1,v1 to extend it)"
-                             : "");
+        if (s->fill.region == RELIEF_FILL_HOLES && s->fill.outside_points > 0)
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "nothing to complete: the capture has no hole inside its "
+                             "outline%s",
+                             pr->model == RELIEF_FIT_PLANE
+                                 ? " (give --extent u0,v0,u1,v1 to extend the plane past it)"
+                                 : "; --fill whole completes the rest of the primitive");
+        else
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "nothing to complete: the capture covers the whole region");
         goto fail;
     }
 
@@ -725,7 +471,6 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
     if (st != RELIEF_OK)
         goto fail;
 
-    coverage_free(&cov);
     relief_mesh_destroy(samples);
     relief_mesh_destroy(despiked);
     relief_mesh_destroy(unfolded);
@@ -734,7 +479,6 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
     return RELIEF_OK;
 
 fail:
-    coverage_free(&cov);
     relief_mesh_destroy(samples);
     relief_mesh_destroy(despiked);
     relief_mesh_destroy(unfolded);

@@ -14,6 +14,19 @@ typedef enum relief_frames {
     RELIEF_FRAMES_PRIMITIVE  /* aligned with the primitive's parameterisation */
 } relief_frames;
 
+/* Which uncovered region of the primitive is completed (targets.h). */
+typedef enum relief_fill {
+    RELIEF_FILL_AUTO,  /* holes of a patch, the whole of a one-sided scan */
+    RELIEF_FILL_HOLES, /* only the holes the capture's outline encloses */
+    RELIEF_FILL_WHOLE  /* every uncovered point of the region laid */
+} relief_fill;
+
+/* A capture covering less than this share of a cylinder's turn (over its
+ * axial extent) or of a sphere is a patch of something larger, not a
+ * one-sided scan: RELIEF_FILL_AUTO then completes its holes only. A depth
+ * camera sees a third to a half of a mug or a trunk, a golf ball's front. */
+#define RELIEF_ONE_SIDED_COVER 0.2
+
 /* Options of the smooth completion beyond relief_params. */
 typedef struct relief_smooth_options {
     relief_frames frames;     /* default RELIEF_FRAMES_PAPER */
@@ -31,6 +44,7 @@ typedef struct relief_smooth_options {
                                   spike, left out of the samples
                                   (surface_check.h); default
                                   RELIEF_SPIKE_K, 0: keep them */
+    relief_fill fill;          /* region completed; default RELIEF_FILL_AUTO */
     double max_growth;         /* refuse a completion of more than this many
                                   targets per captured vertex, the sign of a
                                   primitive that does not suit the capture
@@ -51,6 +65,9 @@ typedef struct relief_smooth_options {
 
 relief_smooth_options relief_smooth_options_default(void);
 
+/* "auto", "holes" or "whole". */
+const char *relief_fill_name(relief_fill f);
+
 /* What the capture check (surface_check.h) found folded and dropped. */
 typedef struct relief_fold_stats {
     size_t triangles;         /* triangles facing away from the primitive */
@@ -68,6 +85,16 @@ typedef struct relief_spike_stats {
     double threshold;         /* k x scale: a larger excess is a spike */
     double largest;           /* the largest excess in the capture */
 } relief_spike_stats;
+
+/* What the target lattice found uncovered and which part was completed. */
+typedef struct relief_fill_stats {
+    relief_fill region;       /* what was completed: HOLES or WHOLE */
+    size_t holes;             /* uncovered regions the capture's outline encloses */
+    size_t hole_points;       /* lattice points in them */
+    size_t outside_points;    /* uncovered lattice points outside the outline
+                                 (targets only when region is WHOLE) */
+    double cover;             /* share of the lattice the capture covers, 0..1 */
+} relief_fill_stats;
 
 /* Stages timed by relief_smooth. */
 enum {
@@ -88,7 +115,7 @@ typedef struct relief_surface {
     relief_fit_result fit;  /* the primitive and how well it fits */
     double spacing;     /* target spacing (input units) */
     double alpha;       /* widest triangle kept (circumradius in the parameter
-                           domain, input units; plane and cylinder) */
+                           domain, input units; on the sphere in space) */
     int spacing_from_capture; /* 1: derived from the capture, 0: --spacing */
     size_t n_captured;  /* capture vertices before oversampling */
     size_t n_samples;   /* samples, after oversampling */
@@ -97,6 +124,7 @@ typedef struct relief_surface {
     relief_fold_stats folds; /* triangles folded over the primitive, dropped
                                 with their vertices before the fit's use */
     relief_spike_stats spikes; /* scanner spikes dropped from the capture */
+    relief_fill_stats fill; /* the region completed (targets.h) */
     double *proj;       /* nv x 3: projection p' of each vertex on the primitive */
     double *disp;       /* nv x 3: displacement D = p - p' (0 for targets) */
     double *nrm;        /* nv x 3: the primitive's unit outward normal at p' */
@@ -109,12 +137,13 @@ typedef struct relief_surface {
 /* Fit a primitive to `capture`, oversample it (`params->oversample`
  * passes), lay targets on the primitive over the region to complete at the
  * target spacing, triangulate samples and targets together, and compute the
- * per-vertex state. Region: cylinder, the full turn over the capture's
- * axial extent (or params->extent z0,z1 along the axis from the fitted axis
- * point); sphere, the whole sphere; plane, the holes inside the capture's
- * outline (or params->extent u0,v0,u1,v1 in the plane's (e1, e2) frame
- * from the fitted point). RELIEF_E_MESH when the capture fits no primitive
- * well, has nothing to complete, or cannot be joined into a manifold. */
+ * per-vertex state. Region: opts->fill of the uncovered part of the
+ * cylinder's full turn over the capture's axial extent (or params->extent
+ * z0,z1 along the axis from the fitted axis point), of the sphere, or of
+ * the plane around the capture (or params->extent u0,v0,u1,v1 in the
+ * plane's (e1, e2) frame from the fitted point): targets.h. RELIEF_E_MESH
+ * when the capture fits no primitive well, has nothing to complete, or
+ * cannot be joined into a manifold. */
 relief_status relief_smooth(const relief_mesh *capture, const relief_params *params,
                             const relief_smooth_options *opts, relief_surface **out,
                             relief_error *err);
@@ -126,7 +155,7 @@ void relief_surface_destroy(relief_surface *s);
  * with their per-vertex state, labels and colours, re-triangulated as
  * relief_smooth triangulates (qhull in the primitive's parameter domain, or
  * on the sphere), keeping triangles of circumradius <= alpha (input units;
- * plane and cylinder). Vertices no triangle uses are left out.
+ * on the sphere too). Vertices no triangle uses are left out.
  * ids (at least as many entries as kept vertices) receives each level
  * vertex's id in s. RELIEF_E_MESH when the result is not manifold. */
 relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,

@@ -56,13 +56,16 @@ relief_status relief_mesh_cut(const relief_mesh *m, const relief_cut_region *reg
         goto done;
     }
     for (size_t v = 0; v < m->nv; ++v) {
-        keep[v] = !inside(&r, m->pos + 3 * v);
+        keep[v] = !inside(&r, m->pos + 3 * v) == !r.crop;
         inside_count += !keep[v];
     }
     if (inside_count == 0) {
         st = relief_fail(err, RELIEF_E_RANGE,
-                         "the cut region holds none of the mesh's %zu vertices: nothing "
-                         "to fill", m->nv);
+                         r.crop ? "the crop region holds every one of the mesh's %zu "
+                                  "vertices: nothing is cut away"
+                                : "the cut region holds none of the mesh's %zu vertices: "
+                                  "nothing to fill",
+                         m->nv);
         goto done;
     }
     st = relief_mesh_subset(m, keep, &cap, remap, err);
@@ -70,8 +73,10 @@ relief_status relief_mesh_cut(const relief_mesh *m, const relief_cut_region *reg
         goto done;
     if (cap->nt == 0) {
         st = relief_fail(err, RELIEF_E_RANGE,
-                         "the cut region takes every triangle of the mesh: nothing is "
-                         "left captured");
+                         r.crop ? "the crop region holds no triangle of the mesh: nothing "
+                                  "is left captured"
+                                : "the cut region takes every triangle of the mesh: nothing "
+                                  "is left captured");
         goto done;
     }
     free(cap->label);

@@ -68,6 +68,11 @@ expect 1 "radius > 0" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,
 expect 1 "zero vector" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --slab 0,0,0,0,0,0,1
 expect 1 "nothing to fill" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 100,0,0,1
 expect 1 "nothing is left captured" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --ball 0,0,0,1000
+# --crop keeps the region: a patch to cut a hole in next.
+expect 0 "vertices cut" -- "$relief" cut "$tmp/at.ply" -o "$tmp/patch.ply" --crop --ball 1,0,0,0.5
+expect 0 "vertices cut" -- "$relief" cut "$tmp/patch.ply" -o "$tmp/patchcut.ply" --ball 1,0,0,0.2
+expect 1 "nothing is cut away" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --crop --ball 0,0,0,1000
+expect 1 "nothing is left captured" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --crop --ball 100,0,0,1
 expect 1 "never overwrites" -- "$relief" cut "$tmp/at.ply" -o "$tmp/at.ply" --ball 1,0,0,0.5
 expect 1 "never overwrites" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.ply" --truth "$tmp/at.ply" --ball 1,0,0,0.5
 expect 1 "no mesh extension" -- "$relief" cut "$tmp/at.ply" -o "$tmp/x.xyz" --ball 1,0,0,0.5
@@ -90,6 +95,7 @@ for c in complete smooth; do
   expect 1 "extent is empty" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 2,1
   expect 1 "--oversample" -- "$relief" $c "$in" -o "$tmp/o.ply" --oversample 9
   expect 1 "unrecognized option" -- "$relief" $c "$in" -o "$tmp/o.ply" --bogus
+  expect 1 "not one of auto, holes, whole" -- "$relief" $c "$in" -o "$tmp/o.ply" --fill all
 done
 expect 1 "--window" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 0
 expect 1 "--window" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 17
@@ -180,6 +186,15 @@ grep -qF '"oversample_scheme": "midpoint"' "$tmp/sm4.json" && pass=$((pass+1)) |
 cmp -s "$tmp/sm.ply" "$tmp/sm4.ply" && { echo "FAIL: butterfly and midpoint oversampling gave the same mesh"; fail=$((fail+1)); } || pass=$((pass+1))
 expect 1 "--oversample-scheme" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm5.ply" --oversample-scheme loop
 [[ ! -e $tmp/sm5.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left after a bad --oversample-scheme"; fail=$((fail+1)); }
+# --fill: the one-sided bark has no hole of its own; its hidden side is the
+# whole (auto), and holes alone leave nothing to complete.
+expect 1 "no hole inside its outline; --fill whole" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm6.ply" --fill holes
+[[ ! -e $tmp/sm6.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left after --fill holes found none"; fail=$((fail+1)); }
+expect 0 "" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm6.ply" --fill whole --report "$tmp/sm6.json" --quiet
+for key in '"fill": "whole"' '"region": "whole"' '"holes": 0' '"cover":'; do
+  grep -qF "$key" "$tmp/sm6.json" && pass=$((pass+1)) || { echo "FAIL: smooth --fill whole report lacks $key"; fail=$((fail+1)); }
+done
+cmp -s "$tmp/sm.ply" "$tmp/sm6.ply" && pass=$((pass+1)) || { echo "FAIL: --fill whole differs from auto on a one-sided scan"; fail=$((fail+1)); }
 expect 1 "nothing to complete" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --report "$tmp/sq.json"
 [[ ! -e $tmp/sq.ply && ! -e $tmp/sq.json ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed smooth"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --extent=-1,-1,2,2 --spacing 0.2

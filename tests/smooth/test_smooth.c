@@ -1,7 +1,8 @@
 /* Smooth completion: the combined triangulation is manifold, oriented with
  * the primitive, of the expected topology (closed sphere, cylinder band,
  * plane disc), its targets sit on the primitive at the target spacing, and
- * the per-vertex state (D, normals, frames) is consistent. */
+ * the per-vertex state (D, normals, frames) is consistent; curved
+ * primitives complete a patch's holes and a one-sided scan's hidden side. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -218,6 +219,131 @@ static void test_plane(void)
     relief_surface_destroy(s);
 }
 
+/* A patch of the unit cylinder (angles 0..span_deg, z 0..1) or of the unit
+ * sphere (longitudes 0..span_deg, latitudes -span_deg/2..span_deg/2) with
+ * a gentle relief, on a grid of about 0.02, without the triangles whose
+ * centroid lies within `hole` of the patch's middle (0 for none). */
+static relief_mesh *patch(relief_fit_model model, double span_deg, double hole)
+{
+    const double span = span_deg * 3.14159265358979323846 / 180.0;
+    const int na = (int)ceil(span / 0.02) + 1;
+    const int nb = model == RELIEF_FIT_CYLINDER ? 51 : na;
+    const double centre[3] = {cos(span / 2), sin(span / 2), model == RELIEF_FIT_CYLINDER};
+    const size_t nv = (size_t)na * (size_t)nb;
+    double *pos = malloc(3 * nv * sizeof *pos);
+    uint32_t *tri = malloc(6 * nv * sizeof *tri);
+    relief_mesh *m = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    size_t nt = 0;
+
+    if (!pos || !tri) {
+        free(pos);
+        free(tri);
+        return NULL;
+    }
+    for (int i = 0; i < na; ++i)
+        for (int j = 0; j < nb; ++j) {
+            double *p = pos + 3 * ((size_t)i * (size_t)nb + (size_t)j), a = span * i / (na - 1);
+            double b = (double)j / (nb - 1), r = 1.0 + 0.01 * sin(40.0 * a) * sin(40.0 * b);
+            if (model == RELIEF_FIT_CYLINDER) {
+                p[0] = r * cos(a), p[1] = r * sin(a), p[2] = 2.0 * b;
+            } else {
+                b = span * (b - 0.5);
+                p[0] = r * cos(b) * cos(a), p[1] = r * cos(b) * sin(a), p[2] = r * sin(b);
+            }
+        }
+    /* (angle, z) and (longitude, latitude) counter-clockwise face outward. */
+    for (int i = 0; i + 1 < na; ++i)
+        for (int j = 0; j + 1 < nb; ++j) {
+            const uint32_t q[4] = {(uint32_t)(i * nb + j), (uint32_t)((i + 1) * nb + j),
+                                   (uint32_t)((i + 1) * nb + j + 1), (uint32_t)(i * nb + j + 1)};
+            for (int t = 0; t < 2; ++t) {
+                const uint32_t f[3] = {q[0], q[1 + t], q[2 + t]};
+                double c[3] = {0, 0, 0}, d2 = 0;
+                for (int k = 0; k < 3; ++k)
+                    for (int e = 0; e < 3; ++e)
+                        c[e] += pos[3 * f[k] + e] / 3.0;
+                for (int e = 0; e < 3; ++e)
+                    d2 += (c[e] - centre[e]) * (c[e] - centre[e]);
+                if (hole > 0.0 && d2 < hole * hole)
+                    continue;
+                memcpy(tri + 3 * nt++, f, sizeof f);
+            }
+        }
+    if (relief_mesh_create(nv, nt, 0, &m, &err) == RELIEF_OK) {
+        memcpy(relief_mesh_positions(m), pos, 3 * nv * sizeof *pos);
+        memcpy(relief_mesh_triangles(m), tri, 3 * nt * sizeof *tri);
+    }
+    free(pos);
+    free(tri);
+    return m;
+}
+
+/* Curved primitives complete the holes of a patch, the whole of a
+ * one-sided scan (targets.h), and --fill overrides either way. */
+static void test_fill(void)
+{
+    struct {
+        relief_fit_model model;
+        double span, hole;
+        relief_fill fill, want;
+        const char *what;
+    } cases[] = {
+        {RELIEF_FIT_CYLINDER, 60, 0.15, RELIEF_FILL_AUTO, RELIEF_FILL_HOLES, "cylinder patch"},
+        {RELIEF_FIT_CYLINDER, 60, 0.15, RELIEF_FILL_WHOLE, RELIEF_FILL_WHOLE,
+         "cylinder patch, --fill whole"},
+        {RELIEF_FIT_CYLINDER, 180, 0.15, RELIEF_FILL_AUTO, RELIEF_FILL_WHOLE,
+         "one-sided cylinder"},
+        {RELIEF_FIT_CYLINDER, 180, 0.15, RELIEF_FILL_HOLES, RELIEF_FILL_HOLES,
+         "one-sided cylinder, --fill holes"},
+        {RELIEF_FIT_SPHERE, 40, 0.15, RELIEF_FILL_AUTO, RELIEF_FILL_HOLES, "sphere patch"},
+        {RELIEF_FIT_SPHERE, 40, 0.0, RELIEF_FILL_AUTO, RELIEF_FILL_WHOLE,
+         "sphere patch without a hole"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        relief_mesh *m = patch(cases[c].model, cases[c].span, cases[c].hole);
+        relief_params p = relief_params_default();
+        relief_smooth_options o = relief_smooth_options_default();
+        relief_surface *s = NULL;
+        relief_error err = {RELIEF_OK, ""};
+        relief_status st;
+        if (!m) {
+            CHECK(0, "%s: cannot build the patch", cases[c].what);
+            continue;
+        }
+        p.fit = cases[c].model;
+        o.fill = cases[c].fill;
+        st = relief_smooth(m, &p, &o, &s, &err);
+        CHECK(st == RELIEF_OK, "%s: %s", cases[c].what, err.message);
+        if (st == RELIEF_OK) {
+            const relief_fill_stats *f = &s->fill;
+            /* The hole's area over a target's (a lattice cell). */
+            double cell = s->spacing * s->spacing * sqrt(3.0) / 2.0;
+            double hole = 3.14159265 * cases[c].hole * cases[c].hole / cell;
+            printf("%-34s cover %.3f, %zu holes of %zu points, %zu outside: %s, %zu targets "
+                   "(hole about %.0f)\n",
+                   cases[c].what, f->cover, f->holes, f->hole_points, f->outside_points,
+                   f->region == RELIEF_FILL_HOLES ? "holes" : "whole", s->n_targets, hole);
+            CHECK(f->region == cases[c].want, "%s: completed the %s", cases[c].what,
+                  f->region == RELIEF_FILL_HOLES ? "holes" : "whole");
+            CHECK(f->holes == (cases[c].hole > 0.0), "%s: %zu holes", cases[c].what, f->holes);
+            CHECK(f->outside_points > 2 * f->hole_points, "%s: %zu points outside",
+                  cases[c].what, f->outside_points);
+            if (f->region == RELIEF_FILL_HOLES)
+                CHECK(s->n_targets == f->hole_points && s->n_targets > 0.6 * hole &&
+                          s->n_targets < 1.4 * hole,
+                      "%s: %zu targets for a hole of about %.0f", cases[c].what, s->n_targets,
+                      hole);
+            else
+                CHECK(s->n_targets == f->hole_points + f->outside_points, "%s: %zu targets",
+                      cases[c].what, s->n_targets);
+            check_geometry(s, cases[c].what);
+        }
+        relief_surface_destroy(s);
+        relief_mesh_destroy(m);
+    }
+}
+
 static void test_errors(void)
 {
     relief_params p = relief_params_default();
@@ -329,6 +455,7 @@ int main(int argc, char **argv)
     test_sphere();
     test_cylinder();
     test_plane();
+    test_fill();
     test_errors();
     if (argc > 1)
         test_real(argv[1]);

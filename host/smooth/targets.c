@@ -1,0 +1,459 @@
+/* Targets of the smooth completion: the lattice, what the capture covers,
+ * and the regions of the rest (targets.h). A region is found by flooding
+ * the lattice's uncovered points through their six neighbours (plane,
+ * cylinder: wrapping round the turn) or, on the sphere's Fibonacci
+ * lattice, through the uncovered points within 1.5 spacings. */
+#include "smooth/targets.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/knn.h"
+
+#define RM_REAL double
+#include "kernels/relief_math.h"
+
+#define PI 3.14159265358979323846
+
+/* ---------------------------------------------------------- coverage */
+
+/* The capture's triangles projected on the primitive, with a kd-tree over
+ * their centroids, to ask "is this point of the primitive covered?". */
+typedef struct coverage {
+    const relief_mesh *cap;
+    double *proj;      /* cap->nv x 3 projected capture vertices */
+    double *centroid;  /* cap->nt x 3 */
+    flann_index_t index;
+    struct FLANNParameters fp;
+    int k;
+    double lo[3], hi[3]; /* the projected capture's bounding box */
+} coverage;
+
+static void coverage_free(coverage *c)
+{
+    if (c->index)
+        flann_free_index_double(c->index, &c->fp);
+    free(c->proj);
+    free(c->centroid);
+}
+
+static relief_status coverage_build(coverage *c, const relief_mesh *cap,
+                                    const relief_fit_primitive *prim, relief_error *err)
+{
+    float speedup;
+    memset(c, 0, sizeof *c);
+    c->cap = cap;
+    c->proj = malloc(cap->nv * 3 * sizeof *c->proj);
+    c->centroid = malloc(cap->nt * 3 * sizeof *c->centroid);
+    if (!c->proj || !c->centroid)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the coverage index");
+    for (int k = 0; k < 3; ++k) {
+        c->lo[k] = DBL_MAX;
+        c->hi[k] = -DBL_MAX;
+    }
+    for (size_t v = 0; v < cap->nv; ++v) {
+        relief_fit_project(prim, cap->pos + 3 * v, c->proj + 3 * v);
+        for (int k = 0; k < 3; ++k) {
+            c->lo[k] = fmin(c->lo[k], c->proj[3 * v + k]);
+            c->hi[k] = fmax(c->hi[k], c->proj[3 * v + k]);
+        }
+    }
+    for (size_t t = 0; t < cap->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            c->centroid[3 * t + k] = (c->proj[3 * cap->tri[3 * t] + k] +
+                                      c->proj[3 * cap->tri[3 * t + 1] + k] +
+                                      c->proj[3 * cap->tri[3 * t + 2] + k]) / 3.0;
+    c->fp = relief_knn_exact_params();
+    c->k = cap->nt < 16 ? (int)cap->nt : 16;
+    c->index = flann_build_index_double(c->centroid, (int)cap->nt, 3, &speedup, &c->fp);
+    if (!c->index)
+        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not build a kd-tree");
+    return RELIEF_OK;
+}
+
+/* Is p (on the primitive) within sqrt(r2) of the nearest of the k projected
+ * capture triangles whose centroids are nearest p? A point farther than
+ * that from the capture's bounding box is not, without a search: most of a
+ * sphere's or a cylinder's lattice lies far from a one-sided capture, and
+ * there a kd-tree search visits most of the tree (a 2-million-target
+ * sphere took minutes). */
+static int covered(const coverage *c, const double p[3], double r2)
+{
+    int idx[16];
+    double dist[16], box2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double d = p[k] < c->lo[k] ? c->lo[k] - p[k] : p[k] > c->hi[k] ? p[k] - c->hi[k] : 0.0;
+        box2 += d * d;
+    }
+    if (box2 > r2)
+        return 0;
+    if (flann_find_nearest_neighbors_index_double(c->index, (double *)p, 1, idx, dist,
+                                                  c->k, (struct FLANNParameters *)&c->fp) != 0)
+        return 0;
+    for (int i = 0; i < c->k; ++i) {
+        const uint32_t *f = c->cap->tri + 3 * (size_t)idx[i];
+        if (rm_point_triangle_d2(p, c->proj + 3 * f[0], c->proj + 3 * f[1],
+                                 c->proj + 3 * f[2]) <= r2)
+            return 1;
+    }
+    return 0;
+}
+
+/* --------------------------------------------------------------- regions */
+
+/* The uncovered lattice points with the region each belongs to. */
+typedef struct regions {
+    relief_target_list pts; /* every uncovered point */
+    uint32_t *of;           /* pts.n: its region */
+    size_t *size;           /* per region: its points */
+    uint8_t *outside;       /* per region: 1 when outside the capture's outline */
+    size_t n, cap;          /* regions */
+    size_t covered;         /* covered lattice points */
+} regions;
+
+static void regions_free(regions *r)
+{
+    free(r->pts.p);
+    free(r->of);
+    free(r->size);
+    free(r->outside);
+}
+
+static int push_point(relief_target_list *l, const double p[3])
+{
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 1024;
+        double *q = realloc(l->p, cap * 3 * sizeof *q);
+        if (!q)
+            return 0;
+        l->p = q;
+        l->cap = cap;
+    }
+    memcpy(l->p + 3 * l->n++, p, 3 * sizeof(double));
+    return 1;
+}
+
+/* A new, empty region; its id, or UINT32_MAX when out of memory. */
+static uint32_t new_region(regions *r)
+{
+    if (r->n == r->cap) {
+        size_t cap = r->cap ? 2 * r->cap : 64;
+        size_t *size = realloc(r->size, cap * sizeof *size);
+        uint8_t *outside;
+        if (!size)
+            return UINT32_MAX;
+        r->size = size;
+        outside = realloc(r->outside, cap);
+        if (!outside)
+            return UINT32_MAX;
+        r->outside = outside;
+        r->cap = cap;
+    }
+    r->size[r->n] = 0;
+    r->outside[r->n] = 0;
+    return (uint32_t)r->n++;
+}
+
+/* ------------------------------------------------------------ lattices */
+
+#define COVERED UINT32_MAX
+#define UNSEEN (UINT32_MAX - 1)
+
+/* Triangular lattice over [u0, u1] x [v0, v1] (plane) or the full turn
+ * times [v0, v1] (cylinder, periodic in u): its uncovered points, flooded
+ * into regions. A region touching the border (the first or last row; on a
+ * plane the first or last column too) is outside the outline. */
+static relief_status lattice_regions(const coverage *cov, const relief_param *pm, double sp,
+                                     double u0, double u1, double v0, double v1, int periodic,
+                                     regions *out, relief_error *err)
+{
+    const double row = sp * sqrt(3.0) / 2.0;
+    const double cover2 = 0.25 * sp * sp; /* (half a spacing)^2 */
+    size_t nu, nv, n;
+    double du;
+    uint32_t *lab = NULL; /* per lattice point: COVERED, UNSEEN or its region */
+    uint32_t *stack = NULL;
+    relief_status st = RELIEF_OK;
+
+    /* Count in double first: a tiny spacing must not overflow size_t. */
+    if (!((floor((u1 - u0) / sp) + 2.0) * (floor((v1 - v0) / row) + 1.0) <= 50000000.0))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the target lattice would have about %.3g points (spacing %g over "
+                           "a %g x %g region); raise --spacing",
+                           (floor((u1 - u0) / sp) + 1.0) * (floor((v1 - v0) / row) + 1.0), sp,
+                           u1 - u0, v1 - v0);
+    if (periodic) {
+        nu = (size_t)floor((u1 - u0) / sp + 0.5);
+        if (nu < 3)
+            nu = 3;
+        du = (u1 - u0) / (double)nu;
+    } else {
+        nu = (size_t)floor((u1 - u0) / sp) + 1;
+        du = sp;
+    }
+    nv = (size_t)floor((v1 - v0) / row) + 1;
+    n = nu * nv;
+    lab = malloc(n * sizeof *lab);
+    stack = malloc(n * sizeof *stack);
+    if (!lab || !stack) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-point lattice", n);
+        goto done;
+    }
+    /* Centre the rows in [v0, v1] so both ends get the same margin. */
+    v0 += 0.5 * ((v1 - v0) - (double)(nv - 1) * row);
+    for (size_t j = 0; j < nv; ++j)
+        for (size_t i = 0; i < nu; ++i) {
+            double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
+            relief_param_point(pm, u, v0 + (double)j * row, p);
+            lab[j * nu + i] = covered(cov, p, cover2) ? COVERED : UNSEEN;
+            out->covered += lab[j * nu + i] == COVERED;
+        }
+    for (size_t seed = 0; seed < n; ++seed) {
+        uint32_t id, top = 0;
+        if (lab[seed] != UNSEEN)
+            continue;
+        if ((id = new_region(out)) == UINT32_MAX) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
+            goto done;
+        }
+        lab[seed] = id;
+        stack[top++] = (uint32_t)seed;
+        while (top > 0) {
+            size_t at = stack[--top], i = at % nu, j = at / nu;
+            /* Six neighbours; odd rows sit half a column to the right. */
+            long di[6] = {-1, 1, 0, 1, 0, 1}, dj[6] = {0, 0, -1, -1, 1, 1};
+            ++out->size[id];
+            if (j == 0 || j == nv - 1 || (!periodic && (i == 0 || i == nu - 1)))
+                out->outside[id] = 1;
+            if (j % 2 == 0)
+                di[2] = -1, di[3] = 0, di[4] = -1, di[5] = 0;
+            for (int q = 0; q < 6; ++q) {
+                long ii = (long)i + di[q], jj = (long)j + dj[q];
+                size_t nb;
+                if (periodic)
+                    ii = (ii + (long)nu) % (long)nu;
+                if (ii < 0 || jj < 0 || ii >= (long)nu || jj >= (long)nv)
+                    continue;
+                nb = (size_t)jj * nu + (size_t)ii;
+                if (lab[nb] == UNSEEN) {
+                    lab[nb] = id;
+                    stack[top++] = (uint32_t)nb;
+                }
+            }
+        }
+    }
+    out->of = malloc((n - out->covered + 1) * sizeof *out->of);
+    if (!out->of) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
+        goto done;
+    }
+    for (size_t j = 0; j < nv; ++j)
+        for (size_t i = 0; i < nu; ++i)
+            if (lab[j * nu + i] != COVERED) {
+                double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
+                if (periodic && u >= u1)
+                    u -= u1 - u0;
+                relief_param_point(pm, u, v0 + (double)j * row, p);
+                out->of[out->pts.n] = lab[j * nu + i];
+                if (!push_point(&out->pts, p)) {
+                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+                    goto done;
+                }
+            }
+done:
+    free(stack);
+    free(lab);
+    return st;
+}
+
+/* Fibonacci lattice on the sphere at the density of a triangular lattice of
+ * edge `spacing`: its uncovered points, joined into regions through the
+ * pairs within 1.5 spacings (a Fibonacci lattice's nearest neighbours lie
+ * 0.9 to 1.1 spacings apart). A region larger than the capture's own cover
+ * is outside its outline. */
+static relief_status sphere_regions(const coverage *cov, const relief_param *pm, double sp,
+                                    regions *out, relief_error *err)
+{
+    enum { K = 8 };
+    const relief_fit_primitive *pr = &pm->prim;
+    const double golden = PI * (3.0 - sqrt(5.0)), link2 = 2.25 * sp * sp;
+    double area = 4.0 * PI * pr->radius * pr->radius;
+    double nf = area / (sp * sp * sqrt(3.0) / 2.0), e3[3];
+    uint32_t *parent = NULL;
+    int *idx = NULL;
+    double *dist = NULL;
+    flann_index_t index = NULL;
+    struct FLANNParameters fp = relief_knn_exact_params();
+    relief_status st = RELIEF_OK;
+    size_t n, m, k;
+
+    if (nf > 50000000.0)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the sphere would need %.0f targets; raise --spacing", nf);
+    n = (size_t)nf;
+    if (n < 12)
+        n = 12;
+    rm_cross(pm->e1, pm->e2, e3);
+    for (size_t i = 0; i < n; ++i) {
+        double z = 1.0 - 2.0 * ((double)i + 0.5) / (double)n, r = sqrt(1.0 - z * z);
+        double a = golden * (double)i, p[3];
+        for (int c = 0; c < 3; ++c)
+            p[c] = pr->point[c] + pr->radius * (r * cos(a) * pm->e1[c] +
+                                                r * sin(a) * pm->e2[c] + z * e3[c]);
+        if (covered(cov, p, 0.25 * sp * sp))
+            ++out->covered;
+        else if (!push_point(&out->pts, p))
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+    }
+    m = out->pts.n;
+    if (m == 0)
+        return RELIEF_OK;
+    k = m < K ? m : K;
+    parent = malloc(m * sizeof *parent);
+    out->of = malloc(m * sizeof *out->of);
+    idx = malloc(m * k * sizeof *idx);
+    dist = malloc(m * k * sizeof *dist);
+    if (!parent || !out->of || !idx || !dist) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sphere's regions");
+        goto done;
+    }
+    {
+        float speedup;
+        index = flann_build_index_double(out->pts.p, (int)m, 3, &speedup, &fp);
+    }
+    if (!index || flann_find_nearest_neighbors_index_double(index, out->pts.p, (int)m, idx, dist,
+                                                            (int)k, &fp) != 0) {
+        st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not search the sphere's lattice");
+        goto done;
+    }
+    /* Union-find, the smaller id the root: regions come out in the order
+     * of their first point, whatever order FLANN lists neighbours in. */
+    for (size_t i = 0; i < m; ++i)
+        parent[i] = (uint32_t)i;
+    for (size_t i = 0; i < m; ++i)
+        for (size_t q = 0; q < k; ++q) {
+            uint32_t a = (uint32_t)i, b;
+            if (idx[i * k + q] < 0 || dist[i * k + q] > link2)
+                continue;
+            b = (uint32_t)idx[i * k + q];
+            while (parent[a] != a)
+                a = parent[a] = parent[parent[a]];
+            while (parent[b] != b)
+                b = parent[b] = parent[parent[b]];
+            if (a < b)
+                parent[b] = a;
+            else if (b < a)
+                parent[a] = b;
+        }
+    for (size_t i = 0; i < m; ++i) {
+        uint32_t r = (uint32_t)i;
+        while (parent[r] != r)
+            r = parent[r];
+        if (r == i) {
+            uint32_t id = new_region(out);
+            if (id == UINT32_MAX) {
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sphere's regions");
+                goto done;
+            }
+            out->of[i] = id;
+        } else {
+            out->of[i] = out->of[r]; /* r < i: already numbered */
+        }
+        ++out->size[out->of[i]];
+    }
+    for (size_t id = 0; id < out->n; ++id)
+        out->outside[id] = out->size[id] > out->covered;
+done:
+    if (index)
+        flann_free_index_double(index, &fp);
+    free(dist);
+    free(idx);
+    free(parent);
+    return st;
+}
+
+/* ---------------------------------------------------------------- laying */
+
+relief_status relief_targets_lay(const relief_mesh *capture, const relief_param *param,
+                                 double spacing, const relief_params *params, relief_fill fill,
+                                 relief_target_list *out, relief_fill_stats *stats,
+                                 relief_error *err)
+{
+    const relief_fit_primitive *pr = &param->prim;
+    coverage cov;
+    regions rg;
+    relief_status st;
+    int extent = params->has_extent && pr->model != RELIEF_FIT_SPHERE;
+
+    memset(&rg, 0, sizeof rg);
+    memset(stats, 0, sizeof *stats);
+    st = coverage_build(&cov, capture, pr, err);
+    if (st != RELIEF_OK)
+        goto done;
+    if (pr->model == RELIEF_FIT_SPHERE) {
+        st = sphere_regions(&cov, param, spacing, &rg, err);
+    } else {
+        double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
+        for (size_t v = 0; v < capture->nv; ++v) {
+            double uv[2];
+            relief_param_coords(param, cov.proj + 3 * v, uv);
+            for (int k = 0; k < 2; ++k) {
+                lo[k] = fmin(lo[k], uv[k]);
+                hi[k] = fmax(hi[k], uv[k]);
+            }
+        }
+        if (extent && params->n_extent != (pr->model == RELIEF_FIT_CYLINDER ? 2 : 4)) {
+            st = pr->model == RELIEF_FIT_CYLINDER
+                     ? relief_fail(err, RELIEF_E_USAGE,
+                                   "--extent for a cylinder takes 2 values z0,z1")
+                     : relief_fail(err, RELIEF_E_USAGE,
+                                   "--extent for a plane takes 4 values u0,v0,u1,v1");
+            goto done;
+        }
+        if (pr->model == RELIEF_FIT_CYLINDER)
+            st = lattice_regions(&cov, param, spacing, 0.0, 2.0 * PI * pr->radius,
+                                 extent ? params->extent[0] : lo[1],
+                                 extent ? params->extent[1] : hi[1], 1, &rg, err);
+        else if (extent)
+            st = lattice_regions(&cov, param, spacing, params->extent[0], params->extent[2],
+                                 params->extent[1], params->extent[3], 0, &rg, err);
+        else
+            st = lattice_regions(&cov, param, spacing, lo[0] - spacing, hi[0] + spacing,
+                                 lo[1] - spacing, hi[1] + spacing, 0, &rg, err);
+    }
+    if (st != RELIEF_OK)
+        goto done;
+
+    for (size_t id = 0; id < rg.n; ++id) {
+        if (rg.outside[id]) {
+            stats->outside_points += rg.size[id];
+        } else {
+            ++stats->holes;
+            stats->hole_points += rg.size[id];
+        }
+    }
+    stats->cover = (double)rg.covered / (double)(rg.covered + rg.pts.n);
+    if (fill == RELIEF_FILL_AUTO) {
+        if (pr->model == RELIEF_FIT_PLANE)
+            fill = extent ? RELIEF_FILL_WHOLE : RELIEF_FILL_HOLES;
+        else if (extent)
+            fill = RELIEF_FILL_WHOLE;
+        else
+            fill = stats->holes > 0 && stats->cover < RELIEF_ONE_SIDED_COVER ? RELIEF_FILL_HOLES
+                                                                            : RELIEF_FILL_WHOLE;
+    }
+    stats->region = fill;
+    for (size_t i = 0; i < rg.pts.n; ++i)
+        if ((fill == RELIEF_FILL_WHOLE || !rg.outside[rg.of[i]]) &&
+            !push_point(out, rg.pts.p + 3 * i)) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+            goto done;
+        }
+done:
+    regions_free(&rg);
+    coverage_free(&cov);
+    return st;
+}
