@@ -375,6 +375,7 @@ int main(int argc, char **argv)
         return rc ? rc : 2;
     }
     bench_read_machine(&mc);
+    c.p.rotations = bench_rotations(&c.p, c.sp.kind);
     if (!c.setup) {
         double t0 = relief_seconds();
         if (relief_synth(&c.sp, &cap, NULL, &err) != RELIEF_OK)

@@ -183,6 +183,7 @@ int main(int argc, char **argv)
         return rc ? rc : 2;
     }
     bench_read_machine(&mc);
+    c.p.rotations = bench_rotations(&c.p, c.sp.kind);
     if (relief_synth(&c.sp, &cap, &truth, &err) != RELIEF_OK)
         goto fail;
     for (int i = 0; i < c.reps; ++i)

@@ -48,6 +48,18 @@ static inline void bench_read_machine(bench_machine *m)
             *c = ';';
 }
 
+/* The rotations a synthetic kind's completion tries (relief_params_rotations
+ * on the primitive the kind is made on), so the figures name what ran. */
+static inline int bench_rotations(const relief_params *p, relief_synth_kind kind)
+{
+    relief_fit_model model = RELIEF_FIT_SPHERE;
+    if (kind == RELIEF_SYNTH_PLANE_WAVES || kind == RELIEF_SYNTH_PLANE_NOISE)
+        model = RELIEF_FIT_PLANE;
+    else if (kind == RELIEF_SYNTH_CYLINDER_BANDS || kind == RELIEF_SYNTH_CYLINDER_BARK)
+        model = RELIEF_FIT_CYLINDER;
+    return relief_params_rotations(p, model);
+}
+
 static inline int bench_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;

@@ -8,7 +8,7 @@ relief_params relief_params_default(void)
     relief_params p;
     p.fit = RELIEF_FIT_AUTO;
     p.window = 3;
-    p.rotations = 4;
+    p.rotations = 0;
     p.error = 0.1;
     p.mu = -1.0;
     p.seed = 1;
@@ -26,6 +26,13 @@ relief_params relief_params_default(void)
     return p;
 }
 
+int relief_params_rotations(const relief_params *params, relief_fit_model model)
+{
+    if (params->rotations > 0)
+        return params->rotations;
+    return model == RELIEF_FIT_PLANE ? 1 : 4;
+}
+
 relief_status relief_params_validate(const relief_params *p, relief_error *err)
 {
     if (p->fit < RELIEF_FIT_AUTO || p->fit > RELIEF_FIT_CYLINDER)
@@ -34,9 +41,10 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
     if (p->window < 1 || p->window > 16)
         return relief_fail(err, RELIEF_E_RANGE,
                            "window %d out of range: expected 1..16 edge hops", p->window);
-    if (p->rotations < 1 || p->rotations > 64)
+    if (p->rotations < 0 || p->rotations > 64)
         return relief_fail(err, RELIEF_E_RANGE,
-                           "rotations %d out of range: expected 1..64", p->rotations);
+                           "rotations %d out of range: expected 1..64 (0: the primitive's "
+                           "default)", p->rotations);
     if (!(p->error > 0.0 && p->error <= 1e6))
         return relief_fail(err, RELIEF_E_RANGE,
                            "error threshold %g out of range: expected 0 < e <= 1e6",

@@ -43,7 +43,8 @@ static const char complete_help[] =
     "                        (open it in a browser) into the folder DIR\n"
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
     "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
-    "  --rotations R         rotations tried per sample, 1..64 (default 4)\n"
+    "  --rotations R         rotations tried per sample, 1..64 (default: 1 on a\n"
+    "                        plane, whose frames are all alike, 4 otherwise)\n"
     "  --error E             acceptance threshold e > 0 (default 0.1)\n"
     "  --mu MU               shape weight 0..1 (default 1 without colour, 0.5 with)\n"
     "  --seed N              random seed (default 1)\n"
@@ -358,6 +359,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     double t0 = relief_seconds();
     relief_status st;
     relief_checkpoint_key key;
+    relief_params resolved;
     relief_checkpoint *ck = NULL;
     relief_mesh *smooth_mesh = NULL; /* before growth, for --report-dir */
     relief_report_dir *staged = NULL;
@@ -405,8 +407,15 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         go->save_every = rc->checkpoint_every;
     }
     st = relief_smooth(in, p, o, &s, &err);
-    if (st == RELIEF_OK)
+    if (st == RELIEF_OK) {
+        /* From here on the rotations are the primitive's (0: its default),
+         * so the estimate, the growth and the report agree; the checkpoint
+         * key above keeps the options as given. */
+        resolved = *p;
+        resolved.rotations = relief_params_rotations(p, s->fit.prim.model);
+        p = &resolved;
         warn_poor_fit("complete", s);
+    }
     if (st == RELIEF_OK)
         st = check_growth_memory(s, p, &err);
     if (st == RELIEF_OK && p->levels > 1) {

@@ -479,6 +479,10 @@ relief_status relief_match_data_build(const relief_surface *s, int rotations, do
     d->nv = (uint32_t)m->nv;
     d->nt = (uint32_t)m->nt;
     d->ns = (uint32_t)s->n_samples;
+    if (rotations <= 0) {
+        relief_params dflt = relief_params_default();
+        rotations = relief_params_rotations(&dflt, s->fit.prim.model);
+    }
     d->rotations = rotations;
     d->proj = malloc(m->nv * 3 * sizeof(float));
     d->pos = malloc(m->nv * 3 * sizeof(float));

@@ -53,7 +53,8 @@ typedef struct relief_match_data {
     double b_shape;       /* the shape bound B_shape (input units) */
 } relief_match_data;
 
-/* Build the match data of a surface: R rotations, shape weight mu.
+/* Build the match data of a surface: R rotations (1..64, or 0 for
+ * relief_params_rotations' default on s's primitive), shape weight mu.
  * B_shape (paper 000 section 6) is read here as the range of the samples'
  * signed displacement along the normal, max(D.n) - min(D.n): the largest
  * difference between two samples' displacements, on either side of the

@@ -233,7 +233,8 @@ typedef enum relief_backend {
 typedef struct relief_params {
     relief_fit_model fit;   /* default auto */
     int window;             /* W, neighbourhood radius in edge hops; 3, [1, 16] */
-    int rotations;          /* R, rotations tried per sample; 4, [1, 64] */
+    int rotations;          /* R, rotations tried per sample; [1, 64], or
+                               0 (default): relief_params_rotations */
     double error;           /* e, acceptance threshold; 0.1, (0, 1e6] */
     double mu;              /* shape weight; <0 means "1 without colour,
                                0.5 with"; else [0, 1] */
@@ -265,6 +266,12 @@ relief_params relief_params_default(void);
  * with its allowed range. */
 relief_status relief_params_validate(const relief_params *params,
                                      relief_error *err);
+
+/* The rotations tried on a primitive: params->rotations, or for 0 (the
+ * default) 1 on a plane, whose frames are all alike so that a rotation can
+ * only turn a directional pattern (streaks, waves), and 4 on a cylinder or
+ * a sphere, where frames turn with the surface. */
+int relief_params_rotations(const relief_params *params, relief_fit_model model);
 
 const char *relief_fit_model_name(relief_fit_model model);
 const char *relief_backend_name(relief_backend backend);
