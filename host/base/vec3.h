@@ -3,6 +3,9 @@
 #ifndef RELIEF_HOST_VEC3_H
 #define RELIEF_HOST_VEC3_H
 
+/* pi, the one definition the host uses. */
+#define RELIEF_PI 3.14159265358979323846
+
 /* r = a - b */
 static inline void sub3(const double *a, const double *b, double *r)
 {

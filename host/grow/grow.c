@@ -28,6 +28,7 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/rng.h"
+#include "base/vec3.h"
 #include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
 #include "smooth/surface_check.h"
@@ -36,7 +37,6 @@
 #define RM_WITH_SCORING
 #include "kernels/relief_math.h"
 
-#define PI 3.14159265358979323846
 #define MAX_RAISES 400 /* 1.1^400 ~ 4e16: e has stopped meaning anything */
 
 relief_grow_options relief_grow_options_default(void)
@@ -614,7 +614,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                     const int r = use_coh ? coh_r : (int)(c % (uint32_t)d->rotations);
                     const uint32_t sv = d->sample[si];
                     const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
-                    const double th = 2.0 * PI * r / d->rotations, ct = cos(th), sn = sin(th);
+                    const double th = 2.0 * RELIEF_PI * r / d->rotations, ct = cos(th), sn = sin(th);
                     double a[3], b[3];
                     /* D(t) = R_t Rz(-theta) R_s^T D(s). */
                     for (int k = 0; k < 3; ++k)

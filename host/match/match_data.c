@@ -6,6 +6,7 @@
 
 #include "base/compare.h"
 #include "base/error.h"
+#include "base/vec3.h"
 #include "match/match_data.h"
 #include "mesh/mesh.h"
 
@@ -13,7 +14,6 @@
 #define RM_WITH_SCORING
 #include "kernels/relief_math.h"
 
-#define PI 3.14159265358979323846
 
 void relief_match_data_destroy(relief_match_data *d)
 {
@@ -526,7 +526,7 @@ relief_status relief_match_data_build(const relief_surface *s, int rotations, do
     d->inv_b2 = (float)(1.0 / (d->b_shape * d->b_shape));
     d->mu = (float)mu;
     for (int r = 0; r < rotations; ++r) {
-        double a = 2.0 * PI * r / rotations;
+        double a = 2.0 * RELIEF_PI * r / rotations;
         d->cos_r[r] = (float)cos(a);
         d->sin_r[r] = (float)sin(a);
     }

@@ -10,11 +10,11 @@
 
 #include "base/error.h"
 #include "base/rng.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "report/report.h"
 #include "smooth/param.h"
 
-#define PI 3.14159265358979323846
 /* Barycentric slack for "inside a truth triangle". */
 #define BARY_EPS 1e-9
 /* Truth vertices whose incident triangles are tried for each query. */
@@ -177,7 +177,7 @@ size_t relief_measure_part_uv(const relief_param *pm, const relief_mesh *m, int 
         }
         mean = atan2(ss, sc);
         for (size_t i = 0; i < n; ++i)
-            uv[2 * i] = pr->radius * remainder(uv[2 * i] / pr->radius - mean, 2.0 * PI);
+            uv[2 * i] = pr->radius * remainder(uv[2 * i] / pr->radius - mean, 2.0 * RELIEF_PI);
     }
     return n;
 }
@@ -188,7 +188,7 @@ static double power_at(const double *uv, const double *f, size_t n, double ku, d
 {
     double re = 0.0, im = 0.0;
     for (size_t i = 0; i < n; ++i) {
-        double ph = 2.0 * PI * (ku * uv[2 * i] + kv * uv[2 * i + 1]);
+        double ph = 2.0 * RELIEF_PI * (ku * uv[2 * i] + kv * uv[2 * i + 1]);
         re += f[i] * cos(ph);
         im += f[i] * sin(ph);
     }
@@ -328,8 +328,8 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
         const double kv = (double)iv * step, ku0 = -(double)nu * step;
         memset(acc, 0, (size_t)(2 * nu + 1) * 2 * sizeof *acc);
         for (size_t i = 0; i < m; ++i) {
-            double ph = 2.0 * PI * (ku0 * suv[2 * i] + kv * suv[2 * i + 1]);
-            double dph = 2.0 * PI * step * suv[2 * i];
+            double ph = 2.0 * RELIEF_PI * (ku0 * suv[2 * i] + kv * suv[2 * i + 1]);
+            double dph = 2.0 * RELIEF_PI * step * suv[2 * i];
             double zr = sf[i] * cos(ph), zi = sf[i] * sin(ph), wr = cos(dph), wi = sin(dph);
             for (long iu = 0; iu <= 2 * nu; ++iu) {
                 double t = zr * wr - zi * wi;

@@ -5,12 +5,12 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
 #include "report/pattern_grid.h"
 #include "report/pattern_layout.h"
 
-#define PI 3.14159265358979323846
 
 enum {
     NO = RELIEF_PATTERN_ORIENT_BINS,
@@ -59,7 +59,7 @@ static void distances(const relief_pattern_part *a, const relief_pattern_part *b
  * any value; bin b centred on b pi / NO), circularly. */
 static void orient_add(double *bins, double theta, double w)
 {
-    double x = theta / (PI / NO), b0 = floor(x), fr = x - b0;
+    double x = theta / (RELIEF_PI / NO), b0 = floor(x), fr = x - b0;
     long b = (long)b0 % NO;
     if (b < 0)
         b += NO;
@@ -89,8 +89,8 @@ static relief_status grid_spectrum(const part_grid *gr, int f, const double *tap
     /* Node x_i = i g and k = iu dk with dk g = 1 / (2 KG): the phase
      * 2 pi k x is pi (iu i mod 2 KG) / KG, one table for both axes. */
     for (int m = 0; m < 2 * KG; ++m) {
-        tc[m] = cos(PI * m / KG);
-        ts[m] = -sin(PI * m / KG);
+        tc[m] = cos(RELIEF_PI * m / KG);
+        ts[m] = -sin(RELIEF_PI * m / KG);
     }
     for (size_t v = 0; v < nx * ny; ++v) {
         sw += taper[v];

@@ -9,11 +9,11 @@
 #include "base/compare.h"
 #include "base/error.h"
 #include "base/rng.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
 #include "report/pattern.h"
 
-#define PI 3.14159265358979323846
 
 enum { NF = RELIEF_PATTERN_FIELDS };
 
@@ -310,6 +310,6 @@ void pattern_grid_taper(const part_grid *gr, double *w)
                     r = sqrt((double)((a - i) * (a - i) + (b - j) * (b - j)));
                     d = r < d ? r : d;
                 }
-            w[j * nx + i] = 0.5 * (1.0 - cos(PI * d / (double)T));
+            w[j * nx + i] = 0.5 * (1.0 - cos(RELIEF_PI * d / (double)T));
         }
 }

@@ -1,9 +1,9 @@
 /* The layout of a part's signed lean (pattern_layout.h; pattern.h, 3). */
+#include "base/vec3.h"
 #include "report/pattern_layout.h"
 
 #include <math.h>
 
-#define PI 3.14159265358979323846
 
 /* The signed lean L = c sin 2 phi at (x, y), in nodes, bilinear between
  * the nodes around it (those of weight 0 need not have a tensor); (c2, s2)
@@ -39,7 +39,7 @@ void pattern_layout(const part_grid *gr, const double *z, double spacing,
                     relief_pattern_part *out)
 {
     const size_t nx = gr->nx, nn = gr->nx * gr->ny;
-    const double sd = sin(2.0 * RELIEF_PATTERN_LEAN_FLOOR * PI / 180.0);
+    const double sd = sin(2.0 * RELIEF_PATTERN_LEAN_FLOOR * RELIEF_PI / 180.0);
     double sc = 0.0, ss = 0.0, sw = 0.0, sp = 0.0, theta0, c2, s2, lag, gam[2];
 
     out->dominant = out->lean_rms = out->lean_across = NAN;
@@ -53,7 +53,7 @@ void pattern_layout(const part_grid *gr, const double *z, double spacing,
     theta0 = 0.5 * atan2(ss, sc);
     c2 = cos(2.0 * theta0);
     s2 = sin(2.0 * theta0);
-    out->dominant = fmod(theta0 * 180.0 / PI + 180.0, 180.0);
+    out->dominant = fmod(theta0 * 180.0 / RELIEF_PI + 180.0, 180.0);
 
     for (size_t n = 0; n < nn; ++n) {
         double zr, L, c, phi;
@@ -67,7 +67,7 @@ void pattern_layout(const part_grid *gr, const double *z, double spacing,
         sp += c * phi * phi;
     }
     if (sw > 0.0)
-        out->lean_rms = sqrt(sp / sw) * 180.0 / PI;
+        out->lean_rms = sqrt(sp / sw) * 180.0 / RELIEF_PI;
 
     if (!(spacing > 0.0) || !isfinite(spacing))
         return;

@@ -11,7 +11,7 @@
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 
-#define DEG (3.14159265358979323846 / 180.0)
+#define DEG (RELIEF_PI / 180.0)
 
 const float relief_render_label_rgb[2][3] = {{0.72f, 0.72f, 0.72f}, {0.96f, 0.52f, 0.10f}};
 static const float uniform_rgb[3] = {0.72f, 0.72f, 0.72f};

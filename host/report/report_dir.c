@@ -11,6 +11,7 @@
 
 #include "base/compare.h"
 #include "base/error.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "report/png.h"
 #include "report/render.h"
@@ -517,7 +518,7 @@ static relief_status render_to(const relief_report_dir *r, const relief_mesh *me
 
 static void direction(const double *view, double *d)
 {
-    const double deg = 3.14159265358979323846 / 180.0;
+    const double deg = RELIEF_PI / 180.0;
     d[0] = cos(view[1] * deg) * cos(view[0] * deg);
     d[1] = cos(view[1] * deg) * sin(view[0] * deg);
     d[2] = sin(view[1] * deg);

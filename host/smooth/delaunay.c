@@ -11,6 +11,7 @@
 #include <libqhull_r/libqhull_r.h>
 
 #include "base/error.h"
+#include "base/vec3.h"
 
 /* Coordinates spread less than this fraction of the input's extent off a
  * line (plane for the sphere) count as collinear (coplanar): qhull cannot
@@ -29,7 +30,6 @@
  * around it (rounding) before the periodic margin is called too narrow. */
 #define ANGLE_TOL 1e-9
 
-#define PI_ 3.14159265358979323846
 
 /* ------------------------------------------------------------ qhull runs */
 
@@ -608,7 +608,7 @@ static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
         return 0;
     for (size_t i = 0; i < n; ++i) {
         double v = w[2 * i + 1];
-        double full = (v == vmin || v == vmax) ? PI_ : 2.0 * PI_;
+        double full = (v == vmin || v == vmax) ? RELIEF_PI : 2.0 * RELIEF_PI;
         if (!dup[i] && fan[i] < full - ANGLE_TOL)
             return 1;
     }

@@ -237,7 +237,7 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
      * spreads are alike the principal axes are an arbitrary pair in that
      * plane, so directions every 30 degrees in it are tried. */
     for (int a = 0; a < AXES_IN_PLANE; ++a) {
-        double t = PI_ * (double)a / AXES_IN_PLANE;
+        double t = RELIEF_PI * (double)a / AXES_IN_PLANE;
         for (int k = 0; k < 3; ++k)
             axes[a][k] = cos(t) * evec[3 * k] + sin(t) * evec[3 * k + 1];
     }

@@ -32,8 +32,6 @@
 /* Points enough to choose a model and rank the cylinder's start axes. */
 #define SELECT_POINTS 20000
 
-#define PI_ 3.14159265358979323846
-
 enum {
     MAX_PARAMS = 5,
     AXES_IN_PLANE = 6 /* cylinder start axes tried in the principal plane */

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 
 /* Ties with the k-th nearest squared distance, relative. */
@@ -124,7 +125,6 @@ static int ring_from(const uint32_t *tri, const uint32_t *vt, size_t n, uint32_t
 static void add_ring_stencil(const double *pos, uint32_t a, const uint32_t *ring, int k,
                              double w, double q[3])
 {
-    static const double PI_ = 3.14159265358979323846;
     for (int i = 0; i < 3; ++i)
         q[i] += w * 0.75 * pos[3 * (size_t)a + i];
     for (int j = 0; j < k; ++j) {
@@ -134,7 +134,7 @@ static void add_ring_stencil(const double *pos, uint32_t a, const uint32_t *ring
         else if (k == 4)
             sj = j == 0 ? 3.0 / 8.0 : j == 2 ? -1.0 / 8.0 : 0.0;
         else
-            sj = (0.25 + cos(2.0 * PI_ * j / k) + 0.5 * cos(4.0 * PI_ * j / k)) / k;
+            sj = (0.25 + cos(2.0 * RELIEF_PI * j / k) + 0.5 * cos(4.0 * RELIEF_PI * j / k)) / k;
         for (int i = 0; i < 3; ++i)
             q[i] += w * sj * pos[3 * (size_t)ring[j] + i];
     }

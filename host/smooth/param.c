@@ -1,3 +1,4 @@
+#include "base/vec3.h"
 #include "smooth/param.h"
 
 #include <math.h>
@@ -5,7 +6,6 @@
 #define RM_REAL double
 #include "kernels/relief_math.h"
 
-#define PI 3.14159265358979323846
 
 void relief_param_init(relief_param *pm, const relief_fit_primitive *prim)
 {
@@ -26,9 +26,9 @@ void relief_param_coords(const relief_param *pm, const double p[3], double uv[2]
     {
         double a = atan2(rm_dot(d, pm->e2), rm_dot(d, pm->e1)), axis[3];
         if (a < 0.0)
-            a += 2.0 * PI;
+            a += 2.0 * RELIEF_PI;
         uv[0] = pr->radius * a;
-        if (uv[0] >= 2.0 * PI * pr->radius)
+        if (uv[0] >= 2.0 * RELIEF_PI * pr->radius)
             uv[0] = 0.0;
         if (pr->model == RELIEF_FIT_CYLINDER) {
             uv[1] = rm_dot(d, pr->dir);

@@ -22,6 +22,7 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "smooth/delaunay.h"
 #include "smooth/oversample.h"
@@ -33,7 +34,6 @@
 #define RM_REAL double
 #include "kernels/relief_math.h"
 
-#define PI 3.14159265358979323846
 
 relief_smooth_options relief_smooth_options_default(void)
 {
@@ -152,10 +152,10 @@ static relief_status triangulate(relief_surface *s, double alpha, relief_error *
         if (pr->model == RELIEF_FIT_PLANE)
             st = relief_delaunay_2d(uv, m->nv, &tri, &nt, NULL, err);
         else
-            st = relief_delaunay_periodic(uv, m->nv, 2.0 * PI * pr->radius, &tri, &nt, NULL,
+            st = relief_delaunay_periodic(uv, m->nv, 2.0 * RELIEF_PI * pr->radius, &tri, &nt, NULL,
                                           err);
         if (st == RELIEF_OK) {
-            const double period = 2.0 * PI * pr->radius;
+            const double period = 2.0 * RELIEF_PI * pr->radius;
             for (size_t t = 0; t < nt; ++t) {
                 double a[2], b[2], c[2];
                 memcpy(a, uv + 2 * tri[3 * t], sizeof a);

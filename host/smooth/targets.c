@@ -12,11 +12,11 @@
 #include <string.h>
 
 #include "base/knn.h"
+#include "base/vec3.h"
 
 #define RM_REAL double
 #include "kernels/relief_math.h"
 
-#define PI 3.14159265358979323846
 
 /* ---------------------------------------------------------- coverage */
 
@@ -279,8 +279,8 @@ static relief_status sphere_regions(const coverage *cov, const relief_param *pm,
 {
     enum { K = 8 };
     const relief_fit_primitive *pr = &pm->prim;
-    const double golden = PI * (3.0 - sqrt(5.0)), link2 = 2.25 * sp * sp;
-    double area = 4.0 * PI * pr->radius * pr->radius;
+    const double golden = RELIEF_PI * (3.0 - sqrt(5.0)), link2 = 2.25 * sp * sp;
+    double area = 4.0 * RELIEF_PI * pr->radius * pr->radius;
     double nf = area / (sp * sp * sqrt(3.0) / 2.0), e3[3];
     uint32_t *parent = NULL;
     int *idx = NULL;
@@ -414,7 +414,7 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_param 
             goto done;
         }
         if (pr->model == RELIEF_FIT_CYLINDER)
-            st = lattice_regions(&cov, param, spacing, 0.0, 2.0 * PI * pr->radius,
+            st = lattice_regions(&cov, param, spacing, 0.0, 2.0 * RELIEF_PI * pr->radius,
                                  extent ? params->extent[0] : lo[1],
                                  extent ? params->extent[1] : hi[1], 1, &rg, err);
         else if (extent)

@@ -13,9 +13,9 @@
 
 #include "base/error.h"
 #include "base/rng.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 
-#define PI 3.14159265358979323846
 #define N_WAVES 24
 #define N_DIMPLES_MAX 4096
 
@@ -107,14 +107,14 @@ static void make_waves(wave *w, relief_rng *rng, double lmin, double lmax, int a
 {
     for (int i = 0; i < N_WAVES; ++i) {
         double len = lmin + (lmax - lmin) * relief_rng_uniform(rng);
-        double kmag = 2.0 * PI / len;
-        double dir = angular ? (relief_rng_uniform(rng) - 0.5) * (PI / 6.0)
-                             : relief_rng_uniform(rng) * 2.0 * PI;
+        double kmag = 2.0 * RELIEF_PI / len;
+        double dir = angular ? (relief_rng_uniform(rng) - 0.5) * (RELIEF_PI / 6.0)
+                             : relief_rng_uniform(rng) * 2.0 * RELIEF_PI;
         w[i].k[0] = kmag * cos(dir);
         w[i].k[1] = kmag * sin(dir) * (angular ? 0.15 : 1.0);
         if (angular) /* cycles around the circumference (radius 1) */
             w[i].k[0] = floor(w[i].k[0] + 0.5);
-        w[i].phase = 2.0 * PI * relief_rng_uniform(rng);
+        w[i].phase = 2.0 * RELIEF_PI * relief_rng_uniform(rng);
     }
 }
 
@@ -126,8 +126,8 @@ static void make_meander(wave *w, relief_rng *rng)
     for (int i = 0; i < N_WAVES; ++i) {
         double len = 1.0 + 2.0 * relief_rng_uniform(rng);
         w[i].k[0] = floor(7.0 * relief_rng_uniform(rng)) - 3.0;
-        w[i].k[1] = 2.0 * PI / len * (relief_rng_uniform(rng) < 0.5 ? -1.0 : 1.0);
-        w[i].phase = 2.0 * PI * relief_rng_uniform(rng);
+        w[i].k[1] = 2.0 * RELIEF_PI / len * (relief_rng_uniform(rng) < 0.5 ? -1.0 : 1.0);
+        w[i].phase = 2.0 * RELIEF_PI * relief_rng_uniform(rng);
     }
 }
 
@@ -146,7 +146,7 @@ static double relief_height(const relief_field *f, const double b[3], double u, 
     switch (f->kind) {
     case RELIEF_SYNTH_PLANE_WAVES: {
         /* Waves of wavelength 1/8 travelling at 30 degrees to x. */
-        const double k = 2.0 * PI * 8.0;
+        const double k = 2.0 * RELIEF_PI * 8.0;
         return 0.02 * sin(k * (u * 0.8660254037844386 + v * 0.5));
     }
     case RELIEF_SYNTH_PLANE_NOISE: {
@@ -172,7 +172,7 @@ static double relief_height(const relief_field *f, const double b[3], double u, 
     case RELIEF_SYNTH_CYLINDER_BANDS: {
         /* Raised rings of period 0.5 along the axis: about 6 vertices per
          * period at the default 2000, so the capture resolves them. */
-        double c = cos(2.0 * PI * v / 0.5);
+        double c = cos(2.0 * RELIEF_PI * v / 0.5);
         return c > 0.0 ? 0.05 * c * c : 0.0;
     }
     case RELIEF_SYNTH_CYLINDER_BARK: {
@@ -298,8 +298,8 @@ static int make_plane(base_mesh *b, size_t target_nv)
 static int make_cylinder(base_mesh *b, size_t target_nv)
 {
     /* Square cells: (2 pi / s) * (H / s) = target. */
-    double s = sqrt(2.0 * PI * CYL_HEIGHT / (double)target_nv);
-    size_t nu = (size_t)floor(2.0 * PI / s + 0.5), nz = (size_t)floor(CYL_HEIGHT / s + 0.5) + 1;
+    double s = sqrt(2.0 * RELIEF_PI * CYL_HEIGHT / (double)target_nv);
+    size_t nu = (size_t)floor(2.0 * RELIEF_PI / s + 0.5), nz = (size_t)floor(CYL_HEIGHT / s + 0.5) + 1;
     if (nu < 8)
         nu = 8;
     if (nz < 3)
@@ -309,7 +309,7 @@ static int make_cylinder(base_mesh *b, size_t target_nv)
     for (size_t j = 0; j < nz; ++j)
         for (size_t i = 0; i < nu; ++i) {
             size_t v = j * nu + i;
-            double a = 2.0 * PI * (double)i / (double)nu - PI; /* angle from -x */
+            double a = 2.0 * RELIEF_PI * (double)i / (double)nu - RELIEF_PI; /* angle from -x */
             double z = CYL_HEIGHT * (double)j / (double)(nz - 1);
             b->p[3 * v] = cos(a), b->p[3 * v + 1] = sin(a), b->p[3 * v + 2] = z;
             b->n[3 * v] = cos(a), b->n[3 * v + 1] = sin(a), b->n[3 * v + 2] = 0.0;
@@ -464,8 +464,8 @@ static int make_sphere(base_mesh *b, size_t target_nv)
 static int make_dimples(relief_field *f, relief_rng *rng)
 {
     const int n = 110;
-    const double golden = PI * (3.0 - sqrt(5.0));
-    double twist = 2.0 * PI * relief_rng_uniform(rng);
+    const double golden = RELIEF_PI * (3.0 - sqrt(5.0));
+    double twist = 2.0 * RELIEF_PI * relief_rng_uniform(rng);
     f->dimple = malloc((size_t)n * sizeof *f->dimple);
     if (!f->dimple)
         return 0;
@@ -506,7 +506,7 @@ static int make_pebbles(relief_field *f, relief_rng *rng)
             pb[1] = f->pebble_lo + cell * (j + 0.5 + 0.5 * (relief_rng_uniform(rng) - 0.5));
             pb[2] = 0.03 * (1.0 - 0.2 * relief_rng_uniform(rng));
             pb[3] = 0.6 * cell * (1.0 - 0.1 * relief_rng_uniform(rng));
-            volume += pb[2] * PI * pb[3] * pb[3] / 3.0; /* of h (1 - q)^2 over the disc */
+            volume += pb[2] * RELIEF_PI * pb[3] * pb[3] / 3.0; /* of h (1 - q)^2 over the disc */
         }
     f->pebble_mean = volume / ((double)n * (double)n * cell * cell);
     return 1;
@@ -518,7 +518,7 @@ static int captured(relief_synth_kind kind, const double p[3], const double n[3]
     if (kind == RELIEF_SYNTH_PLANE_WAVES || kind == RELIEF_SYNTH_PLANE_NOISE)
         return p[0] * p[0] + p[1] * p[1] > HOLE_RADIUS * HOLE_RADIUS;
     /* A scanner looking down -x sees normals within the view cone of +x. */
-    return n[0] > cos(VIEW_HALF_ANGLE * PI / 180.0);
+    return n[0] > cos(VIEW_HALF_ANGLE * RELIEF_PI / 180.0);
 }
 
 relief_status relief_synth(const relief_synth_params *params, relief_mesh **captured_out,
