@@ -107,6 +107,7 @@ static const char smooth_help[] =
     "as for a one-sided scan's hidden side, unless the capture covers less\n"
     "than 20% of it and has holes: a patch of a larger object, whose holes\n"
     "alone are completed.\n"
+    "\n"
     "Target spacing: the 10th percentile of the capture's edge lengths (a\n"
     "robust minimum: real scans have slivers), or --spacing.\n"
     "\n"
