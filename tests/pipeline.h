@@ -42,6 +42,27 @@ static inline relief_status pipeline_smooth(relief_synth_kind kind, size_t verti
     return st;
 }
 
+/* Grow s in place: its match data (p's rotations, mu for `colour`), the
+ * OpenCL matcher (opencl 1) or the scalar reference, relief_grow; the match
+ * data and the matcher are freed after. */
+static inline relief_status pipeline_grow(relief_surface *s, const relief_params *p,
+                                          const relief_grow_options *go, int colour, int opencl,
+                                          relief_grow_stats *stats, relief_error *err)
+{
+    relief_match_data *d = NULL;
+    relief_matcher *m = NULL;
+    relief_status st = relief_match_data_build(s, p->rotations, relief_grow_mu(p, colour), &d,
+                                               err);
+    if (st == RELIEF_OK)
+        st = opencl ? relief_matcher_opencl_create(d, -1, &m, err)
+                    : relief_matcher_scalar_create(d, &m, err);
+    if (st == RELIEF_OK)
+        st = relief_grow(s, d, m, p, go, stats, err);
+    relief_matcher_destroy(m);
+    relief_match_data_destroy(d);
+    return st;
+}
+
 /* Run it; *out receives the grown surface (caller frees) on success. */
 static inline relief_status pipeline_run(const pipeline *pl, relief_surface **out,
                                          relief_grow_stats *stats, relief_error *err)
@@ -51,8 +72,6 @@ static inline relief_status pipeline_run(const pipeline *pl, relief_surface **ou
     relief_grow_options go = relief_grow_options_default();
     relief_mesh *cap = NULL;
     relief_surface *s = NULL;
-    relief_match_data *d = NULL;
-    relief_matcher *m = NULL;
     relief_status st;
 
     sp.kind = pl->kind;
@@ -66,14 +85,7 @@ static inline relief_status pipeline_run(const pipeline *pl, relief_surface **ou
     if (st == RELIEF_OK)
         st = relief_smooth(cap, &p, NULL, &s, err);
     if (st == RELIEF_OK)
-        st = relief_match_data_build(s, p.rotations, relief_grow_mu(&p, pl->colour), &d, err);
-    if (st == RELIEF_OK)
-        st = pl->opencl ? relief_matcher_opencl_create(d, -1, &m, err)
-                        : relief_matcher_scalar_create(d, &m, err);
-    if (st == RELIEF_OK)
-        st = relief_grow(s, d, m, &p, &go, stats, err);
-    relief_matcher_destroy(m);
-    relief_match_data_destroy(d);
+        st = pipeline_grow(s, &p, &go, pl->colour, pl->opencl, stats, err);
     relief_mesh_destroy(cap);
     if (st != RELIEF_OK) {
         relief_surface_destroy(s);

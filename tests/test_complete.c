@@ -15,10 +15,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "grow/grow.h"
-#include "match/matcher.h"
-#include "match/matcher_opencl.h"
-#include "match/matcher_scalar.h"
+#include "pipeline.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
 #include "report/pattern.h"
@@ -31,8 +28,6 @@ int main(int argc, char **argv)
     relief_grow_options go = relief_grow_options_default();
     relief_mesh *cap = NULL, *truth = NULL;
     relief_surface *s = NULL;
-    relief_match_data *d = NULL;
-    relief_matcher *m = NULL;
     relief_grow_stats stats;
     relief_measures me;
     relief_error err = {RELIEF_OK, ""};
@@ -57,11 +52,7 @@ int main(int argc, char **argv)
     if (st == RELIEF_OK)
         st = relief_smooth(cap, &p, NULL, &s, &err);
     if (st == RELIEF_OK)
-        st = relief_match_data_build(s, p.rotations, relief_grow_mu(&p, sp.colour), &d, &err);
-    if (st == RELIEF_OK)
-        st = relief_matcher_scalar_create(d, &m, &err);
-    if (st == RELIEF_OK)
-        st = relief_grow(s, d, m, &p, &go, &stats, &err);
+        st = pipeline_grow(s, &p, &go, sp.colour, 0, &stats, &err);
     if (st == RELIEF_OK)
         st = relief_measure(s->mesh, truth, &s->fit.prim, &me, &err);
     CHECK(st == RELIEF_OK, "%s: %s", argv[1], err.message);
@@ -134,8 +125,6 @@ int main(int argc, char **argv)
         relief_match_data_destroy(d2);
         relief_surface_destroy(s2);
     }
-    relief_matcher_destroy(m);
-    relief_match_data_destroy(d);
     relief_surface_destroy(s);
     relief_mesh_destroy(truth);
     relief_mesh_destroy(cap);

@@ -29,9 +29,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "grow/grow.h"
-#include "match/matcher.h"
-#include "match/matcher_scalar.h"
+#include "pipeline.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
 #include "smooth/surface.h"
@@ -113,8 +111,6 @@ int main(int argc, char **argv)
     relief_grow_options go = relief_grow_options_default();
     relief_mesh *in = NULL, *cap = NULL, *truth = NULL;
     relief_surface *s = NULL;
-    relief_match_data *d = NULL;
-    relief_matcher *m = NULL;
     relief_grow_stats stats;
     relief_measures floor_m, smooth_m, me;
     relief_error err = {RELIEF_OK, ""};
@@ -179,11 +175,7 @@ int main(int argc, char **argv)
     if (st == RELIEF_OK)
         st = relief_measure(s->mesh, truth, &s->fit.prim, &smooth_m, &err);
     if (st == RELIEF_OK)
-        st = relief_match_data_build(s, p.rotations, relief_grow_mu(&p, colour), &d, &err);
-    if (st == RELIEF_OK)
-        st = relief_matcher_scalar_create(d, &m, &err);
-    if (st == RELIEF_OK)
-        st = relief_grow(s, d, m, &p, &go, &stats, &err);
+        st = pipeline_grow(s, &p, &go, colour, 0, &stats, &err);
     if (st == RELIEF_OK)
         st = relief_measure(s->mesh, truth, &s->fit.prim, &me, &err);
     CHECK(st == RELIEF_OK, "%s: %s", c->name, err.message);
@@ -225,8 +217,6 @@ int main(int argc, char **argv)
           "the smooth completion alone (MSI difference %.2f %%) would pass every bound",
           smooth_m.msi_diff_percent);
 done:
-    relief_matcher_destroy(m);
-    relief_match_data_destroy(d);
     relief_surface_destroy(s);
     relief_mesh_destroy(truth);
     relief_mesh_destroy(cap);

@@ -34,7 +34,6 @@
 #define RM_REAL double
 #include "kernels/relief_math.h"
 
-
 relief_smooth_options relief_smooth_options_default(void)
 {
     relief_smooth_options o;
