@@ -50,30 +50,36 @@ void relief_canonical_sign(double d[3])
             d[i] = -d[i];
 }
 
-/* Eigen-decomposition of the symmetric 3 x 3 row-major matrix a_in by cyclic
- * Jacobi rotations. eval[0] >= eval[1] >= eval[2]; column j of evec
- * (evec[3 * i + j]) is the unit eigenvector of eval[j]. Jacobi rather than
- * the closed-form cubic because it stays accurate for the nearly repeated
- * eigenvalues of discs and sphere caps. */
-void relief_sym3_eigen(const double a_in[9], double eval[3], double evec[9])
+/* Cyclic Jacobi rotations (linalg.h); for n = 3 rather than the closed-form
+ * cubic because it stays accurate for the nearly repeated eigenvalues of
+ * discs and sphere caps. */
+void relief_sym_eigen(int n, const double *a_in, double *eval, double *evec, double *work)
 {
-    double a[9], v[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    int order[3] = {0, 1, 2};
-
-    memcpy(a, a_in, sizeof a);
+    double *a = work, *v = work + (size_t)n * (size_t)n;
+    int order[RELIEF_SYM_EIGEN_MAX];
+    memcpy(a, a_in, (size_t)n * (size_t)n * sizeof *a);
+    memset(v, 0, (size_t)n * (size_t)n * sizeof *v);
+    for (int i = 0; i < n; ++i) {
+        v[n * i + i] = 1.0;
+        order[i] = i;
+    }
     for (int sweep = 0; sweep < 64; ++sweep) {
-        double off = a[1] * a[1] + a[2] * a[2] + a[5] * a[5];
-        double diag = a[0] * a[0] + a[4] * a[4] + a[8] * a[8];
+        double off = 0.0, diag = 0.0;
+        for (int p = 0; p < n; ++p)
+            for (int q = p + 1; q < n; ++q)
+                off += a[n * p + q] * a[n * p + q];
+        for (int p = 0; p < n; ++p)
+            diag += a[n * p + p] * a[n * p + p];
         if (off == 0.0 || off <= 1e-32 * diag)
             break;
-        for (int p = 0; p < 2; ++p) {
-            for (int q = p + 1; q < 3; ++q) {
-                double apq = a[3 * p + q], theta, t, c, s;
+        for (int p = 0; p < n - 1; ++p) {
+            for (int q = p + 1; q < n; ++q) {
+                double apq = a[n * p + q], theta, t, c, s;
                 if (apq == 0.0)
                     continue;
                 /* Numerical Recipes' rotation: the smaller angle, which
                  * keeps the sweep convergent. */
-                theta = (a[3 * q + q] - a[3 * p + p]) / (2.0 * apq);
+                theta = (a[n * q + q] - a[n * p + p]) / (2.0 * apq);
                 if (fabs(theta) > 1e150)
                     t = 0.5 / theta;
                 else
@@ -81,36 +87,42 @@ void relief_sym3_eigen(const double a_in[9], double eval[3], double evec[9])
                         (fabs(theta) + sqrt(theta * theta + 1.0));
                 c = 1.0 / sqrt(t * t + 1.0);
                 s = t * c;
-                for (int k = 0; k < 3; ++k) {
-                    double akp = a[3 * k + p], akq = a[3 * k + q];
-                    a[3 * k + p] = c * akp - s * akq;
-                    a[3 * k + q] = s * akp + c * akq;
+                for (int k = 0; k < n; ++k) {
+                    double akp = a[n * k + p], akq = a[n * k + q];
+                    a[n * k + p] = c * akp - s * akq;
+                    a[n * k + q] = s * akp + c * akq;
                 }
-                for (int k = 0; k < 3; ++k) {
-                    double apk = a[3 * p + k], aqk = a[3 * q + k];
-                    a[3 * p + k] = c * apk - s * aqk;
-                    a[3 * q + k] = s * apk + c * aqk;
+                for (int k = 0; k < n; ++k) {
+                    double apk = a[n * p + k], aqk = a[n * q + k];
+                    a[n * p + k] = c * apk - s * aqk;
+                    a[n * q + k] = s * apk + c * aqk;
                 }
-                for (int k = 0; k < 3; ++k) {
-                    double vkp = v[3 * k + p], vkq = v[3 * k + q];
-                    v[3 * k + p] = c * vkp - s * vkq;
-                    v[3 * k + q] = s * vkp + c * vkq;
+                for (int k = 0; k < n; ++k) {
+                    double vkp = v[n * k + p], vkq = v[n * k + q];
+                    v[n * k + p] = c * vkp - s * vkq;
+                    v[n * k + q] = s * vkp + c * vkq;
                 }
             }
         }
     }
-    for (int i = 0; i < 2; ++i)
-        for (int j = i + 1; j < 3; ++j)
-            if (a[4 * order[j]] > a[4 * order[i]]) {
+    for (int i = 0; i < n - 1; ++i)
+        for (int j = i + 1; j < n; ++j)
+            if (a[(n + 1) * order[j]] > a[(n + 1) * order[i]]) {
                 int t = order[i];
                 order[i] = order[j];
                 order[j] = t;
             }
-    for (int j = 0; j < 3; ++j) {
-        eval[j] = a[4 * order[j]];
-        for (int i = 0; i < 3; ++i)
-            evec[3 * i + j] = v[3 * i + order[j]];
+    for (int j = 0; j < n; ++j) {
+        eval[j] = a[(n + 1) * order[j]];
+        for (int i = 0; i < n; ++i)
+            evec[n * i + j] = v[n * i + order[j]];
     }
+}
+
+void relief_sym3_eigen(const double a_in[9], double eval[3], double evec[9])
+{
+    double work[18];
+    relief_sym_eigen(3, a_in, eval, evec, work);
 }
 
 /* Centroid m[3] and principal axes of the points q (n x 3) with mask[i] != 0

@@ -26,6 +26,13 @@ void relief_canonical_sign(double d[3]);
  * eigenvalues of discs and sphere caps. */
 void relief_sym3_eigen(const double a_in[9], double eval[3], double evec[9]);
 
+/* The same for a symmetric n x n row-major matrix, 1 <= n <=
+ * RELIEF_SYM_EIGEN_MAX: eval[n], evec[n x n] (column j the eigenvector of
+ * eval[j], eigenvalues largest first); work holds 2 n^2 doubles. Cyclic
+ * Jacobi: O(n^3) per sweep, meant for small n (descriptor covariances). */
+#define RELIEF_SYM_EIGEN_MAX 64
+void relief_sym_eigen(int n, const double *a_in, double *eval, double *evec, double *work);
+
 /* Centroid m[3] and principal axes of the points q (n x 3) with mask[i] != 0
  * (all points when mask is NULL): eigenvalues of the covariance, largest
  * first, and the axes as the columns of evec. Returns the point count. */
