@@ -20,6 +20,7 @@ typedef struct pipeline {
     int prune;
     int bootstrap;
     int opencl; /* 1: the OpenCL matcher, 0: the scalar reference */
+    relief_search_mode search; /* 0 (auto): exhaustive at these sizes */
 } pipeline;
 
 /* A synthetic capture's smooth completion with default parameters; *out
@@ -79,6 +80,7 @@ static inline relief_status pipeline_run(const pipeline *pl, relief_surface **ou
     sp.colour = pl->colour;
     p.seed = pl->seed;
     p.window = pl->window;
+    p.search = pl->search;
     go.prune = pl->prune;
     go.bootstrap = pl->bootstrap;
     st = relief_synth(&sp, &cap, NULL, err);

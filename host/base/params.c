@@ -13,6 +13,8 @@ relief_params relief_params_default(void)
     p.mu = -1.0;
     p.seed = 1;
     p.coherence = 0.0;
+    p.search = RELIEF_SEARCH_AUTO;
+    p.search_k = 8;
     p.levels = 1;
     p.backend = RELIEF_BACKEND_AUTO;
     p.device = -1;
@@ -31,6 +33,15 @@ int relief_params_rotations(const relief_params *params, relief_fit_model model)
     if (params->rotations > 0)
         return params->rotations;
     return model == RELIEF_FIT_PLANE ? 1 : 4;
+}
+
+relief_search_mode relief_params_search(const relief_params *params, size_t ns, int rotations,
+                                        size_t n_targets)
+{
+    if (params->search != RELIEF_SEARCH_AUTO)
+        return params->search;
+    return (double)ns * rotations * (double)n_targets > RELIEF_SEARCH_AUTO_WORK
+               ? RELIEF_SEARCH_COHERENT : RELIEF_SEARCH_EXHAUSTIVE;
 }
 
 relief_status relief_params_validate(const relief_params *p, relief_error *err)
@@ -55,6 +66,12 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
     if (!(p->mu < 0.0 && p->mu == -1.0) && !(p->mu >= 0.0 && p->mu <= 1.0))
         return relief_fail(err, RELIEF_E_RANGE,
                            "mu %g out of range: expected 0 <= mu <= 1", p->mu);
+    if (p->search < RELIEF_SEARCH_AUTO || p->search > RELIEF_SEARCH_COHERENT)
+        return relief_fail(err, RELIEF_E_RANGE, "search %d is not one of "
+                           "auto, exhaustive, coherent", (int)p->search);
+    if (p->search_k < 1 || p->search_k > 64)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "search k %d out of range: expected 1..64", p->search_k);
     if (p->levels < 1 || p->levels > 8)
         return relief_fail(err, RELIEF_E_RANGE,
                            "levels %d out of range: expected 1..8", p->levels);
@@ -101,6 +118,16 @@ const char *relief_fit_model_name(relief_fit_model m)
     case RELIEF_FIT_CYLINDER: return "cylinder";
     }
     return "unknown";
+}
+
+const char *relief_search_name(relief_search_mode search)
+{
+    switch (search) {
+    case RELIEF_SEARCH_EXHAUSTIVE: return "exhaustive";
+    case RELIEF_SEARCH_COHERENT: return "coherent";
+    case RELIEF_SEARCH_AUTO: break;
+    }
+    return "auto";
 }
 
 const char *relief_backend_name(relief_backend b)

@@ -23,6 +23,7 @@
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
+#include "match/search.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
 #include "report/pattern.h"
@@ -52,6 +53,13 @@ static const char complete_help[] =
     "                        a neighbour's source when its score is within K x\n"
     "                        the best; 0 = off, the paper's draw alone (default),\n"
     "                        else 1..100 (2 helps the coloured demo: README)\n"
+    "  --search S            auto (default), exhaustive or coherent: score every\n"
+    "                        sample for each target (paper 000), or only the\n"
+    "                        samples that continue its neighbours' patches and\n"
+    "                        their K most similar (k-coherence: sub-quadratic);\n"
+    "                        auto is coherent above 1e8 samples x R x targets\n"
+    "  --search-k K          similar samples per patch for coherent, 1..64\n"
+    "                        (default 8)\n"
     "  --levels M            hierarchy levels 1..8 (default 1: mono-scale)\n"
     "  --backend B           auto|scalar|opencl (default auto)\n"
     "  --device N            OpenCL device index (see 'relief devices')\n"
@@ -332,16 +340,28 @@ static relief_status inject_device_failure(void *ctx, relief_error *err)
                        "(injected by RELIEF_TEST_DEVICE_FAIL_AFTER=%zu)", f->after);
 }
 
+/* Host bytes the mono-scale growth of s needs, the k-coherence search's
+ * similar pairs included when it runs. */
+static uint64_t growth_bytes(const relief_surface *s, const relief_params *p)
+{
+    uint64_t b = relief_estimate_growth(relief_mesh_vertex_count(s->mesh),
+                                        relief_mesh_triangle_count(s->mesh), s->n_samples,
+                                        p->rotations);
+    if (relief_params_search(p, s->n_samples, p->rotations, s->n_targets) ==
+        RELIEF_SEARCH_COHERENT)
+        b += relief_search_bytes(s->n_samples, p->rotations, p->search_k);
+    return b;
+}
+
 /* Refuse a growth that cannot fit before its match data and state exist. */
 static relief_status check_growth_memory(const relief_surface *s, const relief_params *p,
                                          relief_error *err)
 {
     const size_t nv = relief_mesh_vertex_count(s->mesh);
-    const size_t nt = relief_mesh_triangle_count(s->mesh);
     char what[160];
     snprintf(what, sizeof what, "the growth over %zu vertices (%zu samples x %d rotations)",
              nv, s->n_samples, p->rotations);
-    return relief_memory_check(what, relief_estimate_growth(nv, nt, s->n_samples, p->rotations),
+    return relief_memory_check(what, growth_bytes(s, p),
                                relief_memory_limit(p),
                                "; raise --spacing or lower --rotations", err);
 }
@@ -447,14 +467,13 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     }
     if (st == RELIEF_OK && !quiet)
         fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "
-                "W %d, R %d, e %g, mu %g; growth memory about %.0f MiB\n",
+                "W %d, R %d, e %g, mu %g, %s search; growth memory about %.0f MiB\n",
                 relief_fit_model_name(s->fit.prim.model), s->spacing, s->n_samples,
                 s->n_targets, p->window, p->rotations, p->error,
                 relief_grow_mu(p, relief_mesh_colours(s->mesh) != NULL),
-                (double)relief_estimate_growth(relief_mesh_vertex_count(s->mesh),
-                                               relief_mesh_triangle_count(s->mesh),
-                                               s->n_samples, p->rotations) /
-                    (1024.0 * 1024.0));
+                relief_search_name(relief_params_search(p, s->n_samples, p->rotations,
+                                                        s->n_targets)),
+                (double)growth_bytes(s, p) / (1024.0 * 1024.0));
     if (st == RELIEF_OK && hier && !quiet) {
         fprintf(stderr, "relief complete: %d levels of", p->levels);
         for (int k = 0; k < p->levels; ++k)
@@ -599,6 +618,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"mu", required_argument, 0, OPT_MU},
         {"seed", required_argument, 0, OPT_SEED},
         {"levels", required_argument, 0, OPT_LEVELS},
+        {"search", required_argument, 0, OPT_SEARCH},
+        {"search-k", required_argument, 0, OPT_SEARCH_K},
         {"backend", required_argument, 0, OPT_BACKEND},
         {"device", required_argument, 0, OPT_DEVICE},
         {"bootstrap", no_argument, 0, OPT_BOOTSTRAP},
@@ -673,6 +694,22 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
             if (!cli_parse_int(cmd, "--levels", optarg, 1, 8, &v))
                 return EXIT_USAGE;
             p.levels = (int)v;
+            break;
+        case OPT_SEARCH:
+            if (strcmp(optarg, "auto") == 0)
+                p.search = RELIEF_SEARCH_AUTO;
+            else if (strcmp(optarg, "exhaustive") == 0)
+                p.search = RELIEF_SEARCH_EXHAUSTIVE;
+            else if (strcmp(optarg, "coherent") == 0)
+                p.search = RELIEF_SEARCH_COHERENT;
+            else
+                return cli_usage_error(cmd, "--search: '%s' is not one of auto, exhaustive, "
+                                       "coherent", optarg);
+            break;
+        case OPT_SEARCH_K:
+            if (!cli_parse_int(cmd, "--search-k", optarg, 1, 64, &v))
+                return EXIT_USAGE;
+            p.search_k = (int)v;
             break;
         case OPT_BACKEND:
             if (strcmp(optarg, "auto") == 0)

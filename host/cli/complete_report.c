@@ -66,6 +66,7 @@ static void report_levels(relief_json *j, const relief_hierarchy_stats *hs)
         rj_int(j, "restricted_matches", (long long)l->grow.pyramid_hits);
         rj_int(j, "fallbacks_nothing_passed", (long long)l->grow.pyramid_misses);
         rj_int(j, "fallbacks_no_box", (long long)l->grow.pyramid_empty);
+        rj_string(j, "search", relief_search_name((relief_search_mode)l->grow.search));
         rj_int(j, "candidates_scored", (long long)l->grow.candidates);
         rj_int(j, "acceptances", (long long)l->grow.acceptances);
         rj_int(j, "coherent", (long long)l->grow.coherent);
@@ -96,6 +97,8 @@ int cli_write_complete_report(FILE *f, void *ctx)
     rj_number(&j, "error", r->params->error);
     rj_number(&j, "mu", g->mu);
     rj_number(&j, "coherence", r->params->coherence);
+    rj_string(&j, "search", relief_search_name((relief_search_mode)g->search));
+    rj_int(&j, "search_k", r->params->search_k);
     rj_int(&j, "seed", (long long)r->params->seed);
     rj_int(&j, "levels", r->params->levels);
     rj_bool(&j, "prune", r->gopts->prune);
@@ -118,6 +121,18 @@ int cli_write_complete_report(FILE *f, void *ctx)
     rj_number(&j, "b_shape", g->b_shape);
     rj_number(&j, "seconds", g->seconds);
     rj_number(&j, "match_seconds", g->match_seconds);
+    if (g->search == RELIEF_SEARCH_COHERENT) {
+        rj_begin_object(&j, "search");
+        rj_int(&j, "accepted_from_continuations", (long long)g->search_hits);
+        rj_int(&j, "fallbacks_nothing_passed", (long long)g->search_misses);
+        rj_int(&j, "fallbacks_no_continuation", (long long)g->search_empty);
+        rj_number(&j, "continuations_mean",
+                  g->acceptances + g->rejections
+                      ? (double)g->search_centres / (double)(g->acceptances + g->rejections)
+                      : 0.0);
+        rj_number(&j, "build_seconds", g->search_seconds);
+        rj_end_object(&j);
+    }
     rj_end_object(&j);
     if (r->hier)
         report_levels(&j, r->hier);

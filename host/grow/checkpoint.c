@@ -80,12 +80,14 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
     snprintf(key->params, sizeof key->params,
              "fit=%s window=%d rotations=%d error=%s mu=%s seed=%u levels=%d "
              "oversample=%d oversample_scheme=%s spacing=%s extent=%s frames=%s "
-             "spacing_percentile=%s bootstrap=%d coherence=%s spike_k=%s fill=%s",
+             "spacing_percentile=%s bootstrap=%d coherence=%s spike_k=%s fill=%s search=%s "
+             "search_k=%d",
              relief_fit_model_name(p->fit), p->window, p->rotations, error, mu,
              (unsigned)p->seed, p->levels, p->oversample,
              relief_oversample_scheme_name(so->oversample_scheme), spacing, extent,
              so->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive", pct,
-             go ? go->bootstrap : 0, coherence, spike_k, relief_fill_name(so->fill));
+             go ? go->bootstrap : 0, coherence, spike_k, relief_fill_name(so->fill),
+             relief_search_name(p->search), p->search_k);
 }
 
 /* --------------------------------------------------------------- writing */

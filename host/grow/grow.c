@@ -30,6 +30,7 @@
 #include "base/rng.h"
 #include "base/vec3.h"
 #include "match/matcher_scalar.h"
+#include "match/search.h"
 #include "mesh/mesh.h"
 #include "smooth/surface_check.h"
 
@@ -365,24 +366,16 @@ static int coherent_best(const relief_surface *s, const relief_match_data *d,
     for (uint32_t i = 0; i < q->n; ++i) {
         const uint32_t nv = qb->nbs[i].v, c = src[nv];
         const double *np = s->proj + 3 * (size_t)nv, *nf = s->frame + 9 * (size_t)nv;
-        uint32_t si, r, v2, cand;
-        double o[3];
-        float a, b, x[3], ssd;
+        uint32_t r, v2, cand;
+        float o[3], ssd;
         size_t k;
         if (c == UINT32_MAX)
             continue;
-        si = c / R;
         r = c % R;
         for (int j = 0; j < 3; ++j)
-            o[j] = nf[3 * j] * (tp[0] - np[0]) + nf[3 * j + 1] * (tp[1] - np[1]) +
-                   nf[3 * j + 2] * (tp[2] - np[2]);
-        a = d->cos_r[r] * (float)o[0] - d->sin_r[r] * (float)o[1];
-        b = d->sin_r[r] * (float)o[0] + d->cos_r[r] * (float)o[1];
-        for (int j = 0; j < 3; ++j)
-            x[j] = d->s_proj[3 * si + j] + a * d->s_frame[9 * si + j] +
-                   b * d->s_frame[9 * si + 3 + j] + (float)o[2] * d->s_frame[9 * si + 6 + j];
-        v2 = rm_closest_vertex_listed(x, d->proj, d->cell_start, d->cell_items, d->grid, d->dims,
-                                      d->lgrid, d->ldims, d->lmask, d->lslot, d->litems);
+            o[j] = (float)(nf[3 * j] * (tp[0] - np[0]) + nf[3 * j + 1] * (tp[1] - np[1]) +
+                           nf[3 * j + 2] * (tp[2] - np[2]));
+        v2 = relief_continue_patch(d, o, c / R, r);
         if (v2 >= d->ns) /* not a sample (samples are vertices 0..ns-1) */
             continue;
         cand = v2 * R + r;
@@ -417,6 +410,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     int *win = NULL;
     uint32_t *best = NULL, *src = NULL;
     ranked *list = NULL;
+    relief_search *search = NULL;
     const double kappa = params->coherence;
     float *ssd = NULL;
     relief_rng rng;
@@ -456,6 +450,15 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         win[v] = params->window;
         src[v] = UINT32_MAX;
     }
+    stats->search = opts->pyramid_start ? RELIEF_SEARCH_EXHAUSTIVE /* a finer level */
+                    : relief_params_search(params, d->ns, d->rotations, s->n_targets);
+    if (stats->search == RELIEF_SEARCH_COHERENT) {
+        st = relief_search_create(s, d, params->window, params->search_k, &search, err);
+        if (st != RELIEF_OK)
+            goto done;
+        stats->search_seconds = relief_search_build_seconds(search);
+        t0 = relief_seconds(); /* the growth's time and rate start after it */
+    }
     relief_rng_seed(&rng, params->seed);
     if (opts->resume) {
         const relief_grow_state *r = opts->resume;
@@ -469,6 +472,8 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         rng = r->rng;
         e = r->error;
         *stats = r->stats;
+        stats->search = search ? RELIEF_SEARCH_COHERENT : RELIEF_SEARCH_EXHAUSTIVE;
+        stats->search_seconds = relief_search_build_seconds(search);
         t0 -= r->stats.seconds;
         m->kernel_seconds += r->stats.match_seconds;
         resume_pass = r->n_list > 0;
@@ -541,7 +546,18 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
 
             relief_query_build(qb, textured, t, win[t], &query);
             query.running = opts->prune;
-            if (opts->pyramid_start) { /* sample pyramids: the box first */
+            if (search) { /* k-coherence: the continuations first */
+                const uint32_t *cs;
+                uint32_t nc = relief_search_candidates(search, s, d, qb->nb, query.n, src, t,
+                                                       &cs);
+                stats->search_centres += nc;
+                if (nc > 0 && nc < d->ns) {
+                    query.subset = cs;
+                    query.n_subset = nc;
+                } else {
+                    ++stats->search_empty;
+                }
+            } else if (opts->pyramid_start) { /* sample pyramids: the box first */
                 query.subset = opts->pyramid_items + opts->pyramid_start[t];
                 query.n_subset = opts->pyramid_start[t + 1] - opts->pyramid_start[t];
                 if (query.n_subset == 0) {
@@ -584,8 +600,12 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
             chosen = nbest > 0 ? best[relief_rng_below(&rng, (uint32_t)nbest)] : UINT32_MAX;
             if (query.subset && query.n_subset < d->ns &&
                 (chosen == UINT32_MAX || !((double)ssd[chosen] < e))) {
-                /* Nothing in the box passes e: every sample (001 section 3.4). */
-                ++stats->pyramid_misses;
+                /* Nothing in the box (or among the continuations) passes
+                 * e: every sample (001 section 3.4). */
+                if (search)
+                    ++stats->search_misses;
+                else
+                    ++stats->pyramid_misses;
                 query.subset = NULL;
                 query.n_subset = 0;
                 query.cutoff = FLT_MAX;
@@ -635,7 +655,10 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                     src[t] = si * (uint32_t)d->rotations + (uint32_t)r;
                     if (opts->matched)
                         opts->matched[t] = sv;
-                    stats->pyramid_hits += query.subset != NULL;
+                    if (search)
+                        stats->search_hits += query.subset != NULL;
+                    else
+                        stats->pyramid_hits += query.subset != NULL;
                     if (opts->bootstrap)
                         d->matchable[t] = 1;
                     st = relief_matcher_update(m, d, t, err);
@@ -686,6 +709,7 @@ done:
     stats->error_final = e;
     stats->seconds = relief_seconds() - t0;
     stats->match_seconds = m->kernel_seconds;
+    relief_search_destroy(search);
     free(src);
     free(best);
     free(flag);

@@ -26,6 +26,16 @@ typedef struct relief_grow_stats {
     size_t pyramid_hits;      /* sample pyramids: targets accepted from their box */
     size_t pyramid_misses;    /* boxes where nothing passed e: all samples scored */
     size_t pyramid_empty;     /* targets with no box or an empty one: all samples */
+    size_t search;            /* the search used, a relief_search_mode (auto
+                                 resolved); size_t as every count here, so
+                                 the checkpoint's copy has no padding */
+    size_t search_hits;       /* coherent search: targets accepted from the
+                                 continuations */
+    size_t search_misses;     /* continuations where nothing passed e: all
+                                 samples scored */
+    size_t search_empty;      /* targets with no continuation: all samples */
+    size_t search_centres;    /* continuations listed, summed over targets */
+    double search_seconds;    /* building the search (descriptors, index) */
     double error_final;       /* e at the end */
     double b_shape;           /* the shape bound used (input units) */
     double mu;                /* the shape weight used */

@@ -236,6 +236,13 @@ static void add_stats(relief_grow_stats *t, const relief_grow_stats *s)
     t->pyramid_hits += s->pyramid_hits;
     t->pyramid_misses += s->pyramid_misses;
     t->pyramid_empty += s->pyramid_empty;
+    if (s->search == RELIEF_SEARCH_COHERENT) /* level 1's search is the run's */
+        t->search = s->search;
+    t->search_hits += s->search_hits;
+    t->search_misses += s->search_misses;
+    t->search_empty += s->search_empty;
+    t->search_centres += s->search_centres;
+    t->search_seconds += s->search_seconds;
     t->error_final = s->error_final;
     t->b_shape = s->b_shape;
     t->mu = s->mu;

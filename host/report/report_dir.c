@@ -423,6 +423,13 @@ static void write_figures(FILE *f, const relief_report_content *c)
     row(f, "threshold raises", "%zu (e %s to %s)", g->threshold_raises,
         num(a, sizeof a, c->params->error), num(b, sizeof b, g->error_final));
     row(f, "candidates scored", "%zu (%zu pruned)", g->candidates, g->pruned);
+    if (g->search == RELIEF_SEARCH_COHERENT)
+        row(f, "search", "coherent, k %d: %zu accepted from the continuations, %zu fell back "
+            "to every sample (%zu with none); built in %.2f s", c->params->search_k,
+            g->search_hits, g->search_misses + g->search_empty, g->search_empty,
+            g->search_seconds);
+    else
+        row(f, "search", "exhaustive");
     row(f, "backend", "%s: %s", c->backend, c->device);
     fputs("</table>\n<table class=\"kv\"><caption>Timings (s)</caption>\n", f);
     row(f, "fit", "%.3f", s->seconds[RELIEF_STAGE_FIT]);

@@ -228,6 +228,21 @@ typedef enum relief_backend {
     RELIEF_BACKEND_OPENCL
 } relief_backend;
 
+/* How a target's candidates are found (issue 18): every (sample, rotation)
+ * (exhaustive, paper 000), or the k-coherence search's few hundred
+ * (coherent, host/match/search.h); auto: exhaustive while samples x R x
+ * targets is at most RELIEF_SEARCH_AUTO_WORK, else coherent. */
+typedef enum relief_search_mode {
+    RELIEF_SEARCH_AUTO = 0,
+    RELIEF_SEARCH_EXHAUSTIVE,
+    RELIEF_SEARCH_COHERENT
+} relief_search_mode;
+
+/* Candidate work (samples x R x targets) above which auto searches
+ * coherently: about a minute of exhaustive scoring on 2 cores at the
+ * window of 3. */
+#define RELIEF_SEARCH_AUTO_WORK 1.0e8
+
 /* Parameters of `relief complete` and `relief smooth`. Lengths are in the
  * input's units; 0 for spacing means "derive from the capture". */
 typedef struct relief_params {
@@ -244,6 +259,9 @@ typedef struct relief_params {
                                neighbour's source patch) when that one's SSD
                                is at most kappa x the minimum; 0 = off (paper
                                000's draw alone); 0, or [1, 100] */
+    relief_search_mode search; /* default auto */
+    int search_k;           /* similar pairs per pair in the coherent
+                               search; 8, [1, 64] */
     int levels;             /* M hierarchy levels; 1 (mono-scale), [1, 8] */
     relief_backend backend; /* default auto */
     int device;             /* OpenCL device index; -1 = first usable */
@@ -273,8 +291,16 @@ relief_status relief_params_validate(const relief_params *params,
  * a sphere, where frames turn with the surface. */
 int relief_params_rotations(const relief_params *params, relief_fit_model model);
 
+/* The search params->search asks for on ns samples, R rotations and
+ * n_targets targets: exhaustive or coherent, auto resolved. */
+relief_search_mode relief_params_search(const relief_params *params, size_t ns, int rotations,
+                                        size_t n_targets);
+
 const char *relief_fit_model_name(relief_fit_model model);
 const char *relief_backend_name(relief_backend backend);
+
+/* "auto", "exhaustive" or "coherent". */
+const char *relief_search_name(relief_search_mode search);
 
 /* ---------------------------------------------------------------- devices */
 

@@ -106,6 +106,9 @@ expect 1 "--mu" -- "$relief" complete "$in" -o "$tmp/o.ply" --mu 1.5
 expect 1 "coherence 0.5 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence 0.5
 expect 1 "--coherence" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence nan
 expect 1 "--levels" -- "$relief" complete "$in" -o "$tmp/o.ply" --levels 0
+expect 1 "not one of auto, exhaustive, coherent" -- "$relief" complete "$in" -o "$tmp/o.ply" --search kd
+expect 1 "--search-k" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 0
+expect 1 "--search-k" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 65
 expect 1 "--backend" -- "$relief" complete "$in" -o "$tmp/o.ply" --backend cuda
 expect 1 "--device" -- "$relief" complete "$in" -o "$tmp/o.ply" --device -3
 expect 1 "unrecognized option" -- "$relief" smooth "$in" -o "$tmp/o.ply" --window 3
@@ -129,6 +132,17 @@ expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/pwc2.ply" --backend sca
 cmp -s "$tmp/pwc.ply" "$tmp/pwc2.ply" && pass=$((pass+1)) || { echo "FAIL: complete is not deterministic for one seed"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/pwc3.ply" --backend scalar --window 2 --quiet --no-prune
 cmp -s "$tmp/pwc.ply" "$tmp/pwc3.ply" && pass=$((pass+1)) || { echo "FAIL: --no-prune changed the result"; fail=$((fail+1)); }
+grep -qF '"search": "exhaustive"' "$tmp/pwc.json" && pass=$((pass+1)) || { echo "FAIL: auto search on a small capture is not reported exhaustive"; fail=$((fail+1)); }
+# The k-coherence search: its figures in the report, deterministic, and the
+# same bytes from OpenCL (test_score_opencl checks that in depth).
+expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/kc.ply" --backend scalar --window 2 \
+  --search coherent --search-k 4 --quiet --report "$tmp/kc.json"
+for key in '"search": "coherent"' '"search_k": 4' '"accepted_from_continuations":' '"continuations_mean":'; do
+  grep -qF "$key" "$tmp/kc.json" && pass=$((pass+1)) || { echo "FAIL: coherent report lacks $key"; fail=$((fail+1)); }
+done
+expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/kc2.ply" --backend scalar --window 2 \
+  --search coherent --search-k 4 --quiet
+cmp -s "$tmp/kc.ply" "$tmp/kc2.ply" && pass=$((pass+1)) || { echo "FAIL: --search coherent is not deterministic for one seed"; fail=$((fail+1)); }
 # The hierarchy: per-level figures in the report, deterministic for a seed.
 expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/lv.ply" --levels 3 --backend scalar \
   --window 2 --quiet --report "$tmp/lv.json"

@@ -36,7 +36,7 @@ static void setup_free(setup *u)
 /* A small coloured plane with a low threshold and coherence: rejections,
  * shrunk windows, threshold raises and coherent picks, so every part of the
  * state matters. */
-static int setup_make(setup *u, relief_error *err)
+static int setup_make(setup *u, relief_search_mode search, relief_error *err)
 {
     relief_synth_params sp = relief_synth_params_default();
     memset(u, 0, sizeof *u);
@@ -49,6 +49,7 @@ static int setup_make(setup *u, relief_error *err)
     /* Coherent candidates come from the targets' sources, which a resumed
      * run must read back: without them it continues other patches. */
     u->p.coherence = 2.0;
+    u->p.search = search;
     return relief_synth(&sp, &u->capture, NULL, err) == RELIEF_OK &&
            relief_smooth(u->capture, &u->p, NULL, &u->s, err) == RELIEF_OK &&
            relief_match_data_build(u->s, u->p.rotations, relief_grow_mu(&u->p, 1), &u->d,
@@ -133,7 +134,7 @@ static void check_hierarchy(const char *path)
     setup ref;
     size_t stops[] = {5, 0, 120, 0};
 
-    if (!setup_make(&ref, &err)) {
+    if (!setup_make(&ref, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
         CHECK(0, "set-up: %s", err.message);
         return;
     }
@@ -153,7 +154,7 @@ static void check_hierarchy(const char *path)
         relief_checkpoint *ck = NULL;
         relief_status st;
         const relief_grow_state *g;
-        if (!setup_make(&u, &err) || !setup_make(&v, &err)) {
+        if (!setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err) || !setup_make(&v, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             CHECK(0, "set-up: %s", err.message);
             return;
         }
@@ -231,7 +232,7 @@ static void check_hierarchy(const char *path)
         relief_grow_stats st1, t2;
         relief_hierarchy_stats hs2;
         relief_checkpoint *ck = NULL;
-        if (setup_make(&u, &err)) {
+        if (setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             g1.save = save;
             g1.save_ctx = &sv;
             g1.cancel_after = 10;
@@ -253,6 +254,51 @@ static void check_hierarchy(const char *path)
     setup_free(&ref);
 }
 
+/* The k-coherence search reads the targets' sources too (and rebuilds its
+ * similar pairs on resume): stopped and resumed, the same surface. */
+static void check_resume_coherent(const char *path)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_grow_options go = relief_grow_options_default(), g1 = go, g2 = go;
+    relief_grow_stats ref_stats, st1, st2;
+    relief_checkpoint_key key;
+    relief_checkpoint *ck = NULL;
+    saver sv = {path, &key, 0};
+    setup ref, u;
+    if (!setup_make(&ref, RELIEF_SEARCH_COHERENT, &err)) {
+        CHECK(0, "coherent set-up: %s", err.message);
+        return;
+    }
+    relief_checkpoint_key_make(ref.capture, &ref.p, NULL, &go, &key);
+    CHECK(relief_grow(ref.s, ref.d, ref.m, &ref.p, &go, &ref_stats, &err) == RELIEF_OK &&
+              ref_stats.search == RELIEF_SEARCH_COHERENT,
+          "coherent, uninterrupted: %s", err.message);
+    g1.save = save;
+    g1.save_ctx = &sv;
+    g1.cancel_after = 40;
+    if (setup_make(&u, RELIEF_SEARCH_COHERENT, &err)) {
+        CHECK(relief_grow(u.s, u.d, u.m, &u.p, &g1, &st1, &err) == RELIEF_E_CANCELLED,
+              "coherent, stop after 40: %s", err.message);
+    }
+    setup_free(&u);
+    if (setup_make(&u, RELIEF_SEARCH_COHERENT, &err) &&
+        relief_checkpoint_read(path, &key, &ck, &err) == RELIEF_OK) {
+        g2.resume = relief_checkpoint_state(ck);
+        CHECK(relief_grow(u.s, u.d, u.m, &u.p, &g2, &st2, &err) == RELIEF_OK,
+              "coherent, resume: %s", err.message);
+        CHECK(memcmp(u.s->mesh->pos, ref.s->mesh->pos, u.s->mesh->nv * 3 * sizeof(double)) ==
+                      0 && same_counts(&st2, &ref_stats) &&
+                  st2.search_hits == ref_stats.search_hits,
+              "coherent, resumed after 40: the surface or counts differ from the "
+              "uninterrupted run's");
+    } else {
+        CHECK(0, "coherent, read back: %s", err.message);
+    }
+    relief_checkpoint_destroy(ck);
+    setup_free(&u);
+    setup_free(&ref);
+}
+
 int main(void)
 {
     relief_error err = {RELIEF_OK, ""};
@@ -264,7 +310,7 @@ int main(void)
     const size_t stops[] = {1, 7, 40, 96};
 
     snprintf(path, sizeof path, "%s/ck", check_tmpdir());
-    if (!setup_make(&ref, &err)) {
+    if (!setup_make(&ref, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
         CHECK(0, "set-up: %s", err.message);
         return check_result();
     }
@@ -284,7 +330,7 @@ int main(void)
         relief_grow_stats st1, st2;
         relief_checkpoint *ck = NULL;
         relief_status st;
-        if (!setup_make(&u, &err)) {
+        if (!setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             CHECK(0, "set-up: %s", err.message);
             break;
         }
@@ -297,7 +343,7 @@ int main(void)
               relief_status_name(st), sv.calls, st1.acceptances);
         setup_free(&u);
         /* A fresh surface, as a new process would build. */
-        if (!setup_make(&u, &err)) {
+        if (!setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             CHECK(0, "set-up: %s", err.message);
             break;
         }
@@ -329,7 +375,7 @@ int main(void)
         saver sv = {path, &key, 0};
         relief_grow_options g = relief_grow_options_default();
         relief_grow_stats st1;
-        if (setup_make(&u, &err)) {
+        if (setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             g.save = save;
             g.save_ctx = &sv;
             g.save_every = 1e-12;
@@ -352,7 +398,7 @@ int main(void)
         volatile sig_atomic_t flag = 1;
         relief_grow_options g = relief_grow_options_default();
         relief_grow_stats st1;
-        if (setup_make(&u, &err)) {
+        if (setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             g.cancel = &flag;
             CHECK(relief_grow(u.s, u.d, u.m, &u.p, &g, &st1, &err) == RELIEF_E_CANCELLED &&
                       st1.acceptances == 0 && strstr(err.message, "interrupted after 0 of"),
@@ -372,7 +418,7 @@ int main(void)
         FILE *f;
         char cut[256];
         snprintf(cut, sizeof cut, "%s/cut", check_tmpdir());
-        if (!setup_make(&u, &err)) {
+        if (!setup_make(&u, RELIEF_SEARCH_EXHAUSTIVE, &err)) {
             CHECK(0, "set-up: %s", err.message);
             return check_result();
         }
@@ -429,6 +475,8 @@ int main(void)
     }
     remove(path);
     check_hierarchy(path);
+    check_resume_coherent(path);
+    remove(path);
     rmdir(check_tmpdir());
     setup_free(&ref);
     return check_result();

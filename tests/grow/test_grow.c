@@ -1,6 +1,8 @@
-/* Growth: every target textured, deterministic for a seed, and the pruned
- * search gives exactly the exhaustive search's result. */
+/* Growth: every target textured, deterministic for a seed, the pruned
+ * search gives exactly the exhaustive search's result, and the k-coherence
+ * search (match/search.h) completes from a small share of the candidates. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,15 +15,78 @@
 
 /* Complete a small synthetic capture with window 2; returns the surface
  * (caller frees) or NULL. */
-static relief_surface *complete(relief_synth_kind kind, size_t n, int colour, uint32_t seed,
-                                int prune, int bootstrap, relief_grow_stats *stats)
+static relief_surface *complete_search(relief_synth_kind kind, size_t n, int colour,
+                                       uint32_t seed, int prune, int bootstrap,
+                                       relief_search_mode search, relief_grow_stats *stats)
 {
-    const pipeline pl = {kind, n, colour, seed, 2, prune, bootstrap, 0};
+    const pipeline pl = {kind, n, colour, seed, 2, prune, bootstrap, 0, search};
     relief_surface *s = NULL;
     relief_error err = {RELIEF_OK, ""};
     CHECK(pipeline_run(&pl, &s, stats, &err) == RELIEF_OK, "%s: %s",
           relief_synth_kind_name(kind), err.message);
     return s;
+}
+
+static relief_surface *complete(relief_synth_kind kind, size_t n, int colour, uint32_t seed,
+                                int prune, int bootstrap, relief_grow_stats *stats)
+{
+    return complete_search(kind, n, colour, seed, prune, bootstrap, RELIEF_SEARCH_EXHAUSTIVE,
+                           stats);
+}
+
+static int same_surface(const relief_surface *a, const relief_surface *b);
+
+/* The k-coherence search on a coloured bark: every target from a few
+ * hundred candidates, the same for a seed, unchanged by pruning, and the
+ * completion as rough as the exhaustive one (the relief copied, not a
+ * smooth fill: the completed part's height RMS about the primitive within
+ * a factor 1.5 of the exhaustive search's). */
+static double target_rms(const relief_surface *s)
+{
+    double sum = 0.0;
+    for (size_t v = s->n_samples; v < s->mesh->nv; ++v) {
+        const double *n = s->frame + 9 * v + 6, *dv = s->disp + 3 * v;
+        const double h = n[0] * dv[0] + n[1] * dv[1] + n[2] * dv[2];
+        sum += h * h;
+    }
+    return sqrt(sum / (double)s->n_targets);
+}
+
+static void check_coherent(void)
+{
+    relief_grow_stats se, sc, sc2, sn;
+    relief_surface *e = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
+                                        RELIEF_SEARCH_EXHAUSTIVE, &se);
+    relief_surface *c = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
+                                        RELIEF_SEARCH_COHERENT, &sc);
+    relief_surface *c2 = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
+                                         RELIEF_SEARCH_COHERENT, &sc2);
+    relief_surface *n = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 0, 0,
+                                        RELIEF_SEARCH_COHERENT, &sn);
+    if (e && c && c2 && n) {
+        const double re = target_rms(e), rc = target_rms(c);
+        printf("coherent: %zu candidates (exhaustive %zu), %zu of %zu targets from the "
+               "continuations, %zu + %zu fell back; target height RMS %.4g (exhaustive "
+               "%.4g)\n", sc.candidates, se.candidates, sc.search_hits, sc.targets,
+               sc.search_misses, sc.search_empty, rc, re);
+        CHECK(se.search == RELIEF_SEARCH_EXHAUSTIVE && sc.search == RELIEF_SEARCH_COHERENT,
+              "searches used: %zu and %zu", se.search, sc.search);
+        CHECK(sc.acceptances == sc.targets, "coherent: %zu of %zu targets textured",
+              sc.acceptances, sc.targets);
+        CHECK(sc.candidates * 5 < se.candidates, "coherent scored %zu candidates, over a "
+              "fifth of the exhaustive %zu", sc.candidates, se.candidates);
+        CHECK(sc.search_hits * 10 >= sc.targets * 9, "only %zu of %zu targets accepted from "
+              "the continuations", sc.search_hits, sc.targets);
+        CHECK(same_surface(c, c2), "coherent: the same seed gave different completions");
+        CHECK(same_surface(c, n), "coherent: pruning changed the completion");
+        CHECK(!same_surface(c, e), "coherent and exhaustive gave the same completion");
+        CHECK(rc > re / 1.5 && rc < re * 1.5, "coherent target height RMS %.4g against the "
+              "exhaustive %.4g", rc, re);
+    }
+    relief_surface_destroy(e);
+    relief_surface_destroy(c);
+    relief_surface_destroy(c2);
+    relief_surface_destroy(n);
 }
 
 static int same_surface(const relief_surface *a, const relief_surface *b)
@@ -74,5 +139,6 @@ int main(void)
               sb.acceptances, sb.targets);
         relief_surface_destroy(f);
     }
+    check_coherent();
     return check_result();
 }

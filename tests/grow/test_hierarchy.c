@@ -407,7 +407,7 @@ static void check_rings(void)
     relief_hierarchy_stats hs;
     relief_grow_stats gs;
     relief_error err = {RELIEF_OK, ""};
-    pipeline pl = {RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, 7, 2, 1, 0, 0};
+    pipeline pl = {RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, 7, 2, 1, 0, 0, RELIEF_SEARCH_AUTO};
     relief_surface *hier = run(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_AUTO, NULL,
                                &hs, NULL);
     relief_surface *mono = NULL;

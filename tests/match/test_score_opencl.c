@@ -276,7 +276,7 @@ done:
  * to the device only before a launch that reads them; with bootstrap
  * those targets are matchable too. */
 static void compare_completion(relief_synth_kind kind, int colour, int bootstrap,
-                               const char *host_max)
+                               const char *host_max, relief_search_mode search)
 {
     relief_surface *out[2] = {NULL, NULL};
     if (host_max)
@@ -284,7 +284,7 @@ static void compare_completion(relief_synth_kind kind, int colour, int bootstrap
     else
         unsetenv("RELIEF_OPENCL_HOST_MAX");
     for (int b = 0; b < 2; ++b) {
-        const pipeline pl = {kind, 500, colour, 1, 2, 1, bootstrap, b};
+        const pipeline pl = {kind, 500, colour, 1, 2, 1, bootstrap, b, search};
         relief_grow_stats stats;
         relief_error err = {RELIEF_OK, ""};
         CHECK(pipeline_run(&pl, &out[b], &stats, &err) == RELIEF_OK, "%s backend %d: %s",
@@ -294,8 +294,9 @@ static void compare_completion(relief_synth_kind kind, int colour, int bootstrap
         const relief_mesh *a = out[0]->mesh, *b = out[1]->mesh;
         CHECK(a->nv == b->nv && memcmp(a->pos, b->pos, 3 * a->nv * sizeof(double)) == 0 &&
                   (!a->col || memcmp(a->col, b->col, 3 * a->nv * sizeof(float)) == 0),
-              "%s colour %d bootstrap %d host_max %s: scalar and OpenCL completions differ",
-              relief_synth_kind_name(kind), colour, bootstrap, host_max ? host_max : "default");
+              "%s colour %d bootstrap %d host_max %s search %s: scalar and OpenCL completions "
+              "differ", relief_synth_kind_name(kind), colour, bootstrap,
+              host_max ? host_max : "default", relief_search_name(search));
     }
     relief_surface_destroy(out[0]);
     relief_surface_destroy(out[1]);
@@ -315,11 +316,15 @@ int main(void)
     compare_surface(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 700);
     /* Large enough that a running query's launch comes in chunks. */
     compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1, 2500);
-    compare_completion(RELIEF_SYNTH_PLANE_WAVES, 1, 0, "0");
-    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 0, 0, "0");
-    compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, "0");
-    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, "0");
-    compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, NULL);
-    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, NULL);
+    compare_completion(RELIEF_SYNTH_PLANE_WAVES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
+    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 0, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
+    compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
+    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, "0", RELIEF_SEARCH_EXHAUSTIVE);
+    compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, NULL, RELIEF_SEARCH_EXHAUSTIVE);
+    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, NULL, RELIEF_SEARCH_EXHAUSTIVE);
+    /* The k-coherence search: small subsets, each a launch ("0") or on the
+     * host (default). */
+    compare_completion(RELIEF_SYNTH_CYLINDER_BARK, 1, 0, "0", RELIEF_SEARCH_COHERENT);
+    compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 0, 0, NULL, RELIEF_SEARCH_COHERENT);
     return check_result();
 }

@@ -1,0 +1,307 @@
+/* The k-coherence search (search.h). */
+#include "match/search.h"
+
+#include <flann/flann.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "base/knn.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "kernels/relief_math.h"
+
+#define POINTS (1 + RELIEF_SEARCH_RINGS * RELIEF_SEARCH_ANGLES)
+#define PCA_ROWS 65536 /* descriptors the principal components are taken over */
+#define OVERQUERY 8    /* neighbours asked of FLANN per pair wanted: the rest
+                          are the pair's own neighbourhood on the surface */
+#define CHUNK 4096     /* pairs per FLANN query */
+
+struct relief_search {
+    uint32_t ns;
+    int rotations, k;
+    uint32_t *sim;   /* ns x k: (s, 0)'s similar pairs s' x R + r', UINT32_MAX
+                        where fewer were found; (s, r)'s are (s', r' + r) */
+    uint32_t *stamp; /* ns: the call that last listed each sample */
+    uint32_t now;
+    uint32_t *cand;  /* ns: the candidates of the last call */
+    double seconds;
+};
+
+size_t relief_search_bytes(size_t ns, int rotations, int k)
+{
+    const size_t pairs = ns * (size_t)rotations;
+    /* Reduced descriptors, the similar pairs, FLANN's tree (about one index
+     * and a node per point) and its answers for a chunk of pairs, the stamps and
+     * the candidates. */
+    return pairs * (RELIEF_SEARCH_DIMS * sizeof(float) + 3 * sizeof(uint32_t)) +
+           ns * (size_t)k * sizeof(uint32_t) +
+           (size_t)CHUNK * (size_t)(OVERQUERY * k + 1) * (sizeof(int) + sizeof(float)) +
+           2 * ns * sizeof(uint32_t);
+}
+
+/* The descriptor of pair (si, r) into out[POINTS x (1 or 2)] (search.h). */
+static void describe(const relief_match_data *d, uint32_t si, int r, float step, float *out)
+{
+    const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
+    const float cr = d->cos_r[r], sr = d->sin_r[r], inv_b = sqrtf(d->inv_b2);
+    const int colour = d->mu < 1.0f;
+    for (int p = 0; p < POINTS; ++p) {
+        const int ring = p == 0 ? 0 : 1 + (p - 1) / RELIEF_SEARCH_ANGLES;
+        const int angle = p == 0 ? 0 : (p - 1) % RELIEF_SEARCH_ANGLES;
+        const float rho = (float)ring * step;
+        const double phi = 2.0 * RELIEF_PI * angle / RELIEF_SEARCH_ANGLES;
+        const float x0 = rho * (float)cos(phi), y0 = rho * (float)sin(phi);
+        const float a = cr * x0 - sr * y0, b = sr * x0 + cr * y0;
+        const float rel = (float)ring / RELIEF_SEARCH_RINGS;
+        const float g = expf(-0.5f * rel * rel);
+        float x[3], h = 0.0f;
+        uint32_t v2;
+        for (int k = 0; k < 3; ++k)
+            x[k] = sp[k] + a * sf[k] + b * sf[3 + k];
+        v2 = rm_closest_vertex_listed(x, d->proj, d->cell_start, d->cell_items, d->grid,
+                                      d->dims, d->lgrid, d->ldims, d->lmask, d->lslot,
+                                      d->litems);
+        for (int k = 0; k < 3; ++k)
+            h += sf[6 + k] * (d->pos[3 * (size_t)v2 + k] - sp[k]);
+        out[p] = sqrtf(d->mu * g) * h * inv_b;
+        if (colour) {
+            const float *c = d->col + 3 * (size_t)v2;
+            out[POINTS + p] = sqrtf((1.0f - d->mu) * g) *
+                              (0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]);
+        }
+    }
+}
+
+/* Principal axes of the descriptors over an even stride of the pairs:
+ * mean[dims] and axes[RELIEF_SEARCH_DIMS x dims] (row i the i-th axis). */
+static relief_status principal_axes(const relief_match_data *d, int dims, float step,
+                                    double *mean, double *axes, relief_error *err)
+{
+    const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
+    const size_t stride = pairs > PCA_ROWS ? (pairs + PCA_ROWS - 1) / PCA_ROWS : 1;
+    double *cov = calloc((size_t)dims * (size_t)dims, sizeof *cov);
+    double *evec = malloc((size_t)dims * (size_t)dims * sizeof *evec);
+    double *work = malloc(2 * (size_t)dims * (size_t)dims * sizeof *work);
+    double eval[2 * POINTS];
+    float desc[2 * POINTS];
+    size_t rows = 0;
+    if (!cov || !evec || !work) {
+        free(cov);
+        free(evec);
+        free(work);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the search's %d x %d "
+                           "covariance", dims, dims);
+    }
+    memset(mean, 0, (size_t)dims * sizeof *mean);
+    for (size_t c = 0; c < pairs; c += stride, ++rows) {
+        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
+                 desc);
+        for (int i = 0; i < dims; ++i)
+            mean[i] += desc[i];
+    }
+    for (int i = 0; i < dims; ++i)
+        mean[i] /= (double)rows;
+    for (size_t c = 0; c < pairs; c += stride) {
+        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
+                 desc);
+        for (int i = 0; i < dims; ++i)
+            for (int j = i; j < dims; ++j)
+                cov[dims * i + j] += (desc[i] - mean[i]) * (desc[j] - mean[j]);
+    }
+    for (int i = 0; i < dims; ++i)
+        for (int j = 0; j < i; ++j)
+            cov[dims * i + j] = cov[dims * j + i];
+    relief_sym_eigen(dims, cov, eval, evec, work);
+    for (int a = 0; a < RELIEF_SEARCH_DIMS; ++a)
+        for (int i = 0; i < dims; ++i)
+            axes[dims * a + i] = a < dims ? evec[dims * i + a] : 0.0;
+    free(work);
+    free(evec);
+    free(cov);
+    return RELIEF_OK;
+}
+
+relief_status relief_search_create(const relief_surface *s, const relief_match_data *d,
+                                   int window, int k, relief_search **out, relief_error *err)
+{
+    const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
+    const int dims = d->mu < 1.0f ? 2 * POINTS : POINTS;
+    const float step = (float)(window * s->spacing / RELIEF_SEARCH_RINGS);
+    const double exclude = window * s->spacing, t0 = relief_seconds();
+    double mean[2 * POINTS], axes[RELIEF_SEARCH_DIMS * 2 * POINTS];
+    struct FLANNParameters fp = relief_knn_exact_params();
+    flann_index_t index = NULL;
+    relief_search *S;
+    float *red = NULL, *query = NULL, *dist = NULL, speedup, desc[2 * POINTS];
+    int *idx = NULL, nn;
+    relief_status st;
+
+    *out = NULL;
+    if (k < 1 || k > RELIEF_SEARCH_K_MAX)
+        return relief_fail(err, RELIEF_E_RANGE, "search k %d out of range: expected 1..%d", k,
+                           RELIEF_SEARCH_K_MAX);
+    if (d->ns == 0 || pairs > (size_t)INT32_MAX)
+        return relief_fail(err, RELIEF_E_RANGE, "the k-coherence search needs 1..%d sample "
+                           "rotations, not %zu", INT32_MAX, pairs);
+    nn = OVERQUERY * k + 1;
+    if ((size_t)nn > pairs)
+        nn = (int)pairs;
+    S = calloc(1, sizeof *S);
+    if (!S)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the k-coherence search");
+    S->ns = d->ns;
+    S->rotations = d->rotations;
+    S->k = k;
+    S->sim = malloc((size_t)d->ns * (size_t)k * sizeof *S->sim);
+    S->stamp = calloc(d->ns, sizeof *S->stamp);
+    S->cand = malloc(d->ns * sizeof *S->cand);
+    red = malloc(pairs * RELIEF_SEARCH_DIMS * sizeof *red);
+    query = malloc(CHUNK * RELIEF_SEARCH_DIMS * sizeof *query);
+    idx = malloc(CHUNK * (size_t)nn * sizeof *idx);
+    dist = malloc(CHUNK * (size_t)nn * sizeof *dist);
+    if (!S->sim || !S->stamp || !S->cand || !red || !query || !idx || !dist) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the k-coherence search for "
+                         "%zu sample rotations (%zu bytes)", pairs,
+                         relief_search_bytes(d->ns, d->rotations, k));
+        goto done;
+    }
+    st = principal_axes(d, dims, step, mean, axes, err);
+    if (st != RELIEF_OK)
+        goto done;
+    for (size_t c = 0; c < pairs; ++c) {
+        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
+                 desc);
+        for (int a = 0; a < RELIEF_SEARCH_DIMS; ++a) {
+            double sum = 0.0;
+            for (int i = 0; i < dims; ++i)
+                sum += axes[dims * a + i] * (desc[i] - mean[i]);
+            red[c * RELIEF_SEARCH_DIMS + a] = (float)sum;
+        }
+    }
+    index = flann_build_index_float(red, (int)pairs, RELIEF_SEARCH_DIMS, &speedup, &fp);
+    if (!index) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu search descriptors",
+                         pairs);
+        goto done;
+    }
+    /* Only (s, 0) is asked: when (s, 0) reads as (s', r'), (s, r) reads as
+     * (s', r' + r), rotations composing about the normal. */
+    for (size_t s0 = 0; s0 < d->ns; s0 += CHUNK) {
+        const size_t nc = d->ns - s0 < CHUNK ? d->ns - s0 : CHUNK;
+        for (size_t i = 0; i < nc; ++i)
+            memcpy(query + i * RELIEF_SEARCH_DIMS,
+                   red + (s0 + i) * (size_t)d->rotations * RELIEF_SEARCH_DIMS,
+                   RELIEF_SEARCH_DIMS * sizeof *query);
+        if (flann_find_nearest_neighbors_index_float(index, query, (int)nc, idx, dist, nn,
+                                                     &fp) != 0) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "FLANN's search of the descriptors failed");
+            goto done;
+        }
+        for (size_t si = s0; si < s0 + nc; ++si) {
+            const int *found = idx + (si - s0) * (size_t)nn;
+            const float *sp = d->s_proj + 3 * si;
+            int got = 0;
+            for (int j = 0; j < nn && got < k; ++j) {
+                const float *op;
+                float dx, dy, dz;
+                if (found[j] < 0)
+                    continue;
+                op = d->s_proj + 3 * ((size_t)found[j] / (size_t)d->rotations);
+                dx = op[0] - sp[0], dy = op[1] - sp[1], dz = op[2] - sp[2];
+                if ((double)(dx * dx + dy * dy + dz * dz) <= exclude * exclude)
+                    continue; /* itself, or its own patch of the surface */
+                S->sim[si * (size_t)k + (size_t)got++] = (uint32_t)found[j];
+            }
+            while (got < k)
+                S->sim[si * (size_t)k + (size_t)got++] = UINT32_MAX;
+        }
+    }
+    S->seconds = relief_seconds() - t0;
+    *out = S;
+    S = NULL;
+    st = RELIEF_OK;
+done:
+    if (index)
+        flann_free_index_float(index, &fp);
+    free(dist);
+    free(idx);
+    free(query);
+    free(red);
+    relief_search_destroy(S);
+    return st;
+}
+
+uint32_t relief_continue_patch(const relief_match_data *d, const float o[3], uint32_t si,
+                               uint32_t r)
+{
+    const float a = d->cos_r[r] * o[0] - d->sin_r[r] * o[1];
+    const float b = d->sin_r[r] * o[0] + d->cos_r[r] * o[1];
+    float x[3];
+    for (int l = 0; l < 3; ++l)
+        x[l] = d->s_proj[3 * si + l] + a * d->s_frame[9 * si + l] +
+               b * d->s_frame[9 * si + 3 + l] + o[2] * d->s_frame[9 * si + 6 + l];
+    return rm_closest_vertex_listed(x, d->proj, d->cell_start, d->cell_items, d->grid, d->dims,
+                                    d->lgrid, d->ldims, d->lmask, d->lslot, d->litems);
+}
+
+uint32_t relief_search_candidates(relief_search *S, const relief_surface *s,
+                                  const relief_match_data *d, const uint32_t *nbr, uint32_t n,
+                                  const uint32_t *src, uint32_t t, const uint32_t **out)
+{
+    const uint32_t R = (uint32_t)S->rotations;
+    const double *tp = s->proj + 3 * (size_t)t;
+    uint32_t m = 0;
+    if (++S->now == 0) { /* the stamps wrapped: start them again */
+        memset(S->stamp, 0, S->ns * sizeof *S->stamp);
+        S->now = 1;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t v = nbr[i];
+        const double *vp = s->proj + 3 * (size_t)v, *vf = s->frame + 9 * (size_t)v;
+        const int is_sample = v < s->n_samples;
+        const uint32_t c0 = is_sample ? v * R : src[v];
+        float o[3];
+        if (c0 == UINT32_MAX)
+            continue;
+        /* t's place seen from v, in v's frame. */
+        for (int j = 0; j < 3; ++j)
+            o[j] = (float)(vf[3 * j] * (tp[0] - vp[0]) + vf[3 * j + 1] * (tp[1] - vp[1]) +
+                           vf[3 * j + 2] * (tp[2] - vp[2]));
+        /* (s, r) itself (a sample's own continuation is t), then its
+         * similar pairs. */
+        for (int j = is_sample ? 0 : -1; j < S->k; ++j) {
+            const uint32_t c = j < 0 ? c0 : S->sim[(size_t)(c0 / R) * (size_t)S->k + (size_t)j];
+            uint32_t v2;
+            if (c == UINT32_MAX)
+                continue;
+            v2 = relief_continue_patch(d, o, c / R, j < 0 ? c % R : (c % R + c0 % R) % R);
+            if (v2 >= d->ns || S->stamp[v2] == S->now)
+                continue; /* not a sample (samples are vertices 0..ns-1), or listed */
+            S->stamp[v2] = S->now;
+            S->cand[m++] = v2;
+        }
+    }
+    *out = S->cand;
+    return m;
+}
+
+double relief_search_build_seconds(const relief_search *S)
+{
+    return S ? S->seconds : 0.0;
+}
+
+void relief_search_destroy(relief_search *S)
+{
+    if (!S)
+        return;
+    free(S->cand);
+    free(S->stamp);
+    free(S->sim);
+    free(S);
+}
