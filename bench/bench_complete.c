@@ -6,7 +6,8 @@
  *          [--spacing S] [--oversample N] [--window W] [--rotations R]
  *          [--error E] [--seed N] [--prune 0|1] [--backends scalar,opencl]
  *          [--reps N] [--scalar-reps N] [--smooth-reps N] [--mode full|setup]
- *          [--targets K] [--csv FILE]
+ *          [--targets K] [--search exhaustive|coherent|auto] [--search-k K]
+ *          [--csv FILE]
  *
  * --mode full (default): per repetition and backend, the whole completion
  * after the capture is made: smooth completion, match data, matcher
@@ -26,7 +27,9 @@
  * Every CSV row: case, machine (CPU model, cores), device, backend,
  * parameters, the surface's counts, stage, unit, repetitions, median, min,
  * max, and the process's peak resident memory so far (KiB, getrusage
- * ru_maxrss). Times are seconds of wall clock. */
+ * ru_maxrss), the search and its fallbacks to every sample. Times are
+ * seconds of wall clock. --search defaults to exhaustive, the method every
+ * case measured before the k-coherence search existed. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -278,7 +281,7 @@ static int usage(void)
             "       [--spacing S] [--oversample N] [--window W] [--rotations R] [--error E]\n"
             "       [--seed N] [--prune 0|1] [--backends scalar,opencl] [--reps N]\n"
             "       [--scalar-reps N] [--smooth-reps N] [--mode full|setup] [--targets K]\n"
-            "       [--csv FILE]\n");
+            "       [--search exhaustive|coherent|auto] [--search-k K] [--csv FILE]\n");
     return 1;
 }
 
@@ -290,6 +293,7 @@ static int parse_args(int argc, char **argv, config *c)
     c->sp.kind = RELIEF_SYNTH_CYLINDER_BARK;
     c->p = relief_params_default();
     c->p.fit = RELIEF_FIT_CYLINDER;
+    c->p.search = RELIEF_SEARCH_EXHAUSTIVE;
     c->prune = 1;
     c->reps = 3;
     c->scalar_reps = -1;
@@ -348,6 +352,17 @@ static int parse_args(int argc, char **argv, config *c)
             c->targets = atoi(v);
         else if (strcmp(a, "--csv") == 0)
             c->csv = v;
+        else if (strcmp(a, "--search") == 0) {
+            if (strcmp(v, "exhaustive") == 0)
+                c->p.search = RELIEF_SEARCH_EXHAUSTIVE;
+            else if (strcmp(v, "coherent") == 0)
+                c->p.search = RELIEF_SEARCH_COHERENT;
+            else if (strcmp(v, "auto") == 0)
+                c->p.search = RELIEF_SEARCH_AUTO;
+            else
+                return usage();
+        } else if (strcmp(a, "--search-k") == 0)
+            c->p.search_k = atoi(v);
         else
             return usage();
     }
@@ -401,13 +416,15 @@ int main(int argc, char **argv)
         out = bench_csv_append(c.csv,
                                "case,cpu,cores,device,backend,kind,vertices,samples,targets,"
                                "surface_vertices,W,R,prune,colour,stage,unit,reps,median,min,"
-                               "max,peak_rss_kib,scored_targets,candidates,pruned,identical\n");
+                               "max,peak_rss_kib,scored_targets,candidates,pruned,identical,search,"
+                               "search_fallbacks\n");
         if (!out)
             goto fail;
     }
-    printf("%s: %s %zu vertices, W %d, R %d, %s; %s (%ld cores); OpenCL device: %s\n", c.name,
-           relief_synth_kind_name(c.sp.kind), c.sp.vertices, c.p.window, c.p.rotations,
-           c.prune ? "pruned" : "exhaustive", mc.cpu, mc.cores, mc.device);
+    printf("%s: %s %zu vertices, W %d, R %d, %s, search %s; %s (%ld cores); OpenCL device: "
+           "%s\n", c.name, relief_synth_kind_name(c.sp.kind), c.sp.vertices, c.p.window,
+           c.p.rotations, c.prune ? "pruned" : "exhaustive", relief_search_name(c.p.search),
+           mc.cpu, mc.cores, mc.device);
     for (int b = 0; b < NB; ++b) {
         const series *s = &se[b];
         double scored = 0.0;
@@ -434,13 +451,14 @@ int main(int argc, char **argv)
             if (out)
                 fprintf(out,
                         "%s,%s,%ld,%s,%s,%s,%zu,%zu,%zu,%zu,%d,%d,%d,%d,%s,s,%d,%.6g,%.6g,%.6g,"
-                        "%ld,%.0f,%zu,%zu,%s\n",
+                        "%ld,%.0f,%zu,%zu,%s,%s,%zu\n",
                         c.name, mc.cpu, mc.cores, b ? mc.device : "scalar (1 thread)",
                         b ? "opencl" : "scalar", relief_synth_kind_name(c.sp.kind),
                         c.sp.vertices, s->samples, s->targets, s->nv, c.p.window,
                         c.p.rotations, c.prune, c.sp.colour, stage_name[k], s->n[k], med, lo,
                         hi, bench_peak_rss_kib(), scored, s->stats.candidates, s->stats.pruned,
-                        same);
+                        same, relief_search_name((relief_search_mode)s->stats.search),
+                        s->stats.search_misses + s->stats.search_empty);
         }
         if (!c.setup)
             printf("    scored %.0f targets for %zu (%zu candidates, %.1f %% pruned); "

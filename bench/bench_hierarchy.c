@@ -113,6 +113,7 @@ static int parse_args(int argc, char **argv, config *c)
     c->sp = relief_synth_params_default();
     c->sp.kind = RELIEF_SYNTH_CYLINDER_BANDS;
     c->p = relief_params_default();
+    c->p.search = RELIEF_SEARCH_EXHAUSTIVE; /* what its figures have always been of */
     c->backend = RELIEF_BACKEND_AUTO;
     c->levels = 3;
     c->reps = 3;
