@@ -75,9 +75,9 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
     if (p->levels < 1 || p->levels > 8)
         return relief_fail(err, RELIEF_E_RANGE,
                            "levels %d out of range: expected 1..8", p->levels);
-    if (p->backend < RELIEF_BACKEND_AUTO || p->backend > RELIEF_BACKEND_OPENCL)
+    if (p->backend < RELIEF_BACKEND_AUTO || p->backend > RELIEF_BACKEND_HOST)
         return relief_fail(err, RELIEF_E_RANGE, "backend %d is not one of "
-                           "auto, scalar, opencl", (int)p->backend);
+                           "auto, scalar, opencl, host", (int)p->backend);
     if (p->device < -1 || p->device > 255)
         return relief_fail(err, RELIEF_E_RANGE,
                            "device %d out of range: expected 0..255", p->device);
@@ -136,6 +136,7 @@ const char *relief_backend_name(relief_backend b)
     case RELIEF_BACKEND_AUTO: return "auto";
     case RELIEF_BACKEND_SCALAR: return "scalar";
     case RELIEF_BACKEND_OPENCL: return "opencl";
+    case RELIEF_BACKEND_HOST: return "host";
     }
     return "unknown";
 }

@@ -61,7 +61,11 @@ static const char complete_help[] =
     "  --search-k K          similar samples per patch for coherent, 1..64\n"
     "                        (default 8)\n"
     "  --levels M            hierarchy levels 1..8 (default 1: mono-scale)\n"
-    "  --backend B           auto|scalar|opencl (default auto)\n"
+    "  --backend B           who scores the candidates, all with the same output:\n"
+    "                        scalar (the reference, one thread), opencl (the\n"
+    "                        kernel on --device), host (the reference on every\n"
+    "                        core), auto (default: a GPU or accelerator when\n"
+    "                        OpenCL has one, or the --device named, else host)\n"
     "  --device N            OpenCL device index (see 'relief devices')\n"
     "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
     "  --oversample-scheme S butterfly (default: new samples on the smooth\n"
@@ -388,6 +392,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     relief_hierarchy_stats hstats;
     relief_backend used_backend = RELIEF_BACKEND_SCALAR;
     char used_device[256] = "";
+    char note[RELIEF_ERROR_MESSAGE_MAX + 320] = ""; /* why auto chose its backend */
     saver sv = {rc->checkpoint, &key};
     progress_hook hook = {-1.0, !quiet && isatty(2), !quiet, rc->checkpoint != NULL, 2.0, 60.0,
                           0, 0};
@@ -452,7 +457,6 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         in = NULL;
     }
     if (st == RELIEF_OK && !hier) {
-        char note[RELIEF_ERROR_MESSAGE_MAX + 64];
         st = relief_matcher_create(p->backend, p->device, d, &m, note, sizeof note, &err);
         if (st == RELIEF_OK && note[0])
             fprintf(stderr, "relief complete: backend auto: %s\n", note);
@@ -501,7 +505,6 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         if (hier) {
             relief_hierarchy_options ho = relief_hierarchy_options_default();
             relief_hierarchy_stats hs;
-            char note[RELIEF_ERROR_MESSAGE_MAX + 64];
             ho.backend = p->backend;
             ho.device = p->device;
             st = relief_hierarchy_grow(hier, s, p, go, &ho, &hs, &stats, &used_backend,
@@ -539,7 +542,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                              m ? m->kernel_seconds : stats.match_seconds,
                              hier ? &hstats : NULL, have ? &meas : NULL,
                              relief_seconds() - t0, m ? m->fallback_note : NULL,
-                             have_pat ? &pat : NULL};
+                             have_pat ? &pat : NULL, note};
         if ((!have || !have_pat) && !quiet)
             fprintf(stderr, "relief complete: warning: no %smeasures in the report: %s\n",
                     have ? "pattern " : "", merr.message);
@@ -718,9 +721,11 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                 p.backend = RELIEF_BACKEND_SCALAR;
             else if (strcmp(optarg, "opencl") == 0)
                 p.backend = RELIEF_BACKEND_OPENCL;
+            else if (strcmp(optarg, "host") == 0)
+                p.backend = RELIEF_BACKEND_HOST;
             else
-                return cli_usage_error(cmd, "--backend: '%s' is not one of auto, scalar, opencl",
-                                   optarg);
+                return cli_usage_error(cmd, "--backend: '%s' is not one of auto, scalar, "
+                                       "opencl, host", optarg);
             break;
         case OPT_DEVICE:
             if (!cli_parse_int(cmd, "--device", optarg, 0, 255, &v))

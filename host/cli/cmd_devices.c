@@ -37,7 +37,7 @@ int cli_cmd_devices(int argc, char **argv, int parse_only)
     if (relief_devices(dev, sizeof dev / sizeof dev[0], &n, &err) != RELIEF_OK)
         return cli_fail("devices", &err);
     if (n == 0) {
-        printf("no OpenCL platform or device found; relief will use the scalar backend\n");
+        printf("no OpenCL platform or device found; --backend auto scores on the host's threads\n");
         return 0;
     }
     for (size_t i = 0; i < n && i < sizeof dev / sizeof dev[0]; ++i)

@@ -147,6 +147,8 @@ int cli_write_complete_report(FILE *f, void *ctx)
     rj_string(&j, "name", relief_backend_name(r->backend));
     rj_string(&j, "requested", relief_backend_name(r->params->backend));
     rj_string(&j, "device", r->device);
+    if (r->choice && r->choice[0])
+        rj_string(&j, "choice", r->choice);
     rj_number(&j, "kernel_seconds", r->kernel_seconds);
     if (r->fallback && r->fallback[0])
         rj_string(&j, "fallback", r->fallback);

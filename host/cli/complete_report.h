@@ -37,6 +37,7 @@ typedef struct complete_report {
     double seconds;
     const char *fallback; /* why auto left OpenCL during the run, or NULL */
     const relief_pattern *pattern; /* NULL when it could not be taken */
+    const char *choice; /* why auto chose the backend it started on, or NULL */
 } complete_report;
 
 /* relief_atomic_write_text writers; ctx is a smooth_report or a

@@ -378,7 +378,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         double *base = malloc((nv + 1) * sizeof *base), *disp = malloc((nv + 1) * sizeof *disp);
         double *smoothed = malloc((nv + 1) * sizeof *smoothed);
         double t0 = relief_seconds();
-        char lnote[RELIEF_ERROR_MESSAGE_MAX + 64];
+        char lnote[RELIEF_ERROR_MESSAGE_MAX + 320];
 
         if (!matched || !base || !disp || !smoothed) {
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate hierarchy level %d", ki + 1);

@@ -1,8 +1,8 @@
 /* What a matching backend implements: a table of functions over one
  * opaque context, behind the relief_matcher handle that the front
  * (matcher.h) hands out. Each backend has a creation function in its own
- * header (matcher_scalar.h, matcher_opencl.h) and includes this one, never
- * the front, which is what chooses between them. */
+ * header (matcher_scalar.h, matcher_host.h, matcher_opencl.h) and includes
+ * this one, never the front, which is what chooses between them. */
 #ifndef RELIEF_HOST_MATCH_BACKEND_H
 #define RELIEF_HOST_MATCH_BACKEND_H
 
@@ -35,14 +35,15 @@ struct relief_matcher {
     void *ctx;
     relief_backend backend;  /* the one actually used */
     int device_index;        /* the OpenCL device asked for (-1: first) */
-    char device[256];        /* "scalar (1 thread)" or the OpenCL device */
+    char device[256];        /* "scalar reference (1 thread)", "host (N
+                                threads)" or the OpenCL device */
     double kernel_seconds;   /* time spent scoring */
     /* Set by relief_matcher_create for auto: when the device fails during
-     * a run (out of resources, lost), switch to the scalar reference, which
+     * a run (out of resources, lost), switch to the host matcher, which
      * reads the host's arrays, and go on from the same target; the reason
      * is then in fallback_note (else ""). */
     int fallback;
-    char fallback_note[RELIEF_ERROR_MESSAGE_MAX + 128];
+    char fallback_note[RELIEF_ERROR_MESSAGE_MAX + 192];
     /* Test hook (NULL: none): called before each score; a failure it
      * returns is taken as the backend's own. */
     relief_status (*inject)(void *ctx, relief_error *err);

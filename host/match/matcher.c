@@ -3,10 +3,12 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "base/clock.h"
 #include "base/error.h"
 #include "match/device_memory.h"
+#include "match/matcher_host.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
 
@@ -21,17 +23,17 @@ static relief_status device_fits(int device, const relief_match_data *d, relief_
     return relief_device_fits(&info[want], d, err);
 }
 
-/* auto, after a device failure: the scalar reference from here on. */
+/* auto, after a device failure: the host's threads from here on. */
 static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
                                const relief_error *why, relief_error *err)
 {
     relief_matcher *sc = NULL;
-    relief_status st = relief_matcher_scalar_create(d, &sc, err);
+    relief_status st = relief_matcher_host_create(d, 0, &sc, err);
     if (st != RELIEF_OK)
         return st;
     snprintf(m->fallback_note, sizeof m->fallback_note,
-             "the OpenCL device failed during the run (%s); continued on the scalar "
-             "matcher from there", why ? why->message : "no detail");
+             "the OpenCL device failed during the run (%s); continued on the host "
+             "matcher (%.60s) from there", why ? why->message : "no detail", sc->device);
     m->ops->destroy(m->ctx);
     m->ops = sc->ops;
     m->ctx = sc->ctx;
@@ -44,31 +46,73 @@ static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
     return RELIEF_OK;
 }
 
+/* auto without --device: the first GPU or accelerator among the OpenCL
+ * devices (its index in *device), or -1 with the reason in why[]. */
+static int pick_device(int *device, char *why, size_t why_size)
+{
+    relief_device_info info[64];
+    relief_error e = {RELIEF_OK, ""};
+    size_t n = 0;
+    if (relief_devices(info, 64, &n, &e) != RELIEF_OK) {
+        snprintf(why, why_size, "OpenCL unavailable (%s)", e.message);
+        return -1;
+    }
+    if (n == 0) {
+        snprintf(why, why_size, "OpenCL unavailable (no OpenCL platform or device found)");
+        return -1;
+    }
+    for (size_t i = 0; i < n && i < 64; ++i)
+        if (strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0) {
+            *device = (int)i;
+            return (int)i;
+        }
+    snprintf(why, why_size, "no GPU or accelerator among the %zu OpenCL device%s (device 0: "
+             "%.100s, a %s), whose kernel would run on the host's own cores, slower than "
+             "they score by themselves", n, n == 1 ? "" : "s", info[0].name, info[0].type);
+    return -1;
+}
+
 relief_status relief_matcher_create(relief_backend backend, int device,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err)
 {
     relief_status st;
+    char why[RELIEF_ERROR_MESSAGE_MAX + 64] = "";
+    const int named = device >= 0; /* --device given */
     if (note && note_size)
         note[0] = '\0';
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_matcher_scalar_create(d, out, err);
-    st = device_fits(device, d, err);
-    if (st == RELIEF_OK)
-        st = relief_matcher_opencl_create(d, device, out, err);
-    if (st == RELIEF_OK) {
-        (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
-        (*out)->device_index = device;
-    }
-    /* A bad setting (RELIEF_OPENCL_HOST_MAX) is the user's to mend, not a
-     * reason to run on another backend. */
-    if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL || st == RELIEF_E_RANGE)
-        return st;
-    /* auto: say why, then fall back to the reference. */
-    if (note && note_size)
-        snprintf(note, note_size, "OpenCL unavailable (%s); using the scalar matcher",
+    if (backend == RELIEF_BACKEND_HOST)
+        return relief_matcher_host_create(d, 0, out, err);
+    if (backend == RELIEF_BACKEND_AUTO && device < 0 && pick_device(&device, why, sizeof why) < 0)
+        st = RELIEF_E_DEVICE; /* the host, for the reason in why[] */
+    else {
+        st = device_fits(device, d, err);
+        if (st == RELIEF_OK)
+            st = relief_matcher_opencl_create(d, device, out, err);
+        if (st == RELIEF_OK) {
+            (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
+            (*out)->device_index = device;
+            if (backend == RELIEF_BACKEND_AUTO && note && note_size)
+                snprintf(note, note_size, "%s: %.200s",
+                         named ? "the OpenCL device --device names"
+                               : "the first GPU or accelerator OpenCL has",
+                         (*out)->device);
+        }
+        /* A bad setting (RELIEF_OPENCL_HOST_MAX) is the user's to mend, not
+         * a reason to run on another backend. */
+        if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL || st == RELIEF_E_RANGE)
+            return st;
+        snprintf(why, sizeof why, "OpenCL unavailable (%s)",
                  err ? err->message : relief_strerror(st));
-    return relief_matcher_scalar_create(d, out, err);
+    }
+    /* auto on the host: say why. */
+    relief_error_clear(err);
+    st = relief_matcher_host_create(d, 0, out, err);
+    if (st == RELIEF_OK && note && note_size)
+        snprintf(note, note_size, "%s; scoring on the %s", why, (*out)->device);
+    return st;
 }
 
 relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,

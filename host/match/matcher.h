@@ -4,9 +4,9 @@
  * The host builds a float copy of the surface once (match_data.h), updates
  * it as targets become textured, and for each target asks the matcher to
  * score every candidate. This is the front the growth calls: it picks the
- * backend (matcher_scalar.h, matcher_opencl.h, each behind backend.h's
- * table), falls back from a failed device under auto, and times the
- * scoring. */
+ * backend (matcher_scalar.h, matcher_host.h, matcher_opencl.h, each behind
+ * backend.h's table), falls back from a failed device under auto, and
+ * times the scoring. */
 #ifndef RELIEF_HOST_MATCHER_H
 #define RELIEF_HOST_MATCHER_H
 
@@ -17,10 +17,13 @@
 #include "match/backend.h"
 #include "match/match_data.h"
 
-/* The matcher for `backend`: scalar, OpenCL, or for auto OpenCL when it can
- * run, else scalar with the reason written to `note` (may be NULL). OpenCL
- * is refused (RELIEF_E_NOMEM, naming the need and the device's memory) when
- * the surface does not fit on the device (device_memory.h). */
+/* The matcher for `backend`: scalar, host or OpenCL (on `device`, -1: the
+ * first). For auto: OpenCL on `device` when one is named (>= 0), else on the
+ * first GPU or accelerator; the host matcher when there is none, or when
+ * that device cannot run; which one and why is written to `note` (may be
+ * NULL). OpenCL is refused (RELIEF_E_NOMEM, naming the need and the
+ * device's memory) when the surface does not fit on the device
+ * (device_memory.h). */
 relief_status relief_matcher_create(relief_backend backend, int device,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err);
@@ -34,8 +37,8 @@ relief_status relief_matcher_update(relief_matcher *m, const relief_match_data *
 /* Score against another surface d from now on, keeping the backend's
  * set-up (for OpenCL the context and the built program): the levels of a
  * hierarchy. The surface is checked against the device's memory again;
- * under auto a device that cannot take it falls back to the scalar
- * reference (fallback_note says why). */
+ * under auto a device that cannot take it falls back to the host matcher
+ * (fallback_note says why). */
 relief_status relief_matcher_rebind(relief_matcher *m, const relief_match_data *d,
                                     relief_error *err);
 void relief_matcher_destroy(relief_matcher *m);

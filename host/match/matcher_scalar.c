@@ -75,10 +75,10 @@ static relief_status scalar_score(void *ctx, const relief_match_data *d,
     return RELIEF_OK;
 }
 
-static relief_status scalar_update(void *ctx, const relief_match_data *d, uint32_t v,
-                                   relief_error *err)
+relief_status relief_host_arrays_update(void *ctx, const relief_match_data *d, uint32_t v,
+                                        relief_error *err)
 {
-    /* The scalar matcher reads the host's arrays directly. */
+    /* The host's arrays are what is scored: nothing to bring up to date. */
     (void)ctx;
     (void)d;
     (void)v;
@@ -86,9 +86,10 @@ static relief_status scalar_update(void *ctx, const relief_match_data *d, uint32
     return RELIEF_OK;
 }
 
-static relief_status scalar_rebind(void *ctx, const relief_match_data *d, relief_error *err)
+relief_status relief_host_arrays_rebind(void *ctx, const relief_match_data *d,
+                                        relief_error *err)
 {
-    /* Nothing kept per surface. */
+    /* Nothing kept per surface: each query names its own. */
     (void)ctx;
     (void)d;
     (void)err;
@@ -97,8 +98,8 @@ static relief_status scalar_rebind(void *ctx, const relief_match_data *d, relief
 
 static void scalar_destroy(void *ctx) { (void)ctx; }
 
-static const relief_matcher_ops scalar_ops = {"scalar", scalar_score, scalar_update,
-                                              scalar_rebind, scalar_destroy};
+static const relief_matcher_ops scalar_ops = {"scalar", scalar_score, relief_host_arrays_update,
+                                              relief_host_arrays_rebind, scalar_destroy};
 
 relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
                                            relief_error *err)

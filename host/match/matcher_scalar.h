@@ -12,6 +12,13 @@
 relief_status relief_matcher_scalar_create(const relief_match_data *d, relief_matcher **out,
                                            relief_error *err);
 
+/* The update and rebind of a backend that scores the host's arrays
+ * directly (scalar, host): nothing to do. */
+relief_status relief_host_arrays_update(void *ctx, const relief_match_data *d, uint32_t v,
+                                        relief_error *err);
+relief_status relief_host_arrays_rebind(void *ctx, const relief_match_data *d,
+                                        relief_error *err);
+
 /* Score one candidate, sample index si (into d->sample) at rotation r,
  * against the query with the given cutoff: rm_score_candidate on the
  * host's arrays. Returns its RM_VALID / RM_PRUNED / RM_INVALID flag. */

@@ -21,6 +21,7 @@ typedef struct worker {
 
 struct relief_score_pool {
     int threads, started;
+    int active; /* threads taking part in the query in progress */
     worker *w;
     pthread_mutex_t mu;
     pthread_cond_t go, done;
@@ -38,17 +39,22 @@ struct relief_score_pool {
 
 static void run_part(relief_score_pool *p, int k)
 {
+    if (k >= p->active)
+        return;
     if (p->probes)
         p->best[k] = relief_score_host_probe(p->d, p->q, p->probes, (uint32_t)k,
-                                             (uint32_t)p->threads);
+                                             (uint32_t)p->active);
     else
-        relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)p->threads, p->ssd,
+        relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)p->active, p->ssd,
                                   p->flag);
 }
 
-/* Run the job set in p on every thread and wait for them. */
-static void run_all(relief_score_pool *p)
+/* Run the job set in p on its first `active` threads and wait for them.
+ * Every worker wakes (the others return at once), so one generation
+ * counter serves every query. */
+static void run_all(relief_score_pool *p, int active)
 {
+    p->active = active;
     pthread_mutex_lock(&p->mu);
     p->pending = p->threads - 1;
     ++p->generation;
@@ -83,6 +89,16 @@ static void *worker_main(void *arg)
         pthread_mutex_unlock(&p->mu);
     }
 }
+
+/* The threads that take `items` centres or probes: at most one per
+ * MIN_PER_THREAD of them. */
+static int threads_for(const relief_score_pool *p, size_t items)
+{
+    size_t n = items / MIN_PER_THREAD;
+    return n < 1 ? 1 : n < (size_t)p->threads ? (int)n : p->threads;
+}
+
+int relief_score_pool_threads(const relief_score_pool *p) { return p->threads; }
 
 int relief_score_pool_default_threads(void)
 {
@@ -127,23 +143,25 @@ void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
                            const relief_match_query *q, float *ssd, uint8_t *flag)
 {
     const uint32_t centres = q->subset ? q->n_subset : d->ns;
-    if (p->threads == 1 || centres < (uint32_t)p->threads * MIN_PER_THREAD) {
+    const int use = threads_for(p, centres);
+    if (use == 1) {
         relief_score_host(d, q, ssd, flag);
         return;
     }
     p->d = d, p->q = q, p->ssd = ssd, p->flag = flag, p->probes = 0;
-    run_all(p);
+    run_all(p, use);
 }
 
 float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
                               const relief_match_query *q, size_t probes)
 {
     float best = FLT_MAX;
-    if (p->threads == 1 || probes < (size_t)p->threads * MIN_PER_THREAD)
+    const int use = threads_for(p, probes);
+    if (use == 1)
         return relief_score_host_probe(d, q, probes, 0, 1);
     p->d = d, p->q = q, p->probes = probes;
-    run_all(p);
-    for (int k = 0; k < p->threads; ++k)
+    run_all(p, use);
+    for (int k = 0; k < use; ++k)
         best = p->best[k] < best ? p->best[k] : best;
     return best;
 }

@@ -3,6 +3,8 @@
  * pyramid's box, a coarse level), which would otherwise leave all but one
  * core idle.
  *
+ * A query of c centres takes n = min(threads, c / 16) of the threads (one
+ * when that is below 2: a hand-over costs more than 16 centres save).
  * Thread k of n scores the query's centres k, k + n, k + 2 n, ... in that
  * order (relief_score_host_strided) with its own running cutoff: dealt out
  * so, each thread meets the candidates a caller put first (the nearest to
@@ -11,7 +13,7 @@
  * Pruning is exact, so every candidate within 1.1 x the minimum comes out
  * VALID with the same SSD as from the scalar reference; only which of the
  * others are cut short (RM_PRUNED, and their partial sums) depends on the
- * split, which is fixed for a given thread count. */
+ * split, which is fixed for a given pool size and query. */
 #ifndef RELIEF_SCORE_POOL_H
 #define RELIEF_SCORE_POOL_H
 
@@ -28,6 +30,9 @@ relief_status relief_score_pool_create(int threads, relief_score_pool **out,
 /* The threads to use here: the online processors, at most
  * RELIEF_SCORE_POOL_MAX. */
 int relief_score_pool_default_threads(void);
+
+/* The pool's size. */
+int relief_score_pool_threads(const relief_score_pool *p);
 
 /* Score the query as relief_score_host does, split over the pool. */
 void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,

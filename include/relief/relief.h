@@ -222,10 +222,18 @@ typedef enum relief_fit_model {
     RELIEF_FIT_CYLINDER
 } relief_fit_model;
 
+/* Which matcher scores the candidates. Every one gives the same bytes.
+ *   scalar  the reference: plain C on one thread;
+ *   opencl  the OpenCL kernel on a device (--device; the first by default);
+ *   host    the reference's scoring on every core of the host;
+ *   auto    a GPU or accelerator when OpenCL has one (or the --device
+ *           named), else host: on a CPU the OpenCL device runs on the same
+ *           cores, slower (bench/run.sh throughput). */
 typedef enum relief_backend {
     RELIEF_BACKEND_AUTO = 0,
     RELIEF_BACKEND_SCALAR,
-    RELIEF_BACKEND_OPENCL
+    RELIEF_BACKEND_OPENCL,
+    RELIEF_BACKEND_HOST
 } relief_backend;
 
 /* How a target's candidates are found (issue 18): every (sample, rotation)

@@ -22,6 +22,7 @@ expect() {
   fi
   pass=$((pass+1))
 }
+ok() { if eval "$1"; then pass=$((pass+1)); else echo "FAIL: $2"; fail=$((fail+1)); fi; }
 
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n' > "$tmp/square.off"
 
@@ -109,7 +110,7 @@ expect 1 "--levels" -- "$relief" complete "$in" -o "$tmp/o.ply" --levels 0
 expect 1 "not one of auto, exhaustive, coherent" -- "$relief" complete "$in" -o "$tmp/o.ply" --search kd
 expect 1 "--search-k" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 0
 expect 1 "--search-k" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 65
-expect 1 "--backend" -- "$relief" complete "$in" -o "$tmp/o.ply" --backend cuda
+expect 1 "not one of auto, scalar, opencl, host" -- "$relief" complete "$in" -o "$tmp/o.ply" --backend cuda
 expect 1 "--device" -- "$relief" complete "$in" -o "$tmp/o.ply" --device -3
 expect 1 "unrecognized option" -- "$relief" smooth "$in" -o "$tmp/o.ply" --window 3
 
@@ -243,13 +244,33 @@ if "$relief" devices | grep -q "^device 0"; then
   for bad in abc -5 " -0" +5 1e3 2000000000; do
     expect 1 "RELIEF_OPENCL_HOST_MAX='$bad'" -- env RELIEF_OPENCL_HOST_MAX="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   done
-  # Under auto too: a bad setting is not a reason to fall back to scalar.
-  expect 1 "RELIEF_OPENCL_HOST_MAX='x'" -- env RELIEF_OPENCL_HOST_MAX=x "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
+  # Under auto on a named device too: a bad setting is not a reason to
+  # fall back to the host.
+  expect 1 "RELIEF_OPENCL_HOST_MAX='x'" -- env RELIEF_OPENCL_HOST_MAX=x "$relief" complete "$small" -o "$tmp/ocl.ply" --device 0 --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_HOST_MAX"; fail=$((fail+1)); }
   expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
   expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
   cmp -s "$tmp/ocl.ply" "$tmp/scl.ply" && pass=$((pass+1)) || { echo "FAIL: OpenCL and scalar outputs differ"; fail=$((fail+1)); }
+  # auto on --device 0 is OpenCL there, whatever kind of device it is.
+  expect 0 "the OpenCL device --device names" -- "$relief" complete "$small" -o "$tmp/dev0.ply" --window 2 --device 0 --report "$tmp/dev0.json"
+  ok 'cmp -s "$tmp/dev0.ply" "$tmp/scl.ply" && grep -qF "\"name\": \"opencl\"" "$tmp/dev0.json"' "auto --device 0 did not run OpenCL, or changed the output"
 fi
+
+# --backend host: the reference on every core, the same bytes; auto picks a
+# GPU or accelerator when OpenCL has one, else the host, and says why on
+# stderr and in the report.
+expect 0 "backend host: host (" -- "$relief" complete "$small" -o "$tmp/host.ply" --backend host --window 2
+expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
+cmp -s "$tmp/host.ply" "$tmp/scl.ply" && pass=$((pass+1)) || { echo "FAIL: host and scalar outputs differ"; fail=$((fail+1)); }
+if "$relief" devices | grep -qE "^device [0-9]+: .*\[(gpu|accelerator)\]"; then
+  auto_name=opencl auto_why="the first GPU or accelerator OpenCL has"
+else
+  auto_name=host auto_why="scoring on the host ("
+fi
+expect 0 "backend auto: " -- "$relief" complete "$small" -o "$tmp/auto.ply" --window 2 --report "$tmp/auto.json"
+grep -qF "$auto_why" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: auto did not say why it chose $auto_name"; fail=$((fail+1)); }
+ok 'cmp -s "$tmp/auto.ply" "$tmp/scl.ply" && grep -qF "\"name\": \"$auto_name\"" "$tmp/auto.json" && grep -qF "\"choice\": " "$tmp/auto.json"' "auto: wrong backend, output or no reason in the report"
+expect 0 "OpenCL unavailable (no OpenCL platform or device found); scoring on the host (" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/auto2.ply" --window 2
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

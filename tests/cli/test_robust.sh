@@ -129,13 +129,14 @@ done
 
 # ------------------------------------------------------- device failure mid-run
 # Every OpenCL score after the 20th fails as an exhausted device would:
-# auto goes on with the scalar reference from the same target (same bytes
-# as a scalar run); an explicit --backend opencl exits 2 with the work done
-# so far in its checkpoint, which the scalar matcher finishes.
+# auto (on --device 0, which it then uses whatever its kind) goes on with
+# the host matcher from the same target (same bytes as a scalar run); an
+# explicit --backend opencl exits 2 with the work done so far in its
+# checkpoint, which the scalar matcher finishes.
 if "$relief" devices 2>/dev/null | grep -q "^device 0"; then
-  expect 0 "continued on the scalar matcher" -- env RELIEF_TEST_DEVICE_FAIL_AFTER=20 "$relief" complete "$pw" --window 2 --error 0.03 -o "$tmp/fb.ply" --report "$tmp/fb.json"
+  expect 0 "continued on the host matcher" -- env RELIEF_TEST_DEVICE_FAIL_AFTER=20 "$relief" complete "$pw" --window 2 --error 0.03 --device 0 -o "$tmp/fb.ply" --report "$tmp/fb.json"
   ok 'cmp -s "$tmp/full.ply" "$tmp/fb.ply"' "the fallback changed the result"
-  ok 'grep -qF "\"fallback\": \"the OpenCL device failed during the run" "$tmp/fb.json" && grep -qF "\"name\": \"scalar\"" "$tmp/fb.json"' "the report does not say the run fell back to scalar"
+  ok 'grep -qF "\"fallback\": \"the OpenCL device failed during the run" "$tmp/fb.json" && grep -qF "\"name\": \"host\"" "$tmp/fb.json"' "the report does not say the run fell back to the host"
   expect 2 "CL_OUT_OF_RESOURCES" -- env RELIEF_TEST_DEVICE_FAIL_AFTER=20 "$relief" complete "$pw" --window 2 --error 0.03 --backend opencl -o "$tmp/ex.ply" --checkpoint "$tmp/ex.ck"
   ok '[[ ! -e $tmp/ex.ply && -s $tmp/ex.ck ]]' "explicit opencl failure: output written or no checkpoint"
   grep -qF "state saved to $tmp/ex.ck" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no 'state saved' after a device failure"; fail=$((fail+1)); }
