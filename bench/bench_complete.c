@@ -41,6 +41,7 @@
 #include "base/rng.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
+#include "match/matcher_host.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
@@ -49,7 +50,8 @@
 #define MAX_REPS 64
 #define MAX_TARGETS 256
 
-enum { B_SCALAR, B_OPENCL, NB };
+enum { B_SCALAR, B_OPENCL, B_HOST, NB };
+static const char *const backend_name[NB] = {"scalar", "opencl", "host"};
 enum {
     S_SYNTH,
     S_SMOOTH,
@@ -101,7 +103,8 @@ static uint64_t checksum(const relief_mesh *m)
 static relief_status make_matcher(int b, const relief_match_data *d, relief_matcher **m,
                                   relief_error *err)
 {
-    return b == B_SCALAR ? relief_matcher_scalar_create(d, m, err)
+    return b == B_SCALAR   ? relief_matcher_scalar_create(d, m, err)
+           : b == B_HOST ? relief_matcher_host_create(d, 0, m, err)
                          : relief_matcher_opencl_create(d, -1, m, err);
 }
 
@@ -261,7 +264,8 @@ static int parse_backends(const char *s, int use[NB])
 {
     use[B_SCALAR] = strstr(s, "scalar") != NULL;
     use[B_OPENCL] = strstr(s, "opencl") != NULL;
-    return use[B_SCALAR] || use[B_OPENCL];
+    use[B_HOST] = strstr(s, "host") != NULL;
+    return use[B_SCALAR] || use[B_OPENCL] || use[B_HOST];
 }
 
 static int parse_kind(const char *s, relief_synth_kind *k)
@@ -279,7 +283,7 @@ static int usage(void)
     fprintf(stderr,
             "usage: bench_complete --case NAME [--kind KIND] [--vertices N] [--colour]\n"
             "       [--spacing S] [--oversample N] [--window W] [--rotations R] [--error E]\n"
-            "       [--seed N] [--prune 0|1] [--backends scalar,opencl] [--reps N]\n"
+            "       [--seed N] [--prune 0|1] [--backends scalar,opencl,host] [--reps N]\n"
             "       [--scalar-reps N] [--smooth-reps N] [--mode full|setup] [--targets K]\n"
             "       [--search exhaustive|coherent|auto] [--search-k K] [--csv FILE]\n");
     return 1;
@@ -300,7 +304,7 @@ static int parse_args(int argc, char **argv, config *c)
     c->smooth_reps = -1;
     c->setup = 0;
     c->targets = 8;
-    c->use[B_SCALAR] = c->use[B_OPENCL] = 1;
+    c->use[B_SCALAR] = c->use[B_OPENCL] = c->use[B_HOST] = 1;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--colour") == 0) {
@@ -408,7 +412,7 @@ int main(int argc, char **argv)
             if (st != RELIEF_OK)
                 goto fail;
             fprintf(stderr, "bench_complete %s: %s rep %d/%d: %s %.3f s\n", c.name,
-                    b ? "opencl" : "scalar", r + 1, b == B_SCALAR ? c.scalar_reps : c.reps,
+                    backend_name[b], r + 1, b == B_SCALAR ? c.scalar_reps : c.reps,
                     c.setup ? "per target" : "completion",
                     c.setup ? se[b].t[S_PER_TARGET][r] : se[b].t[S_TOTAL][r]);
         }
@@ -431,8 +435,9 @@ int main(int argc, char **argv)
         const char *same = "n/a";
         if (!c.use[b])
             continue;
-        if (!c.setup && c.use[B_SCALAR] && c.use[B_OPENCL])
-            same = se[B_SCALAR].checksum == se[B_OPENCL].checksum ? "yes" : "NO";
+        for (int o = 0; o < NB && !c.setup; ++o)
+            if (o != b && c.use[o])
+                same = strcmp(same, "NO") != 0 && se[o].checksum == s->checksum ? "yes" : "NO";
         if (!c.setup && s->stats.targets)
             scored = (double)s->stats.candidates /
                      ((double)s->samples * (double)c.p.rotations);
@@ -452,8 +457,8 @@ int main(int argc, char **argv)
                 fprintf(out,
                         "%s,%s,%ld,%s,%s,%s,%zu,%zu,%zu,%zu,%d,%d,%d,%d,%s,s,%d,%.6g,%.6g,%.6g,"
                         "%ld,%.0f,%zu,%zu,%s,%s,%zu\n",
-                        c.name, mc.cpu, mc.cores, b ? mc.device : "scalar (1 thread)",
-                        b ? "opencl" : "scalar", relief_synth_kind_name(c.sp.kind),
+                        c.name, mc.cpu, mc.cores, b == B_OPENCL ? mc.device : s->device,
+                        backend_name[b], relief_synth_kind_name(c.sp.kind),
                         c.sp.vertices, s->samples, s->targets, s->nv, c.p.window,
                         c.p.rotations, c.prune, c.sp.colour, stage_name[k], s->n[k], med, lo,
                         hi, bench_peak_rss_kib(), scored, s->stats.candidates, s->stats.pruned,
@@ -462,22 +467,23 @@ int main(int argc, char **argv)
         }
         if (!c.setup)
             printf("    scored %.0f targets for %zu (%zu candidates, %.1f %% pruned); "
-                   "output identical to the other backend: %s\n",
+                   "output identical to the other backends: %s\n",
                    scored, s->targets, s->stats.candidates,
                    s->stats.candidates ? 100.0 * (double)s->stats.pruned /
                                              (double)s->stats.candidates
                                        : 0.0,
                    same);
     }
-    if (!c.setup && c.use[B_SCALAR] && c.use[B_OPENCL] && se[0].n[S_TOTAL] && se[1].n[S_TOTAL]) {
-        double m0, m1, lo, hi;
-        bench_stats3(se[0].t[S_GROW], se[0].n[S_GROW], &m0, &lo, &hi);
-        bench_stats3(se[1].t[S_GROW], se[1].n[S_GROW], &m1, &lo, &hi);
-        printf("  growth: scalar / OpenCL median time = %.2f\n", m0 / m1);
-        bench_stats3(se[0].t[S_TOTAL], se[0].n[S_TOTAL], &m0, &lo, &hi);
-        bench_stats3(se[1].t[S_TOTAL], se[1].n[S_TOTAL], &m1, &lo, &hi);
-        printf("  completion: scalar / OpenCL median time = %.2f\n", m0 / m1);
-    }
+    for (int b = B_OPENCL; b < NB && !c.setup; ++b)
+        if (c.use[B_SCALAR] && c.use[b] && se[B_SCALAR].n[S_TOTAL] && se[b].n[S_TOTAL]) {
+            double m0, m1, lo, hi, g0, g1;
+            bench_stats3(se[B_SCALAR].t[S_GROW], se[B_SCALAR].n[S_GROW], &g0, &lo, &hi);
+            bench_stats3(se[b].t[S_GROW], se[b].n[S_GROW], &g1, &lo, &hi);
+            bench_stats3(se[B_SCALAR].t[S_TOTAL], se[B_SCALAR].n[S_TOTAL], &m0, &lo, &hi);
+            bench_stats3(se[b].t[S_TOTAL], se[b].n[S_TOTAL], &m1, &lo, &hi);
+            printf("  scalar / %s median time: growth %.2f, completion %.2f\n", backend_name[b],
+                   g0 / g1, m0 / m1);
+        }
     printf("  peak resident memory: %.1f MiB\n", (double)bench_peak_rss_kib() / 1024.0);
     if (out)
         fclose(out);

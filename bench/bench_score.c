@@ -1,8 +1,11 @@
-/* Matching throughput, scalar against OpenCL in one process: candidates
+/* Matching throughput, scalar against OpenCL and the host's threads in one
+ * process: candidates
  * (sample x rotation) scored per second for W = 2, 3, 4 and R = 1, 4, 8,
  * exhaustive and pruned, on the queries the growth builds for targets on
- * the first boundary of a synthetic capture (relief_query_build). Each cell is the median of several repetitions; the OpenCL /
- * scalar ratio is of the medians.
+ * the first boundary of a synthetic capture (relief_query_build). Each
+ * cell is the median of several repetitions; the OpenCL / scalar and host /
+ * scalar ratios are of the medians. The host backend (matcher_host.h) runs
+ * on every online core; the scalar reference on one.
  *   usage: bench_score [--vertices N] [--targets K] [--reps N] [--csv FILE]
  * Prints a table and writes CSV rows: machine, device, backend, W, R,
  * prune, reps, median, min, max (candidates per second). */
@@ -17,6 +20,7 @@
 #include "base/rng.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
+#include "match/matcher_host.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
 #include "mesh/mesh.h"
@@ -145,13 +149,13 @@ int main(int argc, char **argv)
     printf("bench_score: cylinder-bark %zu vertices: %zu samples, %zu targets; %zu "
            "neighbourhoods per cell, %d repetitions; %s; OpenCL device: %s\n",
            vertices, s->n_samples, s->n_targets, ntargets, reps, machine, devname);
-    printf("%2s %2s %-6s %14s %14s %8s\n", "W", "R", "prune", "scalar c/s", "opencl c/s",
-           "ratio");
+    printf("%2s %2s %-6s %14s %14s %14s %8s %8s\n", "W", "R", "prune", "scalar c/s",
+           "opencl c/s", "host c/s", "opencl/s", "host/s");
     for (int w = 2; w <= 4; ++w)
         for (int rr = 0; rr < 3; ++rr) {
             const int R = rr == 0 ? 1 : rr == 1 ? 4 : 8;
             relief_match_data *d = NULL;
-            relief_matcher *m[2] = {NULL, NULL};
+            relief_matcher *m[3] = {NULL, NULL, NULL};
             query_set qs;
             if (relief_match_data_build(s, R, 0.5, &d, &err) != RELIEF_OK) {
                 fprintf(stderr, "bench_score: %s\n", err.message);
@@ -161,12 +165,15 @@ int main(int argc, char **argv)
             relief_matcher_scalar_create(d, &m[0], &err);
             if (relief_matcher_opencl_create(d, -1, &m[1], &err) != RELIEF_OK)
                 m[1] = NULL;
+            if (relief_matcher_host_create(d, 0, &m[2], &err) != RELIEF_OK)
+                m[2] = NULL;
             for (int prune = 0; prune < 2; ++prune) {
-                double med[2] = {NAN, NAN};
+                double med[3] = {NAN, NAN, NAN};
+                static const char *const names[3] = {"scalar", "opencl", "host"};
                 size_t nc = (size_t)d->ns * (size_t)R;
                 float *ssd = malloc(nc * sizeof *ssd);
                 uint8_t *flag = malloc(nc);
-                for (int b = 0; b < 2; ++b) {
+                for (int b = 0; b < 3; ++b) {
                     double rate[64];
                     if (!m[b])
                         continue;
@@ -183,15 +190,17 @@ int main(int argc, char **argv)
                     qsort(rate, (size_t)reps, sizeof rate[0], cmp_double);
                     med[b] = rate[reps / 2];
                     fprintf(out, "%s,%s,%s,%d,%d,%d,%d,%zu,%zu,%.6g,%.6g,%.6g\n", machine,
-                            b ? devname : "scalar (1 thread)", b ? "opencl" : "scalar", w, R,
+                            b == 1 ? devname : m[b]->device, names[b], w, R,
                             prune, reps, qs.n, s->n_samples, med[b], rate[0], rate[reps - 1]);
                 }
-                printf("%2d %2d %-6s %14.4g %14.4g %8.2f\n", w, R, prune ? "yes" : "no",
-                       med[0], med[1], med[1] / med[0]);
+                printf("%2d %2d %-6s %14.4g %14.4g %14.4g %8.2f %8.2f\n", w, R,
+                       prune ? "yes" : "no", med[0], med[1], med[2], med[1] / med[0],
+                       med[2] / med[0]);
                 free(ssd);
                 free(flag);
             }
             free(qs.buf);
+            relief_matcher_destroy(m[2]);
             relief_matcher_destroy(m[1]);
             relief_matcher_destroy(m[0]);
             relief_match_data_destroy(d);

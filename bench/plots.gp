@@ -11,24 +11,26 @@ is(c, s) = strcol(c) eq s
 ri(r) = r == 1 ? 0 : (r == 4 ? 1 : 2)
 # The papers' times: paper 001 Table 1 (mono-scale), paper 000 section 6.
 $paper << EOD
-0.22,39.5
-1.22,46800
+0.24,39.5
+1.24,46800
 EOD
 has(f) = strlen(system("test -s ".out."/".f." && echo y")) > 0  # a case not run: no plot
 
 if (has("throughput.csv")) {
 # 1. Matching throughput: candidates per second, medians with min..max bars.
 set output out."/throughput.png"
-set title "Matching throughput (median, min..max): scalar vs OpenCL"
+set title "Matching throughput (median, min..max): scalar vs OpenCL vs host threads"
 set ylabel "candidates (sample x rotation) per second"
 set logscale y
 set xrange [-0.5:8.5]
 set xtics ("W2 R1" 0, "W2 R4" 1, "W2 R8" 2, "W3 R1" 3, "W3 R4" 4, "W3 R8" 5, "W4 R1" 6, "W4 R4" 7, "W4 R8" 8)
 x1(w, r, k) = (w - 2) * 3 + ri(r) + k
-plot out."/throughput.csv" every ::1 using (x1($4, $5, -0.15)):(is(3, "scalar") && $6 == 0 ? $10 : nan):11:12 with yerrorbars lc rgb "#1f77b4" pt 7 title "scalar, exhaustive", \
-     "" every ::1 using (x1($4, $5, -0.05)):(is(3, "opencl") && $6 == 0 ? $10 : nan):11:12 with yerrorbars lc rgb "#d62728" pt 7 title "OpenCL, exhaustive", \
+plot out."/throughput.csv" every ::1 using (x1($4, $5, -0.25)):(is(3, "scalar") && $6 == 0 ? $10 : nan):11:12 with yerrorbars lc rgb "#1f77b4" pt 7 title "scalar, exhaustive", \
+     "" every ::1 using (x1($4, $5, -0.15)):(is(3, "opencl") && $6 == 0 ? $10 : nan):11:12 with yerrorbars lc rgb "#d62728" pt 7 title "OpenCL, exhaustive", \
+     "" every ::1 using (x1($4, $5, -0.05)):(is(3, "host") && $6 == 0 ? $10 : nan):11:12 with yerrorbars lc rgb "#2ca02c" pt 7 title "host threads, exhaustive", \
      "" every ::1 using (x1($4, $5, 0.05)):(is(3, "scalar") && $6 == 1 ? $10 : nan):11:12 with yerrorbars lc rgb "#1f77b4" pt 5 title "scalar, pruned", \
-     "" every ::1 using (x1($4, $5, 0.15)):(is(3, "opencl") && $6 == 1 ? $10 : nan):11:12 with yerrorbars lc rgb "#d62728" pt 5 title "OpenCL, pruned"
+     "" every ::1 using (x1($4, $5, 0.15)):(is(3, "opencl") && $6 == 1 ? $10 : nan):11:12 with yerrorbars lc rgb "#d62728" pt 5 title "OpenCL, pruned", \
+     "" every ::1 using (x1($4, $5, 0.25)):(is(3, "host") && $6 == 1 ? $10 : nan):11:12 with yerrorbars lc rgb "#2ca02c" pt 5 title "host threads, pruned"
 unset xrange
 set xtics autofreq
 }
@@ -40,14 +42,16 @@ set ylabel "seconds"
 set xrange [-0.5:1.5]
 set xtics ("paper 001 cylinder (W2 R4)" 0, "paper 000 tree bark (W3 R4)" 1)
 set style fill solid 0.6
-set boxwidth 0.2
+set boxwidth 0.15
 set yrange [0.1:*]
 set format y "%g"
 cx(s) = s eq "paper001-cylinder" ? 0 : 1  # --quick: the eighth-size bark sits in the bark's place
-plot out."/papers.csv" every ::1 using (cx(strcol(1)) - 0.22):(is(15, "completion") && is(5, "scalar") ? $18 : nan) with boxes lc rgb "#1f77b4" title "scalar", \
-     "" every ::1 using (cx(strcol(1)) - 0.22):(is(15, "completion") && is(5, "scalar") ? $18 : nan):19:20 with yerrorbars lc rgb "black" pt 0 notitle, \
-     "" every ::1 using (cx(strcol(1))):(is(15, "completion") && is(5, "opencl") ? $18 : nan) with boxes lc rgb "#d62728" title "OpenCL (PoCL)", \
-     "" every ::1 using (cx(strcol(1))):(is(15, "completion") && is(5, "opencl") ? $18 : nan):19:20 with yerrorbars lc rgb "black" pt 0 notitle, \
+plot out."/papers.csv" every ::1 using (cx(strcol(1)) - 0.24):(is(15, "completion") && is(5, "scalar") ? $18 : nan) with boxes lc rgb "#1f77b4" title "scalar", \
+     "" every ::1 using (cx(strcol(1)) - 0.24):(is(15, "completion") && is(5, "scalar") ? $18 : nan):19:20 with yerrorbars lc rgb "black" pt 0 notitle, \
+     "" every ::1 using (cx(strcol(1)) - 0.08):(is(15, "completion") && is(5, "opencl") ? $18 : nan) with boxes lc rgb "#d62728" title "OpenCL", \
+     "" every ::1 using (cx(strcol(1)) - 0.08):(is(15, "completion") && is(5, "opencl") ? $18 : nan):19:20 with yerrorbars lc rgb "black" pt 0 notitle, \
+     "" every ::1 using (cx(strcol(1)) + 0.08):(is(15, "completion") && is(5, "host") ? $18 : nan) with boxes lc rgb "#2ca02c" title "host threads", \
+     "" every ::1 using (cx(strcol(1)) + 0.08):(is(15, "completion") && is(5, "host") ? $18 : nan):19:20 with yerrorbars lc rgb "black" pt 0 notitle, \
      $paper using 1:2 with boxes lc rgb "#7f7f7f" title "paper (Pentium 4: 1.8 GHz for 001, 2.6 GHz for 000)"
 unset xrange
 set xtics autofreq

@@ -19,13 +19,13 @@ fit() {
 }
 
 if [[ -f $OUT/throughput.csv ]]; then
-  echo "1. Matching throughput (candidates/s, medians; ratio = OpenCL / scalar, same process)"
+  echo "1. Matching throughput (candidates/s, medians; ratios to the scalar reference, same process)"
   awk -F, 'NR == 1 { next }
     { k = $4 "," $5 "," $6; med[k "," $3] = $10; reps = $7; if (!(k in seen)) { seen[k]; order[++n] = k } }
-    END { printf "   %-3s %-3s %-10s %12s %12s %6s\n", "W", "R", "", "scalar", "opencl", "ratio"
+    END { printf "   %-3s %-3s %-10s %12s %12s %12s %8s %8s\n", "W", "R", "", "scalar", "opencl", "host", "opencl/s", "host/s"
           for (i = 1; i <= n; ++i) { split(order[i], a, ",");
-            s = med[order[i] ",scalar"]; o = med[order[i] ",opencl"]
-            printf "   %-3s %-3s %-10s %12.4g %12.4g %6.2f\n", a[1], a[2], a[3] ? "pruned" : "exhaustive", s, o, (s > 0 ? o / s : 0) }
+            s = med[order[i] ",scalar"]; o = med[order[i] ",opencl"]; h = med[order[i] ",host"]
+            printf "   %-3s %-3s %-10s %12.4g %12.4g %12.4g %8.2f %8.2f\n", a[1], a[2], a[3] ? "pruned" : "exhaustive", s, o, h, (s > 0 ? o / s : 0), (s > 0 ? h / s : 0) }
           printf "   (%s repetitions per cell)\n", reps }' "$OUT/throughput.csv"
 fi
 
@@ -39,17 +39,18 @@ if [[ -f $OUT/papers.csv ]]; then
           paper["paper000-bark"] = 46800; pnote["paper000-bark"] = "paper 000: about 13 h, Pentium 4 2.6 GHz"
           for (i = 1; i <= n; ++i) { k = order[i]
             printf "   %s: %s samples, %s targets, W %s, R %s; outputs identical across backends: %s\n", k, sam[k], tar[k], w[k], r[k], same[k]
-            for (j = 1; j <= 2; ++j) { b = j == 1 ? "scalar" : "opencl"
+            for (j = 1; j <= 3; ++j) { b = j == 1 ? "scalar" : j == 2 ? "opencl" : "host"
               if ((k, b) in med) printf "     %-7s median %9.2f s (min %.2f, max %.2f, %s reps)%s\n", b, med[k, b], lo[k, b], hi[k, b], reps[k, b],
                  (k in paper) ? sprintf("; %.0fx faster than the paper'"'"'s %.1f s", paper[k] / med[k, b], paper[k]) : "" }
             if ((k, "scalar") in med && (k, "opencl") in med) printf "     scalar / OpenCL: %.2f\n", med[k, "scalar"] / med[k, "opencl"]
+            if ((k, "scalar") in med && (k, "host") in med) printf "     scalar / host: %.2f\n", med[k, "scalar"] / med[k, "host"]
             if (k in paper) printf "     (%s)\n", pnote[k] } }' "$OUT/papers.csv"
 fi
 
 if [[ -f $OUT/prune.csv ]]; then
   echo "4. Pruned against exhaustive (growth medians, seconds)"
   awk -F, 'NR == 1 { next } $15 == "grow" { g[$5, $13] = $18; same[$13] = $25 }
-    END { for (j = 1; j <= 2; ++j) { b = j == 1 ? "scalar" : "opencl"
+    END { for (j = 1; j <= 3; ++j) { b = j == 1 ? "scalar" : j == 2 ? "opencl" : "host"
             if ((b, 0) in g && (b, 1) in g)
               printf "   %-7s exhaustive %8.2f s, pruned %8.2f s: pruning %.2fx faster\n", b, g[b, 0], g[b, 1], g[b, 0] / g[b, 1] }
           for (p = 0; p <= 1; ++p) if (("scalar", p) in g && ("opencl", p) in g)
