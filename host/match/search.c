@@ -149,6 +149,9 @@ relief_status relief_search_create(const relief_surface *s, const relief_match_d
     if (d->ns == 0 || pairs > (size_t)INT32_MAX)
         return relief_fail(err, RELIEF_E_RANGE, "the k-coherence search needs 1..%d sample "
                            "rotations, not %zu", INT32_MAX, pairs);
+    /* The queries are independent, so FLANN may spread them over every
+     * core (OpenMP): the same neighbours in the same order. */
+    fp.cores = 0;
     nn = OVERQUERY * k + 1;
     if ((size_t)nn > pairs)
         nn = (int)pairs;
@@ -261,32 +264,35 @@ uint32_t relief_search_candidates(relief_search *S, const relief_surface *s,
         memset(S->stamp, 0, S->ns * sizeof *S->stamp);
         S->now = 1;
     }
-    for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t v = nbr[i];
-        const double *vp = s->proj + 3 * (size_t)v, *vf = s->frame + 9 * (size_t)v;
-        const int is_sample = v < s->n_samples;
-        const uint32_t c0 = is_sample ? v * R : src[v];
-        float o[3];
-        if (c0 == UINT32_MAX)
-            continue;
-        /* t's place seen from v, in v's frame. */
-        for (int j = 0; j < 3; ++j)
-            o[j] = (float)(vf[3 * j] * (tp[0] - vp[0]) + vf[3 * j + 1] * (tp[1] - vp[1]) +
-                           vf[3 * j + 2] * (tp[2] - vp[2]));
-        /* (s, r) itself (a sample's own continuation is t), then its
-         * similar pairs. */
-        for (int j = is_sample ? 0 : -1; j < S->k; ++j) {
-            const uint32_t c = j < 0 ? c0 : S->sim[(size_t)(c0 / R) * (size_t)S->k + (size_t)j];
-            uint32_t v2;
-            if (c == UINT32_MAX)
-                continue;
-            v2 = relief_continue_patch(d, o, c / R, j < 0 ? c % R : (c % R + c0 % R) % R);
-            if (v2 >= d->ns || S->stamp[v2] == S->now)
-                continue; /* not a sample (samples are vertices 0..ns-1), or listed */
-            S->stamp[v2] = S->now;
-            S->cand[m++] = v2;
+    /* Two passes: every neighbour's own continuation first, then those of
+     * the pairs similar to its source. The first are the likeliest best,
+     * so a running cutoff falls early and prunes the rest sooner. */
+    for (int pass = 0; pass < 2; ++pass)
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t v = nbr[i];
+            const double *vp = s->proj + 3 * (size_t)v, *vf = s->frame + 9 * (size_t)v;
+            const int is_sample = v < s->n_samples;
+            const uint32_t c0 = is_sample ? v * R : src[v];
+            float o[3];
+            if (c0 == UINT32_MAX || (pass == 0 && is_sample))
+                continue; /* a sample's own continuation is t, not a sample */
+            /* t's place seen from v, in v's frame. */
+            for (int j = 0; j < 3; ++j)
+                o[j] = (float)(vf[3 * j] * (tp[0] - vp[0]) + vf[3 * j + 1] * (tp[1] - vp[1]) +
+                               vf[3 * j + 2] * (tp[2] - vp[2]));
+            for (int j = pass == 0 ? -1 : 0; j < (pass == 0 ? 0 : S->k); ++j) {
+                const uint32_t c =
+                    j < 0 ? c0 : S->sim[(size_t)(c0 / R) * (size_t)S->k + (size_t)j];
+                uint32_t v2;
+                if (c == UINT32_MAX)
+                    continue;
+                v2 = relief_continue_patch(d, o, c / R, j < 0 ? c % R : (c % R + c0 % R) % R);
+                if (v2 >= d->ns || S->stamp[v2] == S->now)
+                    continue; /* not a sample (samples are vertices 0..ns-1), or listed */
+                S->stamp[v2] = S->now;
+                S->cand[m++] = v2;
+            }
         }
-    }
     *out = S->cand;
     return m;
 }

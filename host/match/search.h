@@ -73,7 +73,8 @@ uint32_t relief_continue_patch(const relief_match_data *d, const float o[3], uin
  * (sample x R + rotation) target v copied, UINT32_MAX while untextured;
  * vertices below s->n_samples are samples and their own source. Writes
  * distinct sample indices to the search's own array, in a deterministic
- * order (neighbours in order, then (s, r) before its similar pairs), sets
+ * order (every neighbour's own continuation, neighbours in order; then the
+ * continuations of its source's similar pairs, likewise), sets
  * *out to it (valid until the next call) and returns their count (0:
  * nothing continues there; score every sample). */
 uint32_t relief_search_candidates(relief_search *S, const relief_surface *s,
