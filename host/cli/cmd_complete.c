@@ -458,7 +458,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     }
     if (st == RELIEF_OK && !hier) {
         st = relief_matcher_create(p->backend, p->device, d, &m, note, sizeof note, &err);
-        if (st == RELIEF_OK && note[0])
+        if (st == RELIEF_OK && note[0] && !quiet)
             fprintf(stderr, "relief complete: backend auto: %s\n", note);
         else if (st == RELIEF_OK && !quiet)
             fprintf(stderr, "relief complete: backend %s: %s\n",
@@ -512,7 +512,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                                        &err);
             hs.build_seconds = hstats.build_seconds;
             hstats = hs;
-            if (note[0])
+            if (note[0] && !quiet)
                 fprintf(stderr, "relief complete: backend auto: %s\n", note);
             else if (st == RELIEF_OK && !quiet)
                 fprintf(stderr, "relief complete: backend %s: %s\n",
