@@ -83,6 +83,20 @@ plot out."/scaling.csv" every ::1 using 10:(is(15, "per_target") && is(5, "scala
      "" every ::1 using 10:(is(15, "grow") && is(5, "opencl") ? $18 : nan) with points lc rgb "#d62728" pt 9 dt 2 title ttl("grow_opencl", "whole growth, OpenCL"), \
      line("grow_opencl", x) lc rgb "#d62728" dt 2 notitle
 
+# 3d. The two searches: whole completions against the surface's size.
+if (has("scaling_coherent.csv")) {
+set output out."/scaling_search.png"
+set title "Exhaustive against k-coherence search (cylinder-bark, W3 R4): whole completions"
+full = has("scaling_full.csv") ? out."/scaling_full.csv" : out."/scaling_coherent.csv"
+plot out."/scaling_coherent.csv" every ::1 using 10:(is(15, "completion") ? $18 : nan) with points lc rgb "#2ca02c" pt 7 title ttl("coherent", "coherent search, host backend: completion"), \
+     line("coherent", x) lc rgb "#2ca02c" notitle, \
+     full every ::1 using 10:(is(15, "grow") && is(5, "scalar") ? $18 : nan) with points lc rgb "#1f77b4" pt 9 title ttl("grow_scalar", "exhaustive, scalar: growth"), \
+     line("grow_scalar", x) lc rgb "#1f77b4" dt 2 notitle, \
+     full every ::1 using 10:(is(15, "grow") && is(5, "opencl") ? $18 : nan) with points lc rgb "#d62728" pt 9 title ttl("grow_opencl", "exhaustive, OpenCL: growth"), \
+     line("grow_opencl", x) lc rgb "#d62728" dt 2 notitle, \
+     600 with lines lc rgb "black" dt 3 title "10 minutes"
+}
+
 # 3b. Scaling of peak memory.
 set output out."/scaling_memory.png"
 set title "Peak resident memory of the set-up and matching (one backend per process)"

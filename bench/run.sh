@@ -13,13 +13,16 @@
 #   3 scaling.csv      set-up stages, matching time per target and peak
 #                      memory as the surface grows (310 000 vertices; with
 #                      SCALING_MAX=512000, 1.2 million); scaling_full.csv:
-#                      whole growths where they take a few minutes at most
+#                      whole exhaustive growths where they take a few
+#                      minutes at most; scaling_coherent.csv: whole
+#                      completions with the k-coherence search on the host
+#                      backend, to 620 000 vertices (SCALING_MAX: 1.2 M)
 #   4 prune.csv        pruned against exhaustive on the same completion
 #   5 hierarchy.csv    mono-scale against hierarchical (--levels) completion
 #                      on OpenCL, same capture: times, ratio, MSI of each
 # --quick shrinks every case (the bark runs at an eighth of its size) so the
 # whole suite takes a few minutes on a quiet machine; its figures are for
-# checking, not quoting. The full suite takes about 45 minutes on 2 cores.
+# checking, not quoting. The full suite takes about 55 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
@@ -71,7 +74,7 @@ if ((quick)); then
   # An eighth of the bark: 1645 samples, 913 targets.
   BARK=(--kind cylinder-bark --colour --vertices 900 --spacing 0.094 --window 3 --rotations 4)
   BARK_CASE=paper000-bark-eighth
-  SETUP_SIZES=(1000 4000 16000); FULL_SIZES=(500 1000); TARGETS=4
+  SETUP_SIZES=(1000 4000 16000); FULL_SIZES=(500 1000); COHERENT_SIZES=(1000 4000); TARGETS=4
 else
   REPS=5; BARK_REPS=(--reps 3 --scalar-reps 2); BARK_CASE=paper000-bark; SCORE=(--vertices 2000 --targets 8 --reps 5)
   # Truth vertices; the surface (samples + targets) is about 2.4 times as
@@ -81,6 +84,10 @@ else
   SETUP_SIZES=(1000 2000 4000 8000 16000 32000 64000 128000)
   for n in 256000 512000; do ((${SCALING_MAX:-0} >= n)) && SETUP_SIZES+=($n); done
   FULL_SIZES=(500 1000 2000 4000); TARGETS=8
+  # Whole coherent completions: 256000 (about 620 000 vertices) takes about
+  # 5 minutes here.
+  COHERENT_SIZES=(2000 8000 32000 128000 256000)
+  ((${SCALING_MAX:-0} >= 512000)) && COHERENT_SIZES+=(512000)
 fi
 
 if want throughput; then
@@ -124,7 +131,8 @@ want scaling && log "3/4 scaling"
 # that of one completion's set-up with one backend.
 # The smooth completion is redone in every repetition up to 16000 and once
 # per process above (each size still has one per backend).
-want scaling || SETUP_SIZES=() FULL_SIZES=()
+want scaling || SETUP_SIZES=() FULL_SIZES=() COHERENT_SIZES=()
+((${#COHERENT_SIZES[@]})) && rm -f "$OUT/scaling_coherent.csv"
 for n in "${SETUP_SIZES[@]}"; do
   reps=3; smooth_reps=3
   ((n > 16000)) && smooth_reps=1
@@ -140,6 +148,12 @@ for n in "${FULL_SIZES[@]}"; do
     "$BC" --case scaling-full --kind cylinder-bark --colour --vertices "$n" --window 3 \
       --rotations 4 --backends $b --reps 3 --csv "$OUT/scaling_full.csv"
   done
+done
+# The k-coherence search, whole completions on the backend auto picks on a
+# CPU (one process per size: its own peak memory).
+for n in "${COHERENT_SIZES[@]}"; do
+  "$BC" --case scaling-coherent --kind cylinder-bark --colour --vertices "$n" --window 3 \
+    --rotations 4 --search coherent --backends host --reps 1 --csv "$OUT/scaling_coherent.csv"
 done
 
 log "summary and plots"

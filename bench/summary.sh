@@ -100,6 +100,26 @@ if [[ -f $OUT/scaling.csv ]]; then
   fi
 fi
 
+if [[ -f $OUT/scaling_coherent.csv ]]; then
+  echo "3b. Scaling of the k-coherence search (cylinder-bark, W 3, R 4, host backend; whole completions)"
+  awk -F, 'NR > 1 && $15 == "completion" { printf "   %d vertices (%d samples, %d targets): completion %.3g s, growth %s, peak memory %.0f MiB\n", $10, $8, $9, $18, g[$10], $21 / 1024 }
+           NR > 1 && $15 == "grow" { g[$10] = sprintf("%.3g s", $18) }' "$OUT/scaling_coherent.csv"
+  ct=$(awk -F, 'NR > 1 && $15 == "completion" { print $10, $18 }' "$OUT/scaling_coherent.csv" | fit coherent)
+  cm=$(awk -F, 'NR > 1 && $15 == "completion" { print $10, $21 }' "$OUT/scaling_coherent.csv" | fit coherent_mem)
+  echo "   exponents vs surface vertices: completion time $ct, peak memory $cm"
+  awk -F, 'NR > 1 && $15 == "completion" && $18 <= 600 && $10 > v { v = $10 } END { if (v) printf "   largest surface completed within 10 minutes: %d vertices (measured)\n", v }' \
+    "$OUT/scaling_coherent.csv"
+  # The exhaustive search's, from its whole-growth fit (scaling_full.csv).
+  if [[ -f $OUT/scaling_full.csv ]]; then
+    for b in scalar opencl; do
+      awk -F, -v b=$b '$5 == b && $15 == "completion" { x = log($10); y = log($18); n++; sx += x; sy += y; sxx += x * x; sxy += x * y }
+        END { if (n < 2) exit; k = (n * sxy - sx * sy) / (n * sxx - sx * sx); c = (sy - k * sx) / n
+              printf "   exhaustive, %s: completion time ~ vertices^%.2f; 10 minutes at about %.0f vertices (extrapolated from %d sizes)\n", b, k, exp((log(600) - c) / k), n }' \
+        "$OUT/scaling_full.csv"
+    done
+  fi
+fi
+
 if [[ -f $OUT/hierarchy.csv ]]; then
   echo "5. mono-scale against hierarchical completion (same capture and backend)"
   awk -F, 'NR == 1 { next }
