@@ -5,7 +5,11 @@
 # Prints a table (Markdown) and writes OUT/search_quality.csv; hist dist is
 # the colour histogram's distance where the surface has colour, else the
 # displacement histogram's. About 10 minutes on 2 cores (the exhaustive runs).
-#   bench/search_quality.sh            (BUILD=build, OUT=bench-out, SEEDS=3)
+#   bench/search_quality.sh            (BUILD=build, OUT=bench-out, SEEDS=3,
+#                                       SEARCHES="exhaustive coherent")
+#   bench/search_quality.sh --table CSV   the table and verdicts of a CSV
+#                                         (e.g. one search's rows rerun and
+#                                         the other's kept)
 # The claim it checks: each coherent measure lies within the spread (min..max)
 # of the exhaustive search's own seeds, or is better than all of them.
 set -euo pipefail
@@ -13,7 +17,13 @@ cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 OUT=${OUT:-bench-out}
 SEEDS=${SEEDS:-3}
+SEARCHES=${SEARCHES:-exhaustive coherent}
+table_only=
+if [[ ${1:-} == --table ]]; then
+  table_only=${2:?usage: bench/search_quality.sh --table CSV}
+fi
 R=$PWD/$BUILD/relief
+if [[ -z $table_only ]]; then
 [[ -x $R ]] || { echo "search_quality: build $BUILD/relief first" >&2; exit 1; }
 mkdir -p "$OUT"
 work=$(mktemp -d)
@@ -36,7 +46,7 @@ print("%.2f,%.3f,%.4f,%.3f,%.4f,%.4f" % (g, f("msi_diff_percent"), h, f("seam_ra
 for kind in plane-waves plane-noise cylinder-bands cylinder-bark cylinder-bark-colour sphere-dimples; do
   args=(${kind%-colour}); [[ $kind == *-colour ]] && args+=(--colour)
   "$R" synth "${args[@]}" --seed 1 -o "$work/cap.ply" --truth "$work/truth.ply" 2>/dev/null
-  for search in exhaustive coherent; do
+  for search in $SEARCHES; do
     for seed in $(seq 1 "$SEEDS"); do
       o=$work/$kind-$search-$seed
       "$R" complete "$work/cap.ply" -o "$o.ply" --report "$o.json" --quiet --backend scalar \
@@ -45,6 +55,9 @@ for kind in plane-waves plane-noise cylinder-bands cylinder-bark cylinder-bark-c
     done
   done
 done
+else
+  csv=$table_only
+fi
 
 python3 - "$csv" <<'PY'
 import csv, sys, statistics as st
