@@ -327,9 +327,16 @@ static void on_progress(void *ctx, const relief_grow_progress *p)
         raise(SIGINT);
 }
 
+/* Does auto's note say OpenCL could not be used? A warning, printed under
+ * --quiet too; the other notes are a plain choice. */
+static int unavailable(const char *note)
+{
+    return strncmp(note, RELIEF_MATCHER_UNAVAILABLE, strlen(RELIEF_MATCHER_UNAVAILABLE)) == 0;
+}
+
 /* Test hook: RELIEF_TEST_DEVICE_FAIL_AFTER=N makes every OpenCL score after
  * the first N fail as an exhausted device would, so that the CLI test sees
- * auto continue on the scalar matcher and an explicit --backend opencl exit
+ * auto continue on the host matcher and an explicit --backend opencl exit
  * 2 with its checkpoint saved. */
 typedef struct device_failure {
     size_t after, calls;
@@ -458,7 +465,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     }
     if (st == RELIEF_OK && !hier) {
         st = relief_matcher_create(p->backend, p->device, d, &m, note, sizeof note, &err);
-        if (st == RELIEF_OK && note[0] && !quiet)
+        if (st == RELIEF_OK && note[0] && (!quiet || unavailable(note)))
             fprintf(stderr, "relief complete: backend auto: %s\n", note);
         else if (st == RELIEF_OK && !quiet)
             fprintf(stderr, "relief complete: backend %s: %s\n",
@@ -512,8 +519,10 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                                        &err);
             hs.build_seconds = hstats.build_seconds;
             hstats = hs;
-            if (note[0] && !quiet)
+            if (note[0] && (!quiet || unavailable(note)))
                 fprintf(stderr, "relief complete: backend auto: %s\n", note);
+            if (hstats.fallback[0])
+                fprintf(stderr, "relief complete: backend auto: %s\n", hstats.fallback);
             else if (st == RELIEF_OK && !quiet)
                 fprintf(stderr, "relief complete: backend %s: %s\n",
                         relief_backend_name(used_backend), used_device);
@@ -541,7 +550,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                              m ? m->backend : used_backend, m ? m->device : used_device,
                              m ? m->kernel_seconds : stats.match_seconds,
                              hier ? &hstats : NULL, have ? &meas : NULL,
-                             relief_seconds() - t0, m ? m->fallback_note : NULL,
+                             relief_seconds() - t0, m ? m->fallback_note : hstats.fallback,
                              have_pat ? &pat : NULL, note};
         if ((!have || !have_pat) && !quiet)
             fprintf(stderr, "relief complete: warning: no %smeasures in the report: %s\n",

@@ -91,6 +91,9 @@ typedef struct relief_hierarchy_stats {
     int levels;
     double build_seconds;
     relief_level_stats level[RELIEF_MAX_LEVELS];
+    /* Why auto left the OpenCL device during the run (the matcher's
+     * fallback_note), else "". */
+    char fallback[RELIEF_ERROR_MESSAGE_MAX + 192];
 } relief_hierarchy_stats;
 
 /* Heights along the normal (input units) of one level's vertices, kept for
@@ -126,7 +129,9 @@ relief_hierarchy_options relief_hierarchy_options_default(void);
  * state, or with ho->heights). On failure `total` holds the finished
  * levels and the one that stopped.
  * `total` sums the levels' growth; `device` receives the last level's
- * matcher description and `note` (may be NULL) auto's fallback reason. */
+ * matcher description and `note` (may be NULL) auto's choice of backend
+ * and why (relief_matcher_create); hs->fallback why auto left the device
+ * during the run. */
 relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
                                     const relief_params *params,
                                     const relief_grow_options *go,

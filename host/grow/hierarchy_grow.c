@@ -507,6 +507,8 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         /* The matcher may still read the level's data (queued writes)
          * until the next rebind, which waits for them; d goes after it.
          * On failure the matcher goes first. */
+        if (m && m->fallback_note[0])
+            snprintf(hs->fallback, sizeof hs->fallback, "%s", m->fallback_note);
         if (st != RELIEF_OK) {
             relief_matcher_destroy(m);
             m = NULL;

@@ -54,11 +54,12 @@ static int pick_device(int *device, char *why, size_t why_size)
     relief_error e = {RELIEF_OK, ""};
     size_t n = 0;
     if (relief_devices(info, 64, &n, &e) != RELIEF_OK) {
-        snprintf(why, why_size, "OpenCL unavailable (%s)", e.message);
+        snprintf(why, why_size, RELIEF_MATCHER_UNAVAILABLE " (%s)", e.message);
         return -1;
     }
     if (n == 0) {
-        snprintf(why, why_size, "OpenCL unavailable (no OpenCL platform or device found)");
+        snprintf(why, why_size, RELIEF_MATCHER_UNAVAILABLE " (no OpenCL platform or device "
+                 "found)");
         return -1;
     }
     for (size_t i = 0; i < n && i < 64; ++i)
@@ -79,13 +80,20 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     relief_status st;
     char why[RELIEF_ERROR_MESSAGE_MAX + 64] = "";
     const int named = device >= 0; /* --device given */
+    size_t host_max;
+    int set;
     if (note && note_size)
         note[0] = '\0';
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_matcher_scalar_create(d, out, err);
     if (backend == RELIEF_BACKEND_HOST)
         return relief_matcher_host_create(d, 0, out, err);
-    if (backend == RELIEF_BACKEND_AUTO && device < 0 && pick_device(&device, why, sizeof why) < 0)
+    /* A bad setting is the user's to mend, under auto too, whichever
+     * backend auto then picks. */
+    st = relief_opencl_host_max_env(&host_max, &set, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (backend == RELIEF_BACKEND_AUTO && !named && pick_device(&device, why, sizeof why) < 0)
         st = RELIEF_E_DEVICE; /* the host, for the reason in why[] */
     else {
         st = device_fits(device, d, err);
@@ -100,11 +108,10 @@ relief_status relief_matcher_create(relief_backend backend, int device,
                                : "the first GPU or accelerator OpenCL has",
                          (*out)->device);
         }
-        /* A bad setting (RELIEF_OPENCL_HOST_MAX) is the user's to mend, not
-         * a reason to run on another backend. */
+        /* A --device there is none of is the user's to mend too. */
         if (st == RELIEF_OK || backend == RELIEF_BACKEND_OPENCL || st == RELIEF_E_RANGE)
             return st;
-        snprintf(why, sizeof why, "OpenCL unavailable (%s)",
+        snprintf(why, sizeof why, RELIEF_MATCHER_UNAVAILABLE " (%s)",
                  err ? err->message : relief_strerror(st));
     }
     /* auto on the host: say why. */

@@ -21,9 +21,14 @@
  * first). For auto: OpenCL on `device` when one is named (>= 0), else on the
  * first GPU or accelerator; the host matcher when there is none, or when
  * that device cannot run; which one and why is written to `note` (may be
- * NULL). OpenCL is refused (RELIEF_E_NOMEM, naming the need and the
- * device's memory) when the surface does not fit on the device
- * (device_memory.h). */
+ * NULL). A note that starts with RELIEF_MATCHER_UNAVAILABLE says OpenCL
+ * could not be used (no platform, or the device failed to start): a
+ * warning, where the others are a plain choice. OpenCL is refused
+ * (RELIEF_E_NOMEM, naming the need and the device's memory) when the
+ * surface does not fit on the device (device_memory.h). Under auto and
+ * opencl alike, a bad RELIEF_OPENCL_HOST_MAX or a --device there is none
+ * of is refused (RELIEF_E_RANGE). */
+#define RELIEF_MATCHER_UNAVAILABLE "OpenCL unavailable"
 relief_status relief_matcher_create(relief_backend backend, int device,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err);

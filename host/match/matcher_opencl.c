@@ -132,24 +132,33 @@ static char *slurp(const char *path)
     return buf;
 }
 
+relief_status relief_opencl_host_max_env(size_t *out, int *set, relief_error *err)
+{
+    const char *env = getenv("RELIEF_OPENCL_HOST_MAX");
+    char *end = NULL;
+    unsigned long long v;
+    *set = env && *env;
+    if (!*set)
+        return RELIEF_OK;
+    errno = 0;
+    v = strtoull(env, &end, 10);
+    if (!isdigit((unsigned char)env[0]) || errno || *end || v > HOST_MAX_LIMIT)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "RELIEF_OPENCL_HOST_MAX='%.40s': expected a number of "
+                           "candidates, 0..%d", env, HOST_MAX_LIMIT);
+    *out = (size_t)v;
+    return RELIEF_OK;
+}
+
 /* The largest launch the host scores itself on this device (HOST_MAX_CPU
  * and HOST_MAX_OTHER), or RELIEF_OPENCL_HOST_MAX's value when set. */
 static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *err)
 {
-    const char *env = getenv("RELIEF_OPENCL_HOST_MAX");
     cl_device_type type = 0;
-    if (env && *env) {
-        char *end = NULL;
-        unsigned long long v;
-        errno = 0;
-        v = strtoull(env, &end, 10);
-        if (!isdigit((unsigned char)env[0]) || errno || *end || v > HOST_MAX_LIMIT)
-            return relief_fail(err, RELIEF_E_RANGE,
-                               "RELIEF_OPENCL_HOST_MAX='%.40s': expected a number of "
-                               "candidates, 0..%d", env, HOST_MAX_LIMIT);
-        *out = (size_t)v;
-        return RELIEF_OK;
-    }
+    int set = 0;
+    relief_status st = relief_opencl_host_max_env(out, &set, err);
+    if (st != RELIEF_OK || set)
+        return st;
     if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
         type = 0;
     *out = (type & CL_DEVICE_TYPE_CPU) ? HOST_MAX_CPU : HOST_MAX_OTHER;
@@ -478,7 +487,7 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         return relief_fail(err, RELIEF_E_DEVICE, "no OpenCL platform or device found");
     want = device < 0 ? 0 : (size_t)device;
     if (want >= ndev)
-        return relief_fail(err, RELIEF_E_DEVICE,
+        return relief_fail(err, RELIEF_E_RANGE,
                            "--device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
                            "devices')", device, ndev, ndev - 1);
     /* Walk the platforms in relief_devices' order to the wanted device. */

@@ -9,8 +9,8 @@
 
 #include "base/error.h"
 
-/* Fewer centres (or probes) per thread than this and the hand-over costs
- * more than it saves: the work runs on the caller's thread alone. */
+/* A query takes one thread per this many centres (or probes), at most the
+ * pool's: fewer per thread and the hand-over costs more than it saves. */
 #define MIN_PER_THREAD 16
 
 typedef struct worker {
@@ -21,7 +21,8 @@ typedef struct worker {
 
 struct relief_score_pool {
     int threads, started;
-    int active; /* threads taking part in the query in progress */
+    int active; /* threads taking part in the query in progress; written
+                   and read under mu, with the generation */
     worker *w;
     pthread_mutex_t mu;
     pthread_cond_t go, done;
@@ -37,30 +38,30 @@ struct relief_score_pool {
     float best[RELIEF_SCORE_POOL_MAX]; /* each thread's probe minimum */
 };
 
-static void run_part(relief_score_pool *p, int k)
+/* Thread k's share of the query, the first `active` threads taking part. */
+static void run_part(relief_score_pool *p, int k, int active)
 {
-    if (k >= p->active)
-        return;
     if (p->probes)
         p->best[k] = relief_score_host_probe(p->d, p->q, p->probes, (uint32_t)k,
-                                             (uint32_t)p->active);
+                                             (uint32_t)active);
     else
-        relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)p->active, p->ssd,
+        relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)active, p->ssd,
                                   p->flag);
 }
 
 /* Run the job set in p on its first `active` threads and wait for them.
- * Every worker wakes (the others return at once), so one generation
- * counter serves every query. */
+ * Every worker wakes and reads the generation and `active` together; only
+ * the first active - 1 take part and report back, so the caller waits for
+ * no idle thread. */
 static void run_all(relief_score_pool *p, int active)
 {
-    p->active = active;
     pthread_mutex_lock(&p->mu);
-    p->pending = p->threads - 1;
+    p->active = active;
+    p->pending = active - 1;
     ++p->generation;
     pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);
-    run_part(p, 0);
+    run_part(p, 0, active);
     pthread_mutex_lock(&p->mu);
     while (p->pending > 0)
         pthread_cond_wait(&p->done, &p->mu);
@@ -72,6 +73,7 @@ static void *worker_main(void *arg)
     worker *w = arg;
     relief_score_pool *p = w->pool;
     unsigned long seen = 0;
+    int active;
     for (;;) {
         pthread_mutex_lock(&p->mu);
         while (p->generation == seen && !p->quit)
@@ -81,8 +83,11 @@ static void *worker_main(void *arg)
             return NULL;
         }
         seen = p->generation;
+        active = p->active;
         pthread_mutex_unlock(&p->mu);
-        run_part(p, w->index);
+        if (w->index >= active)
+            continue; /* not needed for this query */
+        run_part(p, w->index, active);
         pthread_mutex_lock(&p->mu);
         if (--p->pending == 0)
             pthread_cond_signal(&p->done);
@@ -97,8 +102,6 @@ static int threads_for(const relief_score_pool *p, size_t items)
     size_t n = items / MIN_PER_THREAD;
     return n < 1 ? 1 : n < (size_t)p->threads ? (int)n : p->threads;
 }
-
-int relief_score_pool_threads(const relief_score_pool *p) { return p->threads; }
 
 int relief_score_pool_default_threads(void)
 {

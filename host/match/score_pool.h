@@ -31,9 +31,6 @@ relief_status relief_score_pool_create(int threads, relief_score_pool **out,
  * RELIEF_SCORE_POOL_MAX. */
 int relief_score_pool_default_threads(void);
 
-/* The pool's size. */
-int relief_score_pool_threads(const relief_score_pool *p);
-
 /* Score the query as relief_score_host does, split over the pool. */
 void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
                            const relief_match_query *q, float *ssd, uint8_t *flag);

@@ -229,7 +229,9 @@ expect 1 "unexpected argument" -- "$relief" devices extra
 small=$tmp/small.ply
 "$relief" synth plane-waves -o "$small" --vertices 300 2>/dev/null
 expect 2 "no OpenCL platform" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
-expect 0 "OpenCL unavailable" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/ocl.ply" --window 2
+expect 0 "OpenCL unavailable (no OpenCL platform or device found); scoring on the host (" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/ocl.ply" --window 2
+# That is a warning: --quiet keeps it (a plain choice it does not).
+expect 0 "OpenCL unavailable" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/ocl2.ply" --window 2 --quiet
 [[ -s $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: auto fallback wrote nothing"; fail=$((fail+1)); }
 rm -f "$tmp/ocl.ply"
 if "$relief" devices | grep -q "^device 0"; then
@@ -240,13 +242,15 @@ if "$relief" devices | grep -q "^device 0"; then
   expect 2 "build log" -- env RELIEF_KERNEL_DIR="$tmp/badk" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   expect 2 "cannot read" -- env RELIEF_KERNEL_DIR="$tmp/nowhere" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a failed OpenCL run"; fail=$((fail+1)); }
-  expect 2 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --device 7 --quiet
+  # A device there is none of is refused, under auto too.
+  expect 1 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --device 7 --quiet
+  expect 1 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --device 7 --quiet
   for bad in abc -5 " -0" +5 1e3 2000000000; do
     expect 1 "RELIEF_OPENCL_HOST_MAX='$bad'" -- env RELIEF_OPENCL_HOST_MAX="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   done
-  # Under auto on a named device too: a bad setting is not a reason to
-  # fall back to the host.
-  expect 1 "RELIEF_OPENCL_HOST_MAX='x'" -- env RELIEF_OPENCL_HOST_MAX=x "$relief" complete "$small" -o "$tmp/ocl.ply" --device 0 --quiet
+  # Under auto too, whichever backend it picks: a bad setting is not a
+  # reason to run elsewhere.
+  expect 1 "RELIEF_OPENCL_HOST_MAX='x'" -- env RELIEF_OPENCL_HOST_MAX=x "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_HOST_MAX"; fail=$((fail+1)); }
   expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
   expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
@@ -270,7 +274,11 @@ fi
 expect 0 "backend auto: " -- "$relief" complete "$small" -o "$tmp/auto.ply" --window 2 --report "$tmp/auto.json"
 grep -qF "$auto_why" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: auto did not say why it chose $auto_name"; fail=$((fail+1)); }
 ok 'cmp -s "$tmp/auto.ply" "$tmp/scl.ply" && grep -qF "\"name\": \"$auto_name\"" "$tmp/auto.json" && grep -qF "\"choice\": " "$tmp/auto.json"' "auto: wrong backend, output or no reason in the report"
-expect 0 "OpenCL unavailable (no OpenCL platform or device found); scoring on the host (" -- env OCL_ICD_VENDORS="$tmp/no-icd" "$relief" complete "$small" -o "$tmp/auto2.ply" --window 2
+expect 0 "" -- "$relief" complete "$small" -o "$tmp/auto3.ply" --window 2 --quiet
+[[ ! -s $tmp/err ]] && pass=$((pass+1)) || { echo "FAIL: --quiet printed auto's plain choice"; fail=$((fail+1)); }
+# A hierarchical run reports the choice too.
+expect 0 "backend auto: " -- "$relief" complete "$small" -o "$tmp/auto4.ply" --window 2 --levels 2 --report "$tmp/auto4.json"
+ok 'grep -qF "\"choice\": " "$tmp/auto4.json" && grep -qF "\"name\": \"$auto_name\"" "$tmp/auto4.json"' "hierarchical auto: no choice in the report"
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
