@@ -726,7 +726,7 @@ static relief_status check_solid(const double *x, size_t n, const char *what,
                                  relief_error *err)
 {
     size_t i1 = 0;
-    double d2 = 0.0, best = 0.0, a[3], nrm[3], nn;
+    double d2 = 0.0, best = 0.0, a[3], nrm[3] = {0.0, 0.0, 0.0}, nn;
     for (size_t i = 1; i < n; ++i) {
         double e = 0.0;
         for (int k = 0; k < 3; ++k)
