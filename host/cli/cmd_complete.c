@@ -521,11 +521,11 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
             hstats = hs;
             if (note[0] && (!quiet || unavailable(note)))
                 fprintf(stderr, "relief complete: backend auto: %s\n", note);
-            if (hstats.fallback[0])
-                fprintf(stderr, "relief complete: backend auto: %s\n", hstats.fallback);
             else if (st == RELIEF_OK && !quiet)
                 fprintf(stderr, "relief complete: backend %s: %s\n",
                         relief_backend_name(used_backend), used_device);
+            if (hstats.fallback[0])
+                fprintf(stderr, "relief complete: backend auto: %s\n", hstats.fallback);
         } else {
             st = relief_grow(s, d, m, p, go, &stats, &err);
             if (m->fallback_note[0])

@@ -46,9 +46,9 @@ static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
     return RELIEF_OK;
 }
 
-/* auto without --device: the first GPU or accelerator among the OpenCL
- * devices (its index in *device), or -1 with the reason in why[]. */
-static int pick_device(int *device, char *why, size_t why_size)
+/* auto without --device: the index of the first GPU or accelerator among
+ * the OpenCL devices, or -1 with the reason in why[]. */
+static int pick_device(char *why, size_t why_size)
 {
     relief_device_info info[64];
     relief_error e = {RELIEF_OK, ""};
@@ -63,10 +63,8 @@ static int pick_device(int *device, char *why, size_t why_size)
         return -1;
     }
     for (size_t i = 0; i < n && i < 64; ++i)
-        if (strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0) {
-            *device = (int)i;
+        if (strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0)
             return (int)i;
-        }
     snprintf(why, why_size, "no GPU or accelerator among the %zu OpenCL device%s (device 0: "
              "%.100s, a %s), whose kernel would run on the host's own cores, slower than "
              "they score by themselves", n, n == 1 ? "" : "s", info[0].name, info[0].type);
@@ -93,7 +91,7 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     st = relief_opencl_host_max_env(&host_max, &set, err);
     if (st != RELIEF_OK)
         return st;
-    if (backend == RELIEF_BACKEND_AUTO && !named && pick_device(&device, why, sizeof why) < 0)
+    if (backend == RELIEF_BACKEND_AUTO && !named && (device = pick_device(why, sizeof why)) < 0)
         st = RELIEF_E_DEVICE; /* the host, for the reason in why[] */
     else {
         st = device_fits(device, d, err);
