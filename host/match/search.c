@@ -36,10 +36,12 @@ struct relief_search {
 size_t relief_search_bytes(size_t ns, int rotations, int k)
 {
     const size_t pairs = ns * (size_t)rotations;
+    const size_t pca = pairs < PCA_ROWS ? pairs : PCA_ROWS;
     /* Reduced descriptors, the similar pairs, FLANN's tree (about one index
      * and a node per point) and its answers for a chunk of pairs, the stamps and
-     * the candidates. */
-    return pairs * (RELIEF_SEARCH_DIMS * sizeof(float) + 3 * sizeof(uint32_t)) +
+     * the candidates; while they are set up, the principal components' rows. */
+    return pca * 2 * POINTS * sizeof(float) +
+           pairs * (RELIEF_SEARCH_DIMS * sizeof(float) + 3 * sizeof(uint32_t)) +
            ns * (size_t)k * sizeof(uint32_t) +
            (size_t)CHUNK * (size_t)(OVERQUERY * k + 1) * (sizeof(int) + sizeof(float)) +
            2 * ns * sizeof(uint32_t);
@@ -85,34 +87,39 @@ static relief_status principal_axes(const relief_match_data *d, int dims, float 
 {
     const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
     const size_t stride = pairs > PCA_ROWS ? (pairs + PCA_ROWS - 1) / PCA_ROWS : 1;
+    const size_t rows = (pairs + stride - 1) / stride;
+    /* The strided descriptors, described once for the mean and the
+     * covariance both. */
+    float *desc = malloc(rows * (size_t)dims * sizeof *desc);
     double *cov = calloc((size_t)dims * (size_t)dims, sizeof *cov);
     double *evec = malloc((size_t)dims * (size_t)dims * sizeof *evec);
     double *work = malloc(2 * (size_t)dims * (size_t)dims * sizeof *work);
     double eval[2 * POINTS];
-    float desc[2 * POINTS];
-    size_t rows = 0;
-    if (!cov || !evec || !work) {
+    float one[2 * POINTS];
+    if (!desc || !cov || !evec || !work) {
+        free(desc);
         free(cov);
         free(evec);
         free(work);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the search's %d x %d "
-                           "covariance", dims, dims);
+                           "covariance over %zu descriptors", dims, dims, rows);
     }
     memset(mean, 0, (size_t)dims * sizeof *mean);
-    for (size_t c = 0; c < pairs; c += stride, ++rows) {
+    for (size_t i = 0; i < rows; ++i) {
+        const size_t c = i * stride;
         describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
-                 desc);
-        for (int i = 0; i < dims; ++i)
-            mean[i] += desc[i];
+                 one);
+        memcpy(desc + i * (size_t)dims, one, (size_t)dims * sizeof *desc);
+        for (int k = 0; k < dims; ++k)
+            mean[k] += one[k];
     }
-    for (int i = 0; i < dims; ++i)
-        mean[i] /= (double)rows;
-    for (size_t c = 0; c < pairs; c += stride) {
-        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
-                 desc);
+    for (int k = 0; k < dims; ++k)
+        mean[k] /= (double)rows;
+    for (size_t r = 0; r < rows; ++r) {
+        const float *x = desc + r * (size_t)dims;
         for (int i = 0; i < dims; ++i)
             for (int j = i; j < dims; ++j)
-                cov[dims * i + j] += (desc[i] - mean[i]) * (desc[j] - mean[j]);
+                cov[dims * i + j] += (x[i] - mean[i]) * (x[j] - mean[j]);
     }
     for (int i = 0; i < dims; ++i)
         for (int j = 0; j < i; ++j)
@@ -124,6 +131,7 @@ static relief_status principal_axes(const relief_match_data *d, int dims, float 
     free(work);
     free(evec);
     free(cov);
+    free(desc);
     return RELIEF_OK;
 }
 
