@@ -353,6 +353,26 @@ relief_status io_check_ply(reader *r, relief_file_check *out, long long fsize,
             return relief_fail(err, RELIEF_E_PARSE,
                                "%s: the PLY 'vertex' element lacks scalar x, y, z properties",
                                r->path);
+        /* OpenMesh reads a colour from red, green and blue together: with
+         * only some of them its ascii reader goes out of step, and the
+         * next face takes some value as a corner count (found by fuzzing:
+         * 'rgd green blue', a 2 GiB face). */
+        {
+            static const char *const rgb[3] = {"red", "green", "blue"};
+            int have = 0;
+            for (int c = 0; c < 3; ++c)
+                for (int p = 0; p < vert->nprop; ++p)
+                    if (strcmp(vert->prop[p].name, rgb[c]) == 0) {
+                        have |= 1 << c;
+                        break;
+                    }
+            if (have != 0 && have != 7)
+                return relief_fail(err, RELIEF_E_PARSE,
+                                   "%s: the PLY 'vertex' element has %s%s%s but not all of "
+                                   "red, green and blue; a colour needs the three",
+                                   r->path, have & 1 ? "red " : "", have & 2 ? "green " : "",
+                                   have & 4 ? "blue" : "");
+        }
     }
     out->binary = fmt == 1;
     out->vertices = vert->count;

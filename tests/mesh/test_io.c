@@ -212,6 +212,15 @@ static void test_bad_input(void)
                       "property float y\nproperty float z\nproperty list uchar int foo\n"
                       "end_header\n0 0 0 2 5 6\n1 0 0 1 7\n0 1 0 0\n"),
                   RELIEF_E_PARSE, "list property 'foo'");
+    /* Part of a colour: OpenMesh's ascii reader goes out of step (a fuzzed
+     * 'rgd green blue' made a 2 GiB face), so it is refused. */
+    expect_reject(put("part_colour.ply",
+                      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                      "property float y\nproperty float z\nproperty uchar rgd\n"
+                      "property uchar green\nproperty uchar blue\nelement face 1\n"
+                      "property list uchar int vertex_indices\nend_header\n"
+                      "0 0 0 1 2 3\n1 0 0 1 2 3\n0 1 0 1 2 3\n3 0 1 2\n"),
+                  RELIEF_E_PARSE, "not all of red, green and blue");
     expect_reject(put("magic.off", "FOO\n3 1 0\n"), RELIEF_E_PARSE, "OFF magic");
     expect_reject(put("trunc.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"), RELIEF_E_PARSE,
                   "truncated");
