@@ -385,6 +385,399 @@ RM_FN int rm_score_candidate(
     return RM_VALID;
 }
 
+
+/* ------------------------------------------------ scoring in lock-step
+ *
+ * rm_score_range scores a run of candidates with the very arithmetic of
+ * rm_score_candidate, RM_LANES of them side by side: each lane holds one
+ * candidate, and one step takes every lane's next neighbour through the
+ * same straight-line code (where the neighbour lands, its closest vertex,
+ * the colour term, the distances to that vertex's triangles, the pruning
+ * test), so a compiler can give each lane a SIMD lane: the host's
+ * (score_lanes.c) and PoCL's through auto-vectorisation of the loops over
+ * the lanes. A lane whose candidate ends (pruned, invalid or scored) takes
+ * the next candidate of the run at once, so pruning does not leave lanes
+ * idle. Per lane the operations and their order are rm_score_candidate's,
+ * so every score and flag is bit for bit the reference's. */
+
+#ifndef RM_LANES
+#define RM_LANES 8
+#endif
+/* Put before each loop over the lanes that is meant to become SIMD code:
+ * the host defines it as an OpenMP simd pragma (score_lanes.c). */
+#ifndef RM_SIMD
+#define RM_SIMD
+#endif
+#define RM_NONE 0xffffffffu /* a lane without a candidate */
+#define RM_FIND_NONE 0  /* an idle lane */
+#define RM_FIND_PROBE 1 /* looking for its cell in the lists' hash table */
+#define RM_FIND_LIST 2  /* found it: the cell's list answers */
+#define RM_FIND_RINGS 3 /* not listed: rm_closest_vertex answers */
+
+/* rm_point_triangle_d2 without branches, on separate coordinates: the
+ * region of Ericson's test is found first, then one expression
+ *   q = base - e1 * s - e2 * t
+ * gives the closest point's offset for every region (base ap, bp or cp;
+ * e1 ab or bc; e2 ac; s and t from the region's single division). Each
+ * region's q is the reference's to the last bit, up to the sign of a zero
+ * (x - 0 * e), which squaring removes, so the result is identical. */
+RM_FN float rm_point_triangle_d2_flat(float px, float py, float pz, float ax, float ay,
+                                      float az, float bx, float by, float bz, float cx,
+                                      float cy, float cz)
+{
+    float abx = bx - ax, aby = by - ay, abz = bz - az;
+    float acx = cx - ax, acy = cy - ay, acz = cz - az;
+    float apx = px - ax, apy = py - ay, apz = pz - az;
+    float bpx = px - bx, bpy = py - by, bpz = pz - bz;
+    float cpx = px - cx, cpy = py - cy, cpz = pz - cz;
+    float d1 = abx * apx + aby * apy + abz * apz;
+    float d2 = acx * apx + acy * apy + acz * apz;
+    float d3 = abx * bpx + aby * bpy + abz * bpz;
+    float d4 = acx * bpx + acy * bpy + acz * bpz;
+    float d5 = abx * cpx + aby * cpy + abz * cpz;
+    float d6 = acx * cpx + acy * cpy + acz * cpz;
+    float vc = d1 * d4 - d3 * d2;
+    float vb = d5 * d2 - d1 * d6;
+    float va = d3 * d6 - d5 * d4;
+    float e43 = d4 - d3, e56 = d5 - d6;
+    /* The reference's regions in its order: the first that holds wins. */
+    const int in_a = (d1 <= 0) & (d2 <= 0);
+    const int in_b = !in_a & (d3 >= 0) & (d4 <= d3);
+    const int on_ab = !in_a & !in_b & (vc <= 0) & (d1 >= 0) & (d3 <= 0);
+    const int in_c = !in_a & !in_b & !on_ab & (d6 >= 0) & (d5 <= d6);
+    const int on_ac = !in_a & !in_b & !on_ab & !in_c & (vb <= 0) & (d2 >= 0) & (d6 <= 0);
+    const int on_bc = !in_a & !in_b & !on_ab & !in_c & !on_ac & (va <= 0) & (e43 >= 0) & (e56 >= 0);
+    const int in_face = !in_a & !in_b & !on_ab & !in_c & !on_ac & !on_bc;
+    {
+        /* Every operand is computed whatever the region and only chosen
+         * here: selects, not branches. */
+        const float den_ab = d1 - d3, den_ac = d2 - d6, den_bc = e43 + e56;
+        const float den_face = va + vb + vc;
+        const float bcx = cx - bx, bcy = cy - by, bcz = cz - bz;
+        float num = 0.0f, den = 1.0f, quot, vq, wq, s, t, bx0, by0, bz0, e1x, e1y, e1z, qx, qy, qz;
+        num = on_ab ? d1 : num;
+        den = on_ab ? den_ab : den;
+        num = on_ac ? d2 : num;
+        den = on_ac ? den_ac : den;
+        num = on_bc ? e43 : num;
+        den = on_bc ? den_bc : den;
+        num = in_face ? 1.0f : num;
+        den = in_face ? den_face : den;
+        quot = num / den;
+        vq = vb * quot;
+        wq = vc * quot;
+        s = (on_ab | on_bc) ? quot : 0.0f;
+        s = in_face ? vq : s;
+        t = on_ac ? quot : 0.0f;
+        t = in_face ? wq : t;
+        bx0 = (in_b | on_bc) ? bpx : in_c ? cpx : apx;
+        by0 = (in_b | on_bc) ? bpy : in_c ? cpy : apy;
+        bz0 = (in_b | on_bc) ? bpz : in_c ? cpz : apz;
+        e1x = on_bc ? bcx : abx;
+        e1y = on_bc ? bcy : aby;
+        e1z = on_bc ? bcz : abz;
+        qx = bx0 - e1x * s - acx * t;
+        qy = by0 - e1y * s - acy * t;
+        qz = bz0 - e1z * s - acz * t;
+        return qx * qx + qy * qy + qz * qz;
+    }
+}
+
+/* The state of the lanes: structure of arrays, one entry per lane. */
+typedef struct rm_lanes {
+    RM_UINT cand[RM_LANES];  /* candidate index, RM_NONE when idle */
+    RM_UINT at[RM_LANES];    /* the neighbour this step scores */
+    RM_UINT v2[RM_LANES];    /* its closest vertex (a valid id in idle lanes) */
+    RM_UINT live[RM_LANES];  /* 1: the lane's candidate goes on this step */
+    RM_UINT tfirst[RM_LANES], tcount[RM_LANES]; /* v2's triangles in vt */
+    RM_UINT tlast[RM_LANES];                     /* tcount - 1, or 0 */
+    /* The closest-vertex search: the lane's cell of the lists' grid, its
+     * slot in their hash table, where the search stands (RM_FIND_*), the
+     * cell's list in litems (first, last = count - 1, count) and the
+     * nearest distance so far. */
+    RM_UINT cell[RM_LANES], slot[RM_LANES], find[RM_LANES];
+    RM_UINT lfirst[RM_LANES], llast[RM_LANES], lcount[RM_LANES];
+    float nearest[RM_LANES];
+    float shape[RM_LANES], colour[RM_LANES], ssd[RM_LANES], best[RM_LANES];
+    float cr[RM_LANES], sr[RM_LANES];
+    float sp[3][RM_LANES], sf[9][RM_LANES]; /* s' and R_s (rows u, v, n) */
+    float xp[3][RM_LANES], x[3][RM_LANES];  /* the neighbour's x' and x */
+} rm_lanes;
+
+/* Score the candidates c0, c0 + 1, ... (c = centre * rotations + r, the
+ * centre's sample subset[centre], or the centre itself when subset is
+ * null) in blocks of `block` consecutive ones, `stride` apart (stride >=
+ * block; block == stride: every candidate), up to c1 (excluded), writing
+ * ssd_out[c] and flag_out[c] as rm_score_candidate would with the cutoff
+ * *cutoff. With `running` (host only, where RM_LOWER_CUTOFF(cut, ssd) is
+ * defined), a valid score lowers *cutoff for the candidates after it. The
+ * other arguments are rm_score_candidate's, and s_proj, s_frame, cos_r and
+ * sin_r the samples' positions and frames and the rotations' cos and sin. */
+RM_FN void rm_score_range(
+    RM_GLOBAL const float *proj, RM_GLOBAL const float *pos, RM_GLOBAL const float *col,
+    RM_GLOBAL const RM_UCHAR *matchable, RM_GLOBAL const RM_UINT *tri,
+    RM_GLOBAL const RM_UINT *vt_start, RM_GLOBAL const RM_UINT *vt,
+    RM_GLOBAL const RM_UINT *cell_start, RM_GLOBAL const RM_UINT *cell_items,
+    const float grid[4], const RM_UINT dims[3], const float lgrid[4], const RM_UINT ldims[3],
+    RM_UINT lmask, RM_GLOBAL const RM_UINT *lslot, RM_GLOBAL const RM_UINT *litems,
+    RM_GLOBAL const float *s_proj, RM_GLOBAL const float *s_frame,
+    RM_GLOBAL const float *cos_r, RM_GLOBAL const float *sin_r,
+    RM_GLOBAL const RM_UINT *subset, RM_UINT rotations, RM_UINT c0, RM_UINT c1,
+    RM_UINT block, RM_UINT stride, RM_UINT n, RM_GLOBAL const float *qp,
+    RM_GLOBAL const float *q, RM_GLOBAL const float *g, RM_GLOBAL const float *qcol,
+    float mu, float inv_b2, float inv_wsum, float *cutoff, int running,
+    RM_GLOBAL float *ssd_out, RM_GLOBAL RM_UCHAR *flag_out)
+{
+    rm_lanes L;
+    RM_UINT next = c0, left = block, busy = 0, l, t, maxc;
+    int k;
+    (void)running;
+    if (n == 0) { /* nothing to step through: the reference's answer */
+        for (; next < c1; ++next, --left) {
+            RM_UINT si, r;
+            float s, sp[3], sf[9];
+            if (left == 0) {
+                next += stride - block;
+                left = block;
+                if (next >= c1)
+                    break;
+            }
+            si = subset ? subset[next / rotations] : next / rotations;
+            r = next % rotations;
+            for (k = 0; k < 3; ++k)
+                sp[k] = s_proj[3 * si + k];
+            for (k = 0; k < 9; ++k)
+                sf[k] = s_frame[9 * si + k];
+            flag_out[next] = (RM_UCHAR)rm_score_candidate(
+                proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items, grid,
+                dims, lgrid, ldims, lmask, lslot, litems, sp, sf, cos_r[r], sin_r[r], n, qp,
+                q, g, qcol, mu, inv_b2, inv_wsum, *cutoff, &s);
+            ssd_out[next] = s;
+        }
+        return;
+    }
+    for (l = 0; l < RM_LANES; ++l) {
+        L.cand[l] = RM_NONE;
+        L.at[l] = 0;
+        L.live[l] = 0;
+        L.shape[l] = L.colour[l] = L.ssd[l] = L.best[l] = 0;
+        L.cr[l] = 1;
+        L.sr[l] = 0;
+        for (k = 0; k < 3; ++k)
+            L.sp[k][l] = L.xp[k][l] = L.x[k][l] = 0;
+        for (k = 0; k < 9; ++k)
+            L.sf[k][l] = 0;
+    }
+    for (;;) {
+        /* Idle lanes take the run's next candidates. */
+        for (l = 0; l < RM_LANES; ++l) {
+            RM_UINT si, r;
+            if (L.cand[l] != RM_NONE)
+                continue;
+            if (left == 0) {
+                next += stride - block;
+                left = block;
+            }
+            if (next >= c1)
+                continue;
+            si = subset ? subset[next / rotations] : next / rotations;
+            r = next % rotations;
+            L.cand[l] = next++;
+            --left;
+            ++busy;
+            L.at[l] = 0;
+            L.shape[l] = L.colour[l] = 0;
+            L.cr[l] = cos_r[r];
+            L.sr[l] = sin_r[r];
+            for (k = 0; k < 3; ++k)
+                L.sp[k][l] = s_proj[3 * si + k];
+            for (k = 0; k < 9; ++k)
+                L.sf[k][l] = s_frame[9 * si + k];
+        }
+        if (busy == 0)
+            return;
+        /* x' = s' + R_s Rz(theta) q' for each lane's neighbour. */
+        RM_SIMD
+        for (l = 0; l < RM_LANES; ++l) {
+            const int i = (int)L.at[l]; /* int indices: the compilers' gathers */
+            const float a = L.cr[l] * qp[3 * i] - L.sr[l] * qp[3 * i + 1];
+            const float b = L.sr[l] * qp[3 * i] + L.cr[l] * qp[3 * i + 1];
+            const float z = qp[3 * i + 2];
+            for (k = 0; k < 3; ++k)
+                L.xp[k][l] = L.sp[k][l] + a * L.sf[k][l] + b * L.sf[3 + k][l] + z * L.sf[6 + k][l];
+        }
+        /* Its closest vertex, as rm_closest_vertex_listed finds it, in
+         * lock-step: the lane's cell of the fine grid, its slot in the
+         * lists' hash table, then the cell's list; lanes outside every
+         * listed cell take the rings one by one. */
+        RM_SIMD
+        for (l = 0; l < RM_LANES; ++l) {
+            const float fx = (L.xp[0][l] - lgrid[0]) / lgrid[3];
+            const float fy = (L.xp[1][l] - lgrid[1]) / lgrid[3];
+            const float fz = (L.xp[2][l] - lgrid[2]) / lgrid[3];
+            const RM_UINT inside = (fx >= 0) & (fx < (float)ldims[0]) & (fy >= 0) &
+                                   (fy < (float)ldims[1]) & (fz >= 0) & (fz < (float)ldims[2]);
+            /* (converted only when in range: no undefined conversion) */
+            const RM_UINT cx = (RM_UINT)(inside ? fx : 0.0f), cy = (RM_UINT)(inside ? fy : 0.0f);
+            const RM_UINT cz = (RM_UINT)(inside ? fz : 0.0f);
+            L.cell[l] = (cz * ldims[1] + cy) * ldims[0] + cx;
+            L.slot[l] = rm_cell_hash(L.cell[l]) & lmask;
+            L.find[l] = L.cand[l] == RM_NONE ? RM_FIND_NONE
+                        : inside                ? RM_FIND_PROBE
+                                                : RM_FIND_RINGS;
+        }
+        for (t = 0; t <= lmask; ++t) { /* linear probing, all lanes at once */
+            RM_UINT probing = 0;
+            RM_SIMD
+            for (l = 0; l < RM_LANES; ++l) {
+                const RM_UINT h = L.slot[l], key = lslot[3 * h];
+                const RM_UINT here = (L.find[l] == RM_FIND_PROBE) & (key == L.cell[l]);
+                const RM_UINT count = lslot[3 * h + 2], first = lslot[3 * h + 1];
+                L.lfirst[l] = here ? (count ? first : 0) : L.lfirst[l];
+                L.llast[l] = here ? (count ? count - 1 : 0) : L.llast[l];
+                L.lcount[l] = here ? count : L.lcount[l];
+                const RM_UINT gone = (L.find[l] == RM_FIND_PROBE) & (key == RM_EMPTY);
+                L.find[l] = here ? RM_FIND_LIST : gone ? RM_FIND_RINGS : L.find[l];
+                L.slot[l] = (h + 1) & lmask;
+            }
+            for (l = 0; l < RM_LANES; ++l)
+                probing |= L.find[l] == RM_FIND_PROBE;
+            if (!probing)
+                break;
+        }
+        maxc = 0;
+        for (l = 0; l < RM_LANES; ++l) {
+            if (L.find[l] == RM_FIND_PROBE) /* a full table without the cell */
+                L.find[l] = RM_FIND_RINGS;
+            if (L.find[l] != RM_FIND_LIST)
+                L.lfirst[l] = L.llast[l] = L.lcount[l] = 0;
+            maxc = L.lcount[l] > maxc ? L.lcount[l] : maxc;
+            L.nearest[l] = FLT_MAX;
+            L.v2[l] = RM_NONE;
+        }
+        /* The lists: ascending ids, so the first of equals stays. Shorter
+         * lists read their last item again, and ignore it. */
+        for (t = 0; t < maxc; ++t) {
+            RM_SIMD
+            for (l = 0; l < RM_LANES; ++l) {
+                const RM_UINT has = t < L.lcount[l];
+                const int id =
+                    (int)litems[(int)L.lfirst[l] + (int)(t < L.llast[l] ? t : L.llast[l])];
+                const float dx = proj[3 * id] - L.xp[0][l], dy = proj[3 * id + 1] - L.xp[1][l];
+                const float dz = proj[3 * id + 2] - L.xp[2][l];
+                const float d2 = dx * dx + dy * dy + dz * dz;
+                const RM_UINT closer = has & (d2 < L.nearest[l]);
+                L.nearest[l] = closer ? d2 : L.nearest[l];
+                L.v2[l] = closer ? (RM_UINT)id : L.v2[l];
+            }
+        }
+        /* The rest take the rings; a lane that meets an unmatchable vertex
+         * ends. */
+        for (l = 0; l < RM_LANES; ++l) {
+            RM_UINT v = L.v2[l];
+            L.live[l] = 0;
+            if (L.find[l] == RM_FIND_NONE) {
+                L.v2[l] = 0;
+                continue;
+            }
+            if (L.find[l] == RM_FIND_RINGS) {
+                float p[3];
+                p[0] = L.xp[0][l];
+                p[1] = L.xp[1][l];
+                p[2] = L.xp[2][l];
+                v = rm_closest_vertex(p, proj, cell_start, cell_items, grid, dims);
+            }
+            if (v == RM_NONE || !matchable[v]) {
+                ssd_out[L.cand[l]] = FLT_MAX;
+                flag_out[L.cand[l]] = (RM_UCHAR)RM_INVALID;
+                L.cand[l] = RM_NONE;
+                L.at[l] = 0;
+                L.v2[l] = 0;
+                --busy;
+                continue;
+            }
+            L.v2[l] = v;
+            L.live[l] = 1;
+        }
+        if (mu < 1) { /* the colour term, and pruning before the triangles */
+            RM_SIMD
+            for (l = 0; l < RM_LANES; ++l) {
+                const int i = (int)L.at[l], v = (int)L.v2[l];
+                const float e0 = qcol[3 * i] - col[3 * v], e1 = qcol[3 * i + 1] - col[3 * v + 1];
+                const float e2 = qcol[3 * i + 2] - col[3 * v + 2];
+                const float term = (RM_ABSF(e0) + RM_ABSF(e1) + RM_ABSF(e2)) / 3;
+                L.colour[l] += g[i] * term;
+                L.ssd[l] = (mu * L.shape[l] * inv_b2 + (1 - mu) * L.colour[l]) * inv_wsum;
+            }
+            for (l = 0; l < RM_LANES; ++l)
+                if (L.live[l] && L.ssd[l] > *cutoff) {
+                    ssd_out[L.cand[l]] = L.ssd[l];
+                    flag_out[L.cand[l]] = (RM_UCHAR)RM_PRUNED;
+                    L.cand[l] = RM_NONE;
+                    L.live[l] = 0;
+                    --busy;
+                }
+        }
+        /* x = s' + R_s Rz(theta) q, and the closest vertex's triangles. */
+        RM_SIMD
+        for (l = 0; l < RM_LANES; ++l) {
+            const int i = (int)L.at[l], v = (int)L.v2[l];
+            const float a = L.cr[l] * q[3 * i] - L.sr[l] * q[3 * i + 1];
+            const float b = L.sr[l] * q[3 * i] + L.cr[l] * q[3 * i + 1];
+            const float z = q[3 * i + 2];
+            for (k = 0; k < 3; ++k)
+                L.x[k][l] = L.sp[k][l] + a * L.sf[k][l] + b * L.sf[3 + k][l] + z * L.sf[6 + k][l];
+            L.tcount[l] = L.live[l] ? vt_start[v + 1] - vt_start[v] : 0;
+            L.tfirst[l] = L.tcount[l] ? vt_start[v] : 0;
+            L.tlast[l] = L.tcount[l] ? L.tcount[l] - 1 : 0;
+            L.best[l] = FLT_MAX;
+        }
+        maxc = 0;
+        for (l = 0; l < RM_LANES; ++l)
+            maxc = L.tcount[l] > maxc ? L.tcount[l] : maxc;
+        /* Lanes with fewer triangles read their last one again (vt has
+         * one: t < maxc), and ignore it. */
+        for (t = 0; t < maxc; ++t) {
+            RM_SIMD
+            for (l = 0; l < RM_LANES; ++l) {
+                const RM_UINT has = t < L.tcount[l];
+                const int f = (int)vt[(int)L.tfirst[l] + (int)(t < L.tlast[l] ? t : L.tlast[l])];
+                const int ia = 3 * (int)tri[3 * f], ib = 3 * (int)tri[3 * f + 1];
+                const int ic = 3 * (int)tri[3 * f + 2];
+                const float d2 = rm_point_triangle_d2_flat(
+                    L.x[0][l], L.x[1][l], L.x[2][l], pos[ia], pos[ia + 1], pos[ia + 2], pos[ib],
+                    pos[ib + 1], pos[ib + 2], pos[ic], pos[ic + 1], pos[ic + 2]);
+                L.best[l] = (has & (d2 < L.best[l])) ? d2 : L.best[l];
+            }
+        }
+        RM_SIMD
+        for (l = 0; l < RM_LANES; ++l) {
+            L.shape[l] += g[L.at[l]] * L.best[l];
+            L.ssd[l] = (mu * L.shape[l] * inv_b2 + (1 - mu) * L.colour[l]) * inv_wsum;
+        }
+        /* Lanes past the cutoff or at their last neighbour end. */
+        for (l = 0; l < RM_LANES; ++l) {
+            if (!L.live[l])
+                continue;
+            if (L.ssd[l] > *cutoff) {
+                flag_out[L.cand[l]] = (RM_UCHAR)RM_PRUNED;
+            } else if (++L.at[l] == n) {
+                flag_out[L.cand[l]] = (RM_UCHAR)RM_VALID;
+#ifdef RM_LOWER_CUTOFF
+                if (running)
+                    *cutoff = RM_LOWER_CUTOFF(*cutoff, L.ssd[l]);
+#endif
+            } else {
+                continue;
+            }
+            ssd_out[L.cand[l]] = L.ssd[l];
+            L.cand[l] = RM_NONE;
+            L.at[l] = 0; /* idle lanes read neighbour 0 */
+            --busy;
+        }
+    }
+}
+
 #endif /* RM_WITH_SCORING */
 
 #endif

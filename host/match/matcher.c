@@ -79,6 +79,7 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     char why[RELIEF_ERROR_MESSAGE_MAX + 64] = "";
     const int named = device >= 0; /* --device given */
     size_t host_max;
+    int lanes;
     int set;
     if (note && note_size)
         note[0] = '\0';
@@ -89,6 +90,8 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     /* A bad setting is the user's to mend, under auto too, whichever
      * backend auto then picks. */
     st = relief_opencl_host_max_env(&host_max, &set, err);
+    if (st == RELIEF_OK)
+        st = relief_opencl_lanes_env(&lanes, &set, err);
     if (st != RELIEF_OK)
         return st;
     if (backend == RELIEF_BACKEND_AUTO && !named && (device = pick_device(why, sizeof why)) < 0)

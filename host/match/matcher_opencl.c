@@ -49,6 +49,12 @@
  * 5, one run each): close, and the best value depends on the host's cores
  * too, so 1024 stays. */
 #define HOST_MAX_CPU 4096
+/* The lanes of score_lanes on a CPU device (RELIEF_OPENCL_LANES overrides
+ * it; 1 picks the score kernel), and the candidates each of its
+ * work-items takes. */
+#define LANES_CPU 16
+#define LANES_MAX 64
+#define PER_ITEM 64
 #define HOST_MAX_OTHER 1024
 #define HOST_MAX_LIMIT 1000000000
 
@@ -66,6 +72,7 @@ typedef struct ocl {
     size_t qcap; /* neighbours the query buffers hold */
     relief_score_pool *pool; /* scores the launches too small to pay */
     size_t host_max;          /* launches up to this many candidates go there */
+    int lanes;                /* score_lanes' RM_LANES; 1: the score kernel */
     /* Vertices textured since the device's copy was last brought up to
      * date: ids dirty_lo..dirty_hi (none when dirty_lo > dirty_hi). */
     uint32_t dirty_lo, dirty_hi;
@@ -165,8 +172,44 @@ static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *e
     return RELIEF_OK;
 }
 
+relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err)
+{
+    const char *env = getenv("RELIEF_OPENCL_LANES");
+    char *end = NULL;
+    long v;
+    *set = env && *env;
+    if (!*set)
+        return RELIEF_OK;
+    errno = 0;
+    v = strtol(env, &end, 10);
+    if (!isdigit((unsigned char)env[0]) || errno || *end || v < 1 || v > LANES_MAX)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "RELIEF_OPENCL_LANES='%.40s': expected 1..%d (1: one candidate "
+                           "per work-item)", env, LANES_MAX);
+    *out = (int)v;
+    return RELIEF_OK;
+}
+
+/* The lanes for this device: RELIEF_OPENCL_LANES when set, else LANES_CPU
+ * on a CPU device, whose compiler vectorises score_lanes' loops, and 1
+ * (the score kernel, one candidate per work-item) elsewhere. */
+static relief_status lanes_for(cl_device_id dev, int *out, relief_error *err)
+{
+    cl_device_type type = 0;
+    int set = 0;
+    relief_status st = relief_opencl_lanes_env(out, &set, err);
+    if (st != RELIEF_OK || set)
+        return st;
+    if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
+        type = 0;
+    *out = (type & CL_DEVICE_TYPE_CPU) ? LANES_CPU : 1;
+    return RELIEF_OK;
+}
+
 static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
 {
+    const char *kernel = o->lanes > 1 ? "score_lanes" : "score";
+    char lanes[64] = "";
     const char *dir = getenv("RELIEF_KERNEL_DIR");
     char *files[2] = {NULL, NULL}, options[256], *log = NULL;
     const char *src[3];
@@ -197,7 +240,9 @@ static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
     /* Division must round as the host's does for the scores to agree bit
      * for bit; ask for it where the device offers it. */
     clGetDeviceInfo(dev, CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL);
-    snprintf(options, sizeof options, "-cl-std=CL1.2 -DRELIEF_WG_SIZE=%d%s", WG_SIZE,
+    if (o->lanes > 1)
+        snprintf(lanes, sizeof lanes, " -DRELIEF_LANES_KERNEL -DRM_LANES=%d", o->lanes);
+    snprintf(options, sizeof options, "-cl-std=CL1.2 -DRELIEF_WG_SIZE=%d%s%s", WG_SIZE, lanes,
              (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
                  ? " -cl-fp32-correctly-rounded-divide-sqrt"
                  : "");
@@ -223,9 +268,9 @@ static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
                          log ? log : "(none)");
         goto done;
     }
-    o->kernel = clCreateKernel(o->prog, "score", &rc);
+    o->kernel = clCreateKernel(o->prog, kernel, &rc);
     if (rc != CL_SUCCESS)
-        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(score): %s",
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(%s): %s", kernel,
                          relief_cl_error_name(rc));
 done:
     free(log);
@@ -324,14 +369,16 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
 {
     ocl *o = ctx;
     const size_t ncand = relief_match_query_candidates(d, qr);
-    const size_t local = WG_SIZE;
+    const size_t local = o->lanes > 1 ? 1 : WG_SIZE;
+    const cl_uint per_item = o->lanes > 1 ? PER_ITEM : 1;
     float cutoff = qr->cutoff;
     cl_float4 grid, lgrid;
     cl_uint4 dims, ldims;
     cl_uint centres = qr->subset ? qr->n_subset : d->ns, use_subset = qr->subset != NULL;
+    cl_uint cfirst = 0, cend = 0;
     cl_uint rot = (cl_uint)d->rotations, n = qr->n;
     cl_int rc = CL_SUCCESS;
-    cl_uint a = 0, cutoff_arg = 0;
+    cl_uint a = 0, cutoff_arg = 0, range_arg = 0;
     relief_status st;
 
     if (ncand <= o->host_max) { /* also every empty query */
@@ -399,9 +446,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
 #define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
     ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
     ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
-    ARG(dims); ARG(lgrid); ARG(ldims); ARG(o->lslot); ARG(o->litems); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r); ARG(centres);
+    ARG(dims); ARG(lgrid); ARG(ldims); ARG(o->lslot); ARG(o->litems); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r);
     ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
     ARG(d->inv_b2); ARG(qr->inv_wsum); cutoff_arg = a; ARG(cutoff); ARG(o->ssd); ARG(o->flag);
+    range_arg = a; ARG(cfirst); ARG(cend); ARG(per_item);
 #undef ARG
     if (rc != CL_SUCCESS) {
         st = relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
@@ -412,10 +460,17 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         size_t global;
         if (chunk > ncand - first)
             chunk = ncand - first;
-        global = (chunk + WG_SIZE - 1) / WG_SIZE * WG_SIZE;
+        /* Work-items: one per candidate (score) or per PER_ITEM of them
+         * (score_lanes), in whole work-groups. */
+        global = (chunk + per_item - 1) / per_item;
+        global = (global + local - 1) / local * local;
+        cfirst = (cl_uint)first;
+        cend = (cl_uint)(first + chunk);
         rc = clSetKernelArg(o->kernel, cutoff_arg, sizeof cutoff, &cutoff);
+        rc |= clSetKernelArg(o->kernel, range_arg, sizeof cfirst, &cfirst);
+        rc |= clSetKernelArg(o->kernel, range_arg + 1, sizeof cend, &cend);
         if (rc == CL_SUCCESS)
-            rc = clEnqueueNDRangeKernel(o->queue, o->kernel, 1, &first, &global, &local, 0,
+            rc = clEnqueueNDRangeKernel(o->queue, o->kernel, 1, NULL, &global, &local, 0,
                                         NULL, NULL);
         if (rc != CL_SUCCESS) {
             st = relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: %s",
@@ -511,6 +566,8 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         goto fail;
     }
     st = host_max_for(dev, &o->host_max, err);
+    if (st == RELIEF_OK)
+        st = lanes_for(dev, &o->lanes, err);
     if (st != RELIEF_OK)
         goto fail;
     o->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);

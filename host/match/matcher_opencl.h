@@ -30,6 +30,12 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
  * RELIEF_E_RANGE naming it when it is not a number of candidates up to
  * 10^9. */
 relief_status relief_opencl_host_max_env(size_t *out, int *set, relief_error *err);
+
+/* RELIEF_OPENCL_LANES, the lanes of the score_lanes kernel (1: the score
+ * kernel, one candidate per work-item): *set 0 when unset, else its value
+ * in *out; RELIEF_E_RANGE naming it when it is not 1..64. Unset, a CPU
+ * device gets 16 lanes and any other device 1. */
+relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err);
 #else
 #include "base/error.h"
 static inline relief_status relief_matcher_opencl_create(const relief_match_data *d,
@@ -44,6 +50,13 @@ static inline relief_status relief_matcher_opencl_create(const relief_match_data
 }
 static inline relief_status relief_opencl_host_max_env(size_t *out, int *set,
                                                        relief_error *err)
+{
+    (void)out;
+    (void)err;
+    *set = 0; /* nothing reads it */
+    return RELIEF_OK;
+}
+static inline relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err)
 {
     (void)out;
     (void)err;

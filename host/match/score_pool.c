@@ -1,6 +1,7 @@
 /* Host threads scoring one query side by side (score_pool.h). */
 #include "match/matcher_scalar.h"
 #include "match/score_pool.h"
+#include "match/score_lanes.h"
 
 #include <float.h>
 #include <pthread.h>
@@ -8,6 +9,10 @@
 #include <unistd.h>
 
 #include "base/error.h"
+
+#define RM_REAL float
+#define RM_WITH_SCORING
+#include "kernels/relief_math.h" /* RM_VALID */
 
 /* A query takes one thread per this many centres (or probes), at most the
  * pool's: fewer per thread and the hand-over costs more than it saves. */
@@ -21,6 +26,7 @@ typedef struct worker {
 
 struct relief_score_pool {
     int threads, started;
+    int lanes; /* 1: score in lock-step (this processor has AVX2) */
     int active; /* threads taking part in the query in progress; written
                    and read under mu, with the generation */
     worker *w;
@@ -38,6 +44,53 @@ struct relief_score_pool {
     float best[RELIEF_SCORE_POOL_MAX]; /* each thread's probe minimum */
 };
 
+int relief_host_lanes_supported(void)
+{
+#if defined(RELIEF_HOST_LANES_AVX2) && defined(__GNUC__)
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+#else
+    return 0;
+#endif
+}
+
+void relief_score_host_blocks(const relief_match_data *d, const relief_match_query *q,
+                              uint32_t first, uint32_t step, int lanes, float *ssd,
+                              uint8_t *flag)
+{
+    const uint32_t centres = q->subset ? q->n_subset : d->ns;
+    float cutoff = q->cutoff;
+#ifdef RELIEF_HOST_LANES_AVX2
+    if (lanes) {
+        relief_score_host_lanes(d, q, first, step, ssd, flag);
+        return;
+    }
+#else
+    (void)lanes;
+#endif
+    /* The scalar reference's loop over the same blocks. */
+    for (uint32_t b = first; (size_t)b * RELIEF_HOST_LANE_BLOCK < centres; b += step) {
+        const uint32_t end = centres - b * RELIEF_HOST_LANE_BLOCK < RELIEF_HOST_LANE_BLOCK
+                                 ? centres
+                                 : (b + 1) * RELIEF_HOST_LANE_BLOCK;
+        for (uint32_t i = b * RELIEF_HOST_LANE_BLOCK; i < end; ++i) {
+            const uint32_t si = relief_match_query_sample(q, i);
+            for (int r = 0; r < d->rotations; ++r) {
+                const size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
+                const int f = relief_score_host_one(d, q, si, r, cutoff, &ssd[c]);
+                flag[c] = (uint8_t)f;
+                if (q->running && f == RM_VALID) {
+                    const float c11 = relief_match_cutoff_after(ssd[c]);
+                    if (c11 < cutoff)
+                        cutoff = c11;
+                }
+            }
+        }
+        if (b > UINT32_MAX - step)
+            break;
+    }
+}
+
 /* Thread k's share of the query, the first `active` threads taking part. */
 static void run_part(relief_score_pool *p, int k, int active)
 {
@@ -45,8 +98,8 @@ static void run_part(relief_score_pool *p, int k, int active)
         p->best[k] = relief_score_host_probe(p->d, p->q, p->probes, (uint32_t)k,
                                              (uint32_t)active);
     else
-        relief_score_host_strided(p->d, p->q, (uint32_t)k, (uint32_t)active, p->ssd,
-                                  p->flag);
+        relief_score_host_blocks(p->d, p->q, (uint32_t)k, (uint32_t)active, p->lanes, p->ssd,
+                                 p->flag);
 }
 
 /* Run the job set in p on its first `active` threads and wait for them.
@@ -125,6 +178,7 @@ relief_status relief_score_pool_create(int threads, relief_score_pool **out,
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the host scoring threads");
     }
     p->threads = threads;
+    p->lanes = relief_host_lanes_supported();
     pthread_mutex_init(&p->mu, NULL);
     pthread_cond_init(&p->go, NULL);
     pthread_cond_init(&p->done, NULL);
@@ -148,7 +202,7 @@ void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
     const uint32_t centres = q->subset ? q->n_subset : d->ns;
     const int use = threads_for(p, centres);
     if (use == 1) {
-        relief_score_host(d, q, ssd, flag);
+        relief_score_host_blocks(d, q, 0, 1, p->lanes, ssd, flag);
         return;
     }
     p->d = d, p->q = q, p->ssd = ssd, p->flag = flag, p->probes = 0;

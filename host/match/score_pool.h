@@ -5,11 +5,12 @@
  *
  * A query of c centres takes n = min(threads, c / 16) of the threads (one
  * when that is below 2: a hand-over costs more than 16 centres save).
- * Thread k of n scores the query's centres k, k + n, k + 2 n, ... in that
- * order (relief_score_host_strided) with its own running cutoff: dealt out
- * so, each thread meets the candidates a caller put first (the nearest to
- * a pyramid's parent match) first, and its cutoff drops as early as one
- * thread's would.
+ * The centres go out in blocks of 16: thread k of n scores blocks k,
+ * k + n, k + 2 n, ... in that order (relief_score_host_blocks) with its
+ * own running cutoff: dealt out so, each thread meets the candidates a
+ * caller put first (the nearest to a pyramid's parent match) first, and
+ * its cutoff drops as early as one thread's would. On a processor with
+ * AVX2 each thread scores 16 candidates in lock-step (score_lanes.h).
  * Pruning is exact, so every candidate within 1.1 x the minimum comes out
  * VALID with the same SSD as from the scalar reference; only which of the
  * others are cut short (RM_PRUNED, and their partial sums) depends on the
@@ -31,6 +32,18 @@ relief_status relief_score_pool_create(int threads, relief_score_pool **out,
  * RELIEF_SCORE_POOL_MAX. */
 int relief_score_pool_default_threads(void);
 
+/* 1 when this build and processor score in lock-step (score_lanes.h: an
+ * x86-64 build on a processor with AVX2), else 0. */
+int relief_host_lanes_supported(void);
+/* Score blocks first, first + step, ... (first < step) of the query's
+ * candidates, block b being centres 16 b to 16 b + 15 with all their
+ * rotations, with a running cutoff of its own starting from q->cutoff: in
+ * lock-step when `lanes` is set (only where relief_host_lanes_supported()),
+ * else by the scalar reference's loop. Thread `first` of a pool of `step`
+ * runs this. */
+void relief_score_host_blocks(const relief_match_data *d, const relief_match_query *q,
+                              uint32_t first, uint32_t step, int lanes, float *ssd,
+                              uint8_t *flag);
 /* Score the query as relief_score_host does, split over the pool. */
 void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
                            const relief_match_query *q, float *ssd, uint8_t *flag);

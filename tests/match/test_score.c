@@ -185,6 +185,47 @@ static void test_point_triangle(void)
     }
 }
 
+/* The lock-step code's branch-free distance (rm_point_triangle_d2_flat)
+ * against the reference, bit for bit: random points about random, thin,
+ * tiny and degenerate triangles (a point, a segment), points on their
+ * vertices and edges, so that every region of the test is met. */
+static void test_point_triangle_flat(void)
+{
+    relief_rng rng;
+    size_t differ = 0, n = 0;
+    relief_rng_seed(&rng, 11);
+    for (int i = 0; i < 200000; ++i) {
+        float t[9], p[3], ref, flat;
+        const int shape = i % 8;
+        for (int k = 0; k < 9; ++k)
+            t[k] = (float)(relief_rng_uniform(&rng) * 2.0 - 1.0);
+        if (shape == 1) /* a point */
+            memcpy(t + 3, t, 3 * sizeof(float)), memcpy(t + 6, t, 3 * sizeof(float));
+        else if (shape == 2) /* a segment */
+            memcpy(t + 6, t + 3, 3 * sizeof(float));
+        else if (shape == 3) /* a sliver */
+            for (int k = 0; k < 3; ++k)
+                t[6 + k] = t[k] + (t[3 + k] - t[k]) * 0.5f + 1e-6f * (float)k;
+        else if (shape == 4) /* tiny */
+            for (int k = 3; k < 9; ++k)
+                t[k] = t[k % 3] + t[k] * 1e-5f;
+        for (int k = 0; k < 3; ++k)
+            p[k] = (float)(relief_rng_uniform(&rng) * 3.0 - 1.5);
+        if (shape == 5) /* on a vertex */
+            memcpy(p, t + 3 * (i / 8 % 3), 3 * sizeof(float));
+        else if (shape == 6) /* on an edge */
+            for (int k = 0; k < 3; ++k)
+                p[k] = t[k] + (t[3 + k] - t[k]) * 0.25f;
+        ref = rm_point_triangle_d2(p, t, t + 3, t + 6);
+        flat = rm_point_triangle_d2_flat(p[0], p[1], p[2], t[0], t[1], t[2], t[3], t[4], t[5],
+                                         t[6], t[7], t[8]);
+        differ += memcmp(&ref, &flat, sizeof ref) != 0 && !(isnan(ref) && isnan(flat));
+        ++n;
+    }
+    CHECK(differ == 0, "point-triangle, branch-free: %zu of %zu distances differ from the "
+          "reference's bits", differ, n);
+}
+
 /* The grid search against brute force, ties to the lowest id included. */
 static void test_closest_vertex(void)
 {
@@ -256,6 +297,7 @@ int main(void)
 {
     test_hand_cases();
     test_point_triangle();
+    test_point_triangle_flat();
     test_closest_vertex();
     return check_result();
 }

@@ -302,6 +302,19 @@ static void compare_completion(relief_synth_kind kind, int colour, int bootstrap
     relief_surface_destroy(out[1]);
 }
 
+/* Each kernel on this device: RELIEF_OPENCL_LANES unset (a CPU device
+ * runs score_lanes with 16 lanes, another device score), "1" (score), and
+ * odd lane counts (score_lanes with a partly idle last register). */
+static const char *const lane_settings[] = {NULL, "1", "5", "32"};
+
+static void set_lanes(const char *lanes)
+{
+    if (lanes)
+        setenv("RELIEF_OPENCL_LANES", lanes, 1);
+    else
+        unsetenv("RELIEF_OPENCL_LANES");
+}
+
 int main(void)
 {
     /* Candidate by candidate, the kernel itself: no query on the host
@@ -311,15 +324,39 @@ int main(void)
         printf("no OpenCL platform: skipped\n");
         return 77;
     }
-    compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1, 700);
-    compare_surface(RELIEF_SYNTH_CYLINDER_BARK, 0, 700);
-    compare_surface(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 700);
+    for (size_t k = 0; k < sizeof lane_settings / sizeof lane_settings[0]; ++k) {
+        set_lanes(lane_settings[k]);
+        printf("RELIEF_OPENCL_LANES=%s\n", lane_settings[k] ? lane_settings[k] : "(unset)");
+        if (k)
+            compare_surface(RELIEF_SYNTH_PLANE_WAVES, 0, 700);
+        compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1, 700);
+        compare_surface(RELIEF_SYNTH_CYLINDER_BARK, 0, 700);
+        compare_surface(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 700);
+    }
+    set_lanes(NULL);
     /* Large enough that a running query's launch comes in chunks. */
     compare_surface(RELIEF_SYNTH_PLANE_NOISE, 1, 2500);
-    compare_completion(RELIEF_SYNTH_PLANE_WAVES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
-    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 0, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
-    compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
-    compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, "0", RELIEF_SEARCH_EXHAUSTIVE);
+    {
+        /* A lane count out of range is refused, naming the variable. */
+        relief_matcher *m = NULL;
+        relief_error err = {RELIEF_OK, ""};
+        static const char *const bad[] = {"0", "65", "x", "8x", "-4"};
+        for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+            set_lanes(bad[k]);
+            CHECK(relief_matcher_opencl_create(NULL, -1, &m, &err) == RELIEF_E_RANGE && !m &&
+                      strstr(err.message, "RELIEF_OPENCL_LANES"),
+                  "RELIEF_OPENCL_LANES=%s accepted: %s", bad[k], err.message);
+        }
+        set_lanes(NULL);
+    }
+    for (size_t k = 0; k < 2; ++k) {
+        set_lanes(lane_settings[k]);
+        compare_completion(RELIEF_SYNTH_PLANE_WAVES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
+        compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 0, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
+        compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
+        compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, "0", RELIEF_SEARCH_EXHAUSTIVE);
+    }
+    set_lanes(NULL);
     compare_completion(RELIEF_SYNTH_SPHERE_DIMPLES, 1, 0, NULL, RELIEF_SEARCH_EXHAUSTIVE);
     compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 1, 1, NULL, RELIEF_SEARCH_EXHAUSTIVE);
     /* The k-coherence search: small subsets, each a launch ("0") or on the

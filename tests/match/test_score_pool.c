@@ -5,10 +5,13 @@
  * with the same scores; the probes that bound a launch's cutoff give the
  * same minimum. Random targets of two surfaces, all the samples, a third
  * of them and a coherent search's hundred, 1, 2, 3, 5 and 16 threads (a
- * hundred centres take 6 of 16). The host matcher (matcher_host.h) is the
- * pool behind the matcher table. */
+ * hundred centres take 6 of 16), and a thread's blocks both by the
+ * scalar loop and in lock-step (score_lanes.h, where the processor has
+ * AVX2). The host matcher (matcher_host.h) is the pool behind the matcher
+ * table. */
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -123,6 +126,26 @@ static void check_surface(relief_synth_kind kind, int colour)
                 }
                 relief_score_pool_destroy(pool);
             }
+            /* Both ways of scoring a thread's blocks, whatever the pool
+             * picked on this processor: the scalar loop, and the lanes
+             * where the processor has them. */
+            for (int lanes = 0; lanes <= relief_host_lanes_supported(); ++lanes) {
+                size_t bad = 0;
+                memset(fp, 0xff, n);
+                for (uint32_t k = 0; k < 3; ++k)
+                    relief_score_host_blocks(d, &q, k, 3, lanes, spool, fp);
+                for (size_t c = 0; c < n; ++c) {
+                    if (!running) {
+                        bad += fp[c] != fh[c] || (fh[c] != RM_INVALID && spool[c] != sh[c]);
+                    } else {
+                        int bh = in_best(sh, fh, n, c), bp = in_best(spool, fp, n, c);
+                        bad += bh != bp || (bh && spool[c] != sh[c]);
+                    }
+                }
+                CHECK(bad == 0, "%s colour %d, target %u, %s cutoff, blocks %s: %zu of %zu "
+                      "candidates differ", relief_synth_kind_name(kind), colour, (unsigned)t,
+                      running ? "running" : "fixed", lanes ? "in lanes" : "scalar", bad, n);
+            }
         }
     }
     CHECK(best_seen > 0, "%s: no best set compared", relief_synth_kind_name(kind));
@@ -152,6 +175,8 @@ int main(void)
         CHECK(relief_matcher_host_create(NULL, RELIEF_SCORE_POOL_MAX + 1, &m, &err) ==
                   RELIEF_E_RANGE, "host matcher: too many threads accepted");
     }
+    printf("lock-step scoring on this processor: %s\n",
+           relief_host_lanes_supported() ? "yes (AVX2)" : "no (the scalar loop only)");
     check_surface(RELIEF_SYNTH_PLANE_NOISE, 0);
     check_surface(RELIEF_SYNTH_CYLINDER_BANDS, 1);
     return check_result();
