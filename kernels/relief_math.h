@@ -409,6 +409,7 @@ RM_FN int rm_score_candidate(
 #define RM_SIMD
 #endif
 #define RM_NONE 0xffffffffu /* a lane without a candidate */
+#define RM_ROUNDS 3         /* rounds of new candidates before the triangles */
 #define RM_FIND_NONE 0  /* an idle lane */
 #define RM_FIND_PROBE 1 /* looking for its cell in the lists' hash table */
 #define RM_FIND_LIST 2  /* found it: the cell's list answers */
@@ -487,8 +488,10 @@ RM_FN float rm_point_triangle_d2_flat(float px, float py, float pz, float ax, fl
 typedef struct rm_lanes {
     RM_UINT cand[RM_LANES];  /* candidate index, RM_NONE when idle */
     RM_UINT at[RM_LANES];    /* the neighbour this step scores */
-    RM_UINT v2[RM_LANES];    /* its closest vertex (a valid id in idle lanes) */
-    RM_UINT live[RM_LANES];  /* 1: the lane's candidate goes on this step */
+    RM_UINT v2[RM_LANES];    /* its closest vertex (0, a valid id, in idle lanes) */
+    RM_UINT ready[RM_LANES]; /* 1: at the triangles of neighbour at */
+    RM_UINT fresh[RM_LANES]; /* 1: became ready in this round */
+    RM_UINT vnew[RM_LANES];  /* the closest vertex the lists found */
     RM_UINT tfirst[RM_LANES], tcount[RM_LANES]; /* v2's triangles in vt */
     RM_UINT tlast[RM_LANES];                     /* tcount - 1, or 0 */
     /* The closest-vertex search: the lane's cell of the lists' grid, its
@@ -530,6 +533,8 @@ RM_FN void rm_score_range(
 {
     rm_lanes L;
     RM_UINT next = c0, left = block, busy = 0, l, t, maxc;
+    RM_UINT nc = c0 / rotations, nr = c0 % rotations;
+    int round;
     int k;
     (void)running;
     if (n == 0) { /* nothing to step through: the reference's answer */
@@ -559,7 +564,8 @@ RM_FN void rm_score_range(
     for (l = 0; l < RM_LANES; ++l) {
         L.cand[l] = RM_NONE;
         L.at[l] = 0;
-        L.live[l] = 0;
+        L.v2[l] = 0;
+        L.ready[l] = L.fresh[l] = 0;
         L.shape[l] = L.colour[l] = L.ssd[l] = L.best[l] = 0;
         L.cr[l] = 1;
         L.sr[l] = 0;
@@ -569,155 +575,184 @@ RM_FN void rm_score_range(
             L.sf[k][l] = 0;
     }
     for (;;) {
-        /* Idle lanes take the run's next candidates. */
-        for (l = 0; l < RM_LANES; ++l) {
-            RM_UINT si, r;
-            if (L.cand[l] != RM_NONE)
-                continue;
-            if (left == 0) {
-                next += stride - block;
-                left = block;
+        for (round = 0;; ++round) {
+            /* Idle lanes take the run's next candidates (next is centre nc,
+             * rotation nr: no division but at a block's start). */
+            for (l = 0; l < RM_LANES; ++l) {
+                RM_UINT si;
+                if (L.cand[l] != RM_NONE || next >= c1)
+                    continue;
+    #ifdef RM_LOWER_CUTOFF
+                /* A running query without a cutoff yet scores one candidate at
+                 * a time until one is valid: the lanes then start under its
+                 * cutoff, as the scalar loop's second candidate does. */
+                if (running && *cutoff == FLT_MAX && busy > 0)
+                    break;
+    #endif
+                si = subset ? subset[nc] : nc;
+                L.cand[l] = next;
+                ++busy;
+                L.at[l] = 0;
+                L.ready[l] = 0;
+                L.shape[l] = L.colour[l] = 0;
+                L.cr[l] = cos_r[nr];
+                L.sr[l] = sin_r[nr];
+                for (k = 0; k < 3; ++k)
+                    L.sp[k][l] = s_proj[3 * si + k];
+                for (k = 0; k < 9; ++k)
+                    L.sf[k][l] = s_frame[9 * si + k];
+                ++next;
+                if (--left == 0) {
+                    next += stride - block;
+                    left = block;
+                    nc = next / rotations;
+                    nr = next % rotations;
+                } else if (++nr == rotations) {
+                    nr = 0;
+                    ++nc;
+                }
             }
-            if (next >= c1)
-                continue;
-            si = subset ? subset[next / rotations] : next / rotations;
-            r = next % rotations;
-            L.cand[l] = next++;
-            --left;
-            ++busy;
-            L.at[l] = 0;
-            L.shape[l] = L.colour[l] = 0;
-            L.cr[l] = cos_r[r];
-            L.sr[l] = sin_r[r];
-            for (k = 0; k < 3; ++k)
-                L.sp[k][l] = s_proj[3 * si + k];
-            for (k = 0; k < 9; ++k)
-                L.sf[k][l] = s_frame[9 * si + k];
-        }
-        if (busy == 0)
-            return;
-        /* x' = s' + R_s Rz(theta) q' for each lane's neighbour. */
-        RM_SIMD
-        for (l = 0; l < RM_LANES; ++l) {
-            const int i = (int)L.at[l]; /* int indices: the compilers' gathers */
-            const float a = L.cr[l] * qp[3 * i] - L.sr[l] * qp[3 * i + 1];
-            const float b = L.sr[l] * qp[3 * i] + L.cr[l] * qp[3 * i + 1];
-            const float z = qp[3 * i + 2];
-            for (k = 0; k < 3; ++k)
-                L.xp[k][l] = L.sp[k][l] + a * L.sf[k][l] + b * L.sf[3 + k][l] + z * L.sf[6 + k][l];
-        }
-        /* Its closest vertex, as rm_closest_vertex_listed finds it, in
-         * lock-step: the lane's cell of the fine grid, its slot in the
-         * lists' hash table, then the cell's list; lanes outside every
-         * listed cell take the rings one by one. */
-        RM_SIMD
-        for (l = 0; l < RM_LANES; ++l) {
-            const float fx = (L.xp[0][l] - lgrid[0]) / lgrid[3];
-            const float fy = (L.xp[1][l] - lgrid[1]) / lgrid[3];
-            const float fz = (L.xp[2][l] - lgrid[2]) / lgrid[3];
-            const RM_UINT inside = (fx >= 0) & (fx < (float)ldims[0]) & (fy >= 0) &
-                                   (fy < (float)ldims[1]) & (fz >= 0) & (fz < (float)ldims[2]);
-            /* (converted only when in range: no undefined conversion) */
-            const RM_UINT cx = (RM_UINT)(inside ? fx : 0.0f), cy = (RM_UINT)(inside ? fy : 0.0f);
-            const RM_UINT cz = (RM_UINT)(inside ? fz : 0.0f);
-            L.cell[l] = (cz * ldims[1] + cy) * ldims[0] + cx;
-            L.slot[l] = rm_cell_hash(L.cell[l]) & lmask;
-            L.find[l] = L.cand[l] == RM_NONE ? RM_FIND_NONE
-                        : inside                ? RM_FIND_PROBE
-                                                : RM_FIND_RINGS;
-        }
-        for (t = 0; t <= lmask; ++t) { /* linear probing, all lanes at once */
-            RM_UINT probing = 0;
+            if (busy == 0)
+                return;
+            /* x' = s' + R_s Rz(theta) q' for each lane's neighbour (computed in
+             * every lane, used in those not yet ready for the triangles). */
             RM_SIMD
             for (l = 0; l < RM_LANES; ++l) {
-                const RM_UINT h = L.slot[l], key = lslot[3 * h];
-                const RM_UINT here = (L.find[l] == RM_FIND_PROBE) & (key == L.cell[l]);
-                const RM_UINT count = lslot[3 * h + 2], first = lslot[3 * h + 1];
-                L.lfirst[l] = here ? (count ? first : 0) : L.lfirst[l];
-                L.llast[l] = here ? (count ? count - 1 : 0) : L.llast[l];
-                L.lcount[l] = here ? count : L.lcount[l];
-                const RM_UINT gone = (L.find[l] == RM_FIND_PROBE) & (key == RM_EMPTY);
-                L.find[l] = here ? RM_FIND_LIST : gone ? RM_FIND_RINGS : L.find[l];
-                L.slot[l] = (h + 1) & lmask;
+                const int i = (int)L.at[l]; /* int indices: the compilers' gathers */
+                const float a = L.cr[l] * qp[3 * i] - L.sr[l] * qp[3 * i + 1];
+                const float b = L.sr[l] * qp[3 * i] + L.cr[l] * qp[3 * i + 1];
+                const float z = qp[3 * i + 2];
+                for (k = 0; k < 3; ++k)
+                    L.xp[k][l] =
+                        L.sp[k][l] + a * L.sf[k][l] + b * L.sf[3 + k][l] + z * L.sf[6 + k][l];
             }
-            for (l = 0; l < RM_LANES; ++l)
-                probing |= L.find[l] == RM_FIND_PROBE;
-            if (!probing)
+            /* Its closest vertex, as rm_closest_vertex_listed finds it, in
+             * lock-step: the lane's cell of the fine grid, its slot in the
+             * lists' hash table, then the cell's list; lanes outside every
+             * listed cell take the rings one by one. */
+            RM_SIMD
+            for (l = 0; l < RM_LANES; ++l) {
+                const float fx = (L.xp[0][l] - lgrid[0]) / lgrid[3];
+                const float fy = (L.xp[1][l] - lgrid[1]) / lgrid[3];
+                const float fz = (L.xp[2][l] - lgrid[2]) / lgrid[3];
+                const RM_UINT inside = (fx >= 0) & (fx < (float)ldims[0]) & (fy >= 0) &
+                                       (fy < (float)ldims[1]) & (fz >= 0) & (fz < (float)ldims[2]);
+                /* (converted only when in range: no undefined conversion) */
+                const RM_UINT cx = (RM_UINT)(inside ? fx : 0.0f);
+                const RM_UINT cy = (RM_UINT)(inside ? fy : 0.0f);
+                const RM_UINT cz = (RM_UINT)(inside ? fz : 0.0f);
+                L.cell[l] = (cz * ldims[1] + cy) * ldims[0] + cx;
+                L.slot[l] = rm_cell_hash(L.cell[l]) & lmask;
+                L.find[l] = (L.cand[l] == RM_NONE) | L.ready[l] ? RM_FIND_NONE
+                            : inside                             ? RM_FIND_PROBE
+                                                                 : RM_FIND_RINGS;
+            }
+            for (t = 0; t <= lmask; ++t) { /* linear probing, all lanes at once */
+                RM_UINT probing = 0;
+                RM_SIMD
+                for (l = 0; l < RM_LANES; ++l) {
+                    const RM_UINT h = L.slot[l], key = lslot[3 * h];
+                    const RM_UINT here = (L.find[l] == RM_FIND_PROBE) & (key == L.cell[l]);
+                    const RM_UINT count = lslot[3 * h + 2], first = lslot[3 * h + 1];
+                    L.lfirst[l] = here ? (count ? first : 0) : L.lfirst[l];
+                    L.llast[l] = here ? (count ? count - 1 : 0) : L.llast[l];
+                    L.lcount[l] = here ? count : L.lcount[l];
+                    const RM_UINT gone = (L.find[l] == RM_FIND_PROBE) & (key == RM_EMPTY);
+                    L.find[l] = here ? RM_FIND_LIST : gone ? RM_FIND_RINGS : L.find[l];
+                    L.slot[l] = (h + 1) & lmask;
+                }
+                for (l = 0; l < RM_LANES; ++l)
+                    probing |= L.find[l] == RM_FIND_PROBE;
+                if (!probing)
+                    break;
+            }
+            maxc = 0;
+            for (l = 0; l < RM_LANES; ++l) {
+                if (L.find[l] == RM_FIND_PROBE) /* a full table without the cell */
+                    L.find[l] = RM_FIND_RINGS;
+                if (L.find[l] != RM_FIND_LIST)
+                    L.lfirst[l] = L.llast[l] = L.lcount[l] = 0;
+                maxc = L.lcount[l] > maxc ? L.lcount[l] : maxc;
+                L.nearest[l] = FLT_MAX;
+                L.vnew[l] = RM_NONE;
+            }
+            /* The lists: ascending ids, so the first of equals stays. Shorter
+             * lists read their last item again, and ignore it. */
+            for (t = 0; t < maxc; ++t) {
+                RM_SIMD
+                for (l = 0; l < RM_LANES; ++l) {
+                    const RM_UINT has = t < L.lcount[l];
+                    const int id =
+                        (int)litems[(int)L.lfirst[l] + (int)(t < L.llast[l] ? t : L.llast[l])];
+                    const float dx = proj[3 * id] - L.xp[0][l], dy = proj[3 * id + 1] - L.xp[1][l];
+                    const float dz = proj[3 * id + 2] - L.xp[2][l];
+                    const float d2 = dx * dx + dy * dy + dz * dz;
+                    const RM_UINT closer = has & (d2 < L.nearest[l]);
+                    L.nearest[l] = closer ? d2 : L.nearest[l];
+                    L.vnew[l] = closer ? (RM_UINT)id : L.vnew[l];
+                }
+            }
+            /* The rest take the rings; a lane that meets an unmatchable vertex
+             * ends. */
+            for (l = 0; l < RM_LANES; ++l) {
+                RM_UINT v = L.vnew[l];
+                L.fresh[l] = 0;
+                if (L.find[l] == RM_FIND_NONE)
+                    continue;
+                if (L.find[l] == RM_FIND_RINGS) {
+                    float p[3];
+                    p[0] = L.xp[0][l];
+                    p[1] = L.xp[1][l];
+                    p[2] = L.xp[2][l];
+                    v = rm_closest_vertex(p, proj, cell_start, cell_items, grid, dims);
+                }
+                if (v == RM_NONE || !matchable[v]) {
+                    ssd_out[L.cand[l]] = FLT_MAX;
+                    flag_out[L.cand[l]] = (RM_UCHAR)RM_INVALID;
+                    L.cand[l] = RM_NONE;
+                    L.at[l] = 0;
+                    L.v2[l] = 0;
+                    --busy;
+                    continue;
+                }
+                L.v2[l] = v;
+                L.fresh[l] = L.ready[l] = 1;
+            }
+            if (mu < 1) { /* the colour term, and pruning before the triangles */
+                RM_SIMD
+                for (l = 0; l < RM_LANES; ++l) {
+                    const int i = (int)L.at[l], v = (int)L.v2[l];
+                    const float e0 = qcol[3 * i] - col[3 * v];
+                    const float e1 = qcol[3 * i + 1] - col[3 * v + 1];
+                    const float e2 = qcol[3 * i + 2] - col[3 * v + 2];
+                    const float term = (RM_ABSF(e0) + RM_ABSF(e1) + RM_ABSF(e2)) / 3;
+                    const float colour = L.colour[l] + g[i] * term;
+                    const float ssd = (mu * L.shape[l] * inv_b2 + (1 - mu) * colour) * inv_wsum;
+                    L.colour[l] = L.fresh[l] ? colour : L.colour[l];
+                    L.ssd[l] = L.fresh[l] ? ssd : L.ssd[l];
+                }
+                for (l = 0; l < RM_LANES; ++l)
+                    if (L.fresh[l] && L.ssd[l] > *cutoff) {
+                        ssd_out[L.cand[l]] = L.ssd[l];
+                        flag_out[L.cand[l]] = (RM_UCHAR)RM_PRUNED;
+                        L.cand[l] = RM_NONE;
+                        L.at[l] = 0;
+                        L.v2[l] = 0;
+                        L.ready[l] = 0;
+                        --busy;
+                    }
+            }
+            /* Lanes the colour pruned take new candidates through the steps
+             * above before the triangles, a few rounds at most, so that the
+             * costly part runs with most lanes busy. */
+            if (mu >= 1 || next >= c1 || round == RM_ROUNDS - 1)
+                break;
+            for (k = 0, l = 0; l < RM_LANES; ++l)
+                k += (int)L.ready[l];
+            if (4 * k >= 3 * RM_LANES)
                 break;
         }
-        maxc = 0;
-        for (l = 0; l < RM_LANES; ++l) {
-            if (L.find[l] == RM_FIND_PROBE) /* a full table without the cell */
-                L.find[l] = RM_FIND_RINGS;
-            if (L.find[l] != RM_FIND_LIST)
-                L.lfirst[l] = L.llast[l] = L.lcount[l] = 0;
-            maxc = L.lcount[l] > maxc ? L.lcount[l] : maxc;
-            L.nearest[l] = FLT_MAX;
-            L.v2[l] = RM_NONE;
-        }
-        /* The lists: ascending ids, so the first of equals stays. Shorter
-         * lists read their last item again, and ignore it. */
-        for (t = 0; t < maxc; ++t) {
-            RM_SIMD
-            for (l = 0; l < RM_LANES; ++l) {
-                const RM_UINT has = t < L.lcount[l];
-                const int id =
-                    (int)litems[(int)L.lfirst[l] + (int)(t < L.llast[l] ? t : L.llast[l])];
-                const float dx = proj[3 * id] - L.xp[0][l], dy = proj[3 * id + 1] - L.xp[1][l];
-                const float dz = proj[3 * id + 2] - L.xp[2][l];
-                const float d2 = dx * dx + dy * dy + dz * dz;
-                const RM_UINT closer = has & (d2 < L.nearest[l]);
-                L.nearest[l] = closer ? d2 : L.nearest[l];
-                L.v2[l] = closer ? (RM_UINT)id : L.v2[l];
-            }
-        }
-        /* The rest take the rings; a lane that meets an unmatchable vertex
-         * ends. */
-        for (l = 0; l < RM_LANES; ++l) {
-            RM_UINT v = L.v2[l];
-            L.live[l] = 0;
-            if (L.find[l] == RM_FIND_NONE) {
-                L.v2[l] = 0;
-                continue;
-            }
-            if (L.find[l] == RM_FIND_RINGS) {
-                float p[3];
-                p[0] = L.xp[0][l];
-                p[1] = L.xp[1][l];
-                p[2] = L.xp[2][l];
-                v = rm_closest_vertex(p, proj, cell_start, cell_items, grid, dims);
-            }
-            if (v == RM_NONE || !matchable[v]) {
-                ssd_out[L.cand[l]] = FLT_MAX;
-                flag_out[L.cand[l]] = (RM_UCHAR)RM_INVALID;
-                L.cand[l] = RM_NONE;
-                L.at[l] = 0;
-                L.v2[l] = 0;
-                --busy;
-                continue;
-            }
-            L.v2[l] = v;
-            L.live[l] = 1;
-        }
-        if (mu < 1) { /* the colour term, and pruning before the triangles */
-            RM_SIMD
-            for (l = 0; l < RM_LANES; ++l) {
-                const int i = (int)L.at[l], v = (int)L.v2[l];
-                const float e0 = qcol[3 * i] - col[3 * v], e1 = qcol[3 * i + 1] - col[3 * v + 1];
-                const float e2 = qcol[3 * i + 2] - col[3 * v + 2];
-                const float term = (RM_ABSF(e0) + RM_ABSF(e1) + RM_ABSF(e2)) / 3;
-                L.colour[l] += g[i] * term;
-                L.ssd[l] = (mu * L.shape[l] * inv_b2 + (1 - mu) * L.colour[l]) * inv_wsum;
-            }
-            for (l = 0; l < RM_LANES; ++l)
-                if (L.live[l] && L.ssd[l] > *cutoff) {
-                    ssd_out[L.cand[l]] = L.ssd[l];
-                    flag_out[L.cand[l]] = (RM_UCHAR)RM_PRUNED;
-                    L.cand[l] = RM_NONE;
-                    L.live[l] = 0;
-                    --busy;
-                }
-        }
+
         /* x = s' + R_s Rz(theta) q, and the closest vertex's triangles. */
         RM_SIMD
         for (l = 0; l < RM_LANES; ++l) {
@@ -727,7 +762,7 @@ RM_FN void rm_score_range(
             const float z = q[3 * i + 2];
             for (k = 0; k < 3; ++k)
                 L.x[k][l] = L.sp[k][l] + a * L.sf[k][l] + b * L.sf[3 + k][l] + z * L.sf[6 + k][l];
-            L.tcount[l] = L.live[l] ? vt_start[v + 1] - vt_start[v] : 0;
+            L.tcount[l] = L.ready[l] ? vt_start[v + 1] - vt_start[v] : 0;
             L.tfirst[l] = L.tcount[l] ? vt_start[v] : 0;
             L.tlast[l] = L.tcount[l] ? L.tcount[l] - 1 : 0;
             L.best[l] = FLT_MAX;
@@ -755,10 +790,12 @@ RM_FN void rm_score_range(
             L.shape[l] += g[L.at[l]] * L.best[l];
             L.ssd[l] = (mu * L.shape[l] * inv_b2 + (1 - mu) * L.colour[l]) * inv_wsum;
         }
-        /* Lanes past the cutoff or at their last neighbour end. */
+        /* Lanes past the cutoff or at their last neighbour end; the others
+         * go on to their next neighbour. */
         for (l = 0; l < RM_LANES; ++l) {
-            if (!L.live[l])
+            if (!L.ready[l])
                 continue;
+            L.ready[l] = 0;
             if (L.ssd[l] > *cutoff) {
                 flag_out[L.cand[l]] = (RM_UCHAR)RM_PRUNED;
             } else if (++L.at[l] == n) {
@@ -772,7 +809,8 @@ RM_FN void rm_score_range(
             }
             ssd_out[L.cand[l]] = L.ssd[l];
             L.cand[l] = RM_NONE;
-            L.at[l] = 0; /* idle lanes read neighbour 0 */
+            L.at[l] = 0; /* idle lanes read neighbour 0 of vertex 0 */
+            L.v2[l] = 0;
             --busy;
         }
     }

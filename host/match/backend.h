@@ -36,7 +36,8 @@ struct relief_matcher {
     relief_backend backend;  /* the one actually used */
     int device_index;        /* the OpenCL device asked for (-1: first) */
     char device[256];        /* "scalar reference (1 thread)", "host (N
-                                threads)" or the OpenCL device */
+                                threads[, 16 lanes AVX2])" or the OpenCL
+                                device [with its lanes] */
     double kernel_seconds;   /* time spent scoring */
     /* Set by relief_matcher_create for auto: when the device fails during
      * a run (out of resources, lost), switch to the host matcher, which

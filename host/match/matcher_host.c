@@ -7,6 +7,7 @@
 
 #include "base/error.h"
 #include "match/matcher_scalar.h"
+#include "match/score_lanes.h"
 #include "match/score_pool.h"
 
 static relief_status host_score(void *ctx, const relief_match_data *d,
@@ -44,7 +45,12 @@ relief_status relief_matcher_host_create(const relief_match_data *d, int threads
     m->ctx = pool;
     m->backend = RELIEF_BACKEND_HOST;
     m->device_index = -1;
-    snprintf(m->device, sizeof m->device, "host (%d thread%s)", threads, threads == 1 ? "" : "s");
+    if (relief_host_lanes_supported())
+        snprintf(m->device, sizeof m->device, "host (%d thread%s, %d lanes AVX2)", threads,
+                 threads == 1 ? "" : "s", RELIEF_HOST_LANES);
+    else
+        snprintf(m->device, sizeof m->device, "host (%d thread%s)", threads,
+                 threads == 1 ? "" : "s");
     *out = m;
     return RELIEF_OK;
 }

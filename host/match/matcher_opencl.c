@@ -54,7 +54,7 @@
  * work-items takes. */
 #define LANES_CPU 16
 #define LANES_MAX 64
-#define PER_ITEM 64
+#define PER_ITEM 256
 #define HOST_MAX_OTHER 1024
 #define HOST_MAX_LIMIT 1000000000
 
@@ -592,8 +592,14 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     m->ops = &ocl_ops;
     m->ctx = o;
     m->backend = RELIEF_BACKEND_OPENCL;
-    snprintf(m->device, sizeof m->device, "%s (%s, %u compute units) on %s", info[want].name,
-             info[want].type, info[want].compute_units, info[want].platform);
+    if (o->lanes > 1)
+        snprintf(m->device, sizeof m->device, "%s (%s, %u compute units, %d lanes) on %s",
+                 info[want].name, info[want].type, info[want].compute_units, o->lanes,
+                 info[want].platform);
+    else
+        snprintf(m->device, sizeof m->device, "%s (%s, %u compute units) on %s",
+                 info[want].name, info[want].type, info[want].compute_units,
+                 info[want].platform);
     *out = m;
     return RELIEF_OK;
 fail:
