@@ -448,6 +448,7 @@ int main(int argc, char **argv)
                    s->list_bytes / 1048576.0, s->list_bytes / (double)s->nv);
         for (int k = 0; k < NS; ++k) {
             double med, lo, hi;
+            char field[256];
             if (s->n[k] == 0)
                 continue;
             bench_stats3(s->t[k], s->n[k], &med, &lo, &hi);
@@ -457,7 +458,9 @@ int main(int argc, char **argv)
                 fprintf(out,
                         "%s,%s,%ld,%s,%s,%s,%zu,%zu,%zu,%zu,%d,%d,%d,%d,%s,s,%d,%.6g,%.6g,%.6g,"
                         "%ld,%.0f,%zu,%zu,%s,%s,%zu\n",
-                        c.name, mc.cpu, mc.cores, b == B_OPENCL ? mc.device : s->device,
+                        c.name, mc.cpu, mc.cores,
+                        b == B_OPENCL ? mc.device
+                                      : bench_csv_field(s->device, field, sizeof field),
                         backend_name[b], relief_synth_kind_name(c.sp.kind),
                         c.sp.vertices, s->samples, s->targets, s->nv, c.p.window,
                         c.p.rotations, c.prune, c.sp.colour, stage_name[k], s->n[k], med, lo,

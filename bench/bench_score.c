@@ -26,6 +26,8 @@
 #include "mesh/mesh.h"
 #include "smooth/surface.h"
 
+#include "bench_util.h"
+
 #define MAX_NB 512
 
 typedef struct query_set {
@@ -169,6 +171,7 @@ int main(int argc, char **argv)
                 m[2] = NULL;
             for (int prune = 0; prune < 2; ++prune) {
                 double med[3] = {NAN, NAN, NAN};
+                char field[256];
                 static const char *const names[3] = {"scalar", "opencl", "host"};
                 size_t nc = (size_t)d->ns * (size_t)R;
                 float *ssd = malloc(nc * sizeof *ssd);
@@ -190,7 +193,9 @@ int main(int argc, char **argv)
                     qsort(rate, (size_t)reps, sizeof rate[0], cmp_double);
                     med[b] = rate[reps / 2];
                     fprintf(out, "%s,%s,%s,%d,%d,%d,%d,%zu,%zu,%.6g,%.6g,%.6g\n", machine,
-                            b == 1 ? devname : m[b]->device, names[b], w, R,
+                            bench_csv_field(b == 1 ? devname : m[b]->device, field,
+                                            sizeof field),
+                            names[b], w, R,
                             prune, reps, qs.n, s->n_samples, med[b], rate[0], rate[reps - 1]);
                 }
                 printf("%2d %2d %-6s %14.4g %14.4g %14.4g %8.2f %8.2f\n", w, R,

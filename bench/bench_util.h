@@ -48,6 +48,16 @@ static inline void bench_read_machine(bench_machine *m)
             *c = ';';
 }
 
+/* s with its commas as semicolons, in buf (n bytes): a CSV field. */
+static inline const char *bench_csv_field(const char *s, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s", s);
+    for (char *c = buf; *c; ++c)
+        if (*c == ',')
+            *c = ';';
+    return buf;
+}
+
 /* The rotations a synthetic kind's completion tries (relief_params_rotations
  * on the primitive the kind is made on), so the figures name what ran. */
 static inline int bench_rotations(const relief_params *p, relief_synth_kind kind)

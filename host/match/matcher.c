@@ -66,8 +66,8 @@ static int pick_device(char *why, size_t why_size)
         if (strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0)
             return (int)i;
     snprintf(why, why_size, "no GPU or accelerator among the %zu OpenCL device%s (device 0: "
-             "%.100s, a %s), whose kernel would run on the host's own cores, slower than "
-             "they score by themselves", n, n == 1 ? "" : "s", info[0].name, info[0].type);
+             "%.100s, a %s), whose kernel would run on the host's own cores, no faster "
+             "than they score by themselves", n, n == 1 ? "" : "s", info[0].name, info[0].type);
     return -1;
 }
 
