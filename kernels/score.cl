@@ -17,6 +17,26 @@
 #define RELIEF_WG_SIZE 64
 #endif
 
+/* The grids' vector arguments as the arrays relief_math.h takes. */
+static void unpack_grids(float4 grid4, uint4 dims4, float4 lgrid4, uint4 ldims4, float grid[4],
+                         uint dims[3], float lgrid[4], uint ldims[3])
+{
+    grid[0] = grid4.x;
+    grid[1] = grid4.y;
+    grid[2] = grid4.z;
+    grid[3] = grid4.w;
+    dims[0] = dims4.x;
+    dims[1] = dims4.y;
+    dims[2] = dims4.z;
+    lgrid[0] = lgrid4.x;
+    lgrid[1] = lgrid4.y;
+    lgrid[2] = lgrid4.z;
+    lgrid[3] = lgrid4.w;
+    ldims[0] = ldims4.x;
+    ldims[1] = ldims4.y;
+    ldims[2] = ldims4.z;
+}
+
 __kernel __attribute__((reqd_work_group_size(RELIEF_WG_SIZE, 1, 1)))
 void score(__global const float *proj, __global const float *pos,
            __global const float *col, __global const uchar *matchable,
@@ -42,20 +62,7 @@ void score(__global const float *proj, __global const float *pos,
         return;
     si = use_subset ? subset[c / rotations] : c / rotations;
     r = c % rotations;
-    grid[0] = grid4.x;
-    grid[1] = grid4.y;
-    grid[2] = grid4.z;
-    grid[3] = grid4.w;
-    dims[0] = dims4.x;
-    dims[1] = dims4.y;
-    dims[2] = dims4.z;
-    lgrid[0] = lgrid4.x;
-    lgrid[1] = lgrid4.y;
-    lgrid[2] = lgrid4.z;
-    lgrid[3] = lgrid4.w;
-    ldims[0] = ldims4.x;
-    ldims[1] = ldims4.y;
-    ldims[2] = ldims4.z;
+    unpack_grids(grid4, dims4, lgrid4, ldims4, grid, dims, lgrid, ldims);
     for (k = 0; k < 3; ++k)
         sp[k] = s_proj[3 * si + k];
     for (k = 0; k < 9; ++k)
@@ -90,20 +97,7 @@ void score_lanes(__global const float *proj, __global const float *pos,
     uint dims[3], ldims[3];
     if (c0 >= cend)
         return;
-    grid[0] = grid4.x;
-    grid[1] = grid4.y;
-    grid[2] = grid4.z;
-    grid[3] = grid4.w;
-    dims[0] = dims4.x;
-    dims[1] = dims4.y;
-    dims[2] = dims4.z;
-    lgrid[0] = lgrid4.x;
-    lgrid[1] = lgrid4.y;
-    lgrid[2] = lgrid4.z;
-    lgrid[3] = lgrid4.w;
-    ldims[0] = ldims4.x;
-    ldims[1] = ldims4.y;
-    ldims[2] = ldims4.z;
+    unpack_grids(grid4, dims4, lgrid4, ldims4, grid, dims, lgrid, ldims);
     rm_score_range(proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items,
                    grid, dims, lgrid, ldims, ldims4.w, lslot, litems, s_proj, s_frame,
                    cos_r, sin_r, use_subset ? subset : 0, rotations, c0,

@@ -139,9 +139,14 @@ static char *slurp(const char *path)
     return buf;
 }
 
-relief_status relief_opencl_host_max_env(size_t *out, int *set, relief_error *err)
+/* Environment variable `name` as a plain decimal number in lo..hi: *set 0
+ * when unset or empty (out untouched), else its value in *out;
+ * RELIEF_E_RANGE naming it and `expected` otherwise. */
+static relief_status env_number(const char *name, unsigned long long lo, unsigned long long hi,
+                                const char *expected, unsigned long long *out, int *set,
+                                relief_error *err)
 {
-    const char *env = getenv("RELIEF_OPENCL_HOST_MAX");
+    const char *env = getenv(name);
     char *end = NULL;
     unsigned long long v;
     *set = env && *env;
@@ -149,12 +154,23 @@ relief_status relief_opencl_host_max_env(size_t *out, int *set, relief_error *er
         return RELIEF_OK;
     errno = 0;
     v = strtoull(env, &end, 10);
-    if (!isdigit((unsigned char)env[0]) || errno || *end || v > HOST_MAX_LIMIT)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "RELIEF_OPENCL_HOST_MAX='%.40s': expected a number of "
-                           "candidates, 0..%d", env, HOST_MAX_LIMIT);
-    *out = (size_t)v;
+    if (!isdigit((unsigned char)env[0]) || errno || *end || v < lo || v > hi)
+        return relief_fail(err, RELIEF_E_RANGE, "%s='%.40s': expected %s", name, env,
+                           expected);
+    *out = v;
     return RELIEF_OK;
+}
+
+relief_status relief_opencl_host_max_env(size_t *out, int *set, relief_error *err)
+{
+    unsigned long long v = 0;
+    char expected[64];
+    relief_status st;
+    snprintf(expected, sizeof expected, "a number of candidates, 0..%d", HOST_MAX_LIMIT);
+    st = env_number("RELIEF_OPENCL_HOST_MAX", 0, HOST_MAX_LIMIT, expected, &v, set, err);
+    if (st == RELIEF_OK && *set)
+        *out = (size_t)v;
+    return st;
 }
 
 /* The largest launch the host scores itself on this device (HOST_MAX_CPU
@@ -174,20 +190,14 @@ static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *e
 
 relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err)
 {
-    const char *env = getenv("RELIEF_OPENCL_LANES");
-    char *end = NULL;
-    long v;
-    *set = env && *env;
-    if (!*set)
-        return RELIEF_OK;
-    errno = 0;
-    v = strtol(env, &end, 10);
-    if (!isdigit((unsigned char)env[0]) || errno || *end || v < 1 || v > LANES_MAX)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "RELIEF_OPENCL_LANES='%.40s': expected 1..%d (1: one candidate "
-                           "per work-item)", env, LANES_MAX);
-    *out = (int)v;
-    return RELIEF_OK;
+    unsigned long long v = 0;
+    char expected[64];
+    relief_status st;
+    snprintf(expected, sizeof expected, "1..%d (1: one candidate per work-item)", LANES_MAX);
+    st = env_number("RELIEF_OPENCL_LANES", 1, LANES_MAX, expected, &v, set, err);
+    if (st == RELIEF_OK && *set)
+        *out = (int)v;
+    return st;
 }
 
 /* The lanes for this device: RELIEF_OPENCL_LANES when set, else LANES_CPU

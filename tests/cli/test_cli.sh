@@ -252,6 +252,10 @@ if "$relief" devices | grep -q "^device 0"; then
   # reason to run elsewhere.
   expect 1 "RELIEF_OPENCL_HOST_MAX='x'" -- env RELIEF_OPENCL_HOST_MAX=x "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_HOST_MAX"; fail=$((fail+1)); }
+  for bad in 0 65 x " 4"; do
+    expect 1 "RELIEF_OPENCL_LANES='$bad'" -- env RELIEF_OPENCL_LANES="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
+  done
+  [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_LANES"; fail=$((fail+1)); }
   expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
   expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
   cmp -s "$tmp/ocl.ply" "$tmp/scl.ply" && pass=$((pass+1)) || { echo "FAIL: OpenCL and scalar outputs differ"; fail=$((fail+1)); }

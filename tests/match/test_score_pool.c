@@ -39,6 +39,24 @@ static int in_best(const float *ssd, const uint8_t *flag, size_t n, size_t c)
     return flag[c] == RM_VALID && (double)ssd[c] <= 1.1 * minv;
 }
 
+/* Candidates of (sp, fp) that differ from the scalar loop's (sh, fh), n of
+ * them: every flag and score with a fixed cutoff; with a running one, the
+ * best set and its scores. */
+static size_t count_differ(const float *sh, const uint8_t *fh, const float *sp,
+                           const uint8_t *fp, size_t n, int running)
+{
+    size_t bad = 0;
+    for (size_t c = 0; c < n; ++c) {
+        if (!running) {
+            bad += fp[c] != fh[c] || (fh[c] != RM_INVALID && sp[c] != sh[c]);
+        } else {
+            int bh = in_best(sh, fh, n, c), bp = in_best(sp, fp, n, c);
+            bad += bh != bp || (bh && sp[c] != sh[c]);
+        }
+    }
+    return bad;
+}
+
 static void check_surface(relief_synth_kind kind, int colour)
 {
     static const int threads[] = {1, 2, 3, 5, RELIEF_SCORE_POOL_MAX};
@@ -103,15 +121,9 @@ static void check_surface(relief_synth_kind kind, int colour)
                     continue;
                 memset(fp, 0xff, n);
                 relief_score_pool_run(pool, d, &q, spool, fp);
-                for (size_t c = 0; c < n; ++c) {
-                    if (!running) {
-                        bad += fp[c] != fh[c] || (fh[c] != RM_INVALID && spool[c] != sh[c]);
-                    } else {
-                        int bh = in_best(sh, fh, n, c), bp = in_best(spool, fp, n, c);
-                        bad += bh != bp || (bh && spool[c] != sh[c]);
-                        best_seen += bh && k == 0;
-                    }
-                }
+                bad = count_differ(sh, fh, spool, fp, n, running);
+                for (size_t c = 0; running && k == 0 && c < n; ++c)
+                    best_seen += in_best(sh, fh, n, c);
                 CHECK(bad == 0, "%s colour %d, target %u, %s, %s cutoff, %d threads: %zu of %zu "
                       "candidates differ", relief_synth_kind_name(kind), colour, (unsigned)t,
                       q.subset ? "subset" : "all samples", running ? "running" : "fixed",
@@ -134,14 +146,7 @@ static void check_surface(relief_synth_kind kind, int colour)
                 memset(fp, 0xff, n);
                 for (uint32_t k = 0; k < 3; ++k)
                     relief_score_host_blocks(d, &q, k, 3, lanes, spool, fp);
-                for (size_t c = 0; c < n; ++c) {
-                    if (!running) {
-                        bad += fp[c] != fh[c] || (fh[c] != RM_INVALID && spool[c] != sh[c]);
-                    } else {
-                        int bh = in_best(sh, fh, n, c), bp = in_best(spool, fp, n, c);
-                        bad += bh != bp || (bh && spool[c] != sh[c]);
-                    }
-                }
+                bad = count_differ(sh, fh, spool, fp, n, running);
                 CHECK(bad == 0, "%s colour %d, target %u, %s cutoff, blocks %s: %zu of %zu "
                       "candidates differ", relief_synth_kind_name(kind), colour, (unsigned)t,
                       running ? "running" : "fixed", lanes ? "in lanes" : "scalar", bad, n);
