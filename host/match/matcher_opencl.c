@@ -1,5 +1,7 @@
-/* The OpenCL matcher: kernels/score.cl, one work-item per (sample,
- * rotation), running the same rm_score_candidate as the scalar reference.
+/* The OpenCL matcher: kernels/score.cl, running relief_math.h's scoring,
+ * the scalar reference's arithmetic: on a CPU device score_lanes (runs of
+ * candidates in lock-step lanes, rm_score_range), elsewhere score (one
+ * work-item per (sample, rotation), rm_score_candidate).
  *
  * The surface goes to the device once; textured targets update their
  * positions, colours and matchable flags there just before the next

@@ -25,15 +25,9 @@ int relief_score_host_one(const relief_match_data *d, const relief_match_query *
 void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
                        uint8_t *flag)
 {
-    relief_score_host_strided(d, q, 0, 1, ssd, flag);
-}
-
-void relief_score_host_strided(const relief_match_data *d, const relief_match_query *q,
-                               uint32_t first, uint32_t step, float *ssd, uint8_t *flag)
-{
     const uint32_t centres = q->subset ? q->n_subset : d->ns;
     float cutoff = q->cutoff;
-    for (uint32_t i = first; i < centres; i += step) {
+    for (uint32_t i = 0; i < centres; ++i) {
         const uint32_t si = relief_match_query_sample(q, i);
         for (int r = 0; r < d->rotations; ++r) {
             size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;

@@ -1,5 +1,6 @@
 /* The scalar backend: the reference every other backend is compared with,
- * and the host loops the OpenCL backend reuses for small launches. */
+ * and the one-candidate scoring and probes the host pool (score_pool.h)
+ * builds on. */
 #ifndef RELIEF_HOST_MATCHER_SCALAR_H
 #define RELIEF_HOST_MATCHER_SCALAR_H
 
@@ -26,18 +27,9 @@ int relief_score_host_one(const relief_match_data *d, const relief_match_query *
                           uint32_t si, int r, float cutoff, float *ssd);
 
 /* The scalar reference's loop: score the query's candidates in order on
- * this thread, lowering a running cutoff when q->running. The OpenCL
- * matcher also runs it for launches too small to pay for themselves. */
+ * this thread, lowering a running cutoff when q->running. */
 void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
                        uint8_t *flag);
-
-/* The same loop over the query's centres first, first + step, ... only
- * (their candidates' entries of ssd[] and flag[]), with a running cutoff
- * of its own starting from q->cutoff: what each of the step threads of a
- * score_pool.h pool runs. */
-void relief_score_host_strided(const relief_match_data *d, const relief_match_query *q,
-                               uint32_t first, uint32_t step, float *ssd, uint8_t *flag);
-
 /* The lowest valid SSD among the probes first, first + step, ... of
  * `probes` candidates spread evenly over the query's (probe i: candidate
  * i * ncand / probes), FLT_MAX when none is valid. Each probe is scored
