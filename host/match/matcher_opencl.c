@@ -175,21 +175,6 @@ relief_status relief_opencl_host_max_env(size_t *out, int *set, relief_error *er
     return st;
 }
 
-/* The largest launch the host scores itself on this device (HOST_MAX_CPU
- * and HOST_MAX_OTHER), or RELIEF_OPENCL_HOST_MAX's value when set. */
-static relief_status host_max_for(cl_device_id dev, size_t *out, relief_error *err)
-{
-    cl_device_type type = 0;
-    int set = 0;
-    relief_status st = relief_opencl_host_max_env(out, &set, err);
-    if (st != RELIEF_OK || set)
-        return st;
-    if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
-        type = 0;
-    *out = (type & CL_DEVICE_TYPE_CPU) ? HOST_MAX_CPU : HOST_MAX_OTHER;
-    return RELIEF_OK;
-}
-
 relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err)
 {
     unsigned long long v = 0;
@@ -202,19 +187,28 @@ relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err)
     return st;
 }
 
-/* The lanes for this device: RELIEF_OPENCL_LANES when set, else LANES_CPU
- * on a CPU device, whose compiler vectorises score_lanes' loops, and 1
- * (the score kernel, one candidate per work-item) elsewhere. */
-static relief_status lanes_for(cl_device_id dev, int *out, relief_error *err)
+/* What this device gets unless the environment says otherwise: on a CPU
+ * device, the largest launch the host scores itself is HOST_MAX_CPU and
+ * score_lanes runs LANES_CPU lanes, whose loops its compiler vectorises;
+ * elsewhere HOST_MAX_OTHER and the score kernel, one candidate per
+ * work-item (lanes 1). RELIEF_OPENCL_HOST_MAX and RELIEF_OPENCL_LANES
+ * override them. */
+static relief_status tune_for(cl_device_id dev, ocl *o, relief_error *err)
 {
     cl_device_type type = 0;
-    int set = 0;
-    relief_status st = relief_opencl_lanes_env(out, &set, err);
-    if (st != RELIEF_OK || set)
+    int host_max_set = 0, lanes_set = 0, cpu;
+    relief_status st = relief_opencl_host_max_env(&o->host_max, &host_max_set, err);
+    if (st == RELIEF_OK)
+        st = relief_opencl_lanes_env(&o->lanes, &lanes_set, err);
+    if (st != RELIEF_OK)
         return st;
     if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
         type = 0;
-    *out = (type & CL_DEVICE_TYPE_CPU) ? LANES_CPU : 1;
+    cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    if (!host_max_set)
+        o->host_max = cpu ? HOST_MAX_CPU : HOST_MAX_OTHER;
+    if (!lanes_set)
+        o->lanes = cpu ? LANES_CPU : 1;
     return RELIEF_OK;
 }
 
@@ -577,9 +571,7 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the OpenCL matcher");
         goto fail;
     }
-    st = host_max_for(dev, &o->host_max, err);
-    if (st == RELIEF_OK)
-        st = lanes_for(dev, &o->lanes, err);
+    st = tune_for(dev, o, err);
     if (st != RELIEF_OK)
         goto fail;
     o->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);

@@ -22,24 +22,30 @@ int relief_score_host_one(const relief_match_data *d, const relief_match_query *
                               d->mu, d->inv_b2, q->inv_wsum, cutoff, ssd);
 }
 
-void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
-                       uint8_t *flag)
+void relief_score_host_centres(const relief_match_data *d, const relief_match_query *q,
+                               uint32_t begin, uint32_t end, float *cutoff, float *ssd,
+                               uint8_t *flag)
 {
-    const uint32_t centres = q->subset ? q->n_subset : d->ns;
-    float cutoff = q->cutoff;
-    for (uint32_t i = 0; i < centres; ++i) {
+    for (uint32_t i = begin; i < end; ++i) {
         const uint32_t si = relief_match_query_sample(q, i);
         for (int r = 0; r < d->rotations; ++r) {
-            size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
-            int f = relief_score_host_one(d, q, si, r, cutoff, &ssd[c]);
+            const size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
+            const int f = relief_score_host_one(d, q, si, r, *cutoff, &ssd[c]);
             flag[c] = (uint8_t)f;
             if (q->running && f == RM_VALID) {
-                float c11 = relief_match_cutoff_after(ssd[c]);
-                if (c11 < cutoff)
-                    cutoff = c11;
+                const float c11 = relief_match_cutoff_after(ssd[c]);
+                if (c11 < *cutoff)
+                    *cutoff = c11;
             }
         }
     }
+}
+
+void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,
+                       uint8_t *flag)
+{
+    float cutoff = q->cutoff;
+    relief_score_host_centres(d, q, 0, q->subset ? q->n_subset : d->ns, &cutoff, ssd, flag);
 }
 
 float relief_score_host_probe(const relief_match_data *d, const relief_match_query *q,

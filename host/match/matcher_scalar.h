@@ -26,6 +26,12 @@ relief_status relief_host_arrays_rebind(void *ctx, const relief_match_data *d,
 int relief_score_host_one(const relief_match_data *d, const relief_match_query *q,
                           uint32_t si, int r, float cutoff, float *ssd);
 
+/* The scalar reference's loop over the query's centres begin .. end - 1
+ * (all their rotations, in order) on this thread, each candidate under
+ * *cutoff, which a valid score lowers when q->running. */
+void relief_score_host_centres(const relief_match_data *d, const relief_match_query *q,
+                               uint32_t begin, uint32_t end, float *cutoff, float *ssd,
+                               uint8_t *flag);
 /* The scalar reference's loop: score the query's candidates in order on
  * this thread, lowering a running cutoff when q->running. */
 void relief_score_host(const relief_match_data *d, const relief_match_query *q, float *ssd,

@@ -10,10 +10,6 @@
 
 #include "base/error.h"
 
-#define RM_REAL float
-#define RM_WITH_SCORING
-#include "kernels/relief_math.h" /* RM_VALID */
-
 /* A query takes one thread per this many centres (or probes), at most the
  * pool's: fewer per thread and the hand-over costs more than it saves. */
 #define MIN_PER_THREAD 16
@@ -70,22 +66,11 @@ void relief_score_host_blocks(const relief_match_data *d, const relief_match_que
 #endif
     /* The scalar reference's loop over the same blocks. */
     for (uint32_t b = first; (size_t)b * RELIEF_HOST_LANE_BLOCK < centres; b += step) {
-        const uint32_t end = centres - b * RELIEF_HOST_LANE_BLOCK < RELIEF_HOST_LANE_BLOCK
+        const uint32_t begin = b * RELIEF_HOST_LANE_BLOCK;
+        const uint32_t end = centres - begin < RELIEF_HOST_LANE_BLOCK
                                  ? centres
-                                 : (b + 1) * RELIEF_HOST_LANE_BLOCK;
-        for (uint32_t i = b * RELIEF_HOST_LANE_BLOCK; i < end; ++i) {
-            const uint32_t si = relief_match_query_sample(q, i);
-            for (int r = 0; r < d->rotations; ++r) {
-                const size_t c = (size_t)i * (size_t)d->rotations + (size_t)r;
-                const int f = relief_score_host_one(d, q, si, r, cutoff, &ssd[c]);
-                flag[c] = (uint8_t)f;
-                if (q->running && f == RM_VALID) {
-                    const float c11 = relief_match_cutoff_after(ssd[c]);
-                    if (c11 < cutoff)
-                        cutoff = c11;
-                }
-            }
-        }
+                                 : begin + RELIEF_HOST_LANE_BLOCK;
+        relief_score_host_centres(d, q, begin, end, &cutoff, ssd, flag);
         if (b > UINT32_MAX - step)
             break;
     }
