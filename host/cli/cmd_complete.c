@@ -724,17 +724,8 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
             p.search_k = (int)v;
             break;
         case OPT_BACKEND:
-            if (strcmp(optarg, "auto") == 0)
-                p.backend = RELIEF_BACKEND_AUTO;
-            else if (strcmp(optarg, "scalar") == 0)
-                p.backend = RELIEF_BACKEND_SCALAR;
-            else if (strcmp(optarg, "opencl") == 0)
-                p.backend = RELIEF_BACKEND_OPENCL;
-            else if (strcmp(optarg, "host") == 0)
-                p.backend = RELIEF_BACKEND_HOST;
-            else
-                return cli_usage_error(cmd, "--backend: '%s' is not one of auto, scalar, "
-                                       "opencl, host", optarg);
+            if (!cli_parse_backend(cmd, optarg, 1, &p.backend))
+                return EXIT_USAGE;
             break;
         case OPT_DEVICE:
             if (!cli_parse_int(cmd, "--device", optarg, 0, 255, &v))

@@ -157,3 +157,17 @@ void cli_release_signals(const sigset_t *old)
 {
     sigprocmask(SIG_SETMASK, old, NULL);
 }
+
+int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out)
+{
+    static const relief_backend all[] = {RELIEF_BACKEND_AUTO, RELIEF_BACKEND_SCALAR,
+                                         RELIEF_BACKEND_OPENCL, RELIEF_BACKEND_HOST};
+    for (int i = 0; i < (with_host ? 4 : 3); ++i)
+        if (strcmp(s, relief_backend_name(all[i])) == 0) {
+            *out = all[i];
+            return 1;
+        }
+    fprintf(stderr, "relief %s: --backend: '%s' is not one of auto, scalar, opencl%s\n"
+            "Try 'relief %s --help'.\n", cmd, s, with_host ? ", host" : "", cmd);
+    return 0;
+}

@@ -46,6 +46,9 @@ int cli_parse_reals(const char *cmd, const char *opt, const char *s, double *out
 /* --extent: "z0,z1" (cylinder) or "u0,v0,u1,v1" (plane) into p->extent. */
 int cli_parse_extent(const char *cmd, const char *s, relief_params *p);
 
+/* --backend: auto, scalar, opencl, and host where `with_host`. */
+int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out);
+
 /* --fit: auto, plane, sphere or cylinder. */
 int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out);
 

@@ -217,11 +217,10 @@ static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
     const char *kernel = o->lanes > 1 ? "score_lanes" : "score";
     char lanes[64] = "";
     const char *dir = getenv("RELIEF_KERNEL_DIR");
-    char *files[2] = {NULL, NULL}, options[256], *log = NULL;
+    char *files[2] = {NULL, NULL}, options[256];
     const char *src[3];
     cl_device_fp_config fp = 0;
     cl_int rc;
-    size_t loglen = 0;
     relief_status st = RELIEF_OK;
 
     src[0] = "#define RM_WITH_SCORING 1\n";
@@ -252,34 +251,15 @@ static relief_status build_program(ocl *o, cl_device_id dev, relief_error *err)
              (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT)
                  ? " -cl-fp32-correctly-rounded-divide-sqrt"
                  : "");
-    o->prog = clCreateProgramWithSource(o->ctx, 3, src, NULL, &rc);
-    if (rc != CL_SUCCESS) {
-        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateProgramWithSource: %s",
-                         relief_cl_error_name(rc));
+    st = relief_cl_build(o->ctx, dev, src, 3, options,
+                         dir && *dir ? ", sources from RELIEF_KERNEL_DIR" : "", &o->prog, err);
+    if (st != RELIEF_OK)
         goto done;
-    }
-    rc = clBuildProgram(o->prog, 1, &dev, options, NULL, NULL);
-    if (rc != CL_SUCCESS) {
-        clGetProgramBuildInfo(o->prog, dev, CL_PROGRAM_BUILD_LOG, 0, NULL, &loglen);
-        log = malloc(loglen + 1);
-        if (log) {
-            clGetProgramBuildInfo(o->prog, dev, CL_PROGRAM_BUILD_LOG, loglen, log, NULL);
-            log[loglen] = '\0';
-        }
-        st = relief_fail(err, RELIEF_E_DEVICE,
-                         "the OpenCL kernel failed to build (%s), options '%s'%s; build "
-                         "log:\n%s",
-                         relief_cl_error_name(rc), options,
-                         dir && *dir ? ", sources from RELIEF_KERNEL_DIR" : "",
-                         log ? log : "(none)");
-        goto done;
-    }
     o->kernel = clCreateKernel(o->prog, kernel, &rc);
     if (rc != CL_SUCCESS)
         st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(%s): %s", kernel,
                          relief_cl_error_name(rc));
 done:
-    free(log);
     free(files[0]);
     free(files[1]);
     return st;
@@ -531,39 +511,16 @@ static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_
 relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
                                            relief_matcher **out, relief_error *err)
 {
-    relief_device_info info[64];
-    cl_platform_id plats[16];
+    relief_device_info info;
     cl_device_id dev = NULL;
-    cl_uint np = 0;
-    size_t ndev = 0, want, seen = 0;
     cl_int rc;
     ocl *o = NULL;
     relief_matcher *m = NULL;
     relief_status st;
 
-    st = relief_devices(info, 64, &ndev, err);
+    st = relief_cl_device(device < 0 ? 0 : device, &dev, &info, err);
     if (st != RELIEF_OK)
         return st;
-    if (ndev == 0)
-        return relief_fail(err, RELIEF_E_DEVICE, "no OpenCL platform or device found");
-    want = device < 0 ? 0 : (size_t)device;
-    if (want >= ndev)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "--device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
-                           "devices')", device, ndev, ndev - 1);
-    /* Walk the platforms in relief_devices' order to the wanted device. */
-    clGetPlatformIDs(16, plats, &np);
-    for (cl_uint p = 0; p < np && !dev; ++p) {
-        cl_device_id devs[32];
-        cl_uint nd = 0;
-        if (clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, 32, devs, &nd) != CL_SUCCESS)
-            continue;
-        for (cl_uint i = 0; i < nd && !dev; ++i, ++seen)
-            if (seen == want)
-                dev = devs[i];
-    }
-    if (!dev)
-        return relief_fail(err, RELIEF_E_DEVICE, "OpenCL device %zu disappeared", want);
 
     o = calloc(1, sizeof *o);
     m = calloc(1, sizeof *m);
@@ -597,13 +554,13 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     m->ctx = o;
     m->backend = RELIEF_BACKEND_OPENCL;
     if (o->lanes > 1)
-        snprintf(m->device, sizeof m->device, "%s (%s, %u compute units, %d lanes) on %s",
-                 info[want].name, info[want].type, info[want].compute_units, o->lanes,
-                 info[want].platform);
+        snprintf(m->device, sizeof m->device, "%.96s (%s, %u compute units, %d lanes) on %.96s",
+                 info.name, info.type, info.compute_units, o->lanes,
+                 info.platform);
     else
-        snprintf(m->device, sizeof m->device, "%s (%s, %u compute units) on %s",
-                 info[want].name, info[want].type, info[want].compute_units,
-                 info[want].platform);
+        snprintf(m->device, sizeof m->device, "%.96s (%s, %u compute units) on %.96s",
+                 info.name, info.type, info.compute_units,
+                 info.platform);
     *out = m;
     return RELIEF_OK;
 fail:

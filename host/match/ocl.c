@@ -1,6 +1,7 @@
 #include "match/ocl.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/error.h"
@@ -115,6 +116,80 @@ relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
     }
     *count = n;
     return RELIEF_OK;
+}
+
+relief_status relief_cl_device(int index, cl_device_id *dev, relief_device_info *info,
+                               relief_error *err)
+{
+    relief_device_info all[64];
+    cl_platform_id plats[16];
+    cl_uint np = 0;
+    size_t n = 0, want = 0, seen = 0;
+    relief_status st = relief_devices(all, 64, &n, err);
+
+    *dev = NULL;
+    if (st != RELIEF_OK)
+        return st;
+    if (n > 64)
+        n = 64;
+    if (n == 0)
+        return relief_fail(err, RELIEF_E_DEVICE, "no OpenCL platform or device found");
+    if (index >= 0 && (size_t)index >= n)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "--device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
+                           "devices')", index, n, n - 1);
+    if (index >= 0)
+        want = (size_t)index;
+    else
+        for (size_t i = n; i-- > 0;)
+            if (strcmp(all[i].type, "gpu") == 0 || strcmp(all[i].type, "accelerator") == 0)
+                want = i;
+    /* Walk the platforms in relief_devices' order to the wanted device. */
+    clGetPlatformIDs(16, plats, &np);
+    for (cl_uint p = 0; p < np && p < 16 && !*dev; ++p) {
+        cl_device_id devs[32];
+        cl_uint nd = 0;
+        if (clGetDeviceIDs(plats[p], CL_DEVICE_TYPE_ALL, 32, devs, &nd) != CL_SUCCESS)
+            continue;
+        for (cl_uint i = 0; i < nd && i < 32 && !*dev; ++i, ++seen)
+            if (seen == want)
+                *dev = devs[i];
+    }
+    if (!*dev)
+        return relief_fail(err, RELIEF_E_DEVICE, "OpenCL device %zu disappeared", want);
+    *info = all[want];
+    return RELIEF_OK;
+}
+
+relief_status relief_cl_build(cl_context ctx, cl_device_id dev, const char **src, cl_uint n,
+                              const char *options, const char *origin, cl_program *out,
+                              relief_error *err)
+{
+    cl_int rc;
+    size_t loglen = 0;
+    char *log;
+    relief_status st;
+
+    *out = clCreateProgramWithSource(ctx, n, src, NULL, &rc);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "clCreateProgramWithSource: %s",
+                           relief_cl_error_name(rc));
+    rc = clBuildProgram(*out, 1, &dev, options, NULL, NULL);
+    if (rc == CL_SUCCESS)
+        return RELIEF_OK;
+    clGetProgramBuildInfo(*out, dev, CL_PROGRAM_BUILD_LOG, 0, NULL, &loglen);
+    log = malloc(loglen + 1);
+    if (log) {
+        clGetProgramBuildInfo(*out, dev, CL_PROGRAM_BUILD_LOG, loglen, log, NULL);
+        log[loglen] = '\0';
+    }
+    st = relief_fail(err, RELIEF_E_DEVICE,
+                     "the OpenCL kernel failed to build (%s), options '%s'%s; build log:\n%s",
+                     relief_cl_error_name(rc), options, origin, log ? log : "(none)");
+    free(log);
+    clReleaseProgram(*out);
+    *out = NULL;
+    return st;
 }
 
 #else /* !RELIEF_HAVE_OPENCL */

@@ -10,20 +10,7 @@ tmp=$(mktemp -d /tmp/relief-robust-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
 
-# expect CODE [NEEDLE] -- COMMAND...: exit code CODE and, if given, NEEDLE in stderr.
-expect() {
-  local want=$1 needle=$2; shift 3
-  "$@" >"$tmp/out" 2>"$tmp/err"
-  local got=$?
-  if [[ $got -ne $want ]]; then
-    echo "FAIL: exit $got, expected $want: $*"; sed 's/^/  /' "$tmp/err"; fail=$((fail+1)); return
-  fi
-  if [[ -n $needle ]] && ! grep -qF -- "$needle" "$tmp/err" "$tmp/out"; then
-    echo "FAIL: no '$needle' in the output of: $*"; sed 's/^/  /' "$tmp/err"; fail=$((fail+1)); return
-  fi
-  pass=$((pass+1))
-}
-ok() { if eval "$1"; then pass=$((pass+1)); else echo "FAIL: $2"; fail=$((fail+1)); fi; }
+. "$(dirname "$0")/expect.sh" # expect, ok
 
 pw=$tmp/pw.ply
 "$relief" synth plane-waves -o "$pw" --vertices 500 --colour 2>/dev/null
