@@ -28,6 +28,7 @@ static const char main_help[] =
     "  cut IN -o OUT         cut a hole out of a whole mesh, with ground truth\n"
     "  eval COMPLETED        measure a completion\n"
     "  render MESH -o P.png  a shaded picture of a mesh\n"
+    "  image-fill IN -o OUT  fill the holes of an image (PNG, JPEG)\n"
     "  devices               list OpenCL devices\n"
     "\n"
     "  relief COMMAND --help    options of a command\n"
@@ -74,6 +75,8 @@ int relief_cli_main(int argc, char **argv, int parse_only)
         return cli_cmd_devices(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "render") == 0)
         return cli_cmd_render(argc - 1, argv + 1, parse_only);
+    if (strcmp(cmd, "image-fill") == 0)
+        return cli_cmd_image_fill(argc - 1, argv + 1, parse_only);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);
     return EXIT_USAGE;
 }

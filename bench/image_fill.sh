@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# relief image-fill against its own references (scalar, OpenCL, --exhaustive)
+# and against OpenCV's inpainting (Telea, Navier-Stokes), on the images of
+# ../shared/data/images with holes cut where the truth is known
+# (bench/image_fill.py says what is measured). OpenCV is a peer to compare
+# with, never linked: python3-opencv is installed here (as root) if missing.
+#   bench/image_fill.sh [--repeat N] [--no-exhaustive]
+# Environment: OUT (default bench-out/image_fill), BUILD (default build),
+# PYTHON (default /usr/bin/python3).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+OUT=${OUT:-bench-out/image_fill}
+BUILD=${BUILD:-build}
+# Debian's python, where python3-opencv goes (not a pyenv or venv in PATH).
+PY=${PYTHON:-/usr/bin/python3}
+[[ -x $PY ]] || PY=python3
+./setup.sh deps
+if ! "$PY" -c 'import cv2, numpy' 2>/dev/null; then
+  if [[ $(id -u) -ne 0 ]]; then
+    echo "bench: python3-opencv is missing (apt-get install python3-opencv)" >&2
+    exit 1
+  fi
+  echo "bench: installing python3-opencv to compare with"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+    python3-opencv python3-numpy >/dev/null
+fi
+cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+cmake --build "$BUILD" -j"${JOBS:-$(nproc)}" --target relief >/dev/null
+"$PY" bench/image_fill.py "$BUILD/relief" ../shared/data/images "$OUT" "$@"
+echo "bench: $OUT/image_fill.csv"

@@ -1,0 +1,444 @@
+/* libpng and libjpeg report errors by longjmp from a callback: every
+ * decoder keeps what it allocates in a struct that outlives the jump, so
+ * nothing is leaked and no local modified after setjmp is read after it. */
+#include "image/image_io.h"
+
+#include <errno.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <jpeglib.h> /* after stdio.h, which it needs and does not include */
+#include <png.h>
+
+#include "base/atomic.h"
+#include "base/error.h"
+#include "base/memlimit.h"
+
+relief_image_format relief_image_format_of_name(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    if (!dot || strchr(dot, '/'))
+        return RELIEF_IMAGE_UNKNOWN;
+    if (strcasecmp(dot, ".png") == 0)
+        return RELIEF_IMAGE_PNG;
+    if (strcasecmp(dot, ".jpg") == 0 || strcasecmp(dot, ".jpeg") == 0)
+        return RELIEF_IMAGE_JPEG;
+    return RELIEF_IMAGE_UNKNOWN;
+}
+
+/* Refuse a width x height x channels image the limit cannot take, before
+ * its pixels are decoded. */
+static relief_status check_size(const char *name, uint32_t w, uint32_t h, int channels,
+                                const relief_image_limit *lim, relief_error *err)
+{
+    char what[512];
+    if (w == 0 || h == 0)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: the image has %u x %u pixels: nothing "
+                           "to read", name, w, h);
+    if (w > RELIEF_RASTER_MAX_SIDE || h > RELIEF_RASTER_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: the image has %u x %u pixels: each side "
+                           "must be at most %d", name, w, h, RELIEF_RASTER_MAX_SIDE);
+    if (!lim || lim->limit == 0)
+        return RELIEF_OK;
+    snprintf(what, sizeof what, "%s (%u x %u pixels, %d channel%s)%s%s", name, w, h,
+             channels, channels == 1 ? "" : "s", lim->what ? ": " : "",
+             lim->what ? lim->what : "");
+    return relief_memory_check(what,
+                               (uint64_t)((double)relief_raster_bytes((int)w, (int)h,
+                                                                      channels) *
+                                          (lim->factor > 1.0 ? lim->factor : 1.0)),
+                               lim->limit, "", err);
+}
+
+/* ---------------------------------------------------------------- PNG */
+
+typedef struct png_job {
+    jmp_buf jump;
+    char msg[256];
+    const uint8_t *data;
+    size_t n, at;
+    png_bytep pixels;  /* the decoded image, rows packed */
+    png_bytepp rows;
+    FILE *file;        /* writing */
+} png_job;
+
+static void png_on_error(png_structp png, png_const_charp msg)
+{
+    png_job *job = png_get_error_ptr(png);
+    snprintf(job->msg, sizeof job->msg, "%s", msg);
+    longjmp(job->jump, 1);
+}
+
+static void png_on_warning(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg; /* warnings (an unknown ancillary chunk, say) do not stop a read */
+}
+
+static void png_read_memory(png_structp png, png_bytep out, size_t len)
+{
+    png_job *job = png_get_io_ptr(png);
+    if (len > job->n - job->at)
+        png_error(png, "the file ends early (truncated)");
+    memcpy(out, job->data + job->at, len);
+    job->at += len;
+}
+
+static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
+                                const relief_image_limit *lim, relief_raster *out,
+                                relief_error *err)
+{
+    png_job job;
+    png_structp png;
+    png_infop info;
+    png_uint_32 w, h;
+    int depth, ctype, interlace, channels;
+    size_t rowbytes;
+    relief_status st = RELIEF_OK;
+
+    memset(&job, 0, sizeof job);
+    job.data = data;
+    job.n = n;
+    png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_on_error, png_on_warning);
+    info = png ? png_create_info_struct(png) : NULL;
+    if (!png || !info) {
+        png_destroy_read_struct(png ? &png : NULL, NULL, NULL);
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot start libpng", name);
+    }
+    if (setjmp(job.jump)) {
+        relief_raster_free(out);
+        st = relief_fail(err, RELIEF_E_PARSE, "%s: malformed PNG: %s", name, job.msg);
+        goto done;
+    }
+    png_set_read_fn(png, &job, png_read_memory);
+    png_set_user_limits(png, RELIEF_RASTER_MAX_SIDE, RELIEF_RASTER_MAX_SIDE);
+    png_read_info(png, info);
+    png_get_IHDR(png, info, &w, &h, &depth, &ctype, &interlace, NULL, NULL);
+    if (ctype == PNG_COLOR_TYPE_PALETTE)
+        png_set_palette_to_rgb(png);
+    if (ctype == PNG_COLOR_TYPE_GRAY && depth < 8)
+        png_set_expand_gray_1_2_4_to_8(png);
+    if (png_get_valid(png, info, PNG_INFO_tRNS))
+        png_set_tRNS_to_alpha(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    channels = png_get_channels(png, info);
+    depth = png_get_bit_depth(png, info);
+    if ((depth != 8 && depth != 16) || channels < 1 || channels > 4) {
+        st = relief_fail(err, RELIEF_E_FORMAT, "%s: PNG of %d channels of %d bits: not "
+                         "supported", name, channels, depth);
+        goto done;
+    }
+    st = check_size(name, w, h, channels, lim, err);
+    if (st != RELIEF_OK)
+        goto done;
+    rowbytes = png_get_rowbytes(png, info);
+    job.pixels = malloc(rowbytes * h);
+    job.rows = malloc(sizeof *job.rows * h);
+    if (!job.pixels || !job.rows) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate %u x %u pixels", name, w, h);
+        goto done;
+    }
+    for (png_uint_32 y = 0; y < h; ++y)
+        job.rows[y] = job.pixels + y * rowbytes;
+    png_read_image(png, job.rows);
+    png_read_end(png, NULL);
+    st = relief_raster_create((int)w, (int)h, channels, depth, out, err);
+    if (st != RELIEF_OK)
+        goto done;
+    for (png_uint_32 y = 0; y < h; ++y) {
+        const png_byte *row = job.rows[y];
+        float *o = out->v + (size_t)y * w * channels;
+        for (size_t i = 0; i < (size_t)w * channels; ++i)
+            o[i] = depth == 16 ? (float)((row[2 * i] << 8) | row[2 * i + 1]) : (float)row[i];
+    }
+done:
+    png_destroy_read_struct(&png, &info, NULL);
+    free(job.pixels);
+    free(job.rows);
+    return st;
+}
+
+/* ---------------------------------------------------------------- JPEG */
+
+typedef struct jpeg_job {
+    struct jpeg_error_mgr pub; /* first: libjpeg hands back a pointer to it */
+    jmp_buf jump;
+    char msg[JMSG_LENGTH_MAX];
+    int warned;
+    JSAMPLE *row;
+    FILE *file;
+} jpeg_job;
+
+static void jpeg_on_error(j_common_ptr cinfo)
+{
+    jpeg_job *job = (jpeg_job *)cinfo->err;
+    (*cinfo->err->format_message)(cinfo, job->msg);
+    longjmp(job->jump, 1);
+}
+
+/* libjpeg only warns about corrupt or truncated data and fills the rest
+ * grey; relief refuses such a file instead, so keep the first warning. */
+static void jpeg_on_message(j_common_ptr cinfo, int level)
+{
+    jpeg_job *job = (jpeg_job *)cinfo->err;
+    if (level < 0 && !job->warned) {
+        (*cinfo->err->format_message)(cinfo, job->msg);
+        job->warned = 1;
+    }
+}
+
+static relief_status decode_jpeg(const uint8_t *data, size_t n, const char *name,
+                                 const relief_image_limit *lim, relief_raster *out,
+                                 relief_error *err)
+{
+    struct jpeg_decompress_struct cinfo;
+    jpeg_job job;
+    relief_status st = RELIEF_OK;
+    int channels;
+
+    memset(&job, 0, sizeof job);
+    cinfo.err = jpeg_std_error(&job.pub);
+    job.pub.error_exit = jpeg_on_error;
+    job.pub.emit_message = jpeg_on_message;
+    if (setjmp(job.jump)) {
+        relief_raster_free(out);
+        st = relief_fail(err, RELIEF_E_PARSE, "%s: malformed JPEG: %s", name, job.msg);
+        goto done;
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, data, (unsigned long)n);
+    jpeg_read_header(&cinfo, TRUE);
+    if (cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK) {
+        st = relief_fail(err, RELIEF_E_FORMAT, "%s: a CMYK JPEG: not supported (convert it to "
+                         "RGB first)", name);
+        goto done;
+    }
+    channels = cinfo.num_components == 1 ? 1 : 3;
+    cinfo.out_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
+    st = check_size(name, cinfo.image_width, cinfo.image_height, channels, lim, err);
+    if (st != RELIEF_OK)
+        goto done;
+    jpeg_start_decompress(&cinfo);
+    st = relief_raster_create((int)cinfo.output_width, (int)cinfo.output_height, channels, 8,
+                              out, err);
+    if (st == RELIEF_OK && !(job.row = malloc((size_t)cinfo.output_width * channels)))
+        st = relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate a row", name);
+    if (st != RELIEF_OK) {
+        jpeg_abort_decompress(&cinfo);
+        goto done;
+    }
+    while (cinfo.output_scanline < cinfo.output_height && !job.warned) {
+        JSAMPROW rows[1] = {job.row};
+        float *o = out->v + (size_t)cinfo.output_scanline * cinfo.output_width * channels;
+        jpeg_read_scanlines(&cinfo, rows, 1);
+        for (size_t i = 0; i < (size_t)cinfo.output_width * channels; ++i)
+            o[i] = (float)job.row[i];
+    }
+    if (!job.warned)
+        jpeg_finish_decompress(&cinfo);
+    if (job.warned) {
+        relief_raster_free(out);
+        st = relief_fail(err, RELIEF_E_PARSE, "%s: corrupt or truncated JPEG: %s", name,
+                         job.msg);
+    }
+done:
+    jpeg_destroy_decompress(&cinfo);
+    free(job.row);
+    return st;
+}
+
+relief_status relief_image_decode(const uint8_t *data, size_t n, const char *name,
+                                  const relief_image_limit *lim, relief_raster *out,
+                                  relief_error *err)
+{
+    static const uint8_t png_sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    out->v = NULL;
+    if (n >= 8 && memcmp(data, png_sig, 8) == 0)
+        return decode_png(data, n, name, lim, out, err);
+    if (n >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff)
+        return decode_jpeg(data, n, name, lim, out, err);
+    if (n == 0)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: the file is empty", name);
+    return relief_fail(err, RELIEF_E_FORMAT, "%s: not a PNG or JPEG image (by its first "
+                       "bytes)", name);
+}
+
+relief_status relief_image_read(const char *path, const relief_image_limit *lim,
+                                relief_raster *out, relief_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    uint8_t *data = NULL;
+    size_t n = 0, cap = 0;
+    relief_status st;
+
+    out->v = NULL;
+    if (!f)
+        return relief_fail(err, RELIEF_E_IO, "%s: cannot open: %s", path, strerror(errno));
+    for (;;) {
+        size_t got;
+        if (n == cap) {
+            uint8_t *grown;
+            cap = cap ? 2 * cap : 1 << 16;
+            grown = realloc(data, cap);
+            if (!grown) {
+                free(data);
+                fclose(f);
+                return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot hold the file", path);
+            }
+            data = grown;
+        }
+        got = fread(data + n, 1, cap - n, f);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (ferror(f)) {
+        free(data);
+        fclose(f);
+        return relief_fail(err, RELIEF_E_IO, "%s: cannot read: %s", path, strerror(errno));
+    }
+    fclose(f);
+    st = relief_image_decode(data, n, path, lim, out, err);
+    free(data);
+    return st;
+}
+
+/* ---------------------------------------------------------------- writing */
+
+static unsigned quantise(float v, float max)
+{
+    if (!(v > 0.0f)) /* NaN too */
+        return 0;
+    if (v >= max)
+        return (unsigned)max;
+    return (unsigned)floorf(v + 0.5f);
+}
+
+static relief_status write_png(FILE *f, const relief_raster *r, const char *path,
+                               relief_error *err)
+{
+    png_job job;
+    png_structp png;
+    png_infop info;
+    static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
+                                 PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
+    size_t vals = (size_t)r->width * r->channels, bytes = r->bit_depth == 16 ? 2 : 1;
+    float max = relief_raster_max_value(r);
+    relief_status st = RELIEF_OK;
+
+    memset(&job, 0, sizeof job);
+    png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, png_on_error, png_on_warning);
+    info = png ? png_create_info_struct(png) : NULL;
+    job.pixels = malloc(vals * bytes);
+    if (!png || !info || !job.pixels) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "%s: cannot start libpng", path);
+        goto done;
+    }
+    if (setjmp(job.jump)) {
+        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the PNG: %s", path, job.msg);
+        goto done;
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, (png_uint_32)r->width, (png_uint_32)r->height, r->bit_depth,
+                 types[r->channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < r->height; ++y) {
+        const float *v = r->v + (size_t)y * vals;
+        for (size_t i = 0; i < vals; ++i) {
+            unsigned q = quantise(v[i], max);
+            if (bytes == 2) {
+                job.pixels[2 * i] = (png_byte)(q >> 8);
+                job.pixels[2 * i + 1] = (png_byte)q;
+            } else {
+                job.pixels[i] = (png_byte)q;
+            }
+        }
+        png_write_row(png, job.pixels);
+    }
+    png_write_end(png, NULL);
+done:
+    png_destroy_write_struct(png ? &png : NULL, info ? &info : NULL);
+    free(job.pixels);
+    return st;
+}
+
+static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *path,
+                                relief_error *err)
+{
+    struct jpeg_compress_struct cinfo;
+    jpeg_job job;
+    int colours = r->channels >= 3 ? 3 : 1;
+
+    memset(&job, 0, sizeof job);
+    job.row = malloc((size_t)r->width * colours);
+    if (!job.row)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate a row", path);
+    cinfo.err = jpeg_std_error(&job.pub);
+    job.pub.error_exit = jpeg_on_error;
+    if (setjmp(job.jump)) {
+        jpeg_destroy_compress(&cinfo);
+        free(job.row);
+        return relief_fail(err, RELIEF_E_IO, "%s: cannot write the JPEG: %s", path, job.msg);
+    }
+    jpeg_create_compress(&cinfo);
+    jpeg_stdio_dest(&cinfo, f);
+    cinfo.image_width = (JDIMENSION)r->width;
+    cinfo.image_height = (JDIMENSION)r->height;
+    cinfo.input_components = colours;
+    cinfo.in_color_space = colours == 3 ? JCS_RGB : JCS_GRAYSCALE;
+    jpeg_set_defaults(&cinfo);
+    jpeg_set_quality(&cinfo, 95, TRUE);
+    jpeg_start_compress(&cinfo, TRUE);
+    while (cinfo.next_scanline < cinfo.image_height) {
+        const float *v = r->v + (size_t)cinfo.next_scanline * r->width * r->channels;
+        JSAMPROW rows[1] = {job.row};
+        for (int x = 0; x < r->width; ++x)
+            for (int c = 0; c < colours; ++c)
+                job.row[x * colours + c] = (JSAMPLE)quantise(v[x * r->channels + c], 255.0f);
+        jpeg_write_scanlines(&cinfo, rows, 1);
+    }
+    jpeg_finish_compress(&cinfo);
+    jpeg_destroy_compress(&cinfo);
+    free(job.row);
+    return RELIEF_OK;
+}
+
+relief_status relief_image_write(const char *path, const relief_raster *r, relief_error *err)
+{
+    relief_image_format fmt = relief_image_format_of_name(path);
+    relief_status st;
+    char *tmp = NULL;
+    FILE *f;
+
+    if (fmt == RELIEF_IMAGE_UNKNOWN)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: unknown image extension; relief writes "
+                           ".png, .jpg and .jpeg", path);
+    if (r->bit_depth != 8 && r->bit_depth != 16)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: an image of %d bits cannot be written; "
+                           "expected 8 or 16", path, r->bit_depth);
+    if (fmt == RELIEF_IMAGE_JPEG && r->bit_depth != 8)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: JPEG holds 8 bits per channel, the image "
+                           "has 16; write it as .png", path);
+    st = relief_atomic_create(path, &tmp, err);
+    if (st != RELIEF_OK)
+        return st;
+    f = fopen(tmp, "wb");
+    if (!f) {
+        relief_atomic_abort(tmp);
+        return relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
+    }
+    st = fmt == RELIEF_IMAGE_PNG ? write_png(f, r, path, err) : write_jpeg(f, r, path, err);
+    if (fclose(f) != 0 && st == RELIEF_OK)
+        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
+    if (st != RELIEF_OK) {
+        relief_atomic_abort(tmp);
+        return st;
+    }
+    return relief_atomic_commit(tmp, path, err);
+}

@@ -1,0 +1,65 @@
+/* Window scoring of the image hole filler behind one small table, as the
+ * mesh matcher's backends are (match/backend.h): patch_scalar.c, the
+ * reference, and patch_opencl.c, the kernel kernels/patch.cl; both score
+ * through kernels/patch_math.h's pm_score, so they give the same bits.
+ *
+ * The filler owns the pyramid's levels; a scorer reads them where they lie
+ * (scalar) or keeps a copy on its device that update() brings up to date. */
+#ifndef RELIEF_HOST_IMAGE_PATCH_H
+#define RELIEF_HOST_IMAGE_PATCH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+
+/* One level of the pyramid: v is height x width x channels (the channels
+ * matched, alpha excluded), known height x width (1 known, 0 hole). */
+typedef struct relief_patch_level {
+    const float *v;
+    const uint8_t *known;
+    int width, height, channels;
+} relief_patch_level;
+
+typedef struct relief_patch_ops {
+    /* Take the levels (the pointers stay valid until destroy). */
+    relief_status (*bind)(void *ctx, const relief_patch_level *levels, int n_levels,
+                          relief_error *err);
+    /* Rows y0..y1 of `level` changed, values or known flags. */
+    relief_status (*update)(void *ctx, int level, int y0, int y1, relief_error *err);
+    /* Score every candidate centre of the rectangle x0 .. x0 + nx - 1,
+     * y0 .. y0 + ny - 1 (all wholly inside the level) against the query
+     * window at (qx, qy): ssd[j * nx + i] and n[j * nx + i] as pm_score. */
+    relief_status (*score_rect)(void *ctx, int level, int qx, int qy, int half, int max_holes,
+                                int x0, int y0, int nx, int ny, float *ssd, int *n,
+                                relief_error *err);
+    void (*destroy)(void *ctx);
+} relief_patch_ops;
+
+typedef struct relief_patch_scorer {
+    const relief_patch_ops *ops;
+    void *ctx;
+    relief_backend backend; /* scalar or opencl */
+    char device[256];       /* what it runs on, for messages and reports */
+} relief_patch_scorer;
+
+/* The scalar reference (never fails but for memory). */
+relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error *err);
+
+/* The OpenCL scorer on `device` (-1: the first GPU or accelerator, else the
+ * first device). RELIEF_E_NOT_BUILT without OpenCL; RELIEF_E_DEVICE with
+ * the reason; RELIEF_E_RANGE for a --device there is none of. */
+relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
+                                         relief_error *err);
+
+/* The scorer for `backend`. auto: OpenCL on `device` when one is named,
+ * else on the first GPU or accelerator; the scalar scorer when there is
+ * none (a CPU device is no faster) or OpenCL fails to start. Which and why
+ * goes to `note` (may be NULL); a note that starts with "OpenCL
+ * unavailable" is a warning. */
+relief_status relief_patch_scorer_create(relief_backend backend, int device,
+                                         relief_patch_scorer **out, char *note,
+                                         size_t note_size, relief_error *err);
+void relief_patch_scorer_destroy(relief_patch_scorer *s);
+
+#endif

@@ -1,0 +1,117 @@
+/* The scalar twin of kernels/patch.cl: the same pm_score, one candidate
+ * after another, in the rectangle's row-major order. */
+#include "image/patch.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "kernels/patch_math.h"
+
+typedef struct scalar_ctx {
+    const relief_patch_level *levels;
+    int n_levels;
+} scalar_ctx;
+
+static relief_status scalar_bind(void *ctx, const relief_patch_level *levels, int n_levels,
+                                 relief_error *err)
+{
+    scalar_ctx *s = ctx;
+    (void)err;
+    s->levels = levels;
+    s->n_levels = n_levels;
+    return RELIEF_OK;
+}
+
+static relief_status scalar_update(void *ctx, int level, int y0, int y1, relief_error *err)
+{
+    (void)ctx, (void)level, (void)y0, (void)y1, (void)err;
+    return RELIEF_OK; /* it reads the filler's own arrays */
+}
+
+static relief_status scalar_score_rect(void *ctx, int level, int qx, int qy, int half,
+                                       int max_holes, int x0, int y0, int nx, int ny,
+                                       float *ssd, int *n, relief_error *err)
+{
+    const relief_patch_level *l = &((scalar_ctx *)ctx)->levels[level];
+    (void)err;
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+            pm_score(l->v, l->known, l->width, l->height, l->channels, qx, qy, x0 + i, y0 + j,
+                     half, max_holes, &ssd[(size_t)j * nx + i], &n[(size_t)j * nx + i]);
+    return RELIEF_OK;
+}
+
+static void scalar_destroy(void *ctx) { free(ctx); }
+
+static const relief_patch_ops scalar_ops = {scalar_bind, scalar_update, scalar_score_rect,
+                                            scalar_destroy};
+
+relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error *err)
+{
+    relief_patch_scorer *s = calloc(1, sizeof *s);
+    scalar_ctx *c = calloc(1, sizeof *c);
+    if (!s || !c) {
+        free(s);
+        free(c);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the scalar scorer");
+    }
+    s->ops = &scalar_ops;
+    s->ctx = c;
+    s->backend = RELIEF_BACKEND_SCALAR;
+    snprintf(s->device, sizeof s->device, "host (1 thread, scalar reference)");
+    *out = s;
+    return RELIEF_OK;
+}
+
+void relief_patch_scorer_destroy(relief_patch_scorer *s)
+{
+    if (s) {
+        s->ops->destroy(s->ctx);
+        free(s);
+    }
+}
+
+relief_status relief_patch_scorer_create(relief_backend backend, int device,
+                                         relief_patch_scorer **out, char *note,
+                                         size_t note_size, relief_error *err)
+{
+    relief_device_info info[16];
+    relief_error why = {RELIEF_OK, ""};
+    size_t n = 0;
+    int gpu = 0;
+    relief_status st;
+    if (note && note_size)
+        note[0] = '\0';
+    if (backend == RELIEF_BACKEND_SCALAR)
+        return relief_patch_scalar_create(out, err);
+    if (backend == RELIEF_BACKEND_OPENCL)
+        return relief_patch_opencl_create(device, out, err);
+    /* auto: OpenCL on the --device named, or on a GPU or accelerator. On a
+     * CPU device the kernel runs on the same cores and measured no faster
+     * than the scalar scorer once its start-up is counted (bench/
+     * image_fill.sh), so auto stays on the host there. */
+    st = relief_devices(info, 16, &n, &why);
+    for (size_t i = 0; st == RELIEF_OK && i < n && i < 16; ++i)
+        gpu |= strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0;
+    if (device < 0 && st == RELIEF_OK && !gpu) {
+        if (note && note_size)
+            snprintf(note, note_size, "backend auto: the scalar scorer (no GPU; on a CPU "
+                     "the OpenCL kernel is no faster: --backend opencl to use it)");
+        return relief_patch_scalar_create(out, err);
+    }
+    if (st == RELIEF_OK)
+        st = relief_patch_opencl_create(device, out, &why);
+    if (st == RELIEF_OK) {
+        if (note && note_size)
+            snprintf(note, note_size, "backend auto: OpenCL on %s", (*out)->device);
+        return RELIEF_OK;
+    }
+    if (st == RELIEF_E_RANGE) /* a --device there is none of is the user's mistake */
+        return relief_fail(err, st, "%s", why.message);
+    if (note && note_size)
+        snprintf(note, note_size, "OpenCL unavailable (%s); backend auto: the scalar "
+                 "scorer", why.message);
+    return relief_patch_scalar_create(out, err);
+}

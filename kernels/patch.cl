@@ -1,0 +1,22 @@
+/* Window scores of the image hole filler (host/image/patch_opencl.c; its
+ * scalar twin is host/image/patch_scalar.c). One work-item per candidate
+ * centre of the rectangle x0..x0 + nx - 1, y0..y0 + ny - 1, the first
+ * dimension along x, so that neighbouring work-items read neighbouring
+ * pixels. The level's pixels stay on the device between launches; only the
+ * scores come back. */
+
+__kernel void patch_score(__global const float *v, __global const uchar *known, int width,
+                          int height, int channels, int qx, int qy, int radius, int max_holes,
+                          int x0, int y0, int nx, int ny, __global float *ssd,
+                          __global int *n)
+{
+    int i = get_global_id(0), j = get_global_id(1);
+    float s;
+    int k;
+    if (i >= nx || j >= ny)
+        return;
+    pm_score(v, known, width, height, channels, qx, qy, x0 + i, y0 + j, radius, max_holes, &s,
+             &k);
+    ssd[j * nx + i] = s;
+    n[j * nx + i] = k;
+}

@@ -1,0 +1,310 @@
+/* image/fill.c: the 1-D pass on hand-made rows, a periodic image whose
+ * hole copy-paste must fill back exactly, the pyramid against the
+ * exhaustive search, the fallback, bad parameters, and (argument
+ * "opencl") the OpenCL scorer against the scalar one, byte for byte.
+ *   test_fill [opencl] IMAGES_DIR */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "base/rng.h"
+#include "image/fill.h"
+#include "image/image_io.h"
+
+static relief_raster make(int w, int h, int c)
+{
+    relief_raster r;
+    relief_error err = {RELIEF_OK, ""};
+    if (relief_raster_create(w, h, c, 8, &r, &err) != RELIEF_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        exit(2);
+    }
+    return r;
+}
+
+static void test_interp(void)
+{
+    relief_fill_params p = relief_fill_params_default();
+    relief_raster r = make(12, 3, 1);
+    uint8_t hole[36] = {0};
+    size_t rows, cols;
+    /* Row 0: smooth ends 100 and 110 around a 3-pixel gap: filled linearly.
+     * Row 1: ends 100 and 160 disagree: left. Row 2: a noisy left end. */
+    for (int x = 0; x < 12; ++x) {
+        r.v[x] = x < 6 ? 100.0f : 110.0f;
+        r.v[12 + x] = x < 6 ? 100.0f : 160.0f;
+        r.v[24 + x] = x % 2 ? 80.0f : 120.0f;
+    }
+    for (int x = 4; x <= 6; ++x)
+        hole[x] = hole[12 + x] = hole[24 + x] = 1;
+    r.v[24 + 7] = r.v[24 + 8] = r.v[24 + 9] = r.v[24 + 10] = r.v[24 + 11] = 100.0f;
+    relief_fill_interp(&r, hole, &p, &rows, &cols);
+    CHECK(rows == 3 && cols == 0, "rows %zu, columns %zu, expected 3 and 0", rows, cols);
+    CHECK(r.v[4] == 102.5f && r.v[5] == 105.0f && r.v[6] == 107.5f,
+          "row 0 filled %g %g %g, expected 102.5 105 107.5", r.v[4], r.v[5], r.v[6]);
+    CHECK(hole[16] && hole[28], "rows 1 and 2 must stay holes");
+    relief_raster_free(&r);
+
+    /* Columns: the same gap vertically, found by the column pass only. */
+    r = make(3, 12, 1);
+    memset(hole, 0, sizeof hole);
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 3; ++x)
+            r.v[y * 3 + x] = y < 6 ? 40.0f : 48.0f;
+    for (int y = 4; y <= 6; ++y)
+        for (int x = 0; x < 3; ++x)
+            hole[y * 3 + x] = 1;
+    relief_fill_interp(&r, hole, &p, &rows, &cols);
+    CHECK(rows == 0 && cols == 9, "rows %zu, columns %zu, expected 0 and 9", rows, cols);
+    CHECK(r.v[5 * 3 + 1] == 44.0f, "column filled %g, expected 44", r.v[5 * 3 + 1]);
+    /* A threshold of 0 on the difference refuses it. */
+    relief_raster_free(&r);
+}
+
+/* A w x h image repeating a random px x py tile, channels c. */
+static relief_raster periodic(int w, int h, int c, int px, int py, uint32_t seed)
+{
+    relief_raster r = make(w, h, c);
+    relief_rng rng;
+    float tile[16 * 16 * 4];
+    relief_rng_seed(&rng, seed);
+    for (int i = 0; i < px * py * c; ++i)
+        tile[i] = (float)relief_rng_below(&rng, 256);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < c; ++k)
+                r.v[((size_t)y * w + x) * c + k] = tile[((y % py) * px + x % px) * c + k];
+    return r;
+}
+
+static void test_periodic(relief_patch_scorer *s, int exhaustive)
+{
+    relief_raster truth = periodic(160, 144, 3, 7, 5, 3), r = periodic(160, 144, 3, 7, 5, 3);
+    relief_fill_params p = relief_fill_params_default();
+    relief_fill_report rep;
+    relief_error err = {RELIEF_OK, ""};
+    uint8_t *hole = calloc(160 * 144, 1);
+    size_t wrong = 0, holes = 0;
+    relief_status st;
+    p.exhaustive = exhaustive;
+    for (int y = 50; y < 80; ++y)
+        for (int x = 60; x < 95; ++x) {
+            hole[y * 160 + x] = 1;
+            for (int k = 0; k < 3; ++k)
+                r.v[(y * 160 + x) * 3 + k] = 0.0f;
+        }
+    hole[10 * 160 + 150] = 1; /* and a lone pixel */
+    st = relief_fill(&r, hole, &p, s, &rep, &err);
+    CHECK(st == RELIEF_OK, "%s", err.message);
+    for (int i = 0; i < 160 * 144; ++i) {
+        holes += hole[i];
+        for (int k = 0; k < 3; ++k)
+            wrong += hole[i] && r.v[i * 3 + k] != truth.v[i * 3 + k];
+    }
+    CHECK(rep.hole_pixels == holes, "report: %zu holes of %zu", rep.hole_pixels, holes);
+    CHECK(wrong == 0, "%s: %zu of %zu hole values differ from the period", exhaustive ?
+          "exhaustive" : "pyramid", wrong, holes * 3);
+    CHECK(rep.by_copy == holes && rep.by_fallback == 0 && rep.by_rows + rep.by_columns == 0,
+          "filled %zu by copy, %zu fallback, %zu 1-D", rep.by_copy, rep.by_fallback,
+          rep.by_rows + rep.by_columns);
+    CHECK(exhaustive ? rep.levels == 1 : rep.levels == 2 && rep.start_level == 1,
+          "levels %d, start %d", rep.levels, rep.start_level);
+    free(hole);
+    relief_raster_free(&r);
+    relief_raster_free(&truth);
+}
+
+/* The pyramid's best against the exhaustive best on a real texture: the
+ * best window by the exhaustive search must be the pyramid's, or no
+ * better than it, for nearly every query. */
+static void test_pyramid(relief_patch_scorer *s, const char *images)
+{
+    char path[512];
+    relief_raster full, r;
+    relief_error err = {RELIEF_OK, ""};
+    relief_fill_params p = relief_fill_params_default();
+    relief_filler *f = NULL;
+    uint8_t *hole;
+    int same = 0, queries = 0, inside = 0;
+    double worst = 1.0;
+    snprintf(path, sizeof path, "%s/brick.png", images);
+    if (relief_image_read(path, NULL, &full, &err) != RELIEF_OK) {
+        printf("%s: %s; the pyramid test is skipped\n", path, err.message);
+        return;
+    }
+    /* The top-left 256 x 256: 2 levels, the search starting at level 1. */
+    r = make(256, 256, 1);
+    for (int y = 0; y < 256; ++y)
+        memcpy(r.v + y * 256, full.v + y * 512, 256 * sizeof(float));
+    hole = calloc(256 * 256, 1);
+    for (int y = 100; y < 140; ++y)
+        for (int x = 110; x < 150; ++x)
+            hole[y * 256 + x] = 1;
+    p.pyramid_side = 128;
+    CHECK(relief_filler_create(&r, hole, &p, s, &f, &err) == RELIEF_OK, "%s", err.message);
+    for (int k = 0; f && k < 40; ++k) {
+        int px = 110 + (k * 7) % 40, py = k % 2 ? 99 : 140; /* just outside, on the rim */
+        relief_window_match ex, py_best, coarse[RELIEF_FILL_MAX_TOP];
+        int fe, fp, nc;
+        if (py == 99)
+            py = 100, px = 109; /* a hole pixel with known neighbours */
+        else
+            py = 139, px = 110 + (k * 7) % 40;
+        CHECK(relief_filler_search(f, px, py, 17, 1, &ex, &fe, NULL, NULL, &err) == RELIEF_OK,
+              "%s", err.message);
+        CHECK(relief_filler_search(f, px, py, 17, 0, &py_best, &fp, coarse, &nc, &err) ==
+                  RELIEF_OK, "%s", err.message);
+        if (!fe || !fp)
+            continue;
+        ++queries;
+        CHECK(nc == 4, "kept %d matches at the start level, expected 4 (4 x level 1)", nc);
+        CHECK(py_best.msd >= ex.msd, "the pyramid beat the exhaustive search: %g < %g",
+              py_best.msd, ex.msd);
+        same += py_best.msd == ex.msd;
+        worst = fmax(worst, py_best.msd / fmax(ex.msd, 1e-9));
+        /* The exhaustive best lies within reach of a kept coarse match. */
+        for (int i = 0; i < nc; ++i)
+            if (abs(coarse[i].x - ex.x) <= 2 && abs(coarse[i].y - ex.y) <= 2) {
+                ++inside;
+                break;
+            }
+    }
+    printf("pyramid: %d of %d queries found the exhaustive best (%d within a kept coarse "
+           "match's reach); worst msd ratio %.3f\n", same, queries, inside, worst);
+    CHECK(queries >= 20, "only %d queries", queries);
+    CHECK(inside >= queries * 8 / 10 && same >= queries * 8 / 10,
+          "the pyramid's top M held the exhaustive best in %d and found it in %d of %d",
+          inside, same, queries);
+    relief_filler_destroy(f);
+    free(hole);
+    relief_raster_free(&r);
+    relief_raster_free(&full);
+}
+
+static void test_bad(relief_patch_scorer *s)
+{
+    relief_raster r = periodic(40, 30, 1, 5, 5, 1);
+    relief_fill_params p = relief_fill_params_default();
+    relief_error err = {RELIEF_OK, ""};
+    uint8_t *hole = calloc(40 * 30, 1);
+    relief_fill_report rep;
+    /* Nothing to fill: fine, nothing changes. */
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_OK && rep.hole_pixels == 0,
+          "no hole: %s", err.message);
+    /* The whole image a hole. */
+    memset(hole, 1, 40 * 30);
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_E_RANGE &&
+              strstr(err.message, "every pixel"), "all holes: %s", err.message);
+    /* Every 5 x 5 window over 10 % holes: a hole on every other column. */
+    for (int i = 0; i < 40 * 30; ++i)
+        hole[i] = (i % 40) % 2 == 0;
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_E_RANGE &&
+              strstr(err.message, "nothing to copy"), "no window: %s", err.message);
+    /* A window larger than the image, even windows. */
+    memset(hole, 0, 40 * 30);
+    hole[100] = 1;
+    p.window = 31;
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_E_RANGE &&
+              strstr(err.message, "larger than the image"), "window: %s", err.message);
+    p.window = 16;
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_E_RANGE, "even window");
+    p = relief_fill_params_default();
+    p.min_window = 19;
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_E_RANGE, "min window > window");
+    /* A tau so strict that every match fails: the fallback fills it. */
+    p = relief_fill_params_default();
+    p.tau = 1e-6;
+    p.interp = 0;
+    {
+        relief_rng rng;
+        relief_rng_seed(&rng, 5);
+        for (int i = 0; i < 40 * 30; ++i) /* break the period */
+            r.v[i] += (float)relief_rng_below(&rng, 50);
+    }
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_OK && rep.by_fallback == 1 &&
+              rep.searches == 7, "fallback: %s; %zu fallback, %zu searches", err.message,
+          rep.by_fallback, rep.searches);
+    free(hole);
+    relief_raster_free(&r);
+}
+
+/* The OpenCL scorer fills exactly as the scalar one: a real photograph
+ * with a disc and a rectangle cut, both searches. */
+static int test_opencl(const char *images)
+{
+    relief_patch_scorer *sc = NULL, *cl = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    char path[512];
+    relief_raster a, b;
+    relief_status st = relief_patch_opencl_create(-1, &cl, &err);
+    if (st != RELIEF_OK) {
+        printf("no OpenCL device (%s): skipped\n", err.message);
+        return 77;
+    }
+    relief_patch_scalar_create(&sc, &err);
+    snprintf(path, sizeof path, "%s/chelsea.png", images);
+    if (relief_image_read(path, NULL, &a, &err) != RELIEF_OK) {
+        printf("%s: %s: skipped\n", path, err.message);
+        return 77;
+    }
+    for (int exhaustive = 0; exhaustive <= 1; ++exhaustive) {
+        relief_fill_params p = relief_fill_params_default();
+        relief_fill_report ra, rb;
+        uint8_t *hole = calloc((size_t)a.width * a.height, 1);
+        size_t n = (size_t)a.width * a.height * a.channels;
+        relief_raster a2, b2;
+        relief_raster_create(a.width, a.height, a.channels, 8, &a2, &err);
+        relief_raster_create(a.width, a.height, a.channels, 8, &b2, &err);
+        memcpy(a2.v, a.v, n * sizeof(float));
+        memcpy(b2.v, a.v, n * sizeof(float));
+        for (int y = 0; y < a.height; ++y)
+            for (int x = 0; x < a.width; ++x)
+                hole[y * a.width + x] = (x - 200) * (x - 200) + (y - 120) * (y - 120) < 15 * 15 ||
+                                        (x >= 330 && x < 350 && y >= 200 && y < 230);
+        p.exhaustive = exhaustive;
+        if (exhaustive)
+            p.search_radius = 40; /* keeps the reference quick */
+        CHECK(relief_fill(&a2, hole, &p, sc, &ra, &err) == RELIEF_OK, "scalar: %s",
+              err.message);
+        CHECK(relief_fill(&b2, hole, &p, cl, &rb, &err) == RELIEF_OK, "opencl: %s",
+              err.message);
+        CHECK(memcmp(a2.v, b2.v, n * sizeof(float)) == 0, "%s: the backends filled "
+              "differently", exhaustive ? "exhaustive" : "pyramid");
+        CHECK(ra.by_copy == rb.by_copy && ra.searches == rb.searches &&
+                  ra.candidates == rb.candidates,
+              "reports differ: %zu/%zu copied, %zu/%zu searches", ra.by_copy, rb.by_copy,
+              ra.searches, rb.searches);
+        printf("%s: %zu holes, %zu copied, %zu by the fallback, %zu searches: identical\n",
+               exhaustive ? "exhaustive" : "pyramid", ra.hole_pixels, ra.by_copy,
+               ra.by_fallback, ra.searches);
+        relief_raster_free(&a2);
+        relief_raster_free(&b2);
+        free(hole);
+    }
+    (void)b;
+    relief_raster_free(&a);
+    relief_patch_scorer_destroy(sc);
+    relief_patch_scorer_destroy(cl);
+    return check_result();
+}
+
+int main(int argc, char **argv)
+{
+    relief_patch_scorer *s = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    const char *images = "../shared/data/images";
+    if (argc > 1 && strcmp(argv[1], "opencl") == 0)
+        return test_opencl(argc > 2 ? argv[2] : images);
+    if (argc > 1)
+        images = argv[1];
+    relief_patch_scalar_create(&s, &err);
+    test_interp();
+    test_periodic(s, 0);
+    test_periodic(s, 1);
+    test_pyramid(s, images);
+    test_bad(s);
+    relief_patch_scorer_destroy(s);
+    return check_result();
+}
