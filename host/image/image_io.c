@@ -17,6 +17,7 @@
 #include "base/atomic.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "report/png.h"
 
 relief_image_format relief_image_format_of_name(const char *path)
 {
@@ -63,7 +64,6 @@ typedef struct png_job {
     size_t n, at;
     png_bytep pixels;  /* the decoded image, rows packed */
     png_bytepp rows;
-    FILE *file;        /* writing */
 } png_job;
 
 static void png_on_error(png_structp png, png_const_charp msg)
@@ -171,7 +171,6 @@ typedef struct jpeg_job {
     char msg[JMSG_LENGTH_MAX];
     int warned;
     JSAMPLE *row;
-    FILE *file;
 } jpeg_job;
 
 static void jpeg_on_error(j_common_ptr cinfo)
@@ -322,49 +321,31 @@ static unsigned quantise(float v, float max)
 static relief_status write_png(FILE *f, const relief_raster *r, const char *path,
                                relief_error *err)
 {
-    png_job job;
-    png_structp png;
-    png_infop info;
-    static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
-                                 PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
-    size_t vals = (size_t)r->width * r->channels, bytes = r->bit_depth == 16 ? 2 : 1;
+    size_t vals = (size_t)r->width * r->height * r->channels, n = 0;
+    int wide = r->bit_depth == 16;
     float max = relief_raster_max_value(r);
-    relief_status st = RELIEF_OK;
+    uint8_t *pixels = malloc(vals * (wide ? 2 : 1)), *png = NULL;
+    relief_status st;
 
-    memset(&job, 0, sizeof job);
-    png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job, png_on_error, png_on_warning);
-    info = png ? png_create_info_struct(png) : NULL;
-    job.pixels = malloc(vals * bytes);
-    if (!png || !info || !job.pixels) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "%s: cannot start libpng", path);
-        goto done;
-    }
-    if (setjmp(job.jump)) {
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the PNG: %s", path, job.msg);
-        goto done;
-    }
-    png_init_io(png, f);
-    png_set_IHDR(png, info, (png_uint_32)r->width, (png_uint_32)r->height, r->bit_depth,
-                 types[r->channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = 0; y < r->height; ++y) {
-        const float *v = r->v + (size_t)y * vals;
-        for (size_t i = 0; i < vals; ++i) {
-            unsigned q = quantise(v[i], max);
-            if (bytes == 2) {
-                job.pixels[2 * i] = (png_byte)(q >> 8);
-                job.pixels[2 * i + 1] = (png_byte)q;
-            } else {
-                job.pixels[i] = (png_byte)q;
-            }
+    if (!pixels)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
+    for (size_t i = 0; i < vals; ++i) {
+        unsigned q = quantise(r->v[i], max);
+        if (wide) {
+            pixels[2 * i] = (uint8_t)(q >> 8);
+            pixels[2 * i + 1] = (uint8_t)q;
+        } else {
+            pixels[i] = (uint8_t)q;
         }
-        png_write_row(png, job.pixels);
     }
-    png_write_end(png, NULL);
-done:
-    png_destroy_write_struct(png ? &png : NULL, info ? &info : NULL);
-    free(job.pixels);
+    st = relief_png_encode_pixels(pixels, r->width, r->height, r->channels, r->bit_depth, &png,
+                                  &n, err);
+    free(pixels);
+    if (st != RELIEF_OK)
+        return relief_fail_prefix(err, "%s", path);
+    if (fwrite(png, 1, n, f) != n)
+        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the PNG", path);
+    free(png);
     return st;
 }
 

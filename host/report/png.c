@@ -1,131 +1,113 @@
 #include "report/png.h"
 
+#include <png.h>
+#include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
 
 #include "base/atomic.h"
 #include "base/error.h"
 
-static void put_be32(uint8_t *p, uint32_t v)
+/* libpng writes into a growing buffer; its errors come back by longjmp
+ * into encode(), with what it allocated kept here. */
+typedef struct png_buffer {
+    jmp_buf jump;
+    char msg[256];
+    uint8_t *data;
+    size_t n, cap;
+    int out_of_memory;
+} png_buffer;
+
+static void on_error(png_structp png, png_const_charp msg)
 {
-    p[0] = (uint8_t)(v >> 24);
-    p[1] = (uint8_t)(v >> 16);
-    p[2] = (uint8_t)(v >> 8);
-    p[3] = (uint8_t)v;
+    png_buffer *b = png_get_error_ptr(png);
+    snprintf(b->msg, sizeof b->msg, "%s", msg);
+    longjmp(b->jump, 1);
 }
 
-/* One chunk at *p: length, type, data, CRC over type and data. */
-static uint8_t *put_chunk(uint8_t *p, const char type[4], const uint8_t *data, uint32_t n)
+static void on_warning(png_structp png, png_const_charp msg)
 {
-    uLong crc;
-    put_be32(p, n);
-    memcpy(p + 4, type, 4);
-    if (n)
-        memcpy(p + 8, data, n);
-    crc = crc32(0L, p + 4, n + 4);
-    put_be32(p + 8 + n, (uint32_t)crc);
-    return p + 12 + n;
+    (void)png;
+    (void)msg;
 }
 
-static uint8_t paeth(int a, int b, int c)
+static void on_write(png_structp png, png_bytep data, size_t len)
 {
-    int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
-    return (uint8_t)(pa <= pb && pa <= pc ? a : pb <= pc ? b : c);
-}
-
-/* Filter one row with each of the five PNG filters and keep the one whose
- * bytes, read as signed, have the smallest absolute sum (the heuristic the
- * PNG specification recommends); rendered images with flat backgrounds and
- * smooth shading then compress several times better than unfiltered. */
-static void filter_row(const uint8_t *row, const uint8_t *prev, size_t n, uint8_t *out,
-                       uint8_t *scratch)
-{
-    unsigned long best_sum = (unsigned long)-1;
-    for (int f = 0; f < 5; ++f) {
-        unsigned long sum = 0;
-        for (size_t i = 0; i < n; ++i) {
-            int a = i >= 3 ? row[i - 3] : 0, b = prev ? prev[i] : 0,
-                c = prev && i >= 3 ? prev[i - 3] : 0, x = row[i];
-            uint8_t v;
-            switch (f) {
-            case 0: v = (uint8_t)x; break;
-            case 1: v = (uint8_t)(x - a); break;
-            case 2: v = (uint8_t)(x - b); break;
-            case 3: v = (uint8_t)(x - ((a + b) >> 1)); break;
-            default: v = (uint8_t)(x - paeth(a, b, c)); break;
-            }
-            scratch[i] = v;
-            sum += v < 128 ? v : 256u - v;
+    png_buffer *b = png_get_io_ptr(png);
+    if (len > b->cap - b->n) {
+        size_t cap = b->cap ? b->cap : 1 << 16;
+        uint8_t *grown;
+        while (cap - b->n < len)
+            cap *= 2;
+        grown = realloc(b->data, cap);
+        if (!grown) {
+            b->out_of_memory = 1;
+            png_error(png, "out of memory");
         }
-        if (sum < best_sum) {
-            best_sum = sum;
-            out[0] = (uint8_t)f;
-            memcpy(out + 1, scratch, n);
-        }
+        b->data = grown;
+        b->cap = cap;
     }
+    memcpy(b->data + b->n, data, len);
+    b->n += len;
 }
 
-relief_status relief_png_encode(const uint8_t *rgb, int width, int height, uint8_t **out,
-                                size_t *n, relief_error *err)
-{
-    static const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    uint8_t ihdr[13], *raw = NULL, *z = NULL, *png = NULL, *scratch = NULL, *p;
-    size_t stride, raw_n;
-    uLongf z_n;
-    relief_status st = RELIEF_OK;
+static void on_flush(png_structp png) { (void)png; }
 
-    if (!rgb || !out || !n)
+relief_status relief_png_encode_pixels(const uint8_t *pixels, int width, int height,
+                                       int channels, int bit_depth, uint8_t **out, size_t *n,
+                                       relief_error *err)
+{
+    static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
+                                 PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
+    png_buffer b;
+    png_structp png;
+    png_infop info;
+    size_t stride = (size_t)width * channels * (bit_depth == 16 ? 2 : 1);
+
+    if (!pixels || !out || !n)
         return relief_fail(err, RELIEF_E_USAGE, "relief_png_encode: NULL argument");
     if (width < 1 || height < 1 || width > RELIEF_PNG_MAX_SIDE || height > RELIEF_PNG_MAX_SIDE)
         return relief_fail(err, RELIEF_E_USAGE,
                            "image size %dx%d is out of range: expected 1..%d per side", width,
                            height, RELIEF_PNG_MAX_SIDE);
-    stride = (size_t)width * 3;
-    raw_n = (stride + 1) * (size_t)height;
-    raw = malloc(raw_n);
-    scratch = malloc(stride);
-    z_n = compressBound((uLong)raw_n);
-    z = malloc(z_n);
-    if (!raw || !scratch || !z) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %dx%d PNG", width, height);
-        goto done;
+    if (channels < 1 || channels > 4 || (bit_depth != 8 && bit_depth != 16))
+        return relief_fail(err, RELIEF_E_USAGE, "a PNG of %d channels of %d bits: expected "
+                           "1..4 channels of 8 or 16", channels, bit_depth);
+    memset(&b, 0, sizeof b);
+    png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &b, on_error, on_warning);
+    info = png ? png_create_info_struct(png) : NULL;
+    if (!png || !info) {
+        png_destroy_write_struct(png ? &png : NULL, NULL);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot start libpng");
     }
+    if (setjmp(b.jump)) {
+        png_destroy_write_struct(&png, &info);
+        free(b.data);
+        if (b.out_of_memory)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %dx%d PNG", width,
+                               height);
+        return relief_fail(err, RELIEF_E_INTERNAL, "libpng could not encode a %dx%d image: %s",
+                           width, height, b.msg);
+    }
+    png_set_write_fn(png, &b, on_write, on_flush);
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, bit_depth,
+                 types[channels], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
     for (int y = 0; y < height; ++y)
-        filter_row(rgb + (size_t)y * stride, y ? rgb + (size_t)(y - 1) * stride : NULL, stride,
-                   raw + (size_t)y * (stride + 1), scratch);
-    if (compress2(z, &z_n, raw, (uLong)raw_n, 6) != Z_OK) {
-        st = relief_fail(err, RELIEF_E_INTERNAL, "zlib could not compress a %dx%d image",
-                         width, height);
-        goto done;
-    }
-    /* signature, IHDR (13), IDAT, IEND: three chunks of 12 bytes' framing */
-    png = malloc(8 + 3 * 12 + 13 + (size_t)z_n);
-    if (!png) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %dx%d PNG", width, height);
-        goto done;
-    }
-    put_be32(ihdr, (uint32_t)width);
-    put_be32(ihdr + 4, (uint32_t)height);
-    ihdr[8] = 8;  /* bit depth */
-    ihdr[9] = 2;  /* colour type: RGB */
-    ihdr[10] = 0; /* deflate */
-    ihdr[11] = 0; /* adaptive filtering */
-    ihdr[12] = 0; /* no interlace */
-    memcpy(png, signature, 8);
-    p = put_chunk(png + 8, "IHDR", ihdr, 13);
-    p = put_chunk(p, "IDAT", z, (uint32_t)z_n);
-    p = put_chunk(p, "IEND", NULL, 0);
-    *out = png;
-    *n = (size_t)(p - png);
-    png = NULL;
-done:
-    free(png);
-    free(z);
-    free(scratch);
-    free(raw);
-    return st;
+        png_write_row(png, pixels + (size_t)y * stride);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    *out = b.data;
+    *n = b.n;
+    return RELIEF_OK;
+}
+
+relief_status relief_png_encode(const uint8_t *rgb, int width, int height, uint8_t **out,
+                                size_t *n, relief_error *err)
+{
+    return relief_png_encode_pixels(rgb, width, height, 3, 8, out, n, err);
 }
 
 relief_status relief_png_write(const char *path, const uint8_t *rgb, int width, int height,

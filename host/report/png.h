@@ -1,6 +1,6 @@
-/* PNG output of an 8-bit RGB image (colour type 2, bit depth 8, no
- * interlace), compressed with zlib. Written atomically (atomic.h): the
- * file appears whole or not at all. */
+/* PNG output through libpng, the one PNG writer of relief (renders,
+ * reports, and image/image_io.h's images). Files are written atomically
+ * (atomic.h): they appear whole or not at all. */
 #ifndef RELIEF_HOST_PNG_H
 #define RELIEF_HOST_PNG_H
 
@@ -18,6 +18,16 @@
  * RELIEF_E_INTERNAL when zlib fails. */
 relief_status relief_png_write(const char *path, const uint8_t *rgb, int width, int height,
                                relief_error *err);
+
+/* The PNG bytes of `pixels`: height rows of width x channels samples
+ * (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), of 8 bits, or of 16 bits big
+ * endian (2 bytes each, as PNG stores them), top row first. *out is
+ * malloc'ed (the caller frees it). Errors: RELIEF_E_USAGE for a NULL
+ * argument or a shape out of range, RELIEF_E_NOMEM, RELIEF_E_INTERNAL
+ * with libpng's words. */
+relief_status relief_png_encode_pixels(const uint8_t *pixels, int width, int height,
+                                       int channels, int bit_depth, uint8_t **out, size_t *n,
+                                       relief_error *err);
 
 /* The PNG bytes of the same image in memory: *out (malloc'ed, the caller
  * frees it) and *n its length. Same errors, without RELIEF_E_IO. */
