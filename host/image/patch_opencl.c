@@ -83,6 +83,14 @@ static relief_status patch_cl_bind(void *ctx, const relief_patch_level *levels, 
     if (n_levels > MAX_LEVELS)
         return relief_fail(err, RELIEF_E_INTERNAL, "%d pyramid levels; the OpenCL scorer "
                            "holds %d", n_levels, MAX_LEVELS);
+    /* A scorer serves one fill after another: the last fill's levels go. */
+    for (int l = 0; l < MAX_LEVELS; ++l) {
+        if (p->v[l])
+            clReleaseMemObject(p->v[l]);
+        if (p->known[l])
+            clReleaseMemObject(p->known[l]);
+        p->v[l] = p->known[l] = NULL;
+    }
     p->levels = levels;
     p->n_levels = n_levels;
     for (int l = 0; l < n_levels && st == RELIEF_OK; ++l) {

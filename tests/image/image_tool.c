@@ -47,6 +47,7 @@ int main(int argc, char **argv)
             for (int x = x0; x < x0 + rw && x < w; ++x)
                 m.v[y * w + x] = 255.0f;
         save(argv[2], &m);
+        relief_raster_free(&m);
         return 0;
     }
     if (argc == 8 && strcmp(argv[1], "rgba") == 0) {
@@ -62,6 +63,8 @@ int main(int argc, char **argv)
                 b.v[i * 4 + 3] = in ? 0.0f : relief_raster_max_value(&b);
             }
         save(argv[3], &b);
+        relief_raster_free(&a);
+        relief_raster_free(&b);
         return 0;
     }
     if (argc == 4 && strcmp(argv[1], "deep") == 0) {
@@ -70,6 +73,7 @@ int main(int argc, char **argv)
         for (size_t i = 0; i < (size_t)a.width * a.height * a.channels; ++i)
             a.v[i] *= 257.0f;
         save(argv[3], &a);
+        relief_raster_free(&a);
         return 0;
     }
     if (argc == 5 && strcmp(argv[1], "outside") == 0) {
@@ -80,6 +84,9 @@ int main(int argc, char **argv)
         if (a.width != b.width || a.height != b.height || a.channels != b.channels ||
             m.width != a.width || m.height != a.height) {
             fprintf(stderr, "image_tool: sizes differ\n");
+            relief_raster_free(&a);
+            relief_raster_free(&b);
+            relief_raster_free(&m);
             return 1;
         }
         for (size_t i = 0; i < (size_t)a.width * a.height; ++i)
@@ -91,16 +98,19 @@ int main(int argc, char **argv)
                     bad += !same;
             }
         printf("%zu values differ outside the hole, %zu inside\n", bad, differ);
+        relief_raster_free(&a);
+        relief_raster_free(&b);
+        relief_raster_free(&m);
         return bad ? 1 : 0;
     }
     if (argc == 3 && strcmp(argv[1], "opaque") == 0) {
+        int opaque;
         a = load(argv[2]);
-        if (a.channels != 2 && a.channels != 4)
-            return 1;
-        for (size_t i = 0; i < (size_t)a.width * a.height; ++i)
-            if (a.v[i * a.channels + a.channels - 1] != relief_raster_max_value(&a))
-                return 1;
-        return 0;
+        opaque = a.channels == 2 || a.channels == 4;
+        for (size_t i = 0; opaque && i < (size_t)a.width * a.height; ++i)
+            opaque = a.v[i * a.channels + a.channels - 1] == relief_raster_max_value(&a);
+        relief_raster_free(&a);
+        return opaque ? 0 : 1;
     }
     if (argc == 5 && strcmp(argv[1], "paint") == 0) {
         a = load(argv[2]);
@@ -112,6 +122,8 @@ int main(int argc, char **argv)
                                                   ? 0.0f
                                                   : relief_raster_max_value(&a);
         save(argv[4], &a);
+        relief_raster_free(&a);
+        relief_raster_free(&m);
         return 0;
     }
     fprintf(stderr, "usage: see the comment at the top of tests/image/image_tool.c\n");
