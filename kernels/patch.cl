@@ -20,3 +20,21 @@ __kernel void patch_score(__global const float *v, __global const uchar *known, 
     ssd[j * nx + i] = s;
     n[j * nx + i] = k;
 }
+
+/* The same for a list of candidate centres xy[2 i], xy[2 i + 1], i < count:
+ * the pyramid's refinement. */
+__kernel void patch_score_list(__global const float *v, __global const uchar *known, int width,
+                               int height, int channels, int qx, int qy, int radius,
+                               int max_holes, __global const int *xy, int count,
+                               __global float *ssd, __global int *n)
+{
+    int i = get_global_id(0);
+    float s;
+    int k;
+    if (i >= count)
+        return;
+    pm_score(v, known, width, height, channels, qx, qy, xy[2 * i], xy[2 * i + 1], radius,
+             max_holes, &s, &k);
+    ssd[i] = s;
+    n[i] = k;
+}

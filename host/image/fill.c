@@ -8,7 +8,6 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/rng.h"
-#include "kernels/patch_math.h"
 
 relief_fill_params relief_fill_params_default(void)
 {
@@ -515,32 +514,44 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
         *n_coarse = n_top;
     }
     /* Refine: at each finer level, the positions within REFINE pixels of
-     * each kept match's image, scored on the host (a few hundred windows:
-     * not worth a launch), keeping the best `keep` again. */
+     * each kept match's image, scored as a list on the scorer, keeping the
+     * best `keep` again. */
     for (int l = start - 1; l >= 0; --l) {
-        const relief_patch_level *lv = &f->lv[l];
-        int h = half >> l, n_next = 0, kx0, ky0, kx1, ky1;
+        int h = half >> l, n_next = 0, count = 0, kx0, ky0, kx1, ky1;
+        int xy[2 * RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
+        float ssd[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
+        int n[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
+        double t0;
         if (!region(f, l, px, py, h, &kx0, &ky0, &kx1, &ky1))
             return RELIEF_OK;
         for (int i = 0; i < n_top; ++i)
             for (int dy = -REFINE; dy <= REFINE; ++dy)
                 for (int dx = -REFINE; dx <= REFINE; ++dx) {
                     int cx = 2 * top[i].x + dx, cy = 2 * top[i].y + dy, dup = 0;
-                    float s;
-                    int k;
                     if (cx < kx0 || cx > kx1 || cy < ky0 || cy > ky1)
                         continue;
                     /* A position two kept matches share is scored once. */
                     for (int j = 0; j < i && !dup; ++j)
-                        dup = abs(2 * top[j].x - cx) <= REFINE && abs(2 * top[j].y - cy) <= REFINE;
+                        dup = abs(2 * top[j].x - cx) <= REFINE &&
+                              abs(2 * top[j].y - cy) <= REFINE;
                     if (dup)
                         continue;
-                    pm_score(lv->v, lv->known, lv->width, lv->height, lv->channels, px >> l,
-                             py >> l, cx, cy, h, max_holes(f, h), &s, &k);
-                    ++f->candidates;
-                    if (k > 0)
-                        offer(next, &n_next, l ? keep : 1, make_match(cx, cy, s, k));
+                    xy[2 * count] = cx;
+                    xy[2 * count + 1] = cy;
+                    ++count;
                 }
+        t0 = relief_seconds();
+        st = count ? f->scorer->ops->score_list(f->scorer->ctx, l, px >> l, py >> l, h,
+                                                max_holes(f, h), xy, count, ssd, n, err)
+                   : RELIEF_OK;
+        f->score_seconds += relief_seconds() - t0;
+        f->candidates += (size_t)count;
+        if (st != RELIEF_OK)
+            return st;
+        for (int i = 0; i < count; ++i)
+            if (n[i] > 0)
+                offer(next, &n_next, l ? keep : 1,
+                      make_match(xy[2 * i], xy[2 * i + 1], ssd[i], n[i]));
         memcpy(top, next, sizeof(relief_window_match) * n_next);
         n_top = n_next;
     }

@@ -30,8 +30,14 @@ typedef struct relief_patch_ops {
     /* Score every candidate centre of the rectangle x0 .. x0 + nx - 1,
      * y0 .. y0 + ny - 1 (all wholly inside the level) against the query
      * window at (qx, qy): ssd[j * nx + i] and n[j * nx + i] as pm_score. */
-    relief_status (*score_rect)(void *ctx, int level, int qx, int qy, int half, int max_holes,
+    relief_status (*score_rect)(void *ctx, int level, int qx, int qy, int radius, int max_holes,
                                 int x0, int y0, int nx, int ny, float *ssd, int *n,
+                                relief_error *err);
+    /* Score the `count` candidate centres xy[2 i], xy[2 i + 1] (all wholly
+     * inside the level): ssd[i] and n[i] as pm_score. The pyramid's
+     * refinement: a few hundred scattered windows. */
+    relief_status (*score_list)(void *ctx, int level, int qx, int qy, int radius,
+                                int max_holes, const int *xy, int count, float *ssd, int *n,
                                 relief_error *err);
     void (*destroy)(void *ctx);
 } relief_patch_ops;

@@ -29,12 +29,14 @@ typedef struct patch_cl {
     cl_context ctx;
     cl_command_queue queue;
     cl_program prog;
-    cl_kernel kernel;
+    cl_kernel kernel, list_kernel;
     const relief_patch_level *levels;
     int n_levels;
     cl_mem v[MAX_LEVELS], known[MAX_LEVELS];
-    cl_mem ssd, n; /* the scores of the last rectangle */
+    cl_mem ssd, n; /* the scores of the last rectangle or list */
     size_t cap;    /* candidates ssd and n hold */
+    cl_mem xy;     /* the last list's centres */
+    size_t xy_cap; /* centres xy holds */
 } patch_cl;
 
 static void patch_cl_free(patch_cl *p)
@@ -51,8 +53,12 @@ static void patch_cl_free(patch_cl *p)
         clReleaseMemObject(p->ssd);
     if (p->n)
         clReleaseMemObject(p->n);
+    if (p->xy)
+        clReleaseMemObject(p->xy);
     if (p->kernel)
         clReleaseKernel(p->kernel);
+    if (p->list_kernel)
+        clReleaseKernel(p->list_kernel);
     if (p->prog)
         clReleaseProgram(p->prog);
     if (p->queue)
@@ -121,7 +127,38 @@ static relief_status patch_cl_update(void *ctx, int level, int y0, int y1, relie
     return RELIEF_OK;
 }
 
-static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, int half,
+/* Room for `count` scores on the device. */
+static relief_status grow_scores(patch_cl *p, size_t count, relief_error *err)
+{
+    relief_status st;
+    if (count <= p->cap)
+        return RELIEF_OK;
+    if (p->ssd)
+        clReleaseMemObject(p->ssd);
+    if (p->n)
+        clReleaseMemObject(p->n);
+    p->ssd = p->n = NULL;
+    p->cap = 0;
+    st = buffer(p, &p->ssd, NULL, count * sizeof(float), "window scores", err);
+    if (st == RELIEF_OK)
+        st = buffer(p, &p->n, NULL, count * sizeof(int), "window scores", err);
+    if (st == RELIEF_OK)
+        p->cap = count;
+    return st;
+}
+
+/* Read `count` scores back (blocking: the queue is in order). */
+static cl_int read_scores(patch_cl *p, size_t count, float *ssd, int *n)
+{
+    cl_int rc = clEnqueueReadBuffer(p->queue, p->ssd, CL_FALSE, 0, count * sizeof(float), ssd,
+                                    0, NULL, NULL);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueReadBuffer(p->queue, p->n, CL_TRUE, 0, count * sizeof(int), n, 0, NULL,
+                                 NULL);
+    return rc;
+}
+
+static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, int radius,
                                          int max_holes, int x0, int y0, int nx, int ny,
                                          float *ssd, int *n, relief_error *err)
 {
@@ -134,20 +171,9 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
     int a = 0;
     relief_status st;
 
-    if (count > p->cap) {
-        if (p->ssd)
-            clReleaseMemObject(p->ssd);
-        if (p->n)
-            clReleaseMemObject(p->n);
-        p->ssd = p->n = NULL;
-        p->cap = 0;
-        st = buffer(p, &p->ssd, NULL, count * sizeof(float), "window scores", err);
-        if (st == RELIEF_OK)
-            st = buffer(p, &p->n, NULL, count * sizeof(int), "window scores", err);
-        if (st != RELIEF_OK)
-            return st;
-        p->cap = count;
-    }
+    st = grow_scores(p, count, err);
+    if (st != RELIEF_OK)
+        return st;
 #define ARG(x) (rc |= clSetKernelArg(p->kernel, a++, sizeof(x), &(x)))
     ARG(p->v[level]);
     ARG(p->known[level]);
@@ -156,7 +182,7 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
     ARG(l->channels);
     ARG(qx);
     ARG(qy);
-    ARG(half);
+    ARG(radius);
     ARG(max_holes);
     ARG(x0);
     ARG(y0);
@@ -169,13 +195,62 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
         rc = clEnqueueNDRangeKernel(p->queue, p->kernel, 2, NULL, global, local, 0, NULL,
                                     NULL);
     if (rc == CL_SUCCESS)
-        rc = clEnqueueReadBuffer(p->queue, p->ssd, CL_FALSE, 0, count * sizeof(float), ssd, 0,
-                                 NULL, NULL);
-    if (rc == CL_SUCCESS)
-        rc = clEnqueueReadBuffer(p->queue, p->n, CL_TRUE, 0, count * sizeof(int), n, 0, NULL,
-                                 NULL);
+        rc = read_scores(p, count, ssd, n);
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "scoring windows on the device: %s",
+                           relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, int radius,
+                                         int max_holes, const int *xy, int count, float *ssd,
+                                         int *n, relief_error *err)
+{
+    patch_cl *p = ctx;
+    const relief_patch_level *l = &p->levels[level];
+    size_t local = WG_X * WG_Y, global = ((size_t)count + local - 1) / local * local;
+    cl_int rc = CL_SUCCESS;
+    int a = 0;
+    relief_status st;
+
+    if (count <= 0)
+        return RELIEF_OK;
+    st = grow_scores(p, (size_t)count, err);
+    if (st == RELIEF_OK && (size_t)count > p->xy_cap) {
+        if (p->xy)
+            clReleaseMemObject(p->xy);
+        p->xy = NULL;
+        p->xy_cap = 0;
+        st = buffer(p, &p->xy, NULL, 2 * (size_t)count * sizeof(int), "window centres", err);
+        if (st == RELIEF_OK)
+            p->xy_cap = (size_t)count;
+    }
+    if (st != RELIEF_OK)
+        return st;
+    rc = clEnqueueWriteBuffer(p->queue, p->xy, CL_TRUE, 0, 2 * (size_t)count * sizeof(int), xy,
+                              0, NULL, NULL);
+#define ARG(x) (rc |= clSetKernelArg(p->list_kernel, a++, sizeof(x), &(x)))
+    ARG(p->v[level]);
+    ARG(p->known[level]);
+    ARG(l->width);
+    ARG(l->height);
+    ARG(l->channels);
+    ARG(qx);
+    ARG(qy);
+    ARG(radius);
+    ARG(max_holes);
+    ARG(p->xy);
+    ARG(count);
+    ARG(p->ssd);
+    ARG(p->n);
+#undef ARG
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueNDRangeKernel(p->queue, p->list_kernel, 1, NULL, &global, &local, 0, NULL,
+                                    NULL);
+    if (rc == CL_SUCCESS)
+        rc = read_scores(p, (size_t)count, ssd, n);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "scoring a list of windows on the device: %s",
                            relief_cl_error_name(rc));
     return RELIEF_OK;
 }
@@ -183,7 +258,8 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
 static void patch_cl_destroy(void *ctx) { patch_cl_free(ctx); }
 
 static const relief_patch_ops patch_cl_ops = {patch_cl_bind, patch_cl_update,
-                                              patch_cl_score_rect, patch_cl_destroy};
+                                              patch_cl_score_rect, patch_cl_score_list,
+                                              patch_cl_destroy};
 
 relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                                          relief_error *err)
@@ -216,9 +292,11 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
     if (st != RELIEF_OK)
         goto fail;
     p->kernel = clCreateKernel(p->prog, "patch_score", &rc);
+    if (rc == CL_SUCCESS)
+        p->list_kernel = clCreateKernel(p->prog, "patch_score_list", &rc);
     if (rc != CL_SUCCESS) {
-        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(patch_score): %s",
-                         relief_cl_error_name(rc));
+        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(patch_score%s): %s",
+                         p->kernel ? "_list" : "", relief_cl_error_name(rc));
         goto fail;
     }
     s->ops = &patch_cl_ops;

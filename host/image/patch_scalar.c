@@ -30,7 +30,7 @@ static relief_status scalar_update(void *ctx, int level, int y0, int y1, relief_
     return RELIEF_OK; /* it reads the filler's own arrays */
 }
 
-static relief_status scalar_score_rect(void *ctx, int level, int qx, int qy, int half,
+static relief_status scalar_score_rect(void *ctx, int level, int qx, int qy, int radius,
                                        int max_holes, int x0, int y0, int nx, int ny,
                                        float *ssd, int *n, relief_error *err)
 {
@@ -39,14 +39,26 @@ static relief_status scalar_score_rect(void *ctx, int level, int qx, int qy, int
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i)
             pm_score(l->v, l->known, l->width, l->height, l->channels, qx, qy, x0 + i, y0 + j,
-                     half, max_holes, &ssd[(size_t)j * nx + i], &n[(size_t)j * nx + i]);
+                     radius, max_holes, &ssd[(size_t)j * nx + i], &n[(size_t)j * nx + i]);
+    return RELIEF_OK;
+}
+
+static relief_status scalar_score_list(void *ctx, int level, int qx, int qy, int radius,
+                                       int max_holes, const int *xy, int count, float *ssd,
+                                       int *n, relief_error *err)
+{
+    const relief_patch_level *l = &((scalar_ctx *)ctx)->levels[level];
+    (void)err;
+    for (int i = 0; i < count; ++i)
+        pm_score(l->v, l->known, l->width, l->height, l->channels, qx, qy, xy[2 * i],
+                 xy[2 * i + 1], radius, max_holes, &ssd[i], &n[i]);
     return RELIEF_OK;
 }
 
 static void scalar_destroy(void *ctx) { free(ctx); }
 
 static const relief_patch_ops scalar_ops = {scalar_bind, scalar_update, scalar_score_rect,
-                                            scalar_destroy};
+                                            scalar_score_list, scalar_destroy};
 
 relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error *err)
 {
