@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(cmake make gcc g++ pkg-config
-          libopenmesh-dev libflann-dev libqhull-dev zlib1g-dev libpng-dev libjpeg-dev
+          libopenmesh-dev libflann-dev libqhull-dev zlib1g-dev libpng-dev libjpeg-dev liblzf-dev
           ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           clang libclang-rt-dev valgrind)
 BUILD_DIR=${BUILD_DIR:-build}

@@ -16,6 +16,7 @@
 
 #include "base/atomic.h"
 #include "base/error.h"
+#include "base/file.h"
 #include "base/memlimit.h"
 #include "report/png.h"
 
@@ -270,38 +271,12 @@ relief_status relief_image_decode(const uint8_t *data, size_t n, const char *nam
 relief_status relief_image_read(const char *path, const relief_image_limit *lim,
                                 relief_raster *out, relief_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    uint8_t *data = NULL;
-    size_t n = 0, cap = 0;
-    relief_status st;
-
+    uint8_t *data;
+    size_t n;
+    relief_status st = relief_read_file(path, &data, &n, err);
     out->v = NULL;
-    if (!f)
-        return relief_fail(err, RELIEF_E_IO, "%s: cannot open: %s", path, strerror(errno));
-    for (;;) {
-        size_t got;
-        if (n == cap) {
-            uint8_t *grown;
-            cap = cap ? 2 * cap : 1 << 16;
-            grown = realloc(data, cap);
-            if (!grown) {
-                free(data);
-                fclose(f);
-                return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot hold the file", path);
-            }
-            data = grown;
-        }
-        got = fread(data + n, 1, cap - n, f);
-        n += got;
-        if (got == 0)
-            break;
-    }
-    if (ferror(f)) {
-        free(data);
-        fclose(f);
-        return relief_fail(err, RELIEF_E_IO, "%s: cannot read: %s", path, strerror(errno));
-    }
-    fclose(f);
+    if (st != RELIEF_OK)
+        return st;
     st = relief_image_decode(data, n, path, lim, out, err);
     free(data);
     return st;

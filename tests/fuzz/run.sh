@@ -6,7 +6,7 @@
 # 1, N executions per mesh reader and 30 N for the command line, from the
 # checked-in seeds and regressions only, so that the suite's verdict does
 # not depend on the machine's speed or on earlier runs.
-# TARGETs (default all): read_ply read_obj read_off read_stl read_image cli. Each starts
+# TARGETs (default all): read_ply read_obj read_off read_stl read_image read_depth cli. Each starts
 # from its working corpus in BUILD_DIR/corpus/TARGET (kept between runs),
 # the seeds in tests/fuzz/corpus/TARGET and the inputs of past crashes in
 # tests/fuzz/regressions/TARGET. A crash, leak, hang (10 s) or out-of-memory
@@ -21,7 +21,7 @@ build=$1 secs=$2; shift 2
 runs=
 if [[ $secs == runs=* ]]; then runs=${secs#runs=}; fi
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl read_image cli)
+[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl read_image read_depth cli)
 
 for cc in clang clang++; do
   command -v $cc >/dev/null || { echo "fuzz: $cc not found; skipped (setup.sh installs clang)"; exit 77; }
@@ -42,7 +42,7 @@ cmake --build "$build" -j"${JOBS:-2}" --target $(printf 'fuzz_%s ' "${targets[@]
 
 failed=()
 for t in "${targets[@]}"; do
-  case $t in cli) dict=cli.dict ;; read_image) dict=image.dict ;; *) dict=mesh.dict ;; esac
+  case $t in cli) dict=cli.dict ;; read_image) dict=image.dict ;; read_depth) dict=depth.dict ;; *) dict=mesh.dict ;; esac
   work=$build/corpus/$t art=$build/artifacts/$t log=$build/fuzz_$t.log
   if [[ -n $runs ]]; then
     n=$runs; [[ $t == cli ]] && n=$((runs * 30))

@@ -1,0 +1,468 @@
+/* PCD and PFM decoders. Every count and offset read from a header is
+ * checked against the bytes that are there before it is used, in 64 bits,
+ * so that a hostile header can neither overflow a size nor read past the
+ * buffer; the fuzz harness (tests/fuzz/fuzz_read_depth.c) holds them to it. */
+#include "depth/depth_io.h"
+
+#include <ctype.h>
+#include <liblzf/lzf.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/file.h"
+
+void relief_depth_frame_free(relief_depth_frame *f)
+{
+    if (!f)
+        return;
+    free(f->z);
+    free(f->xyz);
+    free(f->rgb);
+    f->z = f->xyz = NULL;
+    f->rgb = NULL;
+}
+
+static relief_status check_sides(const char *name, long long w, long long h,
+                                 uint64_t max_pixels, relief_error *err)
+{
+    if (w < 1 || h < 1)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: a frame of %lld x %lld pixels: nothing to "
+                           "read", name, w, h);
+    if (w > RELIEF_DEPTH_MAX_SIDE || h > RELIEF_DEPTH_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: a frame of %lld x %lld pixels: each side "
+                           "must be at most %d", name, w, h, RELIEF_DEPTH_MAX_SIDE);
+    if (max_pixels && (uint64_t)w * (uint64_t)h > max_pixels)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: a frame of %lld x %lld pixels is over the "
+                           "limit of %llu pixels (--max-memory)", name, w, h,
+                           (unsigned long long)max_pixels);
+    return RELIEF_OK;
+}
+
+static relief_status alloc_frame(relief_depth_frame *f, int w, int h, int with_xyz,
+                                 int with_rgb, const char *name, relief_error *err)
+{
+    size_t px = (size_t)w * (size_t)h;
+    memset(f, 0, sizeof *f);
+    f->width = w;
+    f->height = h;
+    f->z = malloc(px * sizeof(float));
+    f->xyz = with_xyz ? malloc(px * 3 * sizeof(float)) : NULL;
+    f->rgb = with_rgb ? malloc(px * 3) : NULL;
+    if (!f->z || (with_xyz && !f->xyz) || (with_rgb && !f->rgb)) {
+        relief_depth_frame_free(f);
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate a %d x %d frame", name, w,
+                           h);
+    }
+    return RELIEF_OK;
+}
+
+/* ---------------------------------------------------------------- PFM */
+
+/* The next whitespace-separated token of the header at *at (at most
+ * cap - 1 characters), skipping '#' comments. */
+static int header_token(const uint8_t *d, size_t n, size_t *at, char *tok, size_t cap)
+{
+    size_t k = 0;
+    while (*at < n) {
+        if (d[*at] == '#') {
+            while (*at < n && d[*at] != '\n')
+                ++*at;
+        } else if (isspace(d[*at])) {
+            ++*at;
+        } else {
+            break;
+        }
+    }
+    while (*at < n && !isspace(d[*at]) && k + 1 < cap)
+        tok[k++] = (char)d[(*at)++];
+    tok[k] = '\0';
+    return k > 0 && (*at >= n || isspace(d[*at]));
+}
+
+relief_status relief_pfm_decode(const uint8_t *d, size_t n, const char *name,
+                                uint64_t max_pixels, relief_depth_frame *out,
+                                relief_error *err)
+{
+    char tok[64], *end;
+    size_t at = 0, need;
+    long long w, h;
+    double scale;
+    int channels, little;
+    relief_status st;
+
+    memset(out, 0, sizeof *out);
+    if (!header_token(d, n, &at, tok, sizeof tok) || (strcmp(tok, "Pf") && strcmp(tok, "PF")))
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: not a PFM (it starts with neither Pf "
+                           "nor PF)", name);
+    channels = tok[1] == 'F' ? 3 : 1;
+    if (!header_token(d, n, &at, tok, sizeof tok) || (w = strtoll(tok, &end, 10), *end) ||
+        !header_token(d, n, &at, tok, sizeof tok) || (h = strtoll(tok, &end, 10), *end))
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PFM header: expected WIDTH HEIGHT after "
+                           "the magic", name);
+    if (!header_token(d, n, &at, tok, sizeof tok) || (scale = strtod(tok, &end), *end) ||
+        !isfinite(scale) || scale == 0.0)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PFM header: expected a non-zero scale "
+                           "(its sign is the byte order) after the size", name);
+    st = check_sides(name, w, h, max_pixels, err);
+    if (st != RELIEF_OK)
+        return st;
+    ++at; /* the single whitespace character that ends the header */
+    little = scale < 0.0;
+    need = (size_t)w * (size_t)h * (size_t)channels * 4u;
+    if (at > n || n - at < need)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PFM truncated: %lld x %lld x %d floats "
+                           "need %zu bytes after the header, the file has %zu", name, w, h,
+                           channels, need, at > n ? (size_t)0 : n - at);
+    st = alloc_frame(out, (int)w, (int)h, 0, 0, name, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (long long y = 0; y < h; ++y)
+        for (long long x = 0; x < w; ++x) {
+            /* PFM rows run bottom to top. */
+            const uint8_t *p = d + at + ((size_t)(h - 1 - y) * w + x) * channels * 4u;
+            uint32_t u = little ? (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 |
+                                      (uint32_t)p[3] << 24
+                                : (uint32_t)p[3] | (uint32_t)p[2] << 8 | (uint32_t)p[1] << 16 |
+                                      (uint32_t)p[0] << 24;
+            float v;
+            memcpy(&v, &u, sizeof v);
+            out->z[(size_t)y * w + x] = isfinite(v) ? v : NAN;
+        }
+    return RELIEF_OK;
+}
+
+/* ---------------------------------------------------------------- PCD */
+
+#define PCD_MAX_FIELDS 32
+
+typedef struct pcd_field {
+    char name[32];
+    int size, count; /* bytes per value, values */
+    char type;       /* F, U or I */
+} pcd_field;
+
+typedef struct pcd_header {
+    pcd_field f[PCD_MAX_FIELDS];
+    int nf;
+    long long width, height, points;
+    enum { PCD_ASCII, PCD_BINARY, PCD_COMPRESSED } data;
+    size_t body; /* offset of the data */
+} pcd_header;
+
+/* Split a header line into at most `max` words. */
+static int words(char *line, char **w, int max)
+{
+    int k = 0;
+    char *save = NULL;
+    for (char *t = strtok_r(line, " \t\r", &save); t && k < max; t = strtok_r(NULL, " \t\r", &save))
+        w[k++] = t;
+    return k;
+}
+
+static relief_status parse_header(const uint8_t *d, size_t n, const char *name, pcd_header *h,
+                                  relief_error *err)
+{
+    size_t at = 0;
+    int line_no = 0, have_fields = 0, have_size = 0, have_type = 0, have_count = 0;
+    memset(h, 0, sizeof *h);
+    h->width = h->height = h->points = -1;
+    while (at < n) {
+        char line[1024], *w[PCD_MAX_FIELDS + 2];
+        size_t len = 0;
+        int k;
+        ++line_no;
+        while (at < n && d[at] != '\n' && len + 1 < sizeof line)
+            line[len++] = (char)d[at++];
+        if (at < n && d[at] != '\n')
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d is too long", name,
+                               line_no);
+        ++at; /* the newline */
+        line[len] = '\0';
+        if (len == 0 || line[0] == '#')
+            continue;
+        k = words(line, w, PCD_MAX_FIELDS + 2);
+        if (k == 0)
+            continue;
+        if (strcmp(w[0], "VERSION") == 0 || strcmp(w[0], "VIEWPOINT") == 0)
+            continue;
+        if (strcmp(w[0], "FIELDS") == 0 || strcmp(w[0], "SIZE") == 0 ||
+            strcmp(w[0], "TYPE") == 0 || strcmp(w[0], "COUNT") == 0) {
+            if (k - 1 > PCD_MAX_FIELDS || k < 2)
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s lists %d "
+                                   "fields; expected 1..%d", name, line_no, w[0], k - 1,
+                                   PCD_MAX_FIELDS);
+            if (have_fields && k - 1 != h->nf)
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s lists %d "
+                                   "values for %d fields", name, line_no, w[0], k - 1, h->nf);
+            h->nf = k - 1;
+            for (int i = 0; i < h->nf; ++i) {
+                char *end;
+                long v;
+                if (w[0][0] == 'F') {
+                    snprintf(h->f[i].name, sizeof h->f[i].name, "%s", w[i + 1]);
+                } else if (w[0][0] == 'T') {
+                    if (strlen(w[i + 1]) != 1 || !strchr("FUI", w[i + 1][0]))
+                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: "
+                                           "TYPE '%s' is not F, U or I", name, line_no,
+                                           w[i + 1]);
+                    h->f[i].type = w[i + 1][0];
+                } else {
+                    v = strtol(w[i + 1], &end, 10);
+                    if (*end || v < 1 || v > (w[0][0] == 'S' ? 8 : 1 << 20))
+                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s "
+                                           "'%s' is out of range", name, line_no, w[0],
+                                           w[i + 1]);
+                    if (w[0][0] == 'S')
+                        h->f[i].size = (int)v;
+                    else
+                        h->f[i].count = (int)v;
+                }
+            }
+            have_fields |= w[0][0] == 'F';
+            have_size |= w[0][0] == 'S';
+            have_type |= w[0][0] == 'T';
+            have_count |= w[0][0] == 'C';
+            continue;
+        }
+        if (strcmp(w[0], "WIDTH") == 0 || strcmp(w[0], "HEIGHT") == 0 ||
+            strcmp(w[0], "POINTS") == 0) {
+            char *end;
+            long long v = k == 2 ? strtoll(w[1], &end, 10) : -1;
+            if (k != 2 || *end || v < 0)
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s expects "
+                                   "one count", name, line_no, w[0]);
+            if (w[0][0] == 'W')
+                h->width = v;
+            else if (w[0][0] == 'H')
+                h->height = v;
+            else
+                h->points = v;
+            continue;
+        }
+        if (strcmp(w[0], "DATA") == 0) {
+            if (k != 2 || (strcmp(w[1], "ascii") && strcmp(w[1], "binary") &&
+                           strcmp(w[1], "binary_compressed")))
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: DATA must be "
+                                   "ascii, binary or binary_compressed", name, line_no);
+            h->data = w[1][0] == 'a' ? PCD_ASCII : strcmp(w[1], "binary") == 0 ? PCD_BINARY
+                                                                                 : PCD_COMPRESSED;
+            h->body = at > n ? n : at;
+            if (!have_fields || !have_size || !have_type)
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: FIELDS, SIZE and TYPE "
+                                   "must come before DATA", name);
+            if (!have_count)
+                for (int i = 0; i < h->nf; ++i)
+                    h->f[i].count = 1;
+            if (h->width < 0 || h->height < 0)
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: WIDTH and HEIGHT must "
+                                   "come before DATA", name);
+            if (h->points >= 0 && h->points != h->width * h->height)
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: POINTS %lld is not "
+                                   "WIDTH x HEIGHT (%lld x %lld)", name, h->points, h->width,
+                                   h->height);
+            return RELIEF_OK;
+        }
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: unknown key '%s'", name,
+                           line_no, w[0]);
+    }
+    return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: no DATA line (truncated?)", name);
+}
+
+/* Value i (of `count`) of a field at p as a float. */
+static float field_value(const uint8_t *p, const pcd_field *f)
+{
+    if (f->type == 'F' && f->size == 4) {
+        float v;
+        memcpy(&v, p, 4);
+        return v;
+    }
+    if (f->type == 'F' && f->size == 8) {
+        double v;
+        memcpy(&v, p, 8);
+        return (float)v;
+    }
+    return NAN;
+}
+
+relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
+                                uint64_t max_pixels, relief_depth_frame *out,
+                                relief_error *err)
+{
+    pcd_header h;
+    int ix = -1, iy = -1, iz = -1, ic = -1;
+    size_t point_bytes = 0, offset[PCD_MAX_FIELDS], px;
+    uint8_t *plain = NULL; /* binary_compressed, decompressed */
+    relief_status st;
+
+    memset(out, 0, sizeof *out);
+    st = parse_header(d, n, name, &h, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (int i = 0; i < h.nf; ++i) {
+        offset[i] = point_bytes;
+        point_bytes += (size_t)h.f[i].size * (size_t)h.f[i].count;
+        if (strcmp(h.f[i].name, "x") == 0)
+            ix = i;
+        else if (strcmp(h.f[i].name, "y") == 0)
+            iy = i;
+        else if (strcmp(h.f[i].name, "z") == 0)
+            iz = i;
+        else if (strcmp(h.f[i].name, "rgb") == 0 || strcmp(h.f[i].name, "rgba") == 0)
+            ic = i;
+    }
+    if (ix < 0 || iy < 0 || iz < 0)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: the PCD has no x, y and z fields", name);
+    for (int i = 0; i < h.nf; ++i)
+        if ((i == ix || i == iy || i == iz) &&
+            (h.f[i].type != 'F' || (h.f[i].size != 4 && h.f[i].size != 8) || h.f[i].count != 1))
+            return relief_fail(err, RELIEF_E_FORMAT, "%s: PCD field %s is %c%d x %d; expected "
+                               "F4 or F8, count 1", name, h.f[i].name, h.f[i].type, h.f[i].size,
+                               h.f[i].count);
+    if (ic >= 0 && (h.f[ic].size != 4 || h.f[ic].count != 1))
+        ic = -1; /* a colour packed otherwise is skipped */
+    if (h.height == 1 && h.width > 1)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: an unorganised point cloud (HEIGHT 1, "
+                           "%lld points): a depth image needs an organised one (WIDTH x HEIGHT "
+                           "pixels)", name, h.width);
+    st = check_sides(name, h.width, h.height, max_pixels, err);
+    if (st != RELIEF_OK)
+        return st;
+    px = (size_t)h.width * (size_t)h.height;
+    if (h.data == PCD_COMPRESSED) {
+        uint32_t csize, usize;
+        if (n - h.body < 8)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: no compressed sizes "
+                               "after DATA", name);
+        memcpy(&csize, d + h.body, 4);
+        memcpy(&usize, d + h.body + 4, 4);
+        if ((uint64_t)usize != (uint64_t)px * point_bytes)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD binary_compressed: %u bytes "
+                               "uncompressed, expected %zu for %zu points of %zu bytes", name,
+                               usize, px * point_bytes, px, point_bytes);
+        if (csize > n - h.body - 8)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %u compressed bytes "
+                               "announced, %zu there", name, csize, n - h.body - 8);
+        plain = malloc(usize ? usize : 1);
+        if (!plain)
+            return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate %u bytes", name, usize);
+        if (lzf_decompress(d + h.body + 8, csize, plain, usize) != usize) {
+            free(plain);
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD binary_compressed: the LZF data "
+                               "is corrupt", name);
+        }
+    } else if (h.data == PCD_BINARY) {
+        if ((uint64_t)(n - h.body) < (uint64_t)px * point_bytes)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %zu points of %zu bytes "
+                               "need %zu bytes, the file has %zu", name, px, point_bytes,
+                               px * point_bytes, n - h.body);
+    }
+    st = alloc_frame(out, (int)h.width, (int)h.height, 1, ic >= 0, name, err);
+    if (st != RELIEF_OK) {
+        free(plain);
+        return st;
+    }
+    if (h.data == PCD_ASCII) {
+        const char *p = (const char *)d + h.body, *end = (const char *)d + n;
+        for (size_t i = 0; i < px; ++i)
+            for (int k = 0; k < h.nf; ++k)
+                for (int c = 0; c < h.f[k].count; ++c) {
+                    char tok[64];
+                    size_t len = 0;
+                    double v;
+                    char *e;
+                    while (p < end && isspace((unsigned char)*p))
+                        ++p;
+                    while (p < end && !isspace((unsigned char)*p) && len + 1 < sizeof tok)
+                        tok[len++] = *p++;
+                    tok[len] = '\0';
+                    if (len == 0) {
+                        relief_depth_frame_free(out);
+                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii data ends at "
+                                           "point %zu of %zu (truncated)", name, i, px);
+                    }
+                    v = strtod(tok, &e);
+                    if (*e && strcmp(tok, "nan") && strcmp(tok, "NaN")) {
+                        relief_depth_frame_free(out);
+                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii point %zu: '%s' "
+                                           "is not a number", name, i, tok);
+                    }
+                    if (*e)
+                        v = NAN;
+                    if (k == ix || k == iy || k == iz)
+                        out->xyz[i * 3 + (k == ix ? 0 : k == iy ? 1 : 2)] = (float)v;
+                    else if (k == ic) {
+                        /* rgb packs 0x00RRGGBB: in a float's bits (TYPE F, PCL's
+                         * way) or as an integer (TYPE U or I). */
+                        uint32_t u;
+                        if (h.f[k].type == 'F') {
+                            float fv = (float)v;
+                            memcpy(&u, &fv, 4);
+                        } else {
+                            u = v >= 0 && v < 4294967296.0 ? (uint32_t)v : 0;
+                        }
+                        out->rgb[i * 3] = (uint8_t)(u >> 16);
+                        out->rgb[i * 3 + 1] = (uint8_t)(u >> 8);
+                        out->rgb[i * 3 + 2] = (uint8_t)u;
+                    }
+                }
+    } else {
+        for (size_t i = 0; i < px; ++i)
+            for (int k = 0; k < h.nf; ++k) {
+                const uint8_t *p;
+                if (k != ix && k != iy && k != iz && k != ic)
+                    continue;
+                /* binary: point by point; compressed: field by field. */
+                p = h.data == PCD_BINARY
+                        ? d + h.body + i * point_bytes + offset[k]
+                        : plain + offset[k] * px + i * (size_t)h.f[k].size * h.f[k].count;
+                if (k == ic) {
+                    uint32_t u;
+                    memcpy(&u, p, 4);
+                    out->rgb[i * 3] = (uint8_t)(u >> 16);
+                    out->rgb[i * 3 + 1] = (uint8_t)(u >> 8);
+                    out->rgb[i * 3 + 2] = (uint8_t)u;
+                } else {
+                    out->xyz[i * 3 + (k == ix ? 0 : k == iy ? 1 : 2)] = field_value(p, &h.f[k]);
+                }
+            }
+    }
+    free(plain);
+    for (size_t i = 0; i < px; ++i) {
+        float *q = out->xyz + i * 3;
+        int ok = isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]);
+        if (!ok)
+            q[0] = q[1] = q[2] = NAN;
+        out->z[i] = ok ? q[2] : NAN;
+    }
+    return RELIEF_OK;
+}
+
+relief_status relief_depth_decode(const uint8_t *d, size_t n, const char *name,
+                                  uint64_t max_pixels, relief_depth_frame *out,
+                                  relief_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (n >= 2 && d[0] == 'P' && (d[1] == 'f' || d[1] == 'F'))
+        return relief_pfm_decode(d, n, name, max_pixels, out, err);
+    if ((n >= 6 && memcmp(d, "# .PCD", 6) == 0) || (n >= 7 && memcmp(d, "VERSION", 7) == 0))
+        return relief_pcd_decode(d, n, name, max_pixels, out, err);
+    return relief_fail(err, RELIEF_E_FORMAT, "%s: neither a PCD nor a PFM file (by its first "
+                       "bytes)", name);
+}
+
+relief_status relief_depth_read(const char *path, uint64_t max_pixels,
+                                relief_depth_frame *out, relief_error *err)
+{
+    uint8_t *d;
+    size_t n;
+    relief_status st = relief_read_file(path, &d, &n, err);
+    memset(out, 0, sizeof *out);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_depth_decode(d, n, path, max_pixels, out, err);
+    free(d);
+    return st;
+}

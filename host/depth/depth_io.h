@@ -1,0 +1,58 @@
+/* Depth frames as depth cameras and stereo benchmarks write them (issue
+ * 20, paper 003): an organised PCD (PCL's format: x y z [rgb] per pixel,
+ * DATA ascii, binary or binary_compressed, the last through liblzf) and a
+ * PFM (Portable Float Map, Middlebury's disparities: "Pf" grey or "PF"
+ * colour, the scale's sign giving the byte order, rows bottom to top).
+ * Decoded from memory (the fuzz harness's entry) or from a file. */
+#ifndef RELIEF_HOST_DEPTH_DEPTH_IO_H
+#define RELIEF_HOST_DEPTH_DEPTH_IO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+
+/* Largest side accepted (pixels). */
+#define RELIEF_DEPTH_MAX_SIDE 65535
+
+typedef struct relief_depth_frame {
+    int width, height; /* pixels, each >= 1 */
+    float *z;          /* height x width, top row first: the PCD's z (metres) or the
+                          PFM's value; NaN where missing (NaN, +-inf in the file) */
+    float *xyz;        /* height x width x 3 (a PCD's points, NaN where missing), or NULL */
+    uint8_t *rgb;      /* height x width x 3 (a PCD's rgb field), or NULL */
+} relief_depth_frame;
+
+void relief_depth_frame_free(relief_depth_frame *f);
+
+/* Decode `n` bytes of an organised PCD. The fields x, y and z (type F,
+ * size 4 or 8, count 1) are required, rgb or rgba (size 4) is kept when
+ * present, any other field is skipped. `max_pixels` (0: no limit) refuses
+ * larger frames before they are allocated (RELIEF_E_NOMEM). Errors name
+ * `name` and the header line or the byte: RELIEF_E_PARSE (malformed or
+ * truncated), RELIEF_E_FORMAT (an unorganised cloud, HEIGHT 1; a field
+ * layout not supported), RELIEF_E_RANGE (a side over the maximum). */
+relief_status relief_pcd_decode(const uint8_t *data, size_t n, const char *name,
+                                uint64_t max_pixels, relief_depth_frame *out,
+                                relief_error *err);
+
+/* Decode `n` bytes of a PFM: "Pf" (one channel) or "PF" (three; the
+ * first is kept), width, height, scale (negative: little endian). Same
+ * errors. */
+relief_status relief_pfm_decode(const uint8_t *data, size_t n, const char *name,
+                                uint64_t max_pixels, relief_depth_frame *out,
+                                relief_error *err);
+
+/* Decode `n` bytes as a PCD or a PFM, told by the first bytes (as
+ * relief_depth_read does); RELIEF_E_FORMAT when they are neither. */
+relief_status relief_depth_decode(const uint8_t *data, size_t n, const char *name,
+                                  uint64_t max_pixels, relief_depth_frame *out,
+                                  relief_error *err);
+
+/* Read a depth file by its first bytes: PCD ("# .PCD" or "VERSION") or
+ * PFM ("Pf", "PF"). RELIEF_E_IO naming the path when it cannot be read;
+ * RELIEF_E_FORMAT when it is neither. */
+relief_status relief_depth_read(const char *path, uint64_t max_pixels,
+                                relief_depth_frame *out, relief_error *err);
+
+#endif
