@@ -259,7 +259,10 @@ static relief_status parse_header(const uint8_t *d, size_t n, const char *name, 
             if (h->width < 0 || h->height < 0)
                 return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: WIDTH and HEIGHT must "
                                    "come before DATA", name);
-            if (h->points >= 0 && h->points != h->width * h->height)
+            /* Sides over the maximum are refused later; their product
+             * could overflow here. */
+            if (h->points >= 0 && h->width <= RELIEF_DEPTH_MAX_SIDE &&
+                h->height <= RELIEF_DEPTH_MAX_SIDE && h->points != h->width * h->height)
                 return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: POINTS %lld is not "
                                    "WIDTH x HEIGHT (%lld x %lld)", name, h->points, h->width,
                                    h->height);
