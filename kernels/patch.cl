@@ -7,17 +7,18 @@
 
 __kernel void patch_score(__global const float *v, __global const uchar *known, int width,
                           int height, int channels, int qx, int qy, int radius, int max_holes,
-                          int x0, int y0, int nx, int ny, __global float *ssd,
-                          __global int *n)
+                          __global const float *g, int weighted, int x0, int y0, int nx,
+                          int ny, __global float *ssd, __global float *wsum, __global int *n)
 {
     int i = get_global_id(0), j = get_global_id(1);
-    float s;
+    float s, ws;
     int k;
     if (i >= nx || j >= ny)
         return;
-    pm_score(v, known, width, height, channels, qx, qy, x0 + i, y0 + j, radius, max_holes, &s,
-             &k);
+    pm_score(v, known, width, height, channels, qx, qy, x0 + i, y0 + j, radius, max_holes, g,
+             weighted, &s, &ws, &k);
     ssd[j * nx + i] = s;
+    wsum[j * nx + i] = ws;
     n[j * nx + i] = k;
 }
 
@@ -25,16 +26,18 @@ __kernel void patch_score(__global const float *v, __global const uchar *known, 
  * the pyramid's refinement. */
 __kernel void patch_score_list(__global const float *v, __global const uchar *known, int width,
                                int height, int channels, int qx, int qy, int radius,
-                               int max_holes, __global const int *xy, int count,
-                               __global float *ssd, __global int *n)
+                               int max_holes, __global const float *g, int weighted,
+                               __global const int *xy, int count, __global float *ssd,
+                               __global float *wsum, __global int *n)
 {
     int i = get_global_id(0);
-    float s;
+    float s, ws;
     int k;
     if (i >= count)
         return;
     pm_score(v, known, width, height, channels, qx, qy, xy[2 * i], xy[2 * i + 1], radius,
-             max_holes, &s, &k);
+             max_holes, g, weighted, &s, &ws, &k);
     ssd[i] = s;
+    wsum[i] = ws;
     n[i] = k;
 }

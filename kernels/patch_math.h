@@ -12,7 +12,14 @@
  * the offsets and channel order, with +, - and * only and contraction off:
  * both sides get the same bits. The candidate is refused (n = -1) when its
  * centre is a hole, when more than `max_holes` of its pixels are holes, or
- * when no pixel is known in both; the caller ranks by ssd / n.
+ * when no pixel is known in both.
+ *
+ * Unweighted (`weighted` 0), the caller ranks by ssd / n (paper 004). With
+ * `weighted` 1, each offset's squared differences are multiplied by the
+ * separable weight g[|dx|] * g[|dy|] (g: radius + 1 floats, the Gaussian
+ * of paper 003's weighted mean square distance) and *wsum is the sum of the
+ * weights over the pixels known in both; the caller ranks by ssd / wsum.
+ * Unweighted, *wsum = n and ssd has the same bits as without weights.
  */
 #ifndef PATCH_MATH_H
 #define PATCH_MATH_H
@@ -29,14 +36,17 @@
 #define PM_UCHAR uint8_t
 #endif
 
-/* Score one candidate: *ssd and *n (pixels known in both; -1 refused). */
+/* Score one candidate: *ssd, *wsum and *n (pixels known in both; -1
+ * refused). */
 PM_FN void pm_score(PM_GLOBAL const float *v, PM_GLOBAL const PM_UCHAR *known, int width,
                     int height, int channels, int qx, int qy, int cx, int cy, int radius,
-                    int max_holes, float *ssd, int *n)
+                    int max_holes, PM_GLOBAL const float *g, int weighted, float *ssd,
+                    float *wsum, int *n)
 {
-    float s = 0.0f;
+    float s = 0.0f, ws = 0.0f;
     int both = 0, holes = 0;
     *ssd = 0.0f;
+    *wsum = 0.0f;
     *n = -1;
     if (!known[cy * width + cx])
         return;
@@ -54,9 +64,19 @@ PM_FN void pm_score(PM_GLOBAL const float *v, PM_GLOBAL const PM_UCHAR *known, i
             {
                 PM_GLOBAL const float *a = v + (y * width + x) * channels;
                 PM_GLOBAL const float *b = v + c_at * channels;
-                for (int c = 0; c < channels; ++c) {
-                    float d = a[c] - b[c];
-                    s = s + d * d;
+                if (weighted) {
+                    float wt = g[dy < 0 ? -dy : dy] * g[dx < 0 ? -dx : dx];
+                    for (int c = 0; c < channels; ++c) {
+                        float d = a[c] - b[c];
+                        s = s + wt * (d * d);
+                    }
+                    ws = ws + wt;
+                } else {
+                    for (int c = 0; c < channels; ++c) {
+                        float d = a[c] - b[c];
+                        s = s + d * d;
+                    }
+                    ws = ws + 1.0f;
                 }
             }
             ++both;
@@ -65,6 +85,7 @@ PM_FN void pm_score(PM_GLOBAL const float *v, PM_GLOBAL const PM_UCHAR *known, i
     if (holes > max_holes || both == 0)
         return;
     *ssd = s;
+    *wsum = ws;
     *n = both;
 }
 

@@ -215,9 +215,10 @@ struct relief_filler {
     float *v[RELIEF_FILL_MAX_LEVELS];
     uint8_t *known[RELIEF_FILL_MAX_LEVELS];
     relief_patch_scorer *scorer;
-    float *ssd;
+    float *ssd, *wsum;
     int *n;
     size_t cap;
+    float g[513]; /* the weights of the level being scored (radius <= 512) */
     relief_rng rng;
     relief_fill_report *rep;
     double score_seconds;
@@ -292,6 +293,7 @@ static void filler_free(relief_filler *f)
         free(f->known[l]);
     }
     free(f->ssd);
+    free(f->wsum);
     free(f->n);
     free(f);
 }
@@ -421,37 +423,57 @@ static void offer(relief_window_match *top, int *n, int keep, relief_window_matc
     top[i] = m;
 }
 
-static relief_window_match make_match(int x, int y, float ssd, int n)
+/* A match's msd: ssd over the weights' sum (paper 003), or over the
+ * pixels known in both (unweighted: the same number). */
+static relief_window_match make_match(int x, int y, float ssd, int n, float wsum, int weighted)
 {
-    relief_window_match m = {x, y, ssd, n, (double)ssd / (double)n};
+    relief_window_match m = {x, y, ssd, n, (double)ssd / (weighted ? (double)wsum : (double)n)};
     return m;
+}
+
+/* The weights of a window of radius `half` at level l for a Gaussian of
+ * sigma full-resolution pixels (sigma / 2^l there), in f->g; NULL when
+ * unweighted (sigma <= 0). Computed on the host, so that every backend
+ * gets the same floats. */
+static const float *weights(relief_filler *f, int l, int half, double sigma)
+{
+    double s = sigma / (double)(1 << l);
+    if (sigma <= 0.0)
+        return NULL;
+    for (int k = 0; k <= half && k < 513; ++k)
+        f->g[k] = (float)exp(-(double)k * k / (2.0 * s * s));
+    return f->g;
 }
 
 /* Score the rectangle x0..x1, y0..y1 at level l on the scorer and keep the
  * `keep` best (coordinates at that level). */
-static relief_status score_rect(relief_filler *f, int l, int qx, int qy, int half, int x0,
-                                int y0, int x1, int y1, relief_window_match *top, int *n_top,
-                                int keep, relief_error *err)
+static relief_status score_rect(relief_filler *f, int l, int qx, int qy, int half,
+                                const float *g, int x0, int y0, int x1, int y1,
+                                relief_window_match *top, int *n_top, int keep,
+                                relief_error *err)
 {
     int nx = x1 - x0 + 1, ny = y1 - y0 + 1;
     size_t count = (size_t)nx * ny;
     double t0;
     relief_status st;
     if (count > f->cap) {
-        float *s = realloc(f->ssd, count * sizeof *s);
+        float *s = realloc(f->ssd, count * sizeof *s), *ws;
         int *k;
         if (s)
             f->ssd = s;
+        ws = realloc(f->wsum, count * sizeof *ws);
+        if (ws)
+            f->wsum = ws;
         k = realloc(f->n, count * sizeof *k);
         if (k)
             f->n = k;
-        if (!s || !k)
+        if (!s || !ws || !k)
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu window scores", count);
         f->cap = count;
     }
     t0 = relief_seconds();
-    st = f->scorer->ops->score_rect(f->scorer->ctx, l, qx, qy, half, max_holes(f, half), x0, y0,
-                                    nx, ny, f->ssd, f->n, err);
+    st = f->scorer->ops->score_rect(f->scorer->ctx, l, qx, qy, half, max_holes(f, half), g, x0,
+                                    y0, nx, ny, f->ssd, g ? f->wsum : NULL, f->n, err);
     f->score_seconds += relief_seconds() - t0;
     f->candidates += count;
     if (st != RELIEF_OK)
@@ -460,7 +482,9 @@ static relief_status score_rect(relief_filler *f, int l, int qx, int qy, int hal
         for (int i = 0; i < nx; ++i) {
             size_t k = (size_t)j * nx + i;
             if (f->n[k] > 0)
-                offer(top, n_top, keep, make_match(x0 + i, y0 + j, f->ssd[k], f->n[k]));
+                offer(top, n_top, keep,
+                      make_match(x0 + i, y0 + j, f->ssd[k], f->n[k], g ? f->wsum[k] : 0.0f,
+                                 g != NULL));
         }
     return RELIEF_OK;
 }
@@ -470,11 +494,27 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
                                    relief_window_match *coarse, int *n_coarse,
                                    relief_error *err)
 {
+    int n_best = 0;
+    relief_status st = relief_filler_search_top(f, px, py, w, exhaustive, 0.0, best, 1, &n_best,
+                                                coarse, n_coarse, err);
+    *found = n_best > 0;
+    return st;
+}
+
+relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, int exhaustive,
+                                       double sigma, relief_window_match *best, int keep_best,
+                                       int *n_best, relief_window_match *coarse, int *n_coarse,
+                                       relief_error *err)
+{
     relief_window_match top[RELIEF_FILL_MAX_TOP], next[RELIEF_FILL_MAX_TOP];
     int half = w / 2, start = 0, keep, n_top = 0, x0, y0, x1, y1;
+    const float *g;
     relief_status st;
 
-    *found = 0;
+    *n_best = 0;
+    if (keep_best < 1 || keep_best > RELIEF_FILL_MAX_TOP)
+        return relief_fail(err, RELIEF_E_INTERNAL, "a search keeps 1..%d matches, not %d",
+                           RELIEF_FILL_MAX_TOP, keep_best);
     if (n_coarse)
         *n_coarse = 0;
     /* The start level (paper 004, 3.2): coarser while the search region
@@ -492,7 +532,7 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
                 break;
             ++start;
         }
-    keep = start == 0 ? 1 : 4 * start;
+    keep = start == 0 ? keep_best : 4 * start;
     if (keep > RELIEF_FILL_MAX_TOP)
         keep = RELIEF_FILL_MAX_TOP;
     if (f->rep && f->rep->start_level < 0) {
@@ -501,7 +541,8 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
     }
     if (!region(f, start, px, py, half >> start, &x0, &y0, &x1, &y1))
         return RELIEF_OK;
-    st = score_rect(f, start, px >> start, py >> start, half >> start, x0, y0, x1, y1, top,
+    g = weights(f, start, half >> start, sigma);
+    st = score_rect(f, start, px >> start, py >> start, half >> start, g, x0, y0, x1, y1, top,
                     &n_top, keep, err);
     if (st != RELIEF_OK)
         return st;
@@ -520,6 +561,7 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
         int h = half >> l, n_next = 0, count = 0, kx0, ky0, kx1, ky1;
         int xy[2 * RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
         float ssd[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
+        float wsum[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
         int n[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
         double t0;
         if (!region(f, l, px, py, h, &kx0, &ky0, &kx1, &ky1))
@@ -540,9 +582,11 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
                     xy[2 * count + 1] = cy;
                     ++count;
                 }
+        g = weights(f, l, h, sigma);
         t0 = relief_seconds();
         st = count ? f->scorer->ops->score_list(f->scorer->ctx, l, px >> l, py >> l, h,
-                                                max_holes(f, h), xy, count, ssd, n, err)
+                                                max_holes(f, h), g, xy, count, ssd,
+                                                g ? wsum : NULL, n, err)
                    : RELIEF_OK;
         f->score_seconds += relief_seconds() - t0;
         f->candidates += (size_t)count;
@@ -550,16 +594,29 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
             return st;
         for (int i = 0; i < count; ++i)
             if (n[i] > 0)
-                offer(next, &n_next, l ? keep : 1,
-                      make_match(xy[2 * i], xy[2 * i + 1], ssd[i], n[i]));
+                offer(next, &n_next, l ? keep : keep_best,
+                      make_match(xy[2 * i], xy[2 * i + 1], ssd[i], n[i], g ? wsum[i] : 0.0f,
+                                 g != NULL));
         memcpy(top, next, sizeof(relief_window_match) * n_next);
         n_top = n_next;
     }
-    if (n_top > 0) {
-        *best = top[0];
-        *found = 1;
-    }
+    memcpy(best, top, sizeof(relief_window_match) * n_top);
+    *n_best = n_top;
     return RELIEF_OK;
+}
+
+relief_status relief_filler_put(relief_filler *f, int x, int y, const float *value,
+                                relief_error *err)
+{
+    relief_raster *img = f->img;
+    size_t q = (size_t)y * img->width + x;
+    for (int c = 0; c < f->C; ++c) {
+        f->v[0][q * f->C + c] = value[c];
+        img->v[q * img->channels + c] = value[c];
+    }
+    make_opaque(img, q);
+    f->known[0][q] = 1;
+    return changed(f, x, y, x, y, err);
 }
 
 /* Copy the candidate window at (cx, cy) into the holes of the query window

@@ -111,6 +111,19 @@ relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int 
                                    relief_window_match *best, int *found,
                                    relief_window_match *coarse, int *n_coarse,
                                    relief_error *err);
+/* The same, keeping the `keep` (1..RELIEF_FILL_MAX_TOP) best matches at
+ * full resolution in best[0 .. *n_best), ordered by msd, then row-major;
+ * sigma > 0 weights the windows' pixels by a Gaussian of sigma pixels
+ * around the centre (paper 003's weighted mean square distance; sigma / 2^l
+ * at level l), sigma <= 0 does not. */
+relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, int exhaustive,
+                                       double sigma, relief_window_match *best, int keep,
+                                       int *n_best, relief_window_match *coarse, int *n_coarse,
+                                       relief_error *err);
+/* Set the hole pixel (x, y) to value[0 .. channels matched) and make it
+ * known, in the image, the pyramid and the scorer. */
+relief_status relief_filler_put(relief_filler *f, int x, int y, const float *value,
+                                relief_error *err);
 void relief_filler_destroy(relief_filler *f);
 
 /* The 1-D pass alone on `img` (holes filled are cleared in `hole`): for

@@ -29,16 +29,17 @@ typedef struct relief_patch_ops {
     relief_status (*update)(void *ctx, int level, int y0, int y1, relief_error *err);
     /* Score every candidate centre of the rectangle x0 .. x0 + nx - 1,
      * y0 .. y0 + ny - 1 (all wholly inside the level) against the query
-     * window at (qx, qy): ssd[j * nx + i] and n[j * nx + i] as pm_score. */
+     * window at (qx, qy): ssd[j * nx + i], wsum[..] and n[..] as pm_score.
+     * `g` (radius + 1 weights) NULL: unweighted; `wsum` may be NULL. */
     relief_status (*score_rect)(void *ctx, int level, int qx, int qy, int radius, int max_holes,
-                                int x0, int y0, int nx, int ny, float *ssd, int *n,
-                                relief_error *err);
+                                const float *g, int x0, int y0, int nx, int ny, float *ssd,
+                                float *wsum, int *n, relief_error *err);
     /* Score the `count` candidate centres xy[2 i], xy[2 i + 1] (all wholly
-     * inside the level): ssd[i] and n[i] as pm_score. The pyramid's
-     * refinement: a few hundred scattered windows. */
+     * inside the level): ssd[i], wsum[i] and n[i] as pm_score. The
+     * pyramid's refinement: a few hundred scattered windows. */
     relief_status (*score_list)(void *ctx, int level, int qx, int qy, int radius,
-                                int max_holes, const int *xy, int count, float *ssd, int *n,
-                                relief_error *err);
+                                int max_holes, const float *g, const int *xy, int count,
+                                float *ssd, float *wsum, int *n, relief_error *err);
     void (*destroy)(void *ctx);
 } relief_patch_ops;
 

@@ -24,6 +24,8 @@ extern const char relief_kernel_patch_cl[];
  * work. */
 #define WG_X 32
 #define WG_Y 2
+/* Weights of a radius up to 512 (windows up to 1025, fill.h's bound). */
+#define G_MAX 513
 
 typedef struct patch_cl {
     cl_context ctx;
@@ -33,8 +35,11 @@ typedef struct patch_cl {
     const relief_patch_level *levels;
     int n_levels;
     cl_mem v[MAX_LEVELS], known[MAX_LEVELS];
-    cl_mem ssd, n; /* the scores of the last rectangle or list */
-    size_t cap;    /* candidates ssd and n hold */
+    cl_mem ssd, wsum, n; /* the scores of the last rectangle or list */
+    size_t cap;          /* candidates they hold */
+    cl_mem g;            /* the weights of the last weighted call (G_MAX floats) */
+    float g_host[G_MAX]; /* what g holds, so that it travels only when it changes */
+    int g_len;           /* entries of g_host in use; 0 none yet */
     cl_mem xy;     /* the last list's centres */
     size_t xy_cap; /* centres xy holds */
 } patch_cl;
@@ -51,8 +56,12 @@ static void patch_cl_free(patch_cl *p)
     }
     if (p->ssd)
         clReleaseMemObject(p->ssd);
+    if (p->wsum)
+        clReleaseMemObject(p->wsum);
     if (p->n)
         clReleaseMemObject(p->n);
+    if (p->g)
+        clReleaseMemObject(p->g);
     if (p->xy)
         clReleaseMemObject(p->xy);
     if (p->kernel)
@@ -135,11 +144,15 @@ static relief_status grow_scores(patch_cl *p, size_t count, relief_error *err)
         return RELIEF_OK;
     if (p->ssd)
         clReleaseMemObject(p->ssd);
+    if (p->wsum)
+        clReleaseMemObject(p->wsum);
     if (p->n)
         clReleaseMemObject(p->n);
-    p->ssd = p->n = NULL;
+    p->ssd = p->wsum = p->n = NULL;
     p->cap = 0;
     st = buffer(p, &p->ssd, NULL, count * sizeof(float), "window scores", err);
+    if (st == RELIEF_OK)
+        st = buffer(p, &p->wsum, NULL, count * sizeof(float), "window scores", err);
     if (st == RELIEF_OK)
         st = buffer(p, &p->n, NULL, count * sizeof(int), "window scores", err);
     if (st == RELIEF_OK)
@@ -147,11 +160,34 @@ static relief_status grow_scores(patch_cl *p, size_t count, relief_error *err)
     return st;
 }
 
-/* Read `count` scores back (blocking: the queue is in order). */
-static cl_int read_scores(patch_cl *p, size_t count, float *ssd, int *n)
+/* The weights `g` (radius + 1 of them) on the device, unless they are
+ * there already; NULL (unweighted) leaves the buffer as it is. */
+static cl_int put_weights(patch_cl *p, const float *g, int radius)
+{
+    int len = radius + 1;
+    cl_int rc;
+    if (!g || (len == p->g_len && memcmp(g, p->g_host, (size_t)len * sizeof *g) == 0))
+        return CL_SUCCESS;
+    if (len > G_MAX)
+        return CL_INVALID_VALUE;
+    rc = clEnqueueWriteBuffer(p->queue, p->g, CL_TRUE, 0, (size_t)len * sizeof *g, g, 0, NULL,
+                              NULL);
+    if (rc == CL_SUCCESS) {
+        memcpy(p->g_host, g, (size_t)len * sizeof *g);
+        p->g_len = len;
+    }
+    return rc;
+}
+
+/* Read `count` scores back (blocking: the queue is in order); wsum may
+ * be NULL. */
+static cl_int read_scores(patch_cl *p, size_t count, float *ssd, float *wsum, int *n)
 {
     cl_int rc = clEnqueueReadBuffer(p->queue, p->ssd, CL_FALSE, 0, count * sizeof(float), ssd,
                                     0, NULL, NULL);
+    if (rc == CL_SUCCESS && wsum)
+        rc = clEnqueueReadBuffer(p->queue, p->wsum, CL_FALSE, 0, count * sizeof(float), wsum, 0,
+                                 NULL, NULL);
     if (rc == CL_SUCCESS)
         rc = clEnqueueReadBuffer(p->queue, p->n, CL_TRUE, 0, count * sizeof(int), n, 0, NULL,
                                  NULL);
@@ -159,21 +195,23 @@ static cl_int read_scores(patch_cl *p, size_t count, float *ssd, int *n)
 }
 
 static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, int radius,
-                                         int max_holes, int x0, int y0, int nx, int ny,
-                                         float *ssd, int *n, relief_error *err)
+                                         int max_holes, const float *g, int x0, int y0, int nx,
+                                         int ny, float *ssd, float *wsum, int *n,
+                                         relief_error *err)
 {
     patch_cl *p = ctx;
     const relief_patch_level *l = &p->levels[level];
     size_t count = (size_t)nx * ny, local[2] = {WG_X, WG_Y};
     size_t global[2] = {((size_t)nx + WG_X - 1) / WG_X * WG_X,
                         ((size_t)ny + WG_Y - 1) / WG_Y * WG_Y};
-    cl_int rc = CL_SUCCESS;
-    int a = 0;
+    cl_int rc;
+    int a = 0, weighted = g != NULL;
     relief_status st;
 
     st = grow_scores(p, count, err);
     if (st != RELIEF_OK)
         return st;
+    rc = put_weights(p, g, radius);
 #define ARG(x) (rc |= clSetKernelArg(p->kernel, a++, sizeof(x), &(x)))
     ARG(p->v[level]);
     ARG(p->known[level]);
@@ -184,18 +222,21 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
     ARG(qy);
     ARG(radius);
     ARG(max_holes);
+    ARG(p->g);
+    ARG(weighted);
     ARG(x0);
     ARG(y0);
     ARG(nx);
     ARG(ny);
     ARG(p->ssd);
+    ARG(p->wsum);
     ARG(p->n);
 #undef ARG
     if (rc == CL_SUCCESS)
         rc = clEnqueueNDRangeKernel(p->queue, p->kernel, 2, NULL, global, local, 0, NULL,
                                     NULL);
     if (rc == CL_SUCCESS)
-        rc = read_scores(p, count, ssd, n);
+        rc = read_scores(p, count, ssd, wsum, n);
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "scoring windows on the device: %s",
                            relief_cl_error_name(rc));
@@ -203,14 +244,15 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
 }
 
 static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, int radius,
-                                         int max_holes, const int *xy, int count, float *ssd,
-                                         int *n, relief_error *err)
+                                         int max_holes, const float *g, const int *xy,
+                                         int count, float *ssd, float *wsum, int *n,
+                                         relief_error *err)
 {
     patch_cl *p = ctx;
     const relief_patch_level *l = &p->levels[level];
     size_t local = WG_X * WG_Y, global = ((size_t)count + local - 1) / local * local;
     cl_int rc = CL_SUCCESS;
-    int a = 0;
+    int a = 0, weighted = g != NULL;
     relief_status st;
 
     if (count <= 0)
@@ -229,6 +271,8 @@ static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, i
         return st;
     rc = clEnqueueWriteBuffer(p->queue, p->xy, CL_TRUE, 0, 2 * (size_t)count * sizeof(int), xy,
                               0, NULL, NULL);
+    if (rc == CL_SUCCESS)
+        rc = put_weights(p, g, radius);
 #define ARG(x) (rc |= clSetKernelArg(p->list_kernel, a++, sizeof(x), &(x)))
     ARG(p->v[level]);
     ARG(p->known[level]);
@@ -239,16 +283,19 @@ static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, i
     ARG(qy);
     ARG(radius);
     ARG(max_holes);
+    ARG(p->g);
+    ARG(weighted);
     ARG(p->xy);
     ARG(count);
     ARG(p->ssd);
+    ARG(p->wsum);
     ARG(p->n);
 #undef ARG
     if (rc == CL_SUCCESS)
         rc = clEnqueueNDRangeKernel(p->queue, p->list_kernel, 1, NULL, &global, &local, 0, NULL,
                                     NULL);
     if (rc == CL_SUCCESS)
-        rc = read_scores(p, (size_t)count, ssd, n);
+        rc = read_scores(p, (size_t)count, ssd, wsum, n);
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "scoring a list of windows on the device: %s",
                            relief_cl_error_name(rc));
@@ -291,6 +338,14 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
     st = relief_cl_build(p->ctx, dev, src, 2, "-cl-std=CL1.2", "", &p->prog, err);
     if (st != RELIEF_OK)
         goto fail;
+    /* The weights' buffer exists from the start: unweighted launches pass
+     * it unread. */
+    p->g = clCreateBuffer(p->ctx, CL_MEM_READ_ONLY, G_MAX * sizeof(float), NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        st = relief_fail(err, RELIEF_E_DEVICE, "cannot allocate the window weights on the "
+                         "device: %s", relief_cl_error_name(rc));
+        goto fail;
+    }
     p->kernel = clCreateKernel(p->prog, "patch_score", &rc);
     if (rc == CL_SUCCESS)
         p->list_kernel = clCreateKernel(p->prog, "patch_score_list", &rc);

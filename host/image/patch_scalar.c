@@ -31,27 +31,37 @@ static relief_status scalar_update(void *ctx, int level, int y0, int y1, relief_
 }
 
 static relief_status scalar_score_rect(void *ctx, int level, int qx, int qy, int radius,
-                                       int max_holes, int x0, int y0, int nx, int ny,
-                                       float *ssd, int *n, relief_error *err)
+                                       int max_holes, const float *g, int x0, int y0, int nx,
+                                       int ny, float *ssd, float *wsum, int *n,
+                                       relief_error *err)
 {
     const relief_patch_level *l = &((scalar_ctx *)ctx)->levels[level];
+    float ws;
     (void)err;
     for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i)
+        for (int i = 0; i < nx; ++i) {
+            size_t k = (size_t)j * nx + i;
             pm_score(l->v, l->known, l->width, l->height, l->channels, qx, qy, x0 + i, y0 + j,
-                     radius, max_holes, &ssd[(size_t)j * nx + i], &n[(size_t)j * nx + i]);
+                     radius, max_holes, g, g != NULL, &ssd[k], &ws, &n[k]);
+            if (wsum)
+                wsum[k] = ws;
+        }
     return RELIEF_OK;
 }
 
 static relief_status scalar_score_list(void *ctx, int level, int qx, int qy, int radius,
-                                       int max_holes, const int *xy, int count, float *ssd,
-                                       int *n, relief_error *err)
+                                       int max_holes, const float *g, const int *xy, int count,
+                                       float *ssd, float *wsum, int *n, relief_error *err)
 {
     const relief_patch_level *l = &((scalar_ctx *)ctx)->levels[level];
+    float ws;
     (void)err;
-    for (int i = 0; i < count; ++i)
+    for (int i = 0; i < count; ++i) {
         pm_score(l->v, l->known, l->width, l->height, l->channels, qx, qy, xy[2 * i],
-                 xy[2 * i + 1], radius, max_holes, &ssd[i], &n[i]);
+                 xy[2 * i + 1], radius, max_holes, g, g != NULL, &ssd[i], &ws, &n[i]);
+        if (wsum)
+            wsum[i] = ws;
+    }
     return RELIEF_OK;
 }
 
