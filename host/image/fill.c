@@ -300,6 +300,15 @@ static void filler_free(relief_filler *f)
 
 void relief_filler_destroy(relief_filler *f) { filler_free(f); }
 
+int relief_filler_levels(const relief_filler *f) { return f->n_levels; }
+
+size_t relief_filler_candidates(const relief_filler *f, double *seconds)
+{
+    if (seconds)
+        *seconds = f->score_seconds;
+    return f->candidates;
+}
+
 relief_status relief_filler_create(relief_raster *img, const uint8_t *hole,
                                    const relief_fill_params *p, relief_patch_scorer *scorer,
                                    relief_filler **out, relief_error *err)

@@ -124,6 +124,10 @@ relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, 
  * known, in the image, the pyramid and the scorer. */
 relief_status relief_filler_put(relief_filler *f, int x, int y, const float *value,
                                 relief_error *err);
+/* The pyramid's levels; the windows scored so far and the seconds spent
+ * scoring them (*seconds may be NULL). */
+int relief_filler_levels(const relief_filler *f);
+size_t relief_filler_candidates(const relief_filler *f, double *seconds);
 void relief_filler_destroy(relief_filler *f);
 
 /* The 1-D pass alone on `img` (holes filled are cleared in `hole`): for

@@ -1,0 +1,355 @@
+#include "image/pixel_synth.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "base/rng.h"
+#include "image/fill.h"
+
+/* Matches kept per search for the near-minimum draw. */
+#define NEAR_KEEP 8
+
+relief_pixsyn_params relief_pixsyn_params_default(void)
+{
+    relief_pixsyn_params p;
+    memset(&p, 0, sizeof p);
+    p.window = 9;
+    p.sigma = 0.0;
+    p.epsilon = 0.1;
+    p.search_radius = 32;
+    p.exhaustive = 0;
+    p.max_hole_fraction = 0.1;
+    p.order = RELIEF_ORDER_BOTH;
+    p.seed = 1;
+    return p;
+}
+
+/* The engine's parameters for these. */
+static relief_fill_params engine_params(const relief_pixsyn_params *p)
+{
+    relief_fill_params f = relief_fill_params_default();
+    f.window = p->window;
+    f.min_window = p->window;
+    f.search_radius = p->search_radius;
+    f.exhaustive = p->exhaustive;
+    f.max_hole_fraction = p->max_hole_fraction;
+    f.interp = 0;
+    f.seed = p->seed;
+    /* One search per pixel, not per window: the pyramid starts coarser
+     * than paper 004's 4096 candidates, once the region holds 1024 (a
+     * 33 x 33 region or larger, the default 65 x 65 always). */
+    f.region_pixels = 1024;
+    return f;
+}
+
+relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int width, int height,
+                                           relief_error *err)
+{
+    relief_fill_params f = engine_params(p);
+    if (!isfinite(p->sigma) || p->sigma > 1e6)
+        return relief_fail(err, RELIEF_E_RANGE, "--sigma %g: expected a finite number of "
+                           "pixels (<= 0: window / 6.4)", p->sigma);
+    if (!(p->epsilon >= 0.0 && p->epsilon <= 10.0))
+        return relief_fail(err, RELIEF_E_RANGE, "--epsilon %g: expected 0..10", p->epsilon);
+    if (p->order != RELIEF_ORDER_BOTH && p->order != RELIEF_ORDER_HORIZONTAL &&
+        p->order != RELIEF_ORDER_VERTICAL)
+        return relief_fail(err, RELIEF_E_RANGE, "unknown fill order %d", (int)p->order);
+    return relief_fill_params_validate(&f, width, height, err);
+}
+
+/* ---------------------------------------------------------------- the queue */
+
+/* A max-heap of missing pixels by known-neighbour count, then by the
+ * order's raster key (smaller first). Entries go stale when a pixel's count
+ * grows (a fresh one is pushed) or it is filled; stale ones are skipped. */
+typedef struct entry {
+    int count;
+    uint32_t key, pixel;
+} entry;
+
+typedef struct heap {
+    entry *e;
+    size_t n, cap;
+} heap;
+
+static int above(const entry *a, const entry *b)
+{
+    return a->count != b->count ? a->count > b->count : a->key < b->key;
+}
+
+static int heap_push(heap *h, entry x)
+{
+    size_t i;
+    if (h->n == h->cap) {
+        size_t cap = h->cap ? 2 * h->cap : 1024;
+        entry *e = realloc(h->e, cap * sizeof *e);
+        if (!e)
+            return 0;
+        h->e = e;
+        h->cap = cap;
+    }
+    i = h->n++;
+    while (i > 0 && above(&x, &h->e[(i - 1) / 2])) {
+        h->e[i] = h->e[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h->e[i] = x;
+    return 1;
+}
+
+static entry heap_pop(heap *h)
+{
+    entry top = h->e[0], last = h->e[--h->n];
+    size_t i = 0;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= h->n)
+            break;
+        if (c + 1 < h->n && above(&h->e[c + 1], &h->e[c]))
+            ++c;
+        if (!above(&h->e[c], &last))
+            break;
+        h->e[i] = h->e[c];
+        i = c;
+    }
+    if (h->n)
+        h->e[i] = last;
+    return top;
+}
+
+/* ---------------------------------------------------------------- one order */
+
+typedef struct run {
+    size_t synthesised, fallbacks, candidates;
+    double energy; /* sum of the copies' weighted distances */
+    double seconds_score;
+    int levels;
+} run;
+
+typedef struct progress_state {
+    const relief_pixsyn_params *p;
+    size_t done, total;
+} progress_state;
+
+/* The mean of the known 8-neighbours of (x, y) into value (C channels). */
+static void neighbour_mean(const relief_raster *img, const uint8_t *known, int C, int x, int y,
+                           float *value)
+{
+    int W = img->width, H = img->height, m = 0;
+    for (int c = 0; c < C; ++c)
+        value[c] = 0.0f;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            int u = x + dx, v = y + dy;
+            size_t j;
+            if ((!dx && !dy) || u < 0 || u >= W || v < 0 || v >= H)
+                continue;
+            j = (size_t)v * W + u;
+            if (!known[j])
+                continue;
+            for (int c = 0; c < C; ++c)
+                value[c] += img->v[j * img->channels + c];
+            ++m;
+        }
+    for (int c = 0; c < C; ++c)
+        value[c] = m ? value[c] / (float)m : 0.0f;
+}
+
+static relief_status synth_order(relief_raster *img, const uint8_t *hole,
+                                 const uint8_t *target, const relief_pixsyn_params *p, relief_pixsyn_order order,
+                                 relief_patch_scorer *scorer, int64_t *source, run *out,
+                                 progress_state *prog, relief_error *err)
+{
+    int W = img->width, H = img->height, C = img->channels;
+    size_t n = (size_t)W * H;
+    double sigma = p->sigma > 0.0 ? p->sigma : p->window / 6.4;
+    relief_fill_params fp = engine_params(p);
+    uint8_t *known = malloc(n), *count = malloc(n);
+    heap h = {NULL, 0, 0};
+    relief_filler *f = NULL;
+    relief_rng rng;
+    relief_status st = RELIEF_OK;
+    float value[4];
+
+    memset(out, 0, sizeof *out);
+    relief_rng_seed(&rng, p->seed);
+    if (!known || !count) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis masks");
+        goto done;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        known[i] = !hole[i];
+        if (source)
+            source[i] = -1;
+    }
+#define KEY(x, y) (order == RELIEF_ORDER_VERTICAL ? (uint32_t)(x) * (uint32_t)H + (uint32_t)(y) \
+                                                  : (uint32_t)(y) * (uint32_t)W + (uint32_t)(x))
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            int m = 0;
+            if (known[i] || (target && !target[i]))
+                continue;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int u = x + dx, v = y + dy;
+                    m += (dx || dy) && u >= 0 && u < W && v >= 0 && v < H &&
+                         known[(size_t)v * W + u];
+                }
+            count[i] = (uint8_t)m;
+            if (m && !heap_push(&h, (entry){m, KEY(x, y), (uint32_t)i})) {
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis queue");
+                goto done;
+            }
+        }
+    st = relief_filler_create(img, hole, &fp, scorer, &f, err);
+    if (st != RELIEF_OK)
+        goto done;
+    while (h.n && st == RELIEF_OK) {
+        entry e = heap_pop(&h);
+        relief_window_match best[NEAR_KEEP];
+        int x = (int)(e.pixel % (uint32_t)W), y = (int)(e.pixel / (uint32_t)W), n_best = 0;
+        if (known[e.pixel] || e.count != count[e.pixel])
+            continue; /* filled already, or a stale count */
+        st = relief_filler_search_top(f, x, y, p->window, p->exhaustive, sigma, best, NEAR_KEEP,
+                                      &n_best, NULL, NULL, err);
+        if (st != RELIEF_OK)
+            break;
+        if (n_best > 0) {
+            double limit = best[0].msd * (1.0 + p->epsilon);
+            int near = 1, pick;
+            size_t s;
+            while (near < n_best && best[near].msd <= limit)
+                ++near;
+            pick = near > 1 ? (int)relief_rng_below(&rng, (uint32_t)near) : 0;
+            s = (size_t)best[pick].y * W + best[pick].x;
+            for (int c = 0; c < C; ++c)
+                value[c] = img->v[s * C + c];
+            out->energy += best[pick].msd;
+            ++out->synthesised;
+            if (source)
+                source[e.pixel] = (int64_t)s;
+        } else {
+            neighbour_mean(img, known, C, x, y, value);
+            ++out->fallbacks;
+        }
+        st = relief_filler_put(f, x, y, value, err);
+        known[e.pixel] = 1;
+        for (int dy = -1; dy <= 1 && st == RELIEF_OK; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                int u = x + dx, v = y + dy;
+                size_t j;
+                if ((!dx && !dy) || u < 0 || u >= W || v < 0 || v >= H)
+                    continue;
+                j = (size_t)v * W + u;
+                if (known[j] || (target && !target[j]))
+                    continue;
+                ++count[j];
+                if (!heap_push(&h, (entry){count[j], KEY(u, v), (uint32_t)j})) {
+                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis "
+                                     "queue");
+                    break;
+                }
+            }
+        ++prog->done;
+        if (p->progress)
+            p->progress(p->progress_ctx, prog->done, prog->total);
+    }
+#undef KEY
+done:
+    if (f) {
+        out->levels = relief_filler_levels(f);
+        out->candidates = relief_filler_candidates(f, &out->seconds_score);
+    }
+    relief_filler_destroy(f);
+    free(h.e);
+    free(known);
+    free(count);
+    return st;
+}
+
+relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
+                           const relief_pixsyn_params *p, relief_patch_scorer *scorer,
+                           int64_t *source, relief_pixsyn_report *rep, relief_error *err)
+{
+    size_t n = (size_t)img->width * img->height, holes = 0, targets = 0;
+    relief_pixsyn_report local;
+    relief_pixsyn_order orders[2];
+    int n_orders = 0;
+    relief_raster other = {0};
+    int64_t *other_source = NULL;
+    run runs[2];
+    progress_state prog = {p, 0, 0};
+    relief_status st;
+    double t0 = relief_seconds();
+
+    if (!rep)
+        rep = &local;
+    memset(rep, 0, sizeof *rep);
+    rep->energy[0] = rep->energy[1] = -1.0;
+    if (img->channels > 4)
+        return relief_fail(err, RELIEF_E_RANGE, "%d channels: at most 4", img->channels);
+    st = relief_pixsyn_params_validate(p, img->width, img->height, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (size_t i = 0; i < n; ++i) {
+        holes += hole[i] != 0;
+        targets += hole[i] && (!target || target[i]);
+    }
+    rep->hole_pixels = targets;
+    if (targets == 0)
+        return RELIEF_OK;
+    if (holes == n)
+        return relief_fail(err, RELIEF_E_RANGE, "every pixel is missing: there is nothing to "
+                           "synthesise from");
+    if (p->order == RELIEF_ORDER_BOTH || p->order == RELIEF_ORDER_HORIZONTAL)
+        orders[n_orders++] = RELIEF_ORDER_HORIZONTAL;
+    if (p->order == RELIEF_ORDER_BOTH || p->order == RELIEF_ORDER_VERTICAL)
+        orders[n_orders++] = RELIEF_ORDER_VERTICAL;
+    prog.total = targets * (size_t)n_orders;
+
+    /* The second order works on a copy; the better result ends in img. */
+    if (n_orders == 2) {
+        st = relief_raster_create(img->width, img->height, img->channels, img->bit_depth,
+                                  &other, err);
+        if (st != RELIEF_OK)
+            return st;
+        memcpy(other.v, img->v, n * img->channels * sizeof *other.v);
+        if (source && !(other_source = malloc(n * sizeof *other_source))) {
+            relief_raster_free(&other);
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
+        }
+    }
+    st = synth_order(img, hole, target, p, orders[0], scorer, source, &runs[0], &prog, err);
+    if (st == RELIEF_OK && n_orders == 2)
+        st = synth_order(&other, hole, target, p, orders[1], scorer, other_source, &runs[1], &prog,
+                         err);
+    if (st == RELIEF_OK) {
+        int keep = 0;
+        for (int k = 0; k < n_orders; ++k) {
+            double e = runs[k].synthesised ? runs[k].energy / (double)runs[k].synthesised : 0.0;
+            rep->energy[orders[k] == RELIEF_ORDER_VERTICAL] = e;
+            rep->candidates += runs[k].candidates;
+            rep->seconds_score += runs[k].seconds_score;
+            rep->levels = runs[k].levels;
+        }
+        /* The vertical order replaces the horizontal one only when its
+         * copies matched strictly better. */
+        if (n_orders == 2 && rep->energy[1] < rep->energy[0]) {
+            keep = 1;
+            memcpy(img->v, other.v, n * img->channels * sizeof *img->v);
+            if (source)
+                memcpy(source, other_source, n * sizeof *source);
+        }
+        rep->kept = orders[keep];
+        rep->by_synthesis = runs[keep].synthesised;
+        rep->by_fallback = runs[keep].fallbacks;
+    }
+    relief_raster_free(&other);
+    free(other_source);
+    rep->seconds = relief_seconds() - t0;
+    return st;
+}

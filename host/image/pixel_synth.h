@@ -1,0 +1,83 @@
+/* Constrained texture synthesis (paper 003, section 3.1): Efros and
+ * Leung's non-parametric sampling, one missing pixel at a time, run on the
+ * image hole filler's engine (fill.h: its pyramid search and its scorer,
+ * scalar or OpenCL, the same bits).
+ *
+ * Each step takes the missing pixel with the most known 8-neighbours (ties
+ * in the order's raster: row-major for horizontal, column-major for
+ * vertical), compares the w x w window around it with every window of the
+ * symmetric search region around it (the pixels known in both, weighted by
+ * a Gaussian of sigma pixels: the weighted mean square distance of eq. 1),
+ * picks at random among the matches within (1 + epsilon) of the best, and
+ * copies that window's centre. A pixel no window matches takes the mean of
+ * its known neighbours.
+ *
+ * Both orders run when asked (the paper's curved wall: a gradient fills
+ * differently along rows than along columns), and the one whose copies
+ * matched better is kept: the lower mean weighted distance over its
+ * synthesised pixels. Deterministic for a seed whatever the backend. */
+#ifndef RELIEF_HOST_IMAGE_PIXEL_SYNTH_H
+#define RELIEF_HOST_IMAGE_PIXEL_SYNTH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+#include "image/patch.h"
+#include "image/raster.h"
+
+typedef enum relief_pixsyn_order {
+    RELIEF_ORDER_BOTH = 0,   /* run both, keep the better */
+    RELIEF_ORDER_HORIZONTAL, /* ties row-major */
+    RELIEF_ORDER_VERTICAL    /* ties column-major */
+} relief_pixsyn_order;
+
+typedef struct relief_pixsyn_params {
+    int window;               /* w, odd, 3..1025; 9 */
+    double sigma;             /* the weights' Gaussian, pixels; <= 0: w / 6.4 (Efros-Leung) */
+    double epsilon;           /* near-minimum tolerance, >= 0; 0.1 (Efros-Leung) */
+    int search_radius;        /* the symmetric search distance, pixels; 32; 0: the whole
+                                 image */
+    int exhaustive;           /* 1: every window at full resolution, no pyramid */
+    double max_hole_fraction; /* a candidate window's missing pixels at most this; 0.1 */
+    relief_pixsyn_order order; /* both */
+    uint32_t seed;            /* the near-minimum draw; 1 */
+    /* Called after each pixel: pixels synthesised so far of all (both
+     * orders counted when both run). */
+    void (*progress)(void *ctx, size_t done, size_t total);
+    void *progress_ctx;
+} relief_pixsyn_params;
+
+relief_pixsyn_params relief_pixsyn_params_default(void);
+
+typedef struct relief_pixsyn_report {
+    size_t hole_pixels;      /* to synthesise (targets) at the start */
+    size_t by_synthesis;     /* copied from a matched window (the order kept) */
+    size_t by_fallback;      /* the mean of the known neighbours (the order kept) */
+    relief_pixsyn_order kept; /* horizontal or vertical */
+    double energy[2];        /* mean weighted distance of the copies, horizontal and
+                                vertical order; -1 where not run */
+    size_t candidates;       /* windows scored, both orders */
+    int levels;              /* pyramid levels */
+    double seconds, seconds_score;
+} relief_pixsyn_report;
+
+/* Check `p` against an image of width x height: RELIEF_E_RANGE naming the
+ * parameter. */
+relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int width, int height,
+                                           relief_error *err);
+
+/* Synthesise the pixels of `img` where hole[y * width + x] != 0 and, when
+ * `target` is not NULL, target[..] != 0 too (other holes stay unknown: they
+ * are never matched and never filled), in place (all channels are matched;
+ * real-valued rasters are expected, bit_depth 0, but any works); the
+ * others keep their bits. Every target must be joined to a known pixel
+ * through targets. `source` (may be NULL):
+ * width x height, receives for each synthesised pixel the index y * width
+ * + x of the pixel it copies, -1 for a fallback or a pixel that was known.
+ * RELIEF_E_RANGE when every pixel is missing. */
+relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
+                           const relief_pixsyn_params *p, relief_patch_scorer *scorer,
+                           int64_t *source, relief_pixsyn_report *rep, relief_error *err);
+
+#endif
