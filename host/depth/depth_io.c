@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/atomic.h"
+
 #include "base/error.h"
 #include "base/file.h"
 
@@ -131,6 +133,7 @@ relief_status relief_pfm_decode(const uint8_t *d, size_t n, const char *name,
             memcpy(&v, &u, sizeof v);
             out->z[(size_t)y * w + x] = isfinite(v) ? v : NAN;
         }
+    out->kind = RELIEF_DEPTH_PFM;
     return RELIEF_OK;
 }
 
@@ -440,6 +443,9 @@ relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
             q[0] = q[1] = q[2] = NAN;
         out->z[i] = ok ? q[2] : NAN;
     }
+    out->kind = h.data == PCD_ASCII    ? RELIEF_DEPTH_PCD_ASCII
+                : h.data == PCD_BINARY ? RELIEF_DEPTH_PCD_BINARY
+                                       : RELIEF_DEPTH_PCD_COMPRESSED;
     return RELIEF_OK;
 }
 
@@ -468,4 +474,133 @@ relief_status relief_depth_read(const char *path, uint64_t max_pixels,
     st = relief_depth_decode(d, n, path, max_pixels, out, err);
     free(d);
     return st;
+}
+
+/* ---------------------------------------------------------------- writers */
+
+static int put_u32le(FILE *fp, uint32_t u)
+{
+    uint8_t b[4] = {(uint8_t)u, (uint8_t)(u >> 8), (uint8_t)(u >> 16), (uint8_t)(u >> 24)};
+    return fwrite(b, 1, 4, fp) == 4;
+}
+
+static int write_pfm(FILE *fp, const relief_depth_frame *f)
+{
+    int ok = fprintf(fp, "Pf\n%d %d\n-1.0\n", f->width, f->height) > 0;
+    for (int y = f->height - 1; y >= 0 && ok; --y)
+        for (int x = 0; x < f->width && ok; ++x) {
+            float v = f->z[(size_t)y * f->width + x];
+            uint32_t u;
+            if (!isfinite(v))
+                v = INFINITY;
+            memcpy(&u, &v, 4);
+            ok = put_u32le(fp, u);
+        }
+    return ok;
+}
+
+static float packed_rgb(const uint8_t *c)
+{
+    uint32_t u = (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
+    float v;
+    memcpy(&v, &u, 4);
+    return v;
+}
+
+static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind kind,
+                     relief_error *err)
+{
+    size_t px = (size_t)f->width * f->height;
+    int nf = f->rgb ? 4 : 3, ok;
+    ok = fprintf(fp, "# .PCD v0.7 - Point Cloud Data file format (written by relief)\n"
+                 "VERSION 0.7\nFIELDS x y z%s\nSIZE 4 4 4%s\nTYPE F F F%s\nCOUNT 1 1 1%s\n"
+                 "WIDTH %d\nHEIGHT %d\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS %zu\nDATA %s\n",
+                 f->rgb ? " rgb" : "", f->rgb ? " 4" : "", f->rgb ? " F" : "",
+                 f->rgb ? " 1" : "", f->width, f->height, px,
+                 kind == RELIEF_DEPTH_PCD_ASCII    ? "ascii"
+                 : kind == RELIEF_DEPTH_PCD_BINARY ? "binary"
+                                                   : "binary_compressed") > 0;
+    if (!ok)
+        return 0;
+    if (kind == RELIEF_DEPTH_PCD_ASCII) {
+        for (size_t i = 0; i < px && ok; ++i) {
+            const float *q = f->xyz + 3 * i;
+            if (isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]))
+                ok = fprintf(fp, "%.9g %.9g %.9g", q[0], q[1], q[2]) > 0;
+            else
+                ok = fputs("nan nan nan", fp) >= 0;
+            /* PCL writes a packed float rgb as that float's value. */
+            if (ok && f->rgb)
+                ok = fprintf(fp, " %.9g", (double)packed_rgb(f->rgb + 3 * i)) > 0;
+            ok = ok && fputc('\n', fp) != EOF;
+        }
+        return ok;
+    }
+    if (kind == RELIEF_DEPTH_PCD_BINARY) {
+        for (size_t i = 0; i < px && ok; ++i) {
+            float rec[4];
+            memcpy(rec, f->xyz + 3 * i, 3 * sizeof(float));
+            if (f->rgb)
+                rec[3] = packed_rgb(f->rgb + 3 * i);
+            ok = fwrite(rec, sizeof(float), (size_t)nf, fp) == (size_t)nf;
+        }
+        return ok;
+    }
+    {
+        /* binary_compressed: the fields one after another, LZF'd, after the
+         * two sizes. */
+        size_t usize = px * (size_t)nf * 4u, cap = usize + usize / 16 + 64, csize;
+        uint8_t *plain = malloc(usize), *packed = malloc(cap);
+        if (!plain || !packed || usize > 0xffffffffu) {
+            free(plain);
+            free(packed);
+            relief_fail(err, usize > 0xffffffffu ? RELIEF_E_RANGE : RELIEF_E_NOMEM,
+                        "cannot compress %zu bytes of points", usize);
+            return 0;
+        }
+        for (size_t i = 0; i < px; ++i) {
+            for (int k = 0; k < 3; ++k)
+                memcpy(plain + ((size_t)k * px + i) * 4u, f->xyz + 3 * i + k, 4);
+            if (f->rgb) {
+                float c = packed_rgb(f->rgb + 3 * i);
+                memcpy(plain + (3 * px + i) * 4u, &c, 4);
+            }
+        }
+        csize = lzf_compress(plain, (unsigned)usize, packed, (unsigned)cap);
+        ok = csize > 0 && put_u32le(fp, (uint32_t)csize) && put_u32le(fp, (uint32_t)usize) &&
+             fwrite(packed, 1, csize, fp) == csize;
+        free(plain);
+        free(packed);
+        return ok;
+    }
+}
+
+relief_status relief_depth_write(const char *path, const relief_depth_frame *f,
+                                 relief_depth_kind kind, relief_error *err)
+{
+    char *tmp = NULL;
+    FILE *fp;
+    int ok;
+    relief_error why = {RELIEF_OK, ""};
+    relief_status st;
+    if (kind != RELIEF_DEPTH_PFM && !f->xyz)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: a PCD needs points (x y z), this frame "
+                           "has depths only", path);
+    st = relief_atomic_create(path, &tmp, err);
+    if (st != RELIEF_OK)
+        return st;
+    fp = fopen(tmp, "wb");
+    if (!fp) {
+        relief_atomic_abort(tmp);
+        return relief_fail(err, RELIEF_E_IO, "cannot write %s", path);
+    }
+    ok = kind == RELIEF_DEPTH_PFM ? write_pfm(fp, f) : write_pcd(fp, f, kind, &why);
+    ok = fclose(fp) == 0 && ok;
+    if (!ok) {
+        relief_atomic_abort(tmp);
+        if (why.status != RELIEF_OK)
+            return relief_fail(err, why.status, "%s: %s", path, why.message);
+        return relief_fail(err, RELIEF_E_IO, "cannot write %s (disk full?)", path);
+    }
+    return relief_atomic_commit(tmp, path, err);
 }

@@ -15,12 +15,21 @@
 /* Largest side accepted (pixels). */
 #define RELIEF_DEPTH_MAX_SIDE 65535
 
+/* The file a frame came from, and how a writer encodes one. */
+typedef enum relief_depth_kind {
+    RELIEF_DEPTH_PFM = 0,
+    RELIEF_DEPTH_PCD_ASCII,
+    RELIEF_DEPTH_PCD_BINARY,
+    RELIEF_DEPTH_PCD_COMPRESSED
+} relief_depth_kind;
+
 typedef struct relief_depth_frame {
     int width, height; /* pixels, each >= 1 */
     float *z;          /* height x width, top row first: the PCD's z (metres) or the
                           PFM's value; NaN where missing (NaN, +-inf in the file) */
     float *xyz;        /* height x width x 3 (a PCD's points, NaN where missing), or NULL */
     uint8_t *rgb;      /* height x width x 3 (a PCD's rgb field), or NULL */
+    relief_depth_kind kind; /* what it was decoded from */
 } relief_depth_frame;
 
 void relief_depth_frame_free(relief_depth_frame *f);
@@ -54,5 +63,14 @@ relief_status relief_depth_decode(const uint8_t *data, size_t n, const char *nam
  * RELIEF_E_FORMAT when it is neither. */
 relief_status relief_depth_read(const char *path, uint64_t max_pixels,
                                 relief_depth_frame *out, relief_error *err);
+
+/* Write `f` atomically to `path` as `kind`: a PFM ("Pf", little endian,
+ * rows bottom to top) of z, NaN written as +inf (Middlebury's unknown); or
+ * an organised PCD v0.7 with fields x y z (F 4) and rgb (F 4, PCL's packed
+ * colour) when f->rgb is set, DATA ascii, binary or binary_compressed
+ * (LZF, field by field). A PCD needs f->xyz. RELIEF_E_IO naming the path;
+ * no file is left on failure. */
+relief_status relief_depth_write(const char *path, const relief_depth_frame *f,
+                                 relief_depth_kind kind, relief_error *err);
 
 #endif

@@ -161,6 +161,40 @@ int main(int argc, char **argv)
         for (size_t m = 0; m < (size_t)n + 24; ++m)
             bad(relief_pfm_decode, buf, m, "a truncated PFM");
     }
+    /* The writers: each kind written and read back, the same values and
+     * colours; a PCD cannot be written from depths alone. */
+    {
+        size_t n = make_pcd("binary", buf, sizeof buf);
+        relief_depth_frame g;
+        CHECK(relief_pcd_decode(buf, n, "small", 0, &f, &err) == RELIEF_OK, "%s", err.message);
+        for (int k = RELIEF_DEPTH_PFM; k <= RELIEF_DEPTH_PCD_COMPRESSED; ++k) {
+            snprintf(path, sizeof path, "%s/w%d.%s", check_tmpdir(), k,
+                     k == RELIEF_DEPTH_PFM ? "pfm" : "pcd");
+            CHECK(relief_depth_write(path, &f, (relief_depth_kind)k, &err) == RELIEF_OK,
+                  "write kind %d: %s", k, err.message);
+            if (relief_depth_read(path, 0, &g, &err) != RELIEF_OK) {
+                CHECK(0, "read back kind %d: %s", k, err.message);
+                continue;
+            }
+            CHECK(g.kind == (relief_depth_kind)k, "kind %d read as %d", k, (int)g.kind);
+            if (k == RELIEF_DEPTH_PFM) {
+                CHECK(g.width == 3 && g.height == 2 && g.z[0] == 1.0f && isnan(g.z[1]) &&
+                          g.z[5] == 3.0f,
+                      "PFM round trip");
+            } else {
+                check_small(&g, "written PCD");
+            }
+            relief_depth_frame_free(&g);
+            remove(path);
+        }
+        free(f.xyz);
+        f.xyz = NULL;
+        CHECK(relief_depth_write("/tmp/never.pcd", &f, RELIEF_DEPTH_PCD_BINARY, &err) ==
+                  RELIEF_E_RANGE, "a PCD without points written");
+        CHECK(relief_depth_write("/nonexistent-dir/x.pfm", &f, RELIEF_DEPTH_PFM, &err) ==
+                  RELIEF_E_IO, "an unwritable path: %s", err.message);
+        relief_depth_frame_free(&f);
+    }
     bad(relief_pfm_decode, (const uint8_t *)"Pf\n3 2\n0\n", 9, "scale 0");
     bad(relief_pfm_decode, (const uint8_t *)"P6\n3 2\n255\n", 11, "a PPM");
 

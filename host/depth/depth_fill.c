@@ -1,0 +1,484 @@
+#include "depth/depth_fill.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "depth/transform.h"
+#include "image/raster.h"
+
+#define MAX_HAAR_LEVELS 6
+
+relief_depth_fill_params relief_depth_fill_params_default(void)
+{
+    relief_depth_fill_params p;
+    memset(&p, 0, sizeof p);
+    p.variant = RELIEF_DEPTH_DECOMPOSE;
+    p.synth = relief_pixsyn_params_default();
+    p.levels = 2;
+    p.lambda = 0.0;
+    p.rof_iterations = 200;
+    p.membrane_iterations = 5000;
+    return p;
+}
+
+relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p, int width,
+                                                int height, relief_error *err)
+{
+    int w = width, h = height;
+    if (p->variant != RELIEF_DEPTH_PLAIN && p->variant != RELIEF_DEPTH_HAAR &&
+        p->variant != RELIEF_DEPTH_DECOMPOSE)
+        return relief_fail(err, RELIEF_E_RANGE, "unknown variant %d", (int)p->variant);
+    if (!isfinite(p->lambda) || p->lambda > 1e12)
+        return relief_fail(err, RELIEF_E_RANGE, "--lambda %g: expected a finite value (<= 0: "
+                           "automatic)", p->lambda);
+    if (p->rof_iterations < 1 || p->rof_iterations > 100000)
+        return relief_fail(err, RELIEF_E_RANGE, "--rof-iterations %d: expected 1..100000",
+                           p->rof_iterations);
+    if (p->membrane_iterations < 1 || p->membrane_iterations > 1000000)
+        return relief_fail(err, RELIEF_E_RANGE, "membrane iterations %d: expected 1..1000000",
+                           p->membrane_iterations);
+    if (p->variant == RELIEF_DEPTH_HAAR) {
+        if (p->levels < 1 || p->levels > MAX_HAAR_LEVELS)
+            return relief_fail(err, RELIEF_E_RANGE, "--levels %d: expected 1..%d", p->levels,
+                               MAX_HAAR_LEVELS);
+        w = (width + (1 << p->levels) - 1) >> p->levels;
+        h = (height + (1 << p->levels) - 1) >> p->levels;
+        if (w < p->synth.window || h < p->synth.window)
+            return relief_fail(err, RELIEF_E_RANGE, "--levels %d leaves %d x %d coefficients "
+                               "at the coarsest detail band, smaller than the %d-pixel window: "
+                               "give fewer --levels or a smaller --window", p->levels, w, h,
+                               p->synth.window);
+        return relief_pixsyn_params_validate(&p->synth, w, h, err);
+    }
+    return relief_pixsyn_params_validate(&p->synth, width, height, err);
+}
+
+uint64_t relief_depth_fill_estimate(int width, int height)
+{
+    uint64_t n = (uint64_t)(width + 64) * (uint64_t)(height + 64);
+    /* Two rasters of values (both orders), the engine's pyramid (4/3 of
+     * one, x 3 channels for the Haar details), masks, the source maps, the
+     * ROF's dual field and the membrane's solver vectors (doubles). */
+    return n * (2u * 4u + 3u * 4u * 4u / 3u + 4u + 2u * 8u + 3u * 8u + 6u * 8u);
+}
+
+/* ---------------------------------------------------------------- helpers */
+
+/* Synthesise `img` (channels C) where hole != 0; add the counts. */
+static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *target, int W,
+                                int H, int C, const relief_pixsyn_params *sp, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_fill_report *rep,
+                                relief_error *err)
+{
+    relief_raster r = {W, H, C, 0, v};
+    relief_pixsyn_report sr;
+    double t0 = relief_seconds();
+    relief_status st = relief_pixsyn(&r, hole, target, sp, scorer, source, &sr, err);
+    rep->seconds_synthesis += relief_seconds() - t0;
+    if (st != RELIEF_OK)
+        return st;
+    rep->by_synthesis += sr.by_synthesis;
+    rep->by_fallback += sr.by_fallback;
+    rep->candidates += sr.candidates;
+    rep->seconds_score += sr.seconds_score;
+    rep->kept = sr.kept;
+    rep->energy[0] = sr.energy[0];
+    rep->energy[1] = sr.energy[1];
+    return RELIEF_OK;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* lambda <= 0: 8 x 1.4826 x the median of the non-zero |differences| of
+ * known 4-neighbours (the capture's robust step; a quantised capture has
+ * many equal neighbours, whose zeros would make the median useless). */
+static relief_status auto_lambda(const float *z, const uint8_t *known, int W, int H,
+                                 double *lambda, relief_error *err)
+{
+    size_t n = 0, cap = 2 * (size_t)W * H;
+    float *d = malloc(cap * sizeof *d);
+    if (!d)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the steps' list");
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            if (!known[i])
+                continue;
+            if (x + 1 < W && known[i + 1] && z[i + 1] != z[i])
+                d[n++] = fabsf(z[i + 1] - z[i]);
+            if (y + 1 < H && known[i + W] && z[i + W] != z[i])
+                d[n++] = fabsf(z[i + W] - z[i]);
+        }
+    if (n) {
+        qsort(d, n, sizeof *d, cmp_float);
+        *lambda = 8.0 * 1.4826 * d[n / 2];
+    } else {
+        *lambda = 0.0;
+    }
+    free(d);
+    return RELIEF_OK;
+}
+
+/* ---------------------------------------------------------------- variants */
+
+static relief_status fill_plain(float *z, const uint8_t *missing, const uint8_t *inside, int W,
+                                int H,
+                                const relief_depth_fill_params *p, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_fill_report *rep,
+                                relief_error *err)
+{
+    size_t n = (size_t)W * H;
+    float *v = malloc(n * sizeof *v);
+    relief_status st;
+    if (!v)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a copy of the image");
+    for (size_t i = 0; i < n; ++i)
+        v[i] = missing[i] ? 0.0f : z[i];
+    st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, source, rep, err);
+    if (st == RELIEF_OK)
+        for (size_t i = 0; i < n; ++i)
+            if (inside[i])
+                z[i] = v[i];
+    free(v);
+    return st;
+}
+
+static relief_status fill_decompose(float *z, const uint8_t *missing, const uint8_t *inside,
+                                    int W, int H,
+                                    const relief_depth_fill_params *p,
+                                    relief_patch_scorer *scorer, int64_t *source,
+                                    relief_depth_fill_report *rep, relief_error *err)
+{
+    size_t n = (size_t)W * H;
+    float *u = malloc(n * sizeof *u), *v = malloc(n * sizeof *v);
+    uint8_t *known = malloc(n);
+    double lambda = p->lambda, t0 = relief_seconds();
+    relief_status st = RELIEF_OK;
+    if (!u || !v || !known) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the decomposition");
+        goto done;
+    }
+    for (size_t i = 0; i < n; ++i)
+        known[i] = !missing[i];
+    if (lambda <= 0.0)
+        st = auto_lambda(z, known, W, H, &lambda, err);
+    rep->lambda = lambda;
+    if (st == RELIEF_OK)
+        st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
+    if (st == RELIEF_OK)
+        st = relief_membrane_fill(u, known, W, H, p->membrane_iterations,
+                                  &rep->membrane_iterations, err);
+    rep->seconds_transform += relief_seconds() - t0;
+    if (st != RELIEF_OK)
+        goto done;
+    for (size_t i = 0; i < n; ++i)
+        rep->by_membrane += inside[i] != 0;
+    st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, source, rep, err);
+    if (st == RELIEF_OK)
+        for (size_t i = 0; i < n; ++i)
+            if (inside[i])
+                z[i] = u[i] + v[i];
+done:
+    free(u);
+    free(v);
+    free(known);
+    return st;
+}
+
+static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *inside, int W,
+                               int H,
+                               const relief_depth_fill_params *p, relief_patch_scorer *scorer,
+                               int64_t *source, relief_depth_fill_report *rep,
+                               relief_error *err)
+{
+    int L = p->levels, step = 1 << L;
+    int Wp = (W + step - 1) / step * step, Hp = (H + step - 1) / step * step;
+    float *ll[MAX_HAAR_LEVELS + 1] = {NULL}, *det[MAX_HAAR_LEVELS + 1] = {NULL};
+    uint8_t *known[MAX_HAAR_LEVELS + 1] = {NULL}, *target[MAX_HAAR_LEVELS + 1] = {NULL};
+    int64_t *src = NULL;
+    float *back = NULL;
+    relief_status st = RELIEF_OK;
+    double t0 = relief_seconds();
+
+    /* Level 0: the image padded to a multiple of 2^L by repeating its last
+     * column and row (with their known flags). */
+    for (int l = 0; l <= L; ++l) {
+        size_t m = (size_t)(Wp >> l) * (Hp >> l);
+        ll[l] = malloc(m * sizeof(float));
+        known[l] = malloc(m);
+        target[l] = malloc(m);
+        det[l] = l ? malloc(3 * m * sizeof(float)) : NULL;
+        if (!ll[l] || !known[l] || !target[l] || (l && !det[l])) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
+            goto done;
+        }
+    }
+    src = source ? malloc((size_t)(Wp >> 1) * (Hp >> 1) * sizeof *src) : NULL;
+    back = malloc((size_t)Wp * Hp * sizeof *back);
+    if ((source && !src) || !back) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
+        goto done;
+    }
+    for (int y = 0; y < Hp; ++y)
+        for (int x = 0; x < Wp; ++x) {
+            size_t s = (size_t)(y < H ? y : H - 1) * W + (x < W ? x : W - 1);
+            size_t o = (size_t)y * Wp + x;
+            known[0][o] = !missing[s];
+            target[0][o] = x < W && y < H && inside[s];
+            ll[0][o] = missing[s] ? 0.0f : z[s];
+        }
+    /* Forward: a coefficient is known when its four pixels are, a target
+     * when one of them is. */
+    for (int l = 1; l <= L; ++l) {
+        int w = Wp >> l, h = Hp >> l, fw = Wp >> (l - 1);
+        relief_haar_forward(ll[l - 1], fw, Hp >> (l - 1), ll[l], det[l]);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const uint8_t *k = known[l - 1], *t = target[l - 1];
+                size_t a = (size_t)(2 * y) * fw + 2 * x;
+                known[l][(size_t)y * w + x] = k[a] && k[a + 1] && k[a + fw] && k[a + fw + 1];
+                target[l][(size_t)y * w + x] = t[a] || t[a + 1] || t[a + fw] || t[a + fw + 1];
+            }
+    }
+    /* The coarsest LL: the membrane. */
+    st = relief_membrane_fill(ll[L], known[L], Wp >> L, Hp >> L, p->membrane_iterations,
+                              &rep->membrane_iterations, err);
+    if (st != RELIEF_OK) {
+        if (st == RELIEF_E_RANGE)
+            st = relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known "
+                             "(every 2^%d block has a missing pixel): give fewer --levels", L,
+                             L);
+        goto done;
+    }
+    for (size_t i = 0; i < (size_t)(Wp >> L) * (Hp >> L); ++i)
+        rep->by_membrane += target[L][i] != 0;
+    rep->seconds_transform += relief_seconds() - t0;
+    /* Coarse to fine: the level's details synthesised (the three bands as
+     * one 3-channel image, so that a copy keeps them together), then the
+     * inverse; known coefficients of the finer LL keep their values. */
+    for (int l = L; l >= 1; --l) {
+        int w = Wp >> l, h = Hp >> l, fw = Wp >> (l - 1), fh = Hp >> (l - 1);
+        size_t m = (size_t)w * h, any = 0;
+        uint8_t *hole = malloc(m);
+        relief_pixsyn_params sp = p->synth;
+        if (!hole) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a band's mask");
+            goto done;
+        }
+        for (size_t i = 0; i < m; ++i) {
+            hole[i] = !known[l][i];
+            any += !hole[i];
+            if (hole[i])
+                det[l][3 * i] = det[l][3 * i + 1] = det[l][3 * i + 2] = 0.0f;
+        }
+        if (sp.search_radius > 0) {
+            int r = sp.search_radius >> l, least = (sp.window + 1) / 2;
+            sp.search_radius = r > least ? r : least;
+        }
+        st = any ? synthesise(det[l], hole, target[l], w, h, 3, &sp, scorer, l == 1 ? src : NULL,
+                              rep, err)
+                 : relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known: "
+                               "give fewer --levels", l);
+        free(hole);
+        if (st != RELIEF_OK)
+            goto done;
+        t0 = relief_seconds();
+        relief_haar_inverse(ll[l], det[l], fw, fh, back);
+        for (size_t i = 0; i < (size_t)fw * fh; ++i)
+            if (!known[l - 1][i])
+                ll[l - 1][i] = back[i];
+        rep->seconds_transform += relief_seconds() - t0;
+    }
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            if (!inside[i])
+                continue;
+            z[i] = ll[0][(size_t)y * Wp + x];
+            if (source) {
+                int64_t s = src[(size_t)(y / 2) * (Wp / 2) + x / 2];
+                int sx, sy;
+                source[i] = -1;
+                if (s >= 0) {
+                    sx = 2 * (int)(s % (Wp / 2)) + (x & 1);
+                    sy = 2 * (int)(s / (Wp / 2)) + (y & 1);
+                    if (sx < W && sy < H)
+                        source[i] = (int64_t)sy * W + sx;
+                }
+            }
+        }
+    rep->levels = L;
+done:
+    for (int l = 0; l <= L; ++l) {
+        free(ll[l]);
+        free(det[l]);
+        free(known[l]);
+        free(target[l]);
+    }
+    free(src);
+    free(back);
+    return st;
+}
+
+size_t relief_depth_inside(const uint8_t *missing, int width, int height, uint8_t *inside)
+{
+    int W = width, H = height;
+    size_t count = 0;
+    int *first_y = malloc((size_t)W * sizeof *first_y), *last_y = malloc((size_t)W * sizeof *last_y);
+    if (!first_y || !last_y) {
+        free(first_y);
+        free(last_y);
+        return (size_t)-1;
+    }
+    /* The first and last known pixel of every column and of every row. */
+    for (int x = 0; x < W; ++x) {
+        first_y[x] = H;
+        last_y[x] = -1;
+    }
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            if (!missing[(size_t)y * W + x]) {
+                if (first_y[x] == H)
+                    first_y[x] = y;
+                last_y[x] = y;
+            }
+    for (int y = 0; y < H; ++y) {
+        int first_x = W, last_x = -1;
+        for (int x = 0; x < W; ++x)
+            if (!missing[(size_t)y * W + x]) {
+                if (first_x == W)
+                    first_x = x;
+                last_x = x;
+            }
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            inside[i] = missing[i] && ((x > first_x && x < last_x) ||
+                                       (y > first_y[x] && y < last_y[x]));
+            count += inside[i];
+        }
+    }
+    free(first_y);
+    free(last_y);
+    return count;
+}
+
+relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int height,
+                                const relief_depth_fill_params *p, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_fill_report *rep,
+                                relief_error *err)
+{
+    size_t n = (size_t)width * height, holes = 0;
+    relief_depth_fill_report local;
+    uint8_t *inside;
+    relief_status st;
+    if (!rep)
+        rep = &local;
+    memset(rep, 0, sizeof *rep);
+    rep->energy[0] = rep->energy[1] = -1.0;
+    st = relief_depth_fill_params_validate(p, width, height, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (size_t i = 0; i < n; ++i) {
+        holes += missing[i] != 0;
+        if (source)
+            source[i] = -1;
+    }
+    rep->missing = holes;
+    if (holes == 0)
+        return RELIEF_OK;
+    if (holes == n)
+        return relief_fail(err, RELIEF_E_RANGE, "every pixel of the image is missing: there is "
+                           "nothing to repair it from");
+    inside = malloc(n);
+    if (!inside)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the inside mask");
+    rep->filled = relief_depth_inside(missing, width, height, inside);
+    if (rep->filled == (size_t)-1) {
+        free(inside);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's extent");
+    }
+    rep->outside = holes - rep->filled;
+    if (rep->filled == 0) {
+        free(inside);
+        return relief_fail(err, RELIEF_E_RANGE, "none of the %zu missing pixels lies inside "
+                           "the capture (a known pixel on both sides along its row or its "
+                           "column): the hole touches every border around the data, and "
+                           "filling it would be extrapolation", holes);
+    }
+    switch (p->variant) {
+    case RELIEF_DEPTH_PLAIN:
+        st = fill_plain(z, missing, inside, width, height, p, scorer, source, rep, err);
+        break;
+    case RELIEF_DEPTH_HAAR:
+        st = fill_haar(z, missing, inside, width, height, p, scorer, source, rep, err);
+        break;
+    default:
+        st = fill_decompose(z, missing, inside, width, height, p, scorer, source, rep, err);
+        break;
+    }
+    free(inside);
+    return st;
+}
+
+/* ---------------------------------------------------------------- measures */
+
+void relief_depth_measure(const float *z, const float *truth, const uint8_t *missing,
+                          int width, int height, relief_depth_measures *m)
+{
+    int W = width, H = height;
+    double se = 0.0, jump = 0.0, tjump = 0.0, cap = 0.0;
+    size_t tpairs = 0, cap_n = 0;
+    memset(m, 0, sizeof *m);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            if (missing[i] && truth && isfinite(truth[i]) && isfinite(z[i])) {
+                double d = (double)z[i] - truth[i];
+                se += d * d;
+                ++m->compared;
+            }
+            /* Triples along +x and +y starting at i: i, i + s, i + 2 s. */
+            for (int dir = 0; dir < 2; ++dir) {
+                int ok = dir ? y + 2 < H : x + 2 < W;
+                size_t s = dir ? (size_t)W : 1, a = i, b = i + s, c = i + 2 * s;
+                if (!ok)
+                    continue;
+                if (!missing[a] && !missing[b] && !missing[c]) {
+                    if (isfinite(z[a]) && isfinite(z[b]) && isfinite(z[c])) {
+                        cap += fabs((double)z[a] - 2.0 * z[b] + z[c]);
+                        ++cap_n;
+                    }
+                    continue;
+                }
+                /* A rim triple: one end filled, the other two known. */
+                for (int end = 0; end < 2; ++end) {
+                    size_t p = end ? c : a, q = b, r = end ? a : c;
+                    double step;
+                    if (!missing[p] || missing[q] || missing[r] || !isfinite(z[p]) ||
+                        !isfinite(z[q]) || !isfinite(z[r]))
+                        continue;
+                    /* With a truth, the rims of the holes it knows. */
+                    if (truth && !isfinite(truth[p]))
+                        continue;
+                    step = fabs(((double)z[p] - z[q]) - ((double)z[q] - z[r]));
+                    jump += step;
+                    ++m->rim_pairs;
+                    if (truth && isfinite(truth[p])) {
+                        tjump += fabs(((double)truth[p] - z[q]) - ((double)z[q] - z[r]));
+                        ++tpairs;
+                    }
+                }
+            }
+        }
+    m->rms = m->compared ? sqrt(se / (double)m->compared) : NAN;
+    m->rim_jump = m->rim_pairs ? jump / (double)m->rim_pairs : NAN;
+    m->capture_jump = cap_n ? cap / (double)cap_n : NAN;
+    m->truth_jump = tpairs ? tjump / (double)tpairs : NAN;
+}

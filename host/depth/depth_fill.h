@@ -1,0 +1,112 @@
+/* Depth-image repair (paper 003): the missing pixels of a depth or range
+ * image filled by constrained texture synthesis (image/pixel_synth.h, on
+ * the image filler's engine and scorer), in one of three variants:
+ *  - plain (3.1): synthesis on the depth values themselves;
+ *  - haar (3.2): the 2 x 2 Haar transform to `levels`; the coarsest LL by
+ *    the membrane (harmonic interpolation), the LH, HL and HH bands of
+ *    every level synthesised together (one 3-channel image per level),
+ *    then the inverse transform;
+ *  - decompose (3.3): f = u + v by ROF; u by the membrane, v synthesised;
+ *    recomposed.
+ * Known pixels keep their bits in every variant. Measures against a truth
+ * image (RMS over the filled pixels, the slope jump at the hole's rim) are
+ * here too, for the command and the bench. */
+#ifndef RELIEF_HOST_DEPTH_DEPTH_FILL_H
+#define RELIEF_HOST_DEPTH_DEPTH_FILL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+#include "image/patch.h"
+#include "image/pixel_synth.h"
+
+typedef enum relief_depth_variant {
+    RELIEF_DEPTH_PLAIN = 0,
+    RELIEF_DEPTH_HAAR,
+    RELIEF_DEPTH_DECOMPOSE
+} relief_depth_variant;
+
+typedef struct relief_depth_fill_params {
+    relief_depth_variant variant; /* decompose */
+    relief_pixsyn_params synth;   /* the synthesis (window 9, search radius 32, ...) */
+    int levels;                   /* haar: transform steps, 1..6; 2 */
+    double lambda;                /* decompose: ROF's lambda in the values' units x pixels;
+                                     <= 0: automatic, 8 x the capture's robust step (the
+                                     median |difference| of 4-neighbours, x 1.4826) */
+    int rof_iterations;           /* decompose: Chambolle iterations; 200 */
+    int membrane_iterations;      /* conjugate-gradient iterations at most; 5000 */
+} relief_depth_fill_params;
+
+relief_depth_fill_params relief_depth_fill_params_default(void);
+
+typedef struct relief_depth_fill_report {
+    size_t missing;              /* pixels missing */
+    size_t filled;               /* of them, inside the capture: filled */
+    size_t outside;              /* of them, outside: left missing */
+    size_t by_synthesis;         /* synthesised (plain: the depths; decompose: v; haar: the
+                                    detail coefficients of every level) */
+    size_t by_fallback;          /* the synthesis's fallbacks, same units */
+    size_t by_membrane;          /* haar: LL coefficients; decompose: u pixels */
+    int membrane_iterations;     /* the last membrane solve's */
+    double lambda;               /* decompose: the lambda used */
+    relief_pixsyn_order kept;    /* the order kept (plain, decompose; haar: level 1's) */
+    double energy[2];            /* its energies, as relief_pixsyn_report */
+    size_t candidates;           /* windows scored */
+    int levels;                  /* haar: levels used */
+    double seconds_transform;    /* Haar / ROF / membrane */
+    double seconds_synthesis;    /* texture synthesis, every band */
+    double seconds_score;        /* of which scoring windows */
+} relief_depth_fill_report;
+
+/* Validate `p` for a width x height image: RELIEF_E_RANGE naming the
+ * parameter. */
+relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p, int width,
+                                                int height, relief_error *err);
+
+/* Bytes relief_depth_fill needs for a width x height image (for the
+ * memory check before the work starts). */
+uint64_t relief_depth_fill_estimate(int width, int height);
+
+/* The missing pixels inside the capture: those with a known pixel on
+ * both sides along their row, or along their column. A depth camera's
+ * invalid margin (office1.pcd: every border pixel) is outside: filling it
+ * would be extrapolation, not repair. inside[i] = 1 for them; returns
+ * their number. */
+size_t relief_depth_inside(const uint8_t *missing, int width, int height, uint8_t *inside);
+
+/* Fill z (width x height, row-major) where missing[i] != 0 and the pixel
+ * is inside the capture (relief_depth_inside), in place; the missing
+ * pixels outside stay as they are (NaN).
+ * `source` (may be NULL; width x height): for each filled pixel the pixel
+ * its texture came from (plain, decompose: the synthesis's copy; haar: the
+ * finest level's, mapped to full resolution), -1 where none (a fallback,
+ * or a known pixel). RELIEF_E_RANGE when every pixel is missing, or when
+ * every missing pixel is outside the capture (a hole touching every
+ * border and nothing else). */
+relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int height,
+                                const relief_depth_fill_params *p, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_fill_report *rep,
+                                relief_error *err);
+
+/* Measures of a fill against the truth, over the pixels that were missing
+ * (mask `missing`; those still NaN are left out); all in the values'
+ * units. */
+typedef struct relief_depth_measures {
+    size_t compared;     /* filled pixels whose truth is finite */
+    double rms;          /* RMS of filled - truth over them; NaN when none */
+    size_t rim_pairs;    /* (filled p, known q, known q') in a row or column: the rim */
+    double rim_jump;     /* mean |(z(p) - z(q)) - (z(q) - z(q'))| over them: the slope
+                            step from the capture into the fill */
+    double capture_jump; /* the same second difference over known triples: the
+                            capture's own roughness */
+    double truth_jump;   /* rim_jump with the truth at p (NaN without a truth) */
+} relief_depth_measures;
+
+/* `truth` may be NULL (then compared 0, rms and truth_jump NaN); with a
+ * truth, only the filled pixels it knows count (the holes cut from a
+ * capture, not the capture's own). NaN values of z are left out. */
+void relief_depth_measure(const float *z, const float *truth, const uint8_t *missing,
+                          int width, int height, relief_depth_measures *m);
+
+#endif

@@ -1,0 +1,244 @@
+#include "depth/transform.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+
+/* ---------------------------------------------------------------- membrane */
+
+/* y = A x over the unknowns: A is the negative 4-neighbour Laplacian
+ * restricted to them (known neighbours move to the right-hand side; a
+ * neighbour outside the image is no neighbour). idx[i] is the unknown's
+ * number of pixel i, or -1. */
+static void apply(const int32_t *idx, const int32_t *pix, size_t m, int W, int H,
+                  const double *x, double *y)
+{
+    for (size_t k = 0; k < m; ++k) {
+        int px = pix[k] % W, py = pix[k] / W, deg = 0;
+        double s = 0.0;
+        int nb[4][2] = {{px - 1, py}, {px + 1, py}, {px, py - 1}, {px, py + 1}};
+        for (int j = 0; j < 4; ++j) {
+            int u = nb[j][0], v = nb[j][1];
+            int32_t o;
+            if (u < 0 || u >= W || v < 0 || v >= H)
+                continue;
+            ++deg;
+            o = idx[(size_t)v * W + u];
+            if (o >= 0)
+                s -= x[o];
+        }
+        y[k] = deg * x[k] + s;
+    }
+}
+
+relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, int height,
+                                   int max_iter, int *iterations, relief_error *err)
+{
+    size_t n = (size_t)width * height, m = 0, any = 0;
+    int32_t *idx = NULL, *pix = NULL;
+    double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, rr, b2 = 0.0;
+    int it = 0;
+    relief_status st = RELIEF_OK;
+
+    if (iterations)
+        *iterations = 0;
+    for (size_t i = 0; i < n; ++i) {
+        any += known[i] != 0;
+        m += known[i] == 0;
+    }
+    if (!any)
+        return relief_fail(err, RELIEF_E_RANGE, "no pixel is known: nothing to interpolate "
+                           "from");
+    if (!m)
+        return RELIEF_OK;
+    idx = malloc(n * sizeof *idx);
+    pix = malloc(m * sizeof *pix);
+    x = calloc(m, sizeof *x);
+    b = calloc(m, sizeof *b);
+    r = malloc(m * sizeof *r);
+    p = malloc(m * sizeof *p);
+    q = malloc(m * sizeof *q);
+    if (!idx || !pix || !x || !b || !r || !p || !q) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the membrane's %zu unknowns", m);
+        goto done;
+    }
+    m = 0;
+    for (size_t i = 0; i < n; ++i) {
+        idx[i] = known[i] ? -1 : (int32_t)m;
+        if (!known[i])
+            pix[m++] = (int32_t)i;
+    }
+    /* b: the known neighbours' values; the starting guess x: their mean
+     * where there are any (faster than 0 on thin holes). */
+    for (size_t k = 0; k < m; ++k) {
+        int px = pix[k] % width, py = pix[k] / width, c = 0;
+        int nb[4][2] = {{px - 1, py}, {px + 1, py}, {px, py - 1}, {px, py + 1}};
+        for (int j = 0; j < 4; ++j) {
+            int u = nb[j][0], v = nb[j][1];
+            size_t o;
+            if (u < 0 || u >= width || v < 0 || v >= height)
+                continue;
+            o = (size_t)v * width + u;
+            if (known[o]) {
+                b[k] += z[o];
+                ++c;
+            }
+        }
+        x[k] = c ? b[k] / c : 0.0;
+        b2 += b[k] * b[k];
+    }
+    /* Conjugate gradients: A is symmetric positive definite when every
+     * component of the unknowns touches a known pixel (it does unless
+     * none is known, refused above). */
+    apply(idx, pix, m, width, height, x, q);
+    rr = 0.0;
+    for (size_t k = 0; k < m; ++k) {
+        r[k] = b[k] - q[k];
+        p[k] = r[k];
+        rr += r[k] * r[k];
+    }
+    while (it < max_iter && rr > 1e-16 * (b2 > 0.0 ? b2 : 1.0)) {
+        double pq = 0.0, alpha, rr_new = 0.0;
+        apply(idx, pix, m, width, height, p, q);
+        for (size_t k = 0; k < m; ++k)
+            pq += p[k] * q[k];
+        if (!(pq > 0.0))
+            break;
+        alpha = rr / pq;
+        for (size_t k = 0; k < m; ++k) {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * q[k];
+            rr_new += r[k] * r[k];
+        }
+        for (size_t k = 0; k < m; ++k)
+            p[k] = r[k] + rr_new / rr * p[k];
+        rr = rr_new;
+        ++it;
+    }
+    for (size_t k = 0; k < m; ++k)
+        z[pix[k]] = (float)x[k];
+    if (iterations)
+        *iterations = it;
+done:
+    free(idx);
+    free(pix);
+    free(x);
+    free(b);
+    free(r);
+    free(p);
+    free(q);
+    return st;
+}
+
+/* ---------------------------------------------------------------- Haar */
+
+void relief_haar_forward(const float *z, int width, int height, float *ll, float *detail)
+{
+    int w = width / 2, h = height / 2;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double a = z[(size_t)(2 * y) * width + 2 * x], b = z[(size_t)(2 * y) * width + 2 * x + 1];
+            double c = z[(size_t)(2 * y + 1) * width + 2 * x];
+            double d = z[(size_t)(2 * y + 1) * width + 2 * x + 1];
+            size_t o = (size_t)y * w + x;
+            ll[o] = (float)((a + b + c + d) / 4.0);
+            detail[3 * o] = (float)((a - b + c - d) / 4.0);
+            detail[3 * o + 1] = (float)((a + b - c - d) / 4.0);
+            detail[3 * o + 2] = (float)((a - b - c + d) / 4.0);
+        }
+}
+
+void relief_haar_inverse(const float *ll, const float *detail, int width, int height, float *z)
+{
+    int w = width / 2, h = height / 2;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t o = (size_t)y * w + x;
+            double s = ll[o], lh = detail[3 * o], hl = detail[3 * o + 1], hh = detail[3 * o + 2];
+            z[(size_t)(2 * y) * width + 2 * x] = (float)(s + lh + hl + hh);
+            z[(size_t)(2 * y) * width + 2 * x + 1] = (float)(s - lh + hl - hh);
+            z[(size_t)(2 * y + 1) * width + 2 * x] = (float)(s + lh - hl - hh);
+            z[(size_t)(2 * y + 1) * width + 2 * x + 1] = (float)(s - lh - hl + hh);
+        }
+}
+
+/* ---------------------------------------------------------------- ROF */
+
+relief_status relief_rof(const float *f, const uint8_t *known, int width, int height,
+                         double lambda, int iterations, float *u, float *v, relief_error *err)
+{
+    size_t n = (size_t)width * height;
+    double *px = calloc(n, sizeof *px), *py = calloc(n, sizeof *py), *div = malloc(n * sizeof *div);
+    const double tau = 0.25;
+    int W = width, H = height;
+    if (!px || !py || !div) {
+        free(px);
+        free(py);
+        free(div);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the ROF dual field (%zu "
+                           "pixels)", n);
+    }
+    if (!(lambda > 0.0)) {
+        for (size_t i = 0; i < n; ++i) {
+            u[i] = known[i] ? f[i] : 0.0f;
+            v[i] = 0.0f;
+        }
+        free(px);
+        free(py);
+        free(div);
+        return RELIEF_OK;
+    }
+    /* Edges: px[i] joins i and i + 1, py[i] joins i and i + W, present
+     * only when both ends are known. div = -grad^T. */
+#define EX(i, x) ((x) + 1 < W && known[i] && known[(i) + 1])
+#define EY(i, y) ((y) + 1 < H && known[i] && known[(i) + W])
+    for (int it = 0; it <= iterations; ++it) {
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                size_t i = (size_t)y * W + x;
+                double d = 0.0;
+                if (EX(i, x))
+                    d += px[i];
+                if (x > 0 && EX(i - 1, x - 1))
+                    d -= px[i - 1];
+                if (EY(i, y))
+                    d += py[i];
+                if (y > 0 && EY(i - W, y - 1))
+                    d -= py[i - W];
+                div[i] = d;
+            }
+        if (it == iterations)
+            break;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                size_t i = (size_t)y * W + x;
+                double gx = 0.0, gy = 0.0, norm;
+                if (!known[i])
+                    continue;
+                if (EX(i, x))
+                    gx = (div[i + 1] - f[i + 1] / lambda) - (div[i] - f[i] / lambda);
+                if (EY(i, y))
+                    gy = (div[i + W] - f[i + W] / lambda) - (div[i] - f[i] / lambda);
+                norm = sqrt(gx * gx + gy * gy);
+                px[i] = (px[i] + tau * gx) / (1.0 + tau * norm);
+                py[i] = (py[i] + tau * gy) / (1.0 + tau * norm);
+            }
+    }
+#undef EX
+#undef EY
+    for (size_t i = 0; i < n; ++i) {
+        if (known[i]) {
+            double uu = f[i] - lambda * div[i];
+            u[i] = (float)uu;
+            v[i] = (float)(f[i] - uu);
+        } else {
+            u[i] = v[i] = 0.0f;
+        }
+    }
+    free(px);
+    free(py);
+    free(div);
+    return RELIEF_OK;
+}

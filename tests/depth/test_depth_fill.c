@@ -1,0 +1,344 @@
+/* depth/transform.c, depth/depth_fill.c and image/pixel_synth.c: the Haar
+ * step and its inverse (exact on a common grid), the membrane on a plane
+ * (exact), ROF separating a step from a texture, a periodic depth texture
+ * refilled exactly by the plain variant (both searches), the capture's
+ * inside, the measures on hand-made values, bad parameters, and the real
+ * office frame repaired by every variant. With "opencl": the scalar and
+ * OpenCL scorers give the same bytes for every variant.
+ *   test_depth_fill [opencl] DEPTH_DIR */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "depth/depth_fill.h"
+#include "depth/depth_io.h"
+#include "depth/transform.h"
+#include "image/patch.h"
+
+static uint32_t lcg(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s >> 8;
+}
+
+static void test_haar(void)
+{
+    enum { W = 12, H = 8 };
+    float z[W * H], ll[W * H / 4], det[3 * W * H / 4], back[W * H];
+    uint32_t s = 7;
+    double worst = 0.0;
+    /* Integer millimetres as a 16-bit PNG holds them: exact. */
+    for (int i = 0; i < W * H; ++i)
+        z[i] = (float)(lcg(&s) % 65536u);
+    relief_haar_forward(z, W, H, ll, det);
+    relief_haar_inverse(ll, det, W, H, back);
+    CHECK(memcmp(z, back, sizeof z) == 0, "Haar round trip of integer depths not exact");
+    /* A hand-checked block: a b / c d = 1 2 / 3 5. */
+    {
+        float q[4] = {1, 2, 3, 5}, l, d[3];
+        relief_haar_forward(q, 2, 2, &l, d);
+        CHECK(l == 2.75f && d[0] == -0.75f && d[1] == -1.25f && d[2] == 0.25f,
+              "Haar of 1 2 / 3 5: ll %g lh %g hl %g hh %g", l, d[0], d[1], d[2]);
+    }
+    /* Metres with full mantissas: within a float's rounding. */
+    for (int i = 0; i < W * H; ++i)
+        z[i] = 1.0f + (float)(lcg(&s) % 1000000u) * 3.1e-6f;
+    relief_haar_forward(z, W, H, ll, det);
+    relief_haar_inverse(ll, det, W, H, back);
+    for (int i = 0; i < W * H; ++i)
+        worst = fmax(worst, fabs((double)back[i] - z[i]) / fabs(z[i]));
+    CHECK(worst <= 4.0 * 1.2e-7, "Haar round trip of metres: relative error %g", worst);
+}
+
+static void test_membrane(void)
+{
+    enum { W = 40, H = 30 };
+    float z[W * H];
+    uint8_t known[W * H];
+    relief_error err = {RELIEF_OK, ""};
+    int it = 0;
+    double worst = 0.0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x, hole = (x - 20) * (x - 20) + (y - 14) * (y - 14) < 64 ||
+                                      (x > 30 && y > 20);
+            known[i] = (uint8_t)!hole;
+            z[i] = hole ? 0.0f : 2.0f + 0.01f * x - 0.02f * y;
+        }
+    CHECK(relief_membrane_fill(z, known, W, H, 5000, &it, &err) == RELIEF_OK, "%s", err.message);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            worst = fmax(worst, fabs(z[y * W + x] - (2.0 + 0.01 * x - 0.02 * y)));
+    /* The hole in the corner touches the border: Neumann there, and a
+     * plane is harmonic but not Neumann, so only the disc is exact. */
+    {
+        double disc = 0.0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+                if ((x - 20) * (x - 20) + (y - 14) * (y - 14) < 64)
+                    disc = fmax(disc, fabs(z[y * W + x] - (2.0 + 0.01 * x - 0.02 * y)));
+        CHECK(disc < 1e-5, "membrane on a plane: error %g in the disc (%d iterations)", disc,
+              it);
+    }
+    CHECK(worst < 0.2, "membrane: error %g", worst);
+    memset(known, 0, sizeof known);
+    CHECK(relief_membrane_fill(z, known, W, H, 100, NULL, &err) == RELIEF_E_RANGE,
+          "membrane with nothing known accepted");
+}
+
+static void test_rof(void)
+{
+    enum { W = 64, H = 48 };
+    static float f[W * H], u[W * H], v[W * H], tex[W * H];
+    static uint8_t known[W * H];
+    relief_error err = {RELIEF_OK, ""};
+    double jump_u, cov = 0, vv = 0, tt = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x;
+            tex[i] = 0.05f * (float)(((x / 2) + (y / 2)) % 2 ? 1 : -1); /* 2 px checks */
+            f[i] = (x >= W / 2 ? 1.0f : 0.0f) + tex[i];
+            known[i] = !(x > 5 && x < 12 && y > 5 && y < 12); /* a hole: a free boundary */
+        }
+    CHECK(relief_rof(f, known, W, H, 0.2, 300, u, v, &err) == RELIEF_OK, "%s", err.message);
+    /* u keeps the step (rows away from the top and bottom edges). */
+    {
+        double left = 0, right = 0;
+        int m = 0;
+        for (int y = 16; y < 32; ++y, ++m) {
+            left += u[y * W + W / 2 - 4];
+            right += u[y * W + W / 2 + 4];
+        }
+        jump_u = (right - left) / m;
+    }
+    for (int i = 0; i < W * H; ++i)
+        if (known[i]) {
+            cov += (double)v[i] * tex[i];
+            vv += (double)v[i] * v[i];
+            tt += (double)tex[i] * tex[i];
+            CHECK(fabsf(u[i] + v[i] - f[i]) < 1e-6f, "u + v != f at %d", i);
+        } else {
+            CHECK(u[i] == 0.0f && v[i] == 0.0f, "a missing pixel got u %g v %g", u[i], v[i]);
+        }
+    CHECK(jump_u > 0.9, "ROF: u's step is %g of 1", jump_u);
+    CHECK(cov / sqrt(vv * tt) > 0.9, "ROF: v's correlation with the texture %g",
+          cov / sqrt(vv * tt));
+}
+
+/* A periodic depth texture (8 x 6 period) with a hole: the plain variant
+ * finds the period and refills it exactly, with either search. */
+static void test_periodic(relief_patch_scorer *sc)
+{
+    enum { W = 96, H = 72 };
+    static float z[W * H], truth[W * H];
+    static uint8_t missing[W * H];
+    relief_error err = {RELIEF_OK, ""};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x;
+            truth[i] = 2.0f + 0.01f * (float)((x % 8) * 3 + (y % 6) * 7 % 11);
+            missing[i] = x >= 40 && x < 55 && y >= 30 && y < 42;
+            z[i] = missing[i] ? NAN : truth[i];
+        }
+    for (int exhaustive = 0; exhaustive <= 1; ++exhaustive) {
+        relief_depth_fill_params p = relief_depth_fill_params_default();
+        relief_depth_fill_report rep;
+        relief_depth_measures m;
+        float w[W * H];
+        memcpy(w, z, sizeof w);
+        p.variant = RELIEF_DEPTH_PLAIN;
+        p.synth.exhaustive = exhaustive;
+        CHECK(relief_depth_fill(w, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK, "%s",
+              err.message);
+        relief_depth_measure(w, truth, missing, W, H, &m);
+        CHECK(m.compared == 15 * 12 && m.rms == 0.0, "periodic, %s: RMS %g over %zu",
+              exhaustive ? "exhaustive" : "pyramid", m.rms, m.compared);
+        CHECK(rep.filled == 15 * 12 && rep.outside == 0 && rep.by_fallback == 0,
+              "periodic: filled %zu outside %zu fallbacks %zu", rep.filled, rep.outside,
+              rep.by_fallback);
+    }
+}
+
+static void test_inside_and_measures(relief_patch_scorer *sc)
+{
+    enum { W = 10, H = 8 };
+    uint8_t missing[W * H], inside[W * H];
+    float z[W * H], truth[W * H];
+    relief_depth_measures m;
+    relief_error err = {RELIEF_OK, ""};
+    /* A margin two pixels wide (outside) and one pixel in the middle. */
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            missing[y * W + x] = x < 2 || y < 2 || (x == 5 && y == 4);
+    CHECK(relief_depth_inside(missing, W, H, inside) == 1 && inside[4 * W + 5] == 1,
+          "inside: the margin is outside, the middle pixel inside");
+    /* Only a margin: nothing to repair, refused. */
+    missing[4 * W + 5] = 0;
+    {
+        relief_depth_fill_params p = relief_depth_fill_params_default();
+        for (int i = 0; i < W * H; ++i)
+            z[i] = missing[i] ? NAN : 1.0f;
+        p.synth.window = 3;
+        p.synth.search_radius = 2;
+        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
+                  strstr(err.message, "every border"),
+              "a margin alone: %s", err.message);
+        memset(missing, 1, sizeof missing);
+        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
+                  strstr(err.message, "every pixel"),
+              "all missing: %s", err.message);
+        memset(missing, 0, sizeof missing);
+        p.synth.window = 4;
+        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE,
+              "an even window accepted");
+        p.synth.window = 11;
+        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE,
+              "a window larger than the image accepted");
+        p = relief_depth_fill_params_default();
+        p.variant = RELIEF_DEPTH_HAAR;
+        p.levels = 3;
+        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
+                  strstr(err.message, "--levels"),
+              "Haar levels leaving bands under the window: %s", err.message);
+    }
+    /* Measures: a row 1 2 3 [x] with x filled as 5 (truth 4): RMS 1, the
+     * rim's second difference |(5 - 3) - (3 - 2)| = 1, the truth's 0. */
+    {
+        float zz[4] = {1, 2, 3, 5}, tt[4] = {1, 2, 3, 4};
+        uint8_t mm[4] = {0, 0, 0, 1};
+        relief_depth_measure(zz, tt, mm, 4, 1, &m);
+        CHECK(m.compared == 1 && m.rms == 1.0 && m.rim_pairs == 1 && m.rim_jump == 1.0 &&
+                  m.truth_jump == 0.0 && m.capture_jump == 0.0,
+              "measures: compared %zu rms %g rim %zu jump %g truth %g capture %g", m.compared,
+              m.rms, m.rim_pairs, m.rim_jump, m.truth_jump, m.capture_jump);
+    }
+    (void)truth;
+}
+
+/* The office frame, holes cut in its valid parts, every variant: known
+ * pixels keep their bits, every inside pixel is filled, the cut holes come
+ * back within a few centimetres (RMS), and no fill strays outside the
+ * frame's depth range. */
+static void test_office(relief_patch_scorer *sc, const char *dir)
+{
+    char path[512];
+    relief_depth_frame f;
+    relief_error err = {RELIEF_OK, ""};
+    snprintf(path, sizeof path, "%s/office1.pcd", dir);
+    if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
+        CHECK(0, "%s", err.message);
+        return;
+    }
+    {
+        int W = f.width, H = f.height;
+        size_t n = (size_t)W * H;
+        uint8_t *missing = malloc(n);
+        float *z = malloc(n * sizeof *z), lo = INFINITY, hi = -INFINITY;
+        for (size_t i = 0; i < n; ++i) {
+            int x = (int)(i % W), y = (int)(i / W);
+            int cut = (x - 320) * (x - 320) + (y - 150) * (y - 150) < 400 ||
+                      (x >= 430 && x < 470 && y >= 300 && y < 330);
+            missing[i] = !isfinite(f.z[i]) || cut;
+            if (isfinite(f.z[i])) {
+                lo = fminf(lo, f.z[i]);
+                hi = fmaxf(hi, f.z[i]);
+            }
+        }
+        for (int variant = 0; variant < 3; ++variant) {
+            relief_depth_fill_params p = relief_depth_fill_params_default();
+            relief_depth_fill_report rep;
+            relief_depth_measures m;
+            size_t changed = 0, unfilled = 0, wild = 0;
+            p.variant = (relief_depth_variant)variant;
+            p.synth.order = RELIEF_ORDER_HORIZONTAL; /* one order: the suite's time */
+            for (size_t i = 0; i < n; ++i)
+                z[i] = missing[i] ? NAN : f.z[i];
+            CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK,
+                  "variant %d: %s", variant, err.message);
+            relief_depth_measure(z, f.z, missing, W, H, &m);
+            for (size_t i = 0; i < n; ++i) {
+                if (!missing[i])
+                    changed += memcmp(&z[i], &f.z[i], sizeof z[i]) != 0;
+                else if (isnan(z[i]))
+                    ++unfilled;
+                else if (z[i] < lo - 0.5f || z[i] > hi + 0.5f)
+                    ++wild;
+            }
+            CHECK(changed == 0, "variant %d changed %zu known pixels", variant, changed);
+            CHECK(unfilled == rep.outside && rep.filled + rep.outside == rep.missing,
+                  "variant %d: %zu left NaN, %zu outside", variant, unfilled, rep.outside);
+            CHECK(wild == 0, "variant %d: %zu fills outside %g..%g m", variant, wild, lo, hi);
+            CHECK(m.compared > 2000 && m.rms < 0.1, "variant %d: RMS %g m over %zu cut pixels",
+                  variant, m.rms, m.compared);
+            printf("office1, variant %d: %zu filled, %zu outside; RMS %.4f m over %zu cut "
+                   "pixels, slope jump %.2f\n", variant, rep.filled, rep.outside, m.rms,
+                   m.compared, m.rim_jump / m.capture_jump);
+        }
+        free(missing);
+        free(z);
+    }
+    relief_depth_frame_free(&f);
+}
+
+/* Scalar against OpenCL, every variant, on a crop of the office frame. */
+static int test_opencl(const char *dir)
+{
+    relief_patch_scorer *sc = NULL, *cl = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    relief_depth_frame f;
+    char path[512];
+    enum { X0 = 100, Y0 = 80, W = 200, H = 150 };
+    if (relief_patch_opencl_create(-1, &cl, &err) != RELIEF_OK) {
+        printf("no OpenCL device (%s): skipped\n", err.message);
+        return 77;
+    }
+    relief_patch_scalar_create(&sc, &err);
+    snprintf(path, sizeof path, "%s/office1.pcd", dir);
+    if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
+        CHECK(0, "%s", err.message);
+        return check_result();
+    }
+    for (int variant = 0; variant < 3; ++variant) {
+        static float a[W * H], b[W * H];
+        static uint8_t missing[W * H];
+        relief_depth_fill_params p = relief_depth_fill_params_default();
+        p.variant = (relief_depth_variant)variant;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                float v = f.z[(size_t)(y + Y0) * f.width + x + X0];
+                int i = y * W + x;
+                missing[i] = !isfinite(v) || (x - 100) * (x - 100) + (y - 70) * (y - 70) < 300;
+                a[i] = b[i] = missing[i] ? NAN : v;
+            }
+        CHECK(relief_depth_fill(a, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_OK,
+              "scalar: %s", err.message);
+        CHECK(relief_depth_fill(b, missing, W, H, &p, cl, NULL, NULL, &err) == RELIEF_OK,
+              "opencl: %s", err.message);
+        CHECK(memcmp(a, b, sizeof a) == 0, "variant %d: the backends differ", variant);
+    }
+    relief_depth_frame_free(&f);
+    relief_patch_scorer_destroy(sc);
+    relief_patch_scorer_destroy(cl);
+    return check_result();
+}
+
+int main(int argc, char **argv)
+{
+    relief_patch_scorer *sc = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    const char *dir = argc > 1 ? argv[argc - 1] : "../shared/data/depth";
+    if (argc > 1 && strcmp(argv[1], "opencl") == 0)
+        return test_opencl(argc > 2 ? argv[2] : "../shared/data/depth");
+    relief_patch_scalar_create(&sc, &err);
+    test_haar();
+    test_membrane();
+    test_rof();
+    test_periodic(sc);
+    test_inside_and_measures(sc);
+    test_office(sc, dir);
+    relief_patch_scorer_destroy(sc);
+    return check_result();
+}

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# relief depth-fill from the command line: the real frames (a crop of the
+# office PCD with colour, the Middlebury PFM, a 16-bit PNG made from the
+# office frame) repaired with their known pixels unchanged and the margin
+# outside the capture left missing; measures against a truth; the points;
+# the report; identical backends; every bad input of issue 20, each with
+# its exit status, its message and no output left behind.
+#   test_depth_fill.sh PATH/TO/relief PATH/TO/depth_tool PATH/TO/image_tool DEPTH_DIR
+set -u
+relief=$1 tool=$2 itool=$3 depth=$4
+tmp=$(mktemp -d /tmp/relief-depth-fill-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+
+. "$(dirname "$0")/../cli/expect.sh" # expect, ok
+
+office=$depth/office1.pcd moto=$depth/motorcycle_disp.pfm
+if [[ ! -f $office || ! -f $moto ]]; then echo "$depth: frames not found: skipped"; exit 77; fi
+# A 240 x 180 crop of the office frame with its margin (top-left corner),
+# and a disc cut from its valid wall, whose truth is the crop itself.
+"$tool" crop "$office" 0 0 240 180 "$tmp/office.pcd" || exit 2
+"$itool" mask "$tmp/m.png" 240 180 150 100 20 16 || exit 2
+
+# Each variant: exit 0, known pixels unchanged, the report, the measures.
+for v in plain haar decompose; do
+  expect 0 "variant $v" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" --truth "$tmp/office.pcd" -o "$tmp/o_$v.pcd" --variant $v --report "$tmp/r_$v.json" --backend scalar
+  expect 0 "0 known differ" -- "$tool" same "$tmp/office.pcd" "$tmp/o_$v.pcd" "$tmp/m.png"
+  ok 'grep -q "\"rms\"" "$tmp/r_$v.json" && grep -q "\"variant\": \"'$v'\"" "$tmp/r_$v.json"' "report $v lacks the measures"
+done
+# The margin outside the capture stays missing and is reported.
+ok 'grep -q "\"outside_left_missing\": [1-9]" "$tmp/r_plain.json"' "the margin was not reported as outside"
+expect 0 "outside the capture left missing" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/o.pcd" --variant plain --backend scalar
+# The points: a PLY with colour and labels.
+expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o2.pcd" --points "$tmp/p.ply" --variant plain --quiet --backend scalar
+ok 'head -c 400 "$tmp/p.ply" | grep -q "property uchar label" && head -c 400 "$tmp/p.ply" | grep -q "property uchar red"' "points lack colour or labels"
+# Same seed, same bytes; OpenCL gives the same bytes when a device runs.
+ok 'cmp -s "$tmp/o_plain.pcd" "$tmp/o2.pcd"' "two runs differ"
+if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | grep -i "cpu\|gpu") ]]; then
+  expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_cl.pcd" --variant plain --backend opencl --quiet
+  ok 'cmp -s "$tmp/o_plain.pcd" "$tmp/o_cl.pcd"' "OpenCL and scalar outputs differ"
+fi
+# The Middlebury PFM (a crop), and a 16-bit PNG depth image.
+"$tool" crop "$moto" 300 200 200 150 "$tmp/moto.pfm" || exit 2
+expect 0 "filled" -- "$relief" depth-fill "$tmp/moto.pfm" -o "$tmp/moto_f.pfm" --backend scalar
+expect 0 "0 known differ" -- "$tool" same "$tmp/moto.pfm" "$tmp/moto_f.pfm"
+"$tool" png16 "$tmp/office.pcd" 5000 "$tmp/office.png" || exit 2
+expect 0 "filled" -- "$relief" depth-fill "$tmp/office.png" --mask "$tmp/m.png" -o "$tmp/office_f.png" --backend scalar
+expect 0 "0 known differ" -- "$tool" same "$tmp/office.png" "$tmp/office_f.png" "$tmp/m.png"
+
+# Bad input: exit 1 (2 for resources), the message, no output.
+nothing() { ok '[[ ! -e "$tmp/bad.pcd" && ! -e "$tmp/bad.pfm" && ! -e "$tmp/bad.png" && ! -e "$tmp/bad.json" ]]' "output left behind: $1"; }
+head -c 300 "$office" > "$tmp/trunc.pcd"
+expect 1 "truncated" -- "$relief" depth-fill "$tmp/trunc.pcd" -o "$tmp/bad.pcd"; nothing truncated
+printf 'Pf\n4 4\n-1.0\n' > "$tmp/short.pfm"
+expect 1 "PFM truncated" -- "$relief" depth-fill "$tmp/short.pfm" -o "$tmp/bad.pfm"; nothing "short PFM"
+printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\nDATA ascii\n1 2 3\n4 5 6\n7 8 9\n' > "$tmp/unorg.pcd"
+expect 1 "unorganised" -- "$relief" depth-fill "$tmp/unorg.pcd" -o "$tmp/bad.pcd"; nothing unorganised
+printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 2\nPOINTS 4\nDATA ascii\nnan nan nan\nnan nan nan\nnan nan nan\nnan nan nan\n' > "$tmp/allnan.pcd"
+expect 1 "every pixel is missing" -- "$relief" depth-fill "$tmp/allnan.pcd" -o "$tmp/bad.pcd"; nothing "all missing"
+"$tool" ring 40 30 "$tmp/ring.pfm" || exit 2
+expect 1 "touches every border" -- "$relief" depth-fill "$tmp/ring.pfm" -o "$tmp/bad.pfm"; nothing ring
+expect 2 "over the limit" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --max-memory 2M; nothing memory
+"$itool" mask "$tmp/m2.png" 100 100 10 10 5 5 || exit 2
+expect 1 "same size" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m2.png" -o "$tmp/bad.pcd"; nothing "mask size"
+expect 1 "IN's format" -- "$relief" depth-fill "$tmp/office.pcd" --truth "$tmp/moto.pfm" -o "$tmp/bad.pcd"; nothing "truth format"
+expect 1 "cannot" -- "$relief" depth-fill "$tmp/none.pcd" -o "$tmp/bad.pcd"; nothing missing
+expect 1 "IN's extension" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pfm"
+expect 1 "never overwrites" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/office.pcd"
+expect 1 "organised PCD" -- "$relief" depth-fill "$tmp/moto.pfm" -o "$tmp/bad.pfm" --points "$tmp/p2.ply"
+expect 1 "odd" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --window 8
+expect 1 "not plain, haar or decompose" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant median
+expect 1 "mesh" -- "$relief" depth-fill "$tmp/x.ply" -o "$tmp/bad.ply"
+expect 1 "--levels" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
+ok 'cmp -s "$tmp/office.pcd" <("$tool" crop "$office" 0 0 240 180 "$tmp/again.pcd" && cat "$tmp/again.pcd")' "the input was changed"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
