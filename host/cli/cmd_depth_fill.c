@@ -29,7 +29,10 @@ static const char depth_fill_help[] =
     "synthesis (paper 003). IN is an organised PCD (x y z [rgb]; ascii, binary or\n"
     "binary_compressed), a PFM (Middlebury disparities) or a 16-bit PNG depth\n"
     "image (--scale units per metre). Missing: 0, NaN or inf, or MASK's non-zero\n"
-    "pixels. OUT is written in IN's format; known pixels keep their values.\n"
+    "pixels. OUT is written in IN's format; known pixels keep their depths (a PCD\n"
+    "keeps x y z as floats and rgb; its other fields and viewpoint are not kept).\n"
+    "Missing pixels outside the capture (no known pixel on both sides along their\n"
+    "row or column: a camera's invalid margin) are left missing.\n"
     "\n"
     "  -o, --output OUT      the repaired image, IN's format; required, never IN\n"
     "  --variant V           plain: synthesis on the depths; haar: LL interpolated,\n"
@@ -285,6 +288,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "by_synthesis", (long long)r->by_synthesis);
     rj_int(&j, "by_fallback", (long long)r->by_fallback);
     rj_int(&j, "by_membrane", (long long)r->by_membrane);
+    rj_int(&j, "unreached", (long long)r->unreached);
     rj_end_object(&j);
     rj_begin_object(&j, "synthesis");
     rj_string(&j, "order_kept", order_name(r->kept));
@@ -408,9 +412,9 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         case OPT_SIGMA:
             if (!cli_parse_real("depth-fill", "--sigma", optarg, &d))
                 return EXIT_USAGE;
-            if (!(d > 0) || d > 1e6)
+            if (!(d >= 0.5) || d > 1e6)
                 return cli_usage_error("depth-fill", "--sigma: '%s' is out of range: expected "
-                                       "pixels > 0", optarg);
+                                       "0.5 pixels or more", optarg);
             p.synth.sigma = d;
             break;
         case OPT_SEARCH_RADIUS:
@@ -624,6 +628,12 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         }
     }
     cli_release_signals(&held);
+    if (st == RELIEF_OK && !quiet && rep.membrane_iterations >= p.membrane_iterations)
+        fprintf(stderr, "relief depth-fill: warning: the membrane stopped at its %d-iteration "
+                "cap before converging\n", p.membrane_iterations);
+    if (st == RELIEF_OK && !quiet && rep.unreached)
+        fprintf(stderr, "relief depth-fill: warning: %zu coefficients joined to no known one "
+                "kept zero detail\n", rep.unreached);
     if (st == RELIEF_OK && !quiet && rep.missing) {
         fprintf(stderr, "relief depth-fill: %s: %zu of %zu pixels missing (%.1f %%): %zu "
                 "filled, %zu outside the capture left missing; variant %s: %zu synthesised "

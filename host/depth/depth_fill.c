@@ -28,6 +28,10 @@ relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *
                                                 int height, relief_error *err)
 {
     int w = width, h = height;
+    /* The engine indexes values with int: 3 channels for the Haar bands. */
+    if ((uint64_t)(width + 64) * (uint64_t)(height + 64) * 3u > 0x7fffffffu)
+        return relief_fail(err, RELIEF_E_RANGE, "a %d x %d image: at most about 700 million "
+                           "pixels are supported", width, height);
     if (p->variant != RELIEF_DEPTH_PLAIN && p->variant != RELIEF_DEPTH_HAAR &&
         p->variant != RELIEF_DEPTH_DECOMPOSE)
         return relief_fail(err, RELIEF_E_RANGE, "unknown variant %d", (int)p->variant);
@@ -61,8 +65,10 @@ uint64_t relief_depth_fill_estimate(int width, int height)
     uint64_t n = (uint64_t)(width + 64) * (uint64_t)(height + 64);
     /* Two rasters of values (both orders), the engine's pyramid (4/3 of
      * one, x 3 channels for the Haar details), masks, the source maps, the
-     * ROF's dual field and the membrane's solver vectors (doubles). */
-    return n * (2u * 4u + 3u * 4u * 4u / 3u + 4u + 2u * 8u + 3u * 8u + 6u * 8u);
+     * ROF's dual field and the membrane's solver vectors (doubles), the
+     * synthesis queue (up to 9 entries of 12 bytes a pixel, doubled as it
+     * grows) and the automatic lambda's list of steps. */
+    return n * (2u * 4u + 3u * 4u * 4u / 3u + 4u + 2u * 8u + 3u * 8u + 6u * 8u + 216u + 8u);
 }
 
 /* ---------------------------------------------------------------- helpers */
@@ -82,6 +88,7 @@ static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *ta
         return st;
     rep->by_synthesis += sr.by_synthesis;
     rep->by_fallback += sr.by_fallback;
+    rep->unreached += sr.unreached;
     rep->candidates += sr.candidates;
     rep->seconds_score += sr.seconds_score;
     rep->kept = sr.kept;
@@ -423,6 +430,12 @@ relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int
         st = fill_decompose(z, missing, inside, width, height, p, scorer, source, rep, err);
         break;
     }
+    /* Missing pixels outside the capture are missing in the result too,
+     * whatever they held (a masked pixel keeps no stale depth). */
+    if (st == RELIEF_OK)
+        for (size_t i = 0; i < n; ++i)
+            if (missing[i] && !inside[i])
+                z[i] = NAN;
     free(inside);
     return st;
 }

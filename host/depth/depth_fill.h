@@ -33,7 +33,8 @@ typedef struct relief_depth_fill_params {
     int levels;                   /* haar: transform steps, 1..6; 2 */
     double lambda;                /* decompose: ROF's lambda in the values' units x pixels;
                                      <= 0: automatic, 8 x the capture's robust step (the
-                                     median |difference| of 4-neighbours, x 1.4826) */
+                                     median of the non-zero |differences| of known
+                                     4-neighbours, x 1.4826) */
     int rof_iterations;           /* decompose: Chambolle iterations; 200 */
     int membrane_iterations;      /* conjugate-gradient iterations at most; 5000 */
 } relief_depth_fill_params;
@@ -47,6 +48,7 @@ typedef struct relief_depth_fill_report {
     size_t by_synthesis;         /* synthesised (plain: the depths; decompose: v; haar: the
                                     detail coefficients of every level) */
     size_t by_fallback;          /* the synthesis's fallbacks, same units */
+    size_t unreached;            /* targets the synthesis could not reach, same units */
     size_t by_membrane;          /* haar: LL coefficients; decompose: u pixels */
     int membrane_iterations;     /* the last membrane solve's */
     double lambda;               /* decompose: the lambda used */

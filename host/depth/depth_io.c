@@ -400,10 +400,11 @@ relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
                     if (k == ix || k == iy || k == iz)
                         out->xyz[i * 3 + (k == ix ? 0 : k == iy ? 1 : 2)] = (float)v;
                     else if (k == ic) {
-                        /* rgb packs 0x00RRGGBB: in a float's bits (TYPE F, PCL's
-                         * way) or as an integer (TYPE U or I). */
+                        /* rgb packs 0x00RRGGBB: as an integer (TYPE U or I, and
+                         * PCL's ascii for TYPE F too: a whole number >= 1), or
+                         * in a float's bits (older writers print that float). */
                         uint32_t u;
-                        if (h.f[k].type == 'F') {
+                        if (h.f[k].type == 'F' && !(v >= 1.0 && v == floor(v))) {
                             float fv = (float)v;
                             memcpy(&u, &fv, 4);
                         } else {
@@ -529,9 +530,10 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
                 ok = fprintf(fp, "%.9g %.9g %.9g", q[0], q[1], q[2]) > 0;
             else
                 ok = fputs("nan nan nan", fp) >= 0;
-            /* PCL writes a packed float rgb as that float's value. */
+            /* PCL writes a packed rgb in ascii as its integer 0x00RRGGBB. */
             if (ok && f->rgb)
-                ok = fprintf(fp, " %.9g", (double)packed_rgb(f->rgb + 3 * i)) > 0;
+                ok = fprintf(fp, " %u", (unsigned)f->rgb[3 * i] << 16 |
+                                            (unsigned)f->rgb[3 * i + 1] << 8 | f->rgb[3 * i + 2]) > 0;
             ok = ok && fputc('\n', fp) != EOF;
         }
         return ok;
@@ -550,12 +552,18 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
         /* binary_compressed: the fields one after another, LZF'd, after the
          * two sizes. */
         size_t usize = px * (size_t)nf * 4u, cap = usize + usize / 16 + 64, csize;
-        uint8_t *plain = malloc(usize), *packed = malloc(cap);
-        if (!plain || !packed || usize > 0xffffffffu) {
+        uint8_t *plain, *packed;
+        if (cap > 0xffffffffu) {
+            relief_fail(err, RELIEF_E_RANGE, "%zu bytes of points: a binary_compressed PCD "
+                        "holds at most 4 GiB", usize);
+            return 0;
+        }
+        plain = malloc(usize);
+        packed = malloc(cap);
+        if (!plain || !packed) {
             free(plain);
             free(packed);
-            relief_fail(err, usize > 0xffffffffu ? RELIEF_E_RANGE : RELIEF_E_NOMEM,
-                        "cannot compress %zu bytes of points", usize);
+            relief_fail(err, RELIEF_E_NOMEM, "cannot compress %zu bytes of points", usize);
             return 0;
         }
         for (size_t i = 0; i < px; ++i) {
@@ -567,6 +575,8 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
             }
         }
         csize = lzf_compress(plain, (unsigned)usize, packed, (unsigned)cap);
+        if (csize == 0) /* cannot happen: cap exceeds LZF's worst case */
+            relief_fail(err, RELIEF_E_INTERNAL, "LZF could not compress the points");
         ok = csize > 0 && put_u32le(fp, (uint32_t)csize) && put_u32le(fp, (uint32_t)usize) &&
              fwrite(packed, 1, csize, fp) == csize;
         free(plain);

@@ -40,8 +40,10 @@ void relief_haar_inverse(const float *ll, const float *detail, int width, int he
 
 /* ROF: u minimising TV(u) + 1/(2 lambda) sum (u - f)^2 over the known
  * pixels, the total variation taken over pairs of 4-neighbours both known
- * (a hole is a free boundary, not a jump), by Chambolle's projection (step
- * 1/4, `iterations` of them); v = f - u. Missing pixels get u = v = 0.
+ * (a hole is a free boundary, not a jump), by Chambolle's projection
+ * (`iterations` steps of 1/4: above the 1/8 his proof covers, the step he
+ * reports converging in practice, and it did on every test image here);
+ * v = f - u. Missing pixels get u = v = 0.
  * lambda is in the values' units times pixels: a bump of height h and
  * radius r moves to v when lambda >= h r / 2. RELIEF_E_NOMEM. */
 relief_status relief_rof(const float *f, const uint8_t *known, int width, int height,

@@ -449,8 +449,12 @@ static const float *weights(relief_filler *f, int l, int half, double sigma)
     double s = sigma / (double)(1 << l);
     if (sigma <= 0.0)
         return NULL;
-    for (int k = 0; k <= half && k < 513; ++k)
-        f->g[k] = (float)exp(-(double)k * k / (2.0 * s * s));
+    /* Weights under 1e-18 become 0, so that no product of two weights is
+     * subnormal (a device that flushes subnormals would disagree). */
+    for (int k = 0; k <= half && k < 513; ++k) {
+        double g = exp(-(double)k * k / (2.0 * s * s));
+        f->g[k] = g < 1e-18 ? 0.0f : (float)g;
+    }
     return f->g;
 }
 
@@ -490,7 +494,9 @@ static relief_status score_rect(relief_filler *f, int l, int qx, int qy, int hal
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             size_t k = (size_t)j * nx + i;
-            if (f->n[k] > 0)
+            /* Weighted, a window whose common pixels all weigh 0 says
+             * nothing: refused. */
+            if (f->n[k] > 0 && (!g || f->wsum[k] > 0.0f))
                 offer(top, n_top, keep,
                       make_match(x0 + i, y0 + j, f->ssd[k], f->n[k], g ? f->wsum[k] : 0.0f,
                                  g != NULL));
@@ -602,7 +608,7 @@ relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, 
         if (st != RELIEF_OK)
             return st;
         for (int i = 0; i < count; ++i)
-            if (n[i] > 0)
+            if (n[i] > 0 && (!g || wsum[i] > 0.0f))
                 offer(next, &n_next, l ? keep : keep_best,
                       make_match(xy[2 * i], xy[2 * i + 1], ssd[i], n[i], g ? wsum[i] : 0.0f,
                                  g != NULL));

@@ -49,9 +49,10 @@ relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int w
                                            relief_error *err)
 {
     relief_fill_params f = engine_params(p);
-    if (!isfinite(p->sigma) || p->sigma > 1e6)
-        return relief_fail(err, RELIEF_E_RANGE, "--sigma %g: expected a finite number of "
-                           "pixels (<= 0: window / 6.4)", p->sigma);
+    if (!isfinite(p->sigma) || p->sigma > 1e6 || (p->sigma > 0.0 && p->sigma < 0.5))
+        return relief_fail(err, RELIEF_E_RANGE, "--sigma %g: expected 0.5 pixels or more (the "
+                           "nearest neighbours' weights vanish below; <= 0: window / 6.4)",
+                           p->sigma);
     if (!(p->epsilon >= 0.0 && p->epsilon <= 10.0))
         return relief_fail(err, RELIEF_E_RANGE, "--epsilon %g: expected 0..10", p->epsilon);
     if (p->order != RELIEF_ORDER_BOTH && p->order != RELIEF_ORDER_HORIZONTAL &&
@@ -123,7 +124,7 @@ static entry heap_pop(heap *h)
 /* ---------------------------------------------------------------- one order */
 
 typedef struct run {
-    size_t synthesised, fallbacks, candidates;
+    size_t synthesised, fallbacks, unreached, candidates;
     double energy; /* sum of the copies' weighted distances */
     double seconds_score;
     int levels;
@@ -230,8 +231,11 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
                 value[c] = img->v[s * C + c];
             out->energy += best[pick].msd;
             ++out->synthesised;
+            /* The copy's origin: s itself when it was known from the
+             * start, else where s's own value came from (resolved when s
+             * was filled), so the map always ends on a captured pixel. */
             if (source)
-                source[e.pixel] = (int64_t)s;
+                source[e.pixel] = hole[s] ? source[s] : (int64_t)s;
         } else {
             neighbour_mean(img, known, C, x, y, value);
             ++out->fallbacks;
@@ -259,6 +263,10 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
             p->progress(p->progress_ctx, prog->done, prog->total);
     }
 #undef KEY
+    /* Targets the queue never reached: cut off from every known pixel by
+     * holes that are not targets. They keep their values, counted. */
+    for (size_t i = 0; i < n && st == RELIEF_OK; ++i)
+        out->unreached += !known[i] && (!target || target[i]);
 done:
     if (f) {
         out->levels = relief_filler_levels(f);
@@ -347,6 +355,7 @@ relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8
         rep->kept = orders[keep];
         rep->by_synthesis = runs[keep].synthesised;
         rep->by_fallback = runs[keep].fallbacks;
+        rep->unreached = runs[keep].unreached;
     }
     relief_raster_free(&other);
     free(other_source);

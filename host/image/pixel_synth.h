@@ -8,9 +8,10 @@
  * vertical), compares the w x w window around it with every window of the
  * symmetric search region around it (the pixels known in both, weighted by
  * a Gaussian of sigma pixels: the weighted mean square distance of eq. 1),
- * picks at random among the matches within (1 + epsilon) of the best, and
- * copies that window's centre. A pixel no window matches takes the mean of
- * its known neighbours.
+ * picks at random among the matches within (1 + epsilon) of the best (of
+ * the 8 best at most), and copies that window's centre. A pixel no window
+ * matches takes the mean of its known neighbours. Every channel is matched
+ * but alpha (2 or 4 channels), as in the image filler.
  *
  * Both orders run when asked (the paper's curved wall: a gradient fills
  * differently along rows than along columns), and the one whose copies
@@ -54,6 +55,7 @@ typedef struct relief_pixsyn_report {
     size_t hole_pixels;      /* to synthesise (targets) at the start */
     size_t by_synthesis;     /* copied from a matched window (the order kept) */
     size_t by_fallback;      /* the mean of the known neighbours (the order kept) */
+    size_t unreached;        /* targets joined to no known pixel: left as they were */
     relief_pixsyn_order kept; /* horizontal or vertical */
     double energy[2];        /* mean weighted distance of the copies, horizontal and
                                 vertical order; -1 where not run */
@@ -74,7 +76,8 @@ relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int w
  * others keep their bits. Every target must be joined to a known pixel
  * through targets. `source` (may be NULL):
  * width x height, receives for each synthesised pixel the index y * width
- * + x of the pixel it copies, -1 for a fallback or a pixel that was known.
+ * + x of the captured pixel its value came from (through earlier copies),
+ * -1 for a fallback or a pixel that was known.
  * RELIEF_E_RANGE when every pixel is missing. */
 relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
                            const relief_pixsyn_params *p, relief_patch_scorer *scorer,

@@ -299,6 +299,8 @@ static int test_opencl(const char *dir)
     snprintf(path, sizeof path, "%s/office1.pcd", dir);
     if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
         CHECK(0, "%s", err.message);
+        relief_patch_scorer_destroy(sc);
+        relief_patch_scorer_destroy(cl);
         return check_result();
     }
     for (int variant = 0; variant < 3; ++variant) {
