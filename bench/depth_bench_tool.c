@@ -6,7 +6,8 @@
  *   depth_bench_tool measure FILLED.pfm TRUTH.pfm MASK.pfm
  *       relief_depth_measure over MASK's finite non-zero pixels (the holes
  *       cut), printed as JSON: compared, rms, rim_jump, capture_jump,
- *       slope_jump, truth_rim_jump, and the roughness ratio (mean |second
+ *       slope_jump, truth_rim_jump, truth_slope_jump (the truth's own jump at
+ *       the same rim: the floor a fill is judged by), and the roughness ratio (mean |second
  *       difference| of FILLED over TRUTH's, both inside the holes). */
 #include <math.h>
 #include <stdio.h>
@@ -68,13 +69,20 @@ int main(int argc, char **argv)
             fprintf(stderr, "depth_bench_tool: the three images differ in size\n");
             return 1;
         }
-        for (size_t i = 0; i < n; ++i)
+        /* Pixels the truth lacks (the frame's own holes, which relief
+         * fills and OpenCV may not) are left out of every method's
+         * measures alike, so that all are judged on the same rims. */
+        for (size_t i = 0; i < n; ++i) {
             hole[i] = isfinite(m.z[i]) && m.z[i] != 0.0f && isfinite(t.z[i]);
+            if (!isfinite(t.z[i]))
+                a.z[i] = NAN;
+        }
         relief_depth_measure(a.z, t.z, hole, a.width, a.height, &r);
         printf("{\"compared\": %zu, \"rms\": %.9g, \"rim_jump\": %.9g, \"capture_jump\": %.9g, "
-               "\"slope_jump\": %.9g, \"truth_rim_jump\": %.9g, \"roughness_ratio\": %.9g}\n",
+               "\"slope_jump\": %.9g, \"truth_rim_jump\": %.9g, \"truth_slope_jump\": %.9g, "
+               "\"roughness_ratio\": %.9g}\n",
                r.compared, r.rms, r.rim_jump, r.capture_jump, r.rim_jump / r.capture_jump,
-               r.truth_jump,
+               r.truth_jump, r.truth_jump / r.capture_jump,
                roughness(a.z, hole, a.width, a.height) / roughness(t.z, hole, a.width, a.height));
         free(hole);
         relief_depth_frame_free(&a);

@@ -99,6 +99,7 @@ for name, (src, cx, cy, rect) in frames.items():
                              opencl_seconds=round(outs["opencl"][1], 3),
                              identical=int(same), pixels=r["compared"],
                              rms=r["rms"], slope_jump=r["slope_jump"],
+                             truth_slope_jump=r["truth_slope_jump"],
                              roughness=r["roughness_ratio"]))
         # OpenCV on the same float image, in thousandths, every missing
         # pixel masked (it needs a value for each); outside the capture
@@ -116,11 +117,14 @@ for name, (src, cx, cy, rect) in frames.items():
             rows.append(dict(frame=name, hole=hole, method="opencv " + method,
                              seconds=round(secs, 3), opencl_seconds="", identical="",
                              pixels=r["compared"], rms=r["rms"],
-                             slope_jump=r["slope_jump"], roughness=r["roughness_ratio"]))
+                             slope_jump=r["slope_jump"],
+                             truth_slope_jump=r["truth_slope_jump"],
+                             roughness=r["roughness_ratio"]))
         for row in rows[-5:]:
-            print("%-10s %-7s %-16s %6.2f s  RMS %.4g  slope jump %.2f  roughness %.2f"
-                  % (row["frame"], row["hole"], row["method"], row["seconds"], row["rms"],
-                     row["slope_jump"], row["roughness"]), flush=True)
+            print("%-10s %-7s %-16s %6.2f s  RMS %.4g  slope jump %.2f (truth %.2f)  "
+                  "roughness %.2f" % (row["frame"], row["hole"], row["method"], row["seconds"],
+                                      row["rms"], row["slope_jump"], row["truth_slope_jump"],
+                                      row["roughness"]), flush=True)
 
 with open(os.path.join(out, "depth_fill.csv"), "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))

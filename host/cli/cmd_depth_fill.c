@@ -19,11 +19,13 @@
 #include "cli/options.h"
 #include "depth/depth_fill.h"
 #include "depth/depth_io.h"
+#include "depth/mesh_fill.h"
 #include "image/image_io.h"
 #include "image/patch.h"
 
 static const char depth_fill_help[] =
     "usage: relief depth-fill IN -o OUT [--variant plain|haar|decompose] [options]\n"
+    "       relief depth-fill MESH -o OUT_MESH [--resolution N] [options]\n"
     "\n"
     "Repair the missing pixels of a depth or range image by constrained texture\n"
     "synthesis (paper 003). IN is an organised PCD (x y z [rgb]; ascii, binary or\n"
@@ -33,6 +35,12 @@ static const char depth_fill_help[] =
     "keeps x y z as floats and rgb; its other fields and viewpoint are not kept).\n"
     "Missing pixels outside the capture (no known pixel on both sides along their\n"
     "row or column: a camera's invalid margin) are left missing.\n"
+    "\n"
+    "A mesh (PLY, OBJ, OFF, STL; triangles counter-clockwise from outside) is\n"
+    "repaired through the six orthographic depth images of its bounding box: the\n"
+    "pixels whose ray meets the mesh's inside through a hole are repaired, the\n"
+    "voxels between the front and back depths of every axis kept, and their\n"
+    "surface (marching tetrahedra) written as OUT_MESH, closed.\n"
     "\n"
     "  -o, --output OUT      the repaired image, IN's format; required, never IN\n"
     "  --variant V           plain: synthesis on the depths; haar: LL interpolated,\n"
@@ -46,10 +54,12 @@ static const char depth_fill_help[] =
     "  --exhaustive          every window at full resolution (no pyramid)\n"
     "  --order O             both (default: keep the better), horizontal, vertical\n"
     "  --levels L            haar: transform steps (default 2)\n"
+    "  --resolution N        mesh: voxels along the box's longest side (default 256)\n"
     "  --lambda L            decompose: ROF's lambda, depth units x pixels (default:\n"
     "                        8 x the capture's robust step between neighbours)\n"
     "  --truth T             measure against T (IN's format): RMS over the filled\n"
-    "                        pixels and the slope jump at the rim\n"
+    "                        pixels and the slope jump at the rim; for a mesh, the\n"
+    "                        complete mesh: surface distances and voxel IoU\n"
     "  --points OUT.ply      (PCD) the repaired points, coloured where IN has colour,\n"
     "                        with a 'label' property: 1 for the filled ones\n"
     "  --seed N              the near-minimum draw (default 1)\n"
@@ -59,7 +69,7 @@ static const char depth_fill_help[] =
     "  --report R.json       pixels per stage, times, measures, backend\n"
     "  --quiet               no progress or notes on stderr\n";
 
-typedef enum in_kind { IN_PNG, IN_PFM, IN_PCD } in_kind;
+typedef enum in_kind { IN_PNG, IN_PFM, IN_PCD, IN_MESH } in_kind;
 
 static int kind_of_name(const char *path, in_kind *k)
 {
@@ -72,6 +82,9 @@ static int kind_of_name(const char *path, in_kind *k)
         *k = IN_PFM;
     else if (strcasecmp(dot, ".pcd") == 0)
         *k = IN_PCD;
+    else if (strcasecmp(dot, ".ply") == 0 || strcasecmp(dot, ".obj") == 0 ||
+             strcasecmp(dot, ".off") == 0 || strcasecmp(dot, ".stl") == 0)
+        *k = IN_MESH;
     else
         return 0;
     return 1;
@@ -79,7 +92,7 @@ static int kind_of_name(const char *path, in_kind *k)
 
 static const char *kind_name(in_kind k)
 {
-    return k == IN_PNG ? "PNG" : k == IN_PFM ? "PFM" : "PCD";
+    return k == IN_PNG ? "PNG" : k == IN_PFM ? "PFM" : k == IN_PCD ? "PCD" : "a mesh";
 }
 
 typedef struct progress {
@@ -324,10 +337,167 @@ static int write_report(FILE *fp, void *ctx)
     return ferror(fp);
 }
 
+typedef struct mesh_report_ctx {
+    const char *in, *out, *truth, *variant;
+    const relief_mesh_fill_params *p;
+    const relief_mesh_fill_report *r;
+    const relief_mesh_measures *m;
+    size_t vertices, triangles;
+    const relief_patch_scorer *scorer;
+    const char *note;
+    double seconds_total;
+} mesh_report_ctx;
+
+static int write_mesh_report(FILE *fp, void *ctx)
+{
+    const mesh_report_ctx *c = ctx;
+    const relief_mesh_fill_report *r = c->r;
+    static const char *names[6] = {"x_front", "x_back", "y_front", "y_back", "z_front", "z_back"};
+    relief_json j;
+    rj_init(&j, fp);
+    rj_begin_object(&j, NULL);
+    rj_string(&j, "command", "depth-fill");
+    rj_string(&j, "input", c->in);
+    rj_string(&j, "output", c->out);
+    rj_begin_object(&j, "parameters");
+    rj_string(&j, "variant", c->variant);
+    rj_int(&j, "resolution", c->p->resolution);
+    rj_int(&j, "window", c->p->depth.synth.window);
+    rj_int(&j, "search_radius", c->p->depth.synth.search_radius);
+    rj_int(&j, "seed", c->p->depth.synth.seed);
+    rj_end_object(&j);
+    rj_begin_object(&j, "grid");
+    rj_number(&j, "voxel", r->grid.h);
+    rj_int(&j, "nx", r->grid.n[0]);
+    rj_int(&j, "ny", r->grid.n[1]);
+    rj_int(&j, "nz", r->grid.n[2]);
+    rj_int(&j, "inside_voxels", (long long)r->inside_voxels);
+    rj_end_object(&j);
+    rj_begin_object(&j, "images");
+    for (int k = 0; k < 6; ++k) {
+        rj_begin_object(&j, names[k]);
+        rj_int(&j, "hole_pixels", (long long)r->hole_pixels[k]);
+        rj_int(&j, "filled", (long long)r->filled[k]);
+        rj_end_object(&j);
+    }
+    rj_end_object(&j);
+    rj_begin_object(&j, "pixels");
+    rj_int(&j, "surface", (long long)r->surface_pixels);
+    rj_int(&j, "by_synthesis", (long long)r->by_synthesis);
+    rj_int(&j, "by_fallback", (long long)r->by_fallback);
+    rj_int(&j, "by_membrane", (long long)r->by_membrane);
+    rj_int(&j, "unreached", (long long)r->unreached);
+    rj_end_object(&j);
+    rj_begin_object(&j, "output_mesh");
+    rj_int(&j, "vertices", (long long)c->vertices);
+    rj_int(&j, "triangles", (long long)c->triangles);
+    rj_end_object(&j);
+    if (c->m) {
+        rj_begin_object(&j, "measures");
+        rj_string(&j, "truth", c->truth);
+        rj_number(&j, "mean_distance", c->m->mean);
+        rj_number(&j, "hausdorff", c->m->hausdorff);
+        rj_number(&j, "hausdorff_voxels", c->m->hausdorff / r->grid.h);
+        rj_number(&j, "voxel_iou", c->m->iou);
+        rj_end_object(&j);
+    }
+    rj_begin_object(&j, "seconds");
+    rj_number(&j, "zbuffers", r->seconds_zbuffers);
+    rj_number(&j, "repair", r->seconds_repair);
+    rj_number(&j, "surface", r->seconds_surface);
+    rj_number(&j, "total", c->seconds_total);
+    rj_end_object(&j);
+    rj_string(&j, "backend", relief_backend_name(c->scorer->backend));
+    rj_string(&j, "device", c->scorer->device);
+    rj_string(&j, "backend_note", c->note);
+    rj_end_object(&j);
+    fputc('\n', fp);
+    return ferror(fp);
+}
+
+/* A mesh through its six depth images. */
+static int mesh_mode(const char *in, const char *out, const char *truth_path,
+                     const char *report, const char *variant,
+                     const relief_mesh_fill_params *p, relief_backend backend, int device,
+                     uint64_t limit, int quiet, double t_start)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *m = NULL, *t = NULL, *o = NULL;
+    relief_patch_scorer *scorer = NULL;
+    relief_mesh_fill_report rep;
+    relief_mesh_measures meas;
+    relief_grid g;
+    char note[1024] = "";
+    relief_status st = relief_mesh_read(in, &m, NULL, &err);
+    sigset_t held;
+    int rc = 0;
+
+    if (st == RELIEF_OK && truth_path)
+        st = relief_mesh_read(truth_path, &t, NULL, &err);
+    if (st == RELIEF_OK && relief_mesh_triangle_count(m) == 0)
+        st = relief_fail(&err, RELIEF_E_RANGE, "%s has no triangles: a point set has no "
+                         "depth images (a surface is needed)", in);
+    if (st == RELIEF_OK)
+        st = relief_grid_of_mesh(m, p->resolution, &g, &err);
+    if (st == RELIEF_OK && limit && relief_volume_estimate(&g) * (truth_path ? 2u : 1u) > limit)
+        st = relief_fail(&err, RELIEF_E_NOMEM, "--resolution %d: a %d x %d x %d voxel grid needs "
+                         "about %.0f MiB, over the limit of %.0f MiB (--max-memory); give a "
+                         "lower --resolution", p->resolution, g.n[0], g.n[1], g.n[2],
+                         relief_volume_estimate(&g) * (truth_path ? 2.0 : 1.0) / 1048576.0,
+                         limit / 1048576.0);
+    if (st == RELIEF_OK)
+        st = relief_patch_scorer_create(backend, device, &scorer, note, sizeof note, &err);
+    if (st != RELIEF_OK)
+        goto done;
+    if (!quiet && note[0])
+        fprintf(stderr, "relief depth-fill: %s\n", note);
+    st = relief_mesh_depth_fill(m, p, scorer, &o, &rep, &err);
+    if (st == RELIEF_OK && t)
+        st = relief_mesh_measure(o, t, &rep.grid, &meas, &err);
+    if (st != RELIEF_OK)
+        goto done;
+    cli_hold_signals(&held);
+    st = relief_mesh_write(o, out, NULL, &err);
+    if (st == RELIEF_OK && report) {
+        mesh_report_ctx r = {in, out, truth_path, variant, p, &rep, t ? &meas : NULL,
+                             relief_mesh_vertex_count(o), relief_mesh_triangle_count(o),
+                             scorer, note, relief_seconds() - t_start};
+        st = relief_atomic_write_text(report, write_mesh_report, &r, &err);
+        if (st != RELIEF_OK)
+            remove(out);
+    }
+    cli_release_signals(&held);
+    if (st == RELIEF_OK && !quiet) {
+        size_t holes = 0, filled = 0;
+        for (int k = 0; k < 6; ++k) {
+            holes += rep.hole_pixels[k];
+            filled += rep.filled[k];
+        }
+        fprintf(stderr, "relief depth-fill: %s: %d x %d x %d voxels of %.4g; six depth images, "
+                "%zu pixels seen through holes, %zu repaired (variant %s); %zu inside voxels; "
+                "%zu vertices, %zu triangles; %.2f s\n", in, rep.grid.n[0], rep.grid.n[1],
+                rep.grid.n[2], rep.grid.h, holes, filled, variant, rep.inside_voxels,
+                relief_mesh_vertex_count(o), relief_mesh_triangle_count(o),
+                relief_seconds() - t_start);
+        if (t)
+            fprintf(stderr, "relief depth-fill: against %s: mean distance %.4g, Hausdorff %.4g "
+                    "(%.2f voxels), voxel IoU %.4f\n", truth_path, meas.mean, meas.hausdorff,
+                    meas.hausdorff / rep.grid.h, meas.iou);
+    }
+done:
+    if (st != RELIEF_OK)
+        rc = cli_fail("depth-fill", &err);
+    relief_patch_scorer_destroy(scorer);
+    relief_mesh_destroy(m);
+    relief_mesh_destroy(t);
+    relief_mesh_destroy(o);
+    return rc;
+}
+
 int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
 {
     enum { OPT_MASK = 1000, OPT_VARIANT, OPT_SCALE, OPT_SIGMA, OPT_SEARCH_RADIUS,
-           OPT_EXHAUSTIVE, OPT_ORDER, OPT_LAMBDA, OPT_POINTS, OPT_DLEVELS };
+           OPT_EXHAUSTIVE, OPT_ORDER, OPT_LAMBDA, OPT_POINTS, OPT_DLEVELS, OPT_RESOLUTION };
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'},
         {"variant", required_argument, 0, OPT_VARIANT},
@@ -339,6 +509,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         {"exhaustive", no_argument, 0, OPT_EXHAUSTIVE},
         {"order", required_argument, 0, OPT_ORDER},
         {"levels", required_argument, 0, OPT_DLEVELS},
+        {"resolution", required_argument, 0, OPT_RESOLUTION},
         {"lambda", required_argument, 0, OPT_LAMBDA},
         {"truth", required_argument, 0, OPT_TRUTH},
         {"points", required_argument, 0, OPT_POINTS},
@@ -365,7 +536,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     uint8_t *missing = NULL;
     int64_t *source = NULL;
     size_t missing_in = 0, missing_mask = 0, n = 0;
-    int c, quiet = 0, device = -1, rc = 0, have_truth = 0;
+    int c, quiet = 0, device = -1, rc = 0, have_truth = 0, resolution = 256;
     long v;
     double d, scale = 5000.0, t_start = relief_seconds();
     uint64_t limit;
@@ -439,6 +610,11 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
                 return EXIT_USAGE;
             p.levels = (int)v;
             break;
+        case OPT_RESOLUTION:
+            if (!cli_parse_int("depth-fill", "--resolution", optarg, 8, 1024, &v))
+                return EXIT_USAGE;
+            resolution = (int)v;
+            break;
         case OPT_LAMBDA:
             if (!cli_parse_real("depth-fill", "--lambda", optarg, &d))
                 return EXIT_USAGE;
@@ -481,11 +657,14 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     if (!out)
         return cli_usage_error("depth-fill", "%smissing -o OUT", "");
     if (!kind_of_name(in, &kin))
-        return cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm or .png "
-                               "(a mesh's six depth images are not supported yet)", in);
+        return cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm, .png or a "
+                               "mesh's .ply, .obj, .off, .stl", in);
     if (!kind_of_name(out, &kout) || kout != kin)
         return cli_usage_error("depth-fill", "-o: '%s': OUT is written in IN's format: give "
-                               "it IN's extension", out);
+                               "it IN's extension (a mesh: .ply, .obj, .off or .stl)", out);
+    if (kin == IN_MESH && (mask_path || points))
+        return cli_usage_error("depth-fill", "%s--mask and --points are for depth images, not "
+                               "meshes", "");
     if (points && kin != IN_PCD)
         return cli_usage_error("depth-fill", "--points: '%s': points need an organised PCD "
                                "input (a depth image has no camera)", points);
@@ -506,6 +685,18 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         return 0;
 
     limit = relief_memory_limit(&mp);
+    if (kin == IN_MESH) {
+        relief_mesh_fill_params mfp = relief_mesh_fill_params_default();
+        in_kind kt;
+        if (truth_path && (!kind_of_name(truth_path, &kt) || kt != IN_MESH))
+            return cli_usage_error("depth-fill", "--truth '%s': a mesh's truth is the complete "
+                                   "mesh (.ply, .obj, .off or .stl)", truth_path);
+        mfp.resolution = resolution;
+        mfp.depth = p;
+        mfp.depth.synth.progress = NULL;
+        return mesh_mode(in, out, truth_path, report, variant, &mfp, backend, device, limit,
+                         quiet, t_start);
+    }
     st = read_depth(in, kin, scale, limit, &f, &err);
     if (st != RELIEF_OK)
         goto done;

@@ -381,6 +381,16 @@ relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int
                                 int64_t *source, relief_depth_fill_report *rep,
                                 relief_error *err)
 {
+    return relief_depth_fill_targets(z, missing, NULL, width, height, p, scorer, source, rep,
+                                     err);
+}
+
+relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const uint8_t *target,
+                                        int width, int height,
+                                        const relief_depth_fill_params *p,
+                                        relief_patch_scorer *scorer, int64_t *source,
+                                        relief_depth_fill_report *rep, relief_error *err)
+{
     size_t n = (size_t)width * height, holes = 0;
     relief_depth_fill_report local;
     uint8_t *inside;
@@ -406,7 +416,19 @@ relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int
     inside = malloc(n);
     if (!inside)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the inside mask");
-    rep->filled = relief_depth_inside(missing, width, height, inside);
+    if (target) {
+        rep->filled = 0;
+        for (size_t i = 0; i < n; ++i) {
+            inside[i] = missing[i] && target[i];
+            rep->filled += inside[i];
+        }
+        if (rep->filled == 0) {
+            free(inside);
+            return RELIEF_OK; /* nothing asked */
+        }
+    } else {
+        rep->filled = relief_depth_inside(missing, width, height, inside);
+    }
     if (rep->filled == (size_t)-1) {
         free(inside);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's extent");

@@ -91,6 +91,15 @@ relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int
                                 int64_t *source, relief_depth_fill_report *rep,
                                 relief_error *err);
 
+/* The same with the pixels to fill given: those where missing and
+ * target are both non-zero (a mesh's z-buffer: its holes, not the empty
+ * background); target NULL: the inside rule above. */
+relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const uint8_t *target,
+                                        int width, int height,
+                                        const relief_depth_fill_params *p,
+                                        relief_patch_scorer *scorer, int64_t *source,
+                                        relief_depth_fill_report *rep, relief_error *err);
+
 /* Measures of a fill against the truth, over the pixels that were missing
  * (mask `missing`; those still NaN are left out); all in the values'
  * units. */

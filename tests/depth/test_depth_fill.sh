@@ -47,6 +47,23 @@ expect 0 "0 known differ" -- "$tool" same "$tmp/moto.pfm" "$tmp/moto_f.pfm"
 expect 0 "filled" -- "$relief" depth-fill "$tmp/office.png" --mask "$tmp/m.png" -o "$tmp/office_f.png" --backend scalar
 expect 0 "0 known differ" -- "$tool" same "$tmp/office.png" "$tmp/office_f.png" "$tmp/m.png"
 
+# A mesh through its six depth images: a hole cut from the Bennu shape
+# model, repaired at a low resolution, measured against the whole model.
+bennu=$depth/../real/bennu_radar/bennu.obj
+if [[ -f $bennu ]]; then
+  "$relief" cut "$bennu" -o "$tmp/bennu_cut.ply" --ball 0,0,0.25,0.08 2>/dev/null || exit 2
+  expect 0 "voxel IoU" -- "$relief" depth-fill "$tmp/bennu_cut.ply" -o "$tmp/bennu_fix.ply" --resolution 64 --truth "$bennu" --report "$tmp/rm.json" --backend scalar
+  ok 'grep -q "\"hausdorff\"" "$tmp/rm.json" && grep -q "\"z_back\"" "$tmp/rm.json"' "the mesh report lacks measures or images"
+  expect 2 "lower --resolution" -- "$relief" depth-fill "$tmp/bennu_cut.ply" -o "$tmp/bad.ply" --resolution 1024 --max-memory 64M
+  ok '[[ ! -e "$tmp/bad.ply" ]]' "a refused mesh left output"
+  printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' > "$tmp/points.obj"
+  expect 1 "no triangles" -- "$relief" depth-fill "$tmp/points.obj" -o "$tmp/bad.ply"
+  printf 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/nan.obj"
+  expect 1 "" -- "$relief" depth-fill "$tmp/nan.obj" -o "$tmp/bad.ply"
+  ok '[[ ! -e "$tmp/bad.ply" ]]' "a bad mesh left output"
+  expect 1 "for depth images" -- "$relief" depth-fill "$tmp/bennu_cut.ply" -o "$tmp/bad.ply" --mask "$tmp/m.png"
+fi
+
 # Bad input: exit 1 (2 for resources), the message, no output.
 nothing() { ok '[[ ! -e "$tmp/bad.pcd" && ! -e "$tmp/bad.pfm" && ! -e "$tmp/bad.png" && ! -e "$tmp/bad.json" ]]' "output left behind: $1"; }
 head -c 300 "$office" > "$tmp/trunc.pcd"
@@ -69,7 +86,7 @@ expect 1 "never overwrites" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/o
 expect 1 "organised PCD" -- "$relief" depth-fill "$tmp/moto.pfm" -o "$tmp/bad.pfm" --points "$tmp/p2.ply"
 expect 1 "odd" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --window 8
 expect 1 "not plain, haar or decompose" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant median
-expect 1 "mesh" -- "$relief" depth-fill "$tmp/x.ply" -o "$tmp/bad.ply"
+expect 1 "IN's extension" -- "$relief" depth-fill "$tmp/x.ply" -o "$tmp/bad.pcd"
 expect 1 "--levels" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
 ok 'cmp -s "$tmp/office.pcd" <("$tool" crop "$office" 0 0 240 180 "$tmp/again.pcd" && cat "$tmp/again.pcd")' "the input was changed"
 
