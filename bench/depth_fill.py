@@ -130,3 +130,25 @@ with open(os.path.join(out, "depth_fill.csv"), "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
     w.writeheader()
     w.writerows(rows)
+
+# Pictures for the README: the office disc and the motorcycle rectangle,
+# cropped around the hole at 2x, one colour map per crop (the truth's 1st
+# to 99th percentile), missing pixels black.
+def picture(name, hole, cx, cy, half):
+    case = os.path.join(out, "%s_%s" % (name, hole))
+    truth = read_pfm(os.path.join(out, name + ".pfm"))
+    crops = {"hole": read_pfm(case + "_in.pfm"), "relief": read_pfm(case + "_decompose_scalar.pfm"),
+             "telea": read_pfm(case + "_telea.pfm"), "truth": truth}
+    sl = np.s_[cy - half:cy + half, cx - half:cx + half]
+    ok = np.isfinite(truth[sl])
+    lo, hi = np.percentile(truth[sl][ok], [1, 99])
+    for what, d in crops.items():
+        v = np.clip((d[sl] - lo) / (hi - lo), 0, 1)
+        im = cv2.applyColorMap((np.nan_to_num(v) * 255).astype(np.uint8), cv2.COLORMAP_TURBO)
+        im[~np.isfinite(d[sl])] = 0
+        im = cv2.resize(im, None, fx=2, fy=2, interpolation=cv2.INTER_NEAREST)
+        cv2.imwrite(os.path.join(out, "depthfill_%s_%s.png" % (name, what)), im)
+
+
+picture("office1", "disc", 320, 150, 48)
+picture("motorcycle", "rect", 295, 345, 64)
