@@ -14,19 +14,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-bench-out/image_fill}
 BUILD=${BUILD:-build}
-# Debian's python, where python3-opencv goes (not a pyenv or venv in PATH).
-PY=${PYTHON:-/usr/bin/python3}
-[[ -x $PY ]] || PY=python3
 ./setup.sh deps
-if ! "$PY" -c 'import cv2, numpy' 2>/dev/null; then
-  if [[ $(id -u) -ne 0 ]]; then
-    echo "bench: python3-opencv is missing (apt-get install python3-opencv)" >&2
-    exit 1
-  fi
-  echo "bench: installing python3-opencv to compare with"
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-    python3-opencv python3-numpy >/dev/null
-fi
+. bench/peers.sh # PY, python3-opencv
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
 cmake --build "$BUILD" -j"${JOBS:-$(nproc)}" --target relief bench_image_fill >/dev/null
 mkdir -p "$OUT"

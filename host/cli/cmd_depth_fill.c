@@ -95,26 +95,6 @@ static const char *kind_name(in_kind k)
     return k == IN_PNG ? "PNG" : k == IN_PFM ? "PFM" : k == IN_PCD ? "PCD" : "a mesh";
 }
 
-typedef struct progress {
-    int print;
-    double start, last;
-} progress;
-
-static void on_progress(void *ctx, size_t done, size_t total)
-{
-    progress *pr = ctx;
-    double now = relief_seconds(), t = now - pr->start, rate;
-    if (!pr->print || (done != total && now - pr->last < 0.25))
-        return;
-    pr->last = now;
-    rate = t > 0 ? (double)done / t : 0.0;
-    fprintf(stderr, "\rrelief depth-fill: synthesis %zu/%zu (%.0f %%), ETA %.0f s   ", done,
-            total, total ? 100.0 * (double)done / (double)total : 100.0,
-            rate > 0 ? (double)(total - done) / rate : 0.0);
-    if (done == total)
-        fputc('\n', stderr);
-}
-
 /* Read a depth image of any kind into *f (z NaN where missing). PNG: one
  * 16-bit grey channel, 0 missing, value / scale. */
 static relief_status read_depth(const char *path, in_kind k, double scale, uint64_t limit,
@@ -542,7 +522,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     uint64_t limit;
     in_kind kin, kout;
     relief_status st = RELIEF_OK;
-    progress pr = {0, 0.0, 0.0};
+    cli_progress pr = {"depth-fill", "synthesis", 0, 0.0, 0.0};
     sigset_t held;
 
     memset(&f, 0, sizeof f);
@@ -764,7 +744,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         fprintf(stderr, "relief depth-fill: %s\n", note);
     pr.print = !quiet && isatty(2);
     pr.start = relief_seconds();
-    p.synth.progress = on_progress;
+    p.synth.progress = cli_on_progress;
     p.synth.progress_ctx = &pr;
     if (missing_in + missing_mask == 0 && !quiet)
         fprintf(stderr, "relief depth-fill: %s: no missing pixels: writing it unchanged\n", in);

@@ -55,26 +55,6 @@ static const char image_fill_help[] =
     "  --report R.json       counts, windows tried, pyramid levels, stage times\n"
     "  --quiet               no progress or notes on stderr\n";
 
-typedef struct progress {
-    int print;
-    double start, last;
-} progress;
-
-static void on_progress(void *ctx, size_t filled, size_t total)
-{
-    progress *pr = ctx;
-    double now = relief_seconds(), t = now - pr->start, rate;
-    if (!pr->print || (filled != total && now - pr->last < 0.25))
-        return;
-    pr->last = now;
-    rate = t > 0 ? (double)filled / t : 0.0;
-    fprintf(stderr, "\rrelief image-fill: %zu/%zu pixels (%.0f %%), ETA %.0f s   ", filled,
-            total, total ? 100.0 * (double)filled / (double)total : 100.0,
-            rate > 0 ? (double)(total - filled) / rate : 0.0);
-    if (filled == total)
-        fputc('\n', stderr);
-}
-
 typedef struct report_ctx {
     const char *in, *out, *mask;
     const relief_raster *img;
@@ -218,7 +198,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     long v;
     double d, t_start = relief_seconds();
     relief_status st = RELIEF_OK;
-    progress pr = {0, 0.0, 0.0};
+    cli_progress pr = {"image-fill", "pixels", 0, 0.0, 0.0};
     sigset_t held;
 
     optind = 0;
@@ -355,7 +335,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     } else {
         pr.print = !quiet && isatty(2);
         pr.start = relief_seconds();
-        p.progress = on_progress;
+        p.progress = cli_on_progress;
         p.progress_ctx = &pr;
         st = relief_fill(&img, hole, &p, scorer, &rep, &err);
         if (st != RELIEF_OK)

@@ -10,6 +10,8 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include "base/clock.h"
+
 int cli_fail(const char *cmd, const relief_error *err)
 {
     fprintf(stderr, "relief %s: error: %s\n", cmd,
@@ -170,4 +172,19 @@ int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_back
     fprintf(stderr, "relief %s: --backend: '%s' is not one of auto, scalar, opencl%s\n"
             "Try 'relief %s --help'.\n", cmd, s, with_host ? ", host" : "", cmd);
     return 0;
+}
+
+void cli_on_progress(void *ctx, size_t done, size_t total)
+{
+    cli_progress *pr = ctx;
+    double now = relief_seconds(), t = now - pr->start, rate;
+    if (!pr->print || (done != total && now - pr->last < 0.25))
+        return;
+    pr->last = now;
+    rate = t > 0 ? (double)done / t : 0.0;
+    fprintf(stderr, "\rrelief %s: %s %zu/%zu (%.0f %%), ETA %.0f s   ", pr->cmd, pr->what, done,
+            total, total ? 100.0 * (double)done / (double)total : 100.0,
+            rate > 0 ? (double)(total - done) / rate : 0.0);
+    if (done == total)
+        fputc('\n', stderr);
 }

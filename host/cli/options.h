@@ -7,6 +7,7 @@
 #define RELIEF_HOST_CLI_OPTIONS_H
 
 #include <signal.h>
+#include <stddef.h>
 
 #include "relief/relief.h"
 #include "smooth/fit.h"
@@ -60,6 +61,17 @@ const char *cli_ext_of(const char *path);
 
 /* Does `path` end in a mesh extension relief writes (.ply .obj .off .stl)? */
 int cli_known_mesh_ext(const char *path);
+
+/* A progress line on stderr with an ETA, at most four times a second:
+ * "relief CMD: WHAT done/total (p %), ETA s". print 0: silent. */
+typedef struct cli_progress {
+    const char *cmd, *what;
+    int print;
+    double start, last;
+} cli_progress;
+
+/* A fill's progress callback (ctx: a cli_progress). */
+void cli_on_progress(void *ctx, size_t done, size_t total);
 
 /* Hold SIGINT and SIGTERM while outputs are written (old: the mask to
  * restore), so that they appear whole or not at all. */

@@ -7,6 +7,8 @@
 
 #include "base/error.h"
 #include "base/knn.h"
+#define RM_REAL double /* the mesh's precision: the kernels' geometry in double */
+#include "kernels/relief_math.h"
 
 #define MAX_RESOLUTION 1024
 #define MARGIN 2
@@ -479,57 +481,6 @@ done:
 
 /* ---------------------------------------------------------------- distance */
 
-/* The distance from p to the triangle abc (Ericson, Real-Time Collision
- * Detection, 5.1.5). */
-static double point_triangle(const double *p, const double *a, const double *b,
-                             const double *c)
-{
-    double ab[3], ac[3], ap[3], bp[3], cp[3], q[3], d1, d2, d3, d4, d5, d6, va, vb, vc, v, w,
-        den;
-    for (int k = 0; k < 3; ++k) {
-        ab[k] = b[k] - a[k];
-        ac[k] = c[k] - a[k];
-        ap[k] = p[k] - a[k];
-        bp[k] = p[k] - b[k];
-        cp[k] = p[k] - c[k];
-    }
-#define DOT(x, y) ((x)[0] * (y)[0] + (x)[1] * (y)[1] + (x)[2] * (y)[2])
-    d1 = DOT(ab, ap);
-    d2 = DOT(ac, ap);
-    d3 = DOT(ab, bp);
-    d4 = DOT(ac, bp);
-    d5 = DOT(ab, cp);
-    d6 = DOT(ac, cp);
-#undef DOT
-    if (d1 <= 0 && d2 <= 0) {
-        memcpy(q, a, sizeof q);
-    } else if (d3 >= 0 && d4 <= d3) {
-        memcpy(q, b, sizeof q);
-    } else if ((vc = d1 * d4 - d3 * d2) <= 0 && d1 >= 0 && d3 <= 0) {
-        v = d1 / (d1 - d3);
-        for (int k = 0; k < 3; ++k)
-            q[k] = a[k] + v * ab[k];
-    } else if (d6 >= 0 && d5 <= d6) {
-        memcpy(q, c, sizeof q);
-    } else if ((vb = d5 * d2 - d1 * d6) <= 0 && d2 >= 0 && d6 <= 0) {
-        w = d2 / (d2 - d6);
-        for (int k = 0; k < 3; ++k)
-            q[k] = a[k] + w * ac[k];
-    } else if ((va = d3 * d6 - d5 * d4) <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        for (int k = 0; k < 3; ++k)
-            q[k] = b[k] + w * (c[k] - b[k]);
-    } else {
-        den = 1.0 / (va + vb + vc);
-        v = vb * den;
-        w = vc * den;
-        for (int k = 0; k < 3; ++k)
-            q[k] = a[k] + ab[k] * v + ac[k] * w;
-    }
-    return sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                (p[2] - q[2]) * (p[2] - q[2]));
-}
-
 #define NEAR_TRIANGLES 16
 #define CHUNK 65536
 
@@ -575,9 +526,10 @@ relief_status relief_surface_distance(relief_mesh *a, relief_mesh *b, double *me
             double best = INFINITY;
             for (int r = 0; r < k; ++r) {
                 size_t f = (size_t)idx[(size_t)q * k + r];
-                best = fmin(best, point_triangle(pa + 3 * (s + q), pb + 3 * (size_t)tb[3 * f],
-                                                 pb + 3 * (size_t)tb[3 * f + 1],
-                                                 pb + 3 * (size_t)tb[3 * f + 2]));
+                best = fmin(best, sqrt(rm_point_triangle_d2(pa + 3 * (s + q),
+                                                            pb + 3 * (size_t)tb[3 * f],
+                                                            pb + 3 * (size_t)tb[3 * f + 1],
+                                                            pb + 3 * (size_t)tb[3 * f + 2])));
             }
             sum += best;
             worst = fmax(worst, best);
