@@ -54,6 +54,9 @@ static const char depth_fill_help[] =
     "  --exhaustive          every window at full resolution (no pyramid)\n"
     "  --order O             both (default: keep the better), horizontal, vertical\n"
     "  --levels L            haar: transform steps (default 2)\n"
+    "  --membrane M          the smooth fill of haar's LL and decompose's u:\n"
+    "                        harmonic (default) or thin-plate (carries the rim's\n"
+    "                        slope and curvature in; can overshoot at edges)\n"
     "  --resolution N        mesh: voxels along the box's longest side (default 256)\n"
     "  --lambda L            decompose: ROF's lambda, depth units x pixels (default:\n"
     "                        8 x the capture's robust step between neighbours)\n"
@@ -270,6 +273,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_string(&j, "order", order_name(c->p->synth.order));
     rj_int(&j, "levels", c->p->levels);
     rj_number(&j, "lambda", r->lambda);
+    rj_string(&j, "membrane", c->p->thin_plate ? "thin-plate" : "harmonic");
     rj_int(&j, "seed", c->p->synth.seed);
     rj_end_object(&j);
     rj_begin_object(&j, "pixels");
@@ -477,7 +481,8 @@ done:
 int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
 {
     enum { OPT_MASK = 1000, OPT_VARIANT, OPT_SCALE, OPT_SIGMA, OPT_SEARCH_RADIUS,
-           OPT_EXHAUSTIVE, OPT_ORDER, OPT_LAMBDA, OPT_POINTS, OPT_DLEVELS, OPT_RESOLUTION };
+           OPT_EXHAUSTIVE, OPT_ORDER, OPT_LAMBDA, OPT_POINTS, OPT_DLEVELS, OPT_RESOLUTION,
+           OPT_MEMBRANE };
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'},
         {"variant", required_argument, 0, OPT_VARIANT},
@@ -490,6 +495,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         {"order", required_argument, 0, OPT_ORDER},
         {"levels", required_argument, 0, OPT_DLEVELS},
         {"resolution", required_argument, 0, OPT_RESOLUTION},
+        {"membrane", required_argument, 0, OPT_MEMBRANE},
         {"lambda", required_argument, 0, OPT_LAMBDA},
         {"truth", required_argument, 0, OPT_TRUTH},
         {"points", required_argument, 0, OPT_POINTS},
@@ -589,6 +595,15 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
             if (!cli_parse_int("depth-fill", "--levels", optarg, 1, 6, &v))
                 return EXIT_USAGE;
             p.levels = (int)v;
+            break;
+        case OPT_MEMBRANE:
+            if (strcmp(optarg, "thin-plate") == 0)
+                p.thin_plate = 1;
+            else if (strcmp(optarg, "harmonic") == 0)
+                p.thin_plate = 0;
+            else
+                return cli_usage_error("depth-fill", "--membrane: '%s' is not thin-plate or "
+                                       "harmonic", optarg);
             break;
         case OPT_RESOLUTION:
             if (!cli_parse_int("depth-fill", "--resolution", optarg, 8, 1024, &v))

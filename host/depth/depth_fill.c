@@ -21,6 +21,7 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.lambda = 0.0;
     p.rof_iterations = 200;
     p.membrane_iterations = 5000;
+    p.thin_plate = 0;
     return p;
 }
 
@@ -103,9 +104,13 @@ static int cmp_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* lambda <= 0: 8 x 1.4826 x the median of the non-zero |differences| of
- * known 4-neighbours (the capture's robust step; a quantised capture has
- * many equal neighbours, whose zeros would make the median useless). */
+/* lambda <= 0: from the capture's robust roughness, the median of the
+ * non-zero |second differences| along rows and columns over known triples
+ * (a quantised capture has many zeros, which would make the median
+ * useless). Second differences, not steps: a smooth slope is structure, u's
+ * to keep, not texture; on white noise of deviation s the median is
+ * 0.6745 sqrt(6) s, and lambda = 8 sqrt(2) s, what the median step gave
+ * there. */
 static relief_status auto_lambda(const float *z, const uint8_t *known, int W, int H,
                                  double *lambda, relief_error *err)
 {
@@ -118,19 +123,37 @@ static relief_status auto_lambda(const float *z, const uint8_t *known, int W, in
             size_t i = (size_t)y * W + x;
             if (!known[i])
                 continue;
-            if (x + 1 < W && known[i + 1] && z[i + 1] != z[i])
-                d[n++] = fabsf(z[i + 1] - z[i]);
-            if (y + 1 < H && known[i + W] && z[i + W] != z[i])
-                d[n++] = fabsf(z[i + W] - z[i]);
+            if (x + 2 < W && known[i + 1] && known[i + 2]) {
+                float s = fabsf(z[i] - 2.0f * z[i + 1] + z[i + 2]);
+                if (s > 0.0f)
+                    d[n++] = s;
+            }
+            if (y + 2 < H && known[i + W] && known[i + 2 * (size_t)W]) {
+                float s = fabsf(z[i] - 2.0f * z[i + W] + z[i + 2 * (size_t)W]);
+                if (s > 0.0f)
+                    d[n++] = s;
+            }
         }
     if (n) {
         qsort(d, n, sizeof *d, cmp_float);
-        *lambda = 8.0 * 1.4826 * d[n / 2];
+        *lambda = 8.0 * sqrt(2.0) / (0.6745 * sqrt(6.0)) * d[n / 2];
     } else {
         *lambda = 0.0;
     }
     free(d);
     return RELIEF_OK;
+}
+
+/* The smooth fill of LL or u: the thin plate or the harmonic membrane. */
+static relief_status smooth_fill(float *z, const uint8_t *known, int W, int H,
+                                 const relief_depth_fill_params *p, int *iterations,
+                                 relief_error *err)
+{
+    return p->thin_plate ? relief_membrane_fill_biharmonic(z, known, W, H,
+                                                           p->membrane_iterations, iterations,
+                                                           err)
+                         : relief_membrane_fill(z, known, W, H, p->membrane_iterations,
+                                                iterations, err);
 }
 
 /* ---------------------------------------------------------------- variants */
@@ -180,8 +203,7 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
     if (st == RELIEF_OK)
         st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
     if (st == RELIEF_OK)
-        st = relief_membrane_fill(u, known, W, H, p->membrane_iterations,
-                                  &rep->membrane_iterations, err);
+        st = smooth_fill(u, known, W, H, p, &rep->membrane_iterations, err);
     rep->seconds_transform += relief_seconds() - t0;
     if (st != RELIEF_OK)
         goto done;
@@ -255,8 +277,7 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
             }
     }
     /* The coarsest LL: the membrane. */
-    st = relief_membrane_fill(ll[L], known[L], Wp >> L, Hp >> L, p->membrane_iterations,
-                              &rep->membrane_iterations, err);
+    st = smooth_fill(ll[L], known[L], Wp >> L, Hp >> L, p, &rep->membrane_iterations, err);
     if (st != RELIEF_OK) {
         if (st == RELIEF_E_RANGE)
             st = relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known "

@@ -132,6 +132,158 @@ done:
     return st;
 }
 
+/* ---------------------------------------------------------------- thin plate */
+
+/* (L w)_p for the band pixels, w given on the band (0 off it): the sum
+ * over p's 4-neighbours inside the image of w_q - w_p. band[] lists the
+ * band's pixels; at[] maps a pixel to its band index or -1. */
+static void laplacian(const int32_t *band, size_t nb, const int32_t *at, int W, int H,
+                      const double *w, double *out)
+{
+    for (size_t k = 0; k < nb; ++k) {
+        int px = band[k] % W, py = band[k] / W;
+        int nb4[4][2] = {{px - 1, py}, {px + 1, py}, {px, py - 1}, {px, py + 1}};
+        double s = 0.0;
+        for (int j = 0; j < 4; ++j) {
+            int u = nb4[j][0], v = nb4[j][1];
+            int32_t o;
+            if (u < 0 || u >= W || v < 0 || v >= H)
+                continue;
+            o = at[(size_t)v * W + u];
+            s += (o >= 0 ? w[o] : 0.0) - w[k];
+        }
+        out[k] = s;
+    }
+}
+
+relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, int width,
+                                              int height, int max_iter, int *iterations,
+                                              relief_error *err)
+{
+    size_t n = (size_t)width * height, nb = 0, m = 0;
+    int32_t *at = NULL, *band = NULL;
+    double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, *y = NULL, *c = NULL;
+    double rr, b2 = 0.0;
+    int it = 0, W = width, H = height;
+    relief_status st = relief_membrane_fill(z, known, W, H, max_iter, NULL, err);
+    if (iterations)
+        *iterations = 0;
+    if (st != RELIEF_OK)
+        return st;
+    /* The band: the unknowns and the pixels within two steps of one (the
+     * reach of L L); the unknowns first. */
+    at = malloc(n * sizeof *at);
+    if (!at)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
+    for (size_t i = 0; i < n; ++i)
+        at[i] = -1;
+    for (size_t i = 0; i < n; ++i)
+        m += !known[i];
+    if (!m) {
+        free(at);
+        return RELIEF_OK;
+    }
+    band = malloc(n * sizeof *band);
+    if (!band) {
+        free(at);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (!known[i]) {
+            at[i] = (int32_t)nb;
+            band[nb++] = (int32_t)i;
+        }
+    for (int ring = 0; ring < 2; ++ring) {
+        size_t end = nb;
+        for (size_t k = 0; k < end; ++k) {
+            int px = band[k] % W, py = band[k] / W;
+            int nb4[4][2] = {{px - 1, py}, {px + 1, py}, {px, py - 1}, {px, py + 1}};
+            for (int j = 0; j < 4; ++j) {
+                int u = nb4[j][0], v = nb4[j][1];
+                size_t o;
+                if (u < 0 || u >= W || v < 0 || v >= H)
+                    continue;
+                o = (size_t)v * W + u;
+                if (at[o] < 0) {
+                    at[o] = (int32_t)nb;
+                    band[nb++] = (int32_t)o;
+                }
+            }
+        }
+    }
+    x = calloc(nb, sizeof *x);
+    b = calloc(nb, sizeof *b);
+    r = calloc(nb, sizeof *r);
+    p = calloc(nb, sizeof *p);
+    q = calloc(nb, sizeof *q);
+    y = calloc(nb, sizeof *y);
+    c = calloc(nb, sizeof *c);
+    if (!x || !b || !r || !p || !q || !y || !c) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate's %zu pixels",
+                         nb);
+        goto done;
+    }
+    /* b = -(L L u_known) on the unknowns: c = u_known on the band (0 on
+     * the unknowns), y = L c, b = -(L y). */
+    for (size_t k = m; k < nb; ++k)
+        c[k] = z[band[k]];
+    laplacian(band, nb, at, W, H, c, y);
+    laplacian(band, nb, at, W, H, y, q);
+    for (size_t k = 0; k < m; ++k) {
+        b[k] = -q[k];
+        b2 += b[k] * b[k];
+        x[k] = z[band[k]]; /* the harmonic fill: the start */
+    }
+#define APPLY(in, out)                                            \
+    do {                                                          \
+        for (size_t k_ = m; k_ < nb; ++k_)                        \
+            (in)[k_] = 0.0;                                       \
+        laplacian(band, nb, at, W, H, (in), y);                   \
+        laplacian(band, nb, at, W, H, y, (out));                  \
+    } while (0)
+    APPLY(x, q);
+    rr = 0.0;
+    for (size_t k = 0; k < m; ++k) {
+        r[k] = b[k] - q[k];
+        p[k] = r[k];
+        rr += r[k] * r[k];
+    }
+    while (it < max_iter && rr > 1e-16 * (b2 > 0.0 ? b2 : 1.0)) {
+        double pq = 0.0, alpha, rr_new = 0.0;
+        APPLY(p, q);
+        for (size_t k = 0; k < m; ++k)
+            pq += p[k] * q[k];
+        if (!(pq > 0.0))
+            break;
+        alpha = rr / pq;
+        for (size_t k = 0; k < m; ++k) {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * q[k];
+            rr_new += r[k] * r[k];
+        }
+        for (size_t k = 0; k < m; ++k)
+            p[k] = r[k] + rr_new / rr * p[k];
+        rr = rr_new;
+        ++it;
+    }
+#undef APPLY
+    for (size_t k = 0; k < m; ++k)
+        z[band[k]] = (float)x[k];
+    if (iterations)
+        *iterations = it;
+done:
+    free(at);
+    free(band);
+    free(x);
+    free(b);
+    free(r);
+    free(p);
+    free(q);
+    free(y);
+    free(c);
+    return st;
+}
+
 /* ---------------------------------------------------------------- Haar */
 
 void relief_haar_forward(const float *z, int width, int height, float *ll, float *detail)

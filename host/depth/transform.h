@@ -24,6 +24,18 @@
 relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, int height,
                                    int max_iter, int *iterations, relief_error *err);
 
+/* The same with the thin plate: the pixels where known == 0 minimise the
+ * sum over every pixel of (L z)^2, L the 4-neighbour Laplacian (free
+ * border), so the fill carries the surroundings' slope and curvature into
+ * the hole instead of meeting the rim with a kink (the discrete
+ * biharmonic). Started from the harmonic fill, then conjugate gradients
+ * on the normal equations to a relative residual of 1e-8 or `max_iter`
+ * iterations (*iterations: the biharmonic ones). Known pixels keep their
+ * bits. RELIEF_E_RANGE when no pixel is known. */
+relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, int width,
+                                              int height, int max_iter, int *iterations,
+                                              relief_error *err);
+
 /* One Haar step of an image whose sides are even: the 2 x 2 block at
  * (2x, 2y) with a = (2x, 2y), b = (2x + 1, 2y), c = (2x, 2y + 1),
  * d = (2x + 1, 2y + 1) gives, at (x, y) of the half-size bands,

@@ -84,6 +84,36 @@ static void test_membrane(void)
               it);
     }
     CHECK(worst < 0.2, "membrane: error %g", worst);
+    /* A paraboloid (its discrete Laplacian is constant, so L L z = 0): the
+     * thin plate fills a disc exactly, the harmonic membrane does not. */
+    {
+        double thin = 0.0, harm = 0.0;
+        float z2[W * H];
+        for (int pass = 0; pass < 2; ++pass) {
+            float *zz = pass ? z2 : z;
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x) {
+                    int i = y * W + x;
+                    known[i] = (uint8_t)!((x - 20) * (x - 20) + (y - 14) * (y - 14) < 64);
+                    zz[i] = known[i] ? (float)(0.001 * ((x - 20) * (x - 20) + (y - 14) * (y - 14)))
+                                     : 0.0f;
+                }
+            if (pass)
+                CHECK(relief_membrane_fill(zz, known, W, H, 5000, &it, &err) == RELIEF_OK, "%s",
+                      err.message);
+            else
+                CHECK(relief_membrane_fill_biharmonic(zz, known, W, H, 5000, &it, &err) ==
+                          RELIEF_OK, "%s", err.message);
+        }
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                double t = 0.001 * ((x - 20) * (x - 20) + (y - 14) * (y - 14));
+                thin = fmax(thin, fabs(z[y * W + x] - t));
+                harm = fmax(harm, fabs(z2[y * W + x] - t));
+            }
+        CHECK(thin < 1e-5 && harm > 0.02, "paraboloid: thin plate error %g (%d iterations), "
+              "harmonic %g", thin, it, harm);
+    }
     memset(known, 0, sizeof known);
     CHECK(relief_membrane_fill(z, known, W, H, 100, NULL, &err) == RELIEF_E_RANGE,
           "membrane with nothing known accepted");
