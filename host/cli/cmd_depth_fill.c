@@ -53,6 +53,9 @@ static const char depth_fill_help[] =
     "  --search-radius R     symmetric search distance, pixels (default 32; 0: all)\n"
     "  --exhaustive          every window at full resolution (no pyramid)\n"
     "  --order O             both (default: keep the better), horizontal, vertical\n"
+    "  --tileable            the image is a torus (paper 003's tileable constraint):\n"
+    "                        windows see across the borders, the result repeats\n"
+    "                        without seams, and holes at a border are filled\n"
     "  --levels L            haar: transform steps (default 2)\n"
     "  --membrane M          the smooth fill of haar's LL and decompose's u:\n"
     "                        harmonic (default) or thin-plate (carries the rim's\n"
@@ -271,6 +274,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "search_radius", c->p->synth.search_radius);
     rj_bool(&j, "exhaustive", c->p->synth.exhaustive);
     rj_string(&j, "order", order_name(c->p->synth.order));
+    rj_bool(&j, "tileable", c->p->synth.tileable);
     rj_int(&j, "levels", c->p->levels);
     rj_number(&j, "lambda", r->lambda);
     rj_string(&j, "membrane", c->p->thin_plate ? "thin-plate" : "harmonic");
@@ -482,7 +486,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
 {
     enum { OPT_MASK = 1000, OPT_VARIANT, OPT_SCALE, OPT_SIGMA, OPT_SEARCH_RADIUS,
            OPT_EXHAUSTIVE, OPT_ORDER, OPT_LAMBDA, OPT_POINTS, OPT_DLEVELS, OPT_RESOLUTION,
-           OPT_MEMBRANE };
+           OPT_MEMBRANE, OPT_TILEABLE };
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'},
         {"variant", required_argument, 0, OPT_VARIANT},
@@ -496,6 +500,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         {"levels", required_argument, 0, OPT_DLEVELS},
         {"resolution", required_argument, 0, OPT_RESOLUTION},
         {"membrane", required_argument, 0, OPT_MEMBRANE},
+        {"tileable", no_argument, 0, OPT_TILEABLE},
         {"lambda", required_argument, 0, OPT_LAMBDA},
         {"truth", required_argument, 0, OPT_TRUTH},
         {"points", required_argument, 0, OPT_POINTS},
@@ -596,6 +601,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
                 return EXIT_USAGE;
             p.levels = (int)v;
             break;
+        case OPT_TILEABLE: p.synth.tileable = 1; break;
         case OPT_MEMBRANE:
             if (strcmp(optarg, "thin-plate") == 0)
                 p.thin_plate = 1;

@@ -447,6 +447,13 @@ relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const 
             free(inside);
             return RELIEF_OK; /* nothing asked */
         }
+    } else if (p->synth.tileable) {
+        /* On a torus every missing pixel is enclosed. */
+        rep->filled = 0;
+        for (size_t i = 0; i < n; ++i) {
+            inside[i] = missing[i] != 0;
+            rep->filled += inside[i];
+        }
     } else {
         rep->filled = relief_depth_inside(missing, width, height, inside);
     }

@@ -84,7 +84,8 @@ uint64_t relief_depth_fill_estimate(int width, int height);
 size_t relief_depth_inside(const uint8_t *missing, int width, int height, uint8_t *inside);
 
 /* Fill z (width x height, row-major) where missing[i] != 0 and the pixel
- * is inside the capture (relief_depth_inside), in place; the missing
+ * is inside the capture (relief_depth_inside; with p->synth.tileable,
+ * every missing pixel: the image is a torus), in place; the missing
  * pixels outside stay as they are (NaN).
  * `source` (may be NULL; width x height): for each filled pixel the pixel
  * its texture came from (plain, decompose: the synthesis's copy; haar: the

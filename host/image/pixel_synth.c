@@ -159,12 +159,17 @@ static void neighbour_mean(const relief_raster *img, const uint8_t *known, int C
         value[c] = m ? value[c] / (float)m : 0.0f;
 }
 
+/* One order. wrap > 0: img is a tileable image padded by `wrap` pixels
+ * on every side with copies of the opposite side (its targets central
+ * only); a filled pixel's copies are filled with it. */
 static relief_status synth_order(relief_raster *img, const uint8_t *hole,
-                                 const uint8_t *target, const relief_pixsyn_params *p, relief_pixsyn_order order,
+                                 const uint8_t *target, const relief_pixsyn_params *p,
+                                 relief_pixsyn_order order, int wrap,
                                  relief_patch_scorer *scorer, int64_t *source, run *out,
                                  progress_state *prog, relief_error *err)
 {
     int W = img->width, H = img->height, C = img->channels;
+    int W0 = W - 2 * wrap, H0 = H - 2 * wrap;
     size_t n = (size_t)W * H;
     double sigma = p->sigma > 0.0 ? p->sigma : p->window / 6.4;
     relief_fill_params fp = engine_params(p);
@@ -240,23 +245,34 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
             neighbour_mean(img, known, C, x, y, value);
             ++out->fallbacks;
         }
-        st = relief_filler_put(f, x, y, value, err);
-        known[e.pixel] = 1;
-        for (int dy = -1; dy <= 1 && st == RELIEF_OK; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                int u = x + dx, v = y + dy;
-                size_t j;
-                if ((!dx && !dy) || u < 0 || u >= W || v < 0 || v >= H)
+        /* The pixel, and its copies in a tileable image's padding. */
+        for (int ky = wrap ? -1 : 0; ky <= (wrap ? 1 : 0) && st == RELIEF_OK; ++ky)
+            for (int kx = wrap ? -1 : 0; kx <= (wrap ? 1 : 0) && st == RELIEF_OK; ++kx) {
+                int X = x + kx * W0, Y = y + ky * H0;
+                size_t at;
+                if (X < 0 || X >= W || Y < 0 || Y >= H)
                     continue;
-                j = (size_t)v * W + u;
-                if (known[j] || (target && !target[j]))
+                at = (size_t)Y * W + X;
+                if (known[at])
                     continue;
-                ++count[j];
-                if (!heap_push(&h, (entry){count[j], KEY(u, v), (uint32_t)j})) {
-                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis "
-                                     "queue");
-                    break;
-                }
+                st = relief_filler_put(f, X, Y, value, err);
+                known[at] = 1;
+                for (int dy = -1; dy <= 1 && st == RELIEF_OK; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        int u = X + dx, v = Y + dy;
+                        size_t j;
+                        if ((!dx && !dy) || u < 0 || u >= W || v < 0 || v >= H)
+                            continue;
+                        j = (size_t)v * W + u;
+                        if (known[j] || (target && !target[j]))
+                            continue;
+                        ++count[j];
+                        if (!heap_push(&h, (entry){count[j], KEY(u, v), (uint32_t)j})) {
+                            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the "
+                                             "synthesis queue");
+                            break;
+                        }
+                    }
             }
         ++prog->done;
         if (p->progress)
@@ -279,9 +295,10 @@ done:
     return st;
 }
 
-relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
-                           const relief_pixsyn_params *p, relief_patch_scorer *scorer,
-                           int64_t *source, relief_pixsyn_report *rep, relief_error *err)
+static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
+                            const relief_pixsyn_params *p, int wrap,
+                            relief_patch_scorer *scorer, int64_t *source,
+                            relief_pixsyn_report *rep, relief_error *err)
 {
     size_t n = (size_t)img->width * img->height, holes = 0, targets = 0;
     relief_pixsyn_report local;
@@ -331,10 +348,11 @@ relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
         }
     }
-    st = synth_order(img, hole, target, p, orders[0], scorer, source, &runs[0], &prog, err);
+    st = synth_order(img, hole, target, p, orders[0], wrap, scorer, source, &runs[0], &prog,
+                     err);
     if (st == RELIEF_OK && n_orders == 2)
-        st = synth_order(&other, hole, target, p, orders[1], scorer, other_source, &runs[1], &prog,
-                         err);
+        st = synth_order(&other, hole, target, p, orders[1], wrap, scorer, other_source,
+                         &runs[1], &prog, err);
     if (st == RELIEF_OK) {
         int keep = 0;
         for (int k = 0; k < n_orders; ++k) {
@@ -360,5 +378,69 @@ relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8
     relief_raster_free(&other);
     free(other_source);
     rep->seconds = relief_seconds() - t0;
+    return st;
+}
+
+relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
+                           const relief_pixsyn_params *p, relief_patch_scorer *scorer,
+                           int64_t *source, relief_pixsyn_report *rep, relief_error *err)
+{
+    int W = img->width, H = img->height, r = p->window / 2, Wp, Hp;
+    size_t np;
+    relief_raster pad = {0};
+    uint8_t *ph = NULL, *pt = NULL;
+    int64_t *ps = NULL;
+    relief_status st;
+    if (!p->tileable)
+        return pixsyn(img, hole, target, p, 0, scorer, source, rep, err);
+    /* Tileable (paper 003, 3.1): the image as a torus, padded by the
+     * window's radius with copies of the opposite side, so that windows
+     * at a border see across it and the result repeats without seams. */
+    if (r > W || r > H)
+        return relief_fail(err, RELIEF_E_RANGE, "--tileable: the window's radius %d exceeds "
+                           "the %d x %d image", r, W, H);
+    Wp = W + 2 * r;
+    Hp = H + 2 * r;
+    np = (size_t)Wp * Hp;
+    st = relief_raster_create(Wp, Hp, img->channels, img->bit_depth, &pad, err);
+    if (st != RELIEF_OK)
+        return st;
+    ph = malloc(np);
+    pt = calloc(np, 1);
+    ps = source ? malloc(np * sizeof *ps) : NULL;
+    if (!ph || !pt || (source && !ps)) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the tileable image");
+        goto done;
+    }
+    for (int y = 0; y < Hp; ++y)
+        for (int x = 0; x < Wp; ++x) {
+            int sx = ((x - r) % W + W) % W, sy = ((y - r) % H + H) % H;
+            size_t o = (size_t)y * Wp + x, s = (size_t)sy * W + sx;
+            memcpy(pad.v + o * img->channels, img->v + s * img->channels,
+                   (size_t)img->channels * sizeof *pad.v);
+            ph[o] = hole[s] != 0;
+            pt[o] = x >= r && x < r + W && y >= r && y < r + H && hole[s] &&
+                    (!target || target[s]);
+        }
+    st = pixsyn(&pad, ph, pt, p, r, scorer, ps, rep, err);
+    if (st != RELIEF_OK)
+        goto done;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t o = (size_t)(y + r) * Wp + x + r, s = (size_t)y * W + x;
+            memcpy(img->v + s * img->channels, pad.v + o * img->channels,
+                   (size_t)img->channels * sizeof *img->v);
+            if (source) {
+                int64_t q = ps[o];
+                source[s] = q < 0 ? -1
+                                  : (int64_t)((((q / Wp) - r) % H + H) % H) * W +
+                                        (((q % Wp) - r) % W + W) % W;
+            }
+        }
+done:
+    relief_raster_free(&pad);
+    free(ph);
+    free(pt);
+    free(ps);
     return st;
 }

@@ -42,6 +42,9 @@ typedef struct relief_pixsyn_params {
     int exhaustive;           /* 1: every window at full resolution, no pyramid */
     double max_hole_fraction; /* a candidate window's missing pixels at most this; 0.1 */
     relief_pixsyn_order order; /* both */
+    int tileable;             /* 1: the image is a torus (paper 003's tileable
+                                 constraint): windows at a border see across it, the
+                                 result repeats without seams */
     uint32_t seed;            /* the near-minimum draw; 1 */
     /* Called after each pixel: pixels synthesised so far of all (both
      * orders counted when both run). */

@@ -192,6 +192,47 @@ static void test_periodic(relief_patch_scorer *sc)
     }
 }
 
+/* The tileable constraint: a periodic texture whose period divides the
+ * image, a strip missing down its left border. Without it the strip is outside the
+ * capture and stays; with it the torus is refilled exactly, so the result
+ * tiles without a seam. */
+static void test_tileable(relief_patch_scorer *sc)
+{
+    enum { W = 96, H = 72 };
+    static float z[W * H], truth[W * H], w[W * H];
+    static uint8_t missing[W * H];
+    relief_error err = {RELIEF_OK, ""};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x;
+            truth[i] = 2.0f + 0.01f * (float)((x % 8) * 3 + (y % 6) * 7 % 11);
+            missing[i] = x < 6; /* a strip down the left border */
+            z[i] = missing[i] ? NAN : truth[i];
+        }
+    for (int tile = 0; tile <= 1; ++tile) {
+        relief_depth_fill_params p = relief_depth_fill_params_default();
+        relief_depth_fill_report rep;
+        relief_depth_measures m;
+        memcpy(w, z, sizeof w);
+        p.variant = RELIEF_DEPTH_PLAIN;
+        p.synth.tileable = tile;
+        p.synth.exhaustive = 1;
+        p.synth.search_radius = 0;
+        if (tile) {
+            CHECK(relief_depth_fill(w, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK,
+                  "%s", err.message);
+            relief_depth_measure(w, truth, missing, W, H, &m);
+            CHECK(rep.filled == 6 * H && m.compared == 6 * H && m.rms == 0.0,
+                  "tileable: %zu filled, RMS %g over %zu", rep.filled, m.rms, m.compared);
+        } else {
+            CHECK(relief_depth_fill(w, missing, W, H, &p, sc, NULL, &rep, &err) ==
+                          RELIEF_E_RANGE &&
+                      strstr(err.message, "every border"),
+                  "a hole at the border without --tileable: %s", err.message);
+        }
+    }
+}
+
 static void test_inside_and_measures(relief_patch_scorer *sc)
 {
     enum { W = 10, H = 8 };
@@ -369,6 +410,7 @@ int main(int argc, char **argv)
     test_membrane();
     test_rof();
     test_periodic(sc);
+    test_tileable(sc);
     test_inside_and_measures(sc);
     test_office(sc, dir);
     relief_patch_scorer_destroy(sc);

@@ -76,6 +76,9 @@ printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\
 expect 1 "every pixel is missing" -- "$relief" depth-fill "$tmp/allnan.pcd" -o "$tmp/bad.pcd"; nothing "all missing"
 "$tool" ring 40 30 "$tmp/ring.pfm" || exit 2
 expect 1 "touches every border" -- "$relief" depth-fill "$tmp/ring.pfm" -o "$tmp/bad.pfm"; nothing ring
+# On a torus (--tileable) the margin is enclosed: it is filled.
+expect 0 "0 outside the capture" -- "$relief" depth-fill "$tmp/ring.pfm" -o "$tmp/ring_t.pfm" --tileable --backend scalar
+rm -f "$tmp/ring_t.pfm"
 expect 2 "over the limit" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --max-memory 2M; nothing memory
 "$itool" mask "$tmp/m2.png" 100 100 10 10 5 5 || exit 2
 expect 1 "same size" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m2.png" -o "$tmp/bad.pcd"; nothing "mask size"
