@@ -33,12 +33,64 @@ static void apply(const int32_t *idx, const int32_t *pix, size_t m, int W, int H
     }
 }
 
+/* Conjugate gradients on A x = b over m unknowns, from the x given, to a
+ * relative residual of 1e-8 (|r|^2 <= 1e-16 |b|^2, b2 = |b|^2) or max_iter
+ * iterations; A(ctx, in, out) applies the symmetric positive definite
+ * operator (it may touch entries of in beyond m). r, p and q are scratch of
+ * the operator's size. Returns the iterations made. */
+static int conjugate_gradients(size_t m, const double *b, double b2, double *x, double *r,
+                               double *p, double *q,
+                               void (*A)(void *ctx, double *in, double *out), void *ctx,
+                               int max_iter)
+{
+    double rr = 0.0;
+    int it = 0;
+    A(ctx, x, q);
+    for (size_t k = 0; k < m; ++k) {
+        r[k] = b[k] - q[k];
+        p[k] = r[k];
+        rr += r[k] * r[k];
+    }
+    while (it < max_iter && rr > 1e-16 * (b2 > 0.0 ? b2 : 1.0)) {
+        double pq = 0.0, alpha, rr_new = 0.0;
+        A(ctx, p, q);
+        for (size_t k = 0; k < m; ++k)
+            pq += p[k] * q[k];
+        if (!(pq > 0.0))
+            break;
+        alpha = rr / pq;
+        for (size_t k = 0; k < m; ++k) {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * q[k];
+            rr_new += r[k] * r[k];
+        }
+        for (size_t k = 0; k < m; ++k)
+            p[k] = r[k] + rr_new / rr * p[k];
+        rr = rr_new;
+        ++it;
+    }
+    return it;
+}
+
+/* The membrane's operator for conjugate_gradients. */
+typedef struct membrane_op {
+    const int32_t *idx, *pix;
+    size_t m;
+    int W, H;
+} membrane_op;
+
+static void membrane_apply(void *ctx, double *in, double *out)
+{
+    const membrane_op *o = ctx;
+    apply(o->idx, o->pix, o->m, o->W, o->H, in, out);
+}
+
 relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, int height,
                                    int max_iter, int *iterations, relief_error *err)
 {
     size_t n = (size_t)width * height, m = 0, any = 0;
     int32_t *idx = NULL, *pix = NULL;
-    double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, rr, b2 = 0.0;
+    double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, b2 = 0.0;
     int it = 0;
     relief_status st = RELIEF_OK;
 
@@ -92,30 +144,9 @@ relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, in
     /* Conjugate gradients: A is symmetric positive definite when every
      * component of the unknowns touches a known pixel (it does unless
      * none is known, refused above). */
-    apply(idx, pix, m, width, height, x, q);
-    rr = 0.0;
-    for (size_t k = 0; k < m; ++k) {
-        r[k] = b[k] - q[k];
-        p[k] = r[k];
-        rr += r[k] * r[k];
-    }
-    while (it < max_iter && rr > 1e-16 * (b2 > 0.0 ? b2 : 1.0)) {
-        double pq = 0.0, alpha, rr_new = 0.0;
-        apply(idx, pix, m, width, height, p, q);
-        for (size_t k = 0; k < m; ++k)
-            pq += p[k] * q[k];
-        if (!(pq > 0.0))
-            break;
-        alpha = rr / pq;
-        for (size_t k = 0; k < m; ++k) {
-            x[k] += alpha * p[k];
-            r[k] -= alpha * q[k];
-            rr_new += r[k] * r[k];
-        }
-        for (size_t k = 0; k < m; ++k)
-            p[k] = r[k] + rr_new / rr * p[k];
-        rr = rr_new;
-        ++it;
+    {
+        membrane_op op = {idx, pix, m, width, height};
+        it = conjugate_gradients(m, b, b2, x, r, p, q, membrane_apply, &op, max_iter);
     }
     for (size_t k = 0; k < m; ++k)
         z[pix[k]] = (float)x[k];
@@ -156,6 +187,24 @@ static void laplacian(const int32_t *band, size_t nb, const int32_t *at, int W, 
     }
 }
 
+/* The thin plate's operator for conjugate_gradients: L L on the unknowns,
+ * the band's other entries of `in` zeroed first; y is scratch. */
+typedef struct plate_op {
+    const int32_t *band, *at;
+    size_t nb, m;
+    int W, H;
+    double *y;
+} plate_op;
+
+static void plate_apply(void *ctx, double *in, double *out)
+{
+    const plate_op *o = ctx;
+    for (size_t k = o->m; k < o->nb; ++k)
+        in[k] = 0.0;
+    laplacian(o->band, o->nb, o->at, o->W, o->H, in, o->y);
+    laplacian(o->band, o->nb, o->at, o->W, o->H, o->y, out);
+}
+
 relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, int width,
                                               int height, int max_iter, int *iterations,
                                               relief_error *err)
@@ -163,7 +212,7 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, in
     size_t n = (size_t)width * height, nb = 0, m = 0;
     int32_t *at = NULL, *band = NULL;
     double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, *y = NULL, *c = NULL;
-    double rr, b2 = 0.0;
+    double b2 = 0.0;
     int it = 0, W = width, H = height;
     relief_status st = relief_membrane_fill(z, known, W, H, max_iter, NULL, err);
     if (iterations)
@@ -234,39 +283,10 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, in
         b2 += b[k] * b[k];
         x[k] = z[band[k]]; /* the harmonic fill: the start */
     }
-#define APPLY(in, out)                                            \
-    do {                                                          \
-        for (size_t k_ = m; k_ < nb; ++k_)                        \
-            (in)[k_] = 0.0;                                       \
-        laplacian(band, nb, at, W, H, (in), y);                   \
-        laplacian(band, nb, at, W, H, y, (out));                  \
-    } while (0)
-    APPLY(x, q);
-    rr = 0.0;
-    for (size_t k = 0; k < m; ++k) {
-        r[k] = b[k] - q[k];
-        p[k] = r[k];
-        rr += r[k] * r[k];
+    {
+        plate_op op = {band, at, nb, m, W, H, y};
+        it = conjugate_gradients(m, b, b2, x, r, p, q, plate_apply, &op, max_iter);
     }
-    while (it < max_iter && rr > 1e-16 * (b2 > 0.0 ? b2 : 1.0)) {
-        double pq = 0.0, alpha, rr_new = 0.0;
-        APPLY(p, q);
-        for (size_t k = 0; k < m; ++k)
-            pq += p[k] * q[k];
-        if (!(pq > 0.0))
-            break;
-        alpha = rr / pq;
-        for (size_t k = 0; k < m; ++k) {
-            x[k] += alpha * p[k];
-            r[k] -= alpha * q[k];
-            rr_new += r[k] * r[k];
-        }
-        for (size_t k = 0; k < m; ++k)
-            p[k] = r[k] + rr_new / rr * p[k];
-        rr = rr_new;
-        ++it;
-    }
-#undef APPLY
     for (size_t k = 0; k < m; ++k)
         z[band[k]] = (float)x[k];
     if (iterations)
