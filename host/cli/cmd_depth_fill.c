@@ -58,8 +58,12 @@ static const char depth_fill_help[] =
     "                        without seams, and holes at a border are filled\n"
     "  --levels L            haar: transform steps (default 2)\n"
     "  --membrane M          the smooth fill of haar's LL and decompose's u:\n"
-    "                        harmonic (default) or thin-plate (carries the rim's\n"
-    "                        slope and curvature in; can overshoot at edges)\n"
+    "                        harmonic (default for images) or thin-plate (default\n"
+    "                        for meshes: carries the rim's slope and curvature\n"
+    "                        in; can overshoot at depth edges)\n"
+    "  --no-seam             plain, decompose: leave the rims as synthesised (by\n"
+    "                        default each hole's rim is blended in the gradient\n"
+    "                        domain, so the fill continues the capture's slope)\n"
     "  --resolution N        mesh: voxels along the box's longest side (default 256)\n"
     "  --lambda L            decompose: ROF's lambda, depth units x pixels (default:\n"
     "                        8 x the capture's robust step between neighbours)\n"
@@ -278,6 +282,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "levels", c->p->levels);
     rj_number(&j, "lambda", r->lambda);
     rj_string(&j, "membrane", c->p->thin_plate ? "thin-plate" : "harmonic");
+    rj_bool(&j, "seam", c->p->seam);
     rj_int(&j, "seed", c->p->synth.seed);
     rj_end_object(&j);
     rj_begin_object(&j, "pixels");
@@ -297,6 +302,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_number(&j, "energy_vertical", r->energy[1]);
     rj_int(&j, "candidates_scored", (long long)r->candidates);
     rj_int(&j, "membrane_iterations", r->membrane_iterations);
+    rj_int(&j, "seam_edges", (long long)r->seam_edges);
     rj_end_object(&j);
     if (c->m) {
         rj_begin_object(&j, "measures");
@@ -486,7 +492,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
 {
     enum { OPT_MASK = 1000, OPT_VARIANT, OPT_SCALE, OPT_SIGMA, OPT_SEARCH_RADIUS,
            OPT_EXHAUSTIVE, OPT_ORDER, OPT_LAMBDA, OPT_POINTS, OPT_DLEVELS, OPT_RESOLUTION,
-           OPT_MEMBRANE, OPT_TILEABLE };
+           OPT_MEMBRANE, OPT_TILEABLE, OPT_NO_SEAM };
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'},
         {"variant", required_argument, 0, OPT_VARIANT},
@@ -501,6 +507,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         {"resolution", required_argument, 0, OPT_RESOLUTION},
         {"membrane", required_argument, 0, OPT_MEMBRANE},
         {"tileable", no_argument, 0, OPT_TILEABLE},
+        {"no-seam", no_argument, 0, OPT_NO_SEAM},
         {"lambda", required_argument, 0, OPT_LAMBDA},
         {"truth", required_argument, 0, OPT_TRUTH},
         {"points", required_argument, 0, OPT_POINTS},
@@ -513,6 +520,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0}};
     relief_depth_fill_params p = relief_depth_fill_params_default();
+    int membrane = -1; /* --membrane: 0 harmonic, 1 thin plate, -1 the mode's default */
     relief_depth_fill_report rep;
     relief_depth_measures meas;
     relief_error err = {RELIEF_OK, ""};
@@ -602,11 +610,12 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
             p.levels = (int)v;
             break;
         case OPT_TILEABLE: p.synth.tileable = 1; break;
+        case OPT_NO_SEAM: p.seam = 0; break;
         case OPT_MEMBRANE:
             if (strcmp(optarg, "thin-plate") == 0)
-                p.thin_plate = 1;
+                membrane = 1;
             else if (strcmp(optarg, "harmonic") == 0)
-                p.thin_plate = 0;
+                membrane = 0;
             else
                 return cli_usage_error("depth-fill", "--membrane: '%s' is not thin-plate or "
                                        "harmonic", optarg);
@@ -693,11 +702,17 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
             return cli_usage_error("depth-fill", "--truth '%s': a mesh's truth is the complete "
                                    "mesh (.ply, .obj, .off or .stl)", truth_path);
         mfp.resolution = resolution;
+        if (membrane >= 0)
+            p.thin_plate = membrane;
+        else
+            p.thin_plate = mfp.depth.thin_plate;
         mfp.depth = p;
         mfp.depth.synth.progress = NULL;
         return mesh_mode(in, out, truth_path, report, variant, &mfp, backend, device, limit,
                          quiet, t_start);
     }
+    if (membrane >= 0)
+        p.thin_plate = membrane;
     st = read_depth(in, kin, scale, limit, &f, &err);
     if (st != RELIEF_OK)
         goto done;

@@ -22,6 +22,7 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.rof_iterations = 200;
     p.membrane_iterations = 5000;
     p.thin_plate = 0;
+    p.seam = 1;
     return p;
 }
 
@@ -68,8 +69,11 @@ uint64_t relief_depth_fill_estimate(int width, int height)
      * one, x 3 channels for the Haar details), masks, the source maps, the
      * ROF's dual field and the membrane's solver vectors (doubles), the
      * synthesis queue (up to 9 entries of 12 bytes a pixel, doubled as it
-     * grows) and the automatic lambda's list of steps. */
-    return n * (2u * 4u + 3u * 4u * 4u / 3u + 4u + 2u * 8u + 3u * 8u + 6u * 8u + 216u + 8u);
+     * grows), the automatic lambda's list of steps and the seam's
+     * correction, flux, masks and scratch source map, the thin plate's
+     * bridged image and mask. */
+    return n * (2u * 4u + 3u * 4u * 4u / 3u + 4u + 2u * 8u + 3u * 8u + 6u * 8u + 216u + 8u +
+                4u + 4u + 2u + 8u + 4u + 1u);
 }
 
 /* ---------------------------------------------------------------- helpers */
@@ -96,6 +100,42 @@ static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *ta
     rep->energy[0] = sr.energy[0];
     rep->energy[1] = sr.energy[1];
     return RELIEF_OK;
+}
+
+/* Synthesise v where missing (the pixels `inside` the targets), then,
+ * with p->seam, blend the rims (relief_depth_seam; u the smooth part or
+ * NULL). The source map is the caller's or a scratch one. */
+static relief_status synthesise_blended(const float *u, float *v, const uint8_t *missing,
+                                        const uint8_t *inside, int W, int H,
+                                        const relief_depth_fill_params *p,
+                                        relief_patch_scorer *scorer, int64_t *source,
+                                        relief_depth_fill_report *rep, relief_error *err)
+{
+    size_t n = (size_t)W * H;
+    int64_t *map = source;
+    uint8_t *known = NULL;
+    relief_status st;
+    double t0;
+    if (p->seam && !map && !(map = malloc(n * sizeof *map)))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
+    st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, map, rep, err);
+    if (st != RELIEF_OK || !p->seam)
+        goto done;
+    t0 = relief_seconds();
+    if (!(known = malloc(n))) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's mask");
+        goto done;
+    }
+    for (size_t i = 0; i < n; ++i)
+        known[i] = !missing[i];
+    st = relief_depth_seam(u, v, known, inside, map, W, H, p->membrane_iterations,
+                           &rep->seam_edges, err);
+    rep->seconds_transform += relief_seconds() - t0;
+done:
+    if (map != source)
+        free(map);
+    free(known);
+    return st;
 }
 
 static int cmp_float(const void *a, const void *b)
@@ -149,11 +189,98 @@ static relief_status smooth_fill(float *z, const uint8_t *known, int W, int H,
                                  const relief_depth_fill_params *p, int *iterations,
                                  relief_error *err)
 {
-    return p->thin_plate ? relief_membrane_fill_biharmonic(z, known, W, H,
+    return p->thin_plate ? relief_membrane_fill_biharmonic(z, known, NULL, W, H,
                                                            p->membrane_iterations, iterations,
                                                            err)
                          : relief_membrane_fill(z, known, W, H, p->membrane_iterations,
                                                 iterations, err);
+}
+
+relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
+                                const uint8_t *filled, const int64_t *source, int width,
+                                int height, int max_iter, size_t *edges, relief_error *err)
+{
+    static const int dir[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    int W = width, H = height;
+    size_t n = (size_t)W * H, guided = 0;
+    float *c = calloc(n, sizeof *c), *flux = calloc(n, sizeof *flux);
+    uint8_t *fixed = malloc(n);
+    relief_status st = RELIEF_OK;
+    if (edges)
+        *edges = 0;
+    if (!c || !flux || !fixed) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's correction");
+        goto done;
+    }
+#define U(i) (u ? u[i] : 0.0f)
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t p = (size_t)y * W + x;
+            int sx, sy;
+            fixed[p] = !filled[p];
+            if (!filled[p] || source[p] < 0)
+                continue;
+            sx = (int)(source[p] % W);
+            sy = (int)(source[p] / W);
+            for (int j = 0; j < 4; ++j) {
+                int qx = x + dir[j][0], qy = y + dir[j][1];
+                int rx = qx + dir[j][0], ry = qy + dir[j][1];
+                int tx = sx + dir[j][0], ty = sy + dir[j][1];
+                size_t q, r, t, s = (size_t)source[p];
+                double have, g;
+                if (qx < 0 || qx >= W || qy < 0 || qy >= H || !known[q = (size_t)qy * W + qx])
+                    continue;
+                if (tx < 0 || tx >= W || ty < 0 || ty >= H || !known[t = (size_t)ty * W + tx] ||
+                    !known[s])
+                    continue;
+                have = ((double)U(q) + v[q]) - ((double)U(p) + v[p]);
+                if (rx >= 0 && rx < W && ry >= 0 && ry < H && known[r = (size_t)ry * W + rx]) {
+                    double capture = ((double)U(r) + v[r]) - ((double)U(q) + v[q]);
+                    double texture = ((double)U(r) - U(q)) + ((double)v[t] - v[s]);
+                    int ax = rx + dir[j][0], ay = ry + dir[j][1];
+                    int bx = tx + dir[j][0], by = ty + dir[j][1];
+                    size_t a, b;
+                    g = 0.5 * (capture + texture);
+                    /* Each prediction weighted by the inverse square of
+                     * its error on the next captured step, r - q, where
+                     * both can be checked. */
+                    if (ax >= 0 && ax < W && ay >= 0 && ay < H && known[a = (size_t)ay * W + ax] &&
+                        bx >= 0 && bx < W && by >= 0 && by < H && known[b = (size_t)by * W + bx]) {
+                        double next = ((double)U(a) + v[a]) - ((double)U(r) + v[r]);
+                        double ec = capture - next;
+                        double et = capture - (((double)U(a) - U(r)) + ((double)v[b] - v[t]));
+                        if (et == 0.0)
+                            g = texture;
+                        else if (ec == 0.0)
+                            g = capture;
+                        else
+                            g = (capture * et * et + texture * ec * ec) / (et * et + ec * ec);
+                    }
+                } else {
+                    g = ((double)U(q) - U(p)) + ((double)v[t] - v[s]);
+                }
+                /* -sum over p's neighbours of the wanted step out of p,
+                 * with the fill's own steps cancelled (the correction's
+                 * right-hand side). */
+                flux[p] += (float)(have - g);
+                ++guided;
+            }
+        }
+#undef U
+    if (guided) {
+        st = relief_poisson_fill(c, fixed, NULL, flux, W, H, max_iter, NULL, err);
+        if (st == RELIEF_OK)
+            for (size_t i = 0; i < n; ++i)
+                if (filled[i])
+                    v[i] += c[i];
+    }
+    if (edges)
+        *edges = guided;
+done:
+    free(c);
+    free(flux);
+    free(fixed);
+    return st;
 }
 
 /* ---------------------------------------------------------------- variants */
@@ -171,7 +298,7 @@ static relief_status fill_plain(float *z, const uint8_t *missing, const uint8_t 
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a copy of the image");
     for (size_t i = 0; i < n; ++i)
         v[i] = missing[i] ? 0.0f : z[i];
-    st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, source, rep, err);
+    st = synthesise_blended(NULL, v, missing, inside, W, H, p, scorer, source, rep, err);
     if (st == RELIEF_OK)
         for (size_t i = 0; i < n; ++i)
             if (inside[i])
@@ -200,16 +327,46 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
     if (lambda <= 0.0)
         st = auto_lambda(z, known, W, H, &lambda, err);
     rep->lambda = lambda;
-    if (st == RELIEF_OK)
-        st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
-    if (st == RELIEF_OK)
-        st = smooth_fill(u, known, W, H, p, &rep->membrane_iterations, err);
+    if (st == RELIEF_OK && p->thin_plate) {
+        /* The thin plate carries the rim's slope and curvature into the
+         * hole, but ROF over the known pixels alone flattens u towards
+         * the hole's free boundary (its natural boundary condition), so
+         * there would be none to carry: the holes are bridged by the thin
+         * plate first and ROF runs over the capture and its holes, which
+         * leaves u smooth across the rim and fills it as it goes (u in a
+         * hole: ROF of the bridge). The missing pixels that are not to be
+         * filled (a frame's margin, a z-buffer's background) stay out of
+         * both. */
+        float *bridge = malloc(n * sizeof *bridge);
+        uint8_t *domain = malloc(n);
+        if (!bridge || !domain) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the bridged image");
+        } else {
+            for (size_t i = 0; i < n; ++i) {
+                bridge[i] = known[i] ? z[i] : 0.0f;
+                domain[i] = known[i] || inside[i];
+            }
+            st = relief_membrane_fill_biharmonic(bridge, known, domain, W, H,
+                                                 p->membrane_iterations,
+                                                 &rep->membrane_iterations, err);
+            if (st == RELIEF_OK)
+                st = relief_rof(bridge, domain, W, H, lambda, p->rof_iterations, u, v, err);
+        }
+        free(bridge);
+        free(domain);
+    } else {
+        if (st == RELIEF_OK)
+            st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
+        if (st == RELIEF_OK)
+            st = relief_membrane_fill(u, known, W, H, p->membrane_iterations,
+                                      &rep->membrane_iterations, err);
+    }
     rep->seconds_transform += relief_seconds() - t0;
     if (st != RELIEF_OK)
         goto done;
     for (size_t i = 0; i < n; ++i)
         rep->by_membrane += inside[i] != 0;
-    st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, source, rep, err);
+    st = synthesise_blended(u, v, missing, inside, W, H, p, scorer, source, rep, err);
     if (st == RELIEF_OK)
         for (size_t i = 0; i < n; ++i)
             if (inside[i])

@@ -38,11 +38,17 @@ typedef struct relief_depth_fill_params {
                                      deviation s, 8 sqrt(2) s) */
     int rof_iterations;           /* decompose: Chambolle iterations; 200 */
     int membrane_iterations;      /* conjugate-gradient iterations at most; 5000 */
-    int thin_plate;               /* 1: the smooth fills (LL, u) by the thin plate
-                                     (relief_membrane_fill_biharmonic); 0 (default):
-                                     harmonic. Measured on the bench: the thin plate
-                                     halves the motorcycle's rim jumps but overshoots
-                                     at depth edges (its disc's RMS 0.80 -> 3.40) */
+    int thin_plate;               /* 1: the smooth fills by the thin plate
+                                     (relief_membrane_fill_biharmonic), and decompose
+                                     takes ROF of the image bridged by it (u smooth across
+                                     the rim); 0 (default for images): harmonic, ROF of
+                                     the known pixels. Measured on the bench: the thin
+                                     plate halves the motorcycle's rim jumps but
+                                     overshoots at depth edges (its disc's RMS 0.79 ->
+                                     3.17); meshes default to it (mesh_fill.h) */
+    int seam;                     /* plain, decompose: 1 (default) blends each hole's rim
+                                     in the gradient domain (relief_depth_seam); 0: the
+                                     synthesis's copies as they are (paper 003) */
 } relief_depth_fill_params;
 
 relief_depth_fill_params relief_depth_fill_params_default(void);
@@ -57,6 +63,7 @@ typedef struct relief_depth_fill_report {
     size_t unreached;            /* targets the synthesis could not reach, same units */
     size_t by_membrane;          /* haar: LL coefficients; decompose: u pixels */
     int membrane_iterations;     /* the last membrane solve's */
+    size_t seam_edges;           /* rim edges the seam blend guided (0: no blend) */
     double lambda;               /* decompose: the lambda used */
     relief_pixsyn_order kept;    /* the order kept (plain, decompose; haar: level 1's) */
     double energy[2];            /* its energies, as relief_pixsyn_report */
@@ -106,6 +113,28 @@ relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const 
                                         const relief_depth_fill_params *p,
                                         relief_patch_scorer *scorer, int64_t *source,
                                         relief_depth_fill_report *rep, relief_error *err);
+
+/* The seam: a hole's rim blended in the gradient domain. The synthesis
+ * copies texels next to the capture with no regard to the capture's slope
+ * there, so z steps at the rim. Across each rim edge (p filled, q its
+ * captured 4-neighbour, r the captured pixel beyond q, s the pixel p's
+ * texture came from) two predictions of the step z(q) - z(p) are taken:
+ *  - the capture's own next step, z(r) - z(q) (its slope continued);
+ *  - the smooth part's next step, u(r) - u(q), plus the copied texel's
+ *    step in its source, v(s + q - p) - v(s) (the texture continued);
+ * their mean is the wanted step (without r, u(q) - u(p) stands for the
+ * smooth part's and the second prediction alone). Inside the hole the
+ * wanted steps are the fill's own. The least-squares fit of those steps
+ * with the captured pixels fixed is a Poisson equation for a correction
+ * (relief_poisson_fill), added to v over the filled pixels: the texture
+ * keeps its detail, the rim loses its step. z = u + v; u may be NULL (0:
+ * the plain variant, v the depths). `filled`: the pixels to correct;
+ * `known`: the captured ones (steps are taken between captured pixels
+ * only); `source`: the copies' source pixels (-1: none, no guidance).
+ * *edges (may be NULL) gets the rim edges guided. */
+relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
+                                const uint8_t *filled, const int64_t *source, int width,
+                                int height, int max_iter, size_t *edges, relief_error *err);
 
 /* Measures of a fill against the truth, over the pixels that were missing
  * (mask `missing`; those still NaN are left out); all in the values'

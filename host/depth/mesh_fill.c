@@ -12,6 +12,10 @@ relief_mesh_fill_params relief_mesh_fill_params_default(void)
     relief_mesh_fill_params p;
     p.resolution = 256;
     p.depth = relief_depth_fill_params_default();
+    /* A mesh's z-buffers are smooth surfaces seen without sensor noise:
+     * the thin plate carries their curvature over a hole (a holed unit
+     * sphere's cap: Hausdorff 0.017 against 0.16 with the membrane). */
+    p.depth.thin_plate = 1;
     return p;
 }
 

@@ -13,7 +13,7 @@
  * neighbour outside the image is no neighbour). idx[i] is the unknown's
  * number of pixel i, or -1. */
 static void apply(const int32_t *idx, const int32_t *pix, size_t m, int W, int H,
-                  const double *x, double *y)
+                  const uint8_t *domain, const double *x, double *y)
 {
     for (size_t k = 0; k < m; ++k) {
         int px = pix[k] % W, py = pix[k] / W, deg = 0;
@@ -22,7 +22,7 @@ static void apply(const int32_t *idx, const int32_t *pix, size_t m, int W, int H
         for (int j = 0; j < 4; ++j) {
             int u = nb[j][0], v = nb[j][1];
             int32_t o;
-            if (u < 0 || u >= W || v < 0 || v >= H)
+            if (u < 0 || u >= W || v < 0 || v >= H || (domain && !domain[(size_t)v * W + u]))
                 continue;
             ++deg;
             o = idx[(size_t)v * W + u];
@@ -77,16 +77,25 @@ typedef struct membrane_op {
     const int32_t *idx, *pix;
     size_t m;
     int W, H;
+    const uint8_t *domain;
 } membrane_op;
 
 static void membrane_apply(void *ctx, double *in, double *out)
 {
     const membrane_op *o = ctx;
-    apply(o->idx, o->pix, o->m, o->W, o->H, in, out);
+    apply(o->idx, o->pix, o->m, o->W, o->H, o->domain, in, out);
 }
 
 relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, int height,
                                    int max_iter, int *iterations, relief_error *err)
+{
+    return relief_poisson_fill(z, known, NULL, NULL, width, height, max_iter, iterations,
+                               err);
+}
+
+relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t *domain,
+                                  const float *source, int width, int height, int max_iter,
+                                  int *iterations, relief_error *err)
 {
     size_t n = (size_t)width * height, m = 0, any = 0;
     int32_t *idx = NULL, *pix = NULL;
@@ -96,9 +105,10 @@ relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, in
 
     if (iterations)
         *iterations = 0;
+#define UNKNOWN(i) (!known[i] && (!domain || domain[i]))
     for (size_t i = 0; i < n; ++i) {
-        any += known[i] != 0;
-        m += known[i] == 0;
+        any += known[i] != 0 && (!domain || domain[i]);
+        m += UNKNOWN(i);
     }
     if (!any)
         return relief_fail(err, RELIEF_E_RANGE, "no pixel is known: nothing to interpolate "
@@ -118,10 +128,11 @@ relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, in
     }
     m = 0;
     for (size_t i = 0; i < n; ++i) {
-        idx[i] = known[i] ? -1 : (int32_t)m;
-        if (!known[i])
+        idx[i] = UNKNOWN(i) ? (int32_t)m : -1;
+        if (UNKNOWN(i))
             pix[m++] = (int32_t)i;
     }
+#undef UNKNOWN
     /* b: the known neighbours' values; the starting guess x: their mean
      * where there are any (faster than 0 on thin holes). */
     for (size_t k = 0; k < m; ++k) {
@@ -133,19 +144,21 @@ relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, in
             if (u < 0 || u >= width || v < 0 || v >= height)
                 continue;
             o = (size_t)v * width + u;
-            if (known[o]) {
+            if (known[o] && (!domain || domain[o])) {
                 b[k] += z[o];
                 ++c;
             }
         }
         x[k] = c ? b[k] / c : 0.0;
+        if (source)
+            b[k] += source[pix[k]];
         b2 += b[k] * b[k];
     }
     /* Conjugate gradients: A is symmetric positive definite when every
      * component of the unknowns touches a known pixel (it does unless
      * none is known, refused above). */
     {
-        membrane_op op = {idx, pix, m, width, height};
+        membrane_op op = {idx, pix, m, width, height, domain};
         it = conjugate_gradients(m, b, b2, x, r, p, q, membrane_apply, &op, max_iter);
     }
     for (size_t k = 0; k < m; ++k)
@@ -169,7 +182,7 @@ done:
  * over p's 4-neighbours inside the image of w_q - w_p. band[] lists the
  * band's pixels; at[] maps a pixel to its band index or -1. */
 static void laplacian(const int32_t *band, size_t nb, const int32_t *at, int W, int H,
-                      const double *w, double *out)
+                      const uint8_t *domain, const double *w, double *out)
 {
     for (size_t k = 0; k < nb; ++k) {
         int px = band[k] % W, py = band[k] / W;
@@ -178,7 +191,7 @@ static void laplacian(const int32_t *band, size_t nb, const int32_t *at, int W, 
         for (int j = 0; j < 4; ++j) {
             int u = nb4[j][0], v = nb4[j][1];
             int32_t o;
-            if (u < 0 || u >= W || v < 0 || v >= H)
+            if (u < 0 || u >= W || v < 0 || v >= H || (domain && !domain[(size_t)v * W + u]))
                 continue;
             o = at[(size_t)v * W + u];
             s += (o >= 0 ? w[o] : 0.0) - w[k];
@@ -193,6 +206,7 @@ typedef struct plate_op {
     const int32_t *band, *at;
     size_t nb, m;
     int W, H;
+    const uint8_t *domain;
     double *y;
 } plate_op;
 
@@ -201,20 +215,20 @@ static void plate_apply(void *ctx, double *in, double *out)
     const plate_op *o = ctx;
     for (size_t k = o->m; k < o->nb; ++k)
         in[k] = 0.0;
-    laplacian(o->band, o->nb, o->at, o->W, o->H, in, o->y);
-    laplacian(o->band, o->nb, o->at, o->W, o->H, o->y, out);
+    laplacian(o->band, o->nb, o->at, o->W, o->H, o->domain, in, o->y);
+    laplacian(o->band, o->nb, o->at, o->W, o->H, o->domain, o->y, out);
 }
 
-relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, int width,
-                                              int height, int max_iter, int *iterations,
-                                              relief_error *err)
+relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
+                                              const uint8_t *domain, int width, int height,
+                                              int max_iter, int *iterations, relief_error *err)
 {
     size_t n = (size_t)width * height, nb = 0, m = 0;
     int32_t *at = NULL, *band = NULL;
     double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, *y = NULL, *c = NULL;
     double b2 = 0.0;
     int it = 0, W = width, H = height;
-    relief_status st = relief_membrane_fill(z, known, W, H, max_iter, NULL, err);
+    relief_status st = relief_poisson_fill(z, known, domain, NULL, W, H, max_iter, NULL, err);
     if (iterations)
         *iterations = 0;
     if (st != RELIEF_OK)
@@ -226,8 +240,9 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, in
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
     for (size_t i = 0; i < n; ++i)
         at[i] = -1;
+#define UNKNOWN(i) (!known[i] && (!domain || domain[i]))
     for (size_t i = 0; i < n; ++i)
-        m += !known[i];
+        m += UNKNOWN(i);
     if (!m) {
         free(at);
         return RELIEF_OK;
@@ -238,10 +253,11 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, in
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
     }
     for (size_t i = 0; i < n; ++i)
-        if (!known[i]) {
+        if (UNKNOWN(i)) {
             at[i] = (int32_t)nb;
             band[nb++] = (int32_t)i;
         }
+#undef UNKNOWN
     for (int ring = 0; ring < 2; ++ring) {
         size_t end = nb;
         for (size_t k = 0; k < end; ++k) {
@@ -253,7 +269,7 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, in
                 if (u < 0 || u >= W || v < 0 || v >= H)
                     continue;
                 o = (size_t)v * W + u;
-                if (at[o] < 0) {
+                if (at[o] < 0 && (!domain || domain[o])) {
                     at[o] = (int32_t)nb;
                     band[nb++] = (int32_t)o;
                 }
@@ -276,15 +292,15 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, in
      * the unknowns), y = L c, b = -(L y). */
     for (size_t k = m; k < nb; ++k)
         c[k] = z[band[k]];
-    laplacian(band, nb, at, W, H, c, y);
-    laplacian(band, nb, at, W, H, y, q);
+    laplacian(band, nb, at, W, H, domain, c, y);
+    laplacian(band, nb, at, W, H, domain, y, q);
     for (size_t k = 0; k < m; ++k) {
         b[k] = -q[k];
         b2 += b[k] * b[k];
         x[k] = z[band[k]]; /* the harmonic fill: the start */
     }
     {
-        plate_op op = {band, at, nb, m, W, H, y};
+        plate_op op = {band, at, nb, m, W, H, domain, y};
         it = conjugate_gradients(m, b, b2, x, r, p, q, plate_apply, &op, max_iter);
     }
     for (size_t k = 0; k < m; ++k)

@@ -24,17 +24,30 @@
 relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, int height,
                                    int max_iter, int *iterations, relief_error *err);
 
-/* The same with the thin plate: the pixels where known == 0 minimise the
- * sum over every pixel of (L z)^2, L the 4-neighbour Laplacian (free
- * border), so the fill carries the surroundings' slope and curvature into
+/* The same with a source term and a domain: the pixels of the domain
+ * where known == 0 solve -L z = source there (source: width x height;
+ * NULL: 0, the membrane), L the 4-neighbour Laplacian over the domain's
+ * pixels (domain: width x height, non-zero inside; NULL: the whole image;
+ * a pixel off it is no neighbour, as one off the image), the known pixels
+ * the Dirichlet values. source[p] is the net flux a guidance field sends
+ * out of p: for a guidance g (g_pq the wanted z_q - z_p), -sum_q g_pq over
+ * p's neighbours, the Poisson equation of gradient-domain editing. Pixels
+ * off the domain keep their values. */
+relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t *domain,
+                                  const float *source, int width, int height, int max_iter,
+                                  int *iterations, relief_error *err);
+
+/* The same with the thin plate: the pixels of the domain (NULL: the
+ * image) where known == 0 minimise the sum over the domain's pixels of
+ * (L z)^2, L the 4-neighbour Laplacian over the domain (free border), so the fill carries the surroundings' slope and curvature into
  * the hole instead of meeting the rim with a kink (the discrete
  * biharmonic). Started from the harmonic fill, then conjugate gradients
  * on the normal equations to a relative residual of 1e-8 or `max_iter`
  * iterations (*iterations: the biharmonic ones). Known pixels keep their
  * bits. RELIEF_E_RANGE when no pixel is known. */
-relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known, int width,
-                                              int height, int max_iter, int *iterations,
-                                              relief_error *err);
+relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
+                                              const uint8_t *domain, int width, int height,
+                                              int max_iter, int *iterations, relief_error *err);
 
 /* One Haar step of an image whose sides are even: the 2 x 2 block at
  * (2x, 2y) with a = (2x, 2y), b = (2x + 1, 2y), c = (2x, 2y + 1),

@@ -1,7 +1,10 @@
 /* depth/transform.c, depth/depth_fill.c and image/pixel_synth.c: the Haar
  * step and its inverse (exact on a common grid), the membrane on a plane
  * (exact), ROF separating a step from a texture, a periodic depth texture
- * refilled exactly by the plain variant (both searches), the capture's
+ * refilled exactly by the plain variant (both searches, rims blended), the
+ * Poisson solve (exact on a paraboloid), the rim blend (a misplaced copy
+ * of a ramp put back exactly; a rough slope's rim step cut, its texture
+ * kept), the capture's
  * inside, the measures on hand-made values, bad parameters, and the real
  * office frame repaired by every variant. With "opencl": the scalar and
  * OpenCL scorers give the same bytes for every variant.
@@ -102,7 +105,7 @@ static void test_membrane(void)
                 CHECK(relief_membrane_fill(zz, known, W, H, 5000, &it, &err) == RELIEF_OK, "%s",
                       err.message);
             else
-                CHECK(relief_membrane_fill_biharmonic(zz, known, W, H, 5000, &it, &err) ==
+                CHECK(relief_membrane_fill_biharmonic(zz, known, NULL, W, H, 5000, &it, &err) ==
                           RELIEF_OK, "%s", err.message);
         }
         for (int y = 0; y < H; ++y)
@@ -189,6 +192,110 @@ static void test_periodic(relief_patch_scorer *sc)
         CHECK(rep.filled == 15 * 12 && rep.outside == 0 && rep.by_fallback == 0,
               "periodic: filled %zu outside %zu fallbacks %zu", rep.filled, rep.outside,
               rep.by_fallback);
+    }
+}
+
+/* The Poisson solve: z = x^2 + y^2 has -L z = -4 everywhere, so with
+ * the border known and -4 as the source the interior comes back exact. */
+static void test_poisson(void)
+{
+    enum { W = 20, H = 16 };
+    static float z[W * H], src[W * H];
+    static uint8_t known[W * H];
+    relief_error err = {RELIEF_OK, ""};
+    double worst = 0.0;
+    int it = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x;
+            known[i] = x == 0 || y == 0 || x == W - 1 || y == H - 1;
+            z[i] = known[i] ? (float)(x * x + y * y) : 0.0f;
+            src[i] = -4.0f;
+        }
+    CHECK(relief_poisson_fill(z, known, NULL, src, W, H, 5000, &it, &err) == RELIEF_OK, "%s",
+          err.message);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            worst = fmax(worst, fabs(z[y * W + x] - (double)(x * x + y * y)));
+    CHECK(worst < 1e-3, "Poisson on a paraboloid: error %g (%d iterations)", worst, it);
+}
+
+/* The rim blend. (1) A ramp whose hole got a copy of the ramp 15 pixels
+ * to the right (a step of 0.75 at the rim): every prediction agrees with
+ * the ramp, so the blend puts it back exactly. (2) A slope with rough
+ * noise, a disc filled by the decompose variant with and without the blend:
+ * the rim's slope jump falls, the texture inside stays rough. */
+static void test_seam(relief_patch_scorer *sc)
+{
+    enum { W = 64, H = 48 };
+    static float z[W * H], truth[W * H], a[W * H], b[W * H];
+    static uint8_t missing[W * H], known[W * H];
+    static int64_t src[W * H];
+    relief_error err = {RELIEF_OK, ""};
+    double worst = 0.0;
+    size_t edges = 0;
+    uint32_t seed = 7;
+    for (int i = 0; i < W * H; ++i)
+        truth[i] = 1.0f + 0.05f * (float)(i % W) + 0.02f * (float)(i / W);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x;
+            missing[i] = x >= 10 && x < 20 && y >= 8 && y < 14;
+            known[i] = !missing[i];
+            src[i] = missing[i] ? (int64_t)i + 15 : -1;
+            z[i] = missing[i] ? truth[i + 15] : truth[i];
+        }
+    CHECK(relief_depth_seam(NULL, z, known, missing, src, W, H, 5000, &edges, &err) ==
+              RELIEF_OK, "%s", err.message);
+    for (int i = 0; i < W * H; ++i)
+        worst = fmax(worst, fabs((double)z[i] - truth[i]));
+    CHECK(edges == 2 * 10 + 2 * 6 && worst < 1e-4, "seam on a ramp: %zu rim edges, error %g",
+          edges, worst);
+
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int i = y * W + x;
+            truth[i] = 2.0f + 0.03f * (float)x + 0.01f * (float)y +
+                       0.004f * ((float)(lcg(&seed) % 1000) / 500.0f - 1.0f);
+            missing[i] = (x - 30) * (x - 30) + (y - 24) * (y - 24) < 64;
+            z[i] = missing[i] ? NAN : truth[i];
+        }
+    {
+        relief_depth_fill_params p = relief_depth_fill_params_default();
+        relief_depth_fill_report ra, rb;
+        relief_depth_measures ma, mb;
+        double rough_a = 0.0, rough_b = 0.0;
+        size_t nr = 0;
+        p.variant = RELIEF_DEPTH_DECOMPOSE;
+        memcpy(a, z, sizeof a);
+        memcpy(b, z, sizeof b);
+        CHECK(relief_depth_fill(a, missing, W, H, &p, sc, NULL, &ra, &err) == RELIEF_OK, "%s",
+              err.message);
+        p.seam = 0;
+        CHECK(relief_depth_fill(b, missing, W, H, &p, sc, NULL, &rb, &err) == RELIEF_OK, "%s",
+              err.message);
+        relief_depth_measure(a, truth, missing, W, H, &ma);
+        relief_depth_measure(b, truth, missing, W, H, &mb);
+        /* Roughness inside: mean |second difference| along rows over
+         * triples wholly in the hole. */
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x + 2 < W; ++x) {
+                int i = y * W + x;
+                if (!missing[i] || !missing[i + 1] || !missing[i + 2])
+                    continue;
+                rough_a += fabs((double)a[i] - 2.0 * a[i + 1] + a[i + 2]);
+                rough_b += fabs((double)b[i] - 2.0 * b[i + 1] + b[i + 2]);
+                ++nr;
+            }
+        CHECK(ra.seam_edges > 0 && rb.seam_edges == 0, "seam edges %zu (off: %zu)",
+              ra.seam_edges, rb.seam_edges);
+        CHECK(ma.rim_jump < 0.8 * mb.rim_jump, "seam: rim jump %g, without %g", ma.rim_jump,
+              mb.rim_jump);
+        CHECK(nr > 0 && rough_a > 0.7 * rough_b, "seam: roughness inside %g, without %g",
+              rough_a / (double)nr, rough_b / (double)nr);
+        printf("rough slope: rim jump %.5f with the seam, %.5f without (capture %.5f); "
+               "roughness inside %.5f, %.5f\n", ma.rim_jump, mb.rim_jump, ma.capture_jump,
+               rough_a / (double)(nr ? nr : 1), rough_b / (double)(nr ? nr : 1));
     }
 }
 
@@ -410,6 +517,8 @@ int main(int argc, char **argv)
     test_membrane();
     test_rof();
     test_periodic(sc);
+    test_poisson();
+    test_seam(sc);
     test_tileable(sc);
     test_inside_and_measures(sc);
     test_office(sc, dir);

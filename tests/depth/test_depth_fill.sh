@@ -27,6 +27,12 @@ for v in plain haar decompose; do
   expect 0 "0 known differ" -- "$tool" same "$tmp/office.pcd" "$tmp/o_$v.pcd" "$tmp/m.png"
   ok 'grep -q "\"rms\"" "$tmp/r_$v.json" && grep -q "\"variant\": \"'$v'\"" "$tmp/r_$v.json"' "report $v lacks the measures"
 done
+# The rim blend is on by default and reported; --no-seam turns it off
+# (another fill of the disc, the known pixels still untouched).
+ok 'grep -q "\"seam\": true" "$tmp/r_decompose.json" && grep -q "\"seam_edges\": [1-9]" "$tmp/r_decompose.json"' "the report lacks the seam"
+expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_ns.pcd" --no-seam --report "$tmp/r_ns.json" --backend scalar --quiet
+ok 'grep -q "\"seam\": false" "$tmp/r_ns.json" && grep -q "\"seam_edges\": 0" "$tmp/r_ns.json" && ! cmp -s "$tmp/o_ns.pcd" "$tmp/o_decompose.pcd"' "--no-seam did not turn the blend off"
+expect 0 "0 known differ" -- "$tool" same "$tmp/office.pcd" "$tmp/o_ns.pcd" "$tmp/m.png"
 # The margin outside the capture stays missing and is reported.
 ok 'grep -q "\"outside_left_missing\": [1-9]" "$tmp/r_plain.json"' "the margin was not reported as outside"
 expect 0 "outside the capture left missing" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/o.pcd" --variant plain --backend scalar
