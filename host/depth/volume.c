@@ -11,7 +11,6 @@
 #include "kernels/relief_math.h"
 
 #define MAX_RESOLUTION 1024
-#define MARGIN 2
 
 relief_status relief_grid_of_mesh(relief_mesh *m, int resolution, relief_grid *g,
                                   relief_error *err)
@@ -20,6 +19,7 @@ relief_status relief_grid_of_mesh(relief_mesh *m, int resolution, relief_grid *g
     const double *p = relief_mesh_positions(m);
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double side = 0.0;
+    int margin;
     if (resolution < 8 || resolution > MAX_RESOLUTION)
         return relief_fail(err, RELIEF_E_RANGE, "--resolution %d: expected 8..%d voxels",
                            resolution, MAX_RESOLUTION);
@@ -34,11 +34,16 @@ relief_status relief_grid_of_mesh(relief_mesh *m, int resolution, relief_grid *g
         return relief_fail(err, RELIEF_E_RANGE, "the mesh's bounding box is empty or not "
                            "finite: nothing to voxelise");
     g->h = side / resolution;
+    /* The margin: room for a repaired surface to rise past the holed
+     * mesh's box (a cap over a hole at a pole: Bennu's cut needs 6 voxels
+     * at 256, where 2 flattened the cap's top), 1/32 of the side on each
+     * face, at least 2 voxels. */
+    margin = resolution / 32 > 2 ? resolution / 32 : 2;
     for (int a = 0; a < 3; ++a) {
         double centre = 0.5 * (lo[a] + hi[a]);
-        g->n[a] = (int)ceil((hi[a] - lo[a]) / g->h) + 2 * MARGIN;
-        if (g->n[a] < 2 * MARGIN + 1)
-            g->n[a] = 2 * MARGIN + 1;
+        g->n[a] = (int)ceil((hi[a] - lo[a]) / g->h) + 2 * margin;
+        if (g->n[a] < 2 * margin + 1)
+            g->n[a] = 2 * margin + 1;
         g->origin[a] = centre - 0.5 * g->n[a] * g->h;
     }
     return RELIEF_OK;

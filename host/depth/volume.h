@@ -21,7 +21,8 @@ typedef struct relief_grid {
     int n[3];
 } relief_grid;
 
-/* The grid of `m`'s bounding box at `resolution` (8..4096) voxels along its
+/* The grid of `m`'s bounding box (grown by 1/32 of its longest side on
+ * each face, at least 2 voxels) at `resolution` (8..1024) voxels along its
  * longest side. RELIEF_E_RANGE for a flat or empty box. */
 relief_status relief_grid_of_mesh(relief_mesh *m, int resolution, relief_grid *g,
                                   relief_error *err);
