@@ -61,7 +61,7 @@ static const char depth_fill_help[] =
     "                        harmonic (default for images) or thin-plate (default\n"
     "                        for meshes: carries the rim's slope and curvature\n"
     "                        in; can overshoot at depth edges)\n"
-    "  --no-seam             plain, decompose: leave the rims as synthesised (by\n"
+    "  --no-seam             leave the rims as synthesised (by\n"
     "                        default each hole's rim is blended in the gradient\n"
     "                        domain, so the fill continues the capture's slope)\n"
     "  --resolution N        mesh: voxels along the box's longest side (default 256)\n"

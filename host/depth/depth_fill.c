@@ -388,8 +388,9 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
     int Wp = (W + step - 1) / step * step, Hp = (H + step - 1) / step * step;
     float *ll[MAX_HAAR_LEVELS + 1] = {NULL}, *det[MAX_HAAR_LEVELS + 1] = {NULL};
     uint8_t *known[MAX_HAAR_LEVELS + 1] = {NULL}, *target[MAX_HAAR_LEVELS + 1] = {NULL};
-    int64_t *src = NULL;
+    int64_t *src = NULL, *map = source;
     float *back = NULL;
+    uint8_t *known0 = NULL;
     relief_status st = RELIEF_OK;
     double t0 = relief_seconds();
 
@@ -406,9 +407,13 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
             goto done;
         }
     }
-    src = source ? malloc((size_t)(Wp >> 1) * (Hp >> 1) * sizeof *src) : NULL;
+    /* The finest level's copies, mapped to full resolution: the caller's
+     * source map and the seam's. */
+    if (p->seam && !map)
+        map = malloc((size_t)W * H * sizeof *map);
+    src = map ? malloc((size_t)(Wp >> 1) * (Hp >> 1) * sizeof *src) : NULL;
     back = malloc((size_t)Wp * Hp * sizeof *back);
-    if ((source && !src) || !back) {
+    if ((p->seam && !map) || (map && !src) || !back) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
         goto done;
     }
@@ -487,19 +492,33 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
             if (!inside[i])
                 continue;
             z[i] = ll[0][(size_t)y * Wp + x];
-            if (source) {
+            if (map) {
                 int64_t s = src[(size_t)(y / 2) * (Wp / 2) + x / 2];
                 int sx, sy;
-                source[i] = -1;
+                map[i] = -1;
                 if (s >= 0) {
                     sx = 2 * (int)(s % (Wp / 2)) + (x & 1);
                     sy = 2 * (int)(s / (Wp / 2)) + (y & 1);
-                    if (sx < W && sy < H)
-                        source[i] = (int64_t)sy * W + sx;
+                    if (sx < W && sy < H && !missing[(size_t)sy * W + sx])
+                        map[i] = (int64_t)sy * W + sx;
                 }
             }
         }
     rep->levels = L;
+    if (p->seam) {
+        /* The rims blended as the plain variant's, each filled pixel's
+         * texture taken from its block's source. */
+        t0 = relief_seconds();
+        if (!(known0 = malloc((size_t)W * H))) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's mask");
+            goto done;
+        }
+        for (size_t i = 0; i < (size_t)W * H; ++i)
+            known0[i] = !missing[i];
+        st = relief_depth_seam(NULL, z, known0, inside, map, W, H, p->membrane_iterations,
+                               &rep->seam_edges, err);
+        rep->seconds_transform += relief_seconds() - t0;
+    }
 done:
     for (int l = 0; l <= L; ++l) {
         free(ll[l]);
@@ -509,6 +528,9 @@ done:
     }
     free(src);
     free(back);
+    free(known0);
+    if (map != source)
+        free(map);
     return st;
 }
 

@@ -46,7 +46,7 @@ typedef struct relief_depth_fill_params {
                                      plate halves the motorcycle's rim jumps but
                                      overshoots at depth edges (its disc's RMS 0.79 ->
                                      3.17); meshes default to it (mesh_fill.h) */
-    int seam;                     /* plain, decompose: 1 (default) blends each hole's rim
+    int seam;                     /* 1 (default) blends each hole's rim
                                      in the gradient domain (relief_depth_seam); 0: the
                                      synthesis's copies as they are (paper 003) */
 } relief_depth_fill_params;
@@ -128,7 +128,7 @@ relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const 
  * with the captured pixels fixed is a Poisson equation for a correction
  * (relief_poisson_fill), added to v over the filled pixels: the texture
  * keeps its detail, the rim loses its step. z = u + v; u may be NULL (0:
- * the plain variant, v the depths). `filled`: the pixels to correct;
+ * plain and haar, v the depths). `filled`: the pixels to correct;
  * `known`: the captured ones (steps are taken between captured pixels
  * only); `source`: the copies' source pixels (-1: none, no guidance).
  * *edges (may be NULL) gets the rim edges guided. */
