@@ -102,8 +102,17 @@ static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *ta
     return RELIEF_OK;
 }
 
+/* Whether the rims are blended: p->seam, and not on a torus (the blend
+ * neither wraps nor guides edges across the border, which would leave a
+ * seam where --tileable promises none; a tileable texture's copies are
+ * exact anyway). */
+static int blends(const relief_depth_fill_params *p)
+{
+    return p->seam && !p->synth.tileable;
+}
+
 /* Synthesise v where missing (the pixels `inside` the targets), then,
- * with p->seam, blend the rims (relief_depth_seam; u the smooth part or
+ * when blends(p), blend the rims (relief_depth_seam; u the smooth part or
  * NULL). The source map is the caller's or a scratch one. */
 static relief_status synthesise_blended(const float *u, float *v, const uint8_t *missing,
                                         const uint8_t *inside, int W, int H,
@@ -116,10 +125,11 @@ static relief_status synthesise_blended(const float *u, float *v, const uint8_t 
     uint8_t *known = NULL;
     relief_status st;
     double t0;
-    if (p->seam && !map && !(map = malloc(n * sizeof *map)))
+    int it = 0, blend = blends(p);
+    if (blend && !map && !(map = malloc(n * sizeof *map)))
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
     st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, map, rep, err);
-    if (st != RELIEF_OK || !p->seam)
+    if (st != RELIEF_OK || !blend)
         goto done;
     t0 = relief_seconds();
     if (!(known = malloc(n))) {
@@ -129,7 +139,9 @@ static relief_status synthesise_blended(const float *u, float *v, const uint8_t 
     for (size_t i = 0; i < n; ++i)
         known[i] = !missing[i];
     st = relief_depth_seam(u, v, known, inside, map, W, H, p->membrane_iterations,
-                           &rep->seam_edges, err);
+                           &rep->seam_edges, &it, err);
+    if (it > rep->membrane_iterations)
+        rep->membrane_iterations = it;
     rep->seconds_transform += relief_seconds() - t0;
 done:
     if (map != source)
@@ -184,31 +196,36 @@ static relief_status auto_lambda(const float *z, const uint8_t *known, int W, in
     return RELIEF_OK;
 }
 
-/* The smooth fill of LL or u: the thin plate or the harmonic membrane. */
-static relief_status smooth_fill(float *z, const uint8_t *known, int W, int H,
-                                 const relief_depth_fill_params *p, int *iterations,
+/* The smooth fill of LL or u over `domain` (the capture and the pixels
+ * to fill; the rest, a margin or a z-buffer's background, is no
+ * neighbour): the thin plate or the harmonic membrane. */
+static relief_status smooth_fill(float *z, const uint8_t *known, const uint8_t *domain, int W,
+                                 int H, const relief_depth_fill_params *p, int *iterations,
                                  relief_error *err)
 {
-    return p->thin_plate ? relief_membrane_fill_biharmonic(z, known, NULL, W, H,
+    return p->thin_plate ? relief_membrane_fill_biharmonic(z, known, domain, W, H,
                                                            p->membrane_iterations, iterations,
                                                            err)
-                         : relief_membrane_fill(z, known, W, H, p->membrane_iterations,
-                                                iterations, err);
+                         : relief_poisson_fill(z, known, domain, NULL, W, H,
+                                               p->membrane_iterations, iterations, err);
 }
 
 relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
                                 const uint8_t *filled, const int64_t *source, int width,
-                                int height, int max_iter, size_t *edges, relief_error *err)
+                                int height, int max_iter, size_t *edges, int *iterations,
+                                relief_error *err)
 {
     static const int dir[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
     int W = width, H = height;
     size_t n = (size_t)W * H, guided = 0;
     float *c = calloc(n, sizeof *c), *flux = calloc(n, sizeof *flux);
-    uint8_t *fixed = malloc(n);
+    uint8_t *fixed = malloc(n), *domain = malloc(n);
     relief_status st = RELIEF_OK;
     if (edges)
         *edges = 0;
-    if (!c || !flux || !fixed) {
+    if (iterations)
+        *iterations = 0;
+    if (!c || !flux || !fixed || !domain) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's correction");
         goto done;
     }
@@ -218,7 +235,8 @@ relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
             size_t p = (size_t)y * W + x;
             int sx, sy;
             fixed[p] = !filled[p];
-            if (!filled[p] || source[p] < 0)
+            domain[p] = known[p] || filled[p];
+            if (!filled[p] || source[p] < 0 || (uint64_t)source[p] >= n)
                 continue;
             sx = (int)(source[p] % W);
             sy = (int)(source[p] / W);
@@ -268,7 +286,7 @@ relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
         }
 #undef U
     if (guided) {
-        st = relief_poisson_fill(c, fixed, NULL, flux, W, H, max_iter, NULL, err);
+        st = relief_poisson_fill(c, fixed, domain, flux, W, H, max_iter, iterations, err);
         if (st == RELIEF_OK)
             for (size_t i = 0; i < n; ++i)
                 if (filled[i])
@@ -280,6 +298,7 @@ done:
     free(c);
     free(flux);
     free(fixed);
+    free(domain);
     return st;
 }
 
@@ -357,9 +376,14 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
     } else {
         if (st == RELIEF_OK)
             st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
+        uint8_t *domain = malloc(n);
+        if (!domain && st == RELIEF_OK)
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the fill's domain");
+        for (size_t i = 0; domain && i < n; ++i)
+            domain[i] = known[i] || inside[i];
         if (st == RELIEF_OK)
-            st = relief_membrane_fill(u, known, W, H, p->membrane_iterations,
-                                      &rep->membrane_iterations, err);
+            st = smooth_fill(u, known, domain, W, H, p, &rep->membrane_iterations, err);
+        free(domain);
     }
     rep->seconds_transform += relief_seconds() - t0;
     if (st != RELIEF_OK)
@@ -409,11 +433,11 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
     }
     /* The finest level's copies, mapped to full resolution: the caller's
      * source map and the seam's. */
-    if (p->seam && !map)
+    if (blends(p) && !map)
         map = malloc((size_t)W * H * sizeof *map);
     src = map ? malloc((size_t)(Wp >> 1) * (Hp >> 1) * sizeof *src) : NULL;
     back = malloc((size_t)Wp * Hp * sizeof *back);
-    if ((p->seam && !map) || (map && !src) || !back) {
+    if ((blends(p) && !map) || (map && !src) || !back) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
         goto done;
     }
@@ -438,8 +462,21 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
                 target[l][(size_t)y * w + x] = t[a] || t[a + 1] || t[a + fw] || t[a + fw + 1];
             }
     }
-    /* The coarsest LL: the membrane. */
-    st = smooth_fill(ll[L], known[L], Wp >> L, Hp >> L, p, &rep->membrane_iterations, err);
+    /* The coarsest LL: the membrane, over the known and target
+     * coefficients. */
+    {
+        size_t m = (size_t)(Wp >> L) * (Hp >> L);
+        uint8_t *domain = malloc(m);
+        if (!domain) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the fill's domain");
+            goto done;
+        }
+        for (size_t i = 0; i < m; ++i)
+            domain[i] = known[L][i] || target[L][i];
+        st = smooth_fill(ll[L], known[L], domain, Wp >> L, Hp >> L, p,
+                         &rep->membrane_iterations, err);
+        free(domain);
+    }
     if (st != RELIEF_OK) {
         if (st == RELIEF_E_RANGE)
             st = relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known "
@@ -505,7 +542,7 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
             }
         }
     rep->levels = L;
-    if (p->seam) {
+    if (blends(p)) {
         /* The rims blended as the plain variant's, each filled pixel's
          * texture taken from its block's source. */
         t0 = relief_seconds();
@@ -515,8 +552,11 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
         }
         for (size_t i = 0; i < (size_t)W * H; ++i)
             known0[i] = !missing[i];
+        int it = 0;
         st = relief_depth_seam(NULL, z, known0, inside, map, W, H, p->membrane_iterations,
-                               &rep->seam_edges, err);
+                               &rep->seam_edges, &it, err);
+        if (it > rep->membrane_iterations)
+            rep->membrane_iterations = it;
         rep->seconds_transform += relief_seconds() - t0;
     }
 done:

@@ -48,7 +48,8 @@ typedef struct relief_depth_fill_params {
                                      3.17); meshes default to it (mesh_fill.h) */
     int seam;                     /* 1 (default) blends each hole's rim
                                      in the gradient domain (relief_depth_seam); 0: the
-                                     synthesis's copies as they are (paper 003) */
+                                     synthesis's copies as they are (paper 003). Not with
+                                     synth.tileable (the blend does not wrap) */
 } relief_depth_fill_params;
 
 relief_depth_fill_params relief_depth_fill_params_default(void);
@@ -62,7 +63,8 @@ typedef struct relief_depth_fill_report {
     size_t by_fallback;          /* the synthesis's fallbacks, same units */
     size_t unreached;            /* targets the synthesis could not reach, same units */
     size_t by_membrane;          /* haar: LL coefficients; decompose: u pixels */
-    int membrane_iterations;     /* the last membrane solve's */
+    int membrane_iterations;     /* the most any smooth solve took (membrane, thin plate,
+                                    the seam's Poisson correction) */
     size_t seam_edges;           /* rim edges the seam blend guided (0: no blend) */
     double lambda;               /* decompose: the lambda used */
     relief_pixsyn_order kept;    /* the order kept (plain, decompose; haar: level 1's) */
@@ -117,24 +119,31 @@ relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const 
 /* The seam: a hole's rim blended in the gradient domain. The synthesis
  * copies texels next to the capture with no regard to the capture's slope
  * there, so z steps at the rim. Across each rim edge (p filled, q its
- * captured 4-neighbour, r the captured pixel beyond q, s the pixel p's
- * texture came from) two predictions of the step z(q) - z(p) are taken:
+ * captured 4-neighbour, r the captured pixel beyond q, s the captured
+ * pixel p's texture came from, d = q - p) two predictions of the step
+ * z(q) - z(p) are taken:
  *  - the capture's own next step, z(r) - z(q) (its slope continued);
  *  - the smooth part's next step, u(r) - u(q), plus the copied texel's
- *    step in its source, v(s + q - p) - v(s) (the texture continued);
- * their mean is the wanted step (without r, u(q) - u(p) stands for the
- * smooth part's and the second prediction alone). Inside the hole the
- * wanted steps are the fill's own. The least-squares fit of those steps
- * with the captured pixels fixed is a Poisson equation for a correction
- * (relief_poisson_fill), added to v over the filled pixels: the texture
- * keeps its detail, the rim loses its step. z = u + v; u may be NULL (0:
- * plain and haar, v the depths). `filled`: the pixels to correct;
- * `known`: the captured ones (steps are taken between captured pixels
- * only); `source`: the copies' source pixels (-1: none, no guidance).
- * *edges (may be NULL) gets the rim edges guided. */
+ *    step in its source, v(s + d) - v(s) (the texture continued).
+ * Each is weighted by the inverse square of its error in predicting the
+ * next captured step z(r) - z(q) one pixel further out (from z(r + d) -
+ * z(r), and from u(r + d) - u(r) + v(s + 2d) - v(s + d)); an exact one
+ * wins outright, and without r + d or s + 2d the two count equally. Without
+ * r the second alone, with u(q) - u(p) for the smooth part's step. Edges
+ * whose source neighbour s + d is not captured, and pixels with no source
+ * (fallbacks), keep the fill's own step, as do the edges inside the hole.
+ * The least-squares fit of those steps with the captured pixels fixed is a
+ * Poisson equation for a correction (relief_poisson_fill over the
+ * captured and filled pixels: other missing pixels are no neighbours),
+ * added to v over the filled pixels: the texture keeps its detail, the rim
+ * loses its step. z = u + v; u may be NULL (0: plain and haar, v the
+ * depths). `filled`: the pixels to correct; `known`: the captured ones;
+ * `source`: the copies' source pixels (-1: none). *edges (may be NULL)
+ * gets the rim edges guided, *iterations (may be NULL) the solve's. */
 relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
                                 const uint8_t *filled, const int64_t *source, int width,
-                                int height, int max_iter, size_t *edges, relief_error *err);
+                                int height, int max_iter, size_t *edges, int *iterations,
+                                relief_error *err);
 
 /* Measures of a fill against the truth, over the pixels that were missing
  * (mask `missing`; those still NaN are left out); all in the values'

@@ -39,12 +39,14 @@ relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t 
 
 /* The same with the thin plate: the pixels of the domain (NULL: the
  * image) where known == 0 minimise the sum over the domain's pixels of
- * (L z)^2, L the 4-neighbour Laplacian over the domain (free border), so the fill carries the surroundings' slope and curvature into
- * the hole instead of meeting the rim with a kink (the discrete
- * biharmonic). Started from the harmonic fill, then conjugate gradients
- * on the normal equations to a relative residual of 1e-8 or `max_iter`
- * iterations (*iterations: the biharmonic ones). Known pixels keep their
- * bits. RELIEF_E_RANGE when no pixel is known. */
+ * (L z)^2, L the 4-neighbour Laplacian over the domain (free border), so
+ * the fill carries the surroundings' slope and curvature into the hole
+ * instead of meeting the rim with a kink (the discrete biharmonic).
+ * Started from the harmonic fill, then conjugate gradients on the normal
+ * equations to a relative residual of 1e-8 or `max_iter` iterations
+ * (*iterations: the biharmonic ones). Known pixels and pixels off the
+ * domain keep their bits. RELIEF_E_RANGE when no pixel of the domain is
+ * known. */
 relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
                                               const uint8_t *domain, int width, int height,
                                               int max_iter, int *iterations, relief_error *err);

@@ -5,8 +5,9 @@
  *
  * The grid: cubic voxels of side h, n[0] x n[1] x n[2] of them, voxel
  * (i, j, k) centred at origin + (i + 1/2, j + 1/2, k + 1/2) h. The longest
- * side of the bounding box spans `resolution` voxels; a margin of two
- * voxels on every side keeps the surface inside. */
+ * side of the bounding box spans `resolution` voxels; a margin of 1/32
+ * of that side (at least 2 voxels) on every face keeps the surface, and a
+ * repaired cap rising past the holed mesh's box, inside. */
 #ifndef RELIEF_HOST_DEPTH_VOLUME_H
 #define RELIEF_HOST_DEPTH_VOLUME_H
 

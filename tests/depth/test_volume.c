@@ -184,6 +184,16 @@ static void test_sphere(relief_patch_scorer *sc)
     }
     /* A hole at the pole (z > 0.85: a cap of radius 0.53): seen through in
      * the z-buffers, repaired, closed, near the sphere. */
+    /* The grid's margin: 1/32 of the longest side on each face at 256
+     * (room for a repaired cap), 2 voxels at 64 and below. */
+    {
+        relief_grid g256, g64;
+        CHECK(relief_grid_of_mesh(m, 256, &g256, &err) == RELIEF_OK &&
+                  relief_grid_of_mesh(m, 64, &g64, &err) == RELIEF_OK, "%s", err.message);
+        CHECK(g256.n[0] >= 256 + 16 && g256.n[0] <= 257 + 16 && g64.n[0] >= 64 + 4 &&
+                  g64.n[0] <= 65 + 4, "grid margins: %d voxels at 256, %d at 64", g256.n[0],
+              g64.n[0]);
+    }
     holed = sphere(1.0, 64, 128, 0.85);
     {
         relief_mesh_fill_params p = relief_mesh_fill_params_default();
