@@ -111,9 +111,35 @@ static int blends(const relief_depth_fill_params *p)
     return p->seam && !p->synth.tileable;
 }
 
+/* Blend the rims of the filled pixels `inside` (relief_depth_seam; u the
+ * smooth part or NULL, v the texture or the depths, map the copies'
+ * sources); the report gets the edges, the solve's iterations and time. */
+static relief_status blend_rims(const float *u, float *v, const uint8_t *missing,
+                                const uint8_t *inside, const int64_t *map, int W, int H,
+                                const relief_depth_fill_params *p,
+                                relief_depth_fill_report *rep, relief_error *err)
+{
+    size_t n = (size_t)W * H;
+    uint8_t *known = malloc(n);
+    double t0 = relief_seconds();
+    int it = 0;
+    relief_status st;
+    if (!known)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's mask");
+    for (size_t i = 0; i < n; ++i)
+        known[i] = !missing[i];
+    st = relief_depth_seam(u, v, known, inside, map, W, H, p->membrane_iterations,
+                           &rep->seam_edges, &it, err);
+    if (it > rep->membrane_iterations)
+        rep->membrane_iterations = it;
+    rep->seconds_transform += relief_seconds() - t0;
+    free(known);
+    return st;
+}
+
 /* Synthesise v where missing (the pixels `inside` the targets), then,
- * when blends(p), blend the rims (relief_depth_seam; u the smooth part or
- * NULL). The source map is the caller's or a scratch one. */
+ * when blends(p), blend the rims (u the smooth part or NULL). The source
+ * map is the caller's or a scratch one. */
 static relief_status synthesise_blended(const float *u, float *v, const uint8_t *missing,
                                         const uint8_t *inside, int W, int H,
                                         const relief_depth_fill_params *p,
@@ -122,31 +148,15 @@ static relief_status synthesise_blended(const float *u, float *v, const uint8_t 
 {
     size_t n = (size_t)W * H;
     int64_t *map = source;
-    uint8_t *known = NULL;
     relief_status st;
-    double t0;
-    int it = 0, blend = blends(p);
+    int blend = blends(p);
     if (blend && !map && !(map = malloc(n * sizeof *map)))
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
     st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, map, rep, err);
-    if (st != RELIEF_OK || !blend)
-        goto done;
-    t0 = relief_seconds();
-    if (!(known = malloc(n))) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's mask");
-        goto done;
-    }
-    for (size_t i = 0; i < n; ++i)
-        known[i] = !missing[i];
-    st = relief_depth_seam(u, v, known, inside, map, W, H, p->membrane_iterations,
-                           &rep->seam_edges, &it, err);
-    if (it > rep->membrane_iterations)
-        rep->membrane_iterations = it;
-    rep->seconds_transform += relief_seconds() - t0;
-done:
+    if (st == RELIEF_OK && blend)
+        st = blend_rims(u, v, missing, inside, map, W, H, p, rep, err);
     if (map != source)
         free(map);
-    free(known);
     return st;
 }
 
@@ -334,15 +344,21 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
 {
     size_t n = (size_t)W * H;
     float *u = malloc(n * sizeof *u), *v = malloc(n * sizeof *v);
-    uint8_t *known = malloc(n);
+    float *bridge = p->thin_plate ? malloc(n * sizeof *bridge) : NULL;
+    uint8_t *known = malloc(n), *domain = malloc(n);
     double lambda = p->lambda, t0 = relief_seconds();
     relief_status st = RELIEF_OK;
-    if (!u || !v || !known) {
+    if (!u || !v || !known || !domain || (p->thin_plate && !bridge)) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the decomposition");
         goto done;
     }
-    for (size_t i = 0; i < n; ++i)
+    /* The smooth fills' domain: the capture and the pixels to fill; the
+     * missing pixels that are not to be filled (a frame's margin, a
+     * z-buffer's background) are no neighbours. */
+    for (size_t i = 0; i < n; ++i) {
         known[i] = !missing[i];
+        domain[i] = known[i] || inside[i];
+    }
     if (lambda <= 0.0)
         st = auto_lambda(z, known, W, H, &lambda, err);
     rep->lambda = lambda;
@@ -351,39 +367,18 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
          * hole, but ROF over the known pixels alone flattens u towards
          * the hole's free boundary (its natural boundary condition), so
          * there would be none to carry: the holes are bridged by the thin
-         * plate first and ROF runs over the capture and its holes, which
-         * leaves u smooth across the rim and fills it as it goes (u in a
-         * hole: ROF of the bridge). The missing pixels that are not to be
-         * filled (a frame's margin, a z-buffer's background) stay out of
-         * both. */
-        float *bridge = malloc(n * sizeof *bridge);
-        uint8_t *domain = malloc(n);
-        if (!bridge || !domain) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the bridged image");
-        } else {
-            for (size_t i = 0; i < n; ++i) {
-                bridge[i] = known[i] ? z[i] : 0.0f;
-                domain[i] = known[i] || inside[i];
-            }
-            st = relief_membrane_fill_biharmonic(bridge, known, domain, W, H,
-                                                 p->membrane_iterations,
-                                                 &rep->membrane_iterations, err);
-            if (st == RELIEF_OK)
-                st = relief_rof(bridge, domain, W, H, lambda, p->rof_iterations, u, v, err);
-        }
-        free(bridge);
-        free(domain);
-    } else {
+         * plate first and ROF runs over the domain, which leaves u smooth
+         * across the rim and fills it as it goes (u in a hole: ROF of the
+         * bridge). */
+        for (size_t i = 0; i < n; ++i)
+            bridge[i] = known[i] ? z[i] : 0.0f;
+        st = smooth_fill(bridge, known, domain, W, H, p, &rep->membrane_iterations, err);
         if (st == RELIEF_OK)
-            st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
-        uint8_t *domain = malloc(n);
-        if (!domain && st == RELIEF_OK)
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the fill's domain");
-        for (size_t i = 0; domain && i < n; ++i)
-            domain[i] = known[i] || inside[i];
+            st = relief_rof(bridge, domain, W, H, lambda, p->rof_iterations, u, v, err);
+    } else if (st == RELIEF_OK) {
+        st = relief_rof(z, known, W, H, lambda, p->rof_iterations, u, v, err);
         if (st == RELIEF_OK)
             st = smooth_fill(u, known, domain, W, H, p, &rep->membrane_iterations, err);
-        free(domain);
     }
     rep->seconds_transform += relief_seconds() - t0;
     if (st != RELIEF_OK)
@@ -398,7 +393,9 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
 done:
     free(u);
     free(v);
+    free(bridge);
     free(known);
+    free(domain);
     return st;
 }
 
@@ -414,7 +411,6 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
     uint8_t *known[MAX_HAAR_LEVELS + 1] = {NULL}, *target[MAX_HAAR_LEVELS + 1] = {NULL};
     int64_t *src = NULL, *map = source;
     float *back = NULL;
-    uint8_t *known0 = NULL;
     relief_status st = RELIEF_OK;
     double t0 = relief_seconds();
 
@@ -542,23 +538,10 @@ static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *
             }
         }
     rep->levels = L;
-    if (blends(p)) {
-        /* The rims blended as the plain variant's, each filled pixel's
-         * texture taken from its block's source. */
-        t0 = relief_seconds();
-        if (!(known0 = malloc((size_t)W * H))) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's mask");
-            goto done;
-        }
-        for (size_t i = 0; i < (size_t)W * H; ++i)
-            known0[i] = !missing[i];
-        int it = 0;
-        st = relief_depth_seam(NULL, z, known0, inside, map, W, H, p->membrane_iterations,
-                               &rep->seam_edges, &it, err);
-        if (it > rep->membrane_iterations)
-            rep->membrane_iterations = it;
-        rep->seconds_transform += relief_seconds() - t0;
-    }
+    /* The rims blended as the plain variant's, each filled pixel's
+     * texture taken from its block's source. */
+    if (blends(p))
+        st = blend_rims(NULL, z, missing, inside, map, W, H, p, rep, err);
 done:
     for (int l = 0; l <= L; ++l) {
         free(ll[l]);
@@ -568,7 +551,6 @@ done:
     }
     free(src);
     free(back);
-    free(known0);
     if (map != source)
         free(map);
     return st;

@@ -8,6 +8,18 @@
 
 /* ---------------------------------------------------------------- membrane */
 
+/* Whether pixel i belongs to the domain (NULL: the whole image), and
+ * whether it is one of its unknowns. */
+static int in_domain(const uint8_t *domain, size_t i)
+{
+    return !domain || domain[i];
+}
+
+static int unknown(const uint8_t *known, const uint8_t *domain, size_t i)
+{
+    return !known[i] && in_domain(domain, i);
+}
+
 /* y = A x over the unknowns: A is the negative 4-neighbour Laplacian
  * restricted to them (known neighbours move to the right-hand side; a
  * neighbour outside the image is no neighbour). idx[i] is the unknown's
@@ -22,7 +34,7 @@ static void apply(const int32_t *idx, const int32_t *pix, size_t m, int W, int H
         for (int j = 0; j < 4; ++j) {
             int u = nb[j][0], v = nb[j][1];
             int32_t o;
-            if (u < 0 || u >= W || v < 0 || v >= H || (domain && !domain[(size_t)v * W + u]))
+            if (u < 0 || u >= W || v < 0 || v >= H || !in_domain(domain, (size_t)v * W + u))
                 continue;
             ++deg;
             o = idx[(size_t)v * W + u];
@@ -105,10 +117,9 @@ relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t 
 
     if (iterations)
         *iterations = 0;
-#define UNKNOWN(i) (!known[i] && (!domain || domain[i]))
     for (size_t i = 0; i < n; ++i) {
-        any += known[i] != 0 && (!domain || domain[i]);
-        m += UNKNOWN(i);
+        any += known[i] != 0 && in_domain(domain, i);
+        m += unknown(known, domain, i);
     }
     if (!any)
         return relief_fail(err, RELIEF_E_RANGE, "no pixel is known: nothing to interpolate "
@@ -128,11 +139,10 @@ relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t 
     }
     m = 0;
     for (size_t i = 0; i < n; ++i) {
-        idx[i] = UNKNOWN(i) ? (int32_t)m : -1;
-        if (UNKNOWN(i))
+        idx[i] = unknown(known, domain, i) ? (int32_t)m : -1;
+        if (idx[i] >= 0)
             pix[m++] = (int32_t)i;
     }
-#undef UNKNOWN
     /* b: the known neighbours' values; the starting guess x: their mean
      * where there are any (faster than 0 on thin holes). */
     for (size_t k = 0; k < m; ++k) {
@@ -144,7 +154,7 @@ relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t 
             if (u < 0 || u >= width || v < 0 || v >= height)
                 continue;
             o = (size_t)v * width + u;
-            if (known[o] && (!domain || domain[o])) {
+            if (known[o] && in_domain(domain, o)) {
                 b[k] += z[o];
                 ++c;
             }
@@ -191,7 +201,7 @@ static void laplacian(const int32_t *band, size_t nb, const int32_t *at, int W, 
         for (int j = 0; j < 4; ++j) {
             int u = nb4[j][0], v = nb4[j][1];
             int32_t o;
-            if (u < 0 || u >= W || v < 0 || v >= H || (domain && !domain[(size_t)v * W + u]))
+            if (u < 0 || u >= W || v < 0 || v >= H || !in_domain(domain, (size_t)v * W + u))
                 continue;
             o = at[(size_t)v * W + u];
             s += (o >= 0 ? w[o] : 0.0) - w[k];
@@ -240,9 +250,8 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
     for (size_t i = 0; i < n; ++i)
         at[i] = -1;
-#define UNKNOWN(i) (!known[i] && (!domain || domain[i]))
     for (size_t i = 0; i < n; ++i)
-        m += UNKNOWN(i);
+        m += unknown(known, domain, i);
     if (!m) {
         free(at);
         return RELIEF_OK;
@@ -253,11 +262,10 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
     }
     for (size_t i = 0; i < n; ++i)
-        if (UNKNOWN(i)) {
+        if (unknown(known, domain, i)) {
             at[i] = (int32_t)nb;
             band[nb++] = (int32_t)i;
         }
-#undef UNKNOWN
     for (int ring = 0; ring < 2; ++ring) {
         size_t end = nb;
         for (size_t k = 0; k < end; ++k) {
@@ -269,7 +277,7 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
                 if (u < 0 || u >= W || v < 0 || v >= H)
                     continue;
                 o = (size_t)v * W + u;
-                if (at[o] < 0 && (!domain || domain[o])) {
+                if (at[o] < 0 && in_domain(domain, o)) {
                     at[o] = (int32_t)nb;
                     band[nb++] = (int32_t)o;
                 }
