@@ -695,6 +695,8 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         return 0;
 
     limit = relief_memory_limit(&mp);
+    if (membrane >= 0)
+        p.thin_plate = membrane;
     if (kin == IN_MESH) {
         relief_mesh_fill_params mfp = relief_mesh_fill_params_default();
         in_kind kt;
@@ -702,17 +704,13 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
             return cli_usage_error("depth-fill", "--truth '%s': a mesh's truth is the complete "
                                    "mesh (.ply, .obj, .off or .stl)", truth_path);
         mfp.resolution = resolution;
-        if (membrane >= 0)
-            p.thin_plate = membrane;
-        else
+        if (membrane < 0)
             p.thin_plate = mfp.depth.thin_plate;
         mfp.depth = p;
         mfp.depth.synth.progress = NULL;
         return mesh_mode(in, out, truth_path, report, variant, &mfp, backend, device, limit,
                          quiet, t_start);
     }
-    if (membrane >= 0)
-        p.thin_plate = membrane;
     st = read_depth(in, kin, scale, limit, &f, &err);
     if (st != RELIEF_OK)
         goto done;
