@@ -27,9 +27,18 @@ void relief_depth_frame_free(relief_depth_frame *f)
     f->rgb = NULL;
 }
 
+/* An unorganised cloud (HEIGHT 1) may be this long. */
+#define PCD_MAX_CLOUD 100000000LL
+
 static relief_status check_sides(const char *name, long long w, long long h,
                                  uint64_t max_pixels, relief_error *err)
 {
+    if (h == 1 && w > RELIEF_DEPTH_MAX_SIDE && w <= PCD_MAX_CLOUD)
+        return max_pixels && (uint64_t)w > max_pixels
+                   ? relief_fail(err, RELIEF_E_NOMEM, "%s: a cloud of %lld points is over the "
+                                 "limit of %llu points (--max-memory)", name, w,
+                                 (unsigned long long)max_pixels)
+                   : RELIEF_OK;
     if (w < 1 || h < 1)
         return relief_fail(err, RELIEF_E_PARSE, "%s: a frame of %lld x %lld pixels: nothing to "
                            "read", name, w, h);
@@ -293,9 +302,9 @@ static float field_value(const uint8_t *p, const pcd_field *f)
     return NAN;
 }
 
-relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
-                                uint64_t max_pixels, relief_depth_frame *out,
-                                relief_error *err)
+static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
+                                uint64_t max_pixels, int organised_only,
+                                relief_depth_frame *out, relief_error *err)
 {
     pcd_header h;
     int ix = -1, iy = -1, iz = -1, ic = -1;
@@ -329,7 +338,7 @@ relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
                                h.f[i].count);
     if (ic >= 0 && (h.f[ic].size != 4 || h.f[ic].count != 1))
         ic = -1; /* a colour packed otherwise is skipped */
-    if (h.height == 1 && h.width > 1)
+    if (organised_only && h.height == 1 && h.width > 1)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: an unorganised point cloud (HEIGHT 1, "
                            "%lld points): a depth image needs an organised one (WIDTH x HEIGHT "
                            "pixels)", name, h.width);
@@ -448,6 +457,34 @@ relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
                 : h.data == PCD_BINARY ? RELIEF_DEPTH_PCD_BINARY
                                        : RELIEF_DEPTH_PCD_COMPRESSED;
     return RELIEF_OK;
+}
+
+relief_status relief_pcd_decode(const uint8_t *d, size_t n, const char *name,
+                                uint64_t max_pixels, relief_depth_frame *out,
+                                relief_error *err)
+{
+    return pcd_decode(d, n, name, max_pixels, 1, out, err);
+}
+
+relief_status relief_pcd_decode_cloud(const uint8_t *d, size_t n, const char *name,
+                                      uint64_t max_points, relief_depth_frame *out,
+                                      relief_error *err)
+{
+    return pcd_decode(d, n, name, max_points, 0, out, err);
+}
+
+relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
+                                    relief_depth_frame *out, relief_error *err)
+{
+    uint8_t *d;
+    size_t n;
+    relief_status st = relief_read_file(path, &d, &n, err);
+    memset(out, 0, sizeof *out);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_pcd_decode_cloud(d, n, path, max_points, out, err);
+    free(d);
+    return st;
 }
 
 relief_status relief_depth_decode(const uint8_t *d, size_t n, const char *name,

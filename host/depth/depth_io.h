@@ -45,6 +45,18 @@ relief_status relief_pcd_decode(const uint8_t *data, size_t n, const char *name,
                                 uint64_t max_pixels, relief_depth_frame *out,
                                 relief_error *err);
 
+/* The same for a point cloud, organised or not (an unorganised one,
+ * HEIGHT 1, comes back as a WIDTH x 1 frame): the entry of the point-set
+ * reader (issue 21). `max_points` as max_pixels. */
+relief_status relief_pcd_decode_cloud(const uint8_t *data, size_t n, const char *name,
+                                      uint64_t max_points, relief_depth_frame *out,
+                                      relief_error *err);
+
+/* Read a PCD file as relief_pcd_decode_cloud decodes it; RELIEF_E_IO
+ * naming the path when it cannot be read. */
+relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
+                                    relief_depth_frame *out, relief_error *err);
+
 /* Decode `n` bytes of a PFM: "Pf" (one channel) or "PF" (three; the
  * first is kept), width, height, scale (negative: little endian). Same
  * errors. */

@@ -1,0 +1,141 @@
+/* The point curvature flow and the signed detail (flow.h). */
+#include "points/flow.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+
+/* Covariance normal and sigma_n of point i over its k neighbours in q, its
+ * sign following prev. */
+static double local_normal(const double *q, const relief_knn_graph *g, size_t i,
+                           const double *prev, double n_out[3])
+{
+    size_t k = (size_t)g->k;
+    double m[3] = {0, 0, 0}, c[9] = {0}, ev[3], evec[9], s;
+    for (size_t r = 0; r <= k; ++r) {
+        const double *p = q + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
+        for (int a = 0; a < 3; ++a)
+            m[a] += p[a];
+    }
+    for (int a = 0; a < 3; ++a)
+        m[a] /= (double)(k + 1);
+    for (size_t r = 0; r <= k; ++r) {
+        const double *p = q + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
+        double d[3];
+        sub3(p, m, d);
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                c[3 * a + b] += d[a] * d[b];
+    }
+    relief_sym3_eigen(c, ev, evec);
+    for (int a = 0; a < 3; ++a)
+        n_out[a] = evec[3 * a + 2];
+    relief_normalize3(n_out);
+    if (dot3(n_out, prev) < 0.0)
+        for (int a = 0; a < 3; ++a)
+            n_out[a] = -n_out[a];
+    s = ev[0] + ev[1] + ev[2];
+    return s > 0.0 ? fmax(ev[2], 0.0) / s : 0.0;
+}
+
+/* Signed distance of point i from the least-squares plane of its
+ * neighbourhood (through the centroid, normal nn). */
+static double plane_offset(const double *q, const relief_knn_graph *g, size_t i,
+                           const double nn[3])
+{
+    size_t k = (size_t)g->k;
+    double m[3] = {0, 0, 0}, d[3];
+    for (size_t r = 0; r <= k; ++r) {
+        const double *p = q + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
+        for (int a = 0; a < 3; ++a)
+            m[a] += p[a];
+    }
+    for (int a = 0; a < 3; ++a)
+        m[a] /= (double)(k + 1);
+    sub3(q + 3 * i, m, d);
+    return dot3(d, nn);
+}
+
+relief_status relief_curvature_flow(const double *pos, const double *nrm,
+                                    const relief_knn_graph *g, int steps, double dt,
+                                    double *base, double *base_nrm, relief_error *err)
+{
+    size_t n = g->n, k = (size_t)g->k;
+    double *next;
+
+    if (steps < 0 || steps > 10000)
+        return relief_fail(err, RELIEF_E_RANGE, "smoothing steps %d out of range 0..10000",
+                           steps);
+    if (!(dt > 0.0) || !isfinite(dt))
+        return relief_fail(err, RELIEF_E_RANGE, "smoothing step length %g must be positive", dt);
+    next = malloc(n * 3 * sizeof *next);
+    if (!next)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the smoothing of %zu points", n);
+    memcpy(base, pos, n * 3 * sizeof *base);
+    memcpy(base_nrm, nrm, n * 3 * sizeof *base_nrm);
+    for (int s = 0; s < steps; ++s) {
+        for (size_t i = 0; i < n; ++i) {
+            double nn[3], sig = local_normal(base, g, i, base_nrm + 3 * i, nn);
+            double wsum = 0.0, dire = 0.0, h2 = 0.0;
+            const double *p = base + 3 * i;
+            for (size_t r = 0; r < k; ++r)
+                h2 += g->d2[i * k + r];
+            h2 = h2 / (double)k; /* G's sigma^2: the mean squared neighbour distance */
+            for (size_t r = 0; r < k; ++r) {
+                const double *u = base + 3 * (size_t)g->nbr[i * k + r];
+                double d[3], w;
+                sub3(p, u, d);
+                w = h2 > 0.0 ? exp(-dot3(d, d) / (2.0 * h2)) : 1.0;
+                wsum += w;
+                dire += w * dot3(nn, d);
+            }
+            {
+                /* Eq. 5's step, never past the neighbourhood's own
+                 * least-squares plane: sigma_n falls with the square of a
+                 * point's offset, so the time step must be long to move
+                 * small offsets at all, and the cap keeps that step from
+                 * overshooting large ones (explicit Euler's stability). */
+                double kbar = (wsum > 0.0 && dire / wsum >= 0.0) ? sig : -sig;
+                double off = fabs(plane_offset(base, g, i, nn)), step = dt * kbar;
+                if (step > off)
+                    step = off;
+                else if (step < -off)
+                    step = -off;
+                for (int a = 0; a < 3; ++a)
+                    next[3 * i + a] = p[a] - step * nn[a];
+            }
+            memcpy(base_nrm + 3 * i, nn, sizeof nn);
+        }
+        memcpy(base, next, n * 3 * sizeof *base);
+    }
+    /* The normals of the final base. */
+    for (size_t i = 0; i < n; ++i) {
+        double nn[3];
+        local_normal(base, g, i, base_nrm + 3 * i, nn);
+        memcpy(base_nrm + 3 * i, nn, sizeof nn);
+    }
+    free(next);
+    return RELIEF_OK;
+}
+
+double relief_detail_encode(const double *pos, const double *base, const double *base_nrm,
+                            size_t n, float *c)
+{
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double d[3], len, e = 0.0;
+        sub3(pos + 3 * i, base + 3 * i, d);
+        len = sqrt(dot3(d, d));
+        c[i] = (float)(dot3(d, base_nrm + 3 * i) >= 0.0 ? len : -len);
+        for (int a = 0; a < 3; ++a) {
+            double r = base[3 * i + a] + (double)c[i] * base_nrm[3 * i + a] - pos[3 * i + a];
+            e += r * r;
+        }
+        sum += e;
+    }
+    return n ? sqrt(sum / (double)n) : 0.0;
+}

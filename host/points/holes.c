@@ -1,0 +1,275 @@
+/* Hole rims of meshes and of bare point sets (holes.h). */
+#include "points/holes.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/knn.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+
+#define RELIEF_TWO_PI 6.283185307179586
+
+/* Union-find over rim points, smaller root wins, so labels are stable. */
+static uint32_t find_root(uint32_t *parent, uint32_t i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+static void unite(uint32_t *parent, uint32_t a, uint32_t b)
+{
+    a = find_root(parent, a);
+    b = find_root(parent, b);
+    if (a < b)
+        parent[b] = a;
+    else if (b < a)
+        parent[a] = b;
+}
+
+/* Number the components of the marked points (parent: a union-find over
+ * all n), keep the holes (the border rule, the size rule of holes.h), and
+ * write rim. */
+static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark,
+                                uint32_t *parent, uint32_t *rim, relief_hole_info *info,
+                                relief_error *err)
+{
+    uint32_t *comp = malloc(n * sizeof *comp), nc = 0;
+    double *acc = NULL; /* per component: centroid sum (3), count, radius */
+    memset(info, 0, sizeof *info);
+    if (!comp)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+    for (size_t i = 0; i < n; ++i)
+        comp[i] = UINT32_MAX;
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            uint32_t r = find_root(parent, (uint32_t)i);
+            if (comp[r] == UINT32_MAX)
+                comp[r] = nc++;
+            comp[i] = comp[r];
+        }
+    acc = calloc((size_t)nc * 5 + 1, sizeof *acc);
+    if (!acc) {
+        free(comp);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            double *a = acc + 5 * (size_t)comp[i];
+            for (int c = 0; c < 3; ++c)
+                a[c] += pos[3 * i + c];
+            a[3] += 1.0;
+        }
+    for (uint32_t h = 0; h < nc; ++h)
+        for (int c = 0; c < 3; ++c)
+            acc[5 * (size_t)h + c] /= acc[5 * (size_t)h + 3];
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            double *a = acc + 5 * (size_t)comp[i], d[3];
+            sub3(pos + 3 * i, a, d);
+            a[4] = fmax(a[4], sqrt(dot3(d, d)));
+        }
+    {
+        uint32_t *keep = calloc((size_t)nc + 1, sizeof *keep);
+        size_t *inside = calloc((size_t)nc + 1, sizeof *inside);
+        if (!keep || !inside) {
+            free(keep), free(inside), free(comp), free(acc);
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+        }
+        /* O(n x rims): rims are few (tens); a scan with thousands of rims is
+         * noise the size rule drops first. */
+        for (uint32_t h = 0; h < nc; ++h) {
+            const double *a = acc + 5 * (size_t)h;
+            if (a[3] < 3.0)
+                continue;
+            for (size_t i = 0; i < n; ++i) {
+                double d[3];
+                sub3(pos + 3 * i, a, d);
+                inside[h] += dot3(d, d) <= a[4] * a[4];
+            }
+        }
+        for (uint32_t h = 0; h < nc; ++h) {
+            if (acc[5 * (size_t)h + 3] < 3.0)
+                ++info->n_dropped;
+            else if (2 * inside[h] > n)
+                ++info->n_borders;
+            else
+                keep[h] = ++info->n_holes;
+        }
+        for (size_t i = 0; i < n; ++i)
+            rim[i] = mark[i] ? keep[comp[i]] : 0;
+        free(keep);
+        free(inside);
+    }
+    free(comp);
+    free(acc);
+    return RELIEF_OK;
+}
+
+static int u64_cmp(const void *x, const void *y)
+{
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return (a > b) - (a < b);
+}
+
+relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
+                                uint32_t *rim, relief_hole_info *info, relief_error *err)
+{
+    /* Boundary edges: an undirected edge met once among the 3 nt. */
+    size_t m = 3 * nt;
+    uint64_t *e = malloc(m * sizeof *e + 1);
+    uint32_t *parent = malloc(n * sizeof *parent + 1);
+    uint8_t *mark = calloc(n + 1, 1);
+    relief_status st;
+
+    if (!e || !parent || !mark) {
+        free(e), free(parent), free(mark);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the boundary of %zu triangles",
+                           nt);
+    }
+    for (size_t t = 0; t < nt; ++t)
+        for (int c = 0; c < 3; ++c) {
+            uint64_t a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
+            e[3 * t + c] = a < b ? (a << 32 | b) : (b << 32 | a);
+        }
+    qsort(e, m, sizeof *e, u64_cmp);
+    for (size_t i = 0; i < n; ++i)
+        parent[i] = (uint32_t)i;
+    for (size_t i = 0; i < m;) {
+        size_t j = i;
+        while (j < m && e[j] == e[i])
+            ++j;
+        if (j - i == 1) {
+            uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+            mark[a] = mark[b] = 1;
+            unite(parent, a, b);
+        }
+        i = j;
+    }
+    st = label_rims(pos, n, mark, parent, rim, info, err);
+    free(e), free(parent), free(mark);
+    return st;
+}
+
+static int dbl_cmp(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+relief_status relief_holes_points(const double *pos, const double *nrm,
+                                  const relief_knn_graph *g, double gap, uint32_t *rim,
+                                  relief_hole_info *info, relief_error *err)
+{
+    size_t n = g->n, k = (size_t)g->k;
+    uint32_t *parent = malloc(n * sizeof *parent + 1);
+    uint8_t *mark = calloc(n + 1, 1);
+    double ang[64];
+    relief_status st;
+
+    if (!parent || !mark) {
+        free(parent), free(mark);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the rim test of %zu points", n);
+    }
+    if (!(gap > 0.0 && gap < RELIEF_TWO_PI)) {
+        free(parent), free(mark);
+        return relief_fail(err, RELIEF_E_RANGE, "rim angle %g out of range (0, 2 pi)", gap);
+    }
+    for (size_t i = 0; i < n; ++i) {
+        double u[3], v[3], widest;
+        size_t m = 0;
+        parent[i] = (uint32_t)i;
+        relief_perp_basis(nrm + 3 * i, u, v);
+        for (size_t r = 0; r < k; ++r) {
+            double d[3];
+            sub3(pos + 3 * (size_t)g->nbr[i * k + r], pos + 3 * i, d);
+            if (dot3(d, u) != 0.0 || dot3(d, v) != 0.0)
+                ang[m++] = atan2(dot3(d, v), dot3(d, u));
+        }
+        if (m < 2) {
+            mark[i] = 1;
+            continue;
+        }
+        qsort(ang, m, sizeof *ang, dbl_cmp);
+        widest = ang[0] + RELIEF_TWO_PI - ang[m - 1];
+        for (size_t r = 1; r < m; ++r)
+            widest = fmax(widest, ang[r] - ang[r - 1]);
+        mark[i] = widest > gap;
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i])
+            for (size_t r = 0; r < k; ++r)
+                if (mark[g->nbr[i * k + r]])
+                    unite(parent, (uint32_t)i, g->nbr[i * k + r]);
+    st = label_rims(pos, n, mark, parent, rim, info, err);
+    free(parent), free(mark);
+    return st;
+}
+
+relief_status relief_rim_distance(const double *pos, size_t n, const uint32_t *rim,
+                                  const double *query, size_t nq, double *dist,
+                                  uint32_t *nearest, relief_error *err)
+{
+    struct FLANNParameters fp = relief_knn_exact_params();
+    size_t m = 0;
+    double *rp = NULL, *d2 = NULL;
+    uint32_t *which = NULL;
+    int *idx = NULL;
+    flann_index_t index = NULL;
+    float speedup;
+    relief_status st = RELIEF_OK;
+
+    if (!query) {
+        query = pos;
+        nq = n;
+    }
+    for (size_t i = 0; i < n; ++i)
+        m += rim[i] != 0;
+    if (!m) {
+        for (size_t i = 0; i < nq; ++i) {
+            dist[i] = INFINITY;
+            if (nearest)
+                nearest[i] = UINT32_MAX;
+        }
+        return RELIEF_OK;
+    }
+    rp = malloc(m * 3 * sizeof *rp);
+    which = malloc(m * sizeof *which);
+    idx = malloc((nq + 1) * sizeof *idx);
+    d2 = malloc((nq + 1) * sizeof *d2);
+    if (!rp || !which || !idx || !d2) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu rim points", m);
+        goto done;
+    }
+    m = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (rim[i]) {
+            memcpy(rp + 3 * m, pos + 3 * i, 3 * sizeof *rp);
+            which[m++] = (uint32_t)i;
+        }
+    index = flann_build_index_double(rp, (int)m, 3, &speedup, &fp);
+    if (!index) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu rim points", m);
+        goto done;
+    }
+    if (nq && flann_find_nearest_neighbors_index_double(index, (double *)query, (int)nq, idx, d2,
+                                                        1, &fp) != 0) {
+        st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN's rim search failed");
+        goto done;
+    }
+    for (size_t i = 0; i < nq; ++i) {
+        dist[i] = sqrt(d2[i]);
+        if (nearest)
+            nearest[i] = which[idx[i]];
+    }
+done:
+    if (index)
+        flann_free_index_double(index, &fp);
+    free(rp), free(which), free(idx), free(d2);
+    return st;
+}

@@ -1,0 +1,210 @@
+/* Local analysis, curvature flow and hole rims (host/points/analysis.c,
+ * flow.c, holes.c) on small point sets with known answers. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "base/rng.h"
+#include "points/analysis.h"
+#include "points/flow.h"
+#include "points/holes.h"
+
+#define PI 3.14159265358979323846
+
+/* n Fibonacci points on the unit sphere, those with z > zmax left out;
+ * returns the count kept. */
+static size_t sphere_points(size_t n, double zmax, double bump, double *pos)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+        double z = 1.0 - 2.0 * (i + 0.5) / (double)n, r = sqrt(1.0 - z * z);
+        double a = PI * (3.0 - sqrt(5.0)) * (double)i, x = r * cos(a), y = r * sin(a);
+        double s = 1.0 + bump * sin(40.0 * x) * sin(40.0 * y) * sin(40.0 * z);
+        if (z > zmax)
+            continue;
+        pos[3 * m] = s * x, pos[3 * m + 1] = s * y, pos[3 * m + 2] = s * z;
+        ++m;
+    }
+    return m;
+}
+
+static void test_normals(void)
+{
+    size_t n = 3000, bad = 0;
+    double *pos = malloc(n * 3 * sizeof *pos), *nrm = malloc(n * 3 * sizeof *nrm);
+    double *sig = malloc(n * sizeof *sig), smax = 0.0;
+    relief_knn_graph g;
+    relief_error err;
+    n = sphere_points(n, 2.0, 0.0, pos);
+    CHECK(relief_knn_graph_build(pos, n, 12, &g, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_knn_spacing(&g) > 0.03 && relief_knn_spacing(&g) < 0.08, "spacing %g",
+          relief_knn_spacing(&g));
+    CHECK(relief_points_normals(pos, &g, NULL, NULL, nrm, sig, &err) == RELIEF_OK, "%s",
+          err.message);
+    for (size_t i = 0; i < n; ++i) {
+        double d = pos[3 * i] * nrm[3 * i] + pos[3 * i + 1] * nrm[3 * i + 1] +
+                   pos[3 * i + 2] * nrm[3 * i + 2];
+        bad += d < 0.99; /* outward and radial */
+        smax = fmax(smax, sig[i]);
+    }
+    CHECK(bad == 0, "%zu of %zu normals not outward along the radius", bad, n);
+    CHECK(smax < 0.01, "surface variation on a smooth sphere %g", smax);
+    /* A viewpoint inside makes them all face in. */
+    {
+        double c[3] = {0, 0, 0};
+        bad = 0;
+        relief_points_normals(pos, &g, NULL, c, nrm, NULL, &err);
+        for (size_t i = 0; i < n; ++i)
+            bad += pos[3 * i] * nrm[3 * i] + pos[3 * i + 1] * nrm[3 * i + 1] +
+                       pos[3 * i + 2] * nrm[3 * i + 2] > 0.0;
+        CHECK(bad == 0, "%zu normals do not face the viewpoint", bad);
+    }
+    relief_knn_graph_free(&g);
+    CHECK(relief_knn_graph_build(pos, 10, 12, &g, &err) == RELIEF_E_RANGE, "too few points");
+    {
+        const char *why;
+        double line[30];
+        for (int i = 0; i < 10; ++i)
+            line[3 * i] = i, line[3 * i + 1] = 2 * i, line[3 * i + 2] = -i;
+        CHECK(!relief_points_spread(line, 10, &why) && strstr(why, "line"), "collinear: %s",
+              why);
+        CHECK(relief_points_spread(pos, n, &why), "a sphere is spread");
+    }
+    free(pos), free(nrm), free(sig);
+}
+
+static void test_flow(void)
+{
+    size_t n = 6000;
+    double *pos = malloc(n * 3 * sizeof *pos), *nrm = malloc(n * 3 * sizeof *nrm);
+    double *base = malloc(n * 3 * sizeof *base), *bn = malloc(n * 3 * sizeof *bn);
+    float *c = malloc(n * sizeof *c);
+    double dev_in = 0.0, dev_base = 0.0, rms, h;
+    relief_knn_graph g;
+    relief_error err;
+    n = sphere_points(n, 2.0, 0.02, pos);
+    relief_knn_graph_build(pos, n, 16, &g, &err);
+    relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
+    h = relief_knn_spacing(&g);
+    CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, base, bn, &err) == RELIEF_OK, "%s",
+          err.message);
+    /* The bumps (2 % of the radius, 3.4 spacings long) are what the flow
+     * removes, most of them: the base is
+     * rounder than the input, by the deviation of each from its mean radius. */
+    {
+        double m_in = 0.0, m_b = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            m_in += sqrt(pos[3 * i] * pos[3 * i] + pos[3 * i + 1] * pos[3 * i + 1] +
+                         pos[3 * i + 2] * pos[3 * i + 2]);
+            m_b += sqrt(base[3 * i] * base[3 * i] + base[3 * i + 1] * base[3 * i + 1] +
+                        base[3 * i + 2] * base[3 * i + 2]);
+        }
+        m_in /= (double)n, m_b /= (double)n;
+        for (size_t i = 0; i < n; ++i) {
+            double r = sqrt(pos[3 * i] * pos[3 * i] + pos[3 * i + 1] * pos[3 * i + 1] +
+                            pos[3 * i + 2] * pos[3 * i + 2]);
+            double rb = sqrt(base[3 * i] * base[3 * i] + base[3 * i + 1] * base[3 * i + 1] +
+                             base[3 * i + 2] * base[3 * i + 2]);
+            dev_in += (r - m_in) * (r - m_in);
+            dev_base += (rb - m_b) * (rb - m_b);
+        }
+        dev_in = sqrt(dev_in / n), dev_base = sqrt(dev_base / n);
+        CHECK(dev_base < 0.55 * dev_in, "base radius deviation %g, input %g", dev_base, dev_in);
+        CHECK(fabs(m_b - 1.0) < 0.05, "the base shrank to mean radius %g", m_b);
+    }
+    rms = relief_detail_encode(pos, base, bn, n, c);
+    CHECK(rms < 0.2 * dev_in, "reconstruction RMS %g against relief %g", rms, dev_in);
+    CHECK(relief_curvature_flow(pos, nrm, &g, -1, h, base, bn, &err) == RELIEF_E_RANGE, "steps");
+    CHECK(relief_curvature_flow(pos, nrm, &g, 1, 0.0, base, bn, &err) == RELIEF_E_RANGE, "dt");
+    relief_knn_graph_free(&g);
+    free(pos), free(nrm), free(base), free(bn), free(c);
+}
+
+static void test_holes_points(void)
+{
+    size_t n = 6000, m, on_rim = 0, wrong = 0;
+    double *pos = malloc(n * 3 * sizeof *pos), *nrm = malloc(n * 3 * sizeof *nrm);
+    uint32_t *rim = malloc(n * sizeof *rim);
+    relief_knn_graph g;
+    relief_hole_info info;
+    relief_error err;
+    /* A cap cut off a sphere: one hole, its rim at the cut. */
+    m = sphere_points(n, 0.8, 0.0, pos);
+    relief_knn_graph_build(pos, m, 16, &g, &err);
+    relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
+    CHECK(relief_holes_points(pos, nrm, &g, PI / 2, rim, &info, &err) == RELIEF_OK, "%s",
+          err.message);
+    CHECK(info.n_holes == 1 && info.n_borders == 0, "holes %u borders %u", info.n_holes,
+          info.n_borders);
+    for (size_t i = 0; i < m; ++i) {
+        on_rim += rim[i] != 0;
+        wrong += rim[i] && pos[3 * i + 2] < 0.7;
+    }
+    CHECK(on_rim > 20 && wrong == 0, "%zu rim points, %zu far from the cut", on_rim, wrong);
+    {
+        double *d = malloc(m * sizeof *d), worst = 0.0;
+        uint32_t *near = malloc(m * sizeof *near);
+        CHECK(relief_rim_distance(pos, m, rim, NULL, 0, d, near, &err) == RELIEF_OK, "%s",
+              err.message);
+        for (size_t i = 0; i < m; ++i) /* the rim is the circle z = 0.8, r = 0.6 */
+            worst = fmax(worst, fabs(d[i] - hypot(hypot(pos[3 * i], pos[3 * i + 1]) - 0.6,
+                                                   pos[3 * i + 2] - 0.8)));
+        CHECK(worst < 0.06, "rim distance off by %g", worst);
+        CHECK(rim[near[m - 1]] == 1, "nearest rim point");
+        free(d), free(near);
+    }
+    relief_knn_graph_free(&g);
+    /* A hemisphere: its rim is an outer border, not a hole. */
+    m = sphere_points(n, 0.0, 0.0, pos);
+    relief_knn_graph_build(pos, m, 16, &g, &err);
+    relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
+    relief_holes_points(pos, nrm, &g, PI / 2, rim, &info, &err);
+    CHECK(info.n_holes == 0 && info.n_borders == 1, "hemisphere: holes %u borders %u",
+          info.n_holes, info.n_borders);
+    relief_knn_graph_free(&g);
+    free(pos), free(nrm), free(rim);
+}
+
+static void test_holes_mesh(void)
+{
+    /* A 20 x 20 grid of squares with the 4 x 4 in the middle missing. */
+    enum { S = 21 };
+    double pos[S * S * 3];
+    uint32_t tri[20 * 20 * 6], rim[S * S];
+    size_t nt = 0, hole = 0, border = 0;
+    relief_hole_info info;
+    relief_error err;
+    for (int y = 0; y < S; ++y)
+        for (int x = 0; x < S; ++x)
+            pos[3 * (y * S + x)] = x, pos[3 * (y * S + x) + 1] = y, pos[3 * (y * S + x) + 2] = 0;
+    for (int y = 0; y < S - 1; ++y)
+        for (int x = 0; x < S - 1; ++x) {
+            uint32_t a = (uint32_t)(y * S + x);
+            if (x >= 8 && x < 12 && y >= 8 && y < 12)
+                continue;
+            tri[3 * nt] = a, tri[3 * nt + 1] = a + 1, tri[3 * nt + 2] = a + S + 1, ++nt;
+            tri[3 * nt] = a, tri[3 * nt + 1] = a + S + 1, tri[3 * nt + 2] = a + S, ++nt;
+        }
+    CHECK(relief_holes_mesh(pos, S * S, tri, nt, rim, &info, &err) == RELIEF_OK, "%s",
+          err.message);
+    CHECK(info.n_holes == 1 && info.n_borders == 1, "holes %u borders %u", info.n_holes,
+          info.n_borders);
+    for (int i = 0; i < S * S; ++i) {
+        int x = i % S, y = i / S;
+        int on_hole = x >= 8 && x <= 12 && y >= 8 && y <= 12 &&
+                      (x == 8 || x == 12 || y == 8 || y == 12);
+        hole += rim[i] == 1 && on_hole;
+        border += rim[i] == 0 && on_hole;
+    }
+    CHECK(hole == 16 && border == 0, "hole rim: %zu of 16 found, %zu missed", hole, border);
+}
+
+int main(void)
+{
+    test_normals();
+    test_flow();
+    test_holes_points();
+    test_holes_mesh();
+    return check_result();
+}
