@@ -1,0 +1,579 @@
+/* Texture optimisation over overlapping clusters (paper 002, sections 3.3
+ * and 4). The energy is measured at the points: for each active cluster i,
+ * its matched exemplar grid Z_i is read bilinearly at each member's tangent
+ * coordinates, so that
+ *   E = sum_i sum_{p in C_O,i} w_p ||x(p) - Z_i(p)||^2,  w_p = 1 + lambda [p on the rim],
+ * which is the header's sum ||G_i - Z_i||^2 + lambda sum_rim (x - x_c)^2
+ * taken where the data are (the points) rather than on the nodes: the rim
+ * points are known (x = x_c), so the rim term weighs how well a matched
+ * neighbourhood agrees with them (Kwatra's controllable synthesis). With
+ * that form both steps never raise E: the E-step's mean of the Z_i(p) over
+ * the clusters holding an unknown p is its exact minimiser, and the M-step
+ * keeps the previous match among its candidates (the 8 nearest exemplar
+ * grids to G_i by FLANN's exact kd-tree, G_i being the current values
+ * resampled on the grid, then ranked by their E term). */
+#include "points/texopt.h"
+
+#include <flann/flann.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "base/error.h"
+#include "base/knn.h"
+#include "base/rng.h"
+#include "points/cluster.h"
+
+#define MAX_EXEMPLARS 20000 /* exemplar grids searched at most (a seeded subset beyond) */
+#define CANDIDATES 8        /* nearest grids re-ranked by the energy */
+#define MAX_THREADS 64
+
+relief_texopt_params relief_texopt_params_default(void)
+{
+    relief_texopt_params p;
+    p.grid_n = 9;
+    p.overlap = 0.5;
+    p.cluster_size = (int)(300.0 / ((1 + p.overlap) * (1 + p.overlap))); /* 133 */
+    p.grid_step = 0;
+    p.max_iter = 50;
+    p.tol = 1e-4;
+    p.lambda = 1;
+    p.seed = 1;
+    p.threads = 0;
+    return p;
+}
+
+void relief_texopt_result_free(relief_texopt_result *r)
+{
+    if (!r)
+        return;
+    free(r->energy);
+    r->energy = NULL;
+}
+
+/* Everything an iteration reads. */
+typedef struct opt {
+    int gn, ch, nodes, dims;
+    size_t A;                  /* active clusters */
+    size_t *mstart;            /* A + 1 */
+    uint32_t *mpt;             /* members */
+    float *mfa, *mfb;          /* their grid coordinates, in [0, gn - 1] */
+    size_t *wstart;            /* A x nodes + 1: resampling onto the grid */
+    uint32_t *wpt;
+    float *ww;
+    const uint8_t *rim;
+    double lambda;
+    float *x;                  /* n x ch current values */
+    const float *zvec;         /* exemplar grids, dims each */
+    size_t nz;
+    flann_index_t index;
+    uint32_t *match;           /* A */
+} opt;
+
+static void bilerp(const float *z, int gn, int ch, float fa, float fb, float *out)
+{
+    int a0 = (int)fa, b0 = (int)fb;
+    float ta, tb;
+    if (a0 > gn - 2)
+        a0 = gn - 2;
+    if (b0 > gn - 2)
+        b0 = gn - 2;
+    ta = fa - (float)a0, tb = fb - (float)b0;
+    for (int k = 0; k < ch; ++k) {
+        const float *r0 = z + ((size_t)b0 * gn + a0) * ch + k, *r1 = r0 + (size_t)gn * ch;
+        out[k] = (1 - tb) * ((1 - ta) * r0[0] + ta * r0[ch]) + tb * ((1 - ta) * r1[0] + ta * r1[ch]);
+    }
+}
+
+/* Cluster j's term of E with the exemplar grid z. */
+static double cluster_energy(const opt *o, size_t j, const float *z)
+{
+    double e = 0;
+    float v[4];
+    for (size_t m = o->mstart[j]; m < o->mstart[j + 1]; ++m) {
+        const uint32_t p = o->mpt[m];
+        double s = 0;
+        bilerp(z, o->gn, o->ch, o->mfa[m], o->mfb[m], v);
+        for (int k = 0; k < o->ch; ++k) {
+            const double d = (double)o->x[(size_t)p * o->ch + k] - v[k];
+            s += d * d;
+        }
+        e += (o->rim && o->rim[p] ? 1 + o->lambda : 1) * s;
+    }
+    return e;
+}
+
+typedef struct worker {
+    const opt *o;
+    size_t lo, hi;
+    int failed;
+} worker;
+
+/* M-step over active clusters lo..hi-1: each writes only its own match,
+ * so the result does not depend on how the clusters are shared out. */
+static void *mstep(void *arg)
+{
+    worker *w = arg;
+    const opt *o = w->o;
+    struct FLANNParameters fp = relief_knn_exact_params();
+    const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
+    float *q = malloc((size_t)o->dims * sizeof *q), dist[CANDIDATES];
+    int idx[CANDIDATES];
+    if (!q) {
+        w->failed = 1;
+        return NULL;
+    }
+    for (size_t j = w->lo; j < w->hi; ++j) {
+        uint32_t best = o->match[j];
+        double be = best == UINT32_MAX ? INFINITY
+                                       : cluster_energy(o, j, o->zvec + (size_t)best * o->dims);
+        for (int node = 0; node < o->nodes; ++node) {
+            const size_t wn = j * (size_t)o->nodes + (size_t)node;
+            for (int k = 0; k < o->ch; ++k) {
+                double s = 0;
+                for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t)
+                    s += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
+                q[node * o->ch + k] = (float)s;
+            }
+        }
+        if (flann_find_nearest_neighbors_index_float(o->index, q, 1, idx, dist, nn, &fp) != 0) {
+            w->failed = 1;
+            break;
+        }
+        for (int c = 0; c < nn; ++c) {
+            double e;
+            if (idx[c] < 0 || (uint32_t)idx[c] == o->match[j])
+                continue;
+            e = cluster_energy(o, j, o->zvec + (size_t)idx[c] * o->dims);
+            if (e < be || (e == be && (uint32_t)idx[c] < best))
+                be = e, best = (uint32_t)idx[c];
+        }
+        o->match[j] = best;
+    }
+    free(q);
+    return NULL;
+}
+
+static int run_mstep(const opt *o, int threads)
+{
+    worker w[MAX_THREADS];
+    pthread_t tid[MAX_THREADS];
+    int started[MAX_THREADS] = {0}, failed = 0;
+    const int t = (size_t)threads > o->A ? (int)o->A : threads;
+    for (int i = 0; i < t; ++i) {
+        w[i] = (worker){o, o->A * (size_t)i / (size_t)t, o->A * (size_t)(i + 1) / (size_t)t, 0};
+        if (i > 0)
+            started[i] = pthread_create(&tid[i], NULL, mstep, &w[i]) == 0;
+    }
+    mstep(&w[0]);
+    for (int i = 1; i < t; ++i) {
+        if (started[i])
+            pthread_join(tid[i], NULL);
+        else
+            mstep(&w[i]); /* no thread to be had: do its share here */
+    }
+    for (int i = 0; i < t; ++i)
+        failed |= w[i].failed;
+    return failed ? -1 : 0;
+}
+
+/* Append to a growing array. */
+#define PUSH(arr, len, cap, val)                                            \
+    do {                                                                    \
+        if ((len) == (cap)) {                                               \
+            size_t nc_ = (cap) ? 2 * (cap) : 1024;                          \
+            void *np_ = realloc((arr), nc_ * sizeof *(arr));                \
+            if (!np_)                                                       \
+                goto nomem;                                                 \
+            (arr) = np_, (cap) = nc_;                                       \
+        }                                                                   \
+        (arr)[(len)++] = (val);                                             \
+    } while (0)
+
+static relief_status check(const double *pos, const double *nrm, size_t n, int channels,
+                           const float *value, const uint8_t *unknown, const uint8_t *exemplar,
+                           const relief_texopt_params *p, size_t *n_unknown, size_t *n_exemplar,
+                           relief_error *err)
+{
+    if (!pos || !nrm || !value || !unknown || !exemplar)
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: pos, nrm, value, unknown "
+                           "and exemplar must be given");
+    if (n < 1 || n >= UINT32_MAX)
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: %zu points (1..%u)", n,
+                           UINT32_MAX - 1);
+    if (channels < 1 || channels > 4)
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: channels %d (1..4)",
+                           channels);
+    if (p->grid_n < 3 || p->grid_n > 33 || p->grid_n % 2 == 0)
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: grid_n %d (odd, 3..33)",
+                           p->grid_n);
+    if (p->cluster_size < 16 || p->cluster_size > 100000)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "texture optimisation: cluster_size %d (16..100000)", p->cluster_size);
+    if (!(p->overlap >= 0 && p->overlap <= 2))
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: overlap %g (0..2)",
+                           p->overlap);
+    if (!(p->grid_step >= 0 && isfinite(p->grid_step)))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "texture optimisation: grid_step %g (>= 0, finite; 0 = automatic)",
+                           p->grid_step);
+    if (p->max_iter < 1 || p->max_iter > 1000)
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: max_iter %d (1..1000)",
+                           p->max_iter);
+    if (!(p->tol >= 0 && p->tol < 1))
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: tol %g ([0, 1))", p->tol);
+    if (!(p->lambda >= 0 && isfinite(p->lambda)))
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: lambda %g (>= 0, finite)",
+                           p->lambda);
+    if (p->threads < 0 || p->threads > MAX_THREADS)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "texture optimisation: threads %d (0..%d, 0 = online CPUs)",
+                           p->threads, MAX_THREADS);
+    *n_unknown = *n_exemplar = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double *q = pos + 3 * i, *m = nrm + 3 * i;
+        if (!isfinite(q[0]) || !isfinite(q[1]) || !isfinite(q[2]))
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "texture optimisation: point %zu has a non-finite position", i);
+        if (!(m[0] * m[0] + m[1] * m[1] + m[2] * m[2] > 1e-24) || !isfinite(m[0] + m[1] + m[2]))
+            return relief_fail(err, RELIEF_E_RANGE,
+                               "texture optimisation: point %zu has a zero or non-finite normal",
+                               i);
+        if (unknown[i]) {
+            ++*n_unknown;
+            if (exemplar[i])
+                return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: point %zu is "
+                                   "both unknown and an exemplar (exemplars must be known)", i);
+            continue;
+        }
+        for (int k = 0; k < channels; ++k)
+            if (!isfinite(value[i * (size_t)channels + k]))
+                return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: known point %zu "
+                                   "has a non-finite value in channel %d", i, k);
+        *n_exemplar += exemplar[i] != 0;
+    }
+    if (!*n_unknown)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "texture optimisation: nothing is unknown (no point to complete)");
+    if (!*n_exemplar)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "texture optimisation: no point is an exemplar (none to copy from)");
+    return RELIEF_OK;
+}
+
+relief_status relief_texopt_complete(const double *pos, const double *nrm_in, size_t n,
+                                     int channels, float *value, const uint8_t *unknown,
+                                     const uint8_t *exemplar, const uint8_t *rim,
+                                     const relief_texopt_params *pp,
+                                     relief_texopt_result *res, relief_error *err)
+{
+    const relief_texopt_params p = pp ? *pp : relief_texopt_params_default();
+    relief_status st;
+    size_t n_unknown = 0, n_exemplar = 0, mlen = 0, mcap = 0, wlen = 0, wcap = 0, ncand_cap = 0;
+    size_t acap = 0, zlen = 0, zcap = 0, ne = 0, *pick = NULL, *pstart = NULL;
+    uint32_t *cand = NULL, *elist = NULL, *pent = NULL, *acl = NULL;
+    double *nrm = NULL, *energy = NULL, h, band;
+    relief_pclusters cl = {0};
+    relief_pbucket bk = {0};
+    relief_pgrid_weights gw = {0};
+    relief_rng rng;
+    opt o = {0};
+    float *zv = NULL;
+    int threads = p.threads, it = 0, converged = 0;
+    const uint32_t seed32 = (uint32_t)(p.seed ^ (p.seed >> 32));
+
+    st = check(pos, nrm_in, n, channels, value, unknown, exemplar, &p, &n_unknown, &n_exemplar,
+               err);
+    if (st != RELIEF_OK)
+        return st;
+    if (threads == 0) {
+        const long c = sysconf(_SC_NPROCESSORS_ONLN);
+        threads = c < 1 ? 1 : c > MAX_THREADS ? MAX_THREADS : (int)c;
+    }
+    o.gn = p.grid_n, o.ch = channels, o.nodes = p.grid_n * p.grid_n;
+    o.dims = o.nodes * channels, o.rim = rim, o.lambda = p.lambda;
+    nrm = malloc(3 * n * sizeof *nrm);
+    o.x = malloc(n * (size_t)channels * sizeof *o.x);
+    elist = malloc(n_exemplar * sizeof *elist);
+    energy = malloc((size_t)p.max_iter * sizeof *energy);
+    if (!nrm || !o.x || !elist || !energy)
+        goto nomem;
+    for (size_t i = 0; i < n; ++i) {
+        const double *m = nrm_in + 3 * i;
+        const double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        for (int a = 0; a < 3; ++a)
+            nrm[3 * i + a] = m[a] / l;
+        if (exemplar[i])
+            elist[ne++] = (uint32_t)i;
+    }
+    /* Unknown values start as a seeded random draw of exemplar values. */
+    memcpy(o.x, value, n * (size_t)channels * sizeof *o.x);
+    relief_rng_seed(&rng, seed32);
+    for (size_t i = 0; i < n; ++i)
+        if (unknown[i])
+            memcpy(o.x + i * channels,
+                   value + (size_t)elist[relief_rng_below(&rng, (uint32_t)ne)] * channels,
+                   (size_t)channels * sizeof *o.x);
+
+    st = relief_pclusters_make(pos, nrm, n, (size_t)p.cluster_size, &cl, err);
+    if (st != RELIEF_OK)
+        goto done;
+    h = p.grid_step > 0 ? p.grid_step : 2.0 * cl.mean_radius / p.grid_n;
+    band = p.overlap * cl.mean_radius;
+    if (!(h > 0)) {
+        st = relief_fail(err, RELIEF_E_RANGE, "texture optimisation: the points span no area "
+                         "(mean cluster radius 0), so no grid step can be chosen");
+        goto done;
+    }
+    st = relief_pbucket_make(pos, n, relief_pgrid_reach(o.gn, h), &bk, err);
+    if (st != RELIEF_OK)
+        goto done;
+
+    /* Active clusters: C_O,i is C_i grown by the band; members outside
+     * G_i's square are left out (no grid value there), except C_i's own,
+     * read at the clamped border so that every point has a cluster. */
+    {
+        const double k = (o.gn - 1) / 2.0;
+        o.mstart = malloc(sizeof *o.mstart);
+        o.wstart = malloc(sizeof *o.wstart);
+        if (!o.mstart || !o.wstart)
+            goto nomem;
+        o.mstart[0] = 0, o.wstart[0] = 0;
+        for (size_t i = 0; i < cl.m; ++i) {
+            const double *c = cl.centre + 3 * i, *f = cl.frame + 9 * i;
+            size_t nc = relief_pbucket_query(&bk, c, cl.radius[i] + band, &cand, &ncand_cap);
+            const size_t m0 = mlen;
+            int any = 0;
+            size_t empty, foreign;
+            if (nc == SIZE_MAX)
+                goto nomem;
+            for (size_t j = 0; j < nc; ++j) {
+                const uint32_t q = cand[j];
+                const double *nq = nrm + 3 * (size_t)q;
+                const int own = cl.label[q] == i;
+                double s, t, fa, fb;
+                if (!own && nq[0] * f[6] + nq[1] * f[7] + nq[2] * f[8] < 0.3)
+                    continue;
+                relief_ptangent(pos + 3 * (size_t)q, c, f, &s, &t);
+                fa = s / h + k, fb = t / h + k;
+                if (!own && (fa < 0 || fa > 2 * k || fb < 0 || fb > 2 * k))
+                    continue;
+                fa = fa < 0 ? 0 : fa > 2 * k ? 2 * k : fa;
+                fb = fb < 0 ? 0 : fb > 2 * k ? 2 * k : fb;
+                if (mlen == mcap) {
+                    const size_t ncap = mcap ? 2 * mcap : 4096;
+                    uint32_t *a = realloc(o.mpt, ncap * sizeof *a);
+                    float *b, *d;
+                    if (!a)
+                        goto nomem;
+                    o.mpt = a;
+                    if (!(b = realloc(o.mfa, ncap * sizeof *b)))
+                        goto nomem;
+                    o.mfa = b;
+                    if (!(d = realloc(o.mfb, ncap * sizeof *d)))
+                        goto nomem;
+                    o.mfb = d, mcap = ncap;
+                }
+                o.mpt[mlen] = q, o.mfa[mlen] = (float)fa, o.mfb[mlen++] = (float)fb;
+                any |= unknown[q] != 0;
+            }
+            if (!any) {
+                mlen = m0;
+                continue;
+            }
+            nc = relief_pbucket_query(&bk, c, relief_pgrid_reach(o.gn, h), &cand, &ncand_cap);
+            if (nc == SIZE_MAX || relief_pgrid_weigh(pos, nrm, cand, nc, c, f, o.gn, h, NULL, &gw,
+                                                     &empty, &foreign) < 0)
+                goto nomem;
+            {
+                size_t *ms = realloc(o.mstart, (o.A + 2) * sizeof *ms), *ws;
+                if (!ms)
+                    goto nomem;
+                o.mstart = ms;
+                ws = realloc(o.wstart, ((o.A + 1) * (size_t)o.nodes + 1) * sizeof *ws);
+                if (!ws)
+                    goto nomem;
+                o.wstart = ws;
+            }
+            for (int q = 0; q < o.nodes; ++q) {
+                for (size_t t = gw.start[q]; t < gw.start[q + 1]; ++t) {
+                    if (wlen == wcap) {
+                        const size_t ncap = wcap ? 2 * wcap : 4096;
+                        uint32_t *a = realloc(o.wpt, ncap * sizeof *a);
+                        float *b;
+                        if (!a)
+                            goto nomem;
+                        o.wpt = a;
+                        if (!(b = realloc(o.ww, ncap * sizeof *b)))
+                            goto nomem;
+                        o.ww = b, wcap = ncap;
+                    }
+                    o.wpt[wlen] = gw.point[t], o.ww[wlen++] = gw.w[t];
+                }
+                o.wstart[o.A * (size_t)o.nodes + (size_t)q + 1] = wlen;
+            }
+            o.mstart[o.A + 1] = mlen;
+            PUSH(acl, o.A, acap, (uint32_t)i);
+        }
+    }
+
+    /* Exemplar grids: at the exemplar points (a seeded subset of
+     * MAX_EXEMPLARS beyond that many), in the frame of the point's cluster;
+     * kept only when every node is backed by exemplar points alone. */
+    {
+        const size_t want = ne < MAX_EXEMPLARS ? ne : MAX_EXEMPLARS;
+        pick = malloc(ne * sizeof *pick);
+        if (!pick)
+            goto nomem;
+        relief_rng_subset(pick, ne, want, seed32);
+        for (size_t e = 0; e < want; ++e) {
+            const uint32_t q = elist[pick[e]];
+            const size_t nc = relief_pbucket_query(&bk, pos + 3 * (size_t)q,
+                                                   relief_pgrid_reach(o.gn, h), &cand, &ncand_cap);
+            size_t empty, foreign;
+            int r;
+            if (nc == SIZE_MAX)
+                goto nomem;
+            r = relief_pgrid_weigh(pos, nrm, cand, nc, pos + 3 * (size_t)q,
+                                   cl.frame + 9 * (size_t)cl.label[q], o.gn, h, exemplar, &gw,
+                                   &empty, &foreign);
+            if (r < 0)
+                goto nomem;
+            if (r == 0 || empty || foreign)
+                continue;
+            if (zlen + (size_t)o.dims > zcap) {
+                const size_t ncap = zcap ? 2 * zcap : 64 * (size_t)o.dims;
+                float *a = realloc(zv, ncap * sizeof *a);
+                if (!a)
+                    goto nomem;
+                zv = a, zcap = ncap;
+            }
+            for (int node = 0; node < o.nodes; ++node)
+                for (int k = 0; k < channels; ++k) {
+                    double s = 0;
+                    for (size_t t = gw.start[node]; t < gw.start[node + 1]; ++t)
+                        s += (double)gw.w[t] * value[(size_t)gw.point[t] * channels + k];
+                    zv[zlen++] = (float)s;
+                }
+        }
+        o.nz = zlen / (size_t)o.dims;
+        if (!o.nz) {
+            st = relief_fail(err, RELIEF_E_RANGE, "texture optimisation: no exemplar grid can be "
+                             "built: none of %zu exemplar points has its %d x %d grid (step %g) "
+                             "backed by exemplar points alone; mark a larger exemplar region or "
+                             "lower grid_n", want, o.gn, o.gn, h);
+            goto done;
+        }
+    }
+    if (o.A == 0) { /* cannot happen: every unknown point is its own cluster's member */
+        st = relief_fail(err, RELIEF_E_INTERNAL, "texture optimisation: no active cluster");
+        goto done;
+    }
+
+    /* Per unknown point, the members standing for it (E-step). */
+    pstart = calloc(n + 1, sizeof *pstart);
+    o.match = malloc(o.A * sizeof *o.match);
+    pent = malloc((mlen ? mlen : 1) * sizeof *pent);
+    if (!pstart || !o.match || !pent)
+        goto nomem;
+    for (size_t m = 0; m < mlen; ++m)
+        if (unknown[o.mpt[m]])
+            ++pstart[o.mpt[m] + 1];
+    for (size_t i = 0; i < n; ++i)
+        pstart[i + 1] += pstart[i];
+    {
+        size_t *fill = malloc(n * sizeof *fill);
+        if (!fill)
+            goto nomem;
+        memcpy(fill, pstart, n * sizeof *fill);
+        for (size_t m = 0; m < mlen; ++m)
+            if (unknown[o.mpt[m]])
+                pent[fill[o.mpt[m]]++] = (uint32_t)m;
+        free(fill);
+    }
+    {
+        struct FLANNParameters fp = relief_knn_exact_params();
+        float speedup;
+        o.zvec = zv;
+        o.index = flann_build_index_float(zv, (int)o.nz, o.dims, &speedup, &fp);
+        if (!o.index)
+            goto nomem;
+    }
+    for (size_t j = 0; j < o.A; ++j)
+        o.match[j] = UINT32_MAX;
+
+    for (it = 0; it < p.max_iter;) {
+        double e = 0;
+        if (run_mstep(&o, threads) != 0) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: FLANN's search failed "
+                             "(out of memory) at iteration %d", it + 1);
+            goto done;
+        }
+        for (size_t i = 0; i < n; ++i) {
+            float acc[4] = {0, 0, 0, 0}, v[4];
+            if (pstart[i] == pstart[i + 1])
+                continue;
+            for (size_t t = pstart[i]; t < pstart[i + 1]; ++t) {
+                const size_t m = pent[t];
+                size_t lo = 0, hi = o.A; /* the active cluster holding member m */
+                while (hi - lo > 1) {
+                    const size_t mid = (lo + hi) / 2;
+                    if (o.mstart[mid] <= m)
+                        lo = mid;
+                    else
+                        hi = mid;
+                }
+                bilerp(o.zvec + (size_t)o.match[lo] * o.dims, o.gn, channels, o.mfa[m], o.mfb[m],
+                       v);
+                for (int k = 0; k < channels; ++k)
+                    acc[k] += v[k];
+            }
+            for (int k = 0; k < channels; ++k)
+                o.x[i * channels + k] = acc[k] / (float)(pstart[i + 1] - pstart[i]);
+        }
+        for (size_t j = 0; j < o.A; ++j)
+            e += cluster_energy(&o, j, o.zvec + (size_t)o.match[j] * o.dims);
+        energy[it++] = e;
+        if (it > 1 && fabs(energy[it - 2] - e) <= p.tol * energy[it - 2]) {
+            converged = 1;
+            break;
+        }
+        if (e == 0) {
+            converged = 1;
+            break;
+        }
+    }
+
+    for (size_t i = 0; i < n; ++i)
+        if (unknown[i])
+            memcpy(value + i * channels, o.x + i * channels, (size_t)channels * sizeof *value);
+    if (res) {
+        res->clusters = cl.m;
+        res->active_clusters = o.A;
+        res->exemplars = o.nz;
+        res->iterations = it;
+        res->energy = energy;
+        res->converged = converged;
+        energy = NULL;
+    }
+    st = RELIEF_OK;
+    goto done;
+nomem:
+    st = relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (%zu points, "
+                     "%d channels)", n, channels);
+done:
+    if (o.index) {
+        struct FLANNParameters fp = relief_knn_exact_params();
+        flann_free_index_float(o.index, &fp);
+    }
+    relief_pclusters_free(&cl);
+    relief_pbucket_free(&bk);
+    relief_pgrid_weights_free(&gw);
+    free(nrm), free(energy), free(cand), free(elist), free(pick), free(pstart), free(pent);
+    free(acl), free(zv);
+    free(o.mstart), free(o.mpt), free(o.mfa), free(o.mfb), free(o.wstart), free(o.wpt);
+    free(o.ww), free(o.x), free(o.match);
+    return st;
+}

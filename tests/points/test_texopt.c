@@ -1,0 +1,228 @@
+/* points/texopt.c and points/cluster.c: a jittered plane carrying stripes
+ * (1 channel) and colour stripes (3 channels) with a disc cut out is
+ * completed; the stripes keep their orientation and period (the best
+ * shifted truth fits far better than a blur to the mean would, and far
+ * better than the pattern turned by 90 degrees), the energy never rises,
+ * the result is the same bytes for a seed and for 1 or 2 threads, the known
+ * values stay as they were, and bad inputs fail with RELIEF_E_RANGE
+ * leaving the values alone. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/rng.h"
+#include "check.h"
+#include "points/texopt.h"
+
+#define SIDE 120
+#define N (SIDE * SIDE)
+#define HOLE_R 15.0
+#define PERIOD 8.0
+
+static const double TAU = 6.283185307179586;
+
+typedef struct plane {
+    double pos[3 * N], nrm[3 * N];
+    uint8_t unknown[N], exemplar[N], rim[N];
+} plane;
+
+/* The stripe pattern's value at coordinate w (channels ch) shifted by phi. */
+static void stripe(double w, int ch, float *out)
+{
+    const double a = TAU * w / PERIOD;
+    if (ch == 1) {
+        out[0] = (float)sin(a);
+        return;
+    }
+    out[0] = (float)(0.5 + 0.5 * sin(a));
+    out[1] = (float)(0.5 + 0.5 * cos(a));
+    out[2] = sin(a + 1.0) > 0 ? 0.9f : 0.1f; /* a square wave: hard edges */
+}
+
+static void make_plane(plane *pl)
+{
+    relief_rng rng;
+    relief_rng_seed(&rng, 7);
+    for (int j = 0; j < SIDE; ++j)
+        for (int i = 0; i < SIDE; ++i) {
+            const size_t k = (size_t)j * SIDE + i;
+            const double x = i + 0.5 * (relief_rng_uniform(&rng) - 0.5);
+            const double y = j + 0.5 * (relief_rng_uniform(&rng) - 0.5);
+            const double r = hypot(x - SIDE / 2.0, y - SIDE / 2.0);
+            pl->pos[3 * k] = x, pl->pos[3 * k + 1] = y, pl->pos[3 * k + 2] = 0;
+            pl->nrm[3 * k] = 0, pl->nrm[3 * k + 1] = 0, pl->nrm[3 * k + 2] = 1;
+            pl->unknown[k] = r < HOLE_R;
+            pl->exemplar[k] = r > 2.2 * HOLE_R;
+            pl->rim[k] = r >= HOLE_R && r < HOLE_R + 2;
+        }
+}
+
+static void truth(const plane *pl, int ch, float *v)
+{
+    for (size_t k = 0; k < N; ++k)
+        stripe(pl->pos[3 * k], ch, v + k * ch);
+}
+
+/* The RMS over the unknown points of the completed values against the
+ * pattern along axis `axis` (0: x, the truth; 1: y, turned by 90 degrees)
+ * at its best shift. */
+static double best_rms(const plane *pl, const float *v, int ch, int axis)
+{
+    double best = INFINITY;
+    for (double phi = 0; phi < PERIOD; phi += 0.05) {
+        double s = 0;
+        size_t m = 0;
+        for (size_t k = 0; k < N; ++k) {
+            float t[3];
+            if (!pl->unknown[k])
+                continue;
+            stripe(pl->pos[3 * k + axis] + phi, ch, t);
+            for (int c = 0; c < ch; ++c)
+                s += (v[k * ch + c] - t[c]) * (v[k * ch + c] - t[c]);
+            m += (size_t)ch;
+        }
+        if (sqrt(s / (double)m) < best)
+            best = sqrt(s / (double)m);
+    }
+    return best;
+}
+
+/* RMS of the truth about its mean, over the unknown points: what a blur to
+ * the mean would score. */
+static double spread(const plane *pl, const float *t, int ch)
+{
+    double s = 0, mean[3] = {0, 0, 0};
+    size_t m = 0;
+    for (size_t k = 0; k < N; ++k)
+        if (pl->unknown[k]) {
+            for (int c = 0; c < ch; ++c)
+                mean[c] += t[k * ch + c];
+            ++m;
+        }
+    for (int c = 0; c < ch; ++c)
+        mean[c] /= (double)m;
+    for (size_t k = 0; k < N; ++k)
+        if (pl->unknown[k])
+            for (int c = 0; c < ch; ++c)
+                s += (t[k * ch + c] - mean[c]) * (t[k * ch + c] - mean[c]);
+    return sqrt(s / (double)(m * ch));
+}
+
+static float *run(const plane *pl, int ch, const relief_texopt_params *p, relief_texopt_result *r)
+{
+    relief_error err;
+    float *v = malloc((size_t)N * ch * sizeof *v);
+    relief_status st;
+    truth(pl, ch, v);
+    for (size_t k = 0; k < N; ++k)
+        if (pl->unknown[k])
+            for (int c = 0; c < ch; ++c)
+                v[k * ch + c] = -7; /* must be overwritten */
+    st = relief_texopt_complete(pl->pos, pl->nrm, N, ch, v, pl->unknown, pl->exemplar, pl->rim,
+                                p, r, &err);
+    CHECK(st == RELIEF_OK, "completion failed: %s", err.message);
+    return v;
+}
+
+static void check_completion(const plane *pl, int ch)
+{
+    relief_texopt_params p = relief_texopt_params_default();
+    relief_texopt_result r = {0};
+    float *t = malloc((size_t)N * ch * sizeof *t), *v;
+    double fit, turned, blur;
+    int known_same = 1;
+    p.threads = 2;
+    v = run(pl, ch, &p, &r);
+    truth(pl, ch, t);
+    fit = best_rms(pl, v, ch, 0), turned = best_rms(pl, v, ch, 1), blur = spread(pl, t, ch);
+    printf("%d channel(s): %zu clusters (%zu active), %zu exemplar grids, %d iterations "
+           "(converged %d), energy %.4g -> %.4g; RMS at the best shift %.3f, turned %.3f, "
+           "blur %.3f\n", ch, r.clusters, r.active_clusters, r.exemplars, r.iterations,
+           r.converged, r.energy[0], r.energy[r.iterations - 1], fit, turned, blur);
+    CHECK(fit < 0.4 * blur, "%d channels: RMS %.3f at the best shift, not well below the "
+          "truth's spread %.3f", ch, fit, blur);
+    CHECK(turned > 2 * fit, "%d channels: the turned pattern fits as well (%.3f vs %.3f)", ch,
+          turned, fit);
+    CHECK(r.iterations >= 2 && r.iterations <= p.max_iter, "%d iterations", r.iterations);
+    for (int i = 1; i < r.iterations; ++i)
+        CHECK(r.energy[i] <= r.energy[i - 1] * (1 + 1e-6) + 1e-9,
+              "%d channels: energy rose at iteration %d: %.9g -> %.9g", ch, i + 1,
+              r.energy[i - 1], r.energy[i]);
+    for (size_t k = 0; k < N; ++k)
+        if (!pl->unknown[k] && memcmp(v + k * ch, t + k * ch, (size_t)ch * sizeof *v))
+            known_same = 0;
+    CHECK(known_same, "%d channels: a known value changed", ch);
+    for (size_t k = 0; k < N; ++k)
+        if (pl->unknown[k] && !(v[k * ch] > -2)) {
+            CHECK(0, "%d channels: unknown point %zu left unfilled", ch, k);
+            break;
+        }
+    if (ch == 1) {
+        /* Determinism: the same seed again, and one thread. */
+        relief_texopt_result r2 = {0}, r3 = {0};
+        float *v2 = run(pl, ch, &p, &r2), *v3;
+        p.threads = 1;
+        v3 = run(pl, ch, &p, &r3);
+        CHECK(!memcmp(v, v2, (size_t)N * ch * sizeof *v), "same seed, different values");
+        CHECK(!memcmp(v, v3, (size_t)N * ch * sizeof *v), "1 and 2 threads differ");
+        CHECK(r.iterations == r3.iterations && !memcmp(r.energy, r3.energy,
+                                                        (size_t)r.iterations * sizeof *r.energy),
+              "1 and 2 threads differ in energy");
+        relief_texopt_result_free(&r2), relief_texopt_result_free(&r3);
+        free(v2), free(v3);
+    }
+    relief_texopt_result_free(&r);
+    free(v), free(t);
+}
+
+static void check_bad(plane *pl)
+{
+    relief_texopt_params p = relief_texopt_params_default(), q;
+    relief_texopt_result r = {0};
+    relief_error err;
+    float *v = malloc(N * sizeof *v), *keep = malloc(N * sizeof *keep);
+    uint8_t *none = calloc(N, 1), *few = calloc(N, 1);
+    struct {
+        const char *what;
+        int ch, gn;
+        const uint8_t *unknown, *exemplar;
+    } cases[] = {
+        {"channels 0", 0, 9, pl->unknown, pl->exemplar},
+        {"channels 5", 5, 9, pl->unknown, pl->exemplar},
+        {"grid_n 8", 1, 8, pl->unknown, pl->exemplar},
+        {"grid_n 1", 1, 1, pl->unknown, pl->exemplar},
+        {"nothing unknown", 1, 9, none, pl->exemplar},
+        {"no exemplar", 1, 9, pl->unknown, none},
+        {"no exemplar grid", 1, 9, pl->unknown, few},
+    };
+    truth(pl, 1, v);
+    for (size_t k = 0; k < N; k += 97)
+        few[k] = !pl->unknown[k]; /* scattered: no grid is backed by them alone */
+    memcpy(keep, v, N * sizeof *v);
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        relief_status st;
+        q = p;
+        q.grid_n = cases[c].gn;
+        st = relief_texopt_complete(pl->pos, pl->nrm, N, cases[c].ch, v, cases[c].unknown,
+                                    cases[c].exemplar, NULL, &q, &r, &err);
+        CHECK(st == RELIEF_E_RANGE, "%s: status %d", cases[c].what, (int)st);
+        CHECK(!memcmp(v, keep, N * sizeof *v), "%s: values changed", cases[c].what);
+        printf("%s: %s\n", cases[c].what, err.message);
+    }
+    q = p, q.overlap = 3;
+    CHECK(relief_texopt_complete(pl->pos, pl->nrm, N, 1, v, pl->unknown, pl->exemplar, NULL, &q,
+                                 &r, &err) == RELIEF_E_RANGE, "overlap 3 accepted");
+    free(v), free(keep), free(none), free(few);
+}
+
+int main(void)
+{
+    plane *pl = malloc(sizeof *pl);
+    make_plane(pl);
+    check_completion(pl, 1);
+    check_completion(pl, 3);
+    check_bad(pl);
+    free(pl);
+    return check_result();
+}
