@@ -17,7 +17,12 @@
  * onto the points (bilinear from the grid, averaged where clusters
  * overlap), until E changes by less than tol relatively or max_iter. Only
  * the unknown points' values change; the known ones are the constraint.
- * Deterministic for a given seed. */
+ * As computed (texopt.c), ||G_i - Z_i||^2 is taken at the cluster's points
+ * (Z_i read bilinearly at each member) and the rim points, being known,
+ * enter with weight 1 + lambda, so that neither step can raise E. Unknown
+ * values start as a seeded random draw of exemplar values; at most 20 000
+ * exemplar grids are searched (a seeded subset beyond).
+ * Deterministic for a given seed, whatever the number of threads. */
 #ifndef RELIEF_HOST_POINTS_TEXOPT_H
 #define RELIEF_HOST_POINTS_TEXOPT_H
 
@@ -60,7 +65,7 @@ void relief_texopt_result_free(relief_texopt_result *r);
  * constraint of the rim term (the paper's phi). channels 1..4.
  * RELIEF_E_RANGE when a parameter is out of range, nothing is unknown or
  * no exemplar grid can be built (naming which); RELIEF_E_NOMEM. On failure
- * value is unchanged. */
+ * value and res are unchanged. p NULL: the defaults; res may be NULL. */
 relief_status relief_texopt_complete(const double *pos, const double *nrm, size_t n,
                                      int channels, float *value, const uint8_t *unknown,
                                      const uint8_t *exemplar, const uint8_t *rim,
