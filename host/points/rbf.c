@@ -1,0 +1,1003 @@
+#include "points/rbf.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+
+#define MAX_LEVELS 16
+#define DEFAULT_MAX_LEVELS 12
+/* Cell coordinates are packed 21 bits each into one key; the grids refuse
+ * point sets wider than CELL_SPAN cells so that clamping a far query into
+ * the key's range never lands it next to a real cell. */
+#define CELL_BITS 21
+#define CELL_OFFSET (INT64_C(1) << (CELL_BITS - 1))
+#define CELL_SPAN 262144.0 /* 2^18 */
+#define CELL_EMPTY UINT64_MAX
+#define NO_ITEM UINT32_MAX
+/* Per centre of a level: position (3), g's quadratic form M (6: xx xy xz
+ * yy yz zz), its linear part (3), its constant plus lambda (1). */
+#define CW 13
+#define CG_MAX_ITER 1000
+#define CG_REL_TOL 1e-10 /* on the squared residual: |r| <= 1e-5 |b| */
+
+/* ---- a hash of grid cells, each a chain of items ----------------------
+ * One structure serves the levels' centres (built once, read by every
+ * evaluation) and the hole fill's points (grown as points are added). */
+typedef struct cell_hash {
+    double origin[3], inv_h;
+    uint64_t *key;  /* n_slots cell keys, CELL_EMPTY where free */
+    uint32_t *head; /* n_slots: the last item inserted into the slot's cell */
+    uint32_t *next; /* per item: the item inserted before it into its cell */
+    size_t n_slots, n_cells, n_items, cap_items;
+    int shift; /* 64 - log2(n_slots) */
+} cell_hash;
+
+static int64_t cell_coord(double v, double origin, double inv_h)
+{
+    double c = floor((v - origin) * inv_h);
+    c = fmax(c, (double)-CELL_OFFSET);
+    c = fmin(c, (double)(CELL_OFFSET - 1));
+    return (int64_t)c;
+}
+
+static uint64_t cell_key(int64_t i, int64_t j, int64_t k)
+{
+    return (uint64_t)(i + CELL_OFFSET) << (2 * CELL_BITS) |
+           (uint64_t)(j + CELL_OFFSET) << CELL_BITS | (uint64_t)(k + CELL_OFFSET);
+}
+
+static size_t hash_slot(const cell_hash *h, uint64_t key)
+{
+    return (size_t)((key * UINT64_C(0x9E3779B97F4A7C15)) >> h->shift);
+}
+
+static int hash_alloc_slots(cell_hash *h, size_t n_slots)
+{
+    h->key = malloc(n_slots * sizeof *h->key);
+    h->head = malloc(n_slots * sizeof *h->head);
+    if (!h->key || !h->head)
+        return 0;
+    for (size_t s = 0; s < n_slots; ++s)
+        h->key[s] = CELL_EMPTY, h->head[s] = NO_ITEM;
+    h->n_slots = n_slots;
+    h->shift = 64;
+    while (n_slots > 1)
+        n_slots >>= 1, --h->shift;
+    return 1;
+}
+
+static void hash_free(cell_hash *h)
+{
+    free(h->key);
+    free(h->head);
+    free(h->next);
+    memset(h, 0, sizeof *h);
+}
+
+/* Cells of side `cell` from `origin`, room for about `items` items. */
+static int hash_init(cell_hash *h, const double origin[3], double cell, size_t items)
+{
+    size_t n_slots = 16;
+    memset(h, 0, sizeof *h);
+    memcpy(h->origin, origin, sizeof h->origin);
+    h->inv_h = 1.0 / cell;
+    while (n_slots < 2 * items)
+        n_slots *= 2;
+    h->cap_items = items > 16 ? items : 16;
+    h->next = malloc(h->cap_items * sizeof *h->next);
+    if (!h->next || !hash_alloc_slots(h, n_slots)) {
+        hash_free(h);
+        return 0;
+    }
+    return 1;
+}
+
+/* The slot of key's cell, or the free slot where it would go. */
+static size_t hash_find(const cell_hash *h, uint64_t key)
+{
+    size_t s = hash_slot(h, key), mask = h->n_slots - 1;
+    while (h->key[s] != key && h->key[s] != CELL_EMPTY)
+        s = (s + 1) & mask;
+    return s;
+}
+
+/* The first item of cell (i, j, k), NO_ITEM when empty. */
+static uint32_t hash_head(const cell_hash *h, int64_t i, int64_t j, int64_t k)
+{
+    size_t s = hash_find(h, cell_key(i, j, k));
+    return h->head[s];
+}
+
+/* Item number h->n_items at x; 0 when out of memory. */
+static int hash_insert(cell_hash *h, const double x[3])
+{
+    uint64_t key = cell_key(cell_coord(x[0], h->origin[0], h->inv_h),
+                            cell_coord(x[1], h->origin[1], h->inv_h),
+                            cell_coord(x[2], h->origin[2], h->inv_h));
+    size_t s;
+    if (h->n_items >= NO_ITEM)
+        return 0;
+    if (h->n_items == h->cap_items) {
+        size_t cap = 2 * h->cap_items;
+        uint32_t *next = realloc(h->next, cap * sizeof *next);
+        if (!next)
+            return 0;
+        h->next = next, h->cap_items = cap;
+    }
+    if (2 * (h->n_cells + 1) > h->n_slots) {
+        /* Rehash the cells; their chains stay as they are. */
+        uint64_t *old_key = h->key;
+        uint32_t *old_head = h->head;
+        size_t old_n = h->n_slots;
+        if (!hash_alloc_slots(h, 2 * old_n)) {
+            free(h->key), free(h->head);
+            h->key = old_key, h->head = old_head, h->n_slots = old_n;
+            h->shift = 64;
+            for (size_t n = old_n; n > 1; n >>= 1)
+                --h->shift;
+            return 0;
+        }
+        for (size_t o = 0; o < old_n; ++o)
+            if (old_key[o] != CELL_EMPTY) {
+                size_t t = hash_find(h, old_key[o]);
+                h->key[t] = old_key[o], h->head[t] = old_head[o];
+            }
+        free(old_key), free(old_head);
+    }
+    s = hash_find(h, key);
+    if (h->key[s] == CELL_EMPTY)
+        h->key[s] = key, ++h->n_cells;
+    h->next[h->n_items] = h->head[s];
+    h->head[s] = (uint32_t)h->n_items++;
+    return 1;
+}
+
+/* Items whose position (pos, 3 per item) lies within r of x, appended to
+ * *out (grown as needed); the count, or (size_t)-1 when out of memory. */
+static size_t hash_within(const cell_hash *h, const double *pos, const double x[3], double r,
+                          uint32_t **out, size_t *cap)
+{
+    int64_t lo[3], hi[3];
+    size_t n = 0;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = cell_coord(x[a] - r, h->origin[a], h->inv_h);
+        hi[a] = cell_coord(x[a] + r, h->origin[a], h->inv_h);
+    }
+    for (int64_t i = lo[0]; i <= hi[0]; ++i)
+        for (int64_t j = lo[1]; j <= hi[1]; ++j)
+            for (int64_t k = lo[2]; k <= hi[2]; ++k)
+                for (uint32_t it = hash_head(h, i, j, k); it != NO_ITEM; it = h->next[it]) {
+                    double d[3];
+                    sub3(pos + 3 * (size_t)it, x, d);
+                    if (dot3(d, d) > r * r)
+                        continue;
+                    if (n == *cap) {
+                        size_t c = *cap ? 2 * *cap : 64;
+                        uint32_t *o = realloc(*out, c * sizeof *o);
+                        if (!o)
+                            return (size_t)-1;
+                        *out = o, *cap = c;
+                    }
+                    (*out)[n++] = it;
+                }
+    return n;
+}
+
+/* ---- the model ------------------------------------------------------- */
+
+typedef struct rbf_level {
+    double rho, inv_rho;
+    double lo[3], hi[3]; /* the centres' box grown by rho: f's support */
+    size_t n;
+    double *c;      /* n x CW: centre, g and lambda (CW above) */
+    cell_hash grid; /* cells of side rho over the centres */
+} rbf_level;
+
+struct relief_rbf {
+    int n_levels;
+    rbf_level level[MAX_LEVELS];
+};
+
+relief_rbf_params relief_rbf_params_default(void)
+{
+    relief_rbf_params p = {0, 0.0, 0.0};
+    return p;
+}
+
+void relief_rbf_free(relief_rbf *f)
+{
+    if (!f)
+        return;
+    for (int l = 0; l < f->n_levels; ++l) {
+        free(f->level[l].c);
+        hash_free(&f->level[l].grid);
+    }
+    free(f);
+}
+
+/* g_c(c + d) + lambda_c of the centre c (CW doubles) and, when grad is not
+ * NULL, its gradient. */
+static double quadric(const double *c, const double d[3], double grad[3])
+{
+    const double *M = c + 3, *b = c + 9;
+    double m[3];
+    m[0] = M[0] * d[0] + M[1] * d[1] + M[2] * d[2];
+    m[1] = M[1] * d[0] + M[3] * d[1] + M[4] * d[2];
+    m[2] = M[2] * d[0] + M[4] * d[1] + M[5] * d[2];
+    if (grad)
+        for (int a = 0; a < 3; ++a)
+            grad[a] = 2.0 * m[a] + b[a];
+    return dot3(d, m) + dot3(b, d) + c[12];
+}
+
+/* Wendland's phi(r) = (1 - r)^4 (4 r + 1) and, since
+ * phi'(r) = -20 r (1 - r)^3, grad phi(|d| / rho) = -20 (1 - r)^3 d / rho^2. */
+static void level_add(const rbf_level *lv, const double x[3], double *f, double grad[3])
+{
+    double rho2 = lv->rho * lv->rho, g2 = -20.0 * lv->inv_rho * lv->inv_rho;
+    const cell_hash *h = &lv->grid;
+    int64_t ci[3];
+    for (int a = 0; a < 3; ++a)
+        if (x[a] < lv->lo[a] || x[a] > lv->hi[a])
+            return;
+    for (int a = 0; a < 3; ++a)
+        ci[a] = cell_coord(x[a], h->origin[a], h->inv_h);
+    for (int64_t i = ci[0] - 1; i <= ci[0] + 1; ++i)
+        for (int64_t j = ci[1] - 1; j <= ci[1] + 1; ++j)
+            for (int64_t k = ci[2] - 1; k <= ci[2] + 1; ++k)
+                for (uint32_t it = hash_head(h, i, j, k); it != NO_ITEM; it = h->next[it]) {
+                    const double *c = lv->c + CW * (size_t)it;
+                    double d[3], r2, r, t, t3, phi, g, gg[3];
+                    sub3(x, c, d);
+                    r2 = dot3(d, d);
+                    if (r2 >= rho2)
+                        continue;
+                    r = sqrt(r2) * lv->inv_rho;
+                    t = 1.0 - r;
+                    t3 = t * t * t;
+                    phi = t3 * t * (4.0 * r + 1.0);
+                    g = quadric(c, d, grad ? gg : NULL);
+                    *f += g * phi;
+                    if (grad) {
+                        double s = g * g2 * t3;
+                        for (int a = 0; a < 3; ++a)
+                            grad[a] += gg[a] * phi + s * d[a];
+                    }
+                }
+}
+
+/* f of the first n_levels levels. */
+static double eval_levels(const relief_rbf *f, int n_levels, const double x[3], double grad[3])
+{
+    double v = 0.0;
+    if (grad)
+        grad[0] = grad[1] = grad[2] = 0.0;
+    for (int l = 0; l < n_levels; ++l)
+        level_add(&f->level[l], x, &v, grad);
+    return v;
+}
+
+double relief_rbf_eval(const relief_rbf *f, const double x[3], double grad[3])
+{
+    if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2])) {
+        if (grad)
+            grad[0] = grad[1] = grad[2] = NAN;
+        return NAN;
+    }
+    return eval_levels(f, f->n_levels, x, grad);
+}
+
+int relief_rbf_project(const relief_rbf *f, double x[3], int max_iter, double tol)
+{
+    for (int it = 0;; ++it) {
+        double g[3], v = relief_rbf_eval(f, x, g), g2 = dot3(g, g);
+        if (fabs(v) <= tol)
+            return 1;
+        if (it >= max_iter || !(g2 > 0.0) || !isfinite(v) || !isfinite(g2))
+            return 0;
+        for (int a = 0; a < 3; ++a)
+            x[a] -= v * g[a] / g2;
+    }
+}
+
+/* ---- the fit --------------------------------------------------------- */
+
+typedef struct keyed {
+    uint64_t key;
+    uint32_t index;
+} keyed;
+
+static int cmp_keyed(const void *a, const void *b)
+{
+    const keyed *x = a, *y = b;
+    if (x->key != y->key)
+        return x->key < y->key ? -1 : 1;
+    return (x->index > y->index) - (x->index < y->index);
+}
+
+/* One centre per occupied cell of side `cell`: the point nearest the
+ * cell's centroid (the lower index on a tie), with the cell's mean normal
+ * (the point's own where the cell's normals cancel: a thin sheet). Writes
+ * position and normal into c (n x 6, allocated); returns the count, 0 when
+ * out of memory. */
+static size_t cluster(const double *pos, const double *nrm, size_t n, const double lo[3],
+                      double cell, double **c_out)
+{
+    keyed *k = malloc(n * sizeof *k);
+    double *c = malloc(n * 6 * sizeof *c);
+    double inv = 1.0 / cell;
+    size_t m = 0;
+    *c_out = NULL;
+    if (!k || !c) {
+        free(k), free(c);
+        return 0;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const double *p = pos + 3 * i;
+        k[i].key = cell_key(cell_coord(p[0], lo[0], inv), cell_coord(p[1], lo[1], inv),
+                            cell_coord(p[2], lo[2], inv));
+        k[i].index = (uint32_t)i;
+    }
+    qsort(k, n, sizeof *k, cmp_keyed);
+    for (size_t s = 0, e; s < n; s = e) {
+        double m3[3] = {0, 0, 0}, nm[3] = {0, 0, 0}, best = INFINITY;
+        size_t rep = k[s].index;
+        for (e = s; e < n && k[e].key == k[s].key; ++e)
+            for (int a = 0; a < 3; ++a) {
+                m3[a] += pos[3 * (size_t)k[e].index + a];
+                nm[a] += nrm[3 * (size_t)k[e].index + a];
+            }
+        for (int a = 0; a < 3; ++a)
+            m3[a] /= (double)(e - s);
+        for (size_t t = s; t < e; ++t) {
+            double d[3], d2;
+            sub3(pos + 3 * (size_t)k[t].index, m3, d);
+            d2 = dot3(d, d);
+            if (d2 < best)
+                best = d2, rep = k[t].index;
+        }
+        memcpy(c + 6 * m, pos + 3 * rep, 3 * sizeof *c);
+        if (relief_normalize3(nm) < 0.25 * (double)(e - s))
+            memcpy(nm, nrm + 3 * rep, sizeof nm);
+        memcpy(c + 6 * m + 3, nm, sizeof nm);
+        ++m;
+    }
+    free(k);
+    *c_out = c;
+    return m;
+}
+
+/* Conjugate gradients on the symmetric positive definite A (CSR: row
+ * start, column, value) from x = 0. Stops at |r| <= 1e-5 |b| or after
+ * CG_MAX_ITER steps, keeping the last iterate (the best so far in A's
+ * norm): clustered centres can make the system ill-conditioned, and a
+ * nearly interpolating f is still the right answer then. Returns 0 when out
+ * of memory. */
+static int solve_cg(size_t n, const size_t *start, const uint32_t *col, const double *val,
+                    const double *b, double *x)
+{
+    double *r = malloc(n * sizeof *r), *p = malloc(n * sizeof *p), *q = malloc(n * sizeof *q);
+    double rr = 0.0, bb;
+    if (!r || !p || !q) {
+        free(r), free(p), free(q);
+        return 0;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        x[i] = 0.0, r[i] = p[i] = b[i];
+        rr += b[i] * b[i];
+    }
+    bb = rr;
+    for (int it = 0; it < CG_MAX_ITER && rr > CG_REL_TOL * bb && rr > 0.0; ++it) {
+        double pq = 0.0, alpha, rr_new = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            double s = 0.0;
+            for (size_t e = start[i]; e < start[i + 1]; ++e)
+                s += val[e] * p[col[e]];
+            q[i] = s;
+            pq += p[i] * s;
+        }
+        if (!(pq > 0.0))
+            break;
+        alpha = rr / pq;
+        for (size_t i = 0; i < n; ++i) {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+            rr_new += r[i] * r[i];
+        }
+        for (size_t i = 0; i < n; ++i)
+            p[i] = r[i] + rr_new / rr * p[i];
+        rr = rr_new;
+    }
+    free(r), free(p), free(q);
+    return 1;
+}
+
+/* The data a level fits to: all points, unit normals, a hash of them. */
+typedef struct fit_data {
+    double *pos, *nrm; /* n x 3 each */
+    size_t n;
+    double spacing;
+    int n_levels;
+    cell_hash grid; /* cells of the fit's radius over pos */
+    uint32_t *near;
+    size_t near_cap;
+} fit_data;
+
+static void fit_data_clear(fit_data *fd)
+{
+    free(fd->pos), free(fd->nrm);
+    fd->pos = fd->nrm = NULL;
+    hash_free(&fd->grid);
+}
+
+/* fd's points for fits of radius R: the points clustered to R / 6, at
+ * least half a spacing. */
+static relief_status fit_data_make(fit_data *fd, const double *pos, const double *nrm, size_t n,
+                                   const double lo[3], double R)
+{
+    double *c;
+    size_t m = cluster(pos, nrm, n, lo, fmax(R / 6.0, 0.5 * fd->spacing), &c);
+    fit_data_clear(fd);
+    if (!m)
+        return RELIEF_E_NOMEM;
+    fd->n = m;
+    fd->pos = malloc(m * 3 * sizeof *fd->pos);
+    fd->nrm = malloc(m * 3 * sizeof *fd->nrm);
+    if (!fd->pos || !fd->nrm || !hash_init(&fd->grid, lo, R, m)) {
+        free(c);
+        return RELIEF_E_NOMEM;
+    }
+    for (size_t i = 0; i < m; ++i) {
+        memcpy(fd->pos + 3 * i, c + 6 * i, 3 * sizeof *c);
+        memcpy(fd->nrm + 3 * i, c + 6 * i + 3, 3 * sizeof *c);
+        if (!hash_insert(&fd->grid, fd->pos + 3 * i)) {
+            free(c);
+            return RELIEF_E_NOMEM;
+        }
+    }
+    free(c);
+    return RELIEF_OK;
+}
+
+/* The local quadratic of centre c (c[0..2], normal c[3..5]) at radius R:
+ * in the frame (u, v, n) at c, the height w = h(u, v) = F + D u + E v +
+ * A u^2 + B u v + C v^2 fitted by least squares to the points within R
+ * whose normals are within 60 degrees of c's, weighted by phi(r / R), and
+ *   q(x) = w - h(u, v) = (x - c)^T M (x - c) + b . (x - c) + q0,
+ * written to q[0..5] (M: xx xy xz yy yz zz), q[6..8] (b) and q[9] (q0).
+ * The tangent plane (q = n . (x - c)) when fewer than 6 points qualify or
+ * the fit is singular. 0 when out of memory. */
+static int local_quadric(fit_data *fd, const double *c, double R, double q[10])
+{
+    double eu[3], ev[3], ata[36] = {0}, atb[6] = {0}, co[6] = {0}, e[3][3];
+    size_t nn = hash_within(&fd->grid, fd->pos, c, R, &fd->near, &fd->near_cap), used = 0;
+    const double *n = c + 3;
+    if (nn == (size_t)-1)
+        return 0;
+    relief_perp_basis(n, eu, ev);
+    for (size_t k = 0; k < nn; ++k) {
+        const double *p = fd->pos + 3 * (size_t)fd->near[k];
+        double d[3], r, w, t, basis[6];
+        if (dot3(fd->nrm + 3 * (size_t)fd->near[k], n) < 0.5)
+            continue;
+        sub3(p, c, d);
+        r = sqrt(dot3(d, d)) / R;
+        t = 1.0 - r;
+        w = t * t * t * t * (4.0 * r + 1.0);
+        /* Scaled by R, so that the normal equations are well balanced. */
+        basis[0] = 1.0;
+        basis[1] = dot3(d, eu) / R;
+        basis[2] = dot3(d, ev) / R;
+        basis[3] = basis[1] * basis[1];
+        basis[4] = basis[1] * basis[2];
+        basis[5] = basis[2] * basis[2];
+        for (int i = 0; i < 6; ++i) {
+            for (int j = 0; j < 6; ++j)
+                ata[6 * i + j] += w * basis[i] * basis[j];
+            atb[i] += w * basis[i] * dot3(d, n) / R;
+        }
+        ++used;
+    }
+    if (used < 6 || !relief_solve_dense(6, ata, atb, co))
+        memset(co, 0, sizeof co);
+    /* Back to lengths: h = R F + D u + E v + (A u^2 + B u v + C v^2) / R. */
+    co[0] *= R;
+    co[3] /= R, co[4] /= R, co[5] /= R;
+    /* M = -(A eu eu^T + B (eu ev^T + ev eu^T) / 2 + C ev ev^T). */
+    memcpy(e[0], eu, sizeof e[0]);
+    memcpy(e[1], ev, sizeof e[1]);
+    memcpy(e[2], n, sizeof e[2]);
+    {
+        static const int ij[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+        for (int k = 0; k < 6; ++k) {
+            int i = ij[k][0], j = ij[k][1];
+            q[k] = -(co[3] * eu[i] * eu[j] + 0.5 * co[4] * (eu[i] * ev[j] + ev[i] * eu[j]) +
+                     co[5] * ev[i] * ev[j]);
+        }
+    }
+    for (int a = 0; a < 3; ++a)
+        q[6 + a] = n[a] - co[1] * eu[a] - co[2] * ev[a];
+    q[9] = -co[0];
+    return 1;
+}
+
+/* Level l of f (levels 0..l-1 done) on the centres c (m x 6: position,
+ * normal), as Ohtake et al.:
+ *   o_l(x) = sum_c (g_c(x) + lambda_c) phi(|x - c| / rho),
+ *   g_c = q_c / (S_c L),  S_c = sum_j phi(|c - c_j| / rho),
+ * q_c c's local quadratic (above; quadratic rather than linear so that a
+ * hole on a curved surface is spanned by the curvature around it: a blend
+ * of tangent planes bulges out of a convex surface, by 0.2 over a 0.6-wide
+ * cap of the unit sphere), S_c the overlap of the level's functions at c
+ * and L the number of levels: each level's sum of g then approximates the
+ * signed distance / L, so that f's gradient is about the normal, of length
+ * about 1, near the points. lambda from f_l(c_i) = 0 at every centre:
+ *   sum_j lambda_j phi_ij = -f_{l-1}(c_i) - sum_j g_j(c_i) phi_ij. */
+static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double *c, size_t m,
+                               double R, relief_error *err)
+{
+    rbf_level *lv = &f->level[l];
+    double rho = lv->rho, lo[3] = {INFINITY, INFINITY, INFINITY};
+    size_t *start = NULL, cap = 0, nnz = 0;
+    uint32_t *col = NULL;
+    double *val = NULL, *b = NULL, *lam = NULL;
+    relief_status st = RELIEF_OK;
+
+    lv->n = m;
+    lv->c = malloc(m * CW * sizeof *lv->c);
+    start = malloc((m + 1) * sizeof *start);
+    b = malloc(m * sizeof *b);
+    lam = malloc(m * sizeof *lam);
+    if (!lv->c || !start || !b || !lam)
+        goto nomem;
+    for (int a = 0; a < 3; ++a)
+        lv->lo[a] = INFINITY, lv->hi[a] = -INFINITY;
+    for (size_t i = 0; i < m; ++i)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = fmin(lo[a], c[6 * i + a]);
+            lv->c[CW * i + a] = c[6 * i + a];
+            lv->lo[a] = fmin(lv->lo[a], c[6 * i + a] - rho);
+            lv->hi[a] = fmax(lv->hi[a], c[6 * i + a] + rho);
+        }
+    if (!hash_init(&lv->grid, lo, rho, m))
+        goto nomem;
+    for (size_t i = 0; i < m; ++i)
+        if (!hash_insert(&lv->grid, c + 6 * i))
+            goto nomem;
+
+    /* Each centre's neighbours within rho and their phi; g_c from the
+     * quadric and the row's sum; b from f so far. */
+    start[0] = 0;
+    for (size_t i = 0; i < m; ++i) {
+        size_t k = 0;
+        double s = 0.0, q[10], *ci = lv->c + CW * i;
+        int64_t cc[3];
+        for (int a = 0; a < 3; ++a)
+            cc[a] = cell_coord(ci[a], lo[a], lv->grid.inv_h);
+        for (int64_t u = cc[0] - 1; u <= cc[0] + 1; ++u)
+            for (int64_t v = cc[1] - 1; v <= cc[1] + 1; ++v)
+                for (int64_t w = cc[2] - 1; w <= cc[2] + 1; ++w)
+                    for (uint32_t it = hash_head(&lv->grid, u, v, w); it != NO_ITEM;
+                         it = lv->grid.next[it]) {
+                        double d[3], r;
+                        sub3(ci, lv->c + CW * (size_t)it, d);
+                        r = sqrt(dot3(d, d)) / rho;
+                        if (r >= 1.0)
+                            continue;
+                        if (nnz + k == cap) {
+                            size_t nc = cap ? 2 * cap : 16 * m + 64;
+                            uint32_t *c2 = realloc(col, nc * sizeof *c2);
+                            double *v2;
+                            if (!c2)
+                                goto nomem;
+                            col = c2;
+                            v2 = realloc(val, nc * sizeof *v2);
+                            if (!v2)
+                                goto nomem;
+                            val = v2, cap = nc;
+                        }
+                        col[nnz + k] = it;
+                        val[nnz + k] = pow(1.0 - r, 4) * (4.0 * r + 1.0);
+                        s += val[nnz + k];
+                        ++k;
+                    }
+        nnz += k;
+        start[i + 1] = nnz;
+        b[i] = -eval_levels(f, l, ci, NULL);
+        if (!local_quadric(fd, c + 6 * i, R, q))
+            goto nomem;
+        for (int a = 0; a < 10; ++a)
+            ci[3 + a] = q[a] / (s * fd->n_levels);
+    }
+    for (size_t i = 0; i < m; ++i)
+        for (size_t e = start[i]; e < start[i + 1]; ++e) {
+            const double *cj = lv->c + CW * (size_t)col[e];
+            double d[3];
+            sub3(lv->c + CW * i, cj, d);
+            b[i] -= quadric(cj, d, NULL) * val[e];
+        }
+    if (!solve_cg(m, start, col, val, b, lam))
+        goto nomem;
+    for (size_t i = 0; i < m; ++i) {
+        if (!isfinite(lam[i])) {
+            st = relief_fail(err, RELIEF_E_RANGE, "level %d (support %g, %zu centres): the "
+                             "interpolation system has no finite solution", l + 1, rho, m);
+            goto done;
+        }
+        lv->c[CW * i + 12] += lam[i];
+    }
+    goto done;
+nomem:
+    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate level %d (%zu centres, support %g)",
+                     l + 1, m, rho);
+done:
+    free(start), free(col), free(val), free(b), free(lam);
+    return st;
+}
+
+relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
+                             const relief_rbf_params *p, relief_rbf **out,
+                             relief_error *err)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double diag, rho0, *unit = NULL;
+    int levels;
+    relief_rbf *f = NULL;
+    fit_data fd;
+    relief_status st = RELIEF_OK;
+
+    memset(&fd, 0, sizeof fd);
+    if (out)
+        *out = NULL;
+    if (!pos || !nrm || !p || !out)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: positions, normals, parameters "
+                           "and output must not be NULL");
+    if (n < 4 || n >= NO_ITEM)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: %zu points; expected 4..%u", n,
+                           NO_ITEM - 1);
+    if (!(p->spacing > 0.0) || !isfinite(p->spacing))
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: spacing %g; expected a finite "
+                           "length > 0", p->spacing);
+    if (p->levels < 0 || p->levels > MAX_LEVELS)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: levels %d; expected 1..%d (0: "
+                           "automatic)", p->levels, MAX_LEVELS);
+    if (!(p->base_support >= 0.0) || !isfinite(p->base_support))
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: base support %g; expected a finite "
+                           "length > 0 (0: 0.75 x the bounding box's diagonal)", p->base_support);
+    unit = malloc(n * 3 * sizeof *unit);
+    if (!unit)
+        return relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot copy %zu normals", n);
+    for (size_t i = 0; i < n; ++i) {
+        for (int a = 0; a < 3; ++a) {
+            double v = pos[3 * i + a];
+            if (!isfinite(v) || !isfinite(nrm[3 * i + a])) {
+                st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: point %zu has a coordinate "
+                                 "or normal that is not finite", i);
+                goto done;
+            }
+            lo[a] = fmin(lo[a], v), hi[a] = fmax(hi[a], v);
+            unit[3 * i + a] = nrm[3 * i + a];
+        }
+        if (!(relief_normalize3(unit + 3 * i) > 0.0)) {
+            st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: point %zu has a zero normal", i);
+            goto done;
+        }
+    }
+    diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (!(diag > 0.0)) {
+        st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: all %zu points coincide", n);
+        goto done;
+    }
+    rho0 = p->base_support > 0.0 ? p->base_support : 0.75 * diag;
+    levels = p->levels;
+    if (levels == 0)
+        for (levels = 1; levels < DEFAULT_MAX_LEVELS &&
+                         ldexp(rho0, -(levels - 1)) > 2.0 * p->spacing;)
+            ++levels;
+    {
+        /* The finest grid: cells of the finest support, and clusters at
+         * least half a spacing wide. */
+        double fine = ldexp(rho0, -(levels - 1));
+        double cell = fmin(fine, 0.5 * p->spacing);
+        if ((diag + 2.0 * rho0) / cell > CELL_SPAN) {
+            st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: the finest support %g (spacing %g, "
+                             "%d levels) is too small for points spanning %g: at most %g cells "
+                             "across", fine, p->spacing, levels, diag, CELL_SPAN);
+            goto done;
+        }
+    }
+    fd.spacing = p->spacing, fd.n_levels = levels;
+    f = calloc(1, sizeof *f);
+    if (!f) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot allocate the model");
+        goto done;
+    }
+    for (int l = 0; l < levels; ++l) {
+        double *c, rho = ldexp(rho0, -l), R = fmax(rho, 3.0 * p->spacing);
+        /* Centres: clusters half a support wide, so that about 4 pi of the
+         * level's functions overlap at each point of a surface (a sparse
+         * system that still blends smoothly), no finer than half a spacing,
+         * which also merges duplicates. */
+        size_t m = cluster(pos, unit, n, lo, fmax(0.5 * rho, 0.5 * p->spacing), &c);
+        if (!m) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot cluster level %d", l + 1);
+            goto done;
+        }
+        /* The quadrics' data: the points clustered 6 to the fit's radius
+         * (about 100 of them in each fit), so that a coarse level's fit
+         * does not visit every point, each of them again. */
+        st = fit_data_make(&fd, pos, unit, n, lo, R);
+        if (st == RELIEF_OK) {
+            f->level[l].rho = rho;
+            f->level[l].inv_rho = 1.0 / rho;
+            f->n_levels = l + 1;
+            st = fit_level(f, l, &fd, c, m, R, err);
+        } else {
+            st = relief_fail(err, st, "rbf fit: cannot cluster level %d", l + 1);
+        }
+        free(c);
+        if (st != RELIEF_OK)
+            goto done;
+    }
+    *out = f;
+    f = NULL;
+done:
+    relief_rbf_free(f);
+    fit_data_clear(&fd);
+    free(fd.near);
+    free(unit);
+    return st;
+}
+
+/* ---- the hole fill --------------------------------------------------- */
+
+#define FILL_REJECT 0.75   /* no two points closer, in spacings */
+#define FILL_NEIGHBOURS 2.0 /* the front's neighbourhood radius, in spacings */
+#define FILL_DRIFT 2.0     /* the most a projection may move a step, in spacings */
+#define FILL_ITER 10
+#define FILL_TOL 1e-3      /* |f| at a projected point, in spacings */
+
+typedef struct fill_state {
+    double *pos, *nrm; /* given then new points, 3 each */
+    uint32_t *hole;    /* per point: its hole, 0 for a given point off every rim */
+    size_t n, cap;
+    cell_hash grid;
+    uint32_t *near;
+    size_t near_cap;
+} fill_state;
+
+static int fill_grow(fill_state *s)
+{
+    size_t cap = s->cap * 2;
+    double *p = realloc(s->pos, cap * 3 * sizeof *p);
+    double *q;
+    uint32_t *h;
+    if (!p)
+        return 0;
+    s->pos = p;
+    q = realloc(s->nrm, cap * 3 * sizeof *q);
+    if (!q)
+        return 0;
+    s->nrm = q;
+    h = realloc(s->hole, cap * sizeof *h);
+    if (!h)
+        return 0;
+    s->hole = h;
+    s->cap = cap;
+    return 1;
+}
+
+relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
+                                    const double *nrm, size_t n, const uint32_t *rim,
+                                    uint32_t n_holes, double spacing, size_t max_new,
+                                    double **out_pos, double **out_nrm,
+                                    uint32_t **out_hole, size_t *n_new,
+                                    relief_error *err)
+{
+    /* Per hole: the rim's centroid (3), bounding radius, rim count. */
+    double *sphere = NULL, lo[3] = {INFINITY, INFINITY, INFINITY}, span = 0.0;
+    size_t *rim_start = NULL, *rim_list = NULL, n_rim = 0;
+    fill_state s;
+    relief_status st = RELIEF_OK;
+
+    memset(&s, 0, sizeof s);
+    if (out_pos)
+        *out_pos = NULL;
+    if (out_nrm)
+        *out_nrm = NULL;
+    if (out_hole)
+        *out_hole = NULL;
+    if (n_new)
+        *n_new = 0;
+    if (!f || !pos || !nrm || !rim || !out_pos || !out_nrm || !out_hole || !n_new)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fill: the model, points, normals, rim "
+                           "marks and outputs must not be NULL");
+    if (n < 4 || n >= NO_ITEM)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fill: %zu points; expected 4..%u", n,
+                           NO_ITEM - 1);
+    if (!(spacing > 0.0) || !isfinite(spacing))
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fill: spacing %g; expected a finite "
+                           "length > 0", spacing);
+    for (size_t i = 0; i < n; ++i) {
+        if (rim[i] > n_holes)
+            return relief_fail(err, RELIEF_E_RANGE, "rbf fill: rim[%zu] = %u; expected 0 (no "
+                               "rim) or a hole 1..%u", i, rim[i], n_holes);
+        for (int a = 0; a < 3; ++a) {
+            if (!isfinite(pos[3 * i + a]) || !isfinite(nrm[3 * i + a]))
+                return relief_fail(err, RELIEF_E_RANGE, "rbf fill: point %zu has a coordinate "
+                                   "or normal that is not finite", i);
+            lo[a] = fmin(lo[a], pos[3 * i + a]);
+        }
+        n_rim += rim[i] != 0;
+    }
+    for (size_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a)
+            span = fmax(span, pos[3 * i + a] - lo[a]);
+    if (3.0 * span / (FILL_NEIGHBOURS * spacing) > CELL_SPAN)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fill: spacing %g is too small for points "
+                           "spanning %g: at most %g cells of 2 spacings across", spacing, span,
+                           CELL_SPAN / 3.0);
+    if (n_holes == 0 || n_rim == 0)
+        return RELIEF_OK;
+
+    sphere = calloc((size_t)n_holes + 1, 4 * sizeof *sphere);
+    rim_start = calloc((size_t)n_holes + 2, sizeof *rim_start);
+    rim_list = malloc(n_rim * sizeof *rim_list);
+    s.cap = n + 64;
+    s.pos = malloc(s.cap * 3 * sizeof *s.pos);
+    s.nrm = malloc(s.cap * 3 * sizeof *s.nrm);
+    s.hole = malloc(s.cap * sizeof *s.hole);
+    if (!sphere || !rim_start || !rim_list || !s.pos || !s.nrm || !s.hole ||
+        !hash_init(&s.grid, lo, FILL_NEIGHBOURS * spacing, n))
+        goto nomem;
+
+    /* The rims, hole by hole in index order, and their bounding spheres. */
+    for (size_t i = 0; i < n; ++i)
+        if (rim[i]) {
+            ++rim_start[rim[i] + 1];
+            for (int a = 0; a < 3; ++a)
+                sphere[4 * rim[i] + a] += pos[3 * i + a];
+        }
+    for (uint32_t k = 1; k <= n_holes; ++k) {
+        rim_start[k + 1] += rim_start[k];
+        for (int a = 0; a < 3 && rim_start[k + 1] > rim_start[k]; ++a)
+            sphere[4 * k + a] /= (double)(rim_start[k + 1] - rim_start[k]);
+    }
+    {
+        size_t *at = calloc((size_t)n_holes + 1, sizeof *at);
+        if (!at)
+            goto nomem;
+        for (size_t i = 0; i < n; ++i)
+            if (rim[i]) {
+                double d[3], *sp = sphere + 4 * rim[i];
+                rim_list[rim_start[rim[i]] + at[rim[i]]++] = i;
+                sub3(pos + 3 * i, sp, d);
+                sp[3] = fmax(sp[3], sqrt(dot3(d, d)));
+            }
+        free(at);
+    }
+    for (uint32_t k = 1; k <= n_holes; ++k)
+        sphere[4 * k + 3] += spacing;
+
+    memcpy(s.pos, pos, n * 3 * sizeof *s.pos);
+    for (size_t i = 0; i < n; ++i) {
+        memcpy(s.nrm + 3 * i, nrm + 3 * i, 3 * sizeof *s.nrm);
+        relief_normalize3(s.nrm + 3 * i);
+        s.hole[i] = rim[i];
+        if (!hash_insert(&s.grid, pos + 3 * i))
+            goto nomem;
+    }
+    s.n = n;
+
+    /* The front: the rim points in index order, then each new point in the
+     * order it was made (a FIFO, since new points are appended). Each front
+     * point steps away from its neighbours' centroid and, so that the front
+     * also spreads sideways and closes up between its steps, at +-45 and
+     * +-90 degrees from there in its tangent plane. */
+    for (size_t q = 0, r = 0; r < n_rim || q < s.n - n; ) {
+        size_t i = r < n_rim ? rim_list[r++] : n + q++;
+        uint32_t k = s.hole[i];
+        const double *sp = sphere + 4 * k;
+        double p[3], nv[3], m[3] = {0, 0, 0}, d[3], t[3], w, cnt = 0;
+        size_t nn;
+        static const double angle[5] = {0.0, 0.25, -0.25, 0.5, -0.5}; /* x pi */
+        memcpy(p, s.pos + 3 * i, sizeof p);
+        memcpy(nv, s.nrm + 3 * i, sizeof nv);
+        nn = hash_within(&s.grid, s.pos, p, FILL_NEIGHBOURS * spacing, &s.near, &s.near_cap);
+        if (nn == (size_t)-1)
+            goto nomem;
+        for (size_t e = 0; e < nn; ++e)
+            if (s.near[e] != i) {
+                for (int a = 0; a < 3; ++a)
+                    m[a] += s.pos[3 * (size_t)s.near[e] + a];
+                ++cnt;
+            }
+        if (cnt == 0)
+            continue;
+        for (int a = 0; a < 3; ++a)
+            d[a] = p[a] - m[a] / cnt;
+        w = dot3(d, nv);
+        for (int a = 0; a < 3; ++a)
+            d[a] -= w * nv[a];
+        if (!(relief_normalize3(d) > 1e-6 * spacing))
+            continue;
+        cross3(nv, d, t);
+        for (int dir = 0; dir < 5; ++dir) {
+            double c = cos(angle[dir] * RELIEF_PI), sn = sin(angle[dir] * RELIEF_PI);
+            double x0[3], x[3], g[3], dv[3], best = INFINITY;
+            const double *rn = NULL;
+            size_t hit;
+            for (int a = 0; a < 3; ++a)
+                x0[a] = x[a] = p[a] + spacing * (c * d[a] + sn * t[a]);
+            if (!relief_rbf_project(f, x, FILL_ITER, FILL_TOL * spacing))
+                continue;
+            sub3(x, x0, dv);
+            if (dot3(dv, dv) > FILL_DRIFT * FILL_DRIFT * spacing * spacing)
+                continue;
+            sub3(x, sp, dv);
+            if (dot3(dv, dv) > sp[3] * sp[3])
+                continue;
+            hit = hash_within(&s.grid, s.pos, x, FILL_REJECT * spacing, &s.near, &s.near_cap);
+            if (hit == (size_t)-1)
+                goto nomem;
+            if (hit > 0)
+                continue;
+            relief_rbf_eval(f, x, g);
+            if (!(relief_normalize3(g) > 0.0))
+                continue;
+            for (size_t e = rim_start[k]; e < rim_start[k + 1]; ++e) {
+                double d2;
+                sub3(x, pos + 3 * rim_list[e], dv);
+                d2 = dot3(dv, dv);
+                if (d2 < best)
+                    best = d2, rn = s.nrm + 3 * rim_list[e];
+            }
+            if (rn && dot3(g, rn) < 0.0)
+                for (int a = 0; a < 3; ++a)
+                    g[a] = -g[a];
+            if (s.n - n >= max_new) {
+                st = relief_fail(err, RELIEF_E_NOMEM, "rbf fill: more than max_new = %zu new "
+                                 "points (spacing %g, %u holes)", max_new, spacing, n_holes);
+                goto done;
+            }
+            if (s.n == s.cap && !fill_grow(&s))
+                goto nomem;
+            memcpy(s.pos + 3 * s.n, x, sizeof x);
+            memcpy(s.nrm + 3 * s.n, g, sizeof g);
+            s.hole[s.n] = k;
+            if (!hash_insert(&s.grid, x))
+                goto nomem;
+            ++s.n;
+        }
+    }
+
+    if (s.n > n) {
+        size_t m = s.n - n;
+        *out_pos = malloc(m * 3 * sizeof **out_pos);
+        *out_nrm = malloc(m * 3 * sizeof **out_nrm);
+        *out_hole = malloc(m * sizeof **out_hole);
+        if (!*out_pos || !*out_nrm || !*out_hole) {
+            free(*out_pos), free(*out_nrm), free(*out_hole);
+            *out_pos = NULL, *out_nrm = NULL, *out_hole = NULL;
+            goto nomem;
+        }
+        memcpy(*out_pos, s.pos + 3 * n, m * 3 * sizeof **out_pos);
+        memcpy(*out_nrm, s.nrm + 3 * n, m * 3 * sizeof **out_nrm);
+        memcpy(*out_hole, s.hole + n, m * sizeof **out_hole);
+        *n_new = m;
+    }
+    goto done;
+nomem:
+    st = relief_fail(err, RELIEF_E_NOMEM, "rbf fill: cannot allocate the new points (%zu so "
+                     "far)", s.n > n ? s.n - n : 0);
+done:
+    hash_free(&s.grid);
+    free(s.pos), free(s.nrm), free(s.hole), free(s.near);
+    free(sphere), free(rim_start), free(rim_list);
+    return st;
+}
