@@ -194,6 +194,7 @@ typedef struct rbf_level {
     double lo[3], hi[3]; /* the centres' box grown by rho: f's support */
     size_t n;
     double *c;      /* n x CW: centre, g and lambda (CW above) */
+    double *xyz;    /* n x 3: the centres alone, what a query scans */
     cell_hash grid; /* cells of side rho over the centres */
 } rbf_level;
 
@@ -214,6 +215,7 @@ void relief_rbf_free(relief_rbf *f)
         return;
     for (int l = 0; l < f->n_levels; ++l) {
         free(f->level[l].c);
+        free(f->level[l].xyz);
         hash_free(&f->level[l].grid);
     }
     free(f);
@@ -246,16 +248,34 @@ static void level_add(const rbf_level *lv, const double x[3], double *f, double 
             return;
     for (int a = 0; a < 3; ++a)
         ci[a] = cell_coord(x[a], h->origin[a], h->inv_h);
-    for (int64_t i = ci[0] - 1; i <= ci[0] + 1; ++i)
-        for (int64_t j = ci[1] - 1; j <= ci[1] + 1; ++j)
-            for (int64_t k = ci[2] - 1; k <= ci[2] + 1; ++k)
-                for (uint32_t it = hash_head(h, i, j, k); it != NO_ITEM; it = h->next[it]) {
-                    const double *c = lv->c + CW * (size_t)it;
+    /* Cells are rho wide: the ball of radius rho about x lies in the 27
+     * around x's, and only about 20 of them meet it (gap[a][o]: how far x
+     * is from the cell at offset o - 1 along axis a). The centres of a cell
+     * are consecutive (fit_level sorts them), their positions apart from
+     * the rest, so that the scan reads few cache lines. */
+    double gap[3][3];
+    for (int a = 0; a < 3; ++a) {
+        double lo_a = h->origin[a] + (double)ci[a] * lv->rho;
+        gap[a][0] = (x[a] - lo_a) * (x[a] - lo_a);
+        gap[a][1] = 0.0;
+        gap[a][2] = (lo_a + lv->rho - x[a]) * (lo_a + lv->rho - x[a]);
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            if (gap[0][i] + gap[1][j] >= rho2)
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                if (gap[0][i] + gap[1][j] + gap[2][k] >= rho2)
+                    continue;
+                for (uint32_t it = hash_head(h, ci[0] + i - 1, ci[1] + j - 1, ci[2] + k - 1);
+                     it != NO_ITEM; it = h->next[it]) {
+                    const double *c, *cx = lv->xyz + 3 * (size_t)it;
                     double d[3], r2, r, t, t3, phi, g, gg[3];
-                    sub3(x, c, d);
+                    sub3(x, cx, d);
                     r2 = dot3(d, d);
                     if (r2 >= rho2)
                         continue;
+                    c = lv->c + CW * (size_t)it;
                     r = sqrt(r2) * lv->inv_rho;
                     t = 1.0 - r;
                     t3 = t * t * t;
@@ -268,6 +288,8 @@ static void level_add(const rbf_level *lv, const double x[3], double *f, double 
                             grad[a] += gg[a] * phi + s * d[a];
                     }
                 }
+            }
+        }
 }
 
 /* f of the first n_levels levels. */
@@ -545,29 +567,45 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
     size_t *start = NULL, cap = 0, nnz = 0;
     uint32_t *col = NULL;
     double *val = NULL, *b = NULL, *lam = NULL;
+    keyed *order = NULL;
     relief_status st = RELIEF_OK;
 
     lv->n = m;
     lv->c = malloc(m * CW * sizeof *lv->c);
+    lv->xyz = malloc(m * 3 * sizeof *lv->xyz);
+    order = malloc(m * sizeof *order);
     start = malloc((m + 1) * sizeof *start);
     b = malloc(m * sizeof *b);
     lam = malloc(m * sizeof *lam);
-    if (!lv->c || !start || !b || !lam)
+    if (!lv->c || !lv->xyz || !order || !start || !b || !lam)
         goto nomem;
     for (int a = 0; a < 3; ++a)
         lv->lo[a] = INFINITY, lv->hi[a] = -INFINITY;
     for (size_t i = 0; i < m; ++i)
         for (int a = 0; a < 3; ++a) {
             lo[a] = fmin(lo[a], c[6 * i + a]);
-            lv->c[CW * i + a] = c[6 * i + a];
             lv->lo[a] = fmin(lv->lo[a], c[6 * i + a] - rho);
             lv->hi[a] = fmax(lv->hi[a], c[6 * i + a] + rho);
         }
+    /* The centres in the order of their cells (side rho), so that each
+     * cell's lie together. */
+    for (size_t i = 0; i < m; ++i) {
+        const double *x = c + 6 * i;
+        order[i].key = cell_key(cell_coord(x[0], lo[0], 1.0 / rho),
+                                cell_coord(x[1], lo[1], 1.0 / rho),
+                                cell_coord(x[2], lo[2], 1.0 / rho));
+        order[i].index = (uint32_t)i;
+    }
+    qsort(order, m, sizeof *order, cmp_keyed);
     if (!hash_init(&lv->grid, lo, rho, m))
         goto nomem;
-    for (size_t i = 0; i < m; ++i)
-        if (!hash_insert(&lv->grid, c + 6 * i))
+    for (size_t i = 0; i < m; ++i) {
+        const double *x = c + 6 * (size_t)order[i].index;
+        memcpy(lv->c + CW * i, x, 3 * sizeof *x);
+        memcpy(lv->xyz + 3 * i, x, 3 * sizeof *x);
+        if (!hash_insert(&lv->grid, x))
             goto nomem;
+    }
 
     /* Each centre's neighbours within rho and their phi; g_c from the
      * quadric and the row's sum; b from f so far. */
@@ -608,7 +646,7 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
         nnz += k;
         start[i + 1] = nnz;
         b[i] = -eval_levels(f, l, ci, NULL);
-        if (!local_quadric(fd, c + 6 * i, R, q))
+        if (!local_quadric(fd, c + 6 * (size_t)order[i].index, R, q))
             goto nomem;
         for (int a = 0; a < 10; ++a)
             ci[3 + a] = q[a] / (s * fd->n_levels);
@@ -635,7 +673,7 @@ nomem:
     st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate level %d (%zu centres, support %g)",
                      l + 1, m, rho);
 done:
-    free(start), free(col), free(val), free(b), free(lam);
+    free(start), free(col), free(val), free(b), free(lam), free(order);
     return st;
 }
 
