@@ -195,6 +195,17 @@ static void test_cap(void)
     printf("cap: %zu given, %zu new (cap area / spacing^2 %.0f), worst radius error %.2e, "
            "worst gap %.2f spacings\n", n, n_new, expect, worst_r, worst_gap / s);
 
+    /* Deterministic: a second fill makes the same points. */
+    {
+        double *p2 = NULL, *n2 = NULL;
+        uint32_t *h2 = NULL;
+        size_t m2 = 0;
+        relief_rbf_fill_holes(f, p, p, n, rim, 1, s, 10000, &p2, &n2, &h2, &m2, &err);
+        CHECK(m2 == n_new && (!m2 || !memcmp(p2, np, m2 * 3 * sizeof *p2)),
+              "cap: a second fill made %zu points, the first %zu, or others", m2, n_new);
+        free(p2), free(n2), free(h2);
+    }
+
     /* max_new too small: refused, naming the count, nothing returned. */
     free(np), free(nn), free(hole);
     np = nn = NULL, hole = NULL;
