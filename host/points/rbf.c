@@ -830,6 +830,32 @@ static int fill_grow(fill_state *s)
     return 1;
 }
 
+/* Is x over the capture rather than over a hole? Then the given point
+ * nearest to it (within the front's neighbourhood) is on no rim: in a hole
+ * the nearest captured point is always on the hole's rim, while a step that
+ * turned back over the capture (between the sparse vertices of a decimated
+ * mesh, say) lands nearest an interior point. */
+static int over_capture(fill_state *s, size_t n, const uint32_t *rim, const double x[3],
+                        double spacing)
+{
+    size_t nn = hash_within(&s->grid, s->pos, x, FILL_NEIGHBOURS * spacing, &s->near,
+                            &s->near_cap), best = SIZE_MAX;
+    double best_d2 = INFINITY;
+    if (nn == (size_t)-1)
+        return 0; /* out of memory: the next search reports it */
+    for (size_t e = 0; e < nn; ++e) {
+        size_t j = s->near[e];
+        double d[3], d2;
+        if (j >= n)
+            continue;
+        sub3(s->pos + 3 * j, x, d);
+        d2 = dot3(d, d);
+        if (d2 < best_d2 || (d2 == best_d2 && j < best))
+            best_d2 = d2, best = j;
+    }
+    return best != SIZE_MAX && rim[best] == 0;
+}
+
 relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
                                     const double *nrm, size_t n, const uint32_t *rim,
                                     uint32_t n_holes, double spacing, size_t max_new,
@@ -984,6 +1010,8 @@ relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
             if (hit == (size_t)-1)
                 goto nomem;
             if (hit > 0)
+                continue;
+            if (over_capture(&s, n, rim, x, spacing))
                 continue;
             relief_rbf_eval(f, x, g);
             if (!(relief_normalize3(g) > 0.0))

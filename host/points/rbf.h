@@ -78,9 +78,11 @@ int relief_rbf_project(const relief_rbf *f, double x[3], int max_iter, double to
  * the front also spreads sideways and closes up between its steps. A step
  * is projected by relief_rbf_project (10 Newton steps, |f| <= 1e-3
  * spacing) and dropped when that fails or moves it more than 2 spacings.
- * Every kept point joins the front (first in, first out). Where the given
- * points lie more than 0.75 spacing apart inside a rim's sphere, new points
- * are made there too: spacing should be the points' typical gap.
+ * A step is also dropped when the given point nearest to it (within 2
+ * spacings) is on no rim: in a hole the nearest captured point is on the
+ * hole's rim, so such a step has turned back over the capture (between the
+ * sparse vertices of a decimated mesh, say). Every kept point joins the
+ * front (first in, first out).
  *   pos, nrm: n x 3 points and unit normals (the base surface);
  *   rim: n entries, 0 for a point on no hole's rim, k >= 1 for a point on
  *        the rim of hole k (holes numbered 1..n_holes);
