@@ -33,7 +33,7 @@
 relief_texopt_params relief_texopt_params_default(void)
 {
     relief_texopt_params p;
-    p.grid_n = 9;
+    p.grid_n = 15;
     p.overlap = 0.5;
     p.cluster_size = (int)(300.0 / ((1 + p.overlap) * (1 + p.overlap))); /* 133 */
     p.grid_step = 0;
@@ -87,6 +87,21 @@ static void bilerp(const float *z, int gn, int ch, float fa, float fb, float *ou
     }
 }
 
+/* How much cluster j's grid speaks for a member at grid coordinates
+ * (fa, fb): 1 at the centre, falling to 1/16 at the grid's edge (a product
+ * of raised cosines floored there), so that where clusters overlap each
+ * point takes its value mostly from the grid it is central to; an equal
+ * average of overlapping grids that disagree in phase blurs the detail
+ * away (Kwatra et al. weigh by a Gaussian falloff for the same reason). */
+static float centre_weight(int gn, float fa, float fb)
+{
+    const float k = 0.5f * (float)(gn - 1);
+    const float ua = (fa - k) / k, ub = (fb - k) / k;
+    const float wa = 0.5f + 0.5f * cosf(3.14159265f * fminf(fabsf(ua), 1.0f));
+    const float wb = 0.5f + 0.5f * cosf(3.14159265f * fminf(fabsf(ub), 1.0f));
+    return fmaxf(wa * wb, 1.0f / 16.0f);
+}
+
 /* Cluster j's term of E with the exemplar grid z. */
 static double cluster_energy(const opt *o, size_t j, const float *z)
 {
@@ -100,7 +115,8 @@ static double cluster_energy(const opt *o, size_t j, const float *z)
             const double d = (double)o->x[(size_t)p * o->ch + k] - v[k];
             s += d * d;
         }
-        e += (o->rim && o->rim[p] ? 1 + o->lambda : 1) * s;
+        e += (o->rim && o->rim[p] ? 1 + o->lambda : 1) * centre_weight(o->gn, o->mfa[m], o->mfb[m]) *
+             s;
     }
     return e;
 }
@@ -177,6 +193,89 @@ static int run_mstep(const opt *o, int threads)
     for (int i = 0; i < t; ++i)
         failed |= w[i].failed;
     return failed ? -1 : 0;
+}
+
+/* The unknown values' start: each active cluster in turn, the one with the
+ * largest share of members already valid (known, or set by a cluster
+ * before it) first, is matched against every exemplar grid over its valid
+ * nodes only, and its still unset members take the match's values. Why not
+ * random values (Kwatra's start): against noise the smoothest exemplar
+ * scores best under squared differences, so the optimisation settled in a
+ * blur (synthesised detail at a third of the capture's amplitude, measured
+ * on a bumpy sphere). This is the growth of patch-based synthesis (onion
+ * order, as in Criminisi et al.), after which the optimisation only
+ * refines. Exhaustive over the exemplars: A x nz x nodes x channels. */
+static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
+                                      relief_error *err)
+{
+    uint8_t *valid = malloc(n), *done = calloc(o->A + 1, 1);
+    float *q = malloc((size_t)o->dims * sizeof *q);
+    uint8_t *nvalid = malloc((size_t)o->nodes);
+    if (!valid || !done || !q || !nvalid) {
+        free(valid), free(done), free(q), free(nvalid);
+        return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (start)");
+    }
+    for (size_t i = 0; i < n; ++i)
+        valid[i] = !unknown[i];
+    for (size_t round = 0; round < o->A; ++round) {
+        size_t j = SIZE_MAX;
+        double best_share = -1.0, be = INFINITY;
+        uint32_t best = 0;
+        for (size_t c = 0; c < o->A; ++c) {
+            size_t nv = 0, tot = o->mstart[c + 1] - o->mstart[c];
+            double share;
+            if (done[c])
+                continue;
+            for (size_t m = o->mstart[c]; m < o->mstart[c + 1]; ++m)
+                nv += valid[o->mpt[m]];
+            share = tot ? (double)nv / (double)tot : 0.0;
+            if (share > best_share)
+                best_share = share, j = c;
+        }
+        done[j] = 1;
+        /* The grid over valid points: a node counts when at least half its
+         * weight is on valid points, renormalised over them. */
+        for (int node = 0; node < o->nodes; ++node) {
+            const size_t wn = j * (size_t)o->nodes + (size_t)node;
+            double wv = 0.0, wt = 0.0;
+            for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t) {
+                wt += o->ww[t];
+                if (valid[o->wpt[t]])
+                    wv += o->ww[t];
+            }
+            nvalid[node] = wt > 0.0 && wv >= 0.5 * wt;
+            for (int k = 0; k < o->ch; ++k) {
+                double acc = 0.0;
+                for (size_t t = o->wstart[wn]; nvalid[node] && t < o->wstart[wn + 1]; ++t)
+                    if (valid[o->wpt[t]])
+                        acc += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
+                q[node * o->ch + k] = nvalid[node] ? (float)(acc / wv) : 0.0f;
+            }
+        }
+        for (size_t z = 0; z < o->nz; ++z) {
+            const float *zz = o->zvec + z * (size_t)o->dims;
+            double e = 0.0;
+            for (int node = 0; node < o->nodes && e < be; ++node)
+                if (nvalid[node])
+                    for (int k = 0; k < o->ch; ++k) {
+                        const double d = (double)q[node * o->ch + k] - zz[node * o->ch + k];
+                        e += d * d;
+                    }
+            if (e < be)
+                be = e, best = (uint32_t)z;
+        }
+        o->match[j] = best;
+        for (size_t m = o->mstart[j]; m < o->mstart[j + 1]; ++m) {
+            const uint32_t p = o->mpt[m];
+            if (valid[p])
+                continue;
+            bilerp(o->zvec + (size_t)best * o->dims, o->gn, o->ch, o->mfa[m], o->mfb[m],
+                   o->x + (size_t)p * o->ch);
+            valid[p] = 1;
+        }
+    }
+    free(valid), free(done), free(q), free(nvalid);
+    return RELIEF_OK;
 }
 
 /* Append to a growing array. */
@@ -421,7 +520,8 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
 
     /* Exemplar grids: at the exemplar points (a seeded subset of
      * MAX_EXEMPLARS beyond that many), in the frame of the point's cluster;
-     * kept only when every node is backed by exemplar points alone. */
+     * kept when no node reads a point that is not an exemplar and at most
+     * a quarter of the nodes have no point within h. */
     {
         const size_t want = ne < MAX_EXEMPLARS ? ne : MAX_EXEMPLARS;
         pick = malloc(ne * sizeof *pick);
@@ -441,7 +541,11 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
                                    &empty, &foreign);
             if (r < 0)
                 goto nomem;
-            if (r == 0 || empty || foreign)
+            /* Up to a quarter of the nodes may have no point within h and
+             * take their nearest exemplar point's value: where the grid is
+             * finer than the sampling (a decimated scan's sparse parts), no
+             * grid would have every node backed otherwise. */
+            if (r == 0 || foreign || empty > (size_t)o.nodes / 4)
                 continue;
             if (zlen + (size_t)o.dims > zcap) {
                 const size_t ncap = zcap ? 2 * zcap : 64 * (size_t)o.dims;
@@ -462,8 +566,9 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
         if (!o.nz) {
             st = relief_fail(err, RELIEF_E_RANGE, "texture optimisation: no exemplar grid can be "
                              "built: none of %zu exemplar points has its %d x %d grid (step %g) "
-                             "backed by exemplar points alone; mark a larger exemplar region or "
-                             "lower grid_n", want, o.gn, o.gn, h);
+                             "backed by exemplar points alone, three quarters of its nodes "
+                             "within a step of one; mark a larger exemplar region or lower "
+                             "grid_n", want, o.gn, o.gn, h);
             goto done;
         }
     }
@@ -503,6 +608,9 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
     }
     for (size_t j = 0; j < o.A; ++j)
         o.match[j] = UINT32_MAX;
+    st = sequential_start(&o, unknown, n, err);
+    if (st != RELIEF_OK)
+        goto done;
 
     for (it = 0; it < p.max_iter;) {
         double e = 0;
@@ -512,7 +620,7 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
             goto done;
         }
         for (size_t i = 0; i < n; ++i) {
-            float acc[4] = {0, 0, 0, 0}, v[4];
+            float acc[4] = {0, 0, 0, 0}, v[4], wsum = 0.0f;
             if (pstart[i] == pstart[i + 1])
                 continue;
             for (size_t t = pstart[i]; t < pstart[i + 1]; ++t) {
@@ -527,11 +635,15 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
                 }
                 bilerp(o.zvec + (size_t)o.match[lo] * o.dims, o.gn, channels, o.mfa[m], o.mfb[m],
                        v);
-                for (int k = 0; k < channels; ++k)
-                    acc[k] += v[k];
+                {
+                    const float w = centre_weight(o.gn, o.mfa[m], o.mfb[m]);
+                    for (int k = 0; k < channels; ++k)
+                        acc[k] += w * v[k];
+                    wsum += w;
+                }
             }
             for (int k = 0; k < channels; ++k)
-                o.x[i * channels + k] = acc[k] / (float)(pstart[i + 1] - pstart[i]);
+                o.x[i * channels + k] = acc[k] / wsum;
         }
         for (size_t j = 0; j < o.A; ++j)
             e += cluster_energy(&o, j, o.zvec + (size_t)o.match[j] * o.dims);

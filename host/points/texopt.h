@@ -32,7 +32,9 @@
 #include "relief/relief.h"
 
 typedef struct relief_texopt_params {
-    int grid_n;          /* grid side n, odd, 3..33 (default 9) */
+    int grid_n;          /* grid side n, odd, 3..33 (default 15: with the default step the
+                            nodes are about 0.9 spacings apart, so resampling keeps the
+                            detail; at 9, 1.5 spacings apart, it lost a quarter of it) */
     int cluster_size;    /* points per cluster before overlap, 16..100000 (default 300/
                             (1 + overlap)^2, so that an overlapped cluster holds ~300) */
     double overlap;      /* overlap band over the mean cluster radius, 0..2 (default 0.5) */
