@@ -30,6 +30,8 @@ static const char main_help[] =
     "  render MESH -o P.png  a shaded picture of a mesh\n"
     "  image-fill IN -o OUT  fill the holes of an image (PNG, JPEG)\n"
     "  depth-fill IN -o OUT  repair the holes of a depth image (PCD, PFM, PNG)\n"
+    "  complete-points IN -o OUT.ply\n"
+    "                        complete a point set with no primitive under it\n"
     "  devices               list OpenCL devices\n"
     "\n"
     "  relief COMMAND --help    options of a command\n"
@@ -78,6 +80,8 @@ int relief_cli_main(int argc, char **argv, int parse_only)
         return cli_cmd_render(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "image-fill") == 0)
         return cli_cmd_image_fill(argc - 1, argv + 1, parse_only);
+    if (strcmp(cmd, "complete-points") == 0)
+        return cli_cmd_complete_points(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "depth-fill") == 0)
         return cli_cmd_depth_fill(argc - 1, argv + 1, parse_only);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);

@@ -14,5 +14,6 @@ int cli_cmd_render(int argc, char **argv, int parse_only);
 int cli_cmd_devices(int argc, char **argv, int parse_only);
 int cli_cmd_image_fill(int argc, char **argv, int parse_only);
 int cli_cmd_depth_fill(int argc, char **argv, int parse_only);
+int cli_cmd_complete_points(int argc, char **argv, int parse_only);
 
 #endif

@@ -1,0 +1,153 @@
+/* The point-set bench's chores (bench/points.sh), measured by relief's own
+ * code:
+ *   points_bench_tool measure COMPLETED.ply TRUTH.ply [X,Y,Z,R]
+ *       relief_points_measure (host/points/measure.h) printed as JSON, the
+ *       added points counted inside the ball only when one is given;
+ *   points_bench_tool ply IN OUT.ply
+ *       any mesh or point file relief reads, as a PLY (for Open3D);
+ *   points_bench_tool pcd2ply IN.pcd OUT.ply
+ *       a PCD cloud's finite points (and colour) as a PLY point set;
+ *   points_bench_tool cut-points IN.ply CAPTURE.ply TRUTH.ply X,Y,Z,R
+ *       a ball cut from a point set (relief cut needs triangles): CAPTURE
+ *       the points outside, TRUTH all of them with `label` 1 inside. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "depth/depth_io.h"
+#include "mesh/mesh.h"
+#include "points/measure.h"
+
+static relief_mesh *load(const char *path)
+{
+    relief_mesh *m;
+    relief_error err = {RELIEF_OK, ""};
+    if (relief_mesh_read(path, &m, NULL, &err) != RELIEF_OK) {
+        fprintf(stderr, "points_bench_tool: %s\n", err.message);
+        exit(1);
+    }
+    return m;
+}
+
+static void save(const relief_mesh *m, const char *path)
+{
+    relief_error err = {RELIEF_OK, ""};
+    if (relief_mesh_write(m, path, NULL, &err) != RELIEF_OK) {
+        fprintf(stderr, "points_bench_tool: %s\n", err.message);
+        exit(1);
+    }
+}
+
+static void num(const char *key, double v, int last)
+{
+    if (isfinite(v))
+        printf("\"%s\": %.6g%s", key, v, last ? "" : ", ");
+    else
+        printf("\"%s\": null%s", key, last ? "" : ", ");
+}
+
+int main(int argc, char **argv)
+{
+    relief_error err = {RELIEF_OK, ""};
+    if ((argc == 4 || argc == 5) && strcmp(argv[1], "measure") == 0) {
+        relief_mesh *c = load(argv[2]), *t = load(argv[3]);
+        relief_points_measures m;
+        double ball[4];
+        if (argc == 5 && sscanf(argv[4], "%lf,%lf,%lf,%lf", ball, ball + 1, ball + 2,
+                                ball + 3) != 4) {
+            fprintf(stderr, "points_bench_tool: measure: the region is X,Y,Z,R\n");
+            return 1;
+        }
+        if (relief_points_measure(c, t, argc == 5 ? ball : NULL, &m, &err) != RELIEF_OK) {
+            fprintf(stderr, "points_bench_tool: %s\n", err.message);
+            return 1;
+        }
+        printf("{\"added\": %zu, \"truth_hole\": %zu, ", m.added, m.truth_hole);
+        num("acc_rms", m.acc_rms, 0), num("acc_max", m.acc_max, 0);
+        num("comp_rms", m.comp_rms, 0), num("comp_max", m.comp_max, 0);
+        num("hausdorff", m.hausdorff, 0), num("colour_rms", m.colour_rms, 0);
+        num("rough_added", m.rough_added, 0), num("rough_truth_hole", m.rough_truth_hole, 0);
+        num("rough_truth_captured", m.rough_truth_captured, 0);
+        num("cdetail_added", m.cdetail_added, 0);
+        num("cdetail_truth_hole", m.cdetail_truth_hole, 1);
+        printf("}\n");
+        relief_mesh_destroy(c);
+        relief_mesh_destroy(t);
+        return 0;
+    }
+    if (argc == 4 && strcmp(argv[1], "ply") == 0) {
+        relief_mesh *m = load(argv[2]);
+        save(m, argv[3]);
+        relief_mesh_destroy(m);
+        return 0;
+    }
+    if (argc == 4 && strcmp(argv[1], "pcd2ply") == 0) {
+        relief_depth_frame f;
+        relief_mesh *m;
+        size_t px, n = 0;
+        if (relief_pcd_read_cloud(argv[2], 0, &f, &err) != RELIEF_OK) {
+            fprintf(stderr, "points_bench_tool: %s\n", err.message);
+            return 1;
+        }
+        px = (size_t)f.width * (size_t)f.height;
+        for (size_t i = 0; i < px; ++i)
+            n += isfinite(f.xyz[3 * i]) && isfinite(f.xyz[3 * i + 1]) && isfinite(f.xyz[3 * i + 2]);
+        if (relief_mesh_create(n, 0, f.rgb ? RELIEF_MESH_COLOURS : 0u, &m, &err) != RELIEF_OK) {
+            fprintf(stderr, "points_bench_tool: %s\n", err.message);
+            return 1;
+        }
+        n = 0;
+        for (size_t i = 0; i < px; ++i) {
+            if (!(isfinite(f.xyz[3 * i]) && isfinite(f.xyz[3 * i + 1]) &&
+                  isfinite(f.xyz[3 * i + 2])))
+                continue;
+            for (int c = 0; c < 3; ++c) {
+                m->pos[3 * n + c] = f.xyz[3 * i + c];
+                if (f.rgb)
+                    m->col[3 * n + c] = f.rgb[3 * i + c] / 255.0f;
+            }
+            ++n;
+        }
+        save(m, argv[3]);
+        relief_mesh_destroy(m);
+        relief_depth_frame_free(&f);
+        return 0;
+    }
+    if (argc == 6 && strcmp(argv[1], "cut-points") == 0) {
+        relief_mesh *m = load(argv[2]), *t, *c;
+        uint8_t *keep;
+        double b[4];
+        if (sscanf(argv[5], "%lf,%lf,%lf,%lf", b, b + 1, b + 2, b + 3) != 4) {
+            fprintf(stderr, "points_bench_tool: cut-points: X,Y,Z,R\n");
+            return 1;
+        }
+        if (relief_mesh_create(m->nv, 0, RELIEF_MESH_LABELS | (m->col ? RELIEF_MESH_COLOURS : 0u),
+                               &t, &err) != RELIEF_OK || !(keep = malloc(m->nv)))
+            return 1;
+        memcpy(t->pos, m->pos, m->nv * 3 * sizeof *t->pos);
+        if (m->col)
+            memcpy(t->col, m->col, m->nv * 3 * sizeof *t->col);
+        for (size_t i = 0; i < m->nv; ++i) {
+            double d2 = 0.0;
+            for (int c = 0; c < 3; ++c)
+                d2 += (m->pos[3 * i + c] - b[c]) * (m->pos[3 * i + c] - b[c]);
+            t->label[i] = d2 <= b[3] * b[3];
+            keep[i] = !t->label[i];
+        }
+        if (relief_mesh_subset(m, keep, &c, NULL, &err) != RELIEF_OK) {
+            fprintf(stderr, "points_bench_tool: %s\n", err.message);
+            return 1;
+        }
+        save(c, argv[3]);
+        save(t, argv[4]);
+        free(keep);
+        relief_mesh_destroy(c);
+        relief_mesh_destroy(t);
+        relief_mesh_destroy(m);
+        return 0;
+    }
+    fprintf(stderr, "usage: points_bench_tool measure COMPLETED TRUTH [X,Y,Z,R] | ply IN OUT | pcd2ply IN OUT | "
+                    "cut-points IN CAPTURE TRUTH X,Y,Z,R\n");
+    return 1;
+}

@@ -1,0 +1,369 @@
+/* The point-set completion pipeline of paper 002 (complete_points.h). */
+#include "points/complete_points.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+#include "mesh/mesh.h"
+#include "points/analysis.h"
+#include "points/flow.h"
+
+relief_points_params relief_points_params_default(void)
+{
+    relief_points_params p;
+    memset(&p, 0, sizeof p);
+    p.what = RELIEF_POINTS_ALL;
+    p.k = 16;
+    p.smooth_steps = 20;
+    p.smooth_dt = 10.0;
+    p.rim_gap = 1.5707963267948966;
+    p.band = 2.0;
+    p.seam_band = 3.0;
+    p.tex = relief_texopt_params_default();
+    p.rbf = relief_rbf_params_default();
+    return p;
+}
+
+void relief_points_report_free(relief_points_report *r)
+{
+    relief_texopt_result_free(&r->tex);
+}
+
+static relief_status check_params(const relief_points_params *p, relief_error *err)
+{
+    if (p->k < 6 || p->k > 64)
+        return relief_fail(err, RELIEF_E_RANGE, "--k %d out of range 6..64", p->k);
+    if (p->smooth_steps < 0 || p->smooth_steps > 10000)
+        return relief_fail(err, RELIEF_E_RANGE, "--smooth-steps %d out of range 0..10000",
+                           p->smooth_steps);
+    if (!(p->smooth_dt > 0.0 && p->smooth_dt <= 100.0))
+        return relief_fail(err, RELIEF_E_RANGE, "smoothing step %g spacings out of range "
+                           "(0, 100]", p->smooth_dt);
+    if (!(p->rim_gap > 0.0 && p->rim_gap < 6.283185307179586))
+        return relief_fail(err, RELIEF_E_RANGE, "rim gap %g rad out of range (0, 2 pi)",
+                           p->rim_gap);
+    if (!(p->band >= 0.0 && p->band <= 1e6) || !(p->seam_band >= 0.0 && p->seam_band <= 1e6))
+        return relief_fail(err, RELIEF_E_RANGE, "--band and --seam-band are spacings, 0..1e6");
+    return RELIEF_OK;
+}
+
+/* Area-weighted vertex normals of a mesh, the orientation its triangles
+ * give (zero rows for vertices in no triangle). */
+static void triangle_normals(const relief_mesh *m, double *hint)
+{
+    memset(hint, 0, m->nv * 3 * sizeof *hint);
+    for (size_t t = 0; t < m->nt; ++t) {
+        const uint32_t *v = m->tri + 3 * t;
+        double a[3], b[3], c[3];
+        sub3(m->pos + 3 * (size_t)v[1], m->pos + 3 * (size_t)v[0], a);
+        sub3(m->pos + 3 * (size_t)v[2], m->pos + 3 * (size_t)v[0], b);
+        cross3(a, b, c);
+        for (int j = 0; j < 3; ++j)
+            for (int e = 0; e < 3; ++e)
+                hint[3 * (size_t)v[j] + e] += c[e];
+    }
+}
+
+/* Every buffer of one run, freed in one place. */
+typedef struct work {
+    relief_knn_graph g;
+    double *nrm, *hint, *base, *base_nrm, *rim_dist, *tpos, *tnrm, *npos, *nnrm;
+    float *detail, *value;
+    uint32_t *rim, *nhole, *near_rim;
+    uint8_t *unknown, *exemplar, *rim_term;
+    relief_rbf *rbf;
+} work;
+
+static void work_free(work *w)
+{
+    relief_knn_graph_free(&w->g);
+    free(w->nrm), free(w->hint), free(w->base), free(w->base_nrm), free(w->rim_dist);
+    free(w->tpos), free(w->tnrm), free(w->npos), free(w->nnrm);
+    free(w->detail), free(w->value);
+    free(w->rim), free(w->nhole), free(w->near_rim);
+    free(w->unknown), free(w->exemplar), free(w->rim_term);
+    relief_rbf_free(w->rbf);
+}
+
+/* Section 6.1's seam: a new point within d of the rim takes its base normal
+ * turned toward the nearest rim point's detail direction, weight (d - s)/d. */
+static void place_new_points(const double *pos, const work *w, size_t n, size_t m, double d,
+                             double scale, int detail_ch, int channels, double *out)
+{
+    for (size_t j = 0; j < m; ++j) {
+        const double *q = w->npos + 3 * j;
+        double nb[3], c = detail_ch >= 0 ? (double)w->value[(n + j) * channels + detail_ch] * scale
+                                         : 0.0;
+        memcpy(nb, w->nnrm + 3 * j, sizeof nb);
+        if (d > 0.0 && w->near_rim[j] != UINT32_MAX && w->rim_dist[n + j] < d) {
+            size_t r = w->near_rim[j];
+            double delta[3], len, wt = (d - w->rim_dist[n + j]) / d;
+            sub3(pos + 3 * r, w->base + 3 * r, delta);
+            len = sqrt(dot3(delta, delta));
+            if (len > 0.0) {
+                /* delta points along the rim's detail; its sign is c's. */
+                double sgn = dot3(delta, w->base_nrm + 3 * r) >= 0.0 ? 1.0 : -1.0;
+                for (int e = 0; e < 3; ++e)
+                    nb[e] += wt * (sgn * delta[e] / len - w->base_nrm[3 * r + e]);
+                if (relief_normalize3(nb) == 0.0)
+                    memcpy(nb, w->nnrm + 3 * j, sizeof nb);
+            }
+        }
+        for (int e = 0; e < 3; ++e)
+            out[3 * j + e] = q[e] + c * nb[e];
+    }
+}
+
+relief_status relief_complete_points(const relief_mesh *in, const relief_points_params *p,
+                                     relief_mesh **out_mesh, relief_points_report *rep,
+                                     relief_error *err)
+{
+    work w;
+    size_t n = in->nv, m = 0, N, masked = 0;
+    int channels = 0, detail_ch = -1, colour_ch = -1;
+    int want_colour, want_geometry;
+    double t0 = relief_seconds(), t, spacing, scale = 1.0;
+    relief_mesh *out = NULL;
+    relief_status st;
+    const char *why;
+
+    memset(&w, 0, sizeof w);
+    memset(rep, 0, sizeof *rep);
+    *out_mesh = NULL;
+    st = check_params(p, err);
+    if (st != RELIEF_OK)
+        return st;
+    want_geometry = p->what != RELIEF_POINTS_COLOUR_ONLY;
+    want_colour = in->col && p->what != RELIEF_POINTS_GEOMETRY_ONLY && !p->smooth_only;
+    if (p->smooth_only && p->what == RELIEF_POINTS_COLOUR_ONLY)
+        return relief_fail(err, RELIEF_E_RANGE, "--smooth-only fills geometry: not with "
+                           "--colour-only");
+    if (p->what == RELIEF_POINTS_COLOUR_ONLY && !in->col)
+        return relief_fail(err, RELIEF_E_RANGE, "--colour-only: the input has no colour");
+    if (n < (size_t)p->k + 1)
+        return relief_fail(err, RELIEF_E_RANGE, "%zu points are too few: the local analysis "
+                           "needs more than k = %d", n, p->k);
+    if (!relief_points_spread(in->pos, n, &why))
+        return relief_fail(err, RELIEF_E_RANGE, "no base surface can be built: %s", why);
+    for (size_t i = 0; p->hole_mask && i < n; ++i)
+        masked += p->hole_mask[i] != 0;
+    rep->n_in = n;
+    rep->n_masked = masked;
+
+    /* 1. Local analysis. */
+    st = relief_knn_graph_build(in->pos, n, p->k, &w.g, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    spacing = relief_knn_spacing(&w.g);
+    if (!(spacing > 0.0)) {
+        st = relief_fail(err, RELIEF_E_RANGE, "the median distance between neighbours is 0: "
+                         "more than half of the points are duplicates");
+        goto fail;
+    }
+    rep->spacing = spacing;
+    w.nrm = malloc(n * 3 * sizeof *w.nrm);
+    w.rim = calloc(n, sizeof *w.rim);
+    if (!w.nrm || !w.rim)
+        goto nomem;
+    if (in->nrm) {
+        w.hint = malloc(n * 3 * sizeof *w.hint);
+        if (!w.hint)
+            goto nomem;
+        memcpy(w.hint, in->nrm, n * 3 * sizeof *w.hint);
+    } else if (in->nt) {
+        w.hint = malloc(n * 3 * sizeof *w.hint);
+        if (!w.hint)
+            goto nomem;
+        triangle_normals(in, w.hint);
+    }
+    st = relief_points_normals(in->pos, &w.g, w.hint, p->viewpoint, w.nrm, NULL, err);
+    if (st != RELIEF_OK)
+        goto fail;
+
+    /* 2. Holes. */
+    if (want_geometry) {
+        st = in->nt ? relief_holes_mesh(in->pos, n, in->tri, in->nt, w.rim, &rep->holes, err)
+                    : relief_holes_points(in->pos, w.nrm, &w.g, p->rim_gap, w.rim, &rep->holes,
+                                          err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    if (p->what == RELIEF_POINTS_COLOUR_ONLY && !masked) {
+        st = relief_fail(err, RELIEF_E_RANGE, "nothing to fill: --colour-only completes the "
+                         "colour of the --hole-mask points, and none is marked");
+        goto fail;
+    }
+    if (!rep->holes.n_holes && !masked) {
+        st = relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole found (%u rim(s) taken "
+                         "for an outer border, %u too small) and no --hole-mask",
+                         rep->holes.n_borders, rep->holes.n_dropped);
+        goto fail;
+    }
+    t = relief_seconds();
+    rep->t_analysis = t - t0;
+
+    /* 3. Base and detail. */
+    w.base = malloc(n * 3 * sizeof *w.base);
+    w.base_nrm = malloc(n * 3 * sizeof *w.base_nrm);
+    w.detail = malloc(n * sizeof *w.detail);
+    if (!w.base || !w.base_nrm || !w.detail)
+        goto nomem;
+    if (want_geometry) {
+        st = relief_curvature_flow(in->pos, w.nrm, &w.g, p->smooth_steps, p->smooth_dt * spacing,
+                                   w.base, w.base_nrm, err);
+        if (st != RELIEF_OK)
+            goto fail;
+    } else {
+        memcpy(w.base, in->pos, n * 3 * sizeof *w.base);
+        memcpy(w.base_nrm, w.nrm, n * 3 * sizeof *w.base_nrm);
+    }
+    rep->recon_rms = relief_detail_encode(in->pos, w.base, w.base_nrm, n, w.detail);
+    {
+        double s2 = 0.0;
+        for (size_t i = 0; i < n; ++i)
+            s2 += (double)w.detail[i] * w.detail[i];
+        rep->detail_rms = sqrt(s2 / (double)n);
+    }
+    rep->t_base = relief_seconds() - t;
+    t = relief_seconds();
+
+    /* 4. The base's holes, filled. */
+    if (want_geometry && rep->holes.n_holes) {
+        relief_rbf_params rp = p->rbf;
+        size_t max_new = p->max_new ? p->max_new : 4 * n;
+        if (!(rp.spacing > 0.0))
+            rp.spacing = spacing;
+        st = relief_rbf_fit(w.base, w.base_nrm, n, &rp, &w.rbf, err);
+        if (st != RELIEF_OK)
+            goto fail;
+        st = relief_rbf_fill_holes(w.rbf, w.base, w.base_nrm, n, w.rim, rep->holes.n_holes,
+                                   spacing, max_new, &w.npos, &w.nnrm, &w.nhole, &m, err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    N = n + m;
+    rep->n_added = m;
+    rep->t_fill = relief_seconds() - t;
+    t = relief_seconds();
+
+    /* 5. The texture: c' (scaled to colour's range) and colour. */
+    if (want_geometry && !p->smooth_only)
+        detail_ch = channels++;
+    if (want_colour)
+        colour_ch = channels, channels += 3;
+    rep->tex_channels = channels;
+    w.tpos = malloc(N * 3 * sizeof *w.tpos);
+    w.tnrm = malloc(N * 3 * sizeof *w.tnrm);
+    w.value = malloc(N * (size_t)channels * sizeof *w.value);
+    w.unknown = calloc(N, 1);
+    w.exemplar = calloc(N, 1);
+    w.rim_term = calloc(N, 1);
+    w.rim_dist = malloc(N * sizeof *w.rim_dist);
+    w.near_rim = malloc((m + 1) * sizeof *w.near_rim);
+    if (!w.tpos || !w.tnrm || !w.value || !w.unknown || !w.exemplar || !w.rim_term ||
+        !w.rim_dist || !w.near_rim)
+        goto nomem;
+    memcpy(w.tpos, w.base, n * 3 * sizeof *w.tpos);
+    memcpy(w.tnrm, w.base_nrm, n * 3 * sizeof *w.tnrm);
+    if (m) {
+        memcpy(w.tpos + 3 * n, w.npos, m * 3 * sizeof *w.tpos);
+        memcpy(w.tnrm + 3 * n, w.nnrm, m * 3 * sizeof *w.tnrm);
+    }
+    /* Detail in units of 4 x its RMS, so that it weighs in the matching
+     * about as a colour channel in [0, 1] does. */
+    if (rep->detail_rms > 0.0)
+        scale = 4.0 * rep->detail_rms;
+    for (size_t i = 0; i < N; ++i) {
+        int is_new = i >= n;
+        for (int c = 0; c < channels; ++c)
+            w.value[i * channels + c] = 0.0f;
+        if (!is_new) {
+            if (detail_ch >= 0)
+                w.value[i * channels + detail_ch] = (float)(w.detail[i] / scale);
+            if (colour_ch >= 0)
+                for (int c = 0; c < 3; ++c)
+                    w.value[i * channels + colour_ch + c] = in->col[3 * i + c];
+        }
+        w.unknown[i] = is_new || (p->hole_mask && p->hole_mask[i]);
+    }
+    st = relief_rim_distance(in->pos, n, w.rim, w.tpos, N, w.rim_dist, NULL, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    if (m) {
+        st = relief_rim_distance(w.base, n, w.rim, w.npos, m, w.rim_dist + n, w.near_rim, err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        w.exemplar[i] = !w.unknown[i] && !(w.rim_dist[i] <= p->band * spacing) &&
+                        (!p->sample_mask || p->sample_mask[i]);
+        w.rim_term[i] = !w.unknown[i] && w.rim_dist[i] <= p->band * spacing;
+    }
+    if (channels) {
+        st = relief_texopt_complete(w.tpos, w.tnrm, N, channels, w.value, w.unknown, w.exemplar,
+                                    w.rim_term, &p->tex, &rep->tex, err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    rep->t_texture = relief_seconds() - t;
+
+    /* 6. The result. */
+    st = relief_mesh_create(N, 0, RELIEF_MESH_NORMALS | RELIEF_MESH_LABELS |
+                                      (in->col ? RELIEF_MESH_COLOURS : 0u),
+                            &out, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    memcpy(out->pos, in->pos, n * 3 * sizeof *out->pos);
+    for (size_t i = 0; i < n; ++i)
+        if (p->hole_mask && p->hole_mask[i] && detail_ch >= 0)
+            for (int e = 0; e < 3; ++e)
+                out->pos[3 * i + e] = w.base[3 * i + e] +
+                                      (double)w.value[i * channels + detail_ch] * scale *
+                                          w.base_nrm[3 * i + e];
+    place_new_points(in->pos, &w, n, m, p->seam_band * spacing, scale, detail_ch, channels,
+                     out->pos + 3 * n);
+    for (size_t i = 0; i < N; ++i) {
+        out->label[i] = i >= n ? RELIEF_LABEL_COMPLETED : RELIEF_LABEL_CAPTURED;
+        if (!in->col)
+            continue;
+        for (int c = 0; c < 3; ++c) {
+            float v;
+            if (i < n && !(p->hole_mask && p->hole_mask[i] && colour_ch >= 0))
+                v = in->col[3 * i + c];
+            else if (colour_ch >= 0)
+                v = w.value[i * channels + colour_ch + c];
+            else /* geometry only: the nearest rim point's colour */
+                v = in->col[3 * (size_t)w.near_rim[i - n] + c];
+            out->col[3 * i + c] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+        }
+    }
+    /* Normals of the result: covariance over the new neighbourhoods, each
+     * agreeing with the normal it had. */
+    {
+        relief_knn_graph g2;
+        st = relief_knn_graph_build(out->pos, N, p->k, &g2, err);
+        if (st != RELIEF_OK)
+            goto fail;
+        memcpy(w.tnrm, w.nrm, n * 3 * sizeof *w.tnrm);
+        st = relief_points_normals(out->pos, &g2, w.tnrm, NULL, out->nrm, NULL, err);
+        relief_knn_graph_free(&g2);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    rep->t_total = relief_seconds() - t0;
+    work_free(&w);
+    *out_mesh = out;
+    return RELIEF_OK;
+nomem:
+    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the completion of %zu points", n);
+fail:
+    relief_mesh_destroy(out);
+    work_free(&w);
+    relief_points_report_free(rep);
+    return st;
+}

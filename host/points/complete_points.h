@@ -1,0 +1,83 @@
+/* Completion of colour and geometric detail on a point set with no
+ * primitive under it (paper 002; `relief complete-points`, issue 21).
+ *
+ * The pipeline:
+ *   1. local analysis: k-NN, covariance normals consistently oriented,
+ *      sigma_n, the spacing (points/analysis.h);
+ *   2. the holes: a mesh's boundary loops, or a bare point set's one-sided
+ *      points (points/holes.h), and/or a given mask;
+ *   3. base and detail: the curvature flow gives the base M', the detail c'
+ *      is the signed distance over it (points/flow.h);
+ *   4. the base's holes filled by the hierarchical compactly supported RBF
+ *      and new base points sampled on it at the spacing (points/rbf.h);
+ *   5. c' (and colour) completed on the new points by the texture
+ *      optimisation over overlapping clusters (points/texopt.h), from
+ *      exemplars outside the holes' band;
+ *   6. each new point placed at q' + c' n, n its base normal blended toward
+ *      the rim's detail direction within the seam band (section 6.1).
+ * Lengths are in the input's unit; "spacings" are multiples of the median
+ * nearest-neighbour distance. */
+#ifndef RELIEF_HOST_POINTS_COMPLETE_POINTS_H
+#define RELIEF_HOST_POINTS_COMPLETE_POINTS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+#include "points/holes.h"
+#include "points/rbf.h"
+#include "points/texopt.h"
+
+typedef enum relief_points_what {
+    RELIEF_POINTS_ALL = 0,      /* geometry, and colour when the input has it */
+    RELIEF_POINTS_COLOUR_ONLY,  /* the colour of the masked points; no new points */
+    RELIEF_POINTS_GEOMETRY_ONLY /* new points and their detail; colour copied from the nearest
+                                   captured point */
+} relief_points_what;
+
+typedef struct relief_points_params {
+    relief_points_what what;
+    int k;                /* neighbours of the local analysis, 6..64 (default 16) */
+    int smooth_steps;     /* curvature-flow steps for the base, 0..10000 (default 20) */
+    double smooth_dt;     /* time step in spacings, (0, 100] (default 10; flow.h) */
+    double rim_gap;       /* one-sided test's angular gap, radians (default pi/2) */
+    double band;          /* exemplars keep this far from a rim, spacings >= 0 (default 2) */
+    double seam_band;     /* normal blending band d, spacings >= 0 (default 3) */
+    const uint8_t *hole_mask; /* n_in entries or NULL: points whose colour and detail are to
+                                 be synthesised again (--hole-mask) */
+    const uint8_t *sample_mask; /* n_in entries or NULL: where exemplars may be centred
+                                   (--sample-region); default everywhere outside the band */
+    const double *viewpoint;  /* 3 or NULL: a camera the normals face (a PCD's sensor) */
+    int smooth_only;      /* the smooth fill alone (paper 002's Fig. 9g, a baseline): new
+                             points on the filled base, no detail, colour from the rim */
+    size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
+    relief_texopt_params tex;
+    relief_rbf_params rbf; /* spacing is set from the points when 0 */
+} relief_points_params;
+
+relief_points_params relief_points_params_default(void);
+
+typedef struct relief_points_report {
+    size_t n_in, n_added, n_masked;
+    relief_hole_info holes;
+    double spacing;          /* median nearest-neighbour distance */
+    double recon_rms;        /* RMS of |p' + c' n' - p| over the input (section 5.2) */
+    double detail_rms;       /* RMS of c' over the input */
+    double t_analysis, t_base, t_fill, t_texture, t_total; /* seconds */
+    relief_texopt_result tex; /* energy per iteration etc. (owned; freed by _free) */
+    int tex_channels;
+} relief_points_report;
+
+void relief_points_report_free(relief_points_report *r);
+
+/* Complete `in` (positions; colour, normals, triangles when present) into
+ * *out: the input's points first (label 0, the input's colour, oriented
+ * normals), then the new ones (label 1). RELIEF_E_RANGE when a parameter is
+ * out of range, there is nothing to fill (no hole and no mask; naming
+ * which), the points are too few or collinear; RELIEF_E_NOMEM. *out only
+ * on success. */
+relief_status relief_complete_points(const relief_mesh *in, const relief_points_params *p,
+                                     relief_mesh **out, relief_points_report *rep,
+                                     relief_error *err);
+
+#endif

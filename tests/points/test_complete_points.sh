@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# relief complete-points from the command line: a cut in a real scan
+# (fertility) and in the coloured PCD cloud (milk_color) completed, the
+# output's layout (input points first with label 0, then label 1, colour
+# and normals), the report, the same bytes for the same seed, --colour-only
+# with a mask, and every bad input of issue 21, each with its exit status,
+# its message and no output left behind.
+#   test_complete_points.sh PATH/TO/relief DATA_DIR (../shared/data)
+set -u
+relief=$1 data=$2
+tmp=$(mktemp -d /tmp/relief-points-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+
+. "$(dirname "$0")/../cli/expect.sh" # expect, ok
+
+fert=$data/real/fertility/fertility.off milk=$data/points/milk_color.pcd
+if [[ ! -f $fert || ! -f $milk ]]; then echo "$data: scans not found: skipped"; exit 77; fi
+
+"$relief" cut "$fert" -o "$tmp/fert_cut.ply" --ball 5.48,31.18,10.73,8 2>/dev/null || exit 2
+expect 0 "added over 1 hole" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/f.ply" --report "$tmp/f.json" --iterations 10
+ok 'head -c 600 "$tmp/f.ply" | grep -q "property [a-z0-9]* label" && head -c 600 "$tmp/f.ply" | grep -q "property [a-z0-9]* nx"' "the output lacks labels or normals"
+ok 'grep -q "\"energy\": \[" "$tmp/f.json" && grep -q "\"reconstruction_rms\"" "$tmp/f.json" && grep -q "\"added\": [1-9]" "$tmp/f.json"' "the report lacks energy, reconstruction or counts"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/f2.ply" --iterations 10 --quiet
+ok 'cmp -s "$tmp/f.ply" "$tmp/f2.ply"' "two runs with the same seed differ"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
+ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
+
+# The coloured cloud (binary_compressed PCD), with a hole cut by a mask:
+# --colour-only synthesises the colour of the masked points.
+expect 0 "masked" -- "$relief" complete-points "$milk" -o "$tmp/m.ply" --colour-only --hole-mask ball:-0.044,-0.128,0.76,0.03 --iterations 5 --report "$tmp/m.json"
+ok 'head -c 600 "$tmp/m.ply" | grep -q "property uchar red" && grep -q "\"masked\": [1-9]" "$tmp/m.json"' "colour-only lost the colour or the mask"
+
+# Bad input: exit 1 (2 for resources), the message, no output.
+nothing() { ok '[[ ! -e "$tmp/bad.ply" && ! -e "$tmp/bad.json" ]]' "output left behind: $1"; }
+expect 1 "nothing to fill" -- "$relief" complete-points "$fert" -o "$tmp/bad.ply" --report "$tmp/bad.json"; nothing "no hole"
+expect 1 "give --hole-mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only; nothing "colour-only"
+expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --colour-only --hole-mask ball:0,0,0,5; nothing "no colour"
+expect 1 "exclude each other" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only --geometry-only
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' > "$tmp/three.ply"
+expect 1 "too few" -- "$relief" complete-points "$tmp/three.ply" -o "$tmp/bad.ply"; nothing "too few"
+awk 'BEGIN { print "ply\nformat ascii 1.0\nelement vertex 40\nproperty float x\nproperty float y\nproperty float z\nend_header"; for (i = 0; i < 40; ++i) print i, 2 * i, 0 }' > "$tmp/line.ply"
+expect 1 "on a line" -- "$relief" complete-points "$tmp/line.ply" -o "$tmp/bad.ply"; nothing collinear
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\nnan 0 0\n0 1 0\n' > "$tmp/nan.ply"
+expect 1 "" -- "$relief" complete-points "$tmp/nan.ply" -o "$tmp/bad.ply"; nothing NaN
+printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n' > "$tmp/allnan.pcd"
+expect 1 "no finite point" -- "$relief" complete-points "$tmp/allnan.pcd" -o "$tmp/bad.ply"; nothing "all NaN"
+head -c 400 "$milk" > "$tmp/trunc.pcd"
+expect 1 "truncated" -- "$relief" complete-points "$tmp/trunc.pcd" -o "$tmp/bad.ply"; nothing truncated
+expect 2 "over the limit" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --max-memory 1M; nothing memory
+expect 1 "not a .ply" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.obj"
+expect 1 "never overwrites" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fert_cut.ply"
+expect 1 "odd" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid 8
+expect 1 "--k" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --k 100
+expect 1 "ball:X,Y,Z,R" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --hole-mask box
+expect 1 "X0 < X1" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region 1,1,1,0,0,0
+expect 1 "cannot" -- "$relief" complete-points "$tmp/none.ply" -o "$tmp/bad.ply"; nothing missing
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
