@@ -36,8 +36,8 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b)
  * all n), keep the holes (the border rule, the size rule of holes.h), and
  * write rim. */
 static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark,
-                                uint32_t *parent, uint32_t *rim, relief_hole_info *info,
-                                relief_error *err)
+                                uint32_t *parent, double min_rim, uint32_t *rim,
+                                relief_hole_info *info, relief_error *err)
 {
     uint32_t *comp = malloc(n * sizeof *comp), nc = 0;
     double *acc = NULL; /* per component: centroid sum (3), count, radius */
@@ -85,7 +85,7 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
          * noise the size rule drops first. */
         for (uint32_t h = 0; h < nc; ++h) {
             const double *a = acc + 5 * (size_t)h;
-            if (a[3] < 3.0)
+            if (a[3] < min_rim)
                 continue;
             for (size_t i = 0; i < n; ++i) {
                 double d[3];
@@ -94,7 +94,7 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
             }
         }
         for (uint32_t h = 0; h < nc; ++h) {
-            if (acc[5 * (size_t)h + 3] < 3.0)
+            if (acc[5 * (size_t)h + 3] < min_rim)
                 ++info->n_dropped;
             else if (2 * inside[h] > n)
                 ++info->n_borders;
@@ -151,7 +151,7 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
         }
         i = j;
     }
-    st = label_rims(pos, n, mark, parent, rim, info, err);
+    st = label_rims(pos, n, mark, parent, 3.0, rim, info, err);
     free(e), free(parent), free(mark);
     return st;
 }
@@ -206,7 +206,7 @@ relief_status relief_holes_points(const double *pos, const double *nrm,
             for (size_t r = 0; r < k; ++r)
                 if (mark[g->nbr[i * k + r]])
                     unite(parent, (uint32_t)i, g->nbr[i * k + r]);
-    st = label_rims(pos, n, mark, parent, rim, info, err);
+    st = label_rims(pos, n, mark, parent, (double)k, rim, info, err);
     free(parent), free(mark);
     return st;
 }

@@ -10,7 +10,10 @@
  * A rim is taken for the outer border, and left open, when the ball about
  * its centroid through its farthest rim point holds more than half of all
  * the points (a hole's ball holds few; the border's holds the scan). Rims
- * of fewer than 3 points are dropped as noise.
+ * of fewer than 3 points (a mesh's) or k points (a point set's: an
+ * irregular sampling, a laser scan's or a random one, leaves one-sided
+ * gaps of a few points everywhere; a hole with fewer than k rim points is
+ * under about 2.5 spacings across) are dropped as noise.
  *
  * Output: rim[i] = 0 off any rim, h in 1..n_holes on hole h's rim. */
 #ifndef RELIEF_HOST_POINTS_HOLES_H
