@@ -35,6 +35,8 @@ static const char points_help[] =
     "(label 1), with colour when IN has it and normals. IN is never written.\n"
     "\n"
     "  -o, --output OUT.ply  the completed points; required\n"
+    "  --mesh M.ply          also write the completed surface: IN's triangles and\n"
+    "                        patches over the filled holes (IN must be a mesh)\n"
     "  --colour-only         synthesise the colour of the --hole-mask points only\n"
     "  --geometry-only       new points and their detail; colour from the rim\n"
     "  --smooth-only         the smooth fill alone (no detail, colour from the\n"
@@ -59,7 +61,7 @@ static const char points_help[] =
 
 enum {
     OPT_COLOUR_ONLY = 512, OPT_GEOMETRY_ONLY, OPT_HOLE_MASK, OPT_SAMPLE_REGION, OPT_K,
-    OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY
+    OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH
 };
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
@@ -154,6 +156,8 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "too_small", r->holes.n_dropped);
     rj_end_object(&j);
     rj_number(&j, "spacing", r->spacing);
+    rj_int(&j, "patch_triangles", (long long)r->patch_triangles);
+    rj_int(&j, "patch_holes_skipped", (long long)r->patch_skipped);
     rj_begin_object(&j, "base");
     rj_number(&j, "detail_rms", r->detail_rms);
     rj_number(&j, "reconstruction_rms", r->recon_rms);
@@ -229,6 +233,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         {"geometry-only", no_argument, 0, OPT_GEOMETRY_ONLY},
         {"hole-mask", required_argument, 0, OPT_HOLE_MASK},
         {"smooth-only", no_argument, 0, OPT_SMOOTH_ONLY},
+        {"mesh", required_argument, 0, OPT_MESH},
         {"sample-region", required_argument, 0, OPT_SAMPLE_REGION},
         {"k", required_argument, 0, OPT_K},
         {"smooth-steps", required_argument, 0, OPT_SMOOTH_STEPS},
@@ -246,7 +251,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL, *out = NULL;
     uint8_t *mask = NULL, *sample = NULL;
-    const char *out_path = NULL, *report = NULL, *in_path, *mask_spec = NULL;
+    const char *out_path = NULL, *report = NULL, *in_path, *mask_spec = NULL, *mesh_path = NULL;
     const char *what = "all";
     double box[6];
     int c, rc = 0, quiet = 0, have_box = 0, from_pcd, nb = 0;
@@ -275,6 +280,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
             break;
         case OPT_HOLE_MASK: mask_spec = optarg; break;
         case OPT_SMOOTH_ONLY: p.smooth_only = 1; break;
+        case OPT_MESH: mesh_path = optarg, p.mesh = 1; break;
         case OPT_SAMPLE_REGION:
             if (!cli_parse_reals("complete-points", "--sample-region", optarg, box, 6, &nb))
                 return EXIT_USAGE;
@@ -350,6 +356,13 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     if (report && (cli_same_file(in_path, report) || cli_same_file(out_path, report)))
         return cli_usage_error("complete-points", "--report: '%s' is the input or the output",
                                report);
+    if (mesh_path && !cli_known_mesh_ext(mesh_path))
+        return cli_usage_error("complete-points", "--mesh: '%s' has no mesh extension (.ply .obj "
+                               ".off .stl)", mesh_path);
+    if (mesh_path && (cli_same_file(in_path, mesh_path) || cli_same_file(out_path, mesh_path) ||
+                      (report && cli_same_file(report, mesh_path))))
+        return cli_usage_error("complete-points", "--mesh: '%s' is the input or another output",
+                               mesh_path);
     if (p.what == RELIEF_POINTS_COLOUR_ONLY && !mask_spec)
         return cli_usage_error("complete-points", "%s--colour-only completes the colour of the "
                                "--hole-mask points: give --hole-mask", "");
@@ -406,12 +419,19 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     {
         relief_write_options wo = {0};
         report_ctx rc_ctx = {in_path, out_path, what, &p, &rep, dropped};
-        relief_status st = relief_mesh_write(out, out_path, &wo, &err);
+        relief_mesh points = *out; /* the points alone, a view of out */
+        relief_status st;
+        points.nt = 0, points.tri = NULL;
+        st = relief_mesh_write(&points, out_path, &wo, &err);
+        if (st == RELIEF_OK && mesh_path)
+            st = relief_mesh_write(out, mesh_path, &wo, &err);
         if (st == RELIEF_OK && report)
             st = relief_atomic_write_text(report, write_report, &rc_ctx, &err);
         if (st != RELIEF_OK) {
             rc = cli_fail("complete-points", &err);
-            remove(out_path); /* both or neither */
+            remove(out_path); /* all or none */
+            if (mesh_path)
+                remove(mesh_path);
         }
     }
     cli_release_signals(&held);

@@ -12,6 +12,7 @@
 #include "mesh/mesh.h"
 #include "points/analysis.h"
 #include "points/flow.h"
+#include "points/patch_mesh.h"
 
 relief_points_params relief_points_params_default(void)
 {
@@ -143,6 +144,10 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     if (p->smooth_only && p->what == RELIEF_POINTS_COLOUR_ONLY)
         return relief_fail(err, RELIEF_E_RANGE, "--smooth-only fills geometry: not with "
                            "--colour-only");
+    if (p->mesh && !in->nt)
+        return relief_fail(err, RELIEF_E_RANGE, "a triangulated result (--mesh) needs a mesh "
+                           "input: relief triangulates the filled holes only, not a bare point "
+                           "set's whole surface");
     if (p->what == RELIEF_POINTS_COLOUR_ONLY && !in->col)
         return relief_fail(err, RELIEF_E_RANGE, "--colour-only: the input has no colour");
     if (n < (size_t)p->k + 1)
@@ -354,6 +359,26 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         relief_knn_graph_free(&g2);
         if (st != RELIEF_OK)
             goto fail;
+    }
+    if (p->mesh) {
+        uint32_t *pt = NULL;
+        size_t pnt = 0;
+        st = relief_points_patch_mesh(out->pos, out->nrm, n, N, w.rim, w.nhole,
+                                      rep->holes.n_holes, spacing, in->tri, in->nt, &pt, &pnt,
+                                      &rep->patch_skipped, err);
+        if (st != RELIEF_OK)
+            goto fail;
+        out->tri = malloc((in->nt + pnt) * 3 * sizeof *out->tri + 1);
+        if (!out->tri) {
+            free(pt);
+            goto nomem;
+        }
+        memcpy(out->tri, in->tri, in->nt * 3 * sizeof *out->tri);
+        if (pnt)
+            memcpy(out->tri + 3 * in->nt, pt, pnt * 3 * sizeof *out->tri);
+        free(pt);
+        out->nt = in->nt + pnt;
+        rep->patch_triangles = pnt;
     }
     rep->t_total = relief_seconds() - t0;
     work_free(&w);

@@ -50,6 +50,9 @@ typedef struct relief_points_params {
     const double *viewpoint;  /* 3 or NULL: a camera the normals face (a PCD's sensor) */
     int smooth_only;      /* the smooth fill alone (paper 002's Fig. 9g, a baseline): new
                              points on the filled base, no detail, colour from the rim */
+    int mesh;             /* 1: *out also gets triangles: a mesh input's own and the
+                             filled holes' patches (points/patch_mesh.h); a point set
+                             input has none to give (RELIEF_E_RANGE) */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
     relief_texopt_params tex;
     relief_rbf_params rbf; /* spacing is set from the points when 0 */
@@ -63,6 +66,8 @@ typedef struct relief_points_report {
     double spacing;          /* median nearest-neighbour distance */
     double recon_rms;        /* RMS of |p' + c' n' - p| over the input (section 5.2) */
     double detail_rms;       /* RMS of c' over the input */
+    size_t patch_triangles;  /* triangles laid over the holes (p->mesh) */
+    size_t patch_skipped;    /* holes qhull could not triangulate */
     double t_analysis, t_base, t_fill, t_texture, t_total; /* seconds */
     relief_texopt_result tex; /* energy per iteration etc. (owned; freed by _free) */
     int tex_channels;
@@ -72,7 +77,7 @@ void relief_points_report_free(relief_points_report *r);
 
 /* Complete `in` (positions; colour, normals, triangles when present) into
  * *out: the input's points first (label 0, the input's colour, oriented
- * normals), then the new ones (label 1). RELIEF_E_RANGE when a parameter is
+ * normals), then the new ones (label 1); triangles only with p->mesh. RELIEF_E_RANGE when a parameter is
  * out of range, there is nothing to fill (no hole and no mask; naming
  * which), the points are too few or collinear; RELIEF_E_NOMEM. *out only
  * on success. */

@@ -23,6 +23,9 @@ ok 'head -c 600 "$tmp/f.ply" | grep -q "property [a-z0-9]* label" && head -c 600
 ok 'grep -q "\"energy\": \[" "$tmp/f.json" && grep -q "\"reconstruction_rms\"" "$tmp/f.json" && grep -q "\"added\": [1-9]" "$tmp/f.json"' "the report lacks energy, reconstruction or counts"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/f2.ply" --iterations 10 --quiet
 ok 'cmp -s "$tmp/f.ply" "$tmp/f2.ply"' "two runs with the same seed differ"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fm_pts.ply" --mesh "$tmp/fm.ply" --iterations 10 --report "$tmp/fm.json" --quiet
+ok 'cmp -s "$tmp/f.ply" "$tmp/fm_pts.ply" && grep -q "\"patch_triangles\": [1-9]" "$tmp/fm.json"' "--mesh changed the points or laid no patch"
+ok '[[ $(head -c 800 "$tmp/fm.ply" | grep -a "element face" | cut -d" " -f3) -gt $(head -c 800 "$tmp/fert_cut.ply" | grep -a "element face" | cut -d" " -f3) ]]' "--mesh has no more triangles than the capture"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
 
@@ -36,6 +39,8 @@ nothing() { ok '[[ ! -e "$tmp/bad.ply" && ! -e "$tmp/bad.json" ]]' "output left 
 expect 1 "nothing to fill" -- "$relief" complete-points "$fert" -o "$tmp/bad.ply" --report "$tmp/bad.json"; nothing "no hole"
 expect 1 "give --hole-mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only; nothing "colour-only"
 expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --colour-only --hole-mask ball:0,0,0,5; nothing "no colour"
+expect 1 "needs a mesh input" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --mesh "$tmp/bad_m.ply"; nothing "--mesh of a cloud"
+ok '[[ ! -e "$tmp/bad_m.ply" ]]' "--mesh of a cloud left a mesh"
 expect 1 "exclude each other" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only --geometry-only
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' > "$tmp/three.ply"
 expect 1 "too few" -- "$relief" complete-points "$tmp/three.ply" -o "$tmp/bad.ply"; nothing "too few"

@@ -1,0 +1,375 @@
+/* Hole patches triangulated over their mean plane (patch_mesh.h). */
+#include "points/patch_mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+#include "smooth/delaunay.h"
+
+#define PATCH_MAX_CIRCUMRADIUS 3.0 /* spacings */
+
+/* A set of directed edges (open addressing on 64-bit keys). */
+typedef struct edge_set {
+    uint64_t *key;
+    size_t cap, n;
+} edge_set;
+
+static size_t edge_slot(const edge_set *e, uint64_t k)
+{
+    size_t i = (size_t)((k * 0x9E3779B97F4A7C15ull) >> 20) & (e->cap - 1);
+    while (e->key[i] && e->key[i] != k)
+        i = (i + 1) & (e->cap - 1);
+    return i;
+}
+
+static uint64_t edge_key(uint32_t a, uint32_t b)
+{
+    return ((uint64_t)a << 32 | b) + 1; /* 0 marks an empty slot */
+}
+
+static int edge_has(const edge_set *e, uint32_t a, uint32_t b)
+{
+    return e->key[edge_slot(e, edge_key(a, b))] != 0;
+}
+
+static void edge_add(edge_set *e, uint32_t a, uint32_t b)
+{
+    size_t i = edge_slot(e, edge_key(a, b));
+    if (!e->key[i])
+        e->key[i] = edge_key(a, b), ++e->n;
+}
+
+typedef struct cand_tri {
+    double r;
+    uint32_t v[3];
+} cand_tri;
+
+static int cand_cmp(const void *x, const void *y)
+{
+    const cand_tri *a = x, *b = y;
+    if (a->r != b->r)
+        return a->r < b->r ? -1 : 1;
+    for (int k = 0; k < 3; ++k)
+        if (a->v[k] != b->v[k])
+            return a->v[k] < b->v[k] ? -1 : 1;
+    return 0;
+}
+
+static double circumradius(const double *a, const double *b, const double *c)
+{
+    double ab[3], ac[3], bc[3], x[3], la, lb, lc, area2;
+    sub3(b, a, ab), sub3(c, a, ac), sub3(c, b, bc);
+    cross3(ab, ac, x);
+    area2 = sqrt(dot3(x, x)); /* twice the area */
+    la = sqrt(dot3(bc, bc)), lb = sqrt(dot3(ac, ac)), lc = sqrt(dot3(ab, ab));
+    return area2 > 0.0 ? la * lb * lc / (2.0 * area2) : INFINITY;
+}
+
+/* Does vertex v's fan (its triangles' link edges b -> c, each triangle
+ * (v, b, c) in order) form one path or one cycle? Several fans at a vertex
+ * make it non-manifold, which the mesh writer refuses. link: the fan's
+ * link edges, 2 each, m of them. */
+static int one_fan(const uint32_t *link, size_t m)
+{
+    size_t joins = 0, start = 0, walked = 1;
+    if (m <= 1)
+        return 1;
+    for (size_t i = 0; i < m; ++i)
+        for (size_t j = 0; j < m; ++j)
+            if (i != j && link[2 * i + 1] == link[2 * j])
+                ++joins;
+    if (joins + 1 == m)
+        return 1; /* one open path (directed edges are unique) */
+    if (joins != m)
+        return 0;
+    /* m joins: cycles only; one cycle when a walk from edge 0 meets all. */
+    for (size_t cur = start;;) {
+        size_t next = m;
+        for (size_t j = 0; j < m; ++j)
+            if (link[2 * j] == link[2 * cur + 1])
+                next = j;
+        if (next == start || next == m)
+            break;
+        cur = next, ++walked;
+    }
+    return walked == m;
+}
+
+/* Drop patch triangles (indices >= first_patch of all) around every vertex
+ * whose fan is not one, until none is left. tri: nt x 3, compacted in
+ * place; returns the new count. */
+static size_t drop_non_manifold(uint32_t *tri, size_t nt, size_t first_patch, size_t nv,
+                                int *nomem)
+{
+    for (;;) {
+        uint32_t *start = calloc(nv + 1, sizeof *start), *inc = malloc(3 * nt * sizeof *inc + 1);
+        uint32_t *link = NULL;
+        uint8_t *bad = calloc(nv + 1, 1), *drop = calloc(nt + 1, 1);
+        size_t link_cap = 0, n_bad = 0, kept = 0;
+        if (!start || !inc || !bad || !drop) {
+            free(start), free(inc), free(bad), free(drop);
+            *nomem = 1;
+            return nt;
+        }
+        for (size_t t = 0; t < 3 * nt; ++t)
+            ++start[tri[t] + 1];
+        for (size_t v = 0; v < nv; ++v)
+            start[v + 1] += start[v];
+        {
+            uint32_t *fill = malloc((nv + 1) * sizeof *fill);
+            if (!fill) {
+                free(start), free(inc), free(bad), free(drop);
+                *nomem = 1;
+                return nt;
+            }
+            memcpy(fill, start, nv * sizeof *fill);
+            for (size_t t = 0; t < nt; ++t)
+                for (int q = 0; q < 3; ++q)
+                    inc[fill[tri[3 * t + q]]++] = (uint32_t)t;
+            free(fill);
+        }
+        for (size_t v = 0; v < nv; ++v) {
+            size_t m = start[v + 1] - start[v];
+            int any_patch = 0;
+            if (m < 2)
+                continue;
+            if (2 * m > link_cap) {
+                uint32_t *g = realloc(link, 2 * m * sizeof *g);
+                if (!g) {
+                    *nomem = 1;
+                    break;
+                }
+                link = g, link_cap = 2 * m;
+            }
+            for (size_t e = 0; e < m; ++e) {
+                const uint32_t t = inc[start[v] + e], *x = tri + 3 * (size_t)t;
+                int at = x[0] == v ? 0 : x[1] == v ? 1 : 2;
+                link[2 * e] = x[(at + 1) % 3], link[2 * e + 1] = x[(at + 2) % 3];
+                any_patch |= t >= first_patch;
+            }
+            if (any_patch && !one_fan(link, m)) {
+                bad[v] = 1, ++n_bad;
+                for (size_t e = 0; e < m; ++e)
+                    if (inc[start[v] + e] >= first_patch)
+                        drop[inc[start[v] + e]] = 1;
+            }
+        }
+        for (size_t t = 0; t < nt; ++t)
+            if (!drop[t])
+                memmove(tri + 3 * kept++, tri + 3 * t, 3 * sizeof *tri);
+        free(start), free(inc), free(bad), free(drop), free(link);
+        if (*nomem || !n_bad || kept == nt)
+            return kept;
+        nt = kept;
+    }
+}
+
+relief_status relief_points_patch_mesh(const double *pos, const double *nrm, size_t n_in,
+                                       size_t N, const uint32_t *rim, const uint32_t *hole,
+                                       uint32_t n_holes, double spacing, const uint32_t *tri_in,
+                                       size_t nt_in, uint32_t **tri_out, size_t *nt_out,
+                                       size_t *skipped, relief_error *err)
+{
+    uint32_t *ids = malloc((N + 1) * sizeof *ids), *tri = NULL;
+    cand_tri *cand = NULL;
+    edge_set es = {0};
+    double *uv = malloc((N + 1) * 2 * sizeof *uv);
+    size_t nt = 0, cap = 0;
+    relief_status st = RELIEF_OK;
+
+    *tri_out = NULL;
+    *nt_out = 0;
+    *skipped = 0;
+    if (!ids || !uv) {
+        free(ids), free(uv);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+    }
+    for (uint32_t k = 1; k <= n_holes; ++k) {
+        double c[3] = {0, 0, 0}, nm[3] = {0, 0, 0}, u[3], v[3];
+        uint32_t *pt = NULL;
+        size_t m = 0, pnt = 0, fresh = 0;
+        relief_error qerr;
+        for (size_t i = 0; i < N; ++i)
+            if (i < n_in ? rim[i] == k : hole[i - n_in] == k) {
+                ids[m++] = (uint32_t)i;
+                fresh += i >= n_in;
+                for (int a = 0; a < 3; ++a)
+                    c[a] += pos[3 * i + a], nm[a] += nrm[3 * i + a];
+            }
+        if (m < 3 || !fresh)
+            continue;
+        for (int a = 0; a < 3; ++a)
+            c[a] /= (double)m;
+        if (relief_normalize3(nm) == 0.0) {
+            ++*skipped;
+            continue;
+        }
+        relief_perp_basis(nm, u, v);
+        for (size_t j = 0; j < m; ++j) {
+            double d[3];
+            sub3(pos + 3 * (size_t)ids[j], c, d);
+            uv[2 * j] = dot3(d, u), uv[2 * j + 1] = dot3(d, v);
+        }
+        if (relief_delaunay_2d(uv, m, &pt, &pnt, NULL, &qerr) != RELIEF_OK) {
+            if (qerr.status == RELIEF_E_NOMEM) {
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot triangulate hole %u", k);
+                break;
+            }
+            ++*skipped;
+            continue;
+        }
+        for (size_t t = 0; t < pnt; ++t) {
+            uint32_t a = ids[pt[3 * t]], b = ids[pt[3 * t + 1]], d = ids[pt[3 * t + 2]];
+            double e1[3], e2[3], x[3], vn[3];
+            if (a < n_in && b < n_in && d < n_in)
+                continue; /* rim only: over the capture, or a gap along the rim */
+            double r = circumradius(pos + 3 * (size_t)a, pos + 3 * (size_t)b, pos + 3 * (size_t)d);
+            if (r > PATCH_MAX_CIRCUMRADIUS * spacing)
+                continue;
+            sub3(pos + 3 * (size_t)b, pos + 3 * (size_t)a, e1);
+            sub3(pos + 3 * (size_t)d, pos + 3 * (size_t)a, e2);
+            cross3(e1, e2, x);
+            for (int q = 0; q < 3; ++q)
+                vn[q] = nrm[3 * (size_t)a + q] + nrm[3 * (size_t)b + q] + nrm[3 * (size_t)d + q];
+            if (dot3(x, vn) < 0.0) {
+                uint32_t s = b;
+                b = d, d = s;
+            }
+            if (nt == cap) {
+                size_t nc = cap ? 2 * cap : 1024;
+                cand_tri *g = realloc(cand, nc * sizeof *g);
+                if (!g) {
+                    free(pt);
+                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                    goto done;
+                }
+                cand = g, cap = nc;
+            }
+            cand[nt++] = (cand_tri){r, {a, b, d}};
+        }
+        free(pt);
+    }
+    /* Greedily, smallest circumradius first, a triangle joins when none
+     * of its directed edges is taken yet (by the mesh or a patch): every
+     * edge then has at most one triangle a side, consistently oriented,
+     * which the mesh writer (OpenMesh) needs. */
+    if (st == RELIEF_OK && nt) {
+        size_t kept = 0;
+        qsort(cand, nt, sizeof *cand, cand_cmp);
+        for (es.cap = 1024; es.cap < 4 * (3 * (nt_in + nt) + 1); es.cap *= 2)
+            ;
+        es.key = calloc(es.cap, sizeof *es.key);
+        tri = malloc(nt * 3 * sizeof *tri);
+        if (!es.key || !tri) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+            goto done;
+        }
+        for (size_t t = 0; t < nt_in; ++t)
+            for (int q = 0; q < 3; ++q)
+                edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
+        for (size_t t = 0; t < nt; ++t) {
+            const uint32_t *v = cand[t].v;
+            if (edge_has(&es, v[0], v[1]) || edge_has(&es, v[1], v[2]) ||
+                edge_has(&es, v[2], v[0]))
+                continue;
+            edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
+            memcpy(tri + 3 * kept++, v, 3 * sizeof *tri);
+        }
+        /* Then no vertex may end with two fans: the input's triangles and
+         * the patches together, patches dropped where it would. */
+        {
+            uint32_t *all = malloc((nt_in + kept) * 3 * sizeof *all + 1);
+            int nomem = 0;
+            size_t total;
+            if (!all) {
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                goto done;
+            }
+            memcpy(all, tri_in, nt_in * 3 * sizeof *all);
+            memcpy(all + 3 * nt_in, tri, kept * 3 * sizeof *all);
+            total = drop_non_manifold(all, nt_in + kept, nt_in, N, &nomem);
+            if (nomem) {
+                free(all);
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                goto done;
+            }
+            kept = total - nt_in;
+            memcpy(tri, all + 3 * nt_in, kept * 3 * sizeof *tri);
+            free(all);
+        }
+        /* In the order a front from the rim would lay them: each next
+         * triangle shares an edge with what is there. OpenMesh adds faces
+         * one by one and cannot relink a vertex between two separate fans,
+         * which a patch triangle laid apart from the rest would make for a
+         * while. */
+        {
+            uint32_t *ord = malloc(kept * 3 * sizeof *ord + 1);
+            uint8_t *placed = calloc(kept + 1, 1);
+            size_t no = 0;
+            if (!ord || !placed) {
+                free(ord), free(placed);
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                goto done;
+            }
+            memset(es.key, 0, es.cap * sizeof *es.key);
+            for (size_t t = 0; t < nt_in; ++t)
+                for (int q = 0; q < 3; ++q)
+                    edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
+            uint8_t *has_face = calloc(N + 1, 1);
+            if (!has_face) {
+                free(ord), free(placed);
+                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                goto done;
+            }
+            for (size_t t = 0; t < 3 * nt_in; ++t)
+                has_face[tri_in[t]] = 1;
+            for (int progress = 1; progress;) {
+                progress = 0;
+                for (size_t t = 0; t < kept; ++t) {
+                    const uint32_t *v = tri + 3 * t;
+                    int shared[3], ok = 1; /* shared[q]: edge v[q] -> v[q + 1] has a face */
+                    if (placed[t])
+                        continue;
+                    for (int q = 0; q < 3; ++q)
+                        shared[q] = edge_has(&es, v[(q + 1) % 3], v[q]);
+                    if (!shared[0] && !shared[1] && !shared[2])
+                        continue;
+                    /* A vertex that has faces is reached through one of
+                     * its two edges here, never by a corner alone. */
+                    for (int q = 0; q < 3 && ok; ++q)
+                        ok = !has_face[v[q]] || shared[q] || shared[(q + 2) % 3];
+                    if (!ok)
+                        continue;
+                    edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]),
+                        edge_add(&es, v[2], v[0]);
+                    has_face[v[0]] = has_face[v[1]] = has_face[v[2]] = 1;
+                    memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
+                    placed[t] = 1, progress = 1;
+                }
+            }
+            /* What could not be laid so is left out: cracks where fronts
+             * from two sides of a hole meet (about a tenth of a patch's
+             * triangles on the bunny). Laying them by a corner made
+             * OpenMesh's writer fail to relink the vertex's fans later. */
+            memcpy(tri, ord, no * 3 * sizeof *tri);
+            kept = no;
+            free(ord), free(placed), free(has_face);
+        }
+        nt = kept;
+    }
+done:
+    free(ids), free(uv), free(cand), free(es.key);
+    if (st != RELIEF_OK) {
+        free(tri);
+        return st;
+    }
+    *tri_out = nt ? tri : NULL;
+    if (!nt)
+        free(tri);
+    *nt_out = nt;
+    return RELIEF_OK;
+}

@@ -1,0 +1,41 @@
+/* Triangles over the holes a point-set completion filled (`relief
+ * complete-points --mesh`): each hole's rim points and new points projected
+ * on their mean tangent plane (centroid, mean normal) and triangulated
+ * there (Delaunay, qhull), keeping the triangles that reach a new point and
+ * whose circumradius is at most 3 spacings (the convex hull's slivers across
+ * a concave rim go), each turned to agree with its vertices' normals, and
+ * then, smallest circumradius first, each whose directed edges are all
+ * still free (of the mesh's triangles and the patches kept), so that every
+ * edge has at most one triangle a side; patches are dropped around a vertex
+ * left with two fans. They are laid in the order a front from the rim
+ * would lay them, each sharing an edge with what is there and reaching a
+ * vertex that has triangles only through an edge (the mesh writer,
+ * OpenMesh, adds faces one by one and cannot always relink a vertex whose
+ * fans a corner split): what cannot be laid so is left out, cracks where
+ * fronts from two sides meet (a tenth of the bunny's patch triangles). With
+ * the input mesh's own triangles this makes the completed surface. A hole
+ * whose points do not project one-to-one on a plane (a deep pocket) gets
+ * folded triangles: the patch is a height field over its plane.
+ * Arrays row-major; lengths in the points' unit. */
+#ifndef RELIEF_HOST_POINTS_PATCH_MESH_H
+#define RELIEF_HOST_POINTS_PATCH_MESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+
+/* pos, nrm: N x 3, the input's n_in points first, then the new ones;
+ * rim: n_in hole ids of the input points (0: on no rim); hole: N - n_in
+ * hole ids of the new points (1..n_holes); tri_in: the input mesh's nt_in
+ * triangles (indices < n_in). *tri (malloc'ed, nt x 3
+ * indices into pos) and *nt receive the patches' triangles (NULL and 0
+ * when none). RELIEF_E_NOMEM; a hole qhull cannot triangulate (too few or
+ * collinear points) is skipped, counted in *skipped. */
+relief_status relief_points_patch_mesh(const double *pos, const double *nrm, size_t n_in,
+                                       size_t N, const uint32_t *rim, const uint32_t *hole,
+                                       uint32_t n_holes, double spacing,
+                                       const uint32_t *tri_in, size_t nt_in, uint32_t **tri,
+                                       size_t *nt, size_t *skipped, relief_error *err);
+
+#endif
