@@ -36,14 +36,21 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b)
  * all n), keep the holes (the border rule, the size rule of holes.h), and
  * write rim. */
 static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark,
-                                uint32_t *parent, double min_rim, uint32_t *rim,
-                                relief_hole_info *info, relief_error *err)
+                                uint32_t *parent, uint32_t *piece, double min_rim,
+                                uint32_t *rim, relief_hole_info *info, relief_error *err)
 {
+    size_t *piece_size = calloc(n + 1, sizeof *piece_size);
     uint32_t *comp = malloc(n * sizeof *comp), nc = 0;
     double *acc = NULL; /* per component: centroid sum (3), count, radius */
     memset(info, 0, sizeof *info);
-    if (!comp)
+    if (!comp || !piece_size) {
+        free(comp), free(piece_size);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+    }
+    for (size_t i = 0; i < n; ++i) /* piece[i]: its connected piece's root */
+        piece[i] = find_root(piece, (uint32_t)i);
+    for (size_t i = 0; i < n; ++i)
+        ++piece_size[piece[i]];
     for (size_t i = 0; i < n; ++i)
         comp[i] = UINT32_MAX;
     for (size_t i = 0; i < n; ++i)
@@ -55,7 +62,7 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
         }
     acc = calloc((size_t)nc * 5 + 1, sizeof *acc);
     if (!acc) {
-        free(comp);
+        free(comp), free(piece_size);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
     }
     for (size_t i = 0; i < n; ++i)
@@ -77,18 +84,24 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
     {
         uint32_t *keep = calloc((size_t)nc + 1, sizeof *keep);
         size_t *inside = calloc((size_t)nc + 1, sizeof *inside);
-        if (!keep || !inside) {
-            free(keep), free(inside), free(comp), free(acc);
+        uint32_t *rim_piece = calloc((size_t)nc + 1, sizeof *rim_piece);
+        if (!keep || !inside || !rim_piece) {
+            free(keep), free(inside), free(rim_piece), free(comp), free(acc), free(piece_size);
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
         }
         /* O(n x rims): rims are few (tens); a scan with thousands of rims is
          * noise the size rule drops first. */
+        for (size_t i = 0; i < n; ++i)
+            if (mark[i])
+                rim_piece[comp[i]] = piece[i];
         for (uint32_t h = 0; h < nc; ++h) {
             const double *a = acc + 5 * (size_t)h;
             if (a[3] < min_rim)
                 continue;
             for (size_t i = 0; i < n; ++i) {
                 double d[3];
+                if (piece[i] != rim_piece[h])
+                    continue;
                 sub3(pos + 3 * i, a, d);
                 inside[h] += dot3(d, d) <= a[4] * a[4];
             }
@@ -96,7 +109,7 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
         for (uint32_t h = 0; h < nc; ++h) {
             if (acc[5 * (size_t)h + 3] < min_rim)
                 ++info->n_dropped;
-            else if (2 * inside[h] > n)
+            else if (2 * inside[h] > piece_size[rim_piece[h]])
                 ++info->n_borders;
             else
                 keep[h] = ++info->n_holes;
@@ -105,9 +118,11 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
             rim[i] = mark[i] ? keep[comp[i]] : 0;
         free(keep);
         free(inside);
+        free(rim_piece);
     }
     free(comp);
     free(acc);
+    free(piece_size);
     return RELIEF_OK;
 }
 
@@ -123,12 +138,12 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
     /* Boundary edges: an undirected edge met once among the 3 nt. */
     size_t m = 3 * nt;
     uint64_t *e = malloc(m * sizeof *e + 1);
-    uint32_t *parent = malloc(n * sizeof *parent + 1);
+    uint32_t *parent = malloc(n * sizeof *parent + 1), *piece = malloc(n * sizeof *piece + 1);
     uint8_t *mark = calloc(n + 1, 1);
     relief_status st;
 
-    if (!e || !parent || !mark) {
-        free(e), free(parent), free(mark);
+    if (!e || !parent || !mark || !piece) {
+        free(e), free(parent), free(mark), free(piece);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the boundary of %zu triangles",
                            nt);
     }
@@ -139,7 +154,9 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
         }
     qsort(e, m, sizeof *e, u64_cmp);
     for (size_t i = 0; i < n; ++i)
-        parent[i] = (uint32_t)i;
+        parent[i] = piece[i] = (uint32_t)i;
+    for (size_t t = 0; t < m; ++t)
+        unite(piece, (uint32_t)(e[t] >> 32), (uint32_t)e[t]);
     for (size_t i = 0; i < m;) {
         size_t j = i;
         while (j < m && e[j] == e[i])
@@ -151,8 +168,8 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
         }
         i = j;
     }
-    st = label_rims(pos, n, mark, parent, 3.0, rim, info, err);
-    free(e), free(parent), free(mark);
+    st = label_rims(pos, n, mark, parent, piece, 3.0, rim, info, err);
+    free(e), free(parent), free(mark), free(piece);
     return st;
 }
 
@@ -167,23 +184,23 @@ relief_status relief_holes_points(const double *pos, const double *nrm,
                                   relief_hole_info *info, relief_error *err)
 {
     size_t n = g->n, k = (size_t)g->k;
-    uint32_t *parent = malloc(n * sizeof *parent + 1);
+    uint32_t *parent = malloc(n * sizeof *parent + 1), *piece = malloc(n * sizeof *piece + 1);
     uint8_t *mark = calloc(n + 1, 1);
     double ang[64];
     relief_status st;
 
-    if (!parent || !mark) {
-        free(parent), free(mark);
+    if (!parent || !mark || !piece) {
+        free(parent), free(mark), free(piece);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the rim test of %zu points", n);
     }
     if (!(gap > 0.0 && gap < RELIEF_TWO_PI)) {
-        free(parent), free(mark);
+        free(parent), free(mark), free(piece);
         return relief_fail(err, RELIEF_E_RANGE, "rim angle %g out of range (0, 2 pi)", gap);
     }
     for (size_t i = 0; i < n; ++i) {
         double u[3], v[3], widest;
         size_t m = 0;
-        parent[i] = (uint32_t)i;
+        parent[i] = piece[i] = (uint32_t)i;
         relief_perp_basis(nrm + 3 * i, u, v);
         for (size_t r = 0; r < k; ++r) {
             double d[3];
@@ -202,12 +219,13 @@ relief_status relief_holes_points(const double *pos, const double *nrm,
         mark[i] = widest > gap;
     }
     for (size_t i = 0; i < n; ++i)
-        if (mark[i])
-            for (size_t r = 0; r < k; ++r)
-                if (mark[g->nbr[i * k + r]])
-                    unite(parent, (uint32_t)i, g->nbr[i * k + r]);
-    st = label_rims(pos, n, mark, parent, (double)k, rim, info, err);
-    free(parent), free(mark);
+        for (size_t r = 0; r < k; ++r) {
+            unite(piece, (uint32_t)i, g->nbr[i * k + r]);
+            if (mark[i] && mark[g->nbr[i * k + r]])
+                unite(parent, (uint32_t)i, g->nbr[i * k + r]);
+        }
+    st = label_rims(pos, n, mark, parent, piece, (double)k, rim, info, err);
+    free(parent), free(mark), free(piece);
     return st;
 }
 

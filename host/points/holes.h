@@ -7,9 +7,11 @@
  * angle criterion); rim points joined through the k-NN graph form one hole.
  *
  * Not every rim is a hole: the outer border of an open scan is one too.
- * A rim is taken for the outer border, and left open, when the ball about
- * its centroid through its farthest rim point holds more than half of all
- * the points (a hole's ball holds few; the border's holds the scan). Rims
+ * A rim is taken for an outer border, and left open, when the ball about
+ * its centroid through its farthest rim point holds more than half of the
+ * points of its connected piece (through the triangles, or the k-NN graph;
+ * a hole's ball holds few; a border's holds its piece, a stray fragment's
+ * included). Rims
  * of fewer than 3 points (a mesh's) or k points (a point set's: an
  * irregular sampling, a laser scan's or a random one, leaves one-sided
  * gaps of a few points everywhere; a hole with fewer than k rim points is
