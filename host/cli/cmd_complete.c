@@ -19,6 +19,7 @@
 #include "base/memlimit.h"
 #include "cli/complete_report.h"
 #include "cli/options.h"
+#include "points/base_surface.h"
 #include "grow/checkpoint.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
@@ -43,6 +44,9 @@ static const char complete_help[] =
     "  --report-dir DIR      write report.json, renders, histograms and index.html\n"
     "                        (open it in a browser) into the folder DIR\n"
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
+    "  --base B              primitive (default: the fitted one) or smooth: paper\n"
+    "                        002's smoothed, hole-filled base under a mesh that no\n"
+    "                        primitive fits (a head, a statue); mono-scale\n"
     "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
     "  --rotations R         rotations tried per sample, 1..64 (default: 1 on a\n"
     "                        plane, whose frames are all alike, 4 otherwise)\n"
@@ -263,6 +267,7 @@ static void on_sigint(int sig)
 
 /* --checkpoint, --resume and the test hook of the CLI test. */
 typedef struct run_control {
+    int base_smooth;        /* --base smooth: paper 002's base (points/base_surface.h) */
     const char *checkpoint; /* FILE or NULL */
     double checkpoint_every; /* seconds; 0: only on SIGINT or a failure */
     const char *resume;     /* FILE or NULL */
@@ -439,15 +444,24 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         go->save_ctx = &sv;
         go->save_every = rc->checkpoint_every;
     }
-    st = relief_smooth(in, p, o, &s, &err);
+    if (rc->base_smooth) {
+        relief_points_params pp = relief_points_params_default();
+        st = relief_points_base_surface(in, &pp, &s, NULL, &err);
+    } else {
+        st = relief_smooth(in, p, o, &s, &err);
+    }
     if (st == RELIEF_OK) {
         /* From here on the rotations are the primitive's (0: its default),
          * so the estimate, the growth and the report agree; the checkpoint
-         * key above keeps the options as given. */
+         * key above keeps the options as given. A smooth base turns as a
+         * sphere does: 4. */
         resolved = *p;
-        resolved.rotations = relief_params_rotations(p, s->fit.prim.model);
+        resolved.rotations = rc->base_smooth && p->rotations == 0
+                                 ? 4
+                                 : relief_params_rotations(p, s->fit.prim.model);
         p = &resolved;
-        warn_poor_fit("complete", s);
+        if (!rc->base_smooth) /* else the fit is only reported */
+            warn_poor_fit("complete", s);
     }
     if (st == RELIEF_OK)
         st = check_growth_memory(s, p, &err);
@@ -477,9 +491,10 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         }
     }
     if (st == RELIEF_OK && !quiet)
-        fprintf(stderr, "relief complete: %s fit, spacing %.4g: %zu samples, %zu targets; "
+        fprintf(stderr, "relief complete: %s%s, spacing %.4g: %zu samples, %zu targets; "
                 "W %d, R %d, e %g, mu %g, %s search; growth memory about %.0f MiB\n",
-                relief_fit_model_name(s->fit.prim.model), s->spacing, s->n_samples,
+                rc->base_smooth ? "smooth base" : relief_fit_model_name(s->fit.prim.model),
+                rc->base_smooth ? "" : " fit", s->spacing, s->n_samples,
                 s->n_targets, p->window, p->rotations, p->error,
                 relief_grow_mu(p, relief_mesh_colours(s->mesh) != NULL),
                 relief_search_name(relief_params_search(p, s->n_samples, p->rotations,
@@ -624,6 +639,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         {"help", no_argument, 0, 'h'},
         /* complete only, from here ("window" ends smooth's options) */
         {"window", required_argument, 0, OPT_WINDOW},
+        {"base", required_argument, 0, OPT_BASE},
         {"rotations", required_argument, 0, OPT_ROTATIONS},
         {"error", required_argument, 0, OPT_ERROR},
         {"coherence", required_argument, 0, OPT_COHERENCE},
@@ -647,7 +663,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
     relief_params p = relief_params_default();
     relief_smooth_options sopts = relief_smooth_options_default();
     relief_grow_options gopts = relief_grow_options_default();
-    run_control control = {NULL, 300.0, NULL};
+    run_control control = {0, NULL, 300.0, NULL};
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL;
     relief_read_info info;
@@ -669,6 +685,15 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
         case OPT_FIT:
             if (!cli_parse_fit(cmd, optarg, &p.fit))
                 return EXIT_USAGE;
+            break;
+        case OPT_BASE:
+            if (strcmp(optarg, "smooth") == 0)
+                control.base_smooth = 1;
+            else if (strcmp(optarg, "primitive") == 0)
+                control.base_smooth = 0;
+            else
+                return cli_usage_error(cmd, "--base: '%s' is not one of primitive, smooth",
+                                       optarg);
             break;
         case OPT_WINDOW:
             if (!cli_parse_int(cmd, "--window", optarg, 1, 16, &v))
@@ -836,6 +861,9 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                            control.checkpoint);
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return cli_fail(cmd, &err);
+    if (control.base_smooth && (p.levels > 1 || p.fit != RELIEF_FIT_AUTO || p.has_extent))
+        return cli_usage_error(cmd, "%s--base smooth has no primitive and grows mono-scale: "
+                               "--fit, --extent and --levels > 1 do not apply", "");
     if (parse_only)
         return 0;
     /* A report folder that cannot be written fails now, not after the growth. */

@@ -33,6 +33,9 @@ relief_points_params relief_points_params_default(void)
 void relief_points_report_free(relief_points_report *r)
 {
     relief_texopt_result_free(&r->tex);
+    free(r->base);
+    free(r->base_nrm);
+    r->base = r->base_nrm = NULL;
 }
 
 static relief_status check_params(const relief_points_params *p, relief_error *err)
@@ -379,6 +382,13 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         free(pt);
         out->nt = in->nt + pnt;
         rep->patch_triangles = pnt;
+    }
+    if (p->keep_base) {
+        rep->base = w.tpos, rep->base_nrm = w.tnrm;
+        w.tpos = w.tnrm = NULL;
+        memcpy(rep->base_nrm, w.base_nrm, n * 3 * sizeof *rep->base_nrm);
+        if (m)
+            memcpy(rep->base_nrm + 3 * n, w.nnrm, m * 3 * sizeof *rep->base_nrm);
     }
     rep->t_total = relief_seconds() - t0;
     work_free(&w);

@@ -53,6 +53,7 @@ typedef struct relief_points_params {
     int mesh;             /* 1: *out also gets triangles: a mesh input's own and the
                              filled holes' patches (points/patch_mesh.h); a point set
                              input has none to give (RELIEF_E_RANGE) */
+    int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm) */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
     relief_texopt_params tex;
     relief_rbf_params rbf; /* spacing is set from the points when 0 */
@@ -70,6 +71,8 @@ typedef struct relief_points_report {
     size_t patch_skipped;    /* holes qhull could not triangulate */
     double t_analysis, t_base, t_fill, t_texture, t_total; /* seconds */
     relief_texopt_result tex; /* energy per iteration etc. (owned; freed by _free) */
+    double *base, *base_nrm;  /* with p->keep_base: (n_in + n_added) x 3, the base point
+                                 and unit normal of every output point (owned) */
     int tex_channels;
 } relief_points_report;
 

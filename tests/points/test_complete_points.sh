@@ -13,6 +13,7 @@ trap 'rm -rf "$tmp"' EXIT
 pass=0 fail=0
 
 . "$(dirname "$0")/../cli/expect.sh" # expect, ok
+nothing() { ok '[[ ! -e "$tmp/bad.ply" && ! -e "$tmp/bad.json" ]]' "output left behind: $1"; }
 
 fert=$data/real/fertility/fertility.off milk=$data/points/milk_color.pcd
 if [[ ! -f $fert || ! -f $milk ]]; then echo "$data: scans not found: skipped"; exit 77; fi
@@ -29,13 +30,26 @@ ok '[[ $(head -c 800 "$tmp/fm.ply" | grep -a "element face" | cut -d" " -f3) -gt
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
 
+# relief complete --base smooth: the paper 000 growth on the smooth base
+# of a scan no primitive fits (a hole cut in the Max Planck bust), its
+# targets on the truth's surface within a spacing.
+planck=$data/real/max_planck/decimated-max.obj
+if [[ -f $planck ]]; then
+  "$relief" cut "$planck" -o "$tmp/mp_cut.ply" --truth "$tmp/mp_truth.ply" --ball 26.3,100,6.5,40 2>/dev/null || exit 2
+  expect 0 "smooth base" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp.ply" --base smooth --backend scalar
+  "$relief" eval "$tmp/mp.ply" --truth "$tmp/mp_truth.ply" > "$tmp/mp_eval.txt" 2>&1
+  ok 'awk "/^truth_rms:/ { exit !(\$2 > 0 && \$2 < 3.9) }" "$tmp/mp_eval.txt"' "--base smooth: targets off the truth: $(grep truth_rms "$tmp/mp_eval.txt")"
+  expect 1 "do not apply" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base smooth --levels 2
+  expect 1 "not one of primitive, smooth" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base round
+  expect 1 "nothing to fill" -- "$relief" complete "$planck" -o "$tmp/bad.ply" --base smooth; nothing "--base smooth, no hole"
+fi
+
 # The coloured cloud (binary_compressed PCD), with a hole cut by a mask:
 # --colour-only synthesises the colour of the masked points.
 expect 0 "masked" -- "$relief" complete-points "$milk" -o "$tmp/m.ply" --colour-only --hole-mask ball:-0.044,-0.128,0.76,0.03 --iterations 5 --report "$tmp/m.json"
 ok 'head -c 600 "$tmp/m.ply" | grep -q "property uchar red" && grep -q "\"masked\": [1-9]" "$tmp/m.json"' "colour-only lost the colour or the mask"
 
 # Bad input: exit 1 (2 for resources), the message, no output.
-nothing() { ok '[[ ! -e "$tmp/bad.ply" && ! -e "$tmp/bad.json" ]]' "output left behind: $1"; }
 expect 1 "nothing to fill" -- "$relief" complete-points "$fert" -o "$tmp/bad.ply" --report "$tmp/bad.json"; nothing "no hole"
 expect 1 "give --hole-mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only; nothing "colour-only"
 expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --colour-only --hole-mask ball:0,0,0,5; nothing "no colour"
