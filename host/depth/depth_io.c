@@ -272,9 +272,11 @@ static relief_status parse_header(const uint8_t *d, size_t n, const char *name, 
                 return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: WIDTH and HEIGHT must "
                                    "come before DATA", name);
             /* Sides over the maximum are refused later; their product
-             * could overflow here. */
-            if (h->points >= 0 && h->width <= RELIEF_DEPTH_MAX_SIDE &&
-                h->height <= RELIEF_DEPTH_MAX_SIDE && h->points != h->width * h->height)
+             * could overflow here. A cloud (HEIGHT 1) is WIDTH points. */
+            if (h->points >= 0 &&
+                (h->height == 1 ||
+                 (h->width <= RELIEF_DEPTH_MAX_SIDE && h->height <= RELIEF_DEPTH_MAX_SIDE)) &&
+                h->points != h->width * h->height)
                 return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: POINTS %lld is not "
                                    "WIDTH x HEIGHT (%lld x %lld)", name, h->points, h->width,
                                    h->height);
@@ -373,6 +375,18 @@ static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
             return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %zu points of %zu bytes "
                                "need %zu bytes, the file has %zu", name, px, point_bytes,
                                px * point_bytes, n - h.body);
+    } else {
+        /* ascii: each value is at least one character, so that a header
+         * claiming 1e8 points over a few bytes is refused before the frame
+         * is allocated (under 2^32 points x 2^25 values: no overflow). */
+        uint64_t values = 0;
+        for (int k = 0; k < h.nf; ++k)
+            values += (uint64_t)h.f[k].count;
+        if ((uint64_t)(n - h.body) < (uint64_t)px * values)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %zu points of %llu "
+                               "ascii values need at least %llu bytes, the file has %zu", name,
+                               px, (unsigned long long)values,
+                               (unsigned long long)((uint64_t)px * values), n - h.body);
     }
     st = alloc_frame(out, (int)h.width, (int)h.height, 1, ic >= 0, name, err);
     if (st != RELIEF_OK) {

@@ -139,6 +139,44 @@ int main(int argc, char **argv)
         CHECK(relief_pcd_decode((const uint8_t *)u, strlen(u), "u", 0, &f, &err) ==
                   RELIEF_E_FORMAT && strstr(err.message, "unorganised"),
               "unorganised: %s", err.message);
+        /* ... and read as a WIDTH x 1 cloud by the point-set entry. */
+        CHECK(relief_pcd_decode_cloud((const uint8_t *)u, strlen(u), "u", 0, &f, &err) ==
+                  RELIEF_OK, "cloud: %s", err.message);
+        if (f.z) {
+            CHECK(f.width == 2 && f.height == 1 && f.xyz && f.xyz[3] == 4 && f.z[1] == 6,
+                  "cloud: %d x %d", f.width, f.height);
+            relief_depth_frame_free(&f);
+        }
+    }
+    /* Clouds past the side limit: POINTS must agree with WIDTH, the data
+     * must be there before the points are allocated (ascii too), and the
+     * limits hold. */
+    {
+        static const char *clouds[] = {
+            "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 100000\nHEIGHT 1\n"
+            "POINTS 5\nDATA ascii\n1 2 3\n",
+            "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 100000000\nHEIGHT 1\n"
+            "DATA ascii\n1 2 3\n4 5 6\n",
+            "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 100000000\nHEIGHT 1\n"
+            "DATA binary\n",
+            "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 100000001\nHEIGHT 1\n"
+            "DATA binary\n",
+        };
+        for (size_t i = 0; i < sizeof clouds / sizeof clouds[0]; ++i)
+            bad(relief_pcd_decode_cloud, (const uint8_t *)clouds[i], strlen(clouds[i]),
+                clouds[i]);
+        CHECK(relief_pcd_decode_cloud((const uint8_t *)clouds[0], strlen(clouds[0]), "w", 0,
+                                      &f, &err) == RELIEF_E_PARSE &&
+                  strstr(err.message, "POINTS 5"),
+              "POINTS of a wide cloud unchecked: %s", err.message);
+        /* Refused by its size, before 1e8 points are allocated. */
+        CHECK(relief_pcd_decode_cloud((const uint8_t *)clouds[1], strlen(clouds[1]), "w", 0,
+                                      &f, &err) == RELIEF_E_PARSE &&
+                  strstr(err.message, "truncated") && strstr(err.message, "at least"),
+              "a wide ascii cloud over 12 bytes: %s", err.message);
+        CHECK(relief_pcd_decode_cloud((const uint8_t *)clouds[2], strlen(clouds[2]), "w", 1000,
+                                      &f, &err) == RELIEF_E_NOMEM,
+              "a cloud over max_points: %s", err.message);
     }
     /* PFM: both byte orders, rows bottom to top, +inf missing. */
     for (int little = 0; little <= 1; ++little) {
