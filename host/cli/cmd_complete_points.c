@@ -66,8 +66,8 @@ enum {
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
  * PCL's VIEWPOINT default), or a mesh or point file. */
-static relief_status read_input(const char *path, relief_mesh **out, int *from_pcd,
-                                size_t *dropped, relief_error *err)
+static relief_status read_input(const char *path, uint64_t max_points, relief_mesh **out,
+                                int *from_pcd, size_t *dropped, relief_error *err)
 {
     relief_depth_frame f;
     relief_mesh *m = NULL;
@@ -80,7 +80,7 @@ static relief_status read_input(const char *path, relief_mesh **out, int *from_p
     if (!ext || strcasecmp(ext, ".pcd") != 0)
         return relief_mesh_read(path, out, NULL, err);
     *from_pcd = 1;
-    st = relief_pcd_read_cloud(path, 0, &f, err);
+    st = relief_pcd_read_cloud(path, max_points, &f, err);
     if (st != RELIEF_OK)
         return st;
     px = (size_t)f.width * (size_t)f.height;
@@ -369,8 +369,15 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     if (parse_only)
         return 0;
 
-    if (read_input(in_path, &in, &from_pcd, &dropped, &err) != RELIEF_OK)
-        return cli_fail("complete-points", &err);
+    /* A PCD's header says how many points it holds: one over the limit
+     * (by the per-point share of the estimate below) is refused before
+     * its points are decoded, as depth-fill does. */
+    {
+        uint64_t limit = max_memory ? max_memory : relief_default_memory_limit();
+        uint64_t max_points = limit ? limit / ((uint64_t)(12 * p.k + 300) * 5) + 1 : 0;
+        if (read_input(in_path, max_points, &in, &from_pcd, &dropped, &err) != RELIEF_OK)
+            return cli_fail("complete-points", &err);
+    }
     if (from_pcd)
         p.viewpoint = origin;
     {

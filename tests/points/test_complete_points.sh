@@ -67,6 +67,8 @@ expect 1 "no finite point" -- "$relief" complete-points "$tmp/allnan.pcd" -o "$t
 head -c 400 "$milk" > "$tmp/trunc.pcd"
 expect 1 "truncated" -- "$relief" complete-points "$tmp/trunc.pcd" -o "$tmp/bad.ply"; nothing truncated
 expect 2 "over the limit" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --max-memory 1M; nothing memory
+printf 'VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 100000000\nHEIGHT 1\nPOINTS 100000000\nDATA binary\n' > "$tmp/huge.pcd"
+expect 2 "over the limit" -- "$relief" complete-points "$tmp/huge.pcd" -o "$tmp/bad.ply" --max-memory 1G; nothing "a cloud over --max-memory"
 expect 1 "not a .ply" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.obj"
 expect 1 "never overwrites" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fert_cut.ply"
 expect 1 "odd" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid 8
