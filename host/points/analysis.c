@@ -323,7 +323,7 @@ int relief_points_spread(const double *pos, size_t n, const char **why)
         return 0;
     }
     if (ev[1] < 1e-12 * ev[0]) { /* variances: 1e-6 of the extent squared */
-        *why = "all points lie on a line";
+        *why = "all points lie on a line (or a few points so far off that the rest look like one)";
         return 0;
     }
     *why = "";
