@@ -32,11 +32,13 @@
 #include "relief/relief.h"
 
 typedef struct relief_texopt_params {
-    int grid_n;          /* grid side n, odd, 3..33 (default 15: with the default step the
-                            nodes are about 0.9 spacings apart, so resampling keeps the
-                            detail; at 9, 1.5 spacings apart, it lost a quarter of it) */
-    int cluster_size;    /* points per cluster before overlap, 16..100000 (default 300/
-                            (1 + overlap)^2, so that an overlapped cluster holds ~300) */
+    int grid_n;          /* grid side n, odd, 3..33 (default 23: with the default step and
+                            cluster size the nodes are about 0.9 spacings apart, so
+                            resampling keeps the detail; 1.5 spacings apart it lost a
+                            quarter of it) */
+    int cluster_size;    /* points per cluster before overlap, 16..100000 (default 300,
+                            about 680 once overlapped; the paper's ~300 overlapped,
+                            133 before, was measured worse: texopt.c) */
     double overlap;      /* overlap band over the mean cluster radius, 0..2 (default 0.5) */
     double grid_step;    /* grid spacing h in the points' unit (default 0: the mean
                             cluster radius x 2 / grid_n, so a grid spans a cluster) */

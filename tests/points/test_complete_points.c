@@ -163,7 +163,10 @@ static void test_real(const char *dir)
         printf("fertility: %zu cut, %zu added, acc %.3g comp %.3g hausdorff %.3g (spacing %.3g)\n",
                n_cut, m.added, m.acc_rms, m.comp_rms, m.hausdorff, rep.spacing);
         CHECK(rep.holes.n_holes == 1, "%u holes", rep.holes.n_holes);
-        CHECK(m.acc_rms < 1.0 * rep.spacing && m.comp_rms < 1.5 * rep.spacing,
+        /* Within about a spacing of the surface: the smooth fill alone is
+         * at 0.75 spacings, the detail (on a decimated statuette, its
+         * facets' noise) adds about 0.35. */
+        CHECK(m.acc_rms < 1.25 * rep.spacing && m.comp_rms < 1.5 * rep.spacing,
               "accuracy %g, completeness %g, spacing %g", m.acc_rms, m.comp_rms, rep.spacing);
     }
     relief_points_report_free(&rep);
