@@ -39,6 +39,13 @@ if [[ -f $planck ]]; then
   expect 0 "smooth base" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp.ply" --base smooth --backend scalar
   "$relief" eval "$tmp/mp.ply" --truth "$tmp/mp_truth.ply" > "$tmp/mp_eval.txt" 2>&1
   ok 'awk "/^truth_rms:/ { exit !(\$2 > 0 && \$2 < 3.9) }" "$tmp/mp_eval.txt"' "--base smooth: targets off the truth: $(grep truth_rms "$tmp/mp_eval.txt")"
+  # Every backend grows on it, with the same bytes.
+  expect 0 "" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp_host.ply" --base smooth --backend host --quiet
+  ok 'cmp -s "$tmp/mp.ply" "$tmp/mp_host.ply"' "--base smooth: host and scalar outputs differ"
+  if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | grep -i "cpu\|gpu") ]]; then
+    expect 0 "" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp_cl.ply" --base smooth --backend opencl --quiet
+    ok 'cmp -s "$tmp/mp.ply" "$tmp/mp_cl.ply"' "--base smooth: OpenCL and scalar outputs differ"
+  fi
   expect 1 "do not apply" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base smooth --levels 2
   expect 1 "not one of primitive, smooth" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base round
   expect 1 "nothing to fill" -- "$relief" complete "$planck" -o "$tmp/bad.ply" --base smooth; nothing "--base smooth, no hole"
