@@ -262,38 +262,47 @@ nomem:
     return relief_fail(err, RELIEF_E_NOMEM, "cannot grow the orientation tree of %zu points", n);
 }
 
+double relief_points_covariance(const double *pos, const relief_knn_graph *g, size_t i,
+                                double centroid[3], double normal[3])
+{
+    size_t k = (size_t)g->k;
+    double m[3] = {0, 0, 0}, c[9] = {0}, ev[3], evec[9], s;
+    for (size_t r = 0; r <= k; ++r) {
+        const double *q = pos + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
+        for (int a = 0; a < 3; ++a)
+            m[a] += q[a];
+    }
+    for (int a = 0; a < 3; ++a)
+        m[a] /= (double)(k + 1);
+    for (size_t r = 0; r <= k; ++r) {
+        const double *q = pos + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
+        double d[3];
+        sub3(q, m, d);
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+                c[3 * a + b] += d[a] * d[b];
+    }
+    relief_sym3_eigen(c, ev, evec);
+    for (int a = 0; a < 3; ++a)
+        normal[a] = evec[3 * a + 2];
+    relief_normalize3(normal);
+    if (centroid)
+        memcpy(centroid, m, sizeof m);
+    s = ev[0] + ev[1] + ev[2];
+    return s > 0.0 ? fmax(ev[2], 0.0) / s : 0.0;
+}
+
 relief_status relief_points_normals(const double *pos, const relief_knn_graph *g,
                                     const double *hint, const double *viewpoint,
                                     double *nrm, double *sigma, relief_error *err)
 {
-    size_t n = g->n, k = (size_t)g->k;
+    size_t n = g->n;
     int any_free = 0;
 
     for (size_t i = 0; i < n; ++i) {
-        double m[3] = {0, 0, 0}, c[9] = {0}, ev[3], evec[9];
-        for (size_t r = 0; r <= k; ++r) {
-            const double *q = pos + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
-            for (int a = 0; a < 3; ++a)
-                m[a] += q[a];
-        }
-        for (int a = 0; a < 3; ++a)
-            m[a] /= (double)(k + 1);
-        for (size_t r = 0; r <= k; ++r) {
-            const double *q = pos + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
-            double d[3];
-            sub3(q, m, d);
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < 3; ++b)
-                    c[3 * a + b] += d[a] * d[b];
-        }
-        relief_sym3_eigen(c, ev, evec);
-        for (int a = 0; a < 3; ++a)
-            nrm[3 * i + a] = evec[3 * a + 2];
-        relief_normalize3(nrm + 3 * i);
-        if (sigma) {
-            double s = ev[0] + ev[1] + ev[2];
-            sigma[i] = s > 0.0 ? fmax(ev[2], 0.0) / s : 0.0;
-        }
+        double sv = relief_points_covariance(pos, g, i, NULL, nrm + 3 * i);
+        if (sigma)
+            sigma[i] = sv;
         if (viewpoint) {
             double d[3];
             sub3(viewpoint, pos + 3 * i, d);

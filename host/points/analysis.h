@@ -30,6 +30,14 @@ void relief_knn_graph_free(relief_knn_graph *g);
 /* The median over the points of the distance to the nearest neighbour. */
 double relief_knn_spacing(const relief_knn_graph *g);
 
+/* Covariance analysis of point i's neighbourhood in pos (itself and its k
+ * neighbours of g): the centroid (3, may be NULL), the unit eigenvector of
+ * the least eigenvalue lambda0 (3, its sign as the eigen-solver gives it)
+ * and, returned, the surface variation lambda0 / (lambda0 + lambda1 +
+ * lambda2) (0 for coincident points). */
+double relief_points_covariance(const double *pos, const relief_knn_graph *g, size_t i,
+                                double centroid[3], double normal[3]);
+
 /* Covariance analysis of each point's neighbourhood (itself and its k
  * neighbours): nrm (n x 3) the eigenvector of the least eigenvalue lambda0,
  * sigma (n, may be NULL) the surface variation lambda0 / (lambda0 + lambda1

@@ -9,55 +9,16 @@
 #include "base/linalg.h"
 #include "base/vec3.h"
 
-/* Covariance normal and sigma_n of point i over its k neighbours in q, its
- * sign following prev. */
+/* Covariance normal and sigma_n of point i over its k neighbours in q,
+ * its sign following prev; the neighbourhood's centroid into m. */
 static double local_normal(const double *q, const relief_knn_graph *g, size_t i,
-                           const double *prev, double n_out[3])
+                           const double *prev, double n_out[3], double m[3])
 {
-    size_t k = (size_t)g->k;
-    double m[3] = {0, 0, 0}, c[9] = {0}, ev[3], evec[9], s;
-    for (size_t r = 0; r <= k; ++r) {
-        const double *p = q + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
-        for (int a = 0; a < 3; ++a)
-            m[a] += p[a];
-    }
-    for (int a = 0; a < 3; ++a)
-        m[a] /= (double)(k + 1);
-    for (size_t r = 0; r <= k; ++r) {
-        const double *p = q + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
-        double d[3];
-        sub3(p, m, d);
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b)
-                c[3 * a + b] += d[a] * d[b];
-    }
-    relief_sym3_eigen(c, ev, evec);
-    for (int a = 0; a < 3; ++a)
-        n_out[a] = evec[3 * a + 2];
-    relief_normalize3(n_out);
+    double sig = relief_points_covariance(q, g, i, m, n_out);
     if (dot3(n_out, prev) < 0.0)
         for (int a = 0; a < 3; ++a)
             n_out[a] = -n_out[a];
-    s = ev[0] + ev[1] + ev[2];
-    return s > 0.0 ? fmax(ev[2], 0.0) / s : 0.0;
-}
-
-/* Signed distance of point i from the least-squares plane of its
- * neighbourhood (through the centroid, normal nn). */
-static double plane_offset(const double *q, const relief_knn_graph *g, size_t i,
-                           const double nn[3])
-{
-    size_t k = (size_t)g->k;
-    double m[3] = {0, 0, 0}, d[3];
-    for (size_t r = 0; r <= k; ++r) {
-        const double *p = q + 3 * (r == k ? i : (size_t)g->nbr[i * k + r]);
-        for (int a = 0; a < 3; ++a)
-            m[a] += p[a];
-    }
-    for (int a = 0; a < 3; ++a)
-        m[a] /= (double)(k + 1);
-    sub3(q + 3 * i, m, d);
-    return dot3(d, nn);
+    return sig;
 }
 
 relief_status relief_curvature_flow(const double *pos, const double *nrm,
@@ -79,7 +40,7 @@ relief_status relief_curvature_flow(const double *pos, const double *nrm,
     memcpy(base_nrm, nrm, n * 3 * sizeof *base_nrm);
     for (int s = 0; s < steps; ++s) {
         for (size_t i = 0; i < n; ++i) {
-            double nn[3], sig = local_normal(base, g, i, base_nrm + 3 * i, nn);
+            double nn[3], m[3], dm[3], sig = local_normal(base, g, i, base_nrm + 3 * i, nn, m);
             double wsum = 0.0, dire = 0.0, h2 = 0.0;
             const double *p = base + 3 * i;
             for (size_t r = 0; r < k; ++r)
@@ -100,7 +61,9 @@ relief_status relief_curvature_flow(const double *pos, const double *nrm,
                  * small offsets at all, and the cap keeps that step from
                  * overshooting large ones (explicit Euler's stability). */
                 double kbar = (wsum > 0.0 && dire / wsum >= 0.0) ? sig : -sig;
-                double off = fabs(plane_offset(base, g, i, nn)), step = dt * kbar;
+                double off, step = dt * kbar;
+                sub3(p, m, dm);
+                off = fabs(dot3(dm, nn)); /* the distance to the plane through m */
                 if (step > off)
                     step = off;
                 else if (step < -off)
@@ -114,8 +77,8 @@ relief_status relief_curvature_flow(const double *pos, const double *nrm,
     }
     /* The normals of the final base. */
     for (size_t i = 0; i < n; ++i) {
-        double nn[3];
-        local_normal(base, g, i, base_nrm + 3 * i, nn);
+        double nn[3], m[3];
+        local_normal(base, g, i, base_nrm + 3 * i, nn, m);
         memcpy(base_nrm + 3 * i, nn, sizeof nn);
     }
     free(next);
