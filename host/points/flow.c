@@ -6,7 +6,6 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "base/linalg.h"
 #include "base/vec3.h"
 
 /* Covariance normal and sigma_n of point i over its k neighbours in q,
