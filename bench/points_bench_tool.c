@@ -92,29 +92,10 @@ int main(int argc, char **argv)
     if (argc == 4 && strcmp(argv[1], "pcd2ply") == 0) {
         relief_depth_frame f;
         relief_mesh *m;
-        size_t px, n = 0;
-        if (relief_pcd_read_cloud(argv[2], 0, &f, &err) != RELIEF_OK) {
+        if (relief_pcd_read_cloud(argv[2], 0, &f, &err) != RELIEF_OK ||
+            relief_depth_frame_points(&f, argv[2], &m, NULL, &err) != RELIEF_OK) {
             fprintf(stderr, "points_bench_tool: %s\n", err.message);
             return 1;
-        }
-        px = (size_t)f.width * (size_t)f.height;
-        for (size_t i = 0; i < px; ++i)
-            n += isfinite(f.xyz[3 * i]) && isfinite(f.xyz[3 * i + 1]) && isfinite(f.xyz[3 * i + 2]);
-        if (relief_mesh_create(n, 0, f.rgb ? RELIEF_MESH_COLOURS : 0u, &m, &err) != RELIEF_OK) {
-            fprintf(stderr, "points_bench_tool: %s\n", err.message);
-            return 1;
-        }
-        n = 0;
-        for (size_t i = 0; i < px; ++i) {
-            if (!(isfinite(f.xyz[3 * i]) && isfinite(f.xyz[3 * i + 1]) &&
-                  isfinite(f.xyz[3 * i + 2])))
-                continue;
-            for (int c = 0; c < 3; ++c) {
-                m->pos[3 * n + c] = f.xyz[3 * i + c];
-                if (f.rgb)
-                    m->col[3 * n + c] = f.rgb[3 * i + c] / 255.0f;
-            }
-            ++n;
         }
         save(m, argv[3]);
         relief_mesh_destroy(m);

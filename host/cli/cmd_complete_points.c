@@ -70,8 +70,6 @@ static relief_status read_input(const char *path, uint64_t max_points, relief_me
                                 int *from_pcd, size_t *dropped, relief_error *err)
 {
     relief_depth_frame f;
-    relief_mesh *m = NULL;
-    size_t px, nf = 0;
     relief_status st;
     const char *ext = strrchr(path, '.');
 
@@ -83,34 +81,9 @@ static relief_status read_input(const char *path, uint64_t max_points, relief_me
     st = relief_pcd_read_cloud(path, max_points, &f, err);
     if (st != RELIEF_OK)
         return st;
-    px = (size_t)f.width * (size_t)f.height;
-    for (size_t i = 0; i < px; ++i)
-        nf += isfinite(f.xyz[3 * i]) && isfinite(f.xyz[3 * i + 1]) && isfinite(f.xyz[3 * i + 2]);
-    if (!nf) {
-        relief_depth_frame_free(&f);
-        return relief_fail(err, RELIEF_E_PARSE, "%s: no finite point among %zu", path, px);
-    }
-    st = relief_mesh_create(nf, 0, f.rgb ? RELIEF_MESH_COLOURS : 0u, &m, err);
-    if (st != RELIEF_OK) {
-        relief_depth_frame_free(&f);
-        return st;
-    }
-    nf = 0;
-    for (size_t i = 0; i < px; ++i) {
-        if (!(isfinite(f.xyz[3 * i]) && isfinite(f.xyz[3 * i + 1]) &&
-              isfinite(f.xyz[3 * i + 2])))
-            continue;
-        for (int c = 0; c < 3; ++c) {
-            m->pos[3 * nf + c] = f.xyz[3 * i + c];
-            if (f.rgb)
-                m->col[3 * nf + c] = f.rgb[3 * i + c] / 255.0f;
-        }
-        ++nf;
-    }
-    *dropped = px - nf;
+    st = relief_depth_frame_points(&f, path, out, dropped, err);
     relief_depth_frame_free(&f);
-    *out = m;
-    return RELIEF_OK;
+    return st;
 }
 
 typedef struct report_ctx {

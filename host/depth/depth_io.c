@@ -12,9 +12,9 @@
 #include <string.h>
 
 #include "base/atomic.h"
-
 #include "base/error.h"
 #include "base/file.h"
+#include "mesh/mesh.h"
 
 void relief_depth_frame_free(relief_depth_frame *f)
 {
@@ -526,6 +526,41 @@ relief_status relief_depth_read(const char *path, uint64_t max_pixels,
     st = relief_depth_decode(d, n, path, max_pixels, out, err);
     free(d);
     return st;
+}
+
+relief_status relief_depth_frame_points(const relief_depth_frame *f, const char *name,
+                                        relief_mesh **out, size_t *dropped, relief_error *err)
+{
+    size_t px = (size_t)f->width * (size_t)f->height, nf = 0;
+    relief_mesh *m = NULL;
+    relief_status st;
+    *out = NULL;
+    if (!f->xyz)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: a frame without points (x y z)", name);
+    for (size_t i = 0; i < px; ++i)
+        nf += isfinite(f->xyz[3 * i]) && isfinite(f->xyz[3 * i + 1]) &&
+              isfinite(f->xyz[3 * i + 2]);
+    if (!nf)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: no finite point among %zu", name, px);
+    st = relief_mesh_create(nf, 0, f->rgb ? RELIEF_MESH_COLOURS : 0u, &m, err);
+    if (st != RELIEF_OK)
+        return st;
+    nf = 0;
+    for (size_t i = 0; i < px; ++i) {
+        if (!(isfinite(f->xyz[3 * i]) && isfinite(f->xyz[3 * i + 1]) &&
+              isfinite(f->xyz[3 * i + 2])))
+            continue;
+        for (int c = 0; c < 3; ++c) {
+            m->pos[3 * nf + c] = f->xyz[3 * i + c];
+            if (f->rgb)
+                m->col[3 * nf + c] = f->rgb[3 * i + c] / 255.0f;
+        }
+        ++nf;
+    }
+    if (dropped)
+        *dropped = px - nf;
+    *out = m;
+    return RELIEF_OK;
 }
 
 /* ---------------------------------------------------------------- writers */

@@ -57,6 +57,13 @@ relief_status relief_pcd_decode_cloud(const uint8_t *data, size_t n, const char 
 relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
                                     relief_depth_frame *out, relief_error *err);
 
+/* The finite points of a frame with xyz (a PCD's), as a point set with
+ * colour when f has rgb, in the frame's order; *dropped (may be NULL) gets
+ * the non-finite ones' count. RELIEF_E_PARSE naming `name` when no point is
+ * finite, RELIEF_E_RANGE when f has no xyz; RELIEF_E_NOMEM. */
+relief_status relief_depth_frame_points(const relief_depth_frame *f, const char *name,
+                                        relief_mesh **out, size_t *dropped, relief_error *err);
+
 /* Decode `n` bytes of a PFM: "Pf" (one channel) or "PF" (three; the
  * first is kept), width, height, scale (negative: little endian). Same
  * errors. */
