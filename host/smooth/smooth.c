@@ -332,7 +332,9 @@ relief_status relief_smooth(const relief_mesh *input, const relief_params *param
     if (s->fit.poor_fit && !opts->accept_poor_fit) {
         st = relief_fail(err, RELIEF_E_MESH,
                          "the capture fits no primitive well: %s (rms %.4g is more than "
-                         "%.0f%% of the %s's size %.4g); --accept-poor-fit goes on anyway",
+                         "%.0f%% of the %s's size %.4g); relief complete --base smooth "
+                         "grows on the capture's own smoothed surface instead, "
+                         "--accept-poor-fit goes on anyway",
                          s->fit.reason, s->fit.rms, 100.0 * RELIEF_FIT_POOR,
                          relief_fit_model_name(pr->model), s->fit.size);
         goto fail;
