@@ -41,6 +41,8 @@ static const char points_help[] =
     "  --geometry-only       new points and their detail; colour from the rim\n"
     "  --smooth-only         the smooth fill alone (no detail, colour from the\n"
     "                        rim): the baseline of the paper's Fig. 9g\n"
+    "  --clone-from FILE     copy the detail (and colour, when both have it) from\n"
+    "                        another scan, sampled about as densely (paper 6.3)\n"
     "  --hole-mask WHAT      points to synthesise again besides the holes: 'label'\n"
     "                        (IN's PLY label 1) or 'ball:X,Y,Z,R'\n"
     "  --sample-region BOX   exemplars only inside X0,Y0,Z0,X1,Y1,Z1 (IN's units)\n"
@@ -61,7 +63,7 @@ static const char points_help[] =
 
 enum {
     OPT_COLOUR_ONLY = 512, OPT_GEOMETRY_ONLY, OPT_HOLE_MASK, OPT_SAMPLE_REGION, OPT_K,
-    OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH
+    OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH, OPT_CLONE_FROM
 };
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
@@ -122,6 +124,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "non_finite_dropped", (long long)c->dropped);
     rj_int(&j, "added", (long long)r->n_added);
     rj_int(&j, "masked", (long long)r->n_masked);
+    rj_int(&j, "clone", (long long)r->n_clone);
     rj_end_object(&j);
     rj_begin_object(&j, "holes");
     rj_int(&j, "filled", r->holes.n_holes);
@@ -207,6 +210,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         {"hole-mask", required_argument, 0, OPT_HOLE_MASK},
         {"smooth-only", no_argument, 0, OPT_SMOOTH_ONLY},
         {"mesh", required_argument, 0, OPT_MESH},
+        {"clone-from", required_argument, 0, OPT_CLONE_FROM},
         {"sample-region", required_argument, 0, OPT_SAMPLE_REGION},
         {"k", required_argument, 0, OPT_K},
         {"smooth-steps", required_argument, 0, OPT_SMOOTH_STEPS},
@@ -225,6 +229,8 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     relief_mesh *in = NULL, *out = NULL;
     uint8_t *mask = NULL, *sample = NULL;
     const char *out_path = NULL, *report = NULL, *in_path, *mask_spec = NULL, *mesh_path = NULL;
+    const char *clone_path = NULL;
+    relief_mesh *clone = NULL;
     const char *what = "all";
     double box[6];
     int c, rc = 0, quiet = 0, have_box = 0, from_pcd, nb = 0;
@@ -254,6 +260,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         case OPT_HOLE_MASK: mask_spec = optarg; break;
         case OPT_SMOOTH_ONLY: p.smooth_only = 1; break;
         case OPT_MESH: mesh_path = optarg, p.mesh = 1; break;
+        case OPT_CLONE_FROM: clone_path = optarg; break;
         case OPT_SAMPLE_REGION:
             if (!cli_parse_reals("complete-points", "--sample-region", optarg, box, 6, &nb))
                 return EXIT_USAGE;
@@ -336,6 +343,11 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
                       (report && cli_same_file(report, mesh_path))))
         return cli_usage_error("complete-points", "--mesh: '%s' is the input or another output",
                                mesh_path);
+    if (clone_path && cli_same_file(clone_path, out_path))
+        return cli_usage_error("complete-points", "--clone-from: '%s' is the output", clone_path);
+    if (clone_path && p.smooth_only)
+        return cli_usage_error("complete-points", "%s--clone-from copies detail, which "
+                               "--smooth-only leaves out", "");
     if (p.what == RELIEF_POINTS_COLOUR_ONLY && !mask_spec)
         return cli_usage_error("complete-points", "%s--colour-only completes the colour of the "
                                "--hole-mask points: give --hole-mask", "");
@@ -391,6 +403,18 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         }
         p.sample_mask = sample;
     }
+    if (clone_path) {
+        int clone_pcd;
+        size_t clone_dropped;
+        uint64_t limit = max_memory ? max_memory : relief_default_memory_limit();
+        uint64_t max_points = limit ? limit / ((uint64_t)(12 * p.k + 300) * 5) + 1 : 0;
+        if (read_input(clone_path, max_points, &clone, &clone_pcd, &clone_dropped, &err) !=
+            RELIEF_OK) {
+            rc = cli_fail("complete-points", &err);
+            goto done;
+        }
+        p.clone = clone;
+    }
     if (relief_complete_points(in, &p, &out, &rep, &err) != RELIEF_OK) {
         rc = cli_fail("complete-points", &err);
         goto done;
@@ -425,6 +449,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
                 rep.t_total);
     relief_points_report_free(&rep);
 done:
+    relief_mesh_destroy(clone);
     relief_mesh_destroy(out);
     relief_mesh_destroy(in);
     free(mask);

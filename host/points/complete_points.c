@@ -77,7 +77,8 @@ static void triangle_normals(const relief_mesh *m, double *hint)
 typedef struct work {
     relief_knn_graph g;
     double *nrm, *hint, *base, *base_nrm, *rim_dist, *tpos, *tnrm, *npos, *nnrm;
-    float *detail, *value;
+    double *cbase, *cnrm; /* the clone's base and normals */
+    float *detail, *value, *cdetail;
     uint32_t *rim, *nhole, *near_rim;
     uint8_t *unknown, *exemplar, *rim_term;
     relief_rbf *rbf;
@@ -89,6 +90,7 @@ static void work_free(work *w)
     free(w->nrm), free(w->hint), free(w->base), free(w->base_nrm), free(w->rim_dist);
     free(w->tpos), free(w->tnrm), free(w->npos), free(w->nnrm);
     free(w->detail), free(w->value);
+    free(w->cbase), free(w->cnrm), free(w->cdetail);
     free(w->rim), free(w->nhole), free(w->near_rim);
     free(w->unknown), free(w->exemplar), free(w->rim_term);
     relief_rbf_free(w->rbf);
@@ -123,12 +125,61 @@ static void place_new_points(const double *pos, const work *w, size_t n, size_t 
     }
 }
 
+/* The clone's base and detail (6.3): the same analysis and flow as the
+ * input's, in the clone's own spacing. base, nrm: nc x 3, detail: nc
+ * (malloc'ed; freed by the caller also on failure). */
+static relief_status clone_detail(const relief_mesh *c, const relief_points_params *p,
+                                  double **base, double **nrm, float **detail,
+                                  relief_error *err)
+{
+    relief_knn_graph g;
+    double *n0 = NULL, *hint = NULL, h;
+    relief_status st;
+    const char *why;
+    size_t nc = c->nv;
+    *base = *nrm = NULL;
+    *detail = NULL;
+    if (nc < (size_t)p->k + 1 || !relief_points_spread(c->pos, nc, &why))
+        return relief_fail(err, RELIEF_E_RANGE, "--clone-from: %zu points, too few or on a "
+                           "line: no detail to copy", nc);
+    st = relief_knn_graph_build(c->pos, nc, p->k, &g, err);
+    if (st != RELIEF_OK)
+        return st;
+    h = relief_knn_spacing(&g);
+    n0 = malloc(nc * 3 * sizeof *n0);
+    *base = malloc(nc * 3 * sizeof **base);
+    *nrm = malloc(nc * 3 * sizeof **nrm);
+    *detail = malloc(nc * sizeof **detail);
+    if (c->nrm || c->nt)
+        hint = malloc(nc * 3 * sizeof *hint);
+    if (!n0 || !*base || !*nrm || !*detail || ((c->nrm || c->nt) && !hint)) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the clone's %zu points", nc);
+        goto done;
+    }
+    if (c->nrm)
+        memcpy(hint, c->nrm, nc * 3 * sizeof *hint);
+    else if (c->nt)
+        triangle_normals(c, hint);
+    st = relief_points_normals(c->pos, &g, hint, NULL, n0, NULL, err);
+    if (st == RELIEF_OK && !(h > 0.0))
+        st = relief_fail(err, RELIEF_E_RANGE, "--clone-from: most points are duplicates");
+    if (st == RELIEF_OK)
+        st = relief_curvature_flow(c->pos, n0, &g, p->smooth_steps, p->smooth_dt * h, *base,
+                                   *nrm, err);
+    if (st == RELIEF_OK)
+        relief_detail_encode(c->pos, *base, *nrm, nc, *detail);
+done:
+    relief_knn_graph_free(&g);
+    free(n0), free(hint);
+    return st;
+}
+
 relief_status relief_complete_points(const relief_mesh *in, const relief_points_params *p,
                                      relief_mesh **out_mesh, relief_points_report *rep,
                                      relief_error *err)
 {
     work w;
-    size_t n = in->nv, m = 0, N, masked = 0;
+    size_t n = in->nv, m = 0, N, masked = 0, nc = 0, T;
     int channels = 0, detail_ch = -1, colour_ch = -1;
     int want_colour, want_geometry;
     double t0 = relief_seconds(), t, spacing, scale = 1.0;
@@ -259,18 +310,29 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     rep->t_fill = relief_seconds() - t;
     t = relief_seconds();
 
-    /* 5. The texture: c' (scaled to colour's range) and colour. */
+    /* 5. The texture: c' (scaled to colour's range) and colour. A clone's
+     * points (6.3) come after the N, moved clear of the input so that no
+     * cluster holds both, and are the only exemplars. */
+    if (p->clone && !p->smooth_only) {
+        st = clone_detail(p->clone, p, &w.cbase, &w.cnrm, &w.cdetail, err);
+        if (st != RELIEF_OK)
+            goto fail;
+        nc = p->clone->nv;
+        rep->n_clone = nc;
+        want_colour = want_colour && p->clone->col; /* else colour from the rim */
+    }
+    T = N + nc;
     if (want_geometry && !p->smooth_only)
         detail_ch = channels++;
     if (want_colour)
         colour_ch = channels, channels += 3;
     rep->tex_channels = channels;
-    w.tpos = malloc(N * 3 * sizeof *w.tpos);
-    w.tnrm = malloc(N * 3 * sizeof *w.tnrm);
-    w.value = malloc(N * (size_t)channels * sizeof *w.value);
-    w.unknown = calloc(N, 1);
-    w.exemplar = calloc(N, 1);
-    w.rim_term = calloc(N, 1);
+    w.tpos = malloc(T * 3 * sizeof *w.tpos);
+    w.tnrm = malloc(T * 3 * sizeof *w.tnrm);
+    w.value = malloc(T * (size_t)channels * sizeof *w.value + 1);
+    w.unknown = calloc(T, 1);
+    w.exemplar = calloc(T, 1);
+    w.rim_term = calloc(T, 1);
     w.rim_dist = malloc(N * sizeof *w.rim_dist);
     w.near_rim = malloc((m + 1) * sizeof *w.near_rim);
     if (!w.tpos || !w.tnrm || !w.value || !w.unknown || !w.exemplar || !w.rim_term ||
@@ -312,8 +374,31 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
                         (!p->sample_mask || p->sample_mask[i]);
         w.rim_term[i] = !w.unknown[i] && w.rim_dist[i] <= p->band * spacing;
     }
+    if (nc) {
+        /* The clone sits 100 spacings past the input's bounding box in x. */
+        double in_max = -INFINITY, cl_min = INFINITY, shift;
+        for (size_t i = 0; i < N; ++i)
+            in_max = fmax(in_max, w.tpos[3 * i]);
+        for (size_t i = 0; i < nc; ++i)
+            cl_min = fmin(cl_min, w.cbase[3 * i]);
+        shift = in_max - cl_min + 100.0 * spacing;
+        for (size_t i = 0; i < n; ++i)
+            w.exemplar[i] = 0;
+        for (size_t j = 0; j < nc; ++j) {
+            size_t i = N + j;
+            memcpy(w.tpos + 3 * i, w.cbase + 3 * j, 3 * sizeof *w.tpos);
+            w.tpos[3 * i] += shift;
+            memcpy(w.tnrm + 3 * i, w.cnrm + 3 * j, 3 * sizeof *w.tnrm);
+            if (detail_ch >= 0)
+                w.value[i * channels + detail_ch] = (float)(w.cdetail[j] / scale);
+            if (colour_ch >= 0)
+                for (int c = 0; c < 3; ++c)
+                    w.value[i * channels + colour_ch + c] = p->clone->col[3 * j + c];
+            w.exemplar[i] = 1;
+        }
+    }
     if (channels) {
-        st = relief_texopt_complete(w.tpos, w.tnrm, N, channels, w.value, w.unknown, w.exemplar,
+        st = relief_texopt_complete(w.tpos, w.tnrm, T, channels, w.value, w.unknown, w.exemplar,
                                     w.rim_term, &p->tex, &rep->tex, err);
         if (st != RELIEF_OK)
             goto fail;

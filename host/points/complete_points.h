@@ -47,6 +47,9 @@ typedef struct relief_points_params {
                                  be synthesised again (--hole-mask) */
     const uint8_t *sample_mask; /* n_in entries or NULL: where exemplars may be centred
                                    (--sample-region); default everywhere outside the band */
+    const relief_mesh *clone; /* or NULL: detail (and colour, when both have it) copied from
+                                 this other model instead of the input's own (6.3,
+                                 --clone-from); it should be sampled about as densely */
     const double *viewpoint;  /* 3 or NULL: a camera the normals face (a PCD's sensor) */
     int smooth_only;      /* the smooth fill alone (paper 002's Fig. 9g, a baseline): new
                              points on the filled base, no detail, colour from the rim */
@@ -62,7 +65,7 @@ typedef struct relief_points_params {
 relief_points_params relief_points_params_default(void);
 
 typedef struct relief_points_report {
-    size_t n_in, n_added, n_masked;
+    size_t n_in, n_added, n_masked, n_clone;
     relief_hole_info holes;
     double spacing;          /* median nearest-neighbour distance */
     double recon_rms;        /* RMS of |p' + c' n' - p| over the input (section 5.2) */

@@ -176,6 +176,37 @@ static void test_real(const char *dir)
     relief_mesh_destroy(whole);
 }
 
+/* 6.3: a smooth sphere's hole takes a bumpy sphere's detail. */
+static void test_clone(void)
+{
+    relief_mesh *truth = bumpy_sphere(12000, 0.0, 0, 0.75), *cap = captured(truth);
+    relief_mesh *donor = bumpy_sphere(12000, 0.03, 0, 2.0), *own = NULL, *cloned = NULL;
+    relief_points_params p = relief_points_params_default();
+    relief_points_report rep;
+    relief_points_measures a, b;
+    relief_error err;
+    CHECK(relief_complete_points(cap, &p, &own, &rep, &err) == RELIEF_OK, "%s", err.message);
+    relief_points_report_free(&rep);
+    p.clone = donor;
+    CHECK(relief_complete_points(cap, &p, &cloned, &rep, &err) == RELIEF_OK && rep.n_clone ==
+              donor->nv,
+          "%s", err.message);
+    relief_points_report_free(&rep);
+    if (own && cloned && relief_points_measure(own, truth, NULL, &a, &err) == RELIEF_OK &&
+        relief_points_measure(cloned, truth, NULL, &b, &err) == RELIEF_OK) {
+        printf("clone: roughness %.4g with the donor's detail, %.4g with its own\n",
+               b.rough_added, a.rough_added);
+        CHECK(b.rough_added > 3.0 * a.rough_added, "cloned roughness %g, own %g", b.rough_added,
+              a.rough_added);
+        CHECK(b.acc_rms < 1.0 * rep.spacing + 0.03, "cloned accuracy %g", b.acc_rms);
+    }
+    relief_mesh_destroy(own);
+    relief_mesh_destroy(cloned);
+    relief_mesh_destroy(donor);
+    relief_mesh_destroy(cap);
+    relief_mesh_destroy(truth);
+}
+
 static void test_bad_input(void)
 {
     relief_mesh *whole = bumpy_sphere(3000, 0.0, 0, 2.0), *cap = captured(whole), *out = NULL,
@@ -217,6 +248,7 @@ int main(int argc, char **argv)
     test_bad_input();
     test_sphere_detail();
     test_colour_and_determinism();
+    test_clone();
     test_real(argc > 1 ? argv[1] : "../shared/data/real");
     return check_result();
 }

@@ -62,6 +62,10 @@ expect 1 "give --hole-mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.pl
 expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --colour-only --hole-mask ball:0,0,0,5; nothing "no colour"
 expect 1 "needs a mesh input" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --mesh "$tmp/bad_m.ply"; nothing "--mesh of a cloud"
 ok '[[ ! -e "$tmp/bad_m.ply" ]]' "--mesh of a cloud left a mesh"
+expect 1 "leaves out" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --clone-from "$fert" --smooth-only
+expect 1 "cannot" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --clone-from "$tmp/none.ply"; nothing "a missing clone"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fc.ply" --clone-from "$data/real/max_planck/decimated-max.obj" --iterations 5 --report "$tmp/fc.json" --quiet
+ok 'grep -q "\"clone\": 5272" "$tmp/fc.json"' "--clone-from: the report does not count the clone's points"
 expect 1 "exclude each other" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only --geometry-only
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n' > "$tmp/three.ply"
 expect 1 "too few" -- "$relief" complete-points "$tmp/three.ply" -o "$tmp/bad.ply"; nothing "too few"
