@@ -45,7 +45,8 @@ static const char points_help[] =
     "                        another scan, sampled about as densely (paper 6.3)\n"
     "  --hole-mask WHAT      points to synthesise again besides the holes: 'label'\n"
     "                        (IN's PLY label 1) or 'ball:X,Y,Z,R'\n"
-    "  --sample-region BOX   exemplars only inside X0,Y0,Z0,X1,Y1,Z1 (IN's units)\n"
+    "  --sample-region R     exemplars only inside the box X0,Y0,Z0,X1,Y1,Z1 (IN's\n"
+    "                        units), or on the points IN's PLY labels 1 ('label')\n"
     "  --k N                 neighbours of the local analysis, 6..64 (default 16)\n"
     "  --smooth-steps N      curvature-flow steps of the base, 0..10000 (default 20)\n"
     "  --grid N              texture grid side, odd, 3..33 (default 23)\n"
@@ -233,7 +234,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     relief_mesh *clone = NULL;
     const char *what = "all";
     double box[6];
-    int c, rc = 0, quiet = 0, have_box = 0, from_pcd, nb = 0;
+    int c, rc = 0, quiet = 0, have_box = 0, from_pcd, nb = 0, sample_label = -1;
     uint64_t max_memory = 0;
     size_t dropped = 0;
     long v;
@@ -262,13 +263,18 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         case OPT_MESH: mesh_path = optarg, p.mesh = 1; break;
         case OPT_CLONE_FROM: clone_path = optarg; break;
         case OPT_SAMPLE_REGION:
+            if (strcmp(optarg, "label") == 0) {
+                sample_label = 1;
+                have_box = 0;
+                break;
+            }
             if (!cli_parse_reals("complete-points", "--sample-region", optarg, box, 6, &nb))
                 return EXIT_USAGE;
             if (nb != 6 || !(box[0] < box[3] && box[1] < box[4] && box[2] < box[5]))
                 return cli_usage_error("complete-points", "--sample-region: expected "
                                        "X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1, got "
                                        "'%s'", optarg);
-            have_box = 1;
+            have_box = 1, sample_label = -1;
             break;
         case OPT_K:
             if (!cli_parse_int("complete-points", "--k", optarg, 6, 64, &v))
@@ -348,6 +354,9 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     if (clone_path && p.smooth_only)
         return cli_usage_error("complete-points", "%s--clone-from copies detail, which "
                                "--smooth-only leaves out", "");
+    if (sample_label >= 0 && mask_spec && strcmp(mask_spec, "label") == 0)
+        return cli_usage_error("complete-points", "%s--hole-mask label and --sample-region label "
+                               "would read the same labels", "");
     if (p.what == RELIEF_POINTS_COLOUR_ONLY && !mask_spec)
         return cli_usage_error("complete-points", "%s--colour-only completes the colour of the "
                                "--hole-mask points: give --hole-mask", "");
@@ -388,7 +397,14 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         }
         p.hole_mask = mask;
     }
-    if (have_box) {
+    if (sample_label >= 0 && !in->label) {
+        free(mask);
+        relief_mesh_destroy(in);
+        fprintf(stderr, "relief complete-points: error: --sample-region label: the input has "
+                        "no `label` property\n");
+        return EXIT_USAGE;
+    }
+    if (have_box || sample_label >= 0) {
         sample = calloc(in->nv + 1, 1);
         if (!sample) {
             free(mask);
@@ -398,8 +414,10 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         }
         for (size_t i = 0; i < in->nv; ++i) {
             const double *q = in->pos + 3 * i;
-            sample[i] = q[0] >= box[0] && q[0] <= box[3] && q[1] >= box[1] && q[1] <= box[4] &&
-                        q[2] >= box[2] && q[2] <= box[5];
+            sample[i] = sample_label >= 0
+                            ? in->label[i] == sample_label
+                            : q[0] >= box[0] && q[0] <= box[3] && q[1] >= box[1] &&
+                                  q[1] <= box[4] && q[2] >= box[2] && q[2] <= box[5];
         }
         p.sample_mask = sample;
     }

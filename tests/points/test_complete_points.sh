@@ -30,6 +30,21 @@ ok '[[ $(head -c 800 "$tmp/fm.ply" | grep -a "element face" | cut -d" " -f3) -gt
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
 
+# --sample-region label: the exemplars come from the points labelled 1 only
+# (a labelled copy of the cut, written by awk from an ascii PLY).
+"$relief" cut "$fert" -o "$tmp/fa.ply" --ball 5.48,31.18,10.73,8 --ascii 2>/dev/null || exit 2
+label_ply() { # label_ply IN OUT AWK-CONDITION-ON-$1: label 1 where it holds
+  awk 'BEGIN { nv = -1 } /^element vertex/ { nv = $3 }
+       hdr == 0 { print; if ($0 == "property float z") print "property uchar label"; if ($0 == "end_header") hdr = 1; next }
+       cnt < nv { print $0 " " ('"$3"' ? 1 : 0); cnt++; next } { print }' "$1" > "$2"
+}
+label_ply "$tmp/fa.ply" "$tmp/fl.ply" '$1 > -60'
+label_ply "$tmp/fa.ply" "$tmp/f0.ply" '0'
+expect 0 "" -- "$relief" complete-points "$tmp/fl.ply" -o "$tmp/fl_out.ply" --sample-region label --iterations 5 --quiet
+expect 1 "no point is an exemplar" -- "$relief" complete-points "$tmp/f0.ply" -o "$tmp/bad.ply" --sample-region label; nothing "an empty sample region"
+expect 1 "no \`label\` property" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region label; nothing "no labels"
+expect 1 "same labels" -- "$relief" complete-points "$tmp/fl.ply" -o "$tmp/bad.ply" --sample-region label --hole-mask label
+
 # relief complete --base smooth: the paper 000 growth on the smooth base
 # of a scan no primitive fits (a hole cut in the Max Planck bust), its
 # targets on the truth's surface within a spacing.
