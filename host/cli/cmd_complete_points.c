@@ -145,6 +145,8 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "active_clusters", (long long)r->tex.active_clusters);
     rj_int(&j, "exemplars", (long long)r->tex.exemplars);
     rj_int(&j, "iterations", r->tex.iterations);
+    rj_int(&j, "grid_used", r->tex.grid_n);
+    rj_int(&j, "cluster_size_used", r->tex.cluster_size);
     rj_bool(&j, "converged", r->tex.converged);
     rj_begin_array(&j, "energy");
     for (int i = 0; i < r->tex.iterations; ++i)

@@ -383,13 +383,14 @@ static relief_status check(const double *pos, const double *nrm, size_t n, int c
     return RELIEF_OK;
 }
 
-relief_status relief_texopt_complete(const double *pos, const double *nrm_in, size_t n,
-                                     int channels, float *value, const uint8_t *unknown,
-                                     const uint8_t *exemplar, const uint8_t *rim,
-                                     const relief_texopt_params *pp,
-                                     relief_texopt_result *res, relief_error *err)
+/* One run at the given parameters; *no_grid set when it failed only
+ * because no exemplar grid could be built. */
+static relief_status texopt_run(const double *pos, const double *nrm_in, size_t n, int channels,
+                                float *value, const uint8_t *unknown, const uint8_t *exemplar,
+                                const uint8_t *rim, const relief_texopt_params *pp,
+                                relief_texopt_result *res, int *no_grid, relief_error *err)
 {
-    const relief_texopt_params p = pp ? *pp : relief_texopt_params_default();
+    const relief_texopt_params p = *pp;
     relief_status st;
     size_t n_unknown = 0, n_exemplar = 0, mlen = 0, mcap = 0, wlen = 0, wcap = 0, ncand_cap = 0;
     size_t acap = 0, zlen = 0, zcap = 0, ne = 0, *pick = NULL, *pstart = NULL;
@@ -590,6 +591,7 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
                              "backed by exemplar points alone, three quarters of its nodes "
                              "within a step of one; mark a larger exemplar region or lower "
                              "grid_n", want, o.gn, o.gn, h);
+            *no_grid = 1;
             goto done;
         }
     }
@@ -689,6 +691,8 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm_in, si
         res->iterations = it;
         res->energy = energy;
         res->converged = converged;
+        res->grid_n = o.gn;
+        res->cluster_size = p.cluster_size;
         energy = NULL;
     }
     st = RELIEF_OK;
@@ -709,4 +713,30 @@ done:
     free(o.mstart), free(o.mpt), free(o.mfa), free(o.mfb), free(o.wstart), free(o.wpt);
     free(o.ww), free(o.x), free(o.match);
     return st;
+}
+
+relief_status relief_texopt_complete(const double *pos, const double *nrm, size_t n,
+                                     int channels, float *value, const uint8_t *unknown,
+                                     const uint8_t *exemplar, const uint8_t *rim,
+                                     const relief_texopt_params *pp,
+                                     relief_texopt_result *res, relief_error *err)
+{
+    relief_texopt_params p = pp ? *pp : relief_texopt_params_default();
+    relief_status st;
+    /* A capture too small or too thin for the grids (no exemplar grid with
+     * three quarters of its nodes on it) is tried again with clusters of
+     * half the points and grids of 1/sqrt 2 the side, the same node step,
+     * down to grids of 7: a smaller texture element rather than none. */
+    for (;;) {
+        int no_grid = 0;
+        st = texopt_run(pos, nrm, n, channels, value, unknown, exemplar, rim, &p, res, &no_grid,
+                        err);
+        if (st == RELIEF_OK || !no_grid || p.grid_n <= 7 || p.cluster_size <= 32 ||
+            p.grid_step > 0)
+            return st;
+        p.cluster_size /= 2;
+        p.grid_n = (int)(p.grid_n / 1.41421356) | 1;
+        if (p.grid_n < 7)
+            p.grid_n = 7;
+    }
 }

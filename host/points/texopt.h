@@ -58,6 +58,9 @@ typedef struct relief_texopt_result {
     int iterations;           /* iterations run */
     double *energy;           /* energy per iteration (iterations entries), malloc'ed */
     int converged;            /* 1 when tol stopped it */
+    int grid_n, cluster_size; /* what ran: smaller than asked when no exemplar grid could be
+                                 built at the size asked (halved clusters, grids 1/sqrt 2 the
+                                 side, the same step, down to 7) */
 } relief_texopt_result;
 
 void relief_texopt_result_free(relief_texopt_result *r);

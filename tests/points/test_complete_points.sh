@@ -45,6 +45,17 @@ expect 1 "no point is an exemplar" -- "$relief" complete-points "$tmp/f0.ply" -o
 expect 1 "no \`label\` property" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region label; nothing "no labels"
 expect 1 "same labels" -- "$relief" complete-points "$tmp/fl.ply" -o "$tmp/bad.ply" --sample-region label --hole-mask label
 
+# A small patch (a 40 x 40 grid with a hole): too small for the default
+# grids, it is completed with smaller ones, and the report says which.
+awk 'BEGIN { srand(3); n = 0
+  for (y = 0; y < 40; y++) for (x = 0; x < 40; x++) {
+    if ((x - 20) ^ 2 + (y - 20) ^ 2 < 36) continue
+    X[n] = x * 0.01; Y[n] = y * 0.01; Z[n] = 0.001 * sin(x * 1.3) * cos(y * 0.9) + 0.0002 * rand(); n++ }
+  print "ply\nformat ascii 1.0\nelement vertex " n "\nproperty float x\nproperty float y\nproperty float z\nend_header"
+  for (i = 0; i < n; i++) print X[i], Y[i], Z[i] }' > "$tmp/small.ply"
+expect 0 "added over 1 hole" -- "$relief" complete-points "$tmp/small.ply" -o "$tmp/small_out.ply" --report "$tmp/small.json"
+ok 'grep -q "\"grid_used\": 17" "$tmp/small.json" && grep -q "\"cluster_size_used\": 150" "$tmp/small.json"' "the small patch did not fall back to smaller grids: $(grep _used "$tmp/small.json" | tr -d '\n')"
+
 # relief complete --base smooth: the paper 000 growth on the smooth base
 # of a scan no primitive fits (a hole cut in the Max Planck bust), its
 # targets on the truth's surface within a spacing.
