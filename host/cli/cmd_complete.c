@@ -44,9 +44,12 @@ static const char complete_help[] =
     "  --report-dir DIR      write report.json, renders, histograms and index.html\n"
     "                        (open it in a browser) into the folder DIR\n"
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
-    "  --base B              primitive (default: the fitted one) or smooth: paper\n"
-    "                        002's smoothed, hole-filled base under a mesh that no\n"
-    "                        primitive fits (a head, a statue); mono-scale\n"
+    "  --base B              primitive (the fitted one), smooth (paper 002's\n"
+    "                        smoothed, hole-filled base under a mesh that no\n"
+    "                        primitive fits: a head, a statue; mono-scale) or auto\n"
+    "                        (default: smooth when no primitive fits well and\n"
+    "                        neither --fit, --extent, --levels nor\n"
+    "                        --accept-poor-fit is given)\n"
     "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
     "  --rotations R         rotations tried per sample, 1..64 (default: 1 on a\n"
     "                        plane, whose frames are all alike, 4 otherwise)\n"
@@ -266,8 +269,11 @@ static void on_sigint(int sig)
 }
 
 /* --checkpoint, --resume and the test hook of the CLI test. */
+enum { BASE_AUTO, BASE_PRIMITIVE, BASE_SMOOTH };
+
 typedef struct run_control {
-    int base_smooth;        /* --base smooth: paper 002's base (points/base_surface.h) */
+    int base;               /* --base: BASE_AUTO, BASE_PRIMITIVE or BASE_SMOOTH (paper 002's
+                               base, points/base_surface.h) */
     const char *checkpoint; /* FILE or NULL */
     double checkpoint_every; /* seconds; 0: only on SIGINT or a failure */
     const char *resume;     /* FILE or NULL */
@@ -401,6 +407,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     relief_mesh *smooth_mesh = NULL; /* before growth, for --report-dir */
     relief_report_dir *staged = NULL;
     relief_hierarchy *hier = NULL;      /* --levels > 1 */
+    relief_fit_result pre;              /* --base auto's look at the fit */
+    int use_smooth = 0;                 /* growing on a smooth base */
     relief_hierarchy_stats hstats;
     relief_backend used_backend = RELIEF_BACKEND_SCALAR;
     char used_device[256] = "";
@@ -444,9 +452,32 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         go->save_ctx = &sv;
         go->save_every = rc->checkpoint_every;
     }
-    if (rc->base_smooth) {
+    if (rc->base == BASE_SMOOTH) {
         relief_points_params pp = relief_points_params_default();
         st = relief_points_base_surface(in, &pp, &s, NULL, &err);
+        use_smooth = 1;
+    } else if (rc->base == BASE_AUTO && !o->accept_poor_fit && p->fit == RELIEF_FIT_AUTO &&
+               !p->has_extent && p->levels <= 1 && relief_mesh_triangle_count(in) > 0 &&
+               relief_fit_mesh(in, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK && pre.poor_fit) {
+        /* No primitive fits: the capture's own smoothed, hole-filled base
+         * (issue 21), or, when that cannot be built either, the poor fit's
+         * refusal as before, with both reasons. */
+        relief_points_params pp = relief_points_params_default();
+        relief_error e2 = {RELIEF_OK, ""};
+        st = relief_points_base_surface(in, &pp, &s, NULL, &e2);
+        if (st == RELIEF_OK) {
+            use_smooth = 1;
+            if (!quiet)
+                fprintf(stderr, "relief complete: no primitive fits well (%s): growing on the "
+                        "capture's smoothed base (--base smooth; --base primitive "
+                        "--accept-poor-fit keeps the %s)\n", pre.reason,
+                        relief_fit_model_name(pre.prim.model));
+        } else {
+            st = relief_smooth(in, p, o, &s, &err);
+            if (st != RELIEF_OK)
+                fprintf(stderr, "relief complete: the smoothed base (--base smooth) could not "
+                        "be built either: %s\n", e2.message);
+        }
     } else {
         st = relief_smooth(in, p, o, &s, &err);
     }
@@ -456,11 +487,11 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
          * key above keeps the options as given. A smooth base turns as a
          * sphere does: 4. */
         resolved = *p;
-        resolved.rotations = rc->base_smooth && p->rotations == 0
+        resolved.rotations = use_smooth && p->rotations == 0
                                  ? 4
                                  : relief_params_rotations(p, s->fit.prim.model);
         p = &resolved;
-        if (!rc->base_smooth) /* else the fit is only reported */
+        if (!use_smooth) /* else the fit is only reported */
             warn_poor_fit("complete", s);
     }
     if (st == RELIEF_OK)
@@ -493,8 +524,8 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
     if (st == RELIEF_OK && !quiet)
         fprintf(stderr, "relief complete: %s%s, spacing %.4g: %zu samples, %zu targets; "
                 "W %d, R %d, e %g, mu %g, %s search; growth memory about %.0f MiB\n",
-                rc->base_smooth ? "smooth base" : relief_fit_model_name(s->fit.prim.model),
-                rc->base_smooth ? "" : " fit", s->spacing, s->n_samples,
+                use_smooth ? "smooth base" : relief_fit_model_name(s->fit.prim.model),
+                use_smooth ? "" : " fit", s->spacing, s->n_samples,
                 s->n_targets, p->window, p->rotations, p->error,
                 relief_grow_mu(p, relief_mesh_colours(s->mesh) != NULL),
                 relief_search_name(relief_params_search(p, s->n_samples, p->rotations,
@@ -688,11 +719,13 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
             break;
         case OPT_BASE:
             if (strcmp(optarg, "smooth") == 0)
-                control.base_smooth = 1;
+                control.base = BASE_SMOOTH;
             else if (strcmp(optarg, "primitive") == 0)
-                control.base_smooth = 0;
+                control.base = BASE_PRIMITIVE;
+            else if (strcmp(optarg, "auto") == 0)
+                control.base = BASE_AUTO;
             else
-                return cli_usage_error(cmd, "--base: '%s' is not one of primitive, smooth",
+                return cli_usage_error(cmd, "--base: '%s' is not one of auto, primitive, smooth",
                                        optarg);
             break;
         case OPT_WINDOW:
@@ -861,7 +894,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                            control.checkpoint);
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return cli_fail(cmd, &err);
-    if (control.base_smooth && (p.levels > 1 || p.fit != RELIEF_FIT_AUTO || p.has_extent))
+    if (control.base == BASE_SMOOTH && (p.levels > 1 || p.fit != RELIEF_FIT_AUTO || p.has_extent))
         return cli_usage_error(cmd, "%s--base smooth has no primitive and grows mono-scale: "
                                "--fit, --extent and --levels > 1 do not apply", "");
     if (parse_only)

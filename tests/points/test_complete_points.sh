@@ -73,7 +73,12 @@ if [[ -f $planck ]]; then
     ok 'cmp -s "$tmp/mp.ply" "$tmp/mp_cl.ply"' "--base smooth: OpenCL and scalar outputs differ"
   fi
   expect 1 "do not apply" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base smooth --levels 2
-  expect 1 "not one of primitive, smooth" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base round
+  expect 1 "not one of auto, primitive, smooth" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base round
+  # By default (--base auto) a capture no primitive fits grows on its smooth
+  # base, saying so; --base primitive refuses it as before.
+  expect 0 "growing on the capture's smoothed base" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp_auto.ply" --backend scalar
+  ok 'cmp -s "$tmp/mp.ply" "$tmp/mp_auto.ply"' "--base auto and --base smooth differ"
+  expect 1 "fits no primitive well" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base primitive; nothing "--base primitive"
   expect 1 "nothing to fill" -- "$relief" complete "$planck" -o "$tmp/bad.ply" --base smooth; nothing "--base smooth, no hole"
 fi
 
