@@ -342,7 +342,48 @@ relief_status write_impl(const relief_mesh *m, const char *path, const char *ext
     return RELIEF_OK;
 }
 
+relief_status storable_impl(const relief_mesh *m, const uint32_t *extra, size_t n_extra,
+                            uint8_t *accepted, relief_error *err)
+{
+    Mesh mesh;
+    OmerrCapture capture; /* add_face's complaints are expected here */
+    for (size_t v = 0; v < m->nv; ++v) {
+        const double *p = m->pos + 3 * v;
+        mesh.add_vertex(Mesh::Point(p[0], p[1], p[2]));
+    }
+    for (size_t t = 0; t < m->nt; ++t) {
+        const uint32_t *f = m->tri + 3 * t;
+        if (!mesh.add_face(Mesh::VertexHandle((int)f[0]), Mesh::VertexHandle((int)f[1]),
+                           Mesh::VertexHandle((int)f[2])).is_valid())
+            return relief_fail(err, RELIEF_E_MESH, "triangle %zu (%u %u %u) of the mesh is "
+                               "not manifold already", t, (unsigned)f[0], (unsigned)f[1],
+                               (unsigned)f[2]);
+    }
+    for (size_t t = 0; t < n_extra; ++t) {
+        const uint32_t *f = extra + 3 * t;
+        accepted[t] = mesh.add_face(Mesh::VertexHandle((int)f[0]), Mesh::VertexHandle((int)f[1]),
+                                    Mesh::VertexHandle((int)f[2]))
+                          .is_valid();
+    }
+    return RELIEF_OK;
+}
+
 } // namespace
+
+extern "C" relief_status relief_om_storable(const relief_mesh *m, const uint32_t *extra,
+                                            size_t n_extra, uint8_t *accepted,
+                                            relief_error *err)
+{
+    try {
+        return storable_impl(m, extra, n_extra, accepted, err);
+    } catch (const std::bad_alloc &) {
+        return relief_fail(err, RELIEF_E_NOMEM, "out of memory while checking triangles");
+    } catch (const std::exception &e) {
+        return relief_fail(err, RELIEF_E_INTERNAL, "OpenMesh failed: %s", e.what());
+    } catch (...) {
+        return relief_fail(err, RELIEF_E_INTERNAL, "unknown exception in OpenMesh");
+    }
+}
 
 extern "C" relief_status relief_om_read(const char *path, const char *ext,
                                         int ascii_char_label, relief_mesh **out,

@@ -36,6 +36,15 @@ relief_status relief_om_read(const char *path, const char *ext,
 relief_status relief_om_write(const relief_mesh *m, const char *path,
                               const char *ext, int ascii, relief_error *err);
 
+/* Which of n_extra triangles (n_extra x 3 indices into m's vertices) can
+ * be added, in order, to m's own triangles by OpenMesh, which stores (and
+ * so writes) only what its add_face accepts: accepted[t] 1 or 0. Adding m's
+ * triangles then the accepted ones in the same order gives a mesh that
+ * relief_mesh_write can write. RELIEF_E_MESH when m's own triangles are not
+ * storable already. */
+relief_status relief_om_storable(const relief_mesh *m, const uint32_t *extra, size_t n_extra,
+                                 uint8_t *accepted, relief_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -47,7 +47,22 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
             free(keep), free(to);
             goto nomem;
         }
-        memset(keep, 1, N);
+        /* Reached from the capture through the triangles: samples, and
+         * targets joined to them (a patch OpenMesh kept apart from the
+         * rest would be an island the growth cannot reach). */
+        memset(keep, 0, N);
+        memset(keep, 1, n);
+        for (int grew = 1; grew;) {
+            grew = 0;
+            for (size_t t = 0; t < m->nt; ++t) {
+                const uint32_t *f = m->tri + 3 * t;
+                if ((keep[f[0]] || keep[f[1]] || keep[f[2]]) &&
+                    !(keep[f[0]] && keep[f[1]] && keep[f[2]])) {
+                    keep[f[0]] = keep[f[1]] = keep[f[2]] = 1;
+                    grew = 1;
+                }
+            }
+        }
         st = relief_mesh_subset(m, keep, &used, to, err);
         if (st != RELIEF_OK) {
             free(keep), free(to);

@@ -8,6 +8,8 @@
 #include "base/error.h"
 #include "base/linalg.h"
 #include "base/vec3.h"
+#include "mesh/io_openmesh.h"
+#include "mesh/mesh.h"
 #include "smooth/delaunay.h"
 
 #define PATCH_MAX_CIRCUMRADIUS 3.0 /* spacings */
@@ -351,13 +353,45 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
                     placed[t] = 1, progress = 1;
                 }
             }
-            /* What could not be laid so is left out: cracks where fronts
-             * from two sides of a hole meet (about a tenth of a patch's
-             * triangles on the bunny). Laying them by a corner made
-             * OpenMesh's writer fail to relink the vertex's fans later. */
-            memcpy(tri, ord, no * 3 * sizeof *tri);
-            kept = no;
+            /* Then what the fronts left where they met (cracks), after the
+             * rest; OpenMesh itself says which of all it can store in this
+             * order (its add_face cannot always relink a vertex whose fans
+             * a corner split), and the writer adds them in the same order. */
+            for (int progress = 1; progress;) {
+                progress = 0;
+                for (size_t t = 0; t < kept; ++t) {
+                    const uint32_t *v = tri + 3 * t;
+                    if (placed[t] || !(edge_has(&es, v[1], v[0]) || edge_has(&es, v[2], v[1]) ||
+                                       edge_has(&es, v[0], v[2])))
+                        continue; /* islands stay out: the growth could not reach them */
+                    edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]),
+                        edge_add(&es, v[2], v[0]);
+                    memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
+                    placed[t] = 1, progress = 1;
+                }
+            }
+            {
+                relief_mesh view;
+                uint8_t *ok = malloc(no + 1);
+                size_t w = 0;
+                memset(&view, 0, sizeof view);
+                view.nv = N, view.nt = nt_in;
+                view.pos = (double *)pos, view.tri = (uint32_t *)tri_in;
+                if (!ok) {
+                    free(ord), free(placed), free(has_face);
+                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                    goto done;
+                }
+                st = relief_om_storable(&view, ord, no, ok, err);
+                for (size_t t = 0; st == RELIEF_OK && t < no; ++t)
+                    if (ok[t])
+                        memcpy(tri + 3 * w++, ord + 3 * t, 3 * sizeof *tri);
+                free(ok);
+                kept = w;
+            }
             free(ord), free(placed), free(has_face);
+            if (st != RELIEF_OK)
+                goto done;
         }
         nt = kept;
     }

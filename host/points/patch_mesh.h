@@ -9,10 +9,11 @@
  * edge has at most one triangle a side; patches are dropped around a vertex
  * left with two fans. They are laid in the order a front from the rim
  * would lay them, each sharing an edge with what is there and reaching a
- * vertex that has triangles only through an edge (the mesh writer,
- * OpenMesh, adds faces one by one and cannot always relink a vertex whose
- * fans a corner split): what cannot be laid so is left out, cracks where
- * fronts from two sides meet (a tenth of the bunny's patch triangles). With
+ * vertex that has triangles only through an edge, then the ones that
+ * close the cracks where fronts from two sides meet; of those, the ones
+ * OpenMesh can store in that order are kept (the mesh writer, OpenMesh,
+ * adds faces one by one and cannot always relink a vertex whose fans a
+ * corner split), so that the result can be written. With
  * the input mesh's own triangles this makes the completed surface. A hole
  * whose points do not project one-to-one on a plane (a deep pocket) gets
  * folded triangles: the patch is a height field over its plane.
