@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/vec3.h"
 
 /* Overflow-checked calloc of n items of size sz. */
 static void *alloc_array(size_t n, size_t sz)
@@ -264,6 +265,21 @@ void relief_adjacency_free(relief_adjacency *adj)
     free(adj->start);
     free(adj->nbr);
     adj->start = adj->nbr = NULL;
+}
+
+void relief_mesh_vertex_normals(const relief_mesh *m, double *vn)
+{
+    memset(vn, 0, m->nv * 3 * sizeof *vn);
+    for (size_t t = 0; t < m->nt; ++t) {
+        const uint32_t *f = m->tri + 3 * t;
+        double e1[3], e2[3], n[3];
+        sub3(m->pos + 3 * (size_t)f[1], m->pos + 3 * (size_t)f[0], e1);
+        sub3(m->pos + 3 * (size_t)f[2], m->pos + 3 * (size_t)f[0], e2);
+        cross3(e1, e2, n);
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k)
+                vn[3 * (size_t)f[j] + k] += n[k];
+    }
 }
 
 void relief_mesh_vertex_triangles(const relief_mesh *m, uint32_t *start, uint32_t *ids)

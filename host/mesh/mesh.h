@@ -39,6 +39,11 @@ void relief_adjacency_free(relief_adjacency *adj);
  * 3 nt entries, both the caller's. */
 void relief_mesh_vertex_triangles(const relief_mesh *m, uint32_t *start, uint32_t *ids);
 
+/* Area-weighted vertex normals vn (nv x 3, not normalised: the sum of the
+ * unnormalised cross products (b - a) x (c - a) of the triangles around
+ * each vertex; zero rows for vertices in no triangle). */
+void relief_mesh_vertex_normals(const relief_mesh *m, double *vn);
+
 /* Barycentric weights w (of a, b, c) of p projected on the plane of the
  * triangle abc (3-vectors). 0 when the triangle is degenerate (w untouched),
  * else 1. */

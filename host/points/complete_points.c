@@ -56,27 +56,33 @@ static relief_status check_params(const relief_points_params *p, relief_error *e
     return RELIEF_OK;
 }
 
-/* Area-weighted vertex normals of a mesh, the orientation its triangles
- * give (zero rows for vertices in no triangle). */
-static void triangle_normals(const relief_mesh *m, double *hint)
+/* Covariance normals of m's points over g, oriented by m's own normals,
+ * else by its triangles' (area-weighted vertex normals), else by a
+ * viewpoint or Hoppe's tree (relief_points_normals). nrm: nv x 3. */
+static relief_status oriented_normals(const relief_mesh *m, const relief_knn_graph *g,
+                                      const double *viewpoint, double *nrm, relief_error *err)
 {
-    memset(hint, 0, m->nv * 3 * sizeof *hint);
-    for (size_t t = 0; t < m->nt; ++t) {
-        const uint32_t *v = m->tri + 3 * t;
-        double a[3], b[3], c[3];
-        sub3(m->pos + 3 * (size_t)v[1], m->pos + 3 * (size_t)v[0], a);
-        sub3(m->pos + 3 * (size_t)v[2], m->pos + 3 * (size_t)v[0], b);
-        cross3(a, b, c);
-        for (int j = 0; j < 3; ++j)
-            for (int e = 0; e < 3; ++e)
-                hint[3 * (size_t)v[j] + e] += c[e];
+    double *hint = NULL;
+    relief_status st;
+    if (m->nrm || m->nt) {
+        hint = malloc(m->nv * 3 * sizeof *hint);
+        if (!hint)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the normals of %zu points",
+                               m->nv);
+        if (m->nrm)
+            memcpy(hint, m->nrm, m->nv * 3 * sizeof *hint);
+        else
+            relief_mesh_vertex_normals(m, hint);
     }
+    st = relief_points_normals(m->pos, g, hint, viewpoint, nrm, NULL, err);
+    free(hint);
+    return st;
 }
 
 /* Every buffer of one run, freed in one place. */
 typedef struct work {
     relief_knn_graph g;
-    double *nrm, *hint, *base, *base_nrm, *rim_dist, *tpos, *tnrm, *npos, *nnrm;
+    double *nrm, *base, *base_nrm, *rim_dist, *tpos, *tnrm, *npos, *nnrm;
     double *cbase, *cnrm; /* the clone's base and normals */
     float *detail, *value, *cdetail;
     uint32_t *rim, *nhole, *near_rim;
@@ -87,7 +93,7 @@ typedef struct work {
 static void work_free(work *w)
 {
     relief_knn_graph_free(&w->g);
-    free(w->nrm), free(w->hint), free(w->base), free(w->base_nrm), free(w->rim_dist);
+    free(w->nrm), free(w->base), free(w->base_nrm), free(w->rim_dist);
     free(w->tpos), free(w->tnrm), free(w->npos), free(w->nnrm);
     free(w->detail), free(w->value);
     free(w->cbase), free(w->cnrm), free(w->cdetail);
@@ -133,7 +139,7 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
                                   relief_error *err)
 {
     relief_knn_graph g;
-    double *n0 = NULL, *hint = NULL, h;
+    double *n0 = NULL, h;
     relief_status st;
     const char *why;
     size_t nc = c->nv;
@@ -150,17 +156,11 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
     *base = malloc(nc * 3 * sizeof **base);
     *nrm = malloc(nc * 3 * sizeof **nrm);
     *detail = malloc(nc * sizeof **detail);
-    if (c->nrm || c->nt)
-        hint = malloc(nc * 3 * sizeof *hint);
-    if (!n0 || !*base || !*nrm || !*detail || ((c->nrm || c->nt) && !hint)) {
+    if (!n0 || !*base || !*nrm || !*detail) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the clone's %zu points", nc);
         goto done;
     }
-    if (c->nrm)
-        memcpy(hint, c->nrm, nc * 3 * sizeof *hint);
-    else if (c->nt)
-        triangle_normals(c, hint);
-    st = relief_points_normals(c->pos, &g, hint, NULL, n0, NULL, err);
+    st = oriented_normals(c, &g, NULL, n0, err);
     if (st == RELIEF_OK && !(h > 0.0))
         st = relief_fail(err, RELIEF_E_RANGE, "--clone-from: most points are duplicates");
     if (st == RELIEF_OK)
@@ -170,7 +170,7 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
         relief_detail_encode(c->pos, *base, *nrm, nc, *detail);
 done:
     relief_knn_graph_free(&g);
-    free(n0), free(hint);
+    free(n0);
     return st;
 }
 
@@ -229,18 +229,7 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     w.rim = calloc(n, sizeof *w.rim);
     if (!w.nrm || !w.rim)
         goto nomem;
-    if (in->nrm) {
-        w.hint = malloc(n * 3 * sizeof *w.hint);
-        if (!w.hint)
-            goto nomem;
-        memcpy(w.hint, in->nrm, n * 3 * sizeof *w.hint);
-    } else if (in->nt) {
-        w.hint = malloc(n * 3 * sizeof *w.hint);
-        if (!w.hint)
-            goto nomem;
-        triangle_normals(in, w.hint);
-    }
-    st = relief_points_normals(in->pos, &w.g, w.hint, p->viewpoint, w.nrm, NULL, err);
+    st = oriented_normals(in, &w.g, p->viewpoint, w.nrm, err);
     if (st != RELIEF_OK)
         goto fail;
 

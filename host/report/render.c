@@ -402,19 +402,6 @@ static void draw_points(const camera *c, const relief_mesh *m, const double *scr
     }
 }
 
-/* Area-weighted vertex normals (nv x 3, not normalised; shade does). */
-static void vertex_normals(const relief_mesh *m, double *vn)
-{
-    memset(vn, 0, m->nv * 3 * sizeof *vn);
-    for (size_t t = 0; t < m->nt; ++t) {
-        double n[3];
-        face_normal(m, t, n);
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k)
-                vn[3 * (size_t)m->tri[3 * t + j] + k] += n[k];
-    }
-}
-
 relief_status relief_render(const relief_mesh *m, const relief_render_options *o,
                             relief_image *out, relief_render_info *info_out,
                             relief_error *err)
@@ -485,7 +472,7 @@ relief_status relief_render(const relief_mesh *m, const relief_render_options *o
         memcpy(img + 3 * i, bg, sizeof bg);
     }
     if (m->nt > 0) {
-        vertex_normals(m, vn);
+        relief_mesh_vertex_normals(m, vn); /* not normalised; shade does */
         for (size_t t = 0; t < m->nt; ++t)
             draw_triangle(&c, m, t, scr, vn, alb, zbuf, img);
     } else {
