@@ -249,17 +249,15 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         case 'o': out_path = optarg; break;
         case OPT_REPORT: report = optarg; break;
         case OPT_COLOUR_ONLY:
-            if (p.what == RELIEF_POINTS_GEOMETRY_ONLY)
+        case OPT_GEOMETRY_ONLY: {
+            const relief_points_what want = c == OPT_COLOUR_ONLY ? RELIEF_POINTS_COLOUR_ONLY
+                                                                 : RELIEF_POINTS_GEOMETRY_ONLY;
+            if (p.what != RELIEF_POINTS_ALL && p.what != want)
                 return cli_usage_error("complete-points", "%s--colour-only and --geometry-only "
                                        "exclude each other", "");
-            p.what = RELIEF_POINTS_COLOUR_ONLY, what = "colour";
+            p.what = want, what = c == OPT_COLOUR_ONLY ? "colour" : "geometry";
             break;
-        case OPT_GEOMETRY_ONLY:
-            if (p.what == RELIEF_POINTS_COLOUR_ONLY)
-                return cli_usage_error("complete-points", "%s--colour-only and --geometry-only "
-                                       "exclude each other", "");
-            p.what = RELIEF_POINTS_GEOMETRY_ONLY, what = "geometry";
-            break;
+        }
         case OPT_HOLE_MASK: mask_spec = optarg; break;
         case OPT_SMOOTH_ONLY: p.smooth_only = 1; break;
         case OPT_MESH: mesh_path = optarg, p.mesh = 1; break;

@@ -487,8 +487,12 @@ relief_status relief_pcd_decode_cloud(const uint8_t *d, size_t n, const char *na
     return pcd_decode(d, n, name, max_points, 0, out, err);
 }
 
-relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
-                                    relief_depth_frame *out, relief_error *err)
+/* Read `path` whole and decode it with `decode`. */
+static relief_status read_with(const char *path, uint64_t max,
+                               relief_status (*decode)(const uint8_t *, size_t, const char *,
+                                                       uint64_t, relief_depth_frame *,
+                                                       relief_error *),
+                               relief_depth_frame *out, relief_error *err)
 {
     uint8_t *d;
     size_t n;
@@ -496,9 +500,15 @@ relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
     memset(out, 0, sizeof *out);
     if (st != RELIEF_OK)
         return st;
-    st = relief_pcd_decode_cloud(d, n, path, max_points, out, err);
+    st = decode(d, n, path, max, out, err);
     free(d);
     return st;
+}
+
+relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
+                                    relief_depth_frame *out, relief_error *err)
+{
+    return read_with(path, max_points, relief_pcd_decode_cloud, out, err);
 }
 
 relief_status relief_depth_decode(const uint8_t *d, size_t n, const char *name,
@@ -517,15 +527,7 @@ relief_status relief_depth_decode(const uint8_t *d, size_t n, const char *name,
 relief_status relief_depth_read(const char *path, uint64_t max_pixels,
                                 relief_depth_frame *out, relief_error *err)
 {
-    uint8_t *d;
-    size_t n;
-    relief_status st = relief_read_file(path, &d, &n, err);
-    memset(out, 0, sizeof *out);
-    if (st != RELIEF_OK)
-        return st;
-    st = relief_depth_decode(d, n, path, max_pixels, out, err);
-    free(d);
-    return st;
+    return read_with(path, max_pixels, relief_depth_decode, out, err);
 }
 
 relief_status relief_depth_frame_points(const relief_depth_frame *f, const char *name,

@@ -350,7 +350,9 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         }
         w.unknown[i] = is_new || (p->hole_mask && p->hole_mask[i]);
     }
-    st = relief_rim_distance(in->pos, n, w.rim, w.tpos, N, w.rim_dist, NULL, err);
+    /* The input's points here; the new ones' distances (and nearest rim
+     * points) are over the base, below. */
+    st = relief_rim_distance(in->pos, n, w.rim, w.tpos, n, w.rim_dist, NULL, err);
     if (st != RELIEF_OK)
         goto fail;
     if (m) {

@@ -78,7 +78,39 @@ static relief_status surface_d2(const relief_mesh *t, const double *q, size_t nq
 /* Mean over the points of m with label == want of the plane RMS of their
  * neighbourhood among all of m's points (rough), and of the luminance's
  * standard deviation (cdetail, when m has colour). */
-static int in_region(const double *region, const double *p);
+static int in_region(const double *region, const double *p)
+{
+    double d2 = 0.0;
+    if (!region)
+        return 1;
+    for (int k = 0; k < 3; ++k)
+        d2 += (p[k] - region[k]) * (p[k] - region[k]);
+    return d2 <= region[3] * region[3];
+}
+
+/* The points of m labelled `want` inside region (NULL: everywhere): their
+ * count, and their positions into q (n x 3) when q is not NULL. */
+static size_t gather(const relief_mesh *m, int want, const double *region, double *q)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < m->nv; ++i)
+        if (m->label[i] == want && in_region(region, m->pos + 3 * i)) {
+            if (q)
+                memcpy(q + 3 * k, m->pos + 3 * i, 3 * sizeof *q);
+            ++k;
+        }
+    return k;
+}
+
+/* RMS and largest of the square roots of d2 (n >= 1). */
+static void rms_max(const double *d2, size_t n, double *rms, double *max)
+{
+    double s = 0.0, mx = 0.0;
+    for (size_t j = 0; j < n; ++j)
+        s += d2[j], mx = fmax(mx, d2[j]);
+    *rms = sqrt(s / (double)n);
+    *max = sqrt(mx);
+}
 
 static relief_status roughness(const relief_mesh *m, int want, const double *region,
                                double *rough, double *cdetail, relief_error *err)
@@ -87,8 +119,7 @@ static relief_status roughness(const relief_mesh *m, int want, const double *reg
     double *q, *d2, sr = 0.0, sc = 0.0;
     int *idx;
     relief_status st;
-    for (size_t i = 0; i < n; ++i)
-        nq += m->label[i] == want && in_region(region, m->pos + 3 * i);
+    nq = gather(m, want, region, NULL);
     *rough = *cdetail = NAN;
     if (!nq)
         return RELIEF_OK;
@@ -100,10 +131,7 @@ static relief_status roughness(const relief_mesh *m, int want, const double *reg
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the roughness of %zu points",
                            nq);
     }
-    nq = 0;
-    for (size_t i = 0; i < n; ++i)
-        if (m->label[i] == want && in_region(region, m->pos + 3 * i))
-            memcpy(q + 3 * nq++, m->pos + 3 * i, 3 * sizeof *q);
+    gather(m, want, region, q);
     st = nearest(m->pos, n, q, nq, d2, idx, ROUGH_K + 1, err);
     for (size_t j = 0; st == RELIEF_OK && j < nq; ++j) {
         double mean[3], ev[3], evec[9], nb[3 * (ROUGH_K + 1)], lum[ROUGH_K + 1], ml = 0.0,
@@ -135,21 +163,11 @@ static relief_status roughness(const relief_mesh *m, int want, const double *reg
     return st;
 }
 
-static int in_region(const double *region, const double *p)
-{
-    double d2 = 0.0;
-    if (!region)
-        return 1;
-    for (int k = 0; k < 3; ++k)
-        d2 += (p[k] - region[k]) * (p[k] - region[k]);
-    return d2 <= region[3] * region[3];
-}
-
 relief_status relief_points_measure(const relief_mesh *c, const relief_mesh *t,
                                     const double *region, relief_points_measures *m,
                                     relief_error *err)
 {
-    double *q = NULL, *d2 = NULL, s, mx, sc = 0.0, dummy;
+    double *q = NULL, *d2 = NULL, sc = 0.0, dummy;
     int *idx = NULL;
     size_t nh = 0, na = 0;
     relief_status st;
@@ -162,10 +180,8 @@ relief_status relief_points_measure(const relief_mesh *c, const relief_mesh *t,
     if (c->nv <= ROUGH_K || t->nv <= ROUGH_K)
         return relief_fail(err, RELIEF_E_RANGE, "too few points to measure (%zu, %zu)", c->nv,
                            t->nv);
-    for (size_t i = 0; i < c->nv; ++i)
-        na += c->label[i] == 1 && in_region(region, c->pos + 3 * i);
-    for (size_t i = 0; i < t->nv; ++i)
-        nh += t->label[i] == 1;
+    na = gather(c, 1, region, NULL);
+    nh = gather(t, 1, NULL, NULL);
     if (!na || !nh)
         return relief_fail(err, RELIEF_E_RANGE, "nothing to measure: %zu added points, %zu "
                            "truth-hole points", na, nh);
@@ -179,31 +195,17 @@ relief_status relief_points_measure(const relief_mesh *c, const relief_mesh *t,
         goto done;
     }
     /* Accuracy. */
-    na = 0;
-    for (size_t i = 0; i < c->nv; ++i)
-        if (c->label[i] == 1 && in_region(region, c->pos + 3 * i))
-            memcpy(q + 3 * na++, c->pos + 3 * i, 3 * sizeof *q);
+    gather(c, 1, region, q);
     st = surface_d2(t, q, na, d2, err);
     if (st != RELIEF_OK)
         goto done;
-    s = mx = 0.0;
-    for (size_t j = 0; j < na; ++j)
-        s += d2[j], mx = fmax(mx, d2[j]);
-    m->acc_rms = sqrt(s / (double)na);
-    m->acc_max = sqrt(mx);
+    rms_max(d2, na, &m->acc_rms, &m->acc_max);
     /* Completeness and colour: truth-hole points against the completion. */
-    nh = 0;
-    for (size_t i = 0; i < t->nv; ++i)
-        if (t->label[i] == 1)
-            memcpy(q + 3 * nh++, t->pos + 3 * i, 3 * sizeof *q);
+    gather(t, 1, NULL, q);
     st = nearest(c->pos, c->nv, q, nh, d2, idx, 1, err);
     if (st != RELIEF_OK)
         goto done;
-    s = mx = 0.0;
-    for (size_t j = 0; j < nh; ++j)
-        s += d2[j], mx = fmax(mx, d2[j]);
-    m->comp_rms = sqrt(s / (double)nh);
-    m->comp_max = sqrt(mx);
+    rms_max(d2, nh, &m->comp_rms, &m->comp_max);
     m->hausdorff = fmax(m->acc_max, m->comp_max);
     if (c->col && t->col) {
         size_t j = 0;
