@@ -12,17 +12,7 @@ cd "$(dirname "$0")/.."
 OUT=${OUT:-bench-out/points}
 BUILD=${BUILD:-build}
 ./setup.sh deps
-PY=${PYTHON:-/usr/bin/python3}
-[[ -x $PY ]] || PY=python3
-if ! "$PY" -c 'import open3d, numpy' 2>/dev/null; then
-  if [[ $(id -u) -ne 0 ]]; then
-    echo "bench: python3-open3d is missing (apt-get install python3-open3d)" >&2
-    exit 1
-  fi
-  echo "bench: installing python3-open3d to compare with"
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-    python3-open3d python3-numpy >/dev/null
-fi
+PEER_MODULE=open3d PEER_PACKAGE=python3-open3d . bench/peers.sh # PY, python3-open3d
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
 cmake --build "$BUILD" -j"${JOBS:-$(nproc)}" --target relief points_bench_tool >/dev/null
 mkdir -p "$OUT"
