@@ -6,8 +6,9 @@
  * seam measure within 2x that inside the capture, the dominant frequency of
  * periodic reliefs within 10 % of the truth's, and with colour an RGB
  * histogram distance below 0.25 (total variation; identical distributions
- * give 0, disjoint ones 1), and for the coloured bark (the demo, with
- * --coherence 2) a pattern lean distance within 5x the truth's own (report/pattern.h: the ridges' layout). Where an
+ * give 0, disjoint ones 1), and for the coloured bark (the demo) a
+ * pattern lean distance within 2.5x the truth's own (report/pattern.h:
+ * the ridges' layout). Where an
  * OpenCL device exists the completion is run again with the OpenCL matcher
  * and must come out byte-identical. */
 #include <math.h>
@@ -42,11 +43,6 @@ int main(int argc, char **argv)
     if (argc > 3)
         sp.vertices = (size_t)atol(argv[3]);
     periodic = sp.kind == RELIEF_SYNTH_PLANE_WAVES || sp.kind == RELIEF_SYNTH_CYLINDER_BANDS;
-    /* The coloured bark is the demo: completed with --coherence 2, which
-     * keeps its ridges' layout (below); every other case, the uncoloured
-     * bark included, runs the defaults (the paper's draw alone). */
-    if (sp.kind == RELIEF_SYNTH_CYLINDER_BARK && sp.colour)
-        p.coherence = 2.0;
 
     st = relief_synth(&sp, &cap, &truth, &err);
     if (st == RELIEF_OK)
@@ -80,11 +76,13 @@ int main(int argc, char **argv)
     }
     /* The demo's bark (colour, seed 1) keeps its ridges' layout (issue 17),
      * measured as `relief eval --truth` does (the primitive fitted to the
-     * captured part): the paper's draw alone (--coherence 0) turns them
-     * into chevrons, lean distance 0.17, 9.4 times the truth's own 0.018;
-     * --coherence 2 brings it to 0.078 here (4.3 times; `relief eval` on
-     * the written file: 0.050). Without colour coherence makes it worse
-     * (0.124 to 0.171), so it is not the default: README, Completion. */
+     * captured part), with default options: lean distance 0.038 here, 1.7
+     * times the truth's own 0.022. On the cylinder's old target lattice,
+     * rows around the turn and no edge along the axis, the same growth made
+     * chevrons: 0.17, 9.4 times the truth's own then (0.078 with
+     * --coherence 2). The bound fails both. Other seeds of the bark spread
+     * widely (README, Completion: 0.025 to 0.18 over seeds 1 to 8, the
+     * truth's own 0.002 to 0.06), so it is held on the demo's seed. */
     if (st == RELIEF_OK && sp.kind == RELIEF_SYNTH_CYLINDER_BARK && sp.colour) {
         relief_pattern pat;
         st = relief_pattern_measure(s->mesh, NULL, truth, &pat, &err);
@@ -93,8 +91,8 @@ int main(int argc, char **argv)
             printf("pattern: lean distance %.3f (truth's own %.3f), orientation %.3f (%.3f)\n",
                    pat.d_height.lean, pat.d_truth_height.lean, pat.d_height.orientation,
                    pat.d_truth_height.orientation);
-            CHECK(pat.d_height.lean <= 5.0 * pat.d_truth_height.lean,
-                  "the ridges' lean distance %.3f is over 5 x the truth's own %.3f: chevrons",
+            CHECK(pat.d_height.lean <= 2.5 * pat.d_truth_height.lean,
+                  "the ridges' lean distance %.3f is over 2.5 x the truth's own %.3f: chevrons",
                   pat.d_height.lean, pat.d_truth_height.lean);
         }
     }

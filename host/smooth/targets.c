@@ -165,51 +165,84 @@ static uint32_t new_region(regions *r)
 /* Triangular lattice over [u0, u1] x [v0, v1] (plane) or the full turn
  * times [v0, v1] (cylinder, periodic in u): its uncovered points, flooded
  * into regions. A region touching the border (the first or last row; on a
- * plane the first or last column too) is outside the outline. */
+ * plane the first or last column too) is outside the outline.
+ *
+ * The lattice's rows run along u on a plane. On a cylinder they run along
+ * the axis (v), the rows stacked around the turn (an even number of them,
+ * so the half-step offset of odd rows closes up), so that one of the
+ * lattice's three edge directions is the axis: ridges along a trunk, a
+ * drill's flutes, a bottle's ribs follow lattice edges. With rows around
+ * the turn instead, no edge is axial and an axial ridge is drawn as a +-30
+ * degree zigzag: the demo's exact truth sampled on that lattice read 15.2
+ * degrees of lean against its own 10.4. */
+typedef struct lattice {
+    int periodic;       /* cylinder: rows along v, stacked around u */
+    size_t na, nb;      /* points per row, rows */
+    double a0, da;      /* first point of a row and step along it */
+    double b0, db;      /* first row and the step between rows */
+} lattice;
+
+static void lattice_uv(const lattice *l, size_t i, size_t j, double *u, double *v)
+{
+    const double a = l->a0 + ((double)i + 0.5 * (double)(j % 2)) * l->da;
+    const double b = l->b0 + (double)j * l->db;
+    if (l->periodic)
+        *u = b, *v = a;
+    else
+        *u = a, *v = b;
+}
+
 static relief_status lattice_regions(const coverage *cov, const relief_param *pm, double sp,
                                      double u0, double u1, double v0, double v1, int periodic,
                                      regions *out, relief_error *err)
 {
     const double row = sp * sqrt(3.0) / 2.0;
     const double cover2 = 0.25 * sp * sp; /* (half a spacing)^2 */
-    size_t nu, nv, n;
-    double du;
+    /* Along the rows, across them: (u, v) on a plane, (v, u) on a cylinder. */
+    const double a_lo = periodic ? v0 : u0, a_hi = periodic ? v1 : u1;
+    const double b_lo = periodic ? u0 : v0, b_hi = periodic ? u1 : v1;
+    lattice l = {periodic, 0, 0, a_lo, sp, b_lo, row};
+    size_t n;
     uint32_t *lab = NULL; /* per lattice point: COVERED, UNSEEN or its region */
     uint32_t *stack = NULL;
     relief_status st = RELIEF_OK;
 
     /* Count in double first: a tiny spacing must not overflow size_t. */
-    if (!((floor((u1 - u0) / sp) + 2.0) * (floor((v1 - v0) / row) + 1.0) <= 50000000.0))
+    if (!((floor((a_hi - a_lo) / sp) + 2.0) * (floor((b_hi - b_lo) / row) + 2.0) <= 50000000.0))
         return relief_fail(err, RELIEF_E_RANGE,
                            "the target lattice would have about %.3g points (spacing %g over "
                            "a %g x %g region); raise --spacing",
-                           (floor((u1 - u0) / sp) + 1.0) * (floor((v1 - v0) / row) + 1.0), sp,
-                           u1 - u0, v1 - v0);
+                           (floor((a_hi - a_lo) / sp) + 1.0) * (floor((b_hi - b_lo) / row) + 1.0),
+                           sp, u1 - u0, v1 - v0);
+    l.na = (size_t)floor((a_hi - a_lo) / sp) + 1;
     if (periodic) {
-        nu = (size_t)floor((u1 - u0) / sp + 0.5);
-        if (nu < 3)
-            nu = 3;
-        du = (u1 - u0) / (double)nu;
+        l.nb = 2 * (size_t)floor((b_hi - b_lo) / (2.0 * row) + 0.5);
+        if (l.nb < 4)
+            l.nb = 4;
+        l.db = (b_hi - b_lo) / (double)l.nb;
     } else {
-        nu = (size_t)floor((u1 - u0) / sp) + 1;
-        du = sp;
+        l.nb = (size_t)floor((b_hi - b_lo) / row) + 1;
     }
-    nv = (size_t)floor((v1 - v0) / row) + 1;
-    n = nu * nv;
+    n = l.na * l.nb;
     lab = malloc(n * sizeof *lab);
     stack = malloc(n * sizeof *stack);
     if (!lab || !stack) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-point lattice", n);
         goto done;
     }
-    /* Centre the rows in [v0, v1] so both ends get the same margin. */
-    v0 += 0.5 * ((v1 - v0) - (double)(nv - 1) * row);
-    for (size_t j = 0; j < nv; ++j)
-        for (size_t i = 0; i < nu; ++i) {
-            double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
-            relief_param_point(pm, u, v0 + (double)j * row, p);
-            lab[j * nu + i] = covered(cov, p, cover2) ? COVERED : UNSEEN;
-            out->covered += lab[j * nu + i] == COVERED;
+    /* Centre the lattice in the non-periodic extents so both ends get the
+     * same margin. */
+    if (periodic)
+        l.a0 += 0.5 * ((a_hi - a_lo) - (double)(l.na - 1) * sp);
+    else
+        l.b0 += 0.5 * ((b_hi - b_lo) - (double)(l.nb - 1) * row);
+    for (size_t j = 0; j < l.nb; ++j)
+        for (size_t i = 0; i < l.na; ++i) {
+            double p[3], u, v;
+            lattice_uv(&l, i, j, &u, &v);
+            relief_param_point(pm, u, v, p);
+            lab[j * l.na + i] = covered(cov, p, cover2) ? COVERED : UNSEEN;
+            out->covered += lab[j * l.na + i] == COVERED;
         }
     for (size_t seed = 0; seed < n; ++seed) {
         uint32_t id, top = 0;
@@ -222,11 +255,13 @@ static relief_status lattice_regions(const coverage *cov, const relief_param *pm
         lab[seed] = id;
         stack[top++] = (uint32_t)seed;
         while (top > 0) {
-            size_t at = stack[--top], i = at % nu, j = at / nu;
-            /* Six neighbours; odd rows sit half a column to the right. */
+            size_t at = stack[--top], i = at % l.na, j = at / l.na;
+            /* Six neighbours; odd rows sit half a step further along. */
             long di[6] = {-1, 1, 0, 1, 0, 1}, dj[6] = {0, 0, -1, -1, 1, 1};
             ++out->size[id];
-            if (j == 0 || j == nv - 1 || (!periodic && (i == 0 || i == nu - 1)))
+            /* The border: a cylinder's first and last axial positions, a
+             * plane's first and last rows and columns. */
+            if (i == 0 || i == l.na - 1 || (!periodic && (j == 0 || j == l.nb - 1)))
                 out->outside[id] = 1;
             if (j % 2 == 0)
                 di[2] = -1, di[3] = 0, di[4] = -1, di[5] = 0;
@@ -234,10 +269,10 @@ static relief_status lattice_regions(const coverage *cov, const relief_param *pm
                 long ii = (long)i + di[q], jj = (long)j + dj[q];
                 size_t nb;
                 if (periodic)
-                    ii = (ii + (long)nu) % (long)nu;
-                if (ii < 0 || jj < 0 || ii >= (long)nu || jj >= (long)nv)
+                    jj = (jj + (long)l.nb) % (long)l.nb;
+                if (ii < 0 || jj < 0 || ii >= (long)l.na || jj >= (long)l.nb)
                     continue;
-                nb = (size_t)jj * nu + (size_t)ii;
+                nb = (size_t)jj * l.na + (size_t)ii;
                 if (lab[nb] == UNSEEN) {
                     lab[nb] = id;
                     stack[top++] = (uint32_t)nb;
@@ -250,14 +285,13 @@ static relief_status lattice_regions(const coverage *cov, const relief_param *pm
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
         goto done;
     }
-    for (size_t j = 0; j < nv; ++j)
-        for (size_t i = 0; i < nu; ++i)
-            if (lab[j * nu + i] != COVERED) {
-                double p[3], u = u0 + ((double)i + 0.5 * (double)(j % 2)) * du;
-                if (periodic && u >= u1)
-                    u -= u1 - u0;
-                relief_param_point(pm, u, v0 + (double)j * row, p);
-                out->of[out->pts.n] = lab[j * nu + i];
+    for (size_t j = 0; j < l.nb; ++j)
+        for (size_t i = 0; i < l.na; ++i)
+            if (lab[j * l.na + i] != COVERED) {
+                double p[3], u, v;
+                lattice_uv(&l, i, j, &u, &v);
+                relief_param_point(pm, u, v, p);
+                out->of[out->pts.n] = lab[j * l.na + i];
                 if (!push_point(&out->pts, p)) {
                     st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
                     goto done;
