@@ -59,7 +59,7 @@ static const char complete_help[] =
     "  --coherence K         copy patches: take the best candidate that continues\n"
     "                        a neighbour's source when its score is within K x\n"
     "                        the best; 0 = off, the paper's draw alone (default),\n"
-    "                        else 1..100 (2 helps the coloured demo: README)\n"
+    "                        else 1..100 (measured on the demo: README)\n"
     "  --search S            auto (default), exhaustive or coherent: score every\n"
     "                        sample for each target (paper 000), or only the\n"
     "                        samples that continue its neighbours' patches and\n"
