@@ -193,6 +193,43 @@ static void test_cylinder(void)
         CHECK(off_rim == 0, "cylinder: %zu boundary edges away from the rims (a gap)",
               off_rim);
     }
+    /* The targets' lattice has an edge along the axis (rows along it): each
+     * target but a row's last has a target one spacing further up the axis,
+     * joined to it by a triangle's edge. With rows around the turn the
+     * nearest target along the axis was sqrt 3 spacings away and none
+     * qualified; axial ridges were then drawn as zigzags (issue 17). */
+    {
+        const relief_mesh *m = s->mesh;
+        const double *dir = s->fit.prim.dir, tol = 1e-6 * s->spacing;
+        size_t axial = 0;
+        for (size_t a = s->n_samples; a < m->nv; ++a) {
+            size_t b;
+            for (b = s->n_samples; b < m->nv; ++b) {
+                double e2 = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    const double e = s->proj[3 * b + k] - s->proj[3 * a + k] - s->spacing * dir[k];
+                    e2 += e * e;
+                }
+                if (e2 <= tol * tol)
+                    break;
+            }
+            if (b == m->nv)
+                continue;
+            for (size_t i = 0; i < m->nt; ++i) {
+                int ha = 0, hb = 0;
+                for (int k = 0; k < 3; ++k)
+                    ha |= m->tri[3 * i + k] == a, hb |= m->tri[3 * i + k] == b;
+                if (ha && hb) {
+                    ++axial;
+                    break;
+                }
+            }
+        }
+        printf("cylinder: %zu of %zu targets have an axial lattice edge\n", axial,
+               s->n_targets);
+        CHECK(axial >= 9 * s->n_targets / 10, "cylinder: only %zu of %zu targets have an axial "
+              "lattice edge (rows along the axis)", axial, s->n_targets);
+    }
     check_geometry(s, "cylinder");
     relief_surface_destroy(s);
 }
