@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """relief complete-points (paper 002) on holes cut where the truth is known,
-beside two baselines run in the same script: the smooth RBF fill alone
+with and without --detail-histogram, beside two baselines run in the same
+script: the smooth RBF fill alone
 (`--smooth-only`, the paper's Fig. 9g) and Open3D's screened Poisson
 reconstruction (python3-open3d, a peer, never linked; its vertices inside
 the cut ball and farther than one spacing from the capture are its fill).
@@ -12,7 +13,7 @@ RMS, and the texture statistic that rewards detail over blur: the roughness
 truth's in the same hole (1 is the truth's own; a smooth fill gives about 0)
 and, with colour, the colour detail (local luminance deviation) likewise.
 
-usage: points.py RELIEF TOOL DATA OUT [--repeat N] [--no-open3d]
+usage: points.py RELIEF TOOL DATA OUT [--repeat N] [--no-open3d] [--no-scale]
 Writes OUT/points.csv and OUT/points_scale.csv and prints the tables.
 """
 import csv
@@ -120,6 +121,9 @@ def main():
     if "--no-open3d" in args:
         args.remove("--no-open3d")
         use_o3d = False
+    no_scale = "--no-scale" in args
+    if no_scale:
+        args.remove("--no-scale")
     relief, tool, data, out = args
     os.makedirs(out, exist_ok=True)
     rows = []
@@ -142,7 +146,8 @@ def main():
         # Only fills in (a margin around) the cut ball are measured: the
         # scans' own holes (the bunny's base) are filled too, with no truth.
         region = "%r,%r,%r,%r" % (ball[0], ball[1], ball[2], 1.5 * radius)
-        variants = [("relief", []), ("smooth-only", ["--smooth-only"])]
+        variants = [("relief", []), ("detail-histogram", ["--detail-histogram"]),
+                    ("smooth-only", ["--smooth-only"])]
         for vname, extra in variants:
             res = os.path.join(out, "%s_%s.ply" % (name, vname))
             rep = os.path.join(out, "%s_%s.json" % (name, vname))
@@ -171,7 +176,7 @@ def main():
     # ball of 2 cm cut from its flank; relief with default options.
     scale = []
     bunny = os.path.join(data, "real/stanford_bunny/stanford-bunny.obj")
-    if os.path.exists(bunny):
+    if os.path.exists(bunny) and not no_scale:
         for npts in (22000, 240000):
             smp = os.path.join(out, "scale_%d.ply" % npts)
             cap = os.path.join(out, "scale_%d_capture.ply" % npts)

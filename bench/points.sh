@@ -4,7 +4,7 @@
 # Poisson reconstruction (bench/points.py says what is measured). Open3D is
 # a peer to compare with, never linked: python3-open3d is installed here
 # (as root) if missing.
-#   bench/points.sh [--repeat N] [--no-open3d]
+#   bench/points.sh [--repeat N] [--no-open3d] [--no-scale]
 # Environment: OUT (default bench-out/points), BUILD (default build),
 # PYTHON (default /usr/bin/python3).
 set -euo pipefail

@@ -41,6 +41,9 @@ static const char points_help[] =
     "  --geometry-only       new points and their detail; colour from the rim\n"
     "  --smooth-only         the smooth fill alone (no detail, colour from the\n"
     "                        rim): the baseline of the paper's Fig. 9g\n"
+    "  --detail-histogram    give the new points' detail the capture's distribution\n"
+    "                        (histogram matching after the texture optimisation):\n"
+    "                        rougher, nearer the scan's own; the RMS error can rise\n"
     "  --clone-from FILE     copy the detail (and colour, when both have it) from\n"
     "                        another scan, sampled about as densely (paper 6.3)\n"
     "  --hole-mask WHAT      points to synthesise again besides the holes: 'label'\n"
@@ -64,7 +67,8 @@ static const char points_help[] =
 
 enum {
     OPT_COLOUR_ONLY = 512, OPT_GEOMETRY_ONLY, OPT_HOLE_MASK, OPT_SAMPLE_REGION, OPT_K,
-    OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH, OPT_CLONE_FROM
+    OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH, OPT_CLONE_FROM,
+    OPT_DETAIL_HISTOGRAM
 };
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
@@ -109,6 +113,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_begin_object(&j, "parameters");
     rj_string(&j, "what", c->what);
     rj_bool(&j, "smooth_only", c->p->smooth_only);
+    rj_bool(&j, "detail_histogram", c->p->detail_histogram);
     rj_int(&j, "k", c->p->k);
     rj_int(&j, "smooth_steps", c->p->smooth_steps);
     rj_number(&j, "smooth_dt_spacings", c->p->smooth_dt);
@@ -212,6 +217,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         {"geometry-only", no_argument, 0, OPT_GEOMETRY_ONLY},
         {"hole-mask", required_argument, 0, OPT_HOLE_MASK},
         {"smooth-only", no_argument, 0, OPT_SMOOTH_ONLY},
+        {"detail-histogram", no_argument, 0, OPT_DETAIL_HISTOGRAM},
         {"mesh", required_argument, 0, OPT_MESH},
         {"clone-from", required_argument, 0, OPT_CLONE_FROM},
         {"sample-region", required_argument, 0, OPT_SAMPLE_REGION},
@@ -260,6 +266,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         }
         case OPT_HOLE_MASK: mask_spec = optarg; break;
         case OPT_SMOOTH_ONLY: p.smooth_only = 1; break;
+        case OPT_DETAIL_HISTOGRAM: p.detail_histogram = 1; break;
         case OPT_MESH: mesh_path = optarg, p.mesh = 1; break;
         case OPT_CLONE_FROM: clone_path = optarg; break;
         case OPT_SAMPLE_REGION:

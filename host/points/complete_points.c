@@ -389,8 +389,11 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         }
     }
     if (channels) {
+        relief_texopt_params tex = p->tex;
+        if (p->detail_histogram && detail_ch >= 0)
+            tex.histogram |= 1u << detail_ch;
         st = relief_texopt_complete(w.tpos, w.tnrm, T, channels, w.value, w.unknown, w.exemplar,
-                                    w.rim_term, &p->tex, &rep->tex, err);
+                                    w.rim_term, &tex, &rep->tex, err);
         if (st != RELIEF_OK)
             goto fail;
     }

@@ -47,6 +47,8 @@ typedef struct relief_texopt_params {
     double lambda;       /* weight of the rim term (default 1) */
     uint64_t seed;       /* initialisation of the unknown values (default 1) */
     int threads;         /* worker threads, 0 = online CPUs (default 0) */
+    unsigned histogram;  /* bit c set: channel c's unknown values end histogram-matched
+                            to the exemplars' (texopt.c; default 0) */
 } relief_texopt_params;
 
 relief_texopt_params relief_texopt_params_default(void);

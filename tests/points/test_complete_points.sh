@@ -29,6 +29,8 @@ ok 'cmp -s "$tmp/f.ply" "$tmp/fm_pts.ply" && grep -q "\"patch_triangles\": [1-9]
 ok '[[ $(head -c 800 "$tmp/fm.ply" | grep -a "element face" | cut -d" " -f3) -gt $(head -c 800 "$tmp/fert_cut.ply" | grep -a "element face" | cut -d" " -f3) ]]' "--mesh has no more triangles than the capture"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fh.ply" --detail-histogram --iterations 10 --report "$tmp/fh.json" --quiet
+ok '! cmp -s "$tmp/f.ply" "$tmp/fh.ply" && grep -q "\"detail_histogram\": true" "$tmp/fh.json"' "--detail-histogram changed nothing or is not in the report"
 
 # --sample-region label: the exemplars come from the points labelled 1 only
 # (a labelled copy of the cut, written by awk from an ascii PLY).

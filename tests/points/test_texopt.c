@@ -220,12 +220,62 @@ static void check_bad(plane *pl)
     free(v), free(keep), free(none), free(few);
 }
 
+/* Histogram matching (p.histogram bit 0): the unknown values keep their
+ * order (the optimisation's layout) and take the exemplars' distribution:
+ * their spread is the exemplars' where without it the averaging leaves it
+ * narrower. */
+static const float *sort_key;
+static int by_key(const void *a, const void *b)
+{
+    const float x = sort_key[*(const size_t *)a], y = sort_key[*(const size_t *)b];
+    return (x > y) - (x < y);
+}
+
+static void check_histogram(const plane *pl)
+{
+    relief_texopt_params p = relief_texopt_params_default();
+    relief_texopt_result r0 = {0}, r1 = {0};
+    float *v0, *v1;
+    double sd_ex, sd0, sd1;
+    size_t ne = 0, nu = 0, *idx = malloc(N * sizeof *idx), disorder = 0;
+    plane *ex = malloc(sizeof *ex);
+    p.threads = 2;
+    p.grid_n = 11;
+    v0 = run(pl, 1, &p, &r0);
+    p.histogram = 1u;
+    v1 = run(pl, 1, &p, &r1);
+    /* The exemplars' spread, through spread() on a plane whose "unknown"
+     * points are the exemplars. */
+    *ex = *pl;
+    for (size_t k = 0; k < N; ++k)
+        ex->unknown[k] = pl->exemplar[k], ne += pl->exemplar[k] != 0;
+    sd_ex = spread(ex, v0, 1);
+    sd0 = spread(pl, v0, 1), sd1 = spread(pl, v1, 1);
+    for (size_t k = 0; k < N; ++k)
+        if (pl->unknown[k])
+            idx[nu++] = k;
+    sort_key = v0;
+    qsort(idx, nu, sizeof *idx, by_key);
+    for (size_t i = 1; i < nu; ++i)
+        disorder += v0[idx[i]] > v0[idx[i - 1]] && v1[idx[i]] < v1[idx[i - 1]];
+    printf("histogram: exemplars' spread %.4f (%zu), completed %.4f without matching, %.4f "
+           "with; %zu of %zu pairs out of order\n", sd_ex, ne, sd0, sd1, disorder, nu);
+    CHECK(fabs(sd1 - sd_ex) <= 0.02 * sd_ex, "matched spread %.4f, the exemplars' %.4f", sd1,
+          sd_ex);
+    CHECK(sd0 < 0.98 * sd_ex, "without matching the spread %.4f is not narrower than the "
+          "exemplars' %.4f: the test cannot tell matching from none", sd0, sd_ex);
+    CHECK(disorder == 0, "histogram matching reordered %zu values", disorder);
+    relief_texopt_result_free(&r0), relief_texopt_result_free(&r1);
+    free(v0), free(v1), free(idx), free(ex);
+}
+
 int main(void)
 {
     plane *pl = malloc(sizeof *pl);
     make_plane(pl);
     check_completion(pl, 1);
     check_completion(pl, 3);
+    check_histogram(pl);
     check_bad(pl);
     free(pl);
     return check_result();
