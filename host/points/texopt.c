@@ -386,6 +386,63 @@ static relief_status check(const double *pos, const double *nrm, size_t n, int c
 
 /* One run at the given parameters; *no_grid set when it failed only
  * because no exemplar grid could be built. */
+typedef struct ranked {
+    float v;
+    uint32_t i;
+} ranked;
+
+static int cmp_ranked(const void *a, const void *b)
+{
+    const ranked *x = a, *y = b;
+    if (x->v != y->v)
+        return x->v < y->v ? -1 : 1;
+    return (x->i > y->i) - (x->i < y->i);
+}
+
+/* Histogram matching of channel c (Heeger and Bergen 1995; Kopf et al.
+ * 2007 match histograms within texture optimisation): the unknown values,
+ * ranked (ties by index), take the exemplars' values at the same quantile,
+ * linearly interpolated. The averaging of overlapping matches narrows the
+ * distribution (a blend of two ridges is lower than either); this gives the
+ * completed part the capture's spread of values, the layout the
+ * optimisation's. */
+static relief_status match_histogram(float *value, int ch, int c, size_t n,
+                                     const uint8_t *unknown, const uint8_t *exemplar,
+                                     relief_error *err)
+{
+    size_t nk = 0, nu = 0;
+    ranked *k, *u;
+    for (size_t i = 0; i < n; ++i)
+        nk += exemplar[i] != 0, nu += unknown[i] != 0;
+    if (nk == 0 || nu == 0)
+        return RELIEF_OK;
+    k = malloc(nk * sizeof *k);
+    u = malloc(nu * sizeof *u);
+    if (!k || !u) {
+        free(k), free(u);
+        return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory "
+                           "(histograms)");
+    }
+    nk = nu = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (exemplar[i])
+            k[nk].v = value[i * (size_t)ch + (size_t)c], k[nk++].i = (uint32_t)i;
+        if (unknown[i])
+            u[nu].v = value[i * (size_t)ch + (size_t)c], u[nu++].i = (uint32_t)i;
+    }
+    qsort(k, nk, sizeof *k, cmp_ranked);
+    qsort(u, nu, sizeof *u, cmp_ranked);
+    for (size_t r = 0; r < nu; ++r) {
+        const double q = ((double)r + 0.5) / (double)nu * (double)nk - 0.5;
+        const double qc = q < 0.0 ? 0.0 : q > (double)(nk - 1) ? (double)(nk - 1) : q;
+        const size_t a = (size_t)qc, b = a + 1 < nk ? a + 1 : a;
+        const double f = qc - (double)a;
+        value[(size_t)u[r].i * ch + (size_t)c] = (float)((1.0 - f) * k[a].v + f * k[b].v);
+    }
+    free(k), free(u);
+    return RELIEF_OK;
+}
+
 static relief_status texopt_run(const double *pos, const double *nrm_in, size_t n, int channels,
                                 float *value, const uint8_t *unknown, const uint8_t *exemplar,
                                 const uint8_t *rim, const relief_texopt_params *pp,
@@ -682,6 +739,13 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
         }
     }
 
+    /* On the working values, so that a failure leaves value unchanged. */
+    for (int c = 0; c < channels; ++c)
+        if (p.histogram & (1u << c)) {
+            st = match_histogram(o.x, channels, c, n, unknown, exemplar, err);
+            if (st != RELIEF_OK)
+                goto done;
+        }
     for (size_t i = 0; i < n; ++i)
         if (unknown[i])
             memcpy(value + i * channels, o.x + i * channels, (size_t)channels * sizeof *value);
@@ -716,63 +780,6 @@ done:
     return st;
 }
 
-typedef struct ranked {
-    float v;
-    uint32_t i;
-} ranked;
-
-static int cmp_ranked(const void *a, const void *b)
-{
-    const ranked *x = a, *y = b;
-    if (x->v != y->v)
-        return x->v < y->v ? -1 : 1;
-    return (x->i > y->i) - (x->i < y->i);
-}
-
-/* Histogram matching of channel c (Heeger and Bergen 1995; Kopf et al.
- * 2007 match histograms within texture optimisation): the unknown values,
- * ranked (ties by index), take the exemplars' values at the same quantile,
- * linearly interpolated. The averaging of overlapping matches narrows the
- * distribution (a blend of two ridges is lower than either); this gives the
- * completed part the capture's spread of values, the layout the
- * optimisation's. */
-static relief_status match_histogram(float *value, int ch, int c, size_t n,
-                                     const uint8_t *unknown, const uint8_t *exemplar,
-                                     relief_error *err)
-{
-    size_t nk = 0, nu = 0;
-    ranked *k, *u;
-    for (size_t i = 0; i < n; ++i)
-        nk += exemplar[i] != 0, nu += unknown[i] != 0;
-    if (nk == 0 || nu == 0)
-        return RELIEF_OK;
-    k = malloc(nk * sizeof *k);
-    u = malloc(nu * sizeof *u);
-    if (!k || !u) {
-        free(k), free(u);
-        return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory "
-                           "(histograms)");
-    }
-    nk = nu = 0;
-    for (size_t i = 0; i < n; ++i) {
-        if (exemplar[i])
-            k[nk].v = value[i * (size_t)ch + (size_t)c], k[nk++].i = (uint32_t)i;
-        if (unknown[i])
-            u[nu].v = value[i * (size_t)ch + (size_t)c], u[nu++].i = (uint32_t)i;
-    }
-    qsort(k, nk, sizeof *k, cmp_ranked);
-    qsort(u, nu, sizeof *u, cmp_ranked);
-    for (size_t r = 0; r < nu; ++r) {
-        const double q = ((double)r + 0.5) / (double)nu * (double)nk - 0.5;
-        const double qc = q < 0.0 ? 0.0 : q > (double)(nk - 1) ? (double)(nk - 1) : q;
-        const size_t a = (size_t)qc, b = a + 1 < nk ? a + 1 : a;
-        const double f = qc - (double)a;
-        value[(size_t)u[r].i * ch + (size_t)c] = (float)((1.0 - f) * k[a].v + f * k[b].v);
-    }
-    free(k), free(u);
-    return RELIEF_OK;
-}
-
 relief_status relief_texopt_complete(const double *pos, const double *nrm, size_t n,
                                      int channels, float *value, const uint8_t *unknown,
                                      const uint8_t *exemplar, const uint8_t *rim,
@@ -789,9 +796,6 @@ relief_status relief_texopt_complete(const double *pos, const double *nrm, size_
         int no_grid = 0;
         st = texopt_run(pos, nrm, n, channels, value, unknown, exemplar, rim, &p, res, &no_grid,
                         err);
-        for (int c = 0; st == RELIEF_OK && c < channels; ++c)
-            if (p.histogram & (1u << c))
-                st = match_histogram(value, channels, c, n, unknown, exemplar, err);
         if (st == RELIEF_OK || !no_grid || p.grid_n <= 7 || p.cluster_size <= 32 ||
             p.grid_step > 0)
             return st;
