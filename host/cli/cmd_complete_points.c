@@ -35,8 +35,9 @@ static const char points_help[] =
     "(label 1), with colour when IN has it and normals. IN is never written.\n"
     "\n"
     "  -o, --output OUT.ply  the completed points; required\n"
-    "  --mesh M.ply          also write the completed surface: IN's triangles and\n"
-    "                        patches over the filled holes (IN must be a mesh)\n"
+    "  --mesh M.ply          also write the completed surface: a mesh's triangles\n"
+    "                        and patches over the filled holes; for a point set,\n"
+    "                        local Delaunay umbrellas through all the points\n"
     "  --colour-only         synthesise the colour of the --hole-mask points only\n"
     "  --geometry-only       new points and their detail; colour from the rim\n"
     "  --smooth-only         the smooth fill alone (no detail, colour from the\n"
@@ -140,6 +141,16 @@ static int write_report(FILE *fp, void *ctx)
     rj_number(&j, "spacing", r->spacing);
     rj_int(&j, "patch_triangles", (long long)r->patch_triangles);
     rj_int(&j, "patch_holes_skipped", (long long)r->patch_skipped);
+    if (c->p->mesh) {
+        rj_begin_object(&j, "mesh");
+        rj_int(&j, "triangles", (long long)r->mesh_triangles);
+        if (r->mesh_of_points) {
+            rj_int(&j, "candidates", (long long)r->mesh_candidates);
+            rj_int(&j, "boundary_edges", (long long)r->mesh_boundary_edges);
+            rj_int(&j, "bare_points", (long long)r->mesh_bare_points);
+        }
+        rj_end_object(&j);
+    }
     rj_begin_object(&j, "base");
     rj_number(&j, "detail_rms", r->detail_rms);
     rj_number(&j, "reconstruction_rms", r->recon_rms);

@@ -13,6 +13,7 @@
 #include "points/analysis.h"
 #include "points/flow.h"
 #include "points/patch_mesh.h"
+#include "points/surface_mesh.h"
 
 relief_points_params relief_points_params_default(void)
 {
@@ -198,10 +199,6 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     if (p->smooth_only && p->what == RELIEF_POINTS_COLOUR_ONLY)
         return relief_fail(err, RELIEF_E_RANGE, "--smooth-only fills geometry: not with "
                            "--colour-only");
-    if (p->mesh && !in->nt)
-        return relief_fail(err, RELIEF_E_RANGE, "a triangulated result (--mesh) needs a mesh "
-                           "input: relief triangulates the filled holes only, not a bare point "
-                           "set's whole surface");
     if (p->what == RELIEF_POINTS_COLOUR_ONLY && !in->col)
         return relief_fail(err, RELIEF_E_RANGE, "--colour-only: the input has no colour");
     if (n < (size_t)p->k + 1)
@@ -442,7 +439,18 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         if (st != RELIEF_OK)
             goto fail;
     }
-    if (p->mesh) {
+    if (p->mesh && !in->nt) {
+        /* A bare point set: a surface through all its points. */
+        relief_surface_mesh_info si;
+        st = relief_points_surface_mesh(out->pos, out->nrm, N, spacing, p->k, &out->tri, &out->nt,
+                                        &si, err);
+        if (st != RELIEF_OK)
+            goto fail;
+        rep->mesh_of_points = 1;
+        rep->mesh_candidates = si.candidates;
+        rep->mesh_boundary_edges = si.boundary_edges;
+        rep->mesh_bare_points = si.bare_points;
+    } else if (p->mesh) {
         uint32_t *pt = NULL;
         size_t pnt = 0;
         st = relief_points_patch_mesh(out->pos, out->nrm, n, N, w.rim, w.nhole,
@@ -462,6 +470,7 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         out->nt = in->nt + pnt;
         rep->patch_triangles = pnt;
     }
+    rep->mesh_triangles = out->nt;
     if (p->keep_base) {
         rep->base = w.tpos, rep->base_nrm = w.tnrm;
         w.tpos = w.tnrm = NULL;

@@ -58,8 +58,9 @@ typedef struct relief_points_params {
                              overlapping matches narrows it (default 0: README has the
                              trade against the error) */
     int mesh;             /* 1: *out also gets triangles: a mesh input's own and the
-                             filled holes' patches (points/patch_mesh.h); a point set
-                             input has none to give (RELIEF_E_RANGE) */
+                             filled holes' patches (points/patch_mesh.h); for a point
+                             set, a surface through all the output's points
+                             (points/surface_mesh.h) */
     int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm) */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
     relief_texopt_params tex;
@@ -76,6 +77,11 @@ typedef struct relief_points_report {
     double detail_rms;       /* RMS of c' over the input */
     size_t patch_triangles;  /* triangles laid over the holes (p->mesh) */
     size_t patch_skipped;    /* holes qhull could not triangulate */
+    size_t mesh_triangles;   /* all of *out's triangles (p->mesh) */
+    int mesh_of_points;      /* 1: they are a point set's surface, counted below */
+    size_t mesh_candidates, mesh_boundary_edges, mesh_bare_points; /* a point set's surface
+                             (p->mesh): triangles two or three corners proposed, edges with one
+                             triangle, points in none */
     double t_analysis, t_base, t_fill, t_texture, t_total; /* seconds */
     relief_texopt_result tex; /* energy per iteration etc. (owned; freed by _free) */
     double *base, *base_nrm;  /* with p->keep_base: (n_in + n_added) x 3, the base point

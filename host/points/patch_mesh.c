@@ -45,14 +45,11 @@ static void edge_add(edge_set *e, uint32_t a, uint32_t b)
         e->key[i] = edge_key(a, b), ++e->n;
 }
 
-typedef struct cand_tri {
-    double r;
-    uint32_t v[3];
-} cand_tri;
-
 static int cand_cmp(const void *x, const void *y)
 {
-    const cand_tri *a = x, *b = y;
+    const relief_cand_tri *a = x, *b = y;
+    if (a->rank != b->rank)
+        return a->rank < b->rank ? -1 : 1;
     if (a->r != b->r)
         return a->r < b->r ? -1 : 1;
     for (int k = 0; k < 3; ++k)
@@ -61,7 +58,7 @@ static int cand_cmp(const void *x, const void *y)
     return 0;
 }
 
-static double circumradius(const double *a, const double *b, const double *c)
+double relief_circumradius(const double *a, const double *b, const double *c)
 {
     double ab[3], ac[3], bc[3], x[3], la, lb, lc, area2;
     sub3(b, a, ab), sub3(c, a, ac), sub3(c, b, bc);
@@ -170,6 +167,171 @@ static size_t drop_non_manifold(uint32_t *tri, size_t nt, size_t first_patch, si
     }
 }
 
+#define LAY_NOMEM() relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu triangles", ncand)
+
+relief_status relief_points_lay_triangles(const double *pos, size_t N, const uint32_t *tri_in,
+                                          size_t nt_in, relief_cand_tri *cand, size_t ncand,
+                                          int seed_islands, uint32_t **tri_out, size_t *nt_out,
+                                          relief_error *err)
+{
+    edge_set es = {0};
+    uint32_t *tri = NULL, *ord = NULL;
+    uint8_t *placed = NULL, *has_face = NULL, *ok = NULL;
+    size_t kept = 0, no = 0;
+    relief_status st = RELIEF_OK;
+
+    *tri_out = NULL;
+    *nt_out = 0;
+    if (!ncand)
+        return RELIEF_OK;
+    /* Greedily, in rank then circumradius order, a triangle joins when
+     * none of its directed edges is taken yet (by the mesh or an earlier
+     * one): every edge then has at most one triangle a side, consistently
+     * oriented, which the mesh writer (OpenMesh) needs. */
+    qsort(cand, ncand, sizeof *cand, cand_cmp);
+    for (es.cap = 1024; es.cap < 4 * (3 * (nt_in + ncand) + 1); es.cap *= 2)
+        ;
+    es.key = calloc(es.cap, sizeof *es.key);
+    tri = malloc(ncand * 3 * sizeof *tri);
+    if (!es.key || !tri) {
+        st = LAY_NOMEM();
+        goto done;
+    }
+    for (size_t t = 0; t < nt_in; ++t)
+        for (int q = 0; q < 3; ++q)
+            edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
+    for (size_t t = 0; t < ncand; ++t) {
+        const uint32_t *v = cand[t].v;
+        if (edge_has(&es, v[0], v[1]) || edge_has(&es, v[1], v[2]) || edge_has(&es, v[2], v[0]))
+            continue;
+        edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
+        memcpy(tri + 3 * kept++, v, 3 * sizeof *tri);
+    }
+    /* Then no vertex may end with two fans: the input's triangles and the
+     * new ones together, new ones dropped where it would. */
+    {
+        uint32_t *all = malloc((nt_in + kept) * 3 * sizeof *all + 1);
+        int nomem = 0;
+        size_t total;
+        if (!all) {
+            st = LAY_NOMEM();
+            goto done;
+        }
+        memcpy(all, tri_in, nt_in * 3 * sizeof *all);
+        memcpy(all + 3 * nt_in, tri, kept * 3 * sizeof *all);
+        total = drop_non_manifold(all, nt_in + kept, nt_in, N, &nomem);
+        if (nomem) {
+            free(all);
+            st = LAY_NOMEM();
+            goto done;
+        }
+        kept = total - nt_in;
+        memcpy(tri, all + 3 * nt_in, kept * 3 * sizeof *tri);
+        free(all);
+    }
+    /* In the order a front would lay them: each next triangle shares an
+     * edge with what is there. OpenMesh adds faces one by one and cannot
+     * relink a vertex between two separate fans, which a triangle laid
+     * apart from the rest would make for a while. With seed_islands, a
+     * front that stops starts again from the first triangle left whose
+     * corners have no faces yet (a new component). */
+    ord = malloc(kept * 3 * sizeof *ord + 1);
+    placed = calloc(kept + 1, 1);
+    has_face = calloc(N + 1, 1);
+    if (!ord || !placed || !has_face) {
+        st = LAY_NOMEM();
+        goto done;
+    }
+    memset(es.key, 0, es.cap * sizeof *es.key);
+    for (size_t t = 0; t < nt_in; ++t)
+        for (int q = 0; q < 3; ++q)
+            edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
+    for (size_t t = 0; t < 3 * nt_in; ++t)
+        has_face[tri_in[t]] = 1;
+    for (size_t seed = 0;;) {
+        for (int progress = 1; progress;) {
+            progress = 0;
+            for (size_t t = 0; t < kept; ++t) {
+                const uint32_t *v = tri + 3 * t;
+                int shared[3], fits = 1; /* shared[q]: edge v[q] -> v[q + 1] has a face */
+                if (placed[t] || (has_face[v[0]] + has_face[v[1]] + has_face[v[2]] < 2))
+                    continue; /* a shared edge has two corners with faces */
+                for (int q = 0; q < 3; ++q)
+                    shared[q] = edge_has(&es, v[(q + 1) % 3], v[q]);
+                if (!shared[0] && !shared[1] && !shared[2])
+                    continue;
+                /* A vertex that has faces is reached through one of its
+                 * two edges here, never by a corner alone. */
+                for (int q = 0; q < 3 && fits; ++q)
+                    fits = !has_face[v[q]] || shared[q] || shared[(q + 2) % 3];
+                if (!fits)
+                    continue;
+                edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
+                has_face[v[0]] = has_face[v[1]] = has_face[v[2]] = 1;
+                memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
+                placed[t] = 1, progress = 1;
+            }
+        }
+        if (!seed_islands)
+            break;
+        while (seed < kept && (placed[seed] || has_face[tri[3 * seed]] ||
+                               has_face[tri[3 * seed + 1]] || has_face[tri[3 * seed + 2]]))
+            ++seed;
+        if (seed == kept)
+            break;
+        {
+            const uint32_t *v = tri + 3 * seed;
+            edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
+            has_face[v[0]] = has_face[v[1]] = has_face[v[2]] = 1;
+            memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
+            placed[seed] = 1;
+        }
+    }
+    /* Then what the fronts left where they met (cracks), after the rest;
+     * OpenMesh itself says which of all it can store in this order (its
+     * add_face cannot always relink a vertex whose fans a corner split),
+     * and the writer adds them in the same order. */
+    for (int progress = 1; progress;) {
+        progress = 0;
+        for (size_t t = 0; t < kept; ++t) {
+            const uint32_t *v = tri + 3 * t;
+            if (placed[t] || !(edge_has(&es, v[1], v[0]) || edge_has(&es, v[2], v[1]) ||
+                               edge_has(&es, v[0], v[2])))
+                continue; /* islands stay out: no front could reach them */
+            edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
+            memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
+            placed[t] = 1, progress = 1;
+        }
+    }
+    {
+        relief_mesh view;
+        size_t w = 0;
+        ok = malloc(no + 1);
+        if (!ok) {
+            st = LAY_NOMEM();
+            goto done;
+        }
+        memset(&view, 0, sizeof view);
+        view.nv = N, view.nt = nt_in;
+        view.pos = (double *)pos, view.tri = (uint32_t *)tri_in;
+        st = relief_om_storable(&view, ord, no, ok, err);
+        for (size_t t = 0; st == RELIEF_OK && t < no; ++t)
+            if (ok[t])
+                memcpy(tri + 3 * w++, ord + 3 * t, 3 * sizeof *tri);
+        kept = w;
+    }
+done:
+    free(es.key), free(ord), free(placed), free(has_face), free(ok);
+    if (st != RELIEF_OK || !kept) {
+        free(tri);
+        return st;
+    }
+    *tri_out = tri;
+    *nt_out = kept;
+    return RELIEF_OK;
+}
+#undef LAY_NOMEM
+
 relief_status relief_points_patch_mesh(const double *pos, const double *nrm, size_t n_in,
                                        size_t N, const uint32_t *rim, const uint32_t *hole,
                                        uint32_t n_holes, double spacing, const uint32_t *tri_in,
@@ -177,8 +339,7 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
                                        size_t *skipped, relief_error *err)
 {
     uint32_t *ids = malloc((N + 1) * sizeof *ids), *tri = NULL;
-    cand_tri *cand = NULL;
-    edge_set es = {0};
+    relief_cand_tri *cand = NULL;
     double *uv = malloc((N + 1) * 2 * sizeof *uv);
     size_t nt = 0, cap = 0;
     relief_status st = RELIEF_OK;
@@ -229,7 +390,7 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
             double e1[3], e2[3], x[3], vn[3];
             if (a < n_in && b < n_in && d < n_in)
                 continue; /* rim only: over the capture, or a gap along the rim */
-            double r = circumradius(pos + 3 * (size_t)a, pos + 3 * (size_t)b, pos + 3 * (size_t)d);
+            double r = relief_circumradius(pos + 3 * (size_t)a, pos + 3 * (size_t)b, pos + 3 * (size_t)d);
             if (r > PATCH_MAX_CIRCUMRADIUS * spacing)
                 continue;
             sub3(pos + 3 * (size_t)b, pos + 3 * (size_t)a, e1);
@@ -243,7 +404,7 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
             }
             if (nt == cap) {
                 size_t nc = cap ? 2 * cap : 1024;
-                cand_tri *g = realloc(cand, nc * sizeof *g);
+                relief_cand_tri *g = realloc(cand, nc * sizeof *g);
                 if (!g) {
                     free(pt);
                     st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
@@ -251,152 +412,16 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
                 }
                 cand = g, cap = nc;
             }
-            cand[nt++] = (cand_tri){r, {a, b, d}};
+            cand[nt++] = (relief_cand_tri){r, 0, {a, b, d}};
         }
         free(pt);
     }
-    /* Greedily, smallest circumradius first, a triangle joins when none
-     * of its directed edges is taken yet (by the mesh or a patch): every
-     * edge then has at most one triangle a side, consistently oriented,
-     * which the mesh writer (OpenMesh) needs. */
-    if (st == RELIEF_OK && nt) {
-        size_t kept = 0;
-        qsort(cand, nt, sizeof *cand, cand_cmp);
-        for (es.cap = 1024; es.cap < 4 * (3 * (nt_in + nt) + 1); es.cap *= 2)
-            ;
-        es.key = calloc(es.cap, sizeof *es.key);
-        tri = malloc(nt * 3 * sizeof *tri);
-        if (!es.key || !tri) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-            goto done;
-        }
-        for (size_t t = 0; t < nt_in; ++t)
-            for (int q = 0; q < 3; ++q)
-                edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
-        for (size_t t = 0; t < nt; ++t) {
-            const uint32_t *v = cand[t].v;
-            if (edge_has(&es, v[0], v[1]) || edge_has(&es, v[1], v[2]) ||
-                edge_has(&es, v[2], v[0]))
-                continue;
-            edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
-            memcpy(tri + 3 * kept++, v, 3 * sizeof *tri);
-        }
-        /* Then no vertex may end with two fans: the input's triangles and
-         * the patches together, patches dropped where it would. */
-        {
-            uint32_t *all = malloc((nt_in + kept) * 3 * sizeof *all + 1);
-            int nomem = 0;
-            size_t total;
-            if (!all) {
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                goto done;
-            }
-            memcpy(all, tri_in, nt_in * 3 * sizeof *all);
-            memcpy(all + 3 * nt_in, tri, kept * 3 * sizeof *all);
-            total = drop_non_manifold(all, nt_in + kept, nt_in, N, &nomem);
-            if (nomem) {
-                free(all);
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                goto done;
-            }
-            kept = total - nt_in;
-            memcpy(tri, all + 3 * nt_in, kept * 3 * sizeof *tri);
-            free(all);
-        }
-        /* In the order a front from the rim would lay them: each next
-         * triangle shares an edge with what is there. OpenMesh adds faces
-         * one by one and cannot relink a vertex between two separate fans,
-         * which a patch triangle laid apart from the rest would make for a
-         * while. */
-        {
-            uint32_t *ord = malloc(kept * 3 * sizeof *ord + 1);
-            uint8_t *placed = calloc(kept + 1, 1);
-            size_t no = 0;
-            if (!ord || !placed) {
-                free(ord), free(placed);
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                goto done;
-            }
-            memset(es.key, 0, es.cap * sizeof *es.key);
-            for (size_t t = 0; t < nt_in; ++t)
-                for (int q = 0; q < 3; ++q)
-                    edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
-            uint8_t *has_face = calloc(N + 1, 1);
-            if (!has_face) {
-                free(ord), free(placed);
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                goto done;
-            }
-            for (size_t t = 0; t < 3 * nt_in; ++t)
-                has_face[tri_in[t]] = 1;
-            for (int progress = 1; progress;) {
-                progress = 0;
-                for (size_t t = 0; t < kept; ++t) {
-                    const uint32_t *v = tri + 3 * t;
-                    int shared[3], ok = 1; /* shared[q]: edge v[q] -> v[q + 1] has a face */
-                    if (placed[t])
-                        continue;
-                    for (int q = 0; q < 3; ++q)
-                        shared[q] = edge_has(&es, v[(q + 1) % 3], v[q]);
-                    if (!shared[0] && !shared[1] && !shared[2])
-                        continue;
-                    /* A vertex that has faces is reached through one of
-                     * its two edges here, never by a corner alone. */
-                    for (int q = 0; q < 3 && ok; ++q)
-                        ok = !has_face[v[q]] || shared[q] || shared[(q + 2) % 3];
-                    if (!ok)
-                        continue;
-                    edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]),
-                        edge_add(&es, v[2], v[0]);
-                    has_face[v[0]] = has_face[v[1]] = has_face[v[2]] = 1;
-                    memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
-                    placed[t] = 1, progress = 1;
-                }
-            }
-            /* Then what the fronts left where they met (cracks), after the
-             * rest; OpenMesh itself says which of all it can store in this
-             * order (its add_face cannot always relink a vertex whose fans
-             * a corner split), and the writer adds them in the same order. */
-            for (int progress = 1; progress;) {
-                progress = 0;
-                for (size_t t = 0; t < kept; ++t) {
-                    const uint32_t *v = tri + 3 * t;
-                    if (placed[t] || !(edge_has(&es, v[1], v[0]) || edge_has(&es, v[2], v[1]) ||
-                                       edge_has(&es, v[0], v[2])))
-                        continue; /* islands stay out: the growth could not reach them */
-                    edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]),
-                        edge_add(&es, v[2], v[0]);
-                    memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
-                    placed[t] = 1, progress = 1;
-                }
-            }
-            {
-                relief_mesh view;
-                uint8_t *ok = malloc(no + 1);
-                size_t w = 0;
-                memset(&view, 0, sizeof view);
-                view.nv = N, view.nt = nt_in;
-                view.pos = (double *)pos, view.tri = (uint32_t *)tri_in;
-                if (!ok) {
-                    free(ord), free(placed), free(has_face);
-                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                    goto done;
-                }
-                st = relief_om_storable(&view, ord, no, ok, err);
-                for (size_t t = 0; st == RELIEF_OK && t < no; ++t)
-                    if (ok[t])
-                        memcpy(tri + 3 * w++, ord + 3 * t, 3 * sizeof *tri);
-                free(ok);
-                kept = w;
-            }
-            free(ord), free(placed), free(has_face);
-            if (st != RELIEF_OK)
-                goto done;
-        }
-        nt = kept;
-    }
+    if (st == RELIEF_OK && nt)
+        st = relief_points_lay_triangles(pos, N, tri_in, nt_in, cand, nt, 0, &tri, &nt, err);
+    else
+        nt = 0;
 done:
-    free(ids), free(uv), free(cand), free(es.key);
+    free(ids), free(uv), free(cand);
     if (st != RELIEF_OK) {
         free(tri);
         return st;

@@ -33,6 +33,32 @@
  * indices into pos) and *nt receive the patches' triangles (NULL and 0
  * when none). RELIEF_E_NOMEM; a hole qhull cannot triangulate (too few or
  * collinear points) is skipped, counted in *skipped. */
+/* A candidate triangle: laid lower rank first, then smaller r (its
+ * circumradius), then by its vertices; v oriented as it is to be laid. */
+typedef struct relief_cand_tri {
+    double r;
+    uint32_t rank;
+    uint32_t v[3];
+} relief_cand_tri;
+
+/* The circumradius of triangle a, b, c (3 each); INFINITY when degenerate. */
+double relief_circumradius(const double *a, const double *b, const double *c);
+
+/* Which of ncand candidate triangles over N vertices pos (N x 3) join a
+ * mesh's own nt_in triangles tri_in so that the whole is an oriented
+ * manifold that OpenMesh can store, and in which order: greedily in
+ * cand_tri order, each whose directed edges are all free; then dropped
+ * around a vertex left with two fans; then laid as a front from tri_in
+ * would lay them (with seed_islands, a front also starts from each part
+ * no front reaches, at its first triangle in that order; without, such
+ * parts stay out), then the cracks where fronts met; then those OpenMesh
+ * accepts in that order. cand is sorted in place. *tri (malloc'ed, nt x 3,
+ * in laying order; NULL when none) and *nt receive them. RELIEF_E_NOMEM. */
+relief_status relief_points_lay_triangles(const double *pos, size_t N, const uint32_t *tri_in,
+                                          size_t nt_in, relief_cand_tri *cand, size_t ncand,
+                                          int seed_islands, uint32_t **tri, size_t *nt,
+                                          relief_error *err);
+
 relief_status relief_points_patch_mesh(const double *pos, const double *nrm, size_t n_in,
                                        size_t N, const uint32_t *rim, const uint32_t *hole,
                                        uint32_t n_holes, double spacing,

@@ -93,8 +93,11 @@ ok 'head -c 600 "$tmp/m.ply" | grep -q "property uchar red" && grep -q "\"masked
 expect 1 "nothing to fill" -- "$relief" complete-points "$fert" -o "$tmp/bad.ply" --report "$tmp/bad.json"; nothing "no hole"
 expect 1 "give --hole-mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only; nothing "colour-only"
 expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --colour-only --hole-mask ball:0,0,0,5; nothing "no colour"
-expect 1 "needs a mesh input" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --mesh "$tmp/bad_m.ply"; nothing "--mesh of a cloud"
-ok '[[ ! -e "$tmp/bad_m.ply" ]]' "--mesh of a cloud left a mesh"
+# A bare cloud's --mesh: a surface through all its points, nearly two
+# triangles a point (the carton's open border and a few gaps aside).
+expect 0 "added over" -- "$relief" complete-points "$milk" -o "$tmp/mc.ply" --mesh "$tmp/mc_m.ply" --iterations 3 --report "$tmp/mc.json"
+ok 'grep -q "\"boundary_edges\": [0-9]" "$tmp/mc.json" && grep -q "\"bare_points\": [0-9]" "$tmp/mc.json"' "the report lacks the cloud surface's counts"
+ok '[[ $(( $(head -c 800 "$tmp/mc_m.ply" | grep -a "element face" | cut -d" " -f3) * 10 )) -gt $(( $(head -c 800 "$tmp/mc.ply" | grep -a "element vertex" | cut -d" " -f3) * 18 )) ]]' "the cloud's surface has fewer than 1.8 triangles a point"
 expect 1 "leaves out" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --clone-from "$fert" --smooth-only
 expect 1 "cannot" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --clone-from "$tmp/none.ply"; nothing "a missing clone"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fc.ply" --clone-from "$data/real/max_planck/decimated-max.obj" --iterations 5 --report "$tmp/fc.json" --quiet

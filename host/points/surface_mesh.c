@@ -1,0 +1,306 @@
+/* Local Delaunay umbrellas of a point set, made one surface
+ * (surface_mesh.h). */
+#include "points/surface_mesh.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/compare.h"
+#include "base/error.h"
+#include "base/linalg.h"
+#include "base/vec3.h"
+#include "points/analysis.h"
+#include "mesh/io_openmesh.h"
+#include "mesh/mesh.h"
+#include "points/patch_mesh.h"
+
+#define SURF_CELL_RADIUS 3.0 /* spacings: the 16-gon the Voronoi cell is cut from */
+#define SURF_CELL_SIDES 16
+#define SURF_MAX_VERTS (SURF_CELL_SIDES + 2 * 64 + 4) /* a cut adds at most one vertex */
+
+/* A convex polygon about the origin of the tangent plane, counter-
+ * clockwise; edge e runs from vertex e to vertex e + 1 and was cut by
+ * neighbour tag[e] (-1: the outer 16-gon). */
+typedef struct cell {
+    int m;
+    double x[SURF_MAX_VERTS], y[SURF_MAX_VERTS];
+    int tag[SURF_MAX_VERTS];
+} cell;
+
+/* Keep the part of c nearer the origin than (qx, qy): the half-plane
+ * x qx + y qy <= (qx^2 + qy^2) / 2, its new edge tagged t. */
+static void cell_cut(cell *c, double qx, double qy, int t)
+{
+    cell o;
+    const double h = 0.5 * (qx * qx + qy * qy);
+    o.m = 0;
+    for (int e = 0; e < c->m; ++e) {
+        const int f = (e + 1) % c->m;
+        const double fa = c->x[e] * qx + c->y[e] * qy - h, fb = c->x[f] * qx + c->y[f] * qy - h;
+        if (fa <= 0.0)
+            o.x[o.m] = c->x[e], o.y[o.m] = c->y[e], o.tag[o.m++] = c->tag[e];
+        if ((fa <= 0.0) != (fb <= 0.0) && o.m < SURF_MAX_VERTS) {
+            const double s = fa / (fa - fb);
+            o.x[o.m] = c->x[e] + s * (c->x[f] - c->x[e]);
+            o.y[o.m] = c->y[e] + s * (c->y[f] - c->y[e]);
+            o.tag[o.m++] = fa <= 0.0 ? t : c->tag[e]; /* leaving: along the cut */
+        }
+    }
+    *c = o;
+}
+
+/* A proposed triangle, its smallest index first (orientation kept). */
+typedef struct vote {
+    uint32_t v[3];
+} vote;
+
+static int vote_cmp(const void *x, const void *y)
+{
+    const vote *a = x, *b = y;
+    for (int q = 0; q < 3; ++q)
+        if (a->v[q] != b->v[q])
+            return a->v[q] < b->v[q] ? -1 : 1;
+    return 0;
+}
+
+static vote vote_make(uint32_t a, uint32_t b, uint32_t c)
+{
+    vote w;
+    if (a < b && a < c)
+        w.v[0] = a, w.v[1] = b, w.v[2] = c;
+    else if (b < c)
+        w.v[0] = b, w.v[1] = c, w.v[2] = a;
+    else
+        w.v[0] = c, w.v[1] = a, w.v[2] = b;
+    return w;
+}
+
+/* Point i's umbrella: the triangles its Voronoi cell proposes, appended
+ * to out (room for k + SURF_CELL_SIDES); returns how many. */
+static size_t umbrella(const double *pos, const double *nrm, const relief_knn_graph *g,
+                       size_t i, double radius, vote *out)
+{
+    const double *p = pos + 3 * i, *n = nrm + 3 * i;
+    double u[3], v[3], reach = radius;
+    cell c;
+    size_t nv = 0;
+
+    relief_perp_basis(n, u, v);
+    cross3(n, u, v); /* (u, v, n) right-handed: counter-clockwise about n */
+    c.m = SURF_CELL_SIDES;
+    for (int s = 0; s < SURF_CELL_SIDES; ++s) {
+        const double a = 2.0 * RELIEF_PI * s / SURF_CELL_SIDES;
+        c.x[s] = radius * cos(a), c.y[s] = radius * sin(a), c.tag[s] = -1;
+    }
+    for (int j = 0; j < g->k; ++j) {
+        const uint32_t q = g->nbr[i * (size_t)g->k + (size_t)j];
+        double d[3], x, y, h, r2;
+        sub3(pos + 3 * (size_t)q, p, d);
+        x = dot3(d, u), y = dot3(d, v), h = dot3(d, n);
+        r2 = x * x + y * y;
+        if (dot3(nrm + 3 * (size_t)q, n) <= 0.0 || h * h > r2 || !(r2 > 0.0))
+            continue; /* another sheet, or the same place */
+        if (0.5 * sqrt(r2) > reach)
+            continue; /* its bisector misses the cell */
+        cell_cut(&c, x, y, j);
+        reach = 0.0;
+        for (int e = 0; e < c.m; ++e)
+            reach = fmax(reach, sqrt(c.x[e] * c.x[e] + c.y[e] * c.y[e]));
+    }
+    for (int e = 0; e < c.m; ++e) {
+        const int a = c.tag[e], b = c.tag[(e + 1) % c.m];
+        if (a >= 0 && b >= 0 && a != b)
+            out[nv++] = vote_make((uint32_t)i, g->nbr[i * (size_t)g->k + (size_t)a],
+                                  g->nbr[i * (size_t)g->k + (size_t)b]);
+    }
+    return nv;
+}
+
+#define SURF_MAX_LOOP 12 /* edges: longer gaps stay open */
+
+/* Close the small gaps the umbrellas left: each boundary loop of at most
+ * SURF_MAX_LOOP edges, through vertices on one loop only, cut into ears,
+ * the shortest diagonal first (no diagonal over 2 cell radii), then those
+ * of the new triangles OpenMesh accepts after *tri's. *tri grows. */
+static relief_status close_gaps(const double *pos, size_t N, double max_diag, uint32_t **tri,
+                                size_t *nt, relief_error *err)
+{
+    const size_t n = *nt;
+    uint64_t *he = malloc((3 * n + 1) * sizeof *he);
+    uint32_t *next = malloc((N + 1) * sizeof *next), *fill = NULL, *grown;
+    uint8_t *outs = calloc(N + 1, 1), *ok = NULL;
+    size_t nf = 0, cap = 0, w = 0;
+    relief_status st = RELIEF_OK;
+    relief_mesh view;
+
+    if (!he || !next || !outs)
+        goto nomem;
+    for (size_t t = 0; t < n; ++t)
+        for (int q = 0; q < 3; ++q)
+            he[3 * t + q] = (uint64_t)(*tri)[3 * t + q] << 32 | (*tri)[3 * t + (q + 1) % 3];
+    qsort(he, 3 * n, sizeof *he, relief_cmp_u64);
+    /* A half-edge a -> b with no b -> a borders a gap that runs b -> a. */
+    for (size_t i = 0; i < 3 * n; ++i) {
+        const uint32_t a = (uint32_t)(he[i] >> 32), b = (uint32_t)he[i];
+        const uint64_t twin = (uint64_t)b << 32 | a;
+        if (bsearch(&twin, he, 3 * n, sizeof *he, relief_cmp_u64))
+            continue;
+        if (outs[b] < 2)
+            ++outs[b];
+        next[b] = a;
+    }
+    for (uint32_t s = 0; s < N; ++s) {
+        uint32_t loop[SURF_MAX_LOOP + 1];
+        int m = 0, simple = 1;
+        if (outs[s] != 1)
+            continue;
+        for (uint32_t v = s; m <= SURF_MAX_LOOP; v = next[v]) {
+            if (outs[v] != 1) {
+                simple = 0;
+                break;
+            }
+            loop[m++] = v;
+            if (next[v] == s)
+                break;
+        }
+        for (int q = 0; q < m; ++q)
+            outs[loop[q]] = 3; /* walked */
+        if (!simple || m < 3 || m > SURF_MAX_LOOP || next[loop[m - 1]] != s)
+            continue;
+        while (m >= 3) {
+            int best = -1;
+            double bl = max_diag;
+            for (int q = 0; q < m && m > 3; ++q) {
+                double d[3];
+                sub3(pos + 3 * (size_t)loop[(q + 1) % m], pos + 3 * (size_t)loop[(q + m - 1) % m],
+                     d);
+                if (sqrt(dot3(d, d)) <= bl)
+                    bl = sqrt(dot3(d, d)), best = q;
+            }
+            if (m == 3)
+                best = 1;
+            if (best < 0)
+                break;
+            if (nf == cap) {
+                size_t nc = cap ? 2 * cap : 256;
+                uint32_t *g = realloc(fill, nc * 3 * sizeof *g);
+                if (!g)
+                    goto nomem;
+                fill = g, cap = nc;
+            }
+            fill[3 * nf] = loop[(best + m - 1) % m], fill[3 * nf + 1] = loop[best],
+            fill[3 * nf + 2] = loop[(best + 1) % m], ++nf;
+            memmove(loop + best, loop + best + 1, (size_t)(m - best - 1) * sizeof *loop);
+            --m;
+        }
+    }
+    if (!nf)
+        goto done;
+    ok = malloc(nf + 1);
+    grown = realloc(*tri, (n + nf) * 3 * sizeof *grown);
+    if (!ok || !grown)
+        goto nomem;
+    *tri = grown;
+    memset(&view, 0, sizeof view);
+    view.nv = N, view.nt = n, view.pos = (double *)pos, view.tri = *tri;
+    st = relief_om_storable(&view, fill, nf, ok, err);
+    for (size_t t = 0; st == RELIEF_OK && t < nf; ++t)
+        if (ok[t])
+            memcpy(*tri + 3 * (n + w++), fill + 3 * t, 3 * sizeof **tri);
+    *nt = n + w;
+    goto done;
+nomem:
+    st = relief_fail(err, RELIEF_E_NOMEM, "cannot close the gaps of a %zu-triangle surface", n);
+done:
+    free(he), free(next), free(fill), free(outs), free(ok);
+    return st;
+}
+
+relief_status relief_points_surface_mesh(const double *pos, const double *nrm, size_t N,
+                                         double spacing, int k, uint32_t **tri, size_t *nt,
+                                         relief_surface_mesh_info *info, relief_error *err)
+{
+    relief_knn_graph g;
+    vote *votes = NULL;
+    relief_cand_tri *cand = NULL;
+    size_t nvote = 0, ncand = 0;
+    relief_status st;
+    relief_surface_mesh_info dummy;
+
+    *tri = NULL;
+    *nt = 0;
+    if (!info)
+        info = &dummy;
+    memset(info, 0, sizeof *info);
+    if (k < 6 || k > 64 || N <= (size_t)k)
+        return relief_fail(err, RELIEF_E_RANGE, "a surface through %zu points with k = %d: k "
+                           "must be 6..64 and below the point count", N, k);
+    if (!(spacing > 0.0))
+        return relief_fail(err, RELIEF_E_RANGE, "a surface through points %g apart", spacing);
+    st = relief_knn_graph_build(pos, N, k, &g, err);
+    if (st != RELIEF_OK)
+        return st;
+    votes = malloc(N * ((size_t)k + SURF_CELL_SIDES) * sizeof *votes);
+    if (!votes)
+        goto nomem;
+    for (size_t i = 0; i < N; ++i)
+        nvote += umbrella(pos, nrm, &g, i, SURF_CELL_RADIUS * spacing, votes + nvote);
+    relief_knn_graph_free(&g);
+    qsort(votes, nvote, sizeof *votes, vote_cmp);
+    cand = malloc((nvote + 1) * sizeof *cand);
+    if (!cand)
+        goto nomem;
+    for (size_t a = 0, b; a < nvote; a = b) {
+        const uint32_t *v = votes[a].v;
+        for (b = a + 1; b < nvote && vote_cmp(votes + a, votes + b) == 0; ++b)
+            ;
+        cand[ncand].r = relief_circumradius(pos + 3 * (size_t)v[0], pos + 3 * (size_t)v[1],
+                                            pos + 3 * (size_t)v[2]);
+        cand[ncand].rank = b - a >= 3 ? 0 : b - a == 2 ? 1 : 2;
+        memcpy(cand[ncand++].v, v, sizeof cand->v);
+    }
+    free(votes);
+    votes = NULL;
+    info->candidates = ncand;
+    st = relief_points_lay_triangles(pos, N, NULL, 0, cand, ncand, 1, tri, nt, err);
+    free(cand);
+    if (st == RELIEF_OK && *nt)
+        st = close_gaps(pos, N, 2.0 * SURF_CELL_RADIUS * spacing, tri, nt, err);
+    if (st != RELIEF_OK) {
+        free(*tri);
+        *tri = NULL, *nt = 0;
+        return st;
+    }
+    info->triangles = *nt;
+    /* Counts: edges with one triangle, points with none. */
+    {
+        uint64_t *e = malloc((3 * *nt + 1) * sizeof *e);
+        uint8_t *used = calloc(N + 1, 1);
+        if (!e || !used) {
+            free(e), free(used), free(*tri);
+            *tri = NULL, *nt = 0;
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot count the surface's edges");
+        }
+        for (size_t t = 0; t < *nt; ++t)
+            for (int q = 0; q < 3; ++q) {
+                uint32_t a = (*tri)[3 * t + q], b = (*tri)[3 * t + (q + 1) % 3];
+                e[3 * t + q] = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+                used[a] = 1;
+            }
+        qsort(e, 3 * *nt, sizeof *e, relief_cmp_u64);
+        for (size_t a = 0, b; a < 3 * *nt; a = b) {
+            for (b = a + 1; b < 3 * *nt && e[b] == e[a]; ++b)
+                ;
+            info->boundary_edges += b - a == 1;
+        }
+        for (size_t i = 0; i < N; ++i)
+            info->bare_points += !used[i];
+        free(e), free(used);
+    }
+    return RELIEF_OK;
+nomem:
+    relief_knn_graph_free(&g);
+    free(votes), free(cand);
+    return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a surface through %zu points", N);
+}
