@@ -59,6 +59,12 @@ static const char points_help[] =
     "  --iterations N        texture optimisation iterations, 1..1000 (default 50)\n"
     "  --band S              exemplars keep S spacings from a rim (default 2)\n"
     "  --seed N              the texture's initial draw (default 1)\n"
+    "  --grid-search S       the texture's nearest exemplar grids: kdtree (FLANN's\n"
+    "                        exact kd-tree, default) or brute (every grid; on\n"
+    "                        --backend)\n"
+    "  --backend B           brute's: auto (OpenCL on a GPU, else scalar), scalar,\n"
+    "                        opencl; the same bytes either way\n"
+    "  --device N            the OpenCL device (relief devices)\n"
     "  --max-memory SIZE     refuse a run estimated above SIZE (default: a share\n"
     "                        of this machine's memory)\n"
     "  --report R.json       counts, spacing, reconstruction error, energy per\n"
@@ -69,7 +75,7 @@ static const char points_help[] =
 enum {
     OPT_COLOUR_ONLY = 512, OPT_GEOMETRY_ONLY, OPT_HOLE_MASK, OPT_SAMPLE_REGION, OPT_K,
     OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH, OPT_CLONE_FROM,
-    OPT_DETAIL_HISTOGRAM
+    OPT_DETAIL_HISTOGRAM, OPT_GRID_SEARCH
 };
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
@@ -157,6 +163,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_end_object(&j);
     rj_begin_object(&j, "texture");
     rj_int(&j, "channels", r->tex_channels);
+    rj_string(&j, "grid_search", r->tex.search);
     rj_int(&j, "clusters", (long long)r->tex.clusters);
     rj_int(&j, "active_clusters", (long long)r->tex.active_clusters);
     rj_int(&j, "exemplars", (long long)r->tex.exemplars);
@@ -233,6 +240,9 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         {"clone-from", required_argument, 0, OPT_CLONE_FROM},
         {"sample-region", required_argument, 0, OPT_SAMPLE_REGION},
         {"k", required_argument, 0, OPT_K},
+        {"grid-search", required_argument, 0, OPT_GRID_SEARCH},
+        {"backend", required_argument, 0, OPT_BACKEND},
+        {"device", required_argument, 0, OPT_DEVICE},
         {"smooth-steps", required_argument, 0, OPT_SMOOTH_STEPS},
         {"grid", required_argument, 0, OPT_GRID},
         {"cluster-size", required_argument, 0, OPT_CLUSTER_SIZE},
@@ -254,6 +264,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     const char *what = "all";
     double box[6];
     int c, rc = 0, quiet = 0, have_box = 0, from_pcd, nb = 0, sample_label = -1;
+    int backend_given = 0;
     uint64_t max_memory = 0;
     size_t dropped = 0;
     long v;
@@ -338,6 +349,26 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
             if (relief_parse_size(optarg, &max_memory, &err) != RELIEF_OK)
                 return cli_usage_error("complete-points", "--max-memory: %s", err.message);
             break;
+        case OPT_GRID_SEARCH:
+            if (strcmp(optarg, "kdtree") == 0)
+                p.tex.brute = 0;
+            else if (strcmp(optarg, "brute") == 0)
+                p.tex.brute = 1;
+            else
+                return cli_usage_error("complete-points", "--grid-search: '%s' is not one of "
+                                       "kdtree, brute", optarg);
+            break;
+        case OPT_BACKEND:
+            if (!cli_parse_backend("complete-points", optarg, 0, &p.tex.backend))
+                return EXIT_USAGE;
+            backend_given = 1;
+            break;
+        case OPT_DEVICE:
+            if (!cli_parse_int("complete-points", "--device", optarg, 0, 255, &v))
+                return EXIT_USAGE;
+            p.tex.device = (int)v;
+            backend_given = 1;
+            break;
         case OPT_QUIET: quiet = 1; break;
         case 'h': fputs(points_help, stdout); return 0;
         default: fprintf(stderr, "Try 'relief complete-points --help'.\n"); return EXIT_USAGE;
@@ -378,6 +409,9 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     if (p.what == RELIEF_POINTS_COLOUR_ONLY && !mask_spec)
         return cli_usage_error("complete-points", "%s--colour-only completes the colour of the "
                                "--hole-mask points: give --hole-mask", "");
+    if (backend_given && !p.tex.brute)
+        return cli_usage_error("complete-points", "%s--backend and --device choose where "
+                               "--grid-search brute runs; the kd-tree runs on the host", "");
     if (parse_only)
         return 0;
 
@@ -475,6 +509,10 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         }
     }
     cli_release_signals(&held);
+    if (!rc && strncmp(rep.tex.search, "OpenCL unavailable", 18) == 0)
+        fprintf(stderr, "relief complete-points: warning: %s\n", rep.tex.search);
+    else if (!rc && !quiet && p.tex.brute)
+        fprintf(stderr, "relief complete-points: %s\n", rep.tex.search);
     if (!rc && !quiet)
         fprintf(stderr, "relief complete-points: %s: %zu points in, %zu added over %u hole(s)%s, "
                         "%zu masked; spacing %.4g, detail RMS %.4g (reconstruction %.3g); "

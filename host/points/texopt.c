@@ -10,21 +10,22 @@
  * that form both steps never raise E: the E-step's mean of the Z_i(p) over
  * the clusters holding an unknown p is its exact minimiser, and the M-step
  * keeps the previous match among its candidates (the 8 nearest exemplar
- * grids to G_i by FLANN's exact kd-tree, G_i being the current values
+ * grids to G_i by FLANN's exact kd-tree, or by brute force on the host or
+ * an OpenCL device (points/grid_nn.h), G_i being the current values
  * resampled on the grid, then ranked by their E term). */
 #include "points/texopt.h"
 
-#include <flann/flann.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "base/error.h"
-#include "base/knn.h"
 #include "base/rng.h"
 #include "points/cluster.h"
+#include "points/grid_nn.h"
 
 #define MAX_EXEMPLARS 20000 /* exemplar grids searched at most (a seeded subset beyond) */
 #define CANDIDATES 8        /* nearest grids re-ranked by the energy */
@@ -48,6 +49,9 @@ relief_texopt_params relief_texopt_params_default(void)
     p.lambda = 1;
     p.seed = 1;
     p.threads = 0;
+    p.brute = 0;
+    p.backend = RELIEF_BACKEND_AUTO;
+    p.device = -1;
     p.histogram = 0;
     return p;
 }
@@ -75,7 +79,9 @@ typedef struct opt {
     float *x;                  /* n x ch current values */
     const float *zvec;         /* exemplar grids, dims each */
     size_t nz;
-    flann_index_t index;
+    relief_grid_nn *nn;        /* the exemplar grids' search */
+    float *q;                  /* A x dims: each cluster's current grid G_i */
+    uint32_t *cand;            /* A x CANDIDATES: its nearest exemplar grids */
     uint32_t *match;           /* A */
 } opt;
 
@@ -131,62 +137,59 @@ static double cluster_energy(const opt *o, size_t j, const float *z)
 typedef struct worker {
     const opt *o;
     size_t lo, hi;
-    int failed;
+    int phase;
 } worker;
 
-/* M-step over active clusters lo..hi-1: each writes only its own match,
- * so the result does not depend on how the clusters are shared out. */
+/* The M-step's two parallel halves over active clusters lo..hi-1, each
+ * writing only its own rows, so that the result does not depend on how
+ * the clusters are shared out: G_i resampled from the current values
+ * (phase 0); after the search, the candidates ranked by the E term, the
+ * previous match kept among them (phase 1). */
 static void *mstep(void *arg)
 {
     worker *w = arg;
     const opt *o = w->o;
-    struct FLANNParameters fp = relief_knn_exact_params();
     const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
-    float *q = malloc((size_t)o->dims * sizeof *q), dist[CANDIDATES];
-    int idx[CANDIDATES];
-    if (!q) {
-        w->failed = 1;
-        return NULL;
-    }
     for (size_t j = w->lo; j < w->hi; ++j) {
-        uint32_t best = o->match[j];
-        double be = best == UINT32_MAX ? INFINITY
-                                       : cluster_energy(o, j, o->zvec + (size_t)best * o->dims);
-        for (int node = 0; node < o->nodes; ++node) {
-            const size_t wn = j * (size_t)o->nodes + (size_t)node;
-            for (int k = 0; k < o->ch; ++k) {
-                double s = 0;
-                for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t)
-                    s += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
-                q[node * o->ch + k] = (float)s;
+        if (w->phase == 0) {
+            float *q = o->q + j * (size_t)o->dims;
+            for (int node = 0; node < o->nodes; ++node) {
+                const size_t wn = j * (size_t)o->nodes + (size_t)node;
+                for (int k = 0; k < o->ch; ++k) {
+                    double s = 0;
+                    for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t)
+                        s += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
+                    q[node * o->ch + k] = (float)s;
+                }
             }
+        } else {
+            const uint32_t *idx = o->cand + j * CANDIDATES;
+            uint32_t best = o->match[j];
+            double be = best == UINT32_MAX ? INFINITY
+                                           : cluster_energy(o, j, o->zvec + (size_t)best * o->dims);
+            for (int c = 0; c < nn; ++c) {
+                double e;
+                if (idx[c] == UINT32_MAX || idx[c] == o->match[j])
+                    continue;
+                e = cluster_energy(o, j, o->zvec + (size_t)idx[c] * o->dims);
+                if (e < be || (e == be && idx[c] < best))
+                    be = e, best = idx[c];
+            }
+            o->match[j] = best;
         }
-        if (flann_find_nearest_neighbors_index_float(o->index, q, 1, idx, dist, nn, &fp) != 0) {
-            w->failed = 1;
-            break;
-        }
-        for (int c = 0; c < nn; ++c) {
-            double e;
-            if (idx[c] < 0 || (uint32_t)idx[c] == o->match[j])
-                continue;
-            e = cluster_energy(o, j, o->zvec + (size_t)idx[c] * o->dims);
-            if (e < be || (e == be && (uint32_t)idx[c] < best))
-                be = e, best = (uint32_t)idx[c];
-        }
-        o->match[j] = best;
     }
-    free(q);
     return NULL;
 }
 
-static int run_mstep(const opt *o, int threads)
+static void run_phase(const opt *o, int threads, int phase)
 {
     worker w[MAX_THREADS];
     pthread_t tid[MAX_THREADS];
-    int started[MAX_THREADS] = {0}, failed = 0;
+    int started[MAX_THREADS] = {0};
     const int t = (size_t)threads > o->A ? (int)o->A : threads;
     for (int i = 0; i < t; ++i) {
-        w[i] = (worker){o, o->A * (size_t)i / (size_t)t, o->A * (size_t)(i + 1) / (size_t)t, 0};
+        w[i] = (worker){o, o->A * (size_t)i / (size_t)t, o->A * (size_t)(i + 1) / (size_t)t,
+                        phase};
         if (i > 0)
             started[i] = pthread_create(&tid[i], NULL, mstep, &w[i]) == 0;
     }
@@ -197,9 +200,24 @@ static int run_mstep(const opt *o, int threads)
         else
             mstep(&w[i]); /* no thread to be had: do its share here */
     }
-    for (int i = 0; i < t; ++i)
-        failed |= w[i].failed;
-    return failed ? -1 : 0;
+}
+
+/* The M-step: every G_i, their nearest exemplar grids, the ranking. */
+static relief_status run_mstep(const opt *o, int threads, relief_error *err)
+{
+    const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
+    relief_status st;
+    run_phase(o, threads, 0);
+    st = relief_grid_nn_query(o->nn, o->q, o->A, nn, o->cand, err);
+    if (st == RELIEF_OK && nn < CANDIDATES)
+        for (size_t j = o->A; j-- > 0;) { /* rows of nn to rows of CANDIDATES, in place */
+            memmove(o->cand + j * CANDIDATES, o->cand + j * (size_t)nn, (size_t)nn * sizeof *o->cand);
+            for (int c = nn; c < CANDIDATES; ++c)
+                o->cand[j * CANDIDATES + (size_t)c] = UINT32_MAX;
+        }
+    if (st == RELIEF_OK)
+        run_phase(o, threads, 1);
+    return st;
 }
 
 /* The unknown values' start, grown inward from the known part as patch-
@@ -461,6 +479,7 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
     opt o = {0};
     float *zv = NULL;
     int threads = p.threads, it = 0, converged = 0;
+    char search_note[336] = "";
     const uint32_t seed32 = (uint32_t)(p.seed ^ (p.seed >> 32));
 
     st = check(pos, nrm_in, n, channels, value, unknown, exemplar, &p, &n_unknown, &n_exemplar,
@@ -679,14 +698,16 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
                 pent[fill[o.mpt[m]]++] = (uint32_t)m;
         free(fill);
     }
-    {
-        struct FLANNParameters fp = relief_knn_exact_params();
-        float speedup;
-        o.zvec = zv;
-        o.index = flann_build_index_float(zv, (int)o.nz, o.dims, &speedup, &fp);
-        if (!o.index)
-            goto nomem;
-    }
+    o.zvec = zv;
+    o.q = malloc(o.A * (size_t)o.dims * sizeof *o.q + 1);
+    o.cand = malloc(o.A * CANDIDATES * sizeof *o.cand + 1);
+    if (!o.q || !o.cand)
+        goto nomem;
+    st = relief_grid_nn_create(p.brute ? RELIEF_GRID_BRUTE : RELIEF_GRID_KDTREE, p.backend,
+                               p.device, zv, o.nz, o.dims, threads, &o.nn, search_note,
+                               sizeof search_note, err);
+    if (st != RELIEF_OK)
+        goto done;
     for (size_t j = 0; j < o.A; ++j)
         o.match[j] = UINT32_MAX;
     st = sequential_start(&o, unknown, n, err);
@@ -695,11 +716,9 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
 
     for (it = 0; it < p.max_iter;) {
         double e = 0;
-        if (run_mstep(&o, threads) != 0) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: FLANN's search failed "
-                             "(out of memory) at iteration %d", it + 1);
+        st = run_mstep(&o, threads, err);
+        if (st != RELIEF_OK)
             goto done;
-        }
         for (size_t i = 0; i < n; ++i) {
             float acc[4] = {0, 0, 0, 0}, v[4], wsum = 0.0f;
             if (pstart[i] == pstart[i + 1])
@@ -758,6 +777,7 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
         res->converged = converged;
         res->grid_n = o.gn;
         res->cluster_size = p.cluster_size;
+        snprintf(res->search, sizeof res->search, "%s", search_note);
         energy = NULL;
     }
     st = RELIEF_OK;
@@ -766,17 +786,14 @@ nomem:
     st = relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (%zu points, "
                      "%d channels)", n, channels);
 done:
-    if (o.index) {
-        struct FLANNParameters fp = relief_knn_exact_params();
-        flann_free_index_float(o.index, &fp);
-    }
+    relief_grid_nn_destroy(o.nn);
     relief_pclusters_free(&cl);
     relief_pbucket_free(&bk);
     relief_pgrid_weights_free(&gw);
     free(nrm), free(energy), free(cand), free(elist), free(pick), free(pstart), free(pent);
     free(acl), free(zv);
     free(o.mstart), free(o.mpt), free(o.mfa), free(o.mfb), free(o.wstart), free(o.wpt);
-    free(o.ww), free(o.x), free(o.match);
+    free(o.ww), free(o.x), free(o.match), free(o.q), free(o.cand);
     return st;
 }
 

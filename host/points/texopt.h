@@ -49,6 +49,10 @@ typedef struct relief_texopt_params {
     int threads;         /* worker threads, 0 = online CPUs (default 0) */
     unsigned histogram;  /* bit c set: channel c's unknown values end histogram-matched
                             to the exemplars' (texopt.c; default 0) */
+    int brute;           /* 1: the M-step's nearest grids by brute force (grid_nn.h) on
+                            `backend` and `device`; 0 (default): FLANN's exact kd-tree */
+    relief_backend backend; /* brute's: scalar, opencl, auto (default: OpenCL on a GPU) */
+    int device;          /* OpenCL device index, -1 the first GPU (default -1) */
 } relief_texopt_params;
 
 relief_texopt_params relief_texopt_params_default(void);
@@ -60,6 +64,7 @@ typedef struct relief_texopt_result {
     int iterations;           /* iterations run */
     double *energy;           /* energy per iteration (iterations entries), malloc'ed */
     int converged;            /* 1 when tol stopped it */
+    char search[336];         /* the grid search that ran, and any warning (grid_nn.h) */
     int grid_n, cluster_size; /* what ran: smaller than asked when no exemplar grid could be
                                  built at the size asked (halved clusters, grids 1/sqrt 2 the
                                  side, the same step, down to 7) */

@@ -27,6 +27,16 @@ ok 'cmp -s "$tmp/f.ply" "$tmp/f2.ply"' "two runs with the same seed differ"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fm_pts.ply" --mesh "$tmp/fm.ply" --iterations 10 --report "$tmp/fm.json" --quiet
 ok 'cmp -s "$tmp/f.ply" "$tmp/fm_pts.ply" && grep -q "\"patch_triangles\": [1-9]" "$tmp/fm.json"' "--mesh changed the points or laid no patch"
 ok '[[ $(head -c 800 "$tmp/fm.ply" | grep -a "element face" | cut -d" " -f3) -gt $(head -c 800 "$tmp/fert_cut.ply" | grep -a "element face" | cut -d" " -f3) ]]' "--mesh has no more triangles than the capture"
+# --grid-search brute: the scalar twin and the OpenCL kernel give the same
+# bytes (here the kd-tree's too: no near tie on this cut).
+expect 0 "brute force, scalar" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fb.ply" --iterations 10 --grid-search brute --backend scalar --report "$tmp/fb.json"
+ok 'cmp -s "$tmp/f.ply" "$tmp/fb.ply" && grep -q "\"grid_search\": \"grid search: brute force, scalar\"" "$tmp/fb.json"' "brute force differs from the kd-tree or is not in the report"
+if "$relief" devices 2>/dev/null | grep -q "^Device 0"; then
+  expect 0 "OpenCL on" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fo.ply" --iterations 10 --grid-search brute --backend opencl
+  ok 'cmp -s "$tmp/fb.ply" "$tmp/fo.ply"' "the OpenCL grid search gave other bytes than the scalar twin"
+fi
+expect 1 "the kd-tree runs on the host" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --backend opencl; nothing "--backend without brute"
+expect 1 "not one of kdtree, brute" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid-search fast; nothing "--grid-search fast"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fh.ply" --detail-histogram --iterations 10 --report "$tmp/fh.json" --quiet
