@@ -217,7 +217,8 @@ relief_status relief_points_lay_triangles(const double *pos, size_t N, const uin
             st = LAY_NOMEM();
             goto done;
         }
-        memcpy(all, tri_in, nt_in * 3 * sizeof *all);
+        if (nt_in)
+            memcpy(all, tri_in, nt_in * 3 * sizeof *all);
         memcpy(all + 3 * nt_in, tri, kept * 3 * sizeof *all);
         total = drop_non_manifold(all, nt_in + kept, nt_in, N, &nomem);
         if (nomem) {
