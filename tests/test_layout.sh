@@ -20,7 +20,7 @@ declare -A allowed=(
   [synth]="base mesh"
   [image]="base report match kernels"
   [depth]="base mesh smooth report match image kernels"
-  [points]="base mesh smooth kernels"
+  [points]="base mesh smooth match kernels"
   [cli]="base mesh smooth match grow report synth image depth points"
 )
 
