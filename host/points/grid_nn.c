@@ -3,17 +3,16 @@
 #include "points/grid_nn.h"
 
 #include <flann/flann.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/error.h"
 #include "base/knn.h"
+#include "base/parallel.h"
 #include "kernels/grid_math.h"
 
 #define GN_MAX_K 8
-#define GN_MAX_THREADS 64
 #define GN_CHUNK 64 /* queries per OpenCL launch: 64 x nz distances come back */
 
 #ifdef RELIEF_HAVE_OPENCL
@@ -56,92 +55,63 @@ static void top_k(const float *d, size_t nz, int k, uint32_t *idx)
     }
 }
 
+/* A batch's queries, shared out by relief_parallel_ranges. */
 typedef struct job {
     relief_grid_nn *nn;
     const float *q;
-    size_t lo, hi;
     int k;
     uint32_t *idx;
-    int failed;
 } job;
 
-static void *run_job(void *arg)
+static int kdtree_range(void *ctx, size_t lo, size_t hi)
 {
-    job *j = arg;
-    relief_grid_nn *nn = j->nn;
-    if (nn->search == RELIEF_GRID_KDTREE) {
-        struct FLANNParameters fp = relief_knn_exact_params();
-        int id[GN_MAX_K];
-        float dist[GN_MAX_K];
-        for (size_t i = j->lo; i < j->hi && !j->failed; ++i) {
-            if (flann_find_nearest_neighbors_index_float(nn->index, (float *)j->q +
-                                                                        i * (size_t)nn->dims,
-                                                         1, id, dist, j->k, &fp) != 0)
-                j->failed = 1;
-            for (int c = 0; c < j->k; ++c)
-                j->idx[i * (size_t)j->k + (size_t)c] = id[c] < 0 ? UINT32_MAX : (uint32_t)id[c];
-        }
-        return NULL;
+    const job *j = ctx;
+    const relief_grid_nn *nn = j->nn;
+    struct FLANNParameters fp = relief_knn_exact_params();
+    int id[GN_MAX_K];
+    float dist[GN_MAX_K];
+    for (size_t i = lo; i < hi; ++i) {
+        if (flann_find_nearest_neighbors_index_float(nn->index,
+                                                     (float *)j->q + i * (size_t)nn->dims, 1, id,
+                                                     dist, j->k, &fp) != 0)
+            return 1;
+        for (int c = 0; c < j->k; ++c)
+            j->idx[i * (size_t)j->k + (size_t)c] = id[c] < 0 ? UINT32_MAX : (uint32_t)id[c];
     }
-    {
-        float *d = malloc((nn->nz + 1) * sizeof *d);
-        if (!d) {
-            j->failed = 1;
-            return NULL;
-        }
-        for (size_t i = j->lo; i < j->hi; ++i) {
-            const float *q = j->q + i * (size_t)nn->dims;
-            for (size_t e = 0; e < nn->nz; ++e)
-                d[e] = gm_dist(q, nn->z + e * (size_t)nn->dims, nn->dims, 1);
-            top_k(d, nn->nz, j->k, j->idx + i * (size_t)j->k);
-        }
-        free(d);
-    }
-    return NULL;
+    return 0;
 }
 
-static int run_threads(relief_grid_nn *nn, const float *q, size_t nq, int k, uint32_t *idx)
+static int brute_range(void *ctx, size_t lo, size_t hi)
 {
-    job w[GN_MAX_THREADS];
-    pthread_t tid[GN_MAX_THREADS];
-    int started[GN_MAX_THREADS] = {0}, failed = 0;
-    const int t = (size_t)nn->threads > nq ? (int)nq : nn->threads;
-    for (int i = 0; i < t; ++i) {
-        w[i] = (job){nn, q, nq * (size_t)i / (size_t)t, nq * (size_t)(i + 1) / (size_t)t, k, idx,
-                     0};
-        if (i > 0)
-            started[i] = pthread_create(&tid[i], NULL, run_job, &w[i]) == 0;
+    const job *j = ctx;
+    const relief_grid_nn *nn = j->nn;
+    float *d = malloc((nn->nz + 1) * sizeof *d);
+    if (!d)
+        return 1;
+    for (size_t i = lo; i < hi; ++i) {
+        const float *q = j->q + i * (size_t)nn->dims;
+        for (size_t e = 0; e < nn->nz; ++e)
+            d[e] = gm_dist(q, nn->z + e * (size_t)nn->dims, nn->dims, 1);
+        top_k(d, nn->nz, j->k, j->idx + i * (size_t)j->k);
     }
-    if (t > 0)
-        run_job(&w[0]);
-    for (int i = 1; i < t; ++i) {
-        if (started[i])
-            pthread_join(tid[i], NULL);
-        else
-            run_job(&w[i]); /* no thread to be had: its share here */
-    }
-    for (int i = 0; i < t; ++i)
-        failed |= w[i].failed;
-    return failed;
+    free(d);
+    return 0;
 }
 
 #ifdef RELIEF_HAVE_OPENCL
-static relief_status cl_start(relief_grid_nn *nn, int device, relief_error *err)
+static relief_status cl_start(relief_grid_nn *nn, cl_device_id dev,
+                              const relief_device_info *info, relief_error *err)
 {
-    relief_device_info info;
-    cl_device_id dev;
     cl_int rc;
     const char *src[2] = {relief_kernel_grid_math_h, relief_kernel_grid_cl};
-    relief_status st = relief_cl_device(device, &dev, &info, err);
     size_t bytes = nn->nz * (size_t)nn->dims * sizeof(float);
+    relief_status st;
     float *zt;
-    if (st != RELIEF_OK)
-        return st;
     nn->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
     if (rc == CL_SUCCESS)
         nn->queue = clCreateCommandQueue(nn->ctx, dev, 0, &rc);
     if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "starting OpenCL on %s: %s", info.name,
+        return relief_fail(err, RELIEF_E_DEVICE, "starting OpenCL on %s: %s", info->name,
                            relief_cl_error_name(rc));
     st = relief_cl_build(nn->ctx, dev, src, 2, "-cl-std=CL1.2", "", &nn->prog, err);
     if (st != RELIEF_OK)
@@ -172,7 +142,7 @@ static relief_status cl_start(relief_grid_nn *nn, int device, relief_error *err)
         return relief_fail(err, RELIEF_E_DEVICE, "cannot allocate %zu bytes of device memory "
                            "for the exemplar grids: %s", bytes, relief_cl_error_name(rc));
     snprintf(nn->name, sizeof nn->name, "brute force, OpenCL on %.96s (%s, %u compute units)",
-             info.name, info.type, info.compute_units);
+             info->name, info->type, info->compute_units);
     return RELIEF_OK;
 }
 
@@ -247,7 +217,7 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
     if (!nn)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the grid search");
     nn->search = search, nn->z = z, nn->nz = nz, nn->dims = dims;
-    nn->threads = threads < 1 ? 1 : threads > GN_MAX_THREADS ? GN_MAX_THREADS : threads;
+    nn->threads = threads;
     nn->backend = RELIEF_BACKEND_SCALAR;
     if (search == RELIEF_GRID_KDTREE) {
         struct FLANNParameters fp = relief_knn_exact_params();
@@ -266,10 +236,12 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
             relief_error cerr;
             relief_device_info info;
             cl_device_id dev;
-            int gpu = backend == RELIEF_BACKEND_OPENCL ||
-                      (relief_cl_device(device, &dev, &info, &cerr) == RELIEF_OK &&
-                       (device >= 0 || strcmp(info.type, "cpu") != 0));
-            relief_status st = gpu ? cl_start(nn, device, &cerr) : RELIEF_OK;
+            relief_status st = relief_cl_device(device, &dev, &info, &cerr);
+            /* auto takes a GPU or accelerator, or a device named by number */
+            const int gpu = backend == RELIEF_BACKEND_OPENCL ||
+                            (st == RELIEF_OK && (device >= 0 || strcmp(info.type, "cpu") != 0));
+            if (gpu && st == RELIEF_OK)
+                st = cl_start(nn, dev, &info, &cerr);
             if (gpu && st == RELIEF_OK)
                 nn->backend = RELIEF_BACKEND_OPENCL;
             else if (gpu) {
@@ -309,8 +281,12 @@ relief_status relief_grid_nn_query(relief_grid_nn *nn, const float *q, size_t nq
     if (nn->backend == RELIEF_BACKEND_OPENCL)
         return cl_query(nn, q, nq, k, idx, err);
 #endif
-    if (run_threads(nn, q, nq, k, idx))
-        return relief_fail(err, RELIEF_E_NOMEM, "the grid search ran out of memory");
+    {
+        job j = {nn, q, k, idx};
+        if (relief_parallel_ranges(nq, nn->threads, nn->search == RELIEF_GRID_KDTREE
+                                                        ? kdtree_range : brute_range, &j))
+            return relief_fail(err, RELIEF_E_NOMEM, "the grid search ran out of memory");
+    }
     return RELIEF_OK;
 }
 

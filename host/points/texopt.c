@@ -16,20 +16,20 @@
 #include "points/texopt.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "base/error.h"
+#include "base/parallel.h"
 #include "base/rng.h"
 #include "points/cluster.h"
 #include "points/grid_nn.h"
 
 #define MAX_EXEMPLARS 20000 /* exemplar grids searched at most (a seeded subset beyond) */
 #define CANDIDATES 8        /* nearest grids re-ranked by the energy */
-#define MAX_THREADS 64
+#define MAX_THREADS RELIEF_PARALLEL_MAX_THREADS
 
 relief_texopt_params relief_texopt_params_default(void)
 {
@@ -81,7 +81,7 @@ typedef struct opt {
     size_t nz;
     relief_grid_nn *nn;        /* the exemplar grids' search */
     float *q;                  /* A x dims: each cluster's current grid G_i */
-    uint32_t *cand;            /* A x CANDIDATES: its nearest exemplar grids */
+    uint32_t *cand;            /* A x min(nz, CANDIDATES): its nearest exemplar grids */
     uint32_t *match;           /* A */
 } opt;
 
@@ -134,89 +134,62 @@ static double cluster_energy(const opt *o, size_t j, const float *z)
     return e;
 }
 
-typedef struct worker {
-    const opt *o;
-    size_t lo, hi;
-    int phase;
-} worker;
-
-/* The M-step's two parallel halves over active clusters lo..hi-1, each
- * writing only its own rows, so that the result does not depend on how
- * the clusters are shared out: G_i resampled from the current values
- * (phase 0); after the search, the candidates ranked by the E term, the
- * previous match kept among them (phase 1). */
-static void *mstep(void *arg)
+/* The M-step's two parallel halves over active clusters lo..hi-1
+ * (relief_parallel_ranges), each writing only its own rows, so that the
+ * result does not depend on how the clusters are shared out. First each
+ * G_i, resampled from the current values: */
+static int resample_grids(void *ctx, size_t lo, size_t hi)
 {
-    worker *w = arg;
-    const opt *o = w->o;
-    const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
-    for (size_t j = w->lo; j < w->hi; ++j) {
-        if (w->phase == 0) {
-            float *q = o->q + j * (size_t)o->dims;
-            for (int node = 0; node < o->nodes; ++node) {
-                const size_t wn = j * (size_t)o->nodes + (size_t)node;
-                for (int k = 0; k < o->ch; ++k) {
-                    double s = 0;
-                    for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t)
-                        s += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
-                    q[node * o->ch + k] = (float)s;
-                }
+    const opt *o = ctx;
+    for (size_t j = lo; j < hi; ++j) {
+        float *q = o->q + j * (size_t)o->dims;
+        for (int node = 0; node < o->nodes; ++node) {
+            const size_t wn = j * (size_t)o->nodes + (size_t)node;
+            for (int k = 0; k < o->ch; ++k) {
+                double s = 0;
+                for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t)
+                    s += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
+                q[node * o->ch + k] = (float)s;
             }
-        } else {
-            const uint32_t *idx = o->cand + j * CANDIDATES;
-            uint32_t best = o->match[j];
-            double be = best == UINT32_MAX ? INFINITY
-                                           : cluster_energy(o, j, o->zvec + (size_t)best * o->dims);
-            for (int c = 0; c < nn; ++c) {
-                double e;
-                if (idx[c] == UINT32_MAX || idx[c] == o->match[j])
-                    continue;
-                e = cluster_energy(o, j, o->zvec + (size_t)idx[c] * o->dims);
-                if (e < be || (e == be && idx[c] < best))
-                    be = e, best = idx[c];
-            }
-            o->match[j] = best;
         }
     }
-    return NULL;
+    return 0;
 }
 
-static void run_phase(const opt *o, int threads, int phase)
+/* then, after the search, the candidates ranked by the E term, the
+ * previous match kept among them. */
+static int rank_candidates(void *ctx, size_t lo, size_t hi)
 {
-    worker w[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    int started[MAX_THREADS] = {0};
-    const int t = (size_t)threads > o->A ? (int)o->A : threads;
-    for (int i = 0; i < t; ++i) {
-        w[i] = (worker){o, o->A * (size_t)i / (size_t)t, o->A * (size_t)(i + 1) / (size_t)t,
-                        phase};
-        if (i > 0)
-            started[i] = pthread_create(&tid[i], NULL, mstep, &w[i]) == 0;
+    const opt *o = ctx;
+    const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
+    for (size_t j = lo; j < hi; ++j) {
+        const uint32_t *idx = o->cand + j * (size_t)nn;
+        uint32_t best = o->match[j];
+        double be = best == UINT32_MAX ? INFINITY
+                                       : cluster_energy(o, j, o->zvec + (size_t)best * o->dims);
+        for (int c = 0; c < nn; ++c) {
+            double e;
+            if (idx[c] == UINT32_MAX || idx[c] == o->match[j])
+                continue;
+            e = cluster_energy(o, j, o->zvec + (size_t)idx[c] * o->dims);
+            if (e < be || (e == be && idx[c] < best))
+                be = e, best = idx[c];
+        }
+        o->match[j] = best;
     }
-    mstep(&w[0]);
-    for (int i = 1; i < t; ++i) {
-        if (started[i])
-            pthread_join(tid[i], NULL);
-        else
-            mstep(&w[i]); /* no thread to be had: do its share here */
-    }
+    return 0;
 }
 
-/* The M-step: every G_i, their nearest exemplar grids, the ranking. */
+/* The M-step: every G_i, their nearest exemplar grids (o->cand, A rows of
+ * min(nz, CANDIDATES)), the ranking. */
 static relief_status run_mstep(const opt *o, int threads, relief_error *err)
 {
     const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
     relief_status st;
-    run_phase(o, threads, 0);
+    relief_parallel_ranges(o->A, threads, resample_grids, (void *)o);
     st = relief_grid_nn_query(o->nn, o->q, o->A, nn, o->cand, err);
-    if (st == RELIEF_OK && nn < CANDIDATES)
-        for (size_t j = o->A; j-- > 0;) { /* rows of nn to rows of CANDIDATES, in place */
-            memmove(o->cand + j * CANDIDATES, o->cand + j * (size_t)nn, (size_t)nn * sizeof *o->cand);
-            for (int c = nn; c < CANDIDATES; ++c)
-                o->cand[j * CANDIDATES + (size_t)c] = UINT32_MAX;
-        }
     if (st == RELIEF_OK)
-        run_phase(o, threads, 1);
+        relief_parallel_ranges(o->A, threads, rank_candidates, (void *)o);
     return st;
 }
 

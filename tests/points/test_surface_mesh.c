@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/compare.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "points/analysis.h"
@@ -25,12 +26,6 @@ typedef struct counts {
     long euler;                   /* V - E + F over the vertices in a triangle */
     double volume, area;          /* signed volume (divergence theorem), area */
 } counts;
-
-static int u64_cmp(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
 
 static counts count(const double *pos, size_t nv, const uint32_t *tri, size_t nt)
 {
@@ -51,7 +46,7 @@ static counts count(const double *pos, size_t nv, const uint32_t *tri, size_t nt
             used[u] = 1;
         }
     }
-    qsort(e, 3 * nt, sizeof *e, u64_cmp);
+    qsort(e, 3 * nt, sizeof *e, relief_cmp_u64);
     for (size_t a = 0, b; a < 3 * nt; a = b) {
         for (b = a + 1; b < 3 * nt && e[b] == e[a]; ++b)
             ;
