@@ -46,9 +46,9 @@ static const char complete_help[] =
     "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
     "  --base B              primitive (the fitted one), smooth (paper 002's\n"
     "                        smoothed, hole-filled base under a mesh that no\n"
-    "                        primitive fits: a head, a statue; mono-scale) or auto\n"
-    "                        (default: smooth when no primitive fits well and\n"
-    "                        neither --fit, --extent, --levels nor\n"
+    "                        primitive fits: a head, a statue; --levels coarsens\n"
+    "                        it by collapses) or auto (default: smooth when no\n"
+    "                        primitive fits well and neither --fit, --extent nor\n"
     "                        --accept-poor-fit is given)\n"
     "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
     "  --rotations R         rotations tried per sample, 1..64 (default: 1 on a\n"
@@ -457,7 +457,7 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
         st = relief_points_base_surface(in, &pp, &s, NULL, &err);
         use_smooth = 1;
     } else if (rc->base == BASE_AUTO && !o->accept_poor_fit && p->fit == RELIEF_FIT_AUTO &&
-               !p->has_extent && p->levels <= 1 && relief_mesh_triangle_count(in) > 0 &&
+               !p->has_extent && relief_mesh_triangle_count(in) > 0 &&
                relief_fit_mesh(in, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK && pre.poor_fit) {
         /* No primitive fits: the capture's own smoothed, hole-filled base
          * (issue 21), or, when that cannot be built either, the poor fit's
@@ -894,9 +894,9 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                            control.checkpoint);
     if (relief_params_validate(&p, &err) != RELIEF_OK)
         return cli_fail(cmd, &err);
-    if (control.base == BASE_SMOOTH && (p.levels > 1 || p.fit != RELIEF_FIT_AUTO || p.has_extent))
-        return cli_usage_error(cmd, "%s--base smooth has no primitive and grows mono-scale: "
-                               "--fit, --extent and --levels > 1 do not apply", "");
+    if (control.base == BASE_SMOOTH && (p.fit != RELIEF_FIT_AUTO || p.has_extent))
+        return cli_usage_error(cmd, "%s--base smooth has no primitive: --fit and --extent do "
+                               "not apply", "");
     if (parse_only)
         return 0;
     /* A report folder that cannot be written fails now, not after the growth. */

@@ -9,7 +9,12 @@
  * the seam handled again; a nested disc selection on the primitive,
  * re-triangulated by the very code that made the finest level, gives even,
  * nested levels (the discrete levels of a progressive mesh) with known
- * parents, and keeps OpenMesh to the one C++ file. */
+ * parents, and keeps OpenMesh to the one C++ file.
+ *
+ * A free-form base (paper 002's, points/base_surface.h) has no parameter
+ * domain to re-triangulate in: there the same nested selection is kept by
+ * collapsing the base's own triangles onto it (relief_surface_level), the
+ * one place the hierarchy uses OpenMesh's collapses. */
 #include "grow/hierarchy.h"
 
 #include <stdlib.h>
@@ -356,6 +361,13 @@ relief_status relief_hierarchy_build(const relief_surface *s, int levels,
         if (st != RELIEF_OK) {
             relief_fail_prefix(err, "hierarchy level %d of %d", k, levels);
             goto fail;
+        }
+        /* A free-form level keeps the vertices it could not collapse
+         * away: they belong to it and so to every finer level. */
+        for (size_t v = 0; v < h->level[k - 1]->mesh->nv; ++v) {
+            uint8_t *f = h->first_level + h->ids[k - 1][v];
+            if (*f > k)
+                *f = (uint8_t)k;
         }
         if (h->level[k - 1]->n_samples == 0 || h->level[k - 1]->n_targets == 0) {
             st = relief_fail(err, RELIEF_E_MESH,

@@ -4,12 +4,14 @@
  * itself, level k < M about k/M of its vertices, spread evenly (a nested
  * Poisson-disc selection on the primitive, so a vertex of level k is a
  * vertex of every finer level: the discrete levels of a progressive mesh),
- * re-triangulated as the smooth completion triangulates. Each vertex keeps
+ * re-triangulated as the smooth completion triangulates (on a free-form
+ * base, paper 002's: the base's own triangles collapsed onto the
+ * selection). Each vertex keeps
  * its own label at every level; a vertex new at level k descends from the
  * nearest vertex of level k-1 (its parent).
  *
- * Relief is a height along the primitive's normal. Level 1 grows the
- * displacements from the primitive (level 0); level k grows them from the
+ * Relief is a height along the primitive's normal (a free-form base's
+ * own). Level 1 grows the displacements from the primitive (level 0); level k grows them from the
  * completed, smoothed level k-1 surface (001 figure 4), interpolated
  * linearly over level k-1's triangles: its base. The samples of a level
  * k < M carry their captured height low-passed at that level's scale (a

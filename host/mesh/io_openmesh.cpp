@@ -6,6 +6,10 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <algorithm>
+#include <cstdlib>
+#include <functional>
+#include <queue>
+#include <utility>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -368,6 +372,226 @@ relief_status storable_impl(const relief_mesh *m, const uint32_t *extra, size_t 
     return RELIEF_OK;
 }
 
+
+// ------------------------------------------------------------ collapses
+
+struct CollapseGeometry {
+    const double *pos, *nrm;
+    double max_edge2, cos_fold;
+};
+
+double dist2(const double *a, const double *b)
+{
+    double d = 0.0;
+    for (int k = 0; k < 3; ++k)
+        d += (a[k] - b[k]) * (a[k] - b[k]);
+    return d;
+}
+
+// Whether the triangle (a, b, c) (ids) faces within the fold limit of the
+// surface's normals at its corners, and is not degenerate.
+bool faces_ok(const CollapseGeometry &g, int a, int b, int c)
+{
+    const double *pa = g.pos + 3 * (size_t)a, *pb = g.pos + 3 * (size_t)b,
+                 *pc = g.pos + 3 * (size_t)c;
+    double ab[3], ac[3], x[3], ref[3], lx = 0.0, lr = 0.0, d = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        ab[k] = pb[k] - pa[k];
+        ac[k] = pc[k] - pa[k];
+        ref[k] = g.nrm[3 * (size_t)a + k] + g.nrm[3 * (size_t)b + k] + g.nrm[3 * (size_t)c + k];
+    }
+    x[0] = ab[1] * ac[2] - ab[2] * ac[1];
+    x[1] = ab[2] * ac[0] - ab[0] * ac[2];
+    x[2] = ab[0] * ac[1] - ab[1] * ac[0];
+    for (int k = 0; k < 3; ++k) {
+        lx += x[k] * x[k];
+        lr += ref[k] * ref[k];
+        d += x[k] * ref[k];
+    }
+    // Degenerate: area below 1e-12 of the squared longest edge.
+    if (lx <= 1e-24 * std::max(dist2(pa, pb), std::max(dist2(pa, pc), dist2(pb, pc))) *
+                     std::max(dist2(pa, pb), std::max(dist2(pa, pc), dist2(pb, pc))) ||
+        lr <= 0.0)
+        return false;
+    return d > g.cos_fold * std::sqrt(lx * lr);
+}
+
+// The cost of collapsing h's from-vertex into its to-vertex: the longest
+// edge it makes (squared), or infinity when it must not be done.
+double collapse_cost(Mesh &mesh, const CollapseGeometry &g, Mesh::HalfedgeHandle h)
+{
+    const Mesh::VertexHandle v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
+    const int iu = u.idx();
+    double worst = 0.0;
+    // The border stays where it is: a border vertex goes only along it.
+    if (mesh.is_boundary(v) && !mesh.is_boundary(mesh.edge_handle(h)))
+        return HUGE_VAL;
+    if (!mesh.is_collapse_ok(h))
+        return HUGE_VAL;
+    for (Mesh::VertexHandle w : mesh.vv_range(v)) {
+        double e = dist2(g.pos + 3 * (size_t)iu, g.pos + 3 * (size_t)w.idx());
+        if (w == u)
+            continue;
+        if (e > g.max_edge2)
+            return HUGE_VAL;
+        worst = std::max(worst, e);
+    }
+    for (Mesh::FaceHandle f : mesh.vf_range(v)) {
+        int c[3], n = 0, has_u = 0;
+        for (Mesh::VertexHandle w : mesh.fv_range(f)) {
+            has_u |= w == u;
+            c[n++] = w == v ? iu : w.idx();
+        }
+        if (!has_u && !faces_ok(g, c[0], c[1], c[2]))
+            return HUGE_VAL;
+    }
+    return worst;
+}
+
+// The cheapest collapse of v: *best its halfedge (invalid when none).
+double best_collapse(Mesh &mesh, const CollapseGeometry &g, Mesh::VertexHandle v,
+                     Mesh::HalfedgeHandle *best)
+{
+    double cost = HUGE_VAL;
+    *best = Mesh::HalfedgeHandle();
+    for (Mesh::HalfedgeHandle h : mesh.voh_range(v)) {
+        double c = collapse_cost(mesh, g, h);
+        if (c < cost || (c == cost && c < HUGE_VAL &&
+                         mesh.to_vertex_handle(h).idx() < mesh.to_vertex_handle(*best).idx())) {
+            cost = c;
+            *best = h;
+        }
+    }
+    return cost;
+}
+
+// One Delaunay flip of edge e if it is due and folds nothing; 1 if done.
+int flip_if_due(Mesh &mesh, const CollapseGeometry &g, Mesh::EdgeHandle e)
+{
+    if (mesh.is_boundary(e) || !mesh.is_flip_ok(e))
+        return 0;
+    const Mesh::HalfedgeHandle h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
+    const int a = mesh.from_vertex_handle(h0).idx(), b = mesh.to_vertex_handle(h0).idx();
+    const int c = mesh.to_vertex_handle(mesh.next_halfedge_handle(h0)).idx();
+    const int d = mesh.to_vertex_handle(mesh.next_halfedge_handle(h1)).idx();
+    const double *pa = g.pos + 3 * (size_t)a, *pb = g.pos + 3 * (size_t)b,
+                 *pc = g.pos + 3 * (size_t)c, *pd = g.pos + 3 * (size_t)d;
+    // The angles at c and at d, opposite the edge ab.
+    auto angle = [](const double *o, const double *p, const double *q) {
+        double u[3], w[3], uu = 0.0, ww = 0.0, uw = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            u[k] = p[k] - o[k];
+            w[k] = q[k] - o[k];
+            uu += u[k] * u[k];
+            ww += w[k] * w[k];
+            uw += u[k] * w[k];
+        }
+        return std::acos(std::max(-1.0, std::min(1.0, uw / std::sqrt(uu * ww))));
+    };
+    if (angle(pc, pa, pb) + angle(pd, pa, pb) <= M_PI + 1e-9)
+        return 0;
+    // h0 runs a -> b in (a, b, c), h1 b -> a in (b, a, d): after the flip
+    // the triangles are (a, d, c) and (d, b, c).
+    if (dist2(pc, pd) > g.max_edge2 || !faces_ok(g, a, d, c) || !faces_ok(g, d, b, c))
+        return 0;
+    mesh.flip(e);
+    return 1;
+}
+
+relief_status collapse_impl(const relief_mesh *m, const double *pos, const double *nrm,
+                            uint8_t *remove, double max_edge, uint32_t **tri_out,
+                            size_t *nt_out, relief_error *err)
+{
+    Mesh mesh;
+    OmerrCapture capture;
+    const CollapseGeometry g = {pos, nrm, max_edge * max_edge, 0.5}; // cos 60 degrees
+    typedef std::pair<double, int> Entry; // (cost, vertex): smallest first
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+    std::vector<double> queued(m->nv, HUGE_VAL);
+
+    mesh.request_vertex_status();
+    mesh.request_edge_status();
+    mesh.request_halfedge_status();
+    mesh.request_face_status();
+    for (size_t v = 0; v < m->nv; ++v)
+        mesh.add_vertex(Mesh::Point(0.0, 0.0, 0.0));
+    for (size_t t = 0; t < m->nt; ++t) {
+        const uint32_t *f = m->tri + 3 * t;
+        if (!mesh.add_face(Mesh::VertexHandle((int)f[0]), Mesh::VertexHandle((int)f[1]),
+                           Mesh::VertexHandle((int)f[2])).is_valid())
+            return relief_fail(err, RELIEF_E_MESH, "triangle %zu (%u %u %u) is not manifold: "
+                               "the surface cannot be coarsened", t, (unsigned)f[0],
+                               (unsigned)f[1], (unsigned)f[2]);
+    }
+    for (size_t v = 0; v < m->nv; ++v) {
+        Mesh::HalfedgeHandle h;
+        if (!remove[v])
+            continue;
+        queued[v] = best_collapse(mesh, g, Mesh::VertexHandle((int)v), &h);
+        if (queued[v] < HUGE_VAL)
+            heap.push(Entry(queued[v], (int)v));
+    }
+    while (!heap.empty()) {
+        const Entry top = heap.top();
+        const Mesh::VertexHandle v(top.second);
+        Mesh::HalfedgeHandle h;
+        heap.pop();
+        if (mesh.status(v).deleted() || top.first != queued[(size_t)top.second])
+            continue; // stale
+        queued[(size_t)top.second] = best_collapse(mesh, g, v, &h);
+        if (queued[(size_t)top.second] > top.first) { // dearer now: later
+            if (queued[(size_t)top.second] < HUGE_VAL)
+                heap.push(Entry(queued[(size_t)top.second], top.second));
+            continue;
+        }
+        const Mesh::VertexHandle u = mesh.to_vertex_handle(h);
+        mesh.collapse(h);
+        queued[(size_t)top.second] = HUGE_VAL;
+        // The costs around u changed: requeue the removable ones.
+        for (Mesh::VertexHandle w : mesh.vv_range(u)) {
+            Mesh::HalfedgeHandle hw;
+            const size_t iw = (size_t)w.idx();
+            if (!remove[iw] || mesh.status(w).deleted())
+                continue;
+            queued[iw] = best_collapse(mesh, g, w, &hw);
+            if (queued[iw] < HUGE_VAL)
+                heap.push(Entry(queued[iw], (int)iw));
+        }
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        remove[v] = mesh.status(Mesh::VertexHandle((int)v)).deleted() ? 1 : 0;
+    // Delaunay flips, in edge order, until none is due (bounded: on a
+    // curved surface the criterion need not settle).
+    for (int pass = 0; pass < 32; ++pass) {
+        size_t flips = 0;
+        for (size_t e = 0; e < mesh.n_edges(); ++e) {
+            const Mesh::EdgeHandle eh((int)e);
+            if (!mesh.status(eh).deleted())
+                flips += (size_t)flip_if_due(mesh, g, eh);
+        }
+        if (!flips)
+            break;
+    }
+    {
+        size_t nt = 0;
+        uint32_t *tri = (uint32_t *)std::malloc((mesh.n_faces() + 1) * 3 * sizeof *tri);
+        if (!tri)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a coarse level's triangles");
+        for (size_t t = 0; t < mesh.n_faces(); ++t) {
+            const Mesh::FaceHandle fh((int)t);
+            if (mesh.status(fh).deleted())
+                continue;
+            int k = 0;
+            for (Mesh::VertexHandle w : mesh.fv_range(fh))
+                tri[3 * nt + (size_t)k++] = (uint32_t)w.idx();
+            ++nt;
+        }
+        *tri_out = tri;
+        *nt_out = nt;
+    }
+    return RELIEF_OK;
+}
+
 } // namespace
 
 extern "C" relief_status relief_om_storable(const relief_mesh *m, const uint32_t *extra,
@@ -420,5 +644,20 @@ extern "C" relief_status relief_om_write(const relief_mesh *m, const char *path,
     } catch (...) {
         return relief_fail(err, RELIEF_E_INTERNAL,
                            "%s: unknown exception in OpenMesh", path);
+    }
+}
+
+extern "C" relief_status relief_om_collapse(const relief_mesh *m, const double *pos,
+                                           const double *nrm, uint8_t *remove, double max_edge,
+                                           uint32_t **tri, size_t *nt, relief_error *err)
+{
+    try {
+        return collapse_impl(m, pos, nrm, remove, max_edge, tri, nt, err);
+    } catch (const std::bad_alloc &) {
+        return relief_fail(err, RELIEF_E_NOMEM, "out of memory while coarsening a surface");
+    } catch (const std::exception &e) {
+        return relief_fail(err, RELIEF_E_INTERNAL, "OpenMesh failed: %s", e.what());
+    } catch (...) {
+        return relief_fail(err, RELIEF_E_INTERNAL, "unknown exception in OpenMesh");
     }
 }

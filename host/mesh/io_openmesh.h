@@ -1,4 +1,5 @@
-/* The OpenMesh adapter: the one C++ translation unit of relief. Every entry
+/* The OpenMesh adapter: the one C++ translation unit of relief (mesh files,
+ * the storability check, the collapses of a free-form hierarchy). Every entry
  * point catches every exception and returns a status. OpenMesh reports
  * problems on its global `omerr()` stream; the adapter captures that text
  * for the duration of a call and turns it into the error message, so these
@@ -44,6 +45,27 @@ relief_status relief_om_write(const relief_mesh *m, const char *path,
  * storable already. */
 relief_status relief_om_storable(const relief_mesh *m, const uint32_t *extra, size_t n_extra,
                                  uint8_t *accepted, relief_error *err);
+
+/* Coarsen m's triangulation by half-edge collapses (a progressive mesh's
+ * step: the surviving vertices keep their positions and ids), for the
+ * hierarchy of a surface with no parameter domain (grow/hierarchy.h).
+ *   pos:    nv x 3 positions the geometry tests use (not m->pos: the
+ *           hierarchy collapses the smooth base, not the relief on it);
+ *   nrm:    nv x 3 unit normals of the surface at those positions;
+ *   remove: nv flags: 1 for a vertex to collapse away. On return 1 only for
+ *           the vertices removed; a vertex whose every collapse would fold a
+ *           triangle over (normal more than 60 degrees off the surface's),
+ *           leave an edge longer than max_edge, move the border inward or
+ *           break the manifold (OpenMesh's link test) stays, 0.
+ * Cheapest collapse first (the longest edge it makes), ties by vertex id;
+ * then edges are flipped toward the Delaunay triangulation (opposite
+ * angles summing over pi) where the flip folds nothing, so the coarse
+ * level is as even as the selection that chose its vertices.
+ * *tri (malloc'd, *nt x 3) receives the remaining triangles, on m's vertex
+ * ids. RELIEF_E_MESH when m's triangles are not manifold. */
+relief_status relief_om_collapse(const relief_mesh *m, const double *pos, const double *nrm,
+                                 uint8_t *remove, double max_edge, uint32_t **tri, size_t *nt,
+                                 relief_error *err);
 
 #ifdef __cplusplus
 }

@@ -80,6 +80,12 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
         relief_mesh_destroy(m);
         m = used;
         n = n2, N = w;
+        if (N == n) {
+            st = relief_fail(err, RELIEF_E_RANGE, "--base smooth: none of the %zu base points "
+                             "laid in the holes could be joined to the capture's triangles",
+                             rep.n_added);
+            goto fail;
+        }
     }
     s = calloc(1, sizeof *s);
     if (!s)
@@ -90,6 +96,7 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
         s->fit.prim.model = RELIEF_FIT_PLANE;
         s->fit.prim.dir[2] = 1.0;
     }
+    s->free_form = 1;
     s->proj = rep.base, s->nrm = rep.base_nrm;
     rep.base = rep.base_nrm = NULL;
     s->disp = malloc(N * 3 * sizeof *s->disp);

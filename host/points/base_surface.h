@@ -12,8 +12,9 @@
  * could not reach it. Frames
  * follow paper 000's rule on the normal. `fit` holds the primitive the
  * capture fits best, for the report and the measures only: nothing of the
- * growth depends on it. Mono-scale (the hierarchy re-triangulates in a
- * primitive's parameter domain, which a smooth base does not have). */
+ * growth depends on it. `free_form` is set: the hierarchy (--levels)
+ * coarsens this triangulation by collapses rather than re-triangulating
+ * in a parameter domain the base does not have. */
 #ifndef RELIEF_HOST_POINTS_BASE_SURFACE_H
 #define RELIEF_HOST_POINTS_BASE_SURFACE_H
 

@@ -453,7 +453,18 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     } else if (p->mesh) {
         uint32_t *pt = NULL;
         size_t pnt = 0;
-        st = relief_points_patch_mesh(out->pos, out->nrm, n, N, w.rim, w.nhole,
+        const double *mpos = out->pos, *mnrm = out->nrm;
+        if (p->keep_base) {
+            /* The caller grows detail on the base (base_surface.h): join
+             * the holes where they lie on it. The captured rim stands off
+             * the bare base by the detail, which can be wider than the
+             * patches reach (fertility: detail RMS 1.7 spacings). */
+            memcpy(w.tnrm, w.base_nrm, n * 3 * sizeof *w.tnrm);
+            if (m)
+                memcpy(w.tnrm + 3 * n, w.nnrm, m * 3 * sizeof *w.tnrm);
+            mpos = w.tpos, mnrm = w.tnrm;
+        }
+        st = relief_points_patch_mesh(mpos, mnrm, n, N, w.rim, w.nhole,
                                       rep->holes.n_holes, spacing, in->tri, in->nt, &pt, &pnt,
                                       &rep->patch_skipped, err);
         if (st != RELIEF_OK)

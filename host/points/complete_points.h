@@ -61,7 +61,8 @@ typedef struct relief_points_params {
                              filled holes' patches (points/patch_mesh.h); for a point
                              set, a surface through all the output's points
                              (points/surface_mesh.h) */
-    int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm) */
+    int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm),
+                             and the mesh's hole patches join the points on it */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
     relief_texopt_params tex;
     relief_rbf_params rbf; /* spacing is set from the points when 0 */

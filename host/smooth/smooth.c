@@ -23,6 +23,7 @@
 #include "base/error.h"
 #include "base/memlimit.h"
 #include "base/vec3.h"
+#include "mesh/io_openmesh.h"
 #include "mesh/mesh.h"
 #include "smooth/delaunay.h"
 #include "smooth/oversample.h"
@@ -488,20 +489,49 @@ fail:
     return st;
 }
 
-relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,
-                                   relief_surface **out, uint32_t *ids, relief_error *err)
+/* The triangles of a free-form level: s's own, collapsed onto the kept
+ * vertices (relief_om_collapse). keep is widened to the vertices that
+ * could not go; *tri (*nt x 3) is on s's vertex ids. */
+static relief_status collapse_level(const relief_surface *s, uint8_t *keep, double alpha,
+                                    uint32_t **tri, size_t *nt, relief_error *err)
+{
+    const size_t nv = s->mesh->nv;
+    relief_status st;
+    for (size_t v = 0; v < nv; ++v)
+        keep[v] = !keep[v]; /* the vertices to remove */
+    st = relief_om_collapse(s->mesh, s->proj, s->nrm, keep, alpha, tri, nt, err);
+    for (size_t v = 0; v < nv; ++v)
+        keep[v] = !keep[v];
+    return st;
+}
+
+relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep_in,
+                                   double alpha, relief_surface **out, uint32_t *ids,
+                                   relief_error *err)
 {
     const relief_mesh *m = s->mesh;
     relief_surface *l = calloc(1, sizeof *l);
-    size_t n = 0, w = 0;
+    uint8_t *keep = malloc(m->nv + 1);
+    uint32_t *ctri = NULL, *to = NULL;
+    size_t n = 0, w = 0, cnt = 0;
     relief_status st;
 
-    if (!l)
+    if (!l || !keep) {
+        free(l), free(keep);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level surface");
+    }
     for (size_t v = 0; v < m->nv; ++v)
-        n += keep[v] != 0;
+        keep[v] = keep_in[v] != 0;
+    if (s->free_form) {
+        st = collapse_level(s, keep, alpha, &ctri, &cnt, err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        n += keep[v];
     l->fit = s->fit;
     l->param = s->param;
+    l->free_form = s->free_form;
     l->spacing = s->spacing;
     l->spacing_from_capture = s->spacing_from_capture;
     l->alpha = alpha;
@@ -514,11 +544,13 @@ relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep,
     l->disp = malloc((n + 1) * 3 * sizeof *l->disp);
     l->nrm = malloc((n + 1) * 3 * sizeof *l->nrm);
     l->frame = malloc((n + 1) * 9 * sizeof *l->frame);
-    if (!l->proj || !l->disp || !l->nrm || !l->frame) {
+    to = malloc((m->nv + 1) * sizeof *to);
+    if (!l->proj || !l->disp || !l->nrm || !l->frame || !to) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's per-vertex state");
         goto fail;
     }
     for (size_t v = 0; v < m->nv; ++v) {
+        to[v] = UINT32_MAX;
         if (!keep[v])
             continue;
         memcpy(l->mesh->pos + 3 * w, m->pos + 3 * v, 3 * sizeof(double));
@@ -531,19 +563,29 @@ relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep,
         memcpy(l->nrm + 3 * w, s->nrm + 3 * v, 3 * sizeof(double));
         memcpy(l->frame + 9 * w, s->frame + 9 * v, 9 * sizeof(double));
         l->n_samples += v < s->n_samples;
+        to[v] = (uint32_t)w;
         ids[w++] = (uint32_t)v;
     }
     l->n_targets = n - l->n_samples;
-    st = triangulate(l, alpha, err);
+    if (s->free_form) {
+        for (size_t i = 0; i < 3 * cnt; ++i)
+            ctri[i] = to[ctri[i]];
+        l->mesh->tri = ctri, l->mesh->nt = cnt;
+        ctri = NULL;
+    } else {
+        st = triangulate(l, alpha, err);
+    }
     if (st == RELIEF_OK)
         st = drop_unused(l, ids, err);
     if (st == RELIEF_OK)
         st = check_manifold(l, err);
     if (st != RELIEF_OK)
         goto fail;
+    free(to), free(keep);
     *out = l;
     return RELIEF_OK;
 fail:
+    free(ctri), free(to), free(keep);
     relief_surface_destroy(l);
     return st;
 }

@@ -131,6 +131,11 @@ typedef struct relief_surface {
     double *frame;      /* nv x 9: the local frame, rows u, v, n (n = nrm) */
     relief_param param;  /* the primitive's parameter domain (param.h): the
                             frame --extent is given in */
+    int free_form;       /* 1: a smoothed base with no parameter domain
+                            (points/base_surface.h): proj and nrm are the
+                            base's, `fit` and `param` only reported, and
+                            coarser levels come from collapsing mesh's own
+                            triangles rather than re-triangulating */
     double seconds[RELIEF_STAGE_COUNT]; /* wall time of each stage */
 } relief_surface;
 
@@ -156,6 +161,11 @@ void relief_surface_destroy(relief_surface *s);
  * relief_smooth triangulates (qhull in the primitive's parameter domain, or
  * on the sphere), keeping triangles of circumradius <= alpha (input units;
  * on the sphere too). Vertices no triangle uses are left out.
+ * A free-form s is coarsened instead: its own triangles lose the other
+ * vertices by half-edge collapses on the base (relief_om_collapse, no new
+ * edge longer than alpha), and a vertex that cannot go without folding
+ * the surface stays in the level (so the level may hold a few vertices
+ * keep did not ask for).
  * ids (at least as many entries as kept vertices) receives each level
  * vertex's id in s. RELIEF_E_MESH when the result is not manifold. */
 relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep, double alpha,
