@@ -28,7 +28,9 @@
  * target first considers only the samples inside the axis-aligned box of
  * the samples within W hops of the sample its parent matched at level k-1
  * (found with a FLANN kd-tree), and all samples when the box is empty or
- * nothing in it passes e. */
+ * nothing in it passes e. A target whose parent is a sample (on the hole's
+ * rim) follows the match of the level k-1 target nearest its parent, within
+ * W hops. */
 #ifndef RELIEF_HOST_HIERARCHY_H
 #define RELIEF_HOST_HIERARCHY_H
 

@@ -37,6 +37,38 @@ static int nearer(const double *spos, const double *m, uint32_t a, uint32_t b)
     return da < db || (da == db && a < b);
 }
 
+/* The match a target whose parent p is a sample (on the hole's rim) follows:
+ * that of the level k - 1 target nearest p in hops, within `hops`, the
+ * first met breadth first (adjacency ascending); UINT32_MAX when there is
+ * none. Without it every such target scored every sample: on a head's cut
+ * (lato, 2 levels) 124 rim targets were 97 % of the finest level's work.
+ * seen: npv stamps, `gen` new for this call; depth, queue: npv scratch. */
+static uint32_t rim_match(const relief_adjacency *adj, const uint32_t *prev_match, size_t npv,
+                          uint32_t p, int hops, uint32_t gen, uint32_t *seen, uint32_t *depth,
+                          uint32_t *queue)
+{
+    uint32_t head = 0, tail = 0;
+    seen[p] = gen;
+    depth[p] = 0;
+    queue[tail++] = p;
+    while (head < tail) {
+        uint32_t v = queue[head++];
+        if (prev_match[v] < npv)
+            return prev_match[v];
+        if ((int)depth[v] == hops)
+            continue;
+        for (uint32_t i = adj->start[v]; i < adj->start[v + 1]; ++i) {
+            uint32_t u = adj->nbr[i];
+            if (seen[u] != gen) {
+                seen[u] = gen;
+                depth[u] = depth[v] + 1;
+                queue[tail++] = u;
+            }
+        }
+    }
+    return UINT32_MAX;
+}
+
 /* The sample pyramids of level k (index ki): for each target, the level k
  * samples inside the box of the samples within `hops` of the sample its
  * parent matched at level k - 1 (prev_match, level k - 1 ids; UINT32_MAX
@@ -53,7 +85,7 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki,
     const relief_adjacency adj = *prev_adj;
     uint32_t *start = calloc(nv + 1, sizeof *start), *items = NULL;
     uint32_t *stamp = calloc(npv, sizeof *stamp), *depth = malloc(npv * sizeof *depth);
-    uint32_t *queue = malloc(npv * sizeof *queue);
+    uint32_t *queue = malloc(npv * sizeof *queue), *seen = calloc(npv, sizeof *seen);
     double *spos = malloc((ns + 1) * 3 * sizeof *spos), *dist = malloc((ns + 1) * sizeof *dist);
     int *idx = malloc((ns + 1) * sizeof *idx);
     size_t n_items = 0, cap = 0;
@@ -63,7 +95,7 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki,
     float speedup;
 
     *boxes = 0;
-    if (!start || !stamp || !depth || !queue || !spos || !dist || !idx) {
+    if (!start || !stamp || !depth || !queue || !seen || !spos || !dist || !idx) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sample pyramids");
         goto done;
     }
@@ -84,8 +116,10 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki,
             continue;
         p = h->parent[ki][t];
         ms = prev_match[p];
+        if (ms >= npv) /* a sample's child, at the hole's rim */
+            ms = rim_match(&adj, prev_match, npv, p, hops, t + 1, seen, depth, queue);
         if (ms >= npv)
-            continue; /* a sample's child: no match to follow */
+            continue; /* no match to follow: all samples */
         /* The samples within `hops` of ms at level k - 1, and their box. */
         stamp[ms] = t + 1;
         depth[ms] = 0;
@@ -162,6 +196,7 @@ done:
     free(idx);
     free(dist);
     free(spos);
+    free(seen);
     free(queue);
     free(depth);
     free(stamp);
