@@ -500,7 +500,8 @@ static void check_free_form(void)
         }
         CHECK(folded == 0, "free-form level %d: %zu of %zu triangles face away", k, folded,
               l->mesh->nt);
-        printf("free-form level %d: %zu vertices, %zu triangles\n", k, l->mesh->nv,
+        printf("free-form level %d: %zu vertices (selected about %zu), %zu triangles\n", k,
+               l->mesh->nv, (size_t)((double)k * (double)a->mesh->nv / LEVELS + 0.5),
                l->mesh->nt);
     }
     CHECK(memcmp(a->mesh->pos, b->mesh->pos, a->mesh->nv * 3 * sizeof(double)) == 0,
