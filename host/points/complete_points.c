@@ -439,6 +439,12 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         if (st != RELIEF_OK)
             goto fail;
     }
+    if (p->keep_base) {
+        /* w.tnrm becomes the base's normals, handed to the report below. */
+        memcpy(w.tnrm, w.base_nrm, n * 3 * sizeof *w.tnrm);
+        if (m)
+            memcpy(w.tnrm + 3 * n, w.nnrm, m * 3 * sizeof *w.tnrm);
+    }
     if (p->mesh && !in->nt) {
         /* A bare point set: a surface through all its points. */
         relief_surface_mesh_info si;
@@ -459,9 +465,6 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
              * the holes where they lie on it. The captured rim stands off
              * the bare base by the detail, which can be wider than the
              * patches reach (fertility: detail RMS 1.7 spacings). */
-            memcpy(w.tnrm, w.base_nrm, n * 3 * sizeof *w.tnrm);
-            if (m)
-                memcpy(w.tnrm + 3 * n, w.nnrm, m * 3 * sizeof *w.tnrm);
             mpos = w.tpos, mnrm = w.tnrm;
         }
         st = relief_points_patch_mesh(mpos, mnrm, n, N, w.rim, w.nhole,
@@ -485,9 +488,6 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     if (p->keep_base) {
         rep->base = w.tpos, rep->base_nrm = w.tnrm;
         w.tpos = w.tnrm = NULL;
-        memcpy(rep->base_nrm, w.base_nrm, n * 3 * sizeof *rep->base_nrm);
-        if (m)
-            memcpy(rep->base_nrm + 3 * n, w.nnrm, m * 3 * sizeof *rep->base_nrm);
     }
     rep->t_total = relief_seconds() - t0;
     work_free(&w);

@@ -375,8 +375,6 @@ static relief_status check(const double *pos, const double *nrm, size_t n, int c
     return RELIEF_OK;
 }
 
-/* One run at the given parameters; *no_grid set when it failed only
- * because no exemplar grid could be built. */
 typedef struct ranked {
     float v;
     uint32_t i;
@@ -434,6 +432,8 @@ static relief_status match_histogram(float *value, int ch, int c, size_t n,
     return RELIEF_OK;
 }
 
+/* One run at the given parameters; *no_grid set when it failed only
+ * because no exemplar grid could be built. */
 static relief_status texopt_run(const double *pos, const double *nrm_in, size_t n, int channels,
                                 float *value, const uint8_t *unknown, const uint8_t *exemplar,
                                 const uint8_t *rim, const relief_texopt_params *pp,
