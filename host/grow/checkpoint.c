@@ -16,7 +16,8 @@
 #include "smooth/oversample.h"
 
 #define MAGIC "RELIEFCK"
-#define FORMAT 3u /* 2: the matches and a hierarchy's place; 3: the sources */
+#define FORMAT 4u /* 2: the matches and a hierarchy's place; 3: the sources; 4: the
+                     previous level's heights unsmoothed */
 #define ORDER 0x01020304u
 
 /* ------------------------------------------------------------ fingerprint */
@@ -179,7 +180,7 @@ relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_
         put_u32(&b, (uint32_t)h->levels);
         put_u32(&b, (uint32_t)h->level);
         put_u64(&b, h->prev_nv);
-        put(&b, h->smoothed_prev, h->prev_nv * sizeof *h->smoothed_prev);
+        put(&b, h->heights_prev, h->prev_nv * sizeof *h->heights_prev);
         put(&b, h->match_prev, h->prev_nv * sizeof *h->match_prev);
         /* As the stats: in memory (size_t and double only), behind their size. */
         put_u32(&b, (uint32_t)sizeof *h->done);
@@ -224,7 +225,7 @@ struct relief_checkpoint {
     float *colour, *mesh_colour;
     uint32_t *source, *list, *matched;
     relief_hierarchy_state hier;
-    double *smoothed_prev;
+    double *heights_prev;
     uint32_t *match_prev;
     relief_level_stats done[RELIEF_MAX_LEVELS];
 };
@@ -234,7 +235,7 @@ void relief_checkpoint_destroy(relief_checkpoint *c)
     if (!c)
         return;
     free(c->match_prev);
-    free(c->smoothed_prev);
+    free(c->heights_prev);
     free(c->matched);
     free(c->list);
     free(c->source);
@@ -405,18 +406,18 @@ static relief_status parse_hierarchy(const char *path, reader *r, relief_checkpo
     if (!c->matched)
         return relief_fail(err, RELIEF_E_PARSE, "%s: a hierarchy's checkpoint without its "
                            "matches", path);
-    c->smoothed_prev = malloc((np + 1) * sizeof *c->smoothed_prev);
+    c->heights_prev = malloc((np + 1) * sizeof *c->heights_prev);
     c->match_prev = malloc((np + 1) * sizeof *c->match_prev);
-    if (!c->smoothed_prev || !c->match_prev)
+    if (!c->heights_prev || !c->match_prev)
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint", path);
-    get(r, c->smoothed_prev, np * sizeof *c->smoothed_prev);
+    get(r, c->heights_prev, np * sizeof *c->heights_prev);
     get(r, c->match_prev, np * sizeof *c->match_prev);
     for (size_t v = 0; v < np; ++v)
-        if (!isfinite(c->smoothed_prev[v]) ||
+        if (!isfinite(c->heights_prev[v]) ||
             (c->match_prev[v] >= np && c->match_prev[v] < UINT32_MAX - 1))
             return relief_fail(err, RELIEF_E_PARSE, "%s: level %u vertex %zu: height %g or "
                                "match %u is malformed", path, level - 1, v,
-                               c->smoothed_prev[v], c->match_prev[v]);
+                               c->heights_prev[v], c->match_prev[v]);
     size = get_u32(r);
     if (!r->short_read && size != sizeof *h->done)
         return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint level statistics are of "
@@ -425,7 +426,7 @@ static relief_status parse_hierarchy(const char *path, reader *r, relief_checkpo
     h->levels = (int)levels;
     h->level = (int)level;
     h->prev_nv = (size_t)np;
-    h->smoothed_prev = c->smoothed_prev;
+    h->heights_prev = c->heights_prev;
     h->match_prev = c->match_prev;
     h->done = c->done;
     return RELIEF_OK;

@@ -221,24 +221,19 @@ void relief_hierarchy_destroy(relief_hierarchy *h)
             relief_surface_destroy(h->level[k]);
         free(h->ids[k]);
         free(h->parent[k]);
-        free(h->corner[k]);
-        free(h->weight[k]);
     }
     free(h->first_level);
     free(h);
 }
 
-#define LOCATE_NN 4
-
-/* parent, corner and weight of level k (index ki) on level k - 1. */
+/* parent of each vertex of level k (index ki): itself when present at
+ * level k - 1, else the nearest level k - 1 vertex on the base. */
 static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
 {
     const relief_surface *fine = h->level[ki], *coarse = h->level[ki - 1];
     const size_t nf = fine->mesh->nv, nc = coarse->mesh->nv, nfull = h->full->mesh->nv;
     const double *pp = h->full->proj;
     uint32_t *loc = malloc(nfull * sizeof *loc);
-    uint32_t *vt_start = malloc((nc + 1) * sizeof *vt_start);
-    uint32_t *vt = malloc((3 * coarse->mesh->nt + 1) * sizeof *vt);
     double *cpos = malloc((nc + 1) * 3 * sizeof *cpos);
     struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
@@ -246,10 +241,7 @@ static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
     float speedup;
 
     h->parent[ki] = malloc(nf * sizeof(uint32_t));
-    h->corner[ki] = malloc(nf * 3 * sizeof(uint32_t));
-    h->weight[ki] = malloc(nf * 3 * sizeof(double));
-    if (!loc || !vt_start || !vt || !cpos || !h->parent[ki] || !h->corner[ki] ||
-        !h->weight[ki]) {
+    if (!loc || !cpos || !h->parent[ki]) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hierarchy's links");
         goto done;
     }
@@ -259,7 +251,6 @@ static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
         loc[h->ids[ki - 1][v]] = (uint32_t)v;
         memcpy(cpos + 3 * v, pp + 3 * (size_t)h->ids[ki - 1][v], 3 * sizeof(double));
     }
-    relief_mesh_vertex_triangles(coarse->mesh, vt_start, vt);
     index = flann_build_index_double(cpos, (int)nc, 3, &speedup, &fp);
     if (!index) {
         st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a hierarchy level");
@@ -267,54 +258,51 @@ static relief_status link_level(relief_hierarchy *h, int ki, relief_error *err)
     }
     for (size_t v = 0; v < nf; ++v) {
         const uint32_t f = h->ids[ki][v];
-        const double *p = pp + 3 * (size_t)f;
-        uint32_t *cv = h->corner[ki] + 3 * v;
-        double *cw = h->weight[ki] + 3 * v, best = -DBL_MAX;
-        int idx[LOCATE_NN];
-        double dist[LOCATE_NN];
-        int nn = nc < LOCATE_NN ? (int)nc : LOCATE_NN;
-        if (loc[f] != UINT32_MAX) { /* present at level k - 1: itself */
-            h->parent[ki][v] = cv[0] = cv[1] = cv[2] = loc[f];
-            cw[0] = 1.0, cw[1] = cw[2] = 0.0;
+        int idx;
+        double dist;
+        if (loc[f] != UINT32_MAX) {
+            h->parent[ki][v] = loc[f];
             continue;
         }
-        if (flann_find_nearest_neighbors_index_double(index, (double *)p, 1, idx, dist, nn,
-                                                      &fp) != 0) {
+        if (flann_find_nearest_neighbors_index_double(index, (double *)(pp + 3 * (size_t)f), 1,
+                                                      &idx, &dist, 1, &fp) != 0) {
             st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN search failed in the hierarchy");
             goto done;
         }
-        h->parent[ki][v] = cv[0] = cv[1] = cv[2] = (uint32_t)idx[0];
-        cw[0] = 1.0, cw[1] = cw[2] = 0.0;
-        /* The level k - 1 triangle under p: among those around its nearest
-         * vertices, the one whose smallest barycentric weight is largest. */
-        for (int j = 0; j < nn; ++j)
-            for (uint32_t i = vt_start[idx[j]]; i < vt_start[idx[j] + 1]; ++i) {
-                const uint32_t *t = coarse->mesh->tri + 3 * (size_t)vt[i];
-                double w[3];
-                if (!relief_barycentric(p, cpos + 3 * (size_t)t[0], cpos + 3 * (size_t)t[1],
-                                        cpos + 3 * (size_t)t[2], w))
-                    continue; /* degenerate once projected */
-                if (fmin(w[0], fmin(w[1], w[2])) > best) {
-                    double sum = 0.0;
-                    best = fmin(w[0], fmin(w[1], w[2]));
-                    for (int k = 0; k < 3; ++k) {
-                        cv[k] = t[k];
-                        cw[k] = fmax(w[k], 0.0);
-                        sum += cw[k];
-                    }
-                    for (int k = 0; k < 3; ++k)
-                        cw[k] /= sum;
-                }
-            }
+        h->parent[ki][v] = (uint32_t)idx;
     }
 done:
     if (index)
         flann_free_index_double(index, &fp);
     free(cpos);
-    free(vt);
-    free(vt_start);
     free(loc);
     return st;
+}
+
+/* The mean length of level k's edges (index ki) on the base. */
+static relief_status mean_edge(relief_hierarchy *h, int ki, relief_error *err)
+{
+    const relief_mesh *m = h->level[ki]->mesh;
+    const double *pp = h->full->proj;
+    relief_adjacency adj;
+    double sum = 0.0;
+    size_t n = 0;
+    relief_status st = relief_mesh_adjacency(m, &adj, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (size_t v = 0; v < m->nv; ++v)
+        for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
+            const uint32_t u = adj.nbr[i];
+            const double *a = pp + 3 * (size_t)h->ids[ki][v], *b = pp + 3 * (size_t)h->ids[ki][u];
+            if (u < v)
+                continue;
+            sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                        (a[2] - b[2]) * (a[2] - b[2]));
+            ++n;
+        }
+    relief_adjacency_free(&adj);
+    h->sigma[ki] = n ? sum / (double)n : h->full->spacing;
+    return RELIEF_OK;
 }
 
 relief_status relief_hierarchy_build(const relief_surface *s, int levels,
@@ -385,8 +373,10 @@ relief_status relief_hierarchy_build(const relief_surface *s, int levels,
     }
     for (size_t v = 0; v < nv; ++v)
         h->ids[levels - 1][v] = (uint32_t)v;
-    for (int k = 1; k < levels; ++k) {
-        st = link_level(h, k, err);
+    for (int k = 0; k < levels; ++k) {
+        st = k ? link_level(h, k, err) : RELIEF_OK;
+        if (st == RELIEF_OK)
+            st = mean_edge(h, k, err);
         if (st != RELIEF_OK)
             goto fail;
     }

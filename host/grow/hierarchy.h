@@ -11,20 +11,25 @@
  * nearest vertex of level k-1 (its parent).
  *
  * Relief is a height along the primitive's normal (a free-form base's
- * own). Level 1 grows the displacements from the primitive (level 0); level k grows them from the
- * completed, smoothed level k-1 surface (001 figure 4), interpolated
- * linearly over level k-1's triangles: its base. The samples of a level
- * k < M carry their captured height low-passed at that level's scale (a
- * Gaussian over each sample's 1-ring of samples at the level, sigma its
- * mean edge), as an image pyramid filters before it subsamples: the full
- * relief on vertices that far apart aliases into false coarse structure,
- * which the finer levels then cannot undo (on paper 001's cylinder, M = 2:
- * MSI difference 7.5 % unfiltered, 1.8 % filtered). At level M the samples
- * are where they were captured, so the levels' displacements sum to the
- * capture. Each level runs the
- * mono-scale growth (grow.h) with the same matcher backends; after levels
- * 1..M-1 the displacement field (samples and targets alike) is smoothed by
- * a Gaussian over each vertex's 1-ring. Sample pyramids: at level k >= 2 a
+ * own). Level 1 grows the heights over the primitive (level 0); level k
+ * grows them over the completed, smoothed level k-1 surface (001 figure 4):
+ * its base, at each vertex the Gaussian mean (sigma level k-1's mean edge,
+ * out to 3 sigma) of level k-1's completed heights around it. That is 001's
+ * smoothing after levels 1..M-1 (section 3.5, samples and targets alike)
+ * and the projection on the smoothed surface in one step, and it treats a
+ * vertex the same whether or not it was at level k-1 and whatever the
+ * density around it: interpolating over level k-1's triangles instead made
+ * the targets' bases weaker than the samples' (most level 2 targets are
+ * new, most samples are not, as the capture is denser than the target
+ * lattice), and the bark's completed relief 8 % weaker at M = 4. The
+ * samples of a level k < M carry their captured height low-passed at that
+ * level's scale (the Gaussian mean of the capture's heights, sigma half the
+ * level's mean edge), as an image pyramid filters before it subsamples: the
+ * full relief on vertices that far apart aliases into false coarse
+ * structure, which the finer levels then cannot undo. At level M the
+ * samples are where they were captured, so the levels' displacements sum
+ * to the capture. Each level runs the mono-scale growth (grow.h) with the
+ * same matcher backends. Sample pyramids: at level k >= 2 a
  * target first considers only the samples inside the axis-aligned box of
  * the samples within W hops of the sample its parent matched at level k-1
  * (found with a FLANN kd-tree), and all samples when the box is empty or
@@ -51,14 +56,12 @@ typedef struct relief_hierarchy {
     uint32_t *ids[RELIEF_MAX_LEVELS];    /* level nv: the vertex's id in full */
     double radius[RELIEF_MAX_LEVELS];    /* the selection's disc radius (input
                                             units; 0 at level M) */
-    /* For k >= 2, per vertex of level k (level-local ids):
-     * parent: the level k-1 vertex it descends from (itself when present);
-     * corner/weight: where it lies on level k-1's triangulation, as the
-     * corners of the level k-1 triangle under it and barycentric weights
-     * (clamped to the triangle; weight 1 on itself when present). */
+    double sigma[RELIEF_MAX_LEVELS];     /* the level's mean edge length on the
+                                            base (input units): its Gaussians'
+                                            scale */
+    /* For k >= 2, per vertex of level k (level-local ids), the level k-1
+     * vertex it descends from: itself when present, else the nearest. */
     uint32_t *parent[RELIEF_MAX_LEVELS];
-    uint32_t *corner[RELIEF_MAX_LEVELS]; /* level nv x 3 */
-    double *weight[RELIEF_MAX_LEVELS];   /* level nv x 3 */
 } relief_hierarchy;
 
 /* Build the M-level hierarchy of s (2 <= levels <= RELIEF_MAX_LEVELS). */
@@ -83,8 +86,8 @@ typedef struct relief_hierarchy_state {
     int levels;                     /* M */
     int level;                      /* the level in progress, 1..M */
     size_t prev_nv;                 /* vertices of level - 1 (0 at level 1) */
-    const double *smoothed_prev;    /* prev_nv: level - 1's completed and
-                                       smoothed heights (input units) */
+    const double *heights_prev;     /* prev_nv: level - 1's completed heights
+                                       over the primitive (input units) */
     const uint32_t *match_prev;     /* prev_nv: the level - 1 sample each of
                                        its vertices copied (>= UINT32_MAX - 1:
                                        none, a sample) */
@@ -103,10 +106,9 @@ typedef struct relief_hierarchy_stats {
 /* Heights along the normal (input units) of one level's vertices, kept for
  * inspection and tests: base[v] is the level k-1 surface under v (0 at
  * level 1), disp[v] the displacement grown (targets) or measured (samples)
- * over it, before smoothing; smoothed[v] = base + smoothed displacement,
- * what level k+1 interpolates (equal to base + disp at level M). */
+ * over it; base + disp is what level k+1's bases are smoothed from. */
 typedef struct relief_level_heights {
-    double *base, *disp, *smoothed;
+    double *base, *disp;
 } relief_level_heights;
 
 /* Options of a hierarchical run. */

@@ -1,6 +1,7 @@
 /* Hierarchical growth (paper 001 section 3): each level grown in turn from
  * coarse to fine, every target's candidates restricted to the sample
- * pyramid under its parent's match, the heights smoothed between levels.
+ * pyramid under its parent's match, each level grown over the smoothed
+ * heights of the one before.
  * The levels themselves are built in hierarchy.c. */
 #include "grow/hierarchy.h"
 
@@ -212,47 +213,79 @@ done:
     return items ? RELIEF_OK : relief_fail(err, RELIEF_E_NOMEM, "out of memory");
 }
 
-/* Gaussian smoothing of a level's displacement heights over each vertex's
- * 1-ring (level_adj, the level's adjacency) and itself; sigma is the
- * level's mean edge length. Only vertices
- * below n_use take part (the level's samples come first): those from n_use
- * on are copied unchanged and left out of their neighbours' means. */
-static void smooth_heights(const relief_hierarchy *h, int ki, const relief_adjacency *level_adj,
-                           const double *disp, size_t n_use, double *out)
+/* Gaussians reach out to this many sigma; a low-pass's sigma is this share
+ * of its level's mean edge (a base's is the whole edge). */
+#define GAUSS_REACH 3.0
+#define LOWPASS_SIGMA 0.5
+
+/* The Gaussian mean of a height field on the base (Nadaraya-Watson): for
+ * each query vertex qid[i] (ids into the full surface, nq of them), out[i] =
+ * sum w_j val[j] / sum w_j over the source vertices sid[j] (ns of them; sid
+ * NULL: 0..ns-1) within GAUSS_REACH sigma of it, w_j = exp(-d^2 / 2
+ * sigma^2) with d the distance between their primitive projections prim
+ * (full nv x 3), counting only sources whose normal nrm is within 60
+ * degrees of the query's (so that a free-form base's thin parts do not mix
+ * their two sides). With no source that near, the nearest one's value.
+ * Deterministic: FLANN's exact tree, results summed nearest first. */
+static relief_status gauss_heights(const double *prim, const double *nrm, const uint32_t *sid,
+                                   const double *val, size_t ns, const uint32_t *qid,
+                                   size_t nq, double sigma, double *out, relief_error *err)
 {
-    const relief_surface *lv = h->level[ki];
-    const size_t nv = lv->mesh->nv;
-    const double *pp = h->full->proj;
-    const uint32_t *ids = h->ids[ki];
-    const relief_adjacency adj = *level_adj;
-    double sum = 0.0, inv2s2;
-    size_t ne = 0;
-    for (size_t v = 0; v < nv; ++v)
-        for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
-            const double *a = pp + 3 * (size_t)ids[v], *b = pp + 3 * (size_t)ids[adj.nbr[i]];
-            double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-            sum += sqrt(dot3(d, d));
-            ++ne;
+    double *spos = malloc((ns + 1) * 3 * sizeof *spos), *dist = malloc((ns + 1) * sizeof *dist);
+    int *idx = malloc((ns + 1) * sizeof *idx);
+    const double inv2s2 = 1.0 / (2.0 * sigma * sigma);
+    const float reach2 = (float)(GAUSS_REACH * GAUSS_REACH * sigma * sigma);
+    struct FLANNParameters fp = relief_knn_exact_params();
+    flann_index_t index = NULL;
+    relief_status st = RELIEF_OK;
+    float speedup;
+
+    if (!spos || !dist || !idx) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's smoothing");
+        goto done;
+    }
+    for (size_t j = 0; j < ns; ++j)
+        memcpy(spos + 3 * j, prim + 3 * (size_t)(sid ? sid[j] : j), 3 * sizeof *spos);
+    index = flann_build_index_double(spos, (int)ns, 3, &speedup, &fp);
+    if (!index) {
+        st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a level's heights");
+        goto done;
+    }
+    for (size_t i = 0; i < nq; ++i) {
+        const double *q = prim + 3 * (size_t)qid[i], *nq_ = nrm + 3 * (size_t)qid[i];
+        double acc = 0.0, wsum = 0.0;
+        int found = flann_radius_search_double(index, (double *)q, idx, dist, (int)ns, reach2,
+                                               &fp);
+        if (found < 0) {
+            st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN radius search failed");
+            goto done;
         }
-    inv2s2 = ne ? 1.0 / (2.0 * (sum / ne) * (sum / ne)) : 0.0;
-    for (size_t v = 0; v < nv; ++v) {
-        double acc = disp[v], wsum = 1.0;
-        if (v >= n_use) {
-            out[v] = disp[v];
-            continue;
-        }
-        for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
-            const uint32_t u = adj.nbr[i];
-            if (u >= n_use)
+        for (int k = 0; k < found; ++k) {
+            const uint32_t j = (uint32_t)idx[k];
+            if (dot3(nq_, nrm + 3 * (size_t)(sid ? sid[j] : j)) < 0.5)
                 continue;
-            const double *a = pp + 3 * (size_t)ids[v], *b = pp + 3 * (size_t)ids[u];
-            double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-            double w = exp(-dot3(d, d) * inv2s2);
-            acc += w * disp[u];
+            const double w = exp(-dist[k] * inv2s2);
+            acc += w * val[j];
             wsum += w;
         }
-        out[v] = acc / wsum;
+        if (wsum == 0.0) {
+            if (flann_find_nearest_neighbors_index_double(index, (double *)q, 1, idx, dist, 1,
+                                                          &fp) != 0) {
+                st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN search failed");
+                goto done;
+            }
+            acc = val[idx[0]];
+            wsum = 1.0;
+        }
+        out[i] = acc / wsum;
     }
+done:
+    if (index)
+        flann_free_index_double(index, &fp);
+    free(idx);
+    free(dist);
+    free(spos);
+    return st;
 }
 
 static void add_stats(relief_grow_stats *t, const relief_grow_stats *s)
@@ -335,15 +368,16 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
 {
     const size_t nfull = s->mesh->nv;
     const int M = h->levels;
-    double *prim = malloc(nfull * 3 * sizeof *prim); /* p' on the primitive */
-    double *smoothed_prev = NULL, b_shape, hmin = DBL_MAX, hmax = -DBL_MAX;
+    /* p' on the primitive (nfull x 3), then the samples' captured heights */
+    double *prim = malloc((nfull * 3 + s->n_samples) * sizeof *prim), *captured;
+    double *heights_prev = NULL, b_shape, hmin = DBL_MAX, hmax = -DBL_MAX;
     uint32_t *match_prev = NULL;
     relief_status st = RELIEF_OK;
     const double mu = relief_grow_mu(params, s->mesh->col != NULL);
     relief_matcher *m = NULL;         /* every level's, rebound per level */
     relief_match_data *d_prev = NULL; /* the previous level's match data */
-    /* Each level's adjacency, built once: its smoothing passes use it, and
-     * the next level's pyramids walk it. */
+    /* Each level's adjacency, built once: the next level's pyramids walk
+     * it. */
     relief_adjacency adj = {NULL, NULL}, adj_prev = {NULL, NULL};
     const relief_grow_state *resume = go ? go->resume : NULL;
     level_saver saver;
@@ -362,10 +396,11 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     if (!prim)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hierarchy's heights");
     memcpy(prim, s->proj, nfull * 3 * sizeof *prim);
+    captured = prim + 3 * nfull;
     /* One shape bound for every level, the full relief's, so that e means
      * the same at each level as in a mono-scale run. */
     for (size_t v = 0; v < s->n_samples; ++v) {
-        double hv = dot3(s->disp + 3 * v, s->nrm + 3 * v);
+        double hv = captured[v] = dot3(s->disp + 3 * v, s->nrm + 3 * v);
         hmin = fmin(hmin, hv);
         hmax = fmax(hmax, hv);
     }
@@ -378,12 +413,12 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         st = check_resume(h, resume, ho, &k0, err);
         if (st == RELIEF_OK && k0 > 0) {
             const size_t np = r->prev_nv;
-            smoothed_prev = malloc((np + 1) * sizeof *smoothed_prev);
+            heights_prev = malloc((np + 1) * sizeof *heights_prev);
             match_prev = malloc((np + 1) * sizeof *match_prev);
-            if (!smoothed_prev || !match_prev)
+            if (!heights_prev || !match_prev)
                 st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the saved levels");
             else {
-                memcpy(smoothed_prev, r->smoothed_prev, np * sizeof *smoothed_prev);
+                memcpy(heights_prev, r->heights_prev, np * sizeof *heights_prev);
                 memcpy(match_prev, r->match_prev, np * sizeof *match_prev);
                 st = relief_mesh_adjacency(h->level[k0 - 1]->mesh, &adj_prev, err);
             }
@@ -393,7 +428,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             }
         }
         if (st != RELIEF_OK) {
-            free(smoothed_prev);
+            free(heights_prev);
             free(match_prev);
             free(prim);
             relief_adjacency_free(&adj_prev);
@@ -411,11 +446,11 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         relief_grow_options lo = go ? *go : relief_grow_options_default();
         uint32_t *pstart = NULL, *pitems = NULL, *matched = malloc((nv + 1) * sizeof *matched);
         double *base = malloc((nv + 1) * sizeof *base), *disp = malloc((nv + 1) * sizeof *disp);
-        double *smoothed = malloc((nv + 1) * sizeof *smoothed);
+        double *heights = malloc((nv + 1) * sizeof *heights);
         double t0 = relief_seconds();
         char lnote[RELIEF_ERROR_MESSAGE_MAX + 320];
 
-        if (!matched || !base || !disp || !smoothed) {
+        if (!matched || !base || !disp || !heights) {
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate hierarchy level %d", ki + 1);
             goto level_done;
         }
@@ -425,24 +460,22 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         st = relief_mesh_adjacency(lm, &adj, err);
         if (st != RELIEF_OK)
             goto level_done;
-        /* The level k - 1 surface under each vertex: its base. */
-        for (size_t v = 0; v < nv; ++v) {
-            base[v] = 0.0;
-            if (ki > 0)
-                for (int k = 0; k < 3; ++k)
-                    base[v] += h->weight[ki][3 * v + k] *
-                               smoothed_prev[h->corner[ki][3 * v + k]];
-        }
+        /* The smoothed level k - 1 surface under each vertex: its base. */
+        if (ki > 0)
+            st = gauss_heights(prim, s->nrm, h->ids[ki - 1], heights_prev,
+                               h->level[ki - 1]->mesh->nv, ids, nv, h->sigma[ki - 1], base,
+                               err);
+        else
+            memset(base, 0, nv * sizeof *base);
         /* Below the finest level the samples' relief is low-passed at the
-         * level's own scale first (a Gaussian over each sample's 1-ring
-         * of samples), as an image pyramid filters before it subsamples:
-         * a coarse level's vertices are too far apart for the full relief,
-         * which would alias into false coarse structure. */
-        if (ki < M - 1) {
-            for (size_t v = 0; v < lv->n_samples; ++v)
-                disp[v] = dot3(s->disp + 3 * (size_t)ids[v], s->nrm + 3 * (size_t)ids[v]);
-            smooth_heights(h, ki, &adj, disp, lv->n_samples, smoothed);
-        }
+         * level's own scale first, as an image pyramid filters before it
+         * subsamples: a coarse level's vertices are too far apart for the
+         * full relief, which would alias into false coarse structure. */
+        if (st == RELIEF_OK && ki < M - 1)
+            st = gauss_heights(prim, s->nrm, NULL, captured, s->n_samples, ids, lv->n_samples,
+                               LOWPASS_SIGMA * h->sigma[ki], heights, err);
+        if (st != RELIEF_OK)
+            goto level_done;
         for (size_t v = 0; v < nv; ++v) {
             const double *p0 = prim + 3 * (size_t)ids[v], *n = s->nrm + 3 * (size_t)ids[v];
             double *pv = lm->pos + 3 * v;
@@ -451,7 +484,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             if (v < lv->n_samples) { /* samples: low-passed, or as captured */
                 if (ki < M - 1) {
                     for (int k = 0; k < 3; ++k)
-                        pv[k] = p0[k] + smoothed[v] * n[k];
+                        pv[k] = p0[k] + heights[v] * n[k];
                 } else if (lv != s)
                     memcpy(pv, s->mesh->pos + 3 * (size_t)ids[v], 3 * sizeof *pv);
             } else
@@ -496,7 +529,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             saver.place.levels = M;
             saver.place.level = ki + 1;
             saver.place.prev_nv = ki > 0 ? h->level[ki - 1]->mesh->nv : 0;
-            saver.place.smoothed_prev = smoothed_prev;
+            saver.place.heights_prev = heights_prev;
             saver.place.match_prev = match_prev;
             saver.place.done = hs->level;
             lo.save = save_level;
@@ -513,27 +546,20 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         *backend = m->backend;
         if (device && device_size)
             snprintf(device, device_size, "%s", m->device);
-        /* Heights over the base, then smoothed for the next level. */
-        for (size_t v = 0; v < nv; ++v)
+        /* Heights over the base, and over the primitive for the next
+         * level's bases. */
+        for (size_t v = 0; v < nv; ++v) {
             disp[v] = dot3(lv->disp + 3 * v, s->nrm + 3 * (size_t)ids[v]);
-        if (ki < M - 1) {
-            smooth_heights(h, ki, &adj, disp, nv, smoothed);
-        } else {
-            memcpy(smoothed, disp, nv * sizeof *smoothed);
+            heights[v] = base[v] + disp[v];
         }
-        for (size_t v = 0; v < nv; ++v)
-            smoothed[v] += base[v];
         if (ho->heights) {
             relief_level_heights *lh = &ho->heights[ki];
             lh->base = base, lh->disp = disp;
-            lh->smoothed = malloc((nv + 1) * sizeof *lh->smoothed);
-            if (lh->smoothed)
-                memcpy(lh->smoothed, smoothed, nv * sizeof *smoothed);
             base = disp = NULL;
         }
-        free(smoothed_prev);
-        smoothed_prev = smoothed;
-        smoothed = NULL;
+        free(heights_prev);
+        heights_prev = heights;
+        heights = NULL;
         free(match_prev);
         match_prev = matched;
         matched = NULL;
@@ -557,7 +583,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         free(pstart);
         free(pitems);
         free(matched);
-        free(smoothed);
+        free(heights);
         free(disp);
         free(base);
         if (st != RELIEF_OK)
@@ -574,7 +600,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
             s->disp[3 * v + k] = s->mesh->pos[3 * v + k] - s->proj[3 * v + k];
     total->targets = s->n_targets;
     free(match_prev);
-    free(smoothed_prev);
+    free(heights_prev);
     free(prim);
     return st;
 }

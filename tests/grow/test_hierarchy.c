@@ -78,10 +78,9 @@ static void check_structure(const relief_surface *s, const relief_hierarchy *h, 
             continue;
         {
             const relief_surface *c = h->level[k - 2];
-            size_t bad_parent = 0, bad_self = 0, bad_w = 0;
+            size_t bad_parent = 0, bad_self = 0;
             for (size_t v = 0; v < l->mesh->nv; ++v) {
                 const uint32_t p = h->parent[k - 1][v];
-                const double *w = h->weight[k - 1] + 3 * v;
                 const double *q = s->proj + 3 * (size_t)ids[v];
                 if (h->first_level[ids[v]] < k) {
                     bad_self += h->ids[k - 2][p] != ids[v];
@@ -93,14 +92,11 @@ static void check_structure(const relief_surface *s, const relief_hierarchy *h, 
                     bad_parent +=
                         dist2(q, s->proj + 3 * (size_t)h->ids[k - 2][p]) > best + 1e-12;
                 }
-                bad_w += !(fabs(w[0] + w[1] + w[2] - 1.0) < 1e-12 && w[0] >= 0 && w[1] >= 0 &&
-                           w[2] >= 0);
             }
             CHECK(bad_self == 0, "level %d: %zu vertices of level %d not their own parent", k,
                   bad_self, k - 1);
             CHECK(bad_parent == 0, "level %d: %zu parents are not the nearest vertex", k,
                   bad_parent);
-            CHECK(bad_w == 0, "level %d: %zu barycentric weights off", k, bad_w);
         }
     }
 }
@@ -157,17 +153,39 @@ static void free_heights(relief_level_heights *lh)
     for (int k = 0; k < RELIEF_MAX_LEVELS; ++k) {
         free(lh[k].base);
         free(lh[k].disp);
-        free(lh[k].smoothed);
     }
 }
 
+/* A Gaussian mean, by brute force: over the vertices src[0..n) of the
+ * full surface s (src NULL: 0..n-1) within 3 sigma of vertex q on the
+ * primitive whose normals are within 60 degrees of q's, of val; *lo, *hi
+ * receive the range of the values counted. */
+static double gauss_ref(const relief_surface *s, const uint32_t *src, const double *val,
+                        size_t n, uint32_t q, double sigma, double *lo, double *hi)
+{
+    const double *pq = s->proj + 3 * (size_t)q, *nq = s->nrm + 3 * (size_t)q;
+    double acc = 0.0, wsum = 0.0;
+    *lo = DBL_MAX, *hi = -DBL_MAX;
+    for (size_t j = 0; j < n; ++j) {
+        const uint32_t f = src ? src[j] : (uint32_t)j;
+        const double d2 = dist2(pq, s->proj + 3 * (size_t)f);
+        if (d2 > 9.0 * sigma * sigma || dot3(nq, s->nrm + 3 * (size_t)f) < 0.5)
+            continue;
+        acc += exp(-d2 / (2.0 * sigma * sigma)) * val[j];
+        wsum += exp(-d2 / (2.0 * sigma * sigma));
+        *lo = fmin(*lo, val[j]);
+        *hi = fmax(*hi, val[j]);
+    }
+    return wsum > 0.0 ? acc / wsum : NAN;
+}
+
 /* At the finest level every sample sits where it was captured: primitive +
- * (base + its displacement) along the normal, the base being the smoothed
- * level below interpolated, so the levels' displacements sum to the
- * capture. Below it a sample's height is its captured relief low-passed
- * over its level's 1-ring: a weighted mean of its own and its sample
- * neighbours' captured heights, so within their range, and smaller on
- * average. Targets end at primitive + base + grown. */
+ * (base + its displacement) along the normal, so the levels' displacements
+ * sum to the capture. A base is the Gaussian mean (sigma the level below's
+ * mean edge) of the level below's heights around the vertex. Below the
+ * finest level a sample's height is the Gaussian mean (sigma half its
+ * level's mean edge) of the capture's heights around it: within their
+ * range, and smaller on average. Targets end at primitive + base + grown. */
 static void check_bookkeeping(void)
 {
     relief_level_heights lh[RELIEF_MAX_LEVELS];
@@ -175,63 +193,67 @@ static void check_bookkeeping(void)
     relief_hierarchy *h = NULL;
     relief_surface *orig = smooth_of(RELIEF_SYNTH_CYLINDER_BANDS, 700, 0);
     relief_surface *s;
+    double *captured = NULL, *prev = NULL;
     memset(lh, 0, sizeof lh);
     s = run(RELIEF_SYNTH_CYLINDER_BANDS, 700, 0, RELIEF_BACKEND_SCALAR, lh, &hs, &h);
     if (!s || !h || !orig)
         goto done;
     check_structure(s, h, 0.0);
+    captured = malloc(s->n_samples * sizeof *captured);
+    for (size_t v = 0; v < s->n_samples; ++v) {
+        double hc[3];
+        sub3(orig->mesh->pos + 3 * v, orig->proj + 3 * v, hc);
+        captured[v] = dot3(hc, orig->nrm + 3 * v);
+    }
     for (int k = 1; k <= LEVELS; ++k) {
         const relief_surface *l = h->level[k - 1];
         const uint32_t *ids = h->ids[k - 1];
-        double worst_s = 0.0, worst_b = 0.0, worst_t = 0.0, outside = 0.0;
+        double worst_s = 0.0, worst_b = 0.0, worst_t = 0.0, worst_lp = 0.0, outside = 0.0;
         double sum_cap = 0.0, sum_lev = 0.0;
-        relief_adjacency adj = {NULL, NULL};
-        CHECK(relief_mesh_adjacency(l->mesh, &adj, NULL) == RELIEF_OK, "adjacency");
-        for (size_t v = 0; v < l->mesh->nv && adj.start; ++v) {
+        CHECK(h->sigma[k - 1] > 0.0 && (k == 1 || h->sigma[k - 1] < h->sigma[k - 2]),
+              "level %d: mean edge %.4g, level below %.4g", k, h->sigma[k - 1],
+              k > 1 ? h->sigma[k - 2] : 0.0);
+        for (size_t v = 0; v < l->mesh->nv; ++v) {
             const uint32_t f = ids[v];
             const double *n = s->nrm + 3 * (size_t)f, *pp = s->proj + 3 * (size_t)f;
-            double x[3], base = 0.0;
+            const double hv = lh[k - 1].base[v] + lh[k - 1].disp[v];
+            double x[3], base = 0.0, lo, hi;
             for (int i = 0; i < 3; ++i)
-                x[i] = pp[i] + (lh[k - 1].base[v] + lh[k - 1].disp[v]) * n[i];
+                x[i] = pp[i] + hv * n[i];
             if (f < s->n_samples && k == LEVELS) {
                 worst_s = fmax(worst_s, sqrt(dist2(x, orig->mesh->pos + 3 * (size_t)f)));
             } else if (f < s->n_samples) {
-                const double hv = lh[k - 1].base[v] + lh[k - 1].disp[v];
-                double hc[3], lo, hi;
-                sub3(orig->mesh->pos + 3 * (size_t)f, pp, hc);
-                lo = hi = dot3(hc, n);
-                sum_cap += fabs(lo);
+                double want = gauss_ref(s, NULL, captured, s->n_samples, f,
+                                        0.5 * h->sigma[k - 1], &lo, &hi);
+                worst_lp = fmax(worst_lp, fabs(hv - want));
+                sum_cap += fabs(captured[f]);
                 sum_lev += fabs(hv);
-                for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
-                    const uint32_t u = adj.nbr[i], fu = ids[u];
-                    double hu[3];
-                    if (fu >= s->n_samples)
-                        continue;
-                    sub3(orig->mesh->pos + 3 * (size_t)fu, s->proj + 3 * (size_t)fu, hu);
-                    lo = fmin(lo, dot3(hu, s->nrm + 3 * (size_t)fu));
-                    hi = fmax(hi, dot3(hu, s->nrm + 3 * (size_t)fu));
-                }
                 outside = fmax(outside, fmax(lo - hv, hv - hi));
             } else if (k == LEVELS)
                 worst_t = fmax(worst_t, sqrt(dist2(x, s->mesh->pos + 3 * (size_t)f)));
             if (k > 1)
-                for (int i = 0; i < 3; ++i)
-                    base += h->weight[k - 1][3 * v + i] *
-                            lh[k - 2].smoothed[h->corner[k - 1][3 * v + i]];
+                base = gauss_ref(s, h->ids[k - 2], prev, h->level[k - 2]->mesh->nv, f,
+                                 h->sigma[k - 2], &lo, &hi);
             worst_b = fmax(worst_b, fabs(base - lh[k - 1].base[v]));
         }
-        relief_adjacency_free(&adj);
+        free(prev);
+        prev = malloc(l->mesh->nv * sizeof *prev);
+        for (size_t v = 0; v < l->mesh->nv; ++v)
+            prev[v] = lh[k - 1].base[v] + lh[k - 1].disp[v];
         CHECK(worst_s < 1e-9, "level %d: a sample is %.3g off its captured position", k,
               worst_s);
         if (k < LEVELS) {
-            CHECK(outside < 1e-12, "level %d: a sample's height is %.3g outside its "
-                  "1-ring's captured heights", k, outside);
+            CHECK(worst_lp < 1e-12, "level %d: a sample's height is %.3g off the Gaussian "
+                  "mean of the captured heights", k, worst_lp);
+            CHECK(outside < 1e-12, "level %d: a sample's height is %.3g outside the "
+                  "captured heights it averages", k, outside);
             CHECK(sum_lev < 0.95 * sum_cap, "level %d: samples' mean |height| %.4g is not "
                   "below the captured %.4g: no low-pass", k, sum_lev, sum_cap);
             printf("level %d: samples' mean |height| %.4g, captured %.4g\n", k,
                    sum_lev / (double)l->n_samples, sum_cap / (double)l->n_samples);
         }
-        CHECK(worst_b < 1e-12, "level %d: a base is %.3g off the level below", k, worst_b);
+        CHECK(worst_b < 1e-12, "level %d: a base is %.3g off the Gaussian mean of the level "
+              "below", k, worst_b);
         CHECK(worst_t < 1e-9, "level %d: a target is %.3g off base + displacement", k, worst_t);
         printf("level %d: %zu vertices (%zu samples, %zu targets), %zu boxes of %.1f samples "
                "on average, %zu restricted matches, %zu + %zu fallbacks\n",
@@ -264,6 +286,8 @@ static void check_bookkeeping(void)
     CHECK(memcmp(s->proj, orig->proj, s->mesh->nv * 3 * sizeof(double)) == 0,
           "projections not restored to the primitive");
 done:
+    free(captured);
+    free(prev);
     free_heights(lh);
     relief_hierarchy_destroy(h);
     relief_surface_destroy(s);
