@@ -106,7 +106,7 @@ if want hierarchy; then
   # Paper 001 used 2 levels for its small cylinders and 3 to 7 for larger
   # surfaces, chosen empirically. The bands take 3 (the issue's ring test);
   # the bark 4: at 3 its level 1 (4535 targets x 2215 samples) took 38 of
-  # 45 s and its MSI difference was 5.0 %, at 4 it is 2.2 %.
+  # 45 s. bench/hierarchy_quality.sh shows the MSI difference for M 2..5.
   "$BH" --case paper001-cylinder "${P001[@]}" --levels 2 --backend opencl --reps "$REPS" \
     --csv "$OUT/hierarchy.csv"
   # The same without pruning: the papers' exhaustive search, which their
