@@ -22,6 +22,7 @@
 
 #include "base/error.h"
 #include "base/knn.h"
+#include "base/vec3.h"
 #include "mesh/mesh.h"
 
 /* ------------------------------------------------------ disc selection */
@@ -293,11 +294,11 @@ static relief_status mean_edge(relief_hierarchy *h, int ki, relief_error *err)
     for (size_t v = 0; v < m->nv; ++v)
         for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
             const uint32_t u = adj.nbr[i];
-            const double *a = pp + 3 * (size_t)h->ids[ki][v], *b = pp + 3 * (size_t)h->ids[ki][u];
+            double d[3];
             if (u < v)
                 continue;
-            sum += sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                        (a[2] - b[2]) * (a[2] - b[2]));
+            sub3(pp + 3 * (size_t)h->ids[ki][v], pp + 3 * (size_t)h->ids[ki][u], d);
+            sum += sqrt(dot3(d, d));
             ++n;
         }
     relief_adjacency_free(&adj);

@@ -218,74 +218,95 @@ done:
 #define GAUSS_REACH 3.0
 #define LOWPASS_SIGMA 0.5
 
-/* The Gaussian mean of a height field on the base (Nadaraya-Watson): for
- * each query vertex qid[i] (ids into the full surface, nq of them), out[i] =
- * sum w_j val[j] / sum w_j over the source vertices sid[j] (ns of them; sid
- * NULL: 0..ns-1) within GAUSS_REACH sigma of it, w_j = exp(-d^2 / 2
- * sigma^2) with d the distance between their primitive projections prim
- * (full nv x 3), counting only sources whose normal nrm is within 60
- * degrees of the query's (so that a free-form base's thin parts do not mix
- * their two sides). With no source that near, the nearest one's value.
- * Deterministic: FLANN's exact tree, results summed nearest first. */
-static relief_status gauss_heights(const double *prim, const double *nrm, const uint32_t *sid,
-                                   const double *val, size_t ns, const uint32_t *qid,
-                                   size_t nq, double sigma, double *out, relief_error *err)
+/* A height field on the base: values at ns vertices of the full surface
+ * (sid, ids into it; NULL: 0..ns-1), indexed once by FLANN's exact tree over
+ * their primitive projections, so that Gaussian means can be taken at any
+ * vertices. Owns pos, the scratch idx/dist and the index. */
+typedef struct height_field {
+    const uint32_t *sid;
+    const double *val;
+    size_t ns;
+    double *pos, *dist; /* ns x 3, ns */
+    int *idx;           /* ns */
+    flann_index_t index;
+} height_field;
+
+static void field_free(height_field *f)
 {
-    double *spos = malloc((ns + 1) * 3 * sizeof *spos), *dist = malloc((ns + 1) * sizeof *dist);
-    int *idx = malloc((ns + 1) * sizeof *idx);
+    struct FLANNParameters fp = relief_knn_exact_params();
+    if (f->index)
+        flann_free_index_double(f->index, &fp);
+    free(f->idx);
+    free(f->dist);
+    free(f->pos);
+    memset(f, 0, sizeof *f);
+}
+
+/* prim: the full surface's primitive projections (nv x 3). */
+static relief_status field_index(height_field *f, const double *prim, const uint32_t *sid,
+                                 const double *val, size_t ns, relief_error *err)
+{
+    struct FLANNParameters fp = relief_knn_exact_params();
+    float speedup;
+    f->sid = sid, f->val = val, f->ns = ns;
+    f->pos = malloc((ns + 1) * 3 * sizeof *f->pos);
+    f->dist = malloc((ns + 1) * sizeof *f->dist);
+    f->idx = malloc((ns + 1) * sizeof *f->idx);
+    f->index = NULL;
+    if (!f->pos || !f->dist || !f->idx) {
+        field_free(f);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's smoothing");
+    }
+    for (size_t j = 0; j < ns; ++j)
+        memcpy(f->pos + 3 * j, prim + 3 * (size_t)(sid ? sid[j] : j), 3 * sizeof *f->pos);
+    f->index = flann_build_index_double(f->pos, (int)ns, 3, &speedup, &fp);
+    if (!f->index) {
+        field_free(f);
+        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a level's heights");
+    }
+    return RELIEF_OK;
+}
+
+/* The Gaussian mean of f (Nadaraya-Watson) at each query vertex qid[i] (ids
+ * into the full surface, nq of them): out[i] = sum w_j val[j] / sum w_j
+ * over f's vertices within GAUSS_REACH sigma of it, w_j = exp(-d^2 / 2
+ * sigma^2) with d the distance between their primitive projections prim,
+ * counting only vertices whose normal nrm is within 60 degrees of the
+ * query's (so that a free-form base's thin parts do not mix their two
+ * sides). With no vertex that near, the nearest one's value. Deterministic:
+ * the exact tree, results summed nearest first. */
+static relief_status field_mean(height_field *f, const double *prim, const double *nrm,
+                                const uint32_t *qid, size_t nq, double sigma, double *out,
+                                relief_error *err)
+{
     const double inv2s2 = 1.0 / (2.0 * sigma * sigma);
     const float reach2 = (float)(GAUSS_REACH * GAUSS_REACH * sigma * sigma);
     struct FLANNParameters fp = relief_knn_exact_params();
-    flann_index_t index = NULL;
-    relief_status st = RELIEF_OK;
-    float speedup;
-
-    if (!spos || !dist || !idx) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's smoothing");
-        goto done;
-    }
-    for (size_t j = 0; j < ns; ++j)
-        memcpy(spos + 3 * j, prim + 3 * (size_t)(sid ? sid[j] : j), 3 * sizeof *spos);
-    index = flann_build_index_double(spos, (int)ns, 3, &speedup, &fp);
-    if (!index) {
-        st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a level's heights");
-        goto done;
-    }
     for (size_t i = 0; i < nq; ++i) {
-        const double *q = prim + 3 * (size_t)qid[i], *nq_ = nrm + 3 * (size_t)qid[i];
+        const double *q = prim + 3 * (size_t)qid[i], *qn = nrm + 3 * (size_t)qid[i];
         double acc = 0.0, wsum = 0.0;
-        int found = flann_radius_search_double(index, (double *)q, idx, dist, (int)ns, reach2,
-                                               &fp);
-        if (found < 0) {
-            st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN radius search failed");
-            goto done;
-        }
+        int found = flann_radius_search_double(f->index, (double *)q, f->idx, f->dist,
+                                               (int)f->ns, reach2, &fp);
+        if (found < 0)
+            return relief_fail(err, RELIEF_E_INTERNAL, "FLANN radius search failed");
         for (int k = 0; k < found; ++k) {
-            const uint32_t j = (uint32_t)idx[k];
-            if (dot3(nq_, nrm + 3 * (size_t)(sid ? sid[j] : j)) < 0.5)
+            const uint32_t j = (uint32_t)f->idx[k];
+            if (dot3(qn, nrm + 3 * (size_t)(f->sid ? f->sid[j] : j)) < 0.5)
                 continue;
-            const double w = exp(-dist[k] * inv2s2);
-            acc += w * val[j];
+            const double w = exp(-f->dist[k] * inv2s2);
+            acc += w * f->val[j];
             wsum += w;
         }
         if (wsum == 0.0) {
-            if (flann_find_nearest_neighbors_index_double(index, (double *)q, 1, idx, dist, 1,
-                                                          &fp) != 0) {
-                st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN search failed");
-                goto done;
-            }
-            acc = val[idx[0]];
+            if (flann_find_nearest_neighbors_index_double(f->index, (double *)q, 1, f->idx,
+                                                          f->dist, 1, &fp) != 0)
+                return relief_fail(err, RELIEF_E_INTERNAL, "FLANN search failed");
+            acc = f->val[f->idx[0]];
             wsum = 1.0;
         }
         out[i] = acc / wsum;
     }
-done:
-    if (index)
-        flann_free_index_double(index, &fp);
-    free(idx);
-    free(dist);
-    free(spos);
-    return st;
+    return RELIEF_OK;
 }
 
 static void add_stats(relief_grow_stats *t, const relief_grow_stats *s)
@@ -381,6 +402,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
     relief_adjacency adj = {NULL, NULL}, adj_prev = {NULL, NULL};
     const relief_grow_state *resume = go ? go->resume : NULL;
     level_saver saver;
+    height_field capture; /* the capture's heights, for the samples' low-pass */
     int k0 = 0; /* the first level to grow: 0, or a saved run's */
 
     memset(hs, 0, sizeof *hs);
@@ -436,7 +458,10 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         }
     }
 
-    for (int ki = k0; ki < M; ++ki) {
+    memset(&capture, 0, sizeof capture);
+    if (k0 < M - 1)
+        st = field_index(&capture, prim, NULL, captured, s->n_samples, err);
+    for (int ki = k0; ki < M && st == RELIEF_OK; ++ki) {
         relief_surface *lv = h->level[ki];
         relief_mesh *lm = lv->mesh;
         const size_t nv = lm->nv;
@@ -461,19 +486,22 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         if (st != RELIEF_OK)
             goto level_done;
         /* The smoothed level k - 1 surface under each vertex: its base. */
-        if (ki > 0)
-            st = gauss_heights(prim, s->nrm, h->ids[ki - 1], heights_prev,
-                               h->level[ki - 1]->mesh->nv, ids, nv, h->sigma[ki - 1], base,
-                               err);
-        else
+        if (ki > 0) {
+            height_field prev;
+            st = field_index(&prev, prim, h->ids[ki - 1], heights_prev,
+                             h->level[ki - 1]->mesh->nv, err);
+            if (st == RELIEF_OK)
+                st = field_mean(&prev, prim, s->nrm, ids, nv, h->sigma[ki - 1], base, err);
+            field_free(&prev);
+        } else
             memset(base, 0, nv * sizeof *base);
         /* Below the finest level the samples' relief is low-passed at the
          * level's own scale first, as an image pyramid filters before it
          * subsamples: a coarse level's vertices are too far apart for the
          * full relief, which would alias into false coarse structure. */
         if (st == RELIEF_OK && ki < M - 1)
-            st = gauss_heights(prim, s->nrm, NULL, captured, s->n_samples, ids, lv->n_samples,
-                               LOWPASS_SIGMA * h->sigma[ki], heights, err);
+            st = field_mean(&capture, prim, s->nrm, ids, lv->n_samples,
+                            LOWPASS_SIGMA * h->sigma[ki], heights, err);
         if (st != RELIEF_OK)
             goto level_done;
         for (size_t v = 0; v < nv; ++v) {
@@ -589,6 +617,7 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         if (st != RELIEF_OK)
             break;
     }
+    field_free(&capture);
     relief_matcher_destroy(m);
     relief_match_data_destroy(d_prev);
     relief_adjacency_free(&adj_prev);
