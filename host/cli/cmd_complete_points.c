@@ -53,6 +53,9 @@ static const char points_help[] =
     "                        units), or on the points IN's PLY labels 1 ('label')\n"
     "  --k N                 neighbours of the local analysis, 6..64 (default 16)\n"
     "  --smooth-steps N      curvature-flow steps of the base, 0..10000 (default 20)\n"
+    "  --max-detail S        the base keeps within S spacings of every point, so\n"
+    "                        that thin parts stay shape, not detail, 0..100\n"
+    "                        (default 1; 0: no bound)\n"
     "  --grid N              texture grid side, odd, 3..33 (default 23)\n"
     "  --cluster-size N      points per cluster before overlap, 16..100000\n"
     "                        (default 300)\n"
@@ -75,7 +78,7 @@ static const char points_help[] =
 enum {
     OPT_COLOUR_ONLY = 512, OPT_GEOMETRY_ONLY, OPT_HOLE_MASK, OPT_SAMPLE_REGION, OPT_K,
     OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH, OPT_CLONE_FROM,
-    OPT_DETAIL_HISTOGRAM, OPT_GRID_SEARCH
+    OPT_DETAIL_HISTOGRAM, OPT_GRID_SEARCH, OPT_MAX_DETAIL
 };
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
@@ -124,6 +127,7 @@ static int write_report(FILE *fp, void *ctx)
     rj_int(&j, "k", c->p->k);
     rj_int(&j, "smooth_steps", c->p->smooth_steps);
     rj_number(&j, "smooth_dt_spacings", c->p->smooth_dt);
+    rj_number(&j, "max_detail_spacings", c->p->max_detail);
     rj_number(&j, "band_spacings", c->p->band);
     rj_number(&j, "seam_band_spacings", c->p->seam_band);
     rj_int(&j, "grid", c->p->tex.grid_n);
@@ -244,6 +248,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         {"backend", required_argument, 0, OPT_BACKEND},
         {"device", required_argument, 0, OPT_DEVICE},
         {"smooth-steps", required_argument, 0, OPT_SMOOTH_STEPS},
+        {"max-detail", required_argument, 0, OPT_MAX_DETAIL},
         {"grid", required_argument, 0, OPT_GRID},
         {"cluster-size", required_argument, 0, OPT_CLUSTER_SIZE},
         {"iterations", required_argument, 0, OPT_ITERATIONS},
@@ -314,6 +319,13 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
             if (!cli_parse_int("complete-points", "--smooth-steps", optarg, 0, 10000, &v))
                 return EXIT_USAGE;
             p.smooth_steps = (int)v;
+            break;
+        case OPT_MAX_DETAIL:
+            if (!cli_parse_real("complete-points", "--max-detail", optarg, &p.max_detail))
+                return EXIT_USAGE;
+            if (!(p.max_detail >= 0.0 && p.max_detail <= 100.0))
+                return cli_usage_error("complete-points", "--max-detail: spacings in 0..100, "
+                                       "got '%s'", optarg);
             break;
         case OPT_GRID:
             if (!cli_parse_int("complete-points", "--grid", optarg, 3, 33, &v))

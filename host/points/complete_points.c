@@ -23,6 +23,7 @@ relief_points_params relief_points_params_default(void)
     p.k = 16;
     p.smooth_steps = 20;
     p.smooth_dt = 10.0;
+    p.max_detail = 1.0;
     p.rim_gap = 1.5707963267948966;
     p.band = 2.0;
     p.seam_band = 3.0;
@@ -49,6 +50,9 @@ static relief_status check_params(const relief_points_params *p, relief_error *e
     if (!(p->smooth_dt > 0.0 && p->smooth_dt <= 100.0))
         return relief_fail(err, RELIEF_E_RANGE, "smoothing step %g spacings out of range "
                            "(0, 100]", p->smooth_dt);
+    if (!(p->max_detail >= 0.0 && p->max_detail <= 100.0))
+        return relief_fail(err, RELIEF_E_RANGE, "--max-detail %g spacings out of range 0..100",
+                           p->max_detail);
     if (!(p->rim_gap > 0.0 && p->rim_gap < 6.283185307179586))
         return relief_fail(err, RELIEF_E_RANGE, "rim gap %g rad out of range (0, 2 pi)",
                            p->rim_gap);
@@ -165,8 +169,8 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
     if (st == RELIEF_OK && !(h > 0.0))
         st = relief_fail(err, RELIEF_E_RANGE, "--clone-from: most points are duplicates");
     if (st == RELIEF_OK)
-        st = relief_curvature_flow(c->pos, n0, &g, p->smooth_steps, p->smooth_dt * h, *base,
-                                   *nrm, err);
+        st = relief_curvature_flow(c->pos, n0, &g, p->smooth_steps, p->smooth_dt * h,
+                                   p->max_detail * h, *base, *nrm, err);
     if (st == RELIEF_OK)
         relief_detail_encode(c->pos, *base, *nrm, nc, *detail);
 done:
@@ -260,7 +264,7 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
         goto nomem;
     if (want_geometry) {
         st = relief_curvature_flow(in->pos, w.nrm, &w.g, p->smooth_steps, p->smooth_dt * spacing,
-                                   w.base, w.base_nrm, err);
+                                   p->max_detail * spacing, w.base, w.base_nrm, err);
         if (st != RELIEF_OK)
             goto fail;
     } else {

@@ -40,6 +40,8 @@ typedef struct relief_points_params {
     int k;                /* neighbours of the local analysis, 6..64 (default 16) */
     int smooth_steps;     /* curvature-flow steps for the base, 0..10000 (default 20) */
     double smooth_dt;     /* time step in spacings, (0, 100] (default 10; flow.h) */
+    double max_detail;    /* the farthest a base point lies from its point, in
+                             spacings, 0..100 (default 1; 0: unbounded; flow.h) */
     double rim_gap;       /* one-sided test's angular gap, radians (default pi/2) */
     double band;          /* exemplars keep this far from a rim, spacings >= 0 (default 2) */
     double seam_band;     /* normal blending band d, spacings >= 0 (default 3) */

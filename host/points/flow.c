@@ -22,7 +22,8 @@ static double local_normal(const double *q, const relief_knn_graph *g, size_t i,
 
 relief_status relief_curvature_flow(const double *pos, const double *nrm,
                                     const relief_knn_graph *g, int steps, double dt,
-                                    double *base, double *base_nrm, relief_error *err)
+                                    double max_disp, double *base, double *base_nrm,
+                                    relief_error *err)
 {
     size_t n = g->n, k = (size_t)g->k;
     double *next;
@@ -32,6 +33,9 @@ relief_status relief_curvature_flow(const double *pos, const double *nrm,
                            steps);
     if (!(dt > 0.0) || !isfinite(dt))
         return relief_fail(err, RELIEF_E_RANGE, "smoothing step length %g must be positive", dt);
+    if (!(max_disp >= 0.0) || !isfinite(max_disp))
+        return relief_fail(err, RELIEF_E_RANGE, "the base's largest offset %g must be 0 "
+                           "(unbounded) or positive", max_disp);
     next = malloc(n * 3 * sizeof *next);
     if (!next)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the smoothing of %zu points", n);
@@ -69,6 +73,14 @@ relief_status relief_curvature_flow(const double *pos, const double *nrm,
                     step = -off;
                 for (int a = 0; a < 3; ++a)
                     next[3 * i + a] = p[a] - step * nn[a];
+                if (max_disp > 0.0) { /* shape stays in the base */
+                    double d[3], len;
+                    sub3(next + 3 * i, pos + 3 * i, d);
+                    len = sqrt(dot3(d, d));
+                    if (len > max_disp)
+                        for (int a = 0; a < 3; ++a)
+                            next[3 * i + a] = pos[3 * i + a] + d[a] * (max_disp / len);
+                }
             }
             memcpy(base_nrm + 3 * i, nn, sizeof nn);
         }

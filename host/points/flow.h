@@ -14,6 +14,14 @@
  * never carries a point past its neighbourhood's least-squares plane, which
  * keeps that long step stable where offsets are large.
  *
+ * Shape stays in the base: a point's base point never lies farther than
+ * max_disp from the point (a step that would carry it farther is cut back
+ * along the whole displacement). Without it a part only a few spacings
+ * thick, an arm of fertility at its 2.4-unit spacing, is flattened into a
+ * blade by the flow, and its "detail" is then the arm's own shape (RMS 1.7
+ * spacings there), which the base's hole patch and the synthesis cannot
+ * carry.
+ *
  * Detail: c_i = sign((p_i - p'_i) . n'_i) |p_i - p'_i|, the signed distance
  * of the input point from its base point along the base normal, so that
  * p'_i + c_i n'_i reconstructs p_i up to the tangential part of p_i - p'_i.
@@ -29,11 +37,13 @@
 
 /* `steps` (0..10000) Euler steps of time step dt (> 0, a length, since
  * sigma_n has no unit) from pos
- * (with its oriented normals nrm) into base (n x 3) and base_nrm (n x 3).
- * RELIEF_E_RANGE for steps or dt out of range. */
+ * (with its oriented normals nrm) into base (n x 3) and base_nrm (n x 3),
+ * no base point farther than max_disp (a length; 0: unbounded) from its
+ * point. RELIEF_E_RANGE for steps, dt or max_disp out of range. */
 relief_status relief_curvature_flow(const double *pos, const double *nrm,
                                     const relief_knn_graph *g, int steps, double dt,
-                                    double *base, double *base_nrm, relief_error *err);
+                                    double max_disp, double *base, double *base_nrm,
+                                    relief_error *err);
 
 /* The signed detail c (n) of pos over base/base_nrm, and the RMS of
  * |base + c base_nrm - pos| over the points (the reconstruction's error),

@@ -6,6 +6,7 @@
 
 #include "check.h"
 #include "base/rng.h"
+#include "base/vec3.h"
 #include "points/analysis.h"
 #include "points/flow.h"
 #include "points/holes.h"
@@ -87,8 +88,8 @@ static void test_flow(void)
     relief_knn_graph_build(pos, n, 16, &g, &err);
     relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
     h = relief_knn_spacing(&g);
-    CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, base, bn, &err) == RELIEF_OK, "%s",
-          err.message);
+    CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.0, base, bn, &err) == RELIEF_OK,
+          "%s", err.message);
     /* The bumps (2 % of the radius, 3.4 spacings long) are what the flow
      * removes, most of them: the base is
      * rounder than the input, by the deviation of each from its mean radius. */
@@ -115,8 +116,32 @@ static void test_flow(void)
     }
     rms = relief_detail_encode(pos, base, bn, n, c);
     CHECK(rms < 0.2 * dev_in, "reconstruction RMS %g against relief %g", rms, dev_in);
-    CHECK(relief_curvature_flow(pos, nrm, &g, -1, h, base, bn, &err) == RELIEF_E_RANGE, "steps");
-    CHECK(relief_curvature_flow(pos, nrm, &g, 1, 0.0, base, bn, &err) == RELIEF_E_RANGE, "dt");
+    /* max_disp bounds every base point's offset, and binds: half the
+     * unbounded flow's largest offset. */
+    {
+        double far = 0.0, far_b = 0.0, d[3];
+        size_t bound = 0;
+        for (size_t i = 0; i < n; ++i) {
+            sub3(base + 3 * i, pos + 3 * i, d);
+            far = fmax(far, sqrt(dot3(d, d)));
+        }
+        CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.5 * far, base, bn, &err) ==
+                  RELIEF_OK, "%s", err.message);
+        for (size_t i = 0; i < n; ++i) {
+            sub3(base + 3 * i, pos + 3 * i, d);
+            far_b = fmax(far_b, sqrt(dot3(d, d)));
+            bound += sqrt(dot3(d, d)) > 0.5 * far * (1.0 - 1e-9);
+        }
+        CHECK(far > 0.0 && far_b <= 0.5 * far * (1.0 + 1e-12), "bounded offset %g, bound %g",
+              far_b, 0.5 * far);
+        CHECK(bound > 0, "no point reached the bound %g", 0.5 * far);
+    }
+    CHECK(relief_curvature_flow(pos, nrm, &g, -1, h, 0.0, base, bn, &err) == RELIEF_E_RANGE,
+          "steps");
+    CHECK(relief_curvature_flow(pos, nrm, &g, 1, 0.0, 0.0, base, bn, &err) == RELIEF_E_RANGE,
+          "dt");
+    CHECK(relief_curvature_flow(pos, nrm, &g, 1, h, -h, base, bn, &err) == RELIEF_E_RANGE,
+          "max_disp");
     relief_knn_graph_free(&g);
     free(pos), free(nrm), free(base), free(bn), free(c);
 }
