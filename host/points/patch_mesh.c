@@ -10,6 +10,7 @@
 #include "base/vec3.h"
 #include "mesh/io_openmesh.h"
 #include "mesh/mesh.h"
+#include "points/surface_mesh.h"
 #include "smooth/delaunay.h"
 
 #define PATCH_MAX_CIRCUMRADIUS 3.0 /* spacings */
@@ -421,6 +422,31 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
         st = relief_points_lay_triangles(pos, N, tri_in, nt_in, cand, nt, 0, &tri, &nt, err);
     else
         nt = 0;
+    if (st == RELIEF_OK && nt) {
+        /* The cracks where fronts from two sides met: small loops through
+         * a new point, closed by ears, with the mesh's own triangles in
+         * view (a loop of the capture's alone stays open). */
+        uint32_t *all = malloc((nt_in + nt) * 3 * sizeof *all);
+        size_t nall = nt_in + nt;
+        if (!all) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+        } else {
+            memcpy(all, tri_in, nt_in * 3 * sizeof *all);
+            memcpy(all + 3 * nt_in, tri, nt * 3 * sizeof *all);
+            st = relief_points_close_gaps(pos, N, n_in, 2.0 * PATCH_MAX_CIRCUMRADIUS * spacing,
+                                          &all, &nall, err);
+            if (st == RELIEF_OK && nall > nt_in + nt) {
+                uint32_t *g = realloc(tri, (nall - nt_in) * 3 * sizeof *g);
+                if (!g) {
+                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+                } else {
+                    tri = g, nt = nall - nt_in;
+                    memcpy(tri, all + 3 * nt_in, nt * 3 * sizeof *tri);
+                }
+            }
+            free(all);
+        }
+    }
 done:
     free(ids), free(uv), free(cand);
     if (st != RELIEF_OK) {

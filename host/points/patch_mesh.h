@@ -13,7 +13,9 @@
  * close the cracks where fronts from two sides meet; of those, the ones
  * OpenMesh can store in that order are kept (the mesh writer, OpenMesh,
  * adds faces one by one and cannot always relink a vertex whose fans a
- * corner split), so that the result can be written. With
+ * corner split), so that the result can be written. Last, the cracks
+ * where fronts met, boundary loops of at most 12 edges through a new
+ * point, are closed by ears (relief_points_close_gaps). With
  * the input mesh's own triangles this makes the completed surface. A hole
  * whose points do not project one-to-one on a plane (a deep pocket) gets
  * folded triangles: the patch is a height field over its plane.

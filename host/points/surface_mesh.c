@@ -119,12 +119,9 @@ static size_t umbrella(const double *pos, const double *nrm, const relief_knn_gr
 
 #define SURF_MAX_LOOP 12 /* edges: longer gaps stay open */
 
-/* Close the small gaps the umbrellas left: each boundary loop of at most
- * SURF_MAX_LOOP edges, through vertices on one loop only, cut into ears,
- * the shortest diagonal first (no diagonal over 2 cell radii), then those
- * of the new triangles OpenMesh accepts after *tri's. *tri grows. */
-static relief_status close_gaps(const double *pos, size_t N, double max_diag, uint32_t **tri,
-                                size_t *nt, relief_error *err)
+relief_status relief_points_close_gaps(const double *pos, size_t N, size_t first_new,
+                                       double max_diag, uint32_t **tri, size_t *nt,
+                                       relief_error *err)
 {
     const size_t n = *nt;
     uint64_t *he = malloc((3 * n + 1) * sizeof *he);
@@ -152,7 +149,7 @@ static relief_status close_gaps(const double *pos, size_t N, double max_diag, ui
     }
     for (uint32_t s = 0; s < N; ++s) {
         uint32_t loop[SURF_MAX_LOOP + 1];
-        int m = 0, simple = 1;
+        int m = 0, simple = 1, fresh = 0;
         if (outs[s] != 1)
             continue;
         for (uint32_t v = s; m <= SURF_MAX_LOOP; v = next[v]) {
@@ -164,9 +161,11 @@ static relief_status close_gaps(const double *pos, size_t N, double max_diag, ui
             if (next[v] == s)
                 break;
         }
-        for (int q = 0; q < m; ++q)
+        for (int q = 0; q < m; ++q) {
             outs[loop[q]] = 3; /* walked */
-        if (!simple || m < 3 || m > SURF_MAX_LOOP || next[loop[m - 1]] != s)
+            fresh |= loop[q] >= first_new;
+        }
+        if (!simple || !fresh || m < 3 || m > SURF_MAX_LOOP || next[loop[m - 1]] != s)
             continue;
         while (m >= 3) {
             int best = -1;
@@ -266,7 +265,8 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
     st = relief_points_lay_triangles(pos, N, NULL, 0, cand, ncand, 1, tri, nt, err);
     free(cand);
     if (st == RELIEF_OK && *nt)
-        st = close_gaps(pos, N, 2.0 * SURF_CELL_RADIUS * spacing, tri, nt, err);
+        st = relief_points_close_gaps(pos, N, 0, 2.0 * SURF_CELL_RADIUS * spacing, tri, nt,
+                                      err);
     if (st != RELIEF_OK) {
         free(*tri);
         *tri = NULL, *nt = 0;
