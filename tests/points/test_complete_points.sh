@@ -94,11 +94,12 @@ if [[ -f $planck ]]; then
   fi
   # --levels on the smooth base: its levels are the base's triangles
   # collapsed; the targets come closer to the truth than mono-scale (seed 1:
-  # 0.79 against 1.69, spacing 3.9), the same bytes from every backend.
+  # 1.30 against 1.65, spacing 3.9; 0.79 against 1.69 before the base's
+  # --max-detail bound), the same bytes from every backend.
   expect 0 "2 levels of" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp2.ply" --base smooth --levels 2 --backend scalar
   "$relief" eval "$tmp/mp2.ply" --truth "$tmp/mp_truth.ply" > "$tmp/mp2_eval.txt" 2>&1
   r1=$(awk '/^truth_rms:/ { print $2 }' "$tmp/mp_eval.txt") r2=$(awk '/^truth_rms:/ { print $2 }' "$tmp/mp2_eval.txt")
-  ok 'awk -v a="$r2" -v b="$r1" "BEGIN { exit !(a > 0 && a < 1.3 && a < b) }"' "--base smooth --levels 2: targets $r2 off the truth, mono-scale $r1"
+  ok 'awk -v a="$r2" -v b="$r1" "BEGIN { exit !(a > 0 && a < 1.5 && a < 0.9 * b) }"' "--base smooth --levels 2: targets $r2 off the truth, mono-scale $r1"
   expect 0 "" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/mp2_host.ply" --base smooth --levels 2 --backend host --quiet
   ok 'cmp -s "$tmp/mp2.ply" "$tmp/mp2_host.ply"' "--base smooth --levels 2: host and scalar outputs differ"
   expect 1 "do not apply" -- "$relief" complete "$tmp/mp_cut.ply" -o "$tmp/bad.ply" --base smooth --fit plane; nothing "--base smooth --fit"
