@@ -14,14 +14,17 @@
  *   E = sum_i ||G_i - Z_i||^2 + lambda sum_{k in rim} (x(k) - x_c(k))^2
  * is minimised by alternating an exact nearest-neighbour search of each
  * G_i among the Z (FLANN, kd-tree, exact) and averaging the matched Z back
- * onto the points (bilinear from the grid, averaged where clusters
- * overlap), until E changes by less than tol relatively or max_iter. Only
- * the unknown points' values change; the known ones are the constraint.
- * As computed (texopt.c), ||G_i - Z_i||^2 is taken at the cluster's points
- * (Z_i read bilinearly at each member) and the rim points, being known,
- * enter with weight 1 + lambda, so that neither step can raise E. Unknown
- * values start as a seeded random draw of exemplar values; at most 20 000
- * exemplar grids are searched (a seeded subset beyond).
+ * onto the points (each point reads a match at its place, averaged where
+ * clusters overlap), until E changes by less than tol relatively or
+ * max_iter. Only the unknown points' values change; the known ones are the
+ * constraint. As computed (texopt.c), ||G_i - Z_i||^2 is taken at the
+ * cluster's points (Z_i read at each member from the exemplar points
+ * about its place, not interpolated from the grid's nodes, which would
+ * blur) and
+ * the rim points, being known, enter with weight 1 + lambda, so that
+ * neither step can raise E. Unknown values start grown inward from the
+ * known part (texopt.c); at most 20 000 exemplar grids are searched (a
+ * seeded subset beyond).
  * Deterministic for a given seed, whatever the number of threads. */
 #ifndef RELIEF_HOST_POINTS_TEXOPT_H
 #define RELIEF_HOST_POINTS_TEXOPT_H
@@ -48,7 +51,8 @@ typedef struct relief_texopt_params {
     uint64_t seed;       /* initialisation of the unknown values (default 1) */
     int threads;         /* worker threads, 0 = online CPUs (default 0) */
     unsigned histogram;  /* bit c set: channel c's unknown values end histogram-matched
-                            to the exemplars' (texopt.c; default 0) */
+                            to the exemplars' about them (those in the clusters
+                            that hold unknown points; texopt.c; default 0) */
     int brute;           /* 1: the M-step's nearest grids by brute force (grid_nn.h) on
                             `backend` and `device`; 0 (default): FLANN's exact kd-tree */
     relief_backend backend; /* brute's: scalar, opencl, auto (default: OpenCL on a GPU) */

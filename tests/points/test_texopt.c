@@ -5,7 +5,10 @@
  * better than the pattern turned by 90 degrees), the energy never rises,
  * the result is the same bytes for a seed and for 1 or 2 threads, the known
  * values stay as they were, and bad inputs fail with RELIEF_E_RANGE
- * leaving the values alone. */
+ * leaving the values alone. Stripes 3 spacings apart keep more of their
+ * amplitude than the grids' blurred nodes would give (the fill reads the
+ * exemplar points), and histogram matching gives a noise fill the
+ * exemplars' spread without reordering it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,19 +21,19 @@
 #define SIDE 120
 #define N (SIDE * SIDE)
 #define HOLE_R 15.0
-#define PERIOD 8.0
 
 static const double TAU = 6.283185307179586;
 
 typedef struct plane {
+    double period; /* of the stripes, in point spacings */
     double pos[3 * N], nrm[3 * N];
     uint8_t unknown[N], exemplar[N], rim[N];
 } plane;
 
-/* The stripe pattern's value at coordinate w (channels ch) shifted by phi. */
-static void stripe(double w, int ch, float *out)
+/* The stripe pattern's value at coordinate w (channels ch). */
+static void stripe(double w, double period, int ch, float *out)
 {
-    const double a = TAU * w / PERIOD;
+    const double a = TAU * w / period;
     if (ch == 1) {
         out[0] = (float)sin(a);
         return;
@@ -40,9 +43,10 @@ static void stripe(double w, int ch, float *out)
     out[2] = sin(a + 1.0) > 0 ? 0.9f : 0.1f; /* a square wave: hard edges */
 }
 
-static void make_plane(plane *pl)
+static void make_plane(plane *pl, double period)
 {
     relief_rng rng;
+    pl->period = period;
     relief_rng_seed(&rng, 7);
     for (int j = 0; j < SIDE; ++j)
         for (int i = 0; i < SIDE; ++i) {
@@ -61,7 +65,7 @@ static void make_plane(plane *pl)
 static void truth(const plane *pl, int ch, float *v)
 {
     for (size_t k = 0; k < N; ++k)
-        stripe(pl->pos[3 * k], ch, v + k * ch);
+        stripe(pl->pos[3 * k], pl->period, ch, v + k * ch);
 }
 
 /* The RMS over the unknown points of the completed values against the
@@ -70,14 +74,14 @@ static void truth(const plane *pl, int ch, float *v)
 static double best_rms(const plane *pl, const float *v, int ch, int axis)
 {
     double best = INFINITY;
-    for (double phi = 0; phi < PERIOD; phi += 0.05) {
+    for (double phi = 0; phi < pl->period; phi += 0.05) {
         double s = 0;
         size_t m = 0;
         for (size_t k = 0; k < N; ++k) {
             float t[3];
             if (!pl->unknown[k])
                 continue;
-            stripe(pl->pos[3 * k + axis] + phi, ch, t);
+            stripe(pl->pos[3 * k + axis] + phi, pl->period, ch, t);
             for (int c = 0; c < ch; ++c)
                 s += (v[k * ch + c] - t[c]) * (v[k * ch + c] - t[c]);
             m += (size_t)ch;
@@ -146,6 +150,9 @@ static void check_completion(const plane *pl, int ch)
            r.converged, r.energy[0], r.energy[r.iterations - 1], fit, turned, blur);
     CHECK(fit < 0.5 * blur, "%d channels: RMS %.3f at the best shift, not well below the "
           "truth's spread %.3f", ch, fit, blur);
+    /* Read from the grids' nodes the stripes came back at 0.236 (1
+     * channel), from the points at 0.138. */
+    CHECK(ch != 1 || fit < 0.18, "1 channel: RMS %.3f at the best shift (0.138 expected)", fit);
     CHECK(turned > 2 * fit, "%d channels: the turned pattern fits as well (%.3f vs %.3f)", ch,
           turned, fit);
     CHECK(r.iterations >= 2 && r.iterations <= p.max_iter, "%d iterations", r.iterations);
@@ -221,9 +228,10 @@ static void check_bad(plane *pl)
 }
 
 /* Histogram matching (p.histogram bit 0): the unknown values keep their
- * order (the optimisation's layout) and take the exemplars' distribution:
- * their spread is the exemplars' where without it the averaging leaves it
- * narrower. */
+ * order (the optimisation's layout) and take the distribution of the
+ * exemplars about the hole (the active clusters'): on white noise, which
+ * no match continues, the overlapping matches' average leaves the fill's
+ * spread narrower than the exemplars'; matched, it is theirs. */
 static const float *sort_key;
 static int by_key(const void *a, const void *b)
 {
@@ -231,21 +239,44 @@ static int by_key(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static void check_histogram(const plane *pl)
+static float *run_noise(const plane *pl, const relief_texopt_params *p, relief_texopt_result *r)
+{
+    relief_error err;
+    relief_rng rng;
+    float *v = malloc(N * sizeof *v);
+    relief_status st;
+    relief_rng_seed(&rng, 11);
+    for (size_t k = 0; k < N; ++k)
+        v[k] = pl->unknown[k] ? -7.0f : (float)(relief_rng_uniform(&rng) - 0.5);
+    st = relief_texopt_complete(pl->pos, pl->nrm, N, 1, v, pl->unknown, pl->exemplar, pl->rim,
+                                p, r, &err);
+    CHECK(st == RELIEF_OK, "completion failed: %s", err.message);
+    return v;
+}
+
+static void check_histogram(const plane *pl_in)
 {
     relief_texopt_params p = relief_texopt_params_default();
     relief_texopt_result r0 = {0}, r1 = {0};
     float *v0, *v1;
     double sd_ex, sd0, sd1;
     size_t ne = 0, nu = 0, *idx = malloc(N * sizeof *idx), disorder = 0;
-    plane *ex = malloc(sizeof *ex);
+    plane *ex = malloc(sizeof *ex), *pl = malloc(sizeof *pl);
+    /* The exemplars start 3 spacings from the hole, as a capture's do, so
+     * that the clusters about the hole (whose exemplars' distribution is
+     * the one matched) hold many. */
+    *pl = *pl_in;
+    for (size_t k = 0; k < N; ++k)
+        pl->exemplar[k] = hypot(pl->pos[3 * k] - SIDE / 2.0, pl->pos[3 * k + 1] - SIDE / 2.0) >
+                          HOLE_R + 3;
     p.threads = 2;
     p.grid_n = 11;
-    v0 = run(pl, 1, &p, &r0);
+    v0 = run_noise(pl, &p, &r0);
     p.histogram = 1u;
-    v1 = run(pl, 1, &p, &r1);
+    v1 = run_noise(pl, &p, &r1);
     /* The exemplars' spread, through spread() on a plane whose "unknown"
-     * points are the exemplars. */
+     * points are the exemplars (noise: the same about the hole as
+     * anywhere, within sampling). */
     *ex = *pl;
     for (size_t k = 0; k < N; ++k)
         ex->unknown[k] = pl->exemplar[k], ne += pl->exemplar[k] != 0;
@@ -260,19 +291,44 @@ static void check_histogram(const plane *pl)
         disorder += v0[idx[i]] > v0[idx[i - 1]] && v1[idx[i]] < v1[idx[i - 1]];
     printf("histogram: exemplars' spread %.4f (%zu), completed %.4f without matching, %.4f "
            "with; %zu of %zu pairs out of order\n", sd_ex, ne, sd0, sd1, disorder, nu);
-    CHECK(fabs(sd1 - sd_ex) <= 0.02 * sd_ex, "matched spread %.4f, the exemplars' %.4f", sd1,
+    CHECK(fabs(sd1 - sd_ex) <= 0.03 * sd_ex, "matched spread %.4f, the exemplars' %.4f", sd1,
           sd_ex);
-    CHECK(sd0 < 0.98 * sd_ex, "without matching the spread %.4f is not narrower than the "
+    CHECK(sd0 < 0.95 * sd_ex, "without matching the spread %.4f is not narrower than the "
           "exemplars' %.4f: the test cannot tell matching from none", sd0, sd_ex);
     CHECK(disorder == 0, "histogram matching reordered %zu values", disorder);
     relief_texopt_result_free(&r0), relief_texopt_result_free(&r1);
-    free(v0), free(v1), free(idx), free(ex);
+    free(v0), free(v1), free(idx), free(ex), free(pl);
+}
+
+/* Stripes 3 spacings apart, completed at the default grid (nodes about
+ * 0.85 spacings apart): each member reads the exemplar points about its
+ * place in the match, not the grid's nodes (Gaussian means of the points
+ * about them, read bilinearly: 0.57 of the stripes' spread came back that
+ * way, 0.65 now). */
+static void check_sharpness(const plane *pl)
+{
+    relief_texopt_params p = relief_texopt_params_default();
+    relief_texopt_result r = {0};
+    float *v, *t = malloc(N * sizeof *t);
+    double sd_truth, sd_fill, fit;
+    p.threads = 2;
+    v = run(pl, 1, &p, &r);
+    truth(pl, 1, t);
+    sd_truth = spread(pl, t, 1), sd_fill = spread(pl, v, 1), fit = best_rms(pl, v, 1, 0);
+    printf("period %.0f: the fill's spread %.4f, the truth's %.4f (%.2f); RMS at the best shift "
+           "%.3f\n", pl->period, sd_fill, sd_truth, sd_fill / sd_truth, fit);
+    CHECK(sd_fill > 0.6 * sd_truth, "the fill's spread %.4f is under 0.6 of the truth's %.4f",
+          sd_fill, sd_truth);
+    relief_texopt_result_free(&r);
+    free(v), free(t);
 }
 
 int main(void)
 {
     plane *pl = malloc(sizeof *pl);
-    make_plane(pl);
+    make_plane(pl, 3.0);
+    check_sharpness(pl);
+    make_plane(pl, 8.0);
     check_completion(pl, 1);
     check_completion(pl, 3);
     check_histogram(pl);
