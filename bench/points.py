@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """relief complete-points (paper 002) on holes cut where the truth is known,
-with and without --detail-histogram, beside two baselines run in the same
+with and without its detail histogram (--no-detail-histogram), beside two baselines run in the same
 script: the smooth RBF fill alone
 (`--smooth-only`, the paper's Fig. 9g) and Open3D's screened Poisson
 reconstruction (python3-open3d, a peer, never linked; its vertices inside
@@ -146,7 +146,7 @@ def main():
         # Only fills in (a margin around) the cut ball are measured: the
         # scans' own holes (the bunny's base) are filled too, with no truth.
         region = "%r,%r,%r,%r" % (ball[0], ball[1], ball[2], 1.5 * radius)
-        variants = [("relief", []), ("detail-histogram", ["--detail-histogram"]),
+        variants = [("relief", []), ("no-histogram", ["--no-detail-histogram"]),
                     ("smooth-only", ["--smooth-only"])]
         for vname, extra in variants:
             res = os.path.join(out, "%s_%s.ply" % (name, vname))

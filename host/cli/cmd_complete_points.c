@@ -42,9 +42,10 @@ static const char points_help[] =
     "  --geometry-only       new points and their detail; colour from the rim\n"
     "  --smooth-only         the smooth fill alone (no detail, colour from the\n"
     "                        rim): the baseline of the paper's Fig. 9g\n"
-    "  --detail-histogram    give the new points' detail the capture's distribution\n"
-    "                        (histogram matching after the texture optimisation):\n"
-    "                        rougher, nearer the scan's own; the RMS error can rise\n"
+    "  --no-detail-histogram leave the new points' detail as the texture\n"
+    "                        optimisation averaged it (by default it takes the\n"
+    "                        distribution of the capture about the hole, by\n"
+    "                        histogram matching: as rough as the scan's own)\n"
     "  --clone-from FILE     copy the detail (and colour, when both have it) from\n"
     "                        another scan, sampled about as densely (paper 6.3)\n"
     "  --hole-mask WHAT      points to synthesise again besides the holes: 'label'\n"
@@ -78,7 +79,7 @@ static const char points_help[] =
 enum {
     OPT_COLOUR_ONLY = 512, OPT_GEOMETRY_ONLY, OPT_HOLE_MASK, OPT_SAMPLE_REGION, OPT_K,
     OPT_SMOOTH_STEPS, OPT_GRID, OPT_CLUSTER_SIZE, OPT_ITERATIONS, OPT_BAND, OPT_SMOOTH_ONLY, OPT_MESH, OPT_CLONE_FROM,
-    OPT_DETAIL_HISTOGRAM, OPT_GRID_SEARCH, OPT_MAX_DETAIL
+    OPT_DETAIL_HISTOGRAM, OPT_NO_DETAIL_HISTOGRAM, OPT_GRID_SEARCH, OPT_MAX_DETAIL
 };
 
 /* Read IN: a PCD cloud (its finite points; the sensor at the origin, as
@@ -239,7 +240,8 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         {"geometry-only", no_argument, 0, OPT_GEOMETRY_ONLY},
         {"hole-mask", required_argument, 0, OPT_HOLE_MASK},
         {"smooth-only", no_argument, 0, OPT_SMOOTH_ONLY},
-        {"detail-histogram", no_argument, 0, OPT_DETAIL_HISTOGRAM},
+        {"detail-histogram", no_argument, 0, OPT_DETAIL_HISTOGRAM}, /* the default */
+        {"no-detail-histogram", no_argument, 0, OPT_NO_DETAIL_HISTOGRAM},
         {"mesh", required_argument, 0, OPT_MESH},
         {"clone-from", required_argument, 0, OPT_CLONE_FROM},
         {"sample-region", required_argument, 0, OPT_SAMPLE_REGION},
@@ -294,6 +296,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         case OPT_HOLE_MASK: mask_spec = optarg; break;
         case OPT_SMOOTH_ONLY: p.smooth_only = 1; break;
         case OPT_DETAIL_HISTOGRAM: p.detail_histogram = 1; break;
+        case OPT_NO_DETAIL_HISTOGRAM: p.detail_histogram = 0; break;
         case OPT_MESH: mesh_path = optarg, p.mesh = 1; break;
         case OPT_CLONE_FROM: clone_path = optarg; break;
         case OPT_SAMPLE_REGION:

@@ -27,6 +27,7 @@ relief_points_params relief_points_params_default(void)
     p.rim_gap = 1.5707963267948966;
     p.band = 2.0;
     p.seam_band = 3.0;
+    p.detail_histogram = 1;
     p.tex = relief_texopt_params_default();
     p.rbf = relief_rbf_params_default();
     return p;

@@ -55,10 +55,11 @@ typedef struct relief_points_params {
     const double *viewpoint;  /* 3 or NULL: a camera the normals face (a PCD's sensor) */
     int smooth_only;      /* the smooth fill alone (paper 002's Fig. 9g, a baseline): new
                              points on the filled base, no detail, colour from the rim */
-    int detail_histogram; /* 1: the new points' detail c' ends histogram-matched to the
-                             exemplars' (texopt.h's histogram bit): the averaging of
-                             overlapping matches narrows it (default 0: README has the
-                             trade against the error) */
+    int detail_histogram; /* 1 (default): the new points' detail c' ends histogram-
+                             matched to the exemplars' about the hole (texopt.h's
+                             histogram bit): the averaging of overlapping matches and
+                             their leaning to smooth exemplars narrow it; 0: as the
+                             optimisation left it (README has both measured) */
     int mesh;             /* 1: *out also gets triangles: a mesh input's own and the
                              filled holes' patches (points/patch_mesh.h); for a point
                              set, a surface through all the output's points

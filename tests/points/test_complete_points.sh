@@ -47,8 +47,10 @@ expect 1 "the kd-tree runs on the host" -- "$relief" complete-points "$tmp/fert_
 expect 1 "not one of kdtree, brute" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid-search fast; nothing "--grid-search fast"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
-expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fh.ply" --detail-histogram --iterations 10 --report "$tmp/fh.json" --quiet
-ok '! cmp -s "$tmp/f.ply" "$tmp/fh.ply" && grep -q "\"detail_histogram\": true" "$tmp/fh.json"' "--detail-histogram changed nothing or is not in the report"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fh.ply" --no-detail-histogram --iterations 10 --report "$tmp/fh.json" --quiet
+ok '! cmp -s "$tmp/f.ply" "$tmp/fh.ply" && grep -q "\"detail_histogram\": false" "$tmp/fh.json"' "--no-detail-histogram changed nothing or is not in the report"
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fd.ply" --detail-histogram --iterations 10 --quiet
+ok 'cmp -s "$tmp/f.ply" "$tmp/fd.ply"' "--detail-histogram (the default) changed the output"
 
 # --sample-region label: the exemplars come from the points labelled 1 only
 # (a labelled copy of the cut, written by awk from an ascii PLY).
