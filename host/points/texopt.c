@@ -611,8 +611,8 @@ static relief_status match_histogram(float *value, int ch, int c, size_t n,
  * when fewer than HIST_REF_MIN are. The detail's spread differs over an
  * object (fertility's arm is smoother than its body), and a hole should
  * look like what is about it: against the whole capture's distribution the
- * fertility cut's fill came out 1.21 times as rough as the truth, against
- * its surroundings' 1.01 (README). */
+ * fertility cut's fill came out 1.22 times as rough as the truth, against
+ * its surroundings' 1.02 (README). */
 #define HIST_REF_MIN 64
 
 static void histogram_reference(const opt *o, size_t mlen, const uint8_t *exemplar, size_t n,
