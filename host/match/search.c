@@ -17,6 +17,9 @@
 #include "kernels/relief_math.h"
 
 #define POINTS (1 + RELIEF_SEARCH_RINGS * RELIEF_SEARCH_ANGLES)
+/* The descriptor's covariance (shape and colour) goes to relief_sym_eigen. */
+_Static_assert(2 * POINTS <= RELIEF_SYM_EIGEN_MAX && RELIEF_SEARCH_DIMS <= 2 * POINTS,
+               "RELIEF_SEARCH_RINGS x ANGLES too many for the descriptor's eigen-solver");
 #define PCA_ROWS 65536 /* descriptors the principal components are taken over */
 #define OVERQUERY 8    /* neighbours asked of FLANN per pair wanted: the rest
                           are the pair's own neighbourhood on the surface */
