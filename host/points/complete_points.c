@@ -392,6 +392,22 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
     }
     if (channels) {
         relief_texopt_params tex = p->tex;
+        size_t n_ex = 0, n_unk = 0;
+        for (size_t i = 0; i < T; ++i)
+            n_ex += w.exemplar[i] != 0, n_unk += w.unknown[i] != 0;
+        /* A fill larger than what it is to look like would repeat the few
+         * exemplars over it, not continue the surface: refused (no
+         * exemplar at all: texopt says so). */
+        if (n_ex > 0 && n_ex < n_unk) {
+            st = relief_fail(err, RELIEF_E_RANGE, "the hole is larger than the sample region: "
+                             "%zu points to synthesise from %zu exemplar points%s; give a "
+                             "larger %s", n_unk, n_ex,
+                             nc ? " (the clone's)" : p->sample_mask ? " (--sample-region)" :
+                             " (the capture outside the rims' band)",
+                             nc ? "--clone-from scan" : p->sample_mask ? "--sample-region" :
+                             "capture, or a smaller --band");
+            goto fail;
+        }
         if (p->detail_histogram && detail_ch >= 0)
             tex.histogram |= 1u << detail_ch;
         st = relief_texopt_complete(w.tpos, w.tnrm, T, channels, w.value, w.unknown, w.exemplar,
