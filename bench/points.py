@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """relief complete-points (paper 002) on holes cut where the truth is known,
-with and without its detail histogram (--no-detail-histogram), beside two baselines run in the same
-script: the smooth RBF fill alone
+with and without its detail histogram (--no-detail-histogram), beside two
+baselines run in the same script: the smooth RBF fill alone
 (`--smooth-only`, the paper's Fig. 9g) and Open3D's screened Poisson
 reconstruction (python3-open3d, a peer, never linked; its vertices inside
 the cut ball and farther than one spacing from the capture are its fill).

@@ -9,7 +9,6 @@
 #include "base/linalg.h"
 
 #define EVEN_NEIGHBOURS 8
-#define NORMAL_COS 0.3 /* about 72 degrees */
 
 static double dist2(const double *a, const double *b)
 {
@@ -399,7 +398,7 @@ int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *can
         return -1;
     for (size_t j = 0; j < nc; ++j) {
         const double *nn = nrm + 3 * (size_t)cand[j];
-        if (nn[0] * f[6] + nn[1] * f[7] + nn[2] * f[8] < NORMAL_COS)
+        if (nn[0] * f[6] + nn[1] * f[7] + nn[2] * f[8] < RELIEF_PGRID_NORMAL_COS)
             continue;
         relief_ptangent(pos + 3 * (size_t)cand[j], c, f, g->st + 2 * kept, g->st + 2 * kept + 1);
         g->pt[kept++] = cand[j];

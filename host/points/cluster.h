@@ -59,6 +59,10 @@ void relief_pbucket_free(relief_pbucket *b);
 size_t relief_pbucket_query(const relief_pbucket *b, const double q[3], double r, uint32_t **buf,
                             size_t *cap);
 
+/* The cosine below which a point's normal is taken for the other side of
+ * a thin shell, not the grid's surface (about 72 degrees). */
+#define RELIEF_PGRID_NORMAL_COS 0.3
+
 /* Resampling onto an n x n grid (gn odd) of step h centred at c in the
  * frame f (u, v, n as in relief_pclusters): node (a, b) lies at
  * c + (a - k) h u + (b - k) h v, k = (gn - 1) / 2, node index b gn + a.

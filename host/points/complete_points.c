@@ -399,7 +399,7 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_points_
          * exemplars over it, not continue the surface: refused (no
          * exemplar at all: texopt says so). */
         if (n_ex > 0 && n_ex < n_unk) {
-            st = relief_fail(err, RELIEF_E_RANGE, "the hole is larger than the sample region: "
+            st = relief_fail(err, RELIEF_E_RANGE, "the holes are larger than the sample region: "
                              "%zu points to synthesise from %zu exemplar points%s; give a "
                              "larger %s", n_unk, n_ex,
                              nc ? " (the clone's)" : p->sample_mask ? " (--sample-region)" :

@@ -99,8 +99,9 @@ void relief_points_report_free(relief_points_report *r);
  * *out: the input's points first (label 0, the input's colour, oriented
  * normals), then the new ones (label 1); triangles only with p->mesh. RELIEF_E_RANGE when a parameter is
  * out of range, there is nothing to fill (no hole and no mask; naming
- * which), the points are too few or collinear; RELIEF_E_NOMEM. *out only
- * on success. */
+ * which), the points are too few or collinear, or fewer exemplar points
+ * than points to synthesise (the holes larger than the sample region);
+ * RELIEF_E_NOMEM. *out only on success. */
 relief_status relief_complete_points(const relief_mesh *in, const relief_points_params *p,
                                      relief_mesh **out, relief_points_report *rep,
                                      relief_error *err);

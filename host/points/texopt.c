@@ -2,8 +2,7 @@
  * and 4). The energy is measured at the points: for each active cluster i,
  * its matched exemplar grid Z_i is read at each member's tangent
  * coordinates from the exemplar points about that place on Z_i's tangent
- * plane (read_exemplar; the grid's nodes only find the candidates), so
- * that
+ * plane (read_exemplar; the grid's nodes only find the candidates), so that
  *   E = sum_i sum_{p in C_O,i} w_p ||x(p) - Z_i(p)||^2,  w_p = 1 + lambda [p on the rim],
  * which is the header's sum ||G_i - Z_i||^2 + lambda sum_rim (x - x_c)^2
  * taken where the data are (the points) rather than on the nodes: the rim
@@ -159,7 +158,7 @@ static float centre_weight(int gn, float fa, float fb)
  * made the bunny's fill speckled: neighbours reading different points,
  * averaged over the clusters, gave a staircase that shading shows
  * (README). Returns -1 when memory runs out. */
-#define READ_RADIUS 1.5f /* grid steps, about 1.35 spacings at the default grid */
+#define READ_RADIUS 1.5f /* grid steps, about 1.3 spacings at the default grid */
 #define READ_FAR 2.0f
 #define READ_EPS 1e-3     /* grid steps squared: a point on the spot does not take all */
 
@@ -168,7 +167,7 @@ static int read_exemplar(const opt *o, reader *rd, uint32_t z, size_t j, float *
     const float *zz = o->zvec + (size_t)z * o->dims;
     const size_t m0 = o->mstart[j], nm = o->mstart[j + 1] - m0;
     const int gn = o->gn;
-    const double k = 0.5 * (gn - 1);
+    const double half = 0.5 * (gn - 1); /* the centre node's coordinate */
     const uint32_t q = o->zq[z];
     const double *c = o->pos + 3 * (size_t)q, *f = o->frame + 9 * (size_t)o->label[q];
     size_t nc, kept = 0;
@@ -201,11 +200,11 @@ static int read_exemplar(const opt *o, reader *rd, uint32_t z, size_t j, float *
         const double *np = o->nrm + 3 * (size_t)p;
         double s, t, a, b;
         int ia, ib;
-        if (!o->exemplar[p] || np[0] * f[6] + np[1] * f[7] + np[2] * f[8] < 0.3)
+        if (!o->exemplar[p] || np[0] * f[6] + np[1] * f[7] + np[2] * f[8] < RELIEF_PGRID_NORMAL_COS)
             continue;
         relief_ptangent(o->pos + 3 * (size_t)p, c, f, &s, &t);
-        a = s / o->h + k, b = t / o->h + k;
-        if (a < -2.5 || b < -2.5 || a > 2 * k + 2.5 || b > 2 * k + 2.5)
+        a = s / o->h + half, b = t / o->h + half;
+        if (a < -2.5 || b < -2.5 || a > 2 * half + 2.5 || b > 2 * half + 2.5)
             continue;
         ia = (int)floor(a + 0.5), ib = (int)floor(b + 0.5);
         ia = ia < 0 ? 0 : ia > gn - 1 ? gn - 1 : ia;
@@ -298,7 +297,7 @@ static int rank_candidates(void *ctx, size_t lo, size_t hi)
     const int nn = o->nz < CANDIDATES ? (int)o->nz : CANDIDATES;
     reader rd = {0};
     int fail = 0;
-    for (size_t j = lo; j < hi && !fail; ++j) {
+    for (size_t j = lo; j < hi; ++j) {
         const uint32_t *idx = o->cand + j * (size_t)nn;
         const size_t nm = o->mstart[j + 1] - o->mstart[j];
         uint32_t best = o->match[j];
@@ -316,11 +315,8 @@ static int rank_candidates(void *ctx, size_t lo, size_t hi)
             }
             rd.buf[1] = b, rd.buf_cap = nm * o->ch;
         }
-        if (best != UINT32_MAX) {
-            if (read_exemplar(o, &rd, best, j, rd.buf[1]) < 0) {
-                fail = 1;
-                break;
-            }
+        if (best != UINT32_MAX) { /* its read, kept from the last step (the same values) */
+            memcpy(rd.buf[1], o->zread + o->mstart[j] * o->ch, nm * o->ch * sizeof *rd.buf[1]);
             be = cluster_energy(o, j, rd.buf[1]);
         }
         for (int c = 0; c < nn; ++c) {
@@ -338,8 +334,10 @@ static int rank_candidates(void *ctx, size_t lo, size_t hi)
                 be = e, best = idx[c];
             }
         }
-        if (fail)
+        if (fail || best == UINT32_MAX) { /* no grid to match: cannot happen with nz >= 1 */
+            fail = 1;
             break;
+        }
         o->match[j] = best;
         memcpy(o->zread + o->mstart[j] * o->ch, rd.buf[1], nm * o->ch * sizeof *o->zread);
     }
@@ -356,7 +354,8 @@ static relief_status run_mstep(const opt *o, int threads, relief_error *err)
     relief_parallel_ranges(o->A, threads, resample_grids, (void *)o);
     st = relief_grid_nn_query(o->nn, o->q, o->A, nn, o->cand, err);
     if (st == RELIEF_OK && relief_parallel_ranges(o->A, threads, rank_candidates, (void *)o))
-        return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (ranking)");
+        return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory, or a "
+                           "cluster with no candidate grid (ranking)");
     return st;
 }
 
@@ -608,7 +607,8 @@ static relief_status match_histogram(float *value, int ch, int c, size_t n,
 /* The exemplars whose distribution histogram matching gives the fill
  * (into ref, n flags): those among the active clusters' members, the
  * capture about the holes (about 680 points a cluster); every exemplar
- * when fewer than HIST_REF_MIN are. The detail's spread differs over an
+ * when fewer than HIST_REF_MIN are (a --clone-from scan, which no cluster
+ * of the input's holds). The detail's spread differs over an
  * object (fertility's arm is smoother than its body), and a hole should
  * look like what is about it: against the whole capture's distribution the
  * fertility cut's fill came out 1.22 times as rough as the truth, against
@@ -647,7 +647,6 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
     relief_pclusters cl = {0};
     relief_pbucket bk = {0};
     relief_pgrid_weights gw = {0};
-    relief_rng rng;
     opt o = {0};
     float *zv = NULL;
     int threads = p.threads, it = 0, converged = 0;
@@ -678,14 +677,12 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
         if (exemplar[i])
             elist[ne++] = (uint32_t)i;
     }
-    /* Unknown values start as a seeded random draw of exemplar values. */
+    /* The unknown values are set by sequential_start before anything reads
+     * them; 0 until then. */
     memcpy(o.x, value, n * (size_t)channels * sizeof *o.x);
-    relief_rng_seed(&rng, seed32);
     for (size_t i = 0; i < n; ++i)
         if (unknown[i])
-            memcpy(o.x + i * channels,
-                   value + (size_t)elist[relief_rng_below(&rng, (uint32_t)ne)] * channels,
-                   (size_t)channels * sizeof *o.x);
+            memset(o.x + i * channels, 0, (size_t)channels * sizeof *o.x);
 
     st = relief_pclusters_make(pos, nrm, n, (size_t)p.cluster_size, &cl, err);
     if (st != RELIEF_OK)

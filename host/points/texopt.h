@@ -18,9 +18,8 @@
  * clusters overlap), until E changes by less than tol relatively or
  * max_iter. Only the unknown points' values change; the known ones are the
  * constraint. As computed (texopt.c), ||G_i - Z_i||^2 is taken at the
- * cluster's points (Z_i read at each member from the exemplar points
- * about its place, not interpolated from the grid's nodes, which would
- * blur) and
+ * cluster's points (Z_i read at each member from the exemplar points about
+ * its place, not interpolated from the grid's nodes, which would blur) and
  * the rim points, being known, enter with weight 1 + lambda, so that
  * neither step can raise E. Unknown values start grown inward from the
  * known part (texopt.c); at most 20 000 exemplar grids are searched (a
@@ -48,11 +47,13 @@ typedef struct relief_texopt_params {
     int max_iter;        /* 1..1000 (default 50, the paper's figure) */
     double tol;          /* relative change of E that stops it (default 1e-4) */
     double lambda;       /* weight of the rim term (default 1) */
-    uint64_t seed;       /* initialisation of the unknown values (default 1) */
+    uint64_t seed;       /* the subset of exemplar grids searched when there are more
+                            than 20 000 (default 1) */
     int threads;         /* worker threads, 0 = online CPUs (default 0) */
     unsigned histogram;  /* bit c set: channel c's unknown values end histogram-matched
                             to the exemplars' about them (those in the clusters
-                            that hold unknown points; texopt.c; default 0) */
+                            that hold unknown points; all exemplars when fewer than
+                            64 are; texopt.c; default 0) */
     int brute;           /* 1: the M-step's nearest grids by brute force (grid_nn.h) on
                             `backend` and `device`; 0 (default): FLANN's exact kd-tree */
     relief_backend backend; /* brute's: scalar, opencl, auto (default: OpenCL on a GPU) */

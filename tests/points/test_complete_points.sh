@@ -64,7 +64,7 @@ label_ply "$tmp/fa.ply" "$tmp/fl.ply" '$1 > -60'
 label_ply "$tmp/fa.ply" "$tmp/f0.ply" '0'
 expect 0 "" -- "$relief" complete-points "$tmp/fl.ply" -o "$tmp/fl_out.ply" --sample-region label --iterations 5 --quiet
 expect 1 "no point is an exemplar" -- "$relief" complete-points "$tmp/f0.ply" -o "$tmp/bad.ply" --sample-region label; nothing "an empty sample region"
-expect 1 "larger than the sample region" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region -21.74,45.86,6.35,-15.74,51.86,12.35; nothing "a sample region of 4 points for a 48-point hole"
+expect 1 "holes are larger than the sample region" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region -21.74,45.86,6.35,-15.74,51.86,12.35; nothing "a sample region of 4 points for a 48-point hole"
 expect 1 "no \`label\` property" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region label; nothing "no labels"
 expect 1 "same labels" -- "$relief" complete-points "$tmp/fl.ply" -o "$tmp/bad.ply" --sample-region label --hole-mask label
 
