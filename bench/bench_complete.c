@@ -36,6 +36,7 @@
 #include <string.h>
 
 #include "bench_util.h"
+#include "base/params.h"
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/rng.h"
@@ -117,7 +118,7 @@ static relief_status run_full(const config *c, const relief_mesh *cap, int b, in
     relief_matcher *m = NULL;
     relief_grow_options go = relief_grow_options_default();
     double t0 = relief_seconds(), t1, t2, t3, t4;
-    relief_status st = relief_smooth(cap, &c->p, NULL, &s, err);
+    relief_status st = relief_surface_build(cap, &c->p, NULL, &s, err);
     t1 = relief_seconds();
     if (st == RELIEF_OK)
         st = relief_match_data_build(s, c->p.rotations,
@@ -190,7 +191,7 @@ static relief_status run_setup(const config *c, int b, int r, prepared *pp, seri
         st = relief_synth(&c->sp, &pp->cap, NULL, err);
         t1 = relief_seconds();
         if (st == RELIEF_OK)
-            st = relief_smooth(pp->cap, &c->p, NULL, &pp->s, err);
+            st = relief_surface_build(pp->cap, &c->p, NULL, &pp->s, err);
         t2 = relief_seconds();
         if (st != RELIEF_OK)
             return st;

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "bench_util.h"
+#include "base/params.h"
 #include "base/clock.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
@@ -61,7 +62,7 @@ static relief_status run(const config *c, const relief_mesh *cap, const relief_m
     relief_params p = c->p;
     double t0 = relief_seconds();
     go.prune = c->prune;
-    relief_status st = relief_smooth(cap, &p, NULL, &s, err);
+    relief_status st = relief_surface_build(cap, &p, NULL, &s, err);
     p.levels = levels;
     if (st == RELIEF_OK && levels == 1) {
         st = relief_match_data_build(s, p.rotations,

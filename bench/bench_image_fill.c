@@ -79,7 +79,7 @@ int main(int argc, char **argv)
         char path[1024];
         job *j = &jobs[n_jobs];
         snprintf(path, sizeof path, "%s/%s", images, names[k]);
-        if (relief_image_read(path, NULL, &j->img, &err) != RELIEF_OK) {
+        if (relief_raster_read(path, NULL, &j->img, &err) != RELIEF_OK) {
             fprintf(stderr, "bench_image_fill: %s\n", err.message);
             return 1;
         }
@@ -94,8 +94,8 @@ int main(int argc, char **argv)
     if (atlas && atlas_mask) {
         job *j = &jobs[n_jobs];
         relief_raster mask;
-        if (relief_image_read(atlas, NULL, &j->img, &err) != RELIEF_OK ||
-            relief_image_read(atlas_mask, NULL, &mask, &err) != RELIEF_OK) {
+        if (relief_raster_read(atlas, NULL, &j->img, &err) != RELIEF_OK ||
+            relief_raster_read(atlas_mask, NULL, &mask, &err) != RELIEF_OK) {
             fprintf(stderr, "bench_image_fill: %s\n", err.message);
             return 1;
         }

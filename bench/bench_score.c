@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "base/clock.h"
+#include "base/params.h"
 #include "base/rng.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
@@ -137,7 +138,7 @@ int main(int argc, char **argv)
     sp.vertices = vertices;
     sp.colour = 1;
     if (relief_synth(&sp, &cap, NULL, &err) != RELIEF_OK ||
-        relief_smooth(cap, &p, NULL, &s, &err) != RELIEF_OK) {
+        relief_surface_build(cap, &p, NULL, &s, &err) != RELIEF_OK) {
         fprintf(stderr, "bench_score: %s\n", err.message);
         return 2;
     }

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 
 typedef struct bench_machine {
     char cpu[160], device[200]; /* no commas: they go into CSV fields */

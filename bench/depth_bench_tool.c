@@ -20,7 +20,7 @@ static relief_depth_frame load(const char *path)
 {
     relief_depth_frame f;
     relief_error err = {RELIEF_OK, ""};
-    if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
+    if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         fprintf(stderr, "depth_bench_tool: %s\n", err.message);
         exit(1);
     }
@@ -53,7 +53,7 @@ int main(int argc, char **argv)
     if (argc == 4 && argv[1][0] == 'p') {
         relief_depth_frame f = load(argv[2]);
         relief_error err = {RELIEF_OK, ""};
-        int rc = relief_depth_write(argv[3], &f, RELIEF_DEPTH_PFM, &err) != RELIEF_OK;
+        int rc = relief_depth_frame_write(argv[3], &f, RELIEF_DEPTH_PFM, &err) != RELIEF_OK;
         if (rc)
             fprintf(stderr, "depth_bench_tool: %s\n", err.message);
         relief_depth_frame_free(&f);

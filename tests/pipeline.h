@@ -4,6 +4,7 @@
 #define RELIEF_TESTS_PIPELINE_H
 
 #include "base/rng.h"
+#include "base/params.h"
 #include "grow/grow.h"
 #include "match/matcher.h"
 #include "match/matcher_opencl.h"
@@ -38,7 +39,7 @@ static inline relief_status pipeline_smooth(relief_synth_kind kind, size_t verti
     *out = NULL;
     st = relief_synth(&sp, &cap, NULL, err);
     if (st == RELIEF_OK)
-        st = relief_smooth(cap, &p, NULL, out, err);
+        st = relief_surface_build(cap, &p, NULL, out, err);
     relief_mesh_destroy(cap);
     return st;
 }
@@ -85,7 +86,7 @@ static inline relief_status pipeline_run(const pipeline *pl, relief_surface **ou
     go.bootstrap = pl->bootstrap;
     st = relief_synth(&sp, &cap, NULL, err);
     if (st == RELIEF_OK)
-        st = relief_smooth(cap, &p, NULL, &s, err);
+        st = relief_surface_build(cap, &p, NULL, &s, err);
     if (st == RELIEF_OK)
         st = pipeline_grow(s, &p, &go, pl->colour, pl->opencl, stats, err);
     relief_mesh_destroy(cap);

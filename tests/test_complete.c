@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "pipeline.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
@@ -46,7 +47,7 @@ int main(int argc, char **argv)
 
     st = relief_synth(&sp, &cap, &truth, &err);
     if (st == RELIEF_OK)
-        st = relief_smooth(cap, &p, NULL, &s, &err);
+        st = relief_surface_build(cap, &p, NULL, &s, &err);
     if (st == RELIEF_OK)
         st = pipeline_grow(s, &p, &go, sp.colour, 0, &stats, &err);
     if (st == RELIEF_OK)
@@ -102,7 +103,7 @@ int main(int argc, char **argv)
         relief_match_data *d2 = NULL;
         relief_matcher *m2 = NULL;
         relief_grow_stats stats2;
-        st = relief_smooth(cap, &p, NULL, &s2, &err);
+        st = relief_surface_build(cap, &p, NULL, &s2, &err);
         if (st == RELIEF_OK)
             st = relief_match_data_build(s2, p.rotations, relief_grow_mu(&p, sp.colour), &d2,
                                          &err);

@@ -12,15 +12,16 @@ cd "$src/host"
 # folder: what it may include besides itself and relief/
 declare -A allowed=(
   [base]=""
+  [device]="base"
   [mesh]="base"
   [smooth]="base mesh kernels"
-  [match]="base mesh smooth kernels"
+  [match]="base mesh smooth device kernels"
   [grow]="base mesh smooth match kernels"
   [report]="base mesh smooth match grow"
   [synth]="base mesh"
-  [image]="base report match kernels"
+  [image]="base report match device kernels"
   [depth]="base mesh smooth report match image kernels"
-  [points]="base mesh smooth match kernels"
+  [points]="base mesh smooth match device kernels"
   [cli]="base mesh smooth match grow report synth image depth points"
 )
 

@@ -29,6 +29,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "pipeline.h"
 #include "mesh/mesh.h"
 #include "report/measures.h"
@@ -45,7 +46,7 @@ typedef struct real_case {
     double spacing;       /* 0: from the capture */
     int primitive_frames; /* frames from the primitive, and R = 1 */
     double rms_vs_smooth; /* bound on truth_rms / the smooth completion's */
-    int refused;          /* no primitive fits: relief_smooth must refuse */
+    int refused;          /* no primitive fits: relief_surface_build must refuse */
     int shape_only;       /* the relief is the object's shape off the primitive,
                              not a texture: the completed-vs-captured measures
                              are printed, not bounded */
@@ -147,7 +148,7 @@ int main(int argc, char **argv)
         so.frames = RELIEF_FRAMES_PRIMITIVE;
         p.rotations = 1;
     }
-    st = relief_smooth(cap, &p, &so, &s, &err);
+    st = relief_surface_build(cap, &p, &so, &s, &err);
     if (c->refused) {
         CHECK(st == RELIEF_E_MESH && strstr(err.message, "--accept-poor-fit"),
               "a capture no primitive fits was not refused with --accept-poor-fit named "
@@ -161,12 +162,12 @@ int main(int argc, char **argv)
     if (st == RELIEF_OK && c->crop.radius > 0.0) {
         printf("region %s: %zu hole(s), %zu targets for %zu vertices cut; %zu points "
                "outside; the patch covers %.1f %%\n",
-               relief_fill_name(s->fill.region), s->fill.holes, s->n_targets, n_cut,
+               relief_fill_region_name(s->fill.region), s->fill.holes, s->n_targets, n_cut,
                s->fill.outside_points, 100.0 * s->fill.cover);
         CHECK(s->fill.region == RELIEF_FILL_HOLES && s->fill.holes == 1 &&
                   s->n_targets < 5 * n_cut && s->fill.outside_points > 20 * s->n_targets,
               "the patch's hole was not completed alone: %s, %zu targets for %zu cut",
-              relief_fill_name(s->fill.region), s->n_targets, n_cut);
+              relief_fill_region_name(s->fill.region), s->n_targets, n_cut);
     }
     /* The floor (the truth's own parts) and the smooth completion alone,
      * both against the primitive the pipeline fitted. */

@@ -1,5 +1,6 @@
 /* Memory estimates and limits (memlimit.h). */
 #include "base/memlimit.h"
+#include "base/params.h"
 
 #include <errno.h>
 #include <math.h>

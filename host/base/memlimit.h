@@ -14,9 +14,10 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 
 /* Bytes of host memory, per item, that the estimates use. */
-#define RELIEF_MEM_SMOOTH_PER_VERTEX 2500u /* relief_smooth's peak, qhull included */
+#define RELIEF_MEM_SMOOTH_PER_VERTEX 2500u /* relief_surface_build's peak, qhull included */
 #define RELIEF_MEM_SURFACE_PER_VERTEX 240u /* relief_surface after smooth */
 #define RELIEF_MEM_SURFACE_PER_TRIANGLE 12u
 #define RELIEF_MEM_MATCH_PER_VERTEX 240u   /* match data: float copies, grid, and
@@ -53,7 +54,7 @@ void relief_format_size(uint64_t bytes, char *buf, size_t cap);
 #define RELIEF_MEM_READ_PER_FILE_BYTE 16u
 uint64_t relief_estimate_read(uint64_t file_bytes);
 
-/* Host bytes relief_smooth needs at its peak for a surface of `vertices`
+/* Host bytes relief_surface_build needs at its peak for a surface of `vertices`
  * vertices (samples after oversampling, plus targets). */
 uint64_t relief_estimate_smooth(size_t vertices);
 

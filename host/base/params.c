@@ -2,6 +2,7 @@
 #include <stddef.h>
 
 #include "base/error.h"
+#include "base/params.h"
 
 relief_params relief_params_default(void)
 {
@@ -107,36 +108,4 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
                                p->extent[1], p->extent[3]);
     }
     return RELIEF_OK;
-}
-
-const char *relief_fit_model_name(relief_fit_model m)
-{
-    switch (m) {
-    case RELIEF_FIT_AUTO: return "auto";
-    case RELIEF_FIT_PLANE: return "plane";
-    case RELIEF_FIT_SPHERE: return "sphere";
-    case RELIEF_FIT_CYLINDER: return "cylinder";
-    }
-    return "unknown";
-}
-
-const char *relief_search_name(relief_search_mode search)
-{
-    switch (search) {
-    case RELIEF_SEARCH_EXHAUSTIVE: return "exhaustive";
-    case RELIEF_SEARCH_COHERENT: return "coherent";
-    case RELIEF_SEARCH_AUTO: break;
-    }
-    return "auto";
-}
-
-const char *relief_backend_name(relief_backend b)
-{
-    switch (b) {
-    case RELIEF_BACKEND_AUTO: return "auto";
-    case RELIEF_BACKEND_SCALAR: return "scalar";
-    case RELIEF_BACKEND_OPENCL: return "opencl";
-    case RELIEF_BACKEND_HOST: return "host";
-    }
-    return "unknown";
 }

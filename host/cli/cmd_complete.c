@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "base/atomic.h"
 #include "base/clock.h"
 #include "base/error.h"
@@ -195,7 +196,7 @@ static int run_smooth(const char *in_path, relief_mesh *in, const char *out,
     relief_write_options wo = {ascii};
     relief_surface *s = NULL;
     double t0 = relief_seconds();
-    relief_status st = relief_smooth(in, p, o, &s, &err);
+    relief_status st = relief_surface_build(in, p, o, &s, &err);
     sigset_t held;
     relief_mesh_destroy(in);
     if (st != RELIEF_OK)
@@ -473,13 +474,13 @@ static int run_complete(const char *in_path, relief_mesh *in, const char *out,
                         "--accept-poor-fit keeps the %s)\n", pre.reason,
                         relief_fit_model_name(pre.prim.model));
         } else {
-            st = relief_smooth(in, p, o, &s, &err);
+            st = relief_surface_build(in, p, o, &s, &err);
             if (st != RELIEF_OK)
                 fprintf(stderr, "relief complete: the smoothed base (--base smooth) could not "
                         "be built either: %s\n", e2.message);
         }
     } else {
-        st = relief_smooth(in, p, o, &s, &err);
+        st = relief_surface_build(in, p, o, &s, &err);
     }
     if (st == RELIEF_OK) {
         /* From here on the rotations are the primitive's (0: its default),
@@ -729,12 +730,12 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                                        optarg);
             break;
         case OPT_WINDOW:
-            if (!cli_parse_int(cmd, "--window", optarg, 1, 16, &v))
+            if (!cli_parse_int_range(cmd, "--window", optarg, 1, 16, &v))
                 return EXIT_USAGE;
             p.window = (int)v;
             break;
         case OPT_ROTATIONS:
-            if (!cli_parse_int(cmd, "--rotations", optarg, 1, 64, &v))
+            if (!cli_parse_int_range(cmd, "--rotations", optarg, 1, 64, &v))
                 return EXIT_USAGE;
             p.rotations = (int)v;
             break;
@@ -756,12 +757,12 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
             }
             break;
         case OPT_SEED:
-            if (!cli_parse_int(cmd, "--seed", optarg, 0, (long)UINT32_MAX, &v))
+            if (!cli_parse_int_range(cmd, "--seed", optarg, 0, (long)UINT32_MAX, &v))
                 return EXIT_USAGE;
             p.seed = (uint32_t)v;
             break;
         case OPT_LEVELS:
-            if (!cli_parse_int(cmd, "--levels", optarg, 1, 8, &v))
+            if (!cli_parse_int_range(cmd, "--levels", optarg, 1, 8, &v))
                 return EXIT_USAGE;
             p.levels = (int)v;
             break;
@@ -777,7 +778,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                                        "coherent", optarg);
             break;
         case OPT_SEARCH_K:
-            if (!cli_parse_int(cmd, "--search-k", optarg, 1, 64, &v))
+            if (!cli_parse_int_range(cmd, "--search-k", optarg, 1, 64, &v))
                 return EXIT_USAGE;
             p.search_k = (int)v;
             break;
@@ -786,12 +787,12 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
                 return EXIT_USAGE;
             break;
         case OPT_DEVICE:
-            if (!cli_parse_int(cmd, "--device", optarg, 0, 255, &v))
+            if (!cli_parse_int_range(cmd, "--device", optarg, 0, 255, &v))
                 return EXIT_USAGE;
             p.device = (int)v;
             break;
         case OPT_OVERSAMPLE:
-            if (!cli_parse_int(cmd, "--oversample", optarg, 0, 4, &v))
+            if (!cli_parse_int_range(cmd, "--oversample", optarg, 0, 4, &v))
                 return EXIT_USAGE;
             p.oversample = (int)v;
             break;

@@ -316,12 +316,12 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
             have_box = 1, sample_label = -1;
             break;
         case OPT_K:
-            if (!cli_parse_int("complete-points", "--k", optarg, 6, 64, &v))
+            if (!cli_parse_int_range("complete-points", "--k", optarg, 6, 64, &v))
                 return EXIT_USAGE;
             p.k = (int)v;
             break;
         case OPT_SMOOTH_STEPS:
-            if (!cli_parse_int("complete-points", "--smooth-steps", optarg, 0, 10000, &v))
+            if (!cli_parse_int_range("complete-points", "--smooth-steps", optarg, 0, 10000, &v))
                 return EXIT_USAGE;
             p.smooth_steps = (int)v;
             break;
@@ -333,7 +333,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
                                        "got '%s'", optarg);
             break;
         case OPT_GRID:
-            if (!cli_parse_int("complete-points", "--grid", optarg, 3, 33, &v))
+            if (!cli_parse_int_range("complete-points", "--grid", optarg, 3, 33, &v))
                 return EXIT_USAGE;
             if (v % 2 == 0)
                 return cli_usage_error("complete-points", "--grid: an odd side 3..33, got '%s'",
@@ -341,12 +341,12 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
             p.tex.grid_n = (int)v;
             break;
         case OPT_CLUSTER_SIZE:
-            if (!cli_parse_int("complete-points", "--cluster-size", optarg, 16, 100000, &v))
+            if (!cli_parse_int_range("complete-points", "--cluster-size", optarg, 16, 100000, &v))
                 return EXIT_USAGE;
             p.tex.cluster_size = (int)v;
             break;
         case OPT_ITERATIONS:
-            if (!cli_parse_int("complete-points", "--iterations", optarg, 1, 1000, &v))
+            if (!cli_parse_int_range("complete-points", "--iterations", optarg, 1, 1000, &v))
                 return EXIT_USAGE;
             p.tex.max_iter = (int)v;
             break;
@@ -358,7 +358,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
                                        optarg);
             break;
         case OPT_SEED:
-            if (!cli_parse_int("complete-points", "--seed", optarg, 0, 4294967295L, &v))
+            if (!cli_parse_int_range("complete-points", "--seed", optarg, 0, 4294967295L, &v))
                 return EXIT_USAGE;
             p.tex.seed = (uint64_t)v;
             break;
@@ -381,7 +381,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
             backend_given = 1;
             break;
         case OPT_DEVICE:
-            if (!cli_parse_int("complete-points", "--device", optarg, 0, 255, &v))
+            if (!cli_parse_int_range("complete-points", "--device", optarg, 0, 255, &v))
                 return EXIT_USAGE;
             p.tex.device = (int)v;
             backend_given = 1;
@@ -502,7 +502,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
         }
         p.clone = clone;
     }
-    if (relief_complete_points(in, &p, &out, &rep, &err) != RELIEF_OK) {
+    if (relief_points_complete(in, &p, &out, &rep, &err) != RELIEF_OK) {
         rc = cli_fail("complete-points", &err);
         goto done;
     }

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "base/atomic.h"
 #include "base/clock.h"
 #include "base/error.h"
@@ -112,10 +113,10 @@ static relief_status read_depth(const char *path, in_kind k, double scale, uint6
 {
     memset(f, 0, sizeof *f);
     if (k != IN_PNG) {
-        relief_status st = relief_depth_read(path, limit ? limit / 64 : 0, f, err);
-        if (st == RELIEF_OK && k == IN_PCD && f->kind == RELIEF_DEPTH_PFM)
+        relief_status st = relief_depth_frame_read(path, limit ? limit / 64 : 0, f, err);
+        if (st == RELIEF_OK && k == IN_PCD && f->format == RELIEF_DEPTH_PFM)
             st = relief_fail(err, RELIEF_E_FORMAT, "%s is a PFM named .pcd", path);
-        if (st == RELIEF_OK && k == IN_PFM && f->kind != RELIEF_DEPTH_PFM)
+        if (st == RELIEF_OK && k == IN_PFM && f->format != RELIEF_DEPTH_PFM)
             st = relief_fail(err, RELIEF_E_FORMAT, "%s is a PCD named .pfm", path);
         if (st != RELIEF_OK)
             relief_depth_frame_free(f);
@@ -123,7 +124,7 @@ static relief_status read_depth(const char *path, in_kind k, double scale, uint6
     } else {
         relief_image_limit lim = {limit, 16.0, "repairing it"};
         relief_raster r = {0, 0, 0, 0, NULL};
-        relief_status st = relief_image_read(path, &lim, &r, err);
+        relief_status st = relief_raster_read(path, &lim, &r, err);
         size_t n;
         if (st != RELIEF_OK)
             return st;
@@ -136,7 +137,7 @@ static relief_status read_depth(const char *path, in_kind k, double scale, uint6
         n = (size_t)r.width * r.height;
         f->width = r.width;
         f->height = r.height;
-        f->kind = RELIEF_DEPTH_PFM;
+        f->format = RELIEF_DEPTH_PFM;
         f->z = malloc(n * sizeof *f->z);
         if (!f->z) {
             relief_raster_free(&r);
@@ -162,7 +163,7 @@ static relief_status write_png_depth(const char *path, const relief_depth_frame 
         /* A filled depth rounds to at least 1: 0 would read as missing. */
         r.v[i] = (float)(v < 1.0 && isfinite(f->z[i]) ? 1.0 : v > 65535.0 ? 65535.0 : v);
     }
-    st = relief_image_write(path, &r, err);
+    st = relief_raster_write(path, &r, err);
     relief_raster_free(&r);
     return st;
 }
@@ -236,8 +237,8 @@ static int write_points(FILE *fp, void *ctx)
 typedef struct report_ctx {
     const char *in, *out, *mask, *truth, *variant;
     const relief_depth_frame *f;
-    const relief_depth_fill_params *p;
-    const relief_depth_fill_report *r;
+    const relief_depth_repair_params *p;
+    const relief_depth_repair_report *r;
     const relief_depth_measures *m;
     const relief_patch_scorer *scorer;
     const char *note;
@@ -254,7 +255,7 @@ static const char *order_name(relief_pixsyn_order o)
 static int write_report(FILE *fp, void *ctx)
 {
     const report_ctx *c = ctx;
-    const relief_depth_fill_report *r = c->r;
+    const relief_depth_repair_report *r = c->r;
     relief_json j;
     rj_init(&j, fp);
     rj_begin_object(&j, NULL);
@@ -519,9 +520,9 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         {"quiet", no_argument, 0, OPT_QUIET},
         {"help", no_argument, 0, 'h'},
         {0, 0, 0, 0}};
-    relief_depth_fill_params p = relief_depth_fill_params_default();
+    relief_depth_repair_params p = relief_depth_repair_params_default();
     int membrane = -1; /* --membrane: 0 harmonic, 1 thin plate, -1 the mode's default */
-    relief_depth_fill_report rep;
+    relief_depth_repair_report rep;
     relief_depth_measures meas;
     relief_error err = {RELIEF_OK, ""};
     relief_depth_frame f, truth;
@@ -541,7 +542,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     uint64_t limit;
     in_kind kin, kout;
     relief_status st = RELIEF_OK;
-    cli_progress pr = {"depth-fill", "synthesis", 0, 0.0, 0.0};
+    cli_count_progress pr = {"depth-fill", "synthesis", 0, 0.0, 0.0};
     sigset_t held;
 
     memset(&f, 0, sizeof f);
@@ -572,7 +573,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
             scale = d;
             break;
         case OPT_WINDOW:
-            if (!cli_parse_int("depth-fill", "--window", optarg, 3, 1025, &v))
+            if (!cli_parse_int_range("depth-fill", "--window", optarg, 3, 1025, &v))
                 return EXIT_USAGE;
             if (v % 2 == 0)
                 return cli_usage_error("depth-fill", "--window: '%s' is even: the window is "
@@ -588,7 +589,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
             p.synth.sigma = d;
             break;
         case OPT_SEARCH_RADIUS:
-            if (!cli_parse_int("depth-fill", "--search-radius", optarg, 0, 1000000, &v))
+            if (!cli_parse_int_range("depth-fill", "--search-radius", optarg, 0, 1000000, &v))
                 return EXIT_USAGE;
             p.synth.search_radius = (int)v;
             break;
@@ -605,7 +606,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
                                        "or vertical", optarg);
             break;
         case OPT_DLEVELS:
-            if (!cli_parse_int("depth-fill", "--levels", optarg, 1, 6, &v))
+            if (!cli_parse_int_range("depth-fill", "--levels", optarg, 1, 6, &v))
                 return EXIT_USAGE;
             p.levels = (int)v;
             break;
@@ -621,7 +622,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
                                        "harmonic", optarg);
             break;
         case OPT_RESOLUTION:
-            if (!cli_parse_int("depth-fill", "--resolution", optarg, 8, 1024, &v))
+            if (!cli_parse_int_range("depth-fill", "--resolution", optarg, 8, 1024, &v))
                 return EXIT_USAGE;
             resolution = (int)v;
             break;
@@ -636,7 +637,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         case OPT_TRUTH: truth_path = optarg; break;
         case OPT_POINTS: points = optarg; break;
         case OPT_SEED:
-            if (!cli_parse_int("depth-fill", "--seed", optarg, 0, 4294967295L, &v))
+            if (!cli_parse_int_range("depth-fill", "--seed", optarg, 0, 4294967295L, &v))
                 return EXIT_USAGE;
             p.synth.seed = (uint32_t)v;
             break;
@@ -645,7 +646,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
                 return EXIT_USAGE;
             break;
         case OPT_DEVICE:
-            if (!cli_parse_int("depth-fill", "--device", optarg, 0, 1023, &v))
+            if (!cli_parse_int_range("depth-fill", "--device", optarg, 0, 1023, &v))
                 return EXIT_USAGE;
             device = (int)v;
             break;
@@ -715,16 +716,16 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     if (st != RELIEF_OK)
         goto done;
     n = (size_t)f.width * f.height;
-    if (limit && relief_depth_fill_estimate(f.width, f.height) > limit) {
+    if (limit && relief_depth_repair_estimate(f.width, f.height) > limit) {
         st = relief_fail(&err, RELIEF_E_NOMEM, "%s: repairing a %d x %d image needs about "
                          "%.0f MiB, over the limit of %.0f MiB (--max-memory)", in, f.width,
-                         f.height, relief_depth_fill_estimate(f.width, f.height) / 1048576.0,
+                         f.height, relief_depth_repair_estimate(f.width, f.height) / 1048576.0,
                          limit / 1048576.0);
         goto done;
     }
     if (mask_path) {
         relief_image_limit ml = {limit, 1.0, "the mask"};
-        st = relief_image_read(mask_path, &ml, &mask, &err);
+        st = relief_raster_read(mask_path, &ml, &mask, &err);
         if (st == RELIEF_OK && (mask.width != f.width || mask.height != f.height))
             st = relief_fail(&err, RELIEF_E_USAGE, "--mask %s is %d x %d pixels, %s is %d x "
                              "%d: they must be the same size", mask_path, mask.width,
@@ -769,7 +770,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         st = relief_fail(&err, RELIEF_E_RANGE, "%s: every pixel is missing: there is nothing "
                          "to repair it from", in);
     if (st == RELIEF_OK)
-        st = relief_depth_fill_params_validate(&p, f.width, f.height, &err);
+        st = relief_depth_repair_params_validate(&p, f.width, f.height, &err);
     if (st == RELIEF_OK)
         st = relief_patch_scorer_create(backend, device, &scorer, note, sizeof note, &err);
     if (st != RELIEF_OK)
@@ -782,7 +783,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     p.synth.progress_ctx = &pr;
     if (missing_in + missing_mask == 0 && !quiet)
         fprintf(stderr, "relief depth-fill: %s: no missing pixels: writing it unchanged\n", in);
-    st = relief_depth_fill(f.z, missing, f.width, f.height, &p, scorer, source, &rep, &err);
+    st = relief_depth_repair(f.z, missing, f.width, f.height, &p, scorer, source, &rep, &err);
     if (st != RELIEF_OK)
         goto done;
     relief_depth_measure(f.z, have_truth ? truth.z : NULL, missing, f.width, f.height, &meas);
@@ -815,7 +816,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
     if (kin == IN_PNG)
         st = write_png_depth(out, &f, scale, &err);
     else
-        st = relief_depth_write(out, &f, f.kind, &err);
+        st = relief_depth_frame_write(out, &f, f.format, &err);
     if (st == RELIEF_OK && points) {
         points_ctx pc = {&f, missing};
         st = relief_atomic_write_text(points, write_points, &pc, &err);

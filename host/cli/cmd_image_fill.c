@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "base/atomic.h"
 #include "base/clock.h"
 #include "base/error.h"
@@ -198,7 +199,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     long v;
     double d, t_start = relief_seconds();
     relief_status st = RELIEF_OK;
-    cli_progress pr = {"image-fill", "pixels", 0, 0.0, 0.0};
+    cli_count_progress pr = {"image-fill", "pixels", 0, 0.0, 0.0};
     sigset_t held;
 
     optind = 0;
@@ -207,13 +208,13 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
         case 'o': out = optarg; break;
         case OPT_MASK: mask_path = optarg; break;
         case OPT_WINDOW:
-            if (!cli_parse_int("image-fill", "--window", optarg, 3, 1025, &v))
+            if (!cli_parse_int_range("image-fill", "--window", optarg, 3, 1025, &v))
                 return EXIT_USAGE;
             p.window = (int)v;
             window_set = 1;
             break;
         case OPT_MIN_WINDOW:
-            if (!cli_parse_int("image-fill", "--min-window", optarg, 3, 1025, &v))
+            if (!cli_parse_int_range("image-fill", "--min-window", optarg, 3, 1025, &v))
                 return EXIT_USAGE;
             p.min_window = (int)v;
             min_window_set = 1;
@@ -228,7 +229,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
             p.tau = d;
             break;
         case OPT_SEARCH_RADIUS:
-            if (!cli_parse_int("image-fill", "--search-radius", optarg, 1, 1000000, &v))
+            if (!cli_parse_int_range("image-fill", "--search-radius", optarg, 1, 1000000, &v))
                 return EXIT_USAGE;
             p.search_radius = (int)v;
             break;
@@ -249,7 +250,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
                 p.interp_sd = d;
             break;
         case OPT_SEED:
-            if (!cli_parse_int("image-fill", "--seed", optarg, 0, 4294967295L, &v))
+            if (!cli_parse_int_range("image-fill", "--seed", optarg, 0, 4294967295L, &v))
                 return EXIT_USAGE;
             p.seed = (uint32_t)v;
             break;
@@ -258,7 +259,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
                 return EXIT_USAGE;
             break;
         case OPT_DEVICE:
-            if (!cli_parse_int("image-fill", "--device", optarg, 0, 1023, &v))
+            if (!cli_parse_int_range("image-fill", "--device", optarg, 0, 1023, &v))
                 return EXIT_USAGE;
             device = (int)v;
             break;
@@ -304,10 +305,10 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     lim.limit = relief_memory_limit(&mp);
     lim.factor = 5.0; /* relief_fill_estimate over the raster, at one channel */
     lim.what = "filling it";
-    st = relief_image_read(in, &lim, &img, &err);
+    st = relief_raster_read(in, &lim, &img, &err);
     if (st == RELIEF_OK && mask_path) {
         relief_image_limit ml = {lim.limit, 1.0, "the mask"};
-        st = relief_image_read(mask_path, &ml, &mask, &err);
+        st = relief_raster_read(mask_path, &ml, &mask, &err);
         if (st == RELIEF_OK && (mask.width != img.width || mask.height != img.height))
             st = relief_fail(&err, RELIEF_E_USAGE, "--mask %s is %d x %d pixels, %s is %d x "
                              "%d: they must be the same size", mask_path, mask.width,
@@ -344,7 +345,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     if (holes == 0)
         memset(&rep, 0, sizeof rep);
     cli_hold_signals(&held);
-    st = relief_image_write(out, &img, &err);
+    st = relief_raster_write(out, &img, &err);
     if (st == RELIEF_OK && report) {
         report_ctx r = {in, out, mask_path, &img, &p, &rep, scorer, note,
                         relief_seconds() - t_start};

@@ -101,7 +101,7 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
     relief_render_options ro = relief_render_options_default();
     relief_render_info info;
     relief_error err = {RELIEF_OK, ""};
-    relief_image img = {0, 0, NULL};
+    relief_rgb_image img = {0, 0, NULL};
     relief_mesh *mesh = NULL;
     const char *out = NULL, *in;
     relief_status st;
@@ -165,7 +165,7 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
         fprintf(stderr, "relief render: %s -> %s (%dx%d, view %.1f,%.1f, colour by %s)\n", in,
                 out, img.width, img.height, info.azimuth, info.elevation,
                 relief_colour_by_name(info.colour_by));
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
     relief_mesh_destroy(mesh);
     return st == RELIEF_OK ? 0 : cli_fail("render", &err);
 }

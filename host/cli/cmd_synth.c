@@ -65,12 +65,12 @@ int cli_cmd_synth(int argc, char **argv, int parse_only)
         case 'o': out = optarg; break;
         case OPT_TRUTH: truth_path = optarg; break;
         case OPT_SEED:
-            if (!cli_parse_int("synth", "--seed", optarg, 0, (long)UINT32_MAX, &v))
+            if (!cli_parse_int_range("synth", "--seed", optarg, 0, (long)UINT32_MAX, &v))
                 return EXIT_USAGE;
             sp.seed = (uint32_t)v;
             break;
         case OPT_VERTICES:
-            if (!cli_parse_int("synth", "--vertices", optarg, 100, 4000000, &v))
+            if (!cli_parse_int_range("synth", "--vertices", optarg, 100, 4000000, &v))
                 return EXIT_USAGE;
             sp.vertices = (size_t)v;
             break;

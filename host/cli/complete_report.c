@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "base/json.h"
 #include "report/pattern.h"
 #include "report/report.h"
@@ -22,7 +23,7 @@ static void report_params(relief_json *j, const relief_params *p,
         rj_null(j, "spacing");
     rj_number(j, "spacing_percentile", o->spacing_percentile);
     rj_string(j, "frames", o->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive");
-    rj_string(j, "fill", relief_fill_name(o->fill));
+    rj_string(j, "fill", relief_fill_region_name(o->fill));
     if (p->has_extent) {
         rj_begin_array(j, "extent");
         for (int i = 0; i < p->n_extent; ++i)

@@ -6,6 +6,7 @@
 #include <stdio.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "mesh/mesh.h"

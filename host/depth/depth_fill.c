@@ -11,9 +11,9 @@
 
 #define MAX_HAAR_LEVELS 6
 
-relief_depth_fill_params relief_depth_fill_params_default(void)
+relief_depth_repair_params relief_depth_repair_params_default(void)
 {
-    relief_depth_fill_params p;
+    relief_depth_repair_params p;
     memset(&p, 0, sizeof p);
     p.variant = RELIEF_DEPTH_DECOMPOSE;
     p.synth = relief_pixsyn_params_default();
@@ -26,7 +26,7 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     return p;
 }
 
-relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p, int width,
+relief_status relief_depth_repair_params_validate(const relief_depth_repair_params *p, int width,
                                                 int height, relief_error *err)
 {
     int w = width, h = height;
@@ -62,7 +62,7 @@ relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *
     return relief_pixsyn_params_validate(&p->synth, width, height, err);
 }
 
-uint64_t relief_depth_fill_estimate(int width, int height)
+uint64_t relief_depth_repair_estimate(int width, int height)
 {
     uint64_t n = (uint64_t)(width + 64) * (uint64_t)(height + 64);
     /* Two rasters of values (both orders), the engine's pyramid (4/3 of
@@ -81,7 +81,7 @@ uint64_t relief_depth_fill_estimate(int width, int height)
 /* Synthesise `img` (channels C) where hole != 0; add the counts. */
 static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *target, int W,
                                 int H, int C, const relief_pixsyn_params *sp, relief_patch_scorer *scorer,
-                                int64_t *source, relief_depth_fill_report *rep,
+                                int64_t *source, relief_depth_repair_report *rep,
                                 relief_error *err)
 {
     relief_raster r = {W, H, C, 0, v};
@@ -106,7 +106,7 @@ static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *ta
  * neither wraps nor guides edges across the border, which would leave a
  * seam where --tileable promises none; a tileable texture's copies are
  * exact anyway). */
-static int blends(const relief_depth_fill_params *p)
+static int blends(const relief_depth_repair_params *p)
 {
     return p->seam && !p->synth.tileable;
 }
@@ -116,8 +116,8 @@ static int blends(const relief_depth_fill_params *p)
  * sources); the report gets the edges, the solve's iterations and time. */
 static relief_status blend_rims(const float *u, float *v, const uint8_t *missing,
                                 const uint8_t *inside, const int64_t *map, int W, int H,
-                                const relief_depth_fill_params *p,
-                                relief_depth_fill_report *rep, relief_error *err)
+                                const relief_depth_repair_params *p,
+                                relief_depth_repair_report *rep, relief_error *err)
 {
     size_t n = (size_t)W * H;
     uint8_t *known = malloc(n);
@@ -142,9 +142,9 @@ static relief_status blend_rims(const float *u, float *v, const uint8_t *missing
  * map is the caller's or a scratch one. */
 static relief_status synthesise_blended(const float *u, float *v, const uint8_t *missing,
                                         const uint8_t *inside, int W, int H,
-                                        const relief_depth_fill_params *p,
+                                        const relief_depth_repair_params *p,
                                         relief_patch_scorer *scorer, int64_t *source,
-                                        relief_depth_fill_report *rep, relief_error *err)
+                                        relief_depth_repair_report *rep, relief_error *err)
 {
     size_t n = (size_t)W * H;
     int64_t *map = source;
@@ -210,7 +210,7 @@ static relief_status auto_lambda(const float *z, const uint8_t *known, int W, in
  * to fill; the rest, a margin or a z-buffer's background, is no
  * neighbour): the thin plate or the harmonic membrane. */
 static relief_status smooth_fill(float *z, const uint8_t *known, const uint8_t *domain, int W,
-                                 int H, const relief_depth_fill_params *p, int *iterations,
+                                 int H, const relief_depth_repair_params *p, int *iterations,
                                  relief_error *err)
 {
     return p->thin_plate ? relief_membrane_fill_biharmonic(z, known, domain, W, H,
@@ -316,8 +316,8 @@ done:
 
 static relief_status fill_plain(float *z, const uint8_t *missing, const uint8_t *inside, int W,
                                 int H,
-                                const relief_depth_fill_params *p, relief_patch_scorer *scorer,
-                                int64_t *source, relief_depth_fill_report *rep,
+                                const relief_depth_repair_params *p, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_repair_report *rep,
                                 relief_error *err)
 {
     size_t n = (size_t)W * H;
@@ -338,9 +338,9 @@ static relief_status fill_plain(float *z, const uint8_t *missing, const uint8_t 
 
 static relief_status fill_decompose(float *z, const uint8_t *missing, const uint8_t *inside,
                                     int W, int H,
-                                    const relief_depth_fill_params *p,
+                                    const relief_depth_repair_params *p,
                                     relief_patch_scorer *scorer, int64_t *source,
-                                    relief_depth_fill_report *rep, relief_error *err)
+                                    relief_depth_repair_report *rep, relief_error *err)
 {
     size_t n = (size_t)W * H;
     float *u = malloc(n * sizeof *u), *v = malloc(n * sizeof *v);
@@ -401,8 +401,8 @@ done:
 
 static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *inside, int W,
                                int H,
-                               const relief_depth_fill_params *p, relief_patch_scorer *scorer,
-                               int64_t *source, relief_depth_fill_report *rep,
+                               const relief_depth_repair_params *p, relief_patch_scorer *scorer,
+                               int64_t *source, relief_depth_repair_report *rep,
                                relief_error *err)
 {
     int L = p->levels, step = 1 << L;
@@ -598,30 +598,30 @@ size_t relief_depth_inside(const uint8_t *missing, int width, int height, uint8_
     return count;
 }
 
-relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int height,
-                                const relief_depth_fill_params *p, relief_patch_scorer *scorer,
-                                int64_t *source, relief_depth_fill_report *rep,
+relief_status relief_depth_repair(float *z, const uint8_t *missing, int width, int height,
+                                const relief_depth_repair_params *p, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_repair_report *rep,
                                 relief_error *err)
 {
-    return relief_depth_fill_targets(z, missing, NULL, width, height, p, scorer, source, rep,
+    return relief_depth_repair_targets(z, missing, NULL, width, height, p, scorer, source, rep,
                                      err);
 }
 
-relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const uint8_t *target,
+relief_status relief_depth_repair_targets(float *z, const uint8_t *missing, const uint8_t *target,
                                         int width, int height,
-                                        const relief_depth_fill_params *p,
+                                        const relief_depth_repair_params *p,
                                         relief_patch_scorer *scorer, int64_t *source,
-                                        relief_depth_fill_report *rep, relief_error *err)
+                                        relief_depth_repair_report *rep, relief_error *err)
 {
     size_t n = (size_t)width * height, holes = 0;
-    relief_depth_fill_report local;
+    relief_depth_repair_report local;
     uint8_t *inside;
     relief_status st;
     if (!rep)
         rep = &local;
     memset(rep, 0, sizeof *rep);
     rep->energy[0] = rep->energy[1] = -1.0;
-    st = relief_depth_fill_params_validate(p, width, height, err);
+    st = relief_depth_repair_params_validate(p, width, height, err);
     if (st != RELIEF_OK)
         return st;
     for (size_t i = 0; i < n; ++i) {

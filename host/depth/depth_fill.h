@@ -21,13 +21,7 @@
 #include "image/patch.h"
 #include "image/pixel_synth.h"
 
-typedef enum relief_depth_variant {
-    RELIEF_DEPTH_PLAIN = 0,
-    RELIEF_DEPTH_HAAR,
-    RELIEF_DEPTH_DECOMPOSE
-} relief_depth_variant;
-
-typedef struct relief_depth_fill_params {
+typedef struct relief_depth_repair_params {
     relief_depth_variant variant; /* decompose */
     relief_pixsyn_params synth;   /* the synthesis (window 9, search radius 32, ...) */
     int levels;                   /* haar: transform steps, 1..6; 2 */
@@ -50,11 +44,11 @@ typedef struct relief_depth_fill_params {
                                      in the gradient domain (relief_depth_seam); 0: the
                                      synthesis's copies as they are (paper 003). Not with
                                      synth.tileable (the blend does not wrap) */
-} relief_depth_fill_params;
+} relief_depth_repair_params;
 
-relief_depth_fill_params relief_depth_fill_params_default(void);
+relief_depth_repair_params relief_depth_repair_params_default(void);
 
-typedef struct relief_depth_fill_report {
+typedef struct relief_depth_repair_report {
     size_t missing;              /* pixels missing */
     size_t filled;               /* of them, inside the capture: filled */
     size_t outside;              /* of them, outside: left missing */
@@ -74,16 +68,16 @@ typedef struct relief_depth_fill_report {
     double seconds_transform;    /* Haar / ROF / membrane */
     double seconds_synthesis;    /* texture synthesis, every band */
     double seconds_score;        /* of which scoring windows */
-} relief_depth_fill_report;
+} relief_depth_repair_report;
 
 /* Validate `p` for a width x height image: RELIEF_E_RANGE naming the
  * parameter. */
-relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p, int width,
+relief_status relief_depth_repair_params_validate(const relief_depth_repair_params *p, int width,
                                                 int height, relief_error *err);
 
-/* Bytes relief_depth_fill needs for a width x height image (for the
+/* Bytes relief_depth_repair needs for a width x height image (for the
  * memory check before the work starts). */
-uint64_t relief_depth_fill_estimate(int width, int height);
+uint64_t relief_depth_repair_estimate(int width, int height);
 
 /* The missing pixels inside the capture: those with a known pixel on
  * both sides along their row, or along their column. A depth camera's
@@ -102,19 +96,19 @@ size_t relief_depth_inside(const uint8_t *missing, int width, int height, uint8_
  * or a known pixel). RELIEF_E_RANGE when every pixel is missing, or when
  * every missing pixel is outside the capture (a hole touching every
  * border and nothing else). */
-relief_status relief_depth_fill(float *z, const uint8_t *missing, int width, int height,
-                                const relief_depth_fill_params *p, relief_patch_scorer *scorer,
-                                int64_t *source, relief_depth_fill_report *rep,
+relief_status relief_depth_repair(float *z, const uint8_t *missing, int width, int height,
+                                const relief_depth_repair_params *p, relief_patch_scorer *scorer,
+                                int64_t *source, relief_depth_repair_report *rep,
                                 relief_error *err);
 
 /* The same with the pixels to fill given: those where missing and
  * target are both non-zero (a mesh's z-buffer: its holes, not the empty
  * background); target NULL: the inside rule above. */
-relief_status relief_depth_fill_targets(float *z, const uint8_t *missing, const uint8_t *target,
+relief_status relief_depth_repair_targets(float *z, const uint8_t *missing, const uint8_t *target,
                                         int width, int height,
-                                        const relief_depth_fill_params *p,
+                                        const relief_depth_repair_params *p,
                                         relief_patch_scorer *scorer, int64_t *source,
-                                        relief_depth_fill_report *rep, relief_error *err);
+                                        relief_depth_repair_report *rep, relief_error *err);
 
 /* The seam: a hole's rim blended in the gradient domain. The synthesis
  * copies texels next to the capture with no regard to the capture's slope

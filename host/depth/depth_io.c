@@ -142,7 +142,7 @@ relief_status relief_pfm_decode(const uint8_t *d, size_t n, const char *name,
             memcpy(&v, &u, sizeof v);
             out->z[(size_t)y * w + x] = isfinite(v) ? v : NAN;
         }
-    out->kind = RELIEF_DEPTH_PFM;
+    out->format = RELIEF_DEPTH_PFM;
     return RELIEF_OK;
 }
 
@@ -467,7 +467,7 @@ static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
             q[0] = q[1] = q[2] = NAN;
         out->z[i] = ok ? q[2] : NAN;
     }
-    out->kind = h.data == PCD_ASCII    ? RELIEF_DEPTH_PCD_ASCII
+    out->format = h.data == PCD_ASCII    ? RELIEF_DEPTH_PCD_ASCII
                 : h.data == PCD_BINARY ? RELIEF_DEPTH_PCD_BINARY
                                        : RELIEF_DEPTH_PCD_COMPRESSED;
     return RELIEF_OK;
@@ -511,7 +511,7 @@ relief_status relief_pcd_read_cloud(const char *path, uint64_t max_points,
     return read_with(path, max_points, relief_pcd_decode_cloud, out, err);
 }
 
-relief_status relief_depth_decode(const uint8_t *d, size_t n, const char *name,
+relief_status relief_depth_frame_decode(const uint8_t *d, size_t n, const char *name,
                                   uint64_t max_pixels, relief_depth_frame *out,
                                   relief_error *err)
 {
@@ -524,10 +524,10 @@ relief_status relief_depth_decode(const uint8_t *d, size_t n, const char *name,
                        "bytes)", name);
 }
 
-relief_status relief_depth_read(const char *path, uint64_t max_pixels,
+relief_status relief_depth_frame_read(const char *path, uint64_t max_pixels,
                                 relief_depth_frame *out, relief_error *err)
 {
-    return read_with(path, max_pixels, relief_depth_decode, out, err);
+    return read_with(path, max_pixels, relief_depth_frame_decode, out, err);
 }
 
 relief_status relief_depth_frame_points(const relief_depth_frame *f, const char *name,
@@ -673,7 +673,7 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
     }
 }
 
-relief_status relief_depth_write(const char *path, const relief_depth_frame *f,
+relief_status relief_depth_frame_write(const char *path, const relief_depth_frame *f,
                                  relief_depth_kind kind, relief_error *err)
 {
     char *tmp = NULL;

@@ -12,25 +12,10 @@
 
 #include "relief/relief.h"
 
-/* Largest side accepted (pixels). */
-#define RELIEF_DEPTH_MAX_SIDE 65535
-
-/* The file a frame came from, and how a writer encodes one. */
-typedef enum relief_depth_kind {
-    RELIEF_DEPTH_PFM = 0,
-    RELIEF_DEPTH_PCD_ASCII,
-    RELIEF_DEPTH_PCD_BINARY,
-    RELIEF_DEPTH_PCD_COMPRESSED
-} relief_depth_kind;
-
-typedef struct relief_depth_frame {
-    int width, height; /* pixels, each >= 1 */
-    float *z;          /* height x width, top row first: the PCD's z (metres) or the
-                          PFM's value; NaN where missing (NaN, +-inf in the file) */
-    float *xyz;        /* height x width x 3 (a PCD's points, NaN where missing), or NULL */
-    uint8_t *rgb;      /* height x width x 3 (a PCD's rgb field), or NULL */
-    relief_depth_kind kind; /* what it was decoded from */
-} relief_depth_frame;
+/* The public depth image (relief/depth.h) is the frame every reader and
+ * writer here takes; its format says how it was read and is written. */
+typedef relief_depth_image relief_depth_frame;
+typedef relief_depth_format relief_depth_kind;
 
 void relief_depth_frame_free(relief_depth_frame *f);
 
@@ -72,15 +57,15 @@ relief_status relief_pfm_decode(const uint8_t *data, size_t n, const char *name,
                                 relief_error *err);
 
 /* Decode `n` bytes as a PCD or a PFM, told by the first bytes (as
- * relief_depth_read does); RELIEF_E_FORMAT when they are neither. */
-relief_status relief_depth_decode(const uint8_t *data, size_t n, const char *name,
+ * relief_depth_frame_read does); RELIEF_E_FORMAT when they are neither. */
+relief_status relief_depth_frame_decode(const uint8_t *data, size_t n, const char *name,
                                   uint64_t max_pixels, relief_depth_frame *out,
                                   relief_error *err);
 
 /* Read a depth file by its first bytes: PCD ("# .PCD" or "VERSION") or
  * PFM ("Pf", "PF"). RELIEF_E_IO naming the path when it cannot be read;
  * RELIEF_E_FORMAT when it is neither. */
-relief_status relief_depth_read(const char *path, uint64_t max_pixels,
+relief_status relief_depth_frame_read(const char *path, uint64_t max_pixels,
                                 relief_depth_frame *out, relief_error *err);
 
 /* Write `f` atomically to `path` as `kind`: a PFM ("Pf", little endian,
@@ -89,7 +74,7 @@ relief_status relief_depth_read(const char *path, uint64_t max_pixels,
  * colour) when f->rgb is set, DATA ascii, binary or binary_compressed
  * (LZF, field by field). A PCD needs f->xyz. RELIEF_E_IO naming the path;
  * no file is left on failure. */
-relief_status relief_depth_write(const char *path, const relief_depth_frame *f,
+relief_status relief_depth_frame_write(const char *path, const relief_depth_frame *f,
                                  relief_depth_kind kind, relief_error *err);
 
 #endif

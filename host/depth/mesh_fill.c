@@ -11,7 +11,7 @@ relief_mesh_fill_params relief_mesh_fill_params_default(void)
 {
     relief_mesh_fill_params p;
     p.resolution = 256;
-    p.depth = relief_depth_fill_params_default();
+    p.depth = relief_depth_repair_params_default();
     /* A mesh's z-buffers are smooth surfaces seen without sensor noise:
      * the thin plate carries their curvature over a hole (a holed unit
      * sphere's cap: Hausdorff 0.017 against 0.16 with the membrane). */
@@ -21,13 +21,13 @@ relief_mesh_fill_params relief_mesh_fill_params_default(void)
 
 /* Repair one depth image of the z-buffers: its HOLE pixels. */
 static relief_status repair(float *z, const uint8_t *state, int W, int H,
-                            const relief_depth_fill_params *dp, relief_patch_scorer *scorer,
+                            const relief_depth_repair_params *dp, relief_patch_scorer *scorer,
                             size_t *holes, size_t *filled, relief_mesh_fill_report *rep,
                             relief_error *err)
 {
     size_t n = (size_t)W * H, surface = 0;
     uint8_t *missing = calloc(n, 1), *target = calloc(n, 1);
-    relief_depth_fill_report r;
+    relief_depth_repair_report r;
     relief_status st = RELIEF_OK;
     if (!missing || !target) {
         free(missing);
@@ -55,7 +55,7 @@ static relief_status repair(float *z, const uint8_t *state, int W, int H,
     rep->surface_pixels += surface;
     *filled = 0;
     if (*holes && surface) {
-        st = relief_depth_fill_targets(z, missing, target, W, H, dp, scorer, NULL, &r, err);
+        st = relief_depth_repair_targets(z, missing, target, W, H, dp, scorer, NULL, &r, err);
         if (st == RELIEF_OK) {
             for (size_t i = 0; i < n; ++i)
                 *filled += target[i] && isfinite(z[i]);

@@ -15,7 +15,7 @@
 
 typedef struct relief_mesh_fill_params {
     int resolution;                 /* voxels along the box's longest side, 8..1024; 256 */
-    relief_depth_fill_params depth; /* each image's repair */
+    relief_depth_repair_params depth; /* each image's repair */
 } relief_mesh_fill_params;
 
 relief_mesh_fill_params relief_mesh_fill_params_default(void);

@@ -1,10 +1,11 @@
-#include "match/ocl.h"
+#include "device/ocl.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/error.h"
+#include "device/device.h"
 
 #ifdef RELIEF_HAVE_OPENCL
 
@@ -140,10 +141,8 @@ relief_status relief_cl_device(int index, cl_device_id *dev, relief_device_info 
                            "devices')", index, n, n - 1);
     if (index >= 0)
         want = (size_t)index;
-    else
-        for (size_t i = n; i-- > 0;)
-            if (strcmp(all[i].type, "gpu") == 0 || strcmp(all[i].type, "accelerator") == 0)
-                want = i;
+    else if (relief_device_first_accelerator(all, n) >= 0)
+        want = (size_t)relief_device_first_accelerator(all, n);
     /* Walk the platforms in relief_devices' order to the wanted device. */
     clGetPlatformIDs(16, plats, &np);
     for (cl_uint p = 0; p < np && p < 16 && !*dev; ++p) {

@@ -1,6 +1,7 @@
 /* Checkpoints of a growth (checkpoint.h): one flat binary record, built in
  * memory, checksummed, and written through a temporary file. */
 #include "grow/checkpoint.h"
+#include "base/params.h"
 
 #include <errno.h>
 #include <math.h>
@@ -87,7 +88,7 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
              (unsigned)p->seed, p->levels, p->oversample,
              relief_oversample_scheme_name(so->oversample_scheme), spacing, extent,
              so->frames == RELIEF_FRAMES_PAPER ? "paper" : "primitive", pct,
-             go ? go->bootstrap : 0, coherence, spike_k, relief_fill_name(so->fill),
+             go ? go->bootstrap : 0, coherence, spike_k, relief_fill_region_name(so->fill),
              relief_search_name(p->search), p->search_k);
 }
 

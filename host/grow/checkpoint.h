@@ -26,6 +26,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "grow/grow.h"
 #include "smooth/surface.h"
 

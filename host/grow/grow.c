@@ -19,6 +19,7 @@
  * patches keeps the capture's own arrangement (Ashikhmin 2001).
  */
 #include "grow/grow.h"
+#include "base/params.h"
 
 #include <float.h>
 #include <math.h>

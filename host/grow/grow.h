@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "base/rng.h"
+#include "base/params.h"
 #include "match/matcher.h"
 #include "smooth/surface.h"
 

@@ -43,6 +43,7 @@
 #include <stdint.h>
 
 #include "grow/grow.h"
+#include "base/params.h"
 #include "smooth/surface.h"
 
 #define RELIEF_MAX_LEVELS 8

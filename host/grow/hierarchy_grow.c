@@ -4,6 +4,7 @@
  * heights of the one before.
  * The levels themselves are built in hierarchy.c. */
 #include "grow/hierarchy.h"
+#include "base/params.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -252,7 +252,7 @@ done:
     return st;
 }
 
-relief_status relief_image_decode(const uint8_t *data, size_t n, const char *name,
+relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *name,
                                   const relief_image_limit *lim, relief_raster *out,
                                   relief_error *err)
 {
@@ -268,7 +268,7 @@ relief_status relief_image_decode(const uint8_t *data, size_t n, const char *nam
                        "bytes)", name);
 }
 
-relief_status relief_image_read(const char *path, const relief_image_limit *lim,
+relief_status relief_raster_read(const char *path, const relief_image_limit *lim,
                                 relief_raster *out, relief_error *err)
 {
     uint8_t *data;
@@ -277,7 +277,7 @@ relief_status relief_image_read(const char *path, const relief_image_limit *lim,
     out->v = NULL;
     if (st != RELIEF_OK)
         return st;
-    st = relief_image_decode(data, n, path, lim, out, err);
+    st = relief_raster_decode(data, n, path, lim, out, err);
     free(data);
     return st;
 }
@@ -365,7 +365,7 @@ static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *pat
     return RELIEF_OK;
 }
 
-relief_status relief_image_write(const char *path, const relief_raster *r, relief_error *err)
+relief_status relief_raster_write(const char *path, const relief_raster *r, relief_error *err)
 {
     relief_image_format fmt = relief_image_format_of_name(path);
     relief_status st;

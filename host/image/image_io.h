@@ -38,13 +38,13 @@ typedef struct relief_image_limit {
  * 0-pixel), RELIEF_E_PARSE (malformed or truncated, with libpng's or
  * libjpeg's words), RELIEF_E_RANGE (a side over RELIEF_RASTER_MAX_SIDE),
  * RELIEF_E_NOMEM (over the limit, or allocation failed). */
-relief_status relief_image_decode(const uint8_t *data, size_t n, const char *name,
+relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *name,
                                   const relief_image_limit *lim, relief_raster *out,
                                   relief_error *err);
 
 /* Read the file at `path` (RELIEF_E_IO naming it when it cannot be read),
- * then as relief_image_decode. */
-relief_status relief_image_read(const char *path, const relief_image_limit *lim,
+ * then as relief_raster_decode. */
+relief_status relief_raster_read(const char *path, const relief_image_limit *lim,
                                 relief_raster *out, relief_error *err);
 
 /* Write `r` (bit_depth 8 or 16; values rounded and clamped to the range)
@@ -52,6 +52,6 @@ relief_status relief_image_read(const char *path, const relief_image_limit *lim,
  * whole or not at all). PNG keeps the channels and the bit depth; JPEG
  * (quality 95) takes 8 bits, and drops alpha. RELIEF_E_FORMAT for another
  * extension, or 16 bits to JPEG; RELIEF_E_IO naming the path. */
-relief_status relief_image_write(const char *path, const relief_raster *r, relief_error *err);
+relief_status relief_raster_write(const char *path, const relief_raster *r, relief_error *err);
 
 #endif

@@ -11,7 +11,7 @@
 #include "base/error.h"
 
 #ifdef RELIEF_HAVE_OPENCL
-#include "match/ocl.h"
+#include "device/ocl.h"
 
 extern const char relief_kernel_patch_math_h[];
 extern const char relief_kernel_patch_cl[];

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "device/device.h"
 #include "kernels/patch_math.h"
 
 typedef struct scalar_ctx {
@@ -115,8 +116,8 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
      * than the scalar scorer once its start-up is counted (bench/
      * image_fill.sh), so auto stays on the host there. */
     st = relief_devices(info, 16, &n, &why);
-    for (size_t i = 0; st == RELIEF_OK && i < n && i < 16; ++i)
-        gpu |= strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0;
+    if (st == RELIEF_OK)
+        gpu = relief_device_first_accelerator(info, n < 16 ? n : 16) >= 0;
     if (device < 0 && st == RELIEF_OK && !gpu) {
         if (note && note_size)
             snprintf(note, note_size, "backend auto: the scalar scorer (no GPU; on a CPU "

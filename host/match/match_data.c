@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "base/compare.h"
+#include "base/params.h"
 #include "base/error.h"
 #include "base/vec3.h"
 #include "match/match_data.h"

@@ -7,6 +7,7 @@
 
 #include "base/clock.h"
 #include "base/error.h"
+#include "device/device.h"
 #include "match/device_memory.h"
 #include "match/matcher_host.h"
 #include "match/matcher_opencl.h"
@@ -53,6 +54,7 @@ static int pick_device(char *why, size_t why_size)
     relief_device_info info[64];
     relief_error e = {RELIEF_OK, ""};
     size_t n = 0;
+    int first;
     if (relief_devices(info, 64, &n, &e) != RELIEF_OK) {
         snprintf(why, why_size, RELIEF_MATCHER_UNAVAILABLE " (%s)", e.message);
         return -1;
@@ -62,9 +64,9 @@ static int pick_device(char *why, size_t why_size)
                  "found)");
         return -1;
     }
-    for (size_t i = 0; i < n && i < 64; ++i)
-        if (strcmp(info[i].type, "gpu") == 0 || strcmp(info[i].type, "accelerator") == 0)
-            return (int)i;
+    first = relief_device_first_accelerator(info, n < 64 ? n : 64);
+    if (first >= 0)
+        return first;
     snprintf(why, why_size, "no GPU or accelerator among the %zu OpenCL device%s (device 0: "
              "%.100s, a %s), whose kernel would run on the host's own cores, no faster "
              "than they score by themselves", n, n == 1 ? "" : "s", info[0].name, info[0].type);

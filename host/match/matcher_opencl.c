@@ -23,7 +23,7 @@
 #include "base/error.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
-#include "match/ocl.h"
+#include "device/ocl.h"
 #include "match/score_pool.h"
 
 #define RM_REAL float

@@ -27,7 +27,7 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
     p.what = RELIEF_POINTS_GEOMETRY_ONLY;
     p.smooth_only = 1, p.mesh = 1, p.keep_base = 1;
     p.hole_mask = NULL;
-    st = relief_complete_points(capture, &p, &m, &rep, err);
+    st = relief_points_complete(capture, &p, &m, &rep, err);
     if (st != RELIEF_OK)
         return st;
     n = rep.n_in, N = m->nv;
@@ -103,7 +103,7 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
     s->frame = malloc(N * 9 * sizeof *s->frame);
     if (!s->disp || !s->frame)
         goto nomem;
-    if (m->col) /* targets mid grey until textured, as relief_smooth does */
+    if (m->col) /* targets mid grey until textured, as relief_surface_build does */
         for (size_t i = 3 * n; i < 3 * N; ++i)
             m->col[i] = 0.5f;
     for (size_t v = 0; v < N; ++v) {

@@ -25,7 +25,7 @@
 /* capture: a mesh (triangles required: RELIEF_E_RANGE otherwise). p: the
  * point-set parameters (relief_points_params_default(); the texture ones
  * unused). rep (may be NULL): what the base's construction found.
- * RELIEF_E_RANGE as relief_complete_points (no hole, too few points, ...);
+ * RELIEF_E_RANGE as relief_points_complete (no hole, too few points, ...);
  * RELIEF_E_NOMEM. *out only on success. */
 relief_status relief_points_base_surface(const relief_mesh *capture,
                                          const relief_points_params *p, relief_surface **out,

@@ -180,7 +180,7 @@ done:
     return st;
 }
 
-relief_status relief_complete_points(const relief_mesh *in, const relief_points_params *p,
+relief_status relief_points_complete(const relief_mesh *in, const relief_points_params *p,
                                      relief_mesh **out_mesh, relief_points_report *rep,
                                      relief_error *err)
 {

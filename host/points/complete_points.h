@@ -28,13 +28,6 @@
 #include "points/rbf.h"
 #include "points/texopt.h"
 
-typedef enum relief_points_what {
-    RELIEF_POINTS_ALL = 0,      /* geometry, and colour when the input has it */
-    RELIEF_POINTS_COLOUR_ONLY,  /* the colour of the masked points; no new points */
-    RELIEF_POINTS_GEOMETRY_ONLY /* new points and their detail; colour copied from the nearest
-                                   captured point */
-} relief_points_what;
-
 typedef struct relief_points_params {
     relief_points_what what;
     int k;                /* neighbours of the local analysis, 6..64 (default 16) */
@@ -102,7 +95,7 @@ void relief_points_report_free(relief_points_report *r);
  * which), the points are too few or collinear, or fewer exemplar points
  * than points to synthesise (the holes larger than the sample region);
  * RELIEF_E_NOMEM. *out only on success. */
-relief_status relief_complete_points(const relief_mesh *in, const relief_points_params *p,
+relief_status relief_points_complete(const relief_mesh *in, const relief_points_params *p,
                                      relief_mesh **out, relief_points_report *rep,
                                      relief_error *err);
 

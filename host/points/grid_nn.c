@@ -10,13 +10,14 @@
 #include "base/error.h"
 #include "base/knn.h"
 #include "base/parallel.h"
+#include "device/device.h"
 #include "kernels/grid_math.h"
 
 #define GN_MAX_K 8
 #define GN_CHUNK 64 /* queries per OpenCL launch: 64 x nz distances come back */
 
 #ifdef RELIEF_HAVE_OPENCL
-#include "match/ocl.h"
+#include "device/ocl.h"
 extern const char relief_kernel_grid_math_h[];
 extern const char relief_kernel_grid_cl[];
 #endif
@@ -219,7 +220,7 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
     nn->search = search, nn->z = z, nn->nz = nz, nn->dims = dims;
     nn->threads = threads;
     nn->backend = RELIEF_BACKEND_SCALAR;
-    if (search == RELIEF_GRID_KDTREE) {
+    if (search == RELIEF_GRID_SEARCH_KDTREE) {
         struct FLANNParameters fp = relief_knn_exact_params();
         float speedup;
         nn->index = flann_build_index_float((float *)z, (int)nz, dims, &speedup, &fp);
@@ -239,7 +240,8 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
             relief_status st = relief_cl_device(device, &dev, &info, &cerr);
             /* auto takes a GPU or accelerator, or a device named by number */
             const int gpu = backend == RELIEF_BACKEND_OPENCL ||
-                            (st == RELIEF_OK && (device >= 0 || strcmp(info.type, "cpu") != 0));
+                            (st == RELIEF_OK &&
+                             (device >= 0 || relief_device_is_accelerator(&info)));
             if (gpu && st == RELIEF_OK)
                 st = cl_start(nn, dev, &info, &cerr);
             if (gpu && st == RELIEF_OK)
@@ -283,7 +285,7 @@ relief_status relief_grid_nn_query(relief_grid_nn *nn, const float *q, size_t nq
 #endif
     {
         job j = {nn, q, k, idx};
-        if (relief_parallel_ranges(nq, nn->threads, nn->search == RELIEF_GRID_KDTREE
+        if (relief_parallel_ranges(nq, nn->threads, nn->search == RELIEF_GRID_SEARCH_KDTREE
                                                         ? kdtree_range : brute_range, &j))
             return relief_fail(err, RELIEF_E_NOMEM, "the grid search ran out of memory");
     }

@@ -20,11 +20,6 @@
 
 #include "relief/relief.h"
 
-typedef enum relief_grid_search {
-    RELIEF_GRID_KDTREE = 0,
-    RELIEF_GRID_BRUTE
-} relief_grid_search;
-
 typedef struct relief_grid_nn relief_grid_nn;
 
 /* A searcher over z. brute's backend: scalar, opencl (on `device`, -1 the

@@ -878,7 +878,7 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
     o.cand = malloc(o.A * CANDIDATES * sizeof *o.cand + 1);
     if (!o.q || !o.cand)
         goto nomem;
-    st = relief_grid_nn_create(p.brute ? RELIEF_GRID_BRUTE : RELIEF_GRID_KDTREE, p.backend,
+    st = relief_grid_nn_create(p.brute ? RELIEF_GRID_SEARCH_BRUTE : RELIEF_GRID_SEARCH_KDTREE, p.backend,
                                p.device, zv, o.nz, o.dims, threads, &o.nn, search_note,
                                sizeof search_note, err);
     if (st != RELIEF_OK)

@@ -38,7 +38,7 @@ relief_render_options relief_render_options_default(void)
     return o;
 }
 
-void relief_image_free(relief_image *img)
+void relief_rgb_image_free(relief_rgb_image *img)
 {
     if (img) {
         free(img->rgb);
@@ -403,7 +403,7 @@ static void draw_points(const camera *c, const relief_mesh *m, const double *scr
 }
 
 relief_status relief_render(const relief_mesh *m, const relief_render_options *o,
-                            relief_image *out, relief_render_info *info_out,
+                            relief_rgb_image *out, relief_render_info *info_out,
                             relief_error *err)
 {
     const int ss = RELIEF_RENDER_SUPERSAMPLE;

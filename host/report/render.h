@@ -105,21 +105,21 @@ typedef struct relief_render_info {
 } relief_render_info;
 
 /* An 8-bit RGB image: height rows of width x 3 bytes, top row first. */
-typedef struct relief_image {
+typedef struct relief_rgb_image {
     int width, height;
     uint8_t *rgb;
-} relief_image;
+} relief_rgb_image;
 
-void relief_image_free(relief_image *img);
+void relief_rgb_image_free(relief_rgb_image *img);
 
 /* Render `mesh` (positions; triangles, or none for a point cloud) into
- * *out (allocated here; free with relief_image_free). `info` may be NULL.
+ * *out (allocated here; free with relief_rgb_image_free). `info` may be NULL.
  * Errors: RELIEF_E_USAGE for NULL arguments; RELIEF_E_RANGE for a size or
  * a view out of range or a negative or non-finite displacement_range;
  * RELIEF_E_MESH for an empty or invalid mesh, or one without what the
  * colouring needs (named in the message), or a failed fit; RELIEF_E_NOMEM. */
 relief_status relief_render(const relief_mesh *mesh, const relief_render_options *opts,
-                            relief_image *out, relief_render_info *info, relief_error *err);
+                            relief_rgb_image *out, relief_render_info *info, relief_error *err);
 
 /* The default view of `mesh` (above), degrees. */
 void relief_render_default_view(const relief_mesh *mesh, double *azimuth, double *elevation);

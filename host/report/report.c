@@ -44,7 +44,7 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_string(j, "spacing_source", s->spacing_from_capture
                                        ? "capture edge-length percentile"
                                        : "--spacing");
-    rj_string(j, "region", relief_fill_name(s->fill.region));
+    rj_string(j, "region", relief_fill_region_name(s->fill.region));
     rj_number(j, "cover", s->fill.cover);
     rj_begin_object(j, "counts");
     rj_int(j, "captured", (long long)s->n_captured);

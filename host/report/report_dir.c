@@ -405,7 +405,7 @@ static void write_figures(FILE *f, const relief_report_content *c)
     row(f, "samples (oversampled)", "%zu", s->n_samples);
     row(f, "targets", "%zu", s->n_targets);
     row(f, "region completed", "%s: %zu holes (%zu points); %zu points outside the outline; "
-        "the capture covers %.1f%%", relief_fill_name(s->fill.region), s->fill.holes,
+        "the capture covers %.1f%%", relief_fill_region_name(s->fill.region), s->fill.holes,
         s->fill.hole_points, s->fill.outside_points, 100.0 * s->fill.cover);
     row(f, "triangles", "%zu", s->mesh->nt);
     row(f, "left out (duplicates)", "%zu", s->n_dropped);
@@ -512,14 +512,14 @@ static relief_status render_to(const relief_report_dir *r, const relief_mesh *me
                                const relief_render_options *o, const char *name,
                                relief_error *err)
 {
-    relief_image img = {0, 0, NULL};
+    relief_rgb_image img = {0, 0, NULL};
     char path[4096];
     relief_status st = relief_render(mesh, o, &img, NULL, err);
     if (st == RELIEF_OK) {
         snprintf(path, sizeof path, "%s/%s", r->tmp, name);
         st = relief_png_write(path, img.rgb, img.width, img.height, err);
     }
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
     return st;
 }
 

@@ -30,6 +30,7 @@
 #include <stdio.h>
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "grow/grow.h"
 #include "report/measures.h"
 #include "smooth/fit.h"

@@ -68,77 +68,8 @@ extern "C" {
 #define RELIEF_FIT_TRIM_PASSES 10
 /* Fraction by which each extra parameter must cut the residual (auto). */
 #define RELIEF_FIT_GAIN 0.10
-/* A fit is poor when rms > RELIEF_FIT_POOR * the primitive's size. */
-#define RELIEF_FIT_POOR 0.10
-
-#define RELIEF_FIT_REASON_MAX 320
-
-/* A fitted surface. Signed distances are positive on the side `normal`
- * points to: outside a sphere or cylinder, along `dir` for a plane. */
-typedef struct relief_fit_primitive {
-    relief_fit_model model; /* RELIEF_FIT_PLANE, _SPHERE or _CYLINDER */
-    double point[3]; /* plane: its point nearest the input centroid;
-                        sphere: the centre;
-                        cylinder: the axis point nearest the input centroid */
-    double dir[3];   /* plane: unit normal; cylinder: unit axis direction;
-                        sphere: (0, 0, 0). Sign: along the mean of the
-                        input normals (plane, when normals were given),
-                        else its largest-magnitude component is positive. */
-    double radius;   /* sphere and cylinder: > 0; plane: 0 */
-} relief_fit_primitive;
-
-/* What relief_fit found. */
-typedef struct relief_fit_result {
-    relief_fit_primitive prim;
-    double rms;             /* RMS orthogonal distance over the inliers of
-                               the robust trimming (input units) */
-    double rms_all;         /* the same over all n points */
-    double inlier_fraction; /* fraction of ALL points with |distance| <=
-                               3 * rms, in [0, 1] */
-    size_t n_points;        /* points given */
-    size_t n_inliers;       /* points the rms is taken over */
-    double size;            /* sphere, cylinder: the radius; plane: the
-                               inliers' RMS distance from their centroid
-                               within the plane (input units) */
-    int poor_fit;           /* 1 when rms > RELIEF_FIT_POOR * size */
-    double model_rms[4];    /* indexed by relief_fit_model: inlier rms of
-                               each model tried (all three under auto, one
-                               otherwise); -1 for a model not tried or that
-                               could not be fitted. [RELIEF_FIT_AUTO] = -1. */
-    char reason[RELIEF_FIT_REASON_MAX]; /* one sentence, e.g. "sphere: rms
-                               0.0119 vs plane 0.1335, cylinder 0.0507" */
-} relief_fit_result;
-
-/* Fit `model` (or choose one, RELIEF_FIT_AUTO) to n points.
- *
- * pts      n x 3 positions (input units), finite.
- * normals  n x 3 unit normals of the points, or NULL. Used only to estimate
- *          a cylinder's axis (one more start) and to orient a plane's
- *          normal; zero rows are allowed and ignored.
- * n        number of points: at least 3 (plane, auto), 4 (sphere),
- *          5 (cylinder).
- * model    RELIEF_FIT_AUTO, _PLANE, _SPHERE or _CYLINDER.
- * out      receives the result, written only on success.
- *
- * Errors: RELIEF_E_USAGE for NULL arrays or an unknown model; RELIEF_E_MESH
- * for too few points, a non-finite coordinate, points that all coincide or
- * are collinear, coplanar points asked to fit a sphere, or a requested model
- * that cannot be fitted (its radius diverges); RELIEF_E_NOMEM. The message
- * names the problem (which point, how many, which model). */
-relief_status relief_fit(const double *pts, const double *normals, size_t n,
-                         relief_fit_model model, relief_fit_result *out,
-                         relief_error *err);
-
-/* relief_fit on a mesh's vertices. Normals: the mesh's own when it has
- * them, else area-weighted triangle normals when it has triangles, else
- * none. */
-relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
-                              relief_fit_result *out, relief_error *err);
-
-/* Signed orthogonal distance (input units) from p (3 doubles) to the
- * primitive: plane (p - point).dir; sphere |p - point| - radius; cylinder
- * distance to the axis - radius. */
-double relief_fit_distance(const relief_fit_primitive *prim, const double p[3]);
+/* relief_fit_primitive, relief_fit_result, relief_fit, relief_fit_mesh
+ * and relief_fit_distance are public: relief/complete.h. */
 
 /* Unit outward normal of the primitive at the foot of p, written to
  * nrm[3]: the plane's dir; (p - centre) / |p - centre| for a sphere; the

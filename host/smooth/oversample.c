@@ -16,13 +16,6 @@
 /* Bound on the (index, distance) entries one FLANN query batch holds. */
 #define QUERY_BATCH_ENTRIES ((size_t)1 << 22)
 
-const char *relief_oversample_scheme_name(int scheme)
-{
-    return scheme == RELIEF_OVERSAMPLE_MIDPOINT    ? "midpoint"
-           : scheme == RELIEF_OVERSAMPLE_BUTTERFLY ? "butterfly"
-                                                   : "unknown";
-}
-
 relief_oversample_params relief_oversample_params_default(void)
 {
     relief_oversample_params p;

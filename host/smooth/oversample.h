@@ -72,12 +72,6 @@ extern "C" {
 #define RELIEF_OVERSAMPLE_PASSES_MAX 8
 #define RELIEF_OVERSAMPLE_K_MAX 256
 
-/* Where a new vertex goes. */
-enum {
-    RELIEF_OVERSAMPLE_MIDPOINT = 0, /* the edge's midpoint (coplanar) */
-    RELIEF_OVERSAMPLE_BUTTERFLY = 1 /* the 8-point butterfly point */
-};
-
 /* Colour transfer of relief_oversample. */
 typedef struct relief_oversample_params {
     int scheme;   /* RELIEF_OVERSAMPLE_*; default BUTTERFLY */
@@ -88,9 +82,6 @@ typedef struct relief_oversample_params {
                      half the input's median edge length (median over its
                      distinct edges); else finite and > 0 */
 } relief_oversample_params;
-
-/* "midpoint" or "butterfly" ("unknown" otherwise). */
-const char *relief_oversample_scheme_name(int scheme);
 
 /* Butterfly, k = 6, sigma = 0 (half the median edge length). */
 relief_oversample_params relief_oversample_params_default(void);

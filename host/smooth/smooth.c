@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "base/compare.h"
+#include "base/params.h"
 
 #include "base/clock.h"
 #include "base/error.h"
@@ -46,11 +47,6 @@ relief_smooth_options relief_smooth_options_default(void)
     o.max_growth = RELIEF_MAX_GROWTH;
     o.spike_k = RELIEF_SPIKE_K;
     return o;
-}
-
-const char *relief_fill_name(relief_fill f)
-{
-    return f == RELIEF_FILL_HOLES ? "holes" : f == RELIEF_FILL_WHOLE ? "whole" : "auto";
 }
 
 void relief_surface_destroy(relief_surface *s)
@@ -298,7 +294,7 @@ static void set_frame(const relief_surface *s, relief_frames rule, const double 
     memcpy(f + 6, n, 3 * sizeof(double));
 }
 
-relief_status relief_smooth(const relief_mesh *input, const relief_params *params,
+relief_status relief_surface_build(const relief_mesh *input, const relief_params *params,
                             const relief_smooth_options *opts, relief_surface **out,
                             relief_error *err)
 {

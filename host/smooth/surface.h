@@ -1,25 +1,18 @@
 /* The combined surface on which relief grows (stages 3 to 5 of DESIGN.md):
  * the capture's samples and the target vertices laid on the fitted
  * primitive, in one triangulation, with the per-vertex state the growth
- * needs. Built by relief_smooth (smooth.c). */
+ * needs. Built by relief_surface_build (smooth.c). */
 #ifndef RELIEF_HOST_SURFACE_H
 #define RELIEF_HOST_SURFACE_H
 
 #include "relief/relief.h"
+#include "base/params.h"
 #include "smooth/fit.h"
 #include "smooth/param.h"
 
-typedef enum relief_frames {
-    RELIEF_FRAMES_PAPER = 0, /* paper 000's deterministic rule on the normal */
-    RELIEF_FRAMES_PRIMITIVE  /* aligned with the primitive's parameterisation */
-} relief_frames;
-
-/* Which uncovered region of the primitive is completed (targets.h). */
-typedef enum relief_fill {
-    RELIEF_FILL_AUTO,  /* holes of a patch, the whole of a one-sided scan */
-    RELIEF_FILL_HOLES, /* only the holes the capture's outline encloses */
-    RELIEF_FILL_WHOLE  /* every uncovered point of the region laid */
-} relief_fill;
+/* Which uncovered region of the primitive is completed (targets.h):
+ * relief/complete.h's relief_fill_region. */
+typedef relief_fill_region relief_fill;
 
 /* A capture covering less than this share of a cylinder's turn (over its
  * axial extent) or of a sphere is a patch of something larger, not a
@@ -65,9 +58,6 @@ typedef struct relief_smooth_options {
 
 relief_smooth_options relief_smooth_options_default(void);
 
-/* "auto", "holes" or "whole". */
-const char *relief_fill_name(relief_fill f);
-
 /* What the capture check (surface_check.h) found folded and dropped. */
 typedef struct relief_fold_stats {
     size_t triangles;         /* triangles facing away from the primitive */
@@ -96,7 +86,7 @@ typedef struct relief_fill_stats {
     double cover;             /* share of the lattice the capture covers, 0..1 */
 } relief_fill_stats;
 
-/* Stages timed by relief_smooth. */
+/* Stages timed by relief_surface_build. */
 enum {
     RELIEF_STAGE_FIT,
     RELIEF_STAGE_TARGETS,
@@ -149,7 +139,7 @@ typedef struct relief_surface {
  * plane's (e1, e2) frame from the fitted point): targets.h. RELIEF_E_MESH
  * when the capture fits no primitive well, has nothing to complete, or
  * cannot be joined into a manifold. */
-relief_status relief_smooth(const relief_mesh *capture, const relief_params *params,
+relief_status relief_surface_build(const relief_mesh *capture, const relief_params *params,
                             const relief_smooth_options *opts, relief_surface **out,
                             relief_error *err);
 
@@ -158,7 +148,7 @@ void relief_surface_destroy(relief_surface *s);
 /* A sub-surface of s for the hierarchy (hierarchy.c): the vertices with
  * keep[v] != 0 (s->mesh->nv entries), in s's order (so samples first),
  * with their per-vertex state, labels and colours, re-triangulated as
- * relief_smooth triangulates (qhull in the primitive's parameter domain, or
+ * relief_surface_build triangulates (qhull in the primitive's parameter domain, or
  * on the sphere), keeping triangles of circumradius <= alpha (input units;
  * on the sphere too). Vertices no triangle uses are left out.
  * A free-form s is coarsened instead: its own triangles lose the other

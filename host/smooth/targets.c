@@ -4,6 +4,7 @@
  * cylinder: wrapping round the turn) or, on the sphere's Fibonacci
  * lattice, through the uncovered points within 1.5 spacings. */
 #include "smooth/targets.h"
+#include "base/params.h"
 
 #include <float.h>
 #include <math.h>

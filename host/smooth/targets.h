@@ -1,4 +1,4 @@
-/* Where relief_smooth lays its targets: the points of the fitted primitive
+/* Where relief_surface_build lays its targets: the points of the fitted primitive
  * the capture does not cover, and which of them to complete.
  *
  * The uncovered points split into connected regions. A region is a hole
@@ -21,6 +21,7 @@
 #include <stddef.h>
 
 #include "base/error.h"
+#include "base/params.h"
 #include "mesh/mesh.h"
 #include "smooth/param.h"
 #include "smooth/surface.h"

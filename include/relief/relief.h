@@ -1,8 +1,23 @@
-/* relief: completion of surface relief and colour over a fitted primitive.
+/* relief: completion of what a capture missed, by non-parametric sampling.
  *
  * Public C API of librelief. Everything here is plain C11: opaque handles,
  * a status enum with relief_strerror(), parameter structs with documented
- * defaults. No C++ type ever appears in this header.
+ * defaults. No C++ type ever appears in a public header.
+ *
+ * This header is the core (status, errors, progress, meshes and their
+ * files, synthetic surfaces, devices) and includes one header per engine:
+ *   relief/complete.h  relief_complete, relief_smooth, relief_fit (papers 000, 001)
+ *   relief/image.h     images, their files, relief_image_fill (paper 004)
+ *   relief/depth.h     depth frames, their files, relief_depth_fill (paper 003)
+ *   relief/points.h    relief_complete_points (paper 002)
+ *   relief/eval.h      relief_eval, the measures of a completion
+ * Link with `pkg-config --cflags --libs relief`, or in CMake
+ * find_package(relief CONFIG) and target_link_libraries(... relief::relief).
+ *
+ * The library never writes to stdout or stderr and holds no global state:
+ * every entry point may be called from several threads at once on
+ * different data, and gives the bytes it gives when the calls are made one
+ * after the other.
  *
  * Conventions
  * - Functions that can fail return relief_status and take a trailing
@@ -22,10 +37,22 @@
 extern "C" {
 #endif
 
+/* What the shared library exports: only the functions declared in the
+ * public headers (the build hides the rest). */
+#if defined(RELIEF_STATIC_DEFINE) || !defined(__GNUC__)
+#define RELIEF_API
+#else
+#define RELIEF_API __attribute__((visibility("default")))
+#endif
+
 #define RELIEF_VERSION_MAJOR 0
 #define RELIEF_VERSION_MINOR 1
 #define RELIEF_VERSION_PATCH 0
 #define RELIEF_VERSION_STRING "0.1.0"
+
+/* The version of the library linked at run time ("0.1.0"), which may
+ * differ from RELIEF_VERSION_STRING, the one compiled against. */
+RELIEF_API const char *relief_version(void);
 
 /* ------------------------------------------------------------------ status */
 
@@ -45,7 +72,8 @@ extern "C" {
     X(RELIEF_E_NOT_IMPLEMENTED, 10, "not-implemented",                         \
       "not implemented yet", 2)                                                \
     X(RELIEF_E_INTERNAL, 11, "internal", "internal error", 2)                  \
-    X(RELIEF_E_CANCELLED, 12, "cancelled", "interrupted (SIGINT)", 130)
+    X(RELIEF_E_CANCELLED, 12, "cancelled",                                  \
+      "cancelled (by the progress callback or SIGINT)", 130)
 
 typedef enum relief_status {
 #define RELIEF_X_ENUM(code, value, name, msg, exit_code) code = value,
@@ -55,15 +83,15 @@ typedef enum relief_status {
 
 /* Static, human-readable description of a status ("malformed or truncated
  * file"). Never NULL; unknown values give "unknown status". */
-const char *relief_strerror(relief_status status);
+RELIEF_API const char *relief_strerror(relief_status status);
 
 /* Short stable name of a status ("parse"), for JSON reports and logs. */
-const char *relief_status_name(relief_status status);
+RELIEF_API const char *relief_status_name(relief_status status);
 
 /* Process exit code the CLI uses for a status: 0 success, 1 bad input or
  * usage, 2 internal or device failure, 130 interrupted (128 + SIGINT, as a
  * shell reports a process killed by Ctrl-C). */
-int relief_status_exit_code(relief_status status);
+RELIEF_API int relief_status_exit_code(relief_status status);
 
 #define RELIEF_ERROR_MESSAGE_MAX 1024
 
@@ -98,32 +126,32 @@ typedef enum relief_label {
 /* Create a mesh with n_vertices vertices and n_triangles triangles, all
  * arrays zero-filled, carrying the attributes in `attributes`
  * (RELIEF_MESH_* flags). */
-relief_status relief_mesh_create(size_t n_vertices, size_t n_triangles,
+RELIEF_API relief_status relief_mesh_create(size_t n_vertices, size_t n_triangles,
                                  unsigned attributes, relief_mesh **out,
                                  relief_error *err);
 
 /* Free a mesh and all its arrays. NULL is accepted. */
-void relief_mesh_destroy(relief_mesh *mesh);
+RELIEF_API void relief_mesh_destroy(relief_mesh *mesh);
 
-size_t relief_mesh_vertex_count(const relief_mesh *mesh);
-size_t relief_mesh_triangle_count(const relief_mesh *mesh);
-unsigned relief_mesh_attributes(const relief_mesh *mesh);
+RELIEF_API size_t relief_mesh_vertex_count(const relief_mesh *mesh);
+RELIEF_API size_t relief_mesh_triangle_count(const relief_mesh *mesh);
+RELIEF_API unsigned relief_mesh_attributes(const relief_mesh *mesh);
 
 /* n_vertices x 3 positions (double, input units). */
-double *relief_mesh_positions(relief_mesh *mesh);
+RELIEF_API double *relief_mesh_positions(relief_mesh *mesh);
 /* n_triangles x 3 vertex indices, counter-clockwise seen from outside. */
-uint32_t *relief_mesh_triangles(relief_mesh *mesh);
+RELIEF_API uint32_t *relief_mesh_triangles(relief_mesh *mesh);
 /* n_vertices x 3 colours in [0, 1], or NULL when the mesh has none. */
-float *relief_mesh_colours(relief_mesh *mesh);
+RELIEF_API float *relief_mesh_colours(relief_mesh *mesh);
 /* n_vertices x 3 unit normals, or NULL when the mesh has none. */
-double *relief_mesh_normals(relief_mesh *mesh);
+RELIEF_API double *relief_mesh_normals(relief_mesh *mesh);
 /* n_vertices labels (relief_label), or NULL when the mesh has none. */
-uint8_t *relief_mesh_labels(relief_mesh *mesh);
+RELIEF_API uint8_t *relief_mesh_labels(relief_mesh *mesh);
 
 /* Check a mesh is usable: at least one vertex, finite coordinates, triangle
  * indices in range and distinct, and, when it has triangles, at least one of
  * non-zero area. Names the first offending vertex or triangle. */
-relief_status relief_mesh_validate(const relief_mesh *mesh, relief_error *err);
+RELIEF_API relief_status relief_mesh_validate(const relief_mesh *mesh, relief_error *err);
 
 /* -------------------------------------------------------------------- I/O */
 
@@ -141,7 +169,7 @@ typedef struct relief_read_info {
  * read as a point cloud. Malformed, truncated or invalid content (NaN or Inf
  * coordinates, face indices out of range, an empty or degenerate-only mesh)
  * is rejected. `info` may be NULL. */
-relief_status relief_mesh_read(const char *path, relief_mesh **out,
+RELIEF_API relief_status relief_mesh_read(const char *path, relief_mesh **out,
                                relief_read_info *info, relief_error *err);
 
 typedef struct relief_write_options {
@@ -153,7 +181,7 @@ typedef struct relief_write_options {
  * geometry only. The file is written under a temporary name in the same
  * folder and renamed into place, so `path` is either the complete new file
  * or untouched. `opts` may be NULL (defaults). */
-relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
+RELIEF_API relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
                                 const relief_write_options *opts,
                                 relief_error *err);
 
@@ -181,10 +209,10 @@ typedef enum relief_synth_kind {
 
 /* Name ("plane-waves") and one-line description of a kind; NULL if out of
  * range. */
-const char *relief_synth_kind_name(relief_synth_kind kind);
-const char *relief_synth_kind_description(relief_synth_kind kind);
+RELIEF_API const char *relief_synth_kind_name(relief_synth_kind kind);
+RELIEF_API const char *relief_synth_kind_description(relief_synth_kind kind);
 /* Kind by name; RELIEF_E_USAGE (listing the valid names) if unknown. */
-relief_status relief_synth_kind_parse(const char *name,
+RELIEF_API relief_status relief_synth_kind_parse(const char *name,
                                       relief_synth_kind *out,
                                       relief_error *err);
 
@@ -201,7 +229,7 @@ typedef struct relief_synth_params {
 } relief_synth_params;
 
 /* Defaults as documented in relief_synth_params. */
-relief_synth_params relief_synth_params_default(void);
+RELIEF_API relief_synth_params relief_synth_params_default(void);
 
 /* Make a synthetic surface. `*truth` receives the whole textured surface,
  * `*captured` the part a scanner sees (a cylinder or sphere seen from +x,
@@ -209,106 +237,68 @@ relief_synth_params relief_synth_params_default(void);
  * output pointer may be NULL when not wanted. Deterministic for a given
  * parameter set on every platform. Units: plane side 1, cylinder and sphere
  * radius 1. */
-relief_status relief_synth(const relief_synth_params *params,
+RELIEF_API relief_status relief_synth(const relief_synth_params *params,
                            relief_mesh **captured, relief_mesh **truth,
                            relief_error *err);
 
-/* ---------------------------------------------------- completion params */
+/* ------------------------------------------------------ backends and runs */
 
-typedef enum relief_fit_model {
-    RELIEF_FIT_AUTO = 0,
-    RELIEF_FIT_PLANE,
-    RELIEF_FIT_SPHERE,
-    RELIEF_FIT_CYLINDER
-} relief_fit_model;
-
-/* Which matcher scores the candidates. Every one gives the same bytes.
+/* Who scores the candidate matches. Every backend gives the same bytes.
  *   scalar  the reference: plain C on one thread;
- *   opencl  the OpenCL kernel on a device (--device; the first by default);
- *   host    the reference's scoring on every core of the host;
- *   auto    a GPU or accelerator when OpenCL has one (or the --device
- *           named), else host: on a CPU the OpenCL device runs on the same
- *           cores, slower (bench/run.sh throughput). */
+ *   opencl  the OpenCL kernel on a device (`device`; the first GPU or
+ *           accelerator by default, else the first device);
+ *   host    the reference's scoring on every core of the host (relief_complete;
+ *           the other engines take it as scalar);
+ *   auto    OpenCL on a GPU or accelerator when there is one (or on the
+ *           device named), else the host's cores: on a CPU an OpenCL device
+ *           runs on the same cores, and measured slower.
+ * X(code, name) */
+#define RELIEF_BACKEND_LIST(X)                                                  \
+    X(RELIEF_BACKEND_AUTO, "auto")                                              \
+    X(RELIEF_BACKEND_SCALAR, "scalar")                                          \
+    X(RELIEF_BACKEND_OPENCL, "opencl")                                          \
+    X(RELIEF_BACKEND_HOST, "host")
+
 typedef enum relief_backend {
-    RELIEF_BACKEND_AUTO = 0,
-    RELIEF_BACKEND_SCALAR,
-    RELIEF_BACKEND_OPENCL,
-    RELIEF_BACKEND_HOST
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_BACKEND_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
 } relief_backend;
 
-/* How a target's candidates are found (issue 18): every (sample, rotation)
- * (exhaustive, paper 000), or the k-coherence search's few hundred
- * (coherent, host/match/search.h); auto: exhaustive while samples x R x
- * targets is at most RELIEF_SEARCH_AUTO_WORK, else coherent. */
-typedef enum relief_search_mode {
-    RELIEF_SEARCH_AUTO = 0,
-    RELIEF_SEARCH_EXHAUSTIVE,
-    RELIEF_SEARCH_COHERENT
-} relief_search_mode;
+/* "auto", "scalar", "opencl" or "host"; "unknown" out of range. */
+RELIEF_API const char *relief_backend_name(relief_backend backend);
 
-/* Candidate work (samples x R x targets) above which auto searches
- * coherently: about a minute of exhaustive scoring on 2 cores at the
- * window of 3. */
-#define RELIEF_SEARCH_AUTO_WORK 1.0e8
+/* Progress of a long call: `fraction` of the work done, 0 to 1, never
+ * decreasing within a call. Called on the calling thread, between two
+ * steps of the engine (a target, a pixel, an iteration). Return 0 to go
+ * on; any other value cancels the call, which then returns
+ * RELIEF_E_CANCELLED and leaves every output of the caller untouched. */
+typedef int (*relief_progress_fn)(void *ctx, double fraction);
 
-/* Parameters of `relief complete` and `relief smooth`. Lengths are in the
- * input's units; 0 for spacing means "derive from the capture". */
-typedef struct relief_params {
-    relief_fit_model fit;   /* default auto */
-    int window;             /* W, neighbourhood radius in edge hops; 3, [1, 16] */
-    int rotations;          /* R, rotations tried per sample; [1, 64], or
-                               0 (default): relief_params_rotations */
-    double error;           /* e, acceptance threshold; 0.1, (0, 1e6] */
-    double mu;              /* shape weight; <0 means "1 without colour,
-                               0.5 with"; else [0, 1] */
-    uint32_t seed;          /* MT19937 seed; 1 */
-    double coherence;       /* kappa: a target takes its best coherent
-                               candidate (the sample that continues a
-                               neighbour's source patch) when that one's SSD
-                               is at most kappa x the minimum; 0 = off (paper
-                               000's draw alone); 0, or [1, 100] */
-    relief_search_mode search; /* default auto */
-    int search_k;           /* similar pairs per pair in the coherent
-                               search; 8, [1, 64] */
-    int levels;             /* M hierarchy levels; 1 (mono-scale), [1, 8] */
-    relief_backend backend; /* default auto */
-    int device;             /* OpenCL device index; -1 = first usable */
-    int oversample;         /* oversampling passes; 1, [0, 4] */
-    double spacing;         /* target spacing; 0 = from capture, else > 0 */
-    int has_extent;         /* 1 when extent[] is set */
-    double extent[4];       /* cylinder: z0, z1 (2 values); plane: u0, v0,
-                               u1, v1 (4 values), in primitive coordinates */
-    int n_extent;           /* number of extent values given: 2 or 4 */
-    uint64_t max_memory;    /* host memory limit in bytes; a run whose
-                               estimate exceeds it is refused before it
-                               allocates. 0 (default): 80% of physical
-                               memory */
-} relief_params;
+/* What every engine call shares: where it runs, how much memory it may
+ * take, its progress, and how its report names the files. */
+typedef struct relief_run_options {
+    relief_backend backend;      /* default auto */
+    int device;                  /* OpenCL device index (relief_devices), or -1
+                                    (default): the first GPU or accelerator, else
+                                    the first device; [-1, 255] */
+    uint64_t max_memory;         /* bytes of host memory a call may plan for: one
+                                    whose estimate exceeds it is refused
+                                    (RELIEF_E_NOMEM) before it allocates. 0
+                                    (default): 80 % of physical memory */
+    relief_progress_fn progress; /* NULL (default): none */
+    void *progress_ctx;          /* passed to progress */
+    const char *input_name;      /* what the report's JSON calls the input and */
+    const char *output_name;     /* the output (a path, or any label); NULL
+                                    (default): not named */
+} relief_run_options;
 
-/* Defaults as documented in relief_params. */
-relief_params relief_params_default(void);
+/* The defaults above. */
+RELIEF_API relief_run_options relief_run_options_default(void);
 
-/* Check every field against its range; names the first one out of range
- * with its allowed range. */
-relief_status relief_params_validate(const relief_params *params,
-                                     relief_error *err);
-
-/* The rotations tried on a primitive: params->rotations, or for 0 (the
- * default) 1 on a plane, whose frames are all alike so that a rotation can
- * only turn a directional pattern (streaks, waves), and 4 on a cylinder or
- * a sphere, where frames turn with the surface. */
-int relief_params_rotations(const relief_params *params, relief_fit_model model);
-
-/* The search params->search asks for on ns samples, R rotations and
- * n_targets targets: exhaustive or coherent, auto resolved. */
-relief_search_mode relief_params_search(const relief_params *params, size_t ns, int rotations,
-                                        size_t n_targets);
-
-const char *relief_fit_model_name(relief_fit_model model);
-const char *relief_backend_name(relief_backend backend);
-
-/* "auto", "exhaustive" or "coherent". */
-const char *relief_search_name(relief_search_mode search);
+/* Check the fields' ranges; RELIEF_E_RANGE naming the field and its range. */
+RELIEF_API relief_status relief_run_options_validate(const relief_run_options *run,
+                                                     relief_error *err);
 
 /* ---------------------------------------------------------------- devices */
 
@@ -330,11 +320,18 @@ typedef struct relief_device_info {
  * and sets `*count` to the number found; no platform is not an error (count
  * 0). RELIEF_E_NOT_BUILT when relief was built without OpenCL;
  * RELIEF_E_DEVICE, naming the OpenCL error, when a query fails. */
-relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
+RELIEF_API relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
                              relief_error *err);
 
 #ifdef __cplusplus
 }
 #endif
+
+/* The engines, each in its own header (each includes this one). */
+#include "relief/complete.h"
+#include "relief/image.h"
+#include "relief/depth.h"
+#include "relief/points.h"
+#include "relief/eval.h"
 
 #endif /* RELIEF_RELIEF_H */

@@ -1,11 +1,12 @@
 /* Memory limits: sizes parse and print, the estimates grow with the
- * problem and never wrap, relief_smooth refuses a capture over the limit
+ * problem and never wrap, relief_surface_build refuses a capture over the limit
  * before allocating it, and a device too small for the match data (in all,
  * or in its largest buffer) is refused naming both figures. */
 #include <stdint.h>
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "base/memlimit.h"
 #include "match/device_memory.h"
 #include "match/matcher.h"
@@ -72,7 +73,7 @@ int main(void)
               strstr(err.message, "limit of 1.00 GiB"),
           "over the limit: %s", err.message);
 
-    /* relief_smooth, and the device check, on a small capture. */
+    /* relief_surface_build, and the device check, on a small capture. */
     {
         relief_synth_params sp = relief_synth_params_default();
         relief_params p = relief_params_default();
@@ -83,11 +84,11 @@ int main(void)
         sp.vertices = 500;
         CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "synth: %s", err.message);
         p.max_memory = 1 << 20;
-        CHECK(cap && relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_E_NOMEM && !s &&
+        CHECK(cap && relief_surface_build(cap, &p, NULL, &s, &err) == RELIEF_E_NOMEM && !s &&
                   strstr(err.message, "over the limit of 1.00 MiB"),
               "smooth under a 1 MiB limit: %s", err.message);
         p.max_memory = 0;
-        if (cap && relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK &&
+        if (cap && relief_surface_build(cap, &p, NULL, &s, &err) == RELIEF_OK &&
             relief_match_data_build(s, 4, 1.0, &d, &err) == RELIEF_OK) {
             relief_device_info dev;
             uint64_t big = 0;

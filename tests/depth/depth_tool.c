@@ -23,7 +23,7 @@ static relief_depth_frame load(const char *path)
     size_t len = strlen(path);
     if (len > 4 && strcmp(path + len - 4, ".png") == 0) {
         relief_raster r;
-        if (relief_image_read(path, NULL, &r, &err) != RELIEF_OK) {
+        if (relief_raster_read(path, NULL, &r, &err) != RELIEF_OK) {
             fprintf(stderr, "depth_tool: %s\n", err.message);
             exit(2);
         }
@@ -36,7 +36,7 @@ static relief_depth_frame load(const char *path)
         relief_raster_free(&r);
         return f;
     }
-    if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
+    if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         fprintf(stderr, "depth_tool: %s\n", err.message);
         exit(2);
     }
@@ -50,7 +50,7 @@ static void save(const char *path, const relief_depth_frame *f)
     relief_depth_kind k = len > 4 && strcmp(path + len - 4, ".pcd") == 0
                               ? RELIEF_DEPTH_PCD_BINARY
                               : RELIEF_DEPTH_PFM;
-    if (relief_depth_write(path, f, k, &err) != RELIEF_OK) {
+    if (relief_depth_frame_write(path, f, k, &err) != RELIEF_OK) {
         fprintf(stderr, "depth_tool: %s\n", err.message);
         exit(2);
     }
@@ -105,7 +105,7 @@ int main(int argc, char **argv)
         relief_raster_create(f.width, f.height, 1, 16, &r, &err);
         for (size_t i = 0; i < (size_t)f.width * f.height; ++i)
             r.v[i] = isfinite(f.z[i]) ? (float)fmin(65535.0, floor(f.z[i] * scale + 0.5)) : 0.0f;
-        if (relief_image_write(argv[4], &r, &err) != RELIEF_OK) {
+        if (relief_raster_write(argv[4], &r, &err) != RELIEF_OK) {
             fprintf(stderr, "depth_tool: %s\n", err.message);
             return 2;
         }
@@ -118,7 +118,7 @@ int main(int argc, char **argv)
         relief_raster m = {0, 0, 0, 0, NULL};
         relief_error err = {RELIEF_OK, ""};
         size_t differ = 0, filled = 0, left = 0;
-        if (argc == 5 && relief_image_read(argv[4], NULL, &m, &err) != RELIEF_OK) {
+        if (argc == 5 && relief_raster_read(argv[4], NULL, &m, &err) != RELIEF_OK) {
             fprintf(stderr, "depth_tool: %s\n", err.message);
             return 2;
         }

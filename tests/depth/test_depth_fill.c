@@ -177,14 +177,14 @@ static void test_periodic(relief_patch_scorer *sc)
             z[i] = missing[i] ? NAN : truth[i];
         }
     for (int exhaustive = 0; exhaustive <= 1; ++exhaustive) {
-        relief_depth_fill_params p = relief_depth_fill_params_default();
-        relief_depth_fill_report rep;
+        relief_depth_repair_params p = relief_depth_repair_params_default();
+        relief_depth_repair_report rep;
         relief_depth_measures m;
         float w[W * H];
         memcpy(w, z, sizeof w);
         p.variant = RELIEF_DEPTH_PLAIN;
         p.synth.exhaustive = exhaustive;
-        CHECK(relief_depth_fill(w, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK, "%s",
+        CHECK(relief_depth_repair(w, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK, "%s",
               err.message);
         relief_depth_measure(w, truth, missing, W, H, &m);
         CHECK(m.compared == 15 * 12 && m.rms == 0.0, "periodic, %s: RMS %g over %zu",
@@ -289,18 +289,18 @@ static void test_seam(relief_patch_scorer *sc)
             z[i] = missing[i] ? NAN : truth[i];
         }
     {
-        relief_depth_fill_params p = relief_depth_fill_params_default();
-        relief_depth_fill_report ra, rb;
+        relief_depth_repair_params p = relief_depth_repair_params_default();
+        relief_depth_repair_report ra, rb;
         relief_depth_measures ma, mb;
         double rough_a = 0.0, rough_b = 0.0;
         size_t nr = 0;
         p.variant = RELIEF_DEPTH_DECOMPOSE;
         memcpy(a, z, sizeof a);
         memcpy(b, z, sizeof b);
-        CHECK(relief_depth_fill(a, missing, W, H, &p, sc, NULL, &ra, &err) == RELIEF_OK, "%s",
+        CHECK(relief_depth_repair(a, missing, W, H, &p, sc, NULL, &ra, &err) == RELIEF_OK, "%s",
               err.message);
         p.seam = 0;
-        CHECK(relief_depth_fill(b, missing, W, H, &p, sc, NULL, &rb, &err) == RELIEF_OK, "%s",
+        CHECK(relief_depth_repair(b, missing, W, H, &p, sc, NULL, &rb, &err) == RELIEF_OK, "%s",
               err.message);
         relief_depth_measure(a, truth, missing, W, H, &ma);
         relief_depth_measure(b, truth, missing, W, H, &mb);
@@ -345,8 +345,8 @@ static void test_tileable(relief_patch_scorer *sc)
             z[i] = missing[i] ? NAN : truth[i];
         }
     for (int tile = 0; tile <= 1; ++tile) {
-        relief_depth_fill_params p = relief_depth_fill_params_default();
-        relief_depth_fill_report rep;
+        relief_depth_repair_params p = relief_depth_repair_params_default();
+        relief_depth_repair_report rep;
         relief_depth_measures m;
         memcpy(w, z, sizeof w);
         p.variant = RELIEF_DEPTH_PLAIN;
@@ -354,13 +354,13 @@ static void test_tileable(relief_patch_scorer *sc)
         p.synth.exhaustive = 1;
         p.synth.search_radius = 0;
         if (tile) {
-            CHECK(relief_depth_fill(w, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK,
+            CHECK(relief_depth_repair(w, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK,
                   "%s", err.message);
             relief_depth_measure(w, truth, missing, W, H, &m);
             CHECK(rep.filled == 6 * H && m.compared == 6 * H && m.rms == 0.0,
                   "tileable: %zu filled, RMS %g over %zu", rep.filled, m.rms, m.compared);
         } else {
-            CHECK(relief_depth_fill(w, missing, W, H, &p, sc, NULL, &rep, &err) ==
+            CHECK(relief_depth_repair(w, missing, W, H, &p, sc, NULL, &rep, &err) ==
                           RELIEF_E_RANGE &&
                       strstr(err.message, "every border"),
                   "a hole at the border without --tileable: %s", err.message);
@@ -384,29 +384,29 @@ static void test_inside_and_measures(relief_patch_scorer *sc)
     /* Only a margin: nothing to repair, refused. */
     missing[4 * W + 5] = 0;
     {
-        relief_depth_fill_params p = relief_depth_fill_params_default();
+        relief_depth_repair_params p = relief_depth_repair_params_default();
         for (int i = 0; i < W * H; ++i)
             z[i] = missing[i] ? NAN : 1.0f;
         p.synth.window = 3;
         p.synth.search_radius = 2;
-        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
+        CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
                   strstr(err.message, "every border"),
               "a margin alone: %s", err.message);
         memset(missing, 1, sizeof missing);
-        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
+        CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
                   strstr(err.message, "every pixel"),
               "all missing: %s", err.message);
         memset(missing, 0, sizeof missing);
         p.synth.window = 4;
-        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE,
+        CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE,
               "an even window accepted");
         p.synth.window = 11;
-        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE,
+        CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE,
               "a window larger than the image accepted");
-        p = relief_depth_fill_params_default();
+        p = relief_depth_repair_params_default();
         p.variant = RELIEF_DEPTH_HAAR;
         p.levels = 3;
-        CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
+        CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
                   strstr(err.message, "--levels"),
               "Haar levels leaving bands under the window: %s", err.message);
     }
@@ -434,7 +434,7 @@ static void test_office(relief_patch_scorer *sc, const char *dir)
     relief_depth_frame f;
     relief_error err = {RELIEF_OK, ""};
     snprintf(path, sizeof path, "%s/office1.pcd", dir);
-    if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
+    if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         CHECK(0, "%s", err.message);
         return;
     }
@@ -454,15 +454,15 @@ static void test_office(relief_patch_scorer *sc, const char *dir)
             }
         }
         for (int variant = 0; variant < 3; ++variant) {
-            relief_depth_fill_params p = relief_depth_fill_params_default();
-            relief_depth_fill_report rep;
+            relief_depth_repair_params p = relief_depth_repair_params_default();
+            relief_depth_repair_report rep;
             relief_depth_measures m;
             size_t changed = 0, unfilled = 0, wild = 0;
             p.variant = (relief_depth_variant)variant;
             p.synth.order = RELIEF_ORDER_HORIZONTAL; /* one order: the suite's time */
             for (size_t i = 0; i < n; ++i)
                 z[i] = missing[i] ? NAN : f.z[i];
-            CHECK(relief_depth_fill(z, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK,
+            CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, &rep, &err) == RELIEF_OK,
                   "variant %d: %s", variant, err.message);
             relief_depth_measure(z, f.z, missing, W, H, &m);
             for (size_t i = 0; i < n; ++i) {
@@ -503,7 +503,7 @@ static int test_opencl(const char *dir)
     }
     relief_patch_scalar_create(&sc, &err);
     snprintf(path, sizeof path, "%s/office1.pcd", dir);
-    if (relief_depth_read(path, 0, &f, &err) != RELIEF_OK) {
+    if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         CHECK(0, "%s", err.message);
         relief_patch_scorer_destroy(sc);
         relief_patch_scorer_destroy(cl);
@@ -512,7 +512,7 @@ static int test_opencl(const char *dir)
     for (int variant = 0; variant < 3; ++variant) {
         static float a[W * H], b[W * H];
         static uint8_t missing[W * H];
-        relief_depth_fill_params p = relief_depth_fill_params_default();
+        relief_depth_repair_params p = relief_depth_repair_params_default();
         p.variant = (relief_depth_variant)variant;
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
@@ -521,9 +521,9 @@ static int test_opencl(const char *dir)
                 missing[i] = !isfinite(v) || (x - 100) * (x - 100) + (y - 70) * (y - 70) < 300;
                 a[i] = b[i] = missing[i] ? NAN : v;
             }
-        CHECK(relief_depth_fill(a, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_OK,
+        CHECK(relief_depth_repair(a, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_OK,
               "scalar: %s", err.message);
-        CHECK(relief_depth_fill(b, missing, W, H, &p, cl, NULL, NULL, &err) == RELIEF_OK,
+        CHECK(relief_depth_repair(b, missing, W, H, &p, cl, NULL, NULL, &err) == RELIEF_OK,
               "opencl: %s", err.message);
         CHECK(memcmp(a, b, sizeof a) == 0, "variant %d: the backends differ", variant);
     }

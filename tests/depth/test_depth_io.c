@@ -208,13 +208,13 @@ int main(int argc, char **argv)
         for (int k = RELIEF_DEPTH_PFM; k <= RELIEF_DEPTH_PCD_COMPRESSED; ++k) {
             snprintf(path, sizeof path, "%s/w%d.%s", check_tmpdir(), k,
                      k == RELIEF_DEPTH_PFM ? "pfm" : "pcd");
-            CHECK(relief_depth_write(path, &f, (relief_depth_kind)k, &err) == RELIEF_OK,
+            CHECK(relief_depth_frame_write(path, &f, (relief_depth_kind)k, &err) == RELIEF_OK,
                   "write kind %d: %s", k, err.message);
-            if (relief_depth_read(path, 0, &g, &err) != RELIEF_OK) {
+            if (relief_depth_frame_read(path, 0, &g, &err) != RELIEF_OK) {
                 CHECK(0, "read back kind %d: %s", k, err.message);
                 continue;
             }
-            CHECK(g.kind == (relief_depth_kind)k, "kind %d read as %d", k, (int)g.kind);
+            CHECK(g.format == (relief_depth_kind)k, "kind %d read as %d", k, (int)g.format);
             if (k == RELIEF_DEPTH_PFM) {
                 CHECK(g.width == 3 && g.height == 2 && g.z[0] == 1.0f && isnan(g.z[1]) &&
                           g.z[5] == 3.0f,
@@ -227,9 +227,9 @@ int main(int argc, char **argv)
         }
         free(f.xyz);
         f.xyz = NULL;
-        CHECK(relief_depth_write("/tmp/never.pcd", &f, RELIEF_DEPTH_PCD_BINARY, &err) ==
+        CHECK(relief_depth_frame_write("/tmp/never.pcd", &f, RELIEF_DEPTH_PCD_BINARY, &err) ==
                   RELIEF_E_RANGE, "a PCD without points written");
-        CHECK(relief_depth_write("/nonexistent-dir/x.pfm", &f, RELIEF_DEPTH_PFM, &err) ==
+        CHECK(relief_depth_frame_write("/nonexistent-dir/x.pfm", &f, RELIEF_DEPTH_PFM, &err) ==
                   RELIEF_E_IO, "an unwritable path: %s", err.message);
         relief_depth_frame_free(&f);
     }
@@ -242,7 +242,7 @@ int main(int argc, char **argv)
         return check_result();
     }
     snprintf(path, sizeof path, "%s/office1.pcd", dir);
-    if (relief_depth_read(path, 0, &f, &err) == RELIEF_OK) {
+    if (relief_depth_frame_read(path, 0, &f, &err) == RELIEF_OK) {
         size_t miss = 0;
         float lo = INFINITY, hi = -INFINITY;
         for (size_t i = 0; i < 640 * 480; ++i)
@@ -260,7 +260,7 @@ int main(int argc, char **argv)
         CHECK(0, "%s", err.message);
     }
     snprintf(path, sizeof path, "%s/motorcycle_disp.pfm", dir);
-    if (relief_depth_read(path, 0, &f, &err) == RELIEF_OK) {
+    if (relief_depth_frame_read(path, 0, &f, &err) == RELIEF_OK) {
         size_t miss = 0;
         float lo = INFINITY, hi = -INFINITY;
         for (size_t i = 0; i < 741 * 500; ++i)

@@ -1,5 +1,5 @@
 /* libFuzzer harness for the depth readers (depth/depth_io.c): the input's
- * bytes go to relief_depth_decode, which tells a PCD (ascii, binary,
+ * bytes go to relief_depth_frame_decode, which tells a PCD (ascii, binary,
  * binary_compressed through liblzf) from a PFM by the first bytes, and,
  * when they start as a PCD, to relief_pcd_decode_cloud too, the point-set
  * reader's entry (issue 21), which also takes an unorganised cloud
@@ -60,20 +60,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     relief_error err = {RELIEF_OK, ""}, cerr = {RELIEF_OK, ""};
     relief_depth_frame f, c;
-    relief_status st = relief_depth_decode(data, size, "input", FUZZ_MAX_PIXELS, &f, &err), cst;
+    relief_status st = relief_depth_frame_decode(data, size, "input", FUZZ_MAX_PIXELS, &f, &err), cst;
 
-    check(st, &f, &err, "relief_depth_decode");
+    check(st, &f, &err, "relief_depth_frame_decode");
     if ((size >= 6 && memcmp(data, "# .PCD", 6) == 0) ||
         (size >= 7 && memcmp(data, "VERSION", 7) == 0)) {
         cst = relief_pcd_decode_cloud(data, size, "input", FUZZ_MAX_PIXELS, &c, &cerr);
         check(cst, &c, &cerr, "relief_pcd_decode_cloud");
-        if (cst == RELIEF_OK && (!c.xyz || c.kind == RELIEF_DEPTH_PFM))
+        if (cst == RELIEF_OK && (!c.xyz || c.format == RELIEF_DEPTH_PFM))
             fail("relief_pcd_decode_cloud", "a cloud without points");
         if (st == RELIEF_OK) {
             size_t px = (size_t)f.width * f.height;
             if (cst != RELIEF_OK)
                 fail("relief_pcd_decode_cloud refused a depth frame", cerr.message);
-            if (c.width != f.width || c.height != f.height || c.kind != f.kind ||
+            if (c.width != f.width || c.height != f.height || c.format != f.format ||
                 !c.rgb != !f.rgb || memcmp(c.z, f.z, px * sizeof *f.z) ||
                 memcmp(c.xyz, f.xyz, px * 3 * sizeof *f.xyz) ||
                 (f.rgb && memcmp(c.rgb, f.rgb, px * 3)))

@@ -1,5 +1,5 @@
 /* libFuzzer harness for the image readers (image/image_io.c): the input's
- * bytes go to relief_image_decode, the path every image command's reading
+ * bytes go to relief_raster_decode, the path every image command's reading
  * takes after the file's bytes are in memory (PNG through libpng, JPEG
  * through libjpeg, told apart by the first bytes).
  *
@@ -30,7 +30,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     relief_image_limit lim = {64u << 20, 1.0, "fuzzing"};
     relief_error err = {RELIEF_OK, ""};
     relief_raster r;
-    relief_status st = relief_image_decode(data, size, "input", &lim, &r, &err);
+    relief_status st = relief_raster_decode(data, size, "input", &lim, &r, &err);
 
     if (st != RELIEF_OK) {
         if (r.v)

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "grow/checkpoint.h"
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
@@ -51,7 +52,7 @@ static int setup_make(setup *u, relief_search_mode search, relief_error *err)
     u->p.coherence = 2.0;
     u->p.search = search;
     return relief_synth(&sp, &u->capture, NULL, err) == RELIEF_OK &&
-           relief_smooth(u->capture, &u->p, NULL, &u->s, err) == RELIEF_OK &&
+           relief_surface_build(u->capture, &u->p, NULL, &u->s, err) == RELIEF_OK &&
            relief_match_data_build(u->s, u->p.rotations, relief_grow_mu(&u->p, 1), &u->d,
                                    err) == RELIEF_OK &&
            relief_matcher_scalar_create(u->d, &u->m, err) == RELIEF_OK;

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "pipeline.h"
 #include "base/vec3.h"
 #include "grow/grow.h"

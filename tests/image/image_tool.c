@@ -18,7 +18,7 @@ static relief_raster load(const char *path)
 {
     relief_raster r;
     relief_error err = {RELIEF_OK, ""};
-    if (relief_image_read(path, NULL, &r, &err) != RELIEF_OK) {
+    if (relief_raster_read(path, NULL, &r, &err) != RELIEF_OK) {
         fprintf(stderr, "image_tool: %s\n", err.message);
         exit(2);
     }
@@ -28,7 +28,7 @@ static relief_raster load(const char *path)
 static void save(const char *path, const relief_raster *r)
 {
     relief_error err = {RELIEF_OK, ""};
-    if (relief_image_write(path, r, &err) != RELIEF_OK) {
+    if (relief_raster_write(path, r, &err) != RELIEF_OK) {
         fprintf(stderr, "image_tool: %s\n", err.message);
         exit(2);
     }

@@ -130,7 +130,7 @@ static void test_pyramid(relief_patch_scorer *s, const char *images)
     int same = 0, queries = 0, inside = 0;
     double worst = 1.0;
     snprintf(path, sizeof path, "%s/brick.png", images);
-    if (relief_image_read(path, NULL, &full, &err) != RELIEF_OK) {
+    if (relief_raster_read(path, NULL, &full, &err) != RELIEF_OK) {
         printf("%s: %s; the pyramid test is skipped\n", path, err.message);
         return;
     }
@@ -245,7 +245,7 @@ static int test_opencl(const char *images)
     }
     relief_patch_scalar_create(&sc, &err);
     snprintf(path, sizeof path, "%s/chelsea.png", images);
-    if (relief_image_read(path, NULL, &a, &err) != RELIEF_OK) {
+    if (relief_raster_read(path, NULL, &a, &err) != RELIEF_OK) {
         printf("%s: %s: skipped\n", path, err.message);
         return 77;
     }

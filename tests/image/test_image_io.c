@@ -44,9 +44,9 @@ static void round_trip(const char *dir, int channels, int depth)
     st = relief_raster_create(37, 23, channels, depth, &a, &err);
     CHECK(st == RELIEF_OK, "%s", err.message);
     fill_pattern(&a);
-    st = relief_image_write(path, &a, &err);
+    st = relief_raster_write(path, &a, &err);
     CHECK(st == RELIEF_OK, "write %s: %s", path, err.message);
-    st = relief_image_read(path, NULL, &b, &err);
+    st = relief_raster_read(path, NULL, &b, &err);
     CHECK(st == RELIEF_OK, "read %s: %s", path, err.message);
     if (st == RELIEF_OK) {
         CHECK(b.width == 37 && b.height == 23 && b.channels == channels && b.bit_depth == depth,
@@ -63,7 +63,7 @@ static void bad(const uint8_t *d, size_t n, relief_status want, const char *what
 {
     relief_raster r;
     relief_error err = {RELIEF_OK, ""};
-    relief_status st = relief_image_decode(d, n, "x", NULL, &r, &err);
+    relief_status st = relief_raster_decode(d, n, "x", NULL, &r, &err);
     CHECK(st != RELIEF_OK, "%s: decoded", what);
     CHECK(r.v == NULL, "%s: a raster left behind", what);
     CHECK(want ? st == want : relief_status_exit_code(st) == 1,
@@ -96,10 +96,10 @@ int main(int argc, char **argv)
         for (int c = 0; c < 4; ++c)
             r.v[i * 4 + c] = (float)(c == 3 ? 255 : 60 + c * 50 + (i % 40));
     snprintf(path, sizeof path, "%s/rt.jpg", dir);
-    st = relief_image_write(path, &r, &err);
+    st = relief_raster_write(path, &r, &err);
     CHECK(st == RELIEF_OK, "write jpeg: %s", err.message);
     relief_raster_free(&r);
-    st = relief_image_read(path, NULL, &r, &err);
+    st = relief_raster_read(path, NULL, &r, &err);
     CHECK(st == RELIEF_OK && r.channels == 3 && r.bit_depth == 8 && r.width == 40,
           "read jpeg: %s", err.message);
     if (st == RELIEF_OK) {
@@ -114,10 +114,10 @@ int main(int argc, char **argv)
     /* Writing: 16 bits to JPEG, an unknown extension, a folder that is not. */
     relief_raster_create(4, 4, 1, 16, &r, &err);
     snprintf(path, sizeof path, "%s/deep.jpg", dir);
-    CHECK(relief_image_write(path, &r, &err) == RELIEF_E_FORMAT, "16-bit JPEG written");
+    CHECK(relief_raster_write(path, &r, &err) == RELIEF_E_FORMAT, "16-bit JPEG written");
     snprintf(path, sizeof path, "%s/x.bmp", dir);
-    CHECK(relief_image_write(path, &r, &err) == RELIEF_E_FORMAT, ".bmp written");
-    CHECK(relief_image_write("/nonexistent-dir/x.png", &r, &err) == RELIEF_E_IO,
+    CHECK(relief_raster_write(path, &r, &err) == RELIEF_E_FORMAT, ".bmp written");
+    CHECK(relief_raster_write("/nonexistent-dir/x.png", &r, &err) == RELIEF_E_IO,
           "wrote into a missing folder");
     relief_raster_free(&r);
 
@@ -134,7 +134,7 @@ int main(int argc, char **argv)
         } else {
             for (size_t i = 0; i < sizeof real / sizeof real[0]; ++i) {
                 snprintf(path, sizeof path, "%s/%s", images, real[i].name);
-                st = relief_image_read(path, NULL, &r, &err);
+                st = relief_raster_read(path, NULL, &r, &err);
                 CHECK(st == RELIEF_OK && r.width == real[i].w && r.height == real[i].h &&
                           r.channels == real[i].c && r.bit_depth == 8,
                       "%s: %s", path, err.message);
@@ -147,7 +147,7 @@ int main(int argc, char **argv)
     {
         relief_image_limit lim = {1000, 1.0, "testing"};
         snprintf(path, sizeof path, "%s/rt_3_8.png", dir);
-        st = relief_image_read(path, &lim, &r, &err);
+        st = relief_raster_read(path, &lim, &r, &err);
         CHECK(st == RELIEF_E_NOMEM && strstr(err.message, "37 x 23"), "limit: %s: %s",
               relief_status_name(st), err.message);
     }
@@ -187,7 +187,7 @@ int main(int argc, char **argv)
     }
     free(png);
     free(jpg);
-    st = relief_image_read("/nonexistent/x.png", NULL, &r, &err);
+    st = relief_raster_read("/nonexistent/x.png", NULL, &r, &err);
     CHECK(st == RELIEF_E_IO && strstr(err.message, "/nonexistent/x.png"), "missing: %s",
           err.message);
     return check_result();

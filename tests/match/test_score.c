@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "base/rng.h"
 #include "match/matcher.h"
 #include "mesh/mesh.h"
@@ -45,7 +46,7 @@ static relief_surface *grid_surface(const double *h, int target, int colour)
             f[0] = a, f[1] = a + 1, f[2] = a + 6, f[3] = a, f[4] = a + 6, f[5] = a + 5;
             t += 2;
         }
-    /* Samples first, as relief_smooth lays them out: move the target last by
+    /* Samples first, as relief_surface_build lays them out: move the target last by
      * swapping it with vertex 24 everywhere. */
     if (target != 24) {
         for (int k = 0; k < 3; ++k) {
@@ -241,7 +242,7 @@ static void test_closest_vertex(void)
     sp.kind = RELIEF_SYNTH_CYLINDER_BANDS;
     sp.vertices = 600;
     CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
-    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_surface_build(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
     CHECK(s && relief_match_data_build(s, 4, 1.0, &d, &err) == RELIEF_OK, "%s", err.message);
     if (!d)
         goto done;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "pipeline.h"
 #include "base/rng.h"
 #include "grow/grow.h"
@@ -117,7 +118,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
     sp.vertices = vertices;
     sp.colour = colour;
     CHECK(relief_synth(&sp, &cap, NULL, &err) == RELIEF_OK, "%s", err.message);
-    CHECK(relief_smooth(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_surface_build(cap, &p, NULL, &s, &err) == RELIEF_OK, "%s", err.message);
     CHECK(s && relief_match_data_build(s, 4, colour ? 0.5 : 1.0, &d, &err) == RELIEF_OK, "%s",
           err.message);
     if (!d)

@@ -66,7 +66,7 @@ static void test_sphere_detail(void)
     relief_points_measures m, ms;
     relief_error err;
     double h;
-    CHECK(relief_complete_points(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
     if (!out)
         goto done;
     h = rep.spacing;
@@ -88,7 +88,7 @@ static void test_sphere_detail(void)
     relief_points_report_free(&rep);
     /* The smooth fill alone must fail that: it is the blur the measure catches. */
     p.smooth_only = 1;
-    CHECK(relief_complete_points(cap, &p, &smooth, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &smooth, &rep, &err) == RELIEF_OK, "%s", err.message);
     if (smooth && relief_points_measure(smooth, truth, NULL, &ms, &err) == RELIEF_OK) {
         printf("sphere smooth-only: acc %.4g roughness %.4g\n", ms.acc_rms, ms.rough_added);
         CHECK(ms.rough_added < 0.5 * m.rough_added, "smooth fill roughness %g, detail %g",
@@ -110,10 +110,10 @@ static void test_colour_and_determinism(void)
     relief_points_report rep;
     relief_points_measures m;
     relief_error err;
-    CHECK(relief_complete_points(cap, &p, &a, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &a, &rep, &err) == RELIEF_OK, "%s", err.message);
     relief_points_report_free(&rep);
     p.tex.threads = 1;
-    CHECK(relief_complete_points(cap, &p, &b, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &b, &rep, &err) == RELIEF_OK, "%s", err.message);
     relief_points_report_free(&rep);
     if (!a || !b)
         goto done;
@@ -158,7 +158,7 @@ static void test_real(const char *dir)
     }
     CHECK(relief_mesh_cut(whole, &region, &cap, &truth, &n_cut, &err) == RELIEF_OK, "%s",
           err.message);
-    CHECK(relief_complete_points(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
     if (out && relief_points_measure(out, truth, NULL, &m, &err) == RELIEF_OK) {
         printf("fertility: %zu cut, %zu added, acc %.3g comp %.3g hausdorff %.3g (spacing %.3g)\n",
                n_cut, m.added, m.acc_rms, m.comp_rms, m.hausdorff, rep.spacing);
@@ -185,10 +185,10 @@ static void test_clone(void)
     relief_points_report rep;
     relief_points_measures a, b;
     relief_error err;
-    CHECK(relief_complete_points(cap, &p, &own, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &own, &rep, &err) == RELIEF_OK, "%s", err.message);
     relief_points_report_free(&rep);
     p.clone = donor;
-    CHECK(relief_complete_points(cap, &p, &cloned, &rep, &err) == RELIEF_OK && rep.n_clone ==
+    CHECK(relief_points_complete(cap, &p, &cloned, &rep, &err) == RELIEF_OK && rep.n_clone ==
               donor->nv,
           "%s", err.message);
     relief_points_report_free(&rep);
@@ -214,27 +214,27 @@ static void test_bad_input(void)
     relief_points_params p = relief_points_params_default();
     relief_points_report rep;
     relief_error err;
-    CHECK(relief_complete_points(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
+    CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "nothing to fill") && !out,
           "a closed sphere: %s", err.message);
     p.what = RELIEF_POINTS_COLOUR_ONLY;
-    CHECK(relief_complete_points(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
+    CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "no colour"),
           "colour only without colour: %s", err.message);
     p = relief_points_params_default();
     p.k = 3;
-    CHECK(relief_complete_points(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
+    CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "--k"),
           "k: %s", err.message);
     p = relief_points_params_default();
     relief_mesh_create(50, 0, 0, &line, &err);
     for (size_t i = 0; i < 50; ++i)
         line->pos[3 * i] = (double)i, line->pos[3 * i + 1] = 2.0 * i, line->pos[3 * i + 2] = 0.0;
-    CHECK(relief_complete_points(line, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
+    CHECK(relief_points_complete(line, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "line"),
           "collinear: %s", err.message);
     line->nv = 10;
-    CHECK(relief_complete_points(line, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
+    CHECK(relief_points_complete(line, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "too few"),
           "too few: %s", err.message);
     line->nv = 50;

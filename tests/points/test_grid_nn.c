@@ -53,7 +53,7 @@ int main(void)
     memcpy(z + 600 * DIMS, z + 5 * DIMS, DIMS * sizeof *z);
     memcpy(q + 3 * DIMS, z + 5 * DIMS, DIMS * sizeof *z);
 
-    CHECK(search(RELIEF_GRID_BRUTE, RELIEF_BACKEND_SCALAR, z, q, scalar, name, &err) ==
+    CHECK(search(RELIEF_GRID_SEARCH_BRUTE, RELIEF_BACKEND_SCALAR, z, q, scalar, name, &err) ==
               RELIEF_OK, "%s", err.message);
     printf("%s\n", name);
     for (int i = 0; i < NQ; ++i) {
@@ -77,7 +77,7 @@ int main(void)
     CHECK(scalar[3 * K] == 5 && scalar[3 * K + 1] == 600, "a tie went to %u before %u",
           scalar[3 * K], scalar[3 * K + 1]);
 
-    st = search(RELIEF_GRID_BRUTE, RELIEF_BACKEND_OPENCL, z, q, cl, name, &err);
+    st = search(RELIEF_GRID_SEARCH_BRUTE, RELIEF_BACKEND_OPENCL, z, q, cl, name, &err);
     if (st == RELIEF_E_DEVICE || st == RELIEF_E_NOT_BUILT)
         printf("OpenCL skipped: %s\n", err.message);
     else {
@@ -86,7 +86,7 @@ int main(void)
         CHECK(memcmp(cl, scalar, sizeof cl) == 0, "OpenCL and the scalar twin disagree");
     }
 
-    CHECK(search(RELIEF_GRID_KDTREE, RELIEF_BACKEND_AUTO, z, q, kd, name, &err) == RELIEF_OK,
+    CHECK(search(RELIEF_GRID_SEARCH_KDTREE, RELIEF_BACKEND_AUTO, z, q, kd, name, &err) == RELIEF_OK,
           "%s", err.message);
     {
         int differ = 0;
@@ -98,12 +98,12 @@ int main(void)
 
     {
         relief_grid_nn *nn = NULL;
-        CHECK(relief_grid_nn_create(RELIEF_GRID_BRUTE, RELIEF_BACKEND_SCALAR, -1, z, NZ, DIMS, 1,
+        CHECK(relief_grid_nn_create(RELIEF_GRID_SEARCH_BRUTE, RELIEF_BACKEND_SCALAR, -1, z, NZ, DIMS, 1,
                                     &nn, NULL, 0, &err) == RELIEF_OK, "%s", err.message);
         CHECK(nn && relief_grid_nn_query(nn, q, 1, 9, scalar, &err) == RELIEF_E_RANGE,
               "k 9 accepted");
         relief_grid_nn_destroy(nn);
-        CHECK(relief_grid_nn_create(RELIEF_GRID_BRUTE, RELIEF_BACKEND_SCALAR, -1, z, 0, DIMS, 1,
+        CHECK(relief_grid_nn_create(RELIEF_GRID_SEARCH_BRUTE, RELIEF_BACKEND_SCALAR, -1, z, 0, DIMS, 1,
                                     &nn, NULL, 0, &err) == RELIEF_E_RANGE, "no exemplars accepted");
     }
     free(z), free(q);

@@ -221,7 +221,7 @@ static void test_completion_closed(void)
             memcpy(cap->pos + 3 * m++, pos + 3 * i, 3 * sizeof *pos);
     cap->nv = m;
     p.mesh = 1;
-    CHECK(relief_complete_points(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
     if (out) {
         counts c = count(out->pos, out->nv, out->tri, out->nt);
         printf("cut sphere: %zu + %zu points, %zu triangles, %zu border edges, euler %ld\n",

@@ -150,7 +150,7 @@ static int is_background(const uint8_t *p)
 }
 
 /* Encode, decode, compare. */
-static void check_png_roundtrip(const relief_image *img, const char *what)
+static void check_png_roundtrip(const relief_rgb_image *img, const char *what)
 {
     uint8_t *png = NULL, *back = NULL;
     size_t n = 0;
@@ -225,7 +225,7 @@ static double bump(double x, double y)
 }
 
 static relief_status render(const relief_mesh *m, const relief_render_options *o,
-                            relief_image *img, relief_render_info *info, relief_error *err)
+                            relief_rgb_image *img, relief_render_info *info, relief_error *err)
 {
     img->rgb = NULL;
     return relief_render(m, o, img, info, err);
@@ -240,7 +240,7 @@ static void test_framing(void)
     relief_mesh *m = grid(5, 3, 0.0, 2.0, 0.0, 1.0, NULL, 0.0, 0, 0.0);
     relief_render_options o = relief_render_options_default();
     relief_render_info info;
-    relief_image img;
+    relief_rgb_image img;
     relief_error err;
     int xmin = 1 << 30, xmax = -1, ymin = 1 << 30, ymax = -1;
     o.width = o.height = 200;
@@ -267,7 +267,7 @@ static void test_framing(void)
               relief_colour_by_name(info.colour_by));
         check_png_roundtrip(&img, "framing");
     }
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
     relief_mesh_destroy(m);
 }
 
@@ -280,7 +280,7 @@ static void test_depth_order(void)
     relief_mesh *both = NULL;
     relief_error err;
     relief_render_options o = relief_render_options_default();
-    relief_image img;
+    relief_rgb_image img;
     CHECK(relief_mesh_create(8, 4, RELIEF_MESH_LABELS, &both, &err) == RELIEF_OK, "%s",
           err.message);
     for (int copy = 0; copy < 2; ++copy) {
@@ -308,7 +308,7 @@ static void test_depth_order(void)
         else
             CHECK(s.orange > 0 && s.grey == 0, "from above: %zu grey, %zu orange pixels",
                   s.grey, s.orange);
-        relief_image_free(&img);
+        relief_rgb_image_free(&img);
     }
     relief_mesh_destroy(both);
     relief_mesh_destroy(lo);
@@ -320,7 +320,7 @@ static void test_labels_and_colour(void)
                           RELIEF_MESH_LABELS | RELIEF_MESH_COLOURS, 0.25);
     relief_render_options o = relief_render_options_default();
     relief_render_info info;
-    relief_image img;
+    relief_rgb_image img;
     relief_error err;
     stats s;
     o.width = 160;
@@ -338,7 +338,7 @@ static void test_labels_and_colour(void)
         CHECK(s.colours > 200, "%zu distinct colours for a colour ramp", s.colours);
         check_png_roundtrip(&img, "colour");
     }
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
 
     o.colour_by = RELIEF_COLOUR_BY_LABEL;
     CHECK(render(m, &o, &img, &info, &err) == RELIEF_OK, "%s", err.message);
@@ -351,7 +351,7 @@ static void test_labels_and_colour(void)
               "completed disc: %zu orange vs %zu grey pixels", s.orange, s.grey);
         CHECK(s.colours > 10, "%zu distinct colours: no shading", s.colours);
     }
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
 
     m->label[7] = 2;
     CHECK(render(m, &o, &img, NULL, &err) == RELIEF_E_MESH && strstr(err.message, "vertex 7"),
@@ -367,7 +367,7 @@ static void test_displacement(void)
     relief_fit_primitive plane = {RELIEF_FIT_PLANE, {0, 0, 0}, {0, 0, 1}, 0.0};
     relief_render_options o = relief_render_options_default();
     relief_render_info info;
-    relief_image img;
+    relief_rgb_image img;
     relief_error err;
     o.width = o.height = 100;
     o.has_view = 1;
@@ -383,7 +383,7 @@ static void test_displacement(void)
               "not grey", e[0], e[1], e[2]);
         CHECK(info.displacement_range == 0.1, "range %g", info.displacement_range);
     }
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
     /* Fitted and automatic: the fit is a plane through the grid, the range
      * the 99th percentile of |h|, positive. */
     o.prim = NULL;
@@ -391,7 +391,7 @@ static void test_displacement(void)
     CHECK(render(m, &o, &img, &info, &err) == RELIEF_OK, "%s", err.message);
     CHECK(info.displacement_range > 0.0 && info.displacement_range < 0.1, "auto range %g",
           info.displacement_range);
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
     relief_mesh_destroy(m);
 }
 
@@ -399,7 +399,7 @@ static void test_point_cloud(void)
 {
     relief_mesh *g = grid(30, 30, 0, 1, 0, 1, waves, 0.0, 0, 0.0), *m = NULL;
     relief_render_options o = relief_render_options_default();
-    relief_image img;
+    relief_rgb_image img;
     relief_error err;
     CHECK(relief_mesh_create(g->nv, 0, 0, &m, &err) == RELIEF_OK, "%s", err.message);
     memcpy(m->pos, g->pos, g->nv * 3 * sizeof(double));
@@ -411,7 +411,7 @@ static void test_point_cloud(void)
         CHECK(s.foreground > 0.15 && s.foreground < 0.95, "point cloud foreground %.3f",
               s.foreground);
     }
-    relief_image_free(&img);
+    relief_rgb_image_free(&img);
     relief_mesh_destroy(m);
     relief_mesh_destroy(g);
 }
@@ -420,7 +420,7 @@ static void test_errors(void)
 {
     relief_mesh *m = grid(3, 3, 0, 1, 0, 1, NULL, 0.0, 0, 0.0), *empty = NULL;
     relief_render_options o = relief_render_options_default();
-    relief_image img;
+    relief_rgb_image img;
     relief_error err;
     uint8_t px[3] = {1, 2, 3};
     char path[256];

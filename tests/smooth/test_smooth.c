@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 
 #include "check.h"
+#include "base/params.h"
 #include "pipeline.h"
 #include "mesh/mesh.h"
 #include "smooth/fit.h"
@@ -350,7 +351,7 @@ static void test_fill(void)
         }
         p.fit = cases[c].model;
         o.fill = cases[c].fill;
-        st = relief_smooth(m, &p, &o, &s, &err);
+        st = relief_surface_build(m, &p, &o, &s, &err);
         CHECK(st == RELIEF_OK, "%s: %s", cases[c].what, err.message);
         if (st == RELIEF_OK) {
             const relief_fill_stats *f = &s->fill;
@@ -396,7 +397,7 @@ static void test_errors(void)
         memcpy(relief_mesh_positions(m), pos, sizeof pos);
         memcpy(relief_mesh_triangles(m), tri, sizeof tri);
     }
-    CHECK(relief_smooth(m, &p, NULL, &s, &err) == RELIEF_E_MESH && !s &&
+    CHECK(relief_surface_build(m, &p, NULL, &s, &err) == RELIEF_E_MESH && !s &&
               strstr(err.message, "nothing to complete"),
           "square without hole: %s", err.message);
     /* With an extent the plane grows past the square. */
@@ -404,7 +405,7 @@ static void test_errors(void)
     p.n_extent = 4;
     p.extent[0] = -1.0, p.extent[1] = -1.0, p.extent[2] = 2.0, p.extent[3] = 2.0;
     p.spacing = 0.25;
-    CHECK(relief_smooth(m, &p, NULL, &s, &err) == RELIEF_OK, "square with extent: %s",
+    CHECK(relief_surface_build(m, &p, NULL, &s, &err) == RELIEF_OK, "square with extent: %s",
           err.message);
     if (s) {
         topology t = topology_of(s);
@@ -420,7 +421,7 @@ static void test_errors(void)
     for (int i = 0; i < 10; ++i)
         relief_mesh_positions(m)[3 * i] = i, relief_mesh_positions(m)[3 * i + 1] = i * i % 7;
     p = relief_params_default();
-    CHECK(relief_smooth(m, &p, NULL, &s, &err) == RELIEF_E_MESH && !s, "point cloud: %s",
+    CHECK(relief_surface_build(m, &p, NULL, &s, &err) == RELIEF_E_MESH && !s, "point cloud: %s",
           err.message);
     relief_mesh_destroy(m);
 }
@@ -444,7 +445,7 @@ static void test_real(const char *data)
         return;
     p.fit = RELIEF_FIT_SPHERE;
     {
-        relief_status st = relief_smooth(m, &p, NULL, &s, &err);
+        relief_status st = relief_surface_build(m, &p, NULL, &s, &err);
         CHECK(st == RELIEF_E_MESH && strstr(err.message, "nothing to complete"),
               "bennu: %s (%s)", relief_status_name(st), err.message);
     }
@@ -465,7 +466,7 @@ static void test_real(const char *data)
         relief_status st;
         p = relief_params_default();
         o.accept_poor_fit = 1; /* the scan's relief is 34 % of the thin shaft's radius */
-        st = relief_smooth(m, &p, &o, &s, &err);
+        st = relief_surface_build(m, &p, &o, &s, &err);
         CHECK(st == RELIEF_OK, "drill_shaft_zip: %s", err.message);
         if (st == RELIEF_OK) {
             const relief_fold_stats *f = &s->folds;

@@ -1,0 +1,41 @@
+/* The names of the public enumerations, from the lists that define them
+ * (the public headers' X-macro lists), so that a name is written once. */
+#include "relief/relief.h"
+
+#define RELIEF_X_CASE(code, name) \
+    case code: return name;
+
+/* NAME_FN(function, type, list): "unknown" for a value not in the list. */
+#define NAME_FN(fn, type, list)      \
+    const char *fn(type value)       \
+    {                                \
+        switch (value) {             \
+            list(RELIEF_X_CASE)      \
+        }                            \
+        return "unknown";            \
+    }
+
+NAME_FN(relief_backend_name, relief_backend, RELIEF_BACKEND_LIST)
+NAME_FN(relief_base_name, relief_base, RELIEF_BASE_LIST)
+NAME_FN(relief_fill_region_name, relief_fill_region, RELIEF_FILL_REGION_LIST)
+NAME_FN(relief_frames_name, relief_frames, RELIEF_FRAMES_LIST)
+NAME_FN(relief_oversample_scheme_name, relief_oversample_scheme,
+        RELIEF_OVERSAMPLE_SCHEME_LIST)
+NAME_FN(relief_search_name, relief_search_mode, RELIEF_SEARCH_LIST)
+NAME_FN(relief_depth_format_name, relief_depth_format, RELIEF_DEPTH_FORMAT_LIST)
+NAME_FN(relief_depth_variant_name, relief_depth_variant, RELIEF_DEPTH_VARIANT_LIST)
+NAME_FN(relief_depth_order_name, relief_depth_order, RELIEF_DEPTH_ORDER_LIST)
+NAME_FN(relief_membrane_name, relief_membrane, RELIEF_MEMBRANE_LIST)
+NAME_FN(relief_points_what_name, relief_points_what, RELIEF_POINTS_WHAT_LIST)
+NAME_FN(relief_grid_search_name, relief_grid_search, RELIEF_GRID_SEARCH_LIST)
+
+const char *relief_fit_model_name(relief_fit_model m)
+{
+    switch (m) {
+    case RELIEF_FIT_AUTO: return "auto";
+    case RELIEF_FIT_PLANE: return "plane";
+    case RELIEF_FIT_SPHERE: return "sphere";
+    case RELIEF_FIT_CYLINDER: return "cylinder";
+    }
+    return "unknown";
+}

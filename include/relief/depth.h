@@ -1,0 +1,247 @@
+/* relief/depth.h: depth frames, their files, and depth-image repair (paper
+ * 003: constrained texture synthesis of the missing pixels, directly, on
+ * Haar bands, or on the texture part of a structure/texture split), for
+ * range images and, through six orthographic depth images, for meshes.
+ *
+ *   relief_depth_image f;
+ *   relief_depth_read("frame.pcd", 0, 0, &f, &err);   NaN where missing
+ *   relief_depth_fill_params p = relief_depth_fill_params_default();
+ *   relief_depth_fill(&f, NULL, &p, NULL, &err);
+ *   relief_depth_write(&f, "repaired.pcd", f.format, &err);
+ *   relief_depth_image_free(&f);
+ */
+#ifndef RELIEF_DEPTH_H
+#define RELIEF_DEPTH_H
+
+#include "relief/relief.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest side of a depth image (pixels). */
+#define RELIEF_DEPTH_MAX_SIDE 65535
+
+/* The file a frame came from, and how a writer encodes one:
+ *   pfm             a Portable Float Map of z (Middlebury's disparities);
+ *   pcd-ascii, pcd-binary, pcd-compressed
+ *                   an organised PCD v0.7 (PCL) with x y z [rgb];
+ *   png16           a 16-bit grey PNG, z x png_scale, 0 where missing.
+ * X(code, name) */
+#define RELIEF_DEPTH_FORMAT_LIST(X)                                             \
+    X(RELIEF_DEPTH_PFM, "pfm")                                                  \
+    X(RELIEF_DEPTH_PCD_ASCII, "pcd-ascii")                                      \
+    X(RELIEF_DEPTH_PCD_BINARY, "pcd-binary")                                    \
+    X(RELIEF_DEPTH_PCD_COMPRESSED, "pcd-compressed")                            \
+    X(RELIEF_DEPTH_PNG16, "png16")
+
+typedef enum relief_depth_format {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_DEPTH_FORMAT_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_depth_format;
+
+/* "pfm", ...; "unknown" out of range. */
+RELIEF_API const char *relief_depth_format_name(relief_depth_format format);
+
+/* A depth or range image: a view of a caller's arrays, or what
+ * relief_depth_read allocated. Rows top to bottom, packed. */
+typedef struct relief_depth_image {
+    int width, height;  /* pixels, 1..RELIEF_DEPTH_MAX_SIDE */
+    float *z;           /* height x width: depth (metres for a PCD or a PNG) or the
+                           PFM's value; NaN where missing */
+    float *xyz;         /* height x width x 3: an organised cloud's points (NaN
+                           where missing), or NULL */
+    uint8_t *rgb;       /* height x width x 3: the cloud's colour, or NULL */
+    relief_depth_format format; /* what it was read from */
+} relief_depth_image;
+
+/* Default PNG scale: values per metre of the TUM and Kinect datasets. */
+#define RELIEF_DEPTH_PNG_SCALE 5000.0
+
+/* Read a depth frame: an organised PCD (x y z [rgb]; ascii, binary or
+ * binary_compressed), a PFM, told by the first bytes, or a 16-bit grey PNG
+ * (z = value / png_scale, 0 missing; png_scale <= 0: RELIEF_DEPTH_PNG_SCALE).
+ * max_pixels (0: none) refuses larger frames before they are allocated
+ * (RELIEF_E_NOMEM). RELIEF_E_IO naming the path; RELIEF_E_PARSE (the line
+ * or byte), RELIEF_E_FORMAT (an unorganised cloud, a PNG of another kind),
+ * RELIEF_E_RANGE. Free with relief_depth_image_free. */
+RELIEF_API relief_status relief_depth_read(const char *path, double png_scale,
+                                           uint64_t max_pixels, relief_depth_image *out,
+                                           relief_error *err);
+
+/* The same from `n` bytes in memory (PCD or PFM); `name` names them. */
+RELIEF_API relief_status relief_depth_decode(const void *data, size_t n, const char *name,
+                                             uint64_t max_pixels, relief_depth_image *out,
+                                             relief_error *err);
+
+/* Write `f` to `path` as `format`, atomically: a PFM of z (NaN as +inf); an
+ * organised PCD (needs xyz; rgb when set); a 16-bit PNG of z x png_scale
+ * (png_scale <= 0: the default; a filled depth rounds to at least 1).
+ * RELIEF_E_IO naming the path, RELIEF_E_USAGE for a PCD without xyz. */
+RELIEF_API relief_status relief_depth_write(const relief_depth_image *f, const char *path,
+                                            relief_depth_format format, double png_scale,
+                                            relief_error *err);
+
+/* Free what a reader allocated and zero *f. NULL accepted. */
+RELIEF_API void relief_depth_image_free(relief_depth_image *f);
+
+/* ------------------------------------------------------------- the repair */
+
+/* Paper 003's variants:
+ *   plain      synthesis on the depths themselves (3.1);
+ *   haar       the coarsest Haar LL interpolated, every level's detail
+ *              bands synthesised (3.2);
+ *   decompose  ROF's structure u interpolated, the texture v synthesised
+ *              (3.3).
+ * X(code, name) */
+#define RELIEF_DEPTH_VARIANT_LIST(X)                                            \
+    X(RELIEF_DEPTH_PLAIN, "plain")                                              \
+    X(RELIEF_DEPTH_HAAR, "haar")                                                \
+    X(RELIEF_DEPTH_DECOMPOSE, "decompose")
+
+typedef enum relief_depth_variant {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_DEPTH_VARIANT_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_depth_variant;
+
+/* The synthesis's order: both (run both, keep the better), horizontal
+ * (ties row-major) or vertical (ties column-major). */
+#define RELIEF_DEPTH_ORDER_LIST(X)                                              \
+    X(RELIEF_DEPTH_ORDER_BOTH, "both")                                          \
+    X(RELIEF_DEPTH_ORDER_HORIZONTAL, "horizontal")                              \
+    X(RELIEF_DEPTH_ORDER_VERTICAL, "vertical")
+
+typedef enum relief_depth_order {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_DEPTH_ORDER_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_depth_order;
+
+/* The smooth fill of haar's LL and decompose's u: auto (harmonic for
+ * images, thin-plate for meshes), harmonic (the membrane), or thin-plate
+ * (carries the rim's slope and curvature in; can overshoot at depth
+ * edges). */
+#define RELIEF_MEMBRANE_LIST(X)                                                 \
+    X(RELIEF_MEMBRANE_AUTO, "auto")                                             \
+    X(RELIEF_MEMBRANE_HARMONIC, "harmonic")                                     \
+    X(RELIEF_MEMBRANE_THIN_PLATE, "thin-plate")
+
+typedef enum relief_membrane {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_MEMBRANE_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_membrane;
+
+RELIEF_API const char *relief_depth_variant_name(relief_depth_variant variant);
+RELIEF_API const char *relief_depth_order_name(relief_depth_order order);
+RELIEF_API const char *relief_membrane_name(relief_membrane membrane);
+
+typedef struct relief_depth_fill_params {
+    relief_depth_variant variant; /* default decompose */
+    int window;          /* synthesis window, odd pixels; 9, [3, 1025] */
+    double sigma;        /* the window's Gaussian weights, pixels; <= 0
+                            (default): window / 6.4; else [0.5, 1e6] */
+    double epsilon;      /* near-minimum tolerance of the draw; 0.1, [0, 10] */
+    int search_radius;   /* symmetric search distance, pixels; 32; 0: the whole
+                            image; [0, 1e6] */
+    int exhaustive;      /* 1: every window at full resolution (no pyramid) */
+    relief_depth_order order; /* default both */
+    int tileable;        /* 1: the image is a torus (paper 003's tileable
+                            constraint): the result repeats without seams and
+                            holes at a border are filled */
+    int levels;          /* haar: transform steps; 2, [1, 6] */
+    double lambda;       /* decompose: ROF's lambda, depth units x pixels; <= 0
+                            (default): 8 x the capture's robust step between
+                            neighbours; else (0, 1e12] */
+    relief_membrane membrane; /* default auto */
+    int seam;            /* 1 (default): each hole's rim blended in the
+                            gradient domain, so the fill continues the
+                            capture's slope; 0: as synthesised */
+    int resolution;      /* meshes: voxels along the box's longest side; 256,
+                            [8, 1024] */
+    uint32_t seed;       /* the near-minimum draw; 1 */
+    const relief_depth_image *truth; /* NULL, or the complete frame (mesh: use
+                            relief_depth_fill_mesh's truth): the report
+                            measures the repair against it */
+    relief_run_options run; /* backend auto (OpenCL on a GPU, else scalar),
+                            scalar or opencl (host runs as scalar) */
+} relief_depth_fill_params;
+
+/* The defaults above. */
+RELIEF_API relief_depth_fill_params relief_depth_fill_params_default(void);
+
+/* Check the fields that do not depend on a frame; RELIEF_E_RANGE naming the
+ * field and its range. */
+RELIEF_API relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p,
+                                                           relief_error *err);
+
+/* What a repair did (an image; for a mesh, summed over its six images). */
+typedef struct relief_depth_fill_report {
+    size_t missing;          /* pixels missing (NaN, 0, inf, or the mask) */
+    size_t missing_in_input; /* of them, missing in the frame itself */
+    size_t missing_by_mask;  /* of them, known but masked */
+    size_t filled;           /* of them, inside the capture: filled */
+    size_t outside;          /* of them, outside (no known pixel on both sides
+                                along the row or column): left missing */
+    size_t by_synthesis, by_fallback, by_membrane, unreached;
+    int membrane_iterations; /* the most any smooth solve took */
+    int membrane_capped;     /* 1: a solve stopped at its cap before converging */
+    double lambda;           /* decompose: the lambda used */
+    relief_depth_order order_kept;
+    size_t candidates;       /* windows scored */
+    int camera_fitted;       /* an organised cloud: 1 when a camera was fitted
+                                to its points, so the filled pixels have points;
+                                0: their points are NaN */
+    /* against params.truth (or a mesh's truth), when given */
+    int measured;
+    double rms;              /* RMS over the filled pixels (mesh: mean surface
+                                distance) */
+    double slope_jump;       /* image: the rim's slope step over the capture's
+                                own (1: as rough as the capture) */
+    double iou;              /* mesh: voxel IoU against the truth */
+    /* meshes */
+    size_t vertices, triangles; /* of the repaired mesh */
+    relief_backend backend;
+    char device[256];
+    char backend_note[1024];
+    int backend_warning;
+    double seconds_transform, seconds_synthesis, seconds_score, seconds_total;
+    char *json;              /* the report as `relief depth-fill --report` writes
+                                it (owned) */
+} relief_depth_fill_report;
+
+/* Free what the report owns and zero it. NULL accepted. */
+RELIEF_API void relief_depth_fill_report_free(relief_depth_fill_report *rep);
+
+/* Repair `f` in place: its missing pixels (z NaN, inf or 0, or non-zero in
+ * `mask`, an image of the same size: any channel but alpha) inside the
+ * capture are filled; those outside (a camera's invalid margin) stay NaN.
+ * Known pixels keep their bits. An organised cloud (xyz set) gets a point
+ * for each filled pixel through a pinhole camera fitted to its points, and
+ * (rgb set) the colour of the pixel its texture came from. Deterministic
+ * for a seed whatever the backend. Nothing missing: RELIEF_OK, f untouched.
+ * RELIEF_E_RANGE when every pixel is missing or every missing one is
+ * outside; RELIEF_E_USAGE for a bad argument (named); RELIEF_E_NOMEM,
+ * RELIEF_E_DEVICE, RELIEF_E_CANCELLED. `f` is written only on success. */
+RELIEF_API relief_status relief_depth_fill(relief_depth_image *f, const relief_image *mask,
+                                           const relief_depth_fill_params *p,
+                                           relief_depth_fill_report *rep, relief_error *err);
+
+/* Repair a mesh (triangles counter-clockwise seen from outside) through the
+ * six orthographic depth images of its bounding box: the pixels whose ray
+ * meets the inside through a hole are repaired, the voxels between the
+ * front and back depths kept, and their surface written to *out, closed.
+ * `truth` (may be NULL): the complete mesh, measured against. */
+RELIEF_API relief_status relief_depth_fill_mesh(const relief_mesh *in,
+                                                const relief_depth_fill_params *p,
+                                                const relief_mesh *truth, relief_mesh **out,
+                                                relief_depth_fill_report *rep,
+                                                relief_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RELIEF_DEPTH_H */

@@ -1,0 +1,148 @@
+/* relief/image.h: images, their files, and hole filling in images (paper
+ * 004, chapter 3: a 1-D interpolation pass where a gap's ends agree, then
+ * copy-paste synthesis of windows matched over a Gaussian pyramid).
+ *
+ *   relief_image img;                    (or a view of your own buffer)
+ *   relief_image_read("photo.png", &img, &err);
+ *   relief_image_fill_params p = relief_image_fill_params_default();
+ *   relief_image_fill(&img, &mask, &p, NULL, &err);   mask: non-zero = fill
+ *   relief_image_write(&img, "filled.png", &err);
+ *   relief_image_free(&img);
+ */
+#ifndef RELIEF_IMAGE_H
+#define RELIEF_IMAGE_H
+
+#include "relief/relief.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest width or height of an image (pixels). */
+#define RELIEF_IMAGE_MAX_SIDE 65535
+
+/* An image in memory: a view of a caller's buffer, or what relief_image_read
+ * allocated. Samples are unsigned integers in the machine's byte order,
+ * interleaved (RGBRGB...), rows top to bottom. */
+typedef struct relief_image {
+    int width, height;  /* pixels, 1..RELIEF_IMAGE_MAX_SIDE */
+    int channels;       /* 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA */
+    int bit_depth;      /* 8 (uint8_t samples) or 16 (uint16_t samples) */
+    size_t stride;      /* bytes from a row's start to the next's, at least
+                           width x channels x bit_depth / 8; 0: exactly that */
+    void *data;         /* height rows of stride bytes */
+} relief_image;
+
+/* Check an image's fields (sizes, channels, bit depth, stride, data not
+ * NULL); RELIEF_E_USAGE or RELIEF_E_RANGE naming `what` and the field. */
+RELIEF_API relief_status relief_image_check(const relief_image *img, const char *what,
+                                            relief_error *err);
+
+/* Read a PNG (1 to 16 bits; grey, grey + alpha, palette, RGB, RGBA;
+ * palettes and transparency expanded) or a JPEG (8-bit grey or colour),
+ * told by the file's first bytes, into *out (packed rows; free with
+ * relief_image_free). RELIEF_E_IO naming the path; RELIEF_E_FORMAT,
+ * RELIEF_E_PARSE (with libpng's or libjpeg's words), RELIEF_E_RANGE for a
+ * side over the maximum; RELIEF_E_NOMEM. `max_bytes` (0: none) refuses an
+ * image whose samples would take more. */
+RELIEF_API relief_status relief_image_read(const char *path, uint64_t max_bytes,
+                                           relief_image *out, relief_error *err);
+
+/* The same from `n` bytes in memory; `name` names them in messages. */
+RELIEF_API relief_status relief_image_decode(const void *data, size_t n, const char *name,
+                                             uint64_t max_bytes, relief_image *out,
+                                             relief_error *err);
+
+/* Write `img` as PNG or JPEG by the path's extension (.png, .jpg, .jpeg),
+ * atomically: the file appears whole or not at all. PNG keeps channels and
+ * bit depth; JPEG (quality 95) takes 8 bits and drops alpha. RELIEF_E_FORMAT
+ * for another extension or 16 bits to JPEG; RELIEF_E_IO naming the path. */
+RELIEF_API relief_status relief_image_write(const relief_image *img, const char *path,
+                                            relief_error *err);
+
+/* Free what relief_image_read or relief_image_decode allocated and zero
+ * *img; never call it on a view of your own buffer. NULL accepted. */
+RELIEF_API void relief_image_free(relief_image *img);
+
+/* ------------------------------------------------------------ image fill */
+
+typedef struct relief_image_fill_params {
+    int window;          /* starting window w, odd pixels; 17, [3, 1025]
+                            (paper 004: 129 for texture atlases) */
+    int min_window;      /* smallest window before the 3 x 3 fallback, odd;
+                            5, [3, window] */
+    double tau;          /* accept a match when its RMS difference is under
+                            tau, in sample units; <= 0 (default): 36 on
+                            0..255, x 257 at 16 bits */
+    double max_hole_fraction; /* a candidate window's hole pixels at most this
+                            share; 0.1, [0, 1) */
+    int search_radius;   /* search the (2r + 1)^2 window of the same centre,
+                            pixels; 0 (default): the whole image; [0, 1e6] */
+    int exhaustive;      /* 1: every window at full resolution (slow; the
+                            reference); 0 (default): coarse to fine */
+    int interp;          /* 1 (default): the 1-D interpolation pass first */
+    double interp_diff;  /* 1-D pass: a gap's ends differ by at most this in
+                            every channel; < 0 (default): 16 on 0..255, scaled */
+    double interp_sd;    /* 1-D pass: the 4 pixels beyond each end have a
+                            standard deviation of at most this; < 0
+                            (default): 3 on 0..255, scaled */
+    uint32_t seed;       /* the fallback's random choice; 1 */
+    relief_run_options run; /* backend: auto (OpenCL on a GPU, else scalar),
+                            scalar or opencl (host runs as scalar) */
+} relief_image_fill_params;
+
+/* The defaults above. */
+RELIEF_API relief_image_fill_params relief_image_fill_params_default(void);
+
+/* Check the fields that do not depend on an image; RELIEF_E_RANGE naming
+ * the field and its range. relief_image_fill also checks the windows fit
+ * the image. */
+RELIEF_API relief_status relief_image_fill_params_validate(const relief_image_fill_params *p,
+                                                           relief_error *err);
+
+/* What a relief_image_fill call did. */
+typedef struct relief_image_fill_report {
+    size_t hole_pixels;       /* pixels to fill */
+    size_t by_rows, by_columns; /* filled by the 1-D pass */
+    size_t by_copy;           /* copied from matched windows */
+    size_t by_fallback;       /* by the 3 x 3 fallback */
+    size_t queries;           /* boundary pixels a search started from */
+    size_t windows_tried;     /* window searches, every size */
+    size_t windows_accepted;  /* of them, matches under tau */
+    size_t candidates;        /* windows scored, all levels */
+    int pyramid_levels;       /* 1: full resolution only */
+    int start_level, top_m;   /* where the search starts; matches kept there */
+    double tau, interp_diff, interp_sd; /* the thresholds used */
+    relief_backend backend;   /* scalar or opencl */
+    char device[256];         /* what it ran on */
+    char backend_note[1024];  /* why auto chose it; "" when nothing to say */
+    int backend_warning;      /* 1: backend_note says OpenCL could not be used */
+    double seconds_interp, seconds_copy, seconds_score, seconds_total;
+    char *json;               /* the report as `relief image-fill --report`
+                                 writes it (owned) */
+} relief_image_fill_report;
+
+/* Free what the report owns and zero it. NULL accepted. */
+RELIEF_API void relief_image_fill_report_free(relief_image_fill_report *rep);
+
+/* Fill the pixels of `image` where `mask` is non-zero, in place. mask: an
+ * image of the same width and height (any channels and bit depth; a pixel
+ * is to fill when any channel but alpha is non-zero), or NULL: the
+ * image's transparent pixels (alpha 0; an image without alpha is
+ * RELIEF_E_USAGE). The other pixels keep their bits; alpha is not matched
+ * and a filled pixel becomes opaque. Deterministic for a seed whatever the
+ * backend. A mask with nothing to fill leaves the image as it is
+ * (RELIEF_OK, hole_pixels 0). RELIEF_E_USAGE / RELIEF_E_RANGE for a bad
+ * argument (named), RELIEF_E_RANGE when every pixel is to fill or no window
+ * qualifies, RELIEF_E_NOMEM, RELIEF_E_DEVICE, RELIEF_E_CANCELLED. `image`
+ * is written only on success; `rep` (may be NULL) is filled on success and
+ * must be freed. */
+RELIEF_API relief_status relief_image_fill(relief_image *image, const relief_image *mask,
+                                           const relief_image_fill_params *p,
+                                           relief_image_fill_report *rep, relief_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RELIEF_IMAGE_H */

@@ -1,0 +1,152 @@
+/* relief/points.h: the holes of a point set or mesh that no primitive fits
+ * completed with its own colour and geometric detail (paper 002): the
+ * detail peeled off as a signed height over a smoothed base, the base's
+ * holes filled by a compactly supported RBF, and the height and colour
+ * synthesised on the new points by texture optimisation over overlapping
+ * clusters.
+ *
+ *   relief_complete_points_params p = relief_complete_points_params_default();
+ *   relief_mesh *done = NULL;
+ *   relief_complete_points(scan, &p, &done, NULL, &err);
+ *   ... done: the scan's points (label 0), then the new ones (label 1) ...
+ *
+ * Lengths are in the input's units; "spacings" are multiples of the median
+ * nearest-neighbour distance. A PCD is read as a point set by
+ * relief_mesh_read. */
+#ifndef RELIEF_POINTS_H
+#define RELIEF_POINTS_H
+
+#include "relief/relief.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What is completed:
+ *   all       new points with detail, and colour when the input has it;
+ *   colour    the colour of the hole_mask points only, no new points;
+ *   geometry  new points and their detail, colour from the nearest
+ *             captured point.
+ * X(code, name) */
+#define RELIEF_POINTS_WHAT_LIST(X)                                              \
+    X(RELIEF_POINTS_ALL, "all")                                                 \
+    X(RELIEF_POINTS_COLOUR_ONLY, "colour")                                      \
+    X(RELIEF_POINTS_GEOMETRY_ONLY, "geometry")
+
+typedef enum relief_points_what {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_POINTS_WHAT_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_points_what;
+
+/* The texture optimisation's nearest exemplar grids: FLANN's exact
+ * kd-tree on the host, or brute force on run.backend (the same bytes). */
+#define RELIEF_GRID_SEARCH_LIST(X)                                              \
+    X(RELIEF_GRID_SEARCH_KDTREE, "kdtree")                                      \
+    X(RELIEF_GRID_SEARCH_BRUTE, "brute")
+
+typedef enum relief_grid_search {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_GRID_SEARCH_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_grid_search;
+
+RELIEF_API const char *relief_points_what_name(relief_points_what what);
+RELIEF_API const char *relief_grid_search_name(relief_grid_search search);
+
+typedef struct relief_complete_points_params {
+    relief_points_what what;     /* default all */
+    int smooth_only;             /* 1: the smooth fill alone (no detail, colour
+                                    from the rim: paper 002's Fig. 9g) */
+    int detail_histogram;        /* 1 (default): the new points' detail takes the
+                                    distribution of the capture about the hole
+                                    (histogram matching); 0: as the optimisation
+                                    averaged it */
+    int mesh;                    /* 1: *out also gets triangles: a mesh input's own
+                                    and patches over the filled holes; for a point
+                                    set, a surface through all the points */
+    int k;                       /* neighbours of the local analysis; 16, [6, 64] */
+    int smooth_steps;            /* curvature-flow steps of the base; 20,
+                                    [0, 10000] */
+    double max_detail;           /* the base keeps within this many spacings of
+                                    every point, so that thin parts stay shape;
+                                    1, [0, 100], 0: no bound */
+    double band;                 /* exemplars keep this many spacings from a rim;
+                                    2, [0, 1000] */
+    int grid;                    /* texture grid side, odd; 23, [3, 33] */
+    int cluster_size;            /* points per cluster before overlap; 300,
+                                    [16, 100000] */
+    int iterations;              /* texture optimisation iterations; 50, [1, 1000] */
+    uint32_t seed;               /* which exemplar grids are searched when there
+                                    are over 20 000; 1 */
+    relief_grid_search grid_search; /* default kdtree */
+    /* which points: arrays of the input's vertex count, or NULL */
+    const uint8_t *hole_mask;    /* non-zero: synthesise this point's colour and
+                                    detail again (besides the holes) */
+    const uint8_t *sample_mask;  /* non-zero: an exemplar may be centred here
+                                    (default: everywhere outside the band) */
+    const relief_mesh *clone;    /* NULL, or another scan sampled about as densely
+                                    whose detail (and colour, when both have it) is
+                                    copied instead of the input's own (6.3) */
+    int has_viewpoint;           /* 1: the normals face viewpoint (a PCD's sensor,
+                                    the origin) */
+    double viewpoint[3];
+    relief_run_options run;      /* backend and device: the brute grid search's
+                                    (auto: OpenCL on a GPU, else scalar) */
+} relief_complete_points_params;
+
+/* The defaults above. */
+RELIEF_API relief_complete_points_params relief_complete_points_params_default(void);
+
+/* Check the fields; RELIEF_E_RANGE naming the field and its range,
+ * RELIEF_E_USAGE for a combination that cannot be (colour with no
+ * hole_mask, clone with smooth_only, a backend with the kd-tree). */
+RELIEF_API relief_status relief_complete_points_params_validate(
+    const relief_complete_points_params *p, relief_error *err);
+
+/* What a relief_complete_points call did. */
+typedef struct relief_complete_points_report {
+    size_t points_in;        /* input points */
+    size_t added;            /* new points */
+    size_t masked;           /* hole_mask points synthesised again */
+    size_t clone_points;     /* points of the clone */
+    unsigned holes;          /* holes filled */
+    unsigned outer_borders;  /* rims taken for an outer border, left open */
+    unsigned holes_too_small; /* rims too small to fill */
+    double spacing;          /* median nearest-neighbour distance */
+    double detail_rms;       /* RMS of the detail over the input */
+    double reconstruction_rms; /* RMS of |base + detail - point| over the input */
+    size_t triangles;        /* of *out (params.mesh) */
+    size_t clusters, active_clusters, exemplars;
+    int iterations;          /* texture optimisation iterations run */
+    int converged;
+    char grid_search[336];   /* the grid search that ran, and any warning */
+    int grid_search_warning; /* 1: OpenCL could not be used for it */
+    double seconds_analysis, seconds_base, seconds_fill, seconds_texture, seconds_total;
+    char *json;              /* the report as `relief complete-points --report`
+                                writes it (owned) */
+} relief_complete_points_report;
+
+/* Free what the report owns and zero it. NULL accepted. */
+RELIEF_API void relief_complete_points_report_free(relief_complete_points_report *rep);
+
+/* Complete `in` (positions; colour, normals, triangles when present) into
+ * *out: the input's points first (label 0, the input's colour, oriented
+ * normals), then the new ones (label 1); triangles only with params.mesh.
+ * A mesh's holes are its boundary loops, a bare point set's where points
+ * see neighbours on one side only; an open scan's outer border is left
+ * open. RELIEF_E_RANGE for a parameter, nothing to fill (named), too few or
+ * collinear points, or holes larger than the sample region; RELIEF_E_NOMEM
+ * when the estimate is over run.max_memory; RELIEF_E_CANCELLED. *out only
+ * on success. */
+RELIEF_API relief_status relief_complete_points(const relief_mesh *in,
+                                                const relief_complete_points_params *p,
+                                                relief_mesh **out,
+                                                relief_complete_points_report *rep,
+                                                relief_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RELIEF_POINTS_H */
