@@ -1,7 +1,9 @@
-/* Shared option parsing and output guards of the commands (options.h). */
+/* Shared option parsing, progress and output guards of the commands
+ * (options.h). */
 #include "cli/options.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -9,8 +11,111 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include "base/atomic.h"
 #include "base/clock.h"
+#include "base/memlimit.h"
+#include "base/params.h"
+
+cli_common cli_common_init(const char *cmd)
+{
+    cli_common c;
+    memset(&c, 0, sizeof c);
+    c.cmd = cmd;
+    c.run = relief_run_options_default();
+    return c;
+}
+
+size_t cli_options(unsigned which, const struct option *own, struct option *out, size_t cap)
+{
+    static const struct {
+        unsigned flag;
+        struct option opt;
+    } shared[] = {
+        {CLI_OUTPUT, {"output", required_argument, 0, 'o'}},
+        {CLI_REPORT, {"report", required_argument, 0, OPT_REPORT}},
+        {CLI_QUIET, {"quiet", no_argument, 0, OPT_QUIET}},
+        {CLI_SEED, {"seed", required_argument, 0, OPT_SEED}},
+        {CLI_BACKEND, {"backend", required_argument, 0, OPT_BACKEND}},
+        {CLI_BACKEND, {"device", required_argument, 0, OPT_DEVICE}},
+        {CLI_MAX_MEMORY, {"max-memory", required_argument, 0, OPT_MAX_MEMORY}},
+        {CLI_MASK, {"mask", required_argument, 0, OPT_MASK}},
+    };
+    size_t n = 0;
+    for (size_t i = 0; i < sizeof shared / sizeof shared[0]; ++i)
+        if (which & shared[i].flag) {
+            if (n + 2 >= cap)
+                return 0;
+            out[n++] = shared[i].opt;
+        }
+    for (; own && own->name; ++own) {
+        if (n + 2 >= cap)
+            return 0;
+        out[n++] = *own;
+    }
+    out[n++] = (struct option){"help", no_argument, 0, 'h'};
+    out[n++] = (struct option){0, 0, 0, 0};
+    return n;
+}
+
+int cli_common_option(cli_common *cm, int c, const char *arg)
+{
+    static const char *const backends[] = CLI_NAMES(RELIEF_BACKEND_LIST);
+    relief_error err = {RELIEF_OK, ""};
+    int v;
+    switch (c) {
+    case 'o': cm->out = arg; return 1;
+    case OPT_REPORT: cm->report = arg; return 1;
+    case OPT_QUIET: cm->quiet = 1; return 1;
+    case OPT_MASK: cm->mask = arg; return 1;
+    case OPT_SEED: {
+        long s;
+        if (!cli_parse_long(cm->cmd, "--seed", arg, 0, (long)UINT32_MAX, &s))
+            return -1;
+        cm->seed = (uint32_t)s;
+        cm->seed_given = 1;
+        return 1;
+    }
+    case OPT_BACKEND:
+        if (!CLI_PARSE_ENUM(cm->cmd, "--backend", arg, backends, &v))
+            return -1;
+        cm->run.backend = (relief_backend)v;
+        cm->backend_given = 1;
+        return 1;
+    case OPT_DEVICE:
+        if (!cli_parse_int(cm->cmd, "--device", arg, &cm->run.device))
+            return -1;
+        cm->backend_given = 1;
+        return 1;
+    case OPT_MAX_MEMORY:
+        if (relief_parse_size(arg, &cm->run.max_memory, &err) != RELIEF_OK) {
+            fprintf(stderr, "relief %s: --max-memory: %s\n", cm->cmd, err.message);
+            return -1;
+        }
+        return 1;
+    }
+    return 0;
+}
+
+int cli_one_input(const cli_common *cm, int argc, char **argv, const char *what,
+                  const char **in)
+{
+    if (optind >= argc) {
+        cli_usage_error(cm->cmd, "missing %s", what);
+        return 0;
+    }
+    if (argc - optind > 1) {
+        cli_usage_error(cm->cmd, "unexpected argument '%s'", argv[optind + 1]);
+        return 0;
+    }
+    *in = argv[optind];
+    if (!cm->out) {
+        cli_usage_error(cm->cmd, "%smissing -o OUT", "");
+        return 0;
+    }
+    return 1;
+}
 
 int cli_fail(const char *cmd, const relief_error *err)
 {
@@ -27,8 +132,8 @@ int cli_usage_error(const char *cmd, const char *fmt, const char *arg)
     return EXIT_USAGE;
 }
 
-int cli_parse_int(const char *cmd, const char *opt, const char *s, long lo, long hi,
-                     long *out)
+int cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                   long *out)
 {
     char *end;
     long v;
@@ -44,6 +149,15 @@ int cli_parse_int(const char *cmd, const char *opt, const char *s, long lo, long
         return 0;
     }
     *out = v;
+    return 1;
+}
+
+int cli_parse_int(const char *cmd, const char *opt, const char *s, int *out)
+{
+    long v;
+    if (!cli_parse_long(cmd, opt, s, INT_MIN, INT_MAX, &v))
+        return 0;
+    *out = (int)v;
     return 1;
 }
 
@@ -84,33 +198,50 @@ int cli_parse_reals(const char *cmd, const char *opt, const char *s, double *out
     return 1;
 }
 
-/* "z0,z1" or "u0,v0,u1,v1". */
-int cli_parse_extent(const char *cmd, const char *s, relief_params *p)
+int cli_parse_enum(const char *cmd, const char *opt, const char *s, const char *const *names,
+                   int n, int *out)
 {
-    int n;
-    if (!cli_parse_reals(cmd, "--extent", s, p->extent, 4, &n))
-        return 0;
-    if (n != 2 && n != 4) {
-        fprintf(stderr,
-                "relief %s: --extent: expected z0,z1 (cylinder) or u0,v0,u1,v1 "
-                "(plane), got '%s'\n",
-                cmd, s);
-        return 0;
-    }
-    p->has_extent = 1;
-    p->n_extent = n;
-    return 1;
+    for (int i = 0; i < n; ++i)
+        if (strcmp(s, names[i]) == 0) {
+            *out = i;
+            return 1;
+        }
+    fprintf(stderr, "relief %s: %s: '%s' is not one of", cmd, opt, s);
+    for (int i = 0; i < n; ++i)
+        fprintf(stderr, "%s %s", i ? "," : "", names[i]);
+    fprintf(stderr, "\nTry 'relief %s --help'.\n", cmd);
+    return 0;
 }
 
-/* Is `out` the same file as `in` (by name or by inode)? */
 int cli_same_file(const char *in, const char *out)
 {
     struct stat a, b;
+    if (!in || !out)
+        return 0;
     if (strcmp(in, out) == 0)
         return 1;
     if (stat(in, &a) != 0 || stat(out, &b) != 0)
         return 0;
     return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+int cli_outputs_clash(const char *cmd, const char *const *ins, size_t n_ins,
+                      const char *const *outs, size_t n_outs)
+{
+    for (size_t o = 0; o < n_outs; ++o) {
+        for (size_t i = 0; i < n_ins; ++i)
+            if (cli_same_file(ins[i], outs[o])) {
+                cli_usage_error(cmd, "'%s' is an input; relief never overwrites its input",
+                                outs[o]);
+                return 1;
+            }
+        for (size_t p = 0; p < o; ++p)
+            if (cli_same_file(outs[p], outs[o])) {
+                cli_usage_error(cmd, "'%s' is named for two outputs", outs[o]);
+                return 1;
+            }
+    }
+    return 0;
 }
 
 const char *cli_ext_of(const char *path)
@@ -126,18 +257,82 @@ int cli_known_mesh_ext(const char *path)
            strcasecmp(e, ".off") == 0 || strcasecmp(e, ".stl") == 0;
 }
 
-int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out)
+/* SIGINT during an engine call: set by the handler, read by
+ * cli_progress_fn. The command line's one piece of global state: a signal
+ * handler can reach nothing else (C11 7.14.1.1). The library has none. */
+static volatile sig_atomic_t interrupted = 0;
+
+static void on_sigint(int sig)
 {
-    static const relief_fit_model models[] = {RELIEF_FIT_AUTO, RELIEF_FIT_PLANE,
-                                              RELIEF_FIT_SPHERE, RELIEF_FIT_CYLINDER};
-    for (size_t i = 0; i < 4; ++i)
-        if (strcmp(s, relief_fit_model_name(models[i])) == 0) {
-            *out = models[i];
-            return 1;
-        }
-    fprintf(stderr, "relief %s: --fit: '%s' is not one of auto, plane, sphere, cylinder\n",
-            cmd, s);
-    return 0;
+    (void)sig;
+    interrupted = 1;
+}
+
+void cli_progress_start(cli_progress *pr, const char *cmd, int quiet)
+{
+    struct sigaction sa;
+    const char *after = getenv("RELIEF_TEST_SIGINT_AFTER");
+    memset(pr, 0, sizeof *pr);
+    pr->cmd = cmd;
+    pr->print = !quiet && isatty(2);
+    pr->estimate = !quiet;
+    pr->estimate_tail = "";
+    pr->start = relief_seconds();
+    pr->last = -1.0;
+    pr->estimate_after = 2.0;
+    pr->estimate_min = 60.0;
+    if (getenv("RELIEF_TEST_ESTIMATE_NOW"))
+        pr->estimate_after = pr->estimate_min = 0.0;
+    if (after)
+        pr->sigint_after = strtoul(after, NULL, 10);
+    /* A first SIGINT cancels the call cleanly; SA_RESETHAND lets a second
+     * one kill the process as usual. */
+    interrupted = 0;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigint;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &pr->old);
+}
+
+/* Once, when a call looks long: the time left by the rate so far. */
+static void say_estimate(cli_progress *pr, double fraction, double t)
+{
+    double left;
+    if (!(fraction > 0.0) || !(t > 0.0))
+        return; /* no rate yet */
+    pr->estimate = 0;
+    if (fraction >= 1.0)
+        return;
+    left = t * (1.0 - fraction) / fraction;
+    if (left < pr->estimate_min)
+        return;
+    fprintf(stderr, "%srelief %s: estimated %.1f min more (%.1f %% done in the first %.0f s); "
+            "SIGINT stops it%s\n", pr->print && pr->last >= 0 ? "\r" : "", pr->cmd,
+            left / 60.0, 100.0 * fraction, t, pr->estimate_tail);
+}
+
+int cli_progress_fn(void *ctx, double fraction)
+{
+    cli_progress *pr = ctx;
+    double now = relief_seconds(), t = now - pr->start;
+    if (pr->estimate && t >= pr->estimate_after)
+        say_estimate(pr, fraction, t);
+    if (pr->print && (fraction >= 1.0 || pr->last < 0 || now - pr->last >= 0.25)) {
+        pr->last = now;
+        fprintf(stderr, "\rrelief %s: %5.1f %%, ETA %.0f s   ", pr->cmd, 100.0 * fraction,
+                fraction > 0 ? t * (1.0 - fraction) / fraction : 0.0);
+    }
+    if (pr->sigint_after && fraction > 0.0 && ++pr->seen == pr->sigint_after)
+        raise(SIGINT);
+    return interrupted != 0;
+}
+
+void cli_progress_end(cli_progress *pr)
+{
+    if (pr->print && pr->last >= 0)
+        fputc('\n', stderr);
+    sigaction(SIGINT, &pr->old, NULL);
 }
 
 /* Outputs appear whole or not at all even on Ctrl-C or SIGTERM: both are
@@ -160,6 +355,57 @@ void cli_release_signals(const sigset_t *old)
     sigprocmask(SIG_SETMASK, old, NULL);
 }
 
+static int write_string(FILE *f, void *ctx)
+{
+    const char *s = ctx;
+    return fputs(s, f) < 0;
+}
+
+relief_status cli_write_json(const char *path, const char *json, relief_error *err)
+{
+    return relief_atomic_write_text(path, write_string, (void *)json, err);
+}
+
+/* ---- transitional (options.h) */
+
+int cli_parse_int_range(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                        long *out)
+{
+    return cli_parse_long(cmd, opt, s, lo, hi, out);
+}
+
+/* "z0,z1" or "u0,v0,u1,v1". */
+int cli_parse_extent(const char *cmd, const char *s, relief_params *p)
+{
+    int n;
+    if (!cli_parse_reals(cmd, "--extent", s, p->extent, 4, &n))
+        return 0;
+    if (n != 2 && n != 4) {
+        fprintf(stderr,
+                "relief %s: --extent: expected z0,z1 (cylinder) or u0,v0,u1,v1 "
+                "(plane), got '%s'\n",
+                cmd, s);
+        return 0;
+    }
+    p->has_extent = 1;
+    p->n_extent = n;
+    return 1;
+}
+
+int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out)
+{
+    static const relief_fit_model models[] = {RELIEF_FIT_AUTO, RELIEF_FIT_PLANE,
+                                              RELIEF_FIT_SPHERE, RELIEF_FIT_CYLINDER};
+    for (size_t i = 0; i < 4; ++i)
+        if (strcmp(s, relief_fit_model_name(models[i])) == 0) {
+            *out = models[i];
+            return 1;
+        }
+    fprintf(stderr, "relief %s: --fit: '%s' is not one of auto, plane, sphere, cylinder\n",
+            cmd, s);
+    return 0;
+}
+
 int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out)
 {
     static const relief_backend all[] = {RELIEF_BACKEND_AUTO, RELIEF_BACKEND_SCALAR,
@@ -176,7 +422,7 @@ int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_back
 
 void cli_on_progress(void *ctx, size_t done, size_t total)
 {
-    cli_progress *pr = ctx;
+    cli_count_progress *pr = ctx;
     double now = relief_seconds(), t = now - pr->start, rate;
     if (!pr->print || (done != total && now - pr->last < 0.25))
         return;

@@ -1,31 +1,70 @@
-/* What every command shares: exit codes, long-option ids, argument
- * parsing that names the option and its allowed range, the checks on
- * output paths, and the signal guard around writing outputs. Each parser
- * prints its own message on stderr ("relief CMD: --opt: ...") and returns
- * 0 on a bad value, 1 on a good one. */
+/* What every command shares: exit codes, the options common to the
+ * engines' commands (-o, --report, --quiet, --seed, --backend, --device,
+ * --max-memory, --mask), enumerations parsed through the public headers'
+ * name lists, numbers parsed for their syntax only (each engine's
+ * _validate checks their ranges and names the parameter), the checks on
+ * output paths, progress with SIGINT, and the signal guard around writing
+ * outputs. Each parser prints its own message on stderr ("relief CMD:
+ * --opt: ...") and returns 0 on a bad value, 1 on a good one. */
 #ifndef RELIEF_HOST_CLI_OPTIONS_H
 #define RELIEF_HOST_CLI_OPTIONS_H
 
+#include <getopt.h>
 #include <signal.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "relief/relief.h"
-#include "smooth/fit.h"
 
 #define EXIT_USAGE 1
 #define EXIT_INTERNAL 2
 
-/* Long options without a short form: ids above any character. */
+/* Long options without a short form: ids above any character. The shared
+ * ones first; commands number their own from OPT_COMMAND. */
 enum {
-    OPT_REPORT = 256, OPT_FIT, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_SEED,
-    OPT_LEVELS, OPT_BACKEND, OPT_DEVICE, OPT_OVERSAMPLE, OPT_SPACING, OPT_EXTENT,
-    OPT_QUIET, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_JSON,
-    OPT_FRAMES, OPT_OVERSAMPLE_SCHEME, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
-    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_MAX_MEMORY,
-    OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE, OPT_COLOUR_BY, OPT_ACCEPT_POOR_FIT, OPT_MAX_GROWTH,
-    OPT_COHERENCE, OPT_BALL, OPT_SLAB, OPT_KEEP_SPIKES, OPT_FILL, OPT_CROP, OPT_SEARCH,
-    OPT_SEARCH_K, OPT_BASE
+    OPT_REPORT = 256, OPT_QUIET, OPT_SEED, OPT_BACKEND, OPT_DEVICE, OPT_MAX_MEMORY, OPT_MASK,
+    OPT_COMMAND = 300
 };
+
+/* Which shared options a command takes (cli_options). */
+enum {
+    CLI_OUTPUT = 1u << 0,     /* -o, --output */
+    CLI_REPORT = 1u << 1,     /* --report R.json */
+    CLI_QUIET = 1u << 2,      /* --quiet */
+    CLI_SEED = 1u << 3,       /* --seed N */
+    CLI_BACKEND = 1u << 4,    /* --backend B, --device N */
+    CLI_MAX_MEMORY = 1u << 5, /* --max-memory SIZE */
+    CLI_MASK = 1u << 6,       /* --mask MASK */
+    CLI_ENGINE = CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_SEED | CLI_BACKEND | CLI_MAX_MEMORY
+};
+
+/* What the shared options set. */
+typedef struct cli_common {
+    const char *cmd;            /* "complete", for messages */
+    const char *out, *report, *mask;
+    int quiet;
+    int seed_given;             /* 1 when --seed was given: */
+    uint32_t seed;
+    int backend_given;          /* 1 when --backend or --device was given */
+    relief_run_options run;     /* backend, device, max_memory */
+} cli_common;
+
+/* Defaults: nothing given, run options at relief_run_options_default. */
+cli_common cli_common_init(const char *cmd);
+
+/* The long options of a command: the shared ones in `which`, then `own`
+ * (ended by a zero entry), then -h/--help and the zero entry, into out[0 ..
+ * cap). Returns the number written, 0 when cap is too small. */
+size_t cli_options(unsigned which, const struct option *own, struct option *out, size_t cap);
+
+/* Take shared option `c` (a getopt_long id) with `arg`: 1 taken, 0 not a
+ * shared option, -1 a bad value (said on stderr: exit EXIT_USAGE). */
+int cli_common_option(cli_common *cm, int c, const char *arg);
+
+/* "IN -o OUT": the one operand, and -o given. Returns 0 (and says why)
+ * when either is missing or there is an operand too many. */
+int cli_one_input(const cli_common *cm, int argc, char **argv, const char *what,
+                  const char **in);
 
 /* Print "relief CMD: error: <message>" and return the status's exit code. */
 int cli_fail(const char *cmd, const relief_error *err);
@@ -33,9 +72,13 @@ int cli_fail(const char *cmd, const relief_error *err);
 /* Print "relief CMD: <fmt with arg>" and the --help hint; EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, const char *arg);
 
-/* A decimal integer in lo..hi. */
-int cli_parse_int(const char *cmd, const char *opt, const char *s, long lo, long hi,
-                  long *out);
+/* A decimal integer that fits `int` (its range is the engine's to check). */
+int cli_parse_int(const char *cmd, const char *opt, const char *s, int *out);
+
+/* A decimal integer in lo..hi (for what is the command line's own: sizes
+ * of its pictures, counts of its test hooks). */
+int cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                   long *out);
 
 /* A finite real. */
 int cli_parse_real(const char *cmd, const char *opt, const char *s, double *out);
@@ -44,17 +87,25 @@ int cli_parse_real(const char *cmd, const char *opt, const char *s, double *out)
 int cli_parse_reals(const char *cmd, const char *opt, const char *s, double *out, int max,
                     int *n);
 
-/* --extent: "z0,z1" (cylinder) or "u0,v0,u1,v1" (plane) into p->extent. */
-int cli_parse_extent(const char *cmd, const char *s, relief_params *p);
+/* One of names[0 .. n) (an enumeration's list, in its order): its index. */
+int cli_parse_enum(const char *cmd, const char *opt, const char *s, const char *const *names,
+                   int n, int *out);
 
-/* --backend: auto, scalar, opencl, and host where `with_host`. */
-int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out);
+/* An enumeration's names from its X-macro list: CLI_NAMES(RELIEF_BACKEND_LIST)
+ * is { "auto", "scalar", ... }. */
+#define CLI_X_NAME(code, name) name,
+#define CLI_NAMES(list) {list(CLI_X_NAME)}
+#define CLI_PARSE_ENUM(cmd, opt, s, names, out)                                         \
+    cli_parse_enum(cmd, opt, s, names, (int)(sizeof names / sizeof names[0]), out)
 
-/* --fit: auto, plane, sphere or cylinder. */
-int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out);
-
-/* Is `out` the same file as `in` (by name or by inode)? */
+/* Is `out` the same file as `in` (by name or by inode)? NULL: no. */
 int cli_same_file(const char *in, const char *out);
+
+/* Does any of outs[0 .. n_outs) name one of ins[0 .. n_ins) or another
+ * output? Says which (exit EXIT_USAGE) and returns 1; NULL entries are
+ * skipped. */
+int cli_outputs_clash(const char *cmd, const char *const *ins, size_t n_ins,
+                      const char *const *outs, size_t n_outs);
 
 /* The extension of `path` with its dot ("" when none). */
 const char *cli_ext_of(const char *path);
@@ -62,20 +113,61 @@ const char *cli_ext_of(const char *path);
 /* Does `path` end in a mesh extension relief writes (.ply .obj .off .stl)? */
 int cli_known_mesh_ext(const char *path);
 
-/* A progress line on stderr with an ETA, at most four times a second:
- * "relief CMD: WHAT done/total (p %), ETA s". print 0: silent. */
+/* Progress of one engine call on stderr, and SIGINT: a line with the
+ * fraction done and an ETA at most four times a second on a terminal
+ * (print), a one-time estimate when the call looks long (estimate: after
+ * 2 s, when more than a minute is left; RELIEF_TEST_ESTIMATE_NOW=1 says it
+ * at once), and a first SIGINT cancelling the call (a second kills, as
+ * usual). The test hook RELIEF_TEST_SIGINT_AFTER=N raises SIGINT at the
+ * N-th report of progress past 0. */
 typedef struct cli_progress {
-    const char *cmd, *what;
-    int print;
+    const char *cmd;
+    int print, estimate;
+    const char *estimate_tail;  /* said after the estimate ("" or how to resume) */
     double start, last;
+    double estimate_after, estimate_min;
+    unsigned long sigint_after, seen;
+    struct sigaction old;
 } cli_progress;
 
-/* A fill's progress callback (ctx: a cli_progress). */
-void cli_on_progress(void *ctx, size_t done, size_t total);
+/* Start reporting (and take SIGINT) for `cmd`; quiet: nothing printed. */
+void cli_progress_start(cli_progress *pr, const char *cmd, int quiet);
+
+/* The relief_progress_fn: ctx is a cli_progress. Returns 1 once SIGINT came. */
+int cli_progress_fn(void *ctx, double fraction);
+
+/* Stop: end the line, give SIGINT back. */
+void cli_progress_end(cli_progress *pr);
 
 /* Hold SIGINT and SIGTERM while outputs are written (old: the mask to
  * restore), so that they appear whole or not at all. */
 void cli_hold_signals(sigset_t *old);
 void cli_release_signals(const sigset_t *old);
+
+/* Write an engine's JSON report to `path` atomically. */
+relief_status cli_write_json(const char *path, const char *json, relief_error *err);
+
+/* ---- transitional: what the commands not yet calling an engine use; goes
+ * when the last of them does. */
+enum {
+    OPT_FIT = 400, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_LEVELS, OPT_OVERSAMPLE,
+    OPT_SPACING, OPT_EXTENT, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE,
+    OPT_JSON, OPT_FRAMES, OPT_OVERSAMPLE_SCHEME, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
+    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE,
+    OPT_COLOUR_BY, OPT_ACCEPT_POOR_FIT, OPT_MAX_GROWTH, OPT_COHERENCE, OPT_BALL, OPT_SLAB,
+    OPT_KEEP_SPIKES, OPT_FILL, OPT_CROP, OPT_SEARCH, OPT_SEARCH_K, OPT_BASE
+};
+int cli_parse_int_range(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                        long *out);
+int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out);
+int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out);
+struct relief_params;
+int cli_parse_extent(const char *cmd, const char *s, struct relief_params *p);
+typedef struct cli_count_progress {
+    const char *cmd, *what;
+    int print;
+    double start, last;
+} cli_count_progress;
+void cli_on_progress(void *ctx, size_t done, size_t total);
 
 #endif
