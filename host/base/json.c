@@ -9,7 +9,7 @@ void rj_init(relief_json *j, FILE *f)
     j->count[0] = 0;
 }
 
-static void put_string(FILE *f, const char *s)
+void rj_put_string(FILE *f, const char *s)
 {
     fputc('"', f);
     for (; *s; ++s) {
@@ -34,7 +34,7 @@ static void item(relief_json *j, const char *key)
     if (j->depth > 0)
         fprintf(j->f, "\n%*s", 2 * j->depth, "");
     if (key) {
-        put_string(j->f, key);
+        rj_put_string(j->f, key);
         fputs(": ", j->f);
     }
 }
@@ -67,7 +67,7 @@ void rj_end_array(relief_json *j) { close_(j, ']'); }
 void rj_string(relief_json *j, const char *key, const char *value)
 {
     item(j, key);
-    put_string(j->f, value ? value : "");
+    rj_put_string(j->f, value ? value : "");
 }
 
 void rj_number(relief_json *j, const char *key, double value)

@@ -25,6 +25,9 @@ void rj_number(relief_json *j, const char *key, double value);
 void rj_int(relief_json *j, const char *key, long long value);
 void rj_bool(relief_json *j, const char *key, int value);
 void rj_null(relief_json *j, const char *key);
+/* `s` as a JSON string, quoted and escaped, at the file's position (for
+ * writers that splice members into a finished object). */
+void rj_put_string(FILE *f, const char *s);
 /* A 3-element array of numbers. */
 void rj_vec3(relief_json *j, const char *key, const double v[3]);
 

@@ -15,6 +15,7 @@
 
 #include "base/atomic.h"
 #include "base/clock.h"
+#include "base/json.h"
 #include "base/memlimit.h"
 #include "base/params.h"
 
@@ -355,15 +356,40 @@ void cli_release_signals(const sigset_t *old)
     sigprocmask(SIG_SETMASK, old, NULL);
 }
 
-static int write_string(FILE *f, void *ctx)
+typedef struct named_json {
+    const char *json;
+    size_t n;
+    const char *const *keys, *const *values;
+} named_json;
+
+/* The engine's object with the named members spliced in after its "{\n". */
+static int write_named(FILE *f, void *ctx)
 {
-    const char *s = ctx;
-    return fputs(s, f) < 0;
+    const named_json *c = ctx;
+    const char *body = c->json;
+    if (c->n && strncmp(body, "{\n", 2) == 0) {
+        fputs("{\n", f);
+        for (size_t i = 0; i < c->n; ++i) {
+            fprintf(f, "  ");
+            rj_put_string(f, c->keys[i]);
+            fputs(": ", f);
+            if (c->values[i])
+                rj_put_string(f, c->values[i]);
+            else
+                fputs("null", f);
+            fputs(",\n", f);
+        }
+        body += 2;
+    }
+    return fputs(body, f) < 0;
 }
 
-relief_status cli_write_json(const char *path, const char *json, relief_error *err)
+relief_status cli_write_json(const char *path, const char *json, size_t n,
+                             const char *const *keys, const char *const *values,
+                             relief_error *err)
 {
-    return relief_atomic_write_text(path, write_string, (void *)json, err);
+    named_json c = {json, n, keys, values};
+    return relief_atomic_write_text(path, write_named, &c, err);
 }
 
 /* ---- transitional (options.h) */

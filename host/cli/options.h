@@ -144,8 +144,12 @@ void cli_progress_end(cli_progress *pr);
 void cli_hold_signals(sigset_t *old);
 void cli_release_signals(const sigset_t *old);
 
-/* Write an engine's JSON report to `path` atomically. */
-relief_status cli_write_json(const char *path, const char *json, relief_error *err);
+/* Write an engine's JSON report to `path` atomically, with the string
+ * members keys[i]: values[i] (NULL: null) first, for the files the command
+ * read that the engine did not (a mask, a truth). n may be 0. */
+relief_status cli_write_json(const char *path, const char *json, size_t n,
+                             const char *const *keys, const char *const *values,
+                             relief_error *err);
 
 /* ---- transitional: what the commands not yet calling an engine use; goes
  * when the last of them does. */
