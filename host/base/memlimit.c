@@ -124,7 +124,7 @@ relief_status relief_memory_check(const char *what, uint64_t need, uint64_t limi
     relief_format_size(need, a, sizeof a);
     relief_format_size(limit, b, sizeof b);
     return relief_fail(err, RELIEF_E_NOMEM,
-                       "%s needs about %s of memory, over the limit of %s (--max-memory; the "
+                       "%s needs about %s of memory, over the limit of %s (max_memory; the "
                        "default is 80%% of physical memory)%s",
                        what, a, b, hint);
 }

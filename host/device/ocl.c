@@ -137,7 +137,7 @@ relief_status relief_cl_device(int index, cl_device_id *dev, relief_device_info 
         return relief_fail(err, RELIEF_E_DEVICE, "no OpenCL platform or device found");
     if (index >= 0 && (size_t)index >= n)
         return relief_fail(err, RELIEF_E_RANGE,
-                           "--device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
+                           "device %d: there are %zu OpenCL device(s), 0..%zu (see 'relief "
                            "devices')", index, n, n - 1);
     if (index >= 0)
         want = (size_t)index;

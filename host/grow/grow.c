@@ -48,6 +48,8 @@ relief_grow_options relief_grow_options_default(void)
     o.bootstrap = 0;
     o.progress = NULL;
     o.progress_ctx = NULL;
+    o.level = 0;
+    o.levels = 1;
     o.pyramid_start = NULL;
     o.pyramid_items = NULL;
     o.matched = NULL;
@@ -672,7 +674,8 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
                     --remaining;
                     if (opts->progress) {
                         relief_grow_progress p = {s->n_targets - remaining, s->n_targets, e,
-                                                  relief_seconds() - t0};
+                                                  relief_seconds() - t0, opts->level,
+                                                  opts->levels};
                         opts->progress(opts->progress_ctx, &p);
                     }
                     continue;

@@ -49,6 +49,7 @@ typedef struct relief_grow_progress {
     size_t done, total;
     double error;
     double seconds;
+    int level, levels; /* the growth is level `level` (0-based) of `levels` */
 } relief_grow_progress;
 
 typedef void (*relief_grow_progress_fn)(void *ctx, const relief_grow_progress *p);
@@ -106,6 +107,8 @@ typedef struct relief_grow_options {
     int bootstrap;  /* 1: textured targets become matchable */
     relief_grow_progress_fn progress; /* may be NULL; called after each target */
     void *progress_ctx;
+    int level, levels;  /* where this growth sits in a hierarchy, passed on in
+                           its progress: level 0 (default) of 1 */
     /* Sample pyramids (hierarchy.h; may be NULL): target t first scores only
      * the samples pyramid_items[pyramid_start[t] .. pyramid_start[t + 1])
      * (indices into the match data's samples, distinct); when that range is

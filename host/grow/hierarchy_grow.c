@@ -365,7 +365,7 @@ static relief_status check_resume(const relief_hierarchy *h, const relief_grow_s
     size_t want;
     if (!r)
         return relief_fail(err, RELIEF_E_USAGE, "the checkpoint is of a mono-scale run "
-                           "(--levels 1), not of %d levels", h->levels);
+                           "(levels 1), not of %d levels", h->levels);
     if (r->levels != h->levels || r->level < 1 || r->level > h->levels)
         return relief_fail(err, RELIEF_E_USAGE, "the checkpoint is at level %d of %d, not of "
                            "a %d-level run", r->level, r->levels, h->levels);
@@ -552,6 +552,8 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
         }
         lo.matched = matched;
         lo.resume = ki == k0 ? resume : NULL;
+        lo.level = ki;
+        lo.levels = M;
         if (go && go->save) {
             saver.save = go->save;
             saver.ctx = go->save_ctx;

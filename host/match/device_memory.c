@@ -57,7 +57,7 @@ relief_status relief_device_fits(const relief_device_info *dev, const relief_mat
         return relief_fail(err, RELIEF_E_NOMEM,
                            "the surface needs about %s on the OpenCL device '%s', which has "
                            "%s of global memory (relief uses at most 90%%); use "
-                           "--backend scalar or another --device",
+                           "backend scalar or another device",
                            a, dev->name, b);
     }
     if (dev->max_alloc_bytes && big > dev->max_alloc_bytes) {
@@ -66,7 +66,7 @@ relief_status relief_device_fits(const relief_device_info *dev, const relief_mat
         return relief_fail(err, RELIEF_E_NOMEM,
                            "the buffer of %s needs %s on the OpenCL device '%s', over its "
                            "largest buffer (CL_DEVICE_MAX_MEM_ALLOC_SIZE) of %s; use "
-                           "--backend scalar or another --device",
+                           "backend scalar or another device",
                            big_what, a, dev->name, b);
     }
     return RELIEF_OK;

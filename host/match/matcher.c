@@ -107,7 +107,7 @@ relief_status relief_matcher_create(relief_backend backend, int device,
             (*out)->device_index = device;
             if (backend == RELIEF_BACKEND_AUTO && note && note_size)
                 snprintf(note, note_size, "%s: %.200s",
-                         named ? "the OpenCL device --device names"
+                         named ? "the OpenCL device named by its index"
                                : "the first GPU or accelerator OpenCL has",
                          (*out)->device);
         }

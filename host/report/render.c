@@ -180,7 +180,7 @@ static relief_status vertex_colours(const relief_mesh *m, const relief_render_op
     case RELIEF_COLOUR_BY_COLOUR:
         if (!m->col)
             return relief_fail(err, RELIEF_E_MESH, "the mesh has no per-vertex colour to "
-                               "render; try --colour-by label or displacement");
+                               "render; try colour_by label or displacement");
         memcpy(rgb, m->col, m->nv * 3 * sizeof *rgb);
         return RELIEF_OK;
     case RELIEF_COLOUR_BY_LABEL:

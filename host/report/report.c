@@ -43,7 +43,7 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_number(j, "spacing", s->spacing);
     rj_string(j, "spacing_source", s->spacing_from_capture
                                        ? "capture edge-length percentile"
-                                       : "--spacing");
+                                       : "given");
     rj_string(j, "region", relief_fill_region_name(s->fill.region));
     rj_number(j, "cover", s->fill.cover);
     rj_begin_object(j, "counts");

@@ -58,7 +58,7 @@ static int replaceable(const char *path, relief_error *err)
         return 0;
     }
     if (!S_ISDIR(sb.st_mode)) {
-        relief_fail(err, RELIEF_E_IO, "%s: exists and is not a folder; --report-dir needs a "
+        relief_fail(err, RELIEF_E_IO, "%s: exists and is not a folder; a report folder needs a "
                     "folder name", path);
         return 0;
     }
@@ -120,7 +120,7 @@ relief_status relief_report_dir_check(const char *dir_in, relief_error *err)
     struct stat sb;
     relief_status st = RELIEF_OK;
     if (!dir_in || !dir_in[0])
-        return relief_fail(err, RELIEF_E_USAGE, "--report-dir: empty folder name");
+        return relief_fail(err, RELIEF_E_USAGE, "report folder: empty name");
     if (!(dir = normalised(dir_in)) || !(parent = strdup(dir))) {
         free(dir);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
@@ -399,7 +399,7 @@ static void write_figures(FILE *f, const relief_report_content *c)
     row(f, "primitive", "%s", relief_fit_model_name(s->fit.prim.model));
     row(f, "fit rms", "%s (%s)", num(a, sizeof a, s->fit.rms), s->fit.reason);
     row(f, "spacing", "%s (%s)", num(b, sizeof b, s->spacing),
-        s->spacing_from_capture ? "from the capture" : "--spacing");
+        s->spacing_from_capture ? "from the capture" : "given");
     fputs("</table>\n<table class=\"kv\"><caption>Counts</caption>\n", f);
     row(f, "captured vertices", "%zu", s->n_captured);
     row(f, "samples (oversampled)", "%zu", s->n_samples);

@@ -329,9 +329,9 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
     if (s->fit.poor_fit && !opts->accept_poor_fit) {
         st = relief_fail(err, RELIEF_E_MESH,
                          "the capture fits no primitive well: %s (rms %.4g is more than "
-                         "%.0f%% of the %s's size %.4g); relief complete --base smooth "
-                         "grows on the capture's own smoothed surface instead, "
-                         "--accept-poor-fit goes on anyway",
+                         "%.0f%% of the %s's size %.4g); base smooth grows on the "
+                         "capture's own smoothed surface instead, accept_poor_fit goes on "
+                         "anyway",
                          s->fit.reason, s->fit.rms, 100.0 * RELIEF_FIT_POOR,
                          relief_fit_model_name(pr->model), s->fit.size);
         goto fail;
@@ -355,7 +355,7 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
                                          : params->spacing;
     if (!(s->spacing > 0.0)) {
         st = relief_fail(err, RELIEF_E_MESH,
-                         "the capture's edges all have zero length; give --spacing");
+                         "the capture's edges all have zero length; give a spacing");
         goto fail;
     }
 
@@ -371,8 +371,8 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
                              "nothing to complete: the capture has no hole inside its "
                              "outline%s",
                              pr->model == RELIEF_FIT_PLANE
-                                 ? " (give --extent u0,v0,u1,v1 to extend the plane past it)"
-                                 : "; --fill whole completes the rest of the primitive");
+                                 ? " (give an extent u0,v0,u1,v1 to extend the plane past it)"
+                                 : "; fill whole completes the rest of the primitive");
         else
             st = relief_fail(err, RELIEF_E_MESH,
                              "nothing to complete: the capture covers the whole region");
@@ -383,15 +383,15 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
         st = relief_fail(err, RELIEF_E_MESH,
                          "the %s fit (%s) asks for %zu targets, %.0f per captured vertex "
                          "(%zu): far more than the capture can supply samples for (the "
-                         "limit is %g, --max-growth). %s; --max-growth 0 lifts the limit",
+                         "limit is %g, max_growth). %s; max_growth 0 lifts the limit",
                          relief_fit_model_name(pr->model),
-                         params->fit == RELIEF_FIT_AUTO ? "chosen by --fit auto" : "requested",
+                         params->fit == RELIEF_FIT_AUTO ? "chosen by fit auto" : "requested",
                          targets.n, (double)targets.n / (double)capture->nv, capture->nv,
                          opts->max_growth,
                          pr->model == RELIEF_FIT_PLANE
-                             ? "Bound the region with a smaller --extent or raise --spacing"
-                             : "If the capture is nearly flat, try --fit plane; else bound "
-                               "the region with --extent or raise --spacing");
+                             ? "Bound the region with a smaller extent or raise the spacing"
+                             : "If the capture is nearly flat, try fit plane; else bound "
+                               "the region with an extent or raise the spacing");
         goto fail;
     }
     s->seconds[RELIEF_STAGE_TARGETS] = relief_seconds() - t0;
@@ -408,7 +408,7 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
         st = relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
                                                               targets.n),
                                  relief_memory_limit(params),
-                                 "; lower --oversample or raise --spacing", err);
+                                 "; lower oversample or raise the spacing", err);
         if (st != RELIEF_OK)
             goto fail;
     }

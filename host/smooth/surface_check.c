@@ -272,7 +272,7 @@ relief_status relief_capture_spikes(const relief_mesh *m, const relief_fit_primi
         *despiked = NULL;
         st = relief_fail(err, RELIEF_E_MESH,
                          "the capture has no triangle left once its %zu spikes are dropped; "
-                         "--keep-spikes keeps them", sp->vertices);
+                         "keep_spikes keeps them", sp->vertices);
     }
     if (st == RELIEF_OK)
         sp->triangles_dropped = m->nt - (*despiked)->nt;
@@ -335,7 +335,7 @@ static relief_status check_reachable(const relief_surface *s, relief_error *err)
         st = relief_fail(err, RELIEF_E_MESH,
                          "%zu of %zu targets can never be reached: no path in the "
                          "triangulation joins them to the capture (target %zu at (%.6g, "
-                         "%.6g, %.6g) is one); is --extent far from the capture?",
+                         "%.6g, %.6g) is one); is the extent far from the capture?",
                          lost, s->n_targets, first, p[0], p[1], p[2]);
     }
 done:
@@ -388,7 +388,7 @@ static relief_status check_window(const relief_surface *s, int window, relief_er
         return relief_fail(err, RELIEF_E_MESH,
                            "the capture is smaller than the window: a window of %d needs a "
                            "sample %.4g from the missing part, but none is farther than %.4g "
-                           "(sample %zu); use --window %d or less",
+                           "(sample %zu); use a window of %d or less",
                            window, (window + 0.5) * s->spacing, far, best, fits);
     return RELIEF_OK;
 }

@@ -212,7 +212,7 @@ static relief_status lattice_regions(const coverage *cov, const relief_param *pm
     if (!((floor((a_hi - a_lo) / sp) + 2.0) * (floor((b_hi - b_lo) / row) + 2.0) <= 50000000.0))
         return relief_fail(err, RELIEF_E_RANGE,
                            "the target lattice would have about %.3g points (spacing %g over "
-                           "a %g x %g region); raise --spacing",
+                           "a %g x %g region); raise the spacing",
                            (floor((a_hi - a_lo) / sp) + 1.0) * (floor((b_hi - b_lo) / row) + 1.0),
                            sp, u1 - u0, v1 - v0);
     l.na = (size_t)floor((a_hi - a_lo) / sp) + 1;
@@ -327,7 +327,7 @@ static relief_status sphere_regions(const coverage *cov, const relief_param *pm,
 
     if (nf > 50000000.0)
         return relief_fail(err, RELIEF_E_RANGE,
-                           "the sphere would need %.0f targets; raise --spacing", nf);
+                           "the sphere would need %.0f targets; raise the spacing", nf);
     n = (size_t)nf;
     if (n < 12)
         n = 12;
@@ -443,9 +443,9 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_param 
         if (extent && params->n_extent != (pr->model == RELIEF_FIT_CYLINDER ? 2 : 4)) {
             st = pr->model == RELIEF_FIT_CYLINDER
                      ? relief_fail(err, RELIEF_E_USAGE,
-                                   "--extent for a cylinder takes 2 values z0,z1")
+                                   "an extent for a cylinder takes 2 values z0,z1")
                      : relief_fail(err, RELIEF_E_USAGE,
-                                   "--extent for a plane takes 4 values u0,v0,u1,v1");
+                                   "an extent for a plane takes 4 values u0,v0,u1,v1");
             goto done;
         }
         if (pr->model == RELIEF_FIT_CYLINDER)

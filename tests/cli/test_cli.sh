@@ -178,7 +178,7 @@ for key in '"model": "cylinder"' '"spacing":' '"targets":' '"samples":' '"triang
 done
 grep -q "property int label" "$tmp/sm.ply" && pass=$((pass+1)) || { echo "FAIL: smooth output has no label"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm2.ply" --report "$tmp/sm2.json" --spacing 0.1 --frames primitive --quiet
-grep -qF '"spacing_source": "--spacing"' "$tmp/sm2.json" && pass=$((pass+1)) || { echo "FAIL: --spacing not reported"; fail=$((fail+1)); }
+grep -qF '"spacing_source": "given"' "$tmp/sm2.json" && pass=$((pass+1)) || { echo "FAIL: --spacing not reported"; fail=$((fail+1)); }
 expect 1 "--frames" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm3.ply" --frames local
 grep -qF '"oversample_scheme": "butterfly"' "$tmp/sm.json" && pass=$((pass+1)) || { echo "FAIL: default oversampling scheme not reported as butterfly"; fail=$((fail+1)); }
 # The papers' midpoints: the captured part keeps its planar triangles, so the
@@ -190,7 +190,7 @@ expect 1 "--oversample-scheme" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm5.ply
 [[ ! -e $tmp/sm5.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left after a bad --oversample-scheme"; fail=$((fail+1)); }
 # --fill: the one-sided bark has no hole of its own; its hidden side is the
 # whole (auto), and holes alone leave nothing to complete.
-expect 1 "no hole inside its outline; --fill whole" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm6.ply" --fill holes
+expect 1 "no hole inside its outline; fill whole" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm6.ply" --fill holes
 [[ ! -e $tmp/sm6.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left after --fill holes found none"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" smooth "$tmp/a.ply" -o "$tmp/sm6.ply" --fill whole --report "$tmp/sm6.json" --quiet
 for key in '"fill": "whole"' '"region": "whole"' '"holes": 0' '"cover":'; do
@@ -230,8 +230,8 @@ if "$relief" devices | grep -q "^device 0"; then
   expect 2 "cannot read" -- env RELIEF_KERNEL_DIR="$tmp/nowhere" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a failed OpenCL run"; fail=$((fail+1)); }
   # A device there is none of is refused, under auto too.
-  expect 1 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --device 7 --quiet
-  expect 1 "--device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --device 7 --quiet
+  expect 1 "device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --device 7 --quiet
+  expect 1 "device 7" -- "$relief" complete "$small" -o "$tmp/ocl.ply" --device 7 --quiet
   for bad in abc -5 " -0" +5 1e3 2000000000; do
     expect 1 "RELIEF_OPENCL_HOST_MAX='$bad'" -- env RELIEF_OPENCL_HOST_MAX="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   done
@@ -247,7 +247,7 @@ if "$relief" devices | grep -q "^device 0"; then
   expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
   cmp -s "$tmp/ocl.ply" "$tmp/scl.ply" && pass=$((pass+1)) || { echo "FAIL: OpenCL and scalar outputs differ"; fail=$((fail+1)); }
   # auto on --device 0 is OpenCL there, whatever kind of device it is.
-  expect 0 "the OpenCL device --device names" -- "$relief" complete "$small" -o "$tmp/dev0.ply" --window 2 --device 0 --report "$tmp/dev0.json"
+  expect 0 "the OpenCL device named by its index" -- "$relief" complete "$small" -o "$tmp/dev0.ply" --window 2 --device 0 --report "$tmp/dev0.json"
   ok 'cmp -s "$tmp/dev0.ply" "$tmp/scl.ply" && grep -qF "\"name\": \"opencl\"" "$tmp/dev0.json"' "auto --device 0 did not run OpenCL, or changed the output"
 fi
 

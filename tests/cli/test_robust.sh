@@ -102,9 +102,9 @@ ok 'cmp -s "$tmp/hfull.ply" "$tmp/h2.ply"' "resumed at a level's start, the outp
 
 # ------------------------------------------------------------ memory limits
 # Refused up front, with the estimate and the limit, and nothing written.
-expect 2 "over the limit of 1.00 MiB (--max-memory" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 1M
+expect 2 "over the limit of 1.00 MiB (max_memory" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 1M
 expect 2 "needs about" -- "$relief" smooth "$pw" -o "$tmp/m.ply" --max-memory 1M
-grep -qF "lower --oversample or raise --spacing" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no advice with the memory refusal"; fail=$((fail+1)); }
+grep -qF "lower oversample or raise the spacing" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no advice with the memory refusal"; fail=$((fail+1)); }
 # Reading the input: 16 x the file's size, checked before OpenMesh reads it.
 expect 2 "reading $pw needs about" -- "$relief" "${run[@]}" -o "$tmp/m.ply" --max-memory 100K
 ok '[[ ! -e $tmp/m.ply ]]' "output written over the memory limit"
@@ -140,7 +140,7 @@ expect 1 "edge 12-23 at (0.1, 0.15, 0) is shared by 3 triangles" -- "$relief" co
 expect 1 "overlaps itself over the fitted plane" -- "$relief" smooth "$data/fold.off" -o "$tmp/g.ply" --fit plane
 grep -qF "the largest triangle 210 (vertices 115, 126, 127) at (1, 0.5, 0)" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: the fold is not located"; fail=$((fail+1)); }
 expect 1 "fits no primitive well" -- "$relief" complete "$data/zigzag.off" -o "$tmp/g.ply"
-grep -qF -- "--accept-poor-fit goes on anyway" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no override named for a poor fit"; fail=$((fail+1)); }
+grep -qF -- "accept_poor_fit goes on anyway" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no override named for a poor fit"; fail=$((fail+1)); }
 # A poor fit the user accepts goes on, and says so.
 "$relief" synth sphere-dimples -o "$tmp/sd.ply" --vertices 500 2>/dev/null
 expect 1 "fits no primitive well" -- "$relief" smooth "$tmp/sd.ply" -o "$tmp/g.ply" --fit cylinder
@@ -150,22 +150,22 @@ rm -f "$tmp/g.ply"
 # radius 30: a patch (it covers far less than a fifth of the turn), so its
 # hole alone is completed. The whole turn would ask for 204 targets per
 # captured vertex: refused, with the way out.
-expect 0 "completing the 1 hole inside its outline (14 targets); --fill whole completes the rest of the cylinder too (90930 more)" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply"
+expect 0 "completing the 1 hole inside its outline (14 targets); fill whole completes the rest of the cylinder too (90930 more)" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply"
 rm -f "$tmp/g.ply"
-expect 1 "the cylinder fit (chosen by --fit auto) asks for 90944 targets, 206 per captured vertex (441)" -- "$relief" complete "$data/bent.off" -o "$tmp/g.ply" --fill whole
-grep -qF "try --fit plane" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: --fit plane not suggested"; fail=$((fail+1)); }
+expect 1 "the cylinder fit (chosen by fit auto) asks for 90944 targets, 206 per captured vertex (441)" -- "$relief" complete "$data/bent.off" -o "$tmp/g.ply" --fill whole
+grep -qF "try fit plane" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: --fit plane not suggested"; fail=$((fail+1)); }
 expect 1 "asks for 12 targets, 0 per captured vertex" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --fit plane --max-growth 0.01
 expect 0 "" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --fit plane --quiet
 rm -f "$tmp/g.ply"
-expect 1 "--max-growth: -1 is out of range" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --max-growth -1
+expect 1 "max_growth -1 out of range" -- "$relief" smooth "$data/bent.off" -o "$tmp/g.ply" --max-growth -1
 expect 1 "the capture is smaller than the window: a window of 3" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=-1,-1,1,1 --spacing 0.05 --backend scalar
-grep -qF "use --window 2 or less" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no window suggested"; fail=$((fail+1)); }
+grep -qF "use a window of 2 or less" "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: no window suggested"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=-0.2,-0.2,0.4,0.4 --spacing 0.05 --backend scalar --window 2 --quiet
 rm -f "$tmp/g.ply"
 expect 1 "no sample has a complete neighbourhood" -- "$relief" complete "$data/strip.off" -o "$tmp/g.ply" --extent=-1,-1,2,1 --spacing 0.1 --backend scalar --window 1
 expect 1 "504 of 504 targets can never be reached" -- "$relief" complete "$data/tiny.off" -o "$tmp/g.ply" --extent=5,5,6,6 --spacing 0.05 --backend scalar --window 1
-expect 1 "raise --spacing" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing 1e-300
-expect 1 "raise --spacing" -- "$relief" smooth "$data/tiny.off" -o "$tmp/g.ply" --extent=-1,-1,1,1 --spacing 1e-6
+expect 1 "raise the spacing" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing 1e-300
+expect 1 "raise the spacing" -- "$relief" smooth "$data/tiny.off" -o "$tmp/g.ply" --extent=-1,-1,1,1 --spacing 1e-6
 expect 1 "expected a length > 0" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing 0
 expect 1 "expected a length > 0" -- "$relief" complete "$pw" -o "$tmp/g.ply" --spacing -0.1
 expect 1 "--window: 0 is out of range: expected 1..16" -- "$relief" complete "$pw" -o "$tmp/g.ply" --window 0
