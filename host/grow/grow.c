@@ -252,57 +252,86 @@ void relief_query_build(relief_query_builder *b, const uint8_t *textured, uint32
     query->n_subset = 0;
 }
 
+/* ------------------------------------------------------ a growth's state */
+
+/* What one growth works on, what lasts over its passes, and the pass under
+ * way: the stages below share it rather than a dozen arguments each. */
+typedef struct grow_run {
+    relief_surface *s;
+    relief_match_data *d;
+    relief_matcher *m;
+    const relief_params *params;
+    const relief_grow_options *opts;
+    relief_grow_stats *stats;
+    relief_query_builder *qb;
+    relief_search *search; /* NULL unless the search is coherent */
+    uint8_t *textured;     /* nv: 1 once a vertex has its displacement */
+    int *win;              /* nv: each target's window, in hops */
+    uint32_t *src;         /* nv: the candidate a target copied, UINT32_MAX if none */
+    ranked *list;          /* n_targets: the pass's boundary list */
+    float *ssd;            /* candidates: the last scoring's SSDs */
+    uint8_t *flag;         /* candidates: and their RM_* flags */
+    uint32_t *best;        /* candidates: those within 10 % of the minimum */
+    relief_rng rng;
+    size_t remaining, run_acceptances;
+    double e, t0, last_save;
+    /* The pass under way: its list's length and what it has seen so far. */
+    size_t nl, accepted, any_valid, all_min_window;
+} grow_run;
+
 /* ------------------------------------------------ checkpoint and resume */
 
 /* Hand the growth's state to opts->save; list[next] is the next target. */
-static relief_status save_state(const relief_grow_options *opts, const relief_surface *s,
-                                const relief_match_data *d, const uint8_t *textured,
-                                const int *win, const uint32_t *src, const ranked *list,
-                                size_t nl, size_t next,
-                                size_t accepted, int any_valid, int all_min_window, double e,
-                                const relief_rng *rng, const relief_grow_stats *stats,
-                                relief_error *err)
+static relief_status save_state(const grow_run *g, size_t next, relief_error *err)
 {
-    const size_t ns = s->n_samples;
-    relief_grow_state g;
+    const relief_surface *s = g->s;
+    const size_t ns = s->n_samples, nl = g->nl;
+    relief_grow_state r;
     relief_status st;
     uint32_t *ids = malloc((nl + 1) * sizeof *ids);
     if (!ids)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a checkpoint's list");
     for (size_t i = 0; i < nl; ++i)
-        ids[i] = list[i].v;
-    g.nv = s->mesh->nv;
-    g.n_samples = ns;
-    g.textured = textured + ns;
-    g.window = win + ns;
-    g.disp = s->disp + 3 * ns;
-    g.colour = d->col + 3 * ns;
-    g.mesh_colour = s->mesh->col ? s->mesh->col + 3 * ns : NULL;
-    g.n_list = nl;
-    g.list = ids;
-    g.next = next;
-    g.pass_accepted = accepted;
-    g.pass_any_valid = any_valid;
-    g.pass_all_min_window = all_min_window;
-    g.error = e;
-    g.rng = *rng;
-    g.stats = *stats;
-    g.source = src + ns;
-    g.matched = opts->matched ? opts->matched + ns : NULL;
-    g.hier = NULL;
-    st = opts->save(opts->save_ctx, &g, err);
+        ids[i] = g->list[i].v;
+    r.nv = s->mesh->nv;
+    r.n_samples = ns;
+    r.textured = g->textured + ns;
+    r.window = g->win + ns;
+    r.disp = s->disp + 3 * ns;
+    r.colour = g->d->col + 3 * ns;
+    r.mesh_colour = s->mesh->col ? s->mesh->col + 3 * ns : NULL;
+    r.n_list = nl;
+    r.list = ids;
+    r.next = next;
+    r.pass_accepted = g->accepted;
+    r.pass_any_valid = g->any_valid != 0;
+    r.pass_all_min_window = g->all_min_window != 0;
+    r.error = g->e;
+    r.rng = g->rng;
+    r.stats = *g->stats;
+    r.source = g->src + ns;
+    r.matched = g->opts->matched ? g->opts->matched + ns : NULL;
+    r.hier = NULL;
+    st = g->opts->save(g->opts->save_ctx, &r, err);
     free(ids);
     return st;
 }
 
-/* Put a saved growth back on the surface, the match data and the matcher;
- * *remaining drops by the targets it had textured. */
-static relief_status restore_state(const relief_grow_state *r, relief_surface *s,
-                                   relief_match_data *d, relief_matcher *m, int bootstrap,
-                                   uint8_t *textured, int *win, uint32_t *src,
-                                   size_t *remaining,
-                                   relief_error *err)
+/* The figures a checkpoint (and the caller) sees: the time, the matcher's
+ * share of it and the threshold, as of now. */
+static void stats_now(const grow_run *g)
 {
+    g->stats->seconds = relief_seconds() - g->t0;
+    g->stats->match_seconds = g->m->kernel_seconds;
+    g->stats->error_final = g->e;
+}
+
+/* Put a saved growth back on the surface, the match data and the matcher;
+ * g->remaining drops by the targets it had textured. */
+static relief_status restore_state(const relief_grow_state *r, grow_run *g, relief_error *err)
+{
+    relief_surface *s = g->s;
+    relief_match_data *d = g->d;
     relief_mesh *mesh = s->mesh;
     if (r->nv != mesh->nv || r->n_samples != s->n_samples)
         return relief_fail(err, RELIEF_E_USAGE,
@@ -315,14 +344,14 @@ static relief_status restore_state(const relief_grow_state *r, relief_surface *s
     for (size_t i = 0; i < s->n_targets; ++i) {
         const size_t t = s->n_samples + i;
         relief_status st;
-        win[t] = r->window[i];
-        src[t] = r->source[i];
+        g->win[t] = r->window[i];
+        g->src[t] = r->source[i];
         if (!r->textured[i])
             continue;
-        if (src[t] / (uint32_t)d->rotations >= d->ns)
+        if (g->src[t] / (uint32_t)d->rotations >= d->ns)
             return relief_fail(err, RELIEF_E_USAGE, "the saved growth's target %zu copied "
                                "candidate %u; this surface has %u samples x %d rotations",
-                               t, src[t], d->ns, d->rotations);
+                               t, g->src[t], d->ns, d->rotations);
         for (int k = 0; k < 3; ++k) {
             const double dk = r->disp[3 * i + k], tp = s->proj[3 * t + k];
             s->disp[3 * t + k] = dk;
@@ -332,13 +361,13 @@ static relief_status restore_state(const relief_grow_state *r, relief_surface *s
             if (mesh->col)
                 mesh->col[3 * t + k] = r->mesh_colour[3 * i + k];
         }
-        textured[t] = 1;
-        if (bootstrap)
+        g->textured[t] = 1;
+        if (g->opts->bootstrap)
             d->matchable[t] = 1;
-        st = relief_matcher_update(m, d, (uint32_t)t, err);
+        st = relief_matcher_update(g->m, d, (uint32_t)t, err);
         if (st != RELIEF_OK)
             return st;
-        --*remaining;
+        --g->remaining;
     }
     return RELIEF_OK;
 }
@@ -401,29 +430,383 @@ static int coherent_best(const relief_surface *s, const relief_match_data *d,
     return found;
 }
 
+/* ------------------------------------------------------------ the growth */
+
+/* The growth's arrays, every vertex's window at its start, and the samples
+ * textured. */
+static relief_status grow_alloc(grow_run *g, relief_error *err)
+{
+    const relief_surface *s = g->s;
+    const size_t nv = s->mesh->nv, ncand_max = (size_t)g->d->ns * (size_t)g->d->rotations;
+    relief_status st = relief_query_builder_create(s, g->d, &g->qb, err);
+    if (st != RELIEF_OK)
+        return st;
+    g->textured = calloc(nv, 1);
+    g->win = malloc(nv * sizeof *g->win);
+    g->list = malloc((s->n_targets + 1) * sizeof *g->list);
+    g->ssd = malloc((ncand_max + 1) * sizeof *g->ssd);
+    g->flag = malloc(ncand_max + 1);
+    g->best = malloc((ncand_max + 1) * sizeof *g->best);
+    g->src = malloc(nv * sizeof *g->src);
+    if (!g->textured || !g->win || !g->list || !g->ssd || !g->flag || !g->best || !g->src)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
+                           "vertices and %zu candidates", nv, ncand_max);
+    for (size_t v = 0; v < nv; ++v) {
+        g->textured[v] = v < s->n_samples;
+        g->win[v] = g->params->window;
+        g->src[v] = UINT32_MAX;
+    }
+    return RELIEF_OK;
+}
+
+/* Which samples a target scores first: a finer level of a hierarchy has
+ * its pyramid boxes; otherwise the parameters choose, and a coherent
+ * search builds its index here, before the growth's clock starts. */
+static relief_status grow_choose_search(grow_run *g, relief_error *err)
+{
+    const relief_params *params = g->params;
+    relief_status st;
+    g->stats->search = g->opts->pyramid_start ? RELIEF_SEARCH_EXHAUSTIVE /* a finer level */
+                       : relief_params_search(params, g->d->ns, g->d->rotations,
+                                              g->s->n_targets);
+    if (g->stats->search != RELIEF_SEARCH_COHERENT)
+        return RELIEF_OK;
+    st = relief_search_create(g->s, g->d, params->window, params->search_k, &g->search, err);
+    if (st != RELIEF_OK)
+        return st;
+    g->stats->search_seconds = relief_search_build_seconds(g->search);
+    g->t0 = relief_seconds(); /* the growth's time and rate start after it */
+    return RELIEF_OK;
+}
+
+/* Take up a saved growth where it stopped: its vertices, its random state,
+ * threshold and figures; the time already spent counts. */
+static relief_status grow_resume(grow_run *g, relief_error *err)
+{
+    const relief_grow_state *r = g->opts->resume;
+    relief_grow_stats *stats = g->stats;
+    relief_status st = restore_state(r, g, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (g->opts->matched && r->matched)
+        memcpy(g->opts->matched + g->s->n_samples, r->matched,
+               g->s->n_targets * sizeof *g->opts->matched);
+    g->rng = r->rng;
+    g->e = r->error;
+    *stats = r->stats;
+    stats->search = g->search ? RELIEF_SEARCH_COHERENT : RELIEF_SEARCH_EXHAUSTIVE;
+    stats->search_seconds = relief_search_build_seconds(g->search);
+    g->t0 -= r->stats.seconds;
+    g->m->kernel_seconds += r->stats.match_seconds;
+    return RELIEF_OK;
+}
+
+/* The saved pass's list and counts, to go on from where it stopped;
+ * returns the index of the next target. */
+static size_t grow_resume_pass(grow_run *g)
+{
+    const relief_grow_state *r = g->opts->resume;
+    for (g->nl = 0; g->nl < r->n_list; ++g->nl) {
+        g->list[g->nl].v = r->list[g->nl];
+        g->list[g->nl].key = 0;
+    }
+    g->accepted = r->pass_accepted;
+    g->any_valid = (size_t)r->pass_any_valid;
+    g->all_min_window = (size_t)r->pass_all_min_window;
+    return r->next;
+}
+
+/* A new pass: the boundary list, ranked by how constrained each target is. */
+static relief_status grow_rank_boundary(grow_run *g, relief_error *err)
+{
+    const relief_surface *s = g->s;
+    const size_t nv = s->mesh->nv;
+    g->nl = 0;
+    g->accepted = 0;
+    g->any_valid = 0;
+    g->all_min_window = 1;
+    for (size_t t = s->n_samples; t < nv; ++t) {
+        if (g->textured[t] ||
+            !relief_query_has_textured_neighbour(g->qb, g->textured, (uint32_t)t))
+            continue;
+        g->list[g->nl].v = (uint32_t)t;
+        g->list[g->nl].key =
+            (uint32_t)relief_query_count(g->qb, g->textured, (uint32_t)t, g->win[t]);
+        ++g->nl;
+    }
+    if (g->nl == 0)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "%zu target(s) can never be reached: no path joins them to the "
+                           "capture in the triangulation",
+                           g->remaining);
+    qsort(g->list, g->nl, sizeof *g->list, ranked_cmp);
+    ++g->stats->passes;
+    return RELIEF_OK;
+}
+
+/* Between two targets (list[li] is the next): save when due or asked to
+ * stop, then stop when asked. */
+static relief_status grow_between_targets(grow_run *g, size_t li, relief_error *err)
+{
+    const relief_grow_options *opts = g->opts;
+    const relief_surface *s = g->s;
+    const int stop = (opts->cancel && *opts->cancel) ||
+                     (opts->cancel_after && g->run_acceptances >= opts->cancel_after);
+    if (opts->save && (stop || (opts->save_every > 0.0 &&
+                                relief_seconds() - g->last_save >= opts->save_every))) {
+        relief_status st;
+        stats_now(g);
+        st = save_state(g, li, err);
+        if (st != RELIEF_OK)
+            return st;
+        g->last_save = relief_seconds();
+    }
+    if (stop)
+        return relief_fail(err, RELIEF_E_CANCELLED, "interrupted after %zu of %zu targets%s",
+                           s->n_targets - g->remaining, s->n_targets,
+                           opts->save ? "; state saved" : "");
+    return RELIEF_OK;
+}
+
+/* Target t's neighbourhood, and the samples to score first when the search
+ * or a pyramid narrows them (the continuations, or the parent's box). */
+static void grow_query(grow_run *g, uint32_t t, relief_match_query *query)
+{
+    const relief_grow_options *opts = g->opts;
+    relief_grow_stats *stats = g->stats;
+    relief_query_build(g->qb, g->textured, t, g->win[t], query);
+    query->running = opts->prune;
+    if (g->search) { /* k-coherence: the continuations first */
+        const uint32_t *cs;
+        uint32_t nc = relief_search_candidates(g->search, g->s, g->d, g->qb->nb, query->n,
+                                               g->src, t, &cs);
+        stats->search_centres += nc;
+        if (nc > 0 && nc < g->d->ns) {
+            query->subset = cs;
+            query->n_subset = nc;
+        } else {
+            ++stats->search_empty;
+        }
+    } else if (opts->pyramid_start) { /* sample pyramids: the box first */
+        query->subset = opts->pyramid_items + opts->pyramid_start[t];
+        query->n_subset = opts->pyramid_start[t + 1] - opts->pyramid_start[t];
+        if (query->n_subset == 0) {
+            query->subset = NULL;
+            ++stats->pyramid_empty;
+        }
+    }
+}
+
+/* The matcher failed on list[li]: keep the work done so far (nothing of the
+ * target has changed yet) in a checkpoint, and say so if that fails too. */
+static relief_status grow_score_failed(grow_run *g, size_t li, relief_status st,
+                                       relief_error *err)
+{
+    relief_error serr = {RELIEF_OK, ""};
+    stats_now(g);
+    if (g->opts->save && save_state(g, li, &serr) != RELIEF_OK && err) {
+        char msg[RELIEF_ERROR_MESSAGE_MAX];
+        memcpy(msg, err->message, sizeof msg);
+        relief_fail(err, st, "%.600s (and no checkpoint: %.380s)", msg, serr.message);
+    }
+    return st;
+}
+
+/* Score the query's candidates and draw one from the best set (SSD within
+ * 10 % of the minimum *minv): *chosen, UINT32_MAX when none is valid; *nbest
+ * is the best set's size. When a narrowed query finds nothing that passes
+ * e, every sample is scored (001 section 3.4). */
+static relief_status grow_score(grow_run *g, size_t li, relief_match_query *query,
+                                double *minv, size_t *nbest, uint32_t *chosen, relief_error *err)
+{
+    const relief_match_data *d = g->d;
+    relief_grow_stats *stats = g->stats;
+    for (;;) {
+        const size_t ncand = relief_match_query_candidates(d, query);
+        relief_status st = relief_matcher_score(g->m, d, query, g->ssd, g->flag, err);
+        if (st != RELIEF_OK)
+            return grow_score_failed(g, li, st, err);
+        *minv = INFINITY;
+        *nbest = 0;
+        stats->candidates += ncand;
+        for (size_t c = 0; c < ncand; ++c) {
+            stats->pruned += g->flag[c] == RM_PRUNED;
+            stats->invalid += g->flag[c] == RM_INVALID;
+            if (g->flag[c] == RM_VALID && g->ssd[c] < *minv)
+                *minv = g->ssd[c];
+        }
+        if (isfinite(*minv)) {
+            g->any_valid = 1;
+            for (size_t c = 0; c < ncand; ++c)
+                if (g->flag[c] == RM_VALID && (double)g->ssd[c] <= 1.1 * *minv)
+                    g->best[(*nbest)++] = (uint32_t)c;
+        }
+        *chosen = *nbest > 0 ? g->best[relief_rng_below(&g->rng, (uint32_t)*nbest)]
+                             : UINT32_MAX;
+        if (!(query->subset && query->n_subset < d->ns &&
+              (*chosen == UINT32_MAX || !((double)g->ssd[*chosen] < g->e))))
+            return RELIEF_OK;
+        /* Nothing in the box (or among the continuations) passes e. */
+        if (g->search)
+            ++stats->search_misses;
+        else
+            ++stats->pyramid_misses;
+        query->subset = NULL;
+        query->n_subset = 0;
+        query->cutoff = FLT_MAX;
+    }
+}
+
+/* Texture t from sample si at rotation r: D(t) = R_t Rz(-theta) R_s^T D(s),
+ * and the sample's colour; then the matcher, the figures and the progress
+ * learn of it. narrowed: the query still had its subset. */
+static relief_status grow_accept(grow_run *g, uint32_t t, uint32_t si, int r, int narrowed,
+                                 int coherent, relief_error *err)
+{
+    relief_surface *s = g->s;
+    relief_match_data *d = g->d;
+    relief_mesh *mesh = s->mesh;
+    const relief_grow_options *opts = g->opts;
+    relief_grow_stats *stats = g->stats;
+    const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
+    const uint32_t sv = d->sample[si];
+    const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
+    const double th = 2.0 * RELIEF_PI * r / d->rotations, ct = cos(th), sn = sin(th);
+    double a[3], b[3];
+    relief_status st;
+    for (int k = 0; k < 3; ++k)
+        a[k] = rs[3 * k] * ds[0] + rs[3 * k + 1] * ds[1] + rs[3 * k + 2] * ds[2];
+    b[0] = ct * a[0] + sn * a[1];
+    b[1] = -sn * a[0] + ct * a[1];
+    b[2] = a[2];
+    for (int k = 0; k < 3; ++k) {
+        double dk = rt[k] * b[0] + rt[3 + k] * b[1] + rt[6 + k] * b[2];
+        s->disp[3 * (size_t)t + k] = dk;
+        mesh->pos[3 * (size_t)t + k] = tp[k] + dk;
+        d->pos[3 * (size_t)t + k] = (float)(tp[k] + dk);
+        d->col[3 * (size_t)t + k] = d->col[3 * (size_t)sv + k];
+        if (mesh->col)
+            mesh->col[3 * (size_t)t + k] = mesh->col[3 * (size_t)sv + k];
+    }
+    g->textured[t] = 1;
+    g->src[t] = si * (uint32_t)d->rotations + (uint32_t)r;
+    if (opts->matched)
+        opts->matched[t] = sv;
+    if (g->search)
+        stats->search_hits += narrowed;
+    else
+        stats->pyramid_hits += narrowed;
+    if (opts->bootstrap)
+        d->matchable[t] = 1;
+    st = relief_matcher_update(g->m, d, t, err);
+    if (st != RELIEF_OK)
+        return st;
+    ++g->accepted;
+    ++stats->acceptances;
+    stats->coherent += (size_t)coherent;
+    ++g->run_acceptances;
+    --g->remaining;
+    if (opts->progress) {
+        relief_grow_progress p = {s->n_targets - g->remaining, s->n_targets, g->e,
+                                  relief_seconds() - g->t0, opts->level, opts->levels};
+        opts->progress(opts->progress_ctx, &p);
+    }
+    return RELIEF_OK;
+}
+
+/* One target of the pass, list[li]: score, draw (or take the coherent
+ * candidate), and accept below e; otherwise shrink its window. */
+static relief_status grow_target(grow_run *g, size_t li, relief_error *err)
+{
+    const relief_match_data *d = g->d;
+    relief_grow_stats *stats = g->stats;
+    const uint32_t t = g->list[li].v;
+    const double kappa = g->params->coherence;
+    size_t nbest;
+    uint32_t chosen, coh_si = 0;
+    float coh_ssd = 0.0f;
+    int coh_r = 0, use_coh = 0;
+    relief_match_query query;
+    double minv;
+    relief_status st = grow_between_targets(g, li, err);
+    if (st != RELIEF_OK)
+        return st;
+    grow_query(g, t, &query);
+    st = grow_score(g, li, &query, &minv, &nbest, &chosen, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (kappa > 0.0) {
+        float cssd = 0.0f;
+        uint32_t csi = 0;
+        int cr = 0;
+        if (coherent_best(g->s, d, g->qb, &query, g->src, t, &cssd, &csi, &cr) &&
+            (nbest == 0 || (double)cssd <= kappa * minv)) {
+            coh_ssd = cssd;
+            coh_si = csi;
+            coh_r = cr;
+            use_coh = 1;
+        }
+    }
+    if (nbest > 0 || use_coh) {
+        const uint32_t c = chosen;
+        const float score = use_coh ? coh_ssd : g->ssd[c];
+        if ((double)score < g->e) {
+            const uint32_t si = use_coh ? coh_si :
+                relief_match_query_sample(&query, c / (uint32_t)d->rotations);
+            const int r = use_coh ? coh_r : (int)(c % (uint32_t)d->rotations);
+            return grow_accept(g, t, si, r, query.subset != NULL, use_coh, err);
+        }
+    } else {
+        ++stats->no_candidate;
+    }
+    ++stats->rejections;
+    if (g->win[t] > 1) {
+        --g->win[t];
+        ++stats->window_shrinks;
+    }
+    g->all_min_window &= g->win[t] == 1;
+    return RELIEF_OK;
+}
+
+/* A pass that accepted nothing raises e by 10 %, unless no window can
+ * shrink and nothing was ever valid, or e has been raised too often. */
+static relief_status grow_end_pass(grow_run *g, relief_error *err)
+{
+    if (g->accepted > 0)
+        return RELIEF_OK;
+    if (!g->any_valid && g->all_min_window)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "no sample has a neighbourhood that matches: every "
+                           "candidate maps a neighbour onto a target (is the capture "
+                           "smaller than the window?)");
+    if (g->stats->threshold_raises == MAX_RAISES)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the error threshold was raised %d times without progress",
+                           MAX_RAISES);
+    g->e *= 1.1;
+    ++g->stats->threshold_raises;
+    return RELIEF_OK;
+}
+
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
                           const relief_params *params, const relief_grow_options *opts,
                           relief_grow_stats *stats, relief_error *err)
 {
-    relief_mesh *mesh = s->mesh;
-    const size_t nv = mesh->nv, ncand_max = (size_t)d->ns * (size_t)d->rotations;
     relief_grow_options dflt = relief_grow_options_default();
-    relief_query_builder *qb = NULL;
-    uint8_t *textured = NULL, *flag = NULL;
-    int *win = NULL;
-    uint32_t *best = NULL, *src = NULL;
-    ranked *list = NULL;
-    relief_search *search = NULL;
-    const double kappa = params->coherence;
-    float *ssd = NULL;
-    relief_rng rng;
+    grow_run g;
     relief_status st;
-    size_t remaining = s->n_targets, run_acceptances = 0;
-    double e = params->error, t0 = relief_seconds(), last_save;
     int resume_pass = 0;
 
-    if (!opts)
-        opts = &dflt;
+    memset(&g, 0, sizeof g);
+    g.s = s;
+    g.d = d;
+    g.m = m;
+    g.params = params;
+    g.opts = opts ? opts : &dflt;
+    g.stats = stats;
+    g.remaining = s->n_targets;
+    g.e = params->error;
+    g.t0 = relief_seconds();
     memset(stats, 0, sizeof *stats);
     stats->targets = s->n_targets;
     stats->b_shape = d->b_shape;
@@ -433,294 +816,50 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     st = relief_surface_check_growth(s, params->window, err);
     if (st != RELIEF_OK)
         return st;
-    st = relief_query_builder_create(s, d, &qb, err);
+    st = grow_alloc(&g, err);
+    if (st == RELIEF_OK)
+        st = grow_choose_search(&g, err);
     if (st != RELIEF_OK)
         goto done;
-    textured = calloc(nv, 1);
-    win = malloc(nv * sizeof *win);
-    list = malloc((s->n_targets + 1) * sizeof *list);
-    ssd = malloc((ncand_max + 1) * sizeof *ssd);
-    flag = malloc(ncand_max + 1);
-    best = malloc((ncand_max + 1) * sizeof *best);
-    src = malloc(nv * sizeof *src);
-    if (!textured || !win || !list || !ssd || !flag || !best || !src) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the growth state for %zu "
-                         "vertices and %zu candidates", nv, ncand_max);
-        goto done;
-    }
-    for (size_t v = 0; v < nv; ++v) {
-        textured[v] = v < s->n_samples;
-        win[v] = params->window;
-        src[v] = UINT32_MAX;
-    }
-    stats->search = opts->pyramid_start ? RELIEF_SEARCH_EXHAUSTIVE /* a finer level */
-                    : relief_params_search(params, d->ns, d->rotations, s->n_targets);
-    if (stats->search == RELIEF_SEARCH_COHERENT) {
-        st = relief_search_create(s, d, params->window, params->search_k, &search, err);
+    relief_rng_seed(&g.rng, params->seed);
+    if (g.opts->resume) {
+        st = grow_resume(&g, err);
         if (st != RELIEF_OK)
             goto done;
-        stats->search_seconds = relief_search_build_seconds(search);
-        t0 = relief_seconds(); /* the growth's time and rate start after it */
+        resume_pass = g.opts->resume->n_list > 0;
     }
-    relief_rng_seed(&rng, params->seed);
-    if (opts->resume) {
-        const relief_grow_state *r = opts->resume;
-        st = restore_state(r, s, d, m, opts->bootstrap, textured, win, src, &remaining,
-                           err);
-        if (st != RELIEF_OK)
-            goto done;
-        if (opts->matched && r->matched)
-            memcpy(opts->matched + s->n_samples, r->matched,
-                   s->n_targets * sizeof *opts->matched);
-        rng = r->rng;
-        e = r->error;
-        *stats = r->stats;
-        stats->search = search ? RELIEF_SEARCH_COHERENT : RELIEF_SEARCH_EXHAUSTIVE;
-        stats->search_seconds = relief_search_build_seconds(search);
-        t0 -= r->stats.seconds;
-        m->kernel_seconds += r->stats.match_seconds;
-        resume_pass = r->n_list > 0;
-    }
-    last_save = relief_seconds();
+    g.last_save = relief_seconds();
 
-    while (remaining > 0) {
-        size_t nl = 0, accepted = 0, any_valid = 0, all_min_window = 1, first = 0;
+    while (g.remaining > 0) {
+        size_t first = 0;
         if (resume_pass) { /* the saved pass, from where it stopped */
-            const relief_grow_state *r = opts->resume;
-            for (nl = 0; nl < r->n_list; ++nl) {
-                list[nl].v = r->list[nl];
-                list[nl].key = 0;
-            }
-            first = r->next;
-            accepted = r->pass_accepted;
-            any_valid = (size_t)r->pass_any_valid;
-            all_min_window = (size_t)r->pass_all_min_window;
+            first = grow_resume_pass(&g);
             resume_pass = 0;
-            goto pass;
+        } else {
+            st = grow_rank_boundary(&g, err);
+            if (st != RELIEF_OK)
+                goto done;
         }
-        /* The boundary list, ranked by how constrained each target is. */
-        for (size_t t = s->n_samples; t < nv; ++t) {
-            if (textured[t] || !relief_query_has_textured_neighbour(qb, textured, (uint32_t)t))
-                continue;
-            list[nl].v = (uint32_t)t;
-            list[nl].key = (uint32_t)relief_query_count(qb, textured, (uint32_t)t, win[t]);
-            ++nl;
+        for (size_t li = first; li < g.nl; ++li) {
+            st = grow_target(&g, li, err);
+            if (st != RELIEF_OK)
+                goto done;
         }
-        if (nl == 0) {
-            st = relief_fail(err, RELIEF_E_MESH,
-                             "%zu target(s) can never be reached: no path joins them to the "
-                             "capture in the triangulation",
-                             remaining);
+        st = grow_end_pass(&g, err);
+        if (st != RELIEF_OK)
             goto done;
-        }
-        qsort(list, nl, sizeof *list, ranked_cmp);
-        ++stats->passes;
-    pass:
-        for (size_t li = first; li < nl; ++li) {
-            const uint32_t t = list[li].v;
-            const double *tp = s->proj + 3 * (size_t)t, *rt = s->frame + 9 * (size_t)t;
-            size_t nbest = 0, ncand;
-            uint32_t chosen, coh_si = 0;
-            float coh_ssd = 0.0f;
-            int coh_r = 0, use_coh = 0;
-            relief_match_query query;
-            double minv = INFINITY;
-            const int stop = (opts->cancel && *opts->cancel) ||
-                             (opts->cancel_after && run_acceptances >= opts->cancel_after);
-
-            /* Between two targets: stop when asked, save when due. */
-            if (opts->save && (stop || (opts->save_every > 0.0 &&
-                                        relief_seconds() - last_save >= opts->save_every))) {
-                stats->seconds = relief_seconds() - t0;
-                stats->match_seconds = m->kernel_seconds;
-                stats->error_final = e;
-                st = save_state(opts, s, d, textured, win, src, list, nl, li, accepted,
-                                any_valid != 0, all_min_window != 0, e, &rng, stats, err);
-                if (st != RELIEF_OK)
-                    goto done;
-                last_save = relief_seconds();
-            }
-            if (stop) {
-                st = relief_fail(err, RELIEF_E_CANCELLED,
-                                 "interrupted after %zu of %zu targets%s", s->n_targets -
-                                 remaining, s->n_targets, opts->save ? "; state saved" : "");
-                goto done;
-            }
-
-            relief_query_build(qb, textured, t, win[t], &query);
-            query.running = opts->prune;
-            if (search) { /* k-coherence: the continuations first */
-                const uint32_t *cs;
-                uint32_t nc = relief_search_candidates(search, s, d, qb->nb, query.n, src, t,
-                                                       &cs);
-                stats->search_centres += nc;
-                if (nc > 0 && nc < d->ns) {
-                    query.subset = cs;
-                    query.n_subset = nc;
-                } else {
-                    ++stats->search_empty;
-                }
-            } else if (opts->pyramid_start) { /* sample pyramids: the box first */
-                query.subset = opts->pyramid_items + opts->pyramid_start[t];
-                query.n_subset = opts->pyramid_start[t + 1] - opts->pyramid_start[t];
-                if (query.n_subset == 0) {
-                    query.subset = NULL;
-                    ++stats->pyramid_empty;
-                }
-            }
-        score:
-            ncand = relief_match_query_candidates(d, &query);
-            st = relief_matcher_score(m, d, &query, ssd, flag, err);
-            if (st != RELIEF_OK) {
-                /* Keep the work done so far: nothing of t has changed yet. */
-                relief_error serr = {RELIEF_OK, ""};
-                stats->seconds = relief_seconds() - t0;
-                stats->match_seconds = m->kernel_seconds;
-                stats->error_final = e;
-                if (opts->save && save_state(opts, s, d, textured, win, src, list, nl, li, accepted,
-                                             any_valid != 0, all_min_window != 0, e, &rng,
-                                             stats, &serr) != RELIEF_OK && err) {
-                    char msg[RELIEF_ERROR_MESSAGE_MAX];
-                    memcpy(msg, err->message, sizeof msg);
-                    relief_fail(err, st, "%.600s (and no checkpoint: %.380s)", msg,
-                                serr.message);
-                }
-                goto done;
-            }
-            stats->candidates += ncand;
-            for (size_t c = 0; c < ncand; ++c) {
-                stats->pruned += flag[c] == RM_PRUNED;
-                stats->invalid += flag[c] == RM_INVALID;
-                if (flag[c] == RM_VALID && ssd[c] < minv)
-                    minv = ssd[c];
-            }
-            if (isfinite(minv)) {
-                any_valid = 1;
-                for (size_t c = 0; c < ncand; ++c)
-                    if (flag[c] == RM_VALID && (double)ssd[c] <= 1.1 * minv)
-                        best[nbest++] = (uint32_t)c;
-            }
-            chosen = nbest > 0 ? best[relief_rng_below(&rng, (uint32_t)nbest)] : UINT32_MAX;
-            if (query.subset && query.n_subset < d->ns &&
-                (chosen == UINT32_MAX || !((double)ssd[chosen] < e))) {
-                /* Nothing in the box (or among the continuations) passes
-                 * e: every sample (001 section 3.4). */
-                if (search)
-                    ++stats->search_misses;
-                else
-                    ++stats->pyramid_misses;
-                query.subset = NULL;
-                query.n_subset = 0;
-                query.cutoff = FLT_MAX;
-                minv = INFINITY;
-                nbest = 0;
-                goto score;
-            }
-            if (kappa > 0.0) {
-                float cssd = 0.0f;
-                uint32_t csi = 0;
-                int cr = 0;
-                if (coherent_best(s, d, qb, &query, src, t, &cssd, &csi, &cr) &&
-                    (nbest == 0 || (double)cssd <= kappa * minv)) {
-                    coh_ssd = cssd;
-                    coh_si = csi;
-                    coh_r = cr;
-                    use_coh = 1;
-                }
-            }
-            if (nbest > 0 || use_coh) {
-                const uint32_t c = chosen;
-                const float score = use_coh ? coh_ssd : ssd[c];
-                if ((double)score < e) {
-                    const uint32_t si = use_coh ? coh_si :
-                        relief_match_query_sample(&query, c / (uint32_t)d->rotations);
-                    const int r = use_coh ? coh_r : (int)(c % (uint32_t)d->rotations);
-                    const uint32_t sv = d->sample[si];
-                    const double *rs = s->frame + 9 * (size_t)sv, *ds = s->disp + 3 * (size_t)sv;
-                    const double th = 2.0 * RELIEF_PI * r / d->rotations, ct = cos(th), sn = sin(th);
-                    double a[3], b[3];
-                    /* D(t) = R_t Rz(-theta) R_s^T D(s). */
-                    for (int k = 0; k < 3; ++k)
-                        a[k] = rs[3 * k] * ds[0] + rs[3 * k + 1] * ds[1] + rs[3 * k + 2] * ds[2];
-                    b[0] = ct * a[0] + sn * a[1];
-                    b[1] = -sn * a[0] + ct * a[1];
-                    b[2] = a[2];
-                    for (int k = 0; k < 3; ++k) {
-                        double dk = rt[k] * b[0] + rt[3 + k] * b[1] + rt[6 + k] * b[2];
-                        s->disp[3 * (size_t)t + k] = dk;
-                        mesh->pos[3 * (size_t)t + k] = tp[k] + dk;
-                        d->pos[3 * (size_t)t + k] = (float)(tp[k] + dk);
-                        d->col[3 * (size_t)t + k] = d->col[3 * (size_t)sv + k];
-                        if (mesh->col)
-                            mesh->col[3 * (size_t)t + k] = mesh->col[3 * (size_t)sv + k];
-                    }
-                    textured[t] = 1;
-                    src[t] = si * (uint32_t)d->rotations + (uint32_t)r;
-                    if (opts->matched)
-                        opts->matched[t] = sv;
-                    if (search)
-                        stats->search_hits += query.subset != NULL;
-                    else
-                        stats->pyramid_hits += query.subset != NULL;
-                    if (opts->bootstrap)
-                        d->matchable[t] = 1;
-                    st = relief_matcher_update(m, d, t, err);
-                    if (st != RELIEF_OK)
-                        goto done;
-                    ++accepted;
-                    ++stats->acceptances;
-                    stats->coherent += (size_t)use_coh;
-                    ++run_acceptances;
-                    --remaining;
-                    if (opts->progress) {
-                        relief_grow_progress p = {s->n_targets - remaining, s->n_targets, e,
-                                                  relief_seconds() - t0, opts->level,
-                                                  opts->levels};
-                        opts->progress(opts->progress_ctx, &p);
-                    }
-                    continue;
-                }
-            } else {
-                ++stats->no_candidate;
-            }
-            ++stats->rejections;
-            if (win[t] > 1) {
-                --win[t];
-                ++stats->window_shrinks;
-            }
-            all_min_window &= win[t] == 1;
-        }
-        if (accepted == 0) {
-            if (!any_valid && all_min_window) {
-                st = relief_fail(err, RELIEF_E_MESH,
-                                 "no sample has a neighbourhood that matches: every "
-                                 "candidate maps a neighbour onto a target (is the capture "
-                                 "smaller than the window?)");
-                goto done;
-            }
-            if (stats->threshold_raises == MAX_RAISES) {
-                st = relief_fail(err, RELIEF_E_MESH,
-                                 "the error threshold was raised %d times without progress",
-                                 MAX_RAISES);
-                goto done;
-            }
-            e *= 1.1;
-            ++stats->threshold_raises;
-        }
     }
     st = RELIEF_OK;
 done:
-    stats->error_final = e;
-    stats->seconds = relief_seconds() - t0;
-    stats->match_seconds = m->kernel_seconds;
-    relief_search_destroy(search);
-    free(src);
-    free(best);
-    free(flag);
-    free(ssd);
-    free(list);
-    free(win);
-    free(textured);
-    relief_query_builder_destroy(qb);
+    stats_now(&g);
+    relief_search_destroy(g.search);
+    free(g.src);
+    free(g.best);
+    free(g.flag);
+    free(g.ssd);
+    free(g.list);
+    free(g.win);
+    free(g.textured);
+    relief_query_builder_destroy(g.qb);
     return st;
 }
