@@ -380,6 +380,296 @@ static relief_status check_resume(const relief_hierarchy *h, const relief_grow_s
     return RELIEF_OK;
 }
 
+/* What the levels share: the full surface and its primitive projections,
+ * the shape bound, one matcher, and the previous level's match data,
+ * heights, matches and adjacency (the next level's bases and pyramids read
+ * them). */
+typedef struct hier_run {
+    relief_hierarchy *h;
+    relief_surface *s; /* the full surface, level M */
+    const relief_params *params;
+    const relief_grow_options *go; /* may be NULL */
+    const relief_hierarchy_options *ho;
+    relief_hierarchy_stats *hs;
+    relief_grow_stats *total;
+    int M, k0; /* the levels; the first to grow: 0, or a saved run's */
+    /* p' on the primitive (nfull x 3), then the samples' captured heights */
+    double *prim, *captured;
+    double b_shape, mu;
+    double *heights_prev;         /* level k - 1's vertices: heights over the primitive */
+    uint32_t *match_prev;         /* and the sample each matched */
+    relief_matcher *m;            /* every level's, rebound per level */
+    relief_match_data *d_prev;    /* the previous level's match data */
+    relief_adjacency adj, adj_prev; /* each level's, built once */
+    level_saver saver;
+    height_field capture; /* the capture's heights, for the samples' low-pass */
+    relief_backend *backend;
+    char *device, *note;
+    size_t device_size, note_size;
+} hier_run;
+
+/* One level's own arrays (nv each), freed when it is done unless handed on. */
+typedef struct level_work {
+    relief_match_data *d;
+    uint32_t *pstart, *pitems, *matched;
+    double *base, *disp, *heights;
+} level_work;
+
+/* One shape bound for every level, the full relief's, so that e means the
+ * same at each level as in a mono-scale run; the samples' captured heights
+ * go to captured (n_samples). */
+static double shape_bound(const relief_surface *s, double *captured)
+{
+    double hmin = DBL_MAX, hmax = -DBL_MAX;
+    for (size_t v = 0; v < s->n_samples; ++v) {
+        double hv = captured[v] = dot3(s->disp + 3 * v, s->nrm + 3 * v);
+        hmin = fmin(hmin, hv);
+        hmax = fmax(hmax, hv);
+    }
+    return hmax > hmin ? hmax - hmin : s->spacing;
+}
+
+/* A saved run: the level to go on with (g->k0), the finished levels'
+ * heights, matches and figures back, and the adjacency of the last of them
+ * for the pyramids. */
+static relief_status hier_resume(hier_run *g, const relief_grow_state *resume,
+                                 relief_error *err)
+{
+    const relief_hierarchy_state *r = resume->hier;
+    relief_status st = check_resume(g->h, resume, g->ho, &g->k0, err);
+    size_t np;
+    if (st != RELIEF_OK || g->k0 == 0)
+        return st;
+    np = r->prev_nv;
+    g->heights_prev = malloc((np + 1) * sizeof *g->heights_prev);
+    g->match_prev = malloc((np + 1) * sizeof *g->match_prev);
+    if (!g->heights_prev || !g->match_prev)
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the saved levels");
+    else {
+        memcpy(g->heights_prev, r->heights_prev, np * sizeof *g->heights_prev);
+        memcpy(g->match_prev, r->match_prev, np * sizeof *g->match_prev);
+        st = relief_mesh_adjacency(g->h->level[g->k0 - 1]->mesh, &g->adj_prev, err);
+    }
+    for (int ki = 0; ki < g->k0; ++ki) {
+        g->hs->level[ki] = r->done[ki];
+        add_stats(g->total, &r->done[ki].grow);
+    }
+    return st;
+}
+
+/* Level ki's base (the smoothed level k - 1 surface under each vertex) and,
+ * below the finest level, its samples' low-passed heights. */
+static relief_status level_base(hier_run *g, int ki, level_work *w, relief_error *err)
+{
+    const relief_hierarchy *h = g->h;
+    const relief_surface *lv = h->level[ki];
+    const uint32_t *ids = h->ids[ki];
+    const size_t nv = lv->mesh->nv;
+    relief_status st = RELIEF_OK;
+    if (ki > 0) {
+        height_field prev;
+        st = field_index(&prev, g->prim, h->ids[ki - 1], g->heights_prev,
+                         h->level[ki - 1]->mesh->nv, err);
+        if (st == RELIEF_OK)
+            st = field_mean(&prev, g->prim, g->s->nrm, ids, nv, h->sigma[ki - 1], w->base,
+                            err);
+        field_free(&prev);
+    } else
+        memset(w->base, 0, nv * sizeof *w->base);
+    /* Below the finest level the samples' relief is low-passed at the
+     * level's own scale first, as an image pyramid filters before it
+     * subsamples: a coarse level's vertices are too far apart for the
+     * full relief, which would alias into false coarse structure. */
+    if (st == RELIEF_OK && ki < g->M - 1)
+        st = field_mean(&g->capture, g->prim, g->s->nrm, ids, lv->n_samples,
+                        LOWPASS_SIGMA * h->sigma[ki], w->heights, err);
+    return st;
+}
+
+/* Level ki's vertices on their base: targets flat on it, samples at their
+ * low-passed (or, at the finest level, captured) heights. */
+static void level_place(const hier_run *g, int ki, level_work *w)
+{
+    const relief_surface *s = g->s;
+    relief_surface *lv = g->h->level[ki];
+    relief_mesh *lm = lv->mesh;
+    const uint32_t *ids = g->h->ids[ki];
+    for (size_t v = 0; v < lm->nv; ++v) {
+        const double *p0 = g->prim + 3 * (size_t)ids[v], *n = s->nrm + 3 * (size_t)ids[v];
+        double *pv = lm->pos + 3 * v;
+        for (int k = 0; k < 3; ++k)
+            lv->proj[3 * v + k] = p0[k] + w->base[v] * n[k];
+        if (v < lv->n_samples) { /* samples: low-passed, or as captured */
+            if (ki < g->M - 1) {
+                for (int k = 0; k < 3; ++k)
+                    pv[k] = p0[k] + w->heights[v] * n[k];
+            } else if (lv != s)
+                memcpy(pv, s->mesh->pos + 3 * (size_t)ids[v], 3 * sizeof *pv);
+        } else
+            memcpy(pv, lv->proj + 3 * v, 3 * sizeof *pv);
+        for (int k = 0; k < 3; ++k)
+            lv->disp[3 * v + k] = pv[k] - lv->proj[3 * v + k];
+        w->matched[v] = v < lv->n_samples ? UINT32_MAX : UINT32_MAX - 1;
+    }
+}
+
+/* Level ki's match data, under the full relief's shape bound, and the
+ * matcher bound to it. */
+static relief_status level_matcher(hier_run *g, int ki, level_work *w, relief_error *err)
+{
+    char lnote[RELIEF_ERROR_MESSAGE_MAX + 320];
+    relief_status st = relief_match_data_build(g->h->level[ki], g->params->rotations, g->mu,
+                                               &w->d, err);
+    if (st != RELIEF_OK)
+        return st;
+    w->d->b_shape = g->b_shape;
+    w->d->inv_b2 = (float)(1.0 / (g->b_shape * g->b_shape));
+    /* One matcher for every level: OpenCL keeps its context and built
+     * program, and only the surface's buffers change. */
+    if (g->m)
+        return relief_matcher_rebind(g->m, w->d, err);
+    st = relief_matcher_create(g->ho->backend, g->ho->device, w->d, &g->m, lnote, sizeof lnote,
+                               err);
+    if (st == RELIEF_OK && lnote[0] && g->note && g->note_size && !g->note[0])
+        snprintf(g->note, g->note_size, "%s", lnote);
+    return st;
+}
+
+/* Level ki's growth options: its sample pyramids below the coarsest level,
+ * where its matches go, the saved run to take up, and a save callback that
+ * adds the hierarchy's place. */
+static relief_status level_options(hier_run *g, int ki, level_work *w,
+                                   relief_grow_options *lo, relief_error *err)
+{
+    const relief_grow_options *go = g->go;
+    relief_level_stats *ls = &g->hs->level[ki];
+    const relief_hierarchy *h = g->h;
+    if (ki > 0 && g->ho->pyramids) {
+        relief_status st = build_pyramids(h, ki, &g->adj_prev, g->match_prev,
+                                          g->params->window, &w->pstart, &w->pitems,
+                                          &ls->boxes, err);
+        if (st != RELIEF_OK)
+            return st;
+        ls->box_samples =
+            ls->boxes ? (double)w->pstart[h->level[ki]->mesh->nv] / (double)ls->boxes : 0.0;
+        lo->pyramid_start = w->pstart;
+        lo->pyramid_items = w->pitems;
+    } else {
+        lo->pyramid_start = lo->pyramid_items = NULL;
+    }
+    lo->matched = w->matched;
+    lo->resume = ki == g->k0 && go ? go->resume : NULL;
+    lo->level = ki;
+    lo->levels = g->M;
+    if (go && go->save) {
+        g->saver.save = go->save;
+        g->saver.ctx = go->save_ctx;
+        g->saver.place.levels = g->M;
+        g->saver.place.level = ki + 1;
+        g->saver.place.prev_nv = ki > 0 ? h->level[ki - 1]->mesh->nv : 0;
+        g->saver.place.heights_prev = g->heights_prev;
+        g->saver.place.match_prev = g->match_prev;
+        g->saver.place.done = g->hs->level;
+        lo->save = save_level;
+        lo->save_ctx = &g->saver;
+    }
+    return RELIEF_OK;
+}
+
+/* A grown level: the backend that grew it, its heights over the base and
+ * over the primitive (for the next level's bases), its matches (for the
+ * next level's pyramids); the caller's copy of base and disp if asked. */
+static void level_keep(hier_run *g, int ki, level_work *w)
+{
+    const relief_surface *lv = g->h->level[ki];
+    const uint32_t *ids = g->h->ids[ki];
+    *g->backend = g->m->backend;
+    if (g->device && g->device_size)
+        snprintf(g->device, g->device_size, "%s", g->m->device);
+    for (size_t v = 0; v < lv->mesh->nv; ++v) {
+        w->disp[v] = dot3(lv->disp + 3 * v, g->s->nrm + 3 * (size_t)ids[v]);
+        w->heights[v] = w->base[v] + w->disp[v];
+    }
+    if (g->ho->heights) {
+        relief_level_heights *lh = &g->ho->heights[ki];
+        lh->base = w->base, lh->disp = w->disp;
+        w->base = w->disp = NULL;
+    }
+    free(g->heights_prev);
+    g->heights_prev = w->heights;
+    w->heights = NULL;
+    free(g->match_prev);
+    g->match_prev = w->matched;
+    w->matched = NULL;
+}
+
+/* Grow level ki: its base, its vertices placed on it, its matcher and
+ * options, the growth, then what the next level needs. */
+static relief_status level_grow(hier_run *g, int ki, level_work *w, relief_error *err)
+{
+    relief_surface *lv = g->h->level[ki];
+    const size_t nv = lv->mesh->nv;
+    relief_level_stats *ls = &g->hs->level[ki];
+    relief_grow_options lo = g->go ? *g->go : relief_grow_options_default();
+    relief_status st;
+    w->matched = malloc((nv + 1) * sizeof *w->matched);
+    w->base = malloc((nv + 1) * sizeof *w->base);
+    w->disp = malloc((nv + 1) * sizeof *w->disp);
+    w->heights = malloc((nv + 1) * sizeof *w->heights);
+    if (!w->matched || !w->base || !w->disp || !w->heights)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate hierarchy level %d", ki + 1);
+    ls->vertices = nv;
+    ls->samples = lv->n_samples;
+    ls->targets = lv->n_targets;
+    st = relief_mesh_adjacency(lv->mesh, &g->adj, err);
+    if (st == RELIEF_OK)
+        st = level_base(g, ki, w, err);
+    if (st != RELIEF_OK)
+        return st;
+    level_place(g, ki, w);
+    st = level_matcher(g, ki, w, err);
+    if (st == RELIEF_OK)
+        st = level_options(g, ki, w, &lo, err);
+    if (st != RELIEF_OK)
+        return st;
+    g->m->kernel_seconds = 0.0; /* this level's scoring time only */
+    st = relief_grow(lv, w->d, g->m, g->params, &lo, &ls->grow, err);
+    add_stats(g->total, &ls->grow);
+    if (st != RELIEF_OK) {
+        relief_fail_prefix(err, "hierarchy level %d of %d", ki + 1, g->M);
+        return st;
+    }
+    level_keep(g, ki, w);
+    return RELIEF_OK;
+}
+
+/* After a level, grown or failed: its match data and adjacency become the
+ * previous level's, its own arrays go. */
+static void level_release(hier_run *g, level_work *w, relief_status st)
+{
+    /* The matcher may still read the level's data (queued writes) until
+     * the next rebind, which waits for them; d goes after it. On failure
+     * the matcher goes first. */
+    if (g->m && g->m->fallback_note[0])
+        snprintf(g->hs->fallback, sizeof g->hs->fallback, "%s", g->m->fallback_note);
+    if (st != RELIEF_OK) {
+        relief_matcher_destroy(g->m);
+        g->m = NULL;
+    }
+    relief_match_data_destroy(g->d_prev);
+    g->d_prev = w->d;
+    relief_adjacency_free(&g->adj_prev);
+    g->adj_prev = g->adj;
+    g->adj.start = NULL;
+    g->adj.nbr = NULL;
+    free(w->pstart);
+    free(w->pitems);
+    free(w->matched);
+    free(w->heights);
+    free(w->disp);
+    free(w->base);
+}
+
 relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
                                     const relief_params *params,
                                     const relief_grow_options *go,
@@ -389,250 +679,66 @@ relief_status relief_hierarchy_grow(relief_hierarchy *h, relief_surface *s,
                                     char *note, size_t note_size, relief_error *err)
 {
     const size_t nfull = s->mesh->nv;
-    const int M = h->levels;
-    /* p' on the primitive (nfull x 3), then the samples' captured heights */
-    double *prim = malloc((nfull * 3 + s->n_samples) * sizeof *prim), *captured;
-    double *heights_prev = NULL, b_shape, hmin = DBL_MAX, hmax = -DBL_MAX;
-    uint32_t *match_prev = NULL;
-    relief_status st = RELIEF_OK;
-    const double mu = relief_grow_mu(params, s->mesh->col != NULL);
-    relief_matcher *m = NULL;         /* every level's, rebound per level */
-    relief_match_data *d_prev = NULL; /* the previous level's match data */
-    /* Each level's adjacency, built once: the next level's pyramids walk
-     * it. */
-    relief_adjacency adj = {NULL, NULL}, adj_prev = {NULL, NULL};
     const relief_grow_state *resume = go ? go->resume : NULL;
-    level_saver saver;
-    height_field capture; /* the capture's heights, for the samples' low-pass */
-    int k0 = 0; /* the first level to grow: 0, or a saved run's */
+    relief_status st = RELIEF_OK;
+    hier_run g;
 
+    memset(&g, 0, sizeof g);
+    g.h = h, g.s = s, g.params = params, g.go = go, g.ho = ho, g.hs = hs, g.total = total;
+    g.backend = backend, g.device = device, g.device_size = device_size;
+    g.note = note, g.note_size = note_size;
+    g.M = h->levels;
+    g.mu = relief_grow_mu(params, s->mesh->col != NULL);
+    g.prim = malloc((nfull * 3 + s->n_samples) * sizeof *g.prim);
     memset(hs, 0, sizeof *hs);
     memset(total, 0, sizeof *total);
-    hs->levels = M;
+    hs->levels = g.M;
     if (note && note_size)
         note[0] = '\0';
     if (h->full != s) {
-        free(prim);
+        free(g.prim);
         return relief_fail(err, RELIEF_E_INTERNAL,
                            "the hierarchy was built from another surface");
     }
-    if (!prim)
+    if (!g.prim)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hierarchy's heights");
-    memcpy(prim, s->proj, nfull * 3 * sizeof *prim);
-    captured = prim + 3 * nfull;
-    /* One shape bound for every level, the full relief's, so that e means
-     * the same at each level as in a mono-scale run. */
-    for (size_t v = 0; v < s->n_samples; ++v) {
-        double hv = captured[v] = dot3(s->disp + 3 * v, s->nrm + 3 * v);
-        hmin = fmin(hmin, hv);
-        hmax = fmax(hmax, hv);
-    }
-    b_shape = hmax > hmin ? hmax - hmin : s->spacing;
-
-    /* A saved run: the finished levels' heights, matches and figures back,
-     * and the adjacency of the last of them for the pyramids. */
+    memcpy(g.prim, s->proj, nfull * 3 * sizeof *g.prim);
+    g.captured = g.prim + 3 * nfull;
+    g.b_shape = shape_bound(s, g.captured);
     if (resume) {
-        const relief_hierarchy_state *r = resume->hier;
-        st = check_resume(h, resume, ho, &k0, err);
-        if (st == RELIEF_OK && k0 > 0) {
-            const size_t np = r->prev_nv;
-            heights_prev = malloc((np + 1) * sizeof *heights_prev);
-            match_prev = malloc((np + 1) * sizeof *match_prev);
-            if (!heights_prev || !match_prev)
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the saved levels");
-            else {
-                memcpy(heights_prev, r->heights_prev, np * sizeof *heights_prev);
-                memcpy(match_prev, r->match_prev, np * sizeof *match_prev);
-                st = relief_mesh_adjacency(h->level[k0 - 1]->mesh, &adj_prev, err);
-            }
-            for (int ki = 0; ki < k0; ++ki) {
-                hs->level[ki] = r->done[ki];
-                add_stats(total, &r->done[ki].grow);
-            }
-        }
+        st = hier_resume(&g, resume, err);
         if (st != RELIEF_OK) {
-            free(heights_prev);
-            free(match_prev);
-            free(prim);
-            relief_adjacency_free(&adj_prev);
+            free(g.heights_prev);
+            free(g.match_prev);
+            free(g.prim);
+            relief_adjacency_free(&g.adj_prev);
             return st;
         }
     }
 
-    memset(&capture, 0, sizeof capture);
-    if (k0 < M - 1)
-        st = field_index(&capture, prim, NULL, captured, s->n_samples, err);
-    for (int ki = k0; ki < M && st == RELIEF_OK; ++ki) {
-        relief_surface *lv = h->level[ki];
-        relief_mesh *lm = lv->mesh;
-        const size_t nv = lm->nv;
-        const uint32_t *ids = h->ids[ki];
-        relief_level_stats *ls = &hs->level[ki];
-        relief_match_data *d = NULL;
-        relief_grow_options lo = go ? *go : relief_grow_options_default();
-        uint32_t *pstart = NULL, *pitems = NULL, *matched = malloc((nv + 1) * sizeof *matched);
-        double *base = malloc((nv + 1) * sizeof *base), *disp = malloc((nv + 1) * sizeof *disp);
-        double *heights = malloc((nv + 1) * sizeof *heights);
-        double t0 = relief_seconds();
-        char lnote[RELIEF_ERROR_MESSAGE_MAX + 320];
-
-        if (!matched || !base || !disp || !heights) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate hierarchy level %d", ki + 1);
-            goto level_done;
-        }
-        ls->vertices = nv;
-        ls->samples = lv->n_samples;
-        ls->targets = lv->n_targets;
-        st = relief_mesh_adjacency(lm, &adj, err);
-        if (st != RELIEF_OK)
-            goto level_done;
-        /* The smoothed level k - 1 surface under each vertex: its base. */
-        if (ki > 0) {
-            height_field prev;
-            st = field_index(&prev, prim, h->ids[ki - 1], heights_prev,
-                             h->level[ki - 1]->mesh->nv, err);
-            if (st == RELIEF_OK)
-                st = field_mean(&prev, prim, s->nrm, ids, nv, h->sigma[ki - 1], base, err);
-            field_free(&prev);
-        } else
-            memset(base, 0, nv * sizeof *base);
-        /* Below the finest level the samples' relief is low-passed at the
-         * level's own scale first, as an image pyramid filters before it
-         * subsamples: a coarse level's vertices are too far apart for the
-         * full relief, which would alias into false coarse structure. */
-        if (st == RELIEF_OK && ki < M - 1)
-            st = field_mean(&capture, prim, s->nrm, ids, lv->n_samples,
-                            LOWPASS_SIGMA * h->sigma[ki], heights, err);
-        if (st != RELIEF_OK)
-            goto level_done;
-        for (size_t v = 0; v < nv; ++v) {
-            const double *p0 = prim + 3 * (size_t)ids[v], *n = s->nrm + 3 * (size_t)ids[v];
-            double *pv = lm->pos + 3 * v;
-            for (int k = 0; k < 3; ++k)
-                lv->proj[3 * v + k] = p0[k] + base[v] * n[k];
-            if (v < lv->n_samples) { /* samples: low-passed, or as captured */
-                if (ki < M - 1) {
-                    for (int k = 0; k < 3; ++k)
-                        pv[k] = p0[k] + heights[v] * n[k];
-                } else if (lv != s)
-                    memcpy(pv, s->mesh->pos + 3 * (size_t)ids[v], 3 * sizeof *pv);
-            } else
-                memcpy(pv, lv->proj + 3 * v, 3 * sizeof *pv);
-            for (int k = 0; k < 3; ++k)
-                lv->disp[3 * v + k] = pv[k] - lv->proj[3 * v + k];
-            matched[v] = v < lv->n_samples ? UINT32_MAX : UINT32_MAX - 1;
-        }
-        st = relief_match_data_build(lv, params->rotations, mu, &d, err);
-        if (st != RELIEF_OK)
-            goto level_done;
-        d->b_shape = b_shape;
-        d->inv_b2 = (float)(1.0 / (b_shape * b_shape));
-        /* One matcher for every level: OpenCL keeps its context and built
-         * program, and only the surface's buffers change. */
-        if (!m) {
-            st = relief_matcher_create(ho->backend, ho->device, d, &m, lnote, sizeof lnote,
-                                       err);
-            if (st == RELIEF_OK && lnote[0] && note && note_size && !note[0])
-                snprintf(note, note_size, "%s", lnote);
-        } else {
-            st = relief_matcher_rebind(m, d, err);
-        }
-        if (st != RELIEF_OK)
-            goto level_done;
-        if (ki > 0 && ho->pyramids) {
-            st = build_pyramids(h, ki, &adj_prev, match_prev, params->window, &pstart, &pitems,
-                                &ls->boxes, err);
-            if (st != RELIEF_OK)
-                goto level_done;
-            ls->box_samples = ls->boxes ? (double)pstart[nv] / (double)ls->boxes : 0.0;
-            lo.pyramid_start = pstart;
-            lo.pyramid_items = pitems;
-        } else {
-            lo.pyramid_start = lo.pyramid_items = NULL;
-        }
-        lo.matched = matched;
-        lo.resume = ki == k0 ? resume : NULL;
-        lo.level = ki;
-        lo.levels = M;
-        if (go && go->save) {
-            saver.save = go->save;
-            saver.ctx = go->save_ctx;
-            saver.place.levels = M;
-            saver.place.level = ki + 1;
-            saver.place.prev_nv = ki > 0 ? h->level[ki - 1]->mesh->nv : 0;
-            saver.place.heights_prev = heights_prev;
-            saver.place.match_prev = match_prev;
-            saver.place.done = hs->level;
-            lo.save = save_level;
-            lo.save_ctx = &saver;
-        }
-        m->kernel_seconds = 0.0; /* this level's scoring time only */
-        st = relief_grow(lv, d, m, params, &lo, &ls->grow, err);
-        if (st != RELIEF_OK) {
-            add_stats(total, &ls->grow);
-            relief_fail_prefix(err, "hierarchy level %d of %d", ki + 1, M);
-            goto level_done;
-        }
-        add_stats(total, &ls->grow);
-        *backend = m->backend;
-        if (device && device_size)
-            snprintf(device, device_size, "%s", m->device);
-        /* Heights over the base, and over the primitive for the next
-         * level's bases. */
-        for (size_t v = 0; v < nv; ++v) {
-            disp[v] = dot3(lv->disp + 3 * v, s->nrm + 3 * (size_t)ids[v]);
-            heights[v] = base[v] + disp[v];
-        }
-        if (ho->heights) {
-            relief_level_heights *lh = &ho->heights[ki];
-            lh->base = base, lh->disp = disp;
-            base = disp = NULL;
-        }
-        free(heights_prev);
-        heights_prev = heights;
-        heights = NULL;
-        free(match_prev);
-        match_prev = matched;
-        matched = NULL;
-    level_done:
-        ls->seconds = relief_seconds() - t0;
-        /* The matcher may still read the level's data (queued writes)
-         * until the next rebind, which waits for them; d goes after it.
-         * On failure the matcher goes first. */
-        if (m && m->fallback_note[0])
-            snprintf(hs->fallback, sizeof hs->fallback, "%s", m->fallback_note);
-        if (st != RELIEF_OK) {
-            relief_matcher_destroy(m);
-            m = NULL;
-        }
-        relief_match_data_destroy(d_prev);
-        d_prev = d;
-        relief_adjacency_free(&adj_prev);
-        adj_prev = adj;
-        adj.start = NULL;
-        adj.nbr = NULL;
-        free(pstart);
-        free(pitems);
-        free(matched);
-        free(heights);
-        free(disp);
-        free(base);
-        if (st != RELIEF_OK)
-            break;
+    if (g.k0 < g.M - 1)
+        st = field_index(&g.capture, g.prim, NULL, g.captured, s->n_samples, err);
+    for (int ki = g.k0; ki < g.M && st == RELIEF_OK; ++ki) {
+        level_work w;
+        const double t0 = relief_seconds();
+        memset(&w, 0, sizeof w);
+        st = level_grow(&g, ki, &w, err);
+        hs->level[ki].seconds = relief_seconds() - t0;
+        level_release(&g, &w, st);
     }
-    field_free(&capture);
-    relief_matcher_destroy(m);
-    relief_match_data_destroy(d_prev);
-    relief_adjacency_free(&adj_prev);
-    relief_adjacency_free(&adj);
+    field_free(&g.capture);
+    relief_matcher_destroy(g.m);
+    relief_match_data_destroy(g.d_prev);
+    relief_adjacency_free(&g.adj_prev);
+    relief_adjacency_free(&g.adj);
     /* s is level M: back to displacements from the primitive. */
-    memcpy(s->proj, prim, nfull * 3 * sizeof *prim);
+    memcpy(s->proj, g.prim, nfull * 3 * sizeof *g.prim);
     for (size_t v = 0; v < nfull; ++v)
         for (int k = 0; k < 3; ++k)
             s->disp[3 * v + k] = s->mesh->pos[3 * v + k] - s->proj[3 * v + k];
     total->targets = s->n_targets;
-    free(match_prev);
-    free(heights_prev);
-    free(prim);
+    free(g.match_prev);
+    free(g.heights_prev);
+    free(g.prim);
     return st;
 }
