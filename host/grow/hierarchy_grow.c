@@ -71,6 +71,102 @@ static uint32_t rim_match(const relief_adjacency *adj, const uint32_t *prev_matc
     return UINT32_MAX;
 }
 
+/* What building one level's pyramids shares: the level k - 1 walk's
+ * scratch (npv each), level k's samples indexed by FLANN (ns), and the
+ * items so far. */
+typedef struct pyramid_build {
+    const relief_hierarchy *h;
+    int ki, hops;
+    const relief_adjacency *adj; /* level k - 1's */
+    uint32_t *stamp, *depth, *queue, *seen;
+    double *spos, *dist; /* ns x 3: the samples' primitive projections; ns */
+    int *idx;            /* ns */
+    struct FLANNParameters fp;
+    flann_index_t index;
+    uint32_t *items;
+    size_t n_items, cap;
+} pyramid_build;
+
+/* The box (lo, hi) of the level k - 1 samples within `hops` of vertex ms;
+ * gen: a stamp new to this walk. */
+static void match_box(pyramid_build *b, uint32_t ms, uint32_t gen, double lo[3], double hi[3])
+{
+    const relief_surface *prev = b->h->level[b->ki - 1];
+    const double *pp = b->h->full->proj;
+    uint32_t head = 0, tail = 0;
+    b->stamp[ms] = gen;
+    b->depth[ms] = 0;
+    b->queue[tail++] = ms;
+    while (head < tail) {
+        uint32_t v = b->queue[head++];
+        if (v < prev->n_samples)
+            for (int k = 0; k < 3; ++k) {
+                double x = pp[3 * (size_t)b->h->ids[b->ki - 1][v] + k];
+                lo[k] = fmin(lo[k], x);
+                hi[k] = fmax(hi[k], x);
+            }
+        if ((int)b->depth[v] == b->hops)
+            continue;
+        for (uint32_t i = b->adj->start[v]; i < b->adj->start[v + 1]; ++i) {
+            uint32_t u = b->adj->nbr[i];
+            if (b->stamp[u] != gen) {
+                b->stamp[u] = gen;
+                b->depth[u] = b->depth[v] + 1;
+                b->queue[tail++] = u;
+            }
+        }
+    }
+}
+
+/* Append the level k samples inside the box (lo, hi, widened by eps) to
+ * b->items, nearest ms's first. FLANN finds them within the box's sphere. */
+static relief_status box_items(pyramid_build *b, uint32_t ms, const double lo[3],
+                               const double hi[3], relief_error *err)
+{
+    const size_t ns = b->h->level[b->ki]->n_samples, first = b->n_items;
+    const double *pp = b->h->full->proj;
+    double c[3], r2 = 0.0, eps;
+    int found;
+    for (int k = 0; k < 3; ++k) {
+        c[k] = 0.5 * (lo[k] + hi[k]);
+        r2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    eps = 1e-9 * (sqrt(r2) + b->h->full->spacing);
+    found = flann_radius_search_double(b->index, c, b->idx, b->dist, (int)ns,
+                                       (float)(r2 * (1.0 + 1e-6) + eps * eps), &b->fp);
+    if (found < 0)
+        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN radius search failed");
+    if (b->n_items + (size_t)found > b->cap) {
+        uint32_t *grown;
+        b->cap = 2 * (b->n_items + (size_t)found) + 1024;
+        grown = realloc(b->items, b->cap * sizeof *b->items);
+        if (!grown)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sample pyramids");
+        b->items = grown;
+    }
+    for (int i = 0; i < found; ++i) {
+        const double *q = b->spos + 3 * (size_t)b->idx[i];
+        int in = 1;
+        for (int k = 0; k < 3; ++k)
+            in &= q[k] >= lo[k] - eps && q[k] <= hi[k] + eps;
+        if (in)
+            b->items[b->n_items++] = (uint32_t)b->idx[i];
+    }
+    /* Nearest first to the parent's match (its own vertex at this level,
+     * the likeliest good match), ties by id: a running cutoff then drops
+     * at once and prunes the rest early. The order, and so the draw, must
+     * not depend on the kd-tree's. */
+    const double *mp = pp + 3 * (size_t)b->h->ids[b->ki - 1][ms];
+    for (size_t i = first + 1; i < b->n_items; ++i)
+        for (size_t j = i; j > first && nearer(b->spos, mp, b->items[j], b->items[j - 1]);
+             --j) {
+            uint32_t x = b->items[j];
+            b->items[j] = b->items[j - 1];
+            b->items[j - 1] = x;
+        }
+    return RELIEF_OK;
+}
+
 /* The sample pyramids of level k (index ki): for each target, the level k
  * samples inside the box of the samples within `hops` of the sample its
  * parent matched at level k - 1 (prev_match, level k - 1 ids; UINT32_MAX
@@ -84,134 +180,73 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki,
     const relief_surface *lv = h->level[ki], *prev = h->level[ki - 1];
     const size_t nv = lv->mesh->nv, ns = lv->n_samples, npv = prev->mesh->nv;
     const double *pp = h->full->proj;
-    const relief_adjacency adj = *prev_adj;
-    uint32_t *start = calloc(nv + 1, sizeof *start), *items = NULL;
-    uint32_t *stamp = calloc(npv, sizeof *stamp), *depth = malloc(npv * sizeof *depth);
-    uint32_t *queue = malloc(npv * sizeof *queue), *seen = calloc(npv, sizeof *seen);
-    double *spos = malloc((ns + 1) * 3 * sizeof *spos), *dist = malloc((ns + 1) * sizeof *dist);
-    int *idx = malloc((ns + 1) * sizeof *idx);
-    size_t n_items = 0, cap = 0;
-    struct FLANNParameters fp = relief_knn_exact_params();
-    flann_index_t index = NULL;
+    uint32_t *start = calloc(nv + 1, sizeof *start);
+    pyramid_build b;
     relief_status st;
     float speedup;
 
+    memset(&b, 0, sizeof b);
+    b.h = h, b.ki = ki, b.hops = hops, b.adj = prev_adj;
+    b.stamp = calloc(npv, sizeof *b.stamp);
+    b.depth = malloc(npv * sizeof *b.depth);
+    b.queue = malloc(npv * sizeof *b.queue);
+    b.seen = calloc(npv, sizeof *b.seen);
+    b.spos = malloc((ns + 1) * 3 * sizeof *b.spos);
+    b.dist = malloc((ns + 1) * sizeof *b.dist);
+    b.idx = malloc((ns + 1) * sizeof *b.idx);
+    b.fp = relief_knn_exact_params();
     *boxes = 0;
-    if (!start || !stamp || !depth || !queue || !seen || !spos || !dist || !idx) {
+    if (!start || !b.stamp || !b.depth || !b.queue || !b.seen || !b.spos || !b.dist || !b.idx) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sample pyramids");
         goto done;
     }
     for (size_t v = 0; v < ns; ++v)
-        memcpy(spos + 3 * v, pp + 3 * (size_t)h->ids[ki][v], 3 * sizeof(double));
-    index = flann_build_index_double(spos, (int)ns, 3, &speedup, &fp);
-    if (!index) {
+        memcpy(b.spos + 3 * v, pp + 3 * (size_t)h->ids[ki][v], 3 * sizeof(double));
+    b.index = flann_build_index_double(b.spos, (int)ns, 3, &speedup, &b.fp);
+    if (!b.index) {
         st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a level's samples");
         goto done;
     }
     for (uint32_t t = 0; t < nv; ++t) {
-        uint32_t p, ms, head = 0, tail = 0;
         double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
-        double c[3], r2 = 0.0, eps;
-        int found;
+        uint32_t p, ms;
         start[t + 1] = start[t];
         if (t < ns)
             continue;
         p = h->parent[ki][t];
         ms = prev_match[p];
         if (ms >= npv) /* a sample's child, at the hole's rim */
-            ms = rim_match(&adj, prev_match, npv, p, hops, t + 1, seen, depth, queue);
+            ms = rim_match(prev_adj, prev_match, npv, p, hops, t + 1, b.seen, b.depth, b.queue);
         if (ms >= npv)
             continue; /* no match to follow: all samples */
-        /* The samples within `hops` of ms at level k - 1, and their box. */
-        stamp[ms] = t + 1;
-        depth[ms] = 0;
-        queue[tail++] = ms;
-        while (head < tail) {
-            uint32_t v = queue[head++];
-            if (v < prev->n_samples)
-                for (int k = 0; k < 3; ++k) {
-                    double x = pp[3 * (size_t)h->ids[ki - 1][v] + k];
-                    lo[k] = fmin(lo[k], x);
-                    hi[k] = fmax(hi[k], x);
-                }
-            if ((int)depth[v] == hops)
-                continue;
-            for (uint32_t i = adj.start[v]; i < adj.start[v + 1]; ++i) {
-                uint32_t u = adj.nbr[i];
-                if (stamp[u] != t + 1) {
-                    stamp[u] = t + 1;
-                    depth[u] = depth[v] + 1;
-                    queue[tail++] = u;
-                }
-            }
-        }
-        for (int k = 0; k < 3; ++k) {
-            c[k] = 0.5 * (lo[k] + hi[k]);
-            r2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
-        }
-        eps = 1e-9 * (sqrt(r2) + h->full->spacing);
-        found = flann_radius_search_double(index, c, idx, dist, (int)ns,
-                                           (float)(r2 * (1.0 + 1e-6) + eps * eps), &fp);
-        if (found < 0) {
-            st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN radius search failed");
+        match_box(&b, ms, t + 1, lo, hi);
+        st = box_items(&b, ms, lo, hi, err);
+        if (st != RELIEF_OK)
             goto done;
-        }
-        if (n_items + (size_t)found > cap) {
-            uint32_t *grown;
-            cap = 2 * (n_items + (size_t)found) + 1024;
-            grown = realloc(items, cap * sizeof *items);
-            if (!grown) {
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sample pyramids");
-                goto done;
-            }
-            items = grown;
-        }
-        {
-            size_t first = n_items;
-            for (int i = 0; i < found; ++i) {
-                const double *q = spos + 3 * (size_t)idx[i];
-                int in = 1;
-                for (int k = 0; k < 3; ++k)
-                    in &= q[k] >= lo[k] - eps && q[k] <= hi[k] + eps;
-                if (in)
-                    items[n_items++] = (uint32_t)idx[i];
-            }
-            /* Nearest first to the parent's match (its own vertex at this
-             * level, the likeliest good match), ties by id: a running cutoff
-             * then drops at once and prunes the rest early. The order, and
-             * so the draw, must not depend on the kd-tree's. */
-            const double *mp = pp + 3 * (size_t)h->ids[ki - 1][ms];
-            for (size_t i = first + 1; i < n_items; ++i)
-                for (size_t j = i; j > first && nearer(spos, mp, items[j], items[j - 1]); --j) {
-                    uint32_t x = items[j];
-                    items[j] = items[j - 1];
-                    items[j - 1] = x;
-                }
-            *boxes += n_items > first;
-        }
-        start[t + 1] = (uint32_t)n_items;
+        *boxes += b.n_items > start[t + 1];
+        start[t + 1] = (uint32_t)b.n_items;
     }
     st = RELIEF_OK;
 done:
-    if (index)
-        flann_free_index_double(index, &fp);
-    free(idx);
-    free(dist);
-    free(spos);
-    free(seen);
-    free(queue);
-    free(depth);
-    free(stamp);
+    if (b.index)
+        flann_free_index_double(b.index, &b.fp);
+    free(b.idx);
+    free(b.dist);
+    free(b.spos);
+    free(b.seen);
+    free(b.queue);
+    free(b.depth);
+    free(b.stamp);
     if (st != RELIEF_OK) {
         free(start);
-        free(items);
+        free(b.items);
         return st;
     }
-    if (!items)
-        items = malloc(sizeof *items);
+    if (!b.items)
+        b.items = malloc(sizeof *b.items);
     *start_out = start;
-    *items_out = items;
-    return items ? RELIEF_OK : relief_fail(err, RELIEF_E_NOMEM, "out of memory");
+    *items_out = b.items;
+    return b.items ? RELIEF_OK : relief_fail(err, RELIEF_E_NOMEM, "out of memory");
 }
 
 /* Gaussians reach out to this many sigma; a low-pass's sigma is this share
