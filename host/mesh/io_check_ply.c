@@ -214,277 +214,353 @@ static int plain_version(const char *s)
     return digits > 0;
 }
 
-relief_status io_check_ply(reader *r, relief_file_check *out, long long fsize,
-                               relief_error *err)
-{
+/* A PLY header as read: its elements in order, the format, and the vertex
+ * and face elements (NULL until found). */
+typedef struct ply_header {
     ply_element el[16];
-    int nel = 0, fmt = -1, big = 0; /* fmt: 0 ascii, 1 binary */
-    ply_element *vert = NULL, *face = NULL;
-    int ended = 0;
+    int nel, fmt, big; /* fmt: -1 none yet, 0 ascii, 1 binary; big: big-endian */
+    ply_element *vert, *face;
+} ply_header;
 
+static relief_status bad_header_line(const reader *r, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_PARSE, "%s:%ld: malformed PLY header line",
+                       r->path, r->lineno);
+}
+
+/* OpenMesh reads the header as a stream of words, not lines: after
+ * obj_info it takes each word as a keyword, and a header keyword there
+ * would start an element or property we never checked. */
+static relief_status header_obj_info(const reader *r, relief_error *err)
+{
+    for (int t = 1; t < r->ntok; ++t)
+        if (strcmp(r->tok[t], "element") == 0 || strcmp(r->tok[t], "property") == 0 ||
+            strcmp(r->tok[t], "end_header") == 0)
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: the obj_info line holds the header "
+                               "keyword '%s'",
+                               r->path, r->lineno, r->tok[t]);
+    return RELIEF_OK;
+}
+
+/* 'format ascii|binary_little_endian|binary_big_endian VERSION'. */
+static relief_status header_format(const reader *r, ply_header *h, relief_error *err)
+{
+    /* OpenMesh reads the version as a float and loops forever on a header
+     * word it cannot read, so only plain versions pass. */
+    if (r->ntok != 3 || !plain_version(r->tok[2]))
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: expected 'format ascii|binary_little_endian|"
+                           "binary_big_endian VERSION' with VERSION such as 1.0",
+                           r->path, r->lineno);
+    if (strcmp(r->tok[1], "ascii") == 0)
+        h->fmt = 0;
+    else if (strcmp(r->tok[1], "binary_little_endian") == 0 ||
+             strcmp(r->tok[1], "binary_big_endian") == 0) {
+        h->fmt = 1;
+        h->big = r->tok[1][7] == 'b';
+    }
+    else
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: unknown PLY format '%s'; expected ascii, "
+                           "binary_little_endian or binary_big_endian",
+                           r->path, r->lineno, r->tok[1]);
+    return RELIEF_OK;
+}
+
+/* 'element NAME COUNT': a new element, at most 16. */
+static relief_status header_element(const reader *r, ply_header *h, relief_error *err)
+{
+    long long n;
+    /* OpenMesh reads COUNT as an unsigned int (and loops forever on one it
+     * cannot read). */
+    if (r->ntok != 3 || !io_parse_long(r->tok[2], &n) || n < 0 || n > UINT_MAX)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: expected 'element NAME COUNT' with COUNT in "
+                           "0..%u",
+                           r->path, r->lineno, UINT_MAX);
+    if (h->nel == 16)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: more than 16 elements", r->path, r->lineno);
+    memset(&h->el[h->nel], 0, sizeof h->el[h->nel]);
+    snprintf(h->el[h->nel].name, sizeof h->el[h->nel].name, "%s", r->tok[1]);
+    h->el[h->nel].count = n;
+    ++h->nel;
+    return RELIEF_OK;
+}
+
+/* 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' of the last
+ * element, at most 32 to an element. */
+static relief_status header_property(const reader *r, ply_header *h, relief_error *err)
+{
+    ply_element *e;
+    ply_prop *p;
+    if (h->nel == 0)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: property before any element",
+                           r->path, r->lineno);
+    e = &h->el[h->nel - 1];
+    if (e->nprop == 32)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: more than 32 properties", r->path, r->lineno);
+    p = &e->prop[e->nprop];
+    if (r->ntok == 3) {
+        p->size = ply_type_size(r->tok[1], &p->is_char, &p->kind);
+        snprintf(p->name, sizeof p->name, "%s", r->tok[2]);
+        if (!p->size)
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: unknown property type '%s'",
+                               r->path, r->lineno, r->tok[1]);
+    } else if (r->ntok == 5 && strcmp(r->tok[1], "list") == 0) {
+        p->count_size = ply_type_size(r->tok[2], NULL, &p->count_kind);
+        p->size = ply_type_size(r->tok[3], NULL, &p->kind);
+        snprintf(p->name, sizeof p->name, "%s", r->tok[4]);
+        if (!p->count_size || !p->size)
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: unknown list types '%s %s'",
+                               r->path, r->lineno, r->tok[2], r->tok[3]);
+    } else {
+        return bad_header_line(r, err);
+    }
+    ++e->nprop;
+    return RELIEF_OK;
+}
+
+/* The header, from the magic line to end_header; it must have a format. */
+static relief_status ply_read_header(reader *r, ply_header *h, relief_error *err)
+{
+    int ended = 0;
     if (!io_next_line(r, 0) || r->ntok != 1 || strcmp(r->tok[0], "ply") != 0)
         return relief_fail(err, RELIEF_E_PARSE,
                            "%s:1: expected the PLY magic line 'ply'", r->path);
     while (io_next_line(r, 0)) {
+        relief_status st;
         if (r->ntok == 0 || strcmp(r->tok[0], "comment") == 0)
             continue;
-        if (strcmp(r->tok[0], "obj_info") == 0) {
-            /* OpenMesh reads the header as a stream of words, not lines: after
-             * obj_info it takes each word as a keyword, and a header keyword
-             * there would start an element or property we never checked. */
-            for (int t = 1; t < r->ntok; ++t)
-                if (strcmp(r->tok[t], "element") == 0 ||
-                    strcmp(r->tok[t], "property") == 0 ||
-                    strcmp(r->tok[t], "end_header") == 0)
-                    return relief_fail(err, RELIEF_E_PARSE,
-                                       "%s:%ld: the obj_info line holds the header "
-                                       "keyword '%s'",
-                                       r->path, r->lineno, r->tok[t]);
-            continue;
-        }
         if (strcmp(r->tok[0], "end_header") == 0) {
             ended = 1;
             break;
         }
-        if (strcmp(r->tok[0], "format") == 0) {
-            /* OpenMesh reads the version as a float and loops forever on a
-             * header word it cannot read, so only plain versions pass. */
-            if (r->ntok != 3 || !plain_version(r->tok[2]))
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: expected 'format ascii|binary_little_endian|"
-                                   "binary_big_endian VERSION' with VERSION such as 1.0",
-                                   r->path, r->lineno);
-            if (strcmp(r->tok[1], "ascii") == 0)
-                fmt = 0;
-            else if (strcmp(r->tok[1], "binary_little_endian") == 0 ||
-                     strcmp(r->tok[1], "binary_big_endian") == 0) {
-                fmt = 1;
-                big = r->tok[1][7] == 'b';
-            }
-            else
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: unknown PLY format '%s'; expected ascii, "
-                                   "binary_little_endian or binary_big_endian",
-                                   r->path, r->lineno, r->tok[1]);
-        } else if (strcmp(r->tok[0], "element") == 0) {
-            long long n;
-            /* OpenMesh reads COUNT as an unsigned int (and loops forever on
-             * one it cannot read). */
-            if (r->ntok != 3 || !io_parse_long(r->tok[2], &n) || n < 0 || n > UINT_MAX)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: expected 'element NAME COUNT' with COUNT in "
-                                   "0..%u",
-                                   r->path, r->lineno, UINT_MAX);
-            if (nel == 16)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: more than 16 elements", r->path, r->lineno);
-            memset(&el[nel], 0, sizeof el[nel]);
-            snprintf(el[nel].name, sizeof el[nel].name, "%s", r->tok[1]);
-            el[nel].count = n;
-            ++nel;
-        } else if (strcmp(r->tok[0], "property") == 0) {
-            ply_prop *p;
-            if (nel == 0)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: property before any element",
-                                   r->path, r->lineno);
-            if (el[nel - 1].nprop == 32)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s:%ld: more than 32 properties", r->path, r->lineno);
-            p = &el[nel - 1].prop[el[nel - 1].nprop];
-            if (r->ntok == 3) {
-                p->size = ply_type_size(r->tok[1], &p->is_char, &p->kind);
-                snprintf(p->name, sizeof p->name, "%s", r->tok[2]);
-                if (!p->size)
-                    return relief_fail(err, RELIEF_E_PARSE,
-                                       "%s:%ld: unknown property type '%s'",
-                                       r->path, r->lineno, r->tok[1]);
-            } else if (r->ntok == 5 && strcmp(r->tok[1], "list") == 0) {
-                p->count_size = ply_type_size(r->tok[2], NULL, &p->count_kind);
-                p->size = ply_type_size(r->tok[3], NULL, &p->kind);
-                snprintf(p->name, sizeof p->name, "%s", r->tok[4]);
-                if (!p->count_size || !p->size)
-                    return relief_fail(err, RELIEF_E_PARSE,
-                                       "%s:%ld: unknown list types '%s %s'",
-                                       r->path, r->lineno, r->tok[2], r->tok[3]);
-            } else {
-                goto bad_line;
-            }
-            ++el[nel - 1].nprop;
-        } else {
-            goto bad_line;
-        }
+        if (strcmp(r->tok[0], "obj_info") == 0)
+            st = header_obj_info(r, err);
+        else if (strcmp(r->tok[0], "format") == 0)
+            st = header_format(r, h, err);
+        else if (strcmp(r->tok[0], "element") == 0)
+            st = header_element(r, h, err);
+        else if (strcmp(r->tok[0], "property") == 0)
+            st = header_property(r, h, err);
+        else
+            st = bad_header_line(r, err);
+        if (st != RELIEF_OK)
+            return st;
     }
     if (!ended)
         return relief_fail(err, RELIEF_E_PARSE,
                            "%s: the PLY header has no 'end_header' line (truncated?)",
                            r->path);
-    if (fmt < 0)
+    if (h->fmt < 0)
         return relief_fail(err, RELIEF_E_PARSE, "%s: the PLY header has no 'format' line",
                            r->path);
-    for (int e = 0; e < nel; ++e) {
-        if (strcmp(el[e].name, "vertex") == 0)
-            vert = &el[e];
-        else if (strcmp(el[e].name, "face") == 0)
-            face = &el[e];
+    return RELIEF_OK;
+}
+
+/* The vertex element OpenMesh can read: scalar x, y, z, no list, all of
+ * red, green and blue or none; finds h->vert and h->face. */
+static relief_status ply_check_vertex_element(const reader *r, ply_header *h,
+                                              relief_file_check *out, relief_error *err)
+{
+    static const char *const rgb[3] = {"red", "green", "blue"};
+    const ply_element *vert;
+    int xyz = 0, have = 0;
+    for (int e = 0; e < h->nel; ++e) {
+        if (strcmp(h->el[e].name, "vertex") == 0)
+            h->vert = &h->el[e];
+        else if (strcmp(h->el[e].name, "face") == 0)
+            h->face = &h->el[e];
     }
-    if (!vert)
+    if (!h->vert)
         return relief_fail(err, RELIEF_E_PARSE, "%s: the PLY header declares no 'vertex' element",
                            r->path);
-    {
-        int xyz = 0;
-        for (int p = 0; p < vert->nprop; ++p) {
-            const char *n = vert->prop[p].name;
-            if (!vert->prop[p].count_size &&
-                (strcmp(n, "x") == 0 || strcmp(n, "y") == 0 || strcmp(n, "z") == 0))
-                ++xyz;
-            if (strcmp(n, "label") == 0 && vert->prop[p].is_char && fmt == 0)
-                out->ascii_char_label = 1;
-            /* OpenMesh reads a vertex's list as more scalars (ascii: the
-             * coordinates come out shifted; binary: the faces then fail),
-             * and with some headers from uninitialised memory. */
-            if (vert->prop[p].count_size)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s: the PLY 'vertex' element has a list property "
-                                   "'%s'; only scalar vertex properties can be read",
-                                   r->path, n);
-        }
-        if (xyz != 3)
+    vert = h->vert;
+    for (int p = 0; p < vert->nprop; ++p) {
+        const char *n = vert->prop[p].name;
+        if (!vert->prop[p].count_size &&
+            (strcmp(n, "x") == 0 || strcmp(n, "y") == 0 || strcmp(n, "z") == 0))
+            ++xyz;
+        if (strcmp(n, "label") == 0 && vert->prop[p].is_char && h->fmt == 0)
+            out->ascii_char_label = 1;
+        /* OpenMesh reads a vertex's list as more scalars (ascii: the
+         * coordinates come out shifted; binary: the faces then fail), and
+         * with some headers from uninitialised memory. */
+        if (vert->prop[p].count_size)
             return relief_fail(err, RELIEF_E_PARSE,
-                               "%s: the PLY 'vertex' element lacks scalar x, y, z properties",
-                               r->path);
-        /* OpenMesh reads a colour from red, green and blue together: with
-         * only some of them its ascii reader goes out of step, and the
-         * next face takes some value as a corner count (found by fuzzing:
-         * 'rgd green blue', a 2 GiB face). */
-        {
-            static const char *const rgb[3] = {"red", "green", "blue"};
-            int have = 0;
-            for (int c = 0; c < 3; ++c)
-                for (int p = 0; p < vert->nprop; ++p)
-                    if (strcmp(vert->prop[p].name, rgb[c]) == 0) {
-                        have |= 1 << c;
-                        break;
-                    }
-            if (have != 0 && have != 7)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s: the PLY 'vertex' element has %s%s%s but not all of "
-                                   "red, green and blue; a colour needs the three",
-                                   r->path, have & 1 ? "red " : "", have & 2 ? "green " : "",
-                                   have & 4 ? "blue" : "");
-        }
+                               "%s: the PLY 'vertex' element has a list property "
+                               "'%s'; only scalar vertex properties can be read",
+                               r->path, n);
     }
-    out->binary = fmt == 1;
-    out->vertices = vert->count;
-    out->faces = face ? face->count : 0;
-
-    if (fmt == 1) {
-        /* Binary: the body must hold at least every element at its smallest
-         * (lists of faces with 3 items, other lists empty). */
-        long long need = 0, have = fsize - ftell(r->f);
-        for (int e = 0; e < nel; ++e) {
-            long long per = 0;
-            for (int p = 0; p < el[e].nprop; ++p) {
-                const ply_prop *pp = &el[e].prop[p];
-                if (!pp->count_size)
-                    per += pp->size;
-                else
-                    per += pp->count_size +
-                           (&el[e] == face ? 3LL * pp->size : 0);
+    if (xyz != 3)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s: the PLY 'vertex' element lacks scalar x, y, z properties",
+                           r->path);
+    /* OpenMesh reads a colour from red, green and blue together: with only
+     * some of them its ascii reader goes out of step, and the next face
+     * takes some value as a corner count (found by fuzzing: 'rgd green
+     * blue', a 2 GiB face). */
+    for (int c = 0; c < 3; ++c)
+        for (int p = 0; p < vert->nprop; ++p)
+            if (strcmp(vert->prop[p].name, rgb[c]) == 0) {
+                have |= 1 << c;
+                break;
             }
-            need += per * el[e].count;
-        }
-        if (have < need)
-            return relief_fail(err, RELIEF_E_PARSE,
-                               "%s: truncated: the header declares %lld vertices and "
-                               "%lld faces, which need at least %lld bytes after the "
-                               "header, but only %lld follow",
-                               r->path, vert->count, face ? face->count : 0LL, need, have);
-        return check_ply_body(r, el, nel, vert, face, big, have, err);
-    }
+    if (have != 0 && have != 7)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s: the PLY 'vertex' element has %s%s%s but not all of "
+                           "red, green and blue; a colour needs the three",
+                           r->path, have & 1 ? "red " : "", have & 2 ? "green " : "",
+                           have & 4 ? "blue" : "");
+    return RELIEF_OK;
+}
 
-    /* Ascii: one line per element item, in header order. */
-    for (int e = 0; e < nel; ++e) {
-        for (long long i = 0; i < el[e].count; ++i) {
+/* Binary: the body must hold at least every element at its smallest (lists
+ * of faces with 3 items, other lists empty); then every value is read. */
+static relief_status ply_check_binary(reader *r, const ply_header *h, long long fsize,
+                                      relief_error *err)
+{
+    const ply_element *el = h->el, *vert = h->vert, *face = h->face;
+    long long need = 0, have = fsize - ftell(r->f);
+    for (int e = 0; e < h->nel; ++e) {
+        long long per = 0;
+        for (int p = 0; p < el[e].nprop; ++p) {
+            const ply_prop *pp = &el[e].prop[p];
+            if (!pp->count_size)
+                per += pp->size;
+            else
+                per += pp->count_size +
+                       (&el[e] == face ? 3LL * pp->size : 0);
+        }
+        need += per * el[e].count;
+    }
+    if (have < need)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s: truncated: the header declares %lld vertices and "
+                           "%lld faces, which need at least %lld bytes after the "
+                           "header, but only %lld follow",
+                           r->path, vert->count, face ? face->count : 0LL, need, have);
+    return check_ply_body(r, el, h->nel, vert, face, h->big, have, err);
+}
+
+/* An ascii vertex, item i: a number for each property, finite coordinates,
+ * each value readable as its declared type. */
+static relief_status ascii_vertex(const reader *r, const ply_element *vert, long long i,
+                                  relief_error *err)
+{
+    int t = 0;
+    for (int p = 0; p < vert->nprop; ++p) {
+        const ply_prop *pp = &vert->prop[p];
+        double v;
+        if (t >= r->ntok)
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: vertex %lld has %d value(s); the "
+                               "header declares %d properties",
+                               r->path, r->lineno, i, r->ntok, vert->nprop);
+        if (!io_parse_double(r->tok[t], &v))
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: vertex %lld: property '%s' value "
+                               "'%s' is not a number",
+                               r->path, r->lineno, i, pp->name, r->tok[t]);
+        if (!isfinite(v) && (strcmp(pp->name, "x") == 0 ||
+                             strcmp(pp->name, "y") == 0 ||
+                             strcmp(pp->name, "z") == 0))
+            return relief_fail(err, RELIEF_E_MESH,
+                               "%s:%ld: vertex %lld: %s coordinate '%s' "
+                               "is not finite",
+                               r->path, r->lineno, i, pp->name, r->tok[t]);
+        /* A value OpenMesh's stream cannot read as the declared type (NaN,
+         * beyond a float, negative or too large for the integer) puts the
+         * stream out of step: the next face then takes some value as a
+         * corner count (found by fuzzing: a 2 GiB face). */
+        if (!ply_value_fits(r->tok[t], v, pp))
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: vertex %lld: property '%s' value '%s' "
+                               "does not fit its %s%d-byte type",
+                               r->path, r->lineno, i, pp->name, r->tok[t],
+                               pp->kind == PLY_FLOAT      ? "floating-point "
+                               : pp->kind == PLY_SIGNED ? "signed "
+                                                        : "unsigned ",
+                               pp->size);
+        ++t;
+    }
+    return RELIEF_OK;
+}
+
+/* An ascii face, item i of element `face`: a corner count and as many
+ * integer indices, each a vertex of the file. */
+static relief_status ascii_face(const reader *r, const ply_element *face,
+                                const ply_element *vert, long long i, relief_error *err)
+{
+    long long n, idx[MAX_TOKENS];
+    if (r->ntok < 1 || !io_parse_long(r->tok[0], &n) || n < 0)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: malformed '%s' item %lld", r->path, r->lineno,
+                           face->name, i);
+    if (n >= MAX_TOKENS)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: face %lld has %lld corners; at most %d "
+                           "are supported",
+                           r->path, r->lineno, i, n, MAX_TOKENS - 1);
+    if (r->ntok < 1 + n)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s:%ld: face %lld declares %lld corners but "
+                           "lists %d",
+                           r->path, r->lineno, i, n, r->ntok - 1);
+    for (int k = 0; k < n; ++k)
+        if (!io_parse_long(r->tok[1 + k], &idx[k]))
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s:%ld: face %lld: index '%s' is not an "
+                               "integer",
+                               r->path, r->lineno, i, r->tok[1 + k]);
+    return io_check_corners(r, idx, (int)n, i, vert->count, err);
+}
+
+/* Ascii: one line per element item, in header order. */
+static relief_status ply_check_ascii(reader *r, const ply_header *h, relief_error *err)
+{
+    for (int e = 0; e < h->nel; ++e) {
+        const ply_element *el = &h->el[e];
+        for (long long i = 0; i < el->count; ++i) {
+            relief_status st = RELIEF_OK;
             if (!io_next_line(r, 0))
                 return relief_fail(err, RELIEF_E_PARSE,
                                    "%s:%ld: truncated: the file ends after %lld of the "
                                    "%lld '%s' items the header declares",
-                                   r->path, r->lineno, i, el[e].count, el[e].name);
-            if (&el[e] == vert) {
-                int t = 0;
-                for (int p = 0; p < vert->nprop; ++p) {
-                    const ply_prop *pp = &vert->prop[p];
-                    double v;
-                    if (t >= r->ntok)
-                        return relief_fail(err, RELIEF_E_PARSE,
-                                           "%s:%ld: vertex %lld has %d value(s); the "
-                                           "header declares %d properties",
-                                           r->path, r->lineno, i, r->ntok, vert->nprop);
-                    if (!io_parse_double(r->tok[t], &v))
-                        return relief_fail(err, RELIEF_E_PARSE,
-                                           "%s:%ld: vertex %lld: property '%s' value "
-                                           "'%s' is not a number",
-                                           r->path, r->lineno, i, pp->name, r->tok[t]);
-                    if (!isfinite(v) && (strcmp(pp->name, "x") == 0 ||
-                                         strcmp(pp->name, "y") == 0 ||
-                                         strcmp(pp->name, "z") == 0))
-                        return relief_fail(err, RELIEF_E_MESH,
-                                           "%s:%ld: vertex %lld: %s coordinate '%s' "
-                                           "is not finite",
-                                           r->path, r->lineno, i, pp->name, r->tok[t]);
-                    /* A value OpenMesh's stream cannot read as the declared
-                     * type (NaN, beyond a float, negative or too large for the
-                     * integer) puts the stream out of step: the next face
-                     * then takes some value as a corner count (found by
-                     * fuzzing: a 2 GiB face). */
-                    if (!ply_value_fits(r->tok[t], v, pp))
-                        return relief_fail(err, RELIEF_E_PARSE,
-                                           "%s:%ld: vertex %lld: property '%s' value '%s' "
-                                           "does not fit its %s%d-byte type",
-                                           r->path, r->lineno, i, pp->name, r->tok[t],
-                                           pp->kind == PLY_FLOAT      ? "floating-point "
-                                           : pp->kind == PLY_SIGNED ? "signed "
-                                                                    : "unsigned ",
-                                           pp->size);
-                    ++t;
-                }
-            } else if (&el[e] == face) {
-                long long n, idx[MAX_TOKENS];
-                relief_status st;
-                if (r->ntok < 1 || !io_parse_long(r->tok[0], &n) || n < 0)
-                    goto bad_item;
-                if (n >= MAX_TOKENS)
-                    return relief_fail(err, RELIEF_E_PARSE,
-                                       "%s:%ld: face %lld has %lld corners; at most %d "
-                                       "are supported",
-                                       r->path, r->lineno, i, n, MAX_TOKENS - 1);
-                if (r->ntok < 1 + n)
-                    return relief_fail(err, RELIEF_E_PARSE,
-                                       "%s:%ld: face %lld declares %lld corners but "
-                                       "lists %d",
-                                       r->path, r->lineno, i, n, r->ntok - 1);
-                for (int k = 0; k < n; ++k)
-                    if (!io_parse_long(r->tok[1 + k], &idx[k]))
-                        return relief_fail(err, RELIEF_E_PARSE,
-                                           "%s:%ld: face %lld: index '%s' is not an "
-                                           "integer",
-                                           r->path, r->lineno, i, r->tok[1 + k]);
-                st = io_check_corners(r, idx, (int)n, i, vert->count, err);
-                if (st != RELIEF_OK)
-                    return st;
-            }
-            continue;
-        bad_item:
-            return relief_fail(err, RELIEF_E_PARSE,
-                               "%s:%ld: malformed '%s' item %lld", r->path, r->lineno,
-                               el[e].name, i);
+                                   r->path, r->lineno, i, el->count, el->name);
+            if (el == h->vert)
+                st = ascii_vertex(r, el, i, err);
+            else if (el == h->face)
+                st = ascii_face(r, el, h->vert, i, err);
+            if (st != RELIEF_OK)
+                return st;
         }
     }
     return RELIEF_OK;
-
-bad_line:
-    return relief_fail(err, RELIEF_E_PARSE, "%s:%ld: malformed PLY header line",
-                       r->path, r->lineno);
 }
 
+relief_status io_check_ply(reader *r, relief_file_check *out, long long fsize,
+                               relief_error *err)
+{
+    ply_header h;
+    relief_status st;
+    memset(&h, 0, sizeof h);
+    h.fmt = -1;
+    st = ply_read_header(r, &h, err);
+    if (st == RELIEF_OK)
+        st = ply_check_vertex_element(r, &h, out, err);
+    if (st != RELIEF_OK)
+        return st;
+    out->binary = h.fmt == 1;
+    out->vertices = h.vert->count;
+    out->faces = h.face ? h.face->count : 0;
+    if (h.fmt == 1)
+        return ply_check_binary(r, &h, fsize, err);
+    return ply_check_ascii(r, &h, err);
+}
