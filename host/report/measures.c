@@ -237,16 +237,111 @@ done:
     return st;
 }
 
+/* The spectrum's points into suv (m x 2) and sf (m), f with its mean
+ * removed; returns the sum of squares left. A deterministic random subset
+ * of m of the n keeps the cost bounded without the aliasing a stride
+ * would bring on a regular grid. pick: n scratch. */
+static double freq_subset(const double *uv, const double *f, size_t n, size_t m, size_t *pick,
+                          double *suv, double *sf)
+{
+    double mean = 0.0, var = 0.0;
+    relief_rng_subset(pick, n, m, 1);
+    for (size_t i = 0; i < m; ++i) {
+        suv[2 * i] = uv[2 * pick[i]];
+        suv[2 * i + 1] = uv[2 * pick[i] + 1];
+        sf[i] = f[pick[i]];
+        mean += sf[i];
+    }
+    mean /= (double)m;
+    for (size_t i = 0; i < m; ++i) {
+        sf[i] -= mean;
+        var += sf[i] * sf[i];
+    }
+    return var;
+}
+
+/* The highest power over a coarse grid of spacing `step` on the half
+ * plane k_v >= 0 (P(-k) = P(k)), among the k with r->min <= |k| <=
+ * r->limit: *best (-1 when none), at (*bu, *bv). Along a row each point's
+ * phasor advances by a fixed rotation, so a grid point costs one complex
+ * multiply-add per point. */
+static relief_status freq_coarse_peak(const double *suv, const double *sf, size_t m,
+                                      double step, const relief_measure_freq *r, double *best,
+                                      double *bu, double *bv, relief_error *err)
+{
+    const long nu = (long)ceil(r->limit / step), nvk = nu;
+    double *acc = malloc((size_t)(2 * nu + 1) * 2 * sizeof *acc);
+    if (!acc)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %ld-wide spectrum row",
+                           2 * nu + 1);
+    for (long iv = 0; iv <= nvk; ++iv) {
+        const double kv = (double)iv * step, ku0 = -(double)nu * step;
+        memset(acc, 0, (size_t)(2 * nu + 1) * 2 * sizeof *acc);
+        for (size_t i = 0; i < m; ++i) {
+            double ph = 2.0 * RELIEF_PI * (ku0 * suv[2 * i] + kv * suv[2 * i + 1]);
+            double dph = 2.0 * RELIEF_PI * step * suv[2 * i];
+            double zr = sf[i] * cos(ph), zi = sf[i] * sin(ph), wr = cos(dph), wi = sin(dph);
+            for (long iu = 0; iu <= 2 * nu; ++iu) {
+                double t = zr * wr - zi * wi;
+                acc[2 * iu] += zr;
+                acc[2 * iu + 1] += zi;
+                zi = zr * wi + zi * wr;
+                zr = t;
+            }
+        }
+        for (long iu = 0; iu <= 2 * nu; ++iu) {
+            double ku = ku0 + (double)iu * step, kk = sqrt(ku * ku + kv * kv);
+            double p = acc[2 * iu] * acc[2 * iu] + acc[2 * iu + 1] * acc[2 * iu + 1];
+            if (kk >= r->min && kk <= r->limit && p > *best) {
+                *best = p;
+                *bu = ku;
+                *bv = kv;
+            }
+        }
+    }
+    free(acc);
+    return RELIEF_OK;
+}
+
+/* Pattern search from the coarse peak (*bu, *bv), of power best, to the
+ * continuous spectrum's local peak, never below |k| = kmin. */
+static void freq_refine_peak(const double *suv, const double *sf, size_t m, double step,
+                             double kmin, double best, double *bu, double *bv)
+{
+    double h = 0.5 * step;
+    for (int it = 0; it < 200 && h > 1e-4 * step; ++it) {
+        double nbu = *bu, nbv = *bv, nbest = best;
+        for (int du = -1; du <= 1; ++du)
+            for (int dv = -1; dv <= 1; ++dv) {
+                double ku = *bu + du * h, kv = *bv + dv * h, p;
+                if ((du == 0 && dv == 0) || sqrt(ku * ku + kv * kv) < kmin)
+                    continue;
+                p = power_at(suv, sf, m, ku, kv);
+                if (p > nbest) {
+                    nbest = p;
+                    nbu = ku;
+                    nbv = kv;
+                }
+            }
+        if (nbest > best) {
+            best = nbest;
+            *bu = nbu;
+            *bv = nbv;
+        } else {
+            h *= 0.5;
+        }
+    }
+}
+
 relief_status relief_dominant_frequency(const double *uv, const double *f, size_t n,
                                         relief_measure_freq *out, relief_error *err)
 {
     relief_measure_freq r;
-    double *suv = NULL, *sf = NULL, *acc = NULL;
+    double *suv = NULL, *sf = NULL;
     size_t *pick = NULL, m = n;
     relief_status st = RELIEF_OK;
-    double mean = 0.0, var = 0.0, lo[2], hi[2], L, spacing = 0.0, step, best = -1.0;
+    double var, lo[2], hi[2], L, spacing = 0.0, step, best = -1.0;
     double bu = 0.0, bv = 0.0;
-    long nu, nvk;
 
     r.freq = NAN;
     r.k[0] = r.k[1] = NAN;
@@ -281,8 +376,6 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
     r.limit = 1.0 / (2.0 * spacing);
     r.min = 1.0 / L;
 
-    /* A deterministic random subset keeps the cost bounded without the
-     * aliasing a stride would bring on a regular grid. */
     if (m > RELIEF_MEASURE_FREQ_MAX_POINTS)
         m = RELIEF_MEASURE_FREQ_MAX_POINTS;
     suv = malloc(2 * m * sizeof *suv);
@@ -292,92 +385,19 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a spectrum of %zu points", m);
         goto done;
     }
-    relief_rng_subset(pick, n, m, 1);
-    for (size_t i = 0; i < m; ++i) {
-        suv[2 * i] = uv[2 * pick[i]];
-        suv[2 * i + 1] = uv[2 * pick[i] + 1];
-        sf[i] = f[pick[i]];
-        mean += sf[i];
-    }
-    mean /= (double)m;
-    for (size_t i = 0; i < m; ++i) {
-        sf[i] -= mean;
-        var += sf[i] * sf[i];
-    }
+    var = freq_subset(uv, f, n, m, pick, suv, sf);
     r.n_points = m;
     /* Rounding noise (a part flattened onto a curved primitive keeps
      * |h| ~ 1e-16) is no relief: its peak would be meaningless. */
     if (!(sqrt(var / (double)m) > RELIEF_MEASURE_FREQ_FLAT * L) || r.min > r.limit)
         goto done;
-
-    /* Coarse grid over the half plane k_v >= 0 (P(-k) = P(k)). Along a row
-     * each point's phasor advances by a fixed rotation, so a grid point
-     * costs one complex multiply-add per point. */
     step = 1.0 / (2.0 * L);
     if (step < r.limit / RELIEF_MEASURE_FREQ_GRID)
         step = r.limit / RELIEF_MEASURE_FREQ_GRID;
-    nu = (long)ceil(r.limit / step);
-    nvk = nu;
-    acc = malloc((size_t)(2 * nu + 1) * 2 * sizeof *acc);
-    if (!acc) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %ld-wide spectrum row",
-                         2 * nu + 1);
+    st = freq_coarse_peak(suv, sf, m, step, &r, &best, &bu, &bv, err);
+    if (st != RELIEF_OK || best < 0.0)
         goto done;
-    }
-    for (long iv = 0; iv <= nvk; ++iv) {
-        const double kv = (double)iv * step, ku0 = -(double)nu * step;
-        memset(acc, 0, (size_t)(2 * nu + 1) * 2 * sizeof *acc);
-        for (size_t i = 0; i < m; ++i) {
-            double ph = 2.0 * RELIEF_PI * (ku0 * suv[2 * i] + kv * suv[2 * i + 1]);
-            double dph = 2.0 * RELIEF_PI * step * suv[2 * i];
-            double zr = sf[i] * cos(ph), zi = sf[i] * sin(ph), wr = cos(dph), wi = sin(dph);
-            for (long iu = 0; iu <= 2 * nu; ++iu) {
-                double t = zr * wr - zi * wi;
-                acc[2 * iu] += zr;
-                acc[2 * iu + 1] += zi;
-                zi = zr * wi + zi * wr;
-                zr = t;
-            }
-        }
-        for (long iu = 0; iu <= 2 * nu; ++iu) {
-            double ku = ku0 + (double)iu * step, kk = sqrt(ku * ku + kv * kv);
-            double p = acc[2 * iu] * acc[2 * iu] + acc[2 * iu + 1] * acc[2 * iu + 1];
-            if (kk >= r.min && kk <= r.limit && p > best) {
-                best = p;
-                bu = ku;
-                bv = kv;
-            }
-        }
-    }
-    if (best < 0.0)
-        goto done;
-
-    /* Pattern search to the continuous spectrum's local peak. */
-    {
-        double h = 0.5 * step;
-        for (int it = 0; it < 200 && h > 1e-4 * step; ++it) {
-            double nbu = bu, nbv = bv, nbest = best;
-            for (int du = -1; du <= 1; ++du)
-                for (int dv = -1; dv <= 1; ++dv) {
-                    double ku = bu + du * h, kv = bv + dv * h, p;
-                    if ((du == 0 && dv == 0) || sqrt(ku * ku + kv * kv) < r.min)
-                        continue;
-                    p = power_at(suv, sf, m, ku, kv);
-                    if (p > nbest) {
-                        nbest = p;
-                        nbu = ku;
-                        nbv = kv;
-                    }
-                }
-            if (nbest > best) {
-                best = nbest;
-                bu = nbu;
-                bv = nbv;
-            } else {
-                h *= 0.5;
-            }
-        }
-    }
+    freq_refine_peak(suv, sf, m, step, r.min, best, &bu, &bv);
     r.k[0] = bu;
     r.k[1] = bv;
     r.freq = sqrt(bu * bu + bv * bv);
@@ -385,7 +405,6 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
 done:
     if (st == RELIEF_OK)
         *out = r;
-    free(acc);
     free(pick);
     free(sf);
     free(suv);
@@ -536,6 +555,159 @@ done:
 
 /* ------------------------------------------------------------ measure */
 
+/* Each vertex's height over the primitive (h, nv) and displacement from it
+ * (D, nv x 3); the captured heights into ha, the others into hb. */
+static void measure_heights(const relief_mesh *cm, const relief_fit_primitive *prim, double *h,
+                            double *D, double *ha, size_t *na, double *hb, size_t *nb)
+{
+    *na = *nb = 0;
+    for (size_t v = 0; v < cm->nv; ++v) {
+        double n[3];
+        h[v] = relief_fit_distance(prim, cm->pos + 3 * v);
+        relief_fit_normal(prim, cm->pos + 3 * v, n);
+        for (int c = 0; c < 3; ++c)
+            D[3 * v + c] = h[v] * n[c];
+        if (cm->label[v] == RELIEF_LABEL_CAPTURED)
+            ha[(*na)++] = h[v];
+        else
+            hb[(*nb)++] = h[v];
+    }
+}
+
+/* MSI: the mean |height| of each part and their difference. */
+static void measure_msi(const double *ha, size_t na, const double *hb, size_t nb,
+                        relief_measures *r)
+{
+    double sa = 0.0, sb = 0.0;
+    for (size_t i = 0; i < na; ++i)
+        sa += fabs(ha[i]);
+    for (size_t i = 0; i < nb; ++i)
+        sb += fabs(hb[i]);
+    r->msi_captured = sa / (double)na;
+    r->msi_completed = sb / (double)nb;
+    if (r->msi_captured > 0.0)
+        r->msi_diff_percent = 100.0 * fabs(r->msi_completed - r->msi_captured) / r->msi_captured;
+    else
+        r->msi_diff_percent = r->msi_completed == 0.0 ? 0.0 : NAN;
+}
+
+/* The histogram distances of the heights (h, nv; split into ha and hb)
+ * and, with colour, of each channel (ha and hb then reused for them). */
+static void measure_histograms(const relief_mesh *cm, const double *h, double *ha, size_t na,
+                               double *hb, size_t nb, relief_measures *r)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t v = 0; v < cm->nv; ++v) {
+        lo = h[v] < lo ? h[v] : lo;
+        hi = h[v] > hi ? h[v] : hi;
+    }
+    r->hist_distance_displacement = hist_distance(ha, na, hb, nb, lo, hi);
+    r->hist_distance_colour = NAN;
+    r->hist_distance_rgb[0] = r->hist_distance_rgb[1] = r->hist_distance_rgb[2] = NAN;
+    if (!cm->col)
+        return;
+    r->has_colour = 1;
+    r->hist_distance_colour = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        na = nb = 0;
+        for (size_t v = 0; v < cm->nv; ++v) {
+            if (cm->label[v] == RELIEF_LABEL_CAPTURED)
+                ha[na++] = cm->col[3 * v + c];
+            else
+                hb[nb++] = cm->col[3 * v + c];
+        }
+        r->hist_distance_rgb[c] = hist_distance(ha, na, hb, nb, 0.0, 1.0);
+        r->hist_distance_colour += r->hist_distance_rgb[c] / 3.0;
+    }
+}
+
+/* The seam: the mean jump of the displacement D (nv x 3) across the edges
+ * joining the parts, against that across the capture's own edges. */
+static relief_status measure_seam(const relief_mesh *cm, const double *D, relief_measures *r,
+                                  relief_error *err)
+{
+    uint64_t *edges = NULL;
+    size_t ne = 0;
+    double ss = 0.0, si = 0.0;
+    relief_status st = unique_edges(cm, &edges, &ne, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (size_t e = 0; e < ne; ++e) {
+        size_t a = (size_t)(edges[e] >> 32), b = (size_t)(edges[e] & 0xffffffffu);
+        int la = cm->label[a], lb = cm->label[b];
+        double dx = D[3 * a] - D[3 * b], dy = D[3 * a + 1] - D[3 * b + 1],
+               dz = D[3 * a + 2] - D[3 * b + 2], jump = sqrt(dx * dx + dy * dy + dz * dz);
+        /* Per unit of edge length on the primitive: the capture's edges are
+         * oversampled to half the length of the seam's, and a jump grows
+         * with the edge it spans. */
+        double px = (cm->pos[3 * a] - D[3 * a]) - (cm->pos[3 * b] - D[3 * b]);
+        double py = (cm->pos[3 * a + 1] - D[3 * a + 1]) - (cm->pos[3 * b + 1] - D[3 * b + 1]);
+        double pz = (cm->pos[3 * a + 2] - D[3 * a + 2]) - (cm->pos[3 * b + 2] - D[3 * b + 2]);
+        double len = sqrt(px * px + py * py + pz * pz);
+        if (!(len > 0.0))
+            continue;
+        jump /= len;
+        if (la != lb) {
+            ss += jump;
+            ++r->n_seam_edges;
+        } else if (la == RELIEF_LABEL_CAPTURED) {
+            si += jump;
+            ++r->n_inside_edges;
+        }
+    }
+    r->seam = r->n_seam_edges ? ss / (double)r->n_seam_edges : NAN;
+    r->inside = r->n_inside_edges ? si / (double)r->n_inside_edges : NAN;
+    r->seam_ratio = r->inside > 0.0 ? r->seam / r->inside : NAN;
+    free(edges);
+    return RELIEF_OK;
+}
+
+/* Against the truth tm: the completed heights' errors (h, cm's nv) where
+ * the truth is, apart where it is not, and the truth's own spectrum. */
+static relief_status measure_truth(const relief_mesh *cm, const relief_mesh *tm,
+                                   const relief_param *pm, const double *h, relief_measures *r,
+                                   relief_error *err)
+{
+    double s2 = 0.0, s2_out = 0.0, mx = 0.0;
+    size_t i = 0, n_in;
+    double *ht = malloc(r->n_completed * sizeof *ht);
+    uint8_t *out_flag = malloc(r->n_completed ? r->n_completed : 1); /* outside the truth */
+    relief_status st;
+    if (!ht || !out_flag) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu truth heights",
+                         r->n_completed);
+        goto done;
+    }
+    st = truth_heights(&r->prim, cm, tm, ht, out_flag, &r->n_truth_outside, err);
+    if (st != RELIEF_OK)
+        goto done;
+    /* Only where the truth is: a completed vertex past the truth's outline
+     * has nothing to be compared with, and the nearest truth vertex's
+     * height would pass a guess off as an error. */
+    for (size_t v = 0; v < cm->nv; ++v)
+        if (cm->label[v] == RELIEF_LABEL_COMPLETED) {
+            double d = h[v] - ht[i];
+            if (out_flag[i++]) {
+                s2_out += d * d;
+                continue;
+            }
+            s2 += d * d;
+            mx = fabs(d) > mx ? fabs(d) : mx;
+        }
+    n_in = r->n_completed - r->n_truth_outside;
+    if (n_in > 0) {
+        r->truth_rms = sqrt(s2 / (double)n_in);
+        r->truth_max_abs = mx;
+    }
+    if (r->n_truth_outside > 0)
+        r->truth_rms_outside = sqrt(s2_out / (double)r->n_truth_outside);
+    st = part_frequency(pm, tm, RELIEF_LABEL_COMPLETED, &r->freq_truth, err);
+done:
+    free(ht);
+    free(out_flag);
+    return st;
+}
+
 relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
                              const relief_fit_primitive *prim, relief_measures *out,
                              relief_error *err)
@@ -543,10 +715,8 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
     relief_measures r;
     relief_param pm;
     relief_status st;
-    double *h = NULL, *D = NULL, *ha = NULL, *hb = NULL, *ht = NULL;
-    uint8_t *out_flag = NULL; /* completed vertex i lies outside the truth */
-    uint64_t *edges = NULL;
-    size_t ne = 0, na, nb;
+    double *h = NULL, *D = NULL, *ha = NULL, *hb = NULL;
+    size_t na, nb;
 
     if (!cm || !out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_measure: %s is NULL",
@@ -578,150 +748,26 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
                          cm->nv);
         goto done;
     }
-    na = nb = 0;
-    for (size_t v = 0; v < cm->nv; ++v) {
-        double n[3];
-        h[v] = relief_fit_distance(&r.prim, cm->pos + 3 * v);
-        relief_fit_normal(&r.prim, cm->pos + 3 * v, n);
-        for (int c = 0; c < 3; ++c)
-            D[3 * v + c] = h[v] * n[c];
-        if (cm->label[v] == RELIEF_LABEL_CAPTURED)
-            ha[na++] = h[v];
-        else
-            hb[nb++] = h[v];
-    }
-
-    /* MSI. */
-    {
-        double sa = 0.0, sb = 0.0;
-        for (size_t i = 0; i < na; ++i)
-            sa += fabs(ha[i]);
-        for (size_t i = 0; i < nb; ++i)
-            sb += fabs(hb[i]);
-        r.msi_captured = sa / (double)na;
-        r.msi_completed = sb / (double)nb;
-        if (r.msi_captured > 0.0)
-            r.msi_diff_percent = 100.0 * fabs(r.msi_completed - r.msi_captured) / r.msi_captured;
-        else
-            r.msi_diff_percent = r.msi_completed == 0.0 ? 0.0 : NAN;
-    }
-
-    /* Histograms. */
-    {
-        double lo = INFINITY, hi = -INFINITY;
-        for (size_t v = 0; v < cm->nv; ++v) {
-            lo = h[v] < lo ? h[v] : lo;
-            hi = h[v] > hi ? h[v] : hi;
-        }
-        r.hist_distance_displacement = hist_distance(ha, na, hb, nb, lo, hi);
-    }
-    r.hist_distance_colour = NAN;
-    r.hist_distance_rgb[0] = r.hist_distance_rgb[1] = r.hist_distance_rgb[2] = NAN;
-    if (cm->col) {
-        r.has_colour = 1;
-        r.hist_distance_colour = 0.0;
-        for (int c = 0; c < 3; ++c) {
-            na = nb = 0;
-            for (size_t v = 0; v < cm->nv; ++v) {
-                if (cm->label[v] == RELIEF_LABEL_CAPTURED)
-                    ha[na++] = cm->col[3 * v + c];
-                else
-                    hb[nb++] = cm->col[3 * v + c];
-            }
-            r.hist_distance_rgb[c] = hist_distance(ha, na, hb, nb, 0.0, 1.0);
-            r.hist_distance_colour += r.hist_distance_rgb[c] / 3.0;
-        }
-    }
-
-    /* Seam. */
-    st = unique_edges(cm, &edges, &ne, err);
-    if (st != RELIEF_OK)
-        goto done;
-    {
-        double ss = 0.0, si = 0.0;
-        for (size_t e = 0; e < ne; ++e) {
-            size_t a = (size_t)(edges[e] >> 32), b = (size_t)(edges[e] & 0xffffffffu);
-            int la = cm->label[a], lb = cm->label[b];
-            double dx = D[3 * a] - D[3 * b], dy = D[3 * a + 1] - D[3 * b + 1],
-                   dz = D[3 * a + 2] - D[3 * b + 2], jump = sqrt(dx * dx + dy * dy + dz * dz);
-            /* Per unit of edge length on the primitive: the capture's edges
-             * are oversampled to half the length of the seam's, and a jump
-             * grows with the edge it spans. */
-            double px = (cm->pos[3 * a] - D[3 * a]) - (cm->pos[3 * b] - D[3 * b]);
-            double py = (cm->pos[3 * a + 1] - D[3 * a + 1]) - (cm->pos[3 * b + 1] - D[3 * b + 1]);
-            double pz = (cm->pos[3 * a + 2] - D[3 * a + 2]) - (cm->pos[3 * b + 2] - D[3 * b + 2]);
-            double len = sqrt(px * px + py * py + pz * pz);
-            if (!(len > 0.0))
-                continue;
-            jump /= len;
-            if (la != lb) {
-                ss += jump;
-                ++r.n_seam_edges;
-            } else if (la == RELIEF_LABEL_CAPTURED) {
-                si += jump;
-                ++r.n_inside_edges;
-            }
-        }
-        r.seam = r.n_seam_edges ? ss / (double)r.n_seam_edges : NAN;
-        r.inside = r.n_inside_edges ? si / (double)r.n_inside_edges : NAN;
-        r.seam_ratio = r.inside > 0.0 ? r.seam / r.inside : NAN;
-    }
-
+    measure_heights(cm, &r.prim, h, D, ha, &na, hb, &nb);
+    measure_msi(ha, na, hb, nb, &r);
+    measure_histograms(cm, h, ha, na, hb, nb, &r);
+    st = measure_seam(cm, D, &r, err);
     /* Spectra. */
-    st = part_frequency(&pm, cm, RELIEF_LABEL_CAPTURED, &r.freq_captured, err);
+    if (st == RELIEF_OK)
+        st = part_frequency(&pm, cm, RELIEF_LABEL_CAPTURED, &r.freq_captured, err);
     if (st == RELIEF_OK)
         st = part_frequency(&pm, cm, RELIEF_LABEL_COMPLETED, &r.freq_completed, err);
     if (st != RELIEF_OK)
         goto done;
-
-    /* Truth. */
     r.truth_rms = r.truth_max_abs = r.truth_rms_outside = NAN;
     r.freq_truth.freq = r.freq_truth.limit = r.freq_truth.min = NAN;
     r.freq_truth.k[0] = r.freq_truth.k[1] = NAN;
-    if (tm) {
-        double s2 = 0.0, s2_out = 0.0, mx = 0.0;
-        size_t i = 0, n_in;
-        ht = malloc(r.n_completed * sizeof *ht);
-        out_flag = malloc(r.n_completed ? r.n_completed : 1);
-        if (!ht || !out_flag) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu truth heights",
-                             r.n_completed);
-            goto done;
-        }
-        st = truth_heights(&r.prim, cm, tm, ht, out_flag, &r.n_truth_outside, err);
-        if (st != RELIEF_OK)
-            goto done;
-        /* Only where the truth is: a completed vertex past the truth's
-         * outline has nothing to be compared with, and the nearest truth
-         * vertex's height would pass a guess off as an error. */
-        for (size_t v = 0; v < cm->nv; ++v)
-            if (cm->label[v] == RELIEF_LABEL_COMPLETED) {
-                double d = h[v] - ht[i];
-                if (out_flag[i++]) {
-                    s2_out += d * d;
-                    continue;
-                }
-                s2 += d * d;
-                mx = fabs(d) > mx ? fabs(d) : mx;
-            }
-        n_in = r.n_completed - r.n_truth_outside;
-        if (n_in > 0) {
-            r.truth_rms = sqrt(s2 / (double)n_in);
-            r.truth_max_abs = mx;
-        }
-        if (r.n_truth_outside > 0)
-            r.truth_rms_outside = sqrt(s2_out / (double)r.n_truth_outside);
-        st = part_frequency(&pm, tm, RELIEF_LABEL_COMPLETED, &r.freq_truth, err);
-        if (st != RELIEF_OK)
-            goto done;
-    }
+    if (tm)
+        st = measure_truth(cm, tm, &pm, h, &r, err);
 
 done:
     if (st == RELIEF_OK)
         *out = r;
-    free(edges);
-    free(ht);
-    free(out_flag);
     free(hb);
     free(ha);
     free(D);
