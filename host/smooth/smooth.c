@@ -294,142 +294,141 @@ static void set_frame(const relief_surface *s, relief_frames rule, const double 
     memcpy(f + 6, n, 3 * sizeof(double));
 }
 
-relief_status relief_surface_build(const relief_mesh *input, const relief_params *params,
-                            const relief_smooth_options *opts, relief_surface **out,
-                            relief_error *err)
+/* What building a surface shares: the capture as checked (the input, or
+ * its unfolded or despiked copy, owned here), the targets, the samples,
+ * and the surface being built. */
+typedef struct surface_build {
+    const relief_params *params;
+    const relief_smooth_options *opts;
+    const relief_mesh *capture; /* input, unfolded or despiked */
+    relief_mesh *unfolded, *despiked, *samples;
+    relief_target_list targets;
+    relief_surface *s;
+} surface_build;
+
+/* The primitive, refused when poor unless accepted; the capture unfolded
+ * where it folds over the primitive and despiked when asked. */
+static relief_status surface_fit(surface_build *b, relief_error *err)
 {
-    const relief_mesh *capture = input; /* or `unfolded`, `despiked`, once checked */
-    relief_mesh *unfolded = NULL, *despiked = NULL;
-    relief_smooth_options dflt = relief_smooth_options_default();
-    relief_oversample_params op = relief_oversample_params_default();
-    relief_surface *s = NULL;
-    relief_mesh *samples = NULL, *m = NULL;
-    relief_target_list targets = {0};
-    relief_status st;
-    double alpha, t0;
-    const relief_fit_primitive *pr;
-
-    if (!opts)
-        opts = &dflt;
-    op.scheme = opts->oversample_scheme;
-    if (capture->nt == 0)
-        return relief_fail(err, RELIEF_E_MESH,
-                           "the capture is a point cloud (no triangles); triangulate it "
-                           "first: relief needs the capture's surface to know what it covers");
-    s = calloc(1, sizeof *s);
-    if (!s)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a surface");
-
-    t0 = relief_seconds();
-    st = relief_fit_mesh(capture, params->fit, &s->fit, err);
+    relief_surface *s = b->s;
+    const relief_fit_primitive *pr = &s->fit.prim;
+    double t0 = relief_seconds();
+    relief_status st = relief_fit_mesh(b->capture, b->params->fit, &s->fit, err);
     s->seconds[RELIEF_STAGE_FIT] = relief_seconds() - t0;
     if (st != RELIEF_OK)
-        goto fail;
-    pr = &s->fit.prim;
-    if (s->fit.poor_fit && !opts->accept_poor_fit) {
-        st = relief_fail(err, RELIEF_E_MESH,
-                         "the capture fits no primitive well: %s (rms %.4g is more than "
-                         "%.0f%% of the %s's size %.4g); base smooth grows on the "
-                         "capture's own smoothed surface instead, accept_poor_fit goes on "
-                         "anyway",
-                         s->fit.reason, s->fit.rms, 100.0 * RELIEF_FIT_POOR,
-                         relief_fit_model_name(pr->model), s->fit.size);
-        goto fail;
-    }
-    st = relief_capture_check(capture, pr, &unfolded, &s->folds, err);
+        return st;
+    if (s->fit.poor_fit && !b->opts->accept_poor_fit)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the capture fits no primitive well: %s (rms %.4g is more than "
+                           "%.0f%% of the %s's size %.4g); base smooth grows on the "
+                           "capture's own smoothed surface instead, accept_poor_fit goes on "
+                           "anyway",
+                           s->fit.reason, s->fit.rms, 100.0 * RELIEF_FIT_POOR,
+                           relief_fit_model_name(pr->model), s->fit.size);
+    st = relief_capture_check(b->capture, pr, &b->unfolded, &s->folds, err);
     if (st != RELIEF_OK)
-        goto fail;
-    if (unfolded)
-        capture = unfolded;
-    if (opts->spike_k > 0.0) {
-        st = relief_capture_spikes(capture, pr, opts->spike_k, &despiked, &s->spikes, err);
+        return st;
+    if (b->unfolded)
+        b->capture = b->unfolded;
+    if (b->opts->spike_k > 0.0) {
+        st = relief_capture_spikes(b->capture, pr, b->opts->spike_k, &b->despiked, &s->spikes,
+                                   err);
         if (st != RELIEF_OK)
-            goto fail;
-        if (despiked)
-            capture = despiked;
+            return st;
+        if (b->despiked)
+            b->capture = b->despiked;
     }
     relief_param_init(&s->param, pr);
+    return RELIEF_OK;
+}
 
-    s->spacing_from_capture = params->spacing <= 0.0;
-    s->spacing = s->spacing_from_capture ? edge_percentile(capture, opts->spacing_percentile)
-                                         : params->spacing;
-    if (!(s->spacing > 0.0)) {
-        st = relief_fail(err, RELIEF_E_MESH,
-                         "the capture's edges all have zero length; give a spacing");
-        goto fail;
-    }
-
-    /* Targets, from the capture as scanned (oversampling adds no coverage). */
-    t0 = relief_seconds();
-    st = relief_targets_lay(capture, &s->param, s->spacing, params, opts->fill, &targets,
-                            &s->fill, err);
+/* The targets, from the capture as scanned (oversampling adds no
+ * coverage): refused when there are none, or far more than the capture
+ * can supply samples for. */
+static relief_status surface_targets(surface_build *b, relief_error *err)
+{
+    relief_surface *s = b->s;
+    const relief_params *params = b->params;
+    const relief_mesh *capture = b->capture;
+    const relief_fit_primitive *pr = &s->fit.prim;
+    const double max_growth = b->opts->max_growth;
+    const double t0 = relief_seconds();
+    relief_status st = relief_targets_lay(capture, &s->param, s->spacing, params, b->opts->fill,
+                                          &b->targets, &s->fill, err);
     if (st != RELIEF_OK)
-        goto fail;
-    if (targets.n == 0) {
+        return st;
+    if (b->targets.n == 0) {
         if (s->fill.region == RELIEF_FILL_HOLES && s->fill.outside_points > 0)
-            st = relief_fail(err, RELIEF_E_MESH,
-                             "nothing to complete: the capture has no hole inside its "
-                             "outline%s",
-                             pr->model == RELIEF_FIT_PLANE
-                                 ? " (give an extent u0,v0,u1,v1 to extend the plane past it)"
-                                 : "; fill whole completes the rest of the primitive");
-        else
-            st = relief_fail(err, RELIEF_E_MESH,
-                             "nothing to complete: the capture covers the whole region");
-        goto fail;
+            return relief_fail(err, RELIEF_E_MESH,
+                               "nothing to complete: the capture has no hole inside its "
+                               "outline%s",
+                               pr->model == RELIEF_FIT_PLANE
+                                   ? " (give an extent u0,v0,u1,v1 to extend the plane past it)"
+                                   : "; fill whole completes the rest of the primitive");
+        return relief_fail(err, RELIEF_E_MESH,
+                           "nothing to complete: the capture covers the whole region");
     }
-
-    if (opts->max_growth > 0.0 && (double)targets.n > opts->max_growth * (double)capture->nv) {
-        st = relief_fail(err, RELIEF_E_MESH,
-                         "the %s fit (%s) asks for %zu targets, %.0f per captured vertex "
-                         "(%zu): far more than the capture can supply samples for (the "
-                         "limit is %g, max_growth). %s; max_growth 0 lifts the limit",
-                         relief_fit_model_name(pr->model),
-                         params->fit == RELIEF_FIT_AUTO ? "chosen by fit auto" : "requested",
-                         targets.n, (double)targets.n / (double)capture->nv, capture->nv,
-                         opts->max_growth,
-                         pr->model == RELIEF_FIT_PLANE
-                             ? "Bound the region with a smaller extent or raise the spacing"
-                             : "If the capture is nearly flat, try fit plane; else bound "
-                               "the region with an extent or raise the spacing");
-        goto fail;
-    }
+    if (max_growth > 0.0 && (double)b->targets.n > max_growth * (double)capture->nv)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the %s fit (%s) asks for %zu targets, %.0f per captured vertex "
+                           "(%zu): far more than the capture can supply samples for (the "
+                           "limit is %g, max_growth). %s; max_growth 0 lifts the limit",
+                           relief_fit_model_name(pr->model),
+                           params->fit == RELIEF_FIT_AUTO ? "chosen by fit auto" : "requested",
+                           b->targets.n, (double)b->targets.n / (double)capture->nv,
+                           capture->nv, max_growth,
+                           pr->model == RELIEF_FIT_PLANE
+                               ? "Bound the region with a smaller extent or raise the spacing"
+                               : "If the capture is nearly flat, try fit plane; else bound "
+                                 "the region with an extent or raise the spacing");
     s->seconds[RELIEF_STAGE_TARGETS] = relief_seconds() - t0;
+    return RELIEF_OK;
+}
 
-    /* Refuse before the big allocations: each oversampling pass about
-     * quadruples the capture's vertices. */
-    {
-        double nsamp = (double)capture->nv * pow(4.0, params->oversample);
-        char what[160];
-        snprintf(what, sizeof what,
-                 "the smooth completion of about %.0f samples (%zu captured vertices, "
-                 "oversampled %d times) and %zu targets",
-                 nsamp, capture->nv, params->oversample, targets.n);
-        st = relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
-                                                              targets.n),
-                                 relief_memory_limit(params),
-                                 "; lower oversample or raise the spacing", err);
-        if (st != RELIEF_OK)
-            goto fail;
-    }
+/* Refuse before the big allocations: each oversampling pass about
+ * quadruples the capture's vertices. */
+static relief_status surface_memory_check(const surface_build *b, relief_error *err)
+{
+    const relief_params *params = b->params;
+    double nsamp = (double)b->capture->nv * pow(4.0, params->oversample);
+    char what[160];
+    snprintf(what, sizeof what,
+             "the smooth completion of about %.0f samples (%zu captured vertices, "
+             "oversampled %d times) and %zu targets",
+             nsamp, b->capture->nv, params->oversample, b->targets.n);
+    return relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
+                                                            b->targets.n),
+                               relief_memory_limit(params),
+                               "; lower oversample or raise the spacing", err);
+}
 
-    /* Samples: the oversampled capture, then the targets after them. */
-    t0 = relief_seconds();
-    st = relief_oversample(capture, params->oversample, &op, &samples, err);
+/* The surface's vertices: the oversampled capture (the samples, labelled
+ * captured), then the targets after them (completed, grey until grown). */
+static relief_status surface_vertices(surface_build *b, relief_error *err)
+{
+    relief_surface *s = b->s;
+    relief_oversample_params op = relief_oversample_params_default();
+    const relief_mesh *samples;
+    relief_mesh *m = NULL;
+    double t0 = relief_seconds();
+    relief_status st;
+    op.scheme = b->opts->oversample_scheme;
+    st = relief_oversample(b->capture, b->params->oversample, &op, &b->samples, err);
     if (st != RELIEF_OK)
-        goto fail;
+        return st;
+    samples = b->samples;
     s->seconds[RELIEF_STAGE_OVERSAMPLE] = relief_seconds() - t0;
-    s->n_captured = capture->nv;
+    s->n_captured = b->capture->nv;
     s->n_samples = samples->nv;
-    s->n_targets = targets.n;
-    st = relief_mesh_create(samples->nv + targets.n, 0,
+    s->n_targets = b->targets.n;
+    st = relief_mesh_create(samples->nv + b->targets.n, 0,
                             RELIEF_MESH_LABELS | (samples->col ? RELIEF_MESH_COLOURS : 0u),
                             &m, err);
     if (st != RELIEF_OK)
-        goto fail;
+        return st;
     s->mesh = m;
     memcpy(m->pos, samples->pos, samples->nv * 3 * sizeof(double));
-    memcpy(m->pos + 3 * samples->nv, targets.p, targets.n * 3 * sizeof(double));
+    memcpy(m->pos + 3 * samples->nv, b->targets.p, b->targets.n * 3 * sizeof(double));
     if (m->col) {
         memcpy(m->col, samples->col, samples->nv * 3 * sizeof(float));
         for (size_t i = 3 * samples->nv; i < 3 * m->nv; ++i)
@@ -437,15 +436,21 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
     }
     for (size_t v = 0; v < m->nv; ++v)
         m->label[v] = v < s->n_samples ? RELIEF_LABEL_CAPTURED : RELIEF_LABEL_COMPLETED;
+    return RELIEF_OK;
+}
 
+/* Each vertex's projection on the primitive, displacement from it, normal
+ * and frame; the targets are put on the primitive exactly. */
+static relief_status surface_frames(relief_surface *s, relief_frames frames, relief_error *err)
+{
+    const relief_fit_primitive *pr = &s->fit.prim;
+    relief_mesh *m = s->mesh;
     s->proj = malloc(m->nv * 3 * sizeof *s->proj);
     s->disp = malloc(m->nv * 3 * sizeof *s->disp);
     s->nrm = malloc(m->nv * 3 * sizeof *s->nrm);
     s->frame = malloc(m->nv * 9 * sizeof *s->frame);
-    if (!s->proj || !s->disp || !s->nrm || !s->frame) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate per-vertex state");
-        goto fail;
-    }
+    if (!s->proj || !s->disp || !s->nrm || !s->frame)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate per-vertex state");
     for (size_t v = 0; v < m->nv; ++v) {
         double *p = m->pos + 3 * v, *q = s->proj + 3 * v;
         relief_fit_project(pr, p, q);
@@ -454,35 +459,84 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
         for (int k = 0; k < 3; ++k)
             s->disp[3 * v + k] = p[k] - q[k];
         relief_fit_normal(pr, q, s->nrm + 3 * v);
-        set_frame(s, opts->frames, s->nrm + 3 * v, s->frame + 9 * v);
+        set_frame(s, frames, s->nrm + 3 * v, s->frame + 9 * v);
     }
+    return RELIEF_OK;
+}
 
-    t0 = relief_seconds();
-    alpha = 2.0 * fmax(s->spacing, edge_percentile(capture, 95.0));
-    s->alpha = alpha;
-    st = triangulate(s, alpha, err);
+/* Triangulate the samples and targets on the primitive (alpha: twice the
+ * larger of the spacing and the capture's 95th-percentile edge), drop the
+ * vertices left out, and demand a manifold. */
+static relief_status surface_triangulate(const surface_build *b, relief_error *err)
+{
+    relief_surface *s = b->s;
+    const double t0 = relief_seconds();
+    relief_status st;
+    s->alpha = 2.0 * fmax(s->spacing, edge_percentile(b->capture, 95.0));
+    st = triangulate(s, s->alpha, err);
     if (st == RELIEF_OK)
         st = drop_unused(s, NULL, err);
     if (st == RELIEF_OK)
         st = check_manifold(s, err);
     s->seconds[RELIEF_STAGE_TRIANGULATE] = relief_seconds() - t0;
-    if (st != RELIEF_OK)
-        goto fail;
+    return st;
+}
 
-    relief_mesh_destroy(samples);
-    relief_mesh_destroy(despiked);
-    relief_mesh_destroy(unfolded);
-    free(targets.p);
+relief_status relief_surface_build(const relief_mesh *input, const relief_params *params,
+                            const relief_smooth_options *opts, relief_surface **out,
+                            relief_error *err)
+{
+    relief_smooth_options dflt = relief_smooth_options_default();
+    surface_build b;
+    relief_surface *s;
+    relief_status st;
+
+    if (!opts)
+        opts = &dflt;
+    if (input->nt == 0)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "the capture is a point cloud (no triangles); triangulate it "
+                           "first: relief needs the capture's surface to know what it covers");
+    s = calloc(1, sizeof *s);
+    if (!s)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a surface");
+    memset(&b, 0, sizeof b);
+    b.params = params;
+    b.opts = opts;
+    b.capture = input;
+    b.s = s;
+
+    st = surface_fit(&b, err);
+    if (st == RELIEF_OK) {
+        s->spacing_from_capture = params->spacing <= 0.0;
+        s->spacing = s->spacing_from_capture ? edge_percentile(b.capture,
+                                                               opts->spacing_percentile)
+                                             : params->spacing;
+        if (!(s->spacing > 0.0))
+            st = relief_fail(err, RELIEF_E_MESH,
+                             "the capture's edges all have zero length; give a spacing");
+    }
+    if (st == RELIEF_OK)
+        st = surface_targets(&b, err);
+    if (st == RELIEF_OK)
+        st = surface_memory_check(&b, err);
+    if (st == RELIEF_OK)
+        st = surface_vertices(&b, err);
+    if (st == RELIEF_OK)
+        st = surface_frames(s, opts->frames, err);
+    if (st == RELIEF_OK)
+        st = surface_triangulate(&b, err);
+
+    relief_mesh_destroy(b.samples);
+    relief_mesh_destroy(b.despiked);
+    relief_mesh_destroy(b.unfolded);
+    free(b.targets.p);
+    if (st != RELIEF_OK) {
+        relief_surface_destroy(s);
+        return st;
+    }
     *out = s;
     return RELIEF_OK;
-
-fail:
-    relief_mesh_destroy(samples);
-    relief_mesh_destroy(despiked);
-    relief_mesh_destroy(unfolded);
-    free(targets.p);
-    relief_surface_destroy(s);
-    return st;
 }
 
 /* The triangles of a free-form level: s's own, collapsed onto the kept
