@@ -433,16 +433,15 @@ static relief_status parse_hierarchy(const char *path, reader *r, relief_checkpo
     return RELIEF_OK;
 }
 
-static relief_status parse(const char *path, reader *r, const relief_checkpoint_key *key,
-                           relief_checkpoint *c, relief_error *err)
+/* The record's head: magic, format, byte order, checksum (which then
+ * comes off the end), the relief version, and the input's fingerprint and
+ * parameters, which must be this run's. */
+static relief_status parse_head(const char *path, reader *r, const relief_checkpoint_key *key,
+                                relief_error *err)
 {
-    relief_grow_state *g = &c->state;
     char magic[8], version[16], params[RELIEF_CHECKPOINT_PARAMS_MAX];
     uint32_t plen;
-    uint64_t nv, ns, nt, nl, hash;
-    size_t textured = 0;
-    relief_status st;
-
+    uint64_t hash;
     if (!get(r, magic, 8) || memcmp(magic, MAGIC, 8) != 0)
         return relief_fail(err, RELIEF_E_PARSE, "%s: not a relief checkpoint (no '%s' magic)",
                            path, MAGIC);
@@ -485,62 +484,71 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
                            "with the same parameters (checkpoint: %s)",
                            path, theirs, ours, params);
     }
-    nv = get_u64(r);
-    ns = get_u64(r);
-    if (r->short_read || ns > nv || nv > UINT32_MAX)
-        return relief_fail(err, RELIEF_E_PARSE, "%s: bad vertex counts %llu (%llu samples)",
-                           path, (unsigned long long)nv, (unsigned long long)ns);
-    nt = nv - ns;
-    g->nv = (size_t)nv;
-    g->n_samples = (size_t)ns;
-    {
-        const uint32_t has_col = get_u32(r);
-        /* The arrays must fit in what is left before they are allocated. */
-        const size_t need = (size_t)nt * (1 + 4 + 24 + 12 + (has_col ? 12 : 0) + 4);
-        if (has_col > 1 || r->short_read || need > r->n - r->at)
+    return RELIEF_OK;
+}
+
+/* The nt targets' state (after the ns samples): textured flags, windows,
+ * displacements, colours, the mesh's colours when it has them, sources;
+ * *textured counts the textured targets. */
+static relief_status parse_targets(const char *path, reader *r, relief_checkpoint *c,
+                                   uint64_t ns, uint64_t nt, size_t *textured,
+                                   relief_error *err)
+{
+    const uint32_t has_col = get_u32(r);
+    /* The arrays must fit in what is left before they are allocated. */
+    const size_t need = (size_t)nt * (1 + 4 + 24 + 12 + (has_col ? 12 : 0) + 4);
+    if (has_col > 1 || r->short_read || need > r->n - r->at)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s: checkpoint is truncated: %llu targets need %zu bytes",
+                           path, (unsigned long long)nt, need);
+    c->textured = malloc(nt + 1);
+    c->window = malloc((nt + 1) * sizeof *c->window);
+    c->disp = malloc((nt + 1) * 3 * sizeof *c->disp);
+    c->colour = malloc((nt + 1) * 3 * sizeof *c->colour);
+    c->mesh_colour = has_col ? malloc((nt + 1) * 3 * sizeof *c->mesh_colour) : NULL;
+    c->source = malloc((nt + 1) * sizeof *c->source);
+    if (!c->textured || !c->window || !c->disp || !c->colour ||
+        (has_col && !c->mesh_colour) || !c->source)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint",
+                           path);
+    get(r, c->textured, nt);
+    for (size_t i = 0; i < nt; ++i) {
+        const uint32_t w = get_u32(r);
+        if (c->textured[i] > 1 || w < 1 || w > 16)
             return relief_fail(err, RELIEF_E_PARSE,
-                               "%s: checkpoint is truncated: %llu targets need %zu bytes",
-                               path, (unsigned long long)nt, need);
-        c->textured = malloc(nt + 1);
-        c->window = malloc((nt + 1) * sizeof *c->window);
-        c->disp = malloc((nt + 1) * 3 * sizeof *c->disp);
-        c->colour = malloc((nt + 1) * 3 * sizeof *c->colour);
-        c->mesh_colour = has_col ? malloc((nt + 1) * 3 * sizeof *c->mesh_colour) : NULL;
-        c->source = malloc((nt + 1) * sizeof *c->source);
-        if (!c->textured || !c->window || !c->disp || !c->colour ||
-            (has_col && !c->mesh_colour) || !c->source)
-            return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint",
-                               path);
-        get(r, c->textured, nt);
-        for (size_t i = 0; i < nt; ++i) {
-            const uint32_t w = get_u32(r);
-            if (c->textured[i] > 1 || w < 1 || w > 16)
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s: target %zu: textured flag %u or window %u out of "
-                                   "range",
-                                   path, (size_t)ns + i, c->textured[i], w);
-            c->window[i] = (int)w;
-            textured += c->textured[i];
-        }
-        get(r, c->disp, nt * 3 * sizeof *c->disp);
-        get(r, c->colour, nt * 3 * sizeof *c->colour);
-        if (has_col)
-            get(r, c->mesh_colour, nt * 3 * sizeof *c->mesh_colour);
-        get(r, c->source, nt * sizeof *c->source);
-        for (size_t i = 0; i < nt; ++i)
-            if ((c->source[i] == UINT32_MAX) != !c->textured[i])
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s: target %zu: source %u for a%s target", path,
-                                   (size_t)ns + i, c->source[i],
-                                   c->textured[i] ? " textured" : "n untextured");
-        for (size_t i = 0; i < 3 * nt; ++i)
-            if (!isfinite(c->disp[i]) || !isfinite(c->colour[i]) ||
-                (has_col && !isfinite(c->mesh_colour[i])))
-                return relief_fail(err, RELIEF_E_PARSE,
-                                   "%s: target %zu: displacement or colour is not finite",
-                                   path, (size_t)ns + i / 3);
+                               "%s: target %zu: textured flag %u or window %u out of "
+                               "range",
+                               path, (size_t)ns + i, c->textured[i], w);
+        c->window[i] = (int)w;
+        *textured += c->textured[i];
     }
-    nl = get_u64(r);
+    get(r, c->disp, nt * 3 * sizeof *c->disp);
+    get(r, c->colour, nt * 3 * sizeof *c->colour);
+    if (has_col)
+        get(r, c->mesh_colour, nt * 3 * sizeof *c->mesh_colour);
+    get(r, c->source, nt * sizeof *c->source);
+    for (size_t i = 0; i < nt; ++i)
+        if ((c->source[i] == UINT32_MAX) != !c->textured[i])
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s: target %zu: source %u for a%s target", path,
+                               (size_t)ns + i, c->source[i],
+                               c->textured[i] ? " textured" : "n untextured");
+    for (size_t i = 0; i < 3 * nt; ++i)
+        if (!isfinite(c->disp[i]) || !isfinite(c->colour[i]) ||
+            (has_col && !isfinite(c->mesh_colour[i])))
+            return relief_fail(err, RELIEF_E_PARSE,
+                               "%s: target %zu: displacement or colour is not finite",
+                               path, (size_t)ns + i / 3);
+    return RELIEF_OK;
+}
+
+/* The pass under way: its boundary list (of nl targets) and the position
+ * of the next one in it. */
+static relief_status parse_list(const char *path, reader *r, relief_checkpoint *c, uint64_t nv,
+                                uint64_t ns, uint64_t nt, relief_error *err)
+{
+    relief_grow_state *g = &c->state;
+    const uint64_t nl = get_u64(r);
     if (r->short_read || nl > nt || nl * 4 > r->n - r->at)
         return relief_fail(err, RELIEF_E_PARSE, "%s: boundary list of %llu targets is "
                            "malformed", path, (unsigned long long)nl);
@@ -558,6 +566,54 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
                                "%s: boundary list entry %zu (vertex %u) is not an "
                                "untextured target",
                                path, i, c->list[i]);
+    return RELIEF_OK;
+}
+
+/* What the whole record must agree on, once read: the pass's position and
+ * counts, the threshold and random state, the figures against the targets
+ * (nt, of which `textured` textured). */
+static relief_status parse_check(const char *path, const relief_grow_state *g, uint64_t nt,
+                                 size_t textured, relief_error *err)
+{
+    const size_t nl = g->n_list;
+    if ((nl > 0 && g->next >= nl) || (nl == 0 && g->next != 0) || g->pass_any_valid > 1 ||
+        g->pass_all_min_window > 1 || g->pass_accepted > textured)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: pass position %zu of %llu is malformed",
+                           path, g->next, (unsigned long long)nl);
+    if (!(g->error > 0.0) || !isfinite(g->error) || g->rng.index < 0 || g->rng.index > 624)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: threshold %g or random state is "
+                           "malformed", path, g->error);
+    if (g->stats.targets != nt || g->stats.acceptances != textured)
+        return relief_fail(err, RELIEF_E_PARSE,
+                           "%s: counts disagree: %zu targets and %zu acceptances, but %llu "
+                           "targets of which %zu textured",
+                           path, g->stats.targets, g->stats.acceptances,
+                           (unsigned long long)nt, textured);
+    return RELIEF_OK;
+}
+
+static relief_status parse(const char *path, reader *r, const relief_checkpoint_key *key,
+                           relief_checkpoint *c, relief_error *err)
+{
+    relief_grow_state *g = &c->state;
+    uint64_t nv, ns, nt;
+    size_t textured = 0;
+    relief_status st = parse_head(path, r, key, err);
+    if (st != RELIEF_OK)
+        return st;
+    nv = get_u64(r);
+    ns = get_u64(r);
+    if (r->short_read || ns > nv || nv > UINT32_MAX)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: bad vertex counts %llu (%llu samples)",
+                           path, (unsigned long long)nv, (unsigned long long)ns);
+    nt = nv - ns;
+    g->nv = (size_t)nv;
+    g->n_samples = (size_t)ns;
+    st = parse_targets(path, r, c, ns, nt, &textured, err);
+    if (st == RELIEF_OK)
+        st = parse_list(path, r, c, nv, ns, nt, err);
+    if (st != RELIEF_OK)
+        return st;
     g->pass_accepted = (size_t)get_u64(r);
     g->pass_any_valid = (int)get_u32(r);
     g->pass_all_min_window = (int)get_u32(r);
@@ -575,19 +631,9 @@ static relief_status parse(const char *path, reader *r, const relief_checkpoint_
     if (r->short_read || r->at != r->n)
         return relief_fail(err, RELIEF_E_PARSE, "%s: checkpoint is %s", path,
                            r->short_read ? "truncated" : "longer than its content");
-    if ((nl > 0 && g->next >= nl) || (nl == 0 && g->next != 0) || g->pass_any_valid > 1 ||
-        g->pass_all_min_window > 1 || g->pass_accepted > textured)
-        return relief_fail(err, RELIEF_E_PARSE, "%s: pass position %zu of %llu is malformed",
-                           path, g->next, (unsigned long long)nl);
-    if (!(g->error > 0.0) || !isfinite(g->error) || g->rng.index < 0 || g->rng.index > 624)
-        return relief_fail(err, RELIEF_E_PARSE, "%s: threshold %g or random state is "
-                           "malformed", path, g->error);
-    if (g->stats.targets != nt || g->stats.acceptances != textured)
-        return relief_fail(err, RELIEF_E_PARSE,
-                           "%s: counts disagree: %zu targets and %zu acceptances, but %llu "
-                           "targets of which %zu textured",
-                           path, g->stats.targets, g->stats.acceptances,
-                           (unsigned long long)nt, textured);
+    st = parse_check(path, g, nt, textured, err);
+    if (st != RELIEF_OK)
+        return st;
     g->textured = c->textured;
     g->window = c->window;
     g->disp = c->disp;
