@@ -217,43 +217,17 @@ static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
     return RELIEF_OK;
 }
 
-/* One 1-to-4 pass of src into a new mesh carrying `attrs` (src's normals and
- * labels are propagated when both carry them; colour is left zero for the
- * caller), the new vertices placed by `scheme`. When `edge_len` is not NULL
- * it receives the length of each distinct edge of src (malloc'd, *n_edges
- * entries). */
-static relief_status split_once(const relief_mesh *src, unsigned attrs, int scheme,
-                                relief_mesh **dst, double **edge_len,
-                                size_t *n_edges, relief_error *err)
+/* The distinct edges of src's 3 nt slots: edge[s] gets the first slot of
+ * s's edge, and the count of edges is returned. Counting sort of the slots
+ * by smaller endpoint, then each bucket by (larger endpoint, slot): a run of
+ * equal pairs is one edge and its first entry is the edge's first
+ * appearance. Linear memory, no hashing, and the same order on every
+ * platform. off: nv + 1 zeros; ref: 3 nt scratch. */
+static size_t find_edges(const relief_mesh *src, uint32_t *off, slot_ref *ref, uint32_t *edge)
 {
-    const size_t nv = src->nv, nt = src->nt;
+    const size_t nv = src->nv, ns = 3 * src->nt;
     const uint32_t *tri = src->tri;
-    uint32_t *off = NULL, *edge = NULL;
-    slot_ref *ref = NULL;
-    double *len = NULL;
-    relief_mesh *m = NULL;
-    relief_status st = RELIEF_OK;
-    size_t ns, ne = 0;
-
-    /* Slots are numbered in uint32; 4 nt children must fit too. */
-    if (nt > UINT32_MAX / 4)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "cannot oversample %zu triangles: at most %u are "
-                           "supported per pass", nt, (unsigned)(UINT32_MAX / 4));
-    ns = 3 * nt;
-    off = calloc(nv + 1, sizeof *off);
-    ref = malloc(ns * sizeof *ref);
-    edge = malloc(ns * sizeof *edge);
-    if (!off || !ref || !edge) {
-        st = relief_fail(err, RELIEF_E_NOMEM,
-                         "cannot allocate the edge table of %zu triangles", nt);
-        goto done;
-    }
-
-    /* Counting sort of the slots by smaller endpoint, then each bucket by
-     * (larger endpoint, slot): a run of equal pairs is one edge and its
-     * first entry is the edge's first appearance. Linear memory, no
-     * hashing, and the same order on every platform. */
+    size_t ne = 0;
     for (size_t s = 0; s < ns; ++s) {
         uint32_t a = tri[s], b = slot_end(tri, s);
         ++off[(a < b ? a : b) + 1];
@@ -282,7 +256,95 @@ static relief_status split_once(const relief_mesh *src, unsigned attrs, int sche
     }
     for (size_t s = 0; s < ns; ++s)
         ne += edge[s] == s;
+    return ne;
+}
 
+/* The new vertex of each edge at its midpoint, in m after src's nv, with
+ * its normal and label; len (NULL, or one per edge) gets each edge's
+ * length. edge[s] holds the first slot of s's edge, which is <= s, so
+ * walking the slots in order meets every edge's first slot before its
+ * others and can overwrite edge[] in place with dense edge ids. */
+static void place_midpoints(const relief_mesh *src, uint32_t *edge, relief_mesh *m, double *len)
+{
+    const size_t nv = src->nv, ns = 3 * src->nt;
+    const uint32_t *tri = src->tri;
+    size_t next = 0;
+    for (size_t s = 0; s < ns; ++s) {
+        uint32_t a, b, lo, hi;
+        size_t e, v;
+        const double *pa, *pb;
+        double *q;
+
+        if (edge[s] != s) {
+            edge[s] = edge[edge[s]];
+            continue;
+        }
+        e = next++;
+        edge[s] = (uint32_t)e;
+        a = tri[s];
+        b = slot_end(tri, s);
+        lo = a < b ? a : b;
+        hi = a < b ? b : a;
+        v = nv + e;
+        pa = src->pos + 3 * (size_t)lo;
+        pb = src->pos + 3 * (size_t)hi;
+        q = m->pos + 3 * v;
+        for (int c = 0; c < 3; ++c)
+            q[c] = 0.5 * (pa[c] + pb[c]);
+        if (len) {
+            double d0 = pb[0] - pa[0], d1 = pb[1] - pa[1], d2 = pb[2] - pa[2];
+            len[e] = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+        }
+        if (m->nrm && src->nrm) {
+            const double *na = src->nrm + 3 * (size_t)lo;
+            const double *nb = src->nrm + 3 * (size_t)hi;
+            double *n = m->nrm + 3 * v, l;
+            for (int c = 0; c < 3; ++c)
+                n[c] = na[c] + nb[c];
+            l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int c = 0; c < 3; ++c)
+                n[c] = l > 0.0 ? n[c] / l : na[c];
+        }
+        if (m->label && src->label)
+            m->label[v] = src->label[lo] == src->label[hi]
+                              ? src->label[lo]
+                              : (uint8_t)RELIEF_LABEL_CAPTURED;
+    }
+}
+
+/* One 1-to-4 pass of src into a new mesh carrying `attrs` (src's normals and
+ * labels are propagated when both carry them; colour is left zero for the
+ * caller), the new vertices placed by `scheme`. When `edge_len` is not NULL
+ * it receives the length of each distinct edge of src (malloc'd, *n_edges
+ * entries). */
+static relief_status split_once(const relief_mesh *src, unsigned attrs, int scheme,
+                                relief_mesh **dst, double **edge_len,
+                                size_t *n_edges, relief_error *err)
+{
+    const size_t nv = src->nv, nt = src->nt;
+    const uint32_t *tri = src->tri;
+    uint32_t *off = NULL, *edge = NULL;
+    slot_ref *ref = NULL;
+    double *len = NULL;
+    relief_mesh *m = NULL;
+    relief_status st = RELIEF_OK;
+    size_t ns, ne;
+
+    /* Slots are numbered in uint32; 4 nt children must fit too. */
+    if (nt > UINT32_MAX / 4)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "cannot oversample %zu triangles: at most %u are "
+                           "supported per pass", nt, (unsigned)(UINT32_MAX / 4));
+    ns = 3 * nt;
+    off = calloc(nv + 1, sizeof *off);
+    ref = malloc(ns * sizeof *ref);
+    edge = malloc(ns * sizeof *edge);
+    if (!off || !ref || !edge) {
+        st = relief_fail(err, RELIEF_E_NOMEM,
+                         "cannot allocate the edge table of %zu triangles", nt);
+        goto done;
+    }
+    ne = find_edges(src, off, ref, edge);
     if (ne > (size_t)UINT32_MAX - nv) {
         st = relief_fail(err, RELIEF_E_RANGE,
                          "oversampling %zu vertices and %zu edges gives more "
@@ -305,61 +367,13 @@ static relief_status split_once(const relief_mesh *src, unsigned attrs, int sche
         memcpy(m->nrm, src->nrm, nv * 3 * sizeof *m->nrm);
     if (m->label && src->label)
         memcpy(m->label, src->label, nv);
-
-    /* edge[s] holds the first slot of s's edge, which is <= s, so walking
-     * the slots in order meets every edge's first slot before its others and
-     * can overwrite edge[] in place with dense edge ids. */
-    {
-        size_t next = 0;
-        for (size_t s = 0; s < ns; ++s) {
-            uint32_t a, b, lo, hi;
-            size_t e, v;
-            const double *pa, *pb;
-            double *q;
-
-            if (edge[s] != s) {
-                edge[s] = edge[edge[s]];
-                continue;
-            }
-            e = next++;
-            edge[s] = (uint32_t)e;
-            a = tri[s];
-            b = slot_end(tri, s);
-            lo = a < b ? a : b;
-            hi = a < b ? b : a;
-            v = nv + e;
-            pa = src->pos + 3 * (size_t)lo;
-            pb = src->pos + 3 * (size_t)hi;
-            q = m->pos + 3 * v;
-            for (int c = 0; c < 3; ++c)
-                q[c] = 0.5 * (pa[c] + pb[c]);
-            if (len) {
-                double d0 = pb[0] - pa[0], d1 = pb[1] - pa[1], d2 = pb[2] - pa[2];
-                len[e] = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-            }
-            if (m->nrm && src->nrm) {
-                const double *na = src->nrm + 3 * (size_t)lo;
-                const double *nb = src->nrm + 3 * (size_t)hi;
-                double *n = m->nrm + 3 * v, l;
-                for (int c = 0; c < 3; ++c)
-                    n[c] = na[c] + nb[c];
-                l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-                for (int c = 0; c < 3; ++c)
-                    n[c] = l > 0.0 ? n[c] / l : na[c];
-            }
-            if (m->label && src->label)
-                m->label[v] = src->label[lo] == src->label[hi]
-                                  ? src->label[lo]
-                                  : (uint8_t)RELIEF_LABEL_CAPTURED;
-        }
-    }
-
+    place_midpoints(src, edge, m, len);
     if (scheme == RELIEF_OVERSAMPLE_BUTTERFLY) {
         st = butterfly(src, edge, ne, m, err);
         if (st != RELIEF_OK)
             goto done;
     }
-
+    /* Each triangle's four children, on its corners and edges' vertices. */
     for (size_t t = 0; t < nt; ++t) {
         const uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
         const uint32_t ab = (uint32_t)(nv + edge[3 * t]);
