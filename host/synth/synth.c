@@ -333,116 +333,85 @@ static size_t edge_point(const int edge[30][2], int P, int Q, size_t pos, size_t
     return v0_edges + (size_t)e * (f - 1) + (at - 1);
 }
 
-/* Geodesic icosphere of frequency f: every icosahedron face cut into f^2
- * triangles, 10 f^2 + 2 vertices. Points on a shared edge are computed from
- * the edge's lower-numbered end, so both faces agree to the bit. */
-static int make_sphere(base_mesh *b, size_t target_nv)
-{
-    static const double t = 1.6180339887498949;
-    static const double ico[12][3] = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0},
-                                      {0, -1, t}, {0, 1, t},  {0, -1, -t}, {0, 1, -t},
-                                      {t, 0, -1}, {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-    static const int face[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10},
+/* The icosahedron the icosphere starts from: its 12 corners (unnormalised)
+ * and 20 faces. */
+#define ICO_T 1.6180339887498949
+static const double ico_corner[12][3] = {
+    {-1, ICO_T, 0}, {1, ICO_T, 0},  {-1, -ICO_T, 0}, {1, -ICO_T, 0},
+    {0, -1, ICO_T}, {0, 1, ICO_T},  {0, -1, -ICO_T}, {0, 1, -ICO_T},
+    {ICO_T, 0, -1}, {ICO_T, 0, 1},  {-ICO_T, 0, -1}, {-ICO_T, 0, 1}};
+static const int ico_face[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10},
                                     {0, 10, 11}, {1, 5, 9}, {5, 11, 4},  {11, 10, 2},
                                     {10, 7, 6}, {7, 1, 8},  {3, 9, 4},   {3, 4, 2},
                                     {3, 2, 6},  {3, 6, 8},  {3, 8, 9},   {4, 9, 5},
                                     {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-    int edge[30][2], ne = 0;
-    size_t f = (size_t)floor(sqrt(((double)target_nv - 2.0) / 10.0) + 0.5);
-    size_t per_edge, per_face, v0_edges, v0_faces;
 
-    if (f < 1)
-        f = 1;
-    per_edge = f - 1;
-    per_face = f >= 3 ? (f - 1) * (f - 2) / 2 : 0;
-    v0_edges = 12;
-    v0_faces = v0_edges + 30 * per_edge;
-    if (!base_alloc(b, 10 * f * f + 2, 20 * f * f))
+/* Point idx of b: (x, y, z) put on the unit sphere. */
+static void set_unit(base_mesh *b, size_t idx, double x, double y, double z)
+{
+    double l = sqrt(x * x + y * y + z * z);
+    b->p[3 * idx] = x / l, b->p[3 * idx + 1] = y / l, b->p[3 * idx + 2] = z / l;
+}
+
+/* Face fi of the icosahedron cut into f^2 triangles, appended to b->tri
+ * at *nt: its corners and edge points are shared (edge_point), its inner
+ * points are its own, numbered from v0_faces + fi per_face. 0 when out of
+ * memory. */
+static int sphere_face(base_mesh *b, const int edge[30][2], int fi, size_t f, size_t v0_edges,
+                       size_t v0_faces, size_t per_face, size_t *nt)
+{
+    const int A = ico_face[fi][0], B = ico_face[fi][1], C = ico_face[fi][2];
+    const double(*ico)[3] = ico_corner;
+    size_t local = 0;
+    size_t *idx = malloc((f + 1) * (f + 1) * sizeof *idx);
+    if (!idx)
         return 0;
-
-    for (int fi = 0; fi < 20; ++fi)
-        for (int k = 0; k < 3; ++k) {
-            int a = face[fi][k], c = face[fi][(k + 1) % 3], lo = a < c ? a : c,
-                hi = a < c ? c : a, e;
-            for (e = 0; e < ne; ++e)
-                if (edge[e][0] == lo && edge[e][1] == hi)
-                    break;
-            if (e == ne)
-                edge[ne][0] = lo, edge[ne][1] = hi, ++ne;
-        }
-
-#define SET_POINT(idx, x, y, z)                                          \
-    do {                                                                 \
-        double l_ = sqrt((x) * (x) + (y) * (y) + (z) * (z));             \
-        b->p[3 * (idx)] = (x) / l_, b->p[3 * (idx) + 1] = (y) / l_,      \
-        b->p[3 * (idx) + 2] = (z) / l_;                                  \
-    } while (0)
-    for (int v = 0; v < 12; ++v)
-        SET_POINT(v, ico[v][0], ico[v][1], ico[v][2]);
-    for (int e = 0; e < 30; ++e)
-        for (size_t k = 1; k < f; ++k) {
-            const double *a = ico[edge[e][0]], *c = ico[edge[e][1]];
-            double s = (double)k / (double)f;
-            SET_POINT(v0_edges + (size_t)e * per_edge + (k - 1), a[0] + (c[0] - a[0]) * s,
-                      a[1] + (c[1] - a[1]) * s, a[2] + (c[2] - a[2]) * s);
-        }
-
-    size_t nt = 0;
-    for (int fi = 0; fi < 20; ++fi) {
-        const int A = face[fi][0], B = face[fi][1], C = face[fi][2];
-        size_t local = 0;
-        size_t *idx = malloc((f + 1) * (f + 1) * sizeof *idx);
-        if (!idx)
-            return 0;
-        for (size_t j = 0; j <= f; ++j)
-            for (size_t k = 0; j + k <= f; ++k) {
-                size_t i = f - j - k, id;
-                if (j == 0 && k == 0)
-                    id = (size_t)A;
-                else if (j == f)
-                    id = (size_t)B;
-                else if (k == f)
-                    id = (size_t)C;
-                else if (k == 0)
-                    id = edge_point(edge, A, B, j, f, v0_edges);
-                else if (j == 0)
-                    id = edge_point(edge, A, C, k, f, v0_edges);
-                else if (i == 0)
-                    id = edge_point(edge, B, C, k, f, v0_edges);
-                else {
-                    id = v0_faces + (size_t)fi * per_face + local++;
-                    SET_POINT(id,
-                              ((double)i * ico[A][0] + (double)j * ico[B][0] + (double)k * ico[C][0]),
-                              ((double)i * ico[A][1] + (double)j * ico[B][1] + (double)k * ico[C][1]),
-                              ((double)i * ico[A][2] + (double)j * ico[B][2] + (double)k * ico[C][2]));
-                }
-                idx[j * (f + 1) + k] = id;
+    for (size_t j = 0; j <= f; ++j)
+        for (size_t k = 0; j + k <= f; ++k) {
+            size_t i = f - j - k, id;
+            if (j == 0 && k == 0)
+                id = (size_t)A;
+            else if (j == f)
+                id = (size_t)B;
+            else if (k == f)
+                id = (size_t)C;
+            else if (k == 0)
+                id = edge_point(edge, A, B, j, f, v0_edges);
+            else if (j == 0)
+                id = edge_point(edge, A, C, k, f, v0_edges);
+            else if (i == 0)
+                id = edge_point(edge, B, C, k, f, v0_edges);
+            else {
+                id = v0_faces + (size_t)fi * per_face + local++;
+                set_unit(b, id,
+                         ((double)i * ico[A][0] + (double)j * ico[B][0] + (double)k * ico[C][0]),
+                         ((double)i * ico[A][1] + (double)j * ico[B][1] + (double)k * ico[C][1]),
+                         ((double)i * ico[A][2] + (double)j * ico[B][2] + (double)k * ico[C][2]));
             }
-        for (size_t j = 0; j < f; ++j)
-            for (size_t k = 0; j + k < f; ++k) {
-                b->tri[3 * nt] = (uint32_t)idx[j * (f + 1) + k];
-                b->tri[3 * nt + 1] = (uint32_t)idx[(j + 1) * (f + 1) + k];
-                b->tri[3 * nt + 2] = (uint32_t)idx[j * (f + 1) + k + 1];
-                ++nt;
-                if (j + k + 1 < f) {
-                    b->tri[3 * nt] = (uint32_t)idx[(j + 1) * (f + 1) + k];
-                    b->tri[3 * nt + 1] = (uint32_t)idx[(j + 1) * (f + 1) + k + 1];
-                    b->tri[3 * nt + 2] = (uint32_t)idx[j * (f + 1) + k + 1];
-                    ++nt;
-                }
+            idx[j * (f + 1) + k] = id;
+        }
+    for (size_t j = 0; j < f; ++j)
+        for (size_t k = 0; j + k < f; ++k) {
+            b->tri[3 * *nt] = (uint32_t)idx[j * (f + 1) + k];
+            b->tri[3 * *nt + 1] = (uint32_t)idx[(j + 1) * (f + 1) + k];
+            b->tri[3 * *nt + 2] = (uint32_t)idx[j * (f + 1) + k + 1];
+            ++*nt;
+            if (j + k + 1 < f) {
+                b->tri[3 * *nt] = (uint32_t)idx[(j + 1) * (f + 1) + k];
+                b->tri[3 * *nt + 1] = (uint32_t)idx[(j + 1) * (f + 1) + k + 1];
+                b->tri[3 * *nt + 2] = (uint32_t)idx[j * (f + 1) + k + 1];
+                ++*nt;
             }
-        free(idx);
-    }
-#undef SET_POINT
-    b->nt = nt;
-    for (size_t v = 0; v < b->nv; ++v) {
-        memcpy(b->n + 3 * v, b->p + 3 * v, 3 * sizeof(double));
-        b->uv[2 * v] = atan2(b->p[3 * v + 1], b->p[3 * v]);
-        b->uv[2 * v + 1] = b->p[3 * v + 2];
-    }
-    /* The icosahedron's face list is not consistently wound: make every
-     * triangle counter-clockwise seen from outside. */
-    for (size_t tt = 0; tt < nt; ++tt) {
+        }
+    free(idx);
+    return 1;
+}
+
+/* The icosahedron's face list is not consistently wound: make every
+ * triangle counter-clockwise seen from outside. */
+static void wind_outwards(base_mesh *b)
+{
+    for (size_t tt = 0; tt < b->nt; ++tt) {
         uint32_t *q = b->tri + 3 * tt;
         const double *a = b->p + 3 * q[0], *c1 = b->p + 3 * q[1], *c2 = b->p + 3 * q[2];
         double e1[3], e2[3], n[3];
@@ -457,6 +426,55 @@ static int make_sphere(base_mesh *b, size_t target_nv)
             q[2] = tmp;
         }
     }
+}
+
+/* Geodesic icosphere of frequency f: every icosahedron face cut into f^2
+ * triangles, 10 f^2 + 2 vertices. Points on a shared edge are computed from
+ * the edge's lower-numbered end, so both faces agree to the bit. */
+static int make_sphere(base_mesh *b, size_t target_nv)
+{
+    int edge[30][2], ne = 0;
+    size_t f = (size_t)floor(sqrt(((double)target_nv - 2.0) / 10.0) + 0.5);
+    size_t per_edge, per_face, v0_edges, v0_faces, nt = 0;
+
+    if (f < 1)
+        f = 1;
+    per_edge = f - 1;
+    per_face = f >= 3 ? (f - 1) * (f - 2) / 2 : 0;
+    v0_edges = 12;
+    v0_faces = v0_edges + 30 * per_edge;
+    if (!base_alloc(b, 10 * f * f + 2, 20 * f * f))
+        return 0;
+
+    for (int fi = 0; fi < 20; ++fi)
+        for (int k = 0; k < 3; ++k) {
+            int a = ico_face[fi][k], c = ico_face[fi][(k + 1) % 3], lo = a < c ? a : c,
+                hi = a < c ? c : a, e;
+            for (e = 0; e < ne; ++e)
+                if (edge[e][0] == lo && edge[e][1] == hi)
+                    break;
+            if (e == ne)
+                edge[ne][0] = lo, edge[ne][1] = hi, ++ne;
+        }
+    for (int v = 0; v < 12; ++v)
+        set_unit(b, (size_t)v, ico_corner[v][0], ico_corner[v][1], ico_corner[v][2]);
+    for (int e = 0; e < 30; ++e)
+        for (size_t k = 1; k < f; ++k) {
+            const double *a = ico_corner[edge[e][0]], *c = ico_corner[edge[e][1]];
+            double s = (double)k / (double)f;
+            set_unit(b, v0_edges + (size_t)e * per_edge + (k - 1), a[0] + (c[0] - a[0]) * s,
+                     a[1] + (c[1] - a[1]) * s, a[2] + (c[2] - a[2]) * s);
+        }
+    for (int fi = 0; fi < 20; ++fi)
+        if (!sphere_face(b, (const int(*)[2])edge, fi, f, v0_edges, v0_faces, per_face, &nt))
+            return 0;
+    b->nt = nt;
+    for (size_t v = 0; v < b->nv; ++v) {
+        memcpy(b->n + 3 * v, b->p + 3 * v, 3 * sizeof(double));
+        b->uv[2 * v] = atan2(b->p[3 * v + 1], b->p[3 * v]);
+        b->uv[2 * v + 1] = b->p[3 * v + 2];
+    }
+    wind_outwards(b);
     return 1;
 }
 
@@ -521,19 +539,9 @@ static int captured(relief_synth_kind kind, const double p[3], const double n[3]
     return n[0] > cos(VIEW_HALF_ANGLE * RELIEF_PI / 180.0);
 }
 
-relief_status relief_synth(const relief_synth_params *params, relief_mesh **captured_out,
-                           relief_mesh **truth_out, relief_error *err)
+/* The parameters' ranges: the kind, the vertex count and the noise. */
+static relief_status synth_check(const relief_synth_params *params, relief_error *err)
 {
-    relief_field field;
-    base_mesh b;
-    relief_rng rng;
-    relief_mesh *truth = NULL, *cap = NULL;
-    uint8_t *keep = NULL;
-    uint32_t *remap = NULL;
-    double *h = NULL;
-    relief_status st = RELIEF_OK;
-    int ok;
-
     if (!params)
         return relief_fail(err, RELIEF_E_USAGE, "relief_synth: params is NULL");
     if ((unsigned)params->kind >= RELIEF_SYNTH_KIND_COUNT)
@@ -548,45 +556,116 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
                            "noise %g out of range: expected 0..0.1 (fraction of the "
                            "primitive's size)",
                            params->noise);
+    return RELIEF_OK;
+}
 
-    memset(&field, 0, sizeof field);
-    memset(&b, 0, sizeof b);
-    field.kind = params->kind;
-    relief_rng_seed(&rng, params->seed);
+/* The kind's base mesh and relief field, drawn from rng in a fixed order;
+ * 0 when out of memory. */
+static int synth_base(const relief_synth_params *params, relief_field *field, base_mesh *b,
+                      relief_rng *rng)
+{
+    int ok;
+    field->kind = params->kind;
     switch (params->kind) {
     case RELIEF_SYNTH_PLANE_WAVES:
-        ok = make_plane(&b, params->vertices);
+        ok = make_plane(b, params->vertices);
         break;
     case RELIEF_SYNTH_PLANE_NOISE:
-        ok = make_plane(&b, params->vertices) && make_pebbles(&field, &rng);
+        ok = make_plane(b, params->vertices) && make_pebbles(field, rng);
         break;
     case RELIEF_SYNTH_CYLINDER_BANDS:
     case RELIEF_SYNTH_CYLINDER_BARK:
-        ok = make_cylinder(&b, params->vertices);
+        ok = make_cylinder(b, params->vertices);
         if (params->kind == RELIEF_SYNTH_CYLINDER_BARK)
-            make_meander(field.w, &rng);
+            make_meander(field->w, rng);
         else
-            make_waves(field.w, &rng, 0.35, 0.9, 1);
+            make_waves(field->w, rng, 0.35, 0.9, 1);
         break;
     default:
-        ok = make_sphere(&b, params->vertices) && make_dimples(&field, &rng);
+        ok = make_sphere(b, params->vertices) && make_dimples(field, rng);
         break;
     }
-    make_waves(field.cw, &rng, 0.1, 0.3, params->kind == RELIEF_SYNTH_CYLINDER_BANDS ||
-                                             params->kind == RELIEF_SYNTH_CYLINDER_BARK);
-    field.norm = 1.0 / sqrt(N_WAVES / 2.0);
+    make_waves(field->cw, rng, 0.1, 0.3, params->kind == RELIEF_SYNTH_CYLINDER_BANDS ||
+                                            params->kind == RELIEF_SYNTH_CYLINDER_BARK);
+    field->norm = 1.0 / sqrt(N_WAVES / 2.0);
     /* plane-noise's colour follows its height alone: colour takes half of
      * a match's weight, and with the other kinds' variation (0.06) as well
      * its colour completions at 2000 vertices over seeds 1 to 8 differed in
      * MSI by up to 6.2 %, against 4.1 % without (the truth's own parts
      * differ by up to 4.8 %). The other kinds keep the variation. */
-    field.colour_var = params->kind == RELIEF_SYNTH_PLANE_NOISE ? 0.0 : 0.06;
-    if (!ok) {
+    field->colour_var = params->kind == RELIEF_SYNTH_PLANE_NOISE ? 0.0 : 0.06;
+    return ok;
+}
+
+/* The truth: the base displaced by the field's heights (h, nv), labelled
+ * by what the scanner sees (keep, nv), coloured by height when asked. */
+static void synth_truth(const relief_synth_params *params, const relief_field *field,
+                        const base_mesh *b, relief_mesh *truth, uint8_t *keep, double *h)
+{
+    double hmin = INFINITY, hmax = -INFINITY;
+    for (size_t v = 0; v < b->nv; ++v) {
+        h[v] = relief_height(field, b->p + 3 * v, b->uv[2 * v], b->uv[2 * v + 1]);
+        hmin = h[v] < hmin ? h[v] : hmin;
+        hmax = h[v] > hmax ? h[v] : hmax;
+        keep[v] = (uint8_t)captured(params->kind, b->p + 3 * v, b->n + 3 * v);
+        truth->label[v] = keep[v] ? RELIEF_LABEL_CAPTURED : RELIEF_LABEL_COMPLETED;
+        for (int k = 0; k < 3; ++k)
+            truth->pos[3 * v + k] = b->p[3 * v + k] + h[v] * b->n[3 * v + k];
+    }
+    if (params->colour)
+        for (size_t v = 0; v < b->nv; ++v) {
+            double t = hmax > hmin ? (h[v] - hmin) / (hmax - hmin) : 0.5;
+            double var = field->norm * wave_sum(field->cw, b->uv[2 * v], b->uv[2 * v + 1]);
+            relief_colour(field, t, var, truth->col + 3 * v);
+        }
+}
+
+/* The capture: the truth's kept vertices, with scanner noise along the
+ * normal drawn from rng; remap: nv scratch. */
+static relief_status synth_capture(const relief_synth_params *params, const base_mesh *b,
+                                   const relief_mesh *truth, const uint8_t *keep,
+                                   uint32_t *remap, relief_rng *rng, relief_mesh **cap,
+                                   relief_error *err)
+{
+    relief_status st = relief_mesh_subset(truth, keep, cap, remap, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (params->noise > 0.0)
+        for (size_t v = 0; v < b->nv; ++v) {
+            double d;
+            if (remap[v] == UINT32_MAX)
+                continue;
+            d = params->noise * relief_rng_normal(rng);
+            for (int k = 0; k < 3; ++k)
+                (*cap)->pos[3 * (size_t)remap[v] + k] += d * b->n[3 * v + k];
+        }
+    for (size_t v = 0; v < (*cap)->nv; ++v)
+        (*cap)->label[v] = RELIEF_LABEL_CAPTURED;
+    return RELIEF_OK;
+}
+
+relief_status relief_synth(const relief_synth_params *params, relief_mesh **captured_out,
+                           relief_mesh **truth_out, relief_error *err)
+{
+    relief_field field;
+    base_mesh b;
+    relief_rng rng;
+    relief_mesh *truth = NULL, *cap = NULL;
+    uint8_t *keep = NULL;
+    uint32_t *remap = NULL;
+    double *h = NULL;
+    relief_status st = synth_check(params, err);
+
+    if (st != RELIEF_OK)
+        return st;
+    memset(&field, 0, sizeof field);
+    memset(&b, 0, sizeof b);
+    relief_rng_seed(&rng, params->seed);
+    if (!synth_base(params, &field, &b, &rng)) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-vertex surface",
                          params->vertices);
         goto done;
     }
-
     st = relief_mesh_create(b.nv, b.nt,
                             RELIEF_MESH_LABELS | (params->colour ? RELIEF_MESH_COLOURS : 0u),
                             &truth, err);
@@ -600,42 +679,9 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-vertex surface", b.nv);
         goto done;
     }
-    {
-        double hmin = INFINITY, hmax = -INFINITY;
-        for (size_t v = 0; v < b.nv; ++v) {
-            h[v] = relief_height(&field, b.p + 3 * v, b.uv[2 * v], b.uv[2 * v + 1]);
-            hmin = h[v] < hmin ? h[v] : hmin;
-            hmax = h[v] > hmax ? h[v] : hmax;
-            keep[v] = (uint8_t)captured(params->kind, b.p + 3 * v, b.n + 3 * v);
-            truth->label[v] = keep[v] ? RELIEF_LABEL_CAPTURED : RELIEF_LABEL_COMPLETED;
-            for (int k = 0; k < 3; ++k)
-                truth->pos[3 * v + k] = b.p[3 * v + k] + h[v] * b.n[3 * v + k];
-        }
-        if (params->colour)
-            for (size_t v = 0; v < b.nv; ++v) {
-                double t = hmax > hmin ? (h[v] - hmin) / (hmax - hmin) : 0.5;
-                double var = field.norm * wave_sum(field.cw, b.uv[2 * v], b.uv[2 * v + 1]);
-                relief_colour(&field, t, var, truth->col + 3 * v);
-            }
-    }
-
-    if (captured_out) {
-        st = relief_mesh_subset(truth, keep, &cap, remap, err);
-        if (st != RELIEF_OK)
-            goto done;
-        /* Scanner noise along the normal, on the capture only. */
-        if (params->noise > 0.0)
-            for (size_t v = 0; v < b.nv; ++v) {
-                double d;
-                if (remap[v] == UINT32_MAX)
-                    continue;
-                d = params->noise * relief_rng_normal(&rng);
-                for (int k = 0; k < 3; ++k)
-                    cap->pos[3 * (size_t)remap[v] + k] += d * b.n[3 * v + k];
-            }
-        for (size_t v = 0; v < cap->nv; ++v)
-            cap->label[v] = RELIEF_LABEL_CAPTURED;
-    }
+    synth_truth(params, &field, &b, truth, keep, h);
+    if (captured_out)
+        st = synth_capture(params, &b, truth, keep, remap, &rng, &cap, err);
 
 done:
     if (st == RELIEF_OK) {
