@@ -349,6 +349,88 @@ static relief_status flush_updates(ocl *o, const relief_match_data *d, relief_er
     return RELIEF_OK;
 }
 
+/* Room on the device for a neighbourhood of n vertices (twice that, so
+ * that the buffers grow seldom). */
+static relief_status reserve_query(ocl *o, size_t n, relief_error *err)
+{
+    const size_t cap = n * 2;
+    cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};
+    size_t per[4] = {3, 3, 1, 3};
+    if (n <= o->qcap)
+        return RELIEF_OK;
+    for (int i = 0; i < 4; ++i) {
+        relief_status st;
+        if (*qb[i])
+            clReleaseMemObject(*qb[i]);
+        *qb[i] = NULL;
+        st = upload(o, qb[i], NULL, cap * per[i] * sizeof(float), CL_MEM_READ_ONLY,
+                    "the neighbourhood", err);
+        if (st != RELIEF_OK)
+            return st;
+    }
+    o->qcap = cap;
+    return RELIEF_OK;
+}
+
+/* The query's neighbourhood, and its subset of samples when it has one,
+ * queued for the device (not waited for). */
+static relief_status upload_query(ocl *o, const relief_match_query *qr, cl_uint centres,
+                                  relief_error *err)
+{
+    const cl_uint n = qr->n;
+    cl_int rc = CL_SUCCESS;
+    rc |= clEnqueueWriteBuffer(o->queue, o->qp, CL_FALSE, 0, n * 3 * sizeof(float), qr->qp, 0,
+                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->q, CL_FALSE, 0, n * 3 * sizeof(float), qr->q, 0,
+                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->g, CL_FALSE, 0, n * sizeof(float), qr->g, 0, NULL,
+                               NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, n * 3 * sizeof(float), qr->qcol,
+                               0, NULL, NULL);
+    if (qr->subset && centres > 0)
+        rc |= clEnqueueWriteBuffer(o->queue, o->subset, CL_FALSE, 0, centres * sizeof(cl_uint),
+                                   qr->subset, 0, NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
+    return RELIEF_OK;
+}
+
+/* The score kernel's arguments; *cutoff_arg and *range_arg get the
+ * indices of the cutoff and of the candidate range, set again per
+ * launch. */
+static relief_status set_score_args(ocl *o, const relief_match_data *d,
+                                    const relief_match_query *qr, float cutoff,
+                                    cl_uint per_item, cl_uint *cutoff_arg, cl_uint *range_arg,
+                                    relief_error *err)
+{
+    cl_float4 grid, lgrid;
+    cl_uint4 dims, ldims;
+    cl_uint use_subset = qr->subset != NULL;
+    cl_uint cfirst = 0, cend = 0;
+    cl_uint rot = (cl_uint)d->rotations, n = qr->n;
+    cl_int rc = CL_SUCCESS;
+    cl_uint a = 0;
+    grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
+    grid.s[3] = d->grid[3];
+    dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
+    for (int k = 0; k < 4; ++k)
+        lgrid.s[k] = d->lgrid[k];
+    for (int k = 0; k < 3; ++k)
+        ldims.s[k] = d->ldims[k];
+    ldims.s[3] = d->lmask; /* the kernel reads the mask from .w */
+#define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
+    ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
+    ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
+    ARG(dims); ARG(lgrid); ARG(ldims); ARG(o->lslot); ARG(o->litems); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r);
+    ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
+    ARG(d->inv_b2); ARG(qr->inv_wsum); *cutoff_arg = a; ARG(cutoff); ARG(o->ssd); ARG(o->flag);
+    *range_arg = a; ARG(cfirst); ARG(cend); ARG(per_item);
+#undef ARG
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
+    return RELIEF_OK;
+}
+
 static relief_status ocl_score(void *ctx, const relief_match_data *d,
                                const relief_match_query *qr, float *ssd, uint8_t *flag,
                                relief_error *err)
@@ -358,13 +440,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     const size_t local = o->lanes > 1 ? 1 : WG_SIZE;
     const cl_uint per_item = o->lanes > 1 ? PER_ITEM : 1;
     float cutoff = qr->cutoff;
-    cl_float4 grid, lgrid;
-    cl_uint4 dims, ldims;
-    cl_uint centres = qr->subset ? qr->n_subset : d->ns, use_subset = qr->subset != NULL;
+    cl_uint centres = qr->subset ? qr->n_subset : d->ns;
     cl_uint cfirst = 0, cend = 0;
-    cl_uint rot = (cl_uint)d->rotations, n = qr->n;
     cl_int rc = CL_SUCCESS;
-    cl_uint a = 0, cutoff_arg = 0, range_arg = 0;
+    cl_uint cutoff_arg = 0, range_arg = 0;
     relief_status st;
 
     if (ncand <= o->host_max) { /* also every empty query */
@@ -379,23 +458,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
      * writes and reads not waited for still use the caller's buffers
      * (the query, ssd, flag), which it may free once this returns. */
     st = flush_updates(o, d, err);
+    if (st == RELIEF_OK)
+        st = reserve_query(o, qr->n, err);
     if (st != RELIEF_OK)
         goto fail;
-    if (qr->n > o->qcap) { /* grow the query buffers */
-        size_t cap = qr->n * 2;
-        cl_mem *qb[4] = {&o->qp, &o->q, &o->g, &o->qcol};
-        size_t per[4] = {3, 3, 1, 3};
-        for (int i = 0; i < 4; ++i) {
-            if (*qb[i])
-                clReleaseMemObject(*qb[i]);
-            *qb[i] = NULL;
-            st = upload(o, qb[i], NULL, cap * per[i] * sizeof(float), CL_MEM_READ_ONLY,
-                        "the neighbourhood", err);
-            if (st != RELIEF_OK)
-                goto fail;
-        }
-        o->qcap = cap;
-    }
     if (qr->running) {
         /* Bound the minimum from a spread of candidates scored here. */
         const size_t probes = ncand < PROBES ? ncand : PROBES;
@@ -406,41 +472,11 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
                 cutoff = c11;
         }
     }
-    rc |= clEnqueueWriteBuffer(o->queue, o->qp, CL_FALSE, 0, n * 3 * sizeof(float), qr->qp, 0,
-                               NULL, NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->q, CL_FALSE, 0, n * 3 * sizeof(float), qr->q, 0,
-                               NULL, NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->g, CL_FALSE, 0, n * sizeof(float), qr->g, 0, NULL,
-                               NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, n * 3 * sizeof(float), qr->qcol,
-                               0, NULL, NULL);
-    if (use_subset && centres > 0)
-        rc |= clEnqueueWriteBuffer(o->queue, o->subset, CL_FALSE, 0, centres * sizeof(cl_uint),
-                                   qr->subset, 0, NULL, NULL);
-    if (rc != CL_SUCCESS) {
-        st = relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
+    st = upload_query(o, qr, centres, err);
+    if (st == RELIEF_OK)
+        st = set_score_args(o, d, qr, cutoff, per_item, &cutoff_arg, &range_arg, err);
+    if (st != RELIEF_OK)
         goto fail;
-    }
-    grid.s[0] = d->grid[0], grid.s[1] = d->grid[1], grid.s[2] = d->grid[2],
-    grid.s[3] = d->grid[3];
-    dims.s[0] = d->dims[0], dims.s[1] = d->dims[1], dims.s[2] = d->dims[2], dims.s[3] = 0;
-    for (int k = 0; k < 4; ++k)
-        lgrid.s[k] = d->lgrid[k];
-    for (int k = 0; k < 3; ++k)
-        ldims.s[k] = d->ldims[k];
-    ldims.s[3] = d->lmask; /* the kernel reads the mask from .w */
-#define ARG(v) rc |= clSetKernelArg(o->kernel, a++, sizeof(v), &(v))
-    ARG(o->proj); ARG(o->pos); ARG(o->col); ARG(o->matchable); ARG(o->tri);
-    ARG(o->vt_start); ARG(o->vt); ARG(o->cell_start); ARG(o->cell_items); ARG(grid);
-    ARG(dims); ARG(lgrid); ARG(ldims); ARG(o->lslot); ARG(o->litems); ARG(o->s_proj); ARG(o->s_frame); ARG(o->cos_r); ARG(o->sin_r);
-    ARG(o->subset); ARG(use_subset); ARG(rot); ARG(n); ARG(o->qp); ARG(o->q); ARG(o->g); ARG(o->qcol); ARG(d->mu);
-    ARG(d->inv_b2); ARG(qr->inv_wsum); cutoff_arg = a; ARG(cutoff); ARG(o->ssd); ARG(o->flag);
-    range_arg = a; ARG(cfirst); ARG(cend); ARG(per_item);
-#undef ARG
-    if (rc != CL_SUCCESS) {
-        st = relief_fail(err, RELIEF_E_DEVICE, "clSetKernelArg failed");
-        goto fail;
-    }
     for (size_t first = 0, chunk = qr->running ? RELIEF_OPENCL_CHUNK_FIRST : ncand;
          first < ncand; first += chunk, chunk *= 2) {
         size_t global;
