@@ -127,9 +127,132 @@ bool has_label(ReadMesh &mesh)
            mesh.get_property_handle(h7, "label");
 }
 
+// What OpenMesh said while reading: the faces it rejected for an invalid
+// vertex index or for repeating a vertex.
+void count_rejects(const std::string &said, relief_om_read_result *res)
+{
+    res->invalid_index_faces = count_lines_with(said, "invalid vertex index");
+    // The PLY reader counts its own rejects: "<n>The reader encountered
+    // invalid faces, that could not be added."
+    const size_t ply_bad = said.find("The reader encountered invalid faces");
+    if (ply_bad != std::string::npos) {
+        size_t start = ply_bad;
+        while (start > 0 && std::isdigit((unsigned char)said[start - 1]))
+            --start;
+        res->invalid_index_faces +=
+            start < ply_bad ? std::stoul(said.substr(start, ply_bad - start)) : 1;
+    }
+    res->repeated_vertex_faces = count_lines_with(said, "equal vertices");
+}
+
+// Non-manifold faces come back on fresh copies of their vertices, flagged
+// "fixed non-manifold"; map each copy back to the file's vertex at the
+// same position so the vertex list matches the file. keep_index: the
+// file's vertices' new ids (-1 for a copy); original: each vertex's file
+// vertex. Returns the count of the file's vertices.
+size_t map_nonmanifold_copies(const ReadMesh &mesh, std::vector<int> &keep_index,
+                              std::vector<int> &original)
+{
+    const size_t nv_all = mesh.n_vertices();
+    std::vector<size_t> order;
+    size_t nv = 0;
+    for (size_t v = 0; v < nv_all; ++v) {
+        original[v] = (int)v;
+        if (!mesh.status(ReadMesh::VertexHandle((int)v)).fixed_nonmanifold())
+            keep_index[v] = (int)nv++;
+        order.push_back(v);
+    }
+    if (nv == nv_all)
+        return nv;
+    auto less = [&](size_t a, size_t b) {
+        const ReadMesh::Point &pa = mesh.point(ReadMesh::VertexHandle((int)a));
+        const ReadMesh::Point &pb = mesh.point(ReadMesh::VertexHandle((int)b));
+        for (int k = 0; k < 3; ++k)
+            if (pa[k] != pb[k])
+                return pa[k] < pb[k];
+        return a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    size_t run = 0;
+    while (run < order.size()) {
+        size_t end = run + 1;
+        const ReadMesh::Point &p0 = mesh.point(ReadMesh::VertexHandle((int)order[run]));
+        while (end < order.size() &&
+               mesh.point(ReadMesh::VertexHandle((int)order[end])) == p0)
+            ++end;
+        int first_kept = -1;
+        for (size_t i = run; i < end && first_kept < 0; ++i)
+            if (keep_index[order[i]] >= 0)
+                first_kept = (int)order[i];
+        for (size_t i = run; i < end; ++i)
+            if (keep_index[order[i]] < 0 && first_kept >= 0)
+                original[order[i]] = first_kept;
+        run = end;
+    }
+    return nv;
+}
+
+// The kept vertices' positions, colours (as 8 bits; refused outside 0..1)
+// and normals into m.
+relief_status copy_vertices(const ReadMesh &mesh, const std::vector<int> &keep_index,
+                            bool colours, bool normals, relief_mesh *m,
+                            const char *path, relief_error *err)
+{
+    for (size_t v = 0; v < keep_index.size(); ++v) {
+        int to = keep_index[v];
+        if (to < 0)
+            continue;
+        ReadMesh::VertexHandle vh((int)v);
+        const ReadMesh::Point &p = mesh.point(vh);
+        for (int k = 0; k < 3; ++k)
+            m->pos[3 * to + k] = p[k];
+        if (colours) {
+            const ReadMesh::Color &c = mesh.color(vh);
+            for (int k = 0; k < 3; ++k) {
+                if (!(c[k] >= 0.0f && c[k] <= 1.0f))
+                    return relief_fail(err, RELIEF_E_MESH,
+                                       "%s: vertex %zu: colour (%g, %g, %g) is outside "
+                                       "0..1 (floating-point colours are fractions)",
+                                       path, v, (double)c[0], (double)c[1], (double)c[2]);
+                // As 8 bits, as relief keeps colours (and writes them).
+                m->col[3 * to + k] = std::round(c[k] * 255.0f) / 255.0f;
+            }
+        }
+        if (normals) {
+            const ReadMesh::Normal &n = mesh.normal(vh);
+            for (int k = 0; k < 3; ++k)
+                m->nrm[3 * to + k] = n[k];
+        }
+    }
+    return RELIEF_OK;
+}
+
+// The faces into m's triangles (a polygon as a fan), on the file's
+// vertices; counts the non-manifold and the split faces.
+void copy_faces(ReadMesh &mesh, const std::vector<int> &keep_index,
+                const std::vector<int> &original, relief_mesh *m,
+                relief_om_read_result *res)
+{
+    size_t t = 0;
+    for (auto f : mesh.faces()) {
+        std::vector<uint32_t> corner;
+        for (auto vh : mesh.fv_range(f))
+            corner.push_back((uint32_t)keep_index[original[vh.idx()]]);
+        if (mesh.status(f).fixed_nonmanifold())
+            ++res->nonmanifold_faces;
+        if (corner.size() > 3)
+            ++res->polygon_faces_split;
+        for (size_t k = 1; k + 1 < corner.size(); ++k, ++t) {
+            m->tri[3 * t] = corner[0];
+            m->tri[3 * t + 1] = corner[k];
+            m->tri[3 * t + 2] = corner[k + 1];
+        }
+    }
+}
+
 relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
-                        relief_mesh **out, relief_om_read_result *res,
-                        relief_error *err)
+                 relief_mesh **out, relief_om_read_result *res,
+                 relief_error *err)
 {
     ReadMesh mesh;
     mesh.request_vertex_colors();
@@ -150,61 +273,11 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
         return relief_fail(err, RELIEF_E_PARSE,
                            "%s: OpenMesh could not read the file%s%s", path,
                            said.empty() ? "" : ": ", said.c_str());
-    res->invalid_index_faces = count_lines_with(said, "invalid vertex index");
-    // The PLY reader counts its own rejects: "<n>The reader encountered
-    // invalid faces, that could not be added."
-    const size_t ply_bad = said.find("The reader encountered invalid faces");
-    if (ply_bad != std::string::npos) {
-        size_t start = ply_bad;
-        while (start > 0 && std::isdigit((unsigned char)said[start - 1]))
-            --start;
-        res->invalid_index_faces +=
-            start < ply_bad ? std::stoul(said.substr(start, ply_bad - start)) : 1;
-    }
-    res->repeated_vertex_faces = count_lines_with(said, "equal vertices");
+    count_rejects(said, res);
 
-    // Non-manifold faces come back on fresh copies of their vertices, flagged
-    // "fixed non-manifold"; map each copy back to the file's vertex at the
-    // same position so the vertex list matches the file.
-    const size_t nv_all = mesh.n_vertices();
-    std::vector<int> keep_index(nv_all, -1);
-    std::vector<int> original(nv_all);
-    std::vector<size_t> order;
-    size_t nv = 0;
-    for (size_t v = 0; v < nv_all; ++v) {
-        original[v] = (int)v;
-        if (!mesh.status(ReadMesh::VertexHandle((int)v)).fixed_nonmanifold())
-            keep_index[v] = (int)nv++;
-        order.push_back(v);
-    }
-    if (nv != nv_all) {
-        auto less = [&](size_t a, size_t b) {
-            const ReadMesh::Point &pa = mesh.point(ReadMesh::VertexHandle((int)a));
-            const ReadMesh::Point &pb = mesh.point(ReadMesh::VertexHandle((int)b));
-            for (int k = 0; k < 3; ++k)
-                if (pa[k] != pb[k])
-                    return pa[k] < pb[k];
-            return a < b;
-        };
-        std::sort(order.begin(), order.end(), less);
-        size_t run = 0;
-        while (run < order.size()) {
-            size_t end = run + 1;
-            const ReadMesh::Point &p0 = mesh.point(ReadMesh::VertexHandle((int)order[run]));
-            while (end < order.size() &&
-                   mesh.point(ReadMesh::VertexHandle((int)order[end])) == p0)
-                ++end;
-            int first_kept = -1;
-            for (size_t i = run; i < end && first_kept < 0; ++i)
-                if (keep_index[order[i]] >= 0)
-                    first_kept = (int)order[i];
-            for (size_t i = run; i < end; ++i)
-                if (keep_index[order[i]] < 0 && first_kept >= 0)
-                    original[order[i]] = first_kept;
-            run = end;
-        }
-    }
-
+    std::vector<int> keep_index(mesh.n_vertices(), -1);
+    std::vector<int> original(mesh.n_vertices());
+    const size_t nv = map_nonmanifold_copies(mesh, keep_index, original);
     size_t nt = 0;
     for (auto f : mesh.faces())
         nt += (size_t)(mesh.valence(f) - 2);
@@ -222,34 +295,10 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
     relief_status st = relief_mesh_create(nv, nt, attrs, &m, err);
     if (st != RELIEF_OK)
         return st;
-
-    for (size_t v = 0; v < nv_all; ++v) {
-        int to = keep_index[v];
-        if (to < 0)
-            continue;
-        ReadMesh::VertexHandle vh((int)v);
-        const ReadMesh::Point &p = mesh.point(vh);
-        for (int k = 0; k < 3; ++k)
-            m->pos[3 * to + k] = p[k];
-        if (colours) {
-            const ReadMesh::Color &c = mesh.color(vh);
-            for (int k = 0; k < 3; ++k) {
-                if (!(c[k] >= 0.0f && c[k] <= 1.0f)) {
-                    relief_mesh_destroy(m);
-                    return relief_fail(err, RELIEF_E_MESH,
-                                       "%s: vertex %zu: colour (%g, %g, %g) is outside "
-                                       "0..1 (floating-point colours are fractions)",
-                                       path, v, (double)c[0], (double)c[1], (double)c[2]);
-                }
-                // As 8 bits, as relief keeps colours (and writes them).
-                m->col[3 * to + k] = std::round(c[k] * 255.0f) / 255.0f;
-            }
-        }
-        if (normals) {
-            const ReadMesh::Normal &n = mesh.normal(vh);
-            for (int k = 0; k < 3; ++k)
-                m->nrm[3 * to + k] = n[k];
-        }
+    st = copy_vertices(mesh, keep_index, colours, normals, m, path, err);
+    if (st != RELIEF_OK) {
+        relief_mesh_destroy(m);
+        return st;
     }
     if (labels) {
         copy_label<unsigned char>(mesh, keep_index, m, ascii_char_label) ||
@@ -260,22 +309,7 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
             copy_label<short>(mesh, keep_index, m, 0) ||
             copy_label<unsigned short>(mesh, keep_index, m, 0);
     }
-
-    size_t t = 0;
-    for (auto f : mesh.faces()) {
-        std::vector<uint32_t> corner;
-        for (auto vh : mesh.fv_range(f))
-            corner.push_back((uint32_t)keep_index[original[vh.idx()]]);
-        if (mesh.status(f).fixed_nonmanifold())
-            ++res->nonmanifold_faces;
-        if (corner.size() > 3)
-            ++res->polygon_faces_split;
-        for (size_t k = 1; k + 1 < corner.size(); ++k, ++t) {
-            m->tri[3 * t] = corner[0];
-            m->tri[3 * t + 1] = corner[k];
-            m->tri[3 * t + 2] = corner[k + 1];
-        }
-    }
+    copy_faces(mesh, keep_index, original, m, res);
     *out = m;
     return RELIEF_OK;
 }
