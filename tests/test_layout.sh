@@ -22,7 +22,8 @@ declare -A allowed=(
   [image]="base report match device kernels"
   [depth]="base mesh smooth report match image kernels"
   [points]="base mesh smooth match device kernels"
-  [cli]="base mesh smooth match grow report synth image depth points"
+  [complete]="base mesh smooth match grow report points"
+  [cli]="base mesh smooth match grow report synth image depth points complete"
 )
 
 fail=0

@@ -1,4 +1,5 @@
 /* relief cut: a hole cut out of a whole mesh, with its truth (synth/cut.h). */
+#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>
@@ -32,6 +33,7 @@ static const char cut_help[] =
 
 int cli_cmd_cut(int argc, char **argv, int parse_only)
 {
+    enum { OPT_TRUTH = OPT_COMMAND, OPT_BALL, OPT_SLAB, OPT_ASCII, OPT_CROP };
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
         {"ball", required_argument, 0, OPT_BALL}, {"slab", required_argument, 0, OPT_SLAB},

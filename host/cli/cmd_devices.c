@@ -1,4 +1,5 @@
 /* relief devices: the OpenCL devices relief can use. */
+#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

@@ -13,6 +13,7 @@
 #include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "relief/relief.h"
 
@@ -124,7 +125,8 @@ typedef struct cli_progress {
     const char *cmd;
     int print, estimate;
     const char *estimate_tail;  /* said after the estimate ("" or how to resume) */
-    double start, last;
+    int open;                   /* 1 while a progress line waits for its end */
+    double start, last, fraction;
     double estimate_after, estimate_min;
     unsigned long sigint_after, seen;
     struct sigaction old;
@@ -136,6 +138,9 @@ void cli_progress_start(cli_progress *pr, const char *cmd, int quiet);
 /* The relief_progress_fn: ctx is a cli_progress. Returns 1 once SIGINT came. */
 int cli_progress_fn(void *ctx, double fraction);
 
+/* End the progress line, if one is open (before other messages). */
+void cli_progress_close_line(cli_progress *pr);
+
 /* Stop: end the line, give SIGINT back. */
 void cli_progress_end(cli_progress *pr);
 
@@ -143,6 +148,11 @@ void cli_progress_end(cli_progress *pr);
  * restore), so that they appear whole or not at all. */
 void cli_hold_signals(sigset_t *old);
 void cli_release_signals(const sigset_t *old);
+
+/* Print an engine's JSON object to f with the string members keys[i]:
+ * values[i] (NULL: null) first. Returns 0 on success. */
+int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
+                   const char *const *values);
 
 /* Write an engine's JSON report to `path` atomically, with the string
  * members keys[i]: values[i] (NULL: null) first, for the files the command
@@ -152,7 +162,9 @@ relief_status cli_write_json(const char *path, const char *json, size_t n,
                              relief_error *err);
 
 /* ---- transitional: what the commands not yet calling an engine use; goes
- * when the last of them does. */
+ * when the last of them does. A converted command defines
+ * RELIEF_CLI_CONVERTED before including this header. */
+#ifndef RELIEF_CLI_CONVERTED
 enum {
     OPT_FIT = 400, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_LEVELS, OPT_OVERSAMPLE,
     OPT_SPACING, OPT_EXTENT, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE,
@@ -173,5 +185,6 @@ typedef struct cli_count_progress {
     double start, last;
 } cli_count_progress;
 void cli_on_progress(void *ctx, size_t done, size_t total);
+#endif /* RELIEF_CLI_CONVERTED */
 
 #endif

@@ -521,6 +521,26 @@ static int captured(relief_synth_kind kind, const double p[3], const double n[3]
     return n[0] > cos(VIEW_HALF_ANGLE * RELIEF_PI / 180.0);
 }
 
+relief_status relief_synth_params_validate(const relief_synth_params *params,
+                                           relief_error *err)
+{
+    if (!params)
+        return relief_fail(err, RELIEF_E_USAGE, "params is NULL");
+    if ((unsigned)params->kind >= RELIEF_SYNTH_KIND_COUNT)
+        return relief_fail(err, RELIEF_E_RANGE, "synthetic kind %d out of range",
+                           (int)params->kind);
+    if (params->vertices < 100 || params->vertices > 4000000)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "vertices %zu out of range: expected 100..4000000",
+                           params->vertices);
+    if (!(params->noise >= 0.0 && params->noise <= 0.1))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "noise %g out of range: expected 0..0.1 (fraction of the "
+                           "primitive's size)",
+                           params->noise);
+    return RELIEF_OK;
+}
+
 relief_status relief_synth(const relief_synth_params *params, relief_mesh **captured_out,
                            relief_mesh **truth_out, relief_error *err)
 {
@@ -534,20 +554,9 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
     relief_status st = RELIEF_OK;
     int ok;
 
-    if (!params)
-        return relief_fail(err, RELIEF_E_USAGE, "relief_synth: params is NULL");
-    if ((unsigned)params->kind >= RELIEF_SYNTH_KIND_COUNT)
-        return relief_fail(err, RELIEF_E_RANGE, "synthetic kind %d out of range",
-                           (int)params->kind);
-    if (params->vertices < 100 || params->vertices > 4000000)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "vertices %zu out of range: expected 100..4000000",
-                           params->vertices);
-    if (!(params->noise >= 0.0 && params->noise <= 0.1))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "noise %g out of range: expected 0..0.1 (fraction of the "
-                           "primitive's size)",
-                           params->noise);
+    st = relief_synth_params_validate(params, err);
+    if (st != RELIEF_OK)
+        return st;
 
     memset(&field, 0, sizeof field);
     memset(&b, 0, sizeof b);

@@ -231,6 +231,10 @@ typedef struct relief_synth_params {
 /* Defaults as documented in relief_synth_params. */
 RELIEF_API relief_synth_params relief_synth_params_default(void);
 
+/* Check every field; RELIEF_E_RANGE naming the field and its range. */
+RELIEF_API relief_status relief_synth_params_validate(const relief_synth_params *params,
+                                                      relief_error *err);
+
 /* Make a synthetic surface. `*truth` receives the whole textured surface,
  * `*captured` the part a scanner sees (a cylinder or sphere seen from +x,
  * a plane with a disc removed), labelled RELIEF_LABEL_CAPTURED. Either
