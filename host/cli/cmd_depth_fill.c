@@ -82,6 +82,13 @@ static const char depth_fill_help[] =
 
 typedef enum in_kind { IN_PNG, IN_PFM, IN_PCD, IN_MESH } in_kind;
 
+/* The synthesis's progress on stderr; it never stops it. */
+static int count_progress(void *ctx, size_t done, size_t total)
+{
+    cli_on_progress(ctx, done, total);
+    return 0;
+}
+
 static int kind_of_name(const char *path, in_kind *k)
 {
     const char *dot = strrchr(path, '.');
@@ -779,7 +786,7 @@ int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
         fprintf(stderr, "relief depth-fill: %s\n", note);
     pr.print = !quiet && isatty(2);
     pr.start = relief_seconds();
-    p.synth.progress = cli_on_progress;
+    p.synth.progress = count_progress;
     p.synth.progress_ctx = &pr;
     if (missing_in + missing_mask == 0 && !quiet)
         fprintf(stderr, "relief depth-fill: %s: no missing pixels: writing it unchanged\n", in);

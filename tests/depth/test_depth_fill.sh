@@ -96,7 +96,7 @@ expect 1 "organised PCD" -- "$relief" depth-fill "$tmp/moto.pfm" -o "$tmp/bad.pf
 expect 1 "odd" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --window 8
 expect 1 "not plain, haar or decompose" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant median
 expect 1 "IN's extension" -- "$relief" depth-fill "$tmp/x.ply" -o "$tmp/bad.pcd"
-expect 1 "--levels" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
+expect 1 "levels 5 leaves" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
 ok 'cmp -s "$tmp/office.pcd" <("$tool" crop "$office" 0 0 240 180 "$tmp/again.pcd" && cat "$tmp/again.pcd")' "the input was changed"
 
 echo "$pass passed, $fail failed"
