@@ -247,7 +247,7 @@ static relief_status check_image_args(const relief_depth_image *f, const relief_
     limit = memory_limit(&p->run);
     if (need > limit)
         return relief_fail(err, RELIEF_E_NOMEM, "repairing a %d x %d image needs about %.0f "
-                           "MiB, over the limit of %.0f MiB (run.max_memory)", f->width,
+                           "MiB, over the limit of %.0f MiB (max_memory)", f->width,
                            f->height, need / 1048576.0, limit / 1048576.0);
     return RELIEF_OK;
 }
@@ -408,7 +408,7 @@ static relief_status check_grid(const relief_mesh *in, const relief_depth_fill_p
     if (need > (double)limit)
         return relief_fail(err, RELIEF_E_NOMEM, "resolution %d: a %d x %d x %d voxel grid "
                            "needs about %.0f MiB, over the limit of %.0f MiB "
-                           "(run.max_memory); give a lower resolution", p->resolution, g.n[0],
+                           "(max_memory); give a lower resolution", p->resolution, g.n[0],
                            g.n[1], g.n[2], need / 1048576.0, limit / 1048576.0);
     return RELIEF_OK;
 }
