@@ -176,7 +176,9 @@ typedef struct relief_complete_points_report {
     int grid_search_warning; /* 1: OpenCL could not be used for it */
     double seconds_analysis, seconds_base, seconds_fill, seconds_texture, seconds_total;
     char *json;              /* the report as `relief complete-points --report`
-                                writes it (owned) */
+                                writes it, "input" and "output" from
+                                run.input_name and output_name (null when
+                                NULL) (owned) */
 } relief_complete_points_report;
 
 /* Free what the report owns and zero it. NULL accepted. */
