@@ -4,7 +4,6 @@
 #include "image/image_io.h"
 
 #include <errno.h>
-#include <math.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -284,15 +283,6 @@ relief_status relief_raster_read(const char *path, const relief_image_limit *lim
 
 /* ---------------------------------------------------------------- writing */
 
-static unsigned quantise(float v, float max)
-{
-    if (!(v > 0.0f)) /* NaN too */
-        return 0;
-    if (v >= max)
-        return (unsigned)max;
-    return (unsigned)floorf(v + 0.5f);
-}
-
 static relief_status write_png(FILE *f, const relief_raster *r, const char *path,
                                relief_error *err)
 {
@@ -305,7 +295,7 @@ static relief_status write_png(FILE *f, const relief_raster *r, const char *path
     if (!pixels)
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
     for (size_t i = 0; i < vals; ++i) {
-        unsigned q = quantise(r->v[i], max);
+        unsigned q = relief_raster_quantise(r->v[i], max);
         if (wide) {
             pixels[2 * i] = (uint8_t)(q >> 8);
             pixels[2 * i + 1] = (uint8_t)q;
@@ -356,7 +346,8 @@ static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *pat
         JSAMPROW rows[1] = {job.row};
         for (int x = 0; x < r->width; ++x)
             for (int c = 0; c < colours; ++c)
-                job.row[x * colours + c] = (JSAMPLE)quantise(v[x * r->channels + c], 255.0f);
+                job.row[x * colours + c] =
+                    (JSAMPLE)relief_raster_quantise(v[x * r->channels + c], 255.0f);
         jpeg_write_scanlines(&cinfo, rows, 1);
     }
     jpeg_finish_compress(&cinfo);
