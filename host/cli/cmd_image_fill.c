@@ -1,5 +1,6 @@
 /* relief image-fill: hole filling in images (paper 004), a client of
  * relief_image_fill (relief/image.h): options, the files, the summary. */
+#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>
@@ -48,9 +49,8 @@ static const char image_fill_help[] =
     "  --quiet               no progress or notes on stderr\n";
 
 enum {
-    OPT_IF_WINDOW = OPT_COMMAND, OPT_IF_MIN_WINDOW, OPT_IF_ATLAS, OPT_IF_TAU,
-    OPT_IF_SEARCH_RADIUS, OPT_IF_EXHAUSTIVE, OPT_IF_NO_INTERP, OPT_IF_INTERP_DIFF,
-    OPT_IF_INTERP_SD
+    IF_WINDOW = OPT_COMMAND, IF_MIN_WINDOW, IF_ATLAS, IF_TAU, IF_SEARCH_RADIUS, IF_EXHAUSTIVE,
+    IF_NO_INTERP, IF_INTERP_DIFF, IF_INTERP_SD
 };
 
 /* One of the command's own options: 1 taken, 0 a bad value (said). */
@@ -59,18 +59,18 @@ static int own_option(int c, const char *arg, relief_image_fill_params *p, int *
 {
     const char *cmd = "image-fill";
     switch (c) {
-    case OPT_IF_WINDOW: *window_set = 1; return cli_parse_int(cmd, "--window", arg, &p->window);
-    case OPT_IF_MIN_WINDOW:
+    case IF_WINDOW: *window_set = 1; return cli_parse_int(cmd, "--window", arg, &p->window);
+    case IF_MIN_WINDOW:
         *min_window_set = 1;
         return cli_parse_int(cmd, "--min-window", arg, &p->min_window);
-    case OPT_IF_ATLAS: *atlas = 1; return 1;
-    case OPT_IF_TAU: return cli_parse_real(cmd, "--tau", arg, &p->tau);
-    case OPT_IF_SEARCH_RADIUS:
+    case IF_ATLAS: *atlas = 1; return 1;
+    case IF_TAU: return cli_parse_real(cmd, "--tau", arg, &p->tau);
+    case IF_SEARCH_RADIUS:
         return cli_parse_int(cmd, "--search-radius", arg, &p->search_radius);
-    case OPT_IF_EXHAUSTIVE: p->exhaustive = 1; return 1;
-    case OPT_IF_NO_INTERP: p->interp = 0; return 1;
-    case OPT_IF_INTERP_DIFF: return cli_parse_real(cmd, "--interp-diff", arg, &p->interp_diff);
-    case OPT_IF_INTERP_SD: return cli_parse_real(cmd, "--interp-sd", arg, &p->interp_sd);
+    case IF_EXHAUSTIVE: p->exhaustive = 1; return 1;
+    case IF_NO_INTERP: p->interp = 0; return 1;
+    case IF_INTERP_DIFF: return cli_parse_real(cmd, "--interp-diff", arg, &p->interp_diff);
+    case IF_INTERP_SD: return cli_parse_real(cmd, "--interp-sd", arg, &p->interp_sd);
     }
     fprintf(stderr, "Try 'relief image-fill --help'.\n");
     return 0;
@@ -80,15 +80,15 @@ static int own_option(int c, const char *arg, relief_image_fill_params *p, int *
 static int parse(int argc, char **argv, cli_common *cm, relief_image_fill_params *p)
 {
     static const struct option own[] = {
-        {"window", required_argument, 0, OPT_IF_WINDOW},
-        {"min-window", required_argument, 0, OPT_IF_MIN_WINDOW},
-        {"atlas", no_argument, 0, OPT_IF_ATLAS},
-        {"tau", required_argument, 0, OPT_IF_TAU},
-        {"search-radius", required_argument, 0, OPT_IF_SEARCH_RADIUS},
-        {"exhaustive", no_argument, 0, OPT_IF_EXHAUSTIVE},
-        {"no-interp", no_argument, 0, OPT_IF_NO_INTERP},
-        {"interp-diff", required_argument, 0, OPT_IF_INTERP_DIFF},
-        {"interp-sd", required_argument, 0, OPT_IF_INTERP_SD},
+        {"window", required_argument, 0, IF_WINDOW},
+        {"min-window", required_argument, 0, IF_MIN_WINDOW},
+        {"atlas", no_argument, 0, IF_ATLAS},
+        {"tau", required_argument, 0, IF_TAU},
+        {"search-radius", required_argument, 0, IF_SEARCH_RADIUS},
+        {"exhaustive", no_argument, 0, IF_EXHAUSTIVE},
+        {"no-interp", no_argument, 0, IF_NO_INTERP},
+        {"interp-diff", required_argument, 0, IF_INTERP_DIFF},
+        {"interp-sd", required_argument, 0, IF_INTERP_SD},
         {0, 0, 0, 0}};
     struct option opts[32];
     int c, window_set = 0, min_window_set = 0, atlas = 0;

@@ -125,7 +125,8 @@ typedef struct relief_image_fill_report {
     int backend_warning;      /* 1: backend_note says OpenCL could not be used */
     double seconds_interp, seconds_copy, seconds_score, seconds_total;
     char *json;               /* the report as `relief image-fill --report`
-                                 writes it (owned) */
+                                 writes it, less the "mask" member the
+                                 command adds (owned) */
 } relief_image_fill_report;
 
 /* Free what the report owns and zero it. NULL accepted. */
