@@ -11,6 +11,7 @@
 
 #include "base/clock.h"
 #include "base/error.h"
+#include "base/file.h"
 #include "base/json.h"
 #include "base/memlimit.h"
 #include "base/progress.h"
@@ -121,43 +122,36 @@ static relief_status image_of(const relief_raster *r, relief_image *out, relief_
 
 /* ------------------------------------------------------------------ files */
 
-/* The readers' limit: what a decode holds, 4 bytes a sample. */
-static relief_image_limit read_limit(uint64_t max_bytes)
-{
-    relief_image_limit lim = {max_bytes, 1.0, NULL};
-    return lim;
-}
-
-relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_image *out,
-                                relief_error *err)
-{
-    relief_image_limit lim = read_limit(max_bytes);
-    relief_raster r;
-    relief_status st;
-    if (!path || !out)
-        return relief_fail(err, RELIEF_E_USAGE, "relief_image_read: %s is NULL",
-                           path ? "out" : "path");
-    st = relief_raster_read(path, &lim, &r, err);
-    if (st == RELIEF_OK)
-        st = image_of(&r, out, err);
-    relief_raster_free(&r);
-    return st;
-}
-
 relief_status relief_image_decode(const void *data, size_t n, const char *name,
                                   uint64_t max_bytes, relief_image *out, relief_error *err)
 {
-    relief_image_limit lim = read_limit(max_bytes);
     relief_raster r;
     relief_status st;
     name = name ? name : "image";
     if ((!data && n) || !out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_image_decode: %s is NULL",
                            out ? "data" : "out");
-    st = relief_raster_decode(data, n, name, &lim, &r, err);
+    st = relief_raster_decode_samples(data, n, name, max_bytes, &r, err);
     if (st == RELIEF_OK)
         st = image_of(&r, out, err);
     relief_raster_free(&r);
+    return st;
+}
+
+relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_image *out,
+                                relief_error *err)
+{
+    uint8_t *data;
+    size_t n;
+    relief_status st;
+    if (!path || !out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_image_read: %s is NULL",
+                           path ? "out" : "path");
+    st = relief_read_file(path, &data, &n, err);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_image_decode(data, n, path, max_bytes, out, err);
+    free(data);
     return st;
 }
 

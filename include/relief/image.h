@@ -44,9 +44,8 @@ RELIEF_API relief_status relief_image_check(const relief_image *img, const char 
  * the row's bytes; free with relief_image_free). RELIEF_E_IO naming the
  * path; RELIEF_E_FORMAT, RELIEF_E_PARSE (with libpng's or libjpeg's words),
  * RELIEF_E_RANGE for a side over the maximum; RELIEF_E_NOMEM. `max_bytes`
- * (0: none) refuses, before decoding, an image whose decoding would take
- * more: 4 bytes a sample (width x height x channels x 4), the decoder's
- * working copy. */
+ * (0: none) refuses, before decoding, an image whose samples would take
+ * more (width x height x channels x bit_depth / 8 bytes). */
 RELIEF_API relief_status relief_image_read(const char *path, uint64_t max_bytes,
                                            relief_image *out, relief_error *err);
 

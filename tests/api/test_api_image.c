@@ -198,7 +198,11 @@ static void test_files(void)
         CHECK_STATUS(relief_image_decode(bytes, 100, "chelsea", 0, &c, &err), RELIEF_E_PARSE,
                      err, "chelsea");
     }
-    CHECK_STATUS(relief_image_read(chelsea, 1000, &c, &err), RELIEF_E_NOMEM, err, "451 x 300");
+    /* max_bytes bounds the samples: 451 x 300 x 3 bytes fit, a byte less not. */
+    CHECK_STATUS(relief_image_read(chelsea, 451 * 300 * 3 - 1, &c, &err), RELIEF_E_NOMEM, err,
+                 "451 x 300");
+    CHECK_STATUS(relief_image_read(chelsea, 451 * 300 * 3, &c, &err), RELIEF_OK, err, NULL);
+    relief_image_free(&c);
     relief_image_free(&a);
     CHECK(a.data == NULL && a.width == 0, "freed");
     CHECK_STATUS(relief_image_read("/nonexistent/x.png", 0, &a, &err), RELIEF_E_IO, err,
@@ -220,6 +224,10 @@ static void test_files(void)
         for (int y = 0; b.data && y < H; ++y)
             same &= memcmp((uint8_t *)b.data + y * b.stride, px[y], W * 8) == 0;
         CHECK(same, "16-bit samples differ after the round trip");
+        relief_image_free(&b);
+        CHECK_STATUS(relief_image_read(path, W * H * 8 - 1, &b, &err), RELIEF_E_NOMEM, err,
+                     "23 x 17");
+        CHECK_STATUS(relief_image_read(path, W * H * 8, &b, &err), RELIEF_OK, err, NULL);
         relief_image_free(&b);
         snprintf(path, sizeof path, "%s/deep.jpg", tmp);
         CHECK_STATUS(relief_image_write(&d, path, &err), RELIEF_E_FORMAT, err, "JPEG");
