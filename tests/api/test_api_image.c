@@ -381,6 +381,7 @@ static void test_cancel(void)
 
 typedef struct job {
     relief_image img, mask;
+    relief_backend backend;
     relief_status st;
 } job;
 
@@ -389,7 +390,7 @@ static void *fill_job(void *arg)
     job *j = arg;
     relief_image_fill_params p = relief_image_fill_params_default();
     relief_error err = {RELIEF_OK, ""};
-    p.run.backend = RELIEF_BACKEND_SCALAR;
+    p.run.backend = j->backend;
     p.window = 11;
     j->st = relief_image_fill(&j->img, &j->mask, &p, NULL, &err);
     if (j->st != RELIEF_OK)
@@ -397,9 +398,10 @@ static void *fill_job(void *arg)
     return NULL;
 }
 
-/* A hole in chelsea.png (RGB) and in brick.png, each filled by one call
- * and then both at once: the same bytes. */
-static void test_threads(void)
+/* A hole in chelsea.png (RGB) and in brick.png, each filled by one scalar
+ * call and then both at once on `backend`: the same bytes (the backends
+ * give the same bits). */
+static void test_threads(relief_backend backend)
 {
     relief_error err = {RELIEF_OK, ""};
     job serial[2], par[2];
@@ -416,7 +418,9 @@ static void test_threads(void)
     serial[1].mask = (relief_image){451, 300, 1, 8, 0, cm};
     for (int k = 0; k < 2; ++k) {
         size_t n = image_bytes(&serial[k].img);
+        serial[k].backend = RELIEF_BACKEND_SCALAR;
         par[k] = serial[k];
+        par[k].backend = backend;
         par[k].img.data = malloc(n);
         memcpy(par[k].img.data, serial[k].img.data, n);
         fill_job(&serial[k]);
@@ -427,7 +431,8 @@ static void test_threads(void)
         pthread_join(t[k], NULL);
         CHECK(serial[k].st == RELIEF_OK && par[k].st == RELIEF_OK, "job %d failed", k);
         CHECK(memcmp(serial[k].img.data, par[k].img.data, image_bytes(&par[k].img)) == 0,
-              "job %d: two threads at once differ from the serial call", k);
+              "job %d: two threads at once on %s differ from the serial call", k,
+              relief_backend_name(backend));
         relief_image_free(&serial[k].img);
         free(par[k].img.data);
         free(serial[k].mask.data);
@@ -546,7 +551,16 @@ int main(int argc, char **argv)
     test_files();
     test_fill();
     test_cancel();
-    test_threads();
+    test_threads(RELIEF_BACKEND_SCALAR);
+    {
+        /* OpenCL too where a device runs: its scorers start at once. */
+        relief_error err = {RELIEF_OK, ""};
+        size_t n = 0;
+        if (relief_devices(NULL, 0, &n, &err) == RELIEF_OK && n > 0)
+            test_threads(RELIEF_BACKEND_OPENCL);
+        else
+            printf("no OpenCL device: the threads test on OpenCL is skipped\n");
+    }
     test_view();
     test_alpha16();
     {
