@@ -17,7 +17,7 @@
 #ifndef RELIEF_COMPLETE_H
 #define RELIEF_COMPLETE_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
 
 #ifdef __cplusplus
 extern "C" {

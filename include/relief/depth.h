@@ -13,7 +13,8 @@
 #ifndef RELIEF_DEPTH_H
 #define RELIEF_DEPTH_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
+#include "relief/image.h"
 
 #ifdef __cplusplus
 extern "C" {

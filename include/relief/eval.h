@@ -7,7 +7,8 @@
 #ifndef RELIEF_EVAL_H
 #define RELIEF_EVAL_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
+#include "relief/complete.h"
 
 #ifdef __cplusplus
 extern "C" {

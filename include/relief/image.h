@@ -12,7 +12,7 @@
 #ifndef RELIEF_IMAGE_H
 #define RELIEF_IMAGE_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
 
 #ifdef __cplusplus
 extern "C" {

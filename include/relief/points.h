@@ -16,7 +16,7 @@
 #ifndef RELIEF_POINTS_H
 #define RELIEF_POINTS_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
 
 #ifdef __cplusplus
 extern "C" {
