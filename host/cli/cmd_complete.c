@@ -2,7 +2,6 @@
  * relief_smooth (relief/complete.h; smooth takes the smooth completion's
  * only), one call of the engine with progress and SIGINT, then the mesh,
  * the report and the report folder, all or none. */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

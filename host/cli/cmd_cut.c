@@ -1,5 +1,4 @@
 /* relief cut: a hole cut out of a whole mesh, with its truth (synth/cut.h). */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

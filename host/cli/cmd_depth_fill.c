@@ -15,7 +15,6 @@
 #include "base/memlimit.h"
 #include "cli/options.h"
 #include "depth/frame.h"
-#include "image/image_io.h"
 
 static const char depth_fill_help[] =
     "usage: relief depth-fill IN -o OUT [--variant plain|haar|decompose] [options]\n"
@@ -266,28 +265,6 @@ static relief_status read_frame(const depth_args *a, const char *path, relief_de
 
 /* MASK as an image of 16-bit samples (*buf holds them), through the
  * raster reader, whose samples are whole numbers. */
-static relief_status read_mask(const depth_args *a, relief_image *mask, uint16_t **buf,
-                               relief_error *err)
-{
-    relief_image_limit lim = {read_limit(a), 1.0, "the mask"};
-    relief_raster r = {0, 0, 0, 0, NULL};
-    relief_status st = relief_raster_read(a->cm.mask, &lim, &r, err);
-    size_t n;
-    if (st != RELIEF_OK)
-        return st;
-    n = (size_t)r.width * r.height * r.channels;
-    *buf = malloc(n * sizeof **buf);
-    if (!*buf) {
-        relief_raster_free(&r);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask");
-    }
-    for (size_t i = 0; i < n; ++i)
-        (*buf)[i] = (uint16_t)r.v[i];
-    *mask = (relief_image){r.width, r.height, r.channels, 16, 0, *buf};
-    relief_raster_free(&r);
-    return RELIEF_OK;
-}
-
 /* OUT, --points and --report, all or none. */
 static relief_status write_image_outputs(const depth_args *a, const relief_depth_image *f,
                                          const uint8_t *label, const char *json,
@@ -353,9 +330,8 @@ static int image_mode(depth_args *a)
 {
     relief_error err = {RELIEF_OK, ""};
     relief_depth_image f, truth;
-    relief_image mask;
+    relief_image mask = {0, 0, 0, 0, 0, NULL};
     relief_depth_fill_report rep;
-    uint16_t *mask_buf = NULL;
     uint8_t *label = NULL;
     cli_progress pr;
     relief_status st;
@@ -364,7 +340,7 @@ static int image_mode(depth_args *a)
     memset(&rep, 0, sizeof rep);
     st = read_frame(a, a->in, &f, &err);
     if (st == RELIEF_OK && a->cm.mask) {
-        st = read_mask(a, &mask, &mask_buf, &err);
+        st = relief_image_read(a->cm.mask, read_limit(a), &mask, &err);
         if (st == RELIEF_OK && (mask.width != f.width || mask.height != f.height))
             st = relief_fail(&err, RELIEF_E_USAGE, "--mask %s is %d x %d pixels, %s is %d x "
                              "%d: they must be the same size", a->cm.mask, mask.width,
@@ -399,7 +375,7 @@ static int image_mode(depth_args *a)
     relief_depth_fill_report_free(&rep);
     relief_depth_image_free(&f);
     relief_depth_image_free(&truth);
-    free(mask_buf);
+    relief_image_free(&mask);
     free(label);
     return st == RELIEF_OK ? 0 : cli_fail("depth-fill", &err);
 }

@@ -1,5 +1,4 @@
 /* relief devices: the OpenCL devices relief can use. */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

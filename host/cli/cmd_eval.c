@@ -1,5 +1,4 @@
 /* relief eval: the measures of a completion (relief_eval, relief/eval.h). */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

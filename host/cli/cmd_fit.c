@@ -1,5 +1,4 @@
 /* relief fit: fit a primitive and print it. */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

@@ -1,6 +1,5 @@
 /* relief image-fill: hole filling in images (paper 004), a client of
  * relief_image_fill (relief/image.h): options, the files, the summary. */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

@@ -1,5 +1,4 @@
 /* relief render: a shaded picture of a mesh (report/render.h). */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <errno.h>

@@ -1,5 +1,4 @@
 /* relief synth: synthetic partial captures with their truth (synth/). */
-#define RELIEF_CLI_CONVERTED
 #include "cli/commands.h"
 
 #include <getopt.h>

@@ -17,7 +17,6 @@
 #include "base/clock.h"
 #include "base/json.h"
 #include "base/memlimit.h"
-#include "base/params.h"
 
 cli_common cli_common_init(const char *cmd)
 {
@@ -405,73 +404,4 @@ relief_status cli_write_json(const char *path, const char *json, size_t n,
 {
     named_json c = {json, n, keys, values};
     return relief_atomic_write_text(path, write_named, &c, err);
-}
-
-/* ---- transitional (options.h) */
-
-int cli_parse_int_range(const char *cmd, const char *opt, const char *s, long lo, long hi,
-                        long *out)
-{
-    return cli_parse_long(cmd, opt, s, lo, hi, out);
-}
-
-/* "z0,z1" or "u0,v0,u1,v1". */
-int cli_parse_extent(const char *cmd, const char *s, relief_params *p)
-{
-    int n;
-    if (!cli_parse_reals(cmd, "--extent", s, p->extent, 4, &n))
-        return 0;
-    if (n != 2 && n != 4) {
-        fprintf(stderr,
-                "relief %s: --extent: expected z0,z1 (cylinder) or u0,v0,u1,v1 "
-                "(plane), got '%s'\n",
-                cmd, s);
-        return 0;
-    }
-    p->has_extent = 1;
-    p->n_extent = n;
-    return 1;
-}
-
-int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out)
-{
-    static const relief_fit_model models[] = {RELIEF_FIT_AUTO, RELIEF_FIT_PLANE,
-                                              RELIEF_FIT_SPHERE, RELIEF_FIT_CYLINDER};
-    for (size_t i = 0; i < 4; ++i)
-        if (strcmp(s, relief_fit_model_name(models[i])) == 0) {
-            *out = models[i];
-            return 1;
-        }
-    fprintf(stderr, "relief %s: --fit: '%s' is not one of auto, plane, sphere, cylinder\n",
-            cmd, s);
-    return 0;
-}
-
-int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out)
-{
-    static const relief_backend all[] = {RELIEF_BACKEND_AUTO, RELIEF_BACKEND_SCALAR,
-                                         RELIEF_BACKEND_OPENCL, RELIEF_BACKEND_HOST};
-    for (int i = 0; i < (with_host ? 4 : 3); ++i)
-        if (strcmp(s, relief_backend_name(all[i])) == 0) {
-            *out = all[i];
-            return 1;
-        }
-    fprintf(stderr, "relief %s: --backend: '%s' is not one of auto, scalar, opencl%s\n"
-            "Try 'relief %s --help'.\n", cmd, s, with_host ? ", host" : "", cmd);
-    return 0;
-}
-
-void cli_on_progress(void *ctx, size_t done, size_t total)
-{
-    cli_count_progress *pr = ctx;
-    double now = relief_seconds(), t = now - pr->start, rate;
-    if (!pr->print || (done != total && now - pr->last < 0.25))
-        return;
-    pr->last = now;
-    rate = t > 0 ? (double)done / t : 0.0;
-    fprintf(stderr, "\rrelief %s: %s %zu/%zu (%.0f %%), ETA %.0f s   ", pr->cmd, pr->what, done,
-            total, total ? 100.0 * (double)done / (double)total : 100.0,
-            rate > 0 ? (double)(total - done) / rate : 0.0);
-    if (done == total)
-        fputc('\n', stderr);
 }

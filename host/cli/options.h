@@ -161,30 +161,4 @@ relief_status cli_write_json(const char *path, const char *json, size_t n,
                              const char *const *keys, const char *const *values,
                              relief_error *err);
 
-/* ---- transitional: what the commands not yet calling an engine use; goes
- * when the last of them does. A converted command defines
- * RELIEF_CLI_CONVERTED before including this header. */
-#ifndef RELIEF_CLI_CONVERTED
-enum {
-    OPT_FIT = 400, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_LEVELS, OPT_OVERSAMPLE,
-    OPT_SPACING, OPT_EXTENT, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE,
-    OPT_JSON, OPT_FRAMES, OPT_OVERSAMPLE_SCHEME, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
-    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE,
-    OPT_COLOUR_BY, OPT_ACCEPT_POOR_FIT, OPT_MAX_GROWTH, OPT_COHERENCE, OPT_BALL, OPT_SLAB,
-    OPT_KEEP_SPIKES, OPT_FILL, OPT_CROP, OPT_SEARCH, OPT_SEARCH_K, OPT_BASE
-};
-int cli_parse_int_range(const char *cmd, const char *opt, const char *s, long lo, long hi,
-                        long *out);
-int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out);
-int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out);
-struct relief_params;
-int cli_parse_extent(const char *cmd, const char *s, struct relief_params *p);
-typedef struct cli_count_progress {
-    const char *cmd, *what;
-    int print;
-    double start, last;
-} cli_count_progress;
-void cli_on_progress(void *ctx, size_t done, size_t total);
-#endif /* RELIEF_CLI_CONVERTED */
-
 #endif
