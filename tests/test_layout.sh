@@ -21,8 +21,9 @@ declare -A allowed=(
   [synth]="base mesh"
   [image]="base report match device kernels"
   [depth]="base mesh smooth report match image kernels"
-  [points]="base mesh smooth match device kernels"
-  [cli]="base mesh smooth match grow report synth image depth points"
+  [points]="base mesh smooth match device depth kernels"
+  [complete]="base mesh smooth match grow report points"
+  [cli]="base mesh smooth match grow report synth image depth points complete"
 )
 
 fail=0

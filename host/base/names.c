@@ -29,13 +29,4 @@ NAME_FN(relief_membrane_name, relief_membrane, RELIEF_MEMBRANE_LIST)
 NAME_FN(relief_points_what_name, relief_points_what, RELIEF_POINTS_WHAT_LIST)
 NAME_FN(relief_grid_search_name, relief_grid_search, RELIEF_GRID_SEARCH_LIST)
 
-const char *relief_fit_model_name(relief_fit_model m)
-{
-    switch (m) {
-    case RELIEF_FIT_AUTO: return "auto";
-    case RELIEF_FIT_PLANE: return "plane";
-    case RELIEF_FIT_SPHERE: return "sphere";
-    case RELIEF_FIT_CYLINDER: return "cylinder";
-    }
-    return "unknown";
-}
+NAME_FN(relief_fit_model_name, relief_fit_model, RELIEF_FIT_MODEL_LIST)

@@ -72,7 +72,7 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
                            "auto, exhaustive, coherent", (int)p->search);
     if (p->search_k < 1 || p->search_k > 64)
         return relief_fail(err, RELIEF_E_RANGE,
-                           "search k %d out of range: expected 1..64", p->search_k);
+                           "search_k %d out of range: expected 1..64", p->search_k);
     if (p->levels < 1 || p->levels > 8)
         return relief_fail(err, RELIEF_E_RANGE,
                            "levels %d out of range: expected 1..8", p->levels);

@@ -32,6 +32,7 @@ static const char cut_help[] =
 
 int cli_cmd_cut(int argc, char **argv, int parse_only)
 {
+    enum { OPT_TRUTH = OPT_COMMAND, OPT_BALL, OPT_SLAB, OPT_ASCII, OPT_CROP };
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
         {"ball", required_argument, 0, OPT_BALL}, {"slab", required_argument, 0, OPT_SLAB},

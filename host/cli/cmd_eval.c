@@ -1,16 +1,11 @@
-/* relief eval: the measures of a completion (report/measures.h). */
+/* relief eval: the measures of a completion (relief_eval, relief/eval.h). */
 #include "cli/commands.h"
 
 #include <getopt.h>
-#include <math.h>
 #include <stdio.h>
 
 #include "relief/relief.h"
-#include "base/json.h"
 #include "cli/options.h"
-#include "report/measures.h"
-#include "report/pattern.h"
-#include "smooth/fit.h"
 
 static const char eval_help[] =
     "usage: relief eval COMPLETED [--truth T] [--json]\n"
@@ -42,69 +37,21 @@ static const char eval_help[] =
     "                        pattern_lean_across_PART[_colour], ...)\n"
     "  -h, --help            this help\n";
 
-static void print_measures_text(const relief_measures *m)
-{
-    printf("primitive: %s\n", relief_fit_model_name(m->prim.model));
-    printf("vertices: %zu captured, %zu completed\n", m->n_captured, m->n_completed);
-    printf("msi_captured: %.6g\nmsi_completed: %.6g\nmsi_diff_percent: %.3f\n",
-           m->msi_captured, m->msi_completed, m->msi_diff_percent);
-    printf("hist_distance_displacement: %.4f\n", m->hist_distance_displacement);
-    if (m->has_colour)
-        printf("hist_distance_colour: %.4f\n", m->hist_distance_colour);
-    printf("seam: %.6g (over %zu edges), inside: %.6g (%zu edges), seam_ratio: %.3f\n",
-           m->seam, m->n_seam_edges, m->inside, m->n_inside_edges, m->seam_ratio);
-    printf("freq_captured: %.4g\nfreq_completed: %.4g\n", m->freq_captured.freq,
-           m->freq_completed.freq);
-    if (m->has_truth) {
-        printf("truth_rms: %.6g (over %zu completed vertices on the truth)\n", m->truth_rms,
-               m->n_completed - m->n_truth_outside);
-        printf("truth_outside: %zu", m->n_truth_outside);
-        if (m->n_truth_outside)
-            printf(" (rms %.6g against the nearest truth vertex)", m->truth_rms_outside);
-        printf("\nfreq_truth: %.4g\n", m->freq_truth.freq);
-    }
-}
-
-/* One line per pattern distance, the truth's own floor beside it; then
- * the parts' lean-across shares, the truth's parts beside them. */
-static void print_pattern_text(const char *what, const relief_pattern_distance *d,
-                               const relief_pattern_distance *floor,
-                               const relief_pattern_part *part,
-                               const relief_pattern_part *truth)
-{
-    static const char *const names[] = {"spectrum", "orientation", "radial", "tensor", "lean"};
-    const double v[] = {d->spectrum, d->orientation, d->radial, d->tensor, d->lean};
-    const double f[] = {floor ? floor->spectrum : NAN, floor ? floor->orientation : NAN,
-                        floor ? floor->radial : NAN, floor ? floor->tensor : NAN,
-                        floor ? floor->lean : NAN};
-    for (int i = 0; i < 5; ++i) {
-        printf("pattern_%s_distance%s: %.4f", names[i], what, v[i]);
-        if (floor)
-            printf(" (truth's own: %.4f)", f[i]);
-        putchar('\n');
-    }
-    printf("pattern_lean_across%s: captured %.4f, completed %.4f", what, part[0].lean_across,
-           part[1].lean_across);
-    if (truth)
-        printf(" (truth's own: captured %.4f, missing %.4f)", truth[0].lean_across,
-               truth[1].lean_across);
-    putchar('\n');
-}
+enum { OPT_TRUTH = OPT_COMMAND, OPT_JSON };
 
 int cli_cmd_eval(int argc, char **argv, int parse_only)
 {
-    static const struct option opts[] = {{"truth", required_argument, 0, OPT_TRUTH},
+    static const struct option own[] = {{"truth", required_argument, 0, OPT_TRUTH},
                                          {"json", no_argument, 0, OPT_JSON},
-                                         {"help", no_argument, 0, 'h'},
                                          {0, 0, 0, 0}};
+    struct option opts[8];
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *done = NULL, *truth = NULL;
+    relief_eval_result r;
     const char *truth_path = NULL;
-    relief_measures m;
-    relief_pattern pat;
     relief_status st;
     int c, json = 0;
-
+    cli_options(0, own, opts, 8);
     optind = 0;
     while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
@@ -124,31 +71,17 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
     if (st == RELIEF_OK && truth_path)
         st = relief_mesh_read(truth_path, &truth, NULL, &err);
     if (st == RELIEF_OK)
-        st = relief_measure(done, truth, NULL, &m, &err);
-    if (st == RELIEF_OK)
-        st = relief_pattern_measure(done, &m.prim, truth, &pat, &err);
+        st = relief_eval(done, truth, &r, &err);
     relief_mesh_destroy(truth);
     relief_mesh_destroy(done);
     if (st != RELIEF_OK)
         return cli_fail("eval", &err);
     if (json) {
-        relief_json j;
-        rj_init(&j, stdout);
-        rj_begin_object(&j, NULL);
-        rj_string(&j, "input", argv[optind]);
-        if (truth_path)
-            rj_string(&j, "truth", truth_path);
-        relief_report_measures_fields(&j, &m);
-        relief_pattern_json_fields(&j, &pat);
-        rj_end_object(&j);
+        const char *keys[] = {"input", "truth"}, *values[] = {argv[optind], truth_path};
+        cli_print_json(stdout, r.json, truth_path ? 2 : 1, keys, values);
     } else {
-        print_measures_text(&m);
-        print_pattern_text("", &pat.d_height, pat.has_truth ? &pat.d_truth_height : NULL,
-                           pat.height, pat.has_truth ? pat.truth_height : NULL);
-        if (pat.has_colour)
-            print_pattern_text("_colour", &pat.d_colour,
-                               pat.has_truth_colour ? &pat.d_truth_colour : NULL, pat.colour,
-                               pat.has_truth_colour ? pat.truth_colour : NULL);
+        fputs(r.text, stdout);
     }
+    relief_eval_result_free(&r);
     return 0;
 }

@@ -37,6 +37,8 @@ static void print_fit_json(FILE *f, const char *path, const relief_fit_result *r
 
 int cli_cmd_fit(int argc, char **argv, int parse_only)
 {
+    enum { OPT_FIT = OPT_COMMAND, OPT_JSON };
+    static const char *const fits[] = CLI_NAMES(RELIEF_FIT_MODEL_LIST);
     static const struct option opts[] = {{"fit", required_argument, 0, OPT_FIT},
                                          {"json", no_argument, 0, OPT_JSON},
                                          {"help", no_argument, 0, 'h'},
@@ -46,14 +48,15 @@ int cli_cmd_fit(int argc, char **argv, int parse_only)
     relief_fit_result r;
     relief_mesh *in = NULL;
     relief_status st;
-    int c, json = 0;
+    int c, v, json = 0;
 
     optind = 0;
     while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
         case OPT_FIT:
-            if (!cli_parse_fit("fit", optarg, &model))
+            if (!CLI_PARSE_ENUM("fit", "--fit", optarg, fits, &v))
                 return EXIT_USAGE;
+            model = (relief_fit_model)v;
             break;
         case OPT_JSON: json = 1; break;
         case 'h': fputs(fit_help, stdout); return 0;

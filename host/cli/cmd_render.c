@@ -89,6 +89,7 @@ bad:
 
 int cli_cmd_render(int argc, char **argv, int parse_only)
 {
+    enum { OPT_VIEW = OPT_COMMAND, OPT_SIZE, OPT_COLOUR_BY };
     static const struct option opts[] = {{"output", required_argument, 0, 'o'},
                                          {"view", required_argument, 0, OPT_VIEW},
                                          {"size", required_argument, 0, OPT_SIZE},

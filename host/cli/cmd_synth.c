@@ -43,13 +43,14 @@ static void print_synth_help(void)
 
 int cli_cmd_synth(int argc, char **argv, int parse_only)
 {
-    static const struct option opts[] = {
-        {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
-        {"seed", required_argument, 0, OPT_SEED},
+    enum { OPT_TRUTH = OPT_COMMAND, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_ASCII };
+    static const struct option own[] = {
+        {"truth", required_argument, 0, OPT_TRUTH},
         {"vertices", required_argument, 0, OPT_VERTICES},
         {"colour", no_argument, 0, OPT_COLOUR}, {"color", no_argument, 0, OPT_COLOUR},
         {"noise", required_argument, 0, OPT_NOISE}, {"ascii", no_argument, 0, OPT_ASCII},
-        {"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+        {0, 0, 0, 0}};
+    struct option opts[16];
     relief_synth_params sp = relief_synth_params_default();
     relief_write_options wo = {0};
     relief_error err = {RELIEF_OK, ""};
@@ -59,18 +60,19 @@ int cli_cmd_synth(int argc, char **argv, int parse_only)
     int c, rc = 0;
     long v;
 
+    cli_options(CLI_OUTPUT | CLI_SEED, own, opts, 16);
     optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
         switch (c) {
         case 'o': out = optarg; break;
         case OPT_TRUTH: truth_path = optarg; break;
         case OPT_SEED:
-            if (!cli_parse_int_range("synth", "--seed", optarg, 0, (long)UINT32_MAX, &v))
+            if (!cli_parse_long("synth", "--seed", optarg, 0, (long)UINT32_MAX, &v))
                 return EXIT_USAGE;
             sp.seed = (uint32_t)v;
             break;
         case OPT_VERTICES:
-            if (!cli_parse_int_range("synth", "--vertices", optarg, 100, 4000000, &v))
+            if (!cli_parse_long("synth", "--vertices", optarg, 0, 2000000000L, &v))
                 return EXIT_USAGE;
             sp.vertices = (size_t)v;
             break;
@@ -92,7 +94,8 @@ int cli_cmd_synth(int argc, char **argv, int parse_only)
         return cli_usage_error("synth", "%smissing -o OUT", "");
     if (truth_path && cli_same_file(out, truth_path))
         return cli_usage_error("synth", "--truth: '%s' is also the -o output", truth_path);
-    if (relief_synth_kind_parse(argv[optind], &sp.kind, &err) != RELIEF_OK)
+    if (relief_synth_kind_parse(argv[optind], &sp.kind, &err) != RELIEF_OK ||
+        relief_synth_params_validate(&sp, &err) != RELIEF_OK)
         return cli_fail("synth", &err);
     if (parse_only)
         return 0;

@@ -13,6 +13,7 @@
 #include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "relief/relief.h"
 
@@ -124,7 +125,8 @@ typedef struct cli_progress {
     const char *cmd;
     int print, estimate;
     const char *estimate_tail;  /* said after the estimate ("" or how to resume) */
-    double start, last;
+    int open;                   /* 1 while a progress line waits for its end */
+    double start, last, fraction;
     double estimate_after, estimate_min;
     unsigned long sigint_after, seen;
     struct sigaction old;
@@ -136,6 +138,9 @@ void cli_progress_start(cli_progress *pr, const char *cmd, int quiet);
 /* The relief_progress_fn: ctx is a cli_progress. Returns 1 once SIGINT came. */
 int cli_progress_fn(void *ctx, double fraction);
 
+/* End the progress line, if one is open (before other messages). */
+void cli_progress_close_line(cli_progress *pr);
+
 /* Stop: end the line, give SIGINT back. */
 void cli_progress_end(cli_progress *pr);
 
@@ -144,34 +149,16 @@ void cli_progress_end(cli_progress *pr);
 void cli_hold_signals(sigset_t *old);
 void cli_release_signals(const sigset_t *old);
 
+/* Print an engine's JSON object to f with the string members keys[i]:
+ * values[i] (NULL: null) first. Returns 0 on success. */
+int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
+                   const char *const *values);
+
 /* Write an engine's JSON report to `path` atomically, with the string
  * members keys[i]: values[i] (NULL: null) first, for the files the command
  * read that the engine did not (a mask, a truth). n may be 0. */
 relief_status cli_write_json(const char *path, const char *json, size_t n,
                              const char *const *keys, const char *const *values,
                              relief_error *err);
-
-/* ---- transitional: what the commands not yet calling an engine use; goes
- * when the last of them does. */
-enum {
-    OPT_FIT = 400, OPT_WINDOW, OPT_ROTATIONS, OPT_ERROR, OPT_MU, OPT_LEVELS, OPT_OVERSAMPLE,
-    OPT_SPACING, OPT_EXTENT, OPT_ASCII, OPT_TRUTH, OPT_VERTICES, OPT_COLOUR, OPT_NOISE,
-    OPT_JSON, OPT_FRAMES, OPT_OVERSAMPLE_SCHEME, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_HELP,
-    OPT_CHECKPOINT, OPT_RESUME, OPT_CHECKPOINT_EVERY, OPT_REPORT_DIR, OPT_VIEW, OPT_SIZE,
-    OPT_COLOUR_BY, OPT_ACCEPT_POOR_FIT, OPT_MAX_GROWTH, OPT_COHERENCE, OPT_BALL, OPT_SLAB,
-    OPT_KEEP_SPIKES, OPT_FILL, OPT_CROP, OPT_SEARCH, OPT_SEARCH_K, OPT_BASE
-};
-int cli_parse_int_range(const char *cmd, const char *opt, const char *s, long lo, long hi,
-                        long *out);
-int cli_parse_backend(const char *cmd, const char *s, int with_host, relief_backend *out);
-int cli_parse_fit(const char *cmd, const char *s, relief_fit_model *out);
-struct relief_params;
-int cli_parse_extent(const char *cmd, const char *s, struct relief_params *p);
-typedef struct cli_count_progress {
-    const char *cmd, *what;
-    int print;
-    double start, last;
-} cli_count_progress;
-void cli_on_progress(void *ctx, size_t done, size_t total);
 
 #endif

@@ -36,26 +36,30 @@ relief_status relief_depth_repair_params_validate(const relief_depth_repair_para
                            "pixels are supported", width, height);
     if (p->variant != RELIEF_DEPTH_PLAIN && p->variant != RELIEF_DEPTH_HAAR &&
         p->variant != RELIEF_DEPTH_DECOMPOSE)
-        return relief_fail(err, RELIEF_E_RANGE, "unknown variant %d", (int)p->variant);
+        return relief_fail(err, RELIEF_E_RANGE, "variant %d is not one of plain, haar, "
+                           "decompose", (int)p->variant);
     if (!isfinite(p->lambda) || p->lambda > 1e12)
-        return relief_fail(err, RELIEF_E_RANGE, "--lambda %g: expected a finite value (<= 0: "
-                           "automatic)", p->lambda);
+        return relief_fail(err, RELIEF_E_RANGE, "lambda %g out of range: expected a finite "
+                           "value up to 1e12 (<= 0: automatic)", p->lambda);
     if (p->rof_iterations < 1 || p->rof_iterations > 100000)
-        return relief_fail(err, RELIEF_E_RANGE, "--rof-iterations %d: expected 1..100000",
+        return relief_fail(err, RELIEF_E_RANGE, "rof_iterations %d out of range: expected "
+                           "1..100000",
                            p->rof_iterations);
     if (p->membrane_iterations < 1 || p->membrane_iterations > 1000000)
-        return relief_fail(err, RELIEF_E_RANGE, "membrane iterations %d: expected 1..1000000",
+        return relief_fail(err, RELIEF_E_RANGE, "membrane_iterations %d out of range: "
+                           "expected 1..1000000",
                            p->membrane_iterations);
     if (p->variant == RELIEF_DEPTH_HAAR) {
         if (p->levels < 1 || p->levels > MAX_HAAR_LEVELS)
-            return relief_fail(err, RELIEF_E_RANGE, "--levels %d: expected 1..%d", p->levels,
+            return relief_fail(err, RELIEF_E_RANGE, "levels %d out of range: expected 1..%d",
+                               p->levels,
                                MAX_HAAR_LEVELS);
         w = (width + (1 << p->levels) - 1) >> p->levels;
         h = (height + (1 << p->levels) - 1) >> p->levels;
         if (w < p->synth.window || h < p->synth.window)
-            return relief_fail(err, RELIEF_E_RANGE, "--levels %d leaves %d x %d coefficients "
+            return relief_fail(err, RELIEF_E_RANGE, "levels %d leaves %d x %d coefficients "
                                "at the coarsest detail band, smaller than the %d-pixel window: "
-                               "give fewer --levels or a smaller --window", p->levels, w, h,
+                               "give fewer levels or a smaller window", p->levels, w, h,
                                p->synth.window);
         return relief_pixsyn_params_validate(&p->synth, w, h, err);
     }
@@ -78,16 +82,30 @@ uint64_t relief_depth_repair_estimate(int width, int height)
 
 /* ---------------------------------------------------------------- helpers */
 
-/* Synthesise `img` (channels C) where hole != 0; add the counts. */
+/* The synthesis's pixels as the repair's progress, in its current stage. */
+static int synth_progress(void *ctx, size_t done, size_t total)
+{
+    return relief_progress_count(ctx, done, total);
+}
+
+/* Synthesise `img` (channels C) where hole != 0, reporting to `pr` (may
+ * be NULL); add the counts. */
 static relief_status synthesise(float *v, const uint8_t *hole, const uint8_t *target, int W,
-                                int H, int C, const relief_pixsyn_params *sp, relief_patch_scorer *scorer,
+                                int H, int C, const relief_pixsyn_params *sp,
+                                relief_progress *pr, relief_patch_scorer *scorer,
                                 int64_t *source, relief_depth_repair_report *rep,
                                 relief_error *err)
 {
     relief_raster r = {W, H, C, 0, v};
     relief_pixsyn_report sr;
+    relief_pixsyn_params q = *sp;
     double t0 = relief_seconds();
-    relief_status st = relief_pixsyn(&r, hole, target, sp, scorer, source, &sr, err);
+    relief_status st;
+    if (pr) {
+        q.progress = synth_progress;
+        q.progress_ctx = pr;
+    }
+    st = relief_pixsyn(&r, hole, target, &q, scorer, source, &sr, err);
     rep->seconds_synthesis += relief_seconds() - t0;
     if (st != RELIEF_OK)
         return st;
@@ -152,7 +170,8 @@ static relief_status synthesise_blended(const float *u, float *v, const uint8_t 
     int blend = blends(p);
     if (blend && !map && !(map = malloc(n * sizeof *map)))
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
-    st = synthesise(v, missing, inside, W, H, 1, &p->synth, scorer, map, rep, err);
+    st = synthesise(v, missing, inside, W, H, 1, &p->synth, p->progress, scorer, map, rep,
+                    err);
     if (st == RELIEF_OK && blend)
         st = blend_rims(u, v, missing, inside, map, W, H, p, rep, err);
     if (map != source)
@@ -399,156 +418,213 @@ done:
     return st;
 }
 
-static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *inside, int W,
-                               int H,
-                               const relief_depth_repair_params *p, relief_patch_scorer *scorer,
-                               int64_t *source, relief_depth_repair_report *rep,
-                               relief_error *err)
-{
-    int L = p->levels, step = 1 << L;
-    int Wp = (W + step - 1) / step * step, Hp = (H + step - 1) / step * step;
-    float *ll[MAX_HAAR_LEVELS + 1] = {NULL}, *det[MAX_HAAR_LEVELS + 1] = {NULL};
-    uint8_t *known[MAX_HAAR_LEVELS + 1] = {NULL}, *target[MAX_HAAR_LEVELS + 1] = {NULL};
-    int64_t *src = NULL, *map = source;
-    float *back = NULL;
-    relief_status st = RELIEF_OK;
-    double t0 = relief_seconds();
+/* The Haar pyramid of a frame: level 0 the frame padded to Wp x Hp (a
+ * multiple of 2^L), level l its LL (ll[l]), its LH, HL and HH bands as one
+ * 3-channel image (det[l]), and which coefficients are known and which are
+ * targets. */
+typedef struct haar_bands {
+    int L, Wp, Hp;
+    float *ll[MAX_HAAR_LEVELS + 1], *det[MAX_HAAR_LEVELS + 1];
+    uint8_t *known[MAX_HAAR_LEVELS + 1], *target[MAX_HAAR_LEVELS + 1];
+} haar_bands;
 
-    /* Level 0: the image padded to a multiple of 2^L by repeating its last
-     * column and row (with their known flags). */
+static void haar_free(haar_bands *b)
+{
+    for (int l = 0; l <= b->L; ++l) {
+        free(b->ll[l]);
+        free(b->det[l]);
+        free(b->known[l]);
+        free(b->target[l]);
+    }
+}
+
+/* Allocate the bands of a W x H frame and take the forward transform:
+ * level 0 the frame padded by repeating its last column and row (with
+ * their known flags); a coefficient is known when its four pixels are, a
+ * target when one of them is. */
+static relief_status haar_forward(haar_bands *b, const float *z, const uint8_t *missing,
+                                  const uint8_t *inside, int W, int H, int L, relief_error *err)
+{
+    int step = 1 << L, Wp = (W + step - 1) / step * step, Hp = (H + step - 1) / step * step;
+    memset(b, 0, sizeof *b);
+    b->L = L;
+    b->Wp = Wp;
+    b->Hp = Hp;
     for (int l = 0; l <= L; ++l) {
         size_t m = (size_t)(Wp >> l) * (Hp >> l);
-        ll[l] = malloc(m * sizeof(float));
-        known[l] = malloc(m);
-        target[l] = malloc(m);
-        det[l] = l ? malloc(3 * m * sizeof(float)) : NULL;
-        if (!ll[l] || !known[l] || !target[l] || (l && !det[l])) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
-            goto done;
-        }
-    }
-    /* The finest level's copies, mapped to full resolution: the caller's
-     * source map and the seam's. */
-    if (blends(p) && !map)
-        map = malloc((size_t)W * H * sizeof *map);
-    src = map ? malloc((size_t)(Wp >> 1) * (Hp >> 1) * sizeof *src) : NULL;
-    back = malloc((size_t)Wp * Hp * sizeof *back);
-    if ((blends(p) && !map) || (map && !src) || !back) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
-        goto done;
+        b->ll[l] = malloc(m * sizeof(float));
+        b->known[l] = malloc(m);
+        b->target[l] = malloc(m);
+        b->det[l] = l ? malloc(3 * m * sizeof(float)) : NULL;
+        if (!b->ll[l] || !b->known[l] || !b->target[l] || (l && !b->det[l]))
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
     }
     for (int y = 0; y < Hp; ++y)
         for (int x = 0; x < Wp; ++x) {
             size_t s = (size_t)(y < H ? y : H - 1) * W + (x < W ? x : W - 1);
             size_t o = (size_t)y * Wp + x;
-            known[0][o] = !missing[s];
-            target[0][o] = x < W && y < H && inside[s];
-            ll[0][o] = missing[s] ? 0.0f : z[s];
+            b->known[0][o] = !missing[s];
+            b->target[0][o] = x < W && y < H && inside[s];
+            b->ll[0][o] = missing[s] ? 0.0f : z[s];
         }
-    /* Forward: a coefficient is known when its four pixels are, a target
-     * when one of them is. */
     for (int l = 1; l <= L; ++l) {
         int w = Wp >> l, h = Hp >> l, fw = Wp >> (l - 1);
-        relief_haar_forward(ll[l - 1], fw, Hp >> (l - 1), ll[l], det[l]);
+        const uint8_t *k = b->known[l - 1], *t = b->target[l - 1];
+        relief_haar_forward(b->ll[l - 1], fw, Hp >> (l - 1), b->ll[l], b->det[l]);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                const uint8_t *k = known[l - 1], *t = target[l - 1];
                 size_t a = (size_t)(2 * y) * fw + 2 * x;
-                known[l][(size_t)y * w + x] = k[a] && k[a + 1] && k[a + fw] && k[a + fw + 1];
-                target[l][(size_t)y * w + x] = t[a] || t[a + 1] || t[a + fw] || t[a + fw + 1];
+                b->known[l][(size_t)y * w + x] = k[a] && k[a + 1] && k[a + fw] && k[a + fw + 1];
+                b->target[l][(size_t)y * w + x] = t[a] || t[a + 1] || t[a + fw] || t[a + fw + 1];
             }
     }
-    /* The coarsest LL: the membrane, over the known and target
-     * coefficients. */
-    {
-        size_t m = (size_t)(Wp >> L) * (Hp >> L);
-        uint8_t *domain = malloc(m);
-        if (!domain) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the fill's domain");
-            goto done;
-        }
-        for (size_t i = 0; i < m; ++i)
-            domain[i] = known[L][i] || target[L][i];
-        st = smooth_fill(ll[L], known[L], domain, Wp >> L, Hp >> L, p,
-                         &rep->membrane_iterations, err);
-        free(domain);
+    return RELIEF_OK;
+}
+
+/* The coarsest LL: the membrane, over the known and target coefficients. */
+static relief_status haar_coarse(haar_bands *b, const relief_depth_repair_params *p,
+                                 relief_depth_repair_report *rep, relief_error *err)
+{
+    int L = b->L;
+    size_t m = (size_t)(b->Wp >> L) * (b->Hp >> L);
+    uint8_t *domain = malloc(m);
+    relief_status st;
+    if (!domain)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the fill's domain");
+    for (size_t i = 0; i < m; ++i)
+        domain[i] = b->known[L][i] || b->target[L][i];
+    st = smooth_fill(b->ll[L], b->known[L], domain, b->Wp >> L, b->Hp >> L, p,
+                     &rep->membrane_iterations, err);
+    free(domain);
+    if (st == RELIEF_E_RANGE)
+        return relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known "
+                           "(every 2^%d block has a missing pixel): give fewer levels", L, L);
+    for (size_t i = 0; i < m && st == RELIEF_OK; ++i)
+        rep->by_membrane += b->target[L][i] != 0;
+    return st;
+}
+
+/* Level l's details synthesised (the three bands as one 3-channel image,
+ * so that a copy keeps them together; src, may be NULL, gets the copies'
+ * sources), then the inverse into the finer LL (`back`: Wp x Hp scratch),
+ * whose known coefficients keep their values. */
+static relief_status haar_level(haar_bands *b, int l, const relief_depth_repair_params *p,
+                                relief_patch_scorer *scorer, int64_t *src, float *back,
+                                relief_depth_repair_report *rep, relief_error *err)
+{
+    int w = b->Wp >> l, h = b->Hp >> l, fw = b->Wp >> (l - 1), fh = b->Hp >> (l - 1);
+    size_t m = (size_t)w * h, any = 0;
+    uint8_t *hole = malloc(m);
+    relief_pixsyn_params sp = p->synth;
+    float *det = b->det[l];
+    relief_status st;
+    double t0;
+    if (!hole)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a band's mask");
+    for (size_t i = 0; i < m; ++i) {
+        hole[i] = !b->known[l][i];
+        any += !hole[i];
+        if (hole[i])
+            det[3 * i] = det[3 * i + 1] = det[3 * i + 2] = 0.0f;
     }
-    if (st != RELIEF_OK) {
-        if (st == RELIEF_E_RANGE)
-            st = relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known "
-                             "(every 2^%d block has a missing pixel): give fewer --levels", L,
-                             L);
-        goto done;
+    if (sp.search_radius > 0) {
+        int r = sp.search_radius >> l, least = (sp.window + 1) / 2;
+        sp.search_radius = r > least ? r : least;
     }
-    for (size_t i = 0; i < (size_t)(Wp >> L) * (Hp >> L); ++i)
-        rep->by_membrane += target[L][i] != 0;
+    st = any ? synthesise(det, hole, b->target[l], w, h, 3, &sp, p->progress, scorer, src, rep,
+                          err)
+             : relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known: "
+                           "give fewer levels", l);
+    free(hole);
+    if (st != RELIEF_OK)
+        return st;
+    t0 = relief_seconds();
+    relief_haar_inverse(b->ll[l], det, fw, fh, back);
+    for (size_t i = 0; i < (size_t)fw * fh; ++i)
+        if (!b->known[l - 1][i])
+            b->ll[l - 1][i] = back[i];
     rep->seconds_transform += relief_seconds() - t0;
-    /* Coarse to fine: the level's details synthesised (the three bands as
-     * one 3-channel image, so that a copy keeps them together), then the
-     * inverse; known coefficients of the finer LL keep their values. */
-    for (int l = L; l >= 1; --l) {
-        int w = Wp >> l, h = Hp >> l, fw = Wp >> (l - 1), fh = Hp >> (l - 1);
-        size_t m = (size_t)w * h, any = 0;
-        uint8_t *hole = malloc(m);
-        relief_pixsyn_params sp = p->synth;
-        if (!hole) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a band's mask");
-            goto done;
-        }
-        for (size_t i = 0; i < m; ++i) {
-            hole[i] = !known[l][i];
-            any += !hole[i];
-            if (hole[i])
-                det[l][3 * i] = det[l][3 * i + 1] = det[l][3 * i + 2] = 0.0f;
-        }
-        if (sp.search_radius > 0) {
-            int r = sp.search_radius >> l, least = (sp.window + 1) / 2;
-            sp.search_radius = r > least ? r : least;
-        }
-        st = any ? synthesise(det[l], hole, target[l], w, h, 3, &sp, scorer, l == 1 ? src : NULL,
-                              rep, err)
-                 : relief_fail(err, RELIEF_E_RANGE, "no Haar coefficient of level %d is known: "
-                               "give fewer --levels", l);
-        free(hole);
-        if (st != RELIEF_OK)
-            goto done;
-        t0 = relief_seconds();
-        relief_haar_inverse(ll[l], det[l], fw, fh, back);
-        for (size_t i = 0; i < (size_t)fw * fh; ++i)
-            if (!known[l - 1][i])
-                ll[l - 1][i] = back[i];
-        rep->seconds_transform += relief_seconds() - t0;
-    }
+    return RELIEF_OK;
+}
+
+/* Level 1's copies (src, at half resolution) mapped to full resolution:
+ * each pixel takes the same corner of its block's source block, -1 where
+ * that is not a captured pixel. */
+static void haar_map_sources(const int64_t *src, const uint8_t *missing, const uint8_t *inside,
+                             int W, int H, int Wp, int64_t *map)
+{
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             size_t i = (size_t)y * W + x;
+            int64_t s = src[(size_t)(y / 2) * (Wp / 2) + x / 2];
+            int sx, sy;
             if (!inside[i])
                 continue;
-            z[i] = ll[0][(size_t)y * Wp + x];
-            if (map) {
-                int64_t s = src[(size_t)(y / 2) * (Wp / 2) + x / 2];
-                int sx, sy;
-                map[i] = -1;
-                if (s >= 0) {
-                    sx = 2 * (int)(s % (Wp / 2)) + (x & 1);
-                    sy = 2 * (int)(s / (Wp / 2)) + (y & 1);
-                    if (sx < W && sy < H && !missing[(size_t)sy * W + sx])
-                        map[i] = (int64_t)sy * W + sx;
-                }
+            map[i] = -1;
+            if (s >= 0) {
+                sx = 2 * (int)(s % (Wp / 2)) + (x & 1);
+                sy = 2 * (int)(s / (Wp / 2)) + (y & 1);
+                if (sx < W && sy < H && !missing[(size_t)sy * W + sx])
+                    map[i] = (int64_t)sy * W + sx;
             }
         }
+}
+
+static relief_status fill_haar(float *z, const uint8_t *missing, const uint8_t *inside, int W,
+                               int H, const relief_depth_repair_params *p,
+                               relief_patch_scorer *scorer, int64_t *source,
+                               relief_depth_repair_report *rep, relief_error *err)
+{
+    int L = p->levels;
+    haar_bands b;
+    int64_t *src = NULL, *map = source;
+    float *back = NULL;
+    relief_progress *pr = p->progress;
+    double lo = pr ? pr->lo : 0.0, hi = pr ? pr->hi : 1.0, done = 0.0, all = 0.0;
+    double t0 = relief_seconds();
+    relief_status st = haar_forward(&b, z, missing, inside, W, H, L, err);
+
+    /* The finest level's copies, mapped to full resolution: the caller's
+     * source map and the seam's. */
+    if (st == RELIEF_OK && blends(p) && !map && !(map = malloc((size_t)W * H * sizeof *map)))
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
+    if (st == RELIEF_OK) {
+        src = map ? malloc((size_t)(b.Wp >> 1) * (b.Hp >> 1) * sizeof *src) : NULL;
+        back = malloc((size_t)b.Wp * b.Hp * sizeof *back);
+        if ((map && !src) || !back)
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the Haar bands");
+    }
+    if (st == RELIEF_OK)
+        st = haar_coarse(&b, p, rep, err);
+    rep->seconds_transform += relief_seconds() - t0;
+    /* Coarse to fine; each level's share of the progress is its share of
+     * the coefficients. */
+    for (int l = 1; l <= L; ++l)
+        all += 1.0 / (double)(1 << (2 * l));
+    for (int l = L; l >= 1 && st == RELIEF_OK; --l) {
+        double share = 1.0 / (double)(1 << (2 * l)) / all;
+        if (pr)
+            relief_progress_stage(pr, lo + done * (hi - lo), lo + (done + share) * (hi - lo));
+        st = haar_level(&b, l, p, scorer, l == 1 ? src : NULL, back, rep, err);
+        done += share;
+    }
+    if (pr)
+        relief_progress_stage(pr, lo, hi);
+    if (st != RELIEF_OK)
+        goto done;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            if (inside[(size_t)y * W + x])
+                z[(size_t)y * W + x] = b.ll[0][(size_t)y * b.Wp + x];
+    if (map)
+        haar_map_sources(src, missing, inside, W, H, b.Wp, map);
     rep->levels = L;
     /* The rims blended as the plain variant's, each filled pixel's
      * texture taken from its block's source. */
     if (blends(p))
         st = blend_rims(NULL, z, missing, inside, map, W, H, p, rep, err);
 done:
-    for (int l = 0; l <= L; ++l) {
-        free(ll[l]);
-        free(det[l]);
-        free(known[l]);
-        free(target[l]);
-    }
+    haar_free(&b);
     free(src);
     free(back);
     if (map != source)
@@ -596,6 +672,40 @@ size_t relief_depth_inside(const uint8_t *missing, int width, int height, uint8_
     free(first_y);
     free(last_y);
     return count;
+}
+
+/* The variant, its synthesis taking the progress's current stage but the
+ * smooth parts' share (decompose's ROF and membrane are a tenth of a
+ * typical run, haar's coarsest membrane much less): nothing reports
+ * during them. */
+static relief_status run_variant(float *z, const uint8_t *missing, const uint8_t *inside,
+                                 int W, int H, const relief_depth_repair_params *p,
+                                 relief_patch_scorer *scorer, int64_t *source,
+                                 relief_depth_repair_report *rep, relief_error *err)
+{
+    relief_progress *pr = p->progress;
+    double lo = pr ? pr->lo : 0.0, hi = pr ? pr->hi : 1.0, smooth;
+    relief_status st;
+    if (relief_progress_step(pr, 0.0))
+        return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
+    smooth = p->variant == RELIEF_DEPTH_DECOMPOSE ? 0.1 : p->variant == RELIEF_DEPTH_HAAR ? 0.02
+                                                                                          : 0.0;
+    if (pr)
+        relief_progress_stage(pr, lo + smooth * (hi - lo), hi);
+    switch (p->variant) {
+    case RELIEF_DEPTH_PLAIN:
+        st = fill_plain(z, missing, inside, W, H, p, scorer, source, rep, err);
+        break;
+    case RELIEF_DEPTH_HAAR:
+        st = fill_haar(z, missing, inside, W, H, p, scorer, source, rep, err);
+        break;
+    default:
+        st = fill_decompose(z, missing, inside, W, H, p, scorer, source, rep, err);
+        break;
+    }
+    if (pr)
+        relief_progress_stage(pr, lo, hi);
+    return st;
 }
 
 relief_status relief_depth_repair(float *z, const uint8_t *missing, int width, int height,
@@ -670,17 +780,7 @@ relief_status relief_depth_repair_targets(float *z, const uint8_t *missing, cons
                            "column): the hole touches every border around the data, and "
                            "filling it would be extrapolation", holes);
     }
-    switch (p->variant) {
-    case RELIEF_DEPTH_PLAIN:
-        st = fill_plain(z, missing, inside, width, height, p, scorer, source, rep, err);
-        break;
-    case RELIEF_DEPTH_HAAR:
-        st = fill_haar(z, missing, inside, width, height, p, scorer, source, rep, err);
-        break;
-    default:
-        st = fill_decompose(z, missing, inside, width, height, p, scorer, source, rep, err);
-        break;
-    }
+    st = run_variant(z, missing, inside, width, height, p, scorer, source, rep, err);
     /* Missing pixels outside the capture are missing in the result too,
      * whatever they held (a masked pixel keeps no stale depth). */
     if (st == RELIEF_OK)

@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/progress.h"
 #include "image/patch.h"
 #include "image/pixel_synth.h"
 
@@ -44,6 +45,11 @@ typedef struct relief_depth_repair_params {
                                      in the gradient domain (relief_depth_seam); 0: the
                                      synthesis's copies as they are (paper 003). Not with
                                      synth.tileable (the blend does not wrap) */
+    relief_progress *progress;    /* NULL (default): none. The repair reports within
+                                     the progress's current stage (the smooth parts
+                                     first, then the synthesis, pixel by pixel) and
+                                     stops at a cancel: RELIEF_E_CANCELLED, z partly
+                                     repaired. synth.progress is its own to set */
 } relief_depth_repair_params;
 
 relief_depth_repair_params relief_depth_repair_params_default(void);

@@ -36,7 +36,7 @@ static relief_status check_sides(const char *name, long long w, long long h,
     if (h == 1 && w > RELIEF_DEPTH_MAX_SIDE && w <= PCD_MAX_CLOUD)
         return max_pixels && (uint64_t)w > max_pixels
                    ? relief_fail(err, RELIEF_E_NOMEM, "%s: a cloud of %lld points is over the "
-                                 "limit of %llu points (--max-memory)", name, w,
+                                 "limit of %llu points (max_points)", name, w,
                                  (unsigned long long)max_pixels)
                    : RELIEF_OK;
     if (w < 1 || h < 1)
@@ -47,7 +47,7 @@ static relief_status check_sides(const char *name, long long w, long long h,
                            "must be at most %d", name, w, h, RELIEF_DEPTH_MAX_SIDE);
     if (max_pixels && (uint64_t)w * (uint64_t)h > max_pixels)
         return relief_fail(err, RELIEF_E_NOMEM, "%s: a frame of %lld x %lld pixels is over the "
-                           "limit of %llu pixels (--max-memory)", name, w, h,
+                           "limit of %llu pixels (max_pixels)", name, w, h,
                            (unsigned long long)max_pixels);
     return RELIEF_OK;
 }
@@ -304,6 +304,54 @@ static float field_value(const uint8_t *p, const pcd_field *f)
     return NAN;
 }
 
+/* The ascii DATA from p to end into out's xyz and rgb (ix, iy, iz, ic the
+ * fields' indices, ic -1 without colour). */
+static relief_status decode_ascii(const char *p, const char *end, const pcd_header *h, int ix,
+                                  int iy, int iz, int ic, size_t px, relief_depth_frame *out,
+                                  const char *name, relief_error *err)
+{
+    for (size_t i = 0; i < px; ++i)
+        for (int k = 0; k < h->nf; ++k)
+            for (int c = 0; c < h->f[k].count; ++c) {
+                char tok[64];
+                size_t len = 0;
+                double v;
+                char *e;
+                while (p < end && isspace((unsigned char)*p))
+                    ++p;
+                while (p < end && !isspace((unsigned char)*p) && len + 1 < sizeof tok)
+                    tok[len++] = *p++;
+                tok[len] = '\0';
+                if (len == 0)
+                    return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii data ends at "
+                                       "point %zu of %zu (truncated)", name, i, px);
+                v = strtod(tok, &e);
+                if (*e && strcmp(tok, "nan") && strcmp(tok, "NaN"))
+                    return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii point %zu: '%s' "
+                                       "is not a number", name, i, tok);
+                if (*e)
+                    v = NAN;
+                if (k == ix || k == iy || k == iz)
+                    out->xyz[i * 3 + (k == ix ? 0 : k == iy ? 1 : 2)] = (float)v;
+                else if (k == ic) {
+                    /* rgb packs 0x00RRGGBB: as an integer (TYPE U or I, and
+                     * PCL's ascii for TYPE F too: a whole number >= 1), or
+                     * in a float's bits (older writers print that float). */
+                    uint32_t u;
+                    if (h->f[k].type == 'F' && !(v >= 1.0 && v == floor(v))) {
+                        float fv = (float)v;
+                        memcpy(&u, &fv, 4);
+                    } else {
+                        u = v >= 0 && v < 4294967296.0 ? (uint32_t)v : 0;
+                    }
+                    out->rgb[i * 3] = (uint8_t)(u >> 16);
+                    out->rgb[i * 3 + 1] = (uint8_t)(u >> 8);
+                    out->rgb[i * 3 + 2] = (uint8_t)u;
+                }
+            }
+    return RELIEF_OK;
+}
+
 static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
                                 uint64_t max_pixels, int organised_only,
                                 relief_depth_frame *out, relief_error *err)
@@ -394,50 +442,12 @@ static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
         return st;
     }
     if (h.data == PCD_ASCII) {
-        const char *p = (const char *)d + h.body, *end = (const char *)d + n;
-        for (size_t i = 0; i < px; ++i)
-            for (int k = 0; k < h.nf; ++k)
-                for (int c = 0; c < h.f[k].count; ++c) {
-                    char tok[64];
-                    size_t len = 0;
-                    double v;
-                    char *e;
-                    while (p < end && isspace((unsigned char)*p))
-                        ++p;
-                    while (p < end && !isspace((unsigned char)*p) && len + 1 < sizeof tok)
-                        tok[len++] = *p++;
-                    tok[len] = '\0';
-                    if (len == 0) {
-                        relief_depth_frame_free(out);
-                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii data ends at "
-                                           "point %zu of %zu (truncated)", name, i, px);
-                    }
-                    v = strtod(tok, &e);
-                    if (*e && strcmp(tok, "nan") && strcmp(tok, "NaN")) {
-                        relief_depth_frame_free(out);
-                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii point %zu: '%s' "
-                                           "is not a number", name, i, tok);
-                    }
-                    if (*e)
-                        v = NAN;
-                    if (k == ix || k == iy || k == iz)
-                        out->xyz[i * 3 + (k == ix ? 0 : k == iy ? 1 : 2)] = (float)v;
-                    else if (k == ic) {
-                        /* rgb packs 0x00RRGGBB: as an integer (TYPE U or I, and
-                         * PCL's ascii for TYPE F too: a whole number >= 1), or
-                         * in a float's bits (older writers print that float). */
-                        uint32_t u;
-                        if (h.f[k].type == 'F' && !(v >= 1.0 && v == floor(v))) {
-                            float fv = (float)v;
-                            memcpy(&u, &fv, 4);
-                        } else {
-                            u = v >= 0 && v < 4294967296.0 ? (uint32_t)v : 0;
-                        }
-                        out->rgb[i * 3] = (uint8_t)(u >> 16);
-                        out->rgb[i * 3 + 1] = (uint8_t)(u >> 8);
-                        out->rgb[i * 3 + 2] = (uint8_t)u;
-                    }
-                }
+        st = decode_ascii((const char *)d + h.body, (const char *)d + n, &h, ix, iy, iz, ic, px,
+                          out, name, err);
+        if (st != RELIEF_OK) {
+            relief_depth_frame_free(out);
+            return st;
+        }
     } else {
         for (size_t i = 0; i < px; ++i)
             for (int k = 0; k < h.nf; ++k) {

@@ -70,6 +70,41 @@ static relief_status repair(float *z, const uint8_t *state, int W, int H,
     return st;
 }
 
+/* The six images, front and back along each axis, each taking a share of
+ * the progress's current stage by its pixels (the z-buffers before them
+ * and the surface after take a twentieth each). */
+static relief_status repair_images(relief_zbuffers *zb, const relief_mesh_fill_params *p,
+                                   relief_patch_scorer *scorer, relief_mesh_fill_report *rep,
+                                   relief_error *err)
+{
+    relief_progress *pr = p->depth.progress;
+    double lo = pr ? pr->lo : 0.0, hi = pr ? pr->hi : 1.0, all = 0.0, done = 0.0;
+    relief_status st = RELIEF_OK;
+    for (int a = 0; a < 3; ++a)
+        all += 2.0 * zb->width[a] * (double)zb->height[a];
+    for (int k = 0; k < 6 && st == RELIEF_OK; ++k) {
+        int a = k / 2, back = k % 2;
+        double share = zb->width[a] * (double)zb->height[a] / all;
+        if (pr) {
+            relief_progress_stage(pr, lo + (0.05 + 0.9 * done) * (hi - lo),
+                                  lo + (0.05 + 0.9 * (done + share)) * (hi - lo));
+            if (relief_progress_step(pr, 0.0))
+                st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
+        }
+        if (st == RELIEF_OK)
+            st = repair(back ? zb->back[a] : zb->front[a],
+                        back ? zb->back_state[a] : zb->front_state[a], zb->width[a],
+                        zb->height[a], &p->depth, scorer, &rep->hole_pixels[k], &rep->filled[k],
+                        rep, err);
+        done += share;
+    }
+    if (pr)
+        relief_progress_stage(pr, lo, hi);
+    if (st == RELIEF_OK)
+        relief_progress_step(pr, 0.95);
+    return st;
+}
+
 relief_status relief_mesh_depth_fill(relief_mesh *in, const relief_mesh_fill_params *p,
                                      relief_patch_scorer *scorer, relief_mesh **out,
                                      relief_mesh_fill_report *rep, relief_error *err)
@@ -95,13 +130,7 @@ relief_status relief_mesh_depth_fill(relief_mesh *in, const relief_mesh_fill_par
     if (st != RELIEF_OK)
         return st;
     t0 = relief_seconds();
-    for (int a = 0; a < 3 && st == RELIEF_OK; ++a) {
-        st = repair(zb.front[a], zb.front_state[a], zb.width[a], zb.height[a], &p->depth, scorer,
-                    &rep->hole_pixels[2 * a], &rep->filled[2 * a], rep, err);
-        if (st == RELIEF_OK)
-            st = repair(zb.back[a], zb.back_state[a], zb.width[a], zb.height[a], &p->depth,
-                        scorer, &rep->hole_pixels[2 * a + 1], &rep->filled[2 * a + 1], rep, err);
-    }
+    st = repair_images(&zb, p, scorer, rep, err);
     rep->seconds_repair = relief_seconds() - t0;
     if (st != RELIEF_OK)
         goto done;

@@ -32,7 +32,10 @@ typedef struct relief_mesh_fill_report {
 
 /* Repair `in` (triangles counter-clockwise seen from outside) into a new
  * closed mesh *out. RELIEF_E_RANGE for a bad resolution or a mesh with no
- * triangles; depth-image repair's errors otherwise. */
+ * triangles; depth-image repair's errors otherwise. p->depth.progress (may
+ * be NULL) gets the call's progress within its current stage (the six
+ * images' repairs from 5 to 95 %) and can cancel it between two images or
+ * two pixels of one: RELIEF_E_CANCELLED, *out untouched. */
 relief_status relief_mesh_depth_fill(relief_mesh *in, const relief_mesh_fill_params *p,
                                      relief_patch_scorer *scorer, relief_mesh **out,
                                      relief_mesh_fill_report *rep, relief_error *err);

@@ -21,8 +21,8 @@ relief_status relief_grid_of_mesh(relief_mesh *m, int resolution, relief_grid *g
     double side = 0.0;
     int margin;
     if (resolution < 8 || resolution > MAX_RESOLUTION)
-        return relief_fail(err, RELIEF_E_RANGE, "--resolution %d: expected 8..%d voxels",
-                           resolution, MAX_RESOLUTION);
+        return relief_fail(err, RELIEF_E_RANGE, "resolution %d out of range: expected 8..%d "
+                           "voxels", resolution, MAX_RESOLUTION);
     for (size_t i = 0; i < nv; ++i)
         for (int a = 0; a < 3; ++a) {
             lo[a] = fmin(lo[a], p[3 * i + a]);

@@ -7,6 +7,7 @@
 
 #include "base/clock.h"
 #include "base/error.h"
+#include "base/progress.h"
 #include "base/rng.h"
 
 relief_fill_params relief_fill_params_default(void)
@@ -31,50 +32,56 @@ relief_fill_params relief_fill_params_default(void)
     return p;
 }
 
-/* The values' scale against 0..255: 1 at 8 bits, 257 at 16, 1 for real
- * data (whose callers set tau and the 1-D thresholds themselves). */
-static double value_scale(const relief_raster *r)
+relief_status relief_fill_params_check(const relief_fill_params *p, relief_error *err)
 {
-    return r->bit_depth == 16 ? 257.0 : 1.0;
-}
-
-relief_status relief_fill_params_validate(const relief_fill_params *p, int width, int height,
-                                          relief_error *err)
-{
-    int side = width < height ? width : height;
     if (p->window < 3 || p->window > 1025 || p->window % 2 == 0)
-        return relief_fail(err, RELIEF_E_RANGE, "--window %d: expected an odd number of "
-                           "pixels in 3..1025", p->window);
+        return relief_fail(err, RELIEF_E_RANGE, "window %d out of range: expected an odd "
+                           "number of pixels in 3..1025", p->window);
     if (p->min_window < 3 || p->min_window > p->window || p->min_window % 2 == 0)
-        return relief_fail(err, RELIEF_E_RANGE, "--min-window %d: expected an odd number of "
-                           "pixels in 3..%d (--window)", p->min_window, p->window);
-    if (p->window > side)
-        return relief_fail(err, RELIEF_E_RANGE, "--window %d is larger than the image (%d x "
-                           "%d pixels); give --window at most %d", p->window, width, height,
-                           side % 2 ? side : side - 1);
+        return relief_fail(err, RELIEF_E_RANGE, "min_window %d out of range: expected an odd "
+                           "number of pixels in 3..%d (window)", p->min_window, p->window);
     if (!(p->max_hole_fraction >= 0.0 && p->max_hole_fraction < 1.0))
-        return relief_fail(err, RELIEF_E_RANGE, "hole fraction %g: expected 0 <= f < 1",
-                           p->max_hole_fraction);
+        return relief_fail(err, RELIEF_E_RANGE, "max_hole_fraction %g out of range: expected "
+                           "0 <= f < 1", p->max_hole_fraction);
     if (!isfinite(p->tau) || p->tau < 0.0)
-        return relief_fail(err, RELIEF_E_RANGE, "--tau %g: expected a finite value >= 0 (0: "
-                           "the default)", p->tau);
-    if (p->search_radius < 0)
-        return relief_fail(err, RELIEF_E_RANGE, "--search-radius %d: expected >= 0 (0: the "
-                           "whole image)", p->search_radius);
+        return relief_fail(err, RELIEF_E_RANGE, "tau %g out of range: expected a finite value "
+                           "> 0, or 0 for the default", p->tau);
+    if (p->search_radius < 0 || p->search_radius > 1000000)
+        return relief_fail(err, RELIEF_E_RANGE, "search_radius %d out of range: expected "
+                           "0..1000000 pixels (0: the whole image)", p->search_radius);
     if (p->search_radius > 0 && 2 * p->search_radius + 1 < p->window)
-        return relief_fail(err, RELIEF_E_RANGE, "--search-radius %d: the search region must "
-                           "hold a window: expected at least %d (--window %d)",
+        return relief_fail(err, RELIEF_E_RANGE, "search_radius %d: the search region must "
+                           "hold a window: expected at least %d (window %d)",
                            p->search_radius, p->window / 2, p->window);
-    if (!isfinite(p->interp_diff) || !isfinite(p->interp_sd))
-        return relief_fail(err, RELIEF_E_RANGE, "the 1-D pass's thresholds must be finite");
+    if (!isfinite(p->interp_diff))
+        return relief_fail(err, RELIEF_E_RANGE, "interp_diff %g out of range: expected a "
+                           "finite value (< 0: the default)", p->interp_diff);
+    if (!isfinite(p->interp_sd))
+        return relief_fail(err, RELIEF_E_RANGE, "interp_sd %g out of range: expected a "
+                           "finite value (< 0: the default)", p->interp_sd);
     if (p->interp_span < 1 || p->interp_span > 64)
-        return relief_fail(err, RELIEF_E_RANGE, "interpolation span %d: expected 1..64",
+        return relief_fail(err, RELIEF_E_RANGE, "interp_span %d out of range: expected 1..64",
                            p->interp_span);
     if (p->pyramid_side < 8 || p->pyramid_levels < 0 ||
         p->pyramid_levels > RELIEF_FILL_MAX_LEVELS - 1 || p->region_pixels < 1 ||
         p->window_pixels < 1)
         return relief_fail(err, RELIEF_E_RANGE, "pyramid parameters out of range");
     return RELIEF_OK;
+}
+
+relief_status relief_fill_params_validate(const relief_fill_params *p, int width, int height,
+                                          relief_error *err)
+{
+    int side = width < height ? width : height;
+    relief_status st = relief_fill_params_check(p, err);
+    if (st == RELIEF_OK && side < 3)
+        st = relief_fail(err, RELIEF_E_RANGE, "the image (%d x %d pixels) is smaller than the "
+                         "smallest window (3 x 3)", width, height);
+    else if (st == RELIEF_OK && p->window > side)
+        st = relief_fail(err, RELIEF_E_RANGE, "window %d is larger than the image (%d x %d "
+                         "pixels): expected at most %d", p->window, width, height,
+                         side % 2 ? side : side - 1);
+    return st;
 }
 
 uint64_t relief_fill_estimate(int width, int height, int channels)
@@ -154,12 +161,16 @@ static size_t interp_line(float *v, uint8_t *hole, int C, int stride, int first,
     return filled;
 }
 
-static void interp_thresholds(const relief_raster *img, const relief_fill_params *p,
-                              double *diff, double *sd)
+void relief_fill_thresholds(const relief_fill_params *p, int bit_depth, double *tau,
+                           double *diff, double *sd)
 {
-    double s = value_scale(img);
-    *diff = p->interp_diff >= 0.0 ? p->interp_diff : 16.0 * s;
-    *sd = p->interp_sd >= 0.0 ? p->interp_sd : 3.0 * s;
+    double s = bit_depth == 16 ? 257.0 : 1.0;
+    if (tau)
+        *tau = p->tau > 0.0 ? p->tau : 36.0 * s;
+    if (diff)
+        *diff = p->interp_diff >= 0.0 ? p->interp_diff : 16.0 * s;
+    if (sd)
+        *sd = p->interp_sd >= 0.0 ? p->interp_sd : 3.0 * s;
 }
 
 /* The colour channels matched and interpolated: all but alpha. */
@@ -182,7 +193,7 @@ void relief_fill_interp(relief_raster *img, uint8_t *hole, const relief_fill_par
     int W = img->width, H = img->height, C = colour_channels(img);
     size_t rows = 0, cols = 0, n = (size_t)W * H;
     double diff, sd;
-    interp_thresholds(img, p, &diff, &sd);
+    relief_fill_thresholds(p, img->bit_depth, NULL, &diff, &sd);
     for (int y = 0; y < H; ++y)
         rows += interp_line(img->v, hole, C, img->channels, y * W, 1, W, p, diff, sd);
     for (size_t i = 0; i < n; ++i)
@@ -328,7 +339,7 @@ relief_status relief_filler_create(relief_raster *img, const uint8_t *hole,
     f->p = *p;
     f->C = colour_channels(img);
     f->scorer = scorer;
-    f->tau = p->tau > 0.0 ? p->tau : 36.0 * value_scale(img);
+    relief_fill_thresholds(p, img->bit_depth, &f->tau, NULL, NULL);
     relief_rng_seed(&f->rng, p->seed);
     /* Level 0 is a copy of the colour channels; the pyramid halves while a
      * side is over pyramid_side, at most pyramid_levels times (none when
@@ -736,12 +747,93 @@ static relief_status check_windows(const relief_raster *img, const uint8_t *hole
     return RELIEF_OK;
 }
 
+/* The hole pixels with a known 8-neighbour, in raster order, into list;
+ * returns their number. */
+static size_t boundary(const relief_filler *f, int W, int H, size_t *list)
+{
+    size_t m = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            int edge = 0;
+            if (f->known[0][(size_t)y * W + x])
+                continue;
+            for (int dy = -1; dy <= 1 && !edge; ++dy)
+                for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                    int u = x + dx, v = y + dy;
+                    edge = u >= 0 && u < W && v >= 0 && v < H && f->known[0][(size_t)v * W + u];
+                }
+            if (edge)
+                list[m++] = (size_t)y * W + x;
+        }
+    return m;
+}
+
+/* The cancelled call's status, at the fraction it was cancelled. */
+static relief_status cancelled(const relief_fill_params *p, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback at "
+                       "%.0f %%", 100.0 * p->progress->last);
+}
+
+/* One boundary pixel (px, py): windows from p->window down to min_window
+ * until a match under tau is pasted, else the 3 x 3 fallback. *filled
+ * counts the pixels filled. */
+static relief_status fill_query(relief_filler *f, int px, int py, size_t *filled,
+                                relief_error *err)
+{
+    const relief_fill_params *p = &f->p;
+    relief_fill_report *rep = f->rep;
+    relief_status st = RELIEF_OK;
+    size_t fb = rep->by_fallback;
+    ++rep->queries;
+    for (int w = p->window; w >= p->min_window && st == RELIEF_OK; w -= 2) {
+        relief_window_match best;
+        size_t got = 0;
+        int found;
+        st = relief_filler_search(f, px, py, w, p->exhaustive, &best, &found, NULL, NULL, err);
+        ++rep->searches;
+        if (st != RELIEF_OK || !found || !(sqrt(best.msd / f->C) < f->tau))
+            continue;
+        ++rep->accepted;
+        st = paste(f, px, py, best.x, best.y, w / 2, &got, err);
+        rep->by_copy += got;
+        *filled += got;
+        return st;
+    }
+    if (st == RELIEF_OK)
+        st = fallback(f, px, py, err);
+    *filled += rep->by_fallback - fb;
+    return st;
+}
+
+/* Copy-paste synthesis until every hole pixel is known: the boundary in
+ * raster order, each pixel still a hole queried, the boundary again. */
+static relief_status copy_paste(relief_filler *f, size_t holes, size_t filled, size_t *list,
+                                relief_error *err)
+{
+    int W = f->img->width, H = f->img->height;
+    relief_status st = RELIEF_OK;
+    while (filled < holes && st == RELIEF_OK) {
+        size_t m = boundary(f, W, H, list), before = filled;
+        for (size_t k = 0; k < m && st == RELIEF_OK; ++k) {
+            if (f->known[0][list[k]])
+                continue;
+            st = fill_query(f, (int)(list[k] % W), (int)(list[k] / W), &filled, err);
+            if (st == RELIEF_OK && relief_progress_count(f->p.progress, filled, holes))
+                st = cancelled(&f->p, err);
+        }
+        if (filled == before && st == RELIEF_OK)
+            st = relief_fail(err, RELIEF_E_INTERNAL, "the hole filling made no progress with "
+                             "%zu pixels left", holes - filled);
+    }
+    return st;
+}
+
 relief_status relief_fill(relief_raster *img, const uint8_t *hole_in, const relief_fill_params *p,
                           relief_patch_scorer *scorer, relief_fill_report *rep,
                           relief_error *err)
 {
-    size_t n = (size_t)img->width * img->height, holes = 0, filled = 0, *list = NULL;
-    int W = img->width, H = img->height;
+    size_t n = (size_t)img->width * img->height, holes = 0, *list = NULL;
     uint8_t *hole;
     relief_filler *f = NULL;
     relief_fill_report local;
@@ -752,14 +844,13 @@ relief_status relief_fill(relief_raster *img, const uint8_t *hole_in, const reli
         rep = &local;
     memset(rep, 0, sizeof *rep);
     rep->start_level = -1;
-    st = relief_fill_params_validate(p, W, H, err);
+    st = relief_fill_params_validate(p, img->width, img->height, err);
     if (st != RELIEF_OK)
         return st;
     for (size_t i = 0; i < n; ++i)
         holes += hole_in[i] != 0;
     rep->hole_pixels = holes;
-    rep->tau = p->tau > 0.0 ? p->tau : 36.0 * value_scale(img);
-    interp_thresholds(img, p, &rep->interp_diff, &rep->interp_sd);
+    relief_fill_thresholds(p, img->bit_depth, &rep->tau, &rep->interp_diff, &rep->interp_sd);
     if (holes == 0)
         return RELIEF_OK;
     if (holes == n)
@@ -782,9 +873,10 @@ relief_status relief_fill(relief_raster *img, const uint8_t *hole_in, const reli
     if (p->interp)
         relief_fill_interp(img, hole, p, &rep->by_rows, &rep->by_columns);
     rep->seconds_interp = relief_seconds() - t0;
-    filled = rep->by_rows + rep->by_columns;
-    if (p->progress)
-        p->progress(p->progress_ctx, filled, holes);
+    if (relief_progress_count(p->progress, rep->by_rows + rep->by_columns, holes)) {
+        st = cancelled(p, err);
+        goto done;
+    }
 
     t0 = relief_seconds();
     st = relief_filler_create(img, hole, p, scorer, &f, err);
@@ -792,57 +884,7 @@ relief_status relief_fill(relief_raster *img, const uint8_t *hole_in, const reli
         goto done;
     f->rep = rep;
     rep->levels = f->n_levels;
-    while (filled < holes && st == RELIEF_OK) {
-        size_t m = 0, before = filled;
-        /* The hole pixels with a known 8-neighbour, in raster order. */
-        for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-                int edge = 0;
-                if (f->known[0][(size_t)y * W + x])
-                    continue;
-                for (int dy = -1; dy <= 1 && !edge; ++dy)
-                    for (int dx = -1; dx <= 1 && !edge; ++dx) {
-                        int u = x + dx, v = y + dy;
-                        edge = u >= 0 && u < W && v >= 0 && v < H &&
-                               f->known[0][(size_t)v * W + u];
-                    }
-                if (edge)
-                    list[m++] = (size_t)y * W + x;
-            }
-        for (size_t k = 0; k < m && st == RELIEF_OK; ++k) {
-            int px = (int)(list[k] % W), py = (int)(list[k] / W), done_here = 0;
-            if (f->known[0][list[k]])
-                continue;
-            ++rep->queries;
-            for (int w = p->window; w >= p->min_window && !done_here && st == RELIEF_OK; w -= 2) {
-                relief_window_match best;
-                int found;
-                st = relief_filler_search(f, px, py, w, p->exhaustive, &best, &found, NULL,
-                                          NULL, err);
-                ++rep->searches;
-                if (st != RELIEF_OK || !found)
-                    continue;
-                if (sqrt(best.msd / f->C) < f->tau) {
-                    size_t got = 0;
-                    ++rep->accepted;
-                    st = paste(f, px, py, best.x, best.y, w / 2, &got, err);
-                    rep->by_copy += got;
-                    filled += got;
-                    done_here = 1;
-                }
-            }
-            if (!done_here && st == RELIEF_OK) {
-                size_t fb = rep->by_fallback;
-                st = fallback(f, px, py, err);
-                filled += rep->by_fallback - fb;
-            }
-            if (p->progress)
-                p->progress(p->progress_ctx, filled, holes);
-        }
-        if (filled == before && st == RELIEF_OK)
-            st = relief_fail(err, RELIEF_E_INTERNAL, "the hole filling made no progress with "
-                             "%zu pixels left", holes - filled);
-    }
+    st = copy_paste(f, holes, rep->by_rows + rep->by_columns, list, err);
     rep->candidates = f->candidates;
     rep->seconds_score = f->score_seconds;
 done:

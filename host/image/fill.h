@@ -43,12 +43,24 @@ typedef struct relief_fill_params {
                                  has fewer candidates than this; 4096 */
     int window_pixels;        /* or whose window has fewer pixels than this; 25 */
     uint32_t seed;            /* the fallback's random choice */
-    /* Called after each paste or fallback: pixels filled so far of all. */
-    void (*progress)(void *ctx, size_t filled, size_t total);
-    void *progress_ctx;
+    /* NULL, or told after the 1-D pass and after each paste or fallback
+     * the share of the hole pixels filled (base/progress.h); once it says
+     * cancelled, relief_fill stops with RELIEF_E_CANCELLED. */
+    struct relief_progress *progress;
 } relief_fill_params;
 
 relief_fill_params relief_fill_params_default(void);
+
+/* Check the fields alone (ranges, odd windows, finite thresholds):
+ * RELIEF_E_RANGE naming the field as spelt here and its range. */
+relief_status relief_fill_params_check(const relief_fill_params *p, relief_error *err);
+
+/* The thresholds used for values of `bit_depth` bits (0: real-valued):
+ * tau, the 1-D pass's end difference and standard deviation, each the
+ * parameter when set, else its default on 0..255 scaled (x 257 at 16
+ * bits). Any output may be NULL. */
+void relief_fill_thresholds(const relief_fill_params *p, int bit_depth, double *tau,
+                            double *diff, double *sd);
 
 typedef struct relief_fill_report {
     size_t hole_pixels;                  /* holes at the start */
@@ -77,8 +89,8 @@ typedef struct relief_window_match {
     double msd;
 } relief_window_match;
 
-/* Check `p` against an image of width x height (windows that do not fit
- * the image, values out of range): RELIEF_E_RANGE naming the parameter. */
+/* relief_fill_params_check, and the windows against an image of width x
+ * height: RELIEF_E_RANGE naming the parameter. */
 relief_status relief_fill_params_validate(const relief_fill_params *p, int width, int height,
                                           relief_error *err);
 
@@ -90,7 +102,9 @@ uint64_t relief_fill_estimate(int width, int height, int channels);
  * others keep their values bit for bit. Alpha (2 or 4 channels) is not
  * matched; a filled pixel becomes opaque. RELIEF_E_RANGE when every pixel
  * is a hole, or when no min_window window of the image has at most
- * max_hole_fraction holes; `rep` (may be NULL) is filled. */
+ * max_hole_fraction holes; RELIEF_E_CANCELLED when p->progress says so
+ * (img then half filled: callers fill a copy). `rep` (may be NULL) is
+ * filled. */
 relief_status relief_fill(relief_raster *img, const uint8_t *hole, const relief_fill_params *p,
                           relief_patch_scorer *scorer, relief_fill_report *rep,
                           relief_error *err);

@@ -4,7 +4,6 @@
 #include "image/image_io.h"
 
 #include <errno.h>
-#include <math.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,8 +34,10 @@ relief_image_format relief_image_format_of_name(const char *path)
 /* Refuse a width x height x channels image the limit cannot take, before
  * its pixels are decoded. */
 static relief_status check_size(const char *name, uint32_t w, uint32_t h, int channels,
-                                const relief_image_limit *lim, relief_error *err)
+                                int depth, const relief_image_limit *lim, int samples,
+                                relief_error *err)
 {
+    uint64_t bytes;
     char what[512];
     if (w == 0 || h == 0)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: the image has %u x %u pixels: nothing "
@@ -49,9 +50,11 @@ static relief_status check_size(const char *name, uint32_t w, uint32_t h, int ch
     snprintf(what, sizeof what, "%s (%u x %u pixels, %d channel%s)%s%s", name, w, h,
              channels, channels == 1 ? "" : "s", lim->what ? ": " : "",
              lim->what ? lim->what : "");
+    bytes = relief_raster_bytes((int)w, (int)h, channels);
+    if (samples)
+        bytes = bytes / sizeof(float) * (uint64_t)(depth / 8);
     return relief_memory_check(what,
-                               (uint64_t)((double)relief_raster_bytes((int)w, (int)h,
-                                                                      channels) *
+                               (uint64_t)((double)bytes *
                                           (lim->factor > 1.0 ? lim->factor : 1.0)),
                                lim->limit, "", err);
 }
@@ -90,7 +93,7 @@ static void png_read_memory(png_structp png, png_bytep out, size_t len)
 }
 
 static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
-                                const relief_image_limit *lim, relief_raster *out,
+                                const relief_image_limit *lim, int samples, relief_raster *out,
                                 relief_error *err)
 {
     png_job job;
@@ -134,7 +137,7 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
                          "supported", name, channels, depth);
         goto done;
     }
-    st = check_size(name, w, h, channels, lim, err);
+    st = check_size(name, w, h, channels, depth, lim, samples, err);
     if (st != RELIEF_OK)
         goto done;
     rowbytes = png_get_rowbytes(png, info);
@@ -193,7 +196,7 @@ static void jpeg_on_message(j_common_ptr cinfo, int level)
 }
 
 static relief_status decode_jpeg(const uint8_t *data, size_t n, const char *name,
-                                 const relief_image_limit *lim, relief_raster *out,
+                                 const relief_image_limit *lim, int samples, relief_raster *out,
                                  relief_error *err)
 {
     struct jpeg_decompress_struct cinfo;
@@ -220,7 +223,8 @@ static relief_status decode_jpeg(const uint8_t *data, size_t n, const char *name
     }
     channels = cinfo.num_components == 1 ? 1 : 3;
     cinfo.out_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
-    st = check_size(name, cinfo.image_width, cinfo.image_height, channels, lim, err);
+    st = check_size(name, cinfo.image_width, cinfo.image_height, channels, 8, lim, samples,
+                    err);
     if (st != RELIEF_OK)
         goto done;
     jpeg_start_decompress(&cinfo);
@@ -252,20 +256,37 @@ done:
     return st;
 }
 
-relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *name,
-                                  const relief_image_limit *lim, relief_raster *out,
-                                  relief_error *err)
+/* PNG or JPEG by the first bytes; samples: lim bounds the samples at the
+ * file's bit depth, not the raster (check_size). */
+static relief_status decode(const uint8_t *data, size_t n, const char *name,
+                            const relief_image_limit *lim, int samples, relief_raster *out,
+                            relief_error *err)
 {
     static const uint8_t png_sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     out->v = NULL;
     if (n >= 8 && memcmp(data, png_sig, 8) == 0)
-        return decode_png(data, n, name, lim, out, err);
+        return decode_png(data, n, name, lim, samples, out, err);
     if (n >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff)
-        return decode_jpeg(data, n, name, lim, out, err);
+        return decode_jpeg(data, n, name, lim, samples, out, err);
     if (n == 0)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: the file is empty", name);
     return relief_fail(err, RELIEF_E_FORMAT, "%s: not a PNG or JPEG image (by its first "
                        "bytes)", name);
+}
+
+relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *name,
+                                  const relief_image_limit *lim, relief_raster *out,
+                                  relief_error *err)
+{
+    return decode(data, n, name, lim, 0, out, err);
+}
+
+relief_status relief_raster_decode_samples(const uint8_t *data, size_t n, const char *name,
+                                           uint64_t max_bytes, relief_raster *out,
+                                           relief_error *err)
+{
+    relief_image_limit lim = {max_bytes, 1.0, NULL};
+    return decode(data, n, name, &lim, 1, out, err);
 }
 
 relief_status relief_raster_read(const char *path, const relief_image_limit *lim,
@@ -284,15 +305,6 @@ relief_status relief_raster_read(const char *path, const relief_image_limit *lim
 
 /* ---------------------------------------------------------------- writing */
 
-static unsigned quantise(float v, float max)
-{
-    if (!(v > 0.0f)) /* NaN too */
-        return 0;
-    if (v >= max)
-        return (unsigned)max;
-    return (unsigned)floorf(v + 0.5f);
-}
-
 static relief_status write_png(FILE *f, const relief_raster *r, const char *path,
                                relief_error *err)
 {
@@ -305,7 +317,7 @@ static relief_status write_png(FILE *f, const relief_raster *r, const char *path
     if (!pixels)
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
     for (size_t i = 0; i < vals; ++i) {
-        unsigned q = quantise(r->v[i], max);
+        unsigned q = relief_raster_quantise(r->v[i], max);
         if (wide) {
             pixels[2 * i] = (uint8_t)(q >> 8);
             pixels[2 * i + 1] = (uint8_t)q;
@@ -356,7 +368,8 @@ static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *pat
         JSAMPROW rows[1] = {job.row};
         for (int x = 0; x < r->width; ++x)
             for (int c = 0; c < colours; ++c)
-                job.row[x * colours + c] = (JSAMPLE)quantise(v[x * r->channels + c], 255.0f);
+                job.row[x * colours + c] =
+                    (JSAMPLE)relief_raster_quantise(v[x * r->channels + c], 255.0f);
         jpeg_write_scanlines(&cinfo, rows, 1);
     }
     jpeg_finish_compress(&cinfo);

@@ -121,7 +121,7 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
     if (device < 0 && st == RELIEF_OK && !gpu) {
         if (note && note_size)
             snprintf(note, note_size, "backend auto: the scalar scorer (no GPU; on a CPU "
-                     "the OpenCL kernel is no faster: --backend opencl to use it)");
+                     "the OpenCL kernel is no faster: backend opencl to use it)");
         return relief_patch_scalar_create(out, err);
     }
     if (st == RELIEF_OK)

@@ -50,14 +50,17 @@ relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int w
 {
     relief_fill_params f = engine_params(p);
     if (!isfinite(p->sigma) || p->sigma > 1e6 || (p->sigma > 0.0 && p->sigma < 0.5))
-        return relief_fail(err, RELIEF_E_RANGE, "--sigma %g: expected 0.5 pixels or more (the "
-                           "nearest neighbours' weights vanish below; <= 0: window / 6.4)",
+        return relief_fail(err, RELIEF_E_RANGE, "sigma %g out of range: expected 0.5..1e6 "
+                           "pixels (the nearest neighbours' weights vanish below; <= 0: "
+                           "window / 6.4)",
                            p->sigma);
     if (!(p->epsilon >= 0.0 && p->epsilon <= 10.0))
-        return relief_fail(err, RELIEF_E_RANGE, "--epsilon %g: expected 0..10", p->epsilon);
+        return relief_fail(err, RELIEF_E_RANGE, "epsilon %g out of range: expected 0..10",
+                           p->epsilon);
     if (p->order != RELIEF_ORDER_BOTH && p->order != RELIEF_ORDER_HORIZONTAL &&
         p->order != RELIEF_ORDER_VERTICAL)
-        return relief_fail(err, RELIEF_E_RANGE, "unknown fill order %d", (int)p->order);
+        return relief_fail(err, RELIEF_E_RANGE, "order %d is not one of both, horizontal, vertical",
+                           (int)p->order);
     return relief_fill_params_validate(&f, width, height, err);
 }
 
@@ -275,8 +278,10 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
                     }
             }
         ++prog->done;
-        if (p->progress)
-            p->progress(p->progress_ctx, prog->done, prog->total);
+        if (st == RELIEF_OK && p->progress &&
+            p->progress(p->progress_ctx, prog->done, prog->total))
+            st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback "
+                             "after %zu of %zu pixels", prog->done, prog->total);
     }
 #undef KEY
     /* Targets the queue never reached: cut off from every known pixel by
@@ -397,7 +402,7 @@ relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8
      * window's radius with copies of the opposite side, so that windows
      * at a border see across it and the result repeats without seams. */
     if (r > W || r > H)
-        return relief_fail(err, RELIEF_E_RANGE, "--tileable: the window's radius %d exceeds "
+        return relief_fail(err, RELIEF_E_RANGE, "tileable: the window's radius %d exceeds "
                            "the %d x %d image", r, W, H);
     Wp = W + 2 * r;
     Hp = H + 2 * r;

@@ -47,8 +47,10 @@ typedef struct relief_pixsyn_params {
                                  result repeats without seams */
     uint32_t seed;            /* the near-minimum draw; 1 */
     /* Called after each pixel: pixels synthesised so far of all (both
-     * orders counted when both run). */
-    void (*progress)(void *ctx, size_t done, size_t total);
+     * orders counted when both run). A non-zero answer stops the
+     * synthesis: relief_pixsyn returns RELIEF_E_CANCELLED, the image
+     * partly synthesised. NULL: none. */
+    int (*progress)(void *ctx, size_t done, size_t total);
     void *progress_ctx;
 } relief_pixsyn_params;
 
@@ -81,7 +83,8 @@ relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int w
  * width x height, receives for each synthesised pixel the index y * width
  * + x of the captured pixel its value came from (through earlier copies),
  * -1 for a fallback or a pixel that was known.
- * RELIEF_E_RANGE when every pixel is missing. */
+ * RELIEF_E_RANGE when every pixel is missing; RELIEF_E_CANCELLED when
+ * p->progress asked to stop (img and source then hold a partial result). */
 relief_status relief_pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
                            const relief_pixsyn_params *p, relief_patch_scorer *scorer,
                            int64_t *source, relief_pixsyn_report *rep, relief_error *err);

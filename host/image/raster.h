@@ -37,4 +37,8 @@ int relief_raster_has_alpha(const relief_raster *r);
 /* Largest value of a channel: 255, 65535, or 0 for real-valued data. */
 float relief_raster_max_value(const relief_raster *r);
 
+/* A value as the integer sample written for it: rounded to the nearest,
+ * clamped to 0..max (NaN: 0). */
+unsigned relief_raster_quantise(float v, float max);
+
 #endif

@@ -320,3 +320,15 @@ int relief_barycentric(const double *p, const double *a, const double *b, const 
     w[0] = 1.0 - w[1] - w[2];
     return 1;
 }
+
+relief_status relief_mesh_copy(const relief_mesh *m, relief_mesh **out, relief_error *err)
+{
+    uint8_t *keep = malloc(m->nv ? m->nv : 1);
+    relief_status st;
+    if (!keep)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot copy a mesh of %zu vertices", m->nv);
+    memset(keep, 1, m->nv);
+    st = relief_mesh_subset(m, keep, out, NULL, err);
+    free(keep);
+    return st;
+}

@@ -59,6 +59,9 @@ relief_status relief_mesh_subset(const relief_mesh *m, const uint8_t *keep,
                                  relief_mesh **out, uint32_t *old_to_new,
                                  relief_error *err);
 
+/* A copy of `m` with every array into *out. RELIEF_E_NOMEM. */
+relief_status relief_mesh_copy(const relief_mesh *m, relief_mesh **out, relief_error *err);
+
 #ifdef __cplusplus
 }
 #endif

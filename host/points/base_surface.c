@@ -21,8 +21,8 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
 
     *out = NULL;
     if (!capture->nt)
-        return relief_fail(err, RELIEF_E_RANGE, "--base smooth grows on a mesh: the capture "
-                           "has no triangles (relief complete-points completes a bare point "
+        return relief_fail(err, RELIEF_E_RANGE, "base smooth grows on a mesh: the capture "
+                           "has no triangles (relief_complete_points completes a bare point "
                            "set)");
     p.what = RELIEF_POINTS_GEOMETRY_ONLY;
     p.smooth_only = 1, p.mesh = 1, p.keep_base = 1;
@@ -32,7 +32,7 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
         return st;
     n = rep.n_in, N = m->nv;
     if (!rep.n_added) {
-        st = relief_fail(err, RELIEF_E_RANGE, "--base smooth: the holes were found but no base "
+        st = relief_fail(err, RELIEF_E_RANGE, "base smooth: the holes were found but no base "
                          "point could be laid in them");
         goto fail;
     }
@@ -81,7 +81,7 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
         m = used;
         n = n2, N = w;
         if (N == n) {
-            st = relief_fail(err, RELIEF_E_RANGE, "--base smooth: none of the %zu base points "
+            st = relief_fail(err, RELIEF_E_RANGE, "base smooth: none of the %zu base points "
                              "laid in the holes could be joined to the capture's triangles",
                              rep.n_added);
             goto fail;

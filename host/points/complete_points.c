@@ -44,21 +44,22 @@ void relief_points_report_free(relief_points_report *r)
 static relief_status check_params(const relief_points_params *p, relief_error *err)
 {
     if (p->k < 6 || p->k > 64)
-        return relief_fail(err, RELIEF_E_RANGE, "--k %d out of range 6..64", p->k);
+        return relief_fail(err, RELIEF_E_RANGE, "k %d out of range: expected 6..64", p->k);
     if (p->smooth_steps < 0 || p->smooth_steps > 10000)
-        return relief_fail(err, RELIEF_E_RANGE, "--smooth-steps %d out of range 0..10000",
-                           p->smooth_steps);
+        return relief_fail(err, RELIEF_E_RANGE, "smooth_steps %d out of range: expected "
+                           "0..10000", p->smooth_steps);
     if (!(p->smooth_dt > 0.0 && p->smooth_dt <= 100.0))
-        return relief_fail(err, RELIEF_E_RANGE, "smoothing step %g spacings out of range "
+        return relief_fail(err, RELIEF_E_RANGE, "smooth_dt %g spacings out of range: expected "
                            "(0, 100]", p->smooth_dt);
     if (!(p->max_detail >= 0.0 && p->max_detail <= 100.0))
-        return relief_fail(err, RELIEF_E_RANGE, "--max-detail %g spacings out of range 0..100",
-                           p->max_detail);
+        return relief_fail(err, RELIEF_E_RANGE, "max_detail %g spacings out of range: expected "
+                           "0..100", p->max_detail);
     if (!(p->rim_gap > 0.0 && p->rim_gap < 6.283185307179586))
-        return relief_fail(err, RELIEF_E_RANGE, "rim gap %g rad out of range (0, 2 pi)",
-                           p->rim_gap);
+        return relief_fail(err, RELIEF_E_RANGE, "rim_gap %g rad out of range: expected "
+                           "(0, 2 pi)", p->rim_gap);
     if (!(p->band >= 0.0 && p->band <= 1e6) || !(p->seam_band >= 0.0 && p->seam_band <= 1e6))
-        return relief_fail(err, RELIEF_E_RANGE, "--band and --seam-band are spacings, 0..1e6");
+        return relief_fail(err, RELIEF_E_RANGE, "band %g or seam_band %g spacings out of range: "
+                           "expected 0..1e6", p->band, p->seam_band);
     return RELIEF_OK;
 }
 
@@ -85,8 +86,15 @@ static relief_status oriented_normals(const relief_mesh *m, const relief_knn_gra
     return st;
 }
 
-/* Every buffer of one run, freed in one place. */
+/* One run: what it was given, what the stages found, and every buffer,
+ * freed in one place. */
 typedef struct work {
+    const relief_mesh *in;
+    const relief_points_params *p;
+    relief_points_report *rep;
+    size_t n, m, N, nc, T;   /* input, new, both, clone, all the texture's points */
+    int channels, detail_ch, colour_ch, want_colour, want_geometry;
+    double t0, t, spacing, scale;
     relief_knn_graph g;
     double *nrm, *base, *base_nrm, *rim_dist, *tpos, *tnrm, *npos, *nnrm;
     double *cbase, *cnrm; /* the clone's base and normals */
@@ -106,6 +114,30 @@ static void work_free(work *w)
     free(w->rim), free(w->nhole), free(w->near_rim);
     free(w->unknown), free(w->exemplar), free(w->rim_term);
     relief_rbf_free(w->rbf);
+}
+
+static relief_status nomem(const work *w, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the completion of %zu points",
+                       w->n);
+}
+
+static relief_status cancelled(const relief_progress *pr, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback at %.0f %%",
+                       100.0 * pr->last);
+}
+
+/* The call's progress enters the stage [lo, hi]; RELIEF_E_CANCELLED when
+ * the caller asked, now or before. The shares follow the stages' times on
+ * the fertility cut at 10 iterations: the texture takes most. */
+static relief_status enter_stage(const work *w, double lo, double hi, relief_error *err)
+{
+    relief_progress *pr = w->p->progress;
+    if (!pr)
+        return RELIEF_OK;
+    relief_progress_stage(pr, lo, hi);
+    return relief_progress_step(pr, 0.0) ? cancelled(pr, err) : RELIEF_OK;
 }
 
 /* Section 6.1's seam: a new point within d of the rim takes its base normal
@@ -152,7 +184,7 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
     *base = *nrm = NULL;
     *detail = NULL;
     if (nc < (size_t)p->k + 1 || !relief_points_spread(c->pos, nc, &why))
-        return relief_fail(err, RELIEF_E_RANGE, "--clone-from: %zu points, too few or on a "
+        return relief_fail(err, RELIEF_E_RANGE, "clone: %zu points, too few or on a "
                            "line: no detail to copy", nc);
     st = relief_knn_graph_build(c->pos, nc, p->k, &g, err);
     if (st != RELIEF_OK)
@@ -168,7 +200,7 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
     }
     st = oriented_normals(c, &g, NULL, n0, err);
     if (st == RELIEF_OK && !(h > 0.0))
-        st = relief_fail(err, RELIEF_E_RANGE, "--clone-from: most points are duplicates");
+        st = relief_fail(err, RELIEF_E_RANGE, "clone: most points are duplicates");
     if (st == RELIEF_OK)
         st = relief_curvature_flow(c->pos, n0, &g, p->smooth_steps, p->smooth_dt * h,
                                    p->max_detail * h, *base, *nrm, err);
@@ -180,257 +212,302 @@ done:
     return st;
 }
 
-relief_status relief_points_complete(const relief_mesh *in, const relief_points_params *p,
-                                     relief_mesh **out_mesh, relief_points_report *rep,
-                                     relief_error *err)
+/* The parameters and the input, before anything is allocated. */
+static relief_status check_input(work *w, relief_error *err)
 {
-    work w;
-    size_t n = in->nv, m = 0, N, masked = 0, nc = 0, T;
-    int channels = 0, detail_ch = -1, colour_ch = -1;
-    int want_colour, want_geometry;
-    double t0 = relief_seconds(), t, spacing, scale = 1.0;
-    relief_mesh *out = NULL;
-    relief_status st;
+    const relief_mesh *in = w->in;
+    const relief_points_params *p = w->p;
     const char *why;
-
-    memset(&w, 0, sizeof w);
-    memset(rep, 0, sizeof *rep);
-    *out_mesh = NULL;
-    st = check_params(p, err);
+    size_t masked = 0;
+    relief_status st = check_params(p, err);
     if (st != RELIEF_OK)
         return st;
-    want_geometry = p->what != RELIEF_POINTS_COLOUR_ONLY;
-    want_colour = in->col && p->what != RELIEF_POINTS_GEOMETRY_ONLY && !p->smooth_only;
+    w->want_geometry = p->what != RELIEF_POINTS_COLOUR_ONLY;
+    w->want_colour = in->col && p->what != RELIEF_POINTS_GEOMETRY_ONLY && !p->smooth_only;
     if (p->smooth_only && p->what == RELIEF_POINTS_COLOUR_ONLY)
-        return relief_fail(err, RELIEF_E_RANGE, "--smooth-only fills geometry: not with "
-                           "--colour-only");
+        return relief_fail(err, RELIEF_E_RANGE, "smooth_only fills geometry: not with what "
+                           "colour");
     if (p->what == RELIEF_POINTS_COLOUR_ONLY && !in->col)
-        return relief_fail(err, RELIEF_E_RANGE, "--colour-only: the input has no colour");
-    if (n < (size_t)p->k + 1)
+        return relief_fail(err, RELIEF_E_RANGE, "what colour: the input has no colour");
+    if (w->n < (size_t)p->k + 1)
         return relief_fail(err, RELIEF_E_RANGE, "%zu points are too few: the local analysis "
-                           "needs more than k = %d", n, p->k);
-    if (!relief_points_spread(in->pos, n, &why))
+                           "needs more than k = %d", w->n, p->k);
+    if (!relief_points_spread(in->pos, w->n, &why))
         return relief_fail(err, RELIEF_E_RANGE, "no base surface can be built: %s", why);
-    for (size_t i = 0; p->hole_mask && i < n; ++i)
+    for (size_t i = 0; p->hole_mask && i < w->n; ++i)
         masked += p->hole_mask[i] != 0;
-    rep->n_in = n;
-    rep->n_masked = masked;
+    w->rep->n_in = w->n;
+    w->rep->n_masked = masked;
+    return RELIEF_OK;
+}
 
-    /* 1. Local analysis. */
-    st = relief_knn_graph_build(in->pos, n, p->k, &w.g, err);
+/* 1. Local analysis: the k-NN graph, the spacing, oriented normals, and
+ * the holes' rims. */
+static relief_status stage_analysis(work *w, relief_error *err)
+{
+    const relief_mesh *in = w->in;
+    const relief_points_params *p = w->p;
+    relief_points_report *rep = w->rep;
+    size_t n = w->n;
+    relief_status st = relief_knn_graph_build(in->pos, n, p->k, &w->g, err);
     if (st != RELIEF_OK)
-        goto fail;
-    spacing = relief_knn_spacing(&w.g);
-    if (!(spacing > 0.0)) {
-        st = relief_fail(err, RELIEF_E_RANGE, "the median distance between neighbours is 0: "
-                         "more than half of the points are duplicates");
-        goto fail;
-    }
-    rep->spacing = spacing;
-    w.nrm = malloc(n * 3 * sizeof *w.nrm);
-    w.rim = calloc(n, sizeof *w.rim);
-    if (!w.nrm || !w.rim)
-        goto nomem;
-    st = oriented_normals(in, &w.g, p->viewpoint, w.nrm, err);
+        return st;
+    w->spacing = relief_knn_spacing(&w->g);
+    if (!(w->spacing > 0.0))
+        return relief_fail(err, RELIEF_E_RANGE, "the median distance between neighbours is 0: "
+                           "more than half of the points are duplicates");
+    rep->spacing = w->spacing;
+    w->nrm = malloc(n * 3 * sizeof *w->nrm);
+    w->rim = calloc(n, sizeof *w->rim);
+    if (!w->nrm || !w->rim)
+        return nomem(w, err);
+    st = oriented_normals(in, &w->g, p->viewpoint, w->nrm, err);
     if (st != RELIEF_OK)
-        goto fail;
-
-    /* 2. Holes. */
-    if (want_geometry) {
-        st = in->nt ? relief_holes_mesh(in->pos, n, in->tri, in->nt, w.rim, &rep->holes, err)
-                    : relief_holes_points(in->pos, w.nrm, &w.g, p->rim_gap, w.rim, &rep->holes,
-                                          err);
+        return st;
+    if (w->want_geometry) {
+        st = in->nt ? relief_holes_mesh(in->pos, n, in->tri, in->nt, w->rim, &rep->holes, err)
+                    : relief_holes_points(in->pos, w->nrm, &w->g, p->rim_gap, w->rim,
+                                          &rep->holes, err);
         if (st != RELIEF_OK)
-            goto fail;
+            return st;
     }
-    if (p->what == RELIEF_POINTS_COLOUR_ONLY && !masked) {
-        st = relief_fail(err, RELIEF_E_RANGE, "nothing to fill: --colour-only completes the "
-                         "colour of the --hole-mask points, and none is marked");
-        goto fail;
-    }
-    if (!rep->holes.n_holes && !masked) {
-        st = relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole found (%u rim(s) taken "
-                         "for an outer border, %u too small) and no --hole-mask",
-                         rep->holes.n_borders, rep->holes.n_dropped);
-        goto fail;
-    }
-    t = relief_seconds();
-    rep->t_analysis = t - t0;
+    if (p->what == RELIEF_POINTS_COLOUR_ONLY && !rep->n_masked)
+        return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: what colour completes the "
+                           "colour of the hole mask's points, and none is marked");
+    if (!rep->holes.n_holes && !rep->n_masked)
+        return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole found (%u rim(s) "
+                           "taken for an outer border, %u too small) and no hole mask",
+                           rep->holes.n_borders, rep->holes.n_dropped);
+    w->t = relief_seconds();
+    rep->t_analysis = w->t - w->t0;
+    return RELIEF_OK;
+}
 
-    /* 3. Base and detail. */
-    w.base = malloc(n * 3 * sizeof *w.base);
-    w.base_nrm = malloc(n * 3 * sizeof *w.base_nrm);
-    w.detail = malloc(n * sizeof *w.detail);
-    if (!w.base || !w.base_nrm || !w.detail)
-        goto nomem;
-    if (want_geometry) {
-        st = relief_curvature_flow(in->pos, w.nrm, &w.g, p->smooth_steps, p->smooth_dt * spacing,
-                                   p->max_detail * spacing, w.base, w.base_nrm, err);
+/* 2. Base and detail: the curvature flow's base, the detail over it. */
+static relief_status stage_base(work *w, relief_error *err)
+{
+    const relief_points_params *p = w->p;
+    relief_points_report *rep = w->rep;
+    size_t n = w->n;
+    double s2 = 0.0;
+    w->base = malloc(n * 3 * sizeof *w->base);
+    w->base_nrm = malloc(n * 3 * sizeof *w->base_nrm);
+    w->detail = malloc(n * sizeof *w->detail);
+    if (!w->base || !w->base_nrm || !w->detail)
+        return nomem(w, err);
+    if (w->want_geometry) {
+        relief_status st = relief_curvature_flow(w->in->pos, w->nrm, &w->g, p->smooth_steps,
+                                                 p->smooth_dt * w->spacing,
+                                                 p->max_detail * w->spacing, w->base,
+                                                 w->base_nrm, err);
         if (st != RELIEF_OK)
-            goto fail;
+            return st;
     } else {
-        memcpy(w.base, in->pos, n * 3 * sizeof *w.base);
-        memcpy(w.base_nrm, w.nrm, n * 3 * sizeof *w.base_nrm);
+        memcpy(w->base, w->in->pos, n * 3 * sizeof *w->base);
+        memcpy(w->base_nrm, w->nrm, n * 3 * sizeof *w->base_nrm);
     }
-    rep->recon_rms = relief_detail_encode(in->pos, w.base, w.base_nrm, n, w.detail);
-    {
-        double s2 = 0.0;
-        for (size_t i = 0; i < n; ++i)
-            s2 += (double)w.detail[i] * w.detail[i];
-        rep->detail_rms = sqrt(s2 / (double)n);
-    }
-    rep->t_base = relief_seconds() - t;
-    t = relief_seconds();
+    rep->recon_rms = relief_detail_encode(w->in->pos, w->base, w->base_nrm, n, w->detail);
+    for (size_t i = 0; i < n; ++i)
+        s2 += (double)w->detail[i] * w->detail[i];
+    rep->detail_rms = sqrt(s2 / (double)n);
+    rep->t_base = relief_seconds() - w->t;
+    w->t = relief_seconds();
+    return RELIEF_OK;
+}
 
-    /* 4. The base's holes, filled. */
-    if (want_geometry && rep->holes.n_holes) {
+/* 3. The base's holes filled by the RBF, new base points laid on it. */
+static relief_status stage_fill(work *w, relief_error *err)
+{
+    const relief_points_params *p = w->p;
+    relief_points_report *rep = w->rep;
+    if (w->want_geometry && rep->holes.n_holes) {
         relief_rbf_params rp = p->rbf;
-        size_t max_new = p->max_new ? p->max_new : 4 * n;
+        size_t max_new = p->max_new ? p->max_new : 4 * w->n;
+        relief_status st;
         if (!(rp.spacing > 0.0))
-            rp.spacing = spacing;
-        st = relief_rbf_fit(w.base, w.base_nrm, n, &rp, &w.rbf, err);
+            rp.spacing = w->spacing;
+        st = relief_rbf_fit(w->base, w->base_nrm, w->n, &rp, &w->rbf, err);
         if (st != RELIEF_OK)
-            goto fail;
-        st = relief_rbf_fill_holes(w.rbf, w.base, w.base_nrm, n, w.rim, rep->holes.n_holes,
-                                   spacing, max_new, &w.npos, &w.nnrm, &w.nhole, &m, err);
+            return st;
+        st = relief_rbf_fill_holes(w->rbf, w->base, w->base_nrm, w->n, w->rim,
+                                   rep->holes.n_holes, w->spacing, max_new, &w->npos, &w->nnrm,
+                                   &w->nhole, &w->m, err);
         if (st != RELIEF_OK)
-            goto fail;
+            return st;
     }
-    N = n + m;
-    rep->n_added = m;
-    rep->t_fill = relief_seconds() - t;
-    t = relief_seconds();
+    w->N = w->n + w->m;
+    rep->n_added = w->m;
+    rep->t_fill = relief_seconds() - w->t;
+    w->t = relief_seconds();
+    return RELIEF_OK;
+}
 
-    /* 5. The texture: c' (scaled to colour's range) and colour. A clone's
-     * points (6.3) come after the N, moved clear of the input so that no
-     * cluster holds both, and are the only exemplars. */
+/* 4a. The texture's channels: c' (scaled to colour's range) and colour,
+ * on the base's points and the new ones; a clone's (6.3) after them. */
+static relief_status texture_values(work *w, relief_error *err)
+{
+    const relief_mesh *in = w->in;
+    const relief_points_params *p = w->p;
+    size_t n = w->n, m = w->m, N = w->N, T;
     if (p->clone && !p->smooth_only) {
-        st = clone_detail(p->clone, p, &w.cbase, &w.cnrm, &w.cdetail, err);
+        relief_status st = clone_detail(p->clone, p, &w->cbase, &w->cnrm, &w->cdetail, err);
         if (st != RELIEF_OK)
-            goto fail;
-        nc = p->clone->nv;
-        rep->n_clone = nc;
-        want_colour = want_colour && p->clone->col; /* else colour from the rim */
+            return st;
+        w->nc = p->clone->nv;
+        w->rep->n_clone = w->nc;
+        w->want_colour = w->want_colour && p->clone->col; /* else colour from the rim */
     }
-    T = N + nc;
-    if (want_geometry && !p->smooth_only)
-        detail_ch = channels++;
-    if (want_colour)
-        colour_ch = channels, channels += 3;
-    rep->tex_channels = channels;
-    w.tpos = malloc(T * 3 * sizeof *w.tpos);
-    w.tnrm = malloc(T * 3 * sizeof *w.tnrm);
-    w.value = malloc(T * (size_t)channels * sizeof *w.value + 1);
-    w.unknown = calloc(T, 1);
-    w.exemplar = calloc(T, 1);
-    w.rim_term = calloc(T, 1);
-    w.rim_dist = malloc(N * sizeof *w.rim_dist);
-    w.near_rim = malloc((m + 1) * sizeof *w.near_rim);
-    if (!w.tpos || !w.tnrm || !w.value || !w.unknown || !w.exemplar || !w.rim_term ||
-        !w.rim_dist || !w.near_rim)
-        goto nomem;
-    memcpy(w.tpos, w.base, n * 3 * sizeof *w.tpos);
-    memcpy(w.tnrm, w.base_nrm, n * 3 * sizeof *w.tnrm);
+    T = w->T = N + w->nc;
+    if (w->want_geometry && !p->smooth_only)
+        w->detail_ch = w->channels++;
+    if (w->want_colour)
+        w->colour_ch = w->channels, w->channels += 3;
+    w->rep->tex_channels = w->channels;
+    w->tpos = malloc(T * 3 * sizeof *w->tpos);
+    w->tnrm = malloc(T * 3 * sizeof *w->tnrm);
+    w->value = malloc(T * (size_t)w->channels * sizeof *w->value + 1);
+    w->unknown = calloc(T, 1);
+    w->exemplar = calloc(T, 1);
+    w->rim_term = calloc(T, 1);
+    w->rim_dist = malloc(N * sizeof *w->rim_dist);
+    w->near_rim = malloc((m + 1) * sizeof *w->near_rim);
+    if (!w->tpos || !w->tnrm || !w->value || !w->unknown || !w->exemplar || !w->rim_term ||
+        !w->rim_dist || !w->near_rim)
+        return nomem(w, err);
+    memcpy(w->tpos, w->base, n * 3 * sizeof *w->tpos);
+    memcpy(w->tnrm, w->base_nrm, n * 3 * sizeof *w->tnrm);
     if (m) {
-        memcpy(w.tpos + 3 * n, w.npos, m * 3 * sizeof *w.tpos);
-        memcpy(w.tnrm + 3 * n, w.nnrm, m * 3 * sizeof *w.tnrm);
+        memcpy(w->tpos + 3 * n, w->npos, m * 3 * sizeof *w->tpos);
+        memcpy(w->tnrm + 3 * n, w->nnrm, m * 3 * sizeof *w->tnrm);
     }
     /* Detail in units of 4 x its RMS, so that it weighs in the matching
      * about as a colour channel in [0, 1] does. */
-    if (rep->detail_rms > 0.0)
-        scale = 4.0 * rep->detail_rms;
+    if (w->rep->detail_rms > 0.0)
+        w->scale = 4.0 * w->rep->detail_rms;
     for (size_t i = 0; i < N; ++i) {
-        int is_new = i >= n;
-        for (int c = 0; c < channels; ++c)
-            w.value[i * channels + c] = 0.0f;
+        int is_new = i >= n, ch = w->channels;
+        for (int c = 0; c < ch; ++c)
+            w->value[i * ch + c] = 0.0f;
         if (!is_new) {
-            if (detail_ch >= 0)
-                w.value[i * channels + detail_ch] = (float)(w.detail[i] / scale);
-            if (colour_ch >= 0)
+            if (w->detail_ch >= 0)
+                w->value[i * ch + w->detail_ch] = (float)(w->detail[i] / w->scale);
+            if (w->colour_ch >= 0)
                 for (int c = 0; c < 3; ++c)
-                    w.value[i * channels + colour_ch + c] = in->col[3 * i + c];
+                    w->value[i * ch + w->colour_ch + c] = in->col[3 * i + c];
         }
-        w.unknown[i] = is_new || (p->hole_mask && p->hole_mask[i]);
+        w->unknown[i] = is_new || (p->hole_mask && p->hole_mask[i]);
     }
+    return RELIEF_OK;
+}
+
+/* 4b. Which points are exemplars and which the rim term holds: the known
+ * ones outside the band (and the sample mask), the clone's alone when
+ * there is one. */
+static relief_status texture_exemplars(work *w, relief_error *err)
+{
+    const relief_points_params *p = w->p;
+    size_t n = w->n, N = w->N, nc = w->nc;
+    int ch = w->channels;
     /* The input's points here; the new ones' distances (and nearest rim
      * points) are over the base, below. */
-    st = relief_rim_distance(in->pos, n, w.rim, w.tpos, n, w.rim_dist, NULL, err);
+    relief_status st = relief_rim_distance(w->in->pos, n, w->rim, w->tpos, n, w->rim_dist, NULL,
+                                           err);
     if (st != RELIEF_OK)
-        goto fail;
-    if (m) {
-        st = relief_rim_distance(w.base, n, w.rim, w.npos, m, w.rim_dist + n, w.near_rim, err);
+        return st;
+    if (w->m) {
+        st = relief_rim_distance(w->base, n, w->rim, w->npos, w->m, w->rim_dist + n, w->near_rim,
+                                 err);
         if (st != RELIEF_OK)
-            goto fail;
+            return st;
     }
     for (size_t i = 0; i < n; ++i) {
-        w.exemplar[i] = !w.unknown[i] && !(w.rim_dist[i] <= p->band * spacing) &&
-                        (!p->sample_mask || p->sample_mask[i]);
-        w.rim_term[i] = !w.unknown[i] && w.rim_dist[i] <= p->band * spacing;
+        w->exemplar[i] = !w->unknown[i] && !(w->rim_dist[i] <= p->band * w->spacing) &&
+                         (!p->sample_mask || p->sample_mask[i]);
+        w->rim_term[i] = !w->unknown[i] && w->rim_dist[i] <= p->band * w->spacing;
     }
     if (nc) {
-        /* The clone sits 100 spacings past the input's bounding box in x. */
+        /* The clone sits 100 spacings past the input's bounding box in x,
+         * so that no cluster holds both. */
         double in_max = -INFINITY, cl_min = INFINITY, shift;
         for (size_t i = 0; i < N; ++i)
-            in_max = fmax(in_max, w.tpos[3 * i]);
+            in_max = fmax(in_max, w->tpos[3 * i]);
         for (size_t i = 0; i < nc; ++i)
-            cl_min = fmin(cl_min, w.cbase[3 * i]);
-        shift = in_max - cl_min + 100.0 * spacing;
+            cl_min = fmin(cl_min, w->cbase[3 * i]);
+        shift = in_max - cl_min + 100.0 * w->spacing;
         for (size_t i = 0; i < n; ++i)
-            w.exemplar[i] = 0;
+            w->exemplar[i] = 0;
         for (size_t j = 0; j < nc; ++j) {
             size_t i = N + j;
-            memcpy(w.tpos + 3 * i, w.cbase + 3 * j, 3 * sizeof *w.tpos);
-            w.tpos[3 * i] += shift;
-            memcpy(w.tnrm + 3 * i, w.cnrm + 3 * j, 3 * sizeof *w.tnrm);
-            if (detail_ch >= 0)
-                w.value[i * channels + detail_ch] = (float)(w.cdetail[j] / scale);
-            if (colour_ch >= 0)
+            memcpy(w->tpos + 3 * i, w->cbase + 3 * j, 3 * sizeof *w->tpos);
+            w->tpos[3 * i] += shift;
+            memcpy(w->tnrm + 3 * i, w->cnrm + 3 * j, 3 * sizeof *w->tnrm);
+            if (w->detail_ch >= 0)
+                w->value[i * ch + w->detail_ch] = (float)(w->cdetail[j] / w->scale);
+            if (w->colour_ch >= 0)
                 for (int c = 0; c < 3; ++c)
-                    w.value[i * channels + colour_ch + c] = p->clone->col[3 * j + c];
-            w.exemplar[i] = 1;
+                    w->value[i * ch + w->colour_ch + c] = p->clone->col[3 * j + c];
+            w->exemplar[i] = 1;
         }
     }
-    if (channels) {
-        relief_texopt_params tex = p->tex;
-        size_t n_ex = 0, n_unk = 0;
-        for (size_t i = 0; i < T; ++i)
-            n_ex += w.exemplar[i] != 0, n_unk += w.unknown[i] != 0;
-        /* A fill larger than what it is to look like would repeat the few
-         * exemplars over it, not continue the surface: refused (no
-         * exemplar at all: texopt says so). */
-        if (n_ex > 0 && n_ex < n_unk) {
-            st = relief_fail(err, RELIEF_E_RANGE, "the holes are larger than the sample region: "
-                             "%zu points to synthesise from %zu exemplar points%s; give a "
-                             "larger %s", n_unk, n_ex,
-                             nc ? " (the clone's)" : p->sample_mask ? " (--sample-region)" :
-                             " (the capture outside the rims' band)",
-                             nc ? "--clone-from scan" : p->sample_mask ? "--sample-region" :
-                             "capture, or a smaller --band");
-            goto fail;
-        }
-        if (p->detail_histogram && detail_ch >= 0)
-            tex.histogram |= 1u << detail_ch;
-        st = relief_texopt_complete(w.tpos, w.tnrm, T, channels, w.value, w.unknown, w.exemplar,
-                                    w.rim_term, &tex, &rep->tex, err);
-        if (st != RELIEF_OK)
-            goto fail;
-    }
-    rep->t_texture = relief_seconds() - t;
+    return RELIEF_OK;
+}
 
-    /* 6. The result. */
-    st = relief_mesh_create(N, 0, RELIEF_MESH_NORMALS | RELIEF_MESH_LABELS |
-                                      (in->col ? RELIEF_MESH_COLOURS : 0u),
-                            &out, err);
+/* 4c. The texture optimisation over all of it. */
+static relief_status texture_run(work *w, relief_error *err)
+{
+    const relief_points_params *p = w->p;
+    relief_texopt_params tex = p->tex;
+    size_t n_ex = 0, n_unk = 0, nc = w->nc;
+    relief_status st;
+    if (!w->channels)
+        return RELIEF_OK;
+    for (size_t i = 0; i < w->T; ++i)
+        n_ex += w->exemplar[i] != 0, n_unk += w->unknown[i] != 0;
+    /* A fill larger than what it is to look like would repeat the few
+     * exemplars over it, not continue the surface: refused (no exemplar at
+     * all: texopt says so). */
+    if (n_ex > 0 && n_ex < n_unk)
+        return relief_fail(err, RELIEF_E_RANGE, "the holes are larger than the sample region: "
+                           "%zu points to synthesise from %zu exemplar points%s; give a "
+                           "larger %s", n_unk, n_ex,
+                           nc ? " (the clone's)" : p->sample_mask ? " (the sample region)" :
+                           " (the capture outside the rims' band)",
+                           nc ? "clone" : p->sample_mask ? "sample region" :
+                           "capture, or a smaller band");
+    if (p->detail_histogram && w->detail_ch >= 0)
+        tex.histogram |= 1u << w->detail_ch;
+    tex.progress = p->progress;
+    st = relief_texopt_complete(w->tpos, w->tnrm, w->T, w->channels, w->value, w->unknown,
+                                w->exemplar, w->rim_term, &tex, &w->rep->tex, err);
+    return st;
+}
+
+/* 5a. The result's points: the input's (a masked one at its base point
+ * plus the synthesised detail), then the new ones placed at the seam;
+ * labels, colours clamped to [0, 1], and normals over the new
+ * neighbourhoods. */
+static relief_status result_points(work *w, relief_mesh **out_mesh, relief_error *err)
+{
+    const relief_mesh *in = w->in;
+    const relief_points_params *p = w->p;
+    size_t n = w->n, m = w->m, N = w->N;
+    int ch = w->channels, colour_ch = w->colour_ch, detail_ch = w->detail_ch;
+    relief_knn_graph g2;
+    relief_mesh *out;
+    relief_status st = relief_mesh_create(N, 0, RELIEF_MESH_NORMALS | RELIEF_MESH_LABELS |
+                                                    (in->col ? RELIEF_MESH_COLOURS : 0u),
+                                          out_mesh, err);
     if (st != RELIEF_OK)
-        goto fail;
+        return st;
+    out = *out_mesh;
     memcpy(out->pos, in->pos, n * 3 * sizeof *out->pos);
     for (size_t i = 0; i < n; ++i)
         if (p->hole_mask && p->hole_mask[i] && detail_ch >= 0)
             for (int e = 0; e < 3; ++e)
-                out->pos[3 * i + e] = w.base[3 * i + e] +
-                                      (double)w.value[i * channels + detail_ch] * scale *
-                                          w.base_nrm[3 * i + e];
-    place_new_points(in->pos, &w, n, m, p->seam_band * spacing, scale, detail_ch, channels,
+                out->pos[3 * i + e] = w->base[3 * i + e] +
+                                      (double)w->value[i * ch + detail_ch] * w->scale *
+                                          w->base_nrm[3 * i + e];
+    place_new_points(in->pos, w, n, m, p->seam_band * w->spacing, w->scale, detail_ch, ch,
                      out->pos + 3 * n);
     for (size_t i = 0; i < N; ++i) {
         out->label[i] = i >= n ? RELIEF_LABEL_COMPLETED : RELIEF_LABEL_CAPTURED;
@@ -441,84 +518,144 @@ relief_status relief_points_complete(const relief_mesh *in, const relief_points_
             if (i < n && !(p->hole_mask && p->hole_mask[i] && colour_ch >= 0))
                 v = in->col[3 * i + c];
             else if (colour_ch >= 0)
-                v = w.value[i * channels + colour_ch + c];
+                v = w->value[i * ch + colour_ch + c];
             else /* geometry only: the nearest rim point's colour */
-                v = in->col[3 * (size_t)w.near_rim[i - n] + c];
+                v = in->col[3 * (size_t)w->near_rim[i - n] + c];
             out->col[3 * i + c] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
         }
     }
-    /* Normals of the result: covariance over the new neighbourhoods, each
-     * agreeing with the normal it had. */
-    {
-        relief_knn_graph g2;
-        st = relief_knn_graph_build(out->pos, N, p->k, &g2, err);
-        if (st != RELIEF_OK)
-            goto fail;
-        memcpy(w.tnrm, w.nrm, n * 3 * sizeof *w.tnrm);
-        st = relief_points_normals(out->pos, &g2, w.tnrm, NULL, out->nrm, NULL, err);
-        relief_knn_graph_free(&g2);
-        if (st != RELIEF_OK)
-            goto fail;
-    }
-    if (p->keep_base) {
-        /* w.tnrm becomes the base's normals, handed to the report below. */
-        memcpy(w.tnrm, w.base_nrm, n * 3 * sizeof *w.tnrm);
+    /* Each normal agreeing with the one it had. */
+    st = relief_knn_graph_build(out->pos, N, p->k, &g2, err);
+    if (st != RELIEF_OK)
+        return st;
+    memcpy(w->tnrm, w->nrm, n * 3 * sizeof *w->tnrm);
+    st = relief_points_normals(out->pos, &g2, w->tnrm, NULL, out->nrm, NULL, err);
+    relief_knn_graph_free(&g2);
+    if (st == RELIEF_OK && p->keep_base) {
+        /* w->tnrm becomes the base's normals, handed to the report. */
+        memcpy(w->tnrm, w->base_nrm, n * 3 * sizeof *w->tnrm);
         if (m)
-            memcpy(w.tnrm + 3 * n, w.nnrm, m * 3 * sizeof *w.tnrm);
+            memcpy(w->tnrm + 3 * n, w->nnrm, m * 3 * sizeof *w->tnrm);
     }
-    if (p->mesh && !in->nt) {
-        /* A bare point set: a surface through all its points. */
+    return st;
+}
+
+/* 5b. The result's triangles (p->mesh): a bare point set's surface through
+ * all its points, or a mesh's own triangles and patches over its holes. */
+static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
+{
+    const relief_mesh *in = w->in;
+    const relief_points_params *p = w->p;
+    relief_points_report *rep = w->rep;
+    uint32_t *pt = NULL;
+    size_t pnt = 0;
+    const double *mpos = out->pos, *mnrm = out->nrm;
+    relief_status st;
+    if (!in->nt) {
         relief_surface_mesh_info si;
-        st = relief_points_surface_mesh(out->pos, out->nrm, N, spacing, p->k, &out->tri, &out->nt,
-                                        &si, err);
+        st = relief_points_surface_mesh(out->pos, out->nrm, w->N, w->spacing, p->k, &out->tri,
+                                        &out->nt, &si, err);
         if (st != RELIEF_OK)
-            goto fail;
+            return st;
         rep->mesh_of_points = 1;
         rep->mesh_candidates = si.candidates;
         rep->mesh_boundary_edges = si.boundary_edges;
         rep->mesh_bare_points = si.bare_points;
-    } else if (p->mesh) {
-        uint32_t *pt = NULL;
-        size_t pnt = 0;
-        const double *mpos = out->pos, *mnrm = out->nrm;
-        if (p->keep_base) {
-            /* The caller grows detail on the base (base_surface.h): join
-             * the holes where they lie on it. The captured rim stands off
-             * the bare base by the detail, which can be wider than the
-             * patches reach (fertility: detail RMS 1.7 spacings). */
-            mpos = w.tpos, mnrm = w.tnrm;
-        }
-        st = relief_points_patch_mesh(mpos, mnrm, n, N, w.rim, w.nhole,
-                                      rep->holes.n_holes, spacing, in->tri, in->nt, &pt, &pnt,
-                                      &rep->patch_skipped, err);
-        if (st != RELIEF_OK)
-            goto fail;
-        out->tri = malloc((in->nt + pnt) * 3 * sizeof *out->tri + 1);
-        if (!out->tri) {
-            free(pt);
-            goto nomem;
-        }
-        memcpy(out->tri, in->tri, in->nt * 3 * sizeof *out->tri);
-        if (pnt)
-            memcpy(out->tri + 3 * in->nt, pt, pnt * 3 * sizeof *out->tri);
+        return RELIEF_OK;
+    }
+    if (p->keep_base) {
+        /* The caller grows detail on the base (base_surface.h): join the
+         * holes where they lie on it. The captured rim stands off the bare
+         * base by the detail, which can be wider than the patches reach
+         * (fertility: detail RMS 1.7 spacings). */
+        mpos = w->tpos, mnrm = w->tnrm;
+    }
+    st = relief_points_patch_mesh(mpos, mnrm, w->n, w->N, w->rim, w->nhole, rep->holes.n_holes,
+                                  w->spacing, in->tri, in->nt, &pt, &pnt, &rep->patch_skipped,
+                                  err);
+    if (st != RELIEF_OK)
+        return st;
+    out->tri = malloc((in->nt + pnt) * 3 * sizeof *out->tri + 1);
+    if (!out->tri) {
         free(pt);
-        out->nt = in->nt + pnt;
-        rep->patch_triangles = pnt;
+        return nomem(w, err);
+    }
+    memcpy(out->tri, in->tri, in->nt * 3 * sizeof *out->tri);
+    if (pnt)
+        memcpy(out->tri + 3 * in->nt, pt, pnt * 3 * sizeof *out->tri);
+    free(pt);
+    out->nt = in->nt + pnt;
+    rep->patch_triangles = pnt;
+    return RELIEF_OK;
+}
+
+/* The stages in order, each entering its share of the call's progress. */
+static relief_status run_stages(work *w, relief_mesh **out, relief_error *err)
+{
+    relief_status st = check_input(w, err);
+    if (st == RELIEF_OK)
+        st = enter_stage(w, 0.0, 0.05, err);
+    if (st == RELIEF_OK)
+        st = stage_analysis(w, err);
+    if (st == RELIEF_OK)
+        st = enter_stage(w, 0.05, 0.15, err);
+    if (st == RELIEF_OK)
+        st = stage_base(w, err);
+    if (st == RELIEF_OK)
+        st = enter_stage(w, 0.15, 0.25, err);
+    if (st == RELIEF_OK)
+        st = stage_fill(w, err);
+    if (st == RELIEF_OK)
+        st = enter_stage(w, 0.25, 0.95, err);
+    if (st == RELIEF_OK)
+        st = texture_values(w, err);
+    if (st == RELIEF_OK)
+        st = texture_exemplars(w, err);
+    if (st == RELIEF_OK)
+        st = texture_run(w, err);
+    if (st == RELIEF_OK) {
+        w->rep->t_texture = relief_seconds() - w->t;
+        st = enter_stage(w, 0.95, 1.0, err);
+    }
+    if (st == RELIEF_OK)
+        st = result_points(w, out, err);
+    if (st == RELIEF_OK && w->p->mesh)
+        st = result_mesh(w, *out, err);
+    if (st == RELIEF_OK && relief_progress_step(w->p->progress, 1.0))
+        st = cancelled(w->p->progress, err);
+    return st;
+}
+
+relief_status relief_points_complete(const relief_mesh *in, const relief_points_params *p,
+                                     relief_mesh **out_mesh, relief_points_report *rep,
+                                     relief_error *err)
+{
+    work w;
+    relief_mesh *out = NULL;
+    relief_status st;
+
+    memset(&w, 0, sizeof w);
+    memset(rep, 0, sizeof *rep);
+    *out_mesh = NULL;
+    w.in = in, w.p = p, w.rep = rep;
+    w.n = in->nv;
+    w.detail_ch = w.colour_ch = -1;
+    w.scale = 1.0;
+    w.t0 = relief_seconds();
+    st = run_stages(&w, &out, err);
+    if (st != RELIEF_OK) {
+        relief_mesh_destroy(out);
+        work_free(&w);
+        relief_points_report_free(rep);
+        return st;
     }
     rep->mesh_triangles = out->nt;
     if (p->keep_base) {
         rep->base = w.tpos, rep->base_nrm = w.tnrm;
         w.tpos = w.tnrm = NULL;
     }
-    rep->t_total = relief_seconds() - t0;
+    rep->t_total = relief_seconds() - w.t0;
     work_free(&w);
     *out_mesh = out;
     return RELIEF_OK;
-nomem:
-    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the completion of %zu points", n);
-fail:
-    relief_mesh_destroy(out);
-    work_free(&w);
-    relief_points_report_free(rep);
-    return st;
 }

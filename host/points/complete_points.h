@@ -24,6 +24,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/progress.h"
 #include "points/holes.h"
 #include "points/rbf.h"
 #include "points/texopt.h"
@@ -39,12 +40,12 @@ typedef struct relief_points_params {
     double band;          /* exemplars keep this far from a rim, spacings >= 0 (default 2) */
     double seam_band;     /* normal blending band d, spacings >= 0 (default 3) */
     const uint8_t *hole_mask; /* n_in entries or NULL: points whose colour and detail are to
-                                 be synthesised again (--hole-mask) */
-    const uint8_t *sample_mask; /* n_in entries or NULL: where exemplars may be centred
-                                   (--sample-region); default everywhere outside the band */
+                                 be synthesised again */
+    const uint8_t *sample_mask; /* n_in entries or NULL: where exemplars may be centred;
+                                   default everywhere outside the band */
     const relief_mesh *clone; /* or NULL: detail (and colour, when both have it) copied from
-                                 this other model instead of the input's own (6.3,
-                                 --clone-from); it should be sampled about as densely */
+                                 this other model instead of the input's own (6.3); it
+                                 should be sampled about as densely */
     const double *viewpoint;  /* 3 or NULL: a camera the normals face (a PCD's sensor) */
     int smooth_only;      /* the smooth fill alone (paper 002's Fig. 9g, a baseline): new
                              points on the filled base, no detail, colour from the rim */
@@ -60,7 +61,11 @@ typedef struct relief_points_params {
     int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm),
                              and the mesh's hole patches join the points on it */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
-    relief_texopt_params tex;
+    relief_progress *progress; /* NULL (default), or the caller's: the stages take
+                                  consecutive shares of it (analysis, base, fill,
+                                  texture, result), and a cancel stops the run at the
+                                  next stage or texture iteration (RELIEF_E_CANCELLED) */
+    relief_texopt_params tex; /* its progress is set from the one above */
     relief_rbf_params rbf; /* spacing is set from the points when 0 */
 } relief_points_params;
 
@@ -90,11 +95,12 @@ void relief_points_report_free(relief_points_report *r);
 
 /* Complete `in` (positions; colour, normals, triangles when present) into
  * *out: the input's points first (label 0, the input's colour, oriented
- * normals), then the new ones (label 1); triangles only with p->mesh. RELIEF_E_RANGE when a parameter is
- * out of range, there is nothing to fill (no hole and no mask; naming
- * which), the points are too few or collinear, or fewer exemplar points
- * than points to synthesise (the holes larger than the sample region);
- * RELIEF_E_NOMEM. *out only on success. */
+ * normals), then the new ones (label 1); triangles only with p->mesh.
+ * RELIEF_E_RANGE when a parameter is out of range, there is nothing to
+ * fill (no hole and no mask; naming which), the points are too few or
+ * collinear, or fewer exemplar points than points to synthesise (the holes
+ * larger than the sample region); RELIEF_E_NOMEM; RELIEF_E_CANCELLED (p->
+ * progress). *out only on success; rep is cleared on failure. */
 relief_status relief_points_complete(const relief_mesh *in, const relief_points_params *p,
                                      relief_mesh **out, relief_points_report *rep,
                                      relief_error *err);

@@ -168,171 +168,210 @@ static size_t drop_non_manifold(uint32_t *tri, size_t nt, size_t first_patch, si
     }
 }
 
-#define LAY_NOMEM() relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu triangles", ncand)
+/* relief_points_lay_triangles' state: the directed edges laid, the
+ * triangles kept (tri, kept), and the laying order (ord, no). */
+typedef struct lay_state {
+    edge_set es;
+    const uint32_t *tri_in;
+    size_t nt_in, N;
+    uint32_t *tri, *ord;      /* kept x 3, no x 3 */
+    size_t kept, no;
+    uint8_t *placed;          /* kept: t is in ord */
+    uint8_t *has_face;        /* N: a vertex with a triangle laid */
+} lay_state;
+
+static void add_edges(edge_set *es, const uint32_t *v)
+{
+    edge_add(es, v[0], v[1]), edge_add(es, v[1], v[2]), edge_add(es, v[2], v[0]);
+}
+
+/* The edge set holds the mesh's own triangles' edges alone. */
+static void mesh_edges(lay_state *s)
+{
+    memset(s->es.key, 0, s->es.cap * sizeof *s->es.key);
+    for (size_t t = 0; t < s->nt_in; ++t)
+        for (int q = 0; q < 3; ++q)
+            edge_add(&s->es, s->tri_in[3 * t + q], s->tri_in[3 * t + (q + 1) % 3]);
+}
+
+/* Greedily, in rank then circumradius order, a triangle joins when none of
+ * its directed edges is taken yet (by the mesh or an earlier one): every
+ * edge then has at most one triangle a side, consistently oriented, which
+ * the mesh writer (OpenMesh) needs. */
+static void lay_greedy(lay_state *s, const relief_cand_tri *cand, size_t ncand)
+{
+    mesh_edges(s);
+    for (size_t t = 0; t < ncand; ++t) {
+        const uint32_t *v = cand[t].v;
+        if (edge_has(&s->es, v[0], v[1]) || edge_has(&s->es, v[1], v[2]) ||
+            edge_has(&s->es, v[2], v[0]))
+            continue;
+        add_edges(&s->es, v);
+        memcpy(s->tri + 3 * s->kept++, v, 3 * sizeof *s->tri);
+    }
+}
+
+/* Then no vertex may end with two fans: the input's triangles and the new
+ * ones together, new ones dropped where it would. 0 when memory runs out. */
+static int lay_manifold(lay_state *s)
+{
+    uint32_t *all = malloc((s->nt_in + s->kept) * 3 * sizeof *all + 1);
+    int nomem = 0;
+    size_t total;
+    if (!all)
+        return 0;
+    if (s->nt_in)
+        memcpy(all, s->tri_in, s->nt_in * 3 * sizeof *all);
+    memcpy(all + 3 * s->nt_in, s->tri, s->kept * 3 * sizeof *all);
+    total = drop_non_manifold(all, s->nt_in + s->kept, s->nt_in, s->N, &nomem);
+    if (!nomem) {
+        s->kept = total - s->nt_in;
+        memcpy(s->tri, all + 3 * s->nt_in, s->kept * 3 * sizeof *s->tri);
+    }
+    free(all);
+    return !nomem;
+}
+
+static void place(lay_state *s, size_t t)
+{
+    const uint32_t *v = s->tri + 3 * t;
+    add_edges(&s->es, v);
+    memcpy(s->ord + 3 * s->no++, v, 3 * sizeof *s->ord);
+    s->placed[t] = 1;
+}
+
+/* Every triangle a front reaches from what is laid, until none is left:
+ * one that shares an edge with it, each of its corners with faces reached
+ * through one of its two edges here, never by a corner alone. */
+static void front_pass(lay_state *s)
+{
+    const uint8_t *hf = s->has_face;
+    for (int progress = 1; progress;) {
+        progress = 0;
+        for (size_t t = 0; t < s->kept; ++t) {
+            const uint32_t *v = s->tri + 3 * t;
+            int shared[3], fits = 1; /* shared[q]: edge v[q] -> v[q + 1] has a face */
+            if (s->placed[t] || (hf[v[0]] + hf[v[1]] + hf[v[2]] < 2))
+                continue; /* a shared edge has two corners with faces */
+            for (int q = 0; q < 3; ++q)
+                shared[q] = edge_has(&s->es, v[(q + 1) % 3], v[q]);
+            if (!shared[0] && !shared[1] && !shared[2])
+                continue;
+            for (int q = 0; q < 3 && fits; ++q)
+                fits = !hf[v[q]] || shared[q] || shared[(q + 2) % 3];
+            if (!fits)
+                continue;
+            s->has_face[v[0]] = s->has_face[v[1]] = s->has_face[v[2]] = 1;
+            place(s, t);
+            progress = 1;
+        }
+    }
+}
+
+/* In the order a front would lay them: each next triangle shares an edge
+ * with what is there. OpenMesh adds faces one by one and cannot relink a
+ * vertex between two separate fans, which a triangle laid apart from the
+ * rest would make for a while. With seed_islands, a front that stops
+ * starts again from the first triangle left whose corners have no faces
+ * yet (a new component). Then what the fronts left where they met
+ * (cracks), after the rest; islands stay out: no front could reach them. */
+static void lay_fronts(lay_state *s, int seed_islands)
+{
+    mesh_edges(s);
+    for (size_t t = 0; t < 3 * s->nt_in; ++t)
+        s->has_face[s->tri_in[t]] = 1;
+    for (size_t seed = 0;;) {
+        const uint32_t *v;
+        front_pass(s);
+        if (!seed_islands)
+            break;
+        while (seed < s->kept && (s->placed[seed] || s->has_face[s->tri[3 * seed]] ||
+                                  s->has_face[s->tri[3 * seed + 1]] ||
+                                  s->has_face[s->tri[3 * seed + 2]]))
+            ++seed;
+        if (seed == s->kept)
+            break;
+        v = s->tri + 3 * seed;
+        s->has_face[v[0]] = s->has_face[v[1]] = s->has_face[v[2]] = 1;
+        place(s, seed);
+    }
+    for (int progress = 1; progress;) {
+        progress = 0;
+        for (size_t t = 0; t < s->kept; ++t) {
+            const uint32_t *v = s->tri + 3 * t;
+            if (s->placed[t] || !(edge_has(&s->es, v[1], v[0]) ||
+                                  edge_has(&s->es, v[2], v[1]) || edge_has(&s->es, v[0], v[2])))
+                continue;
+            place(s, t);
+            progress = 1;
+        }
+    }
+}
+
+/* Those of ord OpenMesh itself can store in this order (its add_face
+ * cannot always relink a vertex whose fans a corner split) into tri; the
+ * writer adds them in the same order. */
+static relief_status lay_storable(lay_state *s, const double *pos, relief_error *err)
+{
+    relief_mesh view;
+    size_t w = 0;
+    uint8_t *ok = malloc(s->no + 1);
+    relief_status st;
+    if (!ok)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu triangles", s->no);
+    memset(&view, 0, sizeof view);
+    view.nv = s->N, view.nt = s->nt_in;
+    view.pos = (double *)pos, view.tri = (uint32_t *)s->tri_in;
+    st = relief_om_storable(&view, s->ord, s->no, ok, err);
+    for (size_t t = 0; st == RELIEF_OK && t < s->no; ++t)
+        if (ok[t])
+            memcpy(s->tri + 3 * w++, s->ord + 3 * t, 3 * sizeof *s->tri);
+    s->kept = w;
+    free(ok);
+    return st;
+}
 
 relief_status relief_points_lay_triangles(const double *pos, size_t N, const uint32_t *tri_in,
                                           size_t nt_in, relief_cand_tri *cand, size_t ncand,
                                           int seed_islands, uint32_t **tri_out, size_t *nt_out,
                                           relief_error *err)
 {
-    edge_set es = {0};
-    uint32_t *tri = NULL, *ord = NULL;
-    uint8_t *placed = NULL, *has_face = NULL, *ok = NULL;
-    size_t kept = 0, no = 0;
+    lay_state s;
     relief_status st = RELIEF_OK;
 
     *tri_out = NULL;
     *nt_out = 0;
     if (!ncand)
         return RELIEF_OK;
-    /* Greedily, in rank then circumradius order, a triangle joins when
-     * none of its directed edges is taken yet (by the mesh or an earlier
-     * one): every edge then has at most one triangle a side, consistently
-     * oriented, which the mesh writer (OpenMesh) needs. */
+    memset(&s, 0, sizeof s);
+    s.tri_in = tri_in, s.nt_in = nt_in, s.N = N;
     qsort(cand, ncand, sizeof *cand, cand_cmp);
-    for (es.cap = 1024; es.cap < 4 * (3 * (nt_in + ncand) + 1); es.cap *= 2)
+    for (s.es.cap = 1024; s.es.cap < 4 * (3 * (nt_in + ncand) + 1); s.es.cap *= 2)
         ;
-    es.key = calloc(es.cap, sizeof *es.key);
-    tri = malloc(ncand * 3 * sizeof *tri);
-    if (!es.key || !tri) {
-        st = LAY_NOMEM();
-        goto done;
+    s.es.key = calloc(s.es.cap, sizeof *s.es.key);
+    s.tri = malloc(ncand * 3 * sizeof *s.tri);
+    if (s.es.key && s.tri)
+        lay_greedy(&s, cand, ncand);
+    if (s.es.key && s.tri && lay_manifold(&s)) {
+        s.ord = malloc(s.kept * 3 * sizeof *s.ord + 1);
+        s.placed = calloc(s.kept + 1, 1);
+        s.has_face = calloc(N + 1, 1);
     }
-    for (size_t t = 0; t < nt_in; ++t)
-        for (int q = 0; q < 3; ++q)
-            edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
-    for (size_t t = 0; t < ncand; ++t) {
-        const uint32_t *v = cand[t].v;
-        if (edge_has(&es, v[0], v[1]) || edge_has(&es, v[1], v[2]) || edge_has(&es, v[2], v[0]))
-            continue;
-        edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
-        memcpy(tri + 3 * kept++, v, 3 * sizeof *tri);
+    if (s.ord && s.placed && s.has_face) {
+        lay_fronts(&s, seed_islands);
+        st = lay_storable(&s, pos, err);
+    } else {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu triangles", ncand);
     }
-    /* Then no vertex may end with two fans: the input's triangles and the
-     * new ones together, new ones dropped where it would. */
-    {
-        uint32_t *all = malloc((nt_in + kept) * 3 * sizeof *all + 1);
-        int nomem = 0;
-        size_t total;
-        if (!all) {
-            st = LAY_NOMEM();
-            goto done;
-        }
-        if (nt_in)
-            memcpy(all, tri_in, nt_in * 3 * sizeof *all);
-        memcpy(all + 3 * nt_in, tri, kept * 3 * sizeof *all);
-        total = drop_non_manifold(all, nt_in + kept, nt_in, N, &nomem);
-        if (nomem) {
-            free(all);
-            st = LAY_NOMEM();
-            goto done;
-        }
-        kept = total - nt_in;
-        memcpy(tri, all + 3 * nt_in, kept * 3 * sizeof *tri);
-        free(all);
-    }
-    /* In the order a front would lay them: each next triangle shares an
-     * edge with what is there. OpenMesh adds faces one by one and cannot
-     * relink a vertex between two separate fans, which a triangle laid
-     * apart from the rest would make for a while. With seed_islands, a
-     * front that stops starts again from the first triangle left whose
-     * corners have no faces yet (a new component). */
-    ord = malloc(kept * 3 * sizeof *ord + 1);
-    placed = calloc(kept + 1, 1);
-    has_face = calloc(N + 1, 1);
-    if (!ord || !placed || !has_face) {
-        st = LAY_NOMEM();
-        goto done;
-    }
-    memset(es.key, 0, es.cap * sizeof *es.key);
-    for (size_t t = 0; t < nt_in; ++t)
-        for (int q = 0; q < 3; ++q)
-            edge_add(&es, tri_in[3 * t + q], tri_in[3 * t + (q + 1) % 3]);
-    for (size_t t = 0; t < 3 * nt_in; ++t)
-        has_face[tri_in[t]] = 1;
-    for (size_t seed = 0;;) {
-        for (int progress = 1; progress;) {
-            progress = 0;
-            for (size_t t = 0; t < kept; ++t) {
-                const uint32_t *v = tri + 3 * t;
-                int shared[3], fits = 1; /* shared[q]: edge v[q] -> v[q + 1] has a face */
-                if (placed[t] || (has_face[v[0]] + has_face[v[1]] + has_face[v[2]] < 2))
-                    continue; /* a shared edge has two corners with faces */
-                for (int q = 0; q < 3; ++q)
-                    shared[q] = edge_has(&es, v[(q + 1) % 3], v[q]);
-                if (!shared[0] && !shared[1] && !shared[2])
-                    continue;
-                /* A vertex that has faces is reached through one of its
-                 * two edges here, never by a corner alone. */
-                for (int q = 0; q < 3 && fits; ++q)
-                    fits = !has_face[v[q]] || shared[q] || shared[(q + 2) % 3];
-                if (!fits)
-                    continue;
-                edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
-                has_face[v[0]] = has_face[v[1]] = has_face[v[2]] = 1;
-                memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
-                placed[t] = 1, progress = 1;
-            }
-        }
-        if (!seed_islands)
-            break;
-        while (seed < kept && (placed[seed] || has_face[tri[3 * seed]] ||
-                               has_face[tri[3 * seed + 1]] || has_face[tri[3 * seed + 2]]))
-            ++seed;
-        if (seed == kept)
-            break;
-        {
-            const uint32_t *v = tri + 3 * seed;
-            edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
-            has_face[v[0]] = has_face[v[1]] = has_face[v[2]] = 1;
-            memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
-            placed[seed] = 1;
-        }
-    }
-    /* Then what the fronts left where they met (cracks), after the rest;
-     * OpenMesh itself says which of all it can store in this order (its
-     * add_face cannot always relink a vertex whose fans a corner split),
-     * and the writer adds them in the same order. */
-    for (int progress = 1; progress;) {
-        progress = 0;
-        for (size_t t = 0; t < kept; ++t) {
-            const uint32_t *v = tri + 3 * t;
-            if (placed[t] || !(edge_has(&es, v[1], v[0]) || edge_has(&es, v[2], v[1]) ||
-                               edge_has(&es, v[0], v[2])))
-                continue; /* islands stay out: no front could reach them */
-            edge_add(&es, v[0], v[1]), edge_add(&es, v[1], v[2]), edge_add(&es, v[2], v[0]);
-            memcpy(ord + 3 * no++, v, 3 * sizeof *ord);
-            placed[t] = 1, progress = 1;
-        }
-    }
-    {
-        relief_mesh view;
-        size_t w = 0;
-        ok = malloc(no + 1);
-        if (!ok) {
-            st = LAY_NOMEM();
-            goto done;
-        }
-        memset(&view, 0, sizeof view);
-        view.nv = N, view.nt = nt_in;
-        view.pos = (double *)pos, view.tri = (uint32_t *)tri_in;
-        st = relief_om_storable(&view, ord, no, ok, err);
-        for (size_t t = 0; st == RELIEF_OK && t < no; ++t)
-            if (ok[t])
-                memcpy(tri + 3 * w++, ord + 3 * t, 3 * sizeof *tri);
-        kept = w;
-    }
-done:
-    free(es.key), free(ord), free(placed), free(has_face), free(ok);
-    if (st != RELIEF_OK || !kept) {
-        free(tri);
+    free(s.es.key), free(s.ord), free(s.placed), free(s.has_face);
+    if (st != RELIEF_OK || !s.kept) {
+        free(s.tri);
         return st;
     }
-    *tri_out = tri;
-    *nt_out = kept;
+    *tri_out = s.tri;
+    *nt_out = s.kept;
     return RELIEF_OK;
 }
-#undef LAY_NOMEM
 
 relief_status relief_points_patch_mesh(const double *pos, const double *nrm, size_t n_in,
                                        size_t N, const uint32_t *rim, const uint32_t *hole,

@@ -807,6 +807,17 @@ typedef struct fill_state {
     cell_hash grid;
     uint32_t *near;
     size_t near_cap;
+    /* What the fill was given, and the rims hole by hole: */
+    const relief_rbf *f;
+    const double *given;     /* n_given x 3 */
+    const uint32_t *rim;     /* n_given */
+    size_t n_given, max_new, n_rim;
+    uint32_t n_holes;
+    double spacing;
+    double *sphere;          /* per hole 1..n_holes: the rim's centroid (3) and the
+                                radius (1) of the ball new points must stay in */
+    size_t *rim_start;       /* n_holes + 2: hole k's rim points are */
+    size_t *rim_list;        /* rim_list[rim_start[k] .. rim_start[k + 1]) */
 } fill_state;
 
 static int fill_grow(fill_state *s)
@@ -856,31 +867,12 @@ static int over_capture(fill_state *s, size_t n, const uint32_t *rim, const doub
     return best != SIZE_MAX && rim[best] == 0;
 }
 
-relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
-                                    const double *nrm, size_t n, const uint32_t *rim,
-                                    uint32_t n_holes, double spacing, size_t max_new,
-                                    double **out_pos, double **out_nrm,
-                                    uint32_t **out_hole, size_t *n_new,
-                                    relief_error *err)
+/* The arguments (given), and what the fill needs of them: the points'
+ * lowest corner lo and the count of rim points. */
+static relief_status fill_check(const double *pos, const double *nrm, size_t n, const uint32_t *rim, uint32_t n_holes,
+                                double spacing, double lo[3], size_t *n_rim, relief_error *err)
 {
-    /* Per hole: the rim's centroid (3), bounding radius, rim count. */
-    double *sphere = NULL, lo[3] = {INFINITY, INFINITY, INFINITY}, span = 0.0;
-    size_t *rim_start = NULL, *rim_list = NULL, n_rim = 0;
-    fill_state s;
-    relief_status st = RELIEF_OK;
-
-    memset(&s, 0, sizeof s);
-    if (out_pos)
-        *out_pos = NULL;
-    if (out_nrm)
-        *out_nrm = NULL;
-    if (out_hole)
-        *out_hole = NULL;
-    if (n_new)
-        *n_new = 0;
-    if (!f || !pos || !nrm || !rim || !out_pos || !out_nrm || !out_hole || !n_new)
-        return relief_fail(err, RELIEF_E_RANGE, "rbf fill: the model, points, normals, rim "
-                           "marks and outputs must not be NULL");
+    double span = 0.0;
     if (n < 4 || n >= NO_ITEM)
         return relief_fail(err, RELIEF_E_RANGE, "rbf fill: %zu points; expected 4..%u", n,
                            NO_ITEM - 1);
@@ -897,7 +889,7 @@ relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
                                    "or normal that is not finite", i);
             lo[a] = fmin(lo[a], pos[3 * i + a]);
         }
-        n_rim += rim[i] != 0;
+        *n_rim += rim[i] != 0;
     }
     for (size_t i = 0; i < n; ++i)
         for (int a = 0; a < 3; ++a)
@@ -906,143 +898,203 @@ relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
         return relief_fail(err, RELIEF_E_RANGE, "rbf fill: spacing %g is too small for points "
                            "spanning %g: at most %g cells of 2 spacings across", spacing, span,
                            CELL_SPAN / 3.0);
-    if (n_holes == 0 || n_rim == 0)
-        return RELIEF_OK;
+    return RELIEF_OK;
+}
 
-    sphere = calloc((size_t)n_holes + 1, 4 * sizeof *sphere);
-    rim_start = calloc((size_t)n_holes + 2, sizeof *rim_start);
-    rim_list = malloc(n_rim * sizeof *rim_list);
-    s.cap = n + 64;
-    s.pos = malloc(s.cap * 3 * sizeof *s.pos);
-    s.nrm = malloc(s.cap * 3 * sizeof *s.nrm);
-    s.hole = malloc(s.cap * sizeof *s.hole);
-    if (!sphere || !rim_start || !rim_list || !s.pos || !s.nrm || !s.hole ||
-        !hash_init(&s.grid, lo, FILL_NEIGHBOURS * spacing, n))
-        goto nomem;
+static relief_status fill_nomem(const fill_state *s, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_NOMEM, "rbf fill: cannot allocate the new points (%zu so "
+                       "far)", s->n > s->n_given ? s->n - s->n_given : 0);
+}
 
-    /* The rims, hole by hole in index order, and their bounding spheres. */
+/* The rims, hole by hole in index order, their bounding spheres, and the
+ * given points as the fill's first ones. 0 when memory runs out. */
+static int fill_setup(fill_state *s, const double *nrm, const double lo[3])
+{
+    const size_t n = s->n_given;
+    const double *pos = s->given;
+    const uint32_t *rim = s->rim;
+    size_t *at;
+    s->sphere = calloc((size_t)s->n_holes + 1, 4 * sizeof *s->sphere);
+    s->rim_start = calloc((size_t)s->n_holes + 2, sizeof *s->rim_start);
+    s->rim_list = malloc(s->n_rim * sizeof *s->rim_list);
+    s->cap = n + 64;
+    s->pos = malloc(s->cap * 3 * sizeof *s->pos);
+    s->nrm = malloc(s->cap * 3 * sizeof *s->nrm);
+    s->hole = malloc(s->cap * sizeof *s->hole);
+    if (!s->sphere || !s->rim_start || !s->rim_list || !s->pos || !s->nrm || !s->hole ||
+        !hash_init(&s->grid, lo, FILL_NEIGHBOURS * s->spacing, n))
+        return 0;
     for (size_t i = 0; i < n; ++i)
         if (rim[i]) {
-            ++rim_start[rim[i] + 1];
+            ++s->rim_start[rim[i] + 1];
             for (int a = 0; a < 3; ++a)
-                sphere[4 * rim[i] + a] += pos[3 * i + a];
+                s->sphere[4 * rim[i] + a] += pos[3 * i + a];
         }
-    for (uint32_t k = 1; k <= n_holes; ++k) {
-        rim_start[k + 1] += rim_start[k];
-        for (int a = 0; a < 3 && rim_start[k + 1] > rim_start[k]; ++a)
-            sphere[4 * k + a] /= (double)(rim_start[k + 1] - rim_start[k]);
+    for (uint32_t k = 1; k <= s->n_holes; ++k) {
+        s->rim_start[k + 1] += s->rim_start[k];
+        for (int a = 0; a < 3 && s->rim_start[k + 1] > s->rim_start[k]; ++a)
+            s->sphere[4 * k + a] /= (double)(s->rim_start[k + 1] - s->rim_start[k]);
     }
-    {
-        size_t *at = calloc((size_t)n_holes + 1, sizeof *at);
-        if (!at)
-            goto nomem;
-        for (size_t i = 0; i < n; ++i)
-            if (rim[i]) {
-                double d[3], *sp = sphere + 4 * rim[i];
-                rim_list[rim_start[rim[i]] + at[rim[i]]++] = i;
-                sub3(pos + 3 * i, sp, d);
-                sp[3] = fmax(sp[3], sqrt(dot3(d, d)));
-            }
-        free(at);
-    }
-    for (uint32_t k = 1; k <= n_holes; ++k)
-        sphere[4 * k + 3] += spacing;
-
-    memcpy(s.pos, pos, n * 3 * sizeof *s.pos);
+    if (!(at = calloc((size_t)s->n_holes + 1, sizeof *at)))
+        return 0;
+    for (size_t i = 0; i < n; ++i)
+        if (rim[i]) {
+            double d[3], *sp = s->sphere + 4 * rim[i];
+            s->rim_list[s->rim_start[rim[i]] + at[rim[i]]++] = i;
+            sub3(pos + 3 * i, sp, d);
+            sp[3] = fmax(sp[3], sqrt(dot3(d, d)));
+        }
+    free(at);
+    for (uint32_t k = 1; k <= s->n_holes; ++k)
+        s->sphere[4 * k + 3] += s->spacing;
+    memcpy(s->pos, pos, n * 3 * sizeof *s->pos);
     for (size_t i = 0; i < n; ++i) {
-        memcpy(s.nrm + 3 * i, nrm + 3 * i, 3 * sizeof *s.nrm);
-        relief_normalize3(s.nrm + 3 * i);
-        s.hole[i] = rim[i];
-        if (!hash_insert(&s.grid, pos + 3 * i))
-            goto nomem;
+        memcpy(s->nrm + 3 * i, nrm + 3 * i, 3 * sizeof *s->nrm);
+        relief_normalize3(s->nrm + 3 * i);
+        s->hole[i] = rim[i];
+        if (!hash_insert(&s->grid, pos + 3 * i))
+            return 0;
     }
-    s.n = n;
+    s->n = n;
+    return 1;
+}
 
-    /* The front: the rim points in index order, then each new point in the
-     * order it was made (a FIFO, since new points are appended). Each front
-     * point steps away from its neighbours' centroid and, so that the front
-     * also spreads sideways and closes up between its steps, at +-45 and
-     * +-90 degrees from there in its tangent plane. */
-    for (size_t q = 0, r = 0; r < n_rim || q < s.n - n; ) {
-        size_t i = r < n_rim ? rim_list[r++] : n + q++;
-        uint32_t k = s.hole[i];
-        const double *sp = sphere + 4 * k;
-        double p[3], nv[3], m[3] = {0, 0, 0}, d[3], t[3], w, cnt = 0;
-        size_t nn;
-        static const double angle[5] = {0.0, 0.25, -0.25, 0.5, -0.5}; /* x pi */
-        memcpy(p, s.pos + 3 * i, sizeof p);
-        memcpy(nv, s.nrm + 3 * i, sizeof nv);
-        nn = hash_within(&s.grid, s.pos, p, FILL_NEIGHBOURS * spacing, &s.near, &s.near_cap);
-        if (nn == (size_t)-1)
-            goto nomem;
-        for (size_t e = 0; e < nn; ++e)
-            if (s.near[e] != i) {
-                for (int a = 0; a < 3; ++a)
-                    m[a] += s.pos[3 * (size_t)s.near[e] + a];
-                ++cnt;
-            }
-        if (cnt == 0)
-            continue;
+/* A new point at x, on hole k: projected on the surface, near where it
+ * was stepped to, inside the hole's ball, clear of every point and off the
+ * capture. Its normal g is the surface's, turned to agree with the nearest
+ * rim point's. 1 taken, 0 not, -1 out of memory. */
+static int fill_take(fill_state *s, uint32_t k, double x[3], double g[3])
+{
+    const double spacing = s->spacing, *sp = s->sphere + 4 * k, *rn = NULL;
+    double x0[3], dv[3], best = INFINITY;
+    size_t hit;
+    memcpy(x0, x, sizeof x0);
+    if (!relief_rbf_project(s->f, x, FILL_ITER, FILL_TOL * spacing))
+        return 0;
+    sub3(x, x0, dv);
+    if (dot3(dv, dv) > FILL_DRIFT * FILL_DRIFT * spacing * spacing)
+        return 0;
+    sub3(x, sp, dv);
+    if (dot3(dv, dv) > sp[3] * sp[3])
+        return 0;
+    hit = hash_within(&s->grid, s->pos, x, FILL_REJECT * spacing, &s->near, &s->near_cap);
+    if (hit == (size_t)-1)
+        return -1;
+    if (hit > 0 || over_capture(s, s->n_given, s->rim, x, spacing))
+        return 0;
+    relief_rbf_eval(s->f, x, g);
+    if (!(relief_normalize3(g) > 0.0))
+        return 0;
+    for (size_t e = s->rim_start[k]; e < s->rim_start[k + 1]; ++e) {
+        double d2;
+        sub3(x, s->given + 3 * s->rim_list[e], dv);
+        d2 = dot3(dv, dv);
+        if (d2 < best)
+            best = d2, rn = s->nrm + 3 * s->rim_list[e];
+    }
+    if (rn && dot3(g, rn) < 0.0)
         for (int a = 0; a < 3; ++a)
-            d[a] = p[a] - m[a] / cnt;
-        w = dot3(d, nv);
-        for (int a = 0; a < 3; ++a)
-            d[a] -= w * nv[a];
-        if (!(relief_normalize3(d) > 1e-6 * spacing))
-            continue;
-        cross3(nv, d, t);
-        for (int dir = 0; dir < 5; ++dir) {
-            double c = cos(angle[dir] * RELIEF_PI), sn = sin(angle[dir] * RELIEF_PI);
-            double x0[3], x[3], g[3], dv[3], best = INFINITY;
-            const double *rn = NULL;
-            size_t hit;
+            g[a] = -g[a];
+    return 1;
+}
+
+/* Front point i's steps: away from its neighbours' centroid and, so that
+ * the front also spreads sideways and closes up between its steps, at +-45
+ * and +-90 degrees from there in its tangent plane; each step taken is a
+ * new point at the end of the front. */
+static relief_status fill_steps(fill_state *s, size_t i, relief_error *err)
+{
+    static const double angle[5] = {0.0, 0.25, -0.25, 0.5, -0.5}; /* x pi */
+    const uint32_t k = s->hole[i];
+    const double spacing = s->spacing;
+    double p[3], nv[3], m[3] = {0, 0, 0}, d[3], t[3], w, cnt = 0;
+    size_t nn;
+    memcpy(p, s->pos + 3 * i, sizeof p);
+    memcpy(nv, s->nrm + 3 * i, sizeof nv);
+    nn = hash_within(&s->grid, s->pos, p, FILL_NEIGHBOURS * spacing, &s->near, &s->near_cap);
+    if (nn == (size_t)-1)
+        return fill_nomem(s, err);
+    for (size_t e = 0; e < nn; ++e)
+        if (s->near[e] != i) {
             for (int a = 0; a < 3; ++a)
-                x0[a] = x[a] = p[a] + spacing * (c * d[a] + sn * t[a]);
-            if (!relief_rbf_project(f, x, FILL_ITER, FILL_TOL * spacing))
-                continue;
-            sub3(x, x0, dv);
-            if (dot3(dv, dv) > FILL_DRIFT * FILL_DRIFT * spacing * spacing)
-                continue;
-            sub3(x, sp, dv);
-            if (dot3(dv, dv) > sp[3] * sp[3])
-                continue;
-            hit = hash_within(&s.grid, s.pos, x, FILL_REJECT * spacing, &s.near, &s.near_cap);
-            if (hit == (size_t)-1)
-                goto nomem;
-            if (hit > 0)
-                continue;
-            if (over_capture(&s, n, rim, x, spacing))
-                continue;
-            relief_rbf_eval(f, x, g);
-            if (!(relief_normalize3(g) > 0.0))
-                continue;
-            for (size_t e = rim_start[k]; e < rim_start[k + 1]; ++e) {
-                double d2;
-                sub3(x, pos + 3 * rim_list[e], dv);
-                d2 = dot3(dv, dv);
-                if (d2 < best)
-                    best = d2, rn = s.nrm + 3 * rim_list[e];
-            }
-            if (rn && dot3(g, rn) < 0.0)
-                for (int a = 0; a < 3; ++a)
-                    g[a] = -g[a];
-            if (s.n - n >= max_new) {
-                st = relief_fail(err, RELIEF_E_NOMEM, "rbf fill: more than max_new = %zu new "
-                                 "points (spacing %g, %u holes)", max_new, spacing, n_holes);
-                goto done;
-            }
-            if (s.n == s.cap && !fill_grow(&s))
-                goto nomem;
-            memcpy(s.pos + 3 * s.n, x, sizeof x);
-            memcpy(s.nrm + 3 * s.n, g, sizeof g);
-            s.hole[s.n] = k;
-            if (!hash_insert(&s.grid, x))
-                goto nomem;
-            ++s.n;
+                m[a] += s->pos[3 * (size_t)s->near[e] + a];
+            ++cnt;
         }
+    if (cnt == 0)
+        return RELIEF_OK;
+    for (int a = 0; a < 3; ++a)
+        d[a] = p[a] - m[a] / cnt;
+    w = dot3(d, nv);
+    for (int a = 0; a < 3; ++a)
+        d[a] -= w * nv[a];
+    if (!(relief_normalize3(d) > 1e-6 * spacing))
+        return RELIEF_OK;
+    cross3(nv, d, t);
+    for (int dir = 0; dir < 5; ++dir) {
+        double c = cos(angle[dir] * RELIEF_PI), sn = sin(angle[dir] * RELIEF_PI), x[3], g[3];
+        int took;
+        for (int a = 0; a < 3; ++a)
+            x[a] = p[a] + spacing * (c * d[a] + sn * t[a]);
+        took = fill_take(s, k, x, g);
+        if (took < 0)
+            return fill_nomem(s, err);
+        if (!took)
+            continue;
+        if (s->n - s->n_given >= s->max_new)
+            return relief_fail(err, RELIEF_E_NOMEM, "rbf fill: more than max_new = %zu new "
+                               "points (spacing %g, %u holes)", s->max_new, spacing, s->n_holes);
+        if ((s->n == s->cap && !fill_grow(s)) || !hash_insert(&s->grid, x))
+            return fill_nomem(s, err);
+        memcpy(s->pos + 3 * s->n, x, sizeof x);
+        memcpy(s->nrm + 3 * s->n, g, sizeof g);
+        s->hole[s->n] = k;
+        ++s->n;
     }
+    return RELIEF_OK;
+}
 
-    if (s.n > n) {
+static void fill_free(fill_state *s)
+{
+    hash_free(&s->grid);
+    free(s->pos), free(s->nrm), free(s->hole), free(s->near);
+    free(s->sphere), free(s->rim_start), free(s->rim_list);
+}
+
+relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
+                                    const double *nrm, size_t n, const uint32_t *rim,
+                                    uint32_t n_holes, double spacing, size_t max_new,
+                                    double **out_pos, double **out_nrm,
+                                    uint32_t **out_hole, size_t *n_new,
+                                    relief_error *err)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY};
+    fill_state s;
+    relief_status st;
+
+    memset(&s, 0, sizeof s);
+    if (out_pos)
+        *out_pos = NULL;
+    if (out_nrm)
+        *out_nrm = NULL;
+    if (out_hole)
+        *out_hole = NULL;
+    if (n_new)
+        *n_new = 0;
+    if (!f || !pos || !nrm || !rim || !out_pos || !out_nrm || !out_hole || !n_new)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fill: the model, points, normals, rim "
+                           "marks and outputs must not be NULL");
+    st = fill_check(pos, nrm, n, rim, n_holes, spacing, lo, &s.n_rim, err);
+    if (st != RELIEF_OK || n_holes == 0 || s.n_rim == 0)
+        return st;
+    s.f = f, s.given = pos, s.rim = rim, s.n_given = n, s.max_new = max_new;
+    s.n_holes = n_holes, s.spacing = spacing;
+    st = fill_setup(&s, nrm, lo) ? RELIEF_OK : fill_nomem(&s, err);
+    /* The front: the rim points in index order, then each new point in the
+     * order it was made (a FIFO, since new points are appended). */
+    for (size_t q = 0, r = 0; st == RELIEF_OK && (r < s.n_rim || q < s.n - n);)
+        st = fill_steps(&s, r < s.n_rim ? s.rim_list[r++] : n + q++, err);
+    if (st == RELIEF_OK && s.n > n) {
         size_t m = s.n - n;
         *out_pos = malloc(m * 3 * sizeof **out_pos);
         *out_nrm = malloc(m * 3 * sizeof **out_nrm);
@@ -1050,20 +1102,14 @@ relief_status relief_rbf_fill_holes(const relief_rbf *f, const double *pos,
         if (!*out_pos || !*out_nrm || !*out_hole) {
             free(*out_pos), free(*out_nrm), free(*out_hole);
             *out_pos = NULL, *out_nrm = NULL, *out_hole = NULL;
-            goto nomem;
+            st = fill_nomem(&s, err);
+        } else {
+            memcpy(*out_pos, s.pos + 3 * n, m * 3 * sizeof **out_pos);
+            memcpy(*out_nrm, s.nrm + 3 * n, m * 3 * sizeof **out_nrm);
+            memcpy(*out_hole, s.hole + n, m * sizeof **out_hole);
+            *n_new = m;
         }
-        memcpy(*out_pos, s.pos + 3 * n, m * 3 * sizeof **out_pos);
-        memcpy(*out_nrm, s.nrm + 3 * n, m * 3 * sizeof **out_nrm);
-        memcpy(*out_hole, s.hole + n, m * sizeof **out_hole);
-        *n_new = m;
     }
-    goto done;
-nomem:
-    st = relief_fail(err, RELIEF_E_NOMEM, "rbf fill: cannot allocate the new points (%zu so "
-                     "far)", s.n > n ? s.n - n : 0);
-done:
-    hash_free(&s.grid);
-    free(s.pos), free(s.nrm), free(s.hole), free(s.near);
-    free(sphere), free(rim_start), free(rim_list);
+    fill_free(&s);
     return st;
 }

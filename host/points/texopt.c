@@ -54,6 +54,7 @@ relief_texopt_params relief_texopt_params_default(void)
     p.backend = RELIEF_BACKEND_AUTO;
     p.device = -1;
     p.histogram = 0;
+    p.progress = NULL;
     return p;
 }
 
@@ -359,6 +360,14 @@ static relief_status run_mstep(const opt *o, int threads, relief_error *err)
     return st;
 }
 
+#define START_SHARE 0.15 /* of the texture's progress: the start; the iterations the rest */
+
+static relief_status texopt_cancelled(const relief_progress *pr, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback at %.0f %%",
+                       100.0 * pr->last);
+}
+
 /* The unknown values' start, grown inward from the known part as patch-
  * based synthesis grows (Criminisi et al.'s onion order). Repeatedly the
  * active cluster with the largest share of valid members (known, or set
@@ -373,7 +382,7 @@ static relief_status run_mstep(const opt *o, int threads, relief_error *err)
  * other side were matched, and a tape line on frag_115 stopped at the rim.
  * Exhaustive over the exemplars: about 2 A x nz x nodes x channels. */
 static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
-                                      relief_error *err)
+                                      relief_progress *pr, relief_error *err)
 {
     uint8_t *valid = malloc(n), *open = malloc(o->A + 1);
     float *q = malloc((size_t)o->dims * sizeof *q);
@@ -388,7 +397,7 @@ static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
     for (size_t i = 0; i < n; ++i)
         valid[i] = !unknown[i];
     memset(open, 1, o->A);
-    for (;;) {
+    for (size_t round = 0;; ++round) {
         size_t j = SIZE_MAX, central = 0;
         double best_share = -1.0, be = INFINITY;
         uint32_t best = 0;
@@ -409,6 +418,12 @@ static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
         }
         if (j == SIZE_MAX)
             break;
+        /* About one round a cluster: a share of the start each. */
+        if (relief_progress_step(pr, START_SHARE * (round < o->A ? (double)round / o->A : 1.0))) {
+            free(valid), free(open), free(q), free(nvalid);
+            reader_free(&rd);
+            return texopt_cancelled(pr, err);
+        }
         /* The grid over valid points: a node counts when at least half its
          * weight is on valid points, renormalised over them. */
         for (int node = 0; node < o->nodes; ++node) {
@@ -607,7 +622,7 @@ static relief_status match_histogram(float *value, int ch, int c, size_t n,
 /* The exemplars whose distribution histogram matching gives the fill
  * (into ref, n flags): those among the active clusters' members, the
  * capture about the holes (about 680 points a cluster); every exemplar
- * when fewer than HIST_REF_MIN are (a --clone-from scan, which no cluster
+ * when fewer than HIST_REF_MIN are (a clone scan, which no cluster
  * of the input's holds). The detail's spread differs over an
  * object (fertility's arm is smoother than its body), and a hole should
  * look like what is about it: against the whole capture's distribution the
@@ -629,6 +644,412 @@ static void histogram_reference(const opt *o, size_t mlen, const uint8_t *exempl
         memcpy(ref, exemplar, n);
 }
 
+/* One run's state: the parameters it runs at, what its stages build
+ * (opt, the clusters, the exemplar grids, the E-step's lists) and free in
+ * one place. */
+typedef struct texrun {
+    opt o;
+    relief_texopt_params p;
+    const double *pos;         /* n x 3 */
+    size_t n;
+    int channels, threads;
+    relief_pclusters cl;
+    relief_pbucket bk;
+    relief_pgrid_weights gw;
+    double *nrm;               /* n x 3, unit */
+    double *energy;            /* max_iter */
+    double h, band;            /* grid step, overlap band */
+    uint32_t *cand;            /* a bucket query's points */
+    size_t ncand_cap;
+    uint32_t *elist;           /* the exemplar points, ne */
+    size_t ne;
+    size_t mlen, mcap, wlen, wcap; /* o.mpt/mfa/mfb, o.wpt/ww: used, allocated */
+    uint32_t *acl;             /* the active clusters' indices in cl */
+    size_t acap;
+    float *zv;                 /* exemplar grids, zlen floats */
+    size_t zlen, zcap;
+    uint32_t *zq;              /* their centre points */
+    size_t nzq, zqcap;
+    size_t *pick;              /* the exemplar points' seeded order */
+    size_t *pstart;            /* n + 1: per unknown point, its members in pent */
+    uint32_t *pent;
+    uint8_t *hist_ref;
+    int iterations, converged;
+    char search_note[336];
+} texrun;
+
+static void texrun_free(texrun *r)
+{
+    opt *o = &r->o;
+    relief_grid_nn_destroy(o->nn);
+    relief_pclusters_free(&r->cl);
+    relief_pbucket_free(&r->bk);
+    relief_pgrid_weights_free(&r->gw);
+    free(r->nrm), free(r->energy), free(r->cand), free(r->elist), free(r->pick);
+    free(r->pstart), free(r->pent), free(r->acl), free(r->zv), free(r->zq), free(r->hist_ref);
+    free(o->zread), free(o->mstart), free(o->mpt), free(o->mfa), free(o->mfb), free(o->wstart);
+    free(o->wpt), free(o->ww), free(o->x), free(o->match), free(o->q), free(o->cand);
+}
+
+static relief_status texrun_nomem(const texrun *r, relief_error *err)
+{
+    return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (%zu points, "
+                       "%d channels)", r->n, r->channels);
+}
+
+/* The working values (the unknown ones 0 until sequential_start sets them
+ * before anything reads them), unit normals, the exemplar points, the
+ * clusters, the grid step and the points' buckets. */
+static relief_status run_prepare(texrun *r, const double *nrm_in, const float *value,
+                                 const uint8_t *unknown, const uint8_t *exemplar,
+                                 size_t n_exemplar, relief_error *err)
+{
+    opt *o = &r->o;
+    const size_t n = r->n;
+    const int channels = r->channels;
+    relief_status st;
+    o->gn = r->p.grid_n, o->ch = channels, o->nodes = r->p.grid_n * r->p.grid_n;
+    o->dims = o->nodes * channels, o->lambda = r->p.lambda;
+    r->nrm = malloc(3 * n * sizeof *r->nrm);
+    o->x = malloc(n * (size_t)channels * sizeof *o->x);
+    r->elist = malloc(n_exemplar * sizeof *r->elist);
+    r->energy = malloc((size_t)r->p.max_iter * sizeof *r->energy);
+    if (!r->nrm || !o->x || !r->elist || !r->energy)
+        return texrun_nomem(r, err);
+    for (size_t i = 0; i < n; ++i) {
+        const double *m = nrm_in + 3 * i;
+        const double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        for (int a = 0; a < 3; ++a)
+            r->nrm[3 * i + a] = m[a] / l;
+        if (exemplar[i])
+            r->elist[r->ne++] = (uint32_t)i;
+    }
+    memcpy(o->x, value, n * (size_t)channels * sizeof *o->x);
+    for (size_t i = 0; i < n; ++i)
+        if (unknown[i])
+            memset(o->x + i * channels, 0, (size_t)channels * sizeof *o->x);
+    st = relief_pclusters_make(r->pos, r->nrm, n, (size_t)r->p.cluster_size, &r->cl, err);
+    if (st != RELIEF_OK)
+        return st;
+    r->h = r->p.grid_step > 0 ? r->p.grid_step : 2.0 * r->cl.mean_radius / r->p.grid_n;
+    r->band = r->p.overlap * r->cl.mean_radius;
+    if (!(r->h > 0))
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: the points span no area "
+                           "(mean cluster radius 0), so no grid step can be chosen");
+    return relief_pbucket_make(r->pos, n, relief_pgrid_reach(o->gn, r->h), &r->bk, err);
+}
+
+/* Append member q at grid coordinates (fa, fb). 0, or -1 out of memory. */
+static int push_member(texrun *r, uint32_t q, double fa, double fb)
+{
+    opt *o = &r->o;
+    if (r->mlen == r->mcap) {
+        const size_t ncap = r->mcap ? 2 * r->mcap : 4096;
+        uint32_t *a = realloc(o->mpt, ncap * sizeof *a);
+        float *b, *d;
+        if (!a)
+            return -1;
+        o->mpt = a;
+        if (!(b = realloc(o->mfa, ncap * sizeof *b)))
+            return -1;
+        o->mfa = b;
+        if (!(d = realloc(o->mfb, ncap * sizeof *d)))
+            return -1;
+        o->mfb = d, r->mcap = ncap;
+    }
+    o->mpt[r->mlen] = q, o->mfa[r->mlen] = (float)fa, o->mfb[r->mlen++] = (float)fb;
+    return 0;
+}
+
+/* Append the resampling weights of the next active cluster's grid (r->gw).
+ * 0, or -1 out of memory. */
+static int push_weights(texrun *r)
+{
+    opt *o = &r->o;
+    size_t *ms = realloc(o->mstart, (o->A + 2) * sizeof *ms), *ws;
+    if (!ms)
+        return -1;
+    o->mstart = ms;
+    ws = realloc(o->wstart, ((o->A + 1) * (size_t)o->nodes + 1) * sizeof *ws);
+    if (!ws)
+        return -1;
+    o->wstart = ws;
+    for (int q = 0; q < o->nodes; ++q) {
+        for (size_t t = r->gw.start[q]; t < r->gw.start[q + 1]; ++t) {
+            if (r->wlen == r->wcap) {
+                const size_t ncap = r->wcap ? 2 * r->wcap : 4096;
+                uint32_t *a = realloc(o->wpt, ncap * sizeof *a);
+                float *b;
+                if (!a)
+                    return -1;
+                o->wpt = a;
+                if (!(b = realloc(o->ww, ncap * sizeof *b)))
+                    return -1;
+                o->ww = b, r->wcap = ncap;
+            }
+            o->wpt[r->wlen] = r->gw.point[t], o->ww[r->wlen++] = r->gw.w[t];
+        }
+        o->wstart[o->A * (size_t)o->nodes + (size_t)q + 1] = r->wlen;
+    }
+    return 0;
+}
+
+/* Active clusters: C_O,i is C_i grown by the band; members outside G_i's
+ * square are left out (no grid value there), except C_i's own, read at
+ * the clamped border so that every point has a cluster. Only the clusters
+ * holding an unknown point are kept. */
+static relief_status build_active_clusters(texrun *r, const uint8_t *unknown, relief_error *err)
+{
+    opt *o = &r->o;
+    const relief_pclusters *cl = &r->cl;
+    const double k = (o->gn - 1) / 2.0, h = r->h;
+    o->mstart = malloc(sizeof *o->mstart);
+    o->wstart = malloc(sizeof *o->wstart);
+    if (!o->mstart || !o->wstart)
+        return texrun_nomem(r, err);
+    o->mstart[0] = 0, o->wstart[0] = 0;
+    for (size_t i = 0; i < cl->m; ++i) {
+        const double *c = cl->centre + 3 * i, *f = cl->frame + 9 * i;
+        size_t nc = relief_pbucket_query(&r->bk, c, cl->radius[i] + r->band, &r->cand,
+                                         &r->ncand_cap);
+        const size_t m0 = r->mlen;
+        int any = 0;
+        size_t empty, foreign;
+        if (nc == SIZE_MAX)
+            return texrun_nomem(r, err);
+        for (size_t j = 0; j < nc; ++j) {
+            const uint32_t q = r->cand[j];
+            const double *nq = r->nrm + 3 * (size_t)q;
+            const int own = cl->label[q] == i;
+            double s, t, fa, fb;
+            if (!own && nq[0] * f[6] + nq[1] * f[7] + nq[2] * f[8] < 0.3)
+                continue;
+            relief_ptangent(r->pos + 3 * (size_t)q, c, f, &s, &t);
+            fa = s / h + k, fb = t / h + k;
+            if (!own && (fa < 0 || fa > 2 * k || fb < 0 || fb > 2 * k))
+                continue;
+            fa = fa < 0 ? 0 : fa > 2 * k ? 2 * k : fa;
+            fb = fb < 0 ? 0 : fb > 2 * k ? 2 * k : fb;
+            if (push_member(r, q, fa, fb) < 0)
+                return texrun_nomem(r, err);
+            any |= unknown[q] != 0;
+        }
+        if (!any) {
+            r->mlen = m0;
+            continue;
+        }
+        nc = relief_pbucket_query(&r->bk, c, relief_pgrid_reach(o->gn, h), &r->cand,
+                                  &r->ncand_cap);
+        if (nc == SIZE_MAX || relief_pgrid_weigh(r->pos, r->nrm, r->cand, nc, c, f, o->gn, h,
+                                                 NULL, &r->gw, &empty, &foreign) < 0 ||
+            push_weights(r) < 0)
+            return texrun_nomem(r, err);
+        o->mstart[o->A + 1] = r->mlen;
+        PUSH(r->acl, o->A, r->acap, (uint32_t)i);
+    }
+    return RELIEF_OK;
+nomem:
+    return texrun_nomem(r, err);
+}
+
+/* Exemplar grids: at the exemplar points (a seeded subset of MAX_EXEMPLARS
+ * beyond that many), in the frame of the point's cluster; kept when no
+ * node reads a point that is not an exemplar and at most a quarter of the
+ * nodes have no point within h. *no_grid set when none is. */
+static relief_status build_exemplar_grids(texrun *r, const float *value,
+                                          const uint8_t *exemplar, int *no_grid,
+                                          relief_error *err)
+{
+    opt *o = &r->o;
+    const size_t ne = r->ne, want = ne < MAX_EXEMPLARS ? ne : MAX_EXEMPLARS;
+    const uint32_t seed32 = (uint32_t)(r->p.seed ^ (r->p.seed >> 32));
+    const int channels = r->channels;
+    r->pick = malloc(ne * sizeof *r->pick);
+    if (!r->pick)
+        return texrun_nomem(r, err);
+    relief_rng_subset(r->pick, ne, want, seed32);
+    for (size_t e = 0; e < want; ++e) {
+        const uint32_t q = r->elist[r->pick[e]];
+        const size_t nc = relief_pbucket_query(&r->bk, r->pos + 3 * (size_t)q,
+                                               relief_pgrid_reach(o->gn, r->h), &r->cand,
+                                               &r->ncand_cap);
+        size_t empty, foreign;
+        int got;
+        if (nc == SIZE_MAX)
+            return texrun_nomem(r, err);
+        got = relief_pgrid_weigh(r->pos, r->nrm, r->cand, nc, r->pos + 3 * (size_t)q,
+                                 r->cl.frame + 9 * (size_t)r->cl.label[q], o->gn, r->h,
+                                 exemplar, &r->gw, &empty, &foreign);
+        if (got < 0)
+            return texrun_nomem(r, err);
+        /* Up to a quarter of the nodes may have no point within h and take
+         * their nearest exemplar point's value: where the grid is finer
+         * than the sampling (a decimated scan's sparse parts), no grid
+         * would have every node backed otherwise. */
+        if (got == 0 || foreign || empty > (size_t)o->nodes / 4)
+            continue;
+        if (r->zlen + (size_t)o->dims > r->zcap) {
+            const size_t ncap = r->zcap ? 2 * r->zcap : 64 * (size_t)o->dims;
+            float *a = realloc(r->zv, ncap * sizeof *a);
+            if (!a)
+                return texrun_nomem(r, err);
+            r->zv = a, r->zcap = ncap;
+        }
+        PUSH(r->zq, r->nzq, r->zqcap, q);
+        for (int node = 0; node < o->nodes; ++node)
+            for (int k = 0; k < channels; ++k) {
+                double s = 0;
+                for (size_t t = r->gw.start[node]; t < r->gw.start[node + 1]; ++t)
+                    s += (double)r->gw.w[t] * value[(size_t)r->gw.point[t] * channels + k];
+                r->zv[r->zlen++] = (float)s;
+            }
+    }
+    o->nz = r->zlen / (size_t)o->dims;
+    if (!o->nz) {
+        *no_grid = 1;
+        return relief_fail(err, RELIEF_E_RANGE, "texture optimisation: no exemplar grid can be "
+                           "built: none of %zu exemplar points has its %d x %d grid (step %g) "
+                           "backed by exemplar points alone, three quarters of its nodes "
+                           "within a step of one; mark a larger exemplar region or lower "
+                           "grid_n", want, o->gn, o->gn, r->h);
+    }
+    return RELIEF_OK;
+nomem:
+    return texrun_nomem(r, err);
+}
+
+/* Per unknown point, the members standing for it (the E-step's lists),
+ * the M-step's buffers and the exemplar grids' search. */
+static relief_status build_search(texrun *r, const uint8_t *unknown, const uint8_t *exemplar,
+                                  relief_error *err)
+{
+    opt *o = &r->o;
+    const size_t n = r->n, mlen = r->mlen;
+    size_t *fill;
+    if (o->A == 0) /* cannot happen: every unknown point is its own cluster's member */
+        return relief_fail(err, RELIEF_E_INTERNAL, "texture optimisation: no active cluster");
+    r->pstart = calloc(n + 1, sizeof *r->pstart);
+    o->match = malloc(o->A * sizeof *o->match);
+    r->pent = malloc((mlen ? mlen : 1) * sizeof *r->pent);
+    fill = malloc(n * sizeof *fill);
+    if (!r->pstart || !o->match || !r->pent || !fill) {
+        free(fill);
+        return texrun_nomem(r, err);
+    }
+    for (size_t m = 0; m < mlen; ++m)
+        if (unknown[o->mpt[m]])
+            ++r->pstart[o->mpt[m] + 1];
+    for (size_t i = 0; i < n; ++i)
+        r->pstart[i + 1] += r->pstart[i];
+    memcpy(fill, r->pstart, n * sizeof *fill);
+    for (size_t m = 0; m < mlen; ++m)
+        if (unknown[o->mpt[m]])
+            r->pent[fill[o->mpt[m]]++] = (uint32_t)m;
+    free(fill);
+    o->zvec = r->zv;
+    o->pos = r->pos, o->nrm = r->nrm, o->exemplar = exemplar, o->bk = &r->bk;
+    o->frame = r->cl.frame, o->label = r->cl.label, o->zq = r->zq, o->h = r->h;
+    o->zread = malloc(mlen * (size_t)r->channels * sizeof *o->zread + 1);
+    o->q = malloc(o->A * (size_t)o->dims * sizeof *o->q + 1);
+    o->cand = malloc(o->A * CANDIDATES * sizeof *o->cand + 1);
+    if (!o->zread || !o->q || !o->cand)
+        return texrun_nomem(r, err);
+    for (size_t j = 0; j < o->A; ++j)
+        o->match[j] = UINT32_MAX;
+    return relief_grid_nn_create(r->p.brute ? RELIEF_GRID_SEARCH_BRUTE
+                                            : RELIEF_GRID_SEARCH_KDTREE,
+                                 r->p.backend, r->p.device, r->zv, o->nz, o->dims, r->threads,
+                                 &o->nn, r->search_note, sizeof r->search_note, err);
+}
+
+/* The E-step: each unknown point the centre-weighted mean of its members'
+ * reads in their clusters' matches. */
+static void run_estep(texrun *r)
+{
+    opt *o = &r->o;
+    const int channels = r->channels;
+    for (size_t i = 0; i < r->n; ++i) {
+        float acc[4] = {0, 0, 0, 0}, wsum = 0.0f;
+        if (r->pstart[i] == r->pstart[i + 1])
+            continue;
+        for (size_t t = r->pstart[i]; t < r->pstart[i + 1]; ++t) {
+            const size_t m = r->pent[t];
+            const float w = centre_weight(o->gn, o->mfa[m], o->mfb[m]);
+            for (int k = 0; k < channels; ++k) /* m's value in its cluster's match */
+                acc[k] += w * o->zread[m * channels + k];
+            wsum += w;
+        }
+        for (int k = 0; k < channels; ++k)
+            o->x[i * channels + k] = acc[k] / wsum;
+    }
+}
+
+/* M-step, E-step, until E changes by less than tol relatively, is 0, or
+ * max_iter; the progress after each iteration. */
+static relief_status run_iterations(texrun *r, relief_error *err)
+{
+    opt *o = &r->o;
+    relief_progress *pr = r->p.progress;
+    int it = 0;
+    while (it < r->p.max_iter) {
+        double e = 0;
+        relief_status st = run_mstep(o, r->threads, err);
+        if (st != RELIEF_OK)
+            return st;
+        run_estep(r);
+        for (size_t j = 0; j < o->A; ++j)
+            e += cluster_energy(o, j, o->zread + o->mstart[j] * r->channels);
+        r->energy[it++] = e;
+        r->iterations = it;
+        if (relief_progress_step(pr, START_SHARE + (1.0 - START_SHARE) * it / r->p.max_iter))
+            return texopt_cancelled(pr, err);
+        if ((it > 1 && fabs(r->energy[it - 2] - e) <= r->p.tol * r->energy[it - 2]) || e == 0) {
+            r->converged = 1;
+            break;
+        }
+    }
+    return RELIEF_OK;
+}
+
+/* The histogram matching on the working values, then the unknown ones
+ * into value (so that a failure leaves value unchanged), and res. */
+static relief_status run_finish(texrun *r, float *value, const uint8_t *unknown,
+                                const uint8_t *exemplar, relief_texopt_result *res,
+                                relief_error *err)
+{
+    opt *o = &r->o;
+    const int channels = r->channels;
+    if (r->p.histogram) {
+        r->hist_ref = malloc(r->n);
+        if (!r->hist_ref)
+            return texrun_nomem(r, err);
+        histogram_reference(o, r->mlen, exemplar, r->n, r->hist_ref);
+    }
+    for (int c = 0; c < channels; ++c)
+        if (r->p.histogram & (1u << c)) {
+            relief_status st = match_histogram(o->x, channels, c, r->n, unknown, r->hist_ref,
+                                               err);
+            if (st != RELIEF_OK)
+                return st;
+        }
+    for (size_t i = 0; i < r->n; ++i)
+        if (unknown[i])
+            memcpy(value + i * channels, o->x + i * channels, (size_t)channels * sizeof *value);
+    if (res) {
+        res->clusters = r->cl.m;
+        res->active_clusters = o->A;
+        res->exemplars = o->nz;
+        res->iterations = r->iterations;
+        res->energy = r->energy;
+        res->converged = r->converged;
+        res->grid_n = o->gn;
+        res->cluster_size = r->p.cluster_size;
+        snprintf(res->search, sizeof res->search, "%s", r->search_note);
+        r->energy = NULL;
+    }
+    return RELIEF_OK;
+}
+
 /* One run at the given parameters; *no_grid set when it failed only
  * because no exemplar grid could be built. */
 static relief_status texopt_run(const double *pos, const double *nrm_in, size_t n, int channels,
@@ -636,333 +1057,33 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
                                 const uint8_t *rim, const relief_texopt_params *pp,
                                 relief_texopt_result *res, int *no_grid, relief_error *err)
 {
-    const relief_texopt_params p = *pp;
-    relief_status st;
-    size_t n_unknown = 0, n_exemplar = 0, mlen = 0, mcap = 0, wlen = 0, wcap = 0, ncand_cap = 0;
-    size_t acap = 0, zlen = 0, zcap = 0, ne = 0, *pick = NULL, *pstart = NULL;
-    uint32_t *cand = NULL, *elist = NULL, *pent = NULL, *acl = NULL, *zq = NULL;
-    size_t nzq = 0, zqcap = 0;
-    uint8_t *hist_ref = NULL;
-    double *nrm = NULL, *energy = NULL, h, band;
-    relief_pclusters cl = {0};
-    relief_pbucket bk = {0};
-    relief_pgrid_weights gw = {0};
-    opt o = {0};
-    float *zv = NULL;
-    int threads = p.threads, it = 0, converged = 0;
-    char search_note[336] = "";
-    const uint32_t seed32 = (uint32_t)(p.seed ^ (p.seed >> 32));
-
-    st = check(pos, nrm_in, n, channels, value, unknown, exemplar, &p, &n_unknown, &n_exemplar,
-               err);
+    texrun r;
+    size_t n_unknown = 0, n_exemplar = 0;
+    relief_status st = check(pos, nrm_in, n, channels, value, unknown, exemplar, pp, &n_unknown,
+                             &n_exemplar, err);
     if (st != RELIEF_OK)
         return st;
-    if (threads == 0) {
+    memset(&r, 0, sizeof r);
+    r.p = *pp, r.pos = pos, r.n = n, r.channels = channels, r.o.rim = rim;
+    r.threads = r.p.threads;
+    if (r.threads == 0) {
         const long c = sysconf(_SC_NPROCESSORS_ONLN);
-        threads = c < 1 ? 1 : c > MAX_THREADS ? MAX_THREADS : (int)c;
+        r.threads = c < 1 ? 1 : c > MAX_THREADS ? MAX_THREADS : (int)c;
     }
-    o.gn = p.grid_n, o.ch = channels, o.nodes = p.grid_n * p.grid_n;
-    o.dims = o.nodes * channels, o.rim = rim, o.lambda = p.lambda;
-    nrm = malloc(3 * n * sizeof *nrm);
-    o.x = malloc(n * (size_t)channels * sizeof *o.x);
-    elist = malloc(n_exemplar * sizeof *elist);
-    energy = malloc((size_t)p.max_iter * sizeof *energy);
-    if (!nrm || !o.x || !elist || !energy)
-        goto nomem;
-    for (size_t i = 0; i < n; ++i) {
-        const double *m = nrm_in + 3 * i;
-        const double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-        for (int a = 0; a < 3; ++a)
-            nrm[3 * i + a] = m[a] / l;
-        if (exemplar[i])
-            elist[ne++] = (uint32_t)i;
-    }
-    /* The unknown values are set by sequential_start before anything reads
-     * them; 0 until then. */
-    memcpy(o.x, value, n * (size_t)channels * sizeof *o.x);
-    for (size_t i = 0; i < n; ++i)
-        if (unknown[i])
-            memset(o.x + i * channels, 0, (size_t)channels * sizeof *o.x);
-
-    st = relief_pclusters_make(pos, nrm, n, (size_t)p.cluster_size, &cl, err);
-    if (st != RELIEF_OK)
-        goto done;
-    h = p.grid_step > 0 ? p.grid_step : 2.0 * cl.mean_radius / p.grid_n;
-    band = p.overlap * cl.mean_radius;
-    if (!(h > 0)) {
-        st = relief_fail(err, RELIEF_E_RANGE, "texture optimisation: the points span no area "
-                         "(mean cluster radius 0), so no grid step can be chosen");
-        goto done;
-    }
-    st = relief_pbucket_make(pos, n, relief_pgrid_reach(o.gn, h), &bk, err);
-    if (st != RELIEF_OK)
-        goto done;
-
-    /* Active clusters: C_O,i is C_i grown by the band; members outside
-     * G_i's square are left out (no grid value there), except C_i's own,
-     * read at the clamped border so that every point has a cluster. */
-    {
-        const double k = (o.gn - 1) / 2.0;
-        o.mstart = malloc(sizeof *o.mstart);
-        o.wstart = malloc(sizeof *o.wstart);
-        if (!o.mstart || !o.wstart)
-            goto nomem;
-        o.mstart[0] = 0, o.wstart[0] = 0;
-        for (size_t i = 0; i < cl.m; ++i) {
-            const double *c = cl.centre + 3 * i, *f = cl.frame + 9 * i;
-            size_t nc = relief_pbucket_query(&bk, c, cl.radius[i] + band, &cand, &ncand_cap);
-            const size_t m0 = mlen;
-            int any = 0;
-            size_t empty, foreign;
-            if (nc == SIZE_MAX)
-                goto nomem;
-            for (size_t j = 0; j < nc; ++j) {
-                const uint32_t q = cand[j];
-                const double *nq = nrm + 3 * (size_t)q;
-                const int own = cl.label[q] == i;
-                double s, t, fa, fb;
-                if (!own && nq[0] * f[6] + nq[1] * f[7] + nq[2] * f[8] < 0.3)
-                    continue;
-                relief_ptangent(pos + 3 * (size_t)q, c, f, &s, &t);
-                fa = s / h + k, fb = t / h + k;
-                if (!own && (fa < 0 || fa > 2 * k || fb < 0 || fb > 2 * k))
-                    continue;
-                fa = fa < 0 ? 0 : fa > 2 * k ? 2 * k : fa;
-                fb = fb < 0 ? 0 : fb > 2 * k ? 2 * k : fb;
-                if (mlen == mcap) {
-                    const size_t ncap = mcap ? 2 * mcap : 4096;
-                    uint32_t *a = realloc(o.mpt, ncap * sizeof *a);
-                    float *b, *d;
-                    if (!a)
-                        goto nomem;
-                    o.mpt = a;
-                    if (!(b = realloc(o.mfa, ncap * sizeof *b)))
-                        goto nomem;
-                    o.mfa = b;
-                    if (!(d = realloc(o.mfb, ncap * sizeof *d)))
-                        goto nomem;
-                    o.mfb = d, mcap = ncap;
-                }
-                o.mpt[mlen] = q, o.mfa[mlen] = (float)fa, o.mfb[mlen++] = (float)fb;
-                any |= unknown[q] != 0;
-            }
-            if (!any) {
-                mlen = m0;
-                continue;
-            }
-            nc = relief_pbucket_query(&bk, c, relief_pgrid_reach(o.gn, h), &cand, &ncand_cap);
-            if (nc == SIZE_MAX || relief_pgrid_weigh(pos, nrm, cand, nc, c, f, o.gn, h, NULL, &gw,
-                                                     &empty, &foreign) < 0)
-                goto nomem;
-            {
-                size_t *ms = realloc(o.mstart, (o.A + 2) * sizeof *ms), *ws;
-                if (!ms)
-                    goto nomem;
-                o.mstart = ms;
-                ws = realloc(o.wstart, ((o.A + 1) * (size_t)o.nodes + 1) * sizeof *ws);
-                if (!ws)
-                    goto nomem;
-                o.wstart = ws;
-            }
-            for (int q = 0; q < o.nodes; ++q) {
-                for (size_t t = gw.start[q]; t < gw.start[q + 1]; ++t) {
-                    if (wlen == wcap) {
-                        const size_t ncap = wcap ? 2 * wcap : 4096;
-                        uint32_t *a = realloc(o.wpt, ncap * sizeof *a);
-                        float *b;
-                        if (!a)
-                            goto nomem;
-                        o.wpt = a;
-                        if (!(b = realloc(o.ww, ncap * sizeof *b)))
-                            goto nomem;
-                        o.ww = b, wcap = ncap;
-                    }
-                    o.wpt[wlen] = gw.point[t], o.ww[wlen++] = gw.w[t];
-                }
-                o.wstart[o.A * (size_t)o.nodes + (size_t)q + 1] = wlen;
-            }
-            o.mstart[o.A + 1] = mlen;
-            PUSH(acl, o.A, acap, (uint32_t)i);
-        }
-    }
-
-    /* Exemplar grids: at the exemplar points (a seeded subset of
-     * MAX_EXEMPLARS beyond that many), in the frame of the point's cluster;
-     * kept when no node reads a point that is not an exemplar and at most
-     * a quarter of the nodes have no point within h. */
-    {
-        const size_t want = ne < MAX_EXEMPLARS ? ne : MAX_EXEMPLARS;
-        pick = malloc(ne * sizeof *pick);
-        if (!pick)
-            goto nomem;
-        relief_rng_subset(pick, ne, want, seed32);
-        for (size_t e = 0; e < want; ++e) {
-            const uint32_t q = elist[pick[e]];
-            const size_t nc = relief_pbucket_query(&bk, pos + 3 * (size_t)q,
-                                                   relief_pgrid_reach(o.gn, h), &cand, &ncand_cap);
-            size_t empty, foreign;
-            int r;
-            if (nc == SIZE_MAX)
-                goto nomem;
-            r = relief_pgrid_weigh(pos, nrm, cand, nc, pos + 3 * (size_t)q,
-                                   cl.frame + 9 * (size_t)cl.label[q], o.gn, h, exemplar, &gw,
-                                   &empty, &foreign);
-            if (r < 0)
-                goto nomem;
-            /* Up to a quarter of the nodes may have no point within h and
-             * take their nearest exemplar point's value: where the grid is
-             * finer than the sampling (a decimated scan's sparse parts), no
-             * grid would have every node backed otherwise. */
-            if (r == 0 || foreign || empty > (size_t)o.nodes / 4)
-                continue;
-            if (zlen + (size_t)o.dims > zcap) {
-                const size_t ncap = zcap ? 2 * zcap : 64 * (size_t)o.dims;
-                float *a = realloc(zv, ncap * sizeof *a);
-                if (!a)
-                    goto nomem;
-                zv = a, zcap = ncap;
-            }
-            PUSH(zq, nzq, zqcap, q);
-            for (int node = 0; node < o.nodes; ++node)
-                for (int k = 0; k < channels; ++k) {
-                    double s = 0;
-                    for (size_t t = gw.start[node]; t < gw.start[node + 1]; ++t)
-                        s += (double)gw.w[t] * value[(size_t)gw.point[t] * channels + k];
-                    zv[zlen++] = (float)s;
-                }
-        }
-        o.nz = zlen / (size_t)o.dims;
-        if (!o.nz) {
-            st = relief_fail(err, RELIEF_E_RANGE, "texture optimisation: no exemplar grid can be "
-                             "built: none of %zu exemplar points has its %d x %d grid (step %g) "
-                             "backed by exemplar points alone, three quarters of its nodes "
-                             "within a step of one; mark a larger exemplar region or lower "
-                             "grid_n", want, o.gn, o.gn, h);
-            *no_grid = 1;
-            goto done;
-        }
-    }
-    if (o.A == 0) { /* cannot happen: every unknown point is its own cluster's member */
-        st = relief_fail(err, RELIEF_E_INTERNAL, "texture optimisation: no active cluster");
-        goto done;
-    }
-
-    /* Per unknown point, the members standing for it (E-step). */
-    pstart = calloc(n + 1, sizeof *pstart);
-    o.match = malloc(o.A * sizeof *o.match);
-    pent = malloc((mlen ? mlen : 1) * sizeof *pent);
-    if (!pstart || !o.match || !pent)
-        goto nomem;
-    for (size_t m = 0; m < mlen; ++m)
-        if (unknown[o.mpt[m]])
-            ++pstart[o.mpt[m] + 1];
-    for (size_t i = 0; i < n; ++i)
-        pstart[i + 1] += pstart[i];
-    {
-        size_t *fill = malloc(n * sizeof *fill);
-        if (!fill)
-            goto nomem;
-        memcpy(fill, pstart, n * sizeof *fill);
-        for (size_t m = 0; m < mlen; ++m)
-            if (unknown[o.mpt[m]])
-                pent[fill[o.mpt[m]]++] = (uint32_t)m;
-        free(fill);
-    }
-    o.zvec = zv;
-    o.pos = pos, o.nrm = nrm, o.exemplar = exemplar, o.bk = &bk, o.frame = cl.frame;
-    o.label = cl.label, o.zq = zq, o.h = h;
-    o.zread = malloc(mlen * (size_t)channels * sizeof *o.zread + 1);
-    if (!o.zread)
-        goto nomem;
-    o.q = malloc(o.A * (size_t)o.dims * sizeof *o.q + 1);
-    o.cand = malloc(o.A * CANDIDATES * sizeof *o.cand + 1);
-    if (!o.q || !o.cand)
-        goto nomem;
-    st = relief_grid_nn_create(p.brute ? RELIEF_GRID_SEARCH_BRUTE : RELIEF_GRID_SEARCH_KDTREE, p.backend,
-                               p.device, zv, o.nz, o.dims, threads, &o.nn, search_note,
-                               sizeof search_note, err);
-    if (st != RELIEF_OK)
-        goto done;
-    for (size_t j = 0; j < o.A; ++j)
-        o.match[j] = UINT32_MAX;
-    st = sequential_start(&o, unknown, n, err);
-    if (st != RELIEF_OK)
-        goto done;
-
-    for (it = 0; it < p.max_iter;) {
-        double e = 0;
-        st = run_mstep(&o, threads, err);
-        if (st != RELIEF_OK)
-            goto done;
-        for (size_t i = 0; i < n; ++i) {
-            float acc[4] = {0, 0, 0, 0}, wsum = 0.0f;
-            if (pstart[i] == pstart[i + 1])
-                continue;
-            for (size_t t = pstart[i]; t < pstart[i + 1]; ++t) {
-                const size_t m = pent[t];
-                const float w = centre_weight(o.gn, o.mfa[m], o.mfb[m]);
-                for (int k = 0; k < channels; ++k) /* m's value in its cluster's match */
-                    acc[k] += w * o.zread[m * channels + k];
-                wsum += w;
-            }
-            for (int k = 0; k < channels; ++k)
-                o.x[i * channels + k] = acc[k] / wsum;
-        }
-        for (size_t j = 0; j < o.A; ++j)
-            e += cluster_energy(&o, j, o.zread + o.mstart[j] * channels);
-        energy[it++] = e;
-        if (it > 1 && fabs(energy[it - 2] - e) <= p.tol * energy[it - 2]) {
-            converged = 1;
-            break;
-        }
-        if (e == 0) {
-            converged = 1;
-            break;
-        }
-    }
-
-    /* On the working values, so that a failure leaves value unchanged. */
-    if (p.histogram) {
-        hist_ref = malloc(n);
-        if (!hist_ref)
-            goto nomem;
-        histogram_reference(&o, mlen, exemplar, n, hist_ref);
-    }
-    for (int c = 0; c < channels; ++c)
-        if (p.histogram & (1u << c)) {
-            st = match_histogram(o.x, channels, c, n, unknown, hist_ref, err);
-            if (st != RELIEF_OK)
-                goto done;
-        }
-    for (size_t i = 0; i < n; ++i)
-        if (unknown[i])
-            memcpy(value + i * channels, o.x + i * channels, (size_t)channels * sizeof *value);
-    if (res) {
-        res->clusters = cl.m;
-        res->active_clusters = o.A;
-        res->exemplars = o.nz;
-        res->iterations = it;
-        res->energy = energy;
-        res->converged = converged;
-        res->grid_n = o.gn;
-        res->cluster_size = p.cluster_size;
-        snprintf(res->search, sizeof res->search, "%s", search_note);
-        energy = NULL;
-    }
-    st = RELIEF_OK;
-    goto done;
-nomem:
-    st = relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (%zu points, "
-                     "%d channels)", n, channels);
-done:
-    relief_grid_nn_destroy(o.nn);
-    relief_pclusters_free(&cl);
-    relief_pbucket_free(&bk);
-    relief_pgrid_weights_free(&gw);
-    free(nrm), free(energy), free(cand), free(elist), free(pick), free(pstart), free(pent);
-    free(acl), free(zv), free(zq), free(o.zread), free(hist_ref);
-    free(o.mstart), free(o.mpt), free(o.mfa), free(o.mfb), free(o.wstart), free(o.wpt);
-    free(o.ww), free(o.x), free(o.match), free(o.q), free(o.cand);
+    st = run_prepare(&r, nrm_in, value, unknown, exemplar, n_exemplar, err);
+    if (st == RELIEF_OK)
+        st = build_active_clusters(&r, unknown, err);
+    if (st == RELIEF_OK)
+        st = build_exemplar_grids(&r, value, exemplar, no_grid, err);
+    if (st == RELIEF_OK)
+        st = build_search(&r, unknown, exemplar, err);
+    if (st == RELIEF_OK)
+        st = sequential_start(&r.o, unknown, n, r.p.progress, err);
+    if (st == RELIEF_OK)
+        st = run_iterations(&r, err);
+    if (st == RELIEF_OK)
+        st = run_finish(&r, value, unknown, exemplar, res, err);
+    texrun_free(&r);
     return st;
 }
 

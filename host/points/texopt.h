@@ -32,6 +32,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/progress.h"
 
 typedef struct relief_texopt_params {
     int grid_n;          /* grid side n, odd, 3..33 (default 23: with the default step and
@@ -58,6 +59,10 @@ typedef struct relief_texopt_params {
                             `backend` and `device`; 0 (default): FLANN's exact kd-tree */
     relief_backend backend; /* brute's: scalar, opencl, auto (default: OpenCL on a GPU) */
     int device;          /* OpenCL device index, -1 the first GPU (default -1) */
+    relief_progress *progress; /* NULL (default), or the caller's, in the stage it set:
+                                  the start takes its first 15 %, the iterations the
+                                  rest; a cancel stops at the next cluster of the start
+                                  or the next iteration (RELIEF_E_CANCELLED) */
 } relief_texopt_params;
 
 relief_texopt_params relief_texopt_params_default(void);
@@ -83,7 +88,8 @@ void relief_texopt_result_free(relief_texopt_result *r);
  * oriented). rim (may be NULL): known points whose value is also a soft
  * constraint of the rim term (the paper's phi). channels 1..4.
  * RELIEF_E_RANGE when a parameter is out of range, nothing is unknown or
- * no exemplar grid can be built (naming which); RELIEF_E_NOMEM. On failure
+ * no exemplar grid can be built (naming which); RELIEF_E_NOMEM;
+ * RELIEF_E_CANCELLED (p->progress). On failure
  * value and res are unchanged. p NULL: the defaults; res may be NULL. */
 relief_status relief_texopt_complete(const double *pos, const double *nrm, size_t n,
                                      int channels, float *value, const uint8_t *unknown,

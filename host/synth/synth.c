@@ -539,11 +539,11 @@ static int captured(relief_synth_kind kind, const double p[3], const double n[3]
     return n[0] > cos(VIEW_HALF_ANGLE * RELIEF_PI / 180.0);
 }
 
-/* The parameters' ranges: the kind, the vertex count and the noise. */
-static relief_status synth_check(const relief_synth_params *params, relief_error *err)
+relief_status relief_synth_params_validate(const relief_synth_params *params,
+                                           relief_error *err)
 {
     if (!params)
-        return relief_fail(err, RELIEF_E_USAGE, "relief_synth: params is NULL");
+        return relief_fail(err, RELIEF_E_USAGE, "params is NULL");
     if ((unsigned)params->kind >= RELIEF_SYNTH_KIND_COUNT)
         return relief_fail(err, RELIEF_E_RANGE, "synthetic kind %d out of range",
                            (int)params->kind);
@@ -654,7 +654,7 @@ relief_status relief_synth(const relief_synth_params *params, relief_mesh **capt
     uint8_t *keep = NULL;
     uint32_t *remap = NULL;
     double *h = NULL;
-    relief_status st = synth_check(params, err);
+    relief_status st = relief_synth_params_validate(params, err);
 
     if (st != RELIEF_OK)
         return st;

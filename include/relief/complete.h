@@ -17,7 +17,7 @@
 #ifndef RELIEF_COMPLETE_H
 #define RELIEF_COMPLETE_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -25,11 +25,18 @@ extern "C" {
 
 /* --------------------------------------------------------------- the fit */
 
+/* The primitives a capture is fitted with; auto chooses among them.
+ * X(code, name) */
+#define RELIEF_FIT_MODEL_LIST(X)                                                \
+    X(RELIEF_FIT_AUTO, "auto")                                                  \
+    X(RELIEF_FIT_PLANE, "plane")                                                \
+    X(RELIEF_FIT_SPHERE, "sphere")                                              \
+    X(RELIEF_FIT_CYLINDER, "cylinder")
+
 typedef enum relief_fit_model {
-    RELIEF_FIT_AUTO = 0,
-    RELIEF_FIT_PLANE,
-    RELIEF_FIT_SPHERE,
-    RELIEF_FIT_CYLINDER
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_FIT_MODEL_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
 } relief_fit_model;
 
 /* "auto", "plane", "sphere" or "cylinder"; "unknown" out of range. */
@@ -249,7 +256,11 @@ typedef struct relief_complete_params {
                                    and parameters to continue (any backend):
                                    the same result as a call never stopped;
                                    NULL (default) */
-    /* pictures */
+    /* the report */
+    int measure;                /* 1 (default): the report's JSON and folder carry
+                                   the completion's measures (relief_eval's, over
+                                   the primitive); 0: leave them out (saves their
+                                   time on a large mesh) */
     const char *report_dir;     /* a folder of renders, histograms, report.json
                                    and index.html, staged beside this path and
                                    handed back in the report (relief_complete
@@ -276,6 +287,16 @@ typedef struct relief_report_folder relief_report_folder;
 RELIEF_API relief_status relief_report_folder_commit(relief_report_folder *folder,
                                                      relief_error *err);
 
+/* Most levels of a hierarchy. */
+#define RELIEF_COMPLETE_MAX_LEVELS 8
+
+/* One thing a call wants its caller to know, in a sentence. */
+typedef struct relief_note {
+    int warning;              /* 1: a warning (a poor fit accepted, part of the
+                                 capture dropped, OpenCL left); 0: a remark */
+    char text[640];
+} relief_note;
+
 /* What a relief_complete or relief_smooth call did. Counts are vertices
  * unless named otherwise; seconds are wall time. */
 typedef struct relief_complete_report {
@@ -294,6 +315,13 @@ typedef struct relief_complete_report {
     size_t holes;             /* uncovered regions inside the capture's outline */
     /* the growth */
     int levels;               /* levels grown (1: mono-scale) */
+    size_t level_vertices[RELIEF_COMPLETE_MAX_LEVELS]; /* each level's, coarsest
+                                 first */
+    uint64_t memory_bytes;    /* the growth's host memory, estimated before it */
+    int resumed;              /* 1: continued from params.resume, at */
+    int resumed_level;        /* this level (1 for mono-scale) with */
+    size_t resumed_done;      /* this many targets of it textured, of */
+    size_t resumed_targets;   /* the level's targets */
     int rotations;            /* R used */
     relief_search_mode search; /* the search used (auto resolved) */
     size_t acceptances;       /* targets textured (all levels) */
@@ -305,12 +333,12 @@ typedef struct relief_complete_report {
     /* where it ran */
     relief_backend backend;   /* the backend that scored (the last level's) */
     char device[256];         /* what it ran on */
-    char backend_note[1024];  /* why auto chose it, or left OpenCL during the
-                                 run; "" when nothing to say */
+    char backend_note[1024];  /* why auto chose it ("" when the backend was
+                                 named); leaving OpenCL during the run is a note */
     int backend_warning;      /* 1: backend_note says OpenCL could not be used */
-    /* what was refused, dropped or chosen, one sentence each */
+    /* what was refused, dropped, chosen or left, in the order found */
     int n_notes;
-    char notes[8][640];
+    relief_note notes[8];
     /* seconds */
     double seconds_smooth;    /* fit, targets, oversampling, triangulation */
     double seconds_growth;    /* the growth, all levels (hierarchy included) */

@@ -13,7 +13,8 @@
 #ifndef RELIEF_DEPTH_H
 #define RELIEF_DEPTH_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
+#include "relief/image.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -60,8 +61,9 @@ typedef struct relief_depth_image {
 #define RELIEF_DEPTH_PNG_SCALE 5000.0
 
 /* Read a depth frame: an organised PCD (x y z [rgb]; ascii, binary or
- * binary_compressed), a PFM, told by the first bytes, or a 16-bit grey PNG
- * (z = value / png_scale, 0 missing; png_scale <= 0: RELIEF_DEPTH_PNG_SCALE).
+ * binary_compressed), a PFM or a 16-bit grey PNG, told by the first bytes
+ * (a PNG: z = value / png_scale, 0 missing; png_scale 0:
+ * RELIEF_DEPTH_PNG_SCALE, else (0, 1e9] values per metre).
  * max_pixels (0: none) refuses larger frames before they are allocated
  * (RELIEF_E_NOMEM). RELIEF_E_IO naming the path; RELIEF_E_PARSE (the line
  * or byte), RELIEF_E_FORMAT (an unorganised cloud, a PNG of another kind),
@@ -77,8 +79,10 @@ RELIEF_API relief_status relief_depth_decode(const void *data, size_t n, const c
 
 /* Write `f` to `path` as `format`, atomically: a PFM of z (NaN as +inf); an
  * organised PCD (needs xyz; rgb when set); a 16-bit PNG of z x png_scale
- * (png_scale <= 0: the default; a filled depth rounds to at least 1).
- * RELIEF_E_IO naming the path, RELIEF_E_USAGE for a PCD without xyz. */
+ * rounded, 0 where missing (png_scale 0: the default, as relief_depth_read;
+ * a filled depth rounds to at least 1, a deep one clamps at 65535).
+ * RELIEF_E_IO naming the path, RELIEF_E_USAGE for a PCD without xyz,
+ * RELIEF_E_RANGE for a bad size, format or png_scale. */
 RELIEF_API relief_status relief_depth_write(const relief_depth_image *f, const char *path,
                                             relief_depth_format format, double png_scale,
                                             relief_error *err);
@@ -194,20 +198,33 @@ typedef struct relief_depth_fill_report {
     int camera_fitted;       /* an organised cloud: 1 when a camera was fitted
                                 to its points, so the filled pixels have points;
                                 0: their points are NaN */
-    /* against params.truth (or a mesh's truth), when given */
+    /* against params.truth (or a mesh's truth), when given; NaN where not
+       measured */
     int measured;
     double rms;              /* RMS over the filled pixels (mesh: mean surface
                                 distance) */
-    double slope_jump;       /* image: the rim's slope step over the capture's
-                                own (1: as rough as the capture) */
+    size_t compared;         /* image: filled pixels the truth knows */
+    double slope_jump;       /* image: rim_jump over capture_jump (1: the rim as
+                                rough as the capture; needs no truth) */
+    double rim_jump;         /* image: mean |second difference| across the rim,
+                                capture into fill (depth units) */
+    double capture_jump;     /* image: the same over the capture's own triples */
+    double truth_rim_jump;   /* image: rim_jump with the truth in the hole */
+    double hausdorff;        /* mesh: symmetric Hausdorff distance (mesh units) */
     double iou;              /* mesh: voxel IoU against the truth */
     /* meshes */
     size_t vertices, triangles; /* of the repaired mesh */
+    int grid[3];             /* voxels along x, y and z */
+    double voxel;            /* a voxel's side (mesh units) */
+    size_t inside_voxels;    /* voxels between the repaired depths */
     relief_backend backend;
     char device[256];
     char backend_note[1024];
     int backend_warning;
-    double seconds_transform, seconds_synthesis, seconds_score, seconds_total;
+    double seconds_transform; /* Haar, ROF, membranes (mesh: z-buffers, surface) */
+    double seconds_synthesis; /* the synthesis (mesh: the six repairs) */
+    double seconds_score;     /* of which scoring windows (image) */
+    double seconds_total;
     char *json;              /* the report as `relief depth-fill --report` writes
                                 it (owned) */
 } relief_depth_fill_report;
@@ -223,8 +240,11 @@ RELIEF_API void relief_depth_fill_report_free(relief_depth_fill_report *rep);
  * (rgb set) the colour of the pixel its texture came from. Deterministic
  * for a seed whatever the backend. Nothing missing: RELIEF_OK, f untouched.
  * RELIEF_E_RANGE when every pixel is missing or every missing one is
- * outside; RELIEF_E_USAGE for a bad argument (named); RELIEF_E_NOMEM,
- * RELIEF_E_DEVICE, RELIEF_E_CANCELLED. `f` is written only on success. */
+ * outside; RELIEF_E_USAGE for a bad argument (named), a mask or a truth of
+ * another size; RELIEF_E_NOMEM (over run.max_memory, before anything is
+ * allocated), RELIEF_E_DEVICE, RELIEF_E_CANCELLED (run.progress answered
+ * non-zero: between two synthesised pixels). `f` and `rep` (may be NULL;
+ * free with relief_depth_fill_report_free) are written only on success. */
 RELIEF_API relief_status relief_depth_fill(relief_depth_image *f, const relief_image *mask,
                                            const relief_depth_fill_params *p,
                                            relief_depth_fill_report *rep, relief_error *err);
@@ -233,7 +253,10 @@ RELIEF_API relief_status relief_depth_fill(relief_depth_image *f, const relief_i
  * six orthographic depth images of its bounding box: the pixels whose ray
  * meets the inside through a hole are repaired, the voxels between the
  * front and back depths kept, and their surface written to *out, closed.
- * `truth` (may be NULL): the complete mesh, measured against. */
+ * `truth` (may be NULL): the complete mesh, measured against (p->truth must
+ * be NULL). RELIEF_E_RANGE for a mesh without triangles; RELIEF_E_NOMEM
+ * when the voxel grid of p->resolution exceeds run.max_memory; the image
+ * route's errors. *out and `rep` are written only on success. */
 RELIEF_API relief_status relief_depth_fill_mesh(const relief_mesh *in,
                                                 const relief_depth_fill_params *p,
                                                 const relief_mesh *truth, relief_mesh **out,

@@ -7,7 +7,8 @@
 #ifndef RELIEF_EVAL_H
 #define RELIEF_EVAL_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
+#include "relief/complete.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -33,8 +34,11 @@ typedef struct relief_eval_result {
     int has_truth;              /* 1 when a truth was given: */
     double truth_rms;           /* RMS of h - h_truth over the completed vertices
                                    on the truth, input units */
-    char *json;                 /* every measure, as `relief eval --json` prints
-                                   them, without the file names (owned) */
+    char *json;                 /* every measure as one JSON object, as `relief
+                                   eval --json` prints them without the file names
+                                   (owned) */
+    char *text;                 /* the same as lines of "name: value", as `relief
+                                   eval` prints them (owned) */
 } relief_eval_result;
 
 /* Free what the result owns and zero it. NULL accepted. */

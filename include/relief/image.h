@@ -12,7 +12,7 @@
 #ifndef RELIEF_IMAGE_H
 #define RELIEF_IMAGE_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -40,11 +40,12 @@ RELIEF_API relief_status relief_image_check(const relief_image *img, const char 
 
 /* Read a PNG (1 to 16 bits; grey, grey + alpha, palette, RGB, RGBA;
  * palettes and transparency expanded) or a JPEG (8-bit grey or colour),
- * told by the file's first bytes, into *out (packed rows; free with
- * relief_image_free). RELIEF_E_IO naming the path; RELIEF_E_FORMAT,
- * RELIEF_E_PARSE (with libpng's or libjpeg's words), RELIEF_E_RANGE for a
- * side over the maximum; RELIEF_E_NOMEM. `max_bytes` (0: none) refuses an
- * image whose samples would take more. */
+ * told by the file's first bytes, into *out (packed rows, stride set to
+ * the row's bytes; free with relief_image_free). RELIEF_E_IO naming the
+ * path; RELIEF_E_FORMAT, RELIEF_E_PARSE (with libpng's or libjpeg's words),
+ * RELIEF_E_RANGE for a side over the maximum; RELIEF_E_NOMEM. `max_bytes`
+ * (0: none) refuses, before decoding, an image whose samples would take
+ * more (width x height x channels x bit_depth / 8 bytes). */
 RELIEF_API relief_status relief_image_read(const char *path, uint64_t max_bytes,
                                            relief_image *out, relief_error *err);
 
@@ -72,12 +73,13 @@ typedef struct relief_image_fill_params {
     int min_window;      /* smallest window before the 3 x 3 fallback, odd;
                             5, [3, window] */
     double tau;          /* accept a match when its RMS difference is under
-                            tau, in sample units; <= 0 (default): 36 on
+                            tau, in sample units, > 0; 0 (default): 36 on
                             0..255, x 257 at 16 bits */
     double max_hole_fraction; /* a candidate window's hole pixels at most this
                             share; 0.1, [0, 1) */
     int search_radius;   /* search the (2r + 1)^2 window of the same centre,
-                            pixels; 0 (default): the whole image; [0, 1e6] */
+                            pixels; 0 (default): the whole image; [0, 1e6],
+                            and 2r + 1 at least window when not 0 */
     int exhaustive;      /* 1: every window at full resolution (slow; the
                             reference); 0 (default): coarse to fine */
     int interp;          /* 1 (default): the 1-D interpolation pass first */
@@ -88,15 +90,18 @@ typedef struct relief_image_fill_params {
                             (default): 3 on 0..255, scaled */
     uint32_t seed;       /* the fallback's random choice; 1 */
     relief_run_options run; /* backend: auto (OpenCL on a GPU, else scalar),
-                            scalar or opencl (host runs as scalar) */
+                            scalar or opencl (host runs as scalar: the
+                            filler scores on one thread); progress: the
+                            share of the hole pixels filled */
 } relief_image_fill_params;
 
 /* The defaults above. */
 RELIEF_API relief_image_fill_params relief_image_fill_params_default(void);
 
-/* Check the fields that do not depend on an image; RELIEF_E_RANGE naming
- * the field and its range. relief_image_fill also checks the windows fit
- * the image. */
+/* Check the fields that do not depend on an image (exhaustive and interp
+ * are 0 or 1; NaN is refused everywhere), and run; RELIEF_E_RANGE naming
+ * the field and its range, RELIEF_E_USAGE for p NULL. relief_image_fill
+ * also checks the windows fit the image. */
 RELIEF_API relief_status relief_image_fill_params_validate(const relief_image_fill_params *p,
                                                            relief_error *err);
 
@@ -119,7 +124,8 @@ typedef struct relief_image_fill_report {
     int backend_warning;      /* 1: backend_note says OpenCL could not be used */
     double seconds_interp, seconds_copy, seconds_score, seconds_total;
     char *json;               /* the report as `relief image-fill --report`
-                                 writes it (owned) */
+                                 writes it, less the "mask" member the
+                                 command adds (owned) */
 } relief_image_fill_report;
 
 /* Free what the report owns and zero it. NULL accepted. */

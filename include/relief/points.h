@@ -11,12 +11,12 @@
  *   ... done: the scan's points (label 0), then the new ones (label 1) ...
  *
  * Lengths are in the input's units; "spacings" are multiples of the median
- * nearest-neighbour distance. A PCD is read as a point set by
- * relief_mesh_read. */
+ * nearest-neighbour distance. relief_points_read reads the input: a mesh
+ * or point file (as relief_mesh_read) or a PCD cloud. */
 #ifndef RELIEF_POINTS_H
 #define RELIEF_POINTS_H
 
-#include "relief/relief.h"
+#include "relief/core.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -24,7 +24,8 @@ extern "C" {
 
 /* What is completed:
  *   all       new points with detail, and colour when the input has it;
- *   colour    the colour of the hole_mask points only, no new points;
+ *   colour    the colour of the hole mask's points only (hole_mask,
+ *             hole_labels or hole_ball), no new points;
  *   geometry  new points and their detail, colour from the nearest
  *             captured point.
  * X(code, name) */
@@ -72,7 +73,7 @@ typedef struct relief_complete_points_params {
                                     every point, so that thin parts stay shape;
                                     1, [0, 100], 0: no bound */
     double band;                 /* exemplars keep this many spacings from a rim;
-                                    2, [0, 1000] */
+                                    2, [0, 1e6] */
     int grid;                    /* texture grid side, odd; 23, [3, 33] */
     int cluster_size;            /* points per cluster before overlap; 300,
                                     [16, 100000] */
@@ -80,35 +81,86 @@ typedef struct relief_complete_points_params {
     uint32_t seed;               /* which exemplar grids are searched when there
                                     are over 20 000; 1 */
     relief_grid_search grid_search; /* default kdtree */
-    /* which points: arrays of the input's vertex count, or NULL */
-    const uint8_t *hole_mask;    /* non-zero: synthesise this point's colour and
-                                    detail again (besides the holes) */
-    const uint8_t *sample_mask;  /* non-zero: an exemplar may be centred here
-                                    (default: everywhere outside the band) */
+    /* Which points are synthesised again besides the holes: at most one of
+     * hole_mask, hole_labels and has_hole_ball. */
+    const uint8_t *hole_mask;    /* the input's vertex count: non-zero, this
+                                    point's colour and detail are synthesised
+                                    again; NULL (default): none */
+    int hole_labels;             /* 1: the points whose `label` (the PLY property)
+                                    is non-zero; the input must have labels */
+    int has_hole_ball;           /* 1: the points within hole_ball */
+    double hole_ball[4];         /* X, Y, Z, R: centre and radius R > 0 */
+    /* Where an exemplar may be centred (default: everywhere outside the
+     * band): at most one of sample_mask, sample_labels and has_sample_box;
+     * not sample_labels with hole_labels (the same labels). */
+    const uint8_t *sample_mask;  /* the input's vertex count: non-zero, here */
+    int sample_labels;           /* 1: on the points labelled 1; the input must
+                                    have labels */
+    int has_sample_box;          /* 1: on the points in sample_box */
+    double sample_box[6];        /* X0, Y0, Z0, X1, Y1, Z1 (bounds included),
+                                    X0 < X1, Y0 < Y1, Z0 < Z1 */
     const relief_mesh *clone;    /* NULL, or another scan sampled about as densely
                                     whose detail (and colour, when both have it) is
                                     copied instead of the input's own (6.3) */
     int has_viewpoint;           /* 1: the normals face viewpoint (a PCD's sensor,
-                                    the origin) */
+                                    the origin: relief_points_read_info) */
     double viewpoint[3];
+    size_t non_finite_dropped;   /* for the report only: the points the reader
+                                    left out (relief_points_read_info); 0 */
     relief_run_options run;      /* backend and device: the brute grid search's
-                                    (auto: OpenCL on a GPU, else scalar) */
+                                    (auto: OpenCL on a GPU, else scalar; host runs
+                                    as scalar); with the kd-tree they stay at
+                                    their defaults. max_memory bounds the
+                                    estimate (relief_complete_points_max_points) */
 } relief_complete_points_params;
 
 /* The defaults above. */
 RELIEF_API relief_complete_points_params relief_complete_points_params_default(void);
 
-/* Check the fields; RELIEF_E_RANGE naming the field and its range,
- * RELIEF_E_USAGE for a combination that cannot be (colour with no
- * hole_mask, clone with smooth_only, a backend with the kd-tree). */
+/* Check the fields (the flags 0 or 1, the enumerations in their lists, no
+ * NaN); RELIEF_E_RANGE naming the field and its range, RELIEF_E_USAGE for
+ * NULL or a combination that cannot be (colour with no hole mask, colour
+ * with smooth_only, clone with smooth_only, a backend or device with the
+ * kd-tree, two hole masks or two sample regions, hole_labels with
+ * sample_labels). */
 RELIEF_API relief_status relief_complete_points_params_validate(
     const relief_complete_points_params *p, relief_error *err);
+
+/* The most input points a call with p can take within run.max_memory (0:
+ * 80 % of physical memory) by the estimate relief_complete_points refuses
+ * over: pass it to relief_points_read so that a larger cloud is refused
+ * before it is decoded. NULL p: the defaults'. */
+RELIEF_API uint64_t relief_complete_points_max_points(const relief_complete_points_params *p);
+
+/* What relief_points_read found besides the points. */
+typedef struct relief_points_read_info {
+    char format[8];            /* "pcd", or relief_read_info's ("ply", ...) */
+    size_t width, height;      /* a PCD's sides (height 1: an unorganised
+                                  cloud); 0 for a mesh file */
+    size_t non_finite_dropped; /* a PCD's points with a non-finite coordinate
+                                  (a depth camera's misses), left out */
+    int has_viewpoint;         /* 1 for a PCD: the points were seen from */
+    double viewpoint[3];       /* the sensor, at the origin (PCL's default
+                                  VIEWPOINT) */
+} relief_points_read_info;
+
+/* Read the input of relief_complete_points: PLY, OBJ, OFF or STL by
+ * relief_mesh_read, or, by the extension .pcd (case-insensitive), a PCD
+ * cloud, organised or not (x y z, rgb when present; ascii, binary or
+ * binary_compressed): its finite points in the file's order, with colour
+ * when it has rgb, no triangles. max_points (0: no limit) refuses a larger
+ * PCD before its points are decoded (RELIEF_E_NOMEM). Errors name the
+ * path: RELIEF_E_IO, RELIEF_E_FORMAT, RELIEF_E_PARSE (malformed, truncated,
+ * no finite point). info may be NULL. *out only on success. */
+RELIEF_API relief_status relief_points_read(const char *path, uint64_t max_points,
+                                            relief_mesh **out, relief_points_read_info *info,
+                                            relief_error *err);
 
 /* What a relief_complete_points call did. */
 typedef struct relief_complete_points_report {
     size_t points_in;        /* input points */
     size_t added;            /* new points */
-    size_t masked;           /* hole_mask points synthesised again */
+    size_t masked;           /* hole mask points synthesised again */
     size_t clone_points;     /* points of the clone */
     unsigned holes;          /* holes filled */
     unsigned outer_borders;  /* rims taken for an outer border, left open */
@@ -124,7 +176,9 @@ typedef struct relief_complete_points_report {
     int grid_search_warning; /* 1: OpenCL could not be used for it */
     double seconds_analysis, seconds_base, seconds_fill, seconds_texture, seconds_total;
     char *json;              /* the report as `relief complete-points --report`
-                                writes it (owned) */
+                                writes it, "input" and "output" from
+                                run.input_name and output_name (null when
+                                NULL) (owned) */
 } relief_complete_points_report;
 
 /* Free what the report owns and zero it. NULL accepted. */
@@ -136,9 +190,13 @@ RELIEF_API void relief_complete_points_report_free(relief_complete_points_report
  * A mesh's holes are its boundary loops, a bare point set's where points
  * see neighbours on one side only; an open scan's outer border is left
  * open. RELIEF_E_RANGE for a parameter, nothing to fill (named), too few or
- * collinear points, or holes larger than the sample region; RELIEF_E_NOMEM
- * when the estimate is over run.max_memory; RELIEF_E_CANCELLED. *out only
- * on success. */
+ * collinear points, an input with no colour for what = colour, or holes
+ * larger than the sample region; RELIEF_E_USAGE for NULL, or hole_labels
+ * or sample_labels on an input without labels; RELIEF_E_MESH for an
+ * invalid input (relief_mesh_validate); RELIEF_E_NOMEM when the estimate
+ * is over run.max_memory; RELIEF_E_CANCELLED when run.progress asks (its
+ * stages: analysis, base, fill, texture optimisation per iteration,
+ * result). *out and rep only on success (rep may be NULL). */
 RELIEF_API relief_status relief_complete_points(const relief_mesh *in,
                                                 const relief_complete_points_params *p,
                                                 relief_mesh **out,

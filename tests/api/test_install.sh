@@ -24,6 +24,13 @@ ok '[[ -L $libdir/librelief.so && -f $libdir/librelief.a && -f $libdir/pkgconfig
 ok '[[ -x $stage/bin/relief ]]' "the program not installed"
 ok 'objdump -p "$libdir/librelief.so" | grep -q "SONAME *librelief.so.0"' "SONAME is not librelief.so.0"
 
+# Every installed header stands alone, in C11 (pedantic) and in C++.
+for h in "$stage"/include/relief/*.h; do
+  printf '#include <relief/%s>\nint main(void) { return 0; }\n' "$(basename "$h")" > "$tmp/h.c"
+  ok 'cc -std=c11 -pedantic -Wall -Wextra -Werror -I"$stage/include" -c "$tmp/h.c" -o "$tmp/h.o" 2>"$tmp/h.log"' "$(basename "$h") does not compile alone as C: $(head -3 "$tmp/h.log")"
+  ok 'c++ -x c++ -Wall -Wextra -Werror -I"$stage/include" -c "$tmp/h.c" -o "$tmp/h.o" 2>"$tmp/h.log"' "$(basename "$h") does not compile alone as C++: $(head -3 "$tmp/h.log")"
+done
+
 # Exports: relief_* only, and every one declared in an installed header.
 nm -D --defined-only "$libdir/librelief.so" | awk '$2 ~ /^[TDBRVW]$/ {print $3}' | sed 's/@.*//' | sort -u > "$tmp/exports"
 ok '[[ -s $tmp/exports ]]' "no exports"

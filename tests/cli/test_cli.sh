@@ -78,27 +78,27 @@ for c in complete smooth; do
   expect 1 "unknown mesh format" -- "$relief" $c "$tmp/out" -o "$tmp/o.ply"
   expect 1 "no known mesh extension" -- "$relief" $c "$in" -o "$tmp/o.txt"
   expect 1 "is not one of" -- "$relief" $c "$in" -o "$tmp/o.ply" --fit cone
-  expect 1 "expected a length > 0" -- "$relief" $c "$in" -o "$tmp/o.ply" --spacing -1
+  expect 1 "spacing -1 out of range" -- "$relief" $c "$in" -o "$tmp/o.ply" --spacing -1
   expect 1 "--extent" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 1,2,3
   expect 1 "extent is empty" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 2,1
-  expect 1 "--oversample" -- "$relief" $c "$in" -o "$tmp/o.ply" --oversample 9
+  expect 1 "oversample 9 out of range" -- "$relief" $c "$in" -o "$tmp/o.ply" --oversample 9
   expect 1 "unrecognized option" -- "$relief" $c "$in" -o "$tmp/o.ply" --bogus
   expect 1 "not one of auto, holes, whole" -- "$relief" $c "$in" -o "$tmp/o.ply" --fill all
 done
-expect 1 "--window" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 0
-expect 1 "--window" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 17
-expect 1 "--rotations" -- "$relief" complete "$in" -o "$tmp/o.ply" --rotations 0
+expect 1 "window 0 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 0
+expect 1 "window 17 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --window 17
+expect 1 "rotations 65 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --rotations 65
 expect 1 "--error" -- "$relief" complete "$in" -o "$tmp/o.ply" --error nan
 expect 1 "error threshold" -- "$relief" complete "$in" -o "$tmp/o.ply" --error -1
-expect 1 "--mu" -- "$relief" complete "$in" -o "$tmp/o.ply" --mu 1.5
+expect 1 "mu 1.5 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --mu 1.5
 expect 1 "coherence 0.5 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence 0.5
 expect 1 "--coherence" -- "$relief" complete "$in" -o "$tmp/o.ply" --coherence nan
-expect 1 "--levels" -- "$relief" complete "$in" -o "$tmp/o.ply" --levels 0
+expect 1 "levels 0 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --levels 0
 expect 1 "not one of auto, exhaustive, coherent" -- "$relief" complete "$in" -o "$tmp/o.ply" --search kd
-expect 1 "--search-k" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 0
-expect 1 "--search-k" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 65
+expect 1 "search_k 0 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 0
+expect 1 "search_k 65 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --search-k 65
 expect 1 "not one of auto, scalar, opencl, host" -- "$relief" complete "$in" -o "$tmp/o.ply" --backend cuda
-expect 1 "--device" -- "$relief" complete "$in" -o "$tmp/o.ply" --device -3
+expect 1 "device -3 out of range" -- "$relief" complete "$in" -o "$tmp/o.ply" --device -3
 expect 1 "unrecognized option" -- "$relief" smooth "$in" -o "$tmp/o.ply" --window 3
 
 # Malformed input: exit 1 with the line named, no output.

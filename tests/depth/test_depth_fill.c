@@ -407,7 +407,7 @@ static void test_inside_and_measures(relief_patch_scorer *sc)
         p.variant = RELIEF_DEPTH_HAAR;
         p.levels = 3;
         CHECK(relief_depth_repair(z, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_E_RANGE &&
-                  strstr(err.message, "--levels"),
+                  strstr(err.message, "levels 3 leaves"),
               "Haar levels leaving bands under the window: %s", err.message);
     }
     /* Measures: a row 1 2 3 [x] with x filled as 5 (truth 4): RMS 1, the

@@ -60,7 +60,7 @@ if [[ -f $bennu ]]; then
   "$relief" cut "$bennu" -o "$tmp/bennu_cut.ply" --ball 0,0,0.25,0.08 2>/dev/null || exit 2
   expect 0 "voxel IoU" -- "$relief" depth-fill "$tmp/bennu_cut.ply" -o "$tmp/bennu_fix.ply" --resolution 64 --truth "$bennu" --report "$tmp/rm.json" --backend scalar
   ok 'grep -q "\"hausdorff\"" "$tmp/rm.json" && grep -q "\"z_back\"" "$tmp/rm.json"' "the mesh report lacks measures or images"
-  expect 2 "lower --resolution" -- "$relief" depth-fill "$tmp/bennu_cut.ply" -o "$tmp/bad.ply" --resolution 1024 --max-memory 64M
+  expect 2 "lower resolution" -- "$relief" depth-fill "$tmp/bennu_cut.ply" -o "$tmp/bad.ply" --resolution 1024 --max-memory 64M
   ok '[[ ! -e "$tmp/bad.ply" ]]' "a refused mesh left output"
   printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' > "$tmp/points.obj"
   expect 1 "no triangles" -- "$relief" depth-fill "$tmp/points.obj" -o "$tmp/bad.ply"
@@ -94,9 +94,9 @@ expect 1 "IN's extension" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad
 expect 1 "never overwrites" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/office.pcd"
 expect 1 "organised PCD" -- "$relief" depth-fill "$tmp/moto.pfm" -o "$tmp/bad.pfm" --points "$tmp/p2.ply"
 expect 1 "odd" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --window 8
-expect 1 "not plain, haar or decompose" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant median
+expect 1 "not one of plain, haar, decompose" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant median
 expect 1 "IN's extension" -- "$relief" depth-fill "$tmp/x.ply" -o "$tmp/bad.pcd"
-expect 1 "--levels" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
+expect 1 "levels 5 leaves" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
 ok 'cmp -s "$tmp/office.pcd" <("$tool" crop "$office" 0 0 240 180 "$tmp/again.pcd" && cat "$tmp/again.pcd")' "the input was changed"
 
 echo "$pass passed, $fail failed"

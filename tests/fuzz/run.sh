@@ -3,13 +3,15 @@
 #   tests/fuzz/run.sh BUILD_DIR SECONDS|runs=N [TARGET...]
 # SECONDS: fuzz each target that long from a random seed, to find new bugs.
 # runs=N: a bounded run instead (the default test suite's fuzz_short): seed
-# 1, N executions per mesh reader and 30 N for the command line, from the
-# checked-in seeds and regressions only, so that the suite's verdict does
-# not depend on the machine's speed or on earlier runs.
-# TARGETs (default all): read_ply read_obj read_off read_stl read_image read_depth cli. Each starts
-# from its working corpus in BUILD_DIR/corpus/TARGET (kept between runs),
-# the seeds in tests/fuzz/corpus/TARGET and the inputs of past crashes in
-# tests/fuzz/regressions/TARGET. A crash, leak, hang (10 s) or out-of-memory
+# 1, N executions per mesh reader, 30 N for the command line and N / 100 for
+# the image fill (each run a whole fill of up to 32 x 32 pixels, some 5 to
+# 10 a second under the coverage instrumentation), from the checked-in seeds
+# and regressions only, so that the suite's verdict does not depend on the
+# machine's speed or on earlier runs.
+# TARGETs (default all): read_ply read_obj read_off read_stl read_image image_fill
+# read_depth cli. Each starts from its working corpus in BUILD_DIR/corpus/TARGET
+# (kept between runs), the seeds in tests/fuzz/corpus/TARGET and the inputs of
+# past crashes in tests/fuzz/regressions/TARGET. A crash, leak, hang (10 s) or out-of-memory
 # (2 GiB) leaves the input in BUILD_DIR/artifacts/TARGET/ and fails the run:
 # fix it, then copy the input into tests/fuzz/regressions/TARGET/, which the
 # normal test suite replays (fuzz_replay_TARGET). Exits 77 (skipped) when
@@ -21,7 +23,7 @@ build=$1 secs=$2; shift 2
 runs=
 if [[ $secs == runs=* ]]; then runs=${secs#runs=}; fi
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl read_image read_depth cli)
+[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl read_image image_fill read_depth cli)
 
 for cc in clang clang++; do
   command -v $cc >/dev/null || { echo "fuzz: $cc not found; skipped (setup.sh installs clang)"; exit 77; }
@@ -42,10 +44,16 @@ cmake --build "$build" -j"${JOBS:-2}" --target $(printf 'fuzz_%s ' "${targets[@]
 
 failed=()
 for t in "${targets[@]}"; do
-  case $t in cli) dict=cli.dict ;; read_image) dict=image.dict ;; read_depth) dict=depth.dict ;; *) dict=mesh.dict ;; esac
+  case $t in
+    cli) dict=(-dict="$src/tests/fuzz/cli.dict") ;;
+    read_image) dict=(-dict="$src/tests/fuzz/image.dict") ;;
+    read_depth) dict=(-dict="$src/tests/fuzz/depth.dict") ;;
+    image_fill) dict=() ;; # a binary header: no words to offer
+    *) dict=(-dict="$src/tests/fuzz/mesh.dict") ;;
+  esac
   work=$build/corpus/$t art=$build/artifacts/$t log=$build/fuzz_$t.log
   if [[ -n $runs ]]; then
-    n=$runs; [[ $t == cli ]] && n=$((runs * 30))
+    n=$runs; [[ $t == cli ]] && n=$((runs * 30)); [[ $t == image_fill ]] && n=$((runs / 100))
     bound=(-seed=1 -runs="$n")
     work=$build/corpus-repro/$t
     rm -rf "$work"
@@ -57,7 +65,7 @@ for t in "${targets[@]}"; do
   [[ -d $src/tests/fuzz/regressions/$t ]] && dirs+=("$src/tests/fuzz/regressions/$t")
   set +e
   "$build/tests/fuzz/fuzz_$t" "${bound[@]}" -timeout=10 -rss_limit_mb=2048 \
-    -max_len=4096 -dict="$src/tests/fuzz/$dict" -artifact_prefix="$art/" -close_fd_mask=3 \
+    -max_len=4096 ${dict[@]+"${dict[@]}"} -artifact_prefix="$art/" -close_fd_mask=3 \
     -print_final_stats=1 "${dirs[@]}" >"$log" 2>&1
   rc=$?
   set -e

@@ -224,7 +224,7 @@ static void test_bad_input(void)
     p = relief_points_params_default();
     p.k = 3;
     CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
-              strstr(err.message, "--k"),
+              strstr(err.message, "k 3 out of range"),
           "k: %s", err.message);
     p = relief_points_params_default();
     relief_mesh_create(50, 0, 0, &line, &err);

@@ -122,7 +122,7 @@ ok 'head -c 600 "$tmp/m.ply" | grep -q "property uchar red" && grep -q "\"masked
 
 # Bad input: exit 1 (2 for resources), the message, no output.
 expect 1 "nothing to fill" -- "$relief" complete-points "$fert" -o "$tmp/bad.ply" --report "$tmp/bad.json"; nothing "no hole"
-expect 1 "give --hole-mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only; nothing "colour-only"
+expect 1 "give hole_mask" -- "$relief" complete-points "$milk" -o "$tmp/bad.ply" --colour-only; nothing "colour-only"
 expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --colour-only --hole-mask ball:0,0,0,5; nothing "no colour"
 # A bare cloud's --mesh: a surface through all its points, nearly two
 # triangles a point (the carton's open border and a few gaps aside).
@@ -150,7 +150,7 @@ expect 2 "over the limit" -- "$relief" complete-points "$tmp/huge.pcd" -o "$tmp/
 expect 1 "not a .ply" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.obj"
 expect 1 "never overwrites" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fert_cut.ply"
 expect 1 "odd" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid 8
-expect 1 "--k" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --k 100
+expect 1 "k 100 out of range" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --k 100
 expect 1 "ball:X,Y,Z,R" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --hole-mask box
 expect 1 "X0 < X1" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --sample-region 1,1,1,0,0,0
 expect 1 "cannot" -- "$relief" complete-points "$tmp/none.ply" -o "$tmp/bad.ply"; nothing missing

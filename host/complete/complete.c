@@ -1,0 +1,518 @@
+/* relief_complete and relief_smooth (relief/complete.h): the mesh pipeline
+ * of papers 000 and 001 as stages, each a function: the checks and a saved
+ * run to resume, the base (a fitted primitive or the capture's smoothed
+ * one), the growth's data and matcher (or the hierarchy's levels), the
+ * growth with the caller's progress and cancel, and the report. */
+#include "complete/engine.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "base/memlimit.h"
+#include "match/match_data.h"
+#include "mesh/mesh.h"
+#include "match/search.h"
+#include "points/base_surface.h"
+#include "report/report_dir.h"
+
+void relief_complete_note(relief_complete_run *r, int warning, const char *fmt, ...)
+{
+    relief_complete_report *rep = r->rep;
+    va_list ap;
+    if (!rep || rep->n_notes >= (int)(sizeof rep->notes / sizeof rep->notes[0]))
+        return;
+    rep->notes[rep->n_notes].warning = warning;
+    va_start(ap, fmt);
+    vsnprintf(rep->notes[rep->n_notes].text, sizeof rep->notes[0].text, fmt, ap);
+    va_end(ap);
+    ++rep->n_notes;
+}
+
+/* ------------------------------------------------------------ the start */
+
+static relief_status check_args(const relief_mesh *capture, const relief_complete_params *p,
+                                relief_mesh **out, const relief_complete_report *rep,
+                                relief_error *err)
+{
+    relief_status st;
+    if (!capture || !p || !out)
+        return relief_fail(err, RELIEF_E_USAGE, "%s is NULL",
+                           !capture ? "capture" : !p ? "params" : "out");
+    st = relief_complete_params_validate(p, err);
+    if (st == RELIEF_OK)
+        st = relief_mesh_validate(capture, err);
+    if (st == RELIEF_OK && p->report_dir && !rep)
+        st = relief_fail(err, RELIEF_E_USAGE, "report_dir: the folder is handed back in the "
+                         "report; pass one");
+    /* A folder that cannot be written fails now, not after the growth. */
+    if (st == RELIEF_OK && p->report_dir)
+        st = relief_report_dir_check(p->report_dir, err);
+    return st;
+}
+
+/* A saved growth to continue (cp->resume), checked against this call's
+ * input and parameters. */
+static relief_status read_resume(relief_complete_run *r, relief_error *err)
+{
+    relief_checkpoint_key_make(r->capture, &r->st.params, &r->st.smooth, &r->st.grow, &r->key);
+    if (!r->cp->resume)
+        return RELIEF_OK;
+    return relief_checkpoint_read(r->cp->resume, &r->key, &r->resume, err);
+}
+
+/* --------------------------------------------------------------- the base */
+
+/* What the capture check and the fit found, as notes: a poor fit accepted,
+ * folded triangles and spikes dropped, a curved primitive's outside left. */
+static void note_surface(relief_complete_run *r)
+{
+    const relief_surface *s = r->s;
+    const relief_fold_stats *f = &s->folds;
+    const char *model = relief_fit_model_name(s->fit.prim.model);
+    if (s->fit.poor_fit)
+        relief_complete_note(r, 1, "poor fit accepted: %s", s->fit.reason);
+    if (f->triangles > 0)
+        relief_complete_note(r, 1, "%zu triangles (%.2f%% of the capture's area) fold back "
+                             "over the fitted %s; they, the %zu vertices they touch and %zu "
+                             "triangles in all were dropped, and the hole is completed",
+                             f->triangles, 100.0 * f->area_fraction, model,
+                             f->vertices_dropped, f->triangles_dropped);
+    if (s->spikes.vertices > 0)
+        relief_complete_note(r, 1, "%zu capture vertices stand out of their neighbours' "
+                             "heights by more than %.4g (8 robust scales of %.4g; the largest "
+                             "by %.4g): taken for scanner spikes, left out with %zu triangles "
+                             "and completed (keep_spikes keeps them)", s->spikes.vertices,
+                             s->spikes.threshold, s->spikes.scale, s->spikes.largest,
+                             s->spikes.triangles_dropped);
+    if (s->fill.region == RELIEF_FILL_HOLES && s->fill.outside_points > 0 &&
+        s->fit.prim.model != RELIEF_FIT_PLANE)
+        relief_complete_note(r, 0, "the capture covers %.1f%% of the fitted %s: completing "
+                             "the %zu hole%s inside its outline (%zu targets); fill whole "
+                             "completes the rest of the %s too (%zu more)",
+                             100.0 * s->fill.cover, model, s->fill.holes,
+                             s->fill.holes == 1 ? "" : "s", s->fill.hole_points, model,
+                             s->fill.outside_points);
+}
+
+/* base auto: the capture's own smoothed, hole-filled base when no
+ * primitive fits (issue 21), or, when that cannot be built either, the
+ * poor fit's refusal with both reasons. */
+static relief_status auto_base(relief_complete_run *r, const relief_fit_result *pre,
+                               relief_error *err)
+{
+    relief_points_params pp = relief_points_params_default();
+    relief_error why = {RELIEF_OK, ""};
+    relief_status st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, &why);
+    if (st == RELIEF_OK) {
+        r->smooth_base = 1;
+        relief_complete_note(r, 0, "no primitive fits well (%s): growing on the capture's "
+                             "smoothed base (base smooth; base primitive with "
+                             "accept_poor_fit keeps the %s)", pre->reason,
+                             relief_fit_model_name(pre->prim.model));
+        return RELIEF_OK;
+    }
+    st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, err);
+    if (st != RELIEF_OK)
+        relief_fail_prefix(err, "the smoothed base (base smooth) could not be built either "
+                           "(%s); and", why.message);
+    return st;
+}
+
+static relief_status build_base(relief_complete_run *r, relief_error *err)
+{
+    const relief_complete_params *cp = r->cp;
+    relief_fit_result pre;
+    relief_status st;
+    double t0 = relief_seconds();
+    if (cp->base == RELIEF_BASE_SMOOTH) {
+        relief_points_params pp = relief_points_params_default();
+        st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, err);
+        r->smooth_base = st == RELIEF_OK;
+    } else if (cp->base == RELIEF_BASE_AUTO && !cp->accept_poor_fit &&
+               cp->fit == RELIEF_FIT_AUTO && !cp->n_extent &&
+               relief_mesh_triangle_count(r->capture) > 0 &&
+               relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK &&
+               pre.poor_fit) {
+        st = auto_base(r, &pre, err);
+    } else {
+        st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, err);
+    }
+    if (st != RELIEF_OK)
+        return st;
+    /* From here on the rotations are the base's (0: its default), so the
+     * estimate, the growth and the report agree; the checkpoint key keeps
+     * them as given. A smooth base turns as a sphere does: 4. */
+    r->st.params.rotations = r->smooth_base && cp->rotations == 0
+                                 ? 4
+                                 : relief_params_rotations(&r->st.params, r->s->fit.prim.model);
+    if (!r->smooth_base) /* else the fit is only reported */
+        note_surface(r);
+    if (r->rep)
+        r->rep->seconds_smooth = relief_seconds() - t0;
+    return RELIEF_OK;
+}
+
+/* ----------------------------------------------------- data and matcher */
+
+/* Host bytes the mono-scale growth needs, the k-coherence search's similar
+ * pairs included when it runs. */
+static uint64_t growth_bytes(const relief_complete_run *r)
+{
+    const relief_surface *s = r->s;
+    const relief_params *p = &r->st.params;
+    uint64_t b = relief_estimate_growth(relief_mesh_vertex_count(s->mesh),
+                                        relief_mesh_triangle_count(s->mesh), s->n_samples,
+                                        p->rotations);
+    if (relief_params_search(p, s->n_samples, p->rotations, s->n_targets) ==
+        RELIEF_SEARCH_COHERENT)
+        b += relief_search_bytes(s->n_samples, p->rotations, p->search_k);
+    return b;
+}
+
+/* Refuse a growth that cannot fit before its match data and state exist. */
+static relief_status check_growth_memory(const relief_complete_run *r, relief_error *err)
+{
+    char what[160];
+    snprintf(what, sizeof what, "the growth over %zu vertices (%zu samples x %d rotations)",
+             relief_mesh_vertex_count(r->s->mesh), r->s->n_samples, r->st.params.rotations);
+    return relief_memory_check(what, growth_bytes(r), relief_memory_limit(&r->st.params),
+                               "; raise the spacing or lower rotations", err);
+}
+
+/* Test hook: RELIEF_TEST_DEVICE_FAIL_AFTER=N makes every OpenCL score after
+ * the first N fail as an exhausted device would, so that the CLI test sees
+ * auto continue on the host matcher and an explicit OpenCL backend fail
+ * with its checkpoint saved. */
+static relief_status inject_device_failure(void *ctx, relief_error *err)
+{
+    relief_complete_run *r = ctx;
+    if (r->fail_calls++ < r->fail_after)
+        return RELIEF_OK;
+    return relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: CL_OUT_OF_RESOURCES "
+                       "(injected by RELIEF_TEST_DEVICE_FAIL_AFTER=%zu)", r->fail_after);
+}
+
+/* The matcher of a mono-scale growth over its match data. */
+static relief_status make_matcher(relief_complete_run *r, relief_error *err)
+{
+    const relief_params *p = &r->st.params;
+    const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
+    relief_status st = relief_match_data_build(
+        r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL), &r->d,
+        err);
+    if (st == RELIEF_OK)
+        st = relief_matcher_create(p->backend, p->device, r->d, &r->m, r->choice,
+                                   sizeof r->choice, err);
+    if (st != RELIEF_OK)
+        return st;
+    r->backend = r->m->backend;
+    snprintf(r->device, sizeof r->device, "%s", r->m->device);
+    if (fail_env && r->m->backend == RELIEF_BACKEND_OPENCL) {
+        r->fail_after = strtoul(fail_env, NULL, 10);
+        r->m->inject = inject_device_failure;
+        r->m->inject_ctx = r;
+    }
+    return RELIEF_OK;
+}
+
+/* Where each level's growth starts in the call's progress: the levels'
+ * shares of all the targets. */
+static relief_status level_shares(relief_complete_run *r, relief_error *err)
+{
+    const int M = r->hier ? r->hier->levels : 1;
+    double total = 0.0, at = 0.0;
+    r->level_share = malloc((size_t)(M + 1) * sizeof *r->level_share);
+    if (!r->level_share)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the progress levels");
+    for (int k = 0; k < M; ++k)
+        total += (double)(r->hier ? r->hier->level[k]->n_targets : r->s->n_targets);
+    for (int k = 0; k < M; ++k) {
+        r->level_share[k] = total > 0 ? at / total : (double)k / M;
+        at += (double)(r->hier ? r->hier->level[k]->n_targets : r->s->n_targets);
+    }
+    r->level_share[M] = 1.0;
+    return RELIEF_OK;
+}
+
+static relief_status prepare_growth(relief_complete_run *r, relief_error *err)
+{
+    relief_status st = check_growth_memory(r, err);
+    if (r->rep)
+        r->rep->memory_bytes = growth_bytes(r);
+    if (st == RELIEF_OK && r->st.params.levels > 1) {
+        double t0 = relief_seconds();
+        st = relief_hierarchy_build(r->s, r->st.params.levels, &r->hier, err);
+        r->hstats.build_seconds = relief_seconds() - t0;
+    } else if (st == RELIEF_OK) {
+        st = make_matcher(r, err);
+    }
+    if (st == RELIEF_OK)
+        st = level_shares(r, err);
+    /* The report folder shows the surface before growth, which the growth
+     * changes in place. */
+    if (st == RELIEF_OK && r->cp->report_dir)
+        st = relief_mesh_copy(r->s->mesh, &r->before, err);
+    return st;
+}
+
+/* ------------------------------------------------------------ the growth */
+
+/* Each target grown: the call's fraction over every level, and the
+ * caller's answer, a cancel, where the growth reads it. */
+static void on_grow_progress(void *ctx, const relief_grow_progress *p)
+{
+    relief_complete_run *r = ctx;
+    const int k = p->level < 0 ? 0 : p->level;
+    const double lo = r->level_share[k], hi = r->level_share[k + 1];
+    const double done = p->total ? (double)p->done / (double)p->total : 1.0;
+    if (relief_progress_step(&r->progress, lo + done * (hi - lo)))
+        r->cancel = 1;
+}
+
+static relief_status save_checkpoint(void *ctx, const relief_grow_state *g, relief_error *err)
+{
+    const relief_complete_run *r = ctx;
+    return relief_checkpoint_write(r->cp->checkpoint, &r->key, g, err);
+}
+
+static void note_resume(relief_complete_run *r, const relief_grow_state *g)
+{
+    if (!r->rep)
+        return;
+    r->rep->resumed = 1;
+    r->rep->resumed_level = g->hier ? g->hier->level : 1;
+    r->rep->resumed_done = g->stats.acceptances;
+    r->rep->resumed_targets = g->stats.targets;
+}
+
+static relief_status grow(relief_complete_run *r, relief_error *err)
+{
+    relief_grow_options *go = &r->st.grow;
+    relief_status st;
+    go->progress = on_grow_progress;
+    go->progress_ctx = r;
+    go->cancel = &r->cancel;
+    if (r->resume) {
+        go->resume = relief_checkpoint_state(r->resume);
+        note_resume(r, go->resume);
+    }
+    if (r->cp->checkpoint) {
+        go->save = save_checkpoint;
+        go->save_ctx = r;
+        go->save_every = r->cp->checkpoint_every;
+    }
+    if (relief_progress_step(&r->progress, 0.0))
+        return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback "
+                           "before the growth");
+    if (r->hier) {
+        relief_hierarchy_options ho = relief_hierarchy_options_default();
+        relief_hierarchy_stats hs;
+        ho.backend = r->st.params.backend;
+        ho.device = r->st.params.device;
+        st = relief_hierarchy_grow(r->hier, r->s, &r->st.params, go, &ho, &hs, &r->stats,
+                                   &r->backend, r->device, sizeof r->device, r->choice,
+                                   sizeof r->choice, err);
+        hs.build_seconds = r->hstats.build_seconds;
+        r->hstats = hs;
+        if (r->hstats.fallback[0])
+            relief_complete_note(r, 1, "backend auto: %s", r->hstats.fallback);
+    } else {
+        st = relief_grow(r->s, r->d, r->m, &r->st.params, go, &r->stats, err);
+        r->backend = r->m->backend;
+        snprintf(r->device, sizeof r->device, "%s", r->m->device);
+        if (r->m->fallback_note[0])
+            relief_complete_note(r, 1, "backend auto: %s", r->m->fallback_note);
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------ the report */
+
+static void measure(relief_complete_run *r)
+{
+    relief_error merr = {RELIEF_OK, ""};
+    if (!r->cp->measure)
+        return;
+    r->measured = relief_measure(r->s->mesh, NULL, &r->s->fit.prim, &r->meas, &merr) ==
+                  RELIEF_OK;
+    r->patterned = r->measured && relief_pattern_measure(r->s->mesh, &r->s->fit.prim, NULL,
+                                                         &r->pat, &merr) == RELIEF_OK;
+    if (!r->measured || !r->patterned)
+        relief_complete_note(r, 1, "no %smeasures in the report: %s",
+                             r->measured ? "pattern " : "", merr.message);
+}
+
+static void fill_counts(relief_complete_report *rep, const relief_complete_run *r)
+{
+    const relief_surface *s = r->s;
+    rep->smooth_base = r->smooth_base;
+    rep->fit = s->fit;
+    rep->region = s->fill.region;
+    rep->spacing = s->spacing;
+    rep->captured = s->n_captured;
+    rep->samples = s->n_samples;
+    rep->targets = s->n_targets;
+    rep->dropped = s->n_dropped;
+    rep->folded_triangles = s->folds.triangles;
+    rep->spikes = s->spikes.vertices;
+    rep->holes = s->fill.holes;
+    rep->rotations = r->st.params.rotations;
+    rep->search = relief_params_search(&r->st.params, s->n_samples, r->st.params.rotations,
+                                       s->n_targets);
+}
+
+static void fill_growth(relief_complete_report *rep, const relief_complete_run *r)
+{
+    const relief_grow_stats *g = &r->stats;
+    rep->levels = r->st.params.levels;
+    for (int k = 0; k < rep->levels && k < RELIEF_COMPLETE_MAX_LEVELS; ++k)
+        rep->level_vertices[k] = r->hier ? relief_mesh_vertex_count(r->hier->level[k]->mesh)
+                                         : relief_mesh_vertex_count(r->s->mesh);
+    rep->search = (relief_search_mode)g->search;
+    rep->acceptances = g->acceptances;
+    rep->passes = g->passes;
+    rep->rejections = g->rejections;
+    rep->threshold_raises = g->threshold_raises;
+    rep->candidates = g->candidates;
+    rep->error_final = g->error_final;
+    rep->seconds_growth = g->seconds + r->hstats.build_seconds;
+    rep->seconds_match = r->m ? r->m->kernel_seconds : g->match_seconds;
+}
+
+static void fill_backend(relief_complete_report *rep, const relief_complete_run *r)
+{
+    rep->backend = r->backend;
+    snprintf(rep->device, sizeof rep->device, "%s", r->device);
+    snprintf(rep->backend_note, sizeof rep->backend_note, "%.1000s", r->choice);
+    rep->backend_warning = strncmp(r->choice, RELIEF_MATCHER_UNAVAILABLE,
+                                   strlen(RELIEF_MATCHER_UNAVAILABLE)) == 0;
+}
+
+static relief_status finish_report(relief_complete_run *r, int smooth, relief_error *err)
+{
+    relief_complete_report *rep = r->rep;
+    relief_status st = RELIEF_OK;
+    if (!smooth)
+        measure(r);
+    fill_counts(rep, r);
+    if (!smooth) {
+        fill_growth(rep, r);
+        fill_backend(rep, r);
+    }
+    rep->seconds_total = relief_seconds() - r->t0;
+    rep->json = relief_complete_json(r, smooth);
+    if (!rep->json)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot write the report");
+    if (!smooth && r->cp->report_dir)
+        st = relief_complete_stage_folder(r, &rep->folder, err);
+    return st;
+}
+
+/* ------------------------------------------------------------- the calls */
+
+static void run_free(relief_complete_run *r)
+{
+    relief_hierarchy_destroy(r->hier);
+    relief_matcher_destroy(r->m);
+    relief_match_data_destroy(r->d);
+    relief_surface_destroy(r->s);
+    relief_mesh_destroy(r->before);
+    relief_checkpoint_destroy(r->resume);
+    free(r->level_share);
+}
+
+static void run_init(relief_complete_run *r, const relief_mesh *capture,
+                     const relief_complete_params *p, relief_complete_report *rep)
+{
+    memset(r, 0, sizeof *r);
+    r->cp = p;
+    r->capture = capture;
+    r->rep = rep;
+    r->t0 = relief_seconds();
+    r->backend = RELIEF_BACKEND_SCALAR;
+    relief_complete_stages_make(p, &r->st);
+    relief_progress_init(&r->progress, p->run.progress, p->run.progress_ctx);
+}
+
+/* The surface's mesh, taken from it: the call's output. */
+static relief_mesh *take_mesh(relief_complete_run *r)
+{
+    relief_mesh *m = r->s->mesh;
+    r->s->mesh = NULL;
+    return m;
+}
+
+relief_status relief_complete(const relief_mesh *capture, const relief_complete_params *p,
+                              relief_mesh **out, relief_complete_report *rep,
+                              relief_error *err)
+{
+    relief_complete_report own;
+    relief_complete_run r;
+    relief_status st = check_args(capture, p, out, rep, err);
+    if (st != RELIEF_OK)
+        return st;
+    memset(&own, 0, sizeof own);
+    run_init(&r, capture, p, &own);
+    st = read_resume(&r, err);
+    if (st == RELIEF_OK)
+        st = build_base(&r, err);
+    if (st == RELIEF_OK)
+        st = prepare_growth(&r, err);
+    if (st == RELIEF_OK)
+        st = grow(&r, err);
+    if (st == RELIEF_OK && relief_progress_step(&r.progress, 1.0))
+        st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback after "
+                         "the growth");
+    if (st == RELIEF_OK && rep)
+        st = finish_report(&r, 0, err);
+    if (st == RELIEF_OK) {
+        if (p->checkpoint)
+            remove(p->checkpoint); /* it described an unfinished run */
+        *out = take_mesh(&r);
+    }
+    if (st == RELIEF_OK && rep)
+        *rep = own;
+    else
+        relief_complete_report_free(&own);
+    run_free(&r);
+    return st;
+}
+
+relief_status relief_smooth(const relief_mesh *capture, const relief_complete_params *p,
+                            relief_mesh **out, relief_complete_report *rep, relief_error *err)
+{
+    relief_complete_report own;
+    relief_complete_run r;
+    relief_status st = check_args(capture, p, out, rep, err);
+    if (st == RELIEF_OK && p->base == RELIEF_BASE_SMOOTH)
+        st = relief_fail(err, RELIEF_E_USAGE, "base smooth: relief_smooth lays the targets on "
+                         "a primitive (base auto or primitive)");
+    if (st != RELIEF_OK)
+        return st;
+    memset(&own, 0, sizeof own);
+    run_init(&r, capture, p, &own);
+    if (relief_progress_step(&r.progress, 0.0))
+        st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
+    if (st == RELIEF_OK)
+        st = relief_surface_build(capture, &r.st.params, &r.st.smooth, &r.s, err);
+    if (st == RELIEF_OK) {
+        own.seconds_smooth = relief_seconds() - r.t0;
+        note_surface(&r);
+        if (relief_progress_step(&r.progress, 1.0))
+            st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
+    }
+    if (st == RELIEF_OK && rep)
+        st = finish_report(&r, 1, err);
+    if (st == RELIEF_OK)
+        *out = take_mesh(&r);
+    if (st == RELIEF_OK && rep)
+        *rep = own;
+    else
+        relief_complete_report_free(&own);
+    run_free(&r);
+    return st;
+}

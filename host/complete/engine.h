@@ -1,0 +1,73 @@
+/* The mesh completion engine behind relief/complete.h: relief_complete and
+ * relief_smooth as stages (the base, the growth's data and matcher, the
+ * growth, the report), and what the stages share. complete.c orchestrates,
+ * params.c converts the public parameters, report.c writes the JSON report
+ * and stages the report folder. */
+#ifndef RELIEF_HOST_COMPLETE_ENGINE_H
+#define RELIEF_HOST_COMPLETE_ENGINE_H
+
+#include <signal.h>
+
+#include "relief/relief.h"
+#include "base/params.h"
+#include "base/progress.h"
+#include "grow/checkpoint.h"
+#include "grow/grow.h"
+#include "grow/hierarchy.h"
+#include "match/matcher.h"
+#include "report/measures.h"
+#include "report/pattern.h"
+#include "smooth/surface.h"
+
+/* The public parameters as the stages take them. */
+typedef struct relief_complete_stages {
+    relief_params params;
+    relief_smooth_options smooth;
+    relief_grow_options grow;
+} relief_complete_stages;
+
+/* Fill `out` from `p` (not checked: relief_complete_params_validate). */
+void relief_complete_stages_make(const relief_complete_params *p, relief_complete_stages *out);
+
+/* One relief_complete or relief_smooth call in progress. */
+typedef struct relief_complete_run {
+    const relief_complete_params *cp;
+    const relief_mesh *capture;
+    relief_complete_stages st;  /* st.params.rotations resolved once the base is known */
+    relief_surface *s;          /* the surface grown on */
+    int smooth_base;            /* 1: on the capture's smoothed base */
+    relief_hierarchy *hier;     /* levels > 1 */
+    relief_hierarchy_stats hstats;
+    relief_match_data *d;       /* mono-scale */
+    relief_matcher *m;
+    relief_grow_stats stats;
+    relief_checkpoint_key key;
+    relief_checkpoint *resume;  /* cp->resume read */
+    relief_mesh *before;        /* the surface before growth (report folder) */
+    relief_backend backend;     /* what scored */
+    char device[256];
+    char choice[RELIEF_ERROR_MESSAGE_MAX + 320]; /* why auto chose it */
+    relief_progress progress;
+    double *level_share;        /* levels + 1: where each level's growth starts */
+    volatile sig_atomic_t cancel; /* set when the progress callback asks */
+    size_t fail_after, fail_calls; /* RELIEF_TEST_DEVICE_FAIL_AFTER */
+    int measured, patterned;
+    relief_measures meas;
+    relief_pattern pat;
+    double t0;
+    relief_complete_report *rep; /* notes go here as the stages find them */
+} relief_complete_run;
+
+/* A note for the report: a warning, or a plain remark. */
+void relief_complete_note(relief_complete_run *r, int warning, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* The report's JSON (`relief complete --report`) of a finished run; NULL
+ * when out of memory. smooth: relief_smooth's shorter report. */
+char *relief_complete_json(const relief_complete_run *r, int smooth);
+
+/* Stage the report folder of a finished run beside cp->report_dir. */
+relief_status relief_complete_stage_folder(const relief_complete_run *r,
+                                           relief_report_folder **out, relief_error *err);
+
+#endif

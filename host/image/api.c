@@ -1,0 +1,527 @@
+/* The image engine's public API (relief/image.h): relief_image, a view of
+ * a caller's 8- or 16-bit samples with a row stride, over the float
+ * rasters that the readers, the writers and the hole filler work on
+ * (image_io.h, fill.h). A fill works on a copy of the image: the caller's
+ * buffer and report are written only when the call succeeds. */
+#include "relief/relief.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "base/file.h"
+#include "base/json.h"
+#include "base/memlimit.h"
+#include "base/progress.h"
+#include "image/fill.h"
+#include "image/image_io.h"
+#include "image/patch.h"
+#include "image/raster.h"
+
+_Static_assert(RELIEF_IMAGE_MAX_SIDE == RELIEF_RASTER_MAX_SIDE,
+               "the public and the internal image sides agree");
+
+/* ---------------------------------------------------------------- views */
+
+static size_t row_bytes(const relief_image *img)
+{
+    return (size_t)img->width * (size_t)img->channels * (size_t)(img->bit_depth / 8);
+}
+
+static size_t stride_of(const relief_image *img)
+{
+    return img->stride ? img->stride : row_bytes(img);
+}
+
+/* Sample i of row y. 16-bit samples go through memcpy: a caller's stride
+ * need not keep its rows aligned. */
+static unsigned get_sample(const relief_image *img, int y, size_t i)
+{
+    const uint8_t *row = (const uint8_t *)img->data + (size_t)y * stride_of(img);
+    uint16_t v;
+    if (img->bit_depth == 8)
+        return row[i];
+    memcpy(&v, row + 2 * i, sizeof v);
+    return v;
+}
+
+static void put_sample(relief_image *img, int y, size_t i, unsigned v)
+{
+    uint8_t *row = (uint8_t *)img->data + (size_t)y * stride_of(img);
+    uint16_t w = (uint16_t)v;
+    if (img->bit_depth == 8)
+        row[i] = (uint8_t)v;
+    else
+        memcpy(row + 2 * i, &w, sizeof w);
+}
+
+relief_status relief_image_check(const relief_image *img, const char *what, relief_error *err)
+{
+    what = what ? what : "image";
+    if (!img)
+        return relief_fail(err, RELIEF_E_USAGE, "%s: NULL", what);
+    if (!img->data)
+        return relief_fail(err, RELIEF_E_USAGE, "%s: data is NULL", what);
+    if (img->width < 1 || img->width > RELIEF_IMAGE_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: width %d out of range: expected 1..%d "
+                           "pixels", what, img->width, RELIEF_IMAGE_MAX_SIDE);
+    if (img->height < 1 || img->height > RELIEF_IMAGE_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: height %d out of range: expected 1..%d "
+                           "pixels", what, img->height, RELIEF_IMAGE_MAX_SIDE);
+    if (img->channels < 1 || img->channels > 4)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: channels %d out of range: expected 1 "
+                           "(grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA)", what,
+                           img->channels);
+    if (img->bit_depth != 8 && img->bit_depth != 16)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: bit_depth %d out of range: expected 8 "
+                           "or 16", what, img->bit_depth);
+    if (img->stride && img->stride < row_bytes(img))
+        return relief_fail(err, RELIEF_E_RANGE, "%s: stride %zu out of range: smaller than a "
+                           "row (width %d x channels %d x %d bytes = %zu bytes)", what,
+                           img->stride, img->width, img->channels, img->bit_depth / 8,
+                           row_bytes(img));
+    if (img->stride > SIZE_MAX / (size_t)img->height)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: stride %zu out of range: %d rows of it "
+                           "do not fit in memory", what, img->stride, img->height);
+    return RELIEF_OK;
+}
+
+/* A float raster holding `img`'s samples (free with relief_raster_free). */
+static relief_status raster_of(const relief_image *img, relief_raster *r, relief_error *err)
+{
+    size_t row = (size_t)img->width * img->channels;
+    relief_status st = relief_raster_create(img->width, img->height, img->channels,
+                                            img->bit_depth, r, err);
+    if (st != RELIEF_OK)
+        return st;
+    for (int y = 0; y < img->height; ++y)
+        for (size_t i = 0; i < row; ++i)
+            r->v[(size_t)y * row + i] = (float)get_sample(img, y, i);
+    return RELIEF_OK;
+}
+
+/* A new image of packed rows holding `r`'s values as samples. */
+static relief_status image_of(const relief_raster *r, relief_image *out, relief_error *err)
+{
+    relief_image img = {r->width, r->height, r->channels, r->bit_depth, 0, NULL};
+    size_t row = (size_t)r->width * r->channels;
+    float max = relief_raster_max_value(r);
+    img.stride = row_bytes(&img);
+    img.data = malloc(img.stride * (size_t)img.height);
+    if (!img.data)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate an image of %d x %d x %d "
+                           "samples", r->width, r->height, r->channels);
+    for (int y = 0; y < img.height; ++y)
+        for (size_t i = 0; i < row; ++i)
+            put_sample(&img, y, i, relief_raster_quantise(r->v[(size_t)y * row + i], max));
+    *out = img;
+    return RELIEF_OK;
+}
+
+/* ------------------------------------------------------------------ files */
+
+relief_status relief_image_decode(const void *data, size_t n, const char *name,
+                                  uint64_t max_bytes, relief_image *out, relief_error *err)
+{
+    relief_raster r;
+    relief_status st;
+    name = name ? name : "image";
+    if ((!data && n) || !out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_image_decode: %s is NULL",
+                           out ? "data" : "out");
+    st = relief_raster_decode_samples(data, n, name, max_bytes, &r, err);
+    if (st == RELIEF_OK)
+        st = image_of(&r, out, err);
+    relief_raster_free(&r);
+    return st;
+}
+
+relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_image *out,
+                                relief_error *err)
+{
+    uint8_t *data;
+    size_t n;
+    relief_status st;
+    if (!path || !out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_image_read: %s is NULL",
+                           path ? "out" : "path");
+    st = relief_read_file(path, &data, &n, err);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_image_decode(data, n, path, max_bytes, out, err);
+    free(data);
+    return st;
+}
+
+relief_status relief_image_write(const relief_image *img, const char *path, relief_error *err)
+{
+    relief_raster r;
+    relief_status st = relief_image_check(img, "image", err);
+    if (st == RELIEF_OK && !path)
+        st = relief_fail(err, RELIEF_E_USAGE, "relief_image_write: path is NULL");
+    if (st == RELIEF_OK)
+        st = raster_of(img, &r, err);
+    if (st != RELIEF_OK)
+        return st;
+    st = relief_raster_write(path, &r, err);
+    relief_raster_free(&r);
+    return st;
+}
+
+void relief_image_free(relief_image *img)
+{
+    if (!img)
+        return;
+    free(img->data);
+    memset(img, 0, sizeof *img);
+}
+
+/* ------------------------------------------------------------ parameters */
+
+relief_image_fill_params relief_image_fill_params_default(void)
+{
+    relief_fill_params f = relief_fill_params_default();
+    relief_image_fill_params p;
+    memset(&p, 0, sizeof p);
+    p.window = f.window;
+    p.min_window = f.min_window;
+    p.tau = f.tau;
+    p.max_hole_fraction = f.max_hole_fraction;
+    p.search_radius = f.search_radius;
+    p.exhaustive = f.exhaustive;
+    p.interp = f.interp;
+    p.interp_diff = f.interp_diff;
+    p.interp_sd = f.interp_sd;
+    p.seed = f.seed;
+    p.run = relief_run_options_default();
+    return p;
+}
+
+/* The filler's parameters for these; its own (the pyramid's shape, the
+ * 1-D pass's span) at their defaults. */
+static relief_fill_params engine_params(const relief_image_fill_params *p,
+                                        relief_progress *progress)
+{
+    relief_fill_params f = relief_fill_params_default();
+    f.window = p->window;
+    f.min_window = p->min_window;
+    f.tau = p->tau;
+    f.max_hole_fraction = p->max_hole_fraction;
+    f.search_radius = p->search_radius;
+    f.exhaustive = p->exhaustive;
+    f.interp = p->interp;
+    f.interp_diff = p->interp_diff;
+    f.interp_sd = p->interp_sd;
+    f.seed = p->seed;
+    f.progress = progress;
+    return f;
+}
+
+relief_status relief_image_fill_params_validate(const relief_image_fill_params *p,
+                                                relief_error *err)
+{
+    relief_fill_params f;
+    relief_status st;
+    if (!p)
+        return relief_fail(err, RELIEF_E_USAGE, "image fill parameters: NULL");
+    if (p->exhaustive != 0 && p->exhaustive != 1)
+        return relief_fail(err, RELIEF_E_RANGE, "exhaustive %d out of range: expected 0 or 1",
+                           p->exhaustive);
+    if (p->interp != 0 && p->interp != 1)
+        return relief_fail(err, RELIEF_E_RANGE, "interp %d out of range: expected 0 or 1",
+                           p->interp);
+    f = engine_params(p, NULL);
+    st = relief_fill_params_check(&f, err);
+    if (st == RELIEF_OK)
+        st = relief_run_options_validate(&p->run, err);
+    return st;
+}
+
+void relief_image_fill_report_free(relief_image_fill_report *rep)
+{
+    if (!rep)
+        return;
+    free(rep->json);
+    memset(rep, 0, sizeof *rep);
+}
+
+/* ------------------------------------------------------------------ fill */
+
+/* What one relief_image_fill call holds until it succeeds or fails. */
+typedef struct fill_call {
+    relief_image *image;
+    const relief_image *mask;
+    const relief_image_fill_params *p;
+    relief_fill_params fp;
+    relief_progress progress;
+    uint8_t *hole;                /* width x height, 1: to fill */
+    size_t holes;
+    relief_raster work;           /* the copy being filled */
+    relief_patch_scorer *scorer;
+    char note[1024];
+    relief_fill_report fr;
+    double t0;
+} fill_call;
+
+/* The memory a fill plans for, against run.max_memory (0: the default). */
+static relief_status check_memory(const fill_call *c, relief_error *err)
+{
+    const relief_image *img = c->image;
+    uint64_t limit = c->p->run.max_memory ? c->p->run.max_memory
+                                          : relief_default_memory_limit();
+    uint64_t need = relief_fill_estimate(img->width, img->height, img->channels) +
+                    (uint64_t)img->width * (uint64_t)img->height;
+    char what[128];
+    snprintf(what, sizeof what, "filling an image of %d x %d pixels and %d channel%s",
+             img->width, img->height, img->channels, img->channels == 1 ? "" : "s");
+    return relief_memory_check(what, need, limit, "", err);
+}
+
+/* The arguments, each named: the image, the parameters, the memory, the
+ * mask (or the image's alpha), and the windows against the image. */
+static relief_status check_call(fill_call *c, relief_error *err)
+{
+    const relief_image *img = c->image, *mask = c->mask;
+    relief_status st = relief_image_check(img, "image", err);
+    if (st == RELIEF_OK)
+        st = relief_image_fill_params_validate(c->p, err);
+    if (st == RELIEF_OK)
+        st = check_memory(c, err);
+    if (st == RELIEF_OK && mask)
+        st = relief_image_check(mask, "mask", err);
+    if (st == RELIEF_OK && mask && (mask->width != img->width || mask->height != img->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "the mask is %d x %d pixels, the image %d x %d: "
+                         "they must be the same size", mask->width, mask->height, img->width,
+                         img->height);
+    if (st == RELIEF_OK && !mask && img->channels != 2 && img->channels != 4)
+        st = relief_fail(err, RELIEF_E_USAGE, "the image has no alpha channel (%d channel%s), "
+                         "so no hole: give the hole as a mask", img->channels,
+                         img->channels == 1 ? "" : "s");
+    if (st == RELIEF_OK)
+        st = relief_fill_params_validate(&c->fp, img->width, img->height, err);
+    return st;
+}
+
+/* The pixels to fill: the mask's non-zero ones (any channel but alpha),
+ * or the image's transparent ones. */
+static relief_status make_hole(fill_call *c, relief_error *err)
+{
+    const relief_image *src = c->mask ? c->mask : c->image;
+    int C = src->channels, colours = C == 2 || C == 4 ? C - 1 : C;
+    c->hole = malloc((size_t)src->width * (size_t)src->height);
+    if (!c->hole)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole mask");
+    c->holes = 0;
+    for (int y = 0; y < src->height; ++y)
+        for (int x = 0; x < src->width; ++x) {
+            size_t i = (size_t)x * C;
+            int h = 0;
+            if (c->mask)
+                for (int k = 0; k < colours; ++k)
+                    h |= get_sample(src, y, i + k) != 0;
+            else
+                h = get_sample(src, y, i + C - 1) == 0;
+            c->hole[(size_t)y * src->width + x] = (uint8_t)h;
+            c->holes += (size_t)h;
+        }
+    return RELIEF_OK;
+}
+
+/* The window scorer run.backend names; host runs as scalar. */
+static relief_status start_scorer(fill_call *c, relief_error *err)
+{
+    if (c->p->run.backend == RELIEF_BACKEND_HOST) {
+        snprintf(c->note, sizeof c->note, "backend host: the scalar scorer (the image "
+                 "filler scores its windows on one thread)");
+        return relief_patch_scorer_create(RELIEF_BACKEND_SCALAR, -1, &c->scorer, NULL, 0,
+                                          err);
+    }
+    return relief_patch_scorer_create(c->p->run.backend, c->p->run.device, &c->scorer,
+                                      c->note, sizeof c->note, err);
+}
+
+/* Fill the copy. Nothing to fill: no copy, the thresholds reported. */
+static relief_status run_fill(fill_call *c, relief_error *err)
+{
+    relief_status st;
+    if (c->holes == 0) {
+        memset(&c->fr, 0, sizeof c->fr);
+        c->fr.start_level = -1;
+        relief_fill_thresholds(&c->fp, c->image->bit_depth, &c->fr.tau, &c->fr.interp_diff,
+                               &c->fr.interp_sd);
+        return RELIEF_OK;
+    }
+    st = raster_of(c->image, &c->work, err);
+    if (st == RELIEF_OK)
+        st = relief_fill(&c->work, c->hole, &c->fp, c->scorer, &c->fr, err);
+    return st;
+}
+
+/* The filled pixels, every channel, into the caller's buffer; the others
+ * and the bytes between rows are not written. */
+static void write_back(const fill_call *c)
+{
+    relief_image *img = c->image;
+    const relief_raster *r = &c->work;
+    float max = relief_raster_max_value(r);
+    int C = img->channels;
+    for (int y = 0; y < img->height; ++y)
+        for (int x = 0; x < img->width; ++x) {
+            size_t q = (size_t)y * img->width + x;
+            if (!c->hole[q])
+                continue;
+            for (int k = 0; k < C; ++k)
+                put_sample(img, y, (size_t)x * C + k,
+                           relief_raster_quantise(r->v[q * C + k], max));
+        }
+}
+
+/* The report's JSON, as `relief image-fill --report` writes it less the
+ * mask's name (the command splices it in). */
+static void write_json(FILE *f, const fill_call *c, const relief_image_fill_report *r)
+{
+    const relief_image_fill_params *p = c->p;
+    relief_json j;
+    rj_init(&j, f);
+    rj_begin_object(&j, NULL);
+    rj_string(&j, "command", "image-fill");
+    if (p->run.input_name)
+        rj_string(&j, "input", p->run.input_name);
+    else
+        rj_null(&j, "input");
+    if (p->run.output_name)
+        rj_string(&j, "output", p->run.output_name);
+    else
+        rj_null(&j, "output");
+    rj_begin_object(&j, "image");
+    rj_int(&j, "width", c->image->width);
+    rj_int(&j, "height", c->image->height);
+    rj_int(&j, "channels", c->image->channels);
+    rj_int(&j, "bit_depth", c->image->bit_depth);
+    rj_end_object(&j);
+    rj_begin_object(&j, "parameters");
+    rj_int(&j, "window", p->window);
+    rj_int(&j, "min_window", p->min_window);
+    rj_number(&j, "tau", r->tau);
+    rj_number(&j, "max_hole_fraction", p->max_hole_fraction);
+    rj_int(&j, "search_radius", p->search_radius);
+    rj_bool(&j, "exhaustive", p->exhaustive);
+    rj_bool(&j, "interp", p->interp);
+    rj_number(&j, "interp_diff", r->interp_diff);
+    rj_number(&j, "interp_sd", r->interp_sd);
+    rj_int(&j, "seed", p->seed);
+    rj_end_object(&j);
+    rj_begin_object(&j, "pixels");
+    rj_int(&j, "hole", (long long)r->hole_pixels);
+    rj_int(&j, "by_rows", (long long)r->by_rows);
+    rj_int(&j, "by_columns", (long long)r->by_columns);
+    rj_int(&j, "by_copy", (long long)r->by_copy);
+    rj_int(&j, "by_fallback", (long long)r->by_fallback);
+    rj_end_object(&j);
+    rj_begin_object(&j, "search");
+    rj_int(&j, "queries", (long long)r->queries);
+    rj_int(&j, "windows_tried", (long long)r->windows_tried);
+    rj_int(&j, "windows_accepted", (long long)r->windows_accepted);
+    rj_int(&j, "candidates_scored", (long long)r->candidates);
+    rj_int(&j, "pyramid_levels", r->pyramid_levels);
+    rj_int(&j, "start_level", r->start_level);
+    rj_int(&j, "top_m", r->top_m);
+    rj_end_object(&j);
+    rj_begin_object(&j, "seconds");
+    rj_number(&j, "interp", r->seconds_interp);
+    rj_number(&j, "copy_paste", r->seconds_copy);
+    rj_number(&j, "scoring", r->seconds_score);
+    rj_number(&j, "total", r->seconds_total);
+    rj_end_object(&j);
+    rj_string(&j, "backend", relief_backend_name(r->backend));
+    rj_string(&j, "device", r->device);
+    rj_string(&j, "backend_note", r->backend_note);
+    rj_end_object(&j);
+    fputc('\n', f);
+}
+
+/* The public report of the call, its JSON included. */
+static relief_status make_report(const fill_call *c, relief_image_fill_report *r,
+                                 relief_error *err)
+{
+    const relief_fill_report *fr = &c->fr;
+    size_t len = 0;
+    FILE *f;
+    int bad;
+    memset(r, 0, sizeof *r);
+    r->hole_pixels = c->holes;
+    r->by_rows = fr->by_rows;
+    r->by_columns = fr->by_columns;
+    r->by_copy = fr->by_copy;
+    r->by_fallback = fr->by_fallback;
+    r->queries = fr->queries;
+    r->windows_tried = fr->searches;
+    r->windows_accepted = fr->accepted;
+    r->candidates = fr->candidates;
+    r->pyramid_levels = fr->levels;
+    r->start_level = fr->start_level;
+    r->top_m = fr->top_m;
+    r->tau = fr->tau;
+    r->interp_diff = fr->interp_diff;
+    r->interp_sd = fr->interp_sd;
+    r->backend = c->scorer->backend;
+    snprintf(r->device, sizeof r->device, "%s", c->scorer->device);
+    snprintf(r->backend_note, sizeof r->backend_note, "%s", c->note);
+    r->backend_warning = strncmp(c->note, "OpenCL unavailable", 18) == 0;
+    r->seconds_interp = fr->seconds_interp;
+    r->seconds_copy = fr->seconds_copy;
+    r->seconds_score = fr->seconds_score;
+    r->seconds_total = relief_seconds() - c->t0;
+    f = open_memstream(&r->json, &len);
+    if (!f)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot open the report's JSON in memory");
+    write_json(f, c, r);
+    bad = ferror(f);
+    if (fclose(f) != 0 || bad || !r->json) {
+        free(r->json);
+        r->json = NULL;
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot write the report's JSON in memory");
+    }
+    return RELIEF_OK;
+}
+
+relief_status relief_image_fill(relief_image *image, const relief_image *mask,
+                                const relief_image_fill_params *p,
+                                relief_image_fill_report *rep, relief_error *err)
+{
+    fill_call c;
+    relief_image_fill_report out;
+    relief_status st;
+
+    memset(&c, 0, sizeof c);
+    memset(&out, 0, sizeof out);
+    c.t0 = relief_seconds();
+    c.image = image;
+    c.mask = mask;
+    c.p = p;
+    if (p) {
+        relief_progress_init(&c.progress, p->run.progress, p->run.progress_ctx);
+        c.fp = engine_params(p, &c.progress);
+    }
+    st = check_call(&c, err);
+    if (st == RELIEF_OK)
+        st = make_hole(&c, err);
+    if (st == RELIEF_OK)
+        st = start_scorer(&c, err);
+    if (st == RELIEF_OK)
+        st = run_fill(&c, err);
+    if (st == RELIEF_OK && rep)
+        st = make_report(&c, &out, err);
+    if (st == RELIEF_OK) {
+        if (c.holes)
+            write_back(&c);
+        if (rep)
+            *rep = out;
+    }
+    relief_patch_scorer_destroy(c.scorer);
+    relief_raster_free(&c.work);
+    free(c.hole);
+    return st;
+}

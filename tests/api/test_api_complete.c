@@ -1,0 +1,305 @@
+/* relief_complete, relief_smooth, relief_fit and relief_eval as a user
+ * calls them: defaults and the check of every field, bad arguments, a
+ * completion with its report, the same bytes from two threads as from two
+ * calls in a row, a cancel that leaves nothing behind, the report folder,
+ * and a fit of a real scan.
+ *   test_api_complete DATA_DIR   (../shared/data/real) */
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "api_test.h"
+
+static relief_mesh *synth(relief_synth_kind kind, uint32_t seed, size_t vertices,
+                          relief_mesh **truth)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_synth_params sp = relief_synth_params_default();
+    relief_mesh *cap = NULL;
+    sp.kind = kind;
+    sp.seed = seed;
+    sp.vertices = vertices;
+    sp.colour = 1;
+    CHECK_STATUS(relief_synth(&sp, &cap, truth, &err), RELIEF_OK, err, NULL);
+    return cap;
+}
+
+/* Small and fast: the reference backend, a window of 2. */
+static relief_complete_params quick(void)
+{
+    relief_complete_params p = relief_complete_params_default();
+    p.run.backend = RELIEF_BACKEND_SCALAR;
+    p.window = 2;
+    return p;
+}
+
+static void test_params(void)
+{
+    relief_complete_params d = relief_complete_params_default(), p;
+    relief_error err = {RELIEF_OK, ""};
+    CHECK(d.window == 3 && d.error == 0.1 && d.levels == 1 && d.prune == 1 && d.seed == 1 &&
+              d.base == RELIEF_BASE_AUTO && d.run.device == -1 && d.measure == 1,
+          "defaults");
+    CHECK_STATUS(relief_complete_params_validate(&d, &err), RELIEF_OK, err, NULL);
+#define BAD(field, value, status, name)                                                  \
+    p = d;                                                                               \
+    p.field = value;                                                                     \
+    CHECK_STATUS(relief_complete_params_validate(&p, &err), status, err, name)
+    BAD(window, 17, RELIEF_E_RANGE, "window");
+    BAD(window, 0, RELIEF_E_RANGE, "window");
+    BAD(rotations, 65, RELIEF_E_RANGE, "rotations");
+    BAD(error, NAN, RELIEF_E_RANGE, "error");
+    BAD(error, -1.0, RELIEF_E_RANGE, "error");
+    BAD(mu, 1.5, RELIEF_E_RANGE, "mu");
+    BAD(mu, NAN, RELIEF_E_RANGE, "mu");
+    BAD(coherence, 0.5, RELIEF_E_RANGE, "coherence");
+    BAD(levels, 9, RELIEF_E_RANGE, "levels");
+    BAD(search_k, 0, RELIEF_E_RANGE, "search_k");
+    BAD(oversample, 5, RELIEF_E_RANGE, "oversample");
+    BAD(spacing, -1.0, RELIEF_E_RANGE, "spacing");
+    BAD(spacing, NAN, RELIEF_E_RANGE, "spacing");
+    BAD(n_extent, 3, RELIEF_E_RANGE, "n_extent");
+    BAD(max_growth, NAN, RELIEF_E_RANGE, "max_growth");
+    BAD(checkpoint_every, -1.0, RELIEF_E_RANGE, "checkpoint_every");
+    BAD(base, (relief_base)7, RELIEF_E_RANGE, "base");
+    BAD(fill, (relief_fill_region)7, RELIEF_E_RANGE, "fill");
+    BAD(run.device, 256, RELIEF_E_RANGE, "device");
+    BAD(run.backend, (relief_backend)9, RELIEF_E_RANGE, "backend");
+    p = d;
+    p.base = RELIEF_BASE_SMOOTH;
+    p.fit = RELIEF_FIT_PLANE;
+    CHECK_STATUS(relief_complete_params_validate(&p, &err), RELIEF_E_USAGE, err, "base smooth");
+    p = d;
+    p.n_extent = 2;
+    p.extent[0] = 1.0;
+    p.extent[1] = 0.0;
+    CHECK_STATUS(relief_complete_params_validate(&p, &err), RELIEF_E_RANGE, err, "extent");
+#undef BAD
+    CHECK_STATUS(relief_complete_params_validate(NULL, &err), RELIEF_E_USAGE, err, "params");
+}
+
+static void test_bad_arguments(relief_mesh *cap)
+{
+    relief_complete_params p = quick();
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *out = NULL, *empty = NULL;
+    CHECK_STATUS(relief_complete(NULL, &p, &out, NULL, &err), RELIEF_E_USAGE, err, "capture");
+    CHECK_STATUS(relief_complete(cap, NULL, &out, NULL, &err), RELIEF_E_USAGE, err, "params");
+    CHECK_STATUS(relief_complete(cap, &p, NULL, NULL, &err), RELIEF_E_USAGE, err, "out");
+    p.window = 99;
+    CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_E_RANGE, err, "window");
+    p = quick();
+    p.report_dir = "/tmp/x";
+    CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_E_USAGE, err, "report_dir");
+    CHECK_STATUS(relief_mesh_create(0, 0, 0, &empty, &err), RELIEF_OK, err, NULL);
+    p = quick();
+    CHECK_STATUS(relief_complete(empty, &p, &out, NULL, &err), RELIEF_E_MESH, err, NULL);
+    CHECK_STATUS(relief_smooth(empty, &p, &out, NULL, &err), RELIEF_E_MESH, err, NULL);
+    p.base = RELIEF_BASE_SMOOTH;
+    CHECK_STATUS(relief_smooth(cap, &p, &out, NULL, &err), RELIEF_E_USAGE, err, "base smooth");
+    CHECK(out == NULL, "an output on failure");
+    relief_mesh_destroy(empty);
+}
+
+static size_t count_completed(relief_mesh *m)
+{
+    size_t n = 0;
+    const uint8_t *label = relief_mesh_labels(m);
+    for (size_t v = 0; label && v < relief_mesh_vertex_count(m); ++v)
+        n += label[v] == RELIEF_LABEL_COMPLETED;
+    return n;
+}
+
+static void test_complete_and_eval(relief_mesh *cap, relief_mesh *truth)
+{
+    relief_complete_params p = quick();
+    relief_complete_report rep;
+    relief_eval_result ev;
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *out = NULL, *smooth = NULL;
+    p.run.input_name = "capture.ply";
+    CHECK_STATUS(relief_complete(cap, &p, &out, &rep, &err), RELIEF_OK, err, NULL);
+    if (!out)
+        return;
+    CHECK(count_completed(out) == rep.targets && rep.targets > 0, "%zu completed, %zu targets",
+          count_completed(out), rep.targets);
+    CHECK(rep.acceptances == rep.targets, "acceptances %zu of %zu", rep.acceptances,
+          rep.targets);
+    CHECK(rep.backend == RELIEF_BACKEND_SCALAR && rep.device[0], "backend");
+    CHECK(rep.fit.prim.model == RELIEF_FIT_PLANE && !rep.smooth_base, "a plane");
+    CHECK(rep.json && strstr(rep.json, "\"growth\"") && strstr(rep.json, "\"measures\"") &&
+              strstr(rep.json, "\"input\": \"capture.ply\"") &&
+              strstr(rep.json, "\"output\": null"),
+          "report json");
+    CHECK(rep.seconds_total >= rep.seconds_growth && rep.seconds_growth > 0, "seconds");
+    CHECK_STATUS(relief_eval(out, truth, &ev, &err), RELIEF_OK, err, NULL);
+    CHECK(ev.has_truth && isfinite(ev.truth_rms) && ev.truth_rms < 0.05 && ev.completed > 0,
+          "truth rms %g", ev.truth_rms);
+    CHECK(ev.json && ev.text && strstr(ev.text, "msi_captured"), "eval renderings");
+    relief_eval_result_free(&ev);
+    CHECK_STATUS(relief_eval(cap, NULL, &ev, &err), RELIEF_E_MESH, err, NULL);
+    relief_complete_report_free(&rep);
+    CHECK(rep.json == NULL, "report freed");
+    CHECK_STATUS(relief_smooth(cap, &p, &smooth, NULL, &err), RELIEF_OK, err, NULL);
+    CHECK(smooth && count_completed(smooth) == count_completed(out), "smooth targets");
+    relief_mesh_destroy(smooth);
+    relief_mesh_destroy(out);
+}
+
+/* ---------------------------------------------------------------- threads */
+
+typedef struct job {
+    relief_mesh *cap;
+    relief_mesh *out;
+    relief_status st;
+} job;
+
+static void *run_job(void *ctx)
+{
+    job *j = ctx;
+    relief_complete_params p = quick();
+    relief_error err = {RELIEF_OK, ""};
+    j->st = relief_complete(j->cap, &p, &j->out, NULL, &err);
+    return NULL;
+}
+
+static int same_mesh(relief_mesh *a, relief_mesh *b)
+{
+    size_t n = relief_mesh_vertex_count(a);
+    return a && b && n == relief_mesh_vertex_count(b) &&
+           memcmp(relief_mesh_positions(a), relief_mesh_positions(b), n * 3 * sizeof(double)) ==
+               0 &&
+           memcmp(relief_mesh_colours(a), relief_mesh_colours(b), n * 3 * sizeof(float)) == 0;
+}
+
+static void test_threads(relief_mesh *cap1, relief_mesh *cap2)
+{
+    job serial[2] = {{cap1, NULL, RELIEF_OK}, {cap2, NULL, RELIEF_OK}};
+    job both[2] = {{cap1, NULL, RELIEF_OK}, {cap2, NULL, RELIEF_OK}};
+    pthread_t t[2];
+    run_job(&serial[0]);
+    run_job(&serial[1]);
+    for (int i = 0; i < 2; ++i)
+        pthread_create(&t[i], NULL, run_job, &both[i]);
+    for (int i = 0; i < 2; ++i)
+        pthread_join(t[i], NULL);
+    for (int i = 0; i < 2; ++i) {
+        CHECK(serial[i].st == RELIEF_OK && both[i].st == RELIEF_OK, "job %d failed", i);
+        CHECK(same_mesh(serial[i].out, both[i].out), "job %d: threads and serial differ", i);
+        relief_mesh_destroy(serial[i].out);
+        relief_mesh_destroy(both[i].out);
+    }
+}
+
+/* ----------------------------------------------------------------- cancel */
+
+typedef struct canceller {
+    double at, last;
+    int calls;
+} canceller;
+
+static int cancel_at(void *ctx, double fraction)
+{
+    canceller *c = ctx;
+    c->calls++;
+    if (fraction < c->last)
+        c->at = -1.0; /* went backwards: fail below */
+    c->last = fraction;
+    return fraction >= c->at;
+}
+
+static void test_cancel(relief_mesh *cap, const char *dir)
+{
+    relief_complete_params p = quick();
+    relief_complete_report rep;
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *out = NULL;
+    canceller c = {0.5, 0.0, 0};
+    char ck[512];
+    struct stat sb;
+    snprintf(ck, sizeof ck, "%s/ck", dir);
+    p.checkpoint = ck;
+    p.run.progress = cancel_at;
+    p.run.progress_ctx = &c;
+    memset(&rep, 0x5a, sizeof rep);
+    CHECK_STATUS(relief_complete(cap, &p, &out, &rep, &err), RELIEF_E_CANCELLED, err, NULL);
+    CHECK(out == NULL, "an output after a cancel");
+    CHECK(((unsigned char *)&rep)[0] == 0x5a, "the report written after a cancel");
+    CHECK(c.calls > 2 && c.last >= 0.5 && c.at == 0.5, "progress: %d calls, last %g",
+          c.calls, c.last);
+    CHECK(stat(ck, &sb) == 0, "no checkpoint saved on cancel");
+    /* Resumed, it finishes; the checkpoint goes. */
+    p.run.progress = NULL;
+    p.resume = ck;
+    CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_OK, err, NULL);
+    CHECK(out && count_completed(out) > 0, "resumed");
+    CHECK(stat(ck, &sb) != 0, "the checkpoint of a finished run was kept");
+    relief_mesh_destroy(out);
+}
+
+static void test_report_folder(relief_mesh *cap, const char *dir)
+{
+    relief_complete_params p = quick();
+    relief_complete_report rep;
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *out = NULL;
+    char folder[512], index[600];
+    struct stat sb;
+    snprintf(folder, sizeof folder, "%s/report", dir);
+    snprintf(index, sizeof index, "%s/index.html", folder);
+    p.report_dir = folder;
+    CHECK_STATUS(relief_complete(cap, &p, &out, &rep, &err), RELIEF_OK, err, NULL);
+    CHECK(rep.folder != NULL && stat(folder, &sb) != 0, "the folder is staged, not in place");
+    CHECK_STATUS(relief_report_folder_commit(rep.folder, &err), RELIEF_OK, err, NULL);
+    rep.folder = NULL;
+    CHECK(stat(index, &sb) == 0, "no %s", index);
+    relief_complete_report_free(&rep);
+    relief_mesh_destroy(out);
+}
+
+static void test_fit_real(const char *data)
+{
+    char path[1024];
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *drill = NULL;
+    relief_fit_result fit;
+    snprintf(path, sizeof path, "%s/stanford_drill/drill_shaft_vrip.ply", data);
+    if (access(path, R_OK) != 0) {
+        printf("%s not found: real fit skipped\n", path);
+        return;
+    }
+    CHECK_STATUS(relief_mesh_read(path, &drill, NULL, &err), RELIEF_OK, err, NULL);
+    CHECK_STATUS(relief_fit_mesh(drill, RELIEF_FIT_AUTO, &fit, &err), RELIEF_OK, err, NULL);
+    CHECK(fit.prim.model == RELIEF_FIT_CYLINDER && fabs(fit.prim.radius - 0.823e-3) < 0.02e-3,
+          "drill: %s radius %g m (known about 0.834 mm)", relief_fit_model_name(fit.prim.model), fit.prim.radius);
+    relief_mesh_destroy(drill);
+}
+
+int main(int argc, char **argv)
+{
+    char dir[] = "/tmp/relief-api-complete-XXXXXX";
+    relief_mesh *truth = NULL, *cap = synth(RELIEF_SYNTH_PLANE_WAVES, 1, 600, &truth);
+    relief_mesh *cap2 = synth(RELIEF_SYNTH_PLANE_NOISE, 2, 600, NULL);
+    if (!mkdtemp(dir) || !cap || !cap2)
+        return 2;
+    test_params();
+    test_bad_arguments(cap);
+    test_complete_and_eval(cap, truth);
+    test_threads(cap, cap2);
+    test_cancel(cap, dir);
+    test_report_folder(cap, dir);
+    if (argc > 1)
+        test_fit_real(argv[1]);
+    relief_mesh_destroy(cap);
+    relief_mesh_destroy(cap2);
+    relief_mesh_destroy(truth);
+    {
+        char cmd[600];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+        if (system(cmd) != 0)
+            fprintf(stderr, "could not remove %s\n", dir);
+    }
+    API_TEST_END();
+}
