@@ -657,6 +657,19 @@ static relief_status grow_score(grow_run *g, size_t li, relief_match_query *quer
     }
 }
 
+/* After each target, accepted or not: where the growth is. A rejection
+ * moves nothing, but it is where a caller's cancel is seen when a pass
+ * accepts nothing for a long while. */
+static void report_progress(const grow_run *g)
+{
+    const relief_grow_options *opts = g->opts;
+    if (opts->progress) {
+        relief_grow_progress p = {g->s->n_targets - g->remaining, g->s->n_targets, g->e,
+                                  relief_seconds() - g->t0, opts->level, opts->levels};
+        opts->progress(opts->progress_ctx, &p);
+    }
+}
+
 /* Texture t from sample si at rotation r: D(t) = R_t Rz(-theta) R_s^T D(s),
  * and the sample's colour; then the matcher, the figures and the progress
  * learn of it. narrowed: the query still had its subset. */
@@ -706,11 +719,7 @@ static relief_status grow_accept(grow_run *g, uint32_t t, uint32_t si, int r, in
     stats->coherent += (size_t)coherent;
     ++g->run_acceptances;
     --g->remaining;
-    if (opts->progress) {
-        relief_grow_progress p = {s->n_targets - g->remaining, s->n_targets, g->e,
-                                  relief_seconds() - g->t0, opts->level, opts->levels};
-        opts->progress(opts->progress_ctx, &p);
-    }
+    report_progress(g);
     return RELIEF_OK;
 }
 
@@ -765,6 +774,7 @@ static relief_status grow_target(grow_run *g, size_t li, relief_error *err)
         ++stats->window_shrinks;
     }
     g->all_min_window &= g->win[t] == 1;
+    report_progress(g);
     return RELIEF_OK;
 }
 

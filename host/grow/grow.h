@@ -105,7 +105,8 @@ typedef relief_status (*relief_grow_save_fn)(void *ctx, const relief_grow_state 
 typedef struct relief_grow_options {
     int prune;      /* 1: stop a candidate once it cannot enter the best set */
     int bootstrap;  /* 1: textured targets become matchable */
-    relief_grow_progress_fn progress; /* may be NULL; called after each target */
+    relief_grow_progress_fn progress; /* may be NULL; called after each target,
+                                         accepted or rejected */
     void *progress_ctx;
     int level, levels;  /* where this growth sits in a hierarchy, passed on in
                            its progress: level 0 (default) of 1 */

@@ -95,15 +95,23 @@ static size_t file_size(const char *path)
 /* Cancel once `after` targets have been accepted in all (the levels
  * included), as the CLI's SIGINT hook does. */
 typedef struct stopper {
-    size_t after, seen;
+    size_t after, seen, done;
+    int level;
     volatile sig_atomic_t flag;
 } stopper;
 
+/* Progress comes after every target; an acceptance is a step of done
+ * (counted afresh on each level). */
 static void count_progress(void *ctx, const relief_grow_progress *p)
 {
     stopper *s = ctx;
-    (void)p;
-    if (++s->seen == s->after)
+    int moved;
+    if (p->level != s->level)
+        s->done = 0;
+    moved = p->done > s->done;
+    s->level = p->level;
+    s->done = p->done;
+    if (moved && ++s->seen == s->after)
         s->flag = 1;
 }
 
@@ -148,7 +156,7 @@ static void check_hierarchy(const char *path)
     for (size_t i = 0; i < sizeof stops / sizeof stops[0]; ++i) {
         setup u, v;
         saver sv = {path, &key, 0};
-        stopper stop = {stops[i], 0, 0};
+        stopper stop = {stops[i], 0, 0, 0, 0};
         relief_grow_options g1 = relief_grow_options_default(), g2 = g1;
         relief_hierarchy_stats hs1, hs2;
         relief_grow_stats t1, t2;
