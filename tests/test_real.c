@@ -85,7 +85,7 @@ static const real_case cases[] = {
      {RELIEF_CUT_BALL, {0, 0, 0}, {0, 0, 0}, 0, 1},
      {RELIEF_CUT_BALL, {0, 0, 0}, {0, 0, 0}, 30, 0}, 0, -1, 0, 0, 0, 1, 0,
      "a bust: no plane, sphere or cylinder fits it (cylinder rms 22 % of its radius), "
-     "so completion is refused with --accept-poor-fit named"},
+     "so completion is refused with accept_poor_fit named"},
 };
 
 static const real_case *find_case(const char *name)
@@ -150,8 +150,8 @@ int main(int argc, char **argv)
     }
     st = relief_surface_build(cap, &p, &so, &s, &err);
     if (c->refused) {
-        CHECK(st == RELIEF_E_MESH && strstr(err.message, "--accept-poor-fit"),
-              "a capture no primitive fits was not refused with --accept-poor-fit named "
+        CHECK(st == RELIEF_E_MESH && strstr(err.message, "accept_poor_fit"),
+              "a capture no primitive fits was not refused with accept_poor_fit named "
               "(status %d: %s)", (int)st, err.message);
         if (st != RELIEF_OK)
             printf("refused: %s\n", err.message);

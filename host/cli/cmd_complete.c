@@ -15,289 +15,62 @@
 #include "base/memlimit.h"
 #include "cli/options.h"
 
-static const char complete_help[] =
-    "usage: relief complete IN -o OUT [options]\n"
-    "\n"
-    "Fit a primitive to the partial capture IN, lay the missing part on it, and\n"
-    "grow the capture's relief and colour over it. Writes OUT (PLY with a\n"
-    "per-vertex `label`: 0 captured, 1 completed).\n"
-    "\n"
-    "  -o, --output OUT      completed mesh (.ply, .obj, .off, .stl); required\n"
-    "  --report R.json       write a JSON report of the run\n"
-    "  --report-dir DIR      write report.json, renders, histograms and index.html\n"
-    "                        (open it in a browser) into the folder DIR\n"
-    "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
-    "  --base B              primitive (the fitted one), smooth (paper 002's\n"
-    "                        smoothed, hole-filled base under a mesh that no\n"
-    "                        primitive fits: a head, a statue; --levels coarsens\n"
-    "                        it by collapses) or auto (default: smooth when no\n"
-    "                        primitive fits well and neither --fit, --extent nor\n"
-    "                        --accept-poor-fit is given)\n"
-    "  --window W            neighbourhood radius in edge hops, 1..16 (default 3)\n"
-    "  --rotations R         rotations tried per sample, 1..64 (default: 1 on a\n"
-    "                        plane, whose frames are all alike, 4 otherwise)\n"
-    "  --error E             acceptance threshold e > 0 (default 0.1)\n"
-    "  --mu MU               shape weight 0..1 (default 1 without colour, 0.5 with)\n"
-    "  --seed N              random seed (default 1)\n"
-    "  --coherence K         copy patches: take the best candidate that continues\n"
-    "                        a neighbour's source when its score is within K x\n"
-    "                        the best; 0 = off, the paper's draw alone (default),\n"
-    "                        else 1..100 (measured on the demo: README)\n"
-    "  --search S            auto (default), exhaustive or coherent: score every\n"
-    "                        sample for each target (paper 000), or only the\n"
-    "                        samples that continue its neighbours' patches and\n"
-    "                        their K most similar (k-coherence: sub-quadratic);\n"
-    "                        auto is coherent above 1e8 samples x R x targets\n"
-    "  --search-k K          similar samples per patch for coherent, 1..64\n"
-    "                        (default 8)\n"
-    "  --levels M            hierarchy levels 1..8 (default 1: mono-scale)\n"
-    "  --backend B           who scores the candidates, all with the same output:\n"
-    "                        scalar (the reference, one thread), opencl (the\n"
-    "                        kernel on --device), host (the reference on every\n"
-    "                        core), auto (default: a GPU or accelerator when\n"
-    "                        OpenCL has one, or the --device named, else host)\n"
-    "  --device N            OpenCL device index (see 'relief devices')\n"
-    "  --oversample N        oversampling passes of the capture, 0..4 (default 1)\n"
-    "  --oversample-scheme S butterfly (default: new samples on the smooth\n"
-    "                        surface through the capture) or midpoint (the\n"
-    "                        papers' coplanar edge midpoints)\n"
-    "  --spacing S           target vertex spacing (default: from the capture)\n"
-    "  --extent A,B[,C,D]    cylinder z0,z1 or plane u0,v0,u1,v1 to complete\n"
-    "  --fill REGION         auto (default), holes or whole: what to complete of\n"
-    "                        the uncovered primitive (see 'relief smooth --help')\n"
-    "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
-    "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
-    "                        physical memory); a larger run is refused up front\n"
-    "  --max-growth R        refuse more than R targets per captured vertex, the\n"
-    "                        sign of a primitive that does not suit the capture\n"
-    "                        (default 100; 0: no limit)\n"
-    "  --accept-poor-fit     go on, with a warning, when the fit's rms is over 10%\n"
-    "                        of the primitive's size (default: refuse)\n"
-    "  --keep-spikes         keep the capture's spikes as relief (default: a vertex\n"
-    "                        over 8 robust roughness scales outside its neighbours'\n"
-    "                        heights is a scanner spike, left out and completed)\n"
-    "  --bootstrap           completed targets become matchable too\n"
-    "  --no-prune            score every candidate in full (the paper's exhaustive\n"
-    "                        search; same result, slower)\n"
-    "  --checkpoint FILE     save the growth's state to FILE on SIGINT (Ctrl-C), on a\n"
-    "                        device failure and every --checkpoint-every seconds;\n"
-    "                        removed when the run completes\n"
-    "  --checkpoint-every S  seconds between saves, 0 = only on SIGINT or failure\n"
-    "                        (default 300)\n"
-    "  --resume FILE         continue a run saved by --checkpoint (same input and\n"
-    "                        parameters; any backend): same output as a run never\n"
-    "                        interrupted\n"
-    "  --ascii               write ascii PLY (default binary)\n"
-    "  --quiet               no progress output\n"
-    "  -h, --help            this help\n"
-    "\n"
-    "SIGINT stops the growth between two targets, saves the checkpoint when one\n"
-    "is asked for, writes no output and exits 130; a second SIGINT kills at once.\n";
+enum { CO_ASCII = OPT_COMMAND };
 
-static const char smooth_help[] =
-    "usage: relief smooth IN -o OUT [options]\n"
-    "\n"
-    "Fit a primitive to the partial capture IN and complete it smoothly (no\n"
-    "relief yet): the capture's samples and target vertices laid on the\n"
-    "primitive over the missing region, in one manifold triangulation. OUT's\n"
-    "per-vertex `label` is 0 for samples and 1 for targets.\n"
-    "\n"
-    "Region (--fill): the holes inside the capture's outline, or the whole\n"
-    "uncovered primitive: the full turn of a cylinder over the capture's axial\n"
-    "extent (or --extent), the whole sphere, a plane's --extent. auto: a plane\n"
-    "its holes (the whole --extent when given); a cylinder or sphere the whole,\n"
-    "as for a one-sided scan's hidden side, unless the capture covers less\n"
-    "than 20% of it and has holes: a patch of a larger object, whose holes\n"
-    "alone are completed.\n"
-    "\n"
-    "Target spacing: the 10th percentile of the capture's edge lengths (a\n"
-    "robust minimum: real scans have slivers), or --spacing.\n"
-    "\n"
-    "  -o, --output OUT      output mesh; required\n"
-    "  --report R.json       write a JSON report (fit, spacing, counts, frame,\n"
-    "                        seconds per stage)\n"
-    "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
-    "  --oversample N        1-to-4 subdivisions of the capture, 0..4 (default 1)\n"
-    "  --oversample-scheme S butterfly (default) or midpoint (the papers')\n"
-    "  --spacing S           target vertex spacing in the input's units\n"
-    "  --extent A,B[,C,D]    cylinder: z0,z1 along the fitted axis from its axis\n"
-    "                        point; plane: u0,v0,u1,v1 in the plane's (e1, e2)\n"
-    "                        frame from its fitted point (both in the report)\n"
-    "  --fill REGION         auto (default), holes or whole (above)\n"
-    "  --frames RULE         local frames: paper (000's rule, default) or primitive\n"
-    "  --max-memory SIZE     host memory limit, e.g. 512M, 4G (default: 80% of\n"
-    "                        physical memory); a larger run is refused up front\n"
-    "  --max-growth R        refuse more than R targets per captured vertex\n"
-    "                        (default 100; 0: no limit)\n"
-    "  --accept-poor-fit     go on, with a warning, when the fit is poor\n"
-    "  --keep-spikes         keep the capture's spikes (default: left out)\n"
-    "  --ascii               write ascii PLY (default binary)\n"
-    "  --quiet               no progress output\n"
-    "  -h, --help            this help\n";
+static const cli_own own[] = {{"ascii", CO_ASCII, NULL, "write ascii PLY (default binary)"},
+                              {NULL, 0, NULL, NULL}};
+static const char *const skip[] = {"measure", NULL};
 
-enum {
-    OPT_FIT = OPT_COMMAND, OPT_OVERSAMPLE, OPT_OVERSAMPLE_SCHEME, OPT_SPACING, OPT_EXTENT,
-    OPT_FILL, OPT_FRAMES, OPT_MAX_GROWTH, OPT_ACCEPT_POOR_FIT, OPT_KEEP_SPIKES, OPT_ASCII,
-    /* complete only, from here */
-    OPT_WINDOW, OPT_BASE, OPT_ROTATIONS, OPT_ERROR, OPT_COHERENCE, OPT_MU, OPT_LEVELS,
-    OPT_SEARCH, OPT_SEARCH_K, OPT_BOOTSTRAP, OPT_NO_PRUNE, OPT_REPORT_DIR, OPT_CHECKPOINT,
-    OPT_CHECKPOINT_EVERY, OPT_RESUME
-};
-
-static const struct option smooth_own[] = {
-    {"fit", required_argument, 0, OPT_FIT},
-    {"oversample", required_argument, 0, OPT_OVERSAMPLE},
-    {"oversample-scheme", required_argument, 0, OPT_OVERSAMPLE_SCHEME},
-    {"spacing", required_argument, 0, OPT_SPACING},
-    {"extent", required_argument, 0, OPT_EXTENT},
-    {"fill", required_argument, 0, OPT_FILL},
-    {"frames", required_argument, 0, OPT_FRAMES},
-    {"max-growth", required_argument, 0, OPT_MAX_GROWTH},
-    {"accept-poor-fit", no_argument, 0, OPT_ACCEPT_POOR_FIT},
-    {"keep-spikes", no_argument, 0, OPT_KEEP_SPIKES},
-    {"ascii", no_argument, 0, OPT_ASCII},
-    {0, 0, 0, 0}};
-
-static const struct option complete_own[] = {
-    {"fit", required_argument, 0, OPT_FIT},
-    {"oversample", required_argument, 0, OPT_OVERSAMPLE},
-    {"oversample-scheme", required_argument, 0, OPT_OVERSAMPLE_SCHEME},
-    {"spacing", required_argument, 0, OPT_SPACING},
-    {"extent", required_argument, 0, OPT_EXTENT},
-    {"fill", required_argument, 0, OPT_FILL},
-    {"frames", required_argument, 0, OPT_FRAMES},
-    {"max-growth", required_argument, 0, OPT_MAX_GROWTH},
-    {"accept-poor-fit", no_argument, 0, OPT_ACCEPT_POOR_FIT},
-    {"keep-spikes", no_argument, 0, OPT_KEEP_SPIKES},
-    {"ascii", no_argument, 0, OPT_ASCII},
-    {"window", required_argument, 0, OPT_WINDOW},
-    {"base", required_argument, 0, OPT_BASE},
-    {"rotations", required_argument, 0, OPT_ROTATIONS},
-    {"error", required_argument, 0, OPT_ERROR},
-    {"coherence", required_argument, 0, OPT_COHERENCE},
-    {"mu", required_argument, 0, OPT_MU},
-    {"levels", required_argument, 0, OPT_LEVELS},
-    {"search", required_argument, 0, OPT_SEARCH},
-    {"search-k", required_argument, 0, OPT_SEARCH_K},
-    {"bootstrap", no_argument, 0, OPT_BOOTSTRAP},
-    {"no-prune", no_argument, 0, OPT_NO_PRUNE},
-    {"report-dir", required_argument, 0, OPT_REPORT_DIR},
-    {"checkpoint", required_argument, 0, OPT_CHECKPOINT},
-    {"checkpoint-every", required_argument, 0, OPT_CHECKPOINT_EVERY},
-    {"resume", required_argument, 0, OPT_RESUME},
-    {0, 0, 0, 0}};
+static cli_spec spec(int smooth)
+{
+    cli_spec s = {"complete", "IN -o OUT [options]",
+                  "Fit a primitive to the partial capture IN (or smooth the capture into a "
+                  "base when none fits), lay the missing part on it, and grow the "
+                  "capture's relief and colour over it (papers 000 and 001). Writes OUT "
+                  "(PLY with a per-vertex `label`: 0 captured, 1 completed).",
+                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET,
+                  "the completed mesh (.ply, .obj, .off, .stl); required", NULL, NULL, 0,
+                  skip, own,
+                  "SIGINT stops the growth between two targets, saves the checkpoint when "
+                  "one is asked for, writes no output and exits 130; a second SIGINT kills "
+                  "at once."};
+    s.params = relief_complete_param_table(&s.n_params);
+    if (smooth) {
+        s.name = "smooth";
+        s.about = "Fit a primitive to the partial capture IN and complete it smoothly (no "
+                  "relief yet): the capture's samples and target vertices laid on the "
+                  "primitive over the missing region, in one manifold triangulation. OUT's "
+                  "per-vertex `label` is 0 for samples and 1 for targets.";
+        s.out_help = "the output mesh; required";
+        s.params = relief_smooth_param_table(&s.n_params);
+        s.tail = NULL;
+    }
+    return s;
+}
 
 /* What the command line adds to the engine's parameters. */
 typedef struct complete_cli {
     cli_common cm;
     relief_complete_params p;
-    const char *report_dir, *in;
+    const char *in;
     int ascii;
 } complete_cli;
 
-/* --extent: "z0,z1" (cylinder) or "u0,v0,u1,v1" (plane). */
-static int parse_extent(const char *cmd, const char *s, relief_complete_params *p)
+static int take(void *ctx, int id, const char *arg)
 {
-    int n;
-    if (!cli_parse_reals(cmd, "--extent", s, p->extent, 4, &n))
-        return 0;
-    if (n != 2 && n != 4) {
-        fprintf(stderr, "relief %s: --extent: expected z0,z1 (cylinder) or u0,v0,u1,v1 "
-                "(plane), got '%s'\n", cmd, s);
-        return 0;
-    }
-    p->n_extent = n;
+    (void)arg;
+    ((complete_cli *)ctx)->ascii |= id == CO_ASCII;
     return 1;
-}
-
-/* The smooth completion's options: 1 taken, 0 not one of them, -1 bad. */
-static int smooth_option(complete_cli *c, int opt, const char *arg)
-{
-    static const char *const fits[] = {"auto", "plane", "sphere", "cylinder"};
-    static const char *const schemes[] = CLI_NAMES(RELIEF_OVERSAMPLE_SCHEME_LIST);
-    static const char *const fills[] = CLI_NAMES(RELIEF_FILL_REGION_LIST);
-    static const char *const frames[] = CLI_NAMES(RELIEF_FRAMES_LIST);
-    relief_complete_params *p = &c->p;
-    const char *cmd = c->cm.cmd;
-    int v, ok = 1;
-    switch (opt) {
-    case OPT_FIT: ok = CLI_PARSE_ENUM(cmd, "--fit", arg, fits, &v), p->fit = v; break;
-    case OPT_OVERSAMPLE: ok = cli_parse_int(cmd, "--oversample", arg, &p->oversample); break;
-    case OPT_OVERSAMPLE_SCHEME:
-        ok = CLI_PARSE_ENUM(cmd, "--oversample-scheme", arg, schemes, &v);
-        p->oversample_scheme = (relief_oversample_scheme)v;
-        break;
-    case OPT_SPACING: ok = cli_parse_real(cmd, "--spacing", arg, &p->spacing); break;
-    case OPT_EXTENT: ok = parse_extent(cmd, arg, p); break;
-    case OPT_FILL: ok = CLI_PARSE_ENUM(cmd, "--fill", arg, fills, &v), p->fill = v; break;
-    case OPT_FRAMES: ok = CLI_PARSE_ENUM(cmd, "--frames", arg, frames, &v), p->frames = v; break;
-    case OPT_MAX_GROWTH: ok = cli_parse_real(cmd, "--max-growth", arg, &p->max_growth); break;
-    case OPT_ACCEPT_POOR_FIT: p->accept_poor_fit = 1; break;
-    case OPT_KEEP_SPIKES: p->keep_spikes = 1; break;
-    case OPT_ASCII: c->ascii = 1; break;
-    default: return 0;
-    }
-    return ok ? 1 : -1;
-}
-
-/* The growth's options: 1 taken, 0 not one of them, -1 bad. */
-static int growth_option(complete_cli *c, int opt, const char *arg)
-{
-    static const char *const bases[] = CLI_NAMES(RELIEF_BASE_LIST);
-    static const char *const searches[] = CLI_NAMES(RELIEF_SEARCH_LIST);
-    relief_complete_params *p = &c->p;
-    const char *cmd = c->cm.cmd;
-    int v, ok = 1;
-    switch (opt) {
-    case OPT_WINDOW: ok = cli_parse_int(cmd, "--window", arg, &p->window); break;
-    case OPT_BASE: ok = CLI_PARSE_ENUM(cmd, "--base", arg, bases, &v), p->base = v; break;
-    case OPT_ROTATIONS: ok = cli_parse_int(cmd, "--rotations", arg, &p->rotations); break;
-    case OPT_ERROR: ok = cli_parse_real(cmd, "--error", arg, &p->error); break;
-    case OPT_COHERENCE: ok = cli_parse_real(cmd, "--coherence", arg, &p->coherence); break;
-    case OPT_MU: ok = cli_parse_real(cmd, "--mu", arg, &p->mu); break;
-    case OPT_LEVELS: ok = cli_parse_int(cmd, "--levels", arg, &p->levels); break;
-    case OPT_SEARCH: ok = CLI_PARSE_ENUM(cmd, "--search", arg, searches, &v), p->search = v; break;
-    case OPT_SEARCH_K: ok = cli_parse_int(cmd, "--search-k", arg, &p->search_k); break;
-    case OPT_BOOTSTRAP: p->bootstrap = 1; break;
-    case OPT_NO_PRUNE: p->prune = 0; break;
-    case OPT_REPORT_DIR: c->report_dir = arg; break;
-    case OPT_CHECKPOINT: p->checkpoint = arg; break;
-    case OPT_RESUME: p->resume = arg; break;
-    case OPT_CHECKPOINT_EVERY:
-        ok = cli_parse_real(cmd, "--checkpoint-every", arg, &p->checkpoint_every);
-        break;
-    default: return 0;
-    }
-    return ok ? 1 : -1;
 }
 
 /* Parse and check the command line: 0 to go on, else the exit status. */
 static int parse(complete_cli *c, int argc, char **argv, int smooth)
 {
-    struct option opts[64];
+    const cli_spec s = spec(smooth);
     relief_error err = {RELIEF_OK, ""};
-    int o, taken;
-    const unsigned shared = smooth ? CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_MAX_MEMORY
-                                   : CLI_ENGINE;
-    cli_options(shared, smooth ? smooth_own : complete_own, opts, 64);
-    optind = 0;
-    while ((o = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
-        if (o == 'h') {
-            fputs(smooth ? smooth_help : complete_help, stdout);
-            return -1;
-        }
-        taken = cli_common_option(&c->cm, o, optarg);
-        if (!taken)
-            taken = smooth_option(c, o, optarg);
-        if (!taken && !smooth)
-            taken = growth_option(c, o, optarg);
-        if (taken < 0)
-            return EXIT_USAGE;
-        if (!taken) {
-            fprintf(stderr, "Try 'relief %s --help'.\n", c->cm.cmd);
-            return EXIT_USAGE;
-        }
-    }
+    int rc = cli_parse(&s, &c->cm, &c->p, take, c, argc, argv);
+    if (rc)
+        return rc;
     if (!cli_one_input(&c->cm, argc, argv, "input mesh IN", &c->in))
         return EXIT_USAGE;
     if (!cli_known_mesh_ext(c->cm.out))
@@ -311,10 +84,6 @@ static int parse(complete_cli *c, int argc, char **argv, int smooth)
         if (cli_outputs_clash(c->cm.cmd, ins, 1, outs, 3))
             return EXIT_USAGE;
     }
-    if (c->cm.seed_given)
-        c->p.seed = c->cm.seed;
-    c->p.run = c->cm.run;
-    c->p.report_dir = c->report_dir;
     if (relief_complete_params_validate(&c->p, &err) != RELIEF_OK)
         return cli_fail(c->cm.cmd, &err);
     return 0;
@@ -390,8 +159,8 @@ static void print_complete(const complete_cli *c, const relief_complete_report *
             c->cm.out);
     if (c->cm.report)
         fprintf(stderr, "relief complete: report: %s\n", c->cm.report);
-    if (c->report_dir)
-        fprintf(stderr, "relief complete: report folder: %s/index.html\n", c->report_dir);
+    if (p->report_dir)
+        fprintf(stderr, "relief complete: report folder: %s/index.html\n", p->report_dir);
 }
 
 static void print_smooth(const complete_cli *c, const relief_complete_report *rep,
@@ -460,7 +229,7 @@ static int run(complete_cli *c, int smooth)
         return cli_fail(c->cm.cmd, &err);
     c->p.run.input_name = c->in;
     c->p.run.output_name = c->cm.out;
-    c->p.measure = c->cm.report || c->report_dir;
+    c->p.measure = c->cm.report || c->p.report_dir;
     cli_progress_start(&pr, c->cm.cmd, c->cm.quiet);
     pr.estimate_tail = c->p.checkpoint ? " and saves the checkpoint" : "";
     c->p.run.progress = cli_progress_fn;

@@ -3,81 +3,91 @@
 
 #include <getopt.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "relief/relief.h"
 #include "cli/options.h"
 #include "synth/cut.h"
 
-static const char cut_help[] =
-    "usage: relief cut IN -o OUT (--ball X,Y,Z,R | --slab X,Y,Z,NX,NY,NZ,H)\n"
-    "                  [--crop] [--truth T] [--ascii]\n"
-    "\n"
-    "Cut a hole where the truth is known: OUT is IN without the vertices inside\n"
-    "the region (and the triangles touching them), a capture to complete; T is\n"
-    "IN whole with `label` 1 on the vertices OUT lacks and 0 elsewhere, the\n"
-    "truth `relief eval --truth` measures a completion against. Coordinates are\n"
-    "in IN's units. IN is never written. With --crop OUT keeps only the region:\n"
-    "a patch of a larger scan, to cut a hole in next.\n"
-    "\n"
-    "  -o, --output OUT      the capture; required\n"
-    "  --ball X,Y,Z,R        the vertices within R of the point (X, Y, Z)\n"
-    "  --slab X,Y,Z,NX,NY,NZ,H\n"
-    "                        the vertices within H of the plane through (X, Y, Z)\n"
-    "                        with normal (NX, NY, NZ): a band across a cylinder\n"
-    "                        when the normal is its axis\n"
-    "  --crop                keep the region and cut away the rest\n"
-    "  --truth T             the whole mesh, labelled\n"
-    "  --ascii               write ascii PLY (default binary)\n"
-    "  -h, --help            this help\n";
+enum { CUT_TRUTH = OPT_COMMAND, CUT_BALL, CUT_SLAB, CUT_ASCII, CUT_CROP };
+
+static const cli_own own[] = {
+    {"ball", CUT_BALL, "X,Y,Z,R", "the vertices within R of the point (X, Y, Z)"},
+    {"slab", CUT_SLAB, "X,Y,Z,NX,NY,NZ,H", "the vertices within H of the plane through "
+     "(X, Y, Z) with normal (NX, NY, NZ): a band across a cylinder when the normal is its "
+     "axis"},
+    {"crop", CUT_CROP, NULL, "keep the region and cut away the rest"},
+    {"truth", CUT_TRUTH, "T", "the whole mesh, labelled"},
+    {"ascii", CUT_ASCII, NULL, "write ascii PLY (default binary)"},
+    {NULL, 0, NULL, NULL}};
+
+static const cli_spec spec = {
+    "cut", "IN -o OUT (--ball X,Y,Z,R | --slab X,Y,Z,NX,NY,NZ,H) [--crop] [--truth T] "
+    "[--ascii]",
+    "Cut a hole where the truth is known: OUT is IN without the vertices inside the region "
+    "(and the triangles touching them), a capture to complete; T is IN whole with `label` 1 "
+    "on the vertices OUT lacks and 0 elsewhere, the truth `relief eval --truth` measures a "
+    "completion against. Coordinates are in IN's units. IN is never written. With --crop "
+    "OUT keeps only the region: a patch of a larger scan, to cut a hole in next.",
+    CLI_OUTPUT, "the capture; required", NULL, NULL, 0, NULL, own, NULL};
+
+typedef struct cut_args {
+    relief_cut_region region;
+    const char *truth;
+    int regions, ascii, crop;
+} cut_args;
+
+/* --ball or --slab: n reals into the region. */
+static int take_region(cut_args *a, int slab, const char *arg)
+{
+    double v[7];
+    int n;
+    if (!cli_parse_reals("cut", slab ? "--slab" : "--ball", arg, v, slab ? 7 : 4, &n))
+        return 0;
+    if (n != (slab ? 7 : 4)) {
+        cli_usage_error("cut", slab ? "--slab: expected X,Y,Z,NX,NY,NZ,H, got '%s'"
+                                    : "--ball: expected X,Y,Z,R, got '%s'", arg);
+        return 0;
+    }
+    a->region = slab ? (relief_cut_region){RELIEF_CUT_SLAB, {v[0], v[1], v[2]},
+                                           {v[3], v[4], v[5]}, v[6], 0}
+                     : (relief_cut_region){RELIEF_CUT_BALL, {v[0], v[1], v[2]}, {0, 0, 0},
+                                           v[3], 0};
+    ++a->regions;
+    return 1;
+}
+
+static int take(void *ctx, int id, const char *arg)
+{
+    cut_args *a = ctx;
+    switch (id) {
+    case CUT_TRUTH: a->truth = arg; return 1;
+    case CUT_ASCII: return a->ascii = 1;
+    case CUT_CROP: return a->crop = 1;
+    }
+    return take_region(a, id == CUT_SLAB, arg);
+}
 
 int cli_cmd_cut(int argc, char **argv, int parse_only)
 {
-    enum { OPT_TRUTH = OPT_COMMAND, OPT_BALL, OPT_SLAB, OPT_ASCII, OPT_CROP };
-    static const struct option opts[] = {
-        {"output", required_argument, 0, 'o'}, {"truth", required_argument, 0, OPT_TRUTH},
-        {"ball", required_argument, 0, OPT_BALL}, {"slab", required_argument, 0, OPT_SLAB},
-        {"ascii", no_argument, 0, OPT_ASCII},   {"help", no_argument, 0, 'h'},
-        {"crop", no_argument, 0, OPT_CROP},
-        {0, 0, 0, 0}};
-    relief_cut_region region = {RELIEF_CUT_BALL, {0, 0, 0}, {0, 0, 0}, 0, 0};
+    cli_common cm = cli_common_init("cut");
+    cut_args a;
     relief_write_options wo = {0};
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *in = NULL, *cap = NULL, *truth = NULL;
-    const char *out = NULL, *truth_path = NULL, *in_path;
-    double v[7];
+    const char *out, *truth_path, *in_path;
     sigset_t held;
     size_t n_cut = 0;
-    int c, n, rc = 0, regions = 0, crop = 0;
+    int rc;
 
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'o': out = optarg; break;
-        case OPT_TRUTH: truth_path = optarg; break;
-        case OPT_BALL:
-            if (!cli_parse_reals("cut", "--ball", optarg, v, 4, &n))
-                return EXIT_USAGE;
-            if (n != 4)
-                return cli_usage_error("cut", "--ball: expected X,Y,Z,R, got '%s'", optarg);
-            region = (relief_cut_region){RELIEF_CUT_BALL, {v[0], v[1], v[2]}, {0, 0, 0}, v[3], 0};
-            ++regions;
-            break;
-        case OPT_SLAB:
-            if (!cli_parse_reals("cut", "--slab", optarg, v, 7, &n))
-                return EXIT_USAGE;
-            if (n != 7)
-                return cli_usage_error("cut", "--slab: expected X,Y,Z,NX,NY,NZ,H, got '%s'",
-                                       optarg);
-            region = (relief_cut_region){RELIEF_CUT_SLAB, {v[0], v[1], v[2]},
-                                         {v[3], v[4], v[5]}, v[6], 0};
-            ++regions;
-            break;
-        case OPT_ASCII: wo.ascii = 1; break;
-        case OPT_CROP: crop = 1; break;
-        case 'h': fputs(cut_help, stdout); return 0;
-        default: fprintf(stderr, "Try 'relief cut --help'.\n"); return EXIT_USAGE;
-        }
-    }
+    memset(&a, 0, sizeof a);
+    rc = cli_parse(&spec, &cm, NULL, take, &a, argc, argv);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    out = cm.out;
+    truth_path = a.truth;
+    wo.ascii = a.ascii;
+    a.region.crop = a.crop;
     if (optind >= argc)
         return cli_usage_error("cut", "%smissing input mesh IN", "");
     if (argc - optind > 1)
@@ -85,7 +95,7 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
     in_path = argv[optind];
     if (!out)
         return cli_usage_error("cut", "%smissing -o OUT", "");
-    if (regions != 1)
+    if (a.regions != 1)
         return cli_usage_error("cut", "%sgive exactly one region: --ball or --slab", "");
     if (!cli_known_mesh_ext(out))
         return cli_usage_error("cut", "-o: '%s' has no mesh extension (.ply .obj .off .stl)",
@@ -105,8 +115,7 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
         return 0;
     if (relief_mesh_read(in_path, &in, NULL, &err) != RELIEF_OK)
         return cli_fail("cut", &err);
-    region.crop = crop;
-    if (relief_mesh_cut(in, &region, &cap, &truth, &n_cut, &err) != RELIEF_OK) {
+    if (relief_mesh_cut(in, &a.region, &cap, &truth, &n_cut, &err) != RELIEF_OK) {
         relief_mesh_destroy(in);
         return cli_fail("cut", &err);
     }

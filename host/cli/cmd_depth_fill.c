@@ -16,65 +16,6 @@
 #include "cli/options.h"
 #include "depth/frame.h"
 
-static const char depth_fill_help[] =
-    "usage: relief depth-fill IN -o OUT [--variant plain|haar|decompose] [options]\n"
-    "       relief depth-fill MESH -o OUT_MESH [--resolution N] [options]\n"
-    "\n"
-    "Repair the missing pixels of a depth or range image by constrained texture\n"
-    "synthesis (paper 003). IN is an organised PCD (x y z [rgb]; ascii, binary or\n"
-    "binary_compressed), a PFM (Middlebury disparities) or a 16-bit PNG depth\n"
-    "image (--scale units per metre). Missing: 0, NaN or inf, or MASK's non-zero\n"
-    "pixels. OUT is written in IN's format; known pixels keep their depths (a PCD\n"
-    "keeps x y z as floats and rgb; its other fields and viewpoint are not kept).\n"
-    "Missing pixels outside the capture (no known pixel on both sides along their\n"
-    "row or column: a camera's invalid margin) are left missing.\n"
-    "\n"
-    "A mesh (PLY, OBJ, OFF, STL; triangles counter-clockwise from outside) is\n"
-    "repaired through the six orthographic depth images of its bounding box: the\n"
-    "pixels whose ray meets the mesh's inside through a hole are repaired, the\n"
-    "voxels between the front and back depths of every axis kept, and their\n"
-    "surface (marching tetrahedra) written as OUT_MESH, closed.\n"
-    "\n"
-    "  -o, --output OUT      the repaired image, IN's format; required, never IN\n"
-    "  --variant V           plain: synthesis on the depths; haar: LL interpolated,\n"
-    "                        the Haar detail bands synthesised; decompose (default):\n"
-    "                        ROF structure u interpolated, texture v synthesised\n"
-    "  --mask MASK           PNG of IN's size: non-zero = missing too\n"
-    "  --scale S             16-bit PNG: values per metre (default 5000, TUM/Kinect)\n"
-    "  --window W            synthesis window, odd pixels 3..1025 (default 9)\n"
-    "  --sigma S             the window's Gaussian weights, pixels, 0.5 or more\n"
-    "                        (default W / 6.4)\n"
-    "  --search-radius R     symmetric search distance, pixels (default 32; 0: all)\n"
-    "  --exhaustive          every window at full resolution (no pyramid)\n"
-    "  --order O             both (default: keep the better), horizontal, vertical\n"
-    "  --tileable            the image is a torus (paper 003's tileable constraint):\n"
-    "                        windows see across the borders, the result repeats\n"
-    "                        without seams, and holes at a border are filled\n"
-    "  --levels L            haar: transform steps, 1..6 (default 2)\n"
-    "  --membrane M          the smooth fill of haar's LL and decompose's u: auto\n"
-    "                        (default), harmonic (auto for images) or thin-plate\n"
-    "                        (auto for meshes: carries the rim's slope and\n"
-    "                        curvature in; can overshoot at depth edges)\n"
-    "  --no-seam             leave the rims as synthesised (by\n"
-    "                        default each hole's rim is blended in the gradient\n"
-    "                        domain, so the fill continues the capture's slope)\n"
-    "  --resolution N        mesh: voxels along the box's longest side, 8..1024\n"
-    "                        (default 256)\n"
-    "  --lambda L            decompose: ROF's lambda, depth units x pixels (default:\n"
-    "                        8 x the capture's robust step between neighbours)\n"
-    "  --truth T             measure against T (IN's format): RMS over the filled\n"
-    "                        pixels and the slope jump at the rim; for a mesh, the\n"
-    "                        complete mesh: surface distances and voxel IoU\n"
-    "  --points OUT.ply      (PCD) the repaired points, coloured where IN has colour,\n"
-    "                        with a 'label' property: 1 for the filled ones\n"
-    "  --seed N              the near-minimum draw (default 1)\n"
-    "  --backend B           auto, scalar, opencl or host (runs as scalar); outputs\n"
-    "                        are identical\n"
-    "  --device N            OpenCL device (see 'relief devices')\n"
-    "  --max-memory SIZE     refuse images needing more host memory\n"
-    "  --report R.json       pixels per stage, times, measures, backend\n"
-    "  --quiet               no progress or notes on stderr\n";
-
 typedef enum in_kind { IN_PNG, IN_PFM, IN_PCD, IN_MESH } in_kind;
 
 static int kind_of_name(const char *path, in_kind *k)
@@ -107,51 +48,52 @@ typedef struct depth_args {
     in_kind kind;
 } depth_args;
 
-enum {
-    DF_VARIANT = OPT_COMMAND, DF_SCALE, DF_WINDOW, DF_SIGMA, DF_SEARCH_RADIUS,
-    DF_EXHAUSTIVE, DF_ORDER, DF_LEVELS, DF_RESOLUTION, DF_MEMBRANE, DF_TILEABLE,
-    DF_NO_SEAM, DF_LAMBDA, DF_TRUTH, DF_POINTS
-};
+enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS };
+
+static const cli_own own[] = {
+    {"scale", DF_SCALE, "S", "16-bit PNG: values per metre (default 5000, TUM and Kinect)"},
+    {"truth", DF_TRUTH, "T", "measure against T (IN's format): RMS over the filled pixels "
+     "and the slope jump at the rim; for a mesh, the complete mesh: surface distances and "
+     "voxel IoU"},
+    {"points", DF_POINTS, "OUT.ply", "(PCD) the repaired points, coloured where IN has "
+     "colour, with a 'label' property: 1 for the filled ones"},
+    {NULL, 0, NULL, NULL}};
+
+static cli_spec spec(void)
+{
+    cli_spec s = {"depth-fill", "IN -o OUT [--variant plain|haar|decompose] [options]\n"
+                  "       relief depth-fill MESH -o OUT_MESH [--resolution N] [options]",
+                  "Repair the missing pixels of a depth or range image by constrained "
+                  "texture synthesis (paper 003). IN is an organised PCD (x y z [rgb]; "
+                  "ascii, binary or binary_compressed), a PFM (Middlebury disparities) or a "
+                  "16-bit PNG depth image (--scale units per metre). Missing: 0, NaN or inf, "
+                  "or MASK's non-zero pixels. OUT is written in IN's format; known pixels "
+                  "keep their depths (a PCD keeps x y z as floats and rgb; its other fields "
+                  "and viewpoint are not kept). Missing pixels outside the capture (no known "
+                  "pixel on both sides along their row or column: a camera's invalid "
+                  "margin) are left missing.\n\n"
+                  "A mesh (PLY, OBJ, OFF, STL; triangles counter-clockwise from outside) is "
+                  "repaired through the six orthographic depth images of its bounding box: "
+                  "the pixels whose ray meets the mesh's inside through a hole are repaired, "
+                  "the voxels between the front and back depths of every axis kept, and "
+                  "their surface (marching tetrahedra) written as OUT_MESH, closed.",
+                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_MASK,
+                  "the repaired image, IN's format; required, never IN",
+                  "PNG of IN's size: non-zero = missing too", NULL, 0, NULL, own, NULL};
+    s.params = relief_depth_fill_param_table(&s.n_params);
+    return s;
+}
 
 /* The command's own options: 1 taken, 0 a bad value (said). */
-static int own_option(depth_args *a, int c, const char *arg)
+static int take(void *ctx, int c, const char *arg)
 {
-    static const char *const variants[] = CLI_NAMES(RELIEF_DEPTH_VARIANT_LIST);
-    static const char *const orders[] = CLI_NAMES(RELIEF_DEPTH_ORDER_LIST);
-    static const char *const membranes[] = CLI_NAMES(RELIEF_MEMBRANE_LIST);
-    relief_depth_fill_params *p = &a->p;
-    int v, ok = 1;
+    depth_args *a = ctx;
     switch (c) {
-    case DF_VARIANT:
-        ok = CLI_PARSE_ENUM("depth-fill", "--variant", arg, variants, &v);
-        p->variant = (relief_depth_variant)v;
-        break;
-    case DF_ORDER:
-        ok = CLI_PARSE_ENUM("depth-fill", "--order", arg, orders, &v);
-        p->order = (relief_depth_order)v;
-        break;
-    case DF_MEMBRANE:
-        ok = CLI_PARSE_ENUM("depth-fill", "--membrane", arg, membranes, &v);
-        p->membrane = (relief_membrane)v;
-        break;
-    case DF_SCALE: ok = cli_parse_real("depth-fill", "--scale", arg, &a->scale); break;
-    case DF_WINDOW: ok = cli_parse_int("depth-fill", "--window", arg, &p->window); break;
-    case DF_SIGMA: ok = cli_parse_real("depth-fill", "--sigma", arg, &p->sigma); break;
-    case DF_SEARCH_RADIUS:
-        ok = cli_parse_int("depth-fill", "--search-radius", arg, &p->search_radius);
-        break;
-    case DF_LEVELS: ok = cli_parse_int("depth-fill", "--levels", arg, &p->levels); break;
-    case DF_RESOLUTION:
-        ok = cli_parse_int("depth-fill", "--resolution", arg, &p->resolution);
-        break;
-    case DF_LAMBDA: ok = cli_parse_real("depth-fill", "--lambda", arg, &p->lambda); break;
-    case DF_EXHAUSTIVE: p->exhaustive = 1; break;
-    case DF_TILEABLE: p->tileable = 1; break;
-    case DF_NO_SEAM: p->seam = 0; break;
-    case DF_TRUTH: a->truth = arg; break;
-    case DF_POINTS: a->points = arg; break;
+    case DF_SCALE: return cli_parse_real("depth-fill", "--scale", arg, &a->scale);
+    case DF_TRUTH: a->truth = arg; return 1;
+    case DF_POINTS: a->points = arg; return 1;
     }
-    return ok;
+    return 0;
 }
 
 /* The operands and the files' names: 1 when they fit together. */
@@ -190,49 +132,17 @@ static int check_files(depth_args *a, int argc, char **argv)
 /* Options and operands into *a: -1 to go on, else the exit status. */
 static int parse_args(int argc, char **argv, depth_args *a)
 {
-    static const struct option own[] = {
-        {"variant", required_argument, 0, DF_VARIANT},
-        {"scale", required_argument, 0, DF_SCALE},
-        {"window", required_argument, 0, DF_WINDOW},
-        {"sigma", required_argument, 0, DF_SIGMA},
-        {"search-radius", required_argument, 0, DF_SEARCH_RADIUS},
-        {"exhaustive", no_argument, 0, DF_EXHAUSTIVE},
-        {"order", required_argument, 0, DF_ORDER},
-        {"levels", required_argument, 0, DF_LEVELS},
-        {"resolution", required_argument, 0, DF_RESOLUTION},
-        {"membrane", required_argument, 0, DF_MEMBRANE},
-        {"tileable", no_argument, 0, DF_TILEABLE},
-        {"no-seam", no_argument, 0, DF_NO_SEAM},
-        {"lambda", required_argument, 0, DF_LAMBDA},
-        {"truth", required_argument, 0, DF_TRUTH},
-        {"points", required_argument, 0, DF_POINTS},
-        {0, 0, 0, 0}};
-    struct option opts[40];
+    cli_spec s = spec();
     relief_error err = {RELIEF_OK, ""};
-    int c, taken;
+    int rc;
     memset(a, 0, sizeof *a);
     a->cm = cli_common_init("depth-fill");
     a->p = relief_depth_fill_params_default();
-    cli_options(CLI_ENGINE | CLI_MASK, own, opts, sizeof opts / sizeof opts[0]);
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
-        if (c == 'h') {
-            fputs(depth_fill_help, stdout);
-            return 0;
-        }
-        taken = cli_common_option(&a->cm, c, optarg);
-        if (taken < 0 || (taken == 0 && c >= OPT_COMMAND && !own_option(a, c, optarg)))
-            return EXIT_USAGE;
-        if (taken == 0 && c < OPT_COMMAND) {
-            fprintf(stderr, "Try 'relief depth-fill --help'.\n");
-            return EXIT_USAGE;
-        }
-    }
+    rc = cli_parse(&s, &a->cm, &a->p, take, a, argc, argv);
+    if (rc)
+        return rc < 0 ? 0 : rc;
     if (!check_files(a, argc, argv))
         return EXIT_USAGE;
-    if (a->cm.seed_given)
-        a->p.seed = a->cm.seed;
-    a->p.run = a->cm.run;
     a->p.run.input_name = a->in;
     a->p.run.output_name = a->cm.out;
     if (relief_depth_fill_params_validate(&a->p, &err) != RELIEF_OK)
@@ -243,7 +153,7 @@ static int parse_args(int argc, char **argv, depth_args *a)
 /* The host memory limit the readers take: --max-memory, or the default. */
 static uint64_t read_limit(const depth_args *a)
 {
-    return a->cm.run.max_memory ? a->cm.run.max_memory : relief_default_memory_limit();
+    return a->p.run.max_memory ? a->p.run.max_memory : relief_default_memory_limit();
 }
 
 /* A depth frame whose format is its name's. */

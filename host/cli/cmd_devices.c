@@ -7,29 +7,20 @@
 #include "relief/relief.h"
 #include "cli/options.h"
 
-static const char devices_help[] =
-    "usage: relief devices\n"
-    "\n"
-    "List the OpenCL platforms and devices relief can use, with their compute\n"
-    "units and memory.\n";
+static const cli_spec spec = {
+    "devices", "", "List the OpenCL platforms and devices relief can use, with their compute "
+    "units and memory.", 0, NULL, NULL, NULL, 0, NULL, NULL, NULL};
 
 int cli_cmd_devices(int argc, char **argv, int parse_only)
 {
-    static const struct option opts[] = {{"help", no_argument, 0, 'h'}, {0, 0, 0, 0}};
+    cli_common cm = cli_common_init("devices");
     relief_device_info dev[64];
     relief_error err = {RELIEF_OK, ""};
     size_t n = 0;
-    int c;
+    int rc = cli_parse(&spec, &cm, NULL, NULL, NULL, argc, argv);
 
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
-        if (c == 'h') {
-            fputs(devices_help, stdout);
-            return 0;
-        }
-        fprintf(stderr, "Try 'relief devices --help'.\n");
-        return EXIT_USAGE;
-    }
+    if (rc)
+        return rc < 0 ? 0 : rc;
     if (optind < argc)
         return cli_usage_error("devices", "unexpected argument '%s'", argv[optind]);
     if (parse_only)

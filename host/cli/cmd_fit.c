@@ -10,20 +10,40 @@
 #include "report/report.h"
 #include "smooth/fit.h"
 
-static const char fit_help[] =
-    "usage: relief fit IN [--fit auto|plane|sphere|cylinder] [--json]\n"
-    "\n"
-    "Fit a primitive to the points of IN (least-squares start, then orthogonal-\n"
-    "distance refinement with outliers trimmed) and print its parameters in the\n"
-    "input's units, the RMS orthogonal residual over the inliers and the\n"
-    "fraction of points within 3 RMS. auto picks the model whose residual,\n"
-    "penalised 10% per extra parameter, is lowest, and says why. A fit whose\n"
-    "RMS exceeds 10% of the primitive's size is reported as poor on stderr.\n"
-    "\n"
-    "  --fit MODEL           auto|plane|sphere|cylinder (default auto)\n"
-    "  --json                one JSON object: model, rms, inlier_fraction and\n"
-    "                        point/normal, center/radius or axis_point/axis_dir/radius\n"
-    "  -h, --help            this help\n";
+enum { FIT_FIT = OPT_COMMAND, FIT_JSON };
+
+static const cli_own own[] = {
+    {"fit", FIT_FIT, "MODEL", "auto (default), plane, sphere or cylinder"},
+    {"json", FIT_JSON, NULL, "one JSON object: model, rms, inlier_fraction and point/normal, "
+     "center/radius or axis_point/axis_dir/radius"},
+    {NULL, 0, NULL, NULL}};
+
+static const cli_spec spec = {
+    "fit", "IN [--fit auto|plane|sphere|cylinder] [--json]",
+    "Fit a primitive to the points of IN (least-squares start, then orthogonal-distance "
+    "refinement with outliers trimmed) and print its parameters in the input's units, the "
+    "RMS orthogonal residual over the inliers and the fraction of points within 3 RMS. auto "
+    "picks the model whose residual, penalised 10% per extra parameter, is lowest, and says "
+    "why. A fit whose RMS exceeds 10% of the primitive's size is reported as poor on stderr.",
+    0, NULL, NULL, NULL, 0, NULL, own, NULL};
+
+typedef struct fit_args {
+    relief_fit_model model;
+    int json;
+} fit_args;
+
+static int take(void *ctx, int id, const char *arg)
+{
+    static const char *const fits[] = CLI_NAMES(RELIEF_FIT_MODEL_LIST);
+    fit_args *a = ctx;
+    int v;
+    if (id == FIT_JSON)
+        return a->json = 1;
+    if (!CLI_PARSE_ENUM("fit", "--fit", arg, fits, &v))
+        return 0;
+    a->model = (relief_fit_model)v;
+    return 1;
+}
 
 static void print_fit_json(FILE *f, const char *path, const relief_fit_result *r)
 {
@@ -37,32 +57,16 @@ static void print_fit_json(FILE *f, const char *path, const relief_fit_result *r
 
 int cli_cmd_fit(int argc, char **argv, int parse_only)
 {
-    enum { OPT_FIT = OPT_COMMAND, OPT_JSON };
-    static const char *const fits[] = CLI_NAMES(RELIEF_FIT_MODEL_LIST);
-    static const struct option opts[] = {{"fit", required_argument, 0, OPT_FIT},
-                                         {"json", no_argument, 0, OPT_JSON},
-                                         {"help", no_argument, 0, 'h'},
-                                         {0, 0, 0, 0}};
-    relief_fit_model model = RELIEF_FIT_AUTO;
+    cli_common cm = cli_common_init("fit");
+    fit_args args = {RELIEF_FIT_AUTO, 0};
     relief_error err = {RELIEF_OK, ""};
     relief_fit_result r;
     relief_mesh *in = NULL;
     relief_status st;
-    int c, v, json = 0;
+    int rc = cli_parse(&spec, &cm, NULL, take, &args, argc, argv);
 
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
-        switch (c) {
-        case OPT_FIT:
-            if (!CLI_PARSE_ENUM("fit", "--fit", optarg, fits, &v))
-                return EXIT_USAGE;
-            model = (relief_fit_model)v;
-            break;
-        case OPT_JSON: json = 1; break;
-        case 'h': fputs(fit_help, stdout); return 0;
-        default: fprintf(stderr, "Try 'relief fit --help'.\n"); return EXIT_USAGE;
-        }
-    }
+    if (rc)
+        return rc < 0 ? 0 : rc;
     if (optind >= argc)
         return cli_usage_error("fit", "%smissing input mesh IN", "");
     if (argc - optind > 1)
@@ -71,11 +75,11 @@ int cli_cmd_fit(int argc, char **argv, int parse_only)
         return 0;
     if (relief_mesh_read(argv[optind], &in, NULL, &err) != RELIEF_OK)
         return cli_fail("fit", &err);
-    st = relief_fit_mesh(in, model, &r, &err);
+    st = relief_fit_mesh(in, args.model, &r, &err);
     relief_mesh_destroy(in);
     if (st != RELIEF_OK)
         return cli_fail("fit", &err);
-    if (json) {
+    if (args.json) {
         print_fit_json(stdout, argv[optind], &r);
     } else {
         const relief_fit_primitive *p = &r.prim;

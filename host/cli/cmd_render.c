@@ -15,24 +15,23 @@
 #include "report/png.h"
 #include "report/render.h"
 
-static const char render_help[] =
-    "usage: relief render MESH -o OUT.png [--view AZ,EL] [--size WxH]\n"
-    "                     [--colour-by auto|label|colour|displacement|none]\n"
-    "\n"
-    "Render MESH shaded (z-buffer, one light, per-vertex colour) into a PNG,\n"
-    "headless.\n"
-    "\n"
-    "  -o, --output OUT.png  the image; required\n"
-    "  --view AZ,EL          camera direction from the object, degrees: azimuth\n"
-    "                        about +z from +x, elevation -90..90 above the xy\n"
-    "                        plane (default: facing the captured part, turned\n"
-    "                        25 and 20 degrees so that relief shows)\n"
-    "  --size WxH            pixels, 1..8192 each (default 800x600)\n"
-    "  --colour-by C         colour: the mesh's colours; label: captured grey,\n"
-    "                        completed orange; displacement: height above (red)\n"
-    "                        or below (blue) a primitive fitted to the captured\n"
-    "                        part; none: grey; auto (default): colour, else label,\n"
-    "                        else none\n";
+enum { RE_VIEW = OPT_COMMAND, RE_SIZE, RE_COLOUR_BY };
+
+static const cli_own own[] = {
+    {"view", RE_VIEW, "AZ,EL", "camera direction from the object, degrees: azimuth about +z "
+     "from +x, elevation -90..90 above the xy plane (default: facing the captured part, "
+     "turned 25 and 20 degrees so that relief shows)"},
+    {"size", RE_SIZE, "WxH", "pixels, 1..8192 each (default 800x600)"},
+    {"colour-by", RE_COLOUR_BY, "C", "colour: the mesh's colours; label: captured grey, "
+     "completed orange; displacement: height above (red) or below (blue) a primitive fitted "
+     "to the captured part; none: grey; auto (default): colour, else label, else none"},
+    {NULL, 0, NULL, NULL}};
+
+static const cli_spec spec = {
+    "render", "MESH -o OUT.png [--view AZ,EL] [--size WxH] "
+    "[--colour-by auto|label|colour|displacement|none]",
+    "Render MESH shaded (z-buffer, one light, per-vertex colour) into a PNG, headless.",
+    CLI_OUTPUT, "the image; required", NULL, NULL, 0, NULL, own, NULL};
 
 /* "WxH" into two sides. */
 static int parse_size(const char *s, int *w, int *h)
@@ -87,55 +86,42 @@ bad:
     return 0;
 }
 
-int cli_cmd_render(int argc, char **argv, int parse_only)
+/* --view, --size, --colour-by into the options. */
+static int take(void *ctx, int id, const char *arg)
 {
-    enum { OPT_VIEW = OPT_COMMAND, OPT_SIZE, OPT_COLOUR_BY };
-    static const struct option opts[] = {{"output", required_argument, 0, 'o'},
-                                         {"view", required_argument, 0, OPT_VIEW},
-                                         {"size", required_argument, 0, OPT_SIZE},
-                                         {"colour-by", required_argument, 0, OPT_COLOUR_BY},
-                                         {"help", no_argument, 0, 'h'},
-                                         {0, 0, 0, 0}};
     static const relief_colour_by bys[] = {RELIEF_COLOUR_BY_AUTO, RELIEF_COLOUR_BY_LABEL,
                                            RELIEF_COLOUR_BY_COLOUR,
                                            RELIEF_COLOUR_BY_DISPLACEMENT, RELIEF_COLOUR_BY_NONE};
+    relief_render_options *ro = ctx;
+    if (id == RE_VIEW)
+        return ro->has_view = parse_view(arg, &ro->azimuth, &ro->elevation);
+    if (id == RE_SIZE)
+        return parse_size(arg, &ro->width, &ro->height);
+    for (size_t i = 0; i < sizeof bys / sizeof bys[0]; ++i)
+        if (strcmp(arg, relief_colour_by_name(bys[i])) == 0) {
+            ro->colour_by = bys[i];
+            return 1;
+        }
+    cli_usage_error("render", "--colour-by: '%s' is not one of auto, label, colour, "
+                    "displacement, none", arg);
+    return 0;
+}
+
+int cli_cmd_render(int argc, char **argv, int parse_only)
+{
+    cli_common cm = cli_common_init("render");
     relief_render_options ro = relief_render_options_default();
     relief_render_info info;
     relief_error err = {RELIEF_OK, ""};
     relief_rgb_image img = {0, 0, NULL};
     relief_mesh *mesh = NULL;
-    const char *out = NULL, *in;
+    const char *out, *in;
     relief_status st;
-    int c, found;
+    int rc = cli_parse(&spec, &cm, NULL, take, &ro, argc, argv);
 
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'o': out = optarg; break;
-        case OPT_VIEW:
-            if (!parse_view(optarg, &ro.azimuth, &ro.elevation))
-                return EXIT_USAGE;
-            ro.has_view = 1;
-            break;
-        case OPT_SIZE:
-            if (!parse_size(optarg, &ro.width, &ro.height))
-                return EXIT_USAGE;
-            break;
-        case OPT_COLOUR_BY:
-            found = 0;
-            for (size_t i = 0; i < sizeof bys / sizeof bys[0]; ++i)
-                if (strcmp(optarg, relief_colour_by_name(bys[i])) == 0) {
-                    ro.colour_by = bys[i];
-                    found = 1;
-                }
-            if (!found)
-                return cli_usage_error("render", "--colour-by: '%s' is not one of auto, label, "
-                                   "colour, displacement, none", optarg);
-            break;
-        case 'h': fputs(render_help, stdout); return 0;
-        default: fprintf(stderr, "Try 'relief render --help'.\n"); return EXIT_USAGE;
-        }
-    }
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    out = cm.out;
     if (optind >= argc)
         return cli_usage_error("render", "%smissing input MESH", "");
     if (argc - optind > 1)

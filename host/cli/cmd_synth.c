@@ -8,84 +8,79 @@
 #include "relief/relief.h"
 #include "cli/options.h"
 
-static const char synth_help[] =
-    "usage: relief synth KIND -o OUT [--truth T] [--seed N] [--vertices N]\n"
-    "                    [--colour] [--noise SIGMA] [--ascii]\n"
-    "\n"
-    "Write a synthetic partial capture with known relief (OUT) and, with\n"
-    "--truth, the whole surface it was cut from (T; its `label` is 0 where the\n"
-    "capture has the vertex, 1 where a completion must produce it).\n"
-    "\n"
-    "KIND:\n"
-    "%s"
-    "\n"
-    "  -o, --output OUT      captured part; required\n"
-    "  --truth T             whole ground-truth surface\n"
-    "  --seed N              random seed (default 1)\n"
-    "  --vertices N          approximate vertex count of the truth, 100..4000000\n"
-    "                        (default 2000)\n"
-    "  --colour              per-vertex colour\n"
-    "  --noise SIGMA         scanner noise along the normal on the capture, as a\n"
-    "                        fraction of the primitive's size, 0..0.1 (default 0)\n"
-    "  --ascii               write ascii PLY (default binary)\n"
-    "  -h, --help            this help\n";
+enum { SY_TRUTH = OPT_COMMAND, SY_VERTICES, SY_COLOUR, SY_NOISE, SY_ASCII };
 
-static void print_synth_help(void)
+static const cli_own own[] = {
+    {"truth", SY_TRUTH, "T", "the whole ground-truth surface"},
+    {"vertices", SY_VERTICES, "N", "approximate vertex count of the truth, 100..4000000 "
+     "(default 2000)"},
+    {"colour", SY_COLOUR, NULL, "per-vertex colour"},
+    {"color", SY_COLOUR, NULL, "the same"},
+    {"noise", SY_NOISE, "SIGMA", "scanner noise along the normal on the capture, as a "
+     "fraction of the primitive's size, 0..0.1 (default 0)"},
+    {"ascii", SY_ASCII, NULL, "write ascii PLY (default binary)"},
+    {NULL, 0, NULL, NULL}};
+
+typedef struct synth_args {
+    relief_synth_params sp;
+    const char *truth;
+    int ascii;
+} synth_args;
+
+static int take(void *ctx, int id, const char *arg)
 {
-    char kinds[1024];
-    size_t at = 0;
-    for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT; ++k)
-        at += (size_t)snprintf(kinds + at, sizeof kinds - at, "  %-16s %s\n",
+    synth_args *a = ctx;
+    long v;
+    switch (id) {
+    case SY_TRUTH: a->truth = arg; return 1;
+    case SY_COLOUR: return a->sp.colour = 1;
+    case SY_ASCII: return a->ascii = 1;
+    case SY_NOISE: return cli_parse_real("synth", "--noise", arg, &a->sp.noise);
+    }
+    if (!cli_parse_long("synth", "--vertices", arg, 0, 2000000000L, &v))
+        return 0;
+    a->sp.vertices = (size_t)v;
+    return 1;
+}
+
+/* The spec, its list of kinds written into kinds[] (the help's tail). */
+static cli_spec spec(char *kinds, size_t cap)
+{
+    cli_spec s = {"synth", "KIND -o OUT [--truth T] [--seed N] [--vertices N] [--colour] "
+                  "[--noise SIGMA] [--ascii]",
+                  "Write a synthetic partial capture with known relief (OUT) and, with "
+                  "--truth, the whole surface it was cut from (T; its `label` is 0 where the "
+                  "capture has the vertex, 1 where a completion must produce it).",
+                  CLI_OUTPUT | CLI_SEED, "the captured part; required", NULL, NULL, 0, NULL,
+                  own, kinds};
+    size_t at = (size_t)snprintf(kinds, cap, "KIND:\n");
+    for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT && at < cap; ++k)
+        at += (size_t)snprintf(kinds + at, cap - at, "%s: %s\n",
                                relief_synth_kind_name((relief_synth_kind)k),
                                relief_synth_kind_description((relief_synth_kind)k));
-    printf(synth_help, kinds);
+    return s;
 }
 
 int cli_cmd_synth(int argc, char **argv, int parse_only)
 {
-    enum { OPT_TRUTH = OPT_COMMAND, OPT_VERTICES, OPT_COLOUR, OPT_NOISE, OPT_ASCII };
-    static const struct option own[] = {
-        {"truth", required_argument, 0, OPT_TRUTH},
-        {"vertices", required_argument, 0, OPT_VERTICES},
-        {"colour", no_argument, 0, OPT_COLOUR}, {"color", no_argument, 0, OPT_COLOUR},
-        {"noise", required_argument, 0, OPT_NOISE}, {"ascii", no_argument, 0, OPT_ASCII},
-        {0, 0, 0, 0}};
-    struct option opts[16];
-    relief_synth_params sp = relief_synth_params_default();
+    char kinds[1024];
+    const cli_spec s = spec(kinds, sizeof kinds);
+    cli_common cm = cli_common_init("synth");
+    synth_args a = {relief_synth_params_default(), NULL, 0};
     relief_write_options wo = {0};
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *cap = NULL, *truth = NULL;
-    const char *out = NULL, *truth_path = NULL;
+    const char *out, *truth_path;
     sigset_t held;
-    int c, rc = 0;
-    long v;
+    int rc = cli_parse(&s, &cm, NULL, take, &a, argc, argv);
 
-    cli_options(CLI_OUTPUT | CLI_SEED, own, opts, 16);
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "o:h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'o': out = optarg; break;
-        case OPT_TRUTH: truth_path = optarg; break;
-        case OPT_SEED:
-            if (!cli_parse_long("synth", "--seed", optarg, 0, (long)UINT32_MAX, &v))
-                return EXIT_USAGE;
-            sp.seed = (uint32_t)v;
-            break;
-        case OPT_VERTICES:
-            if (!cli_parse_long("synth", "--vertices", optarg, 0, 2000000000L, &v))
-                return EXIT_USAGE;
-            sp.vertices = (size_t)v;
-            break;
-        case OPT_COLOUR: sp.colour = 1; break;
-        case OPT_NOISE:
-            if (!cli_parse_real("synth", "--noise", optarg, &sp.noise))
-                return EXIT_USAGE;
-            break;
-        case OPT_ASCII: wo.ascii = 1; break;
-        case 'h': print_synth_help(); return 0;
-        default: fprintf(stderr, "Try 'relief synth --help'.\n"); return EXIT_USAGE;
-        }
-    }
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    out = cm.out;
+    truth_path = a.truth;
+    wo.ascii = a.ascii;
+    if (cm.seed_given)
+        a.sp.seed = cm.seed;
     if (optind >= argc)
         return cli_usage_error("synth", "%smissing KIND", "");
     if (argc - optind > 1)
@@ -94,12 +89,12 @@ int cli_cmd_synth(int argc, char **argv, int parse_only)
         return cli_usage_error("synth", "%smissing -o OUT", "");
     if (truth_path && cli_same_file(out, truth_path))
         return cli_usage_error("synth", "--truth: '%s' is also the -o output", truth_path);
-    if (relief_synth_kind_parse(argv[optind], &sp.kind, &err) != RELIEF_OK ||
-        relief_synth_params_validate(&sp, &err) != RELIEF_OK)
+    if (relief_synth_kind_parse(argv[optind], &a.sp.kind, &err) != RELIEF_OK ||
+        relief_synth_params_validate(&a.sp, &err) != RELIEF_OK)
         return cli_fail("synth", &err);
     if (parse_only)
         return 0;
-    if (relief_synth(&sp, &cap, truth_path ? &truth : NULL, &err) != RELIEF_OK)
+    if (relief_synth(&a.sp, &cap, truth_path ? &truth : NULL, &err) != RELIEF_OK)
         return cli_fail("synth", &err);
     cli_hold_signals(&held);
     if (relief_mesh_write(cap, out, &wo, &err) != RELIEF_OK ||

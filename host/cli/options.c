@@ -23,47 +23,11 @@ cli_common cli_common_init(const char *cmd)
     cli_common c;
     memset(&c, 0, sizeof c);
     c.cmd = cmd;
-    c.run = relief_run_options_default();
     return c;
-}
-
-size_t cli_options(unsigned which, const struct option *own, struct option *out, size_t cap)
-{
-    static const struct {
-        unsigned flag;
-        struct option opt;
-    } shared[] = {
-        {CLI_OUTPUT, {"output", required_argument, 0, 'o'}},
-        {CLI_REPORT, {"report", required_argument, 0, OPT_REPORT}},
-        {CLI_QUIET, {"quiet", no_argument, 0, OPT_QUIET}},
-        {CLI_SEED, {"seed", required_argument, 0, OPT_SEED}},
-        {CLI_BACKEND, {"backend", required_argument, 0, OPT_BACKEND}},
-        {CLI_BACKEND, {"device", required_argument, 0, OPT_DEVICE}},
-        {CLI_MAX_MEMORY, {"max-memory", required_argument, 0, OPT_MAX_MEMORY}},
-        {CLI_MASK, {"mask", required_argument, 0, OPT_MASK}},
-    };
-    size_t n = 0;
-    for (size_t i = 0; i < sizeof shared / sizeof shared[0]; ++i)
-        if (which & shared[i].flag) {
-            if (n + 2 >= cap)
-                return 0;
-            out[n++] = shared[i].opt;
-        }
-    for (; own && own->name; ++own) {
-        if (n + 2 >= cap)
-            return 0;
-        out[n++] = *own;
-    }
-    out[n++] = (struct option){"help", no_argument, 0, 'h'};
-    out[n++] = (struct option){0, 0, 0, 0};
-    return n;
 }
 
 int cli_common_option(cli_common *cm, int c, const char *arg)
 {
-    static const char *const backends[] = CLI_NAMES(RELIEF_BACKEND_LIST);
-    relief_error err = {RELIEF_OK, ""};
-    int v;
     switch (c) {
     case 'o': cm->out = arg; return 1;
     case OPT_REPORT: cm->report = arg; return 1;
@@ -77,23 +41,6 @@ int cli_common_option(cli_common *cm, int c, const char *arg)
         cm->seed_given = 1;
         return 1;
     }
-    case OPT_BACKEND:
-        if (!CLI_PARSE_ENUM(cm->cmd, "--backend", arg, backends, &v))
-            return -1;
-        cm->run.backend = (relief_backend)v;
-        cm->backend_given = 1;
-        return 1;
-    case OPT_DEVICE:
-        if (!cli_parse_int(cm->cmd, "--device", arg, &cm->run.device))
-            return -1;
-        cm->backend_given = 1;
-        return 1;
-    case OPT_MAX_MEMORY:
-        if (relief_parse_size(arg, &cm->run.max_memory, &err) != RELIEF_OK) {
-            fprintf(stderr, "relief %s: --max-memory: %s\n", cm->cmd, err.message);
-            return -1;
-        }
-        return 1;
     }
     return 0;
 }
@@ -149,15 +96,6 @@ int cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, lon
         return 0;
     }
     *out = v;
-    return 1;
-}
-
-int cli_parse_int(const char *cmd, const char *opt, const char *s, int *out)
-{
-    long v;
-    if (!cli_parse_long(cmd, opt, s, INT_MIN, INT_MAX, &v))
-        return 0;
-    *out = (int)v;
     return 1;
 }
 

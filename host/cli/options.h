@@ -22,22 +22,20 @@
 
 /* Long options without a short form: ids above any character. The shared
  * ones first; commands number their own from OPT_COMMAND. */
-enum {
-    OPT_REPORT = 256, OPT_QUIET, OPT_SEED, OPT_BACKEND, OPT_DEVICE, OPT_MAX_MEMORY, OPT_MASK,
-    OPT_COMMAND = 300
-};
+enum { OPT_REPORT = 256, OPT_QUIET, OPT_SEED, OPT_MASK, OPT_COMMAND = 300 };
 
 /* Which shared options a command takes (cli_options). */
 enum {
     CLI_OUTPUT = 1u << 0,     /* -o, --output */
     CLI_REPORT = 1u << 1,     /* --report R.json */
     CLI_QUIET = 1u << 2,      /* --quiet */
-    CLI_SEED = 1u << 3,       /* --seed N */
-    CLI_BACKEND = 1u << 4,    /* --backend B, --device N */
-    CLI_MAX_MEMORY = 1u << 5, /* --max-memory SIZE */
-    CLI_MASK = 1u << 6,       /* --mask MASK */
-    CLI_ENGINE = CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_SEED | CLI_BACKEND | CLI_MAX_MEMORY
+    CLI_SEED = 1u << 3,       /* --seed N (an engine's seed is its parameter's) */
+    CLI_MASK = 1u << 4        /* --mask MASK */
 };
+
+/* Was the long option `opt` ("--window") given in argv, as "--window V"
+ * or "--window=V"? */
+int cli_given(int argc, char **argv, const char *opt);
 
 /* What the shared options set. */
 typedef struct cli_common {
@@ -46,17 +44,49 @@ typedef struct cli_common {
     int quiet;
     int seed_given;             /* 1 when --seed was given: */
     uint32_t seed;
-    int backend_given;          /* 1 when --backend or --device was given */
-    relief_run_options run;     /* backend, device, max_memory */
 } cli_common;
 
-/* Defaults: nothing given, run options at relief_run_options_default. */
+/* Defaults: nothing given. */
 cli_common cli_common_init(const char *cmd);
 
-/* The long options of a command: the shared ones in `which`, then `own`
- * (ended by a zero entry), then -h/--help and the zero entry, into out[0 ..
- * cap). Returns the number written, 0 when cap is too small. */
-size_t cli_options(unsigned which, const struct option *own, struct option *out, size_t cap);
+/* One option of a command's own, not an engine parameter: its long name,
+ * its getopt id (from OPT_COMMAND), the value it takes (NULL: a flag) and
+ * what it does. A list ends with a NULL name. */
+typedef struct cli_own {
+    const char *name;
+    int id;
+    const char *arg;
+    const char *help;
+} cli_own;
+
+/* A command, for its parser and its help: the shared options it takes,
+ * the parameters of its engine's table (relief_param: --min-window sets
+ * min_window; a flag's --name sets 1 and --no-name 0), and its own. */
+typedef struct cli_spec {
+    const char *name;           /* "image-fill" */
+    const char *usage;          /* after "relief NAME ": "IN -o OUT [options]" */
+    const char *about;          /* what it does, paragraphs ("\n\n" between) */
+    unsigned shared;            /* CLI_* it takes */
+    const char *out_help;       /* -o's help, when CLI_OUTPUT */
+    const char *mask_help;      /* --mask's help, when CLI_MASK */
+    const relief_param *params; /* the engine's table, or NULL */
+    size_t n_params;
+    const char *const *skip;    /* table entries it does not offer (NULL last), or NULL */
+    const cli_own *own;         /* its own options, or NULL */
+    const char *tail;           /* said after the options, or NULL */
+} cli_spec;
+
+/* Print the help of `s` (usage, what it does, every option with its value
+ * and what it does) to f; `params` (may be NULL) holds the defaults a
+ * flag is shown against (--no-name when it is on). */
+void cli_help(const cli_spec *s, const void *params, FILE *f);
+
+/* Parse argv: the shared options into cm, the table's into `params`, the
+ * command's own through take(ctx, id, arg) (1 taken, 0 a bad value, said
+ * on stderr). Returns 0 to go on, -1 after --help, else the exit status. */
+int cli_parse(const cli_spec *s, cli_common *cm, void *params,
+              int (*take)(void *ctx, int id, const char *arg), void *ctx, int argc,
+              char **argv);
 
 /* Take shared option `c` (a getopt_long id) with `arg`: 1 taken, 0 not a
  * shared option, -1 a bad value (said on stderr: exit EXIT_USAGE). */
@@ -72,9 +102,6 @@ int cli_fail(const char *cmd, const relief_error *err);
 
 /* Print "relief CMD: <fmt with arg>" and the --help hint; EXIT_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, const char *arg);
-
-/* A decimal integer that fits `int` (its range is the engine's to check). */
-int cli_parse_int(const char *cmd, const char *opt, const char *s, int *out);
 
 /* A decimal integer in lo..hi (for what is the command line's own: sizes
  * of its pictures, counts of its test hooks). */

@@ -69,6 +69,16 @@ static relief_status validate_own(const relief_complete_params *p, relief_error 
     if (!(p->checkpoint_every >= 0.0 && isfinite(p->checkpoint_every)))
         return relief_fail(err, RELIEF_E_RANGE, "checkpoint_every %g out of range: expected "
                            "seconds >= 0 (0: only on cancel or failure)", p->checkpoint_every);
+    {
+        const int flags[] = {p->accept_poor_fit, p->keep_spikes, p->bootstrap, p->prune,
+                             p->measure};
+        const char *names[] = {"accept_poor_fit", "keep_spikes", "bootstrap", "prune",
+                               "measure"};
+        for (int i = 0; i < 5; ++i)
+            if (flags[i] != 0 && flags[i] != 1)
+                return relief_fail(err, RELIEF_E_RANGE, "%s %d out of range: expected 0 or 1",
+                                   names[i], flags[i]);
+    }
     if (p->base == RELIEF_BASE_SMOOTH && (p->fit != RELIEF_FIT_AUTO || p->n_extent))
         return relief_fail(err, RELIEF_E_USAGE, "base smooth has no primitive: fit and extent "
                            "do not apply");

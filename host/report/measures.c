@@ -158,14 +158,14 @@ relief_status relief_measure_fit_captured(const relief_mesh *m, relief_fit_resul
  * written to uv (count x 2); the angular coordinate of a cylinder or
  * sphere is taken from the points' circular mean direction, in
  * (-pi r, pi r]. Returns the count. */
-size_t relief_measure_part_uv(const relief_param *pm, const relief_mesh *m, int want,
+size_t relief_measure_part_uv(const relief_domain *pm, const relief_mesh *m, int want,
                               double *uv)
 {
     const relief_fit_primitive *pr = &pm->prim;
     size_t n = 0;
     for (size_t v = 0; v < m->nv; ++v)
         if (want < 0 || m->label[v] == want) {
-            relief_param_coords(pm, m->pos + 3 * v, uv + 2 * n);
+            relief_domain_coords(pm, m->pos + 3 * v, uv + 2 * n);
             ++n;
         }
     if (pr->model != RELIEF_FIT_PLANE && n > 0 && pr->radius > 0.0) {
@@ -412,7 +412,7 @@ done:
 }
 
 /* Dominant frequency of h over the vertices of m labelled `want`. */
-static relief_status part_frequency(const relief_param *pm, const relief_mesh *m, int want,
+static relief_status part_frequency(const relief_domain *pm, const relief_mesh *m, int want,
                                     relief_measure_freq *out, relief_error *err)
 {
     double *uv = malloc(2 * m->nv * sizeof *uv), *f = malloc(m->nv * sizeof *f);
@@ -665,7 +665,7 @@ static relief_status measure_seam(const relief_mesh *cm, const double *D, relief
 /* Against the truth tm: the completed heights' errors (h, cm's nv) where
  * the truth is, apart where it is not, and the truth's own spectrum. */
 static relief_status measure_truth(const relief_mesh *cm, const relief_mesh *tm,
-                                   const relief_param *pm, const double *h, relief_measures *r,
+                                   const relief_domain *pm, const double *h, relief_measures *r,
                                    relief_error *err)
 {
     double s2 = 0.0, s2_out = 0.0, mx = 0.0;
@@ -713,7 +713,7 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
                              relief_error *err)
 {
     relief_measures r;
-    relief_param pm;
+    relief_domain pm;
     relief_status st;
     double *h = NULL, *D = NULL, *ha = NULL, *hb = NULL;
     size_t na, nb;
@@ -737,7 +737,7 @@ relief_status relief_measure(const relief_mesh *cm, const relief_mesh *tm,
         r.prim = r.fit.prim;
         r.fitted = 1;
     }
-    relief_param_init(&pm, &r.prim);
+    relief_domain_init(&pm, &r.prim);
 
     h = malloc(cm->nv * sizeof *h);
     D = malloc(3 * cm->nv * sizeof *D);

@@ -234,7 +234,7 @@ relief_status relief_measure_fit_captured(const relief_mesh *m, relief_fit_resul
  * is enough); on a cylinder or sphere u is taken relative to the points'
  * circular mean direction, in (-pi r, pi r], so a part that straddles the
  * parameterisation's cut stays contiguous. Returns the count. */
-size_t relief_measure_part_uv(const relief_param *pm, const relief_mesh *m, int want,
+size_t relief_measure_part_uv(const relief_domain *pm, const relief_mesh *m, int want,
                               double *uv);
 
 #endif

@@ -356,7 +356,7 @@ relief_status relief_pattern_measure(const relief_mesh *cm, const relief_fit_pri
                                      relief_error *err)
 {
     relief_pattern r;
-    relief_param pm;
+    relief_domain pm;
     relief_status st;
     part_points pts[2], tpts[2];
     const int colour = cm && cm->col != NULL;
@@ -382,7 +382,7 @@ relief_status relief_pattern_measure(const relief_mesh *cm, const relief_fit_pri
         r.prim = fit.prim;
         r.fitted = 1;
     }
-    relief_param_init(&pm, &r.prim);
+    relief_domain_init(&pm, &r.prim);
     r.has_colour = colour;
     r.has_truth_colour = tm && colour && tm->col;
 

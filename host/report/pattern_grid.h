@@ -38,7 +38,7 @@ void pattern_points_free(part_points *pp);
 
 /* The vertices of m labelled `want`: (u, v), heights, luminance when
  * `colour`; a kd-tree and the spacing when there are enough to measure. */
-relief_status pattern_points_load(const relief_param *pm, const relief_mesh *m, int want,
+relief_status pattern_points_load(const relief_domain *pm, const relief_mesh *m, int want,
                                   int colour, part_points *pp, relief_error *err);
 
 int pattern_points_measurable(const part_points *pp);

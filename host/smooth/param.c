@@ -7,14 +7,14 @@
 #include "kernels/relief_math.h"
 
 
-void relief_param_init(relief_param *pm, const relief_fit_primitive *prim)
+void relief_domain_init(relief_domain *pm, const relief_fit_primitive *prim)
 {
     static const double z[3] = {0, 0, 1};
     pm->prim = *prim;
     rm_frame_from_normal(prim->model == RELIEF_FIT_SPHERE ? z : prim->dir, pm->e1, pm->e2);
 }
 
-void relief_param_coords(const relief_param *pm, const double p[3], double uv[2])
+void relief_domain_coords(const relief_domain *pm, const double p[3], double uv[2])
 {
     const relief_fit_primitive *pr = &pm->prim;
     double d[3] = {p[0] - pr->point[0], p[1] - pr->point[1], p[2] - pr->point[2]};
@@ -39,7 +39,7 @@ void relief_param_coords(const relief_param *pm, const double p[3], double uv[2]
     }
 }
 
-void relief_param_point(const relief_param *pm, double u, double v, double p[3])
+void relief_domain_point(const relief_domain *pm, double u, double v, double p[3])
 {
     const relief_fit_primitive *pr = &pm->prim;
     for (int k = 0; k < 3; ++k) {

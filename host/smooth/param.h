@@ -12,19 +12,19 @@
 
 #include "smooth/fit.h"
 
-typedef struct relief_param {
+typedef struct relief_domain {
     relief_fit_primitive prim;
     double e1[3], e2[3];
-} relief_param;
+} relief_domain;
 
 /* The deterministic frame of a primitive: e1 from paper 000's frame rule on
  * the plane's normal or the cylinder's axis (the sphere uses the z axis). */
-void relief_param_init(relief_param *pm, const relief_fit_primitive *prim);
+void relief_domain_init(relief_domain *pm, const relief_fit_primitive *prim);
 
 /* (u, v) of a point (on or near the primitive; input units). */
-void relief_param_coords(const relief_param *pm, const double p[3], double uv[2]);
+void relief_domain_coords(const relief_domain *pm, const double p[3], double uv[2]);
 
 /* The point of the primitive at (u, v) (plane and cylinder). */
-void relief_param_point(const relief_param *pm, double u, double v, double p[3]);
+void relief_domain_point(const relief_domain *pm, double u, double v, double p[3]);
 
 #endif

@@ -94,7 +94,7 @@ static double edge_percentile(const relief_mesh *m, double p)
 
 static void to_param(const relief_surface *s, const double p[3], double uv[2])
 {
-    relief_param_coords(&s->param, p, uv);
+    relief_domain_coords(&s->param, p, uv);
 }
 
 /* ------------------------------------------------------- triangulation */
@@ -338,7 +338,7 @@ static relief_status surface_fit(surface_build *b, relief_error *err)
         if (b->despiked)
             b->capture = b->despiked;
     }
-    relief_param_init(&s->param, pr);
+    relief_domain_init(&s->param, pr);
     return RELIEF_OK;
 }
 

@@ -119,7 +119,7 @@ typedef struct relief_surface {
     double *disp;       /* nv x 3: displacement D = p - p' (0 for targets) */
     double *nrm;        /* nv x 3: the primitive's unit outward normal at p' */
     double *frame;      /* nv x 9: the local frame, rows u, v, n (n = nrm) */
-    relief_param param;  /* the primitive's parameter domain (param.h): the
+    relief_domain param;  /* the primitive's parameter domain (param.h): the
                             frame --extent is given in */
     int free_form;       /* 1: a smoothed base with no parameter domain
                             (points/base_surface.h): proj and nrm are the

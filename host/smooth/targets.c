@@ -193,7 +193,7 @@ static void lattice_uv(const lattice *l, size_t i, size_t j, double *u, double *
         *u = a, *v = b;
 }
 
-static relief_status lattice_regions(const coverage *cov, const relief_param *pm, double sp,
+static relief_status lattice_regions(const coverage *cov, const relief_domain *pm, double sp,
                                      double u0, double u1, double v0, double v1, int periodic,
                                      regions *out, relief_error *err)
 {
@@ -241,7 +241,7 @@ static relief_status lattice_regions(const coverage *cov, const relief_param *pm
         for (size_t i = 0; i < l.na; ++i) {
             double p[3], u, v;
             lattice_uv(&l, i, j, &u, &v);
-            relief_param_point(pm, u, v, p);
+            relief_domain_point(pm, u, v, p);
             lab[j * l.na + i] = covered(cov, p, cover2) ? COVERED : UNSEEN;
             out->covered += lab[j * l.na + i] == COVERED;
         }
@@ -291,7 +291,7 @@ static relief_status lattice_regions(const coverage *cov, const relief_param *pm
             if (lab[j * l.na + i] != COVERED) {
                 double p[3], u, v;
                 lattice_uv(&l, i, j, &u, &v);
-                relief_param_point(pm, u, v, p);
+                relief_domain_point(pm, u, v, p);
                 out->of[out->pts.n] = lab[j * l.na + i];
                 if (!push_point(&out->pts, p)) {
                     st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
@@ -309,7 +309,7 @@ done:
  * pairs within 1.5 spacings (a Fibonacci lattice's nearest neighbours lie
  * 0.9 to 1.1 spacings apart). A region larger than the capture's own cover
  * is outside its outline. */
-static relief_status sphere_regions(const coverage *cov, const relief_param *pm, double sp,
+static relief_status sphere_regions(const coverage *cov, const relief_domain *pm, double sp,
                                     regions *out, relief_error *err)
 {
     enum { K = 8 };
@@ -412,7 +412,7 @@ done:
 
 /* ---------------------------------------------------------------- laying */
 
-relief_status relief_targets_lay(const relief_mesh *capture, const relief_param *param,
+relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain *param,
                                  double spacing, const relief_params *params, relief_fill fill,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err)
@@ -434,7 +434,7 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_param 
         double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
         for (size_t v = 0; v < capture->nv; ++v) {
             double uv[2];
-            relief_param_coords(param, cov.proj + 3 * v, uv);
+            relief_domain_coords(param, cov.proj + 3 * v, uv);
             for (int k = 0; k < 2; ++k) {
                 lo[k] = fmin(lo[k], uv[k]);
                 hi[k] = fmax(hi[k], uv[k]);

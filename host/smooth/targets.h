@@ -43,7 +43,7 @@ typedef struct relief_target_list {
  * lattice order; *stats says what was found and chosen. RELIEF_E_USAGE for
  * an extent of the wrong length, RELIEF_E_RANGE for a lattice over 50
  * million points, RELIEF_E_NOMEM. */
-relief_status relief_targets_lay(const relief_mesh *capture, const relief_param *param,
+relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain *param,
                                  double spacing, const relief_params *params, relief_fill fill,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err);

@@ -277,6 +277,12 @@ RELIEF_API relief_complete_params relief_complete_params_default(void);
 RELIEF_API relief_status relief_complete_params_validate(const relief_complete_params *p,
                                                          relief_error *err);
 
+/* relief_complete_params described field by field (relief_param,
+ * relief/core.h): relief_complete's parameters, and relief_smooth's (the
+ * smooth completion's fields and max_memory). */
+RELIEF_API const relief_param *relief_complete_param_table(size_t *count);
+RELIEF_API const relief_param *relief_smooth_param_table(size_t *count);
+
 /* ---------------------------------------------------------------- report */
 
 /* A --report-dir folder staged by relief_complete, not yet in place. */

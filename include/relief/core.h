@@ -77,6 +77,59 @@ typedef struct relief_error {
     char message[RELIEF_ERROR_MESSAGE_MAX];
 } relief_error;
 
+/* ------------------------------------------------------- parameter tables */
+
+/* What a parameter holds. */
+typedef enum relief_param_kind {
+    RELIEF_PARAM_FLAG,  /* int, 0 or 1 */
+    RELIEF_PARAM_INT,   /* int */
+    RELIEF_PARAM_SEED,  /* uint32_t */
+    RELIEF_PARAM_REAL,  /* double */
+    RELIEF_PARAM_ENUM,  /* an enumeration (int-sized), written by its names */
+    RELIEF_PARAM_BYTES, /* uint64_t, a size: "1048576", "512K", "64M", "4G" */
+    RELIEF_PARAM_PATH,  /* const char *, borrowed from the caller */
+    RELIEF_PARAM_REALS  /* double[]: "X,Y,Z,R"; how many go to another field */
+} relief_param_kind;
+
+/* One parameter of an engine, described once for every client that sets
+ * parameters by name (the command line's --min-window is the field
+ * min_window; Python's keyword arguments) and for the documentation. The
+ * engine's _validate checks the range given here (tests/api holds the two
+ * together): a value is accepted when it is in [min, max] or one of the
+ * special values, whose meaning `help` says. */
+typedef struct relief_param {
+    const char *name;          /* the field ("min_window"; run's "backend") */
+    relief_param_kind kind;
+    size_t offset;             /* of the field in the engine's params struct */
+    const char *value;         /* how a value is written ("W", "X,Y,Z,R") */
+    const char *const *names;  /* ENUM: the enumeration's names in order, NULL last */
+    double min, max;           /* INT, SEED, REAL, BYTES: the range (+-HUGE_VAL:
+                                  none); REALS: how many values */
+    int n_special;             /* 0 to 2 values outside [min, max] that mean */
+    double special[2];         /* something (a default chosen for you) */
+    size_t count_offset;       /* REALS: the int field that receives how many */
+    int count_is_flag;         /* REALS: 1 when that field is a flag (set to 1) */
+    const char *help;          /* what it does, its default, its special values */
+} relief_param;
+
+/* The parameter of `table` (`count` entries) named `name`, or NULL. */
+RELIEF_API const relief_param *relief_param_find(const relief_param *table, size_t count,
+                                                 const char *name);
+
+/* Set the parameter `p` of the params struct `params` from its text form
+ * ("17", "auto", "yes", "512M", "1,2,3,0.5"). The text is checked for its
+ * kind only (RELIEF_E_USAGE naming the parameter: not a number, not one of
+ * the names, too many values); its range is the engine's _validate's. A
+ * PATH keeps the pointer `text`. */
+RELIEF_API relief_status relief_param_set(void *params, const relief_param *p,
+                                          const char *text, relief_error *err);
+
+/* Write the value of `p` in `params` as text into buf (at most size bytes,
+ * terminated): the form relief_param_set takes. Returns the length the
+ * whole text needs. */
+RELIEF_API size_t relief_param_format(const void *params, const relief_param *p, char *buf,
+                                      size_t size);
+
 /* ------------------------------------------------------------------- mesh */
 
 /* A triangle mesh or point cloud: positions, triangles and optional

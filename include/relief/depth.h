@@ -181,6 +181,10 @@ RELIEF_API relief_depth_fill_params relief_depth_fill_params_default(void);
 RELIEF_API relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p,
                                                            relief_error *err);
 
+/* relief_depth_fill_params described field by field (relief_param,
+ * relief/core.h). */
+RELIEF_API const relief_param *relief_depth_fill_param_table(size_t *count);
+
 /* What a repair did (an image; for a mesh, summed over its six images). */
 typedef struct relief_depth_fill_report {
     size_t missing;          /* pixels missing (NaN, 0, inf, or the mask) */

@@ -105,6 +105,10 @@ RELIEF_API relief_image_fill_params relief_image_fill_params_default(void);
 RELIEF_API relief_status relief_image_fill_params_validate(const relief_image_fill_params *p,
                                                            relief_error *err);
 
+/* relief_image_fill_params described field by field (relief_param,
+ * relief/core.h). */
+RELIEF_API const relief_param *relief_image_fill_param_table(size_t *count);
+
 /* What a relief_image_fill call did. */
 typedef struct relief_image_fill_report {
     size_t hole_pixels;       /* pixels to fill */

@@ -126,6 +126,10 @@ RELIEF_API relief_complete_points_params relief_complete_points_params_default(v
 RELIEF_API relief_status relief_complete_points_params_validate(
     const relief_complete_points_params *p, relief_error *err);
 
+/* relief_complete_points_params described field by field (relief_param,
+ * relief/core.h). */
+RELIEF_API const relief_param *relief_complete_points_param_table(size_t *count);
+
 /* The most input points a call with p can take within run.max_memory (0:
  * 80 % of physical memory) by the estimate relief_complete_points refuses
  * over: pass it to relief_points_read so that a larger cloud is refused

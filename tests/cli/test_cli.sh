@@ -79,7 +79,7 @@ for c in complete smooth; do
   expect 1 "no known mesh extension" -- "$relief" $c "$in" -o "$tmp/o.txt"
   expect 1 "is not one of" -- "$relief" $c "$in" -o "$tmp/o.ply" --fit cone
   expect 1 "spacing -1 out of range" -- "$relief" $c "$in" -o "$tmp/o.ply" --spacing -1
-  expect 1 "--extent" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 1,2,3
+  expect 1 "n_extent 3 out of range" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 1,2,3
   expect 1 "extent is empty" -- "$relief" $c "$in" -o "$tmp/o.ply" --extent 2,1
   expect 1 "oversample 9 out of range" -- "$relief" $c "$in" -o "$tmp/o.ply" --oversample 9
   expect 1 "unrecognized option" -- "$relief" $c "$in" -o "$tmp/o.ply" --bogus

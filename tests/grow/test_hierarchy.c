@@ -403,15 +403,15 @@ static void check_determinism(void)
 #define RING_SECTORS 12
 static double ring_misalignment(const relief_surface *s, double *weak)
 {
-    relief_param pm;
+    relief_domain pm;
     double cre = 0.0, cim = 0.0, re[RING_SECTORS] = {0}, im[RING_SECTORS] = {0};
     double worst = 0.0, amp_cap;
     size_t ncap = 0, n[RING_SECTORS] = {0};
-    relief_param_init(&pm, &s->fit.prim);
+    relief_domain_init(&pm, &s->fit.prim);
     for (size_t v = 0; v < s->mesh->nv; ++v) {
         double uv[2], d[3], h, ph;
         const double *p = s->mesh->pos + 3 * v;
-        relief_param_coords(&pm, p, uv);
+        relief_domain_coords(&pm, p, uv);
         sub3(p, s->proj + 3 * v, d);
         h = dot3(d, s->nrm + 3 * v);
         ph = 2.0 * RING_PI * uv[1] / RING_PERIOD;
@@ -465,13 +465,13 @@ static void check_rings(void)
     /* The measure itself: turn the completed rings upside down (half a
      * period out of step) over a third of the turn; it must see that. */
     {
-        relief_param pm;
+        relief_domain pm;
         double weak_x = 0.0, off_x;
-        relief_param_init(&pm, &mono->fit.prim);
+        relief_domain_init(&pm, &mono->fit.prim);
         for (size_t v = mono->n_samples; v < mono->mesh->nv; ++v) {
             double uv[2], d[3], h, *p = mono->mesh->pos + 3 * v;
             const double *n = mono->nrm + 3 * v;
-            relief_param_coords(&pm, p, uv);
+            relief_domain_coords(&pm, p, uv);
             if (fabs(uv[0] / mono->fit.prim.radius) < 2.0 * RING_PI / 3.0)
                 continue;
             sub3(p, mono->proj + 3 * v, d);

@@ -94,10 +94,10 @@ static double field_value(field *f, const double uv[2], int label)
 static relief_mesh *plane(size_t n, field *f, int height, int colour)
 {
     relief_mesh *m = NULL;
-    relief_param pm;
+    relief_domain pm;
     relief_rng jit;
     const double s = 1.0 / (double)(n - 1);
-    relief_param_init(&pm, &plane_z);
+    relief_domain_init(&pm, &plane_z);
     relief_rng_seed(&jit, 7);
     if (relief_mesh_create(n * n, 0, RELIEF_MESH_LABELS | (colour ? RELIEF_MESH_COLOURS : 0u),
                            &m, NULL) != RELIEF_OK)
@@ -110,7 +110,7 @@ static relief_mesh *plane(size_t n, field *f, int height, int colour)
             p[1] = s * ((double)j + 0.4 * (relief_rng_uniform(&jit) - 0.5));
             p[2] = 0.0;
             m->label[v] = (p[0] - 0.5) * (p[0] - 0.5) + (p[1] - 0.5) * (p[1] - 0.5) < 0.0625;
-            relief_param_coords(&pm, p, uv);
+            relief_domain_coords(&pm, p, uv);
             x = field_value(f, uv, m->label[v]);
             if (height)
                 p[2] = 0.01 * x;
