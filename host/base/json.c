@@ -1,6 +1,7 @@
 #include "base/json.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 void rj_init(relief_json *j, FILE *f)
 {
@@ -101,4 +102,33 @@ void rj_vec3(relief_json *j, const char *key, const double v[3])
 {
     item(j, key);
     fprintf(j->f, "[%.10g, %.10g, %.10g]", v[0], v[1], v[2]);
+}
+
+void rj_string_or_null(relief_json *j, const char *key, const char *value)
+{
+    if (value)
+        rj_string(j, key, value);
+    else
+        rj_null(j, key);
+}
+
+char *rj_render(void (*write)(relief_json *j, const void *ctx), const void *ctx,
+                const char *end)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    relief_json j;
+    int bad;
+    if (!f)
+        return NULL;
+    rj_init(&j, f);
+    write(&j, ctx);
+    fputs(end, f);
+    bad = ferror(f);
+    if (fclose(f) != 0 || bad) {
+        free(buf);
+        return NULL;
+    }
+    return buf;
 }

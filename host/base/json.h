@@ -28,7 +28,14 @@ void rj_null(relief_json *j, const char *key);
 /* `s` as a JSON string, quoted and escaped, at the file's position (for
  * writers that splice members into a finished object). */
 void rj_put_string(FILE *f, const char *s);
+/* `value` as a string, or null when it is NULL. */
+void rj_string_or_null(relief_json *j, const char *key, const char *value);
 /* A 3-element array of numbers. */
 void rj_vec3(relief_json *j, const char *key, const double v[3]);
+
+/* What write(j, ctx) writes (a whole document), then `end`, as a string in
+ * memory (free it); NULL when it cannot be had. */
+char *rj_render(void (*write)(relief_json *j, const void *ctx), const void *ctx,
+                const char *end);
 
 #endif

@@ -46,14 +46,8 @@ static void report_head(relief_json *j, const relief_complete_run *r, const char
 {
     rj_string(j, "relief_version", RELIEF_VERSION_STRING);
     rj_string(j, "command", command);
-    if (r->cp->run.input_name)
-        rj_string(j, "input", r->cp->run.input_name);
-    else
-        rj_null(j, "input");
-    if (r->cp->run.output_name)
-        rj_string(j, "output", r->cp->run.output_name);
-    else
-        rj_null(j, "output");
+    rj_string_or_null(j, "input", r->cp->run.input_name);
+    rj_string_or_null(j, "output", r->cp->run.output_name);
 }
 
 static void report_growth_parameters(relief_json *j, const relief_complete_run *r)
@@ -195,27 +189,23 @@ static void write_smooth(relief_json *j, const relief_complete_run *r)
     rj_number(j, "seconds_total", r->rep->seconds_total);
 }
 
+static void write_complete_doc(relief_json *j, const void *ctx)
+{
+    rj_begin_object(j, NULL);
+    write_complete(j, ctx);
+    rj_end_object(j);
+}
+
+static void write_smooth_doc(relief_json *j, const void *ctx)
+{
+    rj_begin_object(j, NULL);
+    write_smooth(j, ctx);
+    rj_end_object(j);
+}
+
 char *relief_complete_json(const relief_complete_run *r, int smooth)
 {
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    relief_json j;
-    if (!f)
-        return NULL;
-    rj_init(&j, f);
-    rj_begin_object(&j, NULL);
-    if (smooth)
-        write_smooth(&j, r);
-    else
-        write_complete(&j, r);
-    rj_end_object(&j);
-    fputc('\n', f);
-    if (fclose(f) != 0) {
-        free(buf);
-        return NULL;
-    }
-    return buf;
+    return rj_render(smooth ? write_smooth_doc : write_complete_doc, r, "\n");
 }
 
 static int write_json(FILE *f, void *ctx)

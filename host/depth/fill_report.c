@@ -23,35 +23,6 @@ typedef struct mesh_ctx {
     const relief_depth_fill_report *rep;
 } mesh_ctx;
 
-/* What write(j, ctx) writes, as a string ending in a newline. */
-static char *json_of(void (*write)(relief_json *j, const void *ctx), const void *ctx)
-{
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    relief_json j;
-    int bad;
-    if (!f)
-        return NULL;
-    rj_init(&j, f);
-    write(&j, ctx);
-    fputc('\n', f);
-    bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        free(buf);
-        return NULL;
-    }
-    return buf;
-}
-
-static void name_or_null(relief_json *j, const char *key, const char *name)
-{
-    if (name)
-        rj_string(j, key, name);
-    else
-        rj_null(j, key);
-}
-
 static const char *order_name(relief_pixsyn_order o)
 {
     return o == RELIEF_ORDER_VERTICAL ? "vertical" : o == RELIEF_ORDER_HORIZONTAL ? "horizontal"
@@ -63,8 +34,8 @@ static void head(relief_json *j, const relief_run_options *run)
 {
     rj_begin_object(j, NULL);
     rj_string(j, "command", "depth-fill");
-    name_or_null(j, "input", run->input_name);
-    name_or_null(j, "output", run->output_name);
+    rj_string_or_null(j, "input", run->input_name);
+    rj_string_or_null(j, "output", run->output_name);
 }
 
 static void tail(relief_json *j, const relief_depth_fill_report *rep)
@@ -149,7 +120,7 @@ char *relief_depth_fill_json(const relief_run_options *run, int width, int heigh
                              const relief_depth_fill_report *rep)
 {
     image_ctx c = {run, width, height, p, r, m, rep};
-    return json_of(write_image, &c);
+    return rj_render(write_image, &c, "\n");
 }
 
 static void write_mesh(relief_json *j, const void *ctx)
@@ -213,5 +184,5 @@ char *relief_depth_mesh_json(const relief_run_options *run, const relief_mesh_fi
                              const relief_depth_fill_report *rep)
 {
     mesh_ctx c = {run, p, r, m, rep};
-    return json_of(write_mesh, &c);
+    return rj_render(write_mesh, &c, "\n");
 }

@@ -380,66 +380,64 @@ static void write_back(const fill_call *c)
 
 /* The report's JSON, as `relief image-fill --report` writes it less the
  * mask's name (the command splices it in). */
-static void write_json(FILE *f, const fill_call *c, const relief_image_fill_report *r)
+typedef struct json_ctx {
+    const fill_call *c;
+    const relief_image_fill_report *r;
+} json_ctx;
+
+static void write_json(relief_json *j, const void *ctx)
 {
+    const fill_call *c = ((const json_ctx *)ctx)->c;
+    const relief_image_fill_report *r = ((const json_ctx *)ctx)->r;
     const relief_image_fill_params *p = c->p;
-    relief_json j;
-    rj_init(&j, f);
-    rj_begin_object(&j, NULL);
-    rj_string(&j, "command", "image-fill");
-    if (p->run.input_name)
-        rj_string(&j, "input", p->run.input_name);
-    else
-        rj_null(&j, "input");
-    if (p->run.output_name)
-        rj_string(&j, "output", p->run.output_name);
-    else
-        rj_null(&j, "output");
-    rj_begin_object(&j, "image");
-    rj_int(&j, "width", c->image->width);
-    rj_int(&j, "height", c->image->height);
-    rj_int(&j, "channels", c->image->channels);
-    rj_int(&j, "bit_depth", c->image->bit_depth);
-    rj_end_object(&j);
-    rj_begin_object(&j, "parameters");
-    rj_int(&j, "window", p->window);
-    rj_int(&j, "min_window", p->min_window);
-    rj_number(&j, "tau", r->tau);
-    rj_number(&j, "max_hole_fraction", p->max_hole_fraction);
-    rj_int(&j, "search_radius", p->search_radius);
-    rj_bool(&j, "exhaustive", p->exhaustive);
-    rj_bool(&j, "interp", p->interp);
-    rj_number(&j, "interp_diff", r->interp_diff);
-    rj_number(&j, "interp_sd", r->interp_sd);
-    rj_int(&j, "seed", p->seed);
-    rj_end_object(&j);
-    rj_begin_object(&j, "pixels");
-    rj_int(&j, "hole", (long long)r->hole_pixels);
-    rj_int(&j, "by_rows", (long long)r->by_rows);
-    rj_int(&j, "by_columns", (long long)r->by_columns);
-    rj_int(&j, "by_copy", (long long)r->by_copy);
-    rj_int(&j, "by_fallback", (long long)r->by_fallback);
-    rj_end_object(&j);
-    rj_begin_object(&j, "search");
-    rj_int(&j, "queries", (long long)r->queries);
-    rj_int(&j, "windows_tried", (long long)r->windows_tried);
-    rj_int(&j, "windows_accepted", (long long)r->windows_accepted);
-    rj_int(&j, "candidates_scored", (long long)r->candidates);
-    rj_int(&j, "pyramid_levels", r->pyramid_levels);
-    rj_int(&j, "start_level", r->start_level);
-    rj_int(&j, "top_m", r->top_m);
-    rj_end_object(&j);
-    rj_begin_object(&j, "seconds");
-    rj_number(&j, "interp", r->seconds_interp);
-    rj_number(&j, "copy_paste", r->seconds_copy);
-    rj_number(&j, "scoring", r->seconds_score);
-    rj_number(&j, "total", r->seconds_total);
-    rj_end_object(&j);
-    rj_string(&j, "backend", relief_backend_name(r->backend));
-    rj_string(&j, "device", r->device);
-    rj_string(&j, "backend_note", r->backend_note);
-    rj_end_object(&j);
-    fputc('\n', f);
+    rj_begin_object(j, NULL);
+    rj_string(j, "command", "image-fill");
+    rj_string_or_null(j, "input", p->run.input_name);
+    rj_string_or_null(j, "output", p->run.output_name);
+    rj_begin_object(j, "image");
+    rj_int(j, "width", c->image->width);
+    rj_int(j, "height", c->image->height);
+    rj_int(j, "channels", c->image->channels);
+    rj_int(j, "bit_depth", c->image->bit_depth);
+    rj_end_object(j);
+    rj_begin_object(j, "parameters");
+    rj_int(j, "window", p->window);
+    rj_int(j, "min_window", p->min_window);
+    rj_number(j, "tau", r->tau);
+    rj_number(j, "max_hole_fraction", p->max_hole_fraction);
+    rj_int(j, "search_radius", p->search_radius);
+    rj_bool(j, "exhaustive", p->exhaustive);
+    rj_bool(j, "interp", p->interp);
+    rj_number(j, "interp_diff", r->interp_diff);
+    rj_number(j, "interp_sd", r->interp_sd);
+    rj_int(j, "seed", p->seed);
+    rj_end_object(j);
+    rj_begin_object(j, "pixels");
+    rj_int(j, "hole", (long long)r->hole_pixels);
+    rj_int(j, "by_rows", (long long)r->by_rows);
+    rj_int(j, "by_columns", (long long)r->by_columns);
+    rj_int(j, "by_copy", (long long)r->by_copy);
+    rj_int(j, "by_fallback", (long long)r->by_fallback);
+    rj_end_object(j);
+    rj_begin_object(j, "search");
+    rj_int(j, "queries", (long long)r->queries);
+    rj_int(j, "windows_tried", (long long)r->windows_tried);
+    rj_int(j, "windows_accepted", (long long)r->windows_accepted);
+    rj_int(j, "candidates_scored", (long long)r->candidates);
+    rj_int(j, "pyramid_levels", r->pyramid_levels);
+    rj_int(j, "start_level", r->start_level);
+    rj_int(j, "top_m", r->top_m);
+    rj_end_object(j);
+    rj_begin_object(j, "seconds");
+    rj_number(j, "interp", r->seconds_interp);
+    rj_number(j, "copy_paste", r->seconds_copy);
+    rj_number(j, "scoring", r->seconds_score);
+    rj_number(j, "total", r->seconds_total);
+    rj_end_object(j);
+    rj_string(j, "backend", relief_backend_name(r->backend));
+    rj_string(j, "device", r->device);
+    rj_string(j, "backend_note", r->backend_note);
+    rj_end_object(j);
 }
 
 /* The public report of the call, its JSON included. */
@@ -447,9 +445,6 @@ static relief_status make_report(const fill_call *c, relief_image_fill_report *r
                                  relief_error *err)
 {
     const relief_fill_report *fr = &c->fr;
-    size_t len = 0;
-    FILE *f;
-    int bad;
     memset(r, 0, sizeof *r);
     r->hole_pixels = c->holes;
     r->by_rows = fr->by_rows;
@@ -474,16 +469,12 @@ static relief_status make_report(const fill_call *c, relief_image_fill_report *r
     r->seconds_copy = fr->seconds_copy;
     r->seconds_score = fr->seconds_score;
     r->seconds_total = relief_seconds() - c->t0;
-    f = open_memstream(&r->json, &len);
-    if (!f)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot open the report's JSON in memory");
-    write_json(f, c, r);
-    bad = ferror(f);
-    if (fclose(f) != 0 || bad || !r->json) {
-        free(r->json);
-        r->json = NULL;
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot write the report's JSON in memory");
+    {
+        const json_ctx x = {c, r};
+        r->json = rj_render(write_json, &x, "\n");
     }
+    if (!r->json)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot write the report's JSON in memory");
     return RELIEF_OK;
 }
 

@@ -271,14 +271,6 @@ static relief_points_params engine_params(const relief_complete_points_params *p
     return e;
 }
 
-static void name_or_null(relief_json *j, const char *key, const char *value)
-{
-    if (value)
-        rj_string(j, key, value);
-    else
-        rj_null(j, key);
-}
-
 static void json_parameters(relief_json *j, const relief_points_params *e)
 {
     rj_begin_object(j, "parameters");
@@ -319,54 +311,61 @@ static void json_texture(relief_json *j, const relief_points_report *r)
 }
 
 /* The report as `relief complete-points --report` has always written it. */
-static void write_json(FILE *f, const relief_complete_points_params *p,
-                       const relief_points_params *e, const relief_points_report *r)
+typedef struct json_ctx {
+    const relief_complete_points_params *p;
+    const relief_points_params *e;
+    const relief_points_report *r;
+} json_ctx;
+
+static void write_json(relief_json *j, const void *ctx)
 {
-    relief_json j;
-    rj_init(&j, f);
-    rj_begin_object(&j, NULL);
-    rj_string(&j, "command", "complete-points");
-    name_or_null(&j, "input", p->run.input_name);
-    name_or_null(&j, "output", p->run.output_name);
-    json_parameters(&j, e);
-    rj_begin_object(&j, "points");
-    rj_int(&j, "input", (long long)r->n_in);
-    rj_int(&j, "non_finite_dropped", (long long)p->non_finite_dropped);
-    rj_int(&j, "added", (long long)r->n_added);
-    rj_int(&j, "masked", (long long)r->n_masked);
-    rj_int(&j, "clone", (long long)r->n_clone);
-    rj_end_object(&j);
-    rj_begin_object(&j, "holes");
-    rj_int(&j, "filled", r->holes.n_holes);
-    rj_int(&j, "outer_borders", r->holes.n_borders);
-    rj_int(&j, "too_small", r->holes.n_dropped);
-    rj_end_object(&j);
-    rj_number(&j, "spacing", r->spacing);
-    rj_int(&j, "patch_triangles", (long long)r->patch_triangles);
-    rj_int(&j, "patch_holes_skipped", (long long)r->patch_skipped);
+    const json_ctx *x = ctx;
+    const relief_complete_points_params *p = x->p;
+    const relief_points_params *e = x->e;
+    const relief_points_report *r = x->r;
+    rj_begin_object(j, NULL);
+    rj_string(j, "command", "complete-points");
+    rj_string_or_null(j, "input", p->run.input_name);
+    rj_string_or_null(j, "output", p->run.output_name);
+    json_parameters(j, e);
+    rj_begin_object(j, "points");
+    rj_int(j, "input", (long long)r->n_in);
+    rj_int(j, "non_finite_dropped", (long long)p->non_finite_dropped);
+    rj_int(j, "added", (long long)r->n_added);
+    rj_int(j, "masked", (long long)r->n_masked);
+    rj_int(j, "clone", (long long)r->n_clone);
+    rj_end_object(j);
+    rj_begin_object(j, "holes");
+    rj_int(j, "filled", r->holes.n_holes);
+    rj_int(j, "outer_borders", r->holes.n_borders);
+    rj_int(j, "too_small", r->holes.n_dropped);
+    rj_end_object(j);
+    rj_number(j, "spacing", r->spacing);
+    rj_int(j, "patch_triangles", (long long)r->patch_triangles);
+    rj_int(j, "patch_holes_skipped", (long long)r->patch_skipped);
     if (e->mesh) {
-        rj_begin_object(&j, "mesh");
-        rj_int(&j, "triangles", (long long)r->mesh_triangles);
+        rj_begin_object(j, "mesh");
+        rj_int(j, "triangles", (long long)r->mesh_triangles);
         if (r->mesh_of_points) {
-            rj_int(&j, "candidates", (long long)r->mesh_candidates);
-            rj_int(&j, "boundary_edges", (long long)r->mesh_boundary_edges);
-            rj_int(&j, "bare_points", (long long)r->mesh_bare_points);
+            rj_int(j, "candidates", (long long)r->mesh_candidates);
+            rj_int(j, "boundary_edges", (long long)r->mesh_boundary_edges);
+            rj_int(j, "bare_points", (long long)r->mesh_bare_points);
         }
-        rj_end_object(&j);
+        rj_end_object(j);
     }
-    rj_begin_object(&j, "base");
-    rj_number(&j, "detail_rms", r->detail_rms);
-    rj_number(&j, "reconstruction_rms", r->recon_rms);
-    rj_end_object(&j);
-    json_texture(&j, r);
-    rj_begin_object(&j, "seconds");
-    rj_number(&j, "analysis", r->t_analysis);
-    rj_number(&j, "base", r->t_base);
-    rj_number(&j, "fill", r->t_fill);
-    rj_number(&j, "texture", r->t_texture);
-    rj_number(&j, "total", r->t_total);
-    rj_end_object(&j);
-    rj_end_object(&j);
+    rj_begin_object(j, "base");
+    rj_number(j, "detail_rms", r->detail_rms);
+    rj_number(j, "reconstruction_rms", r->recon_rms);
+    rj_end_object(j);
+    json_texture(j, r);
+    rj_begin_object(j, "seconds");
+    rj_number(j, "analysis", r->t_analysis);
+    rj_number(j, "base", r->t_base);
+    rj_number(j, "fill", r->t_fill);
+    rj_number(j, "texture", r->t_texture);
+    rj_number(j, "total", r->t_total);
+    rj_end_object(j);
+    rj_end_object(j);
 }
 
 /* The public report from the pipeline's, its JSON included. */
@@ -374,9 +373,6 @@ static relief_status make_report(const relief_complete_points_params *p,
                                  const relief_points_params *e, const relief_points_report *r,
                                  relief_complete_points_report *out, relief_error *err)
 {
-    size_t len = 0;
-    int bad;
-    FILE *f;
     memset(out, 0, sizeof *out);
     out->points_in = r->n_in;
     out->added = r->n_added;
@@ -401,16 +397,12 @@ static relief_status make_report(const relief_complete_points_params *p,
     out->seconds_fill = r->t_fill;
     out->seconds_texture = r->t_texture;
     out->seconds_total = r->t_total;
-    f = open_memstream(&out->json, &len);
-    if (!f)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot open the report's JSON in memory");
-    write_json(f, p, e, r);
-    bad = ferror(f);
-    if (fclose(f) != 0 || bad || !out->json) {
-        free(out->json);
-        out->json = NULL;
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot write the report's JSON in memory");
+    {
+        const json_ctx x = {p, e, r};
+        out->json = rj_render(write_json, &x, "");
     }
+    if (!out->json)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot write the report's JSON in memory");
     return RELIEF_OK;
 }
 
