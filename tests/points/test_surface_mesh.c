@@ -17,6 +17,7 @@
 #include "mesh/mesh.h"
 #include "points/analysis.h"
 #include "points/complete_points.h"
+#include "points/patch_mesh.h"
 #include "points/surface_mesh.h"
 
 #define PI 3.14159265358979323846
@@ -290,9 +291,34 @@ static void test_bad_input(void)
               RELIEF_E_RANGE, "spacing 0 accepted");
 }
 
+/* A non-manifold capture vertex v with a patch triangle: the input's
+ * (v, x, y) and (v, z, y) and the patch's (v, y, z) give v the link edges
+ * x->y, z->y, y->z, as many joins as edges, and a walk from x->y that
+ * falls into y->z->y and never comes back. It looped forever (the statue
+ * Angel.ply, relief complete with defaults, issue 40); now it returns,
+ * refusing the input that OpenMesh cannot store either (the reader mends
+ * such a capture before it gets here). Directed edges unique, as a
+ * manifold input's are, a link is paths and cycles and the walk ends. */
+static void test_lay_endless_walk(void)
+{
+    const double pos[3 * 4] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0.5}; /* v x y z */
+    const uint32_t tri_in[6] = {0, 1, 2, 0, 3, 2};
+    relief_cand_tri cand[1] = {{1.0, 0, {0, 2, 3}}};
+    uint32_t *tri = NULL;
+    size_t nt = 99;
+    relief_error err;
+    relief_status st = relief_points_lay_triangles(pos, 4, tri_in, 2, cand, 1, 0, &tri, &nt,
+                                                   &err);
+    CHECK(st == RELIEF_OK || strstr(err.message, "not manifold already"), "lay: %s",
+          err.message);
+    CHECK(nt == 0 && !tri, "the patch triangle at a two-fan vertex was kept (%zu)", nt);
+    free(tri);
+}
+
 int main(int argc, char **argv)
 {
     test_bad_input();
+    test_lay_endless_walk();
     test_sphere_closed();
     test_plane_and_gap();
     test_completion_closed();
