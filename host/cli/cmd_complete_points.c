@@ -192,12 +192,16 @@ static void summary(const points_cli *pc, const relief_complete_points_params *p
         fprintf(stderr, "relief complete-points: %s\n", r->grid_search);
     if (pc->cm.quiet)
         return;
-    fprintf(stderr, "relief complete-points: %s: %zu points in, %zu added over %u hole(s)%s, "
+    fprintf(stderr, "relief complete-points: %s: %zu points in, %zu added over %u hole(s), "
                     "%zu masked; spacing %.4g, detail RMS %.4g (reconstruction %.3g); "
                     "texture: %d iterations over %zu clusters; %.1f s\n",
-            pc->cm.out, r->points_in, r->added, r->holes,
-            r->outer_borders ? " (an outer border left open)" : "", r->masked, r->spacing,
+            pc->cm.out, r->points_in, r->added, r->holes, r->masked, r->spacing,
             r->detail_rms, r->reconstruction_rms, r->iterations, r->clusters, r->seconds_total);
+    if (r->outer_borders + r->holes_too_large + r->holes_not_selected)
+        fprintf(stderr, "relief complete-points: left open: %u outer border(s), %u opening(s) "
+                        "wider than max_hole %.4g (--max-hole), %u not selected by the hole "
+                        "mask (the report lists each)\n",
+                r->outer_borders, r->holes_too_large, r->max_hole, r->holes_not_selected);
 }
 
 /* Read IN (and the clone), complete, write the outputs. */

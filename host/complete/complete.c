@@ -106,6 +106,7 @@ static relief_status auto_base(relief_complete_run *r, const relief_fit_result *
 {
     relief_points_params pp = relief_points_params_default();
     relief_error why = {RELIEF_OK, ""};
+    pp.max_hole = r->cp->max_hole;
     relief_status st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, &why);
     if (st == RELIEF_OK) {
         r->smooth_base = 1;
@@ -130,6 +131,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
     double t0 = relief_seconds();
     if (cp->base == RELIEF_BASE_SMOOTH) {
         relief_points_params pp = relief_points_params_default();
+        pp.max_hole = cp->max_hole;
         st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, err);
         r->smooth_base = st == RELIEF_OK;
     } else if (cp->base == RELIEF_BASE_AUTO && !cp->accept_poor_fit &&

@@ -66,6 +66,9 @@ static relief_status validate_own(const relief_complete_params *p, relief_error 
     if (!(p->max_growth >= 0.0 && isfinite(p->max_growth)))
         return relief_fail(err, RELIEF_E_RANGE, "max_growth %g out of range: expected targets "
                            "per captured vertex >= 0 (0: no limit)", p->max_growth);
+    if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
+        return relief_fail(err, RELIEF_E_RANGE, "max_hole %g out of range: expected 0..1e30 "
+                           "(0: a quarter of the bounding box's diagonal)", p->max_hole);
     if (!(p->checkpoint_every >= 0.0 && isfinite(p->checkpoint_every)))
         return relief_fail(err, RELIEF_E_RANGE, "checkpoint_every %g out of range: expected "
                            "seconds >= 0 (0: only on cancel or failure)", p->checkpoint_every);

@@ -101,6 +101,8 @@ static relief_status check_fields(const relief_complete_points_params *p, relief
         st = check_real(p->max_detail, 0.0, 100.0, "max_detail", err);
     if (st == RELIEF_OK)
         st = check_real(p->band, 0.0, 1e6, "band", err);
+    if (st == RELIEF_OK)
+        st = check_real(p->max_hole, 0.0, 1e30, "max_hole", err);
     if (st == RELIEF_OK && (p->grid < 3 || p->grid > 33 || p->grid % 2 == 0))
         st = relief_fail(err, RELIEF_E_RANGE, "grid %d out of range: expected an odd number "
                          "in 3..33", p->grid);
@@ -256,6 +258,7 @@ static relief_points_params engine_params(const relief_complete_points_params *p
     e.smooth_steps = p->smooth_steps;
     e.max_detail = p->max_detail;
     e.band = p->band;
+    e.max_hole = p->max_hole;
     e.hole_mask = hole ? hole : p->hole_mask;
     e.sample_mask = sample ? sample : p->sample_mask;
     e.clone = p->clone;
@@ -339,6 +342,20 @@ static void write_json(relief_json *j, const void *ctx)
     rj_int(j, "filled", r->holes.n_holes);
     rj_int(j, "outer_borders", r->holes.n_borders);
     rj_int(j, "too_small", r->holes.n_dropped);
+    rj_int(j, "too_large", r->holes.n_too_large);
+    rj_int(j, "not_selected", r->holes.n_not_selected);
+    rj_number(j, "max_hole", r->holes.max_across);
+    rj_begin_array(j, "list");
+    for (uint32_t h = 0; h < r->holes.n_rims; ++h) {
+        const relief_rim *m = r->holes.rims + h;
+        rj_begin_object(j, NULL);
+        rj_int(j, "rim_points", m->points);
+        rj_number(j, "across", m->across);
+        rj_vec3(j, "centre", m->centre);
+        rj_string(j, "fate", relief_rim_fate_name(m->fate));
+        rj_end_object(j);
+    }
+    rj_end_array(j);
     rj_end_object(j);
     rj_number(j, "spacing", r->spacing);
     rj_int(j, "patch_triangles", (long long)r->patch_triangles);
@@ -381,6 +398,19 @@ static relief_status make_report(const relief_complete_points_params *p,
     out->holes = r->holes.n_holes;
     out->outer_borders = r->holes.n_borders;
     out->holes_too_small = r->holes.n_dropped;
+    out->holes_too_large = r->holes.n_too_large;
+    out->holes_not_selected = r->holes.n_not_selected;
+    out->max_hole = r->holes.max_across;
+    if (r->holes.n_rims && !(out->hole_list = calloc(r->holes.n_rims, sizeof *out->hole_list)))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the report's %u holes",
+                           r->holes.n_rims);
+    for (uint32_t h = 0; h < r->holes.n_rims; ++h) {
+        const relief_rim *m = r->holes.rims + h;
+        out->hole_list[h] = (relief_hole){m->points, m->across,
+                                          {m->centre[0], m->centre[1], m->centre[2]},
+                                          relief_rim_fate_name(m->fate)};
+    }
+    out->n_hole_list = r->holes.n_rims;
     out->spacing = r->spacing;
     out->detail_rms = r->detail_rms;
     out->reconstruction_rms = r->recon_rms;
@@ -411,6 +441,7 @@ void relief_complete_points_report_free(relief_complete_points_report *rep)
     if (!rep)
         return;
     free(rep->json);
+    free(rep->hole_list);
     memset(rep, 0, sizeof *rep);
 }
 

@@ -39,8 +39,12 @@ typedef struct relief_points_params {
     double rim_gap;       /* one-sided test's angular gap, radians (default pi/2) */
     double band;          /* exemplars keep this far from a rim, spacings >= 0 (default 2) */
     double seam_band;     /* normal blending band d, spacings >= 0 (default 3) */
+    double max_hole;      /* rims wider than this (the input's units) are left open;
+                             0 (default): a quarter of the bounding box's diagonal
+                             (holes.h's rule; a hole mask selects instead) */
     const uint8_t *hole_mask; /* n_in entries or NULL: points whose colour and detail are to
-                                 be synthesised again */
+                                 be synthesised again; the holes whose rims it touches
+                                 are then the ones filled */
     const uint8_t *sample_mask; /* n_in entries or NULL: where exemplars may be centred;
                                    default everywhere outside the band */
     const relief_mesh *clone; /* or NULL: detail (and colour, when both have it) copied from

@@ -32,12 +32,57 @@ static void unite(uint32_t *parent, uint32_t a, uint32_t b)
         parent[a] = b;
 }
 
+static const char *const fate_names[] = {"", "filled", "too_small", "border", "too_large",
+                                         "not_selected"};
+
+const char *relief_rim_fate_name(relief_rim_fate fate)
+{
+    return fate >= RELIEF_RIM_FILLED && fate <= RELIEF_RIM_NOT_SELECTED ? fate_names[fate]
+                                                                          : "unknown";
+}
+
+void relief_hole_info_free(relief_hole_info *info)
+{
+    if (!info)
+        return;
+    free(info->rims);
+    memset(info, 0, sizeof *info);
+}
+
+/* The rule of holes.h, in its order: noise, then a selection when there is
+ * one, else the border, then the size. */
+static relief_rim_fate rim_fate(const relief_hole_rule *rule, int too_small, int selected,
+                                int border, double across)
+{
+    if (too_small)
+        return RELIEF_RIM_TOO_SMALL;
+    if (rule->select)
+        return selected ? RELIEF_RIM_FILLED : RELIEF_RIM_NOT_SELECTED;
+    if (border)
+        return RELIEF_RIM_BORDER;
+    if (rule->max_across > 0.0 && across > rule->max_across)
+        return RELIEF_RIM_TOO_LARGE;
+    return RELIEF_RIM_FILLED;
+}
+
+static void count_fate(relief_hole_info *info, relief_rim_fate fate)
+{
+    switch (fate) {
+    case RELIEF_RIM_FILLED: ++info->n_holes; break;
+    case RELIEF_RIM_TOO_SMALL: ++info->n_dropped; break;
+    case RELIEF_RIM_BORDER: ++info->n_borders; break;
+    case RELIEF_RIM_TOO_LARGE: ++info->n_too_large; break;
+    case RELIEF_RIM_NOT_SELECTED: ++info->n_not_selected; break;
+    }
+}
+
 /* Number the components of the marked points (parent: a union-find over
  * all n), keep the holes (the border rule, the size rule of holes.h), and
  * write rim. */
 static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark,
                                 uint32_t *parent, uint32_t *piece, double min_rim,
-                                uint32_t *rim, relief_hole_info *info, relief_error *err)
+                                const relief_hole_rule *rule, uint32_t *rim,
+                                relief_hole_info *info, relief_error *err)
 {
     size_t *piece_size = calloc(n + 1, sizeof *piece_size);
     uint32_t *comp = malloc(n * sizeof *comp), nc = 0;
@@ -85,8 +130,12 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
         uint32_t *keep = calloc((size_t)nc + 1, sizeof *keep);
         size_t *inside = calloc((size_t)nc + 1, sizeof *inside);
         uint32_t *rim_piece = calloc((size_t)nc + 1, sizeof *rim_piece);
-        if (!keep || !inside || !rim_piece) {
-            free(keep), free(inside), free(rim_piece), free(comp), free(acc), free(piece_size);
+        uint8_t *selected = calloc((size_t)nc + 1, 1);
+        info->rims = calloc((size_t)nc + 1, sizeof *info->rims);
+        if (!keep || !inside || !rim_piece || !selected || !info->rims) {
+            free(keep), free(inside), free(rim_piece), free(selected), free(comp), free(acc),
+                free(piece_size);
+            relief_hole_info_free(info);
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
         }
         /* O(n x rims): rims are few (tens); a scan with thousands of rims is
@@ -106,19 +155,29 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
                 inside[h] += dot3(d, d) <= a[4] * a[4];
             }
         }
+        for (size_t i = 0; rule->select && i < n; ++i)
+            if (mark[i] && rule->select[i])
+                selected[comp[i]] = 1;
+        info->max_across = rule->max_across > 0.0 ? rule->max_across : 0.0;
         for (uint32_t h = 0; h < nc; ++h) {
-            if (acc[5 * (size_t)h + 3] < min_rim)
-                ++info->n_dropped;
-            else if (2 * inside[h] > piece_size[rim_piece[h]])
-                ++info->n_borders;
-            else
-                keep[h] = ++info->n_holes;
+            const double *a = acc + 5 * (size_t)h;
+            relief_rim *r = info->rims + h;
+            r->points = (uint32_t)a[3];
+            r->across = 2.0 * a[4];
+            memcpy(r->centre, a, sizeof r->centre);
+            r->fate = rim_fate(rule, a[3] < min_rim, selected[h],
+                               2 * inside[h] > piece_size[rim_piece[h]], r->across);
+            count_fate(info, r->fate);
+            if (r->fate == RELIEF_RIM_FILLED)
+                keep[h] = info->n_holes;
         }
+        info->n_rims = nc;
         for (size_t i = 0; i < n; ++i)
             rim[i] = mark[i] ? keep[comp[i]] : 0;
         free(keep);
         free(inside);
         free(rim_piece);
+        free(selected);
     }
     free(comp);
     free(acc);
@@ -133,7 +192,8 @@ static int u64_cmp(const void *x, const void *y)
 }
 
 relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
-                                uint32_t *rim, relief_hole_info *info, relief_error *err)
+                                const relief_hole_rule *rule, uint32_t *rim,
+                                relief_hole_info *info, relief_error *err)
 {
     /* Boundary edges: an undirected edge met once among the 3 nt. */
     size_t m = 3 * nt;
@@ -168,7 +228,7 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
         }
         i = j;
     }
-    st = label_rims(pos, n, mark, parent, piece, 3.0, rim, info, err);
+    st = label_rims(pos, n, mark, parent, piece, 3.0, rule, rim, info, err);
     free(e), free(parent), free(mark), free(piece);
     return st;
 }
@@ -180,7 +240,8 @@ static int dbl_cmp(const void *x, const void *y)
 }
 
 relief_status relief_holes_points(const double *pos, const double *nrm,
-                                  const relief_knn_graph *g, double gap, uint32_t *rim,
+                                  const relief_knn_graph *g, double gap,
+                                  const relief_hole_rule *rule, uint32_t *rim,
                                   relief_hole_info *info, relief_error *err)
 {
     size_t n = g->n, k = (size_t)g->k;
@@ -224,7 +285,7 @@ relief_status relief_holes_points(const double *pos, const double *nrm,
             if (mark[i] && mark[g->nbr[i * k + r]])
                 unite(parent, (uint32_t)i, g->nbr[i * k + r]);
         }
-    st = label_rims(pos, n, mark, parent, piece, (double)k, rim, info, err);
+    st = label_rims(pos, n, mark, parent, piece, (double)k, rule, rim, info, err);
     free(parent), free(mark), free(piece);
     return st;
 }

@@ -30,6 +30,10 @@ static const relief_param table[] = {
     RP_REAL(T, max_detail, "S", 0, 100, "the base keeps within S spacings of every point, so "
             "that thin parts stay shape, not detail, 0..100 (default 1; 0: no bound)"),
     RP_REAL(T, band, "S", 0, 1e6, "exemplars keep S spacings from a rim (default 2)"),
+    RP_REAL(T, max_hole, "L", 0, 1e30, "holes whose rims are wider than L (the input's "
+            "units) are taken for openings by design (a vase's mouth) and left open; 0 "
+            "(default): a quarter of the bounding box's diagonal; a hole mask selects "
+            "instead"),
     RP_INT(T, grid, "N", 3, 33, "the texture grid's side, odd, 3..33 (default 23)"),
     RP_INT(T, cluster_size, "N", 16, 100000, "points per cluster before overlap, "
            "16..100000 (default 300)"),
@@ -39,9 +43,10 @@ static const relief_param table[] = {
             "to choose from (default 1)"),
     RP_ENUM(T, grid_search, "S", searches, "the texture's nearest exemplar grids: kdtree "
             "(FLANN's exact kd-tree, default) or brute (every grid; on the backend)"),
-    RP_FLAG(T, hole_labels, "synthesise again the points the input's PLY labels 1"),
-    RP_REALS(T, hole_ball, "X,Y,Z,R", 4, 4, has_hole_ball, 1, "synthesise again the points "
-             "within R of (X, Y, Z), R > 0"),
+    RP_FLAG(T, hole_labels, "fill the holes whose rims the input's PLY labels 1 touch, and "
+            "synthesise those points again"),
+    RP_REALS(T, hole_ball, "X,Y,Z,R", 4, 4, has_hole_ball, 1, "fill the holes whose rims "
+             "reach within R of (X, Y, Z), R > 0, and synthesise those points again"),
     RP_FLAG(T, sample_labels, "exemplars only on the points the input's PLY labels 1"),
     RP_REALS(T, sample_box, "X0,Y0,Z0,X1,Y1,Z1", 6, 6, has_sample_box, 1, "exemplars only "
              "inside the box (the input's units; X0 < X1, Y0 < Y1, Z0 < Z1)"),

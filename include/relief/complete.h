@@ -225,6 +225,14 @@ typedef struct relief_complete_params {
     double max_growth;          /* refuse more than this many targets per
                                    captured vertex (a primitive that does not
                                    suit the capture); 100, >= 0, 0: no limit */
+    double max_hole;            /* base smooth: a hole whose rim is wider than
+                                   this (the capture's units; twice the largest
+                                   distance of a rim vertex from the rim's
+                                   centre) is an opening by design (a vase's
+                                   mouth or base) and stays open; 0 (default): a
+                                   quarter of the capture's bounding-box
+                                   diagonal; [0, 1e30] (relief/points.h's
+                                   max_hole) */
     /* the growth (relief_complete only) */
     int window;                 /* W, neighbourhood radius in edge hops; 3, [1, 16] */
     int rotations;              /* R, rotations tried per sample, [1, 64]; 0

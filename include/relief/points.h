@@ -74,6 +74,13 @@ typedef struct relief_complete_points_params {
                                     1, [0, 100], 0: no bound */
     double band;                 /* exemplars keep this many spacings from a rim;
                                     2, [0, 1e6] */
+    double max_hole;             /* a hole whose rim is wider than this (the
+                                    input's units: twice the largest distance of a
+                                    rim point from the rim's centre) is taken for
+                                    an opening the capture has by design (a vase's
+                                    mouth or base) and left open; 0 (default): a
+                                    quarter of the input's bounding-box diagonal;
+                                    [0, 1e30]. A hole mask selects instead. */
     int grid;                    /* texture grid side, odd; 23, [3, 33] */
     int cluster_size;            /* points per cluster before overlap; 300,
                                     [16, 100000] */
@@ -81,8 +88,10 @@ typedef struct relief_complete_points_params {
     uint32_t seed;               /* which exemplar grids are searched when there
                                     are over 20 000; 1 */
     relief_grid_search grid_search; /* default kdtree */
-    /* Which points are synthesised again besides the holes: at most one of
-     * hole_mask, hole_labels and has_hole_ball. */
+    /* Which holes are filled and which points are synthesised again: at
+     * most one of hole_mask, hole_labels and has_hole_ball. Given one, the
+     * holes whose rims it touches are filled, whatever their size, and no
+     * other; its points are synthesised again. */
     const uint8_t *hole_mask;    /* the input's vertex count: non-zero, this
                                     point's colour and detail are synthesised
                                     again; NULL (default): none */
@@ -160,6 +169,20 @@ RELIEF_API relief_status relief_points_read(const char *path, uint64_t max_point
                                             relief_mesh **out, relief_points_read_info *info,
                                             relief_error *err);
 
+/* One open boundary of the input (a mesh's boundary loop, a point set's
+ * rim) and what became of it. */
+typedef struct relief_hole {
+    unsigned rim_points;     /* its points (a mesh's: boundary vertices) */
+    double across;           /* twice the largest distance of a rim point
+                                from the centre: the diameter of a round hole,
+                                in the input's units */
+    double centre[3];        /* the rim points' centroid */
+    const char *fate;        /* "filled"; or left open: "too_small" (noise),
+                                "border" (an open scan's outer border),
+                                "too_large" (wider than max_hole),
+                                "not_selected" (a hole mask misses it) */
+} relief_hole;
+
 /* What a relief_complete_points call did. */
 typedef struct relief_complete_points_report {
     size_t points_in;        /* input points */
@@ -169,6 +192,11 @@ typedef struct relief_complete_points_report {
     unsigned holes;          /* holes filled */
     unsigned outer_borders;  /* rims taken for an outer border, left open */
     unsigned holes_too_small; /* rims too small to fill */
+    unsigned holes_too_large; /* rims wider than max_hole, left open */
+    unsigned holes_not_selected; /* rims the hole mask misses, left open */
+    double max_hole;         /* the limit applied (0 with a hole mask) */
+    relief_hole *hole_list;  /* every open boundary, n_hole_list (owned) */
+    size_t n_hole_list;
     double spacing;          /* median nearest-neighbour distance */
     double detail_rms;       /* RMS of the detail over the input */
     double reconstruction_rms; /* RMS of |base + detail - point| over the input */

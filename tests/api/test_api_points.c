@@ -206,6 +206,18 @@ static void test_real_scan(const char *data)
                   strstr(rep.json, "\"input\": null") && strstr(rep.json, "\"energy\": ["),
               "the report's JSON: %.200s", rep.json ? rep.json : "(none)");
         CHECK(rep.iterations >= 1 && rep.iterations <= 3 && rep.exemplars > 0, "texture");
+        { /* the hole model: the cut is listed, filled, 2 r to 4 r across (a ball
+             * cut on a curved surface leaves no circle) */
+            const relief_hole *cut_hole = NULL;
+            for (size_t h = 0; h < rep.n_hole_list; ++h)
+                if (!strcmp(rep.hole_list[h].fate, "filled") &&
+                    (!cut_hole || rep.hole_list[h].rim_points > cut_hole->rim_points))
+                    cut_hole = rep.hole_list + h;
+            CHECK(cut_hole && cut_hole->across > r && cut_hole->across < 4 * r &&
+                      rep.max_hole > 4 * r && strstr(rep.json, "\"fate\": \"filled\""),
+                  "the cut's rim in the report: %g across (max_hole %g)",
+                  cut_hole ? cut_hole->across : 0.0, rep.max_hole);
+        }
         CHECK(s.calls > 3 && !s.decreased && s.last > 0.999999, "progress: %d calls, last %g%s",
               s.calls, s.last, s.decreased ? ", decreased" : "");
         relief_complete_points_report_free(&rep);
@@ -282,6 +294,7 @@ static relief_complete_points_params small_params(void)
     p.iterations = 4;
     p.grid = 11;
     p.cluster_size = 100;
+    p.max_hole = 1e30; /* the plane's hole is wider than a quarter of its box */
     return p;
 }
 

@@ -153,12 +153,14 @@ static void test_holes_points(void)
     uint32_t *rim = malloc(n * sizeof *rim);
     relief_knn_graph g;
     relief_hole_info info;
+    relief_hole_rule no_limit = {0.0, NULL};
     relief_error err;
     /* A cap cut off a sphere: one hole, its rim at the cut. */
     m = sphere_points(n, 0.8, 0.0, pos);
     relief_knn_graph_build(pos, m, 16, &g, &err);
     relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
-    CHECK(relief_holes_points(pos, nrm, &g, PI / 2, rim, &info, &err) == RELIEF_OK, "%s",
+    CHECK(relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, rim, &info, &err) == RELIEF_OK,
+          "%s",
           err.message);
     CHECK(info.n_holes == 1 && info.n_borders == 0, "holes %u borders %u", info.n_holes,
           info.n_borders);
@@ -184,22 +186,21 @@ static void test_holes_points(void)
     m = sphere_points(n, 0.0, 0.0, pos);
     relief_knn_graph_build(pos, m, 16, &g, &err);
     relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
-    relief_holes_points(pos, nrm, &g, PI / 2, rim, &info, &err);
+    relief_hole_info_free(&info);
+    relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, rim, &info, &err);
     CHECK(info.n_holes == 0 && info.n_borders == 1, "hemisphere: holes %u borders %u",
           info.n_holes, info.n_borders);
+    relief_hole_info_free(&info);
     relief_knn_graph_free(&g);
     free(pos), free(nrm), free(rim);
 }
 
-static void test_holes_mesh(void)
+/* A 20 x 20 grid of squares with the 4 x 4 in the middle missing. */
+enum { S = 21 };
+
+static size_t grid_with_hole(double *pos, uint32_t *tri)
 {
-    /* A 20 x 20 grid of squares with the 4 x 4 in the middle missing. */
-    enum { S = 21 };
-    double pos[S * S * 3];
-    uint32_t tri[20 * 20 * 6], rim[S * S];
-    size_t nt = 0, hole = 0, border = 0;
-    relief_hole_info info;
-    relief_error err;
+    size_t nt = 0;
     for (int y = 0; y < S; ++y)
         for (int x = 0; x < S; ++x)
             pos[3 * (y * S + x)] = x, pos[3 * (y * S + x) + 1] = y, pos[3 * (y * S + x) + 2] = 0;
@@ -211,8 +212,19 @@ static void test_holes_mesh(void)
             tri[3 * nt] = a, tri[3 * nt + 1] = a + 1, tri[3 * nt + 2] = a + S + 1, ++nt;
             tri[3 * nt] = a, tri[3 * nt + 1] = a + S + 1, tri[3 * nt + 2] = a + S, ++nt;
         }
-    CHECK(relief_holes_mesh(pos, S * S, tri, nt, rim, &info, &err) == RELIEF_OK, "%s",
-          err.message);
+    return nt;
+}
+
+static void test_holes_mesh(void)
+{
+    double pos[S * S * 3];
+    uint32_t tri[20 * 20 * 6], rim[S * S];
+    size_t nt = grid_with_hole(pos, tri), hole = 0, border = 0;
+    relief_hole_info info;
+    relief_hole_rule no_limit = {0.0, NULL};
+    relief_error err;
+    CHECK(relief_holes_mesh(pos, S * S, tri, nt, &no_limit, rim, &info, &err) == RELIEF_OK,
+          "%s", err.message);
     CHECK(info.n_holes == 1 && info.n_borders == 1, "holes %u borders %u", info.n_holes,
           info.n_borders);
     for (int i = 0; i < S * S; ++i) {
@@ -223,6 +235,46 @@ static void test_holes_mesh(void)
         border += rim[i] == 0 && on_hole;
     }
     CHECK(hole == 16 && border == 0, "hole rim: %zu of 16 found, %zu missed", hole, border);
+    relief_hole_info_free(&info);
+}
+
+/* The hole model's rule (issue 40): each rim listed with its size and
+ * fate; a rim wider than max_across left open as an opening; a selection
+ * fills exactly the rims it touches, a border included. */
+static void test_hole_rule(void)
+{
+    double pos[S * S * 3];
+    uint32_t tri[20 * 20 * 6], rim[S * S];
+    uint8_t select[S * S] = {0};
+    size_t nt = grid_with_hole(pos, tri);
+    relief_hole_info info;
+    relief_hole_rule narrow = {5.0, NULL}, wide = {6.0, NULL}, pick = {5.0, select};
+    relief_error err;
+    const relief_rim *h;
+    /* The hole's rim: the square 8..12, its corners 2 sqrt(8) = 5.66 across. */
+    CHECK(relief_holes_mesh(pos, S * S, tri, nt, &wide, rim, &info, &err) == RELIEF_OK, "%s",
+          err.message);
+    CHECK(info.n_rims == 2 && info.n_holes == 1 && info.n_borders == 1, "wide: %u rims, %u "
+          "holes, %u borders", info.n_rims, info.n_holes, info.n_borders);
+    h = info.n_rims == 2 ? info.rims + (info.rims[0].fate == RELIEF_RIM_FILLED ? 0 : 1) : NULL;
+    CHECK(h && h->points == 16 && fabs(h->across - 2 * sqrt(8.0)) < 1e-9 &&
+              fabs(h->centre[0] - 10) < 1e-9 && fabs(h->centre[1] - 10) < 1e-9,
+          "the hole's rim: %u points, %g across at (%g, %g)", h ? h->points : 0,
+          h ? h->across : 0, h ? h->centre[0] : 0, h ? h->centre[1] : 0);
+    relief_hole_info_free(&info);
+    relief_holes_mesh(pos, S * S, tri, nt, &narrow, rim, &info, &err);
+    CHECK(info.n_holes == 0 && info.n_too_large == 1 && info.n_borders == 1 &&
+              info.max_across == 5.0, "narrow: %u holes, %u too large", info.n_holes,
+          info.n_too_large);
+    for (int i = 0; i < S * S; ++i)
+        CHECK(rim[i] == 0, "vertex %d labelled %u with no hole kept", i, rim[i]);
+    relief_hole_info_free(&info);
+    select[0] = 1; /* a corner of the outer border */
+    relief_holes_mesh(pos, S * S, tri, nt, &pick, rim, &info, &err);
+    CHECK(info.n_holes == 1 && info.n_not_selected == 1 && rim[0] == 1 && rim[8 * S + 8] == 0,
+          "selected border: %u holes, %u not selected", info.n_holes, info.n_not_selected);
+    CHECK(!strcmp(relief_rim_fate_name(RELIEF_RIM_TOO_LARGE), "too_large"), "fate name");
+    relief_hole_info_free(&info);
 }
 
 int main(void)
@@ -231,5 +283,6 @@ int main(void)
     test_flow();
     test_holes_points();
     test_holes_mesh();
+    test_hole_rule();
     return check_result();
 }

@@ -57,11 +57,21 @@ static relief_mesh *captured(const relief_mesh *m)
     return c;
 }
 
+/* The defaults, with no size limit on the holes: the caps cut here are
+ * wider than a quarter of the sphere's box, which the default takes for an
+ * opening by design (issue 40's hole model) and leaves open. */
+static relief_points_params wide_holes(void)
+{
+    relief_points_params p = relief_points_params_default();
+    p.max_hole = 1e30;
+    return p;
+}
+
 static void test_sphere_detail(void)
 {
     relief_mesh *truth = bumpy_sphere(12000, 0.03, 0, 0.75), *cap = captured(truth), *out = NULL,
                 *smooth = NULL;
-    relief_points_params p = relief_points_params_default();
+    relief_points_params p = wide_holes();
     relief_points_report rep;
     relief_points_measures m, ms;
     relief_error err;
@@ -106,7 +116,7 @@ static void test_colour_and_determinism(void)
 {
     relief_mesh *truth = bumpy_sphere(12000, 0.0, 1, 0.8), *cap = captured(truth), *a = NULL,
                 *b = NULL;
-    relief_points_params p = relief_points_params_default();
+    relief_points_params p = wide_holes();
     relief_points_report rep;
     relief_points_measures m;
     relief_error err;
@@ -146,7 +156,7 @@ static void test_real(const char *dir)
     char path[1024];
     relief_mesh *whole = NULL, *cap = NULL, *truth = NULL, *out = NULL;
     relief_cut_region region = {RELIEF_CUT_BALL, {5.47789, 31.1822, 10.7274}, {0, 0, 0}, 8.0, 0};
-    relief_points_params p = relief_points_params_default();
+    relief_points_params p = wide_holes();
     relief_points_report rep;
     relief_points_measures m;
     relief_error err;
@@ -181,7 +191,7 @@ static void test_clone(void)
 {
     relief_mesh *truth = bumpy_sphere(12000, 0.0, 0, 0.75), *cap = captured(truth);
     relief_mesh *donor = bumpy_sphere(12000, 0.03, 0, 2.0), *own = NULL, *cloned = NULL;
-    relief_points_params p = relief_points_params_default();
+    relief_points_params p = wide_holes();
     relief_points_report rep;
     relief_points_measures a, b;
     relief_error err;
@@ -211,7 +221,7 @@ static void test_bad_input(void)
 {
     relief_mesh *whole = bumpy_sphere(3000, 0.0, 0, 2.0), *cap = captured(whole), *out = NULL,
                 *line = NULL;
-    relief_points_params p = relief_points_params_default();
+    relief_points_params p = wide_holes();
     relief_points_report rep;
     relief_error err;
     CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
@@ -221,12 +231,12 @@ static void test_bad_input(void)
     CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "no colour"),
           "colour only without colour: %s", err.message);
-    p = relief_points_params_default();
+    p = wide_holes();
     p.k = 3;
     CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_E_RANGE &&
               strstr(err.message, "k 3 out of range"),
           "k: %s", err.message);
-    p = relief_points_params_default();
+    p = wide_holes();
     relief_mesh_create(50, 0, 0, &line, &err);
     for (size_t i = 0; i < 50; ++i)
         line->pos[3 * i] = (double)i, line->pos[3 * i + 1] = 2.0 * i, line->pos[3 * i + 2] = 0.0;

@@ -76,7 +76,7 @@ awk 'BEGIN { srand(3); n = 0
     X[n] = x * 0.01; Y[n] = y * 0.01; Z[n] = 0.001 * sin(x * 1.3) * cos(y * 0.9) + 0.0002 * rand(); n++ }
   print "ply\nformat ascii 1.0\nelement vertex " n "\nproperty float x\nproperty float y\nproperty float z\nend_header"
   for (i = 0; i < n; i++) print X[i], Y[i], Z[i] }' > "$tmp/small.ply"
-expect 0 "added over 1 hole" -- "$relief" complete-points "$tmp/small.ply" -o "$tmp/small_out.ply" --report "$tmp/small.json"
+expect 0 "added over 1 hole" -- "$relief" complete-points "$tmp/small.ply" -o "$tmp/small_out.ply" --report "$tmp/small.json" --max-hole 1
 ok 'grep -q "\"grid_used\": 17" "$tmp/small.json" && grep -q "\"cluster_size_used\": 150" "$tmp/small.json"' "the small patch did not fall back to smaller grids: $(grep _used "$tmp/small.json" | tr -d '\n')"
 
 # relief complete --base smooth: the paper 000 growth on the smooth base

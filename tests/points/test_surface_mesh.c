@@ -222,6 +222,7 @@ static void test_completion_closed(void)
             memcpy(cap->pos + 3 * m++, pos + 3 * i, 3 * sizeof *pos);
     cap->nv = m;
     p.mesh = 1;
+    p.max_hole = 1e30; /* the cap is wider than the default's quarter of the box */
     CHECK(relief_points_complete(cap, &p, &out, &rep, &err) == RELIEF_OK, "%s", err.message);
     if (out) {
         counts c = count(out->pos, out->nv, out->tri, out->nt);
