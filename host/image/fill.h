@@ -1,7 +1,10 @@
 /* Hole filling in images (paper 004, chapter 3): a 1-D interpolation pass
- * along rows, then columns, where the gap's ends agree and are smooth;
- * then copy-paste synthesis: the hole-boundary pixels in raster order, a
- * w x w window centred on each, the best window of the same size in the
+ * along rows, then columns, where the gap's ends agree and are smooth,
+ * the gap is no longer than the window and each end, over half a window
+ * along the line, is no rougher (mean |second difference|) than the
+ * image's median pixel (at least 1 on 0..255): texture is left to
+ * copy-paste (issue 40). Then copy-paste synthesis: the hole-boundary
+ * pixels in raster order, a w x w window centred on each, the best window of the same size in the
  * search region with at most 10 % holes (coarse to fine over a Gaussian
  * pyramid, or exhaustively), accepted when its RMS difference is under
  * tau, the window shrunk by 2 on a failure, and the 3 x 3 fallback last.
