@@ -295,7 +295,7 @@ static void make_opaque(relief_raster *img, size_t i)
 }
 
 void relief_fill_interp(relief_raster *img, uint8_t *hole, const relief_fill_params *p,
-                        size_t *by_rows, size_t *by_columns)
+                        size_t *by_rows, size_t *by_columns, double *roughness)
 {
     int W = img->width, H = img->height, C = colour_channels(img);
     size_t rows = 0, cols = 0, n = (size_t)W * H;
@@ -313,6 +313,8 @@ void relief_fill_interp(relief_raster *img, uint8_t *hole, const relief_fill_par
     image_roughness(img, hole, C, image_rough);
     for (int c = 0; c < C; ++c)
         lim.rough[c] = fmax(1.0 * image_rough[c], img->bit_depth == 16 ? 257.0 : 1.0);
+    if (roughness)
+        memcpy(roughness, lim.rough, sizeof(double) * (size_t)C);
     lim.max_gap = p->window;
     lim.reach = p->window / 2 + 1;
     for (int y = 0; y < H; ++y)
@@ -992,7 +994,8 @@ relief_status relief_fill(relief_raster *img, const uint8_t *hole_in, const reli
 
     t0 = relief_seconds();
     if (p->interp)
-        relief_fill_interp(img, hole, p, &rep->by_rows, &rep->by_columns);
+        relief_fill_interp(img, hole, p, &rep->by_rows, &rep->by_columns,
+                           rep->interp_roughness);
     rep->seconds_interp = relief_seconds() - t0;
     if (relief_progress_count(p->progress, rep->by_rows + rep->by_columns, holes)) {
         st = cancelled(p, err);

@@ -40,7 +40,7 @@ static void test_interp(void)
     for (int x = 4; x <= 6; ++x)
         hole[x] = hole[12 + x] = hole[24 + x] = 1;
     r.v[24 + 7] = r.v[24 + 8] = r.v[24 + 9] = r.v[24 + 10] = r.v[24 + 11] = 100.0f;
-    relief_fill_interp(&r, hole, &p, &rows, &cols);
+    relief_fill_interp(&r, hole, &p, &rows, &cols, NULL);
     CHECK(rows == 3 && cols == 0, "rows %zu, columns %zu, expected 3 and 0", rows, cols);
     CHECK(r.v[4] == 102.5f && r.v[5] == 105.0f && r.v[6] == 107.5f,
           "row 0 filled %g %g %g, expected 102.5 105 107.5", r.v[4], r.v[5], r.v[6]);
@@ -56,7 +56,7 @@ static void test_interp(void)
     for (int y = 4; y <= 6; ++y)
         for (int x = 0; x < 3; ++x)
             hole[y * 3 + x] = 1;
-    relief_fill_interp(&r, hole, &p, &rows, &cols);
+    relief_fill_interp(&r, hole, &p, &rows, &cols, NULL);
     CHECK(rows == 0 && cols == 9, "rows %zu, columns %zu, expected 0 and 9", rows, cols);
     CHECK(r.v[5 * 3 + 1] == 44.0f, "column filled %g, expected 44", r.v[5 * 3 + 1]);
     /* A threshold of 0 on the difference refuses it. */
