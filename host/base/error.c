@@ -82,3 +82,31 @@ relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...)
     err->message[n + strnlen(msg, sizeof err->message - n - 1)] = '\0';
     return err->status;
 }
+
+const char *relief_escape(const char *text, size_t max, char *out, size_t cap)
+{
+    size_t at = 0, k = 0;
+    if (cap == 0)
+        return out;
+    for (; text[k] && k < max; ++k) {
+        unsigned char c = (unsigned char)text[k];
+        char piece[5];
+        size_t len;
+        if (c == '\\')
+            len = (size_t)snprintf(piece, sizeof piece, "\\\\");
+        else if (c >= 0x20 && c < 0x7f)
+            len = (size_t)snprintf(piece, sizeof piece, "%c", c);
+        else
+            len = (size_t)snprintf(piece, sizeof piece, "\\x%02x", c);
+        if (at + len + 4 > cap)
+            break;
+        memcpy(out + at, piece, len);
+        at += len;
+    }
+    if (text[k] && at + 4 <= cap) {
+        memcpy(out + at, "...", 3);
+        at += 3;
+    }
+    out[at] = '\0';
+    return out;
+}

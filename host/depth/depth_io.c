@@ -182,7 +182,7 @@ static relief_status parse_header(const uint8_t *d, size_t n, const char *name, 
     memset(h, 0, sizeof *h);
     h->width = h->height = h->points = -1;
     while (at < n) {
-        char line[1024], *w[PCD_MAX_FIELDS + 2];
+        char line[1024], *w[PCD_MAX_FIELDS + 2], shown[4 * RELIEF_ESCAPE_MAX + 4];
         size_t len = 0;
         int k;
         ++line_no;
@@ -219,14 +219,16 @@ static relief_status parse_header(const uint8_t *d, size_t n, const char *name, 
                     if (strlen(w[i + 1]) != 1 || !strchr("FUI", w[i + 1][0]))
                         return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: "
                                            "TYPE '%s' is not F, U or I", name, line_no,
-                                           w[i + 1]);
+                                           relief_escape(w[i + 1], RELIEF_ESCAPE_MAX, shown,
+                                                         sizeof shown));
                     h->f[i].type = w[i + 1][0];
                 } else {
                     v = strtol(w[i + 1], &end, 10);
                     if (*end || v < 1 || v > (w[0][0] == 'S' ? 8 : 1 << 20))
                         return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s "
                                            "'%s' is out of range", name, line_no, w[0],
-                                           w[i + 1]);
+                                           relief_escape(w[i + 1], RELIEF_ESCAPE_MAX, shown,
+                                                         sizeof shown));
                     if (w[0][0] == 'S')
                         h->f[i].size = (int)v;
                     else
@@ -283,7 +285,7 @@ static relief_status parse_header(const uint8_t *d, size_t n, const char *name, 
             return RELIEF_OK;
         }
         return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: unknown key '%s'", name,
-                           line_no, w[0]);
+                           line_no, relief_escape(w[0], RELIEF_ESCAPE_MAX, shown, sizeof shown));
     }
     return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: no DATA line (truncated?)", name);
 }
@@ -313,7 +315,7 @@ static relief_status decode_ascii(const char *p, const char *end, const pcd_head
     for (size_t i = 0; i < px; ++i)
         for (int k = 0; k < h->nf; ++k)
             for (int c = 0; c < h->f[k].count; ++c) {
-                char tok[64];
+                char tok[64], shown[4 * RELIEF_ESCAPE_MAX + 4];
                 size_t len = 0;
                 double v;
                 char *e;
@@ -328,7 +330,9 @@ static relief_status decode_ascii(const char *p, const char *end, const pcd_head
                 v = strtod(tok, &e);
                 if (*e && strcmp(tok, "nan") && strcmp(tok, "NaN"))
                     return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii point %zu: '%s' "
-                                       "is not a number", name, i, tok);
+                                       "is not a number", name, i,
+                                       relief_escape(tok, RELIEF_ESCAPE_MAX, shown,
+                                                     sizeof shown));
                 if (*e)
                     v = NAN;
                 if (k == ix || k == iy || k == iz)

@@ -410,6 +410,13 @@ static void write_json(relief_json *j, const void *ctx)
     rj_bool(j, "interp", p->interp);
     rj_number(j, "interp_diff", r->interp_diff);
     rj_number(j, "interp_sd", r->interp_sd);
+    /* The 1-D pass's limit on an end's roughness, from the image's own
+     * (per colour channel; 0 where the pass did not run). */
+    rj_begin_array(j, "interp_roughness");
+    for (int k = 0; k < (c->image->channels == 2 || c->image->channels == 4
+                             ? c->image->channels - 1 : c->image->channels); ++k)
+        rj_number(j, NULL, c->fr.interp_roughness[k]);
+    rj_end_array(j);
     rj_int(j, "seed", p->seed);
     rj_end_object(j);
     rj_begin_object(j, "pixels");

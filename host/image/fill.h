@@ -1,7 +1,10 @@
 /* Hole filling in images (paper 004, chapter 3): a 1-D interpolation pass
- * along rows, then columns, where the gap's ends agree and are smooth;
- * then copy-paste synthesis: the hole-boundary pixels in raster order, a
- * w x w window centred on each, the best window of the same size in the
+ * along rows, then columns, where the gap's ends agree and are smooth,
+ * the gap is no longer than the window and each end, over half a window
+ * along the line, is no rougher (mean |second difference|) than the
+ * image's median pixel (at least 1 on 0..255): texture is left to
+ * copy-paste (issue 40). Then copy-paste synthesis: the hole-boundary
+ * pixels in raster order, a w x w window centred on each, the best window of the same size in the
  * search region with at most 10 % holes (coarse to fine over a Gaussian
  * pyramid, or exhaustively), accepted when its RMS difference is under
  * tau, the window shrunk by 2 on a failure, and the 3 x 3 fallback last.
@@ -75,6 +78,8 @@ typedef struct relief_fill_report {
     int top_m;                           /* matches kept there (4 x start level) */
     double tau;                          /* the acceptance threshold used */
     double interp_diff, interp_sd;       /* the 1-D pass's thresholds used */
+    double interp_roughness[4];          /* and its roughness limit per colour channel
+                                            (0 where the pass did not run) */
     double seconds_interp, seconds_copy; /* the two stages */
     double seconds_score;                /* of which scoring windows */
 } relief_fill_report;
@@ -145,8 +150,10 @@ size_t relief_filler_candidates(const relief_filler *f, double *seconds);
 void relief_filler_destroy(relief_filler *f);
 
 /* The 1-D pass alone on `img` (holes filled are cleared in `hole`): for
- * tests. Returns the pixels filled by rows and by columns. */
+ * tests. Returns the pixels filled by rows and by columns, and (when
+ * roughness is not NULL) the largest end roughness it took in each colour
+ * channel, sample units (relief_fill_report.interp_roughness). */
 void relief_fill_interp(relief_raster *img, uint8_t *hole, const relief_fill_params *p,
-                        size_t *by_rows, size_t *by_columns);
+                        size_t *by_rows, size_t *by_columns, double *roughness);
 
 #endif

@@ -92,6 +92,96 @@ static void png_read_memory(png_structp png, png_bytep out, size_t len)
     job->at += len;
 }
 
+static uint32_t be32(const uint8_t *b)
+{
+    return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
+}
+
+/* libpng refuses a bad IHDR with "Invalid IHDR data" alone; its CRC
+ * matched by then, so the fields are read here again to say which one
+ * is wrong and its value. Returns 1 (the size over relief's limit) or 0. */
+static int describe_ihdr(const uint8_t *d, size_t n, char *out, size_t cap)
+{
+    static const char *const names[] = {"grey", "", "RGB", "palette", "grey + alpha", "",
+                                        "RGBA"};
+    static const char *const depths[] = {"1, 2, 4, 8 or 16", "", "8 or 16", "1, 2, 4 or 8",
+                                         "8 or 16", "", "8 or 16"};
+    uint32_t side[2];
+    int depth, ctype;
+    if (n < 29 || memcmp(d + 12, "IHDR", 4) != 0) {
+        snprintf(out, cap, "Invalid IHDR data");
+        return 0;
+    }
+    side[0] = be32(d + 16);
+    side[1] = be32(d + 20);
+    depth = d[24];
+    ctype = d[25];
+    for (int k = 0; k < 2; ++k) {
+        if (side[k] == 0 || side[k] > 0x7fffffffu) {
+            snprintf(out, cap, "IHDR %s %u: expected 1..2^31 - 1 pixels", k ? "height" : "width",
+                     side[k]);
+            return 0;
+        }
+        if (side[k] > RELIEF_RASTER_MAX_SIDE) {
+            snprintf(out, cap, "PNG IHDR %s %u: each side must be at most %d pixels",
+                     k ? "height" : "width", side[k], RELIEF_RASTER_MAX_SIDE);
+            return 1;
+        }
+    }
+    if (ctype > 6 || !names[ctype][0])
+        snprintf(out, cap, "IHDR colour type %d: expected 0 (grey), 2 (RGB), 3 (palette), "
+                 "4 (grey + alpha) or 6 (RGBA)", ctype);
+    else if (depth < 1 || depth > 16 || (depth & (depth - 1)) ||
+             (ctype != 0 && ctype != 3 && depth < 8) || (ctype == 3 && depth == 16))
+        snprintf(out, cap, "IHDR bit depth %d for colour type %d (%s): expected %s", depth,
+                 ctype, names[ctype], depths[ctype]);
+    else if (d[26] != 0)
+        snprintf(out, cap, "IHDR compression method %d: expected 0", d[26]);
+    else if (d[27] != 0)
+        snprintf(out, cap, "IHDR filter method %d: expected 0", d[27]);
+    else if (d[28] > 1)
+        snprintf(out, cap, "IHDR interlace method %d: expected 0 (none) or 1 (Adam7)", d[28]);
+    else
+        snprintf(out, cap, "Invalid IHDR data (%u x %u pixels, bit depth %d, colour type %d)",
+                 side[0], side[1], depth, ctype);
+    return 0;
+}
+
+/* A palette image's PLTE and tRNS (colours NULL: not one). */
+typedef struct png_palette {
+    png_colorp colours;
+    int entries;
+    png_bytep alpha; /* NULL: opaque */
+    int n_alpha;     /* entries past it are opaque */
+} png_palette;
+
+/* One decoded row into w x channels values: samples of `depth` bits, or
+ * palette indexes (a byte each) looked up, an index past the palette
+ * refused naming it. */
+static relief_status png_row(const png_byte *row, png_uint_32 w, int channels, int depth,
+                             const png_palette *pal, float *o, const char *name,
+                             relief_error *err)
+{
+    if (!pal->colours) {
+        for (size_t i = 0; i < (size_t)w * channels; ++i)
+            o[i] = depth == 16 ? (float)((row[2 * i] << 8) | row[2 * i + 1]) : (float)row[i];
+        return RELIEF_OK;
+    }
+    for (png_uint_32 x = 0; x < w; ++x, o += channels) {
+        int k = row[x];
+        if (k >= pal->entries)
+            return relief_fail(err, RELIEF_E_PARSE, "%s: malformed PNG: a pixel has palette "
+                               "index %d, past the palette of %d entries", name, k,
+                               pal->entries);
+        o[0] = pal->colours[k].red;
+        o[1] = pal->colours[k].green;
+        o[2] = pal->colours[k].blue;
+        if (channels == 4)
+            o[3] = k < pal->n_alpha ? pal->alpha[k] : 255.0f;
+    }
+    return RELIEF_OK;
+}
+
 static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
                                 const relief_image_limit *lim, int samples, relief_raster *out,
                                 relief_error *err)
@@ -102,9 +192,11 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
     png_uint_32 w, h;
     int depth, ctype, interlace, channels;
     size_t rowbytes;
+    png_palette pal;
     relief_status st = RELIEF_OK;
 
     memset(&job, 0, sizeof job);
+    memset(&pal, 0, sizeof pal);
     job.data = data;
     job.n = n;
     png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job, png_on_error, png_on_warning);
@@ -114,23 +206,34 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot start libpng", name);
     }
     if (setjmp(job.jump)) {
+        int over = 0;
         relief_raster_free(out);
-        st = relief_fail(err, RELIEF_E_PARSE, "%s: malformed PNG: %s", name, job.msg);
+        if (strcmp(job.msg, "Invalid IHDR data") == 0)
+            over = describe_ihdr(data, n, job.msg, sizeof job.msg);
+        st = over ? relief_fail(err, RELIEF_E_RANGE, "%s: %s", name, job.msg)
+                  : relief_fail(err, RELIEF_E_PARSE, "%s: malformed PNG: %s", name, job.msg);
         goto done;
     }
     png_set_read_fn(png, &job, png_read_memory);
     png_set_user_limits(png, RELIEF_RASTER_MAX_SIDE, RELIEF_RASTER_MAX_SIDE);
     png_read_info(png, info);
     png_get_IHDR(png, info, &w, &h, &depth, &ctype, &interlace, NULL, NULL);
-    if (ctype == PNG_COLOR_TYPE_PALETTE)
-        png_set_palette_to_rgb(png);
-    if (ctype == PNG_COLOR_TYPE_GRAY && depth < 8)
-        png_set_expand_gray_1_2_4_to_8(png);
-    if (png_get_valid(png, info, PNG_INFO_tRNS))
-        png_set_tRNS_to_alpha(png);
+    if (ctype == PNG_COLOR_TYPE_PALETTE) {
+        /* Expanded here, not by libpng, which pads a short palette with
+         * black and reads a pixel past it so, silently. */
+        png_get_PLTE(png, info, &pal.colours, &pal.entries);
+        if (png_get_valid(png, info, PNG_INFO_tRNS))
+            png_get_tRNS(png, info, &pal.alpha, &pal.n_alpha, NULL);
+        png_set_packing(png); /* 1, 2, 4-bit indexes to a byte each */
+    } else {
+        if (ctype == PNG_COLOR_TYPE_GRAY && depth < 8)
+            png_set_expand_gray_1_2_4_to_8(png);
+        if (png_get_valid(png, info, PNG_INFO_tRNS))
+            png_set_tRNS_to_alpha(png);
+    }
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
-    channels = png_get_channels(png, info);
+    channels = pal.colours ? (pal.alpha ? 4 : 3) : png_get_channels(png, info);
     depth = png_get_bit_depth(png, info);
     if ((depth != 8 && depth != 16) || channels < 1 || channels > 4) {
         st = relief_fail(err, RELIEF_E_FORMAT, "%s: PNG of %d channels of %d bits: not "
@@ -154,12 +257,11 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
     st = relief_raster_create((int)w, (int)h, channels, depth, out, err);
     if (st != RELIEF_OK)
         goto done;
-    for (png_uint_32 y = 0; y < h; ++y) {
-        const png_byte *row = job.rows[y];
-        float *o = out->v + (size_t)y * w * channels;
-        for (size_t i = 0; i < (size_t)w * channels; ++i)
-            o[i] = depth == 16 ? (float)((row[2 * i] << 8) | row[2 * i + 1]) : (float)row[i];
-    }
+    for (png_uint_32 y = 0; y < h && st == RELIEF_OK; ++y)
+        st = png_row(job.rows[y], w, channels, depth, &pal,
+                     out->v + (size_t)y * w * channels, name, err);
+    if (st != RELIEF_OK)
+        relief_raster_free(out);
 done:
     png_destroy_read_struct(&png, &info, NULL);
     free(job.pixels);

@@ -21,8 +21,9 @@ static const relief_param table[] = {
            "pixel, at least half a window; 0 (default): the whole image"),
     RP_FLAG(T, exhaustive, "every window at full resolution (slow; the reference the "
             "pyramid is measured against); default: coarse to fine"),
-    RP_FLAG(T, interp, "the 1-D interpolation pass along rows and columns where a gap's "
-            "ends agree, before copy-paste (default: on)"),
+    RP_FLAG(T, interp, "the 1-D interpolation pass along rows and columns over gaps no "
+            "longer than the window whose ends agree and are no rougher than the image's "
+            "median pixel, before copy-paste (default: on)"),
     RP_REAL(T, interp_diff, "D", -HUGE_VAL, HUGE_VAL, "1-D pass: a gap's two ends differ by "
             "at most D in every channel; < 0 (default): 16 on 0..255, scaled"),
     RP_REAL(T, interp_sd, "S", -HUGE_VAL, HUGE_VAL, "1-D pass: the 4 pixels beyond each end "

@@ -1,6 +1,6 @@
 /* relief/image.h: images, their files, and hole filling in images (paper
- * 004, chapter 3: a 1-D interpolation pass where a gap's ends agree, then
- * copy-paste synthesis of windows matched over a Gaussian pyramid).
+ * 004, chapter 3: a 1-D interpolation pass where a gap's ends agree and
+ * the image is smooth, then copy-paste synthesis of windows matched over a Gaussian pyramid).
  *
  *   relief_image img;                    (or a view of your own buffer)
  *   relief_image_read("photo.png", &img, &err);
@@ -82,7 +82,14 @@ typedef struct relief_image_fill_params {
                             and 2r + 1 at least window when not 0 */
     int exhaustive;      /* 1: every window at full resolution (slow; the
                             reference); 0 (default): coarse to fine */
-    int interp;          /* 1 (default): the 1-D interpolation pass first */
+    int interp;          /* 1 (default): the 1-D interpolation pass first,
+                            along rows then columns, over the gaps no longer
+                            than window whose ends agree (interp_diff), are
+                            smooth (interp_sd) and, over half a window
+                            along the line, no rougher (mean |second
+                            difference|) than the image's median pixel
+                            (at least 1 on 0..255, x 257 at 16 bits): a
+                            linear run never replaces texture */
     double interp_diff;  /* 1-D pass: a gap's ends differ by at most this in
                             every channel; < 0 (default): 16 on 0..255, scaled */
     double interp_sd;    /* 1-D pass: the 4 pixels beyond each end have a

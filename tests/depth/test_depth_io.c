@@ -132,6 +132,30 @@ int main(int argc, char **argv)
         for (size_t i = 0; i < sizeof headers / sizeof headers[0]; ++i)
             bad(relief_pcd_decode, (const uint8_t *)headers[i], strlen(headers[i]), headers[i]);
     }
+    /* Issue 40: a garbled key, TYPE or ascii value is quoted escaped
+     * (printable ASCII, \xNN for the rest, 32 bytes at most, then "..."),
+     * never as raw bytes. Before: the bytes as they were. */
+    {
+        static const struct { const char *pcd, *want; } garbled[] = {
+            {"VERSION 0.7\nFI\x01\x1b[2J\xff\\S x y z\n",
+             "unknown key 'FI\\x01\\x1b[2J\\xff\\\\S'"},
+            {"VERSION 0.7\nKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKK\x07\n",
+             "unknown key 'KKKKKKKKKKKKKKKKKKKKKKKKKKKKKKKK...'"},
+            {"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F \x80\n", "TYPE '\\x80'"},
+            {"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nHEIGHT 1\n"
+             "DATA ascii\n1 \x7f\x01 3\n", "'\\x7f\\x01' is not a number"},
+        };
+        for (size_t i = 0; i < sizeof garbled / sizeof garbled[0]; ++i) {
+            const char *g = garbled[i].pcd;
+            bad(relief_pcd_decode, (const uint8_t *)g, strlen(g), garbled[i].want);
+            relief_pcd_decode((const uint8_t *)g, strlen(g), "x", 0, &f, &err);
+            CHECK(strstr(err.message, garbled[i].want) != NULL, "garbled %zu: '%s' lacks '%s'",
+                  i, err.message, garbled[i].want);
+            for (const char *c = err.message; *c; ++c)
+                CHECK(*c >= 0x20 && *c < 0x7f, "garbled %zu: byte 0x%02x in the message", i,
+                      (unsigned char)*c);
+        }
+    }
     /* An unorganised cloud is refused as a range image. */
     {
         const char *u = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nHEIGHT 1\n"

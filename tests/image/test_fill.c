@@ -40,7 +40,7 @@ static void test_interp(void)
     for (int x = 4; x <= 6; ++x)
         hole[x] = hole[12 + x] = hole[24 + x] = 1;
     r.v[24 + 7] = r.v[24 + 8] = r.v[24 + 9] = r.v[24 + 10] = r.v[24 + 11] = 100.0f;
-    relief_fill_interp(&r, hole, &p, &rows, &cols);
+    relief_fill_interp(&r, hole, &p, &rows, &cols, NULL);
     CHECK(rows == 3 && cols == 0, "rows %zu, columns %zu, expected 3 and 0", rows, cols);
     CHECK(r.v[4] == 102.5f && r.v[5] == 105.0f && r.v[6] == 107.5f,
           "row 0 filled %g %g %g, expected 102.5 105 107.5", r.v[4], r.v[5], r.v[6]);
@@ -56,10 +56,143 @@ static void test_interp(void)
     for (int y = 4; y <= 6; ++y)
         for (int x = 0; x < 3; ++x)
             hole[y * 3 + x] = 1;
-    relief_fill_interp(&r, hole, &p, &rows, &cols);
+    relief_fill_interp(&r, hole, &p, &rows, &cols, NULL);
     CHECK(rows == 0 && cols == 9, "rows %zu, columns %zu, expected 0 and 9", rows, cols);
     CHECK(r.v[5 * 3 + 1] == 44.0f, "column filled %g, expected 44", r.v[5 * 3 + 1]);
     /* A threshold of 0 on the difference refuses it. */
+    relief_raster_free(&r);
+}
+
+/* Mean 5 x 5 local standard deviation (channel 0) over the pixels of
+ * rectangle (x0, y0, w, h) (inside 1) or of the ring r pixels wide round
+ * it (inside 0); rough 1: the mean |second difference| along the row and
+ * along the column instead (0 on a linear run: streaks). */
+static double mean_local_sd(const relief_raster *r, int x0, int y0, int w, int h, int ring,
+                            int inside, int rough)
+{
+    double sum = 0.0;
+    int n = 0;
+    for (int y = y0 - ring; y < y0 + h + ring; ++y)
+        for (int x = x0 - ring; x < x0 + w + ring; ++x) {
+            int in = x >= x0 && x < x0 + w && y >= y0 && y < y0 + h;
+            double s = 0.0, s2 = 0.0;
+            int m = 0;
+            if (in != inside || x < 2 || y < 2 || x >= r->width - 2 || y >= r->height - 2)
+                continue;
+            if (rough) {
+                const float *o = r->v + ((size_t)y * r->width + x) * r->channels;
+                size_t dy = (size_t)r->width * r->channels;
+                sum += fabs(o[-r->channels] - 2.0 * o[0] + o[r->channels]) +
+                       fabs(o[-(ptrdiff_t)dy] - 2.0 * o[0] + o[dy]);
+                ++n;
+                continue;
+            }
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx) {
+                    double v = r->v[((size_t)(y + dy) * r->width + x + dx) * r->channels];
+                    s += v;
+                    s2 += v * v;
+                    ++m;
+                }
+            sum += sqrt(fmax(s2 / m - (s / m) * (s / m), 0.0));
+            ++n;
+        }
+    return n ? sum / n : 0.0;
+}
+
+/* Issue 40: the 1-D pass must not wipe texture. A low-contrast noise
+ * texture (a lunar surface: 120 +- 2.5 on 0..255, correlated over 3 pixels) with a square hole
+ * larger than the window and one smaller, and sparse bright points on
+ * black (a star field: 2 % of the pixels) with two larger than the window:
+ * the fill's local standard deviation over the ring's stays in [0.5, 2].
+ * A gap shorter than the window in a star field whose ends see no star
+ * within half a window along its line is still filled black: the pass
+ * looks along the line only. */
+static void test_texture(relief_patch_scorer *s)
+{
+    typedef struct { int x, y, side; } square;
+    static const square all[2][2] = {{{40, 40, 48}, {120, 30, 12}},
+                                                         {{40, 40, 48}, {120, 30, 24}}};
+    for (int kind = 0; kind < 2; ++kind) {
+        const square *holes = all[kind];
+        relief_raster r = make(176, 160, 1);
+        relief_rng rng;
+        relief_fill_params p = relief_fill_params_default();
+        relief_fill_report rep;
+        relief_error err = {RELIEF_OK, ""};
+        uint8_t *hole = calloc(176 * 160, 1);
+        relief_rng_seed(&rng, 7 + kind);
+        for (int i = 0; i < 176 * 160; ++i) /* white noise, sd 7.5, or stars */
+            r.v[i] = kind == 0 ? (float)(relief_rng_below(&rng, 13) + relief_rng_below(&rng, 13) +
+                                         relief_rng_below(&rng, 13) + relief_rng_below(&rng, 13))
+                     : relief_rng_below(&rng, 100) < 2 ? (float)(120 + relief_rng_below(&rng, 136))
+                                                        : 0.0f;
+        if (kind == 0) { /* a 3 x 3 mean of it: a correlated texture of sd 2.5 */
+            relief_raster t = make(176, 160, 1);
+            for (int y = 0; y < 160; ++y)
+                for (int x = 0; x < 176; ++x) {
+                    float sum = 0.0f;
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx)
+                            sum += r.v[((y + dy + 160) % 160) * 176 + (x + dx + 176) % 176];
+                    t.v[y * 176 + x] = roundf(96.0f + sum / 9.0f);
+                }
+            relief_raster_free(&r);
+            r = t;
+        }
+        for (int h = 0; h < 2; ++h)
+            for (int y = holes[h].y; y < holes[h].y + holes[h].side; ++y)
+                for (int x = holes[h].x; x < holes[h].x + holes[h].side; ++x) {
+                    hole[y * 176 + x] = 1;
+                    r.v[y * 176 + x] = 0.0f;
+                }
+        CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_OK, "%s", err.message);
+        for (int h = 0; h < 2; ++h) {
+            const char *what = kind ? "star field" : "low-contrast noise";
+            double in = mean_local_sd(&r, holes[h].x, holes[h].y, holes[h].side,
+                                      holes[h].side, 8, 1, 0),
+                   ring = mean_local_sd(&r, holes[h].x, holes[h].y, holes[h].side,
+                                        holes[h].side, 8, 0, 0),
+                   rough = mean_local_sd(&r, holes[h].x, holes[h].y, holes[h].side,
+                                         holes[h].side, 8, 1, 1) /
+                           mean_local_sd(&r, holes[h].x, holes[h].y, holes[h].side,
+                                         holes[h].side, 8, 0, 1);
+            printf("%s, %d x %d hole: local SD %.2f in the fill, %.2f in the ring: ratio "
+                   "%.2f; roughness ratio %.2f (%zu of %zu pixels by the 1-D pass)\n", what,
+                   holes[h].side, holes[h].side, in, ring, in / ring, rough,
+                   rep.by_rows + rep.by_columns, rep.hole_pixels);
+            CHECK(in / ring >= 0.5 && in / ring <= 2.0, "%s, %d x %d hole: local SD ratio "
+                  "%.2f, expected 0.5..2", what, holes[h].side, holes[h].side, in / ring);
+            CHECK(rough >= 0.5 && rough <= 2.0, "%s, %d x %d hole: roughness ratio %.2f, "
+                  "expected 0.5..2 (streaks)", what, holes[h].side, holes[h].side, rough);
+        }
+        free(hole);
+        relief_raster_free(&r);
+    }
+}
+
+/* The 1-D pass still fills what it is for (paper 004): a smooth 8-bit
+ * gradient with a thin scratch across it and a 10 x 10 hole is filled by
+ * it alone, every pixel. */
+static void test_interp_gradient(relief_patch_scorer *s)
+{
+    relief_raster r = make(96, 64, 3);
+    relief_fill_params p = relief_fill_params_default();
+    relief_fill_report rep;
+    relief_error err = {RELIEF_OK, ""};
+    uint8_t *hole = calloc(96 * 64, 1);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 96; ++x) {
+            for (int c = 0; c < 3; ++c)
+                r.v[(y * 96 + x) * 3 + c] = roundf(30.0f + 1.3f * x + 0.6f * y + 20.0f * c);
+            hole[y * 96 + x] = (y >= 30 && y < 33 && x >= 10 && x < 86) ||
+                               (x >= 40 && x < 50 && y >= 8 && y < 18);
+        }
+    CHECK(relief_fill(&r, hole, &p, s, &rep, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(rep.by_rows + rep.by_columns == rep.hole_pixels && rep.hole_pixels == 328,
+          "gradient: %zu of %zu hole pixels by the 1-D pass, expected all 328",
+          rep.by_rows + rep.by_columns, rep.hole_pixels);
+    free(hole);
     relief_raster_free(&r);
 }
 
@@ -301,6 +434,8 @@ int main(int argc, char **argv)
         images = argv[1];
     relief_patch_scalar_create(&s, &err);
     test_interp();
+    test_texture(s);
+    test_interp_gradient(s);
     test_periodic(s, 0);
     test_periodic(s, 1);
     test_pyramid(s, images);

@@ -20,6 +20,7 @@ if [[ ! -f $brick ]]; then echo "$brick not found: skipped"; exit 77; fi
 expect 0 "4096 hole pixels" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f.png" --report "$tmp/r.json" --backend scalar
 expect 0 "0 values differ outside the hole" -- "$tool" outside "$brick" "$tmp/f.png" "$tmp/m.png"
 ok 'grep -q "\"by_copy\"" "$tmp/r.json" && grep -q "\"pyramid_levels\": 3" "$tmp/r.json"' "report lacks counts or levels"
+ok 'grep -q "\"interp_roughness\"" "$tmp/r.json"' "report lacks the 1-D pass's roughness limit"
 # The OpenCL backend gives the same bytes (when a device runs).
 if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | grep -i "cpu\|gpu") ]]; then
   expect 0 "" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f_cl.png" --backend opencl --quiet

@@ -74,6 +74,122 @@ static void bad(const uint8_t *d, size_t n, relief_status want, const char *what
         relief_raster_free(&r);
 }
 
+/* ---- hand-made PNGs: the header fields and palettes libpng's writer
+ * would not write. */
+
+static uint32_t crc_of(const uint8_t *b, size_t n, uint32_t c)
+{
+    c = ~c;
+    for (size_t i = 0; i < n; ++i) {
+        c ^= b[i];
+        for (int k = 0; k < 8; ++k)
+            c = c & 1 ? 0xedb88320u ^ (c >> 1) : c >> 1;
+    }
+    return ~c;
+}
+
+static uint8_t *put32(uint8_t *o, uint32_t v)
+{
+    o[0] = (uint8_t)(v >> 24);
+    o[1] = (uint8_t)(v >> 16);
+    o[2] = (uint8_t)(v >> 8);
+    o[3] = (uint8_t)v;
+    return o + 4;
+}
+
+/* A chunk at o: length, type, data, CRC; returns its end. */
+static uint8_t *chunk(uint8_t *o, const char *type, const uint8_t *data, uint32_t len)
+{
+    uint8_t *t = put32(o, len);
+    memcpy(t, type, 4);
+    if (len)
+        memcpy(t + 4, data, len);
+    return put32(t + 4 + len, crc_of(t, 4 + len, 0));
+}
+
+/* A 4 x 4 PNG (IHDR's fields as given: width, height, bit depth, colour
+ * type, compression, interlace) with `palette` PLTE entries (0: none)
+ * and every pixel byte `fill`, stored uncompressed; its size. */
+static size_t craft_png(uint8_t *o, uint32_t w, uint32_t h, int depth, int ctype, int comp,
+                        int interlace, int palette, uint8_t fill)
+{
+    static const int chans[7] = {1, 1, 3, 1, 2, 1, 4};
+    uint8_t ihdr[13], plte[768], z[512], *e = o;
+    size_t rb = ((size_t)4 * (depth > 16 ? 16 : depth) * chans[ctype % 7] + 7) / 8,
+           raw = 4 * (1 + rb), at = 0;
+    uint32_t a = 1, b = 0;
+    memcpy(e, "\x89PNG\r\n\x1a\n", 8);
+    put32(put32(ihdr, w), h);
+    ihdr[8] = (uint8_t)depth;
+    ihdr[9] = (uint8_t)ctype;
+    ihdr[10] = (uint8_t)comp;
+    ihdr[11] = 0;
+    ihdr[12] = (uint8_t)interlace;
+    e = chunk(e + 8, "IHDR", ihdr, 13);
+    for (int i = 0; i < palette * 3; ++i)
+        plte[i] = (uint8_t)(40 * i);
+    if (palette)
+        e = chunk(e, "PLTE", plte, (uint32_t)palette * 3);
+    z[at++] = 0x78;
+    z[at++] = 0x01;
+    z[at++] = 0x01; /* the last block, stored */
+    z[at++] = (uint8_t)raw;
+    z[at++] = (uint8_t)(raw >> 8);
+    z[at++] = (uint8_t)~raw;
+    z[at++] = (uint8_t)(~raw >> 8);
+    for (size_t i = 0; i < raw; ++i) {
+        uint8_t v = i % (1 + rb) == 0 ? 0 : fill; /* each row: filter 0, then its bytes */
+        z[at++] = v;
+        a = (a + v) % 65521;
+        b = (b + a) % 65521;
+    }
+    put32(z + at, b << 16 | a);
+    e = chunk(e, "IDAT", z, (uint32_t)(at + 4));
+    e = chunk(e, "IEND", NULL, 0);
+    return (size_t)(e - o);
+}
+
+/* Issue 40: a pixel past the palette is an error naming its index and
+ * the palette's size (before: read as black), and a bad header names the
+ * field and its value (before: "Invalid IHDR data"). */
+static void test_png_fields(void)
+{
+    static const struct {
+        uint32_t w, h;
+        int depth, ctype, comp, interlace, palette, fill;
+        relief_status want;
+        const char *says;
+    } cases[] = {
+        {4, 4, 8, 3, 0, 0, 2, 5, RELIEF_E_PARSE, "palette index 5, past the palette of 2 entries"},
+        {4, 4, 2, 3, 0, 0, 3, 0xff, RELIEF_E_PARSE, "palette index 3, past the palette of 3"},
+        {0, 4, 8, 0, 0, 0, 0, 1, RELIEF_E_PARSE, "IHDR width 0"},
+        {4, 70000, 8, 0, 0, 0, 0, 1, RELIEF_E_RANGE, "IHDR height 70000"},
+        {4, 4, 3, 2, 0, 0, 0, 1, RELIEF_E_PARSE, "IHDR bit depth 3 for colour type 2 (RGB)"},
+        {4, 4, 16, 3, 0, 0, 2, 1, RELIEF_E_PARSE, "IHDR bit depth 16 for colour type 3"},
+        {4, 4, 8, 5, 0, 0, 0, 1, RELIEF_E_PARSE, "IHDR colour type 5"},
+        {4, 4, 8, 0, 1, 0, 0, 1, RELIEF_E_PARSE, "IHDR compression method 1"},
+        {4, 4, 8, 0, 0, 2, 0, 1, RELIEF_E_PARSE, "IHDR interlace method 2"},
+    };
+    uint8_t buf[2048];
+    relief_raster r;
+    relief_error err = {RELIEF_OK, ""};
+    size_t n = craft_png(buf, 4, 4, 8, 3, 0, 0, 2, 1);
+    /* The same file with every index in its palette reads. */
+    CHECK(relief_raster_decode(buf, n, "x", NULL, &r, &err) == RELIEF_OK && r.channels == 3 &&
+              r.v[0] == 120.0f && r.v[2] == 200.0f,
+          "a palette PNG: %s", err.message);
+    if (r.v)
+        relief_raster_free(&r);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        n = craft_png(buf, cases[i].w, cases[i].h, cases[i].depth, cases[i].ctype, cases[i].comp,
+                      cases[i].interlace, cases[i].palette, (uint8_t)cases[i].fill);
+        bad(buf, n, cases[i].want, cases[i].says);
+        relief_raster_decode(buf, n, "x", NULL, &r, &err);
+        CHECK(strstr(err.message, cases[i].says) != NULL, "'%s' lacks '%s'", err.message,
+              cases[i].says);
+    }
+}
+
 int main(int argc, char **argv)
 {
     const char *images = argc > 1 ? argv[1] : "../shared/data/images";
@@ -187,6 +303,7 @@ int main(int argc, char **argv)
     }
     free(png);
     free(jpg);
+    test_png_fields();
     st = relief_raster_read("/nonexistent/x.png", NULL, &r, &err);
     CHECK(st == RELIEF_E_IO && strstr(err.message, "/nonexistent/x.png"), "missing: %s",
           err.message);
