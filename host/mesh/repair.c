@@ -65,27 +65,48 @@ static void edges_free(edges *e)
     memset(e, 0, sizeof *e);
 }
 
+/* Sides bucketed by their lower vertex (a counting sort: the mesh's
+ * vertices are the keys), then each bucket, a vertex's few edges, in
+ * order by insertion (qsort when large): qsort over all of them cost
+ * more than the read. */
 static int edges_build(const work *w, edges *e)
 {
     const size_t nt = w->m->nt;
+    size_t *start = calloc(w->nv + 2, sizeof *start);
     memset(e, 0, sizeof *e);
     e->h = malloc((3 * nt + 1) * sizeof *e->h);
     e->run = malloc((3 * nt + 1) * sizeof *e->run);
     e->of = malloc((3 * nt + 1) * sizeof *e->of);
-    if (!e->h || !e->run || !e->of) {
+    if (!start || !e->h || !e->run || !e->of) {
+        free(start);
         edges_free(e);
         return 0;
     }
-    for (size_t t = 0; t < nt; ++t) {
-        if (w->dead[t])
-            continue;
-        for (int k = 0; k < 3; ++k) {
+    for (size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3 && !w->dead[t]; ++k) {
+            uint32_t p = w->tri[3 * t + k], q = w->tri[3 * t + (k + 1) % 3];
+            ++start[(p < q ? p : q) + 2];
+        }
+    for (size_t v = 0; v < w->nv; ++v)
+        start[v + 2] += start[v + 1];
+    for (size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3 && !w->dead[t]; ++k) {
             uint32_t p = w->tri[3 * t + k], q = w->tri[3 * t + (k + 1) % 3];
             half hh = {p < q ? p : q, p < q ? q : p, (uint32_t)t, (uint8_t)k};
-            e->h[e->nh++] = hh;
+            e->h[start[hh.a + 1]++] = hh;
         }
-    }
-    qsort(e->h, e->nh, sizeof *e->h, half_cmp);
+    e->nh = start[w->nv];
+    for (size_t v = 0; v < w->nv; ++v)
+        if (start[v + 1] - start[v] > 32) /* a cone's apex: no quadratic sort */
+            qsort(e->h + start[v], start[v + 1] - start[v], sizeof *e->h, half_cmp);
+        else
+            for (size_t i = start[v] + 1; i < start[v + 1]; ++i)
+                for (size_t j = i; j > start[v] && half_cmp(e->h + j - 1, e->h + j) > 0; --j) {
+                half s = e->h[j];
+                e->h[j] = e->h[j - 1];
+                e->h[j - 1] = s;
+            }
+    free(start);
     for (size_t i = 0; i < 3 * nt; ++i)
         e->of[i] = NONE;
     for (size_t i = 0; i < e->nh; ++i) {
