@@ -271,8 +271,9 @@ RELIEF_API relief_status relief_mesh_read_with(const char *path,
  * rules: relief_repair_info). Vertices keep their order (welded and unused
  * ones go, split copies are appended), triangles keep theirs (dropped ones
  * go). A mesh with no triangle is left as it is. `info` may be NULL.
- * RELIEF_E_MESH when no triangle is left; the mesh is then unchanged.
- * Not to be run concurrently with other OpenMesh I/O (io_openmesh.h). */
+ * RELIEF_E_MESH when no triangle is left, or when the mesh is invalid
+ * (relief_mesh_validate) or out of range (as relief_mesh_read says); the
+ * mesh is then unchanged. */
 RELIEF_API relief_status relief_mesh_repair(relief_mesh *mesh, relief_repair_info *info,
                                             relief_error *err);
 
