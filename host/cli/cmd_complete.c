@@ -54,6 +54,7 @@ typedef struct complete_cli {
     relief_complete_params p;
     const char *in;
     int ascii;
+    relief_read_info read; /* what reading IN repaired, for the report */
 } complete_cli;
 
 static int take(void *ctx, int id, const char *arg)
@@ -91,10 +92,9 @@ static int parse(complete_cli *c, int argc, char **argv, int smooth)
 
 /* IN, refused before it is read when decoding it would not fit the memory
  * limit. */
-static relief_status read_input(const complete_cli *c, relief_mesh **in, relief_error *err)
+static relief_status read_input(complete_cli *c, relief_mesh **in, relief_error *err)
 {
     struct stat sb;
-    relief_read_info info;
     relief_status st;
     uint64_t limit = c->p.run.max_memory ? c->p.run.max_memory : relief_default_memory_limit();
     char what[RELIEF_ERROR_MESSAGE_MAX / 2];
@@ -105,11 +105,7 @@ static relief_status read_input(const complete_cli *c, relief_mesh **in, relief_
         if (st != RELIEF_OK)
             return st;
     }
-    st = relief_mesh_read(c->in, in, &info, err);
-    if (st == RELIEF_OK && info.nonmanifold_triangles > 0 && !c->cm.quiet)
-        fprintf(stderr, "relief %s: warning: %s: %zu non-manifold triangle(s)\n", c->cm.cmd,
-                c->in, info.nonmanifold_triangles);
-    return st;
+    return cli_read_mesh(c->cm.cmd, c->in, c->cm.quiet, in, &c->read, err);
 }
 
 /* The report's notes: warnings always, remarks unless --quiet. */
@@ -186,9 +182,11 @@ static relief_status write_outputs(const complete_cli *c, const relief_mesh *don
     relief_write_options wo = {c->ascii};
     relief_status st = RELIEF_OK;
     sigset_t held;
+    char repair[1024];
+    cli_repair_json(&c->read, repair, sizeof repair);
     cli_hold_signals(&held);
     if (c->cm.report)
-        st = cli_write_json(c->cm.report, rep->json, 0, NULL, NULL, err);
+        st = cli_write_json_with(c->cm.report, rep->json, 0, NULL, NULL, repair, err);
     if (st == RELIEF_OK) {
         st = relief_mesh_write(done, c->cm.out, &wo, err);
         if (st != RELIEF_OK && c->cm.report)

@@ -113,7 +113,7 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
         return cli_usage_error("cut", "--truth: '%s' is also the -o output", truth_path);
     if (parse_only)
         return 0;
-    if (relief_mesh_read(in_path, &in, NULL, &err) != RELIEF_OK)
+    if (cli_read_mesh("cut", in_path, 0, &in, NULL, &err) != RELIEF_OK)
         return cli_fail("cut", &err);
     if (relief_mesh_cut(in, &a.region, &cap, &truth, &n_cut, &err) != RELIEF_OK) {
         relief_mesh_destroy(in);

@@ -299,10 +299,14 @@ static int mesh_mode(depth_args *a)
     relief_depth_fill_report r;
     cli_progress pr;
     sigset_t held;
-    relief_status st = relief_mesh_read(a->in, &m, NULL, &err);
+    relief_read_info info;
+    char repair[1024];
+    relief_status st = cli_read_mesh("depth-fill", a->in, a->cm.quiet, &m, &info, &err);
     memset(&r, 0, sizeof r);
     if (st == RELIEF_OK && a->truth)
-        st = relief_mesh_read(a->truth, &t, NULL, &err);
+        st = cli_read_mesh("depth-fill", a->truth, a->cm.quiet, &t, NULL, &err);
+    if (st == RELIEF_OK)
+        cli_repair_json(&info, repair, sizeof repair);
     if (st == RELIEF_OK) {
         cli_progress_start(&pr, "depth-fill", a->cm.quiet);
         a->p.run.progress = cli_progress_fn;
@@ -314,7 +318,8 @@ static int mesh_mode(depth_args *a)
         cli_hold_signals(&held);
         st = relief_mesh_write(o, a->cm.out, NULL, &err);
         if (st == RELIEF_OK && a->cm.report &&
-            (st = cli_write_json(a->cm.report, r.json, 1, keys, &a->truth, &err)) != RELIEF_OK)
+            (st = cli_write_json_with(a->cm.report, r.json, 1, keys, &a->truth, repair,
+                                  &err)) != RELIEF_OK)
             remove(a->cm.out);
         cli_release_signals(&held);
     }

@@ -69,9 +69,9 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
         return cli_usage_error("eval", "unexpected argument '%s'", argv[optind + 1]);
     if (parse_only)
         return 0;
-    st = relief_mesh_read(argv[optind], &done, NULL, &err);
+    st = cli_read_mesh("eval", argv[optind], 0, &done, NULL, &err);
     if (st == RELIEF_OK && args.truth)
-        st = relief_mesh_read(args.truth, &truth, NULL, &err);
+        st = cli_read_mesh("eval", args.truth, 0, &truth, NULL, &err);
     if (st == RELIEF_OK)
         st = relief_eval(done, truth, &r, &err);
     relief_mesh_destroy(truth);

@@ -73,7 +73,7 @@ int cli_cmd_fit(int argc, char **argv, int parse_only)
         return cli_usage_error("fit", "unexpected argument '%s'", argv[optind + 1]);
     if (parse_only)
         return 0;
-    if (relief_mesh_read(argv[optind], &in, NULL, &err) != RELIEF_OK)
+    if (cli_read_mesh("fit", argv[optind], 0, &in, NULL, &err) != RELIEF_OK)
         return cli_fail("fit", &err);
     st = relief_fit_mesh(in, args.model, &r, &err);
     relief_mesh_destroy(in);

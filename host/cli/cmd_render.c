@@ -137,7 +137,7 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
                            out);
     if (parse_only)
         return 0;
-    st = relief_mesh_read(in, &mesh, NULL, &err);
+    st = cli_read_mesh("render", in, 0, &mesh, NULL, &err);
     if (st == RELIEF_OK) {
         st = relief_render(mesh, &ro, &img, &info, &err);
         if (st == RELIEF_E_MESH) { /* name the file the mesh came from */

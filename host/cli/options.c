@@ -307,13 +307,15 @@ typedef struct named_json {
     const char *json;
     size_t n;
     const char *const *keys, *const *values;
+    const char *member;
 } named_json;
 
-/* The engine's object with the named members spliced in after its "{\n". */
-int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
-                   const char *const *values)
+/* The engine's object with the named members and `member` spliced in after
+ * its "{\n". */
+static int print_json_with(FILE *f, const char *json, size_t n, const char *const *keys,
+                           const char *const *values, const char *member)
 {
-    if (n && strncmp(json, "{\n", 2) == 0) {
+    if ((n || member) && strncmp(json, "{\n", 2) == 0) {
         fputs("{\n", f);
         for (size_t i = 0; i < n; ++i) {
             fprintf(f, "  ");
@@ -325,21 +327,69 @@ int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
                 fputs("null", f);
             fputs(",\n", f);
         }
+        if (member)
+            fprintf(f, "  %s,\n", member);
         json += 2;
     }
     return fputs(json, f) < 0 || ferror(f);
 }
 
+int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
+                   const char *const *values)
+{
+    return print_json_with(f, json, n, keys, values, NULL);
+}
+
 static int write_named(FILE *f, void *ctx)
 {
     const named_json *c = ctx;
-    return cli_print_json(f, c->json, c->n, c->keys, c->values);
+    return print_json_with(f, c->json, c->n, c->keys, c->values, c->member);
 }
 
 relief_status cli_write_json(const char *path, const char *json, size_t n,
                              const char *const *keys, const char *const *values,
                              relief_error *err)
 {
-    named_json c = {json, n, keys, values};
+    return cli_write_json_with(path, json, n, keys, values, NULL, err);
+}
+
+relief_status cli_write_json_with(const char *path, const char *json, size_t n,
+                                  const char *const *keys, const char *const *values,
+                                  const char *member, relief_error *err)
+{
+    named_json c = {json, n, keys, values, member};
     return relief_atomic_write_text(path, write_named, &c, err);
+}
+
+relief_status cli_read_mesh(const char *cmd, const char *path, int quiet, relief_mesh **out,
+                            relief_read_info *info, relief_error *err)
+{
+    relief_read_info local;
+    char text[RELIEF_ERROR_MESSAGE_MAX];
+    if (!info)
+        info = &local;
+    relief_status st = relief_mesh_read(path, out, info, err);
+    if (st == RELIEF_OK && !quiet &&
+        relief_repair_info_describe(&info->repair, text, sizeof text) > 0)
+        fprintf(stderr, "relief %s: warning: %s: repaired on reading: %s\n", cmd, path, text);
+    return st;
+}
+
+void cli_repair_json(const relief_read_info *info, char *text, size_t size)
+{
+    const relief_repair_info *r = &info->repair;
+    snprintf(text, size,
+             "\"input_repair\": {\"nonmanifold_triangles_in_file\": %zu, "
+             "\"vertices_welded\": %zu, \"degenerate_triangles\": %zu, "
+             "\"duplicate_triangles\": %zu, \"nonmanifold_edges\": %zu, "
+             "\"nonmanifold_edge_triangles\": %zu, \"triangles_flipped\": %zu, "
+             "\"orientation_triangles\": %zu, \"nonmanifold_vertices\": %zu, "
+             "\"vertices_added\": %zu, \"small_components\": %zu, "
+             "\"small_component_triangles\": %zu, \"unstorable_triangles\": %zu, "
+             "\"vertices_unused\": %zu}",
+             info->nonmanifold_triangles, r->vertices_welded, r->degenerate_triangles,
+             r->duplicate_triangles, r->nonmanifold_edges, r->nonmanifold_edge_triangles,
+             r->triangles_flipped, r->orientation_triangles, r->nonmanifold_vertices,
+             r->vertices_added, r->small_components, r->small_component_triangles,
+             r->unstorable_triangles, r->vertices_unused);
 }

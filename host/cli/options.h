@@ -188,4 +188,21 @@ relief_status cli_write_json(const char *path, const char *json, size_t n,
                              const char *const *keys, const char *const *values,
                              relief_error *err);
 
+/* cli_write_json with `member` (a JSON member's text, "\"key\": value", or
+ * NULL) after the string members: what the command's reading repaired. */
+relief_status cli_write_json_with(const char *path, const char *json, size_t n,
+                                  const char *const *keys, const char *const *values,
+                                  const char *member, relief_error *err);
+
+/* Read the mesh at `path` (relief_mesh_read) for `cmd`; when the reader
+ * repaired it and not `quiet`, say so in one warning line naming every
+ * repair. `info` may be NULL. */
+relief_status cli_read_mesh(const char *cmd, const char *path, int quiet, relief_mesh **out,
+                            relief_read_info *info, relief_error *err);
+
+/* The JSON member "input_repair": {...} of a read's repair counts (the
+ * fields of relief_repair_info and the file's nonmanifold_triangles) into
+ * text (size bytes). */
+void cli_repair_json(const relief_read_info *info, char *text, size_t size);
+
 #endif

@@ -9,15 +9,32 @@
 #include "mesh/io_check.h"
 #include "mesh/io_openmesh.h"
 #include "mesh/mesh.h"
+#include "mesh/repair.h"
+
+/* Prefix the file name to err's message: the mesh checks know only the
+ * mesh. Returns st. */
+static relief_status name_file(relief_status st, const char *path, relief_error *err)
+{
+    char msg[RELIEF_ERROR_MESSAGE_MAX];
+    snprintf(msg, sizeof msg, "%s", err ? err->message : "");
+    return relief_fail(err, st, "%s: %s", path, msg);
+}
 
 relief_status relief_mesh_read(const char *path, relief_mesh **out,
                                relief_read_info *info, relief_error *err)
+{
+    return relief_mesh_read_with(path, NULL, out, info, err);
+}
+
+relief_status relief_mesh_read_with(const char *path, const relief_read_options *opts,
+                                    relief_mesh **out, relief_read_info *info,
+                                    relief_error *err)
 {
     relief_file_check chk;
     relief_om_read_result res;
     relief_mesh *m = NULL;
     relief_status st;
-    size_t degenerate = 0;
+    relief_repair_info rep;
 
     if (!path || !out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_mesh_read: NULL argument");
@@ -47,28 +64,27 @@ relief_status relief_mesh_read(const char *path, relief_mesh **out,
         st = relief_fail(err, RELIEF_E_PARSE,
                          "%s: the file declares %lld faces but none could be read%s%s",
                          path, chk.faces, res.messages[0] ? ": " : "", res.messages);
-    if (st == RELIEF_OK) {
-        st = relief_mesh_validate(m, err);
-        if (st != RELIEF_OK) {
-            /* Prefix the file name: the validator knows only the mesh. */
-            char msg[RELIEF_ERROR_MESSAGE_MAX];
-            snprintf(msg, sizeof msg, "%s", err ? err->message : "");
-            relief_fail(err, st, "%s: %s", path, msg);
-        }
-    }
+    if (st == RELIEF_OK && (st = relief_mesh_validate(m, err)) != RELIEF_OK)
+        name_file(st, path, err);
+    if (st == RELIEF_OK && (st = relief_mesh_check_range(m, err)) != RELIEF_OK)
+        name_file(st, path, err);
+    memset(&rep, 0, sizeof rep);
+    /* OpenMesh added the file's faces in order when it flagged none: then
+     * only a step that changes something needs its add_face pass again. */
+    if (st == RELIEF_OK && !(opts && opts->raw) &&
+        (st = relief_mesh_repair_impl(m, &rep, res.nonmanifold_faces > 0, err)) != RELIEF_OK)
+        name_file(st, path, err);
     if (st != RELIEF_OK) {
         relief_mesh_destroy(m);
         return st;
     }
-    for (size_t t = 0; t < m->nt; ++t)
-        if (relief_mesh_triangle_area(m, t) == 0.0)
-            ++degenerate;
     if (info) {
         memset(info, 0, sizeof *info);
         snprintf(info->format, sizeof info->format, "%s", chk.ext + 1);
         info->binary = chk.binary;
         info->nonmanifold_triangles = res.nonmanifold_faces;
-        info->degenerate_triangles = degenerate;
+        info->repair = rep;
+        info->repaired = relief_repair_info_describe(&rep, NULL, 0) > 0;
     }
     *out = m;
     return RELIEF_OK;

@@ -43,8 +43,12 @@ relief_status relief_points_read(const char *path, uint64_t max_points, relief_m
     if (ext && strcasecmp(ext, ".pcd") == 0) {
         st = read_pcd(path, max_points, &m, &ri, err);
     } else {
+        /* Raw: the points are the file's vertices, all of them; welding
+         * or dropping some for the sake of the triangles would lose
+         * samples. */
         relief_read_info mi;
-        st = relief_mesh_read(path, &m, &mi, err);
+        relief_read_options raw = {1};
+        st = relief_mesh_read_with(path, &raw, &m, &mi, err);
         if (st == RELIEF_OK)
             snprintf(ri.format, sizeof ri.format, "%s", mi.format);
     }

@@ -183,22 +183,105 @@ RELIEF_API relief_status relief_mesh_validate(const relief_mesh *mesh, relief_er
 
 /* -------------------------------------------------------------------- I/O */
 
+/* What relief_mesh_repair changed, each step in the order it runs. A real
+ * capture (photogrammetry, a scanner's export) comes as a triangle soup:
+ * vertices listed twice, faces twice, slivers, fins on an edge, two fans
+ * touching at a vertex, patches facing the other way, stray crumbs. The
+ * later stages build a half-edge mesh (OpenMesh), which holds none of that,
+ * so the reader mends it and says what it did. A clean mesh comes back
+ * unchanged: same vertices, same triangles, same order. */
+typedef struct relief_repair_info {
+    size_t vertices_welded;        /* dropped: same coordinates as an earlier
+                                      vertex; their triangles use that one */
+    size_t degenerate_triangles;   /* dropped: a vertex twice after welding,
+                                      or zero area */
+    size_t duplicate_triangles;    /* dropped: the same three vertices as an
+                                      earlier triangle, in any order */
+    size_t nonmanifold_edges;      /* edges that had more than two triangles */
+    size_t nonmanifold_edge_triangles; /* dropped from them: each such edge
+                                      keeps two triangles, the pair that
+                                      agrees in orientation first, then the
+                                      most nearly coplanar pair, then the
+                                      earliest; the others go */
+    size_t triangles_flipped;      /* turned over so that each connected part
+                                      is consistently oriented; a part keeps
+                                      the orientation most of its triangles
+                                      have */
+    size_t orientation_triangles;  /* dropped: no orientation agreed with all
+                                      their neighbours (a Moebius-like loop);
+                                      the later of the two on such an edge */
+    size_t nonmanifold_vertices;   /* vertices where several fans of
+                                      triangles met (a bow-tie) */
+    size_t vertices_added;         /* by splitting them: each fan but the one
+                                      with the earliest triangle gets a copy
+                                      of the vertex, appended */
+    size_t small_components;       /* connected parts dropped: fewer than
+                                      RELIEF_REPAIR_SMALL_TRIANGLES triangles
+                                      and under 1 % of the mesh's triangles;
+                                      the largest part is never dropped */
+    size_t small_component_triangles; /* their triangles */
+    size_t unstorable_triangles;   /* dropped: OpenMesh's add_face still
+                                      refused them, in order */
+    size_t vertices_unused;        /* dropped: used by triangles before the
+                                      repair, by none after it (a vertex the
+                                      file lists in no triangle is kept) */
+} relief_repair_info;
+
+/* Stray parts below this many triangles (and under 1 % of the mesh) are
+ * dropped by the repair. */
+#define RELIEF_REPAIR_SMALL_TRIANGLES 16
+
 /* What a read found besides the mesh itself. */
 typedef struct relief_read_info {
     char format[8];               /* "ply", "obj", "off" or "stl" */
     int binary;                   /* 1 for binary PLY or STL */
-    size_t nonmanifold_triangles; /* kept, but not 2-manifold in the file */
-    size_t degenerate_triangles;  /* zero area; kept */
+    size_t nonmanifold_triangles; /* faces OpenMesh could not add as they
+                                     stand in the file (before the repair) */
+    int repaired;                 /* 1 when the repair changed the mesh */
+    relief_repair_info repair;    /* what it changed (all 0 when raw) */
 } relief_read_info;
 
+/* How to read. */
+typedef struct relief_read_options {
+    int raw; /* 1: no repair, the file's triangle soup as it is (non-manifold
+                edges, bow-ties, duplicates, zero-area triangles kept);
+                default 0 */
+} relief_read_options;
+
 /* Read PLY (ascii and binary), OBJ, OFF or STL, chosen by the file's
- * extension (case-insensitive). Reads per-vertex colour, normals and the
- * PLY `label` property when present. A file with vertices and no faces is
- * read as a point cloud. Malformed, truncated or invalid content (NaN or Inf
- * coordinates, face indices out of range, an empty or degenerate-only mesh)
- * is rejected. `info` may be NULL. */
+ * extension (case-insensitive), and repair it (relief_mesh_repair). Reads
+ * per-vertex colour, normals and the PLY `label` property when present. A
+ * file with vertices and no faces is read as a point cloud (not repaired).
+ * Malformed, truncated or invalid content (NaN or Inf coordinates, a
+ * coordinate over 1e30 in magnitude or a vertex over 1e15 times farther
+ * from the median point than the other vertices, face indices out of range,
+ * an empty or degenerate-only mesh, nothing left after the repair) is
+ * rejected. `info` may be NULL. */
 RELIEF_API relief_status relief_mesh_read(const char *path, relief_mesh **out,
                                relief_read_info *info, relief_error *err);
+
+/* relief_mesh_read with options; `opts` NULL reads as relief_mesh_read. */
+RELIEF_API relief_status relief_mesh_read_with(const char *path,
+                                               const relief_read_options *opts,
+                                               relief_mesh **out, relief_read_info *info,
+                                               relief_error *err);
+
+/* Mend a triangle soup in place into an edge- and vertex-manifold,
+ * consistently oriented mesh that OpenMesh stores (the steps and their
+ * rules: relief_repair_info). Vertices keep their order (welded and unused
+ * ones go, split copies are appended), triangles keep theirs (dropped ones
+ * go). A mesh with no triangle is left as it is. `info` may be NULL.
+ * RELIEF_E_MESH when no triangle is left, or when the mesh is invalid
+ * (relief_mesh_validate) or out of range (as relief_mesh_read says); the
+ * mesh is then unchanged. */
+RELIEF_API relief_status relief_mesh_repair(relief_mesh *mesh, relief_repair_info *info,
+                                            relief_error *err);
+
+/* The repair in words, for one line: "3 duplicate vertices welded, 2
+ * triangles on non-manifold edges dropped". Writes "" and returns 0 when
+ * nothing changed, else the count of items written. */
+RELIEF_API int relief_repair_info_describe(const relief_repair_info *info, char *text,
+                                           size_t size);
 
 typedef struct relief_write_options {
     int ascii; /* PLY only: 1 writes ascii, 0 (default) little-endian binary */

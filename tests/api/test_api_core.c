@@ -3,6 +3,7 @@
  * devices, and every enumeration's names. */
 #include <math.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "api_test.h"
 
@@ -57,6 +58,62 @@ static void test_mesh(void)
     CHECK_STATUS(relief_mesh_create(2, 1, 0, NULL, &err), RELIEF_E_USAGE, err, NULL);
 }
 
+/* A file as real captures come: two squares, one listing a corner twice,
+ * one triangle twice, one wound the other way (its neighbours agree). The default read mends it
+ * and says so; the raw read keeps the soup; relief_mesh_repair mends that
+ * the same way. A vertex far out is refused by both, named. */
+static void test_repair(void)
+{
+    static const char *const soup =
+        "ply\nformat ascii 1.0\nelement vertex 7\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 5\nproperty list uchar int vertex_indices\n"
+        "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n2 1 0\n1 1 0\n"
+        "3 0 1 2\n3 0 2 3\n3 2 1 0\n3 1 4 5\n3 1 6 5\n";
+    char dir[] = "/tmp/relief-api-repair-XXXXXX", path[64];
+    relief_error err = {RELIEF_OK, ""};
+    relief_read_info info;
+    relief_read_options raw = {1};
+    relief_mesh *m = NULL, *r = NULL;
+    FILE *f;
+    if (!mkdtemp(dir))
+        return;
+    snprintf(path, sizeof path, "%s/soup.ply", dir);
+    f = fopen(path, "w");
+    fputs(soup, f);
+    fclose(f);
+    CHECK_STATUS(relief_mesh_read(path, &m, &info, &err), RELIEF_OK, err, NULL);
+    CHECK(m && relief_mesh_vertex_count(m) == 6 && relief_mesh_triangle_count(m) == 4,
+          "repaired: %zu vertices, %zu triangles", m ? relief_mesh_vertex_count(m) : 0,
+          m ? relief_mesh_triangle_count(m) : 0);
+    CHECK(info.repaired && info.repair.vertices_welded == 1 &&
+              info.repair.duplicate_triangles == 1 && info.repair.triangles_flipped == 1,
+          "counts: welded %zu, duplicates %zu, flipped %zu", info.repair.vertices_welded,
+          info.repair.duplicate_triangles, info.repair.triangles_flipped);
+    char text[256];
+    CHECK(relief_repair_info_describe(&info.repair, text, sizeof text) == 3 &&
+              strstr(text, "1 duplicate vertices welded"), "described as '%s'", text);
+    CHECK_STATUS(relief_mesh_read_with(path, &raw, &r, &info, &err), RELIEF_OK, err, NULL);
+    CHECK(r && relief_mesh_vertex_count(r) == 7 && relief_mesh_triangle_count(r) == 5 &&
+              !info.repaired, "raw: the soup as it is");
+    relief_repair_info ri;
+    CHECK_STATUS(relief_mesh_repair(r, &ri, &err), RELIEF_OK, err, NULL);
+    CHECK(r && m && relief_mesh_triangle_count(r) == 4 &&
+              !memcmp(relief_mesh_triangles(r), relief_mesh_triangles(m), 12 * sizeof(uint32_t)),
+          "relief_mesh_repair mends the raw soup as the reader does");
+    relief_mesh_destroy(m);
+    relief_mesh_destroy(r);
+    m = NULL;
+    f = fopen(path, "w");
+    fputs("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+          "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+          "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 1e20\n3 0 1 2\n3 0 2 3\n", f);
+    fclose(f);
+    CHECK_STATUS(relief_mesh_read_with(path, &raw, &m, NULL, &err), RELIEF_E_MESH, err,
+                 "vertex 3: its coordinates (0, 1, 1e+20) are out of range");
+    remove(path);
+    rmdir(dir);
+}
+
 static void test_devices(void)
 {
     relief_error err = {RELIEF_OK, ""};
@@ -71,6 +128,7 @@ int main(void)
     test_status();
     test_run_options();
     test_mesh();
+    test_repair();
     test_devices();
     API_TEST_END();
 }

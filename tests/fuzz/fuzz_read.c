@@ -70,6 +70,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fail("read succeeded with an invalid mesh", verr.message);
         if (strcmp(info.format, &FUZZ_EXT[1]) != 0)
             fail("read reports another format", info.format);
+        /* The repair's promise: what it gives is manifold, oriented and
+         * stored by OpenMesh whole, so a second repair finds nothing. */
+        relief_repair_info again;
+        char what[512];
+        if (relief_mesh_repair(mesh, &again, &verr) != RELIEF_OK)
+            fail("the repaired mesh cannot be repaired again", verr.message);
+        if (relief_repair_info_describe(&again, what, sizeof what) > 0)
+            fail("a second repair changed the mesh", what);
     } else {
         if (mesh)
             fail("read failed but set the mesh", err.message);

@@ -391,11 +391,14 @@ static void test_real_scans(const char *data)
     static const struct {
         const char *file;
         size_t nv, nt;
-    } scans[] = {{"stanford_drill/drill_shaft_vrip.ply", 1961, 3855},
+    } scans[] = {/* as repaired on reading: the drill's file has 1961 and 3855
+                    (3 bow-tie vertices, 3 stray triangles), frag_115's 64365
+                    and 127229 (17 stray triangles) */
+                 {"stanford_drill/drill_shaft_vrip.ply", 1955, 3852},
                  {"bennu_radar/bennu.obj", 1348, 2692},
                  {"fertility/fertility.off", 4494, 9000},
                  {"meshlab_screwdriver/screwdriver.ply", 6789, 13574},
-                 {"open3d_frag115/frag_115.ply", 64365, 127229}};
+                 {"open3d_frag115/frag_115.ply", 64330, 127212}};
     for (size_t i = 0; i < sizeof scans / sizeof scans[0]; ++i) {
         char path[512];
         relief_mesh *m = NULL;
