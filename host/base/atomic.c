@@ -84,3 +84,42 @@ relief_status relief_atomic_write_text(const char *path, int (*write)(FILE *f, v
     }
     return relief_atomic_commit(tmp, path, err);
 }
+
+relief_status relief_atomic_place(relief_atomic_file *f, relief_error *err)
+{
+    struct stat sb;
+    if (lstat(f->path, &sb) == 0) {
+        size_t n = strlen(f->tmp) + 8;
+        if (!(f->old = malloc(n)))
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a file name");
+        snprintf(f->old, n, "%s.old", f->tmp);
+        if (link(f->path, f->old) != 0 && rename(f->path, f->old) != 0) {
+            free(f->old);
+            f->old = NULL;
+            return relief_fail(err, RELIEF_E_IO, "%s: cannot keep the previous file while "
+                               "the new one is moved into place: %s", f->path,
+                               strerror(errno));
+        }
+    }
+    if (rename(f->tmp, f->path) != 0)
+        return relief_fail(err, RELIEF_E_IO, "%s: cannot move the finished file into place: %s",
+                           f->path, strerror(errno));
+    free(f->tmp);
+    f->tmp = NULL;
+    f->placed = 1;
+    return RELIEF_OK;
+}
+
+void relief_atomic_settle(relief_atomic_file *f, int keep)
+{
+    if (!keep && f->placed && !f->old)
+        unlink(f->path); /* this run's file; nothing was there */
+    /* Putting it back is a no-op when both names are links to the old
+     * file; should it fail, the old file stays under its second name. */
+    if (f->old && (keep || rename(f->old, f->path) == 0))
+        unlink(f->old);
+    relief_atomic_abort(f->tmp);
+    free(f->old);
+    f->tmp = f->old = NULL;
+    f->placed = 0;
+}

@@ -55,6 +55,7 @@ typedef struct complete_cli {
     const char *in;
     int ascii;
     relief_read_info read; /* what reading IN repaired, for the report */
+    cli_output outs[4]; /* -o, --report, --checkpoint, --report-dir */
 } complete_cli;
 
 static int take(void *ctx, int id, const char *arg)
@@ -80,9 +81,12 @@ static int parse(complete_cli *c, int argc, char **argv, int smooth)
     {
         /* --resume and --checkpoint may name one file: the run goes on saving
          * where it was resumed from. */
-        const char *ins[] = {c->in};
-        const char *outs[] = {c->cm.out, c->cm.report, c->p.checkpoint};
-        if (cli_outputs_clash(c->cm.cmd, ins, 1, outs, 3))
+        const cli_output outs[] = {{"-o", c->cm.out, CLI_OUT_FILE},
+                                   {"--report", c->cm.report, CLI_OUT_FILE},
+                                   {"--checkpoint", c->p.checkpoint, CLI_OUT_ENGINE},
+                                   {"--report-dir", c->p.report_dir, CLI_OUT_FOLDER}};
+        memcpy(c->outs, outs, sizeof outs);
+        if (cli_check_outputs(c->cm.cmd, &c->in, 1, c->outs, 4))
             return EXIT_USAGE;
     }
     if (relief_complete_params_validate(&c->p, &err) != RELIEF_OK)
@@ -175,34 +179,20 @@ static void print_smooth(const complete_cli *c, const relief_complete_report *re
         fprintf(stderr, "relief smooth: report: %s\n", c->cm.report);
 }
 
-/* The report, the mesh, then the folder: all of them or none. */
-static relief_status write_outputs(const complete_cli *c, const relief_mesh *done,
-                                   relief_complete_report *rep, relief_error *err)
+/* What write_one writes: the mesh (-o) and the report. */
+typedef struct complete_out {
+    const complete_cli *c;
+    const relief_mesh *done;
+    const char *json;
+    const char *repair; /* the "input_repair" member (cli_repair_json) */
+} complete_out;
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
 {
-    relief_write_options wo = {c->ascii};
-    relief_status st = RELIEF_OK;
-    sigset_t held;
-    char repair[1024];
-    cli_repair_json(&c->read, repair, sizeof repair);
-    cli_hold_signals(&held);
-    if (c->cm.report)
-        st = cli_write_json_with(c->cm.report, rep->json, 0, NULL, NULL, repair, err);
-    if (st == RELIEF_OK) {
-        st = relief_mesh_write(done, c->cm.out, &wo, err);
-        if (st != RELIEF_OK && c->cm.report)
-            remove(c->cm.report);
-    }
-    if (st == RELIEF_OK && rep->folder) {
-        st = relief_report_folder_commit(rep->folder, err);
-        rep->folder = NULL;
-        if (st != RELIEF_OK) {
-            remove(c->cm.out);
-            if (c->cm.report)
-                remove(c->cm.report);
-        }
-    }
-    cli_release_signals(&held);
-    return st;
+    const complete_out *o = ctx;
+    relief_write_options wo = {o->c->ascii};
+    return i == 0 ? relief_mesh_write(o->done, tmp, &wo, err)
+                  : cli_write_json_with(tmp, o->json, 0, NULL, NULL, o->repair, err);
 }
 
 /* After a cancel or a device failure with --checkpoint, how to go on. */
@@ -228,17 +218,18 @@ static int run(complete_cli *c, int smooth)
     c->p.run.input_name = c->in;
     c->p.run.output_name = c->cm.out;
     c->p.measure = c->cm.report || c->p.report_dir;
-    cli_progress_start(&pr, c->cm.cmd, c->cm.quiet);
+    cli_progress_start(&pr, c->cm.cmd, c->cm.quiet, &c->p.run);
     pr.estimate_tail = c->p.checkpoint ? " and saves the checkpoint" : "";
-    c->p.run.progress = cli_progress_fn;
-    c->p.run.progress_ctx = &pr;
     st = smooth ? relief_smooth(in, &c->p, &done, &rep, &err)
                 : relief_complete(in, &c->p, &done, &rep, &err);
     cli_progress_close_line(&pr);
     ran = st == RELIEF_OK;
     if (ran) {
+        char repair[1024];
+        complete_out o = {c, done, rep.json, repair};
+        cli_repair_json(&c->read, repair, sizeof repair);
         print_notes(c, &rep);
-        st = write_outputs(c, done, &rep, &err);
+        st = cli_write_outputs(c->outs, 4, write_one, &o, &rep.folder, &err);
     }
     /* SIGINT stays ours until the outputs are in place: one during the
      * writing cancels nothing, and kills nothing half-written. */

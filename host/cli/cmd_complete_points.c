@@ -5,7 +5,6 @@
 #include "cli/commands.h"
 
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -63,6 +62,7 @@ typedef struct points_cli {
     cli_common cm;
     relief_complete_points_params *p;
     const char *in, *mesh, *clone;
+    cli_output outs[3]; /* -o, --mesh, --report */
 } points_cli;
 
 static const char cmd[] = "complete-points";
@@ -147,8 +147,12 @@ static int check_files(int argc, char **argv, points_cli *pc, relief_grid_search
         return cli_usage_error(cmd, "--mesh: '%s' has no mesh extension (.ply .obj .off .stl)",
                                pc->mesh);
     {
-        const char *ins[] = {pc->in, pc->clone}, *outs[] = {cm->out, cm->report, pc->mesh};
-        if (cli_outputs_clash(cmd, ins, 2, outs, 3))
+        const char *ins[] = {pc->in, pc->clone};
+        const cli_output outs[] = {{"-o", cm->out, CLI_OUT_FILE},
+                                   {"--mesh", pc->mesh, CLI_OUT_FILE},
+                                   {"--report", cm->report, CLI_OUT_FILE}};
+        memcpy(pc->outs, outs, sizeof outs);
+        if (cli_check_outputs(cmd, ins, 2, pc->outs, 3))
             return EXIT_USAGE;
     }
     if ((cli_given(argc, argv, "--backend") || cli_given(argc, argv, "--device")) &&
@@ -158,28 +162,21 @@ static int check_files(int argc, char **argv, points_cli *pc, relief_grid_search
     return 0;
 }
 
-/* The points alone as OUT, the surface as --mesh, the report: all or none. */
-static relief_status write_outputs(const points_cli *pc, const relief_mesh *done,
-                                   const relief_complete_points_report *rep, relief_error *err)
+/* What write_one writes: the points alone as OUT, the surface as --mesh,
+ * the report. */
+typedef struct points_out {
+    const relief_mesh *done;
+    const char *json;
+} points_out;
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
 {
+    const points_out *o = ctx;
     const relief_write_options wo = {0};
-    relief_mesh points = *done; /* a view of done without its triangles */
-    relief_status st;
-    sigset_t held;
+    relief_mesh points = *o->done; /* a view of done without its triangles */
     points.nt = 0, points.tri = NULL;
-    cli_hold_signals(&held);
-    st = relief_mesh_write(&points, pc->cm.out, &wo, err);
-    if (st == RELIEF_OK && pc->mesh)
-        st = relief_mesh_write(done, pc->mesh, &wo, err);
-    if (st == RELIEF_OK && pc->cm.report)
-        st = cli_write_json(pc->cm.report, rep->json, 0, NULL, NULL, err);
-    if (st != RELIEF_OK) {
-        remove(pc->cm.out);
-        if (pc->mesh)
-            remove(pc->mesh);
-    }
-    cli_release_signals(&held);
-    return st;
+    return i == 2 ? cli_write_json(tmp, o->json, 0, NULL, NULL, err)
+                  : relief_mesh_write(i == 0 ? &points : o->done, tmp, &wo, err);
 }
 
 /* The grid search's warning, and what the completion did, on stderr. */
@@ -226,14 +223,13 @@ static int run(const points_cli *pc, relief_complete_points_params *p)
         p->clone = clone;
         p->run.input_name = pc->in;
         p->run.output_name = pc->cm.out;
-        p->run.progress = cli_progress_fn;
-        p->run.progress_ctx = &pr;
-        cli_progress_start(&pr, cmd, pc->cm.quiet);
+        cli_progress_start(&pr, cmd, pc->cm.quiet, &p->run);
         st = relief_complete_points(in, p, &done, &rep, &err);
         cli_progress_end(&pr);
     }
     if (st == RELIEF_OK) {
-        st = write_outputs(pc, done, &rep, &err);
+        points_out o = {done, rep.json};
+        st = cli_write_outputs(pc->outs, 3, write_one, &o, NULL, &err);
         if (st == RELIEF_OK)
             summary(pc, p, &rep);
         relief_complete_points_report_free(&rep);
@@ -247,7 +243,7 @@ static int run(const points_cli *pc, relief_complete_points_params *p)
 int cli_cmd_complete_points(int argc, char **argv, int parse_only)
 {
     relief_complete_points_params p = relief_complete_points_params_default();
-    points_cli pc = {cli_common_init(cmd), &p, NULL, NULL, NULL};
+    points_cli pc = {cli_common_init(cmd), &p, NULL, NULL, NULL, {{NULL, NULL, 0}}};
     relief_error err = {RELIEF_OK, ""};
     const cli_spec s = spec();
     int rc = cli_parse(&s, &pc.cm, &p, take, &pc, argc, argv);

@@ -68,15 +68,26 @@ static int take(void *ctx, int id, const char *arg)
     return take_region(a, id == CUT_SLAB, arg);
 }
 
+/* What write_one writes: the capture (-o) and the truth. */
+typedef struct cut_out {
+    relief_mesh *cap, *truth;
+    relief_write_options wo;
+} cut_out;
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+{
+    const cut_out *o = ctx;
+    return relief_mesh_write(i == 0 ? o->cap : o->truth, tmp, &o->wo, err);
+}
+
 int cli_cmd_cut(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("cut");
     cut_args a;
-    relief_write_options wo = {0};
     relief_error err = {RELIEF_OK, ""};
-    relief_mesh *in = NULL, *cap = NULL, *truth = NULL;
-    const char *out, *truth_path, *in_path;
-    sigset_t held;
+    relief_mesh *in = NULL;
+    cut_out o = {NULL, NULL, {0}};
+    const char *in_path;
     size_t n_cut = 0;
     int rc;
 
@@ -84,56 +95,37 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
     rc = cli_parse(&spec, &cm, NULL, take, &a, argc, argv);
     if (rc)
         return rc < 0 ? 0 : rc;
-    out = cm.out;
-    truth_path = a.truth;
-    wo.ascii = a.ascii;
+    o.wo.ascii = a.ascii;
     a.region.crop = a.crop;
-    if (optind >= argc)
-        return cli_usage_error("cut", "%smissing input mesh IN", "");
-    if (argc - optind > 1)
-        return cli_usage_error("cut", "unexpected argument '%s'", argv[optind + 1]);
-    in_path = argv[optind];
-    if (!out)
-        return cli_usage_error("cut", "%smissing -o OUT", "");
+    if (!cli_one_input(&cm, argc, argv, "input mesh IN", &in_path))
+        return EXIT_USAGE;
     if (a.regions != 1)
         return cli_usage_error("cut", "%sgive exactly one region: --ball or --slab", "");
-    if (!cli_known_mesh_ext(out))
+    if (!cli_known_mesh_ext(cm.out))
         return cli_usage_error("cut", "-o: '%s' has no mesh extension (.ply .obj .off .stl)",
-                               out);
-    if (truth_path && !cli_known_mesh_ext(truth_path))
+                               cm.out);
+    if (a.truth && !cli_known_mesh_ext(a.truth))
         return cli_usage_error("cut",
                                "--truth: '%s' has no mesh extension (.ply .obj .off .stl)",
-                               truth_path);
-    if (cli_same_file(in_path, out))
-        return cli_usage_error("cut", "-o: '%s' is the input; relief never overwrites it", out);
-    if (truth_path && cli_same_file(in_path, truth_path))
-        return cli_usage_error("cut", "--truth: '%s' is the input; relief never overwrites it",
-                               truth_path);
-    if (truth_path && cli_same_file(out, truth_path))
-        return cli_usage_error("cut", "--truth: '%s' is also the -o output", truth_path);
-    if (parse_only)
-        return 0;
-    if (cli_read_mesh("cut", in_path, 0, &in, NULL, &err) != RELIEF_OK)
-        return cli_fail("cut", &err);
-    if (relief_mesh_cut(in, &a.region, &cap, &truth, &n_cut, &err) != RELIEF_OK) {
-        relief_mesh_destroy(in);
-        return cli_fail("cut", &err);
+                               a.truth);
+    {
+        const cli_output outs[] = {{"-o", cm.out, CLI_OUT_FILE},
+                                   {"--truth", a.truth, CLI_OUT_FILE}};
+        if (cli_check_outputs("cut", &in_path, 1, outs, 2))
+            return EXIT_USAGE;
+        if (parse_only)
+            return 0;
+        if (cli_read_mesh("cut", in_path, 0, &in, NULL, &err) != RELIEF_OK ||
+            relief_mesh_cut(in, &a.region, &o.cap, &o.truth, &n_cut, &err) != RELIEF_OK ||
+            cli_write_outputs(outs, a.truth ? 2 : 1, write_one, &o, NULL, &err) != RELIEF_OK)
+            rc = cli_fail("cut", &err);
+        else
+            fprintf(stderr, "relief cut: %s: %zu of %zu vertices cut, %zu vertices and %zu "
+                    "triangles captured\n", cm.out, n_cut, relief_mesh_vertex_count(in),
+                    relief_mesh_vertex_count(o.cap), relief_mesh_triangle_count(o.cap));
     }
-    cli_hold_signals(&held);
-    if (relief_mesh_write(cap, out, &wo, &err) != RELIEF_OK ||
-        (truth_path && relief_mesh_write(truth, truth_path, &wo, &err) != RELIEF_OK)) {
-        rc = cli_fail("cut", &err);
-        remove(out); /* both or neither */
-    } else {
-        fprintf(stderr,
-                "relief cut: %s: %zu of %zu vertices cut, %zu vertices and %zu triangles "
-                "captured\n",
-                out, n_cut, relief_mesh_vertex_count(in), relief_mesh_vertex_count(cap),
-                relief_mesh_triangle_count(cap));
-    }
-    cli_release_signals(&held);
-    relief_mesh_destroy(truth);
-    relief_mesh_destroy(cap);
+    relief_mesh_destroy(o.truth);
+    relief_mesh_destroy(o.cap);
     relief_mesh_destroy(in);
     return rc;
 }

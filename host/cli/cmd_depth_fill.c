@@ -46,6 +46,7 @@ typedef struct depth_args {
     const char *in, *truth, *points;
     double scale; /* --scale; 0: the default */
     in_kind kind;
+    cli_output outs[3]; /* -o, --points, --report */
 } depth_args;
 
 enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS };
@@ -99,7 +100,7 @@ static int take(void *ctx, int c, const char *arg)
 /* The operands and the files' names: 1 when they fit together. */
 static int check_files(depth_args *a, int argc, char **argv)
 {
-    const char *out, *ins[3], *outs[3];
+    const char *out, *ins[3];
     in_kind kout, kt;
     if (!cli_one_input(&a->cm, argc, argv, "input IN", &a->in))
         return 0;
@@ -125,8 +126,10 @@ static int check_files(depth_args *a, int argc, char **argv)
         return 0;
     }
     ins[0] = a->in, ins[1] = a->cm.mask, ins[2] = a->truth;
-    outs[0] = out, outs[1] = a->cm.report, outs[2] = a->points;
-    return !cli_outputs_clash("depth-fill", ins, 3, outs, 3);
+    a->outs[0] = (cli_output){"-o", out, CLI_OUT_FILE};
+    a->outs[1] = (cli_output){"--points", a->points, CLI_OUT_FILE};
+    a->outs[2] = (cli_output){"--report", a->cm.report, CLI_OUT_FILE};
+    return !cli_check_outputs("depth-fill", ins, 3, a->outs, 3);
 }
 
 /* Options and operands into *a: -1 to go on, else the exit status. */
@@ -173,34 +176,30 @@ static relief_status read_frame(const depth_args *a, const char *path, relief_de
     return st;
 }
 
-/* MASK as an image of 16-bit samples (*buf holds them), through the
- * raster reader, whose samples are whole numbers. */
-/* OUT, --points and --report, all or none. */
-static relief_status write_image_outputs(const depth_args *a, const relief_depth_image *f,
-                                         const uint8_t *label, const char *json,
-                                         relief_error *err)
+/* What write_one writes: OUT (a frame, or a mesh), --points, --report
+ * with the names of the files the engine did not read. */
+typedef struct depth_out {
+    const depth_args *a;
+    const relief_depth_image *f;
+    const relief_mesh *mesh;
+    const uint8_t *label;
+    const char *json;
+    const char *repair; /* a mesh's "input_repair" member (cli_repair_json) */
+} depth_out;
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
 {
     static const char *const keys[] = {"mask", "truth"};
-    const char *values[] = {a->cm.mask, a->truth};
-    sigset_t held;
-    relief_status st;
-    cli_hold_signals(&held);
-    st = relief_depth_write(f, a->cm.out, f->format, a->scale, err);
-    if (st == RELIEF_OK && a->points) {
-        st = relief_depth_points_write(a->points, f, label, err);
-        if (st != RELIEF_OK)
-            remove(a->cm.out);
-    }
-    if (st == RELIEF_OK && a->cm.report) {
-        st = cli_write_json(a->cm.report, json, 2, keys, values, err);
-        if (st != RELIEF_OK) {
-            remove(a->cm.out);
-            if (a->points)
-                remove(a->points);
-        }
-    }
-    cli_release_signals(&held);
-    return st;
+    const depth_out *o = ctx;
+    const char *values[] = {o->a->cm.mask, o->a->truth};
+    if (i == 0)
+        return o->mesh ? relief_mesh_write(o->mesh, tmp, NULL, err)
+                       : relief_depth_write(o->f, tmp, o->f->format, o->a->scale, err);
+    if (i == 1)
+        return relief_depth_points_write(tmp, o->f, o->label, err);
+    /* A mesh's report names its truth only. */
+    return o->mesh ? cli_write_json_with(tmp, o->json, 1, keys + 1, values + 1, o->repair, err)
+                   : cli_write_json(tmp, o->json, 2, keys, values, err);
 }
 
 static void say_image(const depth_args *a, const relief_depth_image *f,
@@ -272,14 +271,14 @@ static int image_mode(depth_args *a)
         relief_depth_missing(&f, a->cm.mask ? &mask : NULL, label, &in_input, &by_mask);
     }
     if (st == RELIEF_OK) {
-        cli_progress_start(&pr, "depth-fill", a->cm.quiet);
-        a->p.run.progress = cli_progress_fn;
-        a->p.run.progress_ctx = &pr;
+        cli_progress_start(&pr, "depth-fill", a->cm.quiet, &a->p.run);
         st = relief_depth_fill(&f, a->cm.mask ? &mask : NULL, &a->p, &rep, &err);
         cli_progress_end(&pr);
     }
-    if (st == RELIEF_OK)
-        st = write_image_outputs(a, &f, label, rep.json, &err);
+    if (st == RELIEF_OK) {
+        depth_out o = {a, &f, NULL, label, rep.json, NULL};
+        st = cli_write_outputs(a->outs, 3, write_one, &o, NULL, &err);
+    }
     if (st == RELIEF_OK && !a->cm.quiet)
         say_image(a, &f, &rep);
     relief_depth_fill_report_free(&rep);
@@ -293,14 +292,12 @@ static int image_mode(depth_args *a)
 /* A mesh through its six depth images. */
 static int mesh_mode(depth_args *a)
 {
-    static const char *const keys[] = {"truth"};
     relief_error err = {RELIEF_OK, ""};
     relief_mesh *m = NULL, *t = NULL, *o = NULL;
     relief_depth_fill_report r;
     cli_progress pr;
-    sigset_t held;
     relief_read_info info;
-    char repair[1024];
+    char repair[1024] = "";
     relief_status st = cli_read_mesh("depth-fill", a->in, a->cm.quiet, &m, &info, &err);
     memset(&r, 0, sizeof r);
     if (st == RELIEF_OK && a->truth)
@@ -308,20 +305,13 @@ static int mesh_mode(depth_args *a)
     if (st == RELIEF_OK)
         cli_repair_json(&info, repair, sizeof repair);
     if (st == RELIEF_OK) {
-        cli_progress_start(&pr, "depth-fill", a->cm.quiet);
-        a->p.run.progress = cli_progress_fn;
-        a->p.run.progress_ctx = &pr;
+        cli_progress_start(&pr, "depth-fill", a->cm.quiet, &a->p.run);
         st = relief_depth_fill_mesh(m, &a->p, t, &o, &r, &err);
         cli_progress_end(&pr);
     }
     if (st == RELIEF_OK) {
-        cli_hold_signals(&held);
-        st = relief_mesh_write(o, a->cm.out, NULL, &err);
-        if (st == RELIEF_OK && a->cm.report &&
-            (st = cli_write_json_with(a->cm.report, r.json, 1, keys, &a->truth, repair,
-                                  &err)) != RELIEF_OK)
-            remove(a->cm.out);
-        cli_release_signals(&held);
+        depth_out w = {a, NULL, o, NULL, r.json, repair};
+        st = cli_write_outputs(a->outs, 3, write_one, &w, NULL, &err);
     }
     if (st == RELIEF_OK && !a->cm.quiet) {
         if (r.backend_note[0])

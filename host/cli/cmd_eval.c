@@ -59,17 +59,16 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
     relief_mesh *done = NULL, *truth = NULL;
     relief_eval_result r;
     relief_status st;
+    const char *in_path;
     int rc = cli_parse(&spec, &cm, NULL, take, &args, argc, argv);
 
     if (rc)
         return rc < 0 ? 0 : rc;
-    if (optind >= argc)
-        return cli_usage_error("eval", "%smissing mesh COMPLETED", "");
-    if (argc - optind > 1)
-        return cli_usage_error("eval", "unexpected argument '%s'", argv[optind + 1]);
+    if (!cli_one_input(&cm, argc, argv, "mesh COMPLETED", &in_path))
+        return EXIT_USAGE;
     if (parse_only)
         return 0;
-    st = cli_read_mesh("eval", argv[optind], 0, &done, NULL, &err);
+    st = cli_read_mesh("eval", in_path, 0, &done, NULL, &err);
     if (st == RELIEF_OK && args.truth)
         st = cli_read_mesh("eval", args.truth, 0, &truth, NULL, &err);
     if (st == RELIEF_OK)
@@ -79,7 +78,7 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
     if (st != RELIEF_OK)
         return cli_fail("eval", &err);
     if (args.json) {
-        const char *keys[] = {"input", "truth"}, *values[] = {argv[optind], args.truth};
+        const char *keys[] = {"input", "truth"}, *values[] = {in_path, args.truth};
         cli_print_json(stdout, r.json, args.truth ? 2 : 1, keys, values);
     } else {
         fputs(r.text, stdout);

@@ -63,24 +63,23 @@ int cli_cmd_fit(int argc, char **argv, int parse_only)
     relief_fit_result r;
     relief_mesh *in = NULL;
     relief_status st;
+    const char *in_path;
     int rc = cli_parse(&spec, &cm, NULL, take, &args, argc, argv);
 
     if (rc)
         return rc < 0 ? 0 : rc;
-    if (optind >= argc)
-        return cli_usage_error("fit", "%smissing input mesh IN", "");
-    if (argc - optind > 1)
-        return cli_usage_error("fit", "unexpected argument '%s'", argv[optind + 1]);
+    if (!cli_one_input(&cm, argc, argv, "input mesh IN", &in_path))
+        return EXIT_USAGE;
     if (parse_only)
         return 0;
-    if (cli_read_mesh("fit", argv[optind], 0, &in, NULL, &err) != RELIEF_OK)
+    if (cli_read_mesh("fit", in_path, 0, &in, NULL, &err) != RELIEF_OK)
         return cli_fail("fit", &err);
     st = relief_fit_mesh(in, args.model, &r, &err);
     relief_mesh_destroy(in);
     if (st != RELIEF_OK)
         return cli_fail("fit", &err);
     if (args.json) {
-        print_fit_json(stdout, argv[optind], &r);
+        print_fit_json(stdout, in_path, &r);
     } else {
         const relief_fit_primitive *p = &r.prim;
         printf("model: %s\n", relief_fit_model_name(p->model));

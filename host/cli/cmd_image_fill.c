@@ -3,7 +3,6 @@
 #include "cli/commands.h"
 
 #include <getopt.h>
-#include <signal.h>
 #include <stdio.h>
 #include <strings.h>
 
@@ -71,23 +70,20 @@ static int image_ext(const char *path)
     return strcasecmp(e, ".jpg") == 0 || strcasecmp(e, ".jpeg") == 0 ? 2 : 0;
 }
 
-/* The filled image and the report (with the mask's name), both or none. */
-static relief_status write_outputs(const cli_common *cm, const relief_image *img,
-                                   const relief_image_fill_report *rep, relief_error *err)
+/* What write_one writes: the filled image and the report, with the
+ * mask's name. */
+typedef struct image_out {
+    const cli_common *cm;
+    const relief_image *img;
+    const char *json;
+} image_out;
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
 {
     static const char *const keys[] = {"mask"};
-    const char *values[] = {cm->mask};
-    relief_status st;
-    sigset_t held;
-    cli_hold_signals(&held);
-    st = relief_image_write(img, cm->out, err);
-    if (st == RELIEF_OK && cm->report) {
-        st = cli_write_json(cm->report, rep->json, 1, keys, values, err);
-        if (st != RELIEF_OK)
-            remove(cm->out); /* all outputs or none */
-    }
-    cli_release_signals(&held);
-    return st;
+    const image_out *o = ctx;
+    return i == 0 ? relief_image_write(o->img, tmp, err)
+                  : cli_write_json(tmp, o->json, 1, keys, &o->cm->mask, err);
 }
 
 /* What the fill did, on stderr. */
@@ -127,13 +123,14 @@ static int run(const cli_common *cm, const char *in, relief_image_fill_params *p
     if (st == RELIEF_OK) {
         p->run.input_name = in;
         p->run.output_name = cm->out;
-        p->run.progress = cli_progress_fn;
-        p->run.progress_ctx = &pr;
-        cli_progress_start(&pr, cm->cmd, cm->quiet);
+        cli_progress_start(&pr, cm->cmd, cm->quiet, &p->run);
         st = relief_image_fill(&img, cm->mask ? &mask : NULL, p, &rep, &err);
         cli_progress_end(&pr);
         if (st == RELIEF_OK) {
-            st = write_outputs(cm, &img, &rep, &err);
+            const cli_output outs[] = {{"-o", cm->out, CLI_OUT_FILE},
+                                       {"--report", cm->report, CLI_OUT_FILE}};
+            image_out o = {cm, &img, rep.json};
+            st = cli_write_outputs(outs, 2, write_one, &o, NULL, &err);
             if (st == RELIEF_OK)
                 summary(cm, in, &rep);
             relief_image_fill_report_free(&rep);
@@ -164,8 +161,10 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     if (relief_image_fill_params_validate(&p, &err) != RELIEF_OK)
         return cli_fail(cm.cmd, &err);
     {
-        const char *ins[] = {in, cm.mask}, *outs[] = {cm.out, cm.report};
-        if (cli_outputs_clash(cm.cmd, ins, 2, outs, 2))
+        const char *ins[] = {in, cm.mask};
+        const cli_output outs[] = {{"-o", cm.out, CLI_OUT_FILE},
+                                   {"--report", cm.report, CLI_OUT_FILE}};
+        if (cli_check_outputs(cm.cmd, ins, 2, outs, 2))
             return EXIT_USAGE;
     }
     if (parse_only)

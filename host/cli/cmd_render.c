@@ -107,6 +107,13 @@ static int take(void *ctx, int id, const char *arg)
     return 0;
 }
 
+static relief_status write_png(void *ctx, size_t i, const char *tmp, relief_error *err)
+{
+    const relief_rgb_image *img = ctx;
+    (void)i;
+    return relief_png_write(tmp, img->rgb, img->width, img->height, err);
+}
+
 int cli_cmd_render(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("render");
@@ -115,26 +122,21 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
     relief_error err = {RELIEF_OK, ""};
     relief_rgb_image img = {0, 0, NULL};
     relief_mesh *mesh = NULL;
-    const char *out, *in;
+    cli_output out = {"-o", NULL, CLI_OUT_FILE};
+    const char *in;
     relief_status st;
     int rc = cli_parse(&spec, &cm, NULL, take, &ro, argc, argv);
 
     if (rc)
         return rc < 0 ? 0 : rc;
-    out = cm.out;
-    if (optind >= argc)
-        return cli_usage_error("render", "%smissing input MESH", "");
-    if (argc - optind > 1)
-        return cli_usage_error("render", "unexpected argument '%s'", argv[optind + 1]);
-    in = argv[optind];
-    if (!out)
-        return cli_usage_error("render", "%smissing -o OUT.png", "");
-    if (strcasecmp(cli_ext_of(out), ".png") != 0)
+    if (!cli_one_input(&cm, argc, argv, "input MESH", &in))
+        return EXIT_USAGE;
+    if (strcasecmp(cli_ext_of(cm.out), ".png") != 0)
         return cli_usage_error("render", "-o: '%s' does not end in .png; relief renders PNG "
-                           "images", out);
-    if (cli_same_file(in, out))
-        return cli_usage_error("render", "-o: '%s' is the input; relief never overwrites its input",
-                           out);
+                           "images", cm.out);
+    out.path = cm.out;
+    if (cli_check_outputs("render", &in, 1, &out, 1))
+        return EXIT_USAGE;
     if (parse_only)
         return 0;
     st = cli_read_mesh("render", in, 0, &mesh, NULL, &err);
@@ -147,10 +149,10 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
         }
     }
     if (st == RELIEF_OK)
-        st = relief_png_write(out, img.rgb, img.width, img.height, &err);
+        st = cli_write_outputs(&out, 1, write_png, &img, NULL, &err);
     if (st == RELIEF_OK)
         fprintf(stderr, "relief render: %s -> %s (%dx%d, view %.1f,%.1f, colour by %s)\n", in,
-                out, img.width, img.height, info.azimuth, info.elevation,
+                cm.out, img.width, img.height, info.azimuth, info.elevation,
                 relief_colour_by_name(info.colour_by));
     relief_rgb_image_free(&img);
     relief_mesh_destroy(mesh);

@@ -61,56 +61,60 @@ static cli_spec spec(char *kinds, size_t cap)
     return s;
 }
 
+/* What write_one writes: the capture (-o) and the truth. */
+typedef struct synth_out {
+    relief_mesh *cap, *truth;
+    relief_write_options wo;
+} synth_out;
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+{
+    const synth_out *o = ctx;
+    return relief_mesh_write(i == 0 ? o->cap : o->truth, tmp, &o->wo, err);
+}
+
 int cli_cmd_synth(int argc, char **argv, int parse_only)
 {
     char kinds[1024];
     const cli_spec s = spec(kinds, sizeof kinds);
     cli_common cm = cli_common_init("synth");
     synth_args a = {relief_synth_params_default(), NULL, 0};
-    relief_write_options wo = {0};
+    synth_out o = {NULL, NULL, {0}};
     relief_error err = {RELIEF_OK, ""};
-    relief_mesh *cap = NULL, *truth = NULL;
-    const char *out, *truth_path;
-    sigset_t held;
+    const char *kind;
     int rc = cli_parse(&s, &cm, NULL, take, &a, argc, argv);
 
     if (rc)
         return rc < 0 ? 0 : rc;
-    out = cm.out;
-    truth_path = a.truth;
-    wo.ascii = a.ascii;
+    o.wo.ascii = a.ascii;
     if (cm.seed_given)
         a.sp.seed = cm.seed;
-    if (optind >= argc)
-        return cli_usage_error("synth", "%smissing KIND", "");
-    if (argc - optind > 1)
-        return cli_usage_error("synth", "unexpected argument '%s'", argv[optind + 1]);
-    if (!out)
-        return cli_usage_error("synth", "%smissing -o OUT", "");
-    if (truth_path && cli_same_file(out, truth_path))
-        return cli_usage_error("synth", "--truth: '%s' is also the -o output", truth_path);
-    if (relief_synth_kind_parse(argv[optind], &a.sp.kind, &err) != RELIEF_OK ||
-        relief_synth_params_validate(&a.sp, &err) != RELIEF_OK)
-        return cli_fail("synth", &err);
-    if (parse_only)
-        return 0;
-    if (relief_synth(&a.sp, &cap, truth_path ? &truth : NULL, &err) != RELIEF_OK)
-        return cli_fail("synth", &err);
-    cli_hold_signals(&held);
-    if (relief_mesh_write(cap, out, &wo, &err) != RELIEF_OK ||
-        (truth && relief_mesh_write(truth, truth_path, &wo, &err) != RELIEF_OK)) {
-        rc = cli_fail("synth", &err);
-        remove(out); /* both or neither: the capture alone is no use */
-    } else {
-        fprintf(stderr, "relief synth: %s: %zu vertices, %zu triangles (captured)\n", out,
-                relief_mesh_vertex_count(cap), relief_mesh_triangle_count(cap));
-        if (truth)
-            fprintf(stderr, "relief synth: %s: %zu vertices, %zu triangles (truth)\n",
-                    truth_path, relief_mesh_vertex_count(truth),
-                    relief_mesh_triangle_count(truth));
+    if (!cli_one_input(&cm, argc, argv, "KIND", &kind))
+        return EXIT_USAGE;
+    {
+        const cli_output outs[] = {{"-o", cm.out, CLI_OUT_FILE},
+                                   {"--truth", a.truth, CLI_OUT_FILE}};
+        if (cli_check_outputs("synth", NULL, 0, outs, 2))
+            return EXIT_USAGE;
+        if (relief_synth_kind_parse(kind, &a.sp.kind, &err) != RELIEF_OK ||
+            relief_synth_params_validate(&a.sp, &err) != RELIEF_OK)
+            return cli_fail("synth", &err);
+        if (parse_only)
+            return 0;
+        /* Both or neither: the capture alone is no use. */
+        if (relief_synth(&a.sp, &o.cap, a.truth ? &o.truth : NULL, &err) != RELIEF_OK ||
+            cli_write_outputs(outs, 2, write_one, &o, NULL, &err) != RELIEF_OK)
+            rc = cli_fail("synth", &err);
     }
-    cli_release_signals(&held);
-    relief_mesh_destroy(truth);
-    relief_mesh_destroy(cap);
+    if (rc == 0) {
+        fprintf(stderr, "relief synth: %s: %zu vertices, %zu triangles (captured)\n", cm.out,
+                relief_mesh_vertex_count(o.cap), relief_mesh_triangle_count(o.cap));
+        if (o.truth)
+            fprintf(stderr, "relief synth: %s: %zu vertices, %zu triangles (truth)\n",
+                    a.truth, relief_mesh_vertex_count(o.truth),
+                    relief_mesh_triangle_count(o.truth));
+    }
+    relief_mesh_destroy(o.truth);
+    relief_mesh_destroy(o.cap);
     return rc;
 }

@@ -15,8 +15,10 @@
 
 #include "base/atomic.h"
 #include "base/clock.h"
+#include "base/error.h"
 #include "base/json.h"
 #include "base/memlimit.h"
+#include "report/report_dir.h"
 
 cli_common cli_common_init(const char *cmd)
 {
@@ -57,7 +59,7 @@ int cli_one_input(const cli_common *cm, int argc, char **argv, const char *what,
         return 0;
     }
     *in = argv[optind];
-    if (!cm->out) {
+    if (!cm->out && (cm->shared & CLI_OUTPUT)) {
         cli_usage_error(cm->cmd, "%smissing -o OUT", "");
         return 0;
     }
@@ -151,35 +153,156 @@ int cli_parse_enum(const char *cmd, const char *opt, const char *s, const char *
     return 0;
 }
 
-int cli_same_file(const char *in, const char *out)
+/* The folder `path` goes in (malloc'ed; "." when it names none), and
+ * where its last name starts in path. */
+static char *folder_of(const char *path, const char **name)
 {
-    struct stat a, b;
-    if (!in || !out)
-        return 0;
-    if (strcmp(in, out) == 0)
-        return 1;
-    if (stat(in, &a) != 0 || stat(out, &b) != 0)
-        return 0;
-    return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+    size_t n = strlen(path);
+    char *d = malloc(n + 2), *slash;
+    if (!d)
+        return NULL;
+    memcpy(d, path, n + 1);
+    slash = strrchr(d, '/');
+    *name = path + (slash ? (size_t)(slash - d) + 1 : 0);
+    if (!slash)
+        strcpy(d, ".");
+    else
+        slash[slash == d] = '\0'; /* "/x" goes in "/" */
+    return d;
 }
 
-int cli_outputs_clash(const char *cmd, const char *const *ins, size_t n_ins,
-                      const char *const *outs, size_t n_outs)
+int cli_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    const char *na, *nb;
+    char *da, *db;
+    int same, ha, hb;
+    if (!a || !b)
+        return 0;
+    if (strcmp(a, b) == 0)
+        return 1;
+    ha = stat(a, &sa) == 0, hb = stat(b, &sb) == 0;
+    if (ha || hb) /* one is there: the same inode */
+        return ha && hb && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    da = folder_of(a, &na), db = folder_of(b, &nb);
+    same = da && db && *na && strcmp(na, nb) == 0 && cli_same_file(da, db);
+    free(da);
+    free(db);
+    return same;
+}
+
+/* Print "relief CMD: OPT: 'PATH' <why, with arg>"; EXIT_USAGE. */
+static int refuse(const char *cmd, const cli_output *o, const char *why, const char *arg)
+{
+    fprintf(stderr, "relief %s: %s: '%s' ", cmd, o->opt, o->path);
+    fprintf(stderr, why, arg);
+    fputc('\n', stderr);
+    return EXIT_USAGE;
+}
+
+/* One output on its own: a plain file, or none yet, in a writable folder. */
+static int check_output(const char *cmd, const cli_output *o)
+{
+    struct stat sb;
+    const char *name;
+    char *dir;
+    int rc = 0;
+    if (o->kind == CLI_OUT_FOLDER) {
+        relief_error err = {RELIEF_OK, ""};
+        if (relief_report_dir_check(o->path, &err) == RELIEF_OK)
+            return 0;
+        fprintf(stderr, "relief %s: %s: %s\n", cmd, o->opt, err.message);
+        return EXIT_USAGE;
+    }
+    if (stat(o->path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        return refuse(cmd, o, "is a folder; %s names a file", o->opt);
+    if (stat(o->path, &sb) == 0 && !S_ISREG(sb.st_mode))
+        return refuse(cmd, o, "%sis there and is not a plain file", "");
+    if (!(dir = folder_of(o->path, &name)))
+        return refuse(cmd, o, "%s: cannot allocate a path", "");
+    if (!*name)
+        rc = refuse(cmd, o, "is a folder's name; %s names a file", o->opt);
+    else if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+        rc = refuse(cmd, o, "cannot be written: the folder '%s' does not exist", dir);
+    else if (access(dir, W_OK | X_OK) != 0)
+        rc = refuse(cmd, o, "cannot be written: no permission to write in '%s'", dir);
+    free(dir);
+    return rc;
+}
+
+int cli_check_outputs(const char *cmd, const char *const *ins, size_t n_ins,
+                      const cli_output *outs, size_t n_outs)
 {
     for (size_t o = 0; o < n_outs; ++o) {
+        if (!outs[o].path)
+            continue;
         for (size_t i = 0; i < n_ins; ++i)
-            if (cli_same_file(ins[i], outs[o])) {
-                cli_usage_error(cmd, "'%s' is an input; relief never overwrites its input",
-                                outs[o]);
-                return 1;
-            }
+            if (cli_same_file(ins[i], outs[o].path))
+                return refuse(cmd, &outs[o], "is an input; relief never overwrites its "
+                              "input%s", "");
         for (size_t p = 0; p < o; ++p)
-            if (cli_same_file(outs[p], outs[o])) {
-                cli_usage_error(cmd, "'%s' is named for two outputs", outs[o]);
-                return 1;
-            }
+            if (cli_same_file(outs[p].path, outs[o].path))
+                return refuse(cmd, &outs[o], "is also named by %s: one file per output",
+                              outs[p].opt);
+        if (check_output(cmd, &outs[o]))
+            return EXIT_USAGE;
     }
     return 0;
+}
+
+/* The test hook RELIEF_TEST_OUTPUT_FAIL=N fails the N-th step of writing
+ * (each asked file written, then each moved into place, then the folder),
+ * as a full disk or a vanished folder would. */
+static relief_status hook(unsigned long *step, relief_status st, relief_error *err)
+{
+    const char *at = getenv("RELIEF_TEST_OUTPUT_FAIL");
+    if (st == RELIEF_OK && at && ++*step == strtoul(at, NULL, 10))
+        st = relief_fail(err, RELIEF_E_IO, "writing the outputs: step %lu failed (test hook)",
+                         *step);
+    return st;
+}
+
+/* A writer's message names the temporary it wrote; say the target. */
+static void name_target(relief_error *err, const char *tmp, const char *path)
+{
+    char *at = err ? strstr(err->message, tmp) : NULL, rest[RELIEF_ERROR_MESSAGE_MAX];
+    if (!at)
+        return;
+    snprintf(rest, sizeof rest, "%s", at + strlen(tmp));
+    snprintf(at, sizeof err->message - (size_t)(at - err->message), "%s%s", path, rest);
+}
+
+relief_status cli_write_outputs(const cli_output *outs, size_t n, cli_write_fn write,
+                                void *ctx, relief_report_folder **folder, relief_error *err)
+{
+    relief_atomic_file f[CLI_MAX_OUTPUTS];
+    relief_status st = RELIEF_OK;
+    unsigned long step = 0;
+    sigset_t held;
+    memset(f, 0, sizeof f);
+    cli_hold_signals(&held);
+    /* Every file written beside its target before any is moved. */
+    for (size_t i = 0; i < n && i < CLI_MAX_OUTPUTS && st == RELIEF_OK; ++i)
+        if (outs[i].path && outs[i].kind == CLI_OUT_FILE) {
+            f[i].path = outs[i].path;
+            st = relief_atomic_create(f[i].path, &f[i].tmp, err);
+            if (st == RELIEF_OK && (st = write(ctx, i, f[i].tmp, err)) != RELIEF_OK)
+                name_target(err, f[i].tmp, f[i].path);
+            st = hook(&step, st, err);
+        }
+    for (size_t i = 0; i < n && i < CLI_MAX_OUTPUTS && st == RELIEF_OK; ++i)
+        if (f[i].tmp && (st = hook(&step, st, err)) == RELIEF_OK)
+            st = relief_atomic_place(&f[i], err);
+    /* The folder last: it cannot be put back once placed, the files can. */
+    if (st == RELIEF_OK && folder && *folder &&
+        (st = hook(&step, st, err)) == RELIEF_OK) {
+        st = relief_report_folder_commit(*folder, err);
+        *folder = NULL;
+    }
+    for (size_t i = 0; i < CLI_MAX_OUTPUTS; ++i)
+        relief_atomic_settle(&f[i], st == RELIEF_OK);
+    cli_release_signals(&held);
+    return st;
 }
 
 const char *cli_ext_of(const char *path)
@@ -206,7 +329,7 @@ static void on_sigint(int sig)
     interrupted = 1;
 }
 
-void cli_progress_start(cli_progress *pr, const char *cmd, int quiet)
+void cli_progress_start(cli_progress *pr, const char *cmd, int quiet, relief_run_options *run)
 {
     struct sigaction sa;
     const char *after = getenv("RELIEF_TEST_SIGINT_AFTER");
@@ -223,6 +346,8 @@ void cli_progress_start(cli_progress *pr, const char *cmd, int quiet)
         pr->estimate_after = pr->estimate_min = 0.0;
     if (after)
         pr->sigint_after = strtoul(after, NULL, 10);
+    if (run)
+        run->progress = cli_progress_fn, run->progress_ctx = pr;
     /* A first SIGINT cancels the call cleanly; SA_RESETHAND lets a second
      * one kill the process as usual. */
     interrupted = 0;

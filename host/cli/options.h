@@ -40,6 +40,7 @@ int cli_given(int argc, char **argv, const char *opt);
 /* What the shared options set. */
 typedef struct cli_common {
     const char *cmd;            /* "complete", for messages */
+    unsigned shared;            /* the spec's CLI_*: -o is required with CLI_OUTPUT */
     const char *out, *report, *mask;
     int quiet;
     int seed_given;             /* 1 when --seed was given: */
@@ -92,8 +93,9 @@ int cli_parse(const cli_spec *s, cli_common *cm, void *params,
  * shared option, -1 a bad value (said on stderr: exit EXIT_USAGE). */
 int cli_common_option(cli_common *cm, int c, const char *arg);
 
-/* "IN -o OUT": the one operand, and -o given. Returns 0 (and says why)
- * when either is missing or there is an operand too many. */
+/* "IN -o OUT": the one operand (`what` when missing), and -o when the
+ * command writes one. Returns 0 (and says why) when either is missing or
+ * there is an operand too many. */
 int cli_one_input(const cli_common *cm, int argc, char **argv, const char *what,
                   const char **in);
 
@@ -126,14 +128,47 @@ int cli_parse_enum(const char *cmd, const char *opt, const char *s, const char *
 #define CLI_PARSE_ENUM(cmd, opt, s, names, out)                                         \
     cli_parse_enum(cmd, opt, s, names, (int)(sizeof names / sizeof names[0]), out)
 
-/* Is `out` the same file as `in` (by name or by inode)? NULL: no. */
-int cli_same_file(const char *in, const char *out);
+/* Are a and b one file: the same name, the same inode, or, neither
+ * there yet, the same name in the same folder? NULL: no. */
+int cli_same_file(const char *a, const char *b);
 
-/* Does any of outs[0 .. n_outs) name one of ins[0 .. n_ins) or another
- * output? Says which (exit EXIT_USAGE) and returns 1; NULL entries are
- * skipped. */
-int cli_outputs_clash(const char *cmd, const char *const *ins, size_t n_ins,
-                      const char *const *outs, size_t n_outs);
+/* A file or folder a command writes: the option that names it ("-o",
+ * "--report"), its path (NULL: not asked for) and who writes it. */
+typedef enum cli_out_kind {
+    CLI_OUT_FILE,   /* cli_write_outputs, with the others, all or none */
+    CLI_OUT_ENGINE, /* a file the engine writes itself (--checkpoint): checked only */
+    CLI_OUT_FOLDER  /* a --report-dir the engine stages: cli_write_outputs places it last */
+} cli_out_kind;
+
+typedef struct cli_output {
+    const char *opt, *path;
+    cli_out_kind kind;
+} cli_output;
+
+/* Before any work, refuse what would fail after it or destroy data: a
+ * folder (or anything but a plain file) where a file is wanted, a folder it
+ * goes in that is missing or not writable, a --report-dir that cannot be
+ * one (report/report_dir.h), the same file as one of ins[0 .. n_ins) (NULL
+ * entries skipped) or as another output. One line naming the option and
+ * the path; returns EXIT_USAGE then, else 0. */
+int cli_check_outputs(const char *cmd, const char *const *ins, size_t n_ins,
+                      const cli_output *outs, size_t n_outs);
+
+/* Write outs[i] (an asked CLI_OUT_FILE) to `tmp`, a new file beside its
+ * target with the target's extension, for cli_write_outputs. */
+typedef relief_status (*cli_write_fn)(void *ctx, size_t i, const char *tmp,
+                                      relief_error *err);
+
+/* Every asked CLI_OUT_FILE of outs[0 .. n) written by write() to a
+ * temporary file beside it, then, all written, moved into place, and
+ * *folder (a staged --report-dir, or NULL; taken, *folder set to NULL)
+ * last: all or none. On any failure the temporaries go and every file that
+ * was there is as it was (base/atomic.h: its inode, bytes and mtime);
+ * nothing that existed before is removed. SIGINT and SIGTERM wait until
+ * the end (cli_hold_signals). At most CLI_MAX_OUTPUTS. */
+#define CLI_MAX_OUTPUTS 8
+relief_status cli_write_outputs(const cli_output *outs, size_t n, cli_write_fn write,
+                                void *ctx, relief_report_folder **folder, relief_error *err);
 
 /* The extension of `path` with its dot ("" when none). */
 const char *cli_ext_of(const char *path);
@@ -159,8 +194,9 @@ typedef struct cli_progress {
     struct sigaction old;
 } cli_progress;
 
-/* Start reporting (and take SIGINT) for `cmd`; quiet: nothing printed. */
-void cli_progress_start(cli_progress *pr, const char *cmd, int quiet);
+/* Start reporting (and take SIGINT) for `cmd`, as run's progress
+ * callback (run may be NULL); quiet: nothing printed. */
+void cli_progress_start(cli_progress *pr, const char *cmd, int quiet, relief_run_options *run);
 
 /* The relief_progress_fn: ctx is a cli_progress. Returns 1 once SIGINT came. */
 int cli_progress_fn(void *ctx, double fraction);

@@ -138,6 +138,7 @@ int cli_parse(const cli_spec *s, cli_common *cm, void *params,
         return -1;
     }
     build(s, &t);
+    cm->shared = s->shared;
     optind = 0;
     while ((c = getopt_long(argc, argv, "o:h", t.opts, NULL)) != -1) {
         int r = cli_common_option(cm, c, optarg);

@@ -9,6 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "base/clock.h"
 #include "base/error.h"
@@ -277,8 +279,25 @@ static void on_grow_progress(void *ctx, const relief_grow_progress *p)
 
 static relief_status save_checkpoint(void *ctx, const relief_grow_state *g, relief_error *err)
 {
-    const relief_complete_run *r = ctx;
-    return relief_checkpoint_write(r->cp->checkpoint, &r->key, g, err);
+    relief_complete_run *r = ctx;
+    relief_status st = relief_checkpoint_write(r->cp->checkpoint, &r->key, g, err);
+    r->saved |= st == RELIEF_OK;
+    return st;
+}
+
+/* After a finished run its checkpoint described an unfinished one: it goes
+ * when this call wrote it or resumed from it, never a file (or a folder)
+ * that was there for another reason. */
+static void drop_checkpoint(const relief_complete_run *r)
+{
+    const char *ck = r->cp->checkpoint, *from = r->cp->resume;
+    struct stat a, b;
+    if (!ck || stat(ck, &a) != 0 || !S_ISREG(a.st_mode))
+        return;
+    if (r->saved || (from && (strcmp(from, ck) == 0 || (stat(from, &b) == 0 &&
+                                                        a.st_dev == b.st_dev &&
+                                                        a.st_ino == b.st_ino))))
+        unlink(ck);
 }
 
 static void note_resume(relief_complete_run *r, const relief_grow_state *g)
@@ -472,8 +491,7 @@ relief_status relief_complete(const relief_mesh *capture, const relief_complete_
     if (st == RELIEF_OK && rep)
         st = finish_report(&r, 0, err);
     if (st == RELIEF_OK) {
-        if (p->checkpoint)
-            remove(p->checkpoint); /* it described an unfinished run */
+        drop_checkpoint(&r);
         *out = take_mesh(&r);
     }
     if (st == RELIEF_OK && rep)

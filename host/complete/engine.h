@@ -43,6 +43,7 @@ typedef struct relief_complete_run {
     relief_grow_stats stats;
     relief_checkpoint_key key;
     relief_checkpoint *resume;  /* cp->resume read */
+    int saved;                  /* 1 once this call wrote cp->checkpoint */
     relief_mesh *before;        /* the surface before growth (report folder) */
     relief_backend backend;     /* what scored */
     char device[256];

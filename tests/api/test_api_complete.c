@@ -237,6 +237,14 @@ static void test_cancel(relief_mesh *cap, const char *dir)
     CHECK(out && count_completed(out) > 0, "resumed");
     CHECK(stat(ck, &sb) != 0, "the checkpoint of a finished run was kept");
     relief_mesh_destroy(out);
+    /* A checkpoint name this call never wrote to is not its to remove: a
+     * folder (remove() took an empty one) or another run's file. */
+    p.resume = NULL;
+    CHECK(mkdir(ck, 0700) == 0, "mkdir %s", ck);
+    CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_OK, err, NULL);
+    CHECK(stat(ck, &sb) == 0 && S_ISDIR(sb.st_mode), "a finished run removed a folder");
+    relief_mesh_destroy(out);
+    rmdir(ck);
 }
 
 static void test_report_folder(relief_mesh *cap, const char *dir)

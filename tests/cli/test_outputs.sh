@@ -1,0 +1,157 @@
+#!/usr/bin/env bash
+# Outputs never destroy data (issue 40): every command checks every output
+# before any work (a folder where a file is wanted, a missing folder, an
+# input or another output named again: exit 1, one line naming the option
+# and the path), writes every file beside its target and moves them all
+# into place only once all are written; on any failure every file that was
+# there keeps its bytes, mtime and inode, no folder is removed and no
+# temporary is left.
+# Usage: test_outputs.sh PATH/TO/relief PATH/TO/image_tool
+set -u
+relief=$1 itool=$2
+tmp=$(mktemp -d /tmp/relief-outputs-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+
+. "$(dirname "$0")/expect.sh" # expect, ok
+
+in=$tmp/in w=$tmp/w
+mkdir "$in" "$w"
+"$relief" synth plane-waves -o "$in/pw.ply" --vertices 500 --colour 2>/dev/null
+"$relief" synth sphere-dimples -o "$in/sd.ply" --vertices 800 2>/dev/null
+"$relief" render "$in/pw.ply" -o "$in/img.png" --size 64x48 2>/dev/null
+"$itool" mask "$in/m.png" 64 48 30 20 6 5
+# A 16 x 12 organised PCD with a 3 x 2 hole.
+{ printf 'VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 16\nHEIGHT 12\n'
+  printf 'VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 192\nDATA ascii\n'
+  for ((y = 0; y < 12; y++)); do for ((x = 0; x < 16; x++)); do
+    if ((x >= 6 && x < 9 && y >= 5 && y < 7)); then echo "nan nan nan"; continue; fi
+    z=$((100 + (x * x + y) % 7)); echo "$(((x - 8) * z))e-3 $(((y - 6) * z))e-3 ${z}e-2"
+  done; done; } > "$in/f.pcd"
+
+# What the user had: files with old mtimes, an empty folder for each kind of
+# output, a second name (hard link) of an input.
+for f in out.ply out.png out.pcd mesh.ply pts.ply truth.ply rep.json; do
+  echo "the user's $f" > "$w/$f"; touch -d '2001-02-03 04:05:06' "$w/$f"
+done
+mkdir "$w/dir.ply" "$w/dir.png" "$w/dir.pcd" "$w/dir.json" "$w/ck"
+ln "$in/pw.ply" "$w/alias.ply"
+# Every entry of $w: its type, mtime (ns), inode, size and bytes.
+snap() { (cd "$w" && find . -mindepth 1 -printf '%p %y %T@ %i %s\n' | sort && find . -type f -exec md5sum {} + | sort); }
+stamp() { stat -c '%Y.%y' "$w"; } # the folder's own mtime: changes when a temporary comes and goes
+
+# refused NEEDLE -- COMMAND...: exit 1 with NEEDLE in one line, before any
+# work: $w exactly as it was and no file ever created in it.
+refused() {
+  local needle=$1 before="$(snap)" dir="$(stamp)"; shift 2
+  expect 1 "$needle" -- "$@"
+  ok '[[ $(wc -l < "$tmp/err") -eq 1 ]]' "more than one line: $(cat "$tmp/err")"
+  ok '[[ $(snap) == "$before" && $(stamp) == "$dir" ]]' "the user's files were touched by: ${*:2}"
+}
+# failed STEP -- COMMAND...: writing fails at STEP (test hook), after the
+# work: exit 1, every file as it was, no temporary left.
+failed() {
+  local step=$1 before="$(snap)"; shift 2
+  expect 1 "step $step failed" -- env RELIEF_TEST_OUTPUT_FAIL=$step "$@"
+  ok '[[ $(snap) == "$before" ]]' "a failure at step $step changed the user's files: ${*:2}"
+}
+
+# --------------------------------------------------------- before any work
+# Each second output a folder, the one the issue found: refused at once, OUT
+# and the folder kept (complete-points and complete removed both).
+refused "--report: '$w/dir.json' is a folder" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --report "$w/dir.json"
+refused "--report: '$w/dir.json' is a folder" -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --report "$w/dir.json"
+refused "--points: '$w/dir.ply' is a folder" -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --points "$w/dir.ply"
+refused "--mesh: '$w/dir.ply' is a folder" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --mesh "$w/dir.ply"
+refused "--report: '$w/dir.json' is a folder" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --report "$w/dir.json"
+refused "--report: '$w/dir.json' is a folder" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/dir.json"
+refused "--report: '$w/dir.json' is a folder" -- "$relief" smooth "$in/pw.ply" -o "$w/out.ply" --report "$w/dir.json"
+refused "--checkpoint: '$w/ck' is a folder" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --checkpoint "$w/ck"
+refused "--truth: '$w/dir.ply' is a folder" -- "$relief" cut "$in/pw.ply" -o "$w/out.ply" --truth "$w/dir.ply" --ball 0,0,0,0.3
+refused "--truth: '$w/dir.ply' is a folder" -- "$relief" synth plane-waves -o "$w/out.ply" --truth "$w/dir.ply"
+# OUT a folder.
+refused "-o: '$w/dir.png' is a folder" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/dir.png"
+refused "-o: '$w/dir.pcd' is a folder" -- "$relief" depth-fill "$in/f.pcd" -o "$w/dir.pcd"
+refused "-o: '$w/dir.ply' is a folder" -- "$relief" depth-fill "$in/sd.ply" -o "$w/dir.ply"
+refused "-o: '$w/dir.ply' is a folder" -- "$relief" complete-points "$in/pw.ply" -o "$w/dir.ply"
+refused "-o: '$w/dir.ply' is a folder" -- "$relief" complete "$in/pw.ply" -o "$w/dir.ply"
+refused "-o: '$w/dir.ply' is a folder" -- "$relief" smooth "$in/pw.ply" -o "$w/dir.ply"
+refused "-o: '$w/dir.ply' is a folder" -- "$relief" cut "$in/pw.ply" -o "$w/dir.ply" --ball 0,0,0,0.3
+refused "-o: '$w/dir.ply' is a folder" -- "$relief" synth plane-waves -o "$w/dir.ply"
+refused "-o: '$w/dir.png' is a folder" -- "$relief" render "$in/pw.ply" -o "$w/dir.png"
+refused "-o: '$w/x/' is a folder's name" -- "$relief" synth plane-waves -o "$w/x/"
+# Not a plain file (a pipe here: renaming over /dev/null as root, as the
+# command did, replaces the device).
+mkfifo "$w/pipe.json"
+refused "--report: '$w/pipe.json' is there and is not a plain file" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/pipe.json"
+# A folder that is not there.
+no=$w/no/such
+refused "-o: '$no.png' cannot be written: the folder '$w/no' does not exist" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$no.png"
+refused "--report: '$no.json' cannot be written" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --report "$no.json"
+refused "--points: '$no.ply' cannot be written" -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --points "$no.ply"
+refused "--report: '$no.json' cannot be written" -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --report "$no.json"
+refused "--mesh: '$no.ply' cannot be written" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --mesh "$no.ply"
+refused "--report: '$no.json' cannot be written" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$no.json"
+refused "--checkpoint: '$no' cannot be written" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --checkpoint "$no"
+refused "--report-dir: $no: the folder it goes in, '$w/no', does not exist" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report-dir "$no"
+refused "-o: '$no.ply' cannot be written" -- "$relief" smooth "$in/pw.ply" -o "$no.ply"
+refused "--truth: '$no.ply' cannot be written" -- "$relief" cut "$in/pw.ply" -o "$w/out.ply" --truth "$no.ply" --ball 0,0,0,0.3
+refused "--truth: '$no.ply' cannot be written" -- "$relief" synth plane-waves -o "$w/out.ply" --truth "$no.ply"
+refused "-o: '$no.png' cannot be written" -- "$relief" render "$in/pw.ply" -o "$no.png"
+# An input under a second name (the same inode), and one file named twice.
+refused "-o: '$w/alias.ply' is an input" -- "$relief" complete "$in/pw.ply" -o "$w/alias.ply"
+refused "--mesh: '$w/alias.ply' is an input" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --mesh "$w/alias.ply"
+refused "--truth: '$w/alias.ply' is an input" -- "$relief" cut "$in/pw.ply" -o "$w/out.ply" --truth "$w/alias.ply" --ball 0,0,0,0.3
+refused "-o: '$w/alias.ply' is an input" -- "$relief" depth-fill "$in/pw.ply" -o "$w/alias.ply"
+refused "--report: '$w/../w/out.png' is also named by -o" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --report "$w/../w/out.png"
+refused "--report: '$w/./new.json' is also named by --points" -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --points "$w/new.json" --report "$w/./new.json"
+refused "--truth: '$w/../w/out.ply' is also named by -o" -- "$relief" synth plane-waves -o "$w/out.ply" --truth "$w/../w/out.ply"
+refused "--report-dir: '$w/rep.json' is also named by --report" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --report-dir "$w/rep.json"
+# Before the input is read: an input that is not there is not what is said.
+refused "--report: '$w/dir.json' is a folder" -- "$relief" complete "$in/none.ply" -o "$w/out.ply" --report "$w/dir.json"
+refused "--mesh: '$w/dir.ply' is a folder" -- "$relief" complete-points "$in/none.ply" -o "$w/out.ply" --mesh "$w/dir.ply"
+refused "--report: '$w/dir.json' is a folder" -- "$relief" image-fill "$in/none.png" -o "$w/out.png" --report "$w/dir.json"
+refused "--report: '$w/dir.json' is a folder" -- "$relief" depth-fill "$in/none.pcd" -o "$w/out.pcd" --report "$w/dir.json"
+
+# ---------------------------------------------- a failure while writing
+# Each step of the writing fails in turn (every file written beside its
+# target, then each moved into place, then the report folder): the files
+# already moved go back, the user's files keep their bytes, mtime and
+# inode, and no temporary is left.
+for s in 1 2 3 4; do
+  failed $s -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --backend scalar --quiet
+done
+for s in 1 2 3 4 5; do
+  failed $s -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --report-dir "$w/repdir" --backend scalar --quiet
+done
+ok '[[ ! -e $w/repdir ]]' "a report folder left by a failed run"
+for s in 1 2 3 4 5 6; do
+  failed $s -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --mesh "$w/mesh.ply" --report "$w/rep.json" --quiet
+  failed $s -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --points "$w/pts.ply" --report "$w/rep.json" --backend scalar --quiet
+done
+for s in 1 2 3 4; do
+  failed $s -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --report "$w/rep.json" --quiet
+  failed $s -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --report "$w/rep.json" --resolution 24 --quiet
+  failed $s -- "$relief" smooth "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --quiet
+  failed $s -- "$relief" cut "$in/pw.ply" -o "$w/out.ply" --truth "$w/truth.ply" --ball 0,0,0,0.3
+  failed $s -- "$relief" synth plane-waves -o "$w/out.ply" --truth "$w/truth.ply"
+done
+failed 2 -- "$relief" render "$in/pw.ply" -o "$w/out.png"
+# A new output is removed with the rest (it was not there before).
+failed 4 -- "$relief" synth plane-waves -o "$w/new.ply" --truth "$w/truth.ply"
+ok '[[ ! -e $w/new.ply ]]' "a new output left by a failed run"
+
+# -------------------------------------------- and when all goes well
+# The outputs replace the files there, and a checkpoint this run did not
+# write stays (it was removed after every finished run).
+echo "another run's checkpoint" > "$w/other.ck"
+expect 0 "" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --checkpoint "$w/other.ck" --backend scalar --quiet
+ok 'grep -q "^ply" "$w/out.ply" && grep -q "\"spacing\"" "$w/rep.json"' "the outputs did not replace the files there"
+ok 'grep -q "another run" "$w/other.ck"' "a checkpoint this run did not write was removed"
+expect 0 "" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --mesh "$w/mesh.ply" --report "$w/rep.json" --quiet
+ok 'grep -q "^ply" "$w/mesh.ply" && grep -q "\"holes\"" "$w/rep.json"' "complete-points did not replace the files there"
+ok '[[ -d $w/dir.ply && -d $w/dir.json && -d $w/ck ]]' "a folder named as an output was removed"
+ok '[[ $(find "$tmp" -name "*.tmp-*" | wc -l) -eq 0 ]]' "temporary files left"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
