@@ -125,6 +125,38 @@ static relief_status auto_base(relief_complete_run *r, const relief_fit_result *
     return st;
 }
 
+/* May base auto take the smoothed base in place of the primitive? Only
+ * when the user chose neither the primitive nor its fit or extent. */
+static int auto_may_go_smooth(const relief_complete_run *r)
+{
+    const relief_complete_params *cp = r->cp;
+    return cp->base == RELIEF_BASE_AUTO && !cp->accept_poor_fit &&
+           cp->fit == RELIEF_FIT_AUTO && !cp->n_extent &&
+           relief_mesh_triangle_count(r->capture) > 0;
+}
+
+/* base auto, the primitive fitted but the capture folds over it (a fluted
+ * pot over its sphere, issue 40): no height field there, so the capture's
+ * own smoothed base, which needs none, or the fold's refusal with both
+ * reasons. */
+static relief_status overlap_base(relief_complete_run *r, relief_error *err)
+{
+    relief_points_params pp = relief_points_params_default();
+    relief_error why = {RELIEF_OK, ""};
+    relief_status st;
+    char fold[RELIEF_ERROR_MESSAGE_MAX];
+    snprintf(fold, sizeof fold, "%s", err->message);
+    pp.max_hole = r->cp->max_hole;
+    st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, &why);
+    if (st != RELIEF_OK)
+        return relief_fail(err, RELIEF_E_MESH, "%s; and the smoothed base (base smooth) could "
+                           "not be built either (%s)", fold, why.message);
+    r->smooth_base = 1;
+    relief_complete_note(r, 0, "the capture is no height field over its primitive (%s): "
+                         "growing on the capture's smoothed base (base smooth)", fold);
+    return RELIEF_OK;
+}
+
 static relief_status build_base(relief_complete_run *r, relief_error *err)
 {
     const relief_complete_params *cp = r->cp;
@@ -136,14 +168,19 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
         pp.max_hole = cp->max_hole;
         st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, err);
         r->smooth_base = st == RELIEF_OK;
-    } else if (cp->base == RELIEF_BASE_AUTO && !cp->accept_poor_fit &&
-               cp->fit == RELIEF_FIT_AUTO && !cp->n_extent &&
-               relief_mesh_triangle_count(r->capture) > 0 &&
+    } else if (auto_may_go_smooth(r) &&
                relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK &&
                pre.poor_fit) {
         st = auto_base(r, &pre, err);
     } else {
-        st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, err);
+        relief_error why = {RELIEF_OK, ""};
+        st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, &why);
+        /* surface_check.c's fold refusal, the one a smooth base cures */
+        if (st == RELIEF_E_MESH && auto_may_go_smooth(r) &&
+            strstr(why.message, "overlaps itself"))
+            st = overlap_base(r, &why);
+        if (st != RELIEF_OK)
+            relief_fail(err, st, "%s", why.message);
     }
     if (st != RELIEF_OK)
         return st;
