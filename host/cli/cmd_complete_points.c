@@ -187,6 +187,11 @@ static void summary(const points_cli *pc, const relief_complete_points_params *p
         fprintf(stderr, "relief complete-points: warning: %s\n", r->grid_search);
     else if (!pc->cm.quiet && p->grid_search == RELIEF_GRID_SEARCH_BRUTE)
         fprintf(stderr, "relief complete-points: %s\n", r->grid_search);
+    if (r->open_loops)
+        fprintf(stderr, "relief complete-points: warning: --mesh: %zu loop(s) of %zu edges "
+                        "at the filled holes are still open in the surface (the points fill "
+                        "them; their patches did not join everywhere)\n",
+                r->open_loops, r->open_edges);
     if (pc->cm.quiet)
         return;
     fprintf(stderr, "relief complete-points: %s: %zu points in, %zu added over %u hole(s), "

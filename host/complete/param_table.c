@@ -45,9 +45,6 @@ static const relief_param table[] = {
     RP_REAL(T, max_growth, "R", 0, HUGE_VAL, "refuse more than R targets per captured "
             "vertex, the sign of a primitive that does not suit the capture (default "
             "100; 0: no limit)"),
-    RP_REAL(T, max_hole, "L", 0, 1e30, "base smooth: holes whose rims are wider than L "
-            "(the capture's units) are openings by design (a vase's mouth) and stay open; 0 "
-            "(default): a quarter of the bounding box's diagonal"),
     RP_FLAG(T, accept_poor_fit, "go on, with a warning, when the fit's rms is over 10 % "
             "of the primitive's size (default: refuse)"),
     RP_FLAG(T, keep_spikes, "keep the capture's spikes as relief (default: a vertex over "
@@ -60,6 +57,9 @@ static const relief_param table[] = {
             "a head, a statue; levels coarsen it by collapses) or auto (default: smooth "
             "when no primitive fits well and neither fit, extent nor accept_poor_fit is "
             "set)"),
+    RP_REAL(T, max_hole, "L", 0, 1e30, "base smooth: holes whose rims are wider than L "
+            "(the capture's units) are openings by design (a vase's mouth) and stay open; 0 "
+            "(default): a quarter of the bounding box's diagonal"),
     RP_INT(T, window, "W", 1, 16, "neighbourhood radius in edge hops, 1..16 (default 3)"),
     RP_INT1(T, rotations, "R", 1, 64, 0, "rotations tried per sample, 1..64; 0 (default): "
             "1 on a plane, whose frames are all alike, 4 otherwise"),

@@ -363,6 +363,10 @@ static void write_json(relief_json *j, const void *ctx)
     if (e->mesh) {
         rj_begin_object(j, "mesh");
         rj_int(j, "triangles", (long long)r->mesh_triangles);
+        if (!r->mesh_of_points) {
+            rj_int(j, "open_loops", (long long)r->open_loops);
+            rj_int(j, "open_edges", (long long)r->open_edges);
+        }
         if (r->mesh_of_points) {
             rj_int(j, "candidates", (long long)r->mesh_candidates);
             rj_int(j, "boundary_edges", (long long)r->mesh_boundary_edges);
@@ -415,6 +419,8 @@ static relief_status make_report(const relief_complete_points_params *p,
     out->detail_rms = r->detail_rms;
     out->reconstruction_rms = r->recon_rms;
     out->triangles = r->mesh_triangles;
+    out->open_loops = r->open_loops;
+    out->open_edges = r->open_edges;
     out->clusters = r->tex.clusters;
     out->active_clusters = r->tex.active_clusters;
     out->exemplars = r->tex.exemplars;

@@ -642,7 +642,8 @@ static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
     free(pt);
     out->nt = in->nt + pnt;
     rep->patch_triangles = pnt;
-    return RELIEF_OK;
+    return relief_points_open_loops(out->tri, out->nt, w->N, w->n, w->rim, &rep->open_edges,
+                                    &rep->open_loops, err);
 }
 
 /* The stages in order, each entering its share of the call's progress. */

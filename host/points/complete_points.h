@@ -83,6 +83,9 @@ typedef struct relief_points_report {
     double detail_rms;       /* RMS of c' over the input */
     size_t patch_triangles;  /* triangles laid over the holes (p->mesh) */
     size_t patch_skipped;    /* holes qhull could not triangulate */
+    size_t open_edges, open_loops; /* a mesh's (p->mesh): boundary edges at a filled
+                             hole or a new point left open, and the loops they make
+                             (relief_points_open_loops) */
     size_t mesh_triangles;   /* all of *out's triangles (p->mesh) */
     int mesh_of_points;      /* 1: they are a point set's surface, counted below */
     size_t mesh_candidates, mesh_boundary_edges, mesh_bare_points; /* a point set's surface

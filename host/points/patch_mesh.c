@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "base/linalg.h"
 #include "base/vec3.h"
@@ -14,6 +15,12 @@
 #include "smooth/delaunay.h"
 
 #define PATCH_MAX_CIRCUMRADIUS 3.0 /* spacings */
+/* The longest gap loop closed by ears after the fronts: a patch that met
+ * its rim along part of it leaves a thin strip between them, one loop
+ * round the hole (97 edges on a 30 mm cut in a vase's wall); no ear's
+ * diagonal is longer than 2 x PATCH_MAX_CIRCUMRADIUS spacings, so a wide
+ * gap stays open rather than being spanned. */
+#define PATCH_MAX_GAP_LOOP 4096
 
 /* A set of directed edges (open addressing on 64-bit keys). */
 typedef struct edge_set {
@@ -622,19 +629,21 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
         st = relief_points_lay_triangles(pos, N, tri_in, nt_in, cand, nt, 0, &tri, &nt, err);
     else
         nt = 0;
-    if (st == RELIEF_OK && nt) {
-        /* The cracks where fronts from two sides met: small loops through
-         * a new point, closed by ears, with the mesh's own triangles in
-         * view (a loop of the capture's alone stays open). */
-        uint32_t *all = malloc((nt_in + nt) * 3 * sizeof *all);
+    if (st == RELIEF_OK) {
+        /* The cracks where fronts from two sides met, the strip a patch
+         * left along part of its rim, and the filled holes too small for a
+         * new point: loops through a new point or a filled hole's rim,
+         * closed by ears, with the mesh's own triangles in view (a loop of
+         * the capture's that the hole model leaves open stays open). */
+        uint32_t *all = malloc((nt_in + nt) * 3 * sizeof *all + 1);
         size_t nall = nt_in + nt;
         if (!all) {
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
         } else {
             memcpy(all, tri_in, nt_in * 3 * sizeof *all);
             memcpy(all + 3 * nt_in, tri, nt * 3 * sizeof *all);
-            st = relief_points_close_gaps(pos, N, n_in, 2.0 * PATCH_MAX_CIRCUMRADIUS * spacing,
-                                          &all, &nall, err);
+            st = relief_points_close_gaps(pos, N, n_in, rim, 2.0 * PATCH_MAX_CIRCUMRADIUS * spacing,
+                                          PATCH_MAX_GAP_LOOP, &all, &nall, err);
             if (st == RELIEF_OK && nall > nt_in + nt) {
                 uint32_t *g = realloc(tri, (nall - nt_in) * 3 * sizeof *g);
                 if (!g) {
@@ -657,5 +666,49 @@ done:
     if (!nt)
         free(tri);
     *nt_out = nt;
+    return RELIEF_OK;
+}
+
+static uint32_t open_root(uint32_t *parent, uint32_t i)
+{
+    while (parent[i] != i)
+        i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+relief_status relief_points_open_loops(const uint32_t *tri, size_t nt, size_t N, size_t n_in,
+                                       const uint32_t *rim, size_t *edges, size_t *loops,
+                                       relief_error *err)
+{
+    uint64_t *e = malloc((3 * nt + 1) * sizeof *e);
+    uint32_t *parent = malloc((N + 1) * sizeof *parent);
+    uint8_t *on = calloc(N + 1, 1);
+    *edges = *loops = 0;
+    if (!e || !parent || !on) {
+        free(e), free(parent), free(on);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot check the %zu-triangle surface's "
+                           "loops", nt);
+    }
+    for (size_t t = 0; t < nt; ++t)
+        for (int q = 0; q < 3; ++q) {
+            uint64_t a = tri[3 * t + q], b = tri[3 * t + (q + 1) % 3];
+            e[3 * t + q] = a < b ? a << 32 | b : b << 32 | a;
+        }
+    qsort(e, 3 * nt, sizeof *e, relief_cmp_u64);
+    for (size_t v = 0; v < N; ++v)
+        parent[v] = (uint32_t)v;
+    for (size_t i = 0, j; i < 3 * nt; i = j) {
+        const uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+        for (j = i + 1; j < 3 * nt && e[j] == e[i]; ++j)
+            ;
+        if (j - i != 1 || !(a >= n_in || rim[a] || b >= n_in || rim[b]))
+            continue; /* inside, or a border the hole model leaves open */
+        ++*edges;
+        on[a] = on[b] = 1;
+        parent[open_root(parent, a)] = open_root(parent, b);
+    }
+    for (size_t v = 0; v < N; ++v)
+        *loops += on[v] && open_root(parent, (uint32_t)v) == v;
+    free(e), free(parent), free(on);
     return RELIEF_OK;
 }

@@ -119,80 +119,176 @@ static size_t umbrella(const double *pos, const double *nrm, const relief_knn_gr
 
 #define SURF_MAX_LOOP 12 /* edges: longer gaps stay open */
 
+/* A half-edge a -> b of the surface (key a << 32 | b) and the third corner
+ * of its triangle. */
+typedef struct half_edge {
+    uint64_t key;
+    uint32_t third;
+} half_edge;
+
+static int half_edge_cmp(const void *x, const void *y)
+{
+    return relief_cmp_u64(&((const half_edge *)x)->key, &((const half_edge *)y)->key);
+}
+
+static const half_edge *find_half_edge(const half_edge *he, size_t m, uint32_t a, uint32_t b)
+{
+    const half_edge k = {(uint64_t)a << 32 | b, 0};
+    return bsearch(&k, he, m, sizeof *he, half_edge_cmp);
+}
+
+/* Where a gap goes on after it runs b -> a (the surface has a -> b and no
+ * b -> a): turn about a from the triangle of a -> b, across the edges with
+ * a triangle on both sides, to the first x -> a with none on the other;
+ * the gap goes on to x. Two gaps meeting at a vertex (a pinch) are so kept
+ * apart. UINT32_MAX when the fan does not end. */
+static uint32_t gap_next(const half_edge *he, size_t m, uint32_t a, uint32_t b)
+{
+    for (size_t turns = 0; turns < m; ++turns) {
+        const half_edge *h = find_half_edge(he, m, a, b);
+        if (!h)
+            return UINT32_MAX;
+        if (!find_half_edge(he, m, a, h->third))
+            return h->third;
+        b = h->third;
+    }
+    return UINT32_MAX;
+}
+
+/* Cut loop (m vertices, in the gap's order) into ears, the shortest
+ * diagonal first, none longer than max_diag; the ears go to *fill. 0 when
+ * memory runs out. */
+static int clip_ears(const double *pos, uint32_t *loop, size_t m, double max_diag,
+                     uint32_t **fill, size_t *nf, size_t *cap)
+{
+    while (m >= 3) {
+        size_t best = SIZE_MAX;
+        double bl = max_diag;
+        for (size_t q = 0; q < m && m > 3; ++q) {
+            double d[3];
+            sub3(pos + 3 * (size_t)loop[(q + 1) % m], pos + 3 * (size_t)loop[(q + m - 1) % m], d);
+            if (sqrt(dot3(d, d)) <= bl)
+                bl = sqrt(dot3(d, d)), best = q;
+        }
+        if (m == 3)
+            best = 1;
+        if (best == SIZE_MAX)
+            return 1;
+        if (*nf == *cap) {
+            size_t nc = *cap ? 2 * *cap : 256;
+            uint32_t *g = realloc(*fill, nc * 3 * sizeof *g);
+            if (!g)
+                return 0;
+            *fill = g, *cap = nc;
+        }
+        (*fill)[3 * *nf] = loop[(best + m - 1) % m], (*fill)[3 * *nf + 1] = loop[best];
+        (*fill)[3 * *nf + 2] = loop[(best + 1) % m], ++*nf;
+        memmove(loop + best, loop + best + 1, (m - best - 1) * sizeof *loop);
+        --m;
+    }
+    return 1;
+}
+
+/* The gap loops' walk: the surface's half-edges, which gap edges are
+ * walked, the loop being walked, and where each of its vertices is in it. */
+typedef struct gap_walk {
+    half_edge *he;
+    size_t m;
+    uint8_t *walked; /* m: the gap along this (twinless) half-edge is walked */
+    uint32_t *loop, *at, *ears; /* ears: a loop's copy that clip_ears cuts */
+    size_t n_loop;
+} gap_walk;
+
+/* Walk the gap along twinless half-edge i into w->loop (the vertices in
+ * the gap's order); 0 when it does not close within max_loop edges. */
+static int walk_gap(gap_walk *w, size_t i, int max_loop)
+{
+    uint32_t a = (uint32_t)(w->he[i].key >> 32), b = (uint32_t)w->he[i].key;
+    const uint64_t start = w->he[i].key;
+    w->n_loop = 0;
+    for (;;) { /* the gap runs b -> a */
+        const half_edge *h = find_half_edge(w->he, w->m, a, b);
+        uint32_t x;
+        if (!h || w->walked[h - w->he] || w->n_loop >= (size_t)max_loop)
+            return 0;
+        w->walked[h - w->he] = 1;
+        w->loop[w->n_loop++] = b;
+        x = gap_next(w->he, w->m, a, b);
+        if (x == UINT32_MAX)
+            return 0;
+        b = a, a = x;
+        if (((uint64_t)a << 32 | b) == start)
+            return 1;
+    }
+}
+
+/* Split a closed walk that passes a vertex twice into simple loops and
+ * clip each that may close. */
+static int close_walk(gap_walk *w, const double *pos, size_t first_new, const uint32_t *rim,
+                      double max_diag, uint32_t **fill, size_t *nf, size_t *cap)
+{
+    size_t top = 0;
+    uint32_t *st = w->loop; /* the stack reuses the loop in place */
+    for (size_t k = 0; k <= w->n_loop; ++k) {
+        const uint32_t v = k < w->n_loop ? w->loop[k] : w->loop[0];
+        if (k < w->n_loop && w->at[v] == UINT32_MAX) {
+            w->at[v] = (uint32_t)top;
+            st[top++] = v;
+            continue;
+        }
+        { /* v closes the loop st[at[v]] .. st[top - 1] */
+            const size_t from = w->at[v];
+            int fresh = 0;
+            for (size_t q = from; q < top; ++q) {
+                fresh |= st[q] >= first_new || (rim && rim[st[q]]);
+                if (q > from)
+                    w->at[st[q]] = UINT32_MAX;
+            }
+            if (fresh && top - from >= 3) {
+                memcpy(w->ears, st + from, (top - from) * sizeof *w->ears);
+                if (!clip_ears(pos, w->ears, top - from, max_diag, fill, nf, cap))
+                    return 0;
+            }
+            top = from + 1;
+        }
+    }
+    for (size_t q = 0; q < top; ++q)
+        w->at[st[q]] = UINT32_MAX;
+    return 1;
+}
+
 relief_status relief_points_close_gaps(const double *pos, size_t N, size_t first_new,
-                                       double max_diag, uint32_t **tri, size_t *nt,
-                                       relief_error *err)
+                                       const uint32_t *rim, double max_diag, int max_loop,
+                                       uint32_t **tri, size_t *nt, relief_error *err)
 {
     const size_t n = *nt;
-    uint64_t *he = malloc((3 * n + 1) * sizeof *he);
-    uint32_t *next = malloc((N + 1) * sizeof *next), *fill = NULL, *grown;
-    uint8_t *outs = calloc(N + 1, 1), *ok = NULL;
-    size_t nf = 0, cap = 0, w = 0;
+    gap_walk w = {malloc((3 * n + 1) * sizeof *w.he), 3 * n, calloc(3 * n + 1, 1),
+                  malloc(((size_t)max_loop + 1) * sizeof *w.loop),
+                  malloc((N + 1) * sizeof *w.at),
+                  malloc(((size_t)max_loop + 1) * sizeof *w.ears), 0};
+    uint32_t *fill = NULL, *grown;
+    uint8_t *ok = NULL;
+    size_t nf = 0, cap = 0, kept = 0;
     relief_status st = RELIEF_OK;
     relief_mesh view;
 
-    if (!he || !next || !outs)
+    if (!w.he || !w.walked || !w.loop || !w.at || !w.ears)
         goto nomem;
     for (size_t t = 0; t < n; ++t)
         for (int q = 0; q < 3; ++q)
-            he[3 * t + q] = (uint64_t)(*tri)[3 * t + q] << 32 | (*tri)[3 * t + (q + 1) % 3];
-    qsort(he, 3 * n, sizeof *he, relief_cmp_u64);
+            w.he[3 * t + q] = (half_edge){(uint64_t)(*tri)[3 * t + q] << 32 |
+                                              (*tri)[3 * t + (q + 1) % 3],
+                                          (*tri)[3 * t + (q + 2) % 3]};
+    qsort(w.he, w.m, sizeof *w.he, half_edge_cmp);
+    memset(w.at, 0xff, (N + 1) * sizeof *w.at);
     /* A half-edge a -> b with no b -> a borders a gap that runs b -> a. */
-    for (size_t i = 0; i < 3 * n; ++i) {
-        const uint32_t a = (uint32_t)(he[i] >> 32), b = (uint32_t)he[i];
-        const uint64_t twin = (uint64_t)b << 32 | a;
-        if (bsearch(&twin, he, 3 * n, sizeof *he, relief_cmp_u64))
+    for (size_t i = 0; i < w.m; ++i) {
+        const uint32_t a = (uint32_t)(w.he[i].key >> 32), b = (uint32_t)w.he[i].key;
+        if (w.walked[i] || find_half_edge(w.he, w.m, b, a))
             continue;
-        if (outs[b] < 2)
-            ++outs[b];
-        next[b] = a;
-    }
-    for (uint32_t s = 0; s < N; ++s) {
-        uint32_t loop[SURF_MAX_LOOP + 1];
-        int m = 0, simple = 1, fresh = 0;
-        if (outs[s] != 1)
-            continue;
-        for (uint32_t v = s; m <= SURF_MAX_LOOP; v = next[v]) {
-            if (outs[v] != 1) {
-                simple = 0;
-                break;
-            }
-            loop[m++] = v;
-            if (next[v] == s)
-                break;
-        }
-        for (int q = 0; q < m; ++q) {
-            outs[loop[q]] = 3; /* walked */
-            fresh |= loop[q] >= first_new;
-        }
-        if (!simple || !fresh || m < 3 || m > SURF_MAX_LOOP || next[loop[m - 1]] != s)
-            continue;
-        while (m >= 3) {
-            int best = -1;
-            double bl = max_diag;
-            for (int q = 0; q < m && m > 3; ++q) {
-                double d[3];
-                sub3(pos + 3 * (size_t)loop[(q + 1) % m], pos + 3 * (size_t)loop[(q + m - 1) % m],
-                     d);
-                if (sqrt(dot3(d, d)) <= bl)
-                    bl = sqrt(dot3(d, d)), best = q;
-            }
-            if (m == 3)
-                best = 1;
-            if (best < 0)
-                break;
-            if (nf == cap) {
-                size_t nc = cap ? 2 * cap : 256;
-                uint32_t *g = realloc(fill, nc * 3 * sizeof *g);
-                if (!g)
-                    goto nomem;
-                fill = g, cap = nc;
-            }
-            fill[3 * nf] = loop[(best + m - 1) % m], fill[3 * nf + 1] = loop[best],
-            fill[3 * nf + 2] = loop[(best + 1) % m], ++nf;
-            memmove(loop + best, loop + best + 1, (size_t)(m - best - 1) * sizeof *loop);
-            --m;
-        }
+        if (walk_gap(&w, i, max_loop) &&
+            !close_walk(&w, pos, first_new, rim, max_diag, &fill, &nf, &cap))
+            goto nomem;
     }
     if (!nf)
         goto done;
@@ -206,13 +302,13 @@ relief_status relief_points_close_gaps(const double *pos, size_t N, size_t first
     st = relief_om_storable(&view, fill, nf, ok, err);
     for (size_t t = 0; st == RELIEF_OK && t < nf; ++t)
         if (ok[t])
-            memcpy(*tri + 3 * (n + w++), fill + 3 * t, 3 * sizeof **tri);
-    *nt = n + w;
+            memcpy(*tri + 3 * (n + kept++), fill + 3 * t, 3 * sizeof **tri);
+    *nt = n + kept;
     goto done;
 nomem:
     st = relief_fail(err, RELIEF_E_NOMEM, "cannot close the gaps of a %zu-triangle surface", n);
 done:
-    free(he), free(next), free(fill), free(outs), free(ok);
+    free(w.he), free(w.walked), free(w.loop), free(w.at), free(w.ears), free(fill), free(ok);
     return st;
 }
 
@@ -265,7 +361,8 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
     st = relief_points_lay_triangles(pos, N, NULL, 0, cand, ncand, 1, tri, nt, err);
     free(cand);
     if (st == RELIEF_OK && *nt)
-        st = relief_points_close_gaps(pos, N, 0, 2.0 * SURF_CELL_RADIUS * spacing, tri, nt,
+        st = relief_points_close_gaps(pos, N, 0, NULL, 2.0 * SURF_CELL_RADIUS * spacing,
+                                      SURF_MAX_LOOP, tri, nt,
                                       err);
     if (st != RELIEF_OK) {
         free(*tri);

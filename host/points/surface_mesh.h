@@ -42,13 +42,14 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
                                          relief_surface_mesh_info *info, relief_error *err);
 
 /* Close the small gaps of a surface (nt x 3 triangles *tri over the N
- * points pos, N x 3): each boundary loop of at most 12 edges, through
- * vertices on one loop only and with at least one vertex >= first_new, cut
+ * points pos, N x 3): each boundary loop of at most max_loop edges, through
+ * vertices on one loop only and with at least one vertex >= first_new or
+ * on a filled hole's rim (rim, first_new entries, non-zero; or NULL), cut
  * into ears, the shortest diagonal first (none longer than max_diag), then
  * those of the new triangles OpenMesh accepts after *tri's. *tri grows
  * (realloc'ed), *nt with it. RELIEF_E_NOMEM. */
 relief_status relief_points_close_gaps(const double *pos, size_t N, size_t first_new,
-                                       double max_diag, uint32_t **tri, size_t *nt,
-                                       relief_error *err);
+                                       const uint32_t *rim, double max_diag, int max_loop,
+                                       uint32_t **tri, size_t *nt, relief_error *err);
 
 #endif

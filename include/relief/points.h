@@ -201,6 +201,10 @@ typedef struct relief_complete_points_report {
     double detail_rms;       /* RMS of the detail over the input */
     double reconstruction_rms; /* RMS of |base + detail - point| over the input */
     size_t triangles;        /* of *out (params.mesh) */
+    size_t open_loops;       /* params.mesh on a mesh: loops of *out still open
+                                at a filled hole (its rim or its new points),
+                                which the patches did not close */
+    size_t open_edges;       /* their boundary edges */
     size_t clusters, active_clusters, exemplars;
     int iterations;          /* texture optimisation iterations run */
     int converged;

@@ -60,6 +60,48 @@ PY
 )
 ok '[[ $low == 0 ]]' "new points in the vase's open base: ${low:-the output could not be read}"
 
+# The surface (--mesh): the filled holes' loops are closed, not only
+# filled with points. The capture has 257 boundary loops and 250 of them
+# are holes; the patches left 262 open (their own rims besides) before the
+# gaps along them were closed (issue 40: holes left where relief said it
+# completed); what stays open is counted in the report (mesh.open_loops).
+expect 0 "" -- "$relief" complete-points "$tmp/vase.ply" -o "$tmp/vase_p.ply" --mesh "$tmp/vase_m.ply" --report "$tmp/vase_m.json" --iterations 2
+loops=$(python3 - "$tmp/vase_m.ply" <<'PY'
+import struct, sys
+f = open(sys.argv[1], "rb"); head = []
+while not head or head[-1] != b"end_header":
+    head.append(f.readline().strip())
+el, props = None, {}
+for l in head:
+    w = l.split()
+    if w[:1] == [b"element"]:
+        el = w[1].decode(); props[el] = [int(w[2]), []]
+    elif w[:1] == [b"property"]:
+        props[el][1].append(w[1:])
+code = {b"float": "f", b"double": "d", b"uchar": "B", b"int": "i"}
+nv, vp = props["vertex"]
+f.read(nv * struct.calcsize("<" + "".join(code[p[0]] for p in vp)))
+edges = {}
+for _ in range(props["face"][0]):
+    n = f.read(1)[0]
+    t = struct.unpack("<%di" % n, f.read(4 * n))
+    for i in range(n):
+        e = tuple(sorted((t[i], t[(i + 1) % n])))
+        edges[e] = edges.get(e, 0) + 1
+parent = {}
+def root(x):
+    while parent.setdefault(x, x) != x:
+        parent[x] = parent[parent[x]]; x = parent[x]
+    return x
+for (a, b), k in edges.items():
+    if k == 1:
+        parent[root(a)] = root(b)
+print(len({root(x) for x in list(parent)}))
+PY
+)
+ok '[[ -n $loops && $loops -le 60 ]]' "the vase's completed surface has ${loops:-no count of} open loops (60 at most: its 7 open borders and openings, and under 50 gaps)"
+ok 'grep -q "\"open_loops\": [0-9]" "$tmp/vase_m.json"' "the report does not count the loops left open"
+
 # The statue: the cut at its knee; the plinth's open bottom at z -112.
 "$relief" cut "$data/Angel.ply" --ball 13.11,-64.51,16.35,15 -o "$tmp/angel.ply" 2>/dev/null || exit 2
 expect 0 "1 opening(s) wider than max_hole" -- "$relief" complete-points "$tmp/angel.ply" -o "$tmp/angel_out.ply" --report "$tmp/angel.json" --iterations 2
