@@ -3,7 +3,9 @@
 #   tests/fuzz/run.sh BUILD_DIR SECONDS|runs=N [TARGET...]
 # SECONDS: fuzz each target that long from a random seed, to find new bugs.
 # runs=N: a bounded run instead (the default test suite's fuzz_short): seed
-# 1, N executions per mesh reader, 30 N for the command line and N / 100 for
+# 1, N executions per image and depth reader, N / 4 per mesh reader (OpenMesh
+# and the repair on reading: some 600 a second, a minute each at N), 30 N
+# for the command line and N / 100 for
 # the image fill (each run a whole fill of up to 32 x 32 pixels, some 5 to
 # 10 a second under the coverage instrumentation), from the checked-in seeds
 # and regressions only, so that the suite's verdict does not depend on the
@@ -54,6 +56,7 @@ for t in "${targets[@]}"; do
   work=$build/corpus/$t art=$build/artifacts/$t log=$build/fuzz_$t.log
   if [[ -n $runs ]]; then
     n=$runs; [[ $t == cli ]] && n=$((runs * 30)); [[ $t == image_fill ]] && n=$((runs / 100))
+    [[ $t == read_ply || $t == read_obj || $t == read_off || $t == read_stl ]] && n=$((runs / 4))
     bound=(-seed=1 -runs="$n")
     work=$build/corpus-repro/$t
     rm -rf "$work"
