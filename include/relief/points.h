@@ -224,8 +224,11 @@ RELIEF_API void relief_complete_points_report_free(relief_complete_points_report
  * *out: the input's points first (label 0, the input's colour, oriented
  * normals), then the new ones (label 1); triangles only with params.mesh.
  * A mesh's holes are its boundary loops, a bare point set's where points
- * see neighbours on one side only; an open scan's outer border is left
- * open. RELIEF_E_RANGE for a parameter, nothing to fill (named), too few or
+ * see neighbours on one side only; an open scan's outer border, and an
+ * opening wider than max_hole, are left open, and a hole mask selects the
+ * holes it touches (each is listed in rep's hole_list with its fate).
+ * RELIEF_E_RANGE for a parameter, nothing to fill (the message names the
+ * widest rims and the max_hole or hole_ball that would fill each), too few or
  * collinear points, an input with no colour for what = colour, or holes
  * larger than the sample region; RELIEF_E_USAGE for NULL, or hole_labels
  * or sample_labels on an input without labels; RELIEF_E_MESH for an
