@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/union_find.h"
 #include "base/vec3.h"
 #include "mesh/io_openmesh.h"
 #include "mesh/mesh.h"
@@ -382,23 +383,6 @@ static int orient(work *w)
     return ok;
 }
 
-static uint32_t uf_find(uint32_t *parent, uint32_t x)
-{
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-static void uf_join(uint32_t *parent, uint32_t x, uint32_t y)
-{
-    x = uf_find(parent, x);
-    y = uf_find(parent, y);
-    if (x != y)
-        parent[x > y ? x : y] = x < y ? x : y; /* the earliest triangle is the root */
-}
-
 /* Appends a copy of vertex v; 0 when out of memory. */
 static int add_copy(work *w, uint32_t v, size_t *cap)
 {
@@ -439,7 +423,7 @@ static uint32_t fan_vertex(work *w, uint32_t v, const uint32_t *ids, size_t n, s
     uint32_t o = v, first = v;
     corner_of(w, root, v, &first);
     for (size_t j = i; j < n; ++j)
-        if (uf_find(parent, ids[j]) == root && corner_of(w, ids[j], v, &o) >= 0 && o == v)
+        if (relief_uf_find(parent, ids[j]) == root && corner_of(w, ids[j], v, &o) >= 0 && o == v)
             break;
     if (o == v && !w->taken[v]) {
         w->taken[v] = 1;
@@ -479,17 +463,17 @@ static int split_vertex(work *w, const edges *e, uint32_t v, const uint32_t *ids
             uint32_t r = e->of[3 * (size_t)t + k];
             int same;
             if (r != NONE && run_size(e, r) == 2)
-                uf_join(parent, t, other_side(w, e, r, t, &same));
+                relief_uf_join(parent, t, other_side(w, e, r, t, &same));
         }
     }
     for (size_t i = 0; i < n; ++i) {
-        if (uf_find(parent, ids[i]) != ids[i])
+        if (relief_uf_find(parent, ids[i]) != ids[i])
             continue; /* not a fan's first triangle */
         const uint32_t to = fan_vertex(w, v, ids, n, i, parent, cap);
         if (to == NONE)
             return 0;
         for (size_t j = i; j < n && to != v; ++j)
-            if (uf_find(parent, ids[j]) == ids[i])
+            if (relief_uf_find(parent, ids[j]) == ids[i])
                 for (int k = 0; k < 3; ++k)
                     if (w->tri[3 * (size_t)ids[j] + k] == v)
                         w->tri[3 * (size_t)ids[j] + k] = to;
@@ -553,17 +537,17 @@ static int drop_small_parts(work *w)
         parent[t] = (uint32_t)t;
     for (uint32_t r = 0; r < e.nrun; ++r)
         if (run_size(&e, r) == 2)
-            uf_join(parent, e.h[e.run[r]].t, e.h[e.run[r] + 1].t);
+            relief_uf_join(parent, e.h[e.run[r]].t, e.h[e.run[r] + 1].t);
     for (size_t t = 0; t < nt; ++t)
         if (!w->dead[t]) {
             ++live;
-            ++size[uf_find(parent, (uint32_t)t)];
+            ++size[relief_uf_find(parent, (uint32_t)t)];
         }
     for (size_t t = 0; t < nt; ++t)
         if (size[t] > 0 && (largest == NONE || size[t] > size[largest]))
             largest = (uint32_t)t;
     for (size_t t = 0; t < nt; ++t) {
-        uint32_t root = uf_find(parent, (uint32_t)t);
+        uint32_t root = relief_uf_find(parent, (uint32_t)t);
         if (w->dead[t] || root == largest || size[root] >= RELIEF_REPAIR_SMALL_TRIANGLES ||
             100 * (size_t)size[root] >= live)
             continue;

@@ -8,29 +8,10 @@
 #include "base/error.h"
 #include "base/knn.h"
 #include "base/linalg.h"
+#include "base/union_find.h"
 #include "base/vec3.h"
 
 #define RELIEF_TWO_PI 6.283185307179586
-
-/* Union-find over rim points, smaller root wins, so labels are stable. */
-static uint32_t find_root(uint32_t *parent, uint32_t i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-static void unite(uint32_t *parent, uint32_t a, uint32_t b)
-{
-    a = find_root(parent, a);
-    b = find_root(parent, b);
-    if (a < b)
-        parent[b] = a;
-    else if (b < a)
-        parent[a] = b;
-}
 
 static const char *const fate_names[] = {"", "filled", "too_small", "border", "too_large",
                                          "not_selected"};
@@ -93,14 +74,14 @@ static relief_status label_rims(const double *pos, size_t n, const uint8_t *mark
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
     }
     for (size_t i = 0; i < n; ++i) /* piece[i]: its connected piece's root */
-        piece[i] = find_root(piece, (uint32_t)i);
+        piece[i] = relief_uf_find(piece, (uint32_t)i);
     for (size_t i = 0; i < n; ++i)
         ++piece_size[piece[i]];
     for (size_t i = 0; i < n; ++i)
         comp[i] = UINT32_MAX;
     for (size_t i = 0; i < n; ++i)
         if (mark[i]) {
-            uint32_t r = find_root(parent, (uint32_t)i);
+            uint32_t r = relief_uf_find(parent, (uint32_t)i);
             if (comp[r] == UINT32_MAX)
                 comp[r] = nc++;
             comp[i] = comp[r];
@@ -216,7 +197,7 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
     for (size_t i = 0; i < n; ++i)
         parent[i] = piece[i] = (uint32_t)i;
     for (size_t t = 0; t < m; ++t)
-        unite(piece, (uint32_t)(e[t] >> 32), (uint32_t)e[t]);
+        relief_uf_join(piece, (uint32_t)(e[t] >> 32), (uint32_t)e[t]);
     for (size_t i = 0; i < m;) {
         size_t j = i;
         while (j < m && e[j] == e[i])
@@ -224,7 +205,7 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
         if (j - i == 1) {
             uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
             mark[a] = mark[b] = 1;
-            unite(parent, a, b);
+            relief_uf_join(parent, a, b);
         }
         i = j;
     }
@@ -281,9 +262,9 @@ relief_status relief_holes_points(const double *pos, const double *nrm,
     }
     for (size_t i = 0; i < n; ++i)
         for (size_t r = 0; r < k; ++r) {
-            unite(piece, (uint32_t)i, g->nbr[i * k + r]);
+            relief_uf_join(piece, (uint32_t)i, g->nbr[i * k + r]);
             if (mark[i] && mark[g->nbr[i * k + r]])
-                unite(parent, (uint32_t)i, g->nbr[i * k + r]);
+                relief_uf_join(parent, (uint32_t)i, g->nbr[i * k + r]);
         }
     st = label_rims(pos, n, mark, parent, piece, (double)k, rule, rim, info, err);
     free(parent), free(mark), free(piece);

@@ -8,6 +8,7 @@
 #include "base/compare.h"
 #include "base/error.h"
 #include "base/linalg.h"
+#include "base/union_find.h"
 #include "base/vec3.h"
 #include "mesh/io_openmesh.h"
 #include "mesh/mesh.h"
@@ -168,22 +169,11 @@ static size_t drop_non_manifold(uint32_t *tri, size_t nt, size_t first_patch, si
             *nomem = 1;
             return nt;
         }
-        for (size_t t = 0; t < 3 * nt; ++t)
-            ++start[tri[t] + 1];
-        for (size_t v = 0; v < nv; ++v)
-            start[v + 1] += start[v];
         {
-            uint32_t *fill = malloc((nv + 1) * sizeof *fill);
-            if (!fill) {
-                free(start), free(inc), free(bad), free(drop);
-                *nomem = 1;
-                return nt;
-            }
-            memcpy(fill, start, nv * sizeof *fill);
-            for (size_t t = 0; t < nt; ++t)
-                for (int q = 0; q < 3; ++q)
-                    inc[fill[tri[3 * t + q]]++] = (uint32_t)t;
-            free(fill);
+            relief_mesh view; /* the triangles at each vertex, ascending */
+            memset(&view, 0, sizeof view);
+            view.nv = nv, view.nt = nt, view.tri = tri;
+            relief_mesh_vertex_triangles(&view, start, inc);
         }
         for (size_t v = 0; v < nv; ++v) {
             size_t m = start[v + 1] - start[v];
@@ -329,7 +319,8 @@ static uint32_t heap_pop(index_heap *h)
 }
 
 typedef struct scan_state {
-    uint32_t *vstart, *vtri; /* N + 1, 3 kept: the triangles at each corner */
+    uint32_t *vstart, *vtri; /* N + 1, 3 kept: the triangles at each corner
+                                (relief_mesh_vertex_triangles) */
     uint8_t *queued;         /* kept: in this or the next pass's heap */
     index_heap pass, next;
     size_t cursor;           /* the index the scan is at; SIZE_MAX: a pass starts */
@@ -338,19 +329,19 @@ typedef struct scan_state {
 static int scan_init(scan_state *q, const lay_state *s)
 {
     memset(q, 0, sizeof *q);
-    q->vstart = calloc(s->N + 2, sizeof *q->vstart);
+    q->vstart = malloc((s->N + 1) * sizeof *q->vstart);
     q->vtri = malloc(3 * s->kept * sizeof *q->vtri + 1);
     q->queued = calloc(s->kept + 1, 1);
     q->pass.a = malloc(s->kept * sizeof *q->pass.a + 1);
     q->next.a = malloc(s->kept * sizeof *q->next.a + 1);
     if (!q->vstart || !q->vtri || !q->queued || !q->pass.a || !q->next.a)
         return 0;
-    for (size_t t = 0; t < 3 * s->kept; ++t)
-        ++q->vstart[s->tri[t] + 2];
-    for (size_t v = 0; v < s->N; ++v)
-        q->vstart[v + 2] += q->vstart[v + 1];
-    for (size_t t = 0; t < 3 * s->kept; ++t)
-        q->vtri[q->vstart[s->tri[t] + 1]++] = (uint32_t)(t / 3);
+    {
+        relief_mesh view;
+        memset(&view, 0, sizeof view);
+        view.nv = s->N, view.nt = s->kept, view.tri = s->tri;
+        relief_mesh_vertex_triangles(&view, q->vstart, q->vtri);
+    }
     q->cursor = SIZE_MAX;
     return 1;
 }
@@ -669,13 +660,6 @@ done:
     return RELIEF_OK;
 }
 
-static uint32_t open_root(uint32_t *parent, uint32_t i)
-{
-    while (parent[i] != i)
-        i = parent[i] = parent[parent[i]];
-    return i;
-}
-
 relief_status relief_points_open_loops(const uint32_t *tri, size_t nt, size_t N, size_t n_in,
                                        const uint32_t *rim, size_t *edges, size_t *loops,
                                        relief_error *err)
@@ -705,10 +689,10 @@ relief_status relief_points_open_loops(const uint32_t *tri, size_t nt, size_t N,
             continue; /* inside, or a border the hole model leaves open */
         ++*edges;
         on[a] = on[b] = 1;
-        parent[open_root(parent, a)] = open_root(parent, b);
+        relief_uf_join(parent, a, b);
     }
     for (size_t v = 0; v < N; ++v)
-        *loops += on[v] && open_root(parent, (uint32_t)v) == v;
+        *loops += on[v] && relief_uf_find(parent, (uint32_t)v) == v;
     free(e), free(parent), free(on);
     return RELIEF_OK;
 }
