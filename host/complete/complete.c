@@ -100,18 +100,27 @@ static void note_surface(relief_complete_run *r)
                              s->fill.outside_points);
 }
 
+/* The capture's own smoothed, hole-filled base (points/base_surface.h),
+ * its holes chosen by max_hole. */
+static relief_status smooth_base(relief_complete_run *r, relief_error *err)
+{
+    relief_points_params pp = relief_points_params_default();
+    relief_status st;
+    pp.max_hole = r->cp->max_hole;
+    st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, err);
+    r->smooth_base = st == RELIEF_OK;
+    return st;
+}
+
 /* base auto: the capture's own smoothed, hole-filled base when no
  * primitive fits (issue 21), or, when that cannot be built either, the
  * poor fit's refusal with both reasons. */
 static relief_status auto_base(relief_complete_run *r, const relief_fit_result *pre,
                                relief_error *err)
 {
-    relief_points_params pp = relief_points_params_default();
     relief_error why = {RELIEF_OK, ""};
-    pp.max_hole = r->cp->max_hole;
-    relief_status st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, &why);
+    relief_status st = smooth_base(r, &why);
     if (st == RELIEF_OK) {
-        r->smooth_base = 1;
         relief_complete_note(r, 0, "no primitive fits well (%s): growing on the capture's "
                              "smoothed base (base smooth; base primitive with "
                              "accept_poor_fit keeps the %s)", pre->reason,
@@ -141,17 +150,12 @@ static int auto_may_go_smooth(const relief_complete_run *r)
  * reasons. */
 static relief_status overlap_base(relief_complete_run *r, relief_error *err)
 {
-    relief_points_params pp = relief_points_params_default();
     relief_error why = {RELIEF_OK, ""};
-    relief_status st;
     char fold[RELIEF_ERROR_MESSAGE_MAX];
     snprintf(fold, sizeof fold, "%s", err->message);
-    pp.max_hole = r->cp->max_hole;
-    st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, &why);
-    if (st != RELIEF_OK)
+    if (smooth_base(r, &why) != RELIEF_OK)
         return relief_fail(err, RELIEF_E_MESH, "%s; and the smoothed base (base smooth) could "
                            "not be built either (%s)", fold, why.message);
-    r->smooth_base = 1;
     relief_complete_note(r, 0, "the capture is no height field over its primitive (%s): "
                          "growing on the capture's smoothed base (base smooth)", fold);
     return RELIEF_OK;
@@ -164,10 +168,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
     relief_status st;
     double t0 = relief_seconds();
     if (cp->base == RELIEF_BASE_SMOOTH) {
-        relief_points_params pp = relief_points_params_default();
-        pp.max_hole = cp->max_hole;
-        st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, err);
-        r->smooth_base = st == RELIEF_OK;
+        st = smooth_base(r, err);
     } else if (auto_may_go_smooth(r) &&
                relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK &&
                pre.poor_fit) {
