@@ -74,6 +74,11 @@ relief_status relief_mesh_read_with(const char *path, const relief_read_options 
     if (st == RELIEF_OK && !(opts && opts->raw) &&
         (st = relief_mesh_repair_impl(m, &rep, res.nonmanifold_faces > 0, err)) != RELIEF_OK)
         name_file(st, path, err);
+    /* Again on what the repair kept: welding and dropping can leave a vertex
+     * that much farther out than the rest (fuzz_read_stl found one), and a
+     * mesh read must pass the check relief_mesh_repair makes of it. */
+    if (st == RELIEF_OK && (st = relief_mesh_check_range(m, err)) != RELIEF_OK)
+        name_file(st, path, err);
     if (st != RELIEF_OK) {
         relief_mesh_destroy(m);
         return st;
