@@ -51,7 +51,7 @@ static cli_spec spec(void)
                   "open scan is left open. OUT: a PLY point set, the input's points first "
                   "(label 0) then the new ones (label 1), with colour when IN has it and "
                   "normals. IN is never written.",
-                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET, "the completed points; required",
+                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_LIMIT, "the completed points; required",
                   NULL, NULL, 0, skip, own, NULL};
     s.params = relief_complete_points_param_table(&s.n_params);
     return s;
@@ -228,9 +228,10 @@ static int run(const points_cli *pc, relief_complete_points_params *p)
         p->clone = clone;
         p->run.input_name = pc->in;
         p->run.output_name = pc->cm.out;
-        cli_progress_start(&pr, cmd, pc->cm.quiet, &p->run);
+        cli_progress_start(&pr, &pc->cm, &p->run);
         st = relief_complete_points(in, p, &done, &rep, &err);
         cli_progress_end(&pr);
+        cli_progress_explain(&pr, st, &err);
     }
     if (st == RELIEF_OK) {
         points_out o = {done, rep.json};

@@ -78,7 +78,7 @@ static cli_spec spec(void)
                   "the pixels whose ray meets the mesh's inside through a hole are repaired, "
                   "the voxels between the front and back depths of every axis kept, and "
                   "their surface (marching tetrahedra) written as OUT_MESH, closed.",
-                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_MASK,
+                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_MASK | CLI_LIMIT,
                   "the repaired image, IN's format; required, never IN",
                   "PNG of IN's size: non-zero = missing too", NULL, 0, NULL, own, NULL};
     s.params = relief_depth_fill_param_table(&s.n_params);
@@ -271,9 +271,10 @@ static int image_mode(depth_args *a)
         relief_depth_missing(&f, a->cm.mask ? &mask : NULL, label, &in_input, &by_mask);
     }
     if (st == RELIEF_OK) {
-        cli_progress_start(&pr, "depth-fill", a->cm.quiet, &a->p.run);
+        cli_progress_start(&pr, &a->cm, &a->p.run);
         st = relief_depth_fill(&f, a->cm.mask ? &mask : NULL, &a->p, &rep, &err);
         cli_progress_end(&pr);
+        cli_progress_explain(&pr, st, &err);
     }
     if (st == RELIEF_OK) {
         depth_out o = {a, &f, NULL, label, rep.json, NULL};
@@ -305,9 +306,10 @@ static int mesh_mode(depth_args *a)
     if (st == RELIEF_OK)
         cli_repair_json(&info, repair, sizeof repair);
     if (st == RELIEF_OK) {
-        cli_progress_start(&pr, "depth-fill", a->cm.quiet, &a->p.run);
+        cli_progress_start(&pr, &a->cm, &a->p.run);
         st = relief_depth_fill_mesh(m, &a->p, t, &o, &r, &err);
         cli_progress_end(&pr);
+        cli_progress_explain(&pr, st, &err);
     }
     if (st == RELIEF_OK) {
         depth_out w = {a, NULL, o, NULL, r.json, repair};

@@ -27,7 +27,7 @@ static cli_spec spec(void)
                   "RGB, with or without alpha) or JPEG; the hole is MASK's non-zero pixels, "
                   "or IN's transparent pixels without --mask. OUT is PNG or JPEG by its "
                   "extension; pixels outside the hole are written back unchanged.",
-                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_MASK,
+                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_MASK | CLI_LIMIT,
                   "the filled image; required, never IN",
                   "PNG or JPEG of IN's size: non-zero = hole", NULL, 0, NULL, own, NULL};
     s.params = relief_image_fill_param_table(&s.n_params);
@@ -123,9 +123,10 @@ static int run(const cli_common *cm, const char *in, relief_image_fill_params *p
     if (st == RELIEF_OK) {
         p->run.input_name = in;
         p->run.output_name = cm->out;
-        cli_progress_start(&pr, cm->cmd, cm->quiet, &p->run);
+        cli_progress_start(&pr, cm, &p->run);
         st = relief_image_fill(&img, cm->mask ? &mask : NULL, p, &rep, &err);
         cli_progress_end(&pr);
+        cli_progress_explain(&pr, st, &err);
         if (st == RELIEF_OK) {
             const cli_output outs[] = {{"-o", cm->out, CLI_OUT_FILE},
                                        {"--report", cm->report, CLI_OUT_FILE}};

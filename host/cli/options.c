@@ -34,6 +34,17 @@ int cli_common_option(cli_common *cm, int c, const char *arg)
     case 'o': cm->out = arg; return 1;
     case OPT_REPORT: cm->report = arg; return 1;
     case OPT_QUIET: cm->quiet = 1; return 1;
+    case OPT_MAX_SECONDS: {
+        char *end;
+        double v = strtod(arg, &end);
+        if (end == arg || *end != '\0' || !(v >= 0.0) || !isfinite(v)) {
+            fprintf(stderr, "relief %s: --max-seconds: '%s' is not a number of seconds >= 0\n",
+                    cm->cmd, arg);
+            return -1;
+        }
+        cm->max_seconds = v;
+        return 1;
+    }
     case OPT_MASK: cm->mask = arg; return 1;
     case OPT_SEED: {
         long s;
@@ -329,8 +340,10 @@ static void on_sigint(int sig)
     interrupted = 1;
 }
 
-void cli_progress_start(cli_progress *pr, const char *cmd, int quiet, relief_run_options *run)
+void cli_progress_start(cli_progress *pr, const cli_common *cm, relief_run_options *run)
 {
+    const char *cmd = cm->cmd;
+    const int quiet = cm->quiet;
     struct sigaction sa;
     const char *after = getenv("RELIEF_TEST_SIGINT_AFTER");
     memset(pr, 0, sizeof *pr);
@@ -340,10 +353,13 @@ void cli_progress_start(cli_progress *pr, const char *cmd, int quiet, relief_run
     pr->estimate_tail = "";
     pr->start = relief_seconds();
     pr->last = -1.0;
+    pr->base = -1.0;
+    pr->max_seconds = cm->max_seconds;
     pr->estimate_after = 2.0;
     pr->estimate_min = 60.0;
+    pr->estimate_settle = 10.0;
     if (getenv("RELIEF_TEST_ESTIMATE_NOW"))
-        pr->estimate_after = pr->estimate_min = 0.0;
+        pr->estimate_after = pr->estimate_min = pr->estimate_settle = 0.0;
     if (after)
         pr->sigint_after = strtoul(after, NULL, 10);
     if (run)
@@ -358,41 +374,89 @@ void cli_progress_start(cli_progress *pr, const char *cmd, int quiet, relief_run
     sigaction(SIGINT, &sa, &pr->old);
 }
 
-/* Once, when a call looks long: the time left by the rate so far. */
-static void say_estimate(cli_progress *pr, double fraction, double t)
+/* The time left by the recent rate: from a mark that moves up as the call
+ * goes on (a growth scores its first targets slower than its last, so the
+ * rate since the start overstates what is left), never from before the
+ * engine's first report (reading and set-up are not its rate), and only
+ * once estimate_after seconds of it have run; -1 when there is none yet. */
+static double time_left(cli_progress *pr, double fraction, double t)
 {
-    double left;
-    if (!(fraction > 0.0) || !(t > 0.0))
-        return; /* no rate yet */
+    double ran, moved;
+    if (t - pr->mark[1] >= fmax(2.0, pr->mark[1] - pr->base)) {
+        pr->mark[0] = pr->mark[1], pr->mark_fraction[0] = pr->mark_fraction[1];
+        pr->mark[1] = t, pr->mark_fraction[1] = fraction;
+    }
+    ran = t - pr->mark[0];
+    moved = fraction - pr->mark_fraction[0];
+    if (t - pr->base < pr->estimate_after || !(moved > 0.0) || !(ran > 0.0))
+        return -1.0;
+    return fraction >= 1.0 ? 0.0 : ran * (1.0 - fraction) / moved;
+}
+
+/* Once, when a call looks long: the time left. */
+static void say_estimate(cli_progress *pr, double fraction, double t, double left)
+{
     pr->estimate = 0;
-    if (fraction >= 1.0)
-        return;
-    left = t * (1.0 - fraction) / fraction;
     if (left < pr->estimate_min)
         return;
-    fprintf(stderr, "%srelief %s: estimated %.1f min more (%.1f %% done in the first %.0f s); "
+    fprintf(stderr, "%srelief %s: estimated about %.1f min more (%.1f %% done after %.0f s); "
             "SIGINT stops it%s\n", pr->open ? "\r" : "", pr->cmd, left / 60.0,
             100.0 * fraction, t, pr->estimate_tail);
     pr->open = 0;
 }
 
+/* --max-seconds: past the limit, or sooner when the estimate of the whole
+ * call is absurd, over three times the limit, once it has had 5 s or 2 %
+ * of the call to settle (an early estimate can be twice too long). */
+static int over_limit(cli_progress *pr, double fraction, double t, double left)
+{
+    const int settled = left >= 0.0 && (t - pr->base >= 5.0 ||
+                                        fraction - pr->base_fraction >= 0.02);
+    if (!(pr->max_seconds > 0.0))
+        return 0;
+    if (t > pr->max_seconds)
+        snprintf(pr->limit, sizeof pr->limit, "stopped after %.0f s, over --max-seconds %g, "
+                 "with %.1f %% done", t, pr->max_seconds, 100.0 * fraction);
+    else if (settled && t + left > 3.0 * pr->max_seconds)
+        snprintf(pr->limit, sizeof pr->limit, "stopped after %.0f s: the run would take "
+                 "about %.0f s in all (%.1f %% done), over three times --max-seconds %g", t,
+                 t + left, 100.0 * fraction, pr->max_seconds);
+    return pr->limit[0] != '\0';
+}
+
 int cli_progress_fn(void *ctx, double fraction)
 {
     cli_progress *pr = ctx;
-    double now = relief_seconds(), t = now - pr->start;
-    if (pr->estimate && t >= pr->estimate_after)
-        say_estimate(pr, fraction, t);
+    double now = relief_seconds(), t = now - pr->start, left;
+    if (pr->base < 0.0) {
+        pr->base = pr->mark[0] = pr->mark[1] = t;
+        pr->base_fraction = pr->mark_fraction[0] = pr->mark_fraction[1] = fraction;
+    }
+    left = time_left(pr, fraction, t);
+    /* The one-time estimate waits for the rate to settle a little. */
+    if (pr->estimate && left >= 0.0 &&
+        (t - pr->base >= pr->estimate_settle || fraction - pr->base_fraction >= 0.05))
+        say_estimate(pr, fraction, t, left);
     if (pr->print && (fraction >= 1.0 || pr->last < 0 || now - pr->last >= 0.25)) {
         pr->last = now;
         pr->open = 1;
         fprintf(stderr, "\rrelief %s: %5.1f %%, ETA %.0f s   ", pr->cmd, 100.0 * fraction,
-                fraction > 0 ? t * (1.0 - fraction) / fraction : 0.0);
+                left > 0.0 ? left : 0.0);
     }
     /* The test hook counts the steps that moved (a growth's acceptances). */
     if (pr->sigint_after && fraction > pr->fraction && ++pr->seen == pr->sigint_after)
         raise(SIGINT);
     pr->fraction = fraction > pr->fraction ? fraction : pr->fraction;
-    return interrupted != 0;
+    return interrupted != 0 || pr->limit[0] != '\0' || over_limit(pr, fraction, t, left);
+}
+
+int cli_progress_explain(const cli_progress *pr, relief_status st, relief_error *err)
+{
+    if (st != RELIEF_E_CANCELLED || pr->limit[0] == '\0')
+        return 0;
+    relief_fail(err, RELIEF_E_RANGE, "%s; raise --max-seconds (0: no limit) or make the run "
+                "smaller", pr->limit);
+    return 1;
 }
 
 void cli_progress_close_line(cli_progress *pr)

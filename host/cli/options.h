@@ -22,7 +22,7 @@
 
 /* Long options without a short form: ids above any character. The shared
  * ones first; commands number their own from OPT_COMMAND. */
-enum { OPT_REPORT = 256, OPT_QUIET, OPT_SEED, OPT_MASK, OPT_COMMAND = 300 };
+enum { OPT_REPORT = 256, OPT_QUIET, OPT_SEED, OPT_MASK, OPT_MAX_SECONDS, OPT_COMMAND = 300 };
 
 /* Which shared options a command takes (cli_options). */
 enum {
@@ -30,7 +30,8 @@ enum {
     CLI_REPORT = 1u << 1,     /* --report R.json */
     CLI_QUIET = 1u << 2,      /* --quiet */
     CLI_SEED = 1u << 3,       /* --seed N (an engine's seed is its parameter's) */
-    CLI_MASK = 1u << 4        /* --mask MASK */
+    CLI_MASK = 1u << 4,       /* --mask MASK */
+    CLI_LIMIT = 1u << 5       /* --max-seconds S (an engine run with progress) */
 };
 
 /* Was the long option `opt` ("--window") given in argv, as "--window V"
@@ -43,6 +44,7 @@ typedef struct cli_common {
     unsigned shared;            /* the spec's CLI_*: -o is required with CLI_OUTPUT */
     const char *out, *report, *mask;
     int quiet;
+    double max_seconds;         /* --max-seconds; 0: no limit */
     int seed_given;             /* 1 when --seed was given: */
     uint32_t seed;
 } cli_common;
@@ -179,27 +181,39 @@ int cli_known_mesh_ext(const char *path);
 /* Progress of one engine call on stderr, and SIGINT: a line with the
  * fraction done and an ETA at most four times a second on a terminal
  * (print), a one-time estimate when the call looks long (estimate: after
- * 2 s, when more than a minute is left; RELIEF_TEST_ESTIMATE_NOW=1 says it
- * at once), and a first SIGINT cancelling the call (a second kills, as
- * usual). The test hook RELIEF_TEST_SIGINT_AFTER=N raises SIGINT at the
- * N-th report of progress past 0. */
+ * 10 s or 5 % of the engine's own progress, when more than a minute is left;
+ * RELIEF_TEST_ESTIMATE_NOW=1 says it at once), a first SIGINT cancelling
+ * the call (a second kills, as usual), and --max-seconds cancelling it
+ * when past the limit, or sooner when its estimate is over three times it. The rate is taken
+ * from the engine's first report on (base), so reading and set-up do not
+ * make the first estimate absurd. The test hook RELIEF_TEST_SIGINT_AFTER=N
+ * raises SIGINT at the N-th report of progress past 0. */
 typedef struct cli_progress {
     const char *cmd;
     int print, estimate;
     const char *estimate_tail;  /* said after the estimate ("" or how to resume) */
     int open;                   /* 1 while a progress line waits for its end */
     double start, last, fraction;
-    double estimate_after, estimate_min;
+    double base, base_fraction; /* seconds after start and fraction of the first report */
+    double mark[2], mark_fraction[2]; /* the recent rate's marks (time_left) */
+    double estimate_after, estimate_min, estimate_settle;
+    double max_seconds;         /* 0: no limit */
+    char limit[192];            /* why --max-seconds stopped the call; "" */
     unsigned long sigint_after, seen;
     struct sigaction old;
 } cli_progress;
 
-/* Start reporting (and take SIGINT) for `cmd`, as run's progress
- * callback (run may be NULL); quiet: nothing printed. */
-void cli_progress_start(cli_progress *pr, const char *cmd, int quiet, relief_run_options *run);
+/* Start reporting (and take SIGINT) for cm's command with its --quiet and
+ * --max-seconds, as run's progress callback (run may be NULL). */
+void cli_progress_start(cli_progress *pr, const cli_common *cm, relief_run_options *run);
 
-/* The relief_progress_fn: ctx is a cli_progress. Returns 1 once SIGINT came. */
+/* The relief_progress_fn: ctx is a cli_progress. Returns 1 once SIGINT
+ * came or --max-seconds stopped the call. */
 int cli_progress_fn(void *ctx, double fraction);
+
+/* After the call: when st is a cancel by --max-seconds, err says so
+ * (RELIEF_E_RANGE, exit 1, as --max-growth refuses) and 1 is returned. */
+int cli_progress_explain(const cli_progress *pr, relief_status st, relief_error *err);
 
 /* End the progress line, if one is open (before other messages). */
 void cli_progress_close_line(cli_progress *pr);

@@ -30,6 +30,9 @@ static const struct {
     {CLI_MASK, {"mask", required_argument, 0, OPT_MASK}, "--mask MASK", NULL},
     {CLI_SEED, {"seed", required_argument, 0, OPT_SEED}, "--seed N", "random seed (default 1)"},
     {CLI_QUIET, {"quiet", no_argument, 0, OPT_QUIET}, "--quiet", "no progress or notes on stderr"},
+    {CLI_LIMIT, {"max-seconds", required_argument, 0, OPT_MAX_SECONDS}, "--max-seconds S",
+     "stop (exit 1, no output) when the run passes S seconds, or as soon as its "
+     "estimate is over 3 x S (0, the default: no limit)"},
 };
 
 static int skipped(const cli_spec *s, const char *name)
@@ -248,7 +251,7 @@ void cli_help(const cli_spec *s, const void *params, FILE *f)
     for (size_t i = 0; i < s->n_params; ++i)
         if (!skipped(s, s->params[i].name))
             param_line(f, &s->params[i], params);
-    shared_lines(f, s, CLI_SEED | CLI_QUIET);
+    shared_lines(f, s, CLI_SEED | CLI_QUIET | CLI_LIMIT);
     option_line(f, "-h, --help", "this help");
     if (s->tail) {
         fputc('\n', f);

@@ -113,6 +113,18 @@ refused "--mesh: '$w/dir.ply' is a folder" -- "$relief" complete-points "$in/non
 refused "--report: '$w/dir.json' is a folder" -- "$relief" image-fill "$in/none.png" -o "$w/out.png" --report "$w/dir.json"
 refused "--report: '$w/dir.json' is a folder" -- "$relief" depth-fill "$in/none.pcd" -o "$w/out.pcd" --report "$w/dir.json"
 
+# ---------------------------------------------- --max-seconds
+# A run past its time limit stops at its next step of progress: exit 1, the
+# limit named, nothing written (1e-9 s: any run is past it at once).
+lim="over --max-seconds 1e-09"
+refused "$lim" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --max-seconds 1e-9 --quiet
+refused "$lim" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --max-hole 10 --max-seconds 1e-9 --quiet
+refused "$lim" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --max-seconds 1e-9 --quiet
+refused "$lim" -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --max-seconds 1e-9 --quiet
+refused "$lim" -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --resolution 24 --max-seconds 1e-9 --quiet
+refused "--max-seconds: '-1' is not a number of seconds >= 0" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --max-seconds -1
+refused "--max-seconds: 'soon' is not a number" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --max-seconds soon
+
 # ---------------------------------------------- a failure while writing
 # Each step of the writing fails in turn (every file written beside its
 # target, then each moved into place, then the report folder): the files
