@@ -15,9 +15,13 @@
 #include "base/memlimit.h"
 #include "cli/options.h"
 
-enum { CO_ASCII = OPT_COMMAND };
+enum { CO_ASCII = OPT_COMMAND, CO_HOLE_MASK };
 
 static const cli_own own[] = {{"ascii", CO_ASCII, NULL, "write ascii PLY (default binary)"},
+                              {"hole-mask", CO_HOLE_MASK, "WHAT",
+                               "over a primitive, fill exactly the holes whose rims touch WHAT, "
+                               "whatever their size, and only holes: ball:X,Y,Z,R or label (the "
+                               "capture's vertices with a non-zero PLY label)"},
                               {NULL, 0, NULL, NULL}};
 static const char *const skip[] = {"measure", NULL};
 
@@ -28,7 +32,7 @@ static cli_spec spec(int smooth)
                   "base when none fits), lay the missing part on it, and grow the "
                   "capture's relief and colour over it (papers 000 and 001). Writes OUT "
                   "(PLY with a per-vertex `label`: 0 captured, 1 completed).",
-                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET,
+                  CLI_OUTPUT | CLI_REPORT | CLI_QUIET | CLI_LIMIT,
                   "the completed mesh (.ply, .obj, .off, .stl); required", NULL, NULL, 0,
                   skip, own,
                   "SIGINT stops the growth between two targets, saves the checkpoint when "
@@ -60,8 +64,24 @@ typedef struct complete_cli {
 
 static int take(void *ctx, int id, const char *arg)
 {
-    (void)arg;
-    ((complete_cli *)ctx)->ascii |= id == CO_ASCII;
+    complete_cli *c = ctx;
+    int k = 0;
+    if (id == CO_ASCII) {
+        c->ascii = 1;
+        return 1;
+    }
+    c->p.hole_labels = c->p.has_hole_ball = 0;
+    if (strcmp(arg, "label") == 0) {
+        c->p.hole_labels = 1;
+        return 1;
+    }
+    if (strncmp(arg, "ball:", 5) != 0 ||
+        !cli_parse_reals(c->cm.cmd, "--hole-mask", arg + 5, c->p.hole_ball, 4, &k) || k != 4) {
+        cli_usage_error(c->cm.cmd, "--hole-mask: expected 'label' or 'ball:X,Y,Z,R' with R > 0, "
+                        "got '%s'", arg);
+        return 0;
+    }
+    c->p.has_hole_ball = 1;
     return 1;
 }
 
@@ -218,11 +238,12 @@ static int run(complete_cli *c, int smooth)
     c->p.run.input_name = c->in;
     c->p.run.output_name = c->cm.out;
     c->p.measure = c->cm.report || c->p.report_dir;
-    cli_progress_start(&pr, c->cm.cmd, c->cm.quiet, &c->p.run);
+    cli_progress_start(&pr, &c->cm, &c->p.run);
     pr.estimate_tail = c->p.checkpoint ? " and saves the checkpoint" : "";
     st = smooth ? relief_smooth(in, &c->p, &done, &rep, &err)
                 : relief_complete(in, &c->p, &done, &rep, &err);
     cli_progress_close_line(&pr);
+    cli_progress_explain(&pr, st, &err);
     ran = st == RELIEF_OK;
     if (ran) {
         char repair[1024];

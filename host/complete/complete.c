@@ -61,6 +61,11 @@ static relief_status check_args(const relief_mesh *capture, const relief_complet
 static relief_status read_resume(relief_complete_run *r, relief_error *err)
 {
     relief_checkpoint_key_make(r->capture, &r->st.params, &r->st.smooth, &r->st.grow, &r->key);
+    /* The hole model's choice changes the targets too. */
+    snprintf(r->key.params + strlen(r->key.params), sizeof r->key.params - strlen(r->key.params),
+             " max_hole=%.17g hole_ball=%s%.17g,%.17g,%.17g,%.17g", r->cp->max_hole,
+             r->cp->has_hole_ball ? "" : "none:", r->cp->hole_ball[0], r->cp->hole_ball[1],
+             r->cp->hole_ball[2], r->cp->hole_ball[3]);
     if (!r->cp->resume)
         return RELIEF_OK;
     return relief_checkpoint_read(r->cp->resume, &r->key, &r->resume, err);
@@ -140,6 +145,7 @@ static int auto_may_go_smooth(const relief_complete_run *r)
 {
     const relief_complete_params *cp = r->cp;
     return cp->base == RELIEF_BASE_AUTO && !cp->accept_poor_fit &&
+           !cp->has_hole_ball && !cp->hole_labels && /* a selection is over a primitive */
            cp->fit == RELIEF_FIT_AUTO && !cp->n_extent &&
            relief_mesh_triangle_count(r->capture) > 0;
 }
@@ -180,6 +186,8 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
         if (st == RELIEF_E_MESH && auto_may_go_smooth(r) &&
             strstr(why.message, "overlaps itself"))
             st = overlap_base(r, &why);
+        if (st == RELIEF_E_RANGE && r->has_holes && strstr(why.message, RELIEF_HOLES_LEFT_OPEN))
+            st = relief_holes_none_filled(&r->holes, &why);
         if (st != RELIEF_OK)
             relief_fail(err, st, "%s", why.message);
     }
@@ -481,6 +489,7 @@ static void run_free(relief_complete_run *r)
     relief_surface_destroy(r->s);
     relief_mesh_destroy(r->before);
     relief_checkpoint_destroy(r->resume);
+    relief_complete_holes_free(r);
     free(r->level_share);
 }
 
@@ -516,7 +525,9 @@ relief_status relief_complete(const relief_mesh *capture, const relief_complete_
         return st;
     memset(&own, 0, sizeof own);
     run_init(&r, capture, p, &own);
-    st = read_resume(&r, err);
+    st = relief_complete_holes(&r, err);
+    if (st == RELIEF_OK)
+        st = read_resume(&r, err);
     if (st == RELIEF_OK)
         st = build_base(&r, err);
     if (st == RELIEF_OK)
@@ -553,10 +564,13 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_complete_pa
         return st;
     memset(&own, 0, sizeof own);
     run_init(&r, capture, p, &own);
-    if (relief_progress_step(&r.progress, 0.0))
+    st = relief_complete_holes(&r, err);
+    if (st == RELIEF_OK && relief_progress_step(&r.progress, 0.0))
         st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
     if (st == RELIEF_OK)
         st = relief_surface_build(capture, &r.st.params, &r.st.smooth, &r.s, err);
+    if (st == RELIEF_E_RANGE && r.has_holes && strstr(err->message, RELIEF_HOLES_LEFT_OPEN))
+        st = relief_holes_none_filled(&r.holes, err);
     if (st == RELIEF_OK) {
         own.seconds_smooth = relief_seconds() - r.t0;
         note_surface(&r);

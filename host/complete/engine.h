@@ -15,6 +15,7 @@
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
+#include "points/holes.h"
 #include "report/measures.h"
 #include "report/pattern.h"
 #include "smooth/surface.h"
@@ -57,7 +58,19 @@ typedef struct relief_complete_run {
     relief_pattern pat;
     double t0;
     relief_complete_report *rep; /* notes go here as the stages find them */
+    /* the hole model over a primitive (hole_model.c) */
+    int has_holes;              /* 1 once the capture's rims were judged */
+    relief_hole_info holes;     /* every boundary loop and its fate */
+    uint32_t *rim;              /* capture->nv: 0, or the filled hole's label */
+    uint32_t *rim_index;        /* per label - 1: its index in holes.rims */
 } relief_complete_run;
+
+/* Over a primitive (not base smooth), on a capture with triangles: judge
+ * the capture's boundary loops by max_hole and hole_ball (points/holes.h)
+ * and make them the filter of the regions a fill of the holes completes
+ * (smooth/surface.h); hole_ball turns fill auto into holes. */
+relief_status relief_complete_holes(relief_complete_run *r, relief_error *err);
+void relief_complete_holes_free(relief_complete_run *r);
 
 /* A note for the report: a warning, or a plain remark. */
 void relief_complete_note(relief_complete_run *r, int warning, const char *fmt, ...)

@@ -18,7 +18,7 @@ static const char *const schemes[] = {"midpoint", "butterfly", NULL};
 static const char *const searches[] = {"auto", "exhaustive", "coherent", NULL};
 
 /* What relief_smooth takes: SMOOTH_COUNT entries. */
-#define SMOOTH_COUNT 11
+#define SMOOTH_COUNT 12
 
 static const relief_param table[] = {
     RP_ENUM(T, fit, "MODEL", fits, "the primitive fitted to the capture: auto (default: "
@@ -38,8 +38,10 @@ static const relief_param table[] = {
              "report); default: from the capture"),
     RP_ENUM(T, fill, "REGION", fills, "what to complete of the uncovered primitive: auto "
             "(default: a plane's holes; a cylinder's or sphere's whole, as a one-sided "
-            "scan's hidden side, unless the capture covers under 20 % of it and has "
-            "holes), holes (inside the capture's outline) or whole"),
+            "scan's hidden side, unless the capture has holes and goes all round it (no "
+            "direction over 45 degrees from a captured one) or covers under 20 % of it), "
+            "holes (inside the capture's outline, chosen by max_hole and --hole-mask) or "
+            "whole"),
     RP_ENUM(T, frames, "RULE", frames, "the local frames relief is copied in: paper "
             "(default, paper 000's rule) or primitive (along its parameterisation)"),
     RP_REAL(T, max_growth, "R", 0, HUGE_VAL, "refuse more than R targets per captured "
@@ -50,6 +52,11 @@ static const relief_param table[] = {
     RP_FLAG(T, keep_spikes, "keep the capture's spikes as relief (default: a vertex over "
             "8 robust roughness scales outside its neighbours' heights is a scanner spike, "
             "left out and completed)"),
+    RP_REAL(T, max_hole, "L", 0, 1e30, "the hole model: holes whose rims are wider than "
+            "L (the capture's units) are openings by design (a vase's mouth or base) and "
+            "stay open, on the smooth base and when a cylinder's or sphere's holes are "
+            "filled (a plane's too when L is given); 0 (default): a quarter of the bounding "
+            "box's diagonal"),
     RP_MAX_MEMORY(T),
     /* the growth: relief_complete only */
     RP_ENUM(T, base, "B", bases, "what the relief grows over: primitive (the fitted one), "
@@ -57,9 +64,6 @@ static const relief_param table[] = {
             "a head, a statue; levels coarsen it by collapses) or auto (default: smooth "
             "when no primitive fits well and neither fit, extent nor accept_poor_fit is "
             "set)"),
-    RP_REAL(T, max_hole, "L", 0, 1e30, "base smooth: holes whose rims are wider than L "
-            "(the capture's units) are openings by design (a vase's mouth) and stay open; 0 "
-            "(default): a quarter of the bounding box's diagonal"),
     RP_INT(T, window, "W", 1, 16, "neighbourhood radius in edge hops, 1..16 (default 3)"),
     RP_INT1(T, rotations, "R", 1, 64, 0, "rotations tried per sample, 1..64; 0 (default): "
             "1 on a plane, whose frames are all alike, 4 otherwise"),

@@ -66,6 +66,24 @@ static relief_status validate_own(const relief_complete_params *p, relief_error 
     if (!(p->max_growth >= 0.0 && isfinite(p->max_growth)))
         return relief_fail(err, RELIEF_E_RANGE, "max_growth %g out of range: expected targets "
                            "per captured vertex >= 0 (0: no limit)", p->max_growth);
+    if (p->has_hole_ball && !(isfinite(p->hole_ball[0]) && isfinite(p->hole_ball[1]) &&
+                              isfinite(p->hole_ball[2]) && p->hole_ball[3] > 0.0 &&
+                              isfinite(p->hole_ball[3])))
+        return relief_fail(err, RELIEF_E_RANGE, "hole_ball %g,%g,%g,%g out of range: expected "
+                           "a finite centre and a radius > 0", p->hole_ball[0], p->hole_ball[1],
+                           p->hole_ball[2], p->hole_ball[3]);
+    if (p->has_hole_ball && p->hole_labels)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_ball and hole_labels: give one");
+    if ((p->has_hole_ball || p->hole_labels) && p->fill == RELIEF_FILL_WHOLE)
+        return relief_fail(err, RELIEF_E_USAGE, "a hole selection (hole_ball, hole_labels) "
+                           "fills holes only: not with fill whole");
+    if (p->hole_labels && p->base == RELIEF_BASE_SMOOTH)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_labels selects holes over a primitive; "
+                           "base smooth fills its holes by max_hole");
+    if (p->has_hole_ball && p->base == RELIEF_BASE_SMOOTH)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_ball selects holes over a primitive; "
+                           "base smooth fills its holes by max_hole (relief_complete_points "
+                           "takes a hole_ball on any capture)");
     if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
         return relief_fail(err, RELIEF_E_RANGE, "max_hole %g out of range: expected 0..1e30 "
                            "(0: a quarter of the bounding box's diagonal)", p->max_hole);

@@ -165,6 +165,8 @@ static void write_complete(relief_json *j, const relief_complete_run *r)
     report_params(j, &r->st.params, &r->st.smooth);
     report_growth_parameters(j, r);
     relief_report_surface_fields(j, r->s);
+    if (r->has_holes)
+        relief_holes_json(j, "hole_model", &r->holes);
     report_growth(j, &r->stats);
     if (r->hier)
         report_levels(j, &r->hstats);
@@ -185,6 +187,8 @@ static void write_smooth(relief_json *j, const relief_complete_run *r)
     report_head(j, r, "smooth");
     report_params(j, &r->st.params, &r->st.smooth);
     relief_report_surface_fields(j, r->s);
+    if (r->has_holes)
+        relief_holes_json(j, "hole_model", &r->holes);
     report_notes(j, r->rep);
     rj_number(j, "seconds_total", r->rep->seconds_total);
 }

@@ -338,25 +338,7 @@ static void write_json(relief_json *j, const void *ctx)
     rj_int(j, "masked", (long long)r->n_masked);
     rj_int(j, "clone", (long long)r->n_clone);
     rj_end_object(j);
-    rj_begin_object(j, "holes");
-    rj_int(j, "filled", r->holes.n_holes);
-    rj_int(j, "outer_borders", r->holes.n_borders);
-    rj_int(j, "too_small", r->holes.n_dropped);
-    rj_int(j, "too_large", r->holes.n_too_large);
-    rj_int(j, "not_selected", r->holes.n_not_selected);
-    rj_number(j, "max_hole", r->holes.max_across);
-    rj_begin_array(j, "list");
-    for (uint32_t h = 0; h < r->holes.n_rims; ++h) {
-        const relief_rim *m = r->holes.rims + h;
-        rj_begin_object(j, NULL);
-        rj_int(j, "rim_points", m->points);
-        rj_number(j, "across", m->across);
-        rj_vec3(j, "centre", m->centre);
-        rj_string(j, "fate", relief_rim_fate_name(m->fate));
-        rj_end_object(j);
-    }
-    rj_end_array(j);
-    rj_end_object(j);
+    relief_holes_json(j, "holes", &r->holes);
     rj_number(j, "spacing", r->spacing);
     rj_int(j, "patch_triangles", (long long)r->patch_triangles);
     rj_int(j, "patch_holes_skipped", (long long)r->patch_skipped);

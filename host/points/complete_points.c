@@ -217,57 +217,6 @@ done:
     return st;
 }
 
-/* The widest rim filled: max_hole, or by default a quarter of the
- * diagonal of the points' bounding box. Openings by design are wider (a
- * vase's mouth or base: 0.30 to 0.57 of it on the ggg_sfm captures), the
- * holes a capture misses or a user cuts narrower (at most 0.22 there). */
-static double hole_size_limit(const double *pos, size_t n, double max_hole)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    if (max_hole > 0.0)
-        return max_hole;
-    for (size_t i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c)
-            lo[c] = fmin(lo[c], pos[3 * i + c]), hi[c] = fmax(hi[c], pos[3 * i + c]);
-    return n ? 0.25 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                           (hi[2] - lo[2]) * (hi[2] - lo[2]))
-             : 0.0;
-}
-
-/* No hole is filled: say what was found, the widest rims left open and
- * what would fill each, on one line. */
-static relief_status nothing_to_fill(const relief_hole_info *h, relief_error *err)
-{
-    char list[400] = "";
-    size_t len = 0;
-    uint8_t *shown = calloc(h->n_rims + 1, 1);
-    for (int k = 0; k < 3 && shown; ++k) {
-        uint32_t best = UINT32_MAX;
-        for (uint32_t r = 0; r < h->n_rims; ++r)
-            if (!shown[r] && h->rims[r].fate != RELIEF_RIM_TOO_SMALL &&
-                (best == UINT32_MAX || h->rims[r].across > h->rims[best].across))
-                best = r;
-        if (best == UINT32_MAX)
-            break;
-        shown[best] = 1;
-        const relief_rim *r = h->rims + best;
-        char larger[48] = "";
-        if (r->fate == RELIEF_RIM_TOO_LARGE)
-            snprintf(larger, sizeof larger, "max_hole %.4g or ", 1.01 * r->across);
-        len += (size_t)snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
-                                "; %s rim of %u points, %.4g across at (%.4g, %.4g, %.4g): "
-                                "%shole_ball %.4g,%.4g,%.4g,%.4g fills it",
-                                relief_rim_fate_name(r->fate), r->points, r->across,
-                                r->centre[0], r->centre[1], r->centre[2], larger, r->centre[0],
-                                r->centre[1], r->centre[2], 0.6 * r->across);
-    }
-    free(shown);
-    return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole to fill among %u rim(s) "
-                       "(%u outer border(s), %u wider than max_hole %.4g, %u not selected, %u "
-                       "too small) and no hole mask%s", h->n_rims, h->n_borders, h->n_too_large,
-                       h->max_across, h->n_not_selected, h->n_dropped, list);
-}
-
 /* The parameters and the input, before anything is allocated. */
 static relief_status check_input(work *w, relief_error *err)
 {
@@ -321,7 +270,7 @@ static relief_status stage_analysis(work *w, relief_error *err)
     if (st != RELIEF_OK)
         return st;
     if (w->want_geometry) {
-        relief_hole_rule rule = {hole_size_limit(in->pos, n, p->max_hole), p->hole_mask};
+        relief_hole_rule rule = {relief_hole_size_limit(in->pos, n, p->max_hole), p->hole_mask};
         st = in->nt ? relief_holes_mesh(in->pos, n, in->tri, in->nt, &rule, w->rim,
                                         &rep->holes, err)
                     : relief_holes_points(in->pos, w->nrm, &w->g, p->rim_gap, &rule, w->rim,
@@ -333,7 +282,7 @@ static relief_status stage_analysis(work *w, relief_error *err)
         return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: what colour completes the "
                            "colour of the hole mask's points, and none is marked");
     if (!rep->holes.n_holes && !rep->n_masked)
-        return nothing_to_fill(&rep->holes, err);
+        return relief_holes_none_filled(&rep->holes, err);
     w->t = relief_seconds();
     rep->t_analysis = w->t - w->t0;
     return RELIEF_OK;

@@ -2,10 +2,12 @@
 #include "points/holes.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/error.h"
+#include "base/json.h"
 #include "base/knn.h"
 #include "base/linalg.h"
 #include "base/union_find.h"
@@ -332,4 +334,78 @@ done:
         flann_free_index_double(index, &fp);
     free(rp), free(which), free(idx), free(d2);
     return st;
+}
+
+/* The widest rim filled: max_hole, or by default a quarter of the
+ * diagonal of the points' bounding box. Openings by design are wider (a
+ * vase's mouth or base: 0.30 to 0.57 of it on the ggg_sfm captures), the
+ * holes a capture misses or a user cuts narrower (at most 0.22 there). */
+double relief_hole_size_limit(const double *pos, size_t n, double max_hole)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    if (max_hole > 0.0)
+        return max_hole;
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c)
+            lo[c] = fmin(lo[c], pos[3 * i + c]), hi[c] = fmax(hi[c], pos[3 * i + c]);
+    return n ? 0.25 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]))
+             : 0.0;
+}
+
+/* No hole is filled: say what was found, the widest rims left open and
+ * what would fill each, on one line. */
+relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err)
+{
+    char list[400] = "";
+    size_t len = 0;
+    uint8_t *shown = calloc(h->n_rims + 1, 1);
+    for (int k = 0; k < 3 && shown; ++k) {
+        uint32_t best = UINT32_MAX;
+        for (uint32_t r = 0; r < h->n_rims; ++r)
+            if (!shown[r] && h->rims[r].fate != RELIEF_RIM_TOO_SMALL &&
+                (best == UINT32_MAX || h->rims[r].across > h->rims[best].across))
+                best = r;
+        if (best == UINT32_MAX)
+            break;
+        shown[best] = 1;
+        const relief_rim *r = h->rims + best;
+        char larger[48] = "";
+        if (r->fate == RELIEF_RIM_TOO_LARGE)
+            snprintf(larger, sizeof larger, "max_hole %.4g or ", 1.01 * r->across);
+        len += (size_t)snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
+                                "; %s rim of %u points, %.4g across at (%.4g, %.4g, %.4g): "
+                                "%shole_ball %.4g,%.4g,%.4g,%.4g fills it",
+                                relief_rim_fate_name(r->fate), r->points, r->across,
+                                r->centre[0], r->centre[1], r->centre[2], larger, r->centre[0],
+                                r->centre[1], r->centre[2], 0.6 * r->across);
+    }
+    free(shown);
+    return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole to fill among %u rim(s) "
+                       "(%u outer border(s), %u wider than max_hole %.4g, %u not selected, %u "
+                       "too small)%s", h->n_rims, h->n_borders, h->n_too_large,
+                       h->max_across, h->n_not_selected, h->n_dropped, list);
+}
+
+void relief_holes_json(relief_json *j, const char *name, const relief_hole_info *h)
+{
+    rj_begin_object(j, name);
+    rj_int(j, "filled", h->n_holes);
+    rj_int(j, "outer_borders", h->n_borders);
+    rj_int(j, "too_small", h->n_dropped);
+    rj_int(j, "too_large", h->n_too_large);
+    rj_int(j, "not_selected", h->n_not_selected);
+    rj_number(j, "max_hole", h->max_across);
+    rj_begin_array(j, "list");
+    for (uint32_t i = 0; i < h->n_rims; ++i) {
+        const relief_rim *m = h->rims + i;
+        rj_begin_object(j, NULL);
+        rj_int(j, "rim_points", m->points);
+        rj_number(j, "across", m->across);
+        rj_vec3(j, "centre", m->centre);
+        rj_string(j, "fate", relief_rim_fate_name(m->fate));
+        rj_end_object(j);
+    }
+    rj_end_array(j);
+    rj_end_object(j);
 }

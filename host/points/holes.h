@@ -78,6 +78,20 @@ typedef struct relief_hole_info {
 /* Free the rims and zero the info. */
 void relief_hole_info_free(relief_hole_info *info);
 
+/* The widest rim filled by default: max_hole when > 0, else a quarter of
+ * the diagonal of the n points' bounding box. */
+double relief_hole_size_limit(const double *pos, size_t n, double max_hole);
+
+/* No hole is filled: RELIEF_E_RANGE with a one-line message saying what
+ * was found, the widest rims left open and the max_hole or hole_ball that
+ * would fill each. */
+relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err);
+
+/* The report's object `name`: the counts by fate, the max_hole applied and
+ * every rim (its points, width, centre and fate) in `list`. */
+struct relief_json;
+void relief_holes_json(struct relief_json *j, const char *name, const relief_hole_info *h);
+
 /* From a mesh's triangles (nt x 3 indices into n vertices). */
 relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
                                 const relief_hole_rule *rule, uint32_t *rim,

@@ -46,6 +46,10 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
                                        : "given");
     rj_string(j, "region", relief_fill_region_name(s->fill.region));
     rj_number(j, "cover", s->fill.cover);
+    if (s->fill.round_gap > 0.0) { /* a cylinder or sphere the targets were laid on */
+        rj_number(j, "round_gap_degrees", s->fill.round_gap);
+        rj_bool(j, "all_round", s->fill.all_round);
+    }
     rj_begin_object(j, "counts");
     rj_int(j, "captured", (long long)s->n_captured);
     rj_int(j, "samples", (long long)s->n_samples);
@@ -60,6 +64,8 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_int(j, "holes", (long long)s->fill.holes);
     rj_int(j, "hole_points", (long long)s->fill.hole_points);
     rj_int(j, "outside_points", (long long)s->fill.outside_points);
+    rj_int(j, "holes_left_open", (long long)s->fill.holes_left);
+    rj_int(j, "holes_left_open_points", (long long)s->fill.holes_left_points);
     rj_int(j, "vertices", (long long)relief_mesh_vertex_count(s->mesh));
     rj_int(j, "triangles", (long long)relief_mesh_triangle_count(s->mesh));
     rj_end_object(j);

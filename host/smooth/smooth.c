@@ -44,6 +44,9 @@ relief_smooth_options relief_smooth_options_default(void)
     o.oversample_scheme = RELIEF_OVERSAMPLE_BUTTERFLY;
     o.accept_poor_fit = 0;
     o.fill = RELIEF_FILL_AUTO;
+    o.holes.keep = NULL;
+    o.holes.ctx = NULL;
+    o.holes.on_plane = 0;
     o.max_growth = RELIEF_MAX_GROWTH;
     o.spike_k = RELIEF_SPIKE_K;
     return o;
@@ -353,11 +356,15 @@ static relief_status surface_targets(surface_build *b, relief_error *err)
     const relief_fit_primitive *pr = &s->fit.prim;
     const double max_growth = b->opts->max_growth;
     const double t0 = relief_seconds();
-    relief_status st = relief_targets_lay(capture, &s->param, s->spacing, params, b->opts->fill,
+    relief_status st = relief_targets_lay(capture, &s->param, s->spacing, params, b->opts,
                                           &b->targets, &s->fill, err);
     if (st != RELIEF_OK)
         return st;
     if (b->targets.n == 0) {
+        if (s->fill.holes_left > 0)
+            return relief_fail(err, RELIEF_E_RANGE, RELIEF_HOLES_LEFT_OPEN " %zu region%s the "
+                               "capture's outline encloses open", s->fill.holes_left,
+                               s->fill.holes_left == 1 ? "" : "s");
         if (s->fill.region == RELIEF_FILL_HOLES && s->fill.outside_points > 0)
             return relief_fail(err, RELIEF_E_MESH,
                                "nothing to complete: the capture has no hole inside its "

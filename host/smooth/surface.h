@@ -20,6 +20,31 @@ typedef relief_fill_region relief_fill;
  * camera sees a third to a half of a mug or a trunk, a golf ball's front. */
 #define RELIEF_ONE_SIDED_COVER 0.2
 
+/* A capture whose every direction round its cylinder's axis (or from its
+ * sphere's centre) lies within this many degrees of a captured vertex goes
+ * all round its primitive: it has no hidden side, and RELIEF_FILL_AUTO
+ * completes its holes only (a band round a crown, a vase with a cut, a
+ * head on a sphere). A one-sided scan (a mug or a globe seen from one
+ * side) leaves directions 90 degrees or more from anything captured. */
+#define RELIEF_ALL_ROUND_DEGREES 45.0
+
+/* Which of the regions the capture's outline encloses a fill of the holes
+ * completes: keep(ctx, pts, n) with a region's lattice points (n x 3, on
+ * the primitive) answers non-zero to complete it. keep NULL: every one.
+ * The caller's hole model (issue 40) decides here, since the smooth layer
+ * does not know which of the capture's boundary loops are the user's. */
+typedef struct relief_region_filter {
+    int (*keep)(void *ctx, const double *pts, size_t n);
+    void *ctx;
+    int on_plane;   /* 1: a plane's holes too; 0: a cylinder's or sphere's
+                       only (a plane's patch has no opening by design: its
+                       holes are filled whatever their size, paper 001) */
+} relief_region_filter;
+
+/* How relief_surface_build's refusal begins when the filter left every
+ * enclosed region open (the caller says which loops and why). */
+#define RELIEF_HOLES_LEFT_OPEN "nothing to complete: the hole model leaves the"
+
 /* Options of the smooth completion beyond relief_params. */
 typedef struct relief_smooth_options {
     relief_frames frames;     /* default RELIEF_FRAMES_PAPER */
@@ -38,6 +63,8 @@ typedef struct relief_smooth_options {
                                   (surface_check.h); default
                                   RELIEF_SPIKE_K, 0: keep them */
     relief_fill fill;          /* region completed; default RELIEF_FILL_AUTO */
+    relief_region_filter holes; /* which enclosed regions a fill of the holes
+                                  completes; default: all */
     double max_growth;         /* refuse a completion of more than this many
                                   targets per captured vertex, the sign of a
                                   primitive that does not suit the capture
@@ -84,6 +111,12 @@ typedef struct relief_fill_stats {
     size_t outside_points;    /* uncovered lattice points outside the outline
                                  (targets only when region is WHOLE) */
     double cover;             /* share of the lattice the capture covers, 0..1 */
+    double round_gap;         /* cylinder, sphere: the largest angle (degrees)
+                                 from a direction round the axis (from the
+                                 centre) to the nearest captured vertex's */
+    int all_round;            /* 1: round_gap <= RELIEF_ALL_ROUND_DEGREES */
+    size_t holes_left;        /* enclosed regions the filter left open */
+    size_t holes_left_points; /* lattice points in them */
 } relief_fill_stats;
 
 /* Stages timed by relief_surface_build. */

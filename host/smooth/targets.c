@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/knn.h"
 #include "base/vec3.h"
 
@@ -410,16 +411,130 @@ done:
     return st;
 }
 
+/* ------------------------------------------------------------- all round */
+
+/* The largest angle (degrees) from a direction round a cylinder's axis to
+ * the nearest captured vertex's: half the widest empty arc. */
+static double cylinder_gap(const coverage *cov, const relief_domain *pm)
+{
+    const size_t n = cov->cap->nv;
+    double *a = malloc((n ? n : 1) * sizeof *a), widest = 0.0;
+    if (!a || n == 0) {
+        free(a);
+        return 180.0;
+    }
+    for (size_t v = 0; v < n; ++v) {
+        double uv[2];
+        relief_domain_coords(pm, cov->proj + 3 * v, uv);
+        a[v] = uv[0] / pm->prim.radius;
+    }
+    qsort(a, n, sizeof *a, relief_cmp_double);
+    widest = a[0] + 2.0 * RELIEF_PI - a[n - 1];
+    for (size_t v = 1; v < n; ++v)
+        widest = fmax(widest, a[v] - a[v - 1]);
+    free(a);
+    return 0.5 * widest * 180.0 / RELIEF_PI;
+}
+
+/* The same from a sphere's centre: over 2 000 Fibonacci directions, the
+ * largest angle to the nearest of at most 20 000 captured directions (a
+ * stride through the capture's vertices). */
+static double sphere_gap(const coverage *cov, const relief_domain *pm)
+{
+    enum { DIRS = 2000, MAX_V = 20000 };
+    const relief_fit_primitive *pr = &pm->prim;
+    const size_t nv = cov->cap->nv, stride = nv > MAX_V ? (nv + MAX_V - 1) / MAX_V : 1;
+    const double golden = RELIEF_PI * (3.0 - sqrt(5.0));
+    double worst = 1.0; /* the smallest best cosine */
+    if (nv == 0)
+        return 180.0;
+    for (int i = 0; i < DIRS; ++i) {
+        double z = 1.0 - 2.0 * (i + 0.5) / DIRS, r = sqrt(1.0 - z * z), t = golden * i;
+        double d[3] = {r * cos(t), r * sin(t), z}, best = -1.0;
+        for (size_t v = 0; v < nv; v += stride) {
+            const double *p = cov->proj + 3 * v;
+            double q[3] = {p[0] - pr->point[0], p[1] - pr->point[1], p[2] - pr->point[2]};
+            double len = sqrt(rm_dot(q, q));
+            if (len > 0.0)
+                best = fmax(best, rm_dot(q, d) / len);
+        }
+        worst = fmin(worst, best);
+    }
+    return acos(fmax(-1.0, fmin(1.0, worst))) * 180.0 / RELIEF_PI;
+}
+
 /* ---------------------------------------------------------------- laying */
 
+/* fill auto: a plane's holes (its extent's whole when one is given); a
+ * cylinder's or sphere's holes when the capture has some and goes all
+ * round it or is a small patch of it, else its whole (a one-sided scan's
+ * hidden side, paper 000; and a capture with no enclosed hole, as a cap
+ * of a sphere fitted, poorly, as a cylinder round which it wraps). */
+static relief_fill auto_fill(const relief_fit_primitive *pr, int extent,
+                             const relief_fill_stats *stats)
+{
+    if (pr->model == RELIEF_FIT_PLANE)
+        return extent ? RELIEF_FILL_WHOLE : RELIEF_FILL_HOLES;
+    if (extent)
+        return RELIEF_FILL_WHOLE;
+    if (stats->holes > 0 && (stats->all_round || stats->cover < RELIEF_ONE_SIDED_COVER))
+        return RELIEF_FILL_HOLES;
+    return RELIEF_FILL_WHOLE;
+}
+
+/* Which regions are completed: every one (whole), or those the outline
+ * encloses that the filter keeps (holes). */
+static relief_status choose_regions(const regions *rg, relief_fill fill,
+                                    const relief_region_filter *f, uint8_t *take,
+                                    relief_fill_stats *stats, relief_error *err)
+{
+    size_t *start = NULL, *at = NULL;
+    double *pts = NULL;
+    relief_status st = RELIEF_OK;
+    for (size_t id = 0; id < rg->n; ++id)
+        take[id] = fill == RELIEF_FILL_WHOLE || !rg->outside[id];
+    if (fill == RELIEF_FILL_WHOLE || !f->keep || rg->n == 0)
+        return RELIEF_OK;
+    /* The points grouped by region (a counting sort), each group asked. */
+    start = calloc(rg->n + 1, sizeof *start);
+    at = malloc(rg->n * sizeof *at);
+    pts = malloc((rg->pts.n ? rg->pts.n : 1) * 3 * sizeof *pts);
+    if (!start || !at || !pts) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the regions' points");
+        goto done;
+    }
+    for (size_t i = 0; i < rg->pts.n; ++i)
+        ++start[rg->of[i] + 1];
+    for (size_t id = 0; id < rg->n; ++id)
+        at[id] = start[id + 1] += start[id];
+    for (size_t id = 0; id < rg->n; ++id)
+        at[id] = start[id];
+    for (size_t i = 0; i < rg->pts.n; ++i)
+        memcpy(pts + 3 * at[rg->of[i]]++, rg->pts.p + 3 * i, 3 * sizeof *pts);
+    for (size_t id = 0; id < rg->n; ++id)
+        if (take[id] && !f->keep(f->ctx, pts + 3 * start[id], start[id + 1] - start[id])) {
+            take[id] = 0;
+            ++stats->holes_left;
+            stats->holes_left_points += rg->size[id];
+        }
+done:
+    free(start);
+    free(at);
+    free(pts);
+    return st;
+}
+
 relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain *param,
-                                 double spacing, const relief_params *params, relief_fill fill,
+                                 double spacing, const relief_params *params,
+                                 const relief_smooth_options *opts,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err)
 {
     const relief_fit_primitive *pr = &param->prim;
+    relief_fill fill = opts->fill;
     coverage cov;
     regions rg;
+    uint8_t *take = NULL;
     relief_status st;
     int extent = params->has_extent && pr->model != RELIEF_FIT_SPHERE;
 
@@ -471,23 +586,28 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain
         }
     }
     stats->cover = (double)rg.covered / (double)(rg.covered + rg.pts.n);
-    if (fill == RELIEF_FILL_AUTO) {
-        if (pr->model == RELIEF_FIT_PLANE)
-            fill = extent ? RELIEF_FILL_WHOLE : RELIEF_FILL_HOLES;
-        else if (extent)
-            fill = RELIEF_FILL_WHOLE;
-        else
-            fill = stats->holes > 0 && stats->cover < RELIEF_ONE_SIDED_COVER ? RELIEF_FILL_HOLES
-                                                                            : RELIEF_FILL_WHOLE;
+    if (pr->model != RELIEF_FIT_PLANE) {
+        stats->round_gap = pr->model == RELIEF_FIT_SPHERE ? sphere_gap(&cov, param)
+                                                          : cylinder_gap(&cov, param);
+        stats->all_round = stats->round_gap <= RELIEF_ALL_ROUND_DEGREES;
     }
+    if (fill == RELIEF_FILL_AUTO)
+        fill = auto_fill(pr, extent, stats);
     stats->region = fill;
-    for (size_t i = 0; i < rg.pts.n; ++i)
-        if ((fill == RELIEF_FILL_WHOLE || !rg.outside[rg.of[i]]) &&
-            !push_point(out, rg.pts.p + 3 * i)) {
+    take = malloc(rg.n ? rg.n : 1);
+    if (!take) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the regions");
+        goto done;
+    }
+    if (pr->model != RELIEF_FIT_PLANE || opts->holes.on_plane)
+        st = choose_regions(&rg, fill, &opts->holes, take, stats, err);
+    else
+        st = choose_regions(&rg, fill, &(relief_region_filter){NULL, NULL, 0}, take, stats, err);
+    for (size_t i = 0; st == RELIEF_OK && i < rg.pts.n; ++i)
+        if (take[rg.of[i]] && !push_point(out, rg.pts.p + 3 * i))
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
-            goto done;
-        }
 done:
+    free(take);
     regions_free(&rg);
     coverage_free(&cov);
     return st;

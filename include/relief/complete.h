@@ -132,9 +132,16 @@ typedef enum relief_base {
 /* Which uncovered part of the primitive is completed:
  *   auto   a plane's holes (the whole extent when one is given); a
  *          cylinder's or sphere's whole, as for a one-sided scan's hidden
- *          side, unless the capture covers less than 20 % of it and has
- *          holes (a patch of something larger);
- *   holes  the holes inside the capture's outline;
+ *          side, unless the capture has holes and goes all round it
+ *          (every direction round the axis, or from the centre, within 45
+ *          degrees of a captured vertex: a band, a vase, a head; the
+ *          report's round_gap_degrees) or covers less than 20 % of it (a
+ *          patch of something larger): then its holes;
+ *   holes  the holes inside the capture's outline; over a cylinder or
+ *          sphere (a plane too when max_hole or a selection is given) those
+ *          the hole model keeps: a rim wider than max_hole stays open, and
+ *          a selection (hole_ball, hole_labels) fills exactly what it
+ *          touches (the report's hole_model lists every loop and its fate);
  *   whole  every uncovered point of the region. */
 #define RELIEF_FILL_REGION_LIST(X)                                              \
     X(RELIEF_FILL_AUTO, "auto")                                                 \
@@ -225,14 +232,25 @@ typedef struct relief_complete_params {
     double max_growth;          /* refuse more than this many targets per
                                    captured vertex (a primitive that does not
                                    suit the capture); 100, >= 0, 0: no limit */
-    double max_hole;            /* base smooth: a hole whose rim is wider than
-                                   this (the capture's units; twice the largest
-                                   distance of a rim vertex from the rim's
-                                   centre) is an opening by design (a vase's
-                                   mouth or base) and stays open; 0 (default): a
+    double max_hole;            /* the hole model (relief/points.h): a hole
+                                   whose rim is wider than this (the capture's
+                                   units; twice the largest distance of a rim
+                                   vertex from the rim's centre) is an opening
+                                   by design (a vase's mouth or base) and stays
+                                   open, on the smooth base and, when only holes
+                                   are filled, over a primitive; 0 (default): a
                                    quarter of the capture's bounding-box
-                                   diagonal; [0, 1e30] (relief/points.h's
-                                   max_hole) */
+                                   diagonal; [0, 1e30] */
+    int has_hole_ball;          /* 1: over a primitive, fill exactly the holes
+                                   whose rims have a vertex within hole_ball
+                                   (X, Y, Z, R > 0), whatever their size, and
+                                   only holes (fill auto becomes holes); not
+                                   with base smooth. 0 (default): none */
+    double hole_ball[4];
+    int hole_labels;            /* 1: the same with the holes whose rims have a
+                                   vertex labelled non-zero (the capture's PLY
+                                   `label`; it must have labels); not with
+                                   has_hole_ball */
     /* the growth (relief_complete only) */
     int window;                 /* W, neighbourhood radius in edge hops; 3, [1, 16] */
     int rotations;              /* R, rotations tried per sample, [1, 64]; 0

@@ -197,6 +197,31 @@ for key in '"fill": "whole"' '"region": "whole"' '"holes": 0' '"cover":'; do
   grep -qF "$key" "$tmp/sm6.json" && pass=$((pass+1)) || { echo "FAIL: smooth --fill whole report lacks $key"; fail=$((fail+1)); }
 done
 cmp -s "$tmp/sm.ply" "$tmp/sm6.ply" && pass=$((pass+1)) || { echo "FAIL: --fill whole differs from auto on a one-sided scan"; fail=$((fail+1)); }
+# A capture that goes all round its cylinder (issue 40: a band round a
+# crown, a vase with a cut) has no hidden side: auto fills its holes, not
+# the rest of the cylinder. The band has a cut in its wall and a notch in
+# its top edge; only the cut is a hole. The hole model picks the holes
+# (--max-hole, --hole-mask) and lists the loops when none is filled.
+"$relief" synth cylinder-bands -o "$tmp/cb.ply" --truth "$tmp/cbt.ply" --vertices 6000 2>/dev/null
+"$relief" cut "$tmp/cbt.ply" --ball 1,0,2,0.35 -o "$tmp/cbn.ply" 2>/dev/null
+"$relief" cut "$tmp/cbn.ply" --ball -1,0,1,0.3 -o "$tmp/band.ply" 2>/dev/null
+expect 0 "" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_s.ply" --report "$tmp/band.json" --quiet
+expect 0 "" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_w.ply" --report "$tmp/band_w.json" --fill whole --quiet
+for key in '"region": "holes"' '"all_round": true' '"holes_left_open": 0' '"fate": "filled"' '"fate": "too_large"'; do
+  grep -qF "$key" "$tmp/band.json" && pass=$((pass+1)) || { echo "FAIL: the band's report lacks $key"; fail=$((fail+1)); }
+done
+t_holes=$(grep -o '"targets": [0-9]*' "$tmp/band.json" | head -1 | grep -o '[0-9]*$')
+t_whole=$(grep -o '"targets": [0-9]*' "$tmp/band_w.json" | head -1 | grep -o '[0-9]*$')
+hp=$(grep -o '"hole_points": [0-9]*' "$tmp/band.json" | grep -o '[0-9]*$')
+ok '[[ -n $t_holes && $t_holes -eq $hp && $t_whole -gt $((t_holes + 50)) ]]' "the band all round: $t_holes targets (its hole: $hp), --fill whole $t_whole"
+expect 1 "nothing to fill: no hole to fill among 3 rim(s) (0 outer border(s), 3 wider than max_hole 0.5" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --max-hole 0.5
+grep -qF "hole_ball -0.9786,0.00193,1," "$tmp/err" && pass=$((pass+1)) || { echo "FAIL: the refusal does not say which hole_ball fills the cut: $(cat "$tmp/err")"; fail=$((fail+1)); }
+ok '[[ ! -e $tmp/band_n.ply ]]' "output left when no hole was filled"
+expect 0 "" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_m.ply" --max-hole 0.5 --hole-mask ball:-1,0,1,0.4 --quiet
+ok 'cmp -s "$tmp/band_s.ply" "$tmp/band_m.ply"' "--hole-mask on the cut did not fill exactly the cut"
+expect 1 "3 not selected" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --hole-mask ball:5,5,5,0.1
+expect 1 "hole_ball selects holes over a primitive; base smooth" -- "$relief" complete "$tmp/band.ply" -o "$tmp/band_n.ply" --base smooth --hole-mask ball:5,5,5,0.1
+expect 1 "not with fill whole" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --fill whole --hole-mask ball:5,5,5,0.1
 expect 1 "nothing to complete" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --report "$tmp/sq.json"
 [[ ! -e $tmp/sq.ply && ! -e $tmp/sq.json ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed smooth"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --extent=-1,-1,2,2 --spacing 0.2

@@ -1,0 +1,107 @@
+/* The hole model over a primitive (issue 40): which of the uncovered
+ * regions the capture's outline encloses are holes the user wants filled.
+ * The capture's boundary loops are found and judged as complete-points
+ * judges them (points/holes.h: max_hole, a hole ball, outer borders); a
+ * lattice region is filled when most of its points lie within the reach of
+ * a filled loop, the loop nearest each of them. */
+#include "complete/engine.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "mesh/mesh.h"
+
+/* A region point belongs to a loop when within this many times its half
+ * width of the loop's centre: the lattice lies on the primitive, the loop
+ * on the capture, up to the relief's height off it. */
+#define REACH 1.5
+
+static int keep_region(void *ctx, const double *pts, size_t n)
+{
+    const relief_complete_run *r = ctx;
+    const relief_hole_info *h = &r->holes;
+    double *dist = malloc((n ? n : 1) * sizeof *dist);
+    uint32_t *near = malloc((n ? n : 1) * sizeof *near);
+    relief_error err = {RELIEF_OK, ""};
+    size_t inside = 0;
+    int keep = 1; /* on failure, as before the hole model: filled */
+    if (dist && near && h->n_holes > 0 &&
+        relief_rim_distance(r->capture->pos, r->capture->nv, r->rim, pts, n, dist, near,
+                            &err) == RELIEF_OK) {
+        for (size_t i = 0; i < n; ++i) {
+            const relief_rim *m;
+            double d2 = 0.0;
+            if (near[i] == UINT32_MAX)
+                continue;
+            m = h->rims + r->rim_index[r->rim[near[i]] - 1];
+            for (int c = 0; c < 3; ++c)
+                d2 += (pts[3 * i + c] - m->centre[c]) * (pts[3 * i + c] - m->centre[c]);
+            inside += sqrt(d2) <= REACH * 0.5 * m->across;
+        }
+        keep = 2 * inside > n;
+    } else if (h->n_holes == 0) {
+        keep = 0;
+    }
+    free(dist);
+    free(near);
+    return keep;
+}
+
+relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
+{
+    const relief_mesh *c = r->capture;
+    const relief_complete_params *cp = r->cp;
+    uint8_t *select = NULL;
+    relief_hole_rule rule;
+    relief_status st;
+    uint32_t h = 0;
+    int selected;
+    if (c->nt == 0 || cp->base == RELIEF_BASE_SMOOTH)
+        return RELIEF_OK;
+    if (cp->hole_labels && !c->label)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the capture has no labels (a "
+                           "PLY `label` property)");
+    r->rim = calloc(c->nv ? c->nv : 1, sizeof *r->rim);
+    if (!r->rim || ((cp->has_hole_ball || cp->hole_labels) &&
+                    !(select = calloc(c->nv ? c->nv : 1, 1)))) {
+        free(select);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's rims");
+    }
+    for (size_t v = 0; select && cp->hole_labels && v < c->nv; ++v)
+        select[v] = c->label[v] != 0;
+    for (size_t v = 0; select && cp->has_hole_ball && v < c->nv; ++v) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k)
+            d2 += (c->pos[3 * v + k] - cp->hole_ball[k]) * (c->pos[3 * v + k] - cp->hole_ball[k]);
+        select[v] = d2 <= cp->hole_ball[3] * cp->hole_ball[3];
+    }
+    rule.max_across = relief_hole_size_limit(c->pos, c->nv, cp->max_hole);
+    rule.select = select;
+    st = relief_holes_mesh(c->pos, c->nv, c->tri, c->nt, &rule, r->rim, &r->holes, err);
+    selected = select != NULL;
+    free(select);
+    if (st != RELIEF_OK)
+        return st;
+    r->rim_index = malloc((r->holes.n_holes + 1) * sizeof *r->rim_index);
+    if (!r->rim_index)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's rims");
+    for (uint32_t i = 0; i < r->holes.n_rims; ++i)
+        if (r->holes.rims[i].fate == RELIEF_RIM_FILLED)
+            r->rim_index[h++] = i;
+    r->has_holes = 1;
+    r->st.smooth.holes.keep = keep_region;
+    r->st.smooth.holes.ctx = r;
+    r->st.smooth.holes.on_plane = selected || cp->max_hole > 0.0;
+    if (selected && r->st.smooth.fill == RELIEF_FILL_AUTO)
+        r->st.smooth.fill = RELIEF_FILL_HOLES;
+    return RELIEF_OK;
+}
+
+void relief_complete_holes_free(relief_complete_run *r)
+{
+    relief_hole_info_free(&r->holes);
+    free(r->rim);
+    free(r->rim_index);
+}
