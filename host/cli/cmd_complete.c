@@ -65,24 +65,12 @@ typedef struct complete_cli {
 static int take(void *ctx, int id, const char *arg)
 {
     complete_cli *c = ctx;
-    int k = 0;
     if (id == CO_ASCII) {
         c->ascii = 1;
         return 1;
     }
-    c->p.hole_labels = c->p.has_hole_ball = 0;
-    if (strcmp(arg, "label") == 0) {
-        c->p.hole_labels = 1;
-        return 1;
-    }
-    if (strncmp(arg, "ball:", 5) != 0 ||
-        !cli_parse_reals(c->cm.cmd, "--hole-mask", arg + 5, c->p.hole_ball, 4, &k) || k != 4) {
-        cli_usage_error(c->cm.cmd, "--hole-mask: expected 'label' or 'ball:X,Y,Z,R' with R > 0, "
-                        "got '%s'", arg);
-        return 0;
-    }
-    c->p.has_hole_ball = 1;
-    return 1;
+    return cli_parse_hole_mask(c->cm.cmd, arg, &c->p.hole_labels, &c->p.has_hole_ball,
+                               c->p.hole_ball);
 }
 
 /* Parse and check the command line: 0 to go on, else the exit status. */

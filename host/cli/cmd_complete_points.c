@@ -78,25 +78,6 @@ static int set_what(relief_complete_points_params *p, relief_points_what want)
     return 1;
 }
 
-/* --hole-mask label | ball:X,Y,Z,R (R's range is the parameters'). */
-static int parse_hole_mask(const char *arg, relief_complete_points_params *p)
-{
-    int k = 0;
-    p->hole_labels = p->has_hole_ball = 0;
-    if (strcmp(arg, "label") == 0) {
-        p->hole_labels = 1;
-        return 1;
-    }
-    if (strncmp(arg, "ball:", 5) != 0 ||
-        !cli_parse_reals(cmd, "--hole-mask", arg + 5, p->hole_ball, 4, &k) || k != 4) {
-        cli_usage_error(cmd, "--hole-mask: expected 'label' or 'ball:X,Y,Z,R' with R > 0, got "
-                        "'%s'", arg);
-        return 0;
-    }
-    p->has_hole_ball = 1;
-    return 1;
-}
-
 /* --sample-region label | X0,Y0,Z0,X1,Y1,Z1 (the order is the parameters'). */
 static int parse_sample_region(const char *arg, relief_complete_points_params *p)
 {
@@ -125,7 +106,8 @@ static int take(void *ctx, int c, const char *arg)
     switch (c) {
     case CP_COLOUR_ONLY: return set_what(p, RELIEF_POINTS_COLOUR_ONLY);
     case CP_GEOMETRY_ONLY: return set_what(p, RELIEF_POINTS_GEOMETRY_ONLY);
-    case CP_HOLE_MASK: return parse_hole_mask(arg, p);
+    case CP_HOLE_MASK:
+        return cli_parse_hole_mask(cmd, arg, &p->hole_labels, &p->has_hole_ball, p->hole_ball);
     case CP_SAMPLE_REGION: return parse_sample_region(arg, p);
     case CP_MESH: pc->mesh = arg, p->mesh = 1; return 1;
     case CP_CLONE_FROM: pc->clone = arg; return 1;

@@ -49,7 +49,7 @@ typedef struct depth_args {
     cli_output outs[3]; /* -o, --points, --report */
 } depth_args;
 
-enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS };
+enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK };
 
 static const cli_own own[] = {
     {"scale", DF_SCALE, "S", "16-bit PNG: values per metre (default 5000, TUM and Kinect)"},
@@ -58,6 +58,8 @@ static const cli_own own[] = {
      "voxel IoU"},
     {"points", DF_POINTS, "OUT.ply", "(PCD) the repaired points, coloured where IN has "
      "colour, with a 'label' property: 1 for the filled ones"},
+    {"hole-mask", DF_HOLE_MASK, "WHAT", "(mesh) fill exactly the holes whose rims touch WHAT, "
+     "whatever their size: ball:X,Y,Z,R or label (the vertices with a non-zero PLY label)"},
     {NULL, 0, NULL, NULL}};
 
 static cli_spec spec(void)
@@ -93,6 +95,9 @@ static int take(void *ctx, int c, const char *arg)
     case DF_SCALE: return cli_parse_real("depth-fill", "--scale", arg, &a->scale);
     case DF_TRUTH: a->truth = arg; return 1;
     case DF_POINTS: a->points = arg; return 1;
+    case DF_HOLE_MASK:
+        return cli_parse_hole_mask("depth-fill", arg, &a->p.hole_labels, &a->p.has_hole_ball,
+                                   a->p.hole_ball);
     }
     return 0;
 }
@@ -247,6 +252,10 @@ static int image_mode(depth_args *a)
     memset(&f, 0, sizeof f);
     memset(&truth, 0, sizeof truth);
     memset(&rep, 0, sizeof rep);
+    if (a->p.has_hole_ball || a->p.hole_labels || a->p.solid || a->p.max_hole > 0.0)
+        return cli_usage_error("depth-fill", "%s: --hole-mask, --max-hole and --solid choose a "
+                               "mesh's holes; a depth image's are its missing pixels (--mask "
+                               "adds more)", a->in);
     st = read_frame(a, a->in, &f, &err);
     if (st == RELIEF_OK && a->cm.mask) {
         st = relief_image_read(a->cm.mask, read_limit(a), &mask, &err);

@@ -84,6 +84,25 @@ int cli_fail(const char *cmd, const relief_error *err)
     return relief_status_exit_code(err->status);
 }
 
+int cli_parse_hole_mask(const char *cmd, const char *arg, int *labels, int *has_ball,
+                        double ball[4])
+{
+    int k = 0;
+    *labels = *has_ball = 0;
+    if (strcmp(arg, "label") == 0) {
+        *labels = 1;
+        return 1;
+    }
+    if (strncmp(arg, "ball:", 5) != 0 ||
+        !cli_parse_reals(cmd, "--hole-mask", arg + 5, ball, 4, &k) || k != 4) {
+        cli_usage_error(cmd, "--hole-mask: expected 'label' or 'ball:X,Y,Z,R' with R > 0, got "
+                        "'%s'", arg);
+        return 0;
+    }
+    *has_ball = 1;
+    return 1;
+}
+
 int cli_usage_error(const char *cmd, const char *fmt, const char *arg)
 {
     fprintf(stderr, "relief %s: ", cmd);

@@ -172,6 +172,12 @@ typedef relief_status (*cli_write_fn)(void *ctx, size_t i, const char *tmp,
 relief_status cli_write_outputs(const cli_output *outs, size_t n, cli_write_fn write,
                                 void *ctx, relief_report_folder **folder, relief_error *err);
 
+/* --hole-mask label | ball:X,Y,Z,R, the hole model's selection (issue 40)
+ * in every command that fills holes: *labels 1, or *has_ball 1 and ball.
+ * 0 after saying what is wrong (R's range is the engine's to check). */
+int cli_parse_hole_mask(const char *cmd, const char *arg, int *labels, int *has_ball,
+                        double ball[4]);
+
 /* The extension of `path` with its dot ("" when none). */
 const char *cli_ext_of(const char *path);
 

@@ -15,7 +15,7 @@
 #include "grow/grow.h"
 #include "grow/hierarchy.h"
 #include "match/matcher.h"
-#include "points/holes.h"
+#include "mesh/holes.h"
 #include "report/measures.h"
 #include "report/pattern.h"
 #include "smooth/surface.h"
@@ -66,7 +66,7 @@ typedef struct relief_complete_run {
 } relief_complete_run;
 
 /* Over a primitive (not base smooth), on a capture with triangles: judge
- * the capture's boundary loops by max_hole and hole_ball (points/holes.h)
+ * the capture's boundary loops by max_hole and hole_ball (mesh/holes.h)
  * and make them the filter of the regions a fill of the holes completes
  * (smooth/surface.h); hole_ball turns fill auto into holes. */
 relief_status relief_complete_holes(relief_complete_run *r, relief_error *err);

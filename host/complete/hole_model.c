@@ -1,7 +1,7 @@
 /* The hole model over a primitive (issue 40): which of the uncovered
  * regions the capture's outline encloses are holes the user wants filled.
  * The capture's boundary loops are found and judged as complete-points
- * judges them (points/holes.h: max_hole, a hole ball, outer borders); a
+ * judges them (mesh/holes.h: max_hole, a hole ball, outer borders); a
  * lattice region is filled when most of its points lie within the reach of
  * a filled loop, the loop nearest each of them. */
 #include "complete/engine.h"

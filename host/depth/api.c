@@ -18,6 +18,9 @@
 #include "depth/fill_report.h"
 #include "depth/frame.h"
 #include "depth/mesh_fill.h"
+#include "depth/mesh_patch.h"
+#include "mesh/holes.h"
+#include "mesh/mesh.h"
 #include "depth/volume.h"
 #include "image/patch.h"
 
@@ -39,6 +42,10 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.membrane = RELIEF_MEMBRANE_AUTO;
     p.seam = 1;
     p.resolution = relief_mesh_fill_params_default().resolution;
+    p.solid = 0;
+    p.max_hole = 0.0;
+    p.has_hole_ball = p.hole_labels = 0;
+    memset(p.hole_ball, 0, sizeof p.hole_ball);
     p.seed = r.synth.seed;
     p.truth = NULL;
     p.run = relief_run_options_default();
@@ -71,6 +78,8 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
         st = check_flag("tileable", p->tileable, err);
     if (st == RELIEF_OK)
         st = check_flag("seam", p->seam, err);
+    if (st == RELIEF_OK)
+        st = check_flag("solid", p->solid, err);
     return st;
 }
 
@@ -101,6 +110,21 @@ relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *
     if (isnan(p->lambda) || p->lambda > 1e12)
         return relief_fail(err, RELIEF_E_RANGE, "lambda %g out of range: expected up to 1e12 "
                            "(<= 0: 8 x the capture's robust step)", p->lambda);
+    if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
+        return relief_fail(err, RELIEF_E_RANGE, "max_hole %g out of range: expected 0..1e30 "
+                           "(0: a quarter of the bounding box's diagonal)", p->max_hole);
+    if (p->has_hole_ball && !(isfinite(p->hole_ball[0]) && isfinite(p->hole_ball[1]) &&
+                              isfinite(p->hole_ball[2]) && p->hole_ball[3] > 0.0 &&
+                              isfinite(p->hole_ball[3])))
+        return relief_fail(err, RELIEF_E_RANGE, "hole_ball %g,%g,%g,%g out of range: expected "
+                           "a finite centre and a radius > 0", p->hole_ball[0], p->hole_ball[1],
+                           p->hole_ball[2], p->hole_ball[3]);
+    if (p->has_hole_ball && p->hole_labels)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_ball and hole_labels: give one");
+    if ((p->has_hole_ball || p->hole_labels || p->max_hole > 0.0) && p->solid)
+        return relief_fail(err, RELIEF_E_USAGE, "solid returns the whole solid: a hole "
+                           "selection (max_hole, hole_ball, hole_labels) chooses holes of the "
+                           "capture, without solid");
     if (p->resolution < 8 || p->resolution > 1024)
         return relief_fail(err, RELIEF_E_RANGE, "resolution %d out of range: expected 8..1024 "
                            "voxels", p->resolution);
@@ -443,10 +467,42 @@ static void report_mesh(const relief_mesh_fill_report *r, const relief_mesh_meas
     rep->seconds_synthesis = r->seconds_repair;
 }
 
+/* The capture's holes, judged as relief_complete_points judges them; the
+ * call is refused, before the work, when none is to be filled. */
+static relief_status mesh_holes(const relief_mesh *in, const relief_depth_fill_params *p,
+                                relief_hole_info *h, uint32_t **rim, relief_error *err)
+{
+    uint8_t *select = NULL;
+    relief_hole_rule rule;
+    relief_status st;
+    *rim = calloc(in->nv + 1, sizeof **rim);
+    if (p->hole_labels && !in->label)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the mesh has no labels (a PLY "
+                           "`label` property)");
+    if (!*rim || ((p->has_hole_ball || p->hole_labels) && !(select = calloc(in->nv + 1, 1))))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mesh's rims");
+    for (size_t v = 0; select && v < in->nv; ++v) {
+        double d2 = 0.0;
+        for (int k = 0; k < 3 && p->has_hole_ball; ++k)
+            d2 += (in->pos[3 * v + k] - p->hole_ball[k]) * (in->pos[3 * v + k] - p->hole_ball[k]);
+        select[v] = p->hole_labels ? in->label[v] != 0 : d2 <= p->hole_ball[3] * p->hole_ball[3];
+    }
+    rule.max_across = relief_hole_size_limit(in->pos, in->nv, p->max_hole);
+    rule.select = select;
+    st = relief_holes_mesh(in->pos, in->nv, in->tri, in->nt, &rule, *rim, h, err);
+    free(select);
+    if (st == RELIEF_OK && h->n_holes == 0)
+        st = relief_holes_none_filled(h, err);
+    return st;
+}
+
 relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_fill_params *p,
                                      const relief_mesh *truth, relief_mesh **out,
                                      relief_depth_fill_report *rep, relief_error *err)
 {
+    relief_hole_info holes;
+    relief_mesh_patch_report patch;
+    uint32_t *rim = NULL;
     relief_mesh_fill_params mp;
     relief_mesh_fill_report r;
     relief_mesh_measures m;
@@ -458,8 +514,15 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
     relief_status st = check_mesh_args(in, p, truth, out, err);
     if (st == RELIEF_OK)
         st = check_grid(in, p, truth != NULL, err);
-    if (st != RELIEF_OK)
+    memset(&holes, 0, sizeof holes);
+    memset(&patch, 0, sizeof patch);
+    if (st == RELIEF_OK && !p->solid)
+        st = mesh_holes(in, p, &holes, &rim, err);
+    if (st != RELIEF_OK) {
+        relief_hole_info_free(&holes);
+        free(rim);
         return st;
+    }
     memset(&local, 0, sizeof local);
     mp = relief_mesh_fill_params_default();
     mp.resolution = p->resolution;
@@ -470,21 +533,33 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
     /* The repair and the measures read the meshes and never write them. */
     if (st == RELIEF_OK)
         st = said(relief_mesh_depth_fill((relief_mesh *)in, &mp, scorer, &o, &r, err), &pr, err);
+    if (st == RELIEF_OK && !p->solid) {
+        relief_mesh *solid = o;
+        o = NULL;
+        st = relief_mesh_patch_holes(in, solid, r.grid.h, &holes, rim, &o, &patch, err);
+        relief_mesh_destroy(solid);
+    }
     if (st == RELIEF_OK && truth)
         st = relief_mesh_measure(o, (relief_mesh *)truth, &r.grid, &m, err);
     relief_patch_scorer_destroy(scorer);
     if (st == RELIEF_OK) {
         report_mesh(&r, truth ? &m : NULL, o, &local);
         local.seconds_total = relief_seconds() - t0;
-        local.json = relief_depth_mesh_json(&p->run, &mp, &r, truth ? &m : NULL, &local);
+        local.json = relief_depth_mesh_json(&p->run, &mp, &r, truth ? &m : NULL,
+                                            p->solid ? NULL : &holes,
+                                            p->solid ? NULL : &patch, &local);
         if (!local.json)
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the report");
     }
     if (st != RELIEF_OK) {
         relief_mesh_destroy(o);
         free(local.json);
+        relief_hole_info_free(&holes);
+        free(rim);
         return st;
     }
+    relief_hole_info_free(&holes);
+    free(rim);
     relief_progress_step(&pr, 1.0);
     *out = o;
     if (rep)

@@ -20,6 +20,8 @@ typedef struct mesh_ctx {
     const relief_mesh_fill_params *p;
     const relief_mesh_fill_report *r;
     const relief_mesh_measures *m;
+    const relief_hole_info *holes;        /* NULL: the whole solid */
+    const relief_mesh_patch_report *patch;
     const relief_depth_fill_report *rep;
 } mesh_ctx;
 
@@ -158,6 +160,21 @@ static void write_mesh(relief_json *j, const void *ctx)
     rj_int(j, "by_membrane", (long long)r->by_membrane);
     rj_int(j, "unreached", (long long)r->unreached);
     rj_end_object(j);
+    rj_string(j, "output", c->holes ? "the capture, its holes filled" : "the solid");
+    if (c->holes) {
+        relief_holes_json(j, "holes", c->holes);
+        rj_begin_object(j, "patches");
+        rj_int(j, "holes_patched", (long long)c->patch->holes_patched);
+        rj_int(j, "holes_unpatched", (long long)c->patch->holes_unpatched);
+        rj_int(j, "inner_loops_capped", (long long)c->patch->inner_loops_capped);
+        rj_int(j, "inner_loops_open", (long long)c->patch->inner_loops_open);
+        rj_int(j, "vertices_added", (long long)c->patch->vertices_added);
+        rj_int(j, "patch_triangles", (long long)c->patch->patch_triangles);
+        rj_int(j, "strip_triangles", (long long)c->patch->strip_triangles);
+        rj_int(j, "mended_triangles", (long long)c->patch->mended_triangles);
+        rj_int(j, "mended_vertices", (long long)c->patch->mended_vertices);
+        rj_end_object(j);
+    }
     rj_begin_object(j, "output_mesh");
     rj_int(j, "vertices", (long long)c->rep->vertices);
     rj_int(j, "triangles", (long long)c->rep->triangles);
@@ -181,8 +198,10 @@ static void write_mesh(relief_json *j, const void *ctx)
 
 char *relief_depth_mesh_json(const relief_run_options *run, const relief_mesh_fill_params *p,
                              const relief_mesh_fill_report *r, const relief_mesh_measures *m,
+                             const relief_hole_info *holes,
+                             const relief_mesh_patch_report *patch,
                              const relief_depth_fill_report *rep)
 {
-    mesh_ctx c = {run, p, r, m, rep};
+    mesh_ctx c = {run, p, r, m, holes, patch, rep};
     return rj_render(write_mesh, &c, "\n");
 }

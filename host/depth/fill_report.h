@@ -11,6 +11,7 @@
 #include "relief/relief.h"
 #include "depth/depth_fill.h"
 #include "depth/mesh_fill.h"
+#include "depth/mesh_patch.h"
 
 /* rep: the public report, filled but for json (backend, device, note,
  * seconds_total); run: the names of the input and output. */
@@ -20,9 +21,11 @@ char *relief_depth_fill_json(const relief_run_options *run, int width, int heigh
                              const relief_depth_measures *m,
                              const relief_depth_fill_report *rep);
 
-/* m: NULL without a truth. */
+/* m: NULL without a truth; holes and patch: NULL for the whole solid. */
 char *relief_depth_mesh_json(const relief_run_options *run, const relief_mesh_fill_params *p,
                              const relief_mesh_fill_report *r, const relief_mesh_measures *m,
+                             const relief_hole_info *holes,
+                             const relief_mesh_patch_report *patch,
                              const relief_depth_fill_report *rep);
 
 #endif

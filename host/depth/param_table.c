@@ -42,6 +42,12 @@ static const relief_param table[] = {
             "synthesised)"),
     RP_INT(T, resolution, "N", 8, 1024, "meshes: voxels along the box's longest side, "
            "8..1024 (default 256)"),
+    RP_FLAG(T, solid, "meshes: return the whole repaired solid, every opening capped and "
+            "the inside filled (paper 003; default: the capture with only its holes "
+            "filled, the hole model's: its mouths and borders stay open)"),
+    RP_REAL(T, max_hole, "L", 0, 1e30, "meshes: holes whose rims are wider than L (mesh "
+            "units) are openings by design (a vessel's mouth) and stay open; 0 (default): "
+            "a quarter of the bounding box's diagonal"),
     RP_SEED(T, seed, "the near-minimum draw's seed (default 1)"),
     RP_BACKEND(T, "auto (default: OpenCL on a GPU or accelerator, else scalar), scalar or "
                "opencl; host runs as scalar. Outputs are identical"),

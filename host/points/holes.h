@@ -1,114 +1,15 @@
-/* Where a point set has holes (issue 21): the rims of the holes, numbered.
- *
- * A mesh's holes are its boundary loops (edges of one triangle). A bare
- * point set's rim points are those whose neighbourhood is one-sided: the
- * k neighbours projected on the point's tangent plane leave an angular gap
- * wider than `gap` (radians; relief uses pi/2, Bendels et al. 2006's
- * angle criterion); rim points joined through the k-NN graph form one hole.
- *
- * Not every rim is a hole: the outer border of an open scan is one too,
- * and so is an opening the object has by design (a vase's mouth). Under
- * the rule (relief_hole_rule), a rim is filled unless it is too small, an
- * outer border, or wider than max_across; or, given a selection, exactly
- * when it has a selected point.
- *
- * A rim is taken for an outer border, and left open, when the ball about
- * its centroid through its farthest rim point holds more than half of the
- * points of its connected piece (through the triangles, or the k-NN graph;
- * a hole's ball holds few; a border's holds its piece, a stray fragment's
- * included). Rims of fewer than 3 points (a mesh's) or k points (a point set's: an
- * irregular sampling, a laser scan's or a random one, leaves one-sided
- * gaps of a few points everywhere; a hole with fewer than k rim points is
- * under about 2.5 spacings across) are dropped as noise.
- *
- * Output: rim[i] = 0 off any rim, h in 1..n_holes on hole h's rim. */
+/* A bare point set's holes (issue 21): the mesh's hole model
+ * (mesh/holes.h) on rims found from the points' neighbourhoods. */
 #ifndef RELIEF_HOST_POINTS_HOLES_H
 #define RELIEF_HOST_POINTS_HOLES_H
 
-#include <stddef.h>
-#include <stdint.h>
-
-#include "relief/relief.h"
+#include "mesh/holes.h"
 #include "points/analysis.h"
-
-/* What became of a rim (the hole model of issue 40). */
-typedef enum relief_rim_fate {
-    RELIEF_RIM_FILLED = 1,   /* a hole, filled */
-    RELIEF_RIM_TOO_SMALL,    /* too few rim points: noise, left */
-    RELIEF_RIM_BORDER,       /* the capture's outer border, left open */
-    RELIEF_RIM_TOO_LARGE,    /* wider than the rule's max_across: an opening
-                                the capture has by design (a vessel's mouth or
-                                base, a bowl's opening), left open */
-    RELIEF_RIM_NOT_SELECTED  /* a selection was given and misses it */
-} relief_rim_fate;
-
-/* The name the report uses: "filled", "too_small", "border", "too_large",
- * "not_selected". */
-const char *relief_rim_fate_name(relief_rim_fate fate);
-
-typedef struct relief_rim {
-    uint32_t points;   /* rim points (a mesh's: its boundary vertices) */
-    double across;     /* twice the largest distance of a rim point from the
-                          rim's centroid (the diameter, for a round hole), in
-                          the input's units */
-    double centre[3];  /* the rim points' centroid */
-    relief_rim_fate fate;
-} relief_rim;
-
-/* Which rims are filled. */
-typedef struct relief_hole_rule {
-    double max_across;     /* a rim wider than this is left open (too_large);
-                              0 or less: no limit */
-    const uint8_t *select; /* NULL, or n entries: only the rims with a non-zero
-                              point are filled, whatever their size or border */
-} relief_hole_rule;
-
-typedef struct relief_hole_info {
-    uint32_t n_holes;      /* holes kept */
-    uint32_t n_borders;    /* rims taken for an outer border and left open */
-    uint32_t n_dropped;    /* rims too small */
-    uint32_t n_too_large;  /* rims wider than the rule's max_across */
-    uint32_t n_not_selected; /* rims the selection misses */
-    double max_across;     /* the rule's, as applied */
-    relief_rim *rims;      /* n_rims, every rim in label order (a kept rim h
-                              is the h-th filled one) (owned) */
-    uint32_t n_rims;
-} relief_hole_info;
-
-/* Free the rims and zero the info. */
-void relief_hole_info_free(relief_hole_info *info);
-
-/* The widest rim filled by default: max_hole when > 0, else a quarter of
- * the diagonal of the n points' bounding box. */
-double relief_hole_size_limit(const double *pos, size_t n, double max_hole);
-
-/* No hole is filled: RELIEF_E_RANGE with a one-line message saying what
- * was found, the widest rims left open and the max_hole or hole_ball that
- * would fill each. */
-relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err);
-
-/* The report's object `name`: the counts by fate, the max_hole applied and
- * every rim (its points, width, centre and fate) in `list`. */
-struct relief_json;
-void relief_holes_json(struct relief_json *j, const char *name, const relief_hole_info *h);
-
-/* From a mesh's triangles (nt x 3 indices into n vertices). */
-relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
-                                const relief_hole_rule *rule, uint32_t *rim,
-                                relief_hole_info *info, relief_error *err);
 
 /* From a bare point set with oriented normals and its k-NN graph. */
 relief_status relief_holes_points(const double *pos, const double *nrm,
                                   const relief_knn_graph *g, double gap,
                                   const relief_hole_rule *rule, uint32_t *rim,
                                   relief_hole_info *info, relief_error *err);
-
-/* For each of nq query points (nq x 3; pos itself when query is NULL, nq
- * then ignored and n used), the distance dist (nq) to the nearest of the n
- * points with rim[i] != 0 and, when `nearest` (nq) is not NULL, that
- * point's index. INFINITY and UINT32_MAX when no point is on a rim. */
-relief_status relief_rim_distance(const double *pos, size_t n, const uint32_t *rim,
-                                  const double *query, size_t nq, double *dist,
-                                  uint32_t *nearest, relief_error *err);
 
 #endif

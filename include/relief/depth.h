@@ -165,6 +165,22 @@ typedef struct relief_depth_fill_params {
                             capture's slope; 0: as synthesised */
     int resolution;      /* meshes: voxels along the box's longest side; 256,
                             [8, 1024] */
+    /* meshes: what comes back (issue 40). The six depth images make a
+     * closed solid (every opening capped, the inside filled): solid = 1
+     * returns it (paper 003, section 2). solid = 0 (default) returns the
+     * capture with only its holes filled, chosen by the hole model of
+     * relief_complete_points (max_hole, a selection): the solid's skin over
+     * each, zipped to its rim; labels 1 on what was added. */
+    int solid;
+    double max_hole;     /* a hole whose rim is wider than this (mesh units)
+                            is an opening by design (a vessel's mouth) and
+                            stays open; 0 (default): a quarter of the
+                            bounding box's diagonal; [0, 1e30] */
+    int has_hole_ball;   /* 1: fill exactly the holes whose rims have a vertex
+                            within hole_ball (X, Y, Z, R > 0) */
+    double hole_ball[4];
+    int hole_labels;     /* 1: ... a vertex labelled non-zero (the mesh must
+                            have labels); not with has_hole_ball */
     uint32_t seed;       /* the near-minimum draw; 1 */
     const relief_depth_image *truth; /* NULL, or the complete frame (mesh: use
                             relief_depth_fill_mesh's truth): the report

@@ -121,7 +121,7 @@ refused "$lim" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/r
 refused "$lim" -- "$relief" complete-points "$in/pw.ply" -o "$w/out.ply" --max-hole 10 --max-seconds 1e-9 --quiet
 refused "$lim" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --max-seconds 1e-9 --quiet
 refused "$lim" -- "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --max-seconds 1e-9 --quiet
-refused "$lim" -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --resolution 24 --max-seconds 1e-9 --quiet
+refused "$lim" -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --resolution 24 --solid --max-seconds 1e-9 --quiet
 refused "--max-seconds: '-1' is not a number of seconds >= 0" -- "$relief" complete "$in/pw.ply" -o "$w/out.ply" --max-seconds -1
 refused "--max-seconds: 'soon' is not a number" -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --max-seconds soon
 
@@ -144,7 +144,7 @@ for s in 1 2 3 4 5 6; do
 done
 for s in 1 2 3 4; do
   failed $s -- "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --report "$w/rep.json" --quiet
-  failed $s -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --report "$w/rep.json" --resolution 24 --quiet
+  failed $s -- "$relief" depth-fill "$in/sd.ply" -o "$w/out.ply" --report "$w/rep.json" --resolution 24 --solid --quiet
   failed $s -- "$relief" smooth "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --quiet
   failed $s -- "$relief" cut "$in/pw.ply" -o "$w/out.ply" --truth "$w/truth.ply" --ball 0,0,0,0.3
   failed $s -- "$relief" synth plane-waves -o "$w/out.ply" --truth "$w/truth.ply"

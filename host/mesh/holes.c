@@ -1,0 +1,352 @@
+/* Hole rims of meshes and of bare point sets (holes.h). */
+#include "mesh/holes.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/error.h"
+#include "base/json.h"
+#include "base/knn.h"
+#include "base/union_find.h"
+#include "base/vec3.h"
+
+
+static const char *const fate_names[] = {"", "filled", "too_small", "border", "too_large",
+                                         "not_selected"};
+
+const char *relief_rim_fate_name(relief_rim_fate fate)
+{
+    return fate >= RELIEF_RIM_FILLED && fate <= RELIEF_RIM_NOT_SELECTED ? fate_names[fate]
+                                                                          : "unknown";
+}
+
+void relief_hole_info_free(relief_hole_info *info)
+{
+    if (!info)
+        return;
+    free(info->rims);
+    memset(info, 0, sizeof *info);
+}
+
+/* The rule of holes.h, in its order: noise, then a selection when there is
+ * one, else the border, then the size. */
+static relief_rim_fate rim_fate(const relief_hole_rule *rule, int too_small, int selected,
+                                int border, double across)
+{
+    if (too_small)
+        return RELIEF_RIM_TOO_SMALL;
+    if (rule->select)
+        return selected ? RELIEF_RIM_FILLED : RELIEF_RIM_NOT_SELECTED;
+    if (border)
+        return RELIEF_RIM_BORDER;
+    if (rule->max_across > 0.0 && across > rule->max_across)
+        return RELIEF_RIM_TOO_LARGE;
+    return RELIEF_RIM_FILLED;
+}
+
+static void count_fate(relief_hole_info *info, relief_rim_fate fate)
+{
+    switch (fate) {
+    case RELIEF_RIM_FILLED: ++info->n_holes; break;
+    case RELIEF_RIM_TOO_SMALL: ++info->n_dropped; break;
+    case RELIEF_RIM_BORDER: ++info->n_borders; break;
+    case RELIEF_RIM_TOO_LARGE: ++info->n_too_large; break;
+    case RELIEF_RIM_NOT_SELECTED: ++info->n_not_selected; break;
+    }
+}
+
+/* Number the components of the marked points (parent: a union-find over
+ * all n), keep the holes (the border rule, the size rule of holes.h), and
+ * write rim. */
+relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mark,
+                                uint32_t *parent, uint32_t *piece, double min_rim,
+                                const relief_hole_rule *rule, uint32_t *rim,
+                                relief_hole_info *info, relief_error *err)
+{
+    size_t *piece_size = calloc(n + 1, sizeof *piece_size);
+    uint32_t *comp = malloc(n * sizeof *comp), nc = 0;
+    double *acc = NULL; /* per component: centroid sum (3), count, radius */
+    memset(info, 0, sizeof *info);
+    if (!comp || !piece_size) {
+        free(comp), free(piece_size);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+    }
+    for (size_t i = 0; i < n; ++i) /* piece[i]: its connected piece's root */
+        piece[i] = relief_uf_find(piece, (uint32_t)i);
+    for (size_t i = 0; i < n; ++i)
+        ++piece_size[piece[i]];
+    for (size_t i = 0; i < n; ++i)
+        comp[i] = UINT32_MAX;
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            uint32_t r = relief_uf_find(parent, (uint32_t)i);
+            if (comp[r] == UINT32_MAX)
+                comp[r] = nc++;
+            comp[i] = comp[r];
+        }
+    acc = calloc((size_t)nc * 5 + 1, sizeof *acc);
+    if (!acc) {
+        free(comp), free(piece_size);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            double *a = acc + 5 * (size_t)comp[i];
+            for (int c = 0; c < 3; ++c)
+                a[c] += pos[3 * i + c];
+            a[3] += 1.0;
+        }
+    for (uint32_t h = 0; h < nc; ++h)
+        for (int c = 0; c < 3; ++c)
+            acc[5 * (size_t)h + c] /= acc[5 * (size_t)h + 3];
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            double *a = acc + 5 * (size_t)comp[i], d[3];
+            sub3(pos + 3 * i, a, d);
+            a[4] = fmax(a[4], sqrt(dot3(d, d)));
+        }
+    {
+        uint32_t *keep = calloc((size_t)nc + 1, sizeof *keep);
+        size_t *inside = calloc((size_t)nc + 1, sizeof *inside);
+        uint32_t *rim_piece = calloc((size_t)nc + 1, sizeof *rim_piece);
+        uint8_t *selected = calloc((size_t)nc + 1, 1);
+        info->rims = calloc((size_t)nc + 1, sizeof *info->rims);
+        if (!keep || !inside || !rim_piece || !selected || !info->rims) {
+            free(keep), free(inside), free(rim_piece), free(selected), free(comp), free(acc),
+                free(piece_size);
+            relief_hole_info_free(info);
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
+        }
+        /* O(n x rims): rims are few (tens); a scan with thousands of rims is
+         * noise the size rule drops first. */
+        for (size_t i = 0; i < n; ++i)
+            if (mark[i])
+                rim_piece[comp[i]] = piece[i];
+        for (uint32_t h = 0; h < nc; ++h) {
+            const double *a = acc + 5 * (size_t)h;
+            if (a[3] < min_rim)
+                continue;
+            for (size_t i = 0; i < n; ++i) {
+                double d[3];
+                if (piece[i] != rim_piece[h])
+                    continue;
+                sub3(pos + 3 * i, a, d);
+                inside[h] += dot3(d, d) <= a[4] * a[4];
+            }
+        }
+        for (size_t i = 0; rule->select && i < n; ++i)
+            if (mark[i] && rule->select[i])
+                selected[comp[i]] = 1;
+        info->max_across = rule->max_across > 0.0 ? rule->max_across : 0.0;
+        for (uint32_t h = 0; h < nc; ++h) {
+            const double *a = acc + 5 * (size_t)h;
+            relief_rim *r = info->rims + h;
+            r->points = (uint32_t)a[3];
+            r->across = 2.0 * a[4];
+            memcpy(r->centre, a, sizeof r->centre);
+            r->fate = rim_fate(rule, a[3] < min_rim, selected[h],
+                               2 * inside[h] > piece_size[rim_piece[h]], r->across);
+            count_fate(info, r->fate);
+            if (r->fate == RELIEF_RIM_FILLED)
+                keep[h] = info->n_holes;
+        }
+        info->n_rims = nc;
+        for (size_t i = 0; i < n; ++i)
+            rim[i] = mark[i] ? keep[comp[i]] : 0;
+        free(keep);
+        free(inside);
+        free(rim_piece);
+        free(selected);
+    }
+    free(comp);
+    free(acc);
+    free(piece_size);
+    return RELIEF_OK;
+}
+
+static int u64_cmp(const void *x, const void *y)
+{
+    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
+    return (a > b) - (a < b);
+}
+
+relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
+                                const relief_hole_rule *rule, uint32_t *rim,
+                                relief_hole_info *info, relief_error *err)
+{
+    /* Boundary edges: an undirected edge met once among the 3 nt. */
+    size_t m = 3 * nt;
+    uint64_t *e = malloc(m * sizeof *e + 1);
+    uint32_t *parent = malloc(n * sizeof *parent + 1), *piece = malloc(n * sizeof *piece + 1);
+    uint8_t *mark = calloc(n + 1, 1);
+    relief_status st;
+
+    if (!e || !parent || !mark || !piece) {
+        free(e), free(parent), free(mark), free(piece);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the boundary of %zu triangles",
+                           nt);
+    }
+    for (size_t t = 0; t < nt; ++t)
+        for (int c = 0; c < 3; ++c) {
+            uint64_t a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
+            e[3 * t + c] = a < b ? (a << 32 | b) : (b << 32 | a);
+        }
+    qsort(e, m, sizeof *e, u64_cmp);
+    for (size_t i = 0; i < n; ++i)
+        parent[i] = piece[i] = (uint32_t)i;
+    for (size_t t = 0; t < m; ++t)
+        relief_uf_join(piece, (uint32_t)(e[t] >> 32), (uint32_t)e[t]);
+    for (size_t i = 0; i < m;) {
+        size_t j = i;
+        while (j < m && e[j] == e[i])
+            ++j;
+        if (j - i == 1) {
+            uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+            mark[a] = mark[b] = 1;
+            relief_uf_join(parent, a, b);
+        }
+        i = j;
+    }
+    st = relief_holes_label(pos, n, mark, parent, piece, 3.0, rule, rim, info, err);
+    free(e), free(parent), free(mark), free(piece);
+    return st;
+}
+
+relief_status relief_rim_distance(const double *pos, size_t n, const uint32_t *rim,
+                                  const double *query, size_t nq, double *dist,
+                                  uint32_t *nearest, relief_error *err)
+{
+    struct FLANNParameters fp = relief_knn_exact_params();
+    size_t m = 0;
+    double *rp = NULL, *d2 = NULL;
+    uint32_t *which = NULL;
+    int *idx = NULL;
+    flann_index_t index = NULL;
+    float speedup;
+    relief_status st = RELIEF_OK;
+
+    if (!query) {
+        query = pos;
+        nq = n;
+    }
+    for (size_t i = 0; i < n; ++i)
+        m += rim[i] != 0;
+    if (!m) {
+        for (size_t i = 0; i < nq; ++i) {
+            dist[i] = INFINITY;
+            if (nearest)
+                nearest[i] = UINT32_MAX;
+        }
+        return RELIEF_OK;
+    }
+    rp = malloc(m * 3 * sizeof *rp);
+    which = malloc(m * sizeof *which);
+    idx = malloc((nq + 1) * sizeof *idx);
+    d2 = malloc((nq + 1) * sizeof *d2);
+    if (!rp || !which || !idx || !d2) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu rim points", m);
+        goto done;
+    }
+    m = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (rim[i]) {
+            memcpy(rp + 3 * m, pos + 3 * i, 3 * sizeof *rp);
+            which[m++] = (uint32_t)i;
+        }
+    index = flann_build_index_double(rp, (int)m, 3, &speedup, &fp);
+    if (!index) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu rim points", m);
+        goto done;
+    }
+    if (nq && flann_find_nearest_neighbors_index_double(index, (double *)query, (int)nq, idx, d2,
+                                                        1, &fp) != 0) {
+        st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN's rim search failed");
+        goto done;
+    }
+    for (size_t i = 0; i < nq; ++i) {
+        dist[i] = sqrt(d2[i]);
+        if (nearest)
+            nearest[i] = which[idx[i]];
+    }
+done:
+    if (index)
+        flann_free_index_double(index, &fp);
+    free(rp), free(which), free(idx), free(d2);
+    return st;
+}
+
+/* The widest rim filled: max_hole, or by default a quarter of the
+ * diagonal of the points' bounding box. Openings by design are wider (a
+ * vase's mouth or base: 0.30 to 0.57 of it on the ggg_sfm captures), the
+ * holes a capture misses or a user cuts narrower (at most 0.22 there). */
+double relief_hole_size_limit(const double *pos, size_t n, double max_hole)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    if (max_hole > 0.0)
+        return max_hole;
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c)
+            lo[c] = fmin(lo[c], pos[3 * i + c]), hi[c] = fmax(hi[c], pos[3 * i + c]);
+    return n ? 0.25 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                           (hi[2] - lo[2]) * (hi[2] - lo[2]))
+             : 0.0;
+}
+
+/* No hole is filled: say what was found, the widest rims left open and
+ * what would fill each, on one line. */
+relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err)
+{
+    char list[400] = "";
+    size_t len = 0;
+    uint8_t *shown = calloc(h->n_rims + 1, 1);
+    for (int k = 0; k < 3 && shown; ++k) {
+        uint32_t best = UINT32_MAX;
+        for (uint32_t r = 0; r < h->n_rims; ++r)
+            if (!shown[r] && h->rims[r].fate != RELIEF_RIM_TOO_SMALL &&
+                (best == UINT32_MAX || h->rims[r].across > h->rims[best].across))
+                best = r;
+        if (best == UINT32_MAX)
+            break;
+        shown[best] = 1;
+        const relief_rim *r = h->rims + best;
+        char larger[48] = "";
+        if (r->fate == RELIEF_RIM_TOO_LARGE)
+            snprintf(larger, sizeof larger, "max_hole %.4g or ", 1.01 * r->across);
+        len += (size_t)snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
+                                "; %s rim of %u points, %.4g across at (%.4g, %.4g, %.4g): "
+                                "%shole_ball %.4g,%.4g,%.4g,%.4g fills it",
+                                relief_rim_fate_name(r->fate), r->points, r->across,
+                                r->centre[0], r->centre[1], r->centre[2], larger, r->centre[0],
+                                r->centre[1], r->centre[2], 0.6 * r->across);
+    }
+    free(shown);
+    return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole to fill among %u rim(s) "
+                       "(%u outer border(s), %u wider than max_hole %.4g, %u not selected, %u "
+                       "too small)%s", h->n_rims, h->n_borders, h->n_too_large,
+                       h->max_across, h->n_not_selected, h->n_dropped, list);
+}
+
+void relief_holes_json(relief_json *j, const char *name, const relief_hole_info *h)
+{
+    rj_begin_object(j, name);
+    rj_int(j, "filled", h->n_holes);
+    rj_int(j, "outer_borders", h->n_borders);
+    rj_int(j, "too_small", h->n_dropped);
+    rj_int(j, "too_large", h->n_too_large);
+    rj_int(j, "not_selected", h->n_not_selected);
+    rj_number(j, "max_hole", h->max_across);
+    rj_begin_array(j, "list");
+    for (uint32_t i = 0; i < h->n_rims; ++i) {
+        const relief_rim *m = h->rims + i;
+        rj_begin_object(j, NULL);
+        rj_int(j, "rim_points", m->points);
+        rj_number(j, "across", m->across);
+        rj_vec3(j, "centre", m->centre);
+        rj_string(j, "fate", relief_rim_fate_name(m->fate));
+        rj_end_object(j);
+    }
+    rj_end_array(j);
+    rj_end_object(j);
+}
