@@ -53,35 +53,13 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
 {
     const relief_mesh *c = r->capture;
     const relief_complete_params *cp = r->cp;
-    uint8_t *select = NULL;
-    relief_hole_rule rule;
+    const int selected = cp->has_hole_ball || cp->hole_labels;
     relief_status st;
     uint32_t h = 0;
-    int selected;
     if (c->nt == 0 || cp->base == RELIEF_BASE_SMOOTH)
         return RELIEF_OK;
-    if (cp->hole_labels && !c->label)
-        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the capture has no labels (a "
-                           "PLY `label` property)");
-    r->rim = calloc(c->nv ? c->nv : 1, sizeof *r->rim);
-    if (!r->rim || ((cp->has_hole_ball || cp->hole_labels) &&
-                    !(select = calloc(c->nv ? c->nv : 1, 1)))) {
-        free(select);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's rims");
-    }
-    for (size_t v = 0; select && cp->hole_labels && v < c->nv; ++v)
-        select[v] = c->label[v] != 0;
-    for (size_t v = 0; select && cp->has_hole_ball && v < c->nv; ++v) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3; ++k)
-            d2 += (c->pos[3 * v + k] - cp->hole_ball[k]) * (c->pos[3 * v + k] - cp->hole_ball[k]);
-        select[v] = d2 <= cp->hole_ball[3] * cp->hole_ball[3];
-    }
-    rule.max_across = relief_hole_size_limit(c->pos, c->nv, cp->max_hole);
-    rule.select = select;
-    st = relief_holes_mesh(c->pos, c->nv, c->tri, c->nt, &rule, r->rim, &r->holes, err);
-    selected = select != NULL;
-    free(select);
+    st = relief_holes_of_mesh(c, cp->max_hole, cp->hole_labels, cp->has_hole_ball,
+                              cp->hole_ball, &r->rim, &r->holes, err);
     if (st != RELIEF_OK)
         return st;
     r->rim_index = malloc((r->holes.n_holes + 1) * sizeof *r->rim_index);

@@ -66,12 +66,8 @@ static relief_status validate_own(const relief_complete_params *p, relief_error 
     if (!(p->max_growth >= 0.0 && isfinite(p->max_growth)))
         return relief_fail(err, RELIEF_E_RANGE, "max_growth %g out of range: expected targets "
                            "per captured vertex >= 0 (0: no limit)", p->max_growth);
-    if (p->has_hole_ball && !(isfinite(p->hole_ball[0]) && isfinite(p->hole_ball[1]) &&
-                              isfinite(p->hole_ball[2]) && p->hole_ball[3] > 0.0 &&
-                              isfinite(p->hole_ball[3])))
-        return relief_fail(err, RELIEF_E_RANGE, "hole_ball %g,%g,%g,%g out of range: expected "
-                           "a finite centre and a radius > 0", p->hole_ball[0], p->hole_ball[1],
-                           p->hole_ball[2], p->hole_ball[3]);
+    if (p->has_hole_ball && relief_hole_ball_check("hole_ball", p->hole_ball, err) != RELIEF_OK)
+        return RELIEF_E_RANGE;
     if (p->has_hole_ball && p->hole_labels)
         return relief_fail(err, RELIEF_E_USAGE, "hole_ball and hole_labels: give one");
     if ((p->has_hole_ball || p->hole_labels) && p->fill == RELIEF_FILL_WHOLE)

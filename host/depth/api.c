@@ -113,12 +113,8 @@ relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *
     if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
         return relief_fail(err, RELIEF_E_RANGE, "max_hole %g out of range: expected 0..1e30 "
                            "(0: a quarter of the bounding box's diagonal)", p->max_hole);
-    if (p->has_hole_ball && !(isfinite(p->hole_ball[0]) && isfinite(p->hole_ball[1]) &&
-                              isfinite(p->hole_ball[2]) && p->hole_ball[3] > 0.0 &&
-                              isfinite(p->hole_ball[3])))
-        return relief_fail(err, RELIEF_E_RANGE, "hole_ball %g,%g,%g,%g out of range: expected "
-                           "a finite centre and a radius > 0", p->hole_ball[0], p->hole_ball[1],
-                           p->hole_ball[2], p->hole_ball[3]);
+    if (p->has_hole_ball && relief_hole_ball_check("hole_ball", p->hole_ball, err) != RELIEF_OK)
+        return RELIEF_E_RANGE;
     if (p->has_hole_ball && p->hole_labels)
         return relief_fail(err, RELIEF_E_USAGE, "hole_ball and hole_labels: give one");
     if ((p->has_hole_ball || p->hole_labels || p->max_hole > 0.0) && p->solid)
@@ -472,25 +468,8 @@ static void report_mesh(const relief_mesh_fill_report *r, const relief_mesh_meas
 static relief_status mesh_holes(const relief_mesh *in, const relief_depth_fill_params *p,
                                 relief_hole_info *h, uint32_t **rim, relief_error *err)
 {
-    uint8_t *select = NULL;
-    relief_hole_rule rule;
-    relief_status st;
-    *rim = calloc(in->nv + 1, sizeof **rim);
-    if (p->hole_labels && !in->label)
-        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the mesh has no labels (a PLY "
-                           "`label` property)");
-    if (!*rim || ((p->has_hole_ball || p->hole_labels) && !(select = calloc(in->nv + 1, 1))))
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mesh's rims");
-    for (size_t v = 0; select && v < in->nv; ++v) {
-        double d2 = 0.0;
-        for (int k = 0; k < 3 && p->has_hole_ball; ++k)
-            d2 += (in->pos[3 * v + k] - p->hole_ball[k]) * (in->pos[3 * v + k] - p->hole_ball[k]);
-        select[v] = p->hole_labels ? in->label[v] != 0 : d2 <= p->hole_ball[3] * p->hole_ball[3];
-    }
-    rule.max_across = relief_hole_size_limit(in->pos, in->nv, p->max_hole);
-    rule.select = select;
-    st = relief_holes_mesh(in->pos, in->nv, in->tri, in->nt, &rule, *rim, h, err);
-    free(select);
+    relief_status st = relief_holes_of_mesh(in, p->max_hole, p->hole_labels, p->has_hole_ball,
+                                            p->hole_ball, rim, h, err);
     if (st == RELIEF_OK && h->n_holes == 0)
         st = relief_holes_none_filled(h, err);
     return st;

@@ -11,6 +11,7 @@
 #include "base/knn.h"
 #include "base/union_find.h"
 #include "base/vec3.h"
+#include "mesh/mesh.h"
 
 
 static const char *const fate_names[] = {"", "filled", "too_small", "border", "too_large",
@@ -349,4 +350,47 @@ void relief_holes_json(relief_json *j, const char *name, const relief_hole_info 
     }
     rj_end_array(j);
     rj_end_object(j);
+}
+
+relief_status relief_hole_ball_check(const char *name, const double ball[4],
+                                     relief_error *err)
+{
+    if (isfinite(ball[0]) && isfinite(ball[1]) && isfinite(ball[2]) && ball[3] > 0.0 &&
+        isfinite(ball[3]))
+        return RELIEF_OK;
+    return relief_fail(err, RELIEF_E_RANGE, "%s %g,%g,%g,%g out of range: expected a finite "
+                       "centre and a radius > 0", name, ball[0], ball[1], ball[2], ball[3]);
+}
+
+relief_status relief_holes_of_mesh(const relief_mesh *m, double max_hole, int labels,
+                                   int has_ball, const double ball[4], uint32_t **rim,
+                                   relief_hole_info *info, relief_error *err)
+{
+    uint8_t *select = NULL;
+    relief_hole_rule rule;
+    relief_status st;
+    memset(info, 0, sizeof *info);
+    if (labels && !m->label)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the mesh has no labels (a PLY "
+                           "`label` property)");
+    *rim = calloc(m->nv + 1, sizeof **rim);
+    if (!*rim || ((labels || has_ball) && !(select = calloc(m->nv + 1, 1)))) {
+        free(*rim);
+        *rim = NULL;
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mesh's rims");
+    }
+    for (size_t v = 0; select && v < m->nv; ++v) {
+        double d[3];
+        sub3(m->pos + 3 * v, ball, d);
+        select[v] = labels ? m->label[v] != 0 : dot3(d, d) <= ball[3] * ball[3];
+    }
+    rule.max_across = relief_hole_size_limit(m->pos, m->nv, max_hole);
+    rule.select = select;
+    st = relief_holes_mesh(m->pos, m->nv, m->tri, m->nt, &rule, *rim, info, err);
+    free(select);
+    if (st != RELIEF_OK) {
+        free(*rim);
+        *rim = NULL;
+    }
+    return st;
 }

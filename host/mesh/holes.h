@@ -93,6 +93,20 @@ relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *
 struct relief_json;
 void relief_holes_json(struct relief_json *j, const char *name, const relief_hole_info *h);
 
+/* A hole ball's check: a finite centre and a radius > 0 (RELIEF_E_RANGE
+ * naming `name`, "hole_ball"). */
+relief_status relief_hole_ball_check(const char *name, const double ball[4],
+                                     relief_error *err);
+
+/* The hole model of a mesh as a user chooses it (complete, depth-fill):
+ * max_hole (0: the default limit), and a selection, the vertices with a
+ * non-zero label (labels; the mesh must have them) or within ball
+ * (has_ball). *rim (owned, m's vertex count) and *info as
+ * relief_holes_mesh gives them. */
+relief_status relief_holes_of_mesh(const relief_mesh *m, double max_hole, int labels,
+                                   int has_ball, const double ball[4], uint32_t **rim,
+                                   relief_hole_info *info, relief_error *err);
+
 /* From a mesh's triangles (nt x 3 indices into n vertices). */
 relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
                                 const relief_hole_rule *rule, uint32_t *rim,

@@ -272,9 +272,15 @@ RELIEF_API relief_status relief_depth_fill(relief_depth_image *f, const relief_i
 /* Repair a mesh (triangles counter-clockwise seen from outside) through the
  * six orthographic depth images of its bounding box: the pixels whose ray
  * meets the inside through a hole are repaired, the voxels between the
- * front and back depths kept, and their surface written to *out, closed.
+ * front and back depths kept, and their surface extracted, closed. With
+ * p->solid that surface is *out; by default *out is `in` (the vertices in a
+ * triangle and the triangles first, in order, as relief_mesh_repair leaves
+ * them) with the skin over each hole the hole model
+ * fills zipped into its rim, labelled 1 (relief_depth_fill_params.solid).
  * `truth` (may be NULL): the complete mesh, measured against (p->truth must
- * be NULL). RELIEF_E_RANGE for a mesh without triangles; RELIEF_E_NOMEM
+ * be NULL). RELIEF_E_RANGE for a mesh without triangles, or when the hole
+ * model fills no hole (the message names the loops and what would fill
+ * each); RELIEF_E_NOMEM
  * when the voxel grid of p->resolution exceeds run.max_memory; the image
  * route's errors. *out and `rep` are written only on success. */
 RELIEF_API relief_status relief_depth_fill_mesh(const relief_mesh *in,
