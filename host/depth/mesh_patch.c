@@ -396,6 +396,7 @@ static relief_status find_loops(const edge_list *e, size_t nv, const uint32_t *t
         for (size_t l = at; l > 0; --l) /* loop at moves to 0; 0..at-1 shift */
             out->start[l] = out->start[l - 1] + len;
         out->start[0] = 0;
+        free(tmp);
     }
     free(first), free(out_e), free(done), free(where), free(stack);
     return RELIEF_OK;
