@@ -8,13 +8,11 @@
 #include <string.h>
 
 #include "base/error.h"
-#include "base/knn.h"
+#include "depth/volume.h"
 #include "base/linalg.h"
 #include "base/union_find.h"
 #include "mesh/mesh.h"
 
-#define RM_REAL double
-#include "kernels/relief_math.h"
 
 /* A vertex of the solid belongs to filled hole h when within REACH times
  * the hole's half width of its rim's centre (the repaired cap bulges, the
@@ -35,58 +33,6 @@ static double dist2(const double *a, const double *b)
 }
 
 /* ------------------------------------------------ which solid vertices */
-
-/* The distance from p to the capture's surface: exact over the 16
- * triangles whose centroids are nearest. */
-typedef struct surface_index {
-    const relief_mesh *m;
-    double *centroid;
-    flann_index_t index;
-    struct FLANNParameters fp;
-    int k;
-} surface_index;
-
-static relief_status index_build(surface_index *s, const relief_mesh *m, relief_error *err)
-{
-    float speedup;
-    memset(s, 0, sizeof *s);
-    s->m = m;
-    s->centroid = malloc(m->nt * 3 * sizeof *s->centroid);
-    if (!s->centroid)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's index");
-    for (size_t t = 0; t < m->nt; ++t)
-        for (int c = 0; c < 3; ++c)
-            s->centroid[3 * t + c] = (m->pos[3 * m->tri[3 * t] + c] +
-                                      m->pos[3 * m->tri[3 * t + 1] + c] +
-                                      m->pos[3 * m->tri[3 * t + 2] + c]) / 3.0;
-    s->fp = relief_knn_exact_params();
-    s->k = m->nt < 16 ? (int)m->nt : 16;
-    s->index = flann_build_index_double(s->centroid, (int)m->nt, 3, &speedup, &s->fp);
-    return s->index ? RELIEF_OK
-                    : relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not build a kd-tree");
-}
-
-static void index_free(surface_index *s)
-{
-    if (s->index)
-        flann_free_index_double(s->index, &s->fp);
-    free(s->centroid);
-}
-
-static double surface_d2(const surface_index *s, const double p[3])
-{
-    int idx[16];
-    double d[16], best = DBL_MAX;
-    if (flann_find_nearest_neighbors_index_double(s->index, (double *)p, 1, idx, d, s->k,
-                                                  (struct FLANNParameters *)&s->fp) != 0)
-        return 0.0;
-    for (int i = 0; i < s->k; ++i) {
-        const uint32_t *f = s->m->tri + 3 * (size_t)idx[i];
-        best = fmin(best, rm_point_triangle_d2(p, s->m->pos + 3 * f[0], s->m->pos + 3 * f[1],
-                                               s->m->pos + 3 * f[2]));
-    }
-    return best;
-}
 
 /* The unit normal of the plane through each filled hole's rim (rim labels
  * 1..n_holes over in's vertices): normal + 3 (k - 1). */
@@ -182,12 +128,12 @@ static relief_status mark_vertices(const relief_mesh *solid, const relief_mesh *
                                    const uint32_t *rim, double voxel, uint32_t *hole,
                                    relief_error *err)
 {
-    surface_index si;
+    relief_triangle_index si;
     double *normal = malloc((h->n_holes + 1) * 3 * sizeof *normal);
     relief_status st = normal ? rim_planes(in, rim, h->n_holes, normal, err)
                               : relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the planes");
     if (st == RELIEF_OK)
-        st = index_build(&si, in, err);
+        st = relief_triangle_index_build(&si, in->pos, in->tri, in->nt, err);
     else
         memset(&si, 0, sizeof si);
     for (size_t v = 0; st == RELIEF_OK && v < solid->nv; ++v) {
@@ -203,12 +149,12 @@ static relief_status mark_vertices(const relief_mesh *solid, const relief_mesh *
             if (d2 <= reach * reach && d2 < best && off <= fmax(DEPTH * r->across, 3.0 * voxel))
                 best = d2, hole[v] = k + 1;
         }
-        if (hole[v] && surface_d2(&si, p) <= GAP * GAP * voxel * voxel)
+        if (hole[v] && relief_triangle_index_d2(&si, p) <= GAP * GAP * voxel * voxel)
             hole[v] = 0;
     }
     if (st == RELIEF_OK)
         st = outermost(solid, h, index_of, normal, voxel, hole, err);
-    index_free(&si);
+    relief_triangle_index_free(&si);
     free(normal);
     return st;
 }

@@ -487,66 +487,75 @@ done:
 /* ---------------------------------------------------------------- distance */
 
 #define NEAR_TRIANGLES 16
-#define CHUNK 65536
+
+relief_status relief_triangle_index_build(relief_triangle_index *t, const double *pos,
+                                          const uint32_t *tri, size_t nt, relief_error *err)
+{
+    float speedup;
+    memset(t, 0, sizeof *t);
+    t->pos = pos, t->tri = tri;
+    t->centroid = malloc((nt ? nt : 1) * 3 * sizeof *t->centroid);
+    if (!t->centroid)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the distance search");
+    for (size_t f = 0; f < nt; ++f)
+        for (int c = 0; c < 3; ++c)
+            t->centroid[3 * f + c] = (pos[3 * (size_t)tri[3 * f] + c] +
+                                      pos[3 * (size_t)tri[3 * f + 1] + c] +
+                                      pos[3 * (size_t)tri[3 * f + 2] + c]) / 3.0;
+    t->fp = relief_knn_exact_params();
+    t->k = nt < NEAR_TRIANGLES ? (int)nt : NEAR_TRIANGLES;
+    t->index = flann_build_index_double(t->centroid, (int)nt, 3, &speedup, &t->fp);
+    return t->index ? RELIEF_OK
+                    : relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu triangles", nt);
+}
+
+double relief_triangle_index_d2(const relief_triangle_index *t, const double p[3])
+{
+    int idx[NEAR_TRIANGLES];
+    double d2[NEAR_TRIANGLES], best = INFINITY;
+    if (flann_find_nearest_neighbors_index_double(t->index, (double *)p, 1, idx, d2, t->k,
+                                                  (struct FLANNParameters *)&t->fp) != 0)
+        return NAN;
+    for (int r = 0; r < t->k; ++r) {
+        const uint32_t *f = t->tri + 3 * (size_t)idx[r];
+        best = fmin(best, rm_point_triangle_d2(p, t->pos + 3 * (size_t)f[0],
+                                               t->pos + 3 * (size_t)f[1],
+                                               t->pos + 3 * (size_t)f[2]));
+    }
+    return best;
+}
+
+void relief_triangle_index_free(relief_triangle_index *t)
+{
+    if (t->index)
+        flann_free_index_double(t->index, &t->fp);
+    free(t->centroid);
+    memset(t, 0, sizeof *t);
+}
 
 relief_status relief_surface_distance(relief_mesh *a, relief_mesh *b, double *mean, double *max,
                                       relief_error *err)
 {
     size_t na = relief_mesh_vertex_count(a), nt = relief_mesh_triangle_count(b);
-    const double *pa = relief_mesh_positions(a), *pb = relief_mesh_positions(b);
-    const uint32_t *tb = relief_mesh_triangles(b);
-    struct FLANNParameters fp = relief_knn_exact_params();
-    int k = nt < NEAR_TRIANGLES ? (int)nt : NEAR_TRIANGLES;
-    double *cent = malloc(nt * 3 * sizeof *cent), *d2 = malloc((size_t)CHUNK * k * sizeof *d2);
-    int *idx = malloc((size_t)CHUNK * k * sizeof *idx);
+    const double *pa = relief_mesh_positions(a);
+    relief_triangle_index ti;
     double sum = 0.0, worst = 0.0;
-    flann_index_t index = NULL;
-    float speedup;
-    relief_status st = RELIEF_OK;
-    if (!nt || !na) {
-        free(cent), free(d2), free(idx);
+    relief_status st;
+    if (!nt || !na)
         return relief_fail(err, RELIEF_E_RANGE, "a surface without triangles or vertices");
-    }
-    if (!cent || !d2 || !idx) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the distance search");
-        goto done;
-    }
-    for (size_t f = 0; f < nt; ++f)
-        for (int c = 0; c < 3; ++c)
-            cent[3 * f + c] = (pb[3 * (size_t)tb[3 * f] + c] + pb[3 * (size_t)tb[3 * f + 1] + c] +
-                               pb[3 * (size_t)tb[3 * f + 2] + c]) / 3.0;
-    index = flann_build_index_double(cent, (int)nt, 3, &speedup, &fp);
-    if (!index) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu triangles", nt);
-        goto done;
-    }
-    for (size_t s = 0; s < na; s += CHUNK) {
-        int m = (int)(na - s < CHUNK ? na - s : CHUNK);
-        if (flann_find_nearest_neighbors_index_double(index, (double *)pa + 3 * s, m, idx, d2, k,
-                                                      &fp) != 0) {
+    st = relief_triangle_index_build(&ti, relief_mesh_positions(b), relief_mesh_triangles(b), nt,
+                                     err);
+    for (size_t v = 0; st == RELIEF_OK && v < na; ++v) {
+        double best = sqrt(relief_triangle_index_d2(&ti, pa + 3 * v));
+        if (isnan(best)) {
             st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN's search failed");
-            goto done;
+            break;
         }
-        for (int q = 0; q < m; ++q) {
-            double best = INFINITY;
-            for (int r = 0; r < k; ++r) {
-                size_t f = (size_t)idx[(size_t)q * k + r];
-                best = fmin(best, sqrt(rm_point_triangle_d2(pa + 3 * (s + q),
-                                                            pb + 3 * (size_t)tb[3 * f],
-                                                            pb + 3 * (size_t)tb[3 * f + 1],
-                                                            pb + 3 * (size_t)tb[3 * f + 2])));
-            }
-            sum += best;
-            worst = fmax(worst, best);
-        }
+        sum += best;
+        worst = fmax(worst, best);
     }
-    *mean = sum / (double)na;
-    *max = worst;
-done:
-    if (index)
-        flann_free_index_double(index, &fp);
-    free(cent);
-    free(d2);
-    free(idx);
+    if (st == RELIEF_OK)
+        *mean = sum / (double)na, *max = worst;
+    relief_triangle_index_free(&ti);
     return st;
 }

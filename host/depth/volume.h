@@ -14,6 +14,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <flann/flann.h>
+
 #include "relief/relief.h"
 
 typedef struct relief_grid {
@@ -73,6 +75,23 @@ relief_status relief_zbuffers_voxels(const relief_zbuffers *z, float *values,
  * outwards: a closed mesh. RELIEF_E_RANGE when no voxel is inside. */
 relief_status relief_isosurface(const relief_grid *g, const float *values, relief_mesh **out,
                                 relief_error *err);
+
+/* The distance from a point to a surface: exact over the NEAR triangles
+ * (16, or all when fewer) whose centroids are nearest the point, through a
+ * kd-tree over the centroids. Build, query, free. */
+typedef struct relief_triangle_index {
+    const double *pos;
+    const uint32_t *tri;
+    double *centroid;       /* nt x 3 */
+    flann_index_t index;
+    struct FLANNParameters fp;
+    int k;
+} relief_triangle_index;
+
+relief_status relief_triangle_index_build(relief_triangle_index *t, const double *pos,
+                                          const uint32_t *tri, size_t nt, relief_error *err);
+double relief_triangle_index_d2(const relief_triangle_index *t, const double p[3]);
+void relief_triangle_index_free(relief_triangle_index *t);
 
 /* Distances between two surfaces, one way: each vertex of `a` to the
  * nearest triangle of `b` (exact over b's 16 triangles with the nearest
