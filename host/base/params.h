@@ -11,9 +11,12 @@
 #include "relief/relief.h"
 
 /* Candidate work (samples x R x targets) above which auto searches
- * coherently: about a minute of exhaustive scoring on 2 cores at the
- * window of 3. */
-#define RELIEF_SEARCH_AUTO_WORK 1.0e8
+ * coherently. An exhaustive candidate on a real capture's smoothed base
+ * costs 0.9 to 1.4 us on 2 cores at the window of 3 (the ggg_sfm cuts:
+ * 3.8e7 to 6.5e7 candidates took 34 to 77 s), so 2.5e7 keeps an
+ * exhaustive growth to about half a minute; the demo and every synthetic
+ * test (at most 1.9e7) stay exhaustive. */
+#define RELIEF_SEARCH_AUTO_WORK 2.5e7
 
 /* Parameters of `relief complete` and `relief smooth`. Lengths are in the
  * input's units; 0 for spacing means "derive from the capture". */
