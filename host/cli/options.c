@@ -447,7 +447,11 @@ int cli_progress_fn(void *ctx, double fraction)
 {
     cli_progress *pr = ctx;
     double now = relief_seconds(), t = now - pr->start, left;
-    if (pr->base < 0.0) {
+    /* The base: the first report, then the first that moved on. An engine
+     * may set up for long before its first step (a search index), and one
+     * step over that time is no rate. */
+    if (pr->base < 0.0 || (!pr->based && fraction > pr->base_fraction)) {
+        pr->based = pr->base >= 0.0;
         pr->base = pr->mark[0] = pr->mark[1] = t;
         pr->base_fraction = pr->mark_fraction[0] = pr->mark_fraction[1] = fraction;
     }
