@@ -304,6 +304,7 @@ typedef struct surface_build {
     const relief_params *params;
     const relief_smooth_options *opts;
     const relief_mesh *capture; /* input, unfolded or despiked */
+    const relief_mesh *scanned; /* input */
     relief_mesh *unfolded, *despiked, *samples;
     relief_target_list targets;
     relief_surface *s;
@@ -356,7 +357,7 @@ static relief_status surface_targets(surface_build *b, relief_error *err)
     const relief_fit_primitive *pr = &s->fit.prim;
     const double max_growth = b->opts->max_growth;
     const double t0 = relief_seconds();
-    relief_status st = relief_targets_lay(capture, &s->param, s->spacing, params, b->opts,
+    relief_status st = relief_targets_lay(capture, b->scanned, &s->param, s->spacing, params, b->opts,
                                           &b->targets, &s->fill, err);
     if (st != RELIEF_OK)
         return st;
@@ -510,7 +511,7 @@ relief_status relief_surface_build(const relief_mesh *input, const relief_params
     memset(&b, 0, sizeof b);
     b.params = params;
     b.opts = opts;
-    b.capture = input;
+    b.capture = b.scanned = input;
     b.s = s;
 
     st = surface_fit(&b, err);

@@ -117,6 +117,9 @@ typedef struct relief_fill_stats {
     int all_round;            /* 1: round_gap <= RELIEF_ALL_ROUND_DEGREES */
     size_t holes_left;        /* enclosed regions the filter left open */
     size_t holes_left_points; /* lattice points in them */
+    size_t dropped_holes;     /* enclosed regions where the capture as scanned
+                                 had triangles that relief dropped (folded,
+                                 spikes): completed whatever the filter says */
 } relief_fill_stats;
 
 /* Stages timed by relief_surface_build. */

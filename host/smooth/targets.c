@@ -482,11 +482,24 @@ static relief_fill auto_fill(const relief_fit_primitive *pr, int extent,
     return RELIEF_FILL_WHOLE;
 }
 
+/* Is the region of these n points relief's own hole: covered, most of
+ * it, by the capture as scanned (before its folded triangles or spikes
+ * were dropped)? */
+static int dropped_hole(const coverage *scanned, const double *pts, size_t n, double sp)
+{
+    size_t in = 0;
+    for (size_t i = 0; i < n; ++i)
+        in += (size_t)covered(scanned, pts + 3 * i, 0.25 * sp * sp);
+    return 2 * in > n;
+}
+
 /* Which regions are completed: every one (whole), or those the outline
- * encloses that the filter keeps (holes). */
+ * encloses that the filter keeps (holes), and relief's own holes where it
+ * dropped what the scan had (scanned, when not NULL). */
 static relief_status choose_regions(const regions *rg, relief_fill fill,
-                                    const relief_region_filter *f, uint8_t *take,
-                                    relief_fill_stats *stats, relief_error *err)
+                                    const relief_region_filter *f, const coverage *scanned,
+                                    double sp, uint8_t *take, relief_fill_stats *stats,
+                                    relief_error *err)
 {
     size_t *start = NULL, *at = NULL;
     double *pts = NULL;
@@ -511,12 +524,19 @@ static relief_status choose_regions(const regions *rg, relief_fill fill,
         at[id] = start[id];
     for (size_t i = 0; i < rg->pts.n; ++i)
         memcpy(pts + 3 * at[rg->of[i]]++, rg->pts.p + 3 * i, 3 * sizeof *pts);
-    for (size_t id = 0; id < rg->n; ++id)
-        if (take[id] && !f->keep(f->ctx, pts + 3 * start[id], start[id + 1] - start[id])) {
+    for (size_t id = 0; id < rg->n; ++id) {
+        const double *p = pts + 3 * start[id];
+        const size_t n = start[id + 1] - start[id];
+        if (!take[id])
+            continue;
+        if (scanned && dropped_hole(scanned, p, n, sp)) {
+            ++stats->dropped_holes;
+        } else if (!f->keep(f->ctx, p, n)) {
             take[id] = 0;
             ++stats->holes_left;
             stats->holes_left_points += rg->size[id];
         }
+    }
 done:
     free(start);
     free(at);
@@ -524,21 +544,22 @@ done:
     return st;
 }
 
-relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain *param,
-                                 double spacing, const relief_params *params,
+relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *scanned,
+                                 const relief_domain *param, double spacing, const relief_params *params,
                                  const relief_smooth_options *opts,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err)
 {
     const relief_fit_primitive *pr = &param->prim;
     relief_fill fill = opts->fill;
-    coverage cov;
+    coverage cov, scov;
     regions rg;
     uint8_t *take = NULL;
     relief_status st;
     int extent = params->has_extent && pr->model != RELIEF_FIT_SPHERE;
 
     memset(&rg, 0, sizeof rg);
+    memset(&scov, 0, sizeof scov);
     memset(stats, 0, sizeof *stats);
     st = coverage_build(&cov, capture, pr, err);
     if (st != RELIEF_OK)
@@ -599,10 +620,18 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the regions");
         goto done;
     }
-    if (pr->model != RELIEF_FIT_PLANE || opts->holes.on_plane)
-        st = choose_regions(&rg, fill, &opts->holes, take, stats, err);
-    else
-        st = choose_regions(&rg, fill, &(relief_region_filter){NULL, NULL, 0}, take, stats, err);
+    if (pr->model != RELIEF_FIT_PLANE || opts->holes.on_plane) {
+        const int dropped = scanned && scanned != capture && fill == RELIEF_FILL_HOLES &&
+                            opts->holes.keep;
+        if (dropped)
+            st = coverage_build(&scov, scanned, pr, err);
+        if (st == RELIEF_OK)
+            st = choose_regions(&rg, fill, &opts->holes, dropped ? &scov : NULL, spacing,
+                                take, stats, err);
+    } else {
+        st = choose_regions(&rg, fill, &(relief_region_filter){NULL, NULL, 0}, NULL, spacing,
+                            take, stats, err);
+    }
     for (size_t i = 0; st == RELIEF_OK && i < rg.pts.n; ++i)
         if (take[rg.of[i]] && !push_point(out, rg.pts.p + 3 * i))
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
@@ -610,5 +639,6 @@ done:
     free(take);
     regions_free(&rg);
     coverage_free(&cov);
+    coverage_free(&scov);
     return st;
 }

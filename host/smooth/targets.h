@@ -41,12 +41,15 @@ typedef struct relief_target_list {
  * points no projected capture triangle covers within half a spacing, and of
  * those the region opts->fill selects (above; auto: the holes only when the
  * capture goes all round its cylinder or sphere), the enclosed regions
- * through opts->holes' filter when only holes are filled. The points go to *out in
+ * through opts->holes' filter when only holes are filled; an enclosed region
+ * that `scanned` (the capture as given, before relief dropped its folded
+ * triangles or spikes; NULL or `capture` when nothing was dropped) covers
+ * is relief's own hole, completed whatever the filter says. The points go to *out in
  * lattice order; *stats says what was found and chosen. RELIEF_E_USAGE for
  * an extent of the wrong length, RELIEF_E_RANGE for a lattice over 50
  * million points, RELIEF_E_NOMEM. */
-relief_status relief_targets_lay(const relief_mesh *capture, const relief_domain *param,
-                                 double spacing, const relief_params *params,
+relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *scanned,
+                                 const relief_domain *param, double spacing, const relief_params *params,
                                  const relief_smooth_options *opts,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err);

@@ -222,6 +222,33 @@ ok 'cmp -s "$tmp/band_s.ply" "$tmp/band_m.ply"' "--hole-mask on the cut did not 
 expect 1 "3 not selected" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --hole-mask ball:5,5,5,0.1
 expect 1 "hole_ball selects holes over a primitive; base smooth" -- "$relief" complete "$tmp/band.ply" -o "$tmp/band_n.ply" --base smooth --hole-mask ball:5,5,5,0.1
 expect 1 "not with fill whole" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --fill whole --hole-mask ball:5,5,5,0.1
+# The same band with about 1 % of its triangles folded over the cylinder
+# (a vertex pushed past a neighbour, as a depth camera's mesh folds at a
+# step): relief drops them with the triangles round their vertices and
+# says the hole is completed. Those holes are relief's, not the user's:
+# they are completed whatever the hole model's filter keeps (issue 40:
+# 13 of them were left open, pinholes under a "completed").
+"$relief" cut "$tmp/cbn.ply" --ball -1,0,1,0.3 -o "$tmp/band.off" 2>/dev/null
+python3 - "$tmp/band.off" "$tmp/band_f.off" <<'PY'
+import sys
+lines = [l for l in open(sys.argv[1]).read().split("\n") if l.strip() and not l.startswith("#")]
+nv, nt = map(int, lines[1].split()[:2])
+pos = [list(map(float, l.split()[:3])) for l in lines[2:2 + nv]]
+tri = [list(map(int, l.split()[1:4])) for l in lines[2 + nv:2 + nv + nt]]
+first = {}
+for a, b, c in tri:
+    first.setdefault(a, b)
+for v in range(0, nv, 97):
+    if v in first:
+        w = pos[first[v]]
+        pos[v] = [p + 2.2 * (q - p) for p, q in zip(pos[v], w)]
+with open(sys.argv[2], "w") as f:
+    f.write("OFF\n%d %d 0\n" % (nv, nt))
+    f.writelines("%.9g %.9g %.9g\n" % tuple(p) for p in pos)
+    f.writelines("3 %d %d %d\n" % tuple(t) for t in tri)
+PY
+expect 0 "fold back over the fitted cylinder" -- "$relief" smooth "$tmp/band_f.off" -o "$tmp/band_f.ply" --report "$tmp/band_f.json"
+ok 'grep -qF "\"holes_left_open\": 0," "$tmp/band_f.json" && grep -q "\"dropped_holes\": [1-9]" "$tmp/band_f.json"' "the folded band's dropped triangles were left open: $(grep -o '"holes_left_open": [0-9]*\|"dropped_holes": [0-9]*' "$tmp/band_f.json" | tr '\n' ' ')"
 expect 1 "nothing to complete" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --report "$tmp/sq.json"
 [[ ! -e $tmp/sq.ply && ! -e $tmp/sq.json ]] && pass=$((pass+1)) || { echo "FAIL: output left after a failed smooth"; fail=$((fail+1)); }
 expect 0 "" -- "$relief" smooth "$tmp/square.off" -o "$tmp/sq.ply" --extent=-1,-1,2,2 --spacing 0.2
