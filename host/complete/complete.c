@@ -201,6 +201,9 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                                  : relief_params_rotations(&r->st.params, r->s->fit.prim.model);
     if (!r->smooth_base) /* else the fit is only reported */
         note_surface(r);
+    st = relief_complete_holes_closed(r, err);
+    if (st != RELIEF_OK)
+        return st;
     if (r->rep)
         r->rep->seconds_smooth = relief_seconds() - t0;
     return RELIEF_OK;
@@ -574,6 +577,9 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_complete_pa
     if (st == RELIEF_OK) {
         own.seconds_smooth = relief_seconds() - r.t0;
         note_surface(&r);
+        st = relief_complete_holes_closed(&r, err);
+    }
+    if (st == RELIEF_OK) {
         if (relief_progress_step(&r.progress, 1.0))
             st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
     }

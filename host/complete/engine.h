@@ -63,6 +63,8 @@ typedef struct relief_complete_run {
     relief_hole_info holes;     /* every boundary loop and its fate */
     uint32_t *rim;              /* capture->nv: 0, or the filled hole's label */
     uint32_t *rim_index;        /* per label - 1: its index in holes.rims */
+    size_t open_loops, open_edges; /* the surface's boundary loops where holes were
+                                      filled, their vertices (relief_complete_holes_closed) */
 } relief_complete_run;
 
 /* Over a primitive (not base smooth), on a capture with triangles: judge
@@ -71,6 +73,13 @@ typedef struct relief_complete_run {
  * (smooth/surface.h); hole_ball turns fill auto into holes. */
 relief_status relief_complete_holes(relief_complete_run *r, relief_error *err);
 void relief_complete_holes_free(relief_complete_run *r);
+
+/* Once the surface is built over a primitive with only holes filled: the
+ * loops of its boundary that no opening the capture keeps by design (a
+ * rim not filled: its outer border, a mouth, a notch) explains, most of
+ * their vertices over 2 spacings from such a rim, counted (open_loops,
+ * open_edges) and said in a warning: a hole relief filled is not closed. */
+relief_status relief_complete_holes_closed(relief_complete_run *r, relief_error *err);
 
 /* A note for the report: a warning, or a plain remark. */
 void relief_complete_note(relief_complete_run *r, int warning, const char *fmt, ...)

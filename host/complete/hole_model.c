@@ -12,6 +12,7 @@
 
 #include "base/error.h"
 #include "mesh/mesh.h"
+#include "smooth/surface.h"
 
 /* A region point belongs to a loop when within this many times its half
  * width of the loop's centre: the lattice lies on the primitive, the loop
@@ -74,6 +75,28 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
     r->st.smooth.holes.on_plane = selected || cp->max_hole > 0.0;
     if (selected && r->st.smooth.fill == RELIEF_FILL_AUTO)
         r->st.smooth.fill = RELIEF_FILL_HOLES;
+    return RELIEF_OK;
+}
+
+relief_status relief_complete_holes_closed(relief_complete_run *r, relief_error *err)
+{
+    const relief_mesh *m = r->s ? r->s->mesh : NULL;
+    relief_open_loops o;
+    relief_status st;
+    if (!r->has_holes || r->smooth_base || !m || r->s->fill.region != RELIEF_FILL_HOLES)
+        return RELIEF_OK;
+    st = relief_holes_not_closed(r->capture, r->rim, m, 2.0 * r->s->spacing, &o, err);
+    if (st != RELIEF_OK)
+        return st;
+    r->open_loops = o.loops;
+    r->open_edges = o.vertices;
+    if (o.loops)
+        relief_complete_note(r, 1, "%zu loop%s of the completed surface (%zu boundary vertices, "
+                             "the largest %zu at (%.4g, %.4g, %.4g)) %s open where no opening of "
+                             "the capture is left open: holes relief filled are not closed",
+                             o.loops, o.loops == 1 ? "" : "s", o.vertices, o.largest,
+                             o.centre[0], o.centre[1], o.centre[2],
+                             o.loops == 1 ? "is" : "are");
     return RELIEF_OK;
 }
 

@@ -159,14 +159,25 @@ static void report_notes(relief_json *j, const relief_complete_report *rep)
     rj_end_array(j);
 }
 
+/* The surface's loops still open where holes were filled. */
+static void report_open(relief_json *j, const relief_complete_run *r)
+{
+    rj_begin_object(j, "holes_not_closed");
+    rj_int(j, "loops", (long long)r->open_loops);
+    rj_int(j, "boundary_vertices", (long long)r->open_edges);
+    rj_end_object(j);
+}
+
 static void write_complete(relief_json *j, const relief_complete_run *r)
 {
     report_head(j, r, "complete");
     report_params(j, &r->st.params, &r->st.smooth);
     report_growth_parameters(j, r);
     relief_report_surface_fields(j, r->s);
-    if (r->has_holes)
+    if (r->has_holes) {
         relief_holes_json(j, "hole_model", &r->holes);
+        report_open(j, r);
+    }
     report_growth(j, &r->stats);
     if (r->hier)
         report_levels(j, &r->hstats);
@@ -187,8 +198,10 @@ static void write_smooth(relief_json *j, const relief_complete_run *r)
     report_head(j, r, "smooth");
     report_params(j, &r->st.params, &r->st.smooth);
     relief_report_surface_fields(j, r->s);
-    if (r->has_holes)
+    if (r->has_holes) {
         relief_holes_json(j, "hole_model", &r->holes);
+        report_open(j, r);
+    }
     report_notes(j, r->rep);
     rj_number(j, "seconds_total", r->rep->seconds_total);
 }

@@ -173,32 +173,31 @@ static int u64_cmp(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
-                                const relief_hole_rule *rule, uint32_t *rim,
-                                relief_hole_info *info, relief_error *err)
+/* The boundary of nt triangles over n vertices: mark[v] 1 on a boundary
+ * edge (an undirected edge met once), parent joining the ends of each such
+ * edge, piece (when not NULL) every triangle's corners. parent and piece
+ * are set up here. 0 when out of memory. */
+static int boundary_marks(const uint32_t *tri, size_t nt, size_t n, uint8_t *mark,
+                          uint32_t *parent, uint32_t *piece, size_t *n_edges)
 {
-    /* Boundary edges: an undirected edge met once among the 3 nt. */
-    size_t m = 3 * nt;
+    const size_t m = 3 * nt;
     uint64_t *e = malloc(m * sizeof *e + 1);
-    uint32_t *parent = malloc(n * sizeof *parent + 1), *piece = malloc(n * sizeof *piece + 1);
-    uint8_t *mark = calloc(n + 1, 1);
-    relief_status st;
-
-    if (!e || !parent || !mark || !piece) {
-        free(e), free(parent), free(mark), free(piece);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the boundary of %zu triangles",
-                           nt);
-    }
+    if (!e)
+        return 0;
     for (size_t t = 0; t < nt; ++t)
         for (int c = 0; c < 3; ++c) {
             uint64_t a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
             e[3 * t + c] = a < b ? (a << 32 | b) : (b << 32 | a);
         }
     qsort(e, m, sizeof *e, u64_cmp);
-    for (size_t i = 0; i < n; ++i)
-        parent[i] = piece[i] = (uint32_t)i;
-    for (size_t t = 0; t < m; ++t)
+    for (size_t i = 0; i < n; ++i) {
+        parent[i] = (uint32_t)i;
+        if (piece)
+            piece[i] = (uint32_t)i;
+    }
+    for (size_t t = 0; piece && t < m; ++t)
         relief_uf_join(piece, (uint32_t)(e[t] >> 32), (uint32_t)e[t]);
+    *n_edges = 0;
     for (size_t i = 0; i < m;) {
         size_t j = i;
         while (j < m && e[j] == e[i])
@@ -207,12 +206,59 @@ relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri
             uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
             mark[a] = mark[b] = 1;
             relief_uf_join(parent, a, b);
+            ++*n_edges;
         }
         i = j;
     }
+    free(e);
+    return 1;
+}
+
+relief_status relief_holes_mesh(const double *pos, size_t n, const uint32_t *tri, size_t nt,
+                                const relief_hole_rule *rule, uint32_t *rim,
+                                relief_hole_info *info, relief_error *err)
+{
+    uint32_t *parent = malloc(n * sizeof *parent + 1), *piece = malloc(n * sizeof *piece + 1);
+    uint8_t *mark = calloc(n + 1, 1);
+    relief_status st;
+    size_t edges;
+
+    if (!parent || !mark || !piece || !boundary_marks(tri, nt, n, mark, parent, piece, &edges)) {
+        free(parent), free(mark), free(piece);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the boundary of %zu triangles",
+                           nt);
+    }
     st = relief_holes_label(pos, n, mark, parent, piece, 3.0, rule, rim, info, err);
-    free(e), free(parent), free(mark), free(piece);
+    free(parent), free(mark), free(piece);
     return st;
+}
+
+relief_status relief_boundary_loops(const uint32_t *tri, size_t nt, size_t n, uint32_t *loop,
+                                    uint32_t *n_loops, relief_error *err)
+{
+    uint32_t *parent = malloc(n * sizeof *parent + 1), *id = malloc(n * sizeof *id + 1);
+    uint8_t *mark = calloc(n + 1, 1);
+    size_t edges;
+    *n_loops = 0;
+    if (!parent || !id || !mark || !boundary_marks(tri, nt, n, mark, parent, NULL, &edges)) {
+        free(parent), free(id), free(mark);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the boundary of %zu triangles",
+                           nt);
+    }
+    for (size_t v = 0; v < n; ++v)
+        id[v] = 0;
+    for (size_t v = 0; v < n; ++v) {
+        uint32_t root;
+        loop[v] = 0;
+        if (!mark[v])
+            continue;
+        root = relief_uf_find(parent, (uint32_t)v);
+        if (!id[root])
+            id[root] = ++*n_loops;
+        loop[v] = id[root];
+    }
+    free(parent), free(id), free(mark);
+    return RELIEF_OK;
 }
 
 relief_status relief_rim_distance(const double *pos, size_t n, const uint32_t *rim,
@@ -392,5 +438,82 @@ relief_status relief_holes_of_mesh(const relief_mesh *m, double max_hole, int la
         free(*rim);
         *rim = NULL;
     }
+    return st;
+}
+
+/* Per loop of `out` (loop: its vertices' numbers), tallied from the nb
+ * boundary vertices at[i] and their distances to the capture's openings. */
+static relief_status tally_open(const relief_mesh *out, const uint32_t *loop, uint32_t n_loops,
+                                const uint32_t *at, const double *dist, size_t nb, double tol,
+                                relief_open_loops *o, relief_error *err)
+{
+    size_t *count = calloc(n_loops + 1, sizeof *count), *far = calloc(n_loops + 1, sizeof *far);
+    double *c = calloc(3 * ((size_t)n_loops + 1), sizeof *c);
+    if (!count || !far || !c) {
+        free(count), free(far), free(c);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the surface's loops");
+    }
+    for (size_t i = 0; i < nb; ++i) {
+        const uint32_t l = loop[at[i]];
+        ++count[l];
+        far[l] += !(dist[i] <= tol);
+        for (int k = 0; k < 3; ++k)
+            c[3 * l + k] += out->pos[3 * (size_t)at[i] + k];
+    }
+    for (uint32_t l = 1; l <= n_loops; ++l) {
+        if (2 * far[l] <= count[l])
+            continue;
+        ++o->loops;
+        o->vertices += count[l];
+        if (count[l] > o->largest) {
+            o->largest = count[l];
+            for (int k = 0; k < 3; ++k)
+                o->centre[k] = c[3 * l + k] / (double)count[l];
+        }
+    }
+    free(count), free(far), free(c);
+    return RELIEF_OK;
+}
+
+relief_status relief_holes_not_closed(const relief_mesh *capture, const uint32_t *filled,
+                                      const relief_mesh *out, double tol, relief_open_loops *o,
+                                      relief_error *err)
+{
+    const size_t nv = relief_mesh_vertex_count(capture), mv = relief_mesh_vertex_count(out);
+    uint32_t *in = malloc((nv + 1) * sizeof *in), *loop = malloc((mv + 1) * sizeof *loop);
+    uint32_t *at = NULL, n_in = 0, n_out = 0;
+    double *q = NULL, *dist = NULL;
+    size_t nb = 0;
+    relief_status st = RELIEF_OK;
+    memset(o, 0, sizeof *o);
+    if (!in || !loop)
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the surface's boundary");
+    if (st == RELIEF_OK)
+        st = relief_boundary_loops(capture->tri, capture->nt, nv, in, &n_in, err);
+    if (st == RELIEF_OK)
+        st = relief_boundary_loops(out->tri, out->nt, mv, loop, &n_out, err);
+    for (size_t v = 0; st == RELIEF_OK && v < nv; ++v) /* the openings left by choice */
+        in[v] = in[v] && !(filled && filled[v]);
+    for (size_t v = 0; st == RELIEF_OK && v < mv; ++v)
+        nb += loop[v] != 0;
+    if (st == RELIEF_OK && nb > 0) {
+        q = malloc(3 * nb * sizeof *q);
+        dist = malloc(nb * sizeof *dist);
+        at = malloc(nb * sizeof *at);
+        if (!q || !dist || !at)
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the surface's boundary");
+    }
+    if (st == RELIEF_OK && nb > 0) {
+        nb = 0;
+        for (size_t v = 0; v < mv; ++v)
+            if (loop[v]) {
+                at[nb] = (uint32_t)v;
+                memcpy(q + 3 * nb++, out->pos + 3 * v, 3 * sizeof *q);
+            }
+        st = relief_rim_distance(capture->pos, nv, in, q, nb, dist, NULL, err);
+    }
+    if (st == RELIEF_OK && nb > 0)
+        st = tally_open(out, loop, n_out, at, dist, nb, tol, o, err);
+    free(in), free(loop), free(at), free(q), free(dist);
     return st;
 }

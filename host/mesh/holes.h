@@ -121,6 +121,32 @@ relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mar
                                  const relief_hole_rule *rule, uint32_t *rim,
                                  relief_hole_info *info, relief_error *err);
 
+/* The boundary loops of nt triangles over n vertices: loop[v] (n) 0 off
+ * the boundary, else its loop's number, 1..*n_loops, in the order of the
+ * loops' smallest vertices (vertices joined through boundary edges: two
+ * loops that touch at a vertex are one). RELIEF_E_NOMEM. */
+relief_status relief_boundary_loops(const uint32_t *tri, size_t nt, size_t n, uint32_t *loop,
+                                    uint32_t *n_loops, relief_error *err);
+
+/* The loops of a completed surface that no opening of its capture
+ * explains (issue 40: no hole left where relief says it completed). */
+typedef struct relief_open_loops {
+    size_t loops;     /* boundary loops of the output left unexplained */
+    size_t vertices;  /* their boundary vertices */
+    size_t largest;   /* the largest's boundary vertices */
+    double centre[3]; /* and its vertices' centroid */
+} relief_open_loops;
+
+/* The loops of `out`'s boundary most of whose vertices lie farther than
+ * tol from every boundary vertex of `capture` off a filled rim (filled:
+ * capture's vertex count, non-zero on the rims of the holes filled; NULL:
+ * none). A capture's outer border, a mouth or a notch left open keeps the
+ * output's loops along it; a loop elsewhere is a hole the completion
+ * should have closed. RELIEF_E_NOMEM. */
+relief_status relief_holes_not_closed(const relief_mesh *capture, const uint32_t *filled,
+                                      const relief_mesh *out, double tol, relief_open_loops *o,
+                                      relief_error *err);
+
 /* For each of nq query points (nq x 3; pos itself when query is NULL, nq
  * then ignored and n used), the distance dist (nq) to the nearest of the n
  * points with rim[i] != 0 and, when `nearest` (nq) is not NULL, that
