@@ -19,8 +19,8 @@ enum { CO_ASCII = OPT_COMMAND, CO_HOLE_MASK };
 
 static const cli_own own[] = {{"ascii", CO_ASCII, NULL, "write ascii PLY (default binary)"},
                               {"hole-mask", CO_HOLE_MASK, "WHAT",
-                               "over a primitive, fill exactly the holes whose rims touch WHAT, "
-                               "whatever their size, and only holes: ball:X,Y,Z,R or label (the "
+                               "fill exactly the holes whose rims touch WHAT, whatever their "
+                               "size (over a primitive, only holes): ball:X,Y,Z,R or label (the "
                                "capture's vertices with a non-zero PLY label)"},
                               {NULL, 0, NULL, NULL}};
 static const char *const skip[] = {"measure", NULL};

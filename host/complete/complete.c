@@ -106,14 +106,30 @@ static void note_surface(relief_complete_run *r)
 }
 
 /* The capture's own smoothed, hole-filled base (points/base_surface.h),
- * its holes chosen by max_hole. */
+ * its holes chosen by max_hole or the selection (hole_ball, hole_labels),
+ * as complete-points chooses them; the hole model goes to the report. */
 static relief_status smooth_base(relief_complete_run *r, relief_error *err)
 {
+    const relief_complete_params *cp = r->cp;
     relief_points_params pp = relief_points_params_default();
-    relief_status st;
-    pp.max_hole = r->cp->max_hole;
-    st = relief_points_base_surface(r->capture, &pp, &r->s, NULL, err);
+    relief_points_report prep;
+    uint8_t *select = NULL;
+    relief_status st = relief_holes_selection(r->capture, cp->hole_labels, cp->has_hole_ball,
+                                              cp->hole_ball, &select, err);
+    if (st != RELIEF_OK)
+        return st;
+    pp.max_hole = cp->max_hole;
+    pp.hole_select = select;
+    st = relief_points_base_surface(r->capture, &pp, &r->s, &prep, err);
+    free(select);
     r->smooth_base = st == RELIEF_OK;
+    if (st == RELIEF_OK) {
+        relief_complete_holes_free(r);
+        r->holes = prep.holes; /* taken: the report's list */
+        memset(&prep.holes, 0, sizeof prep.holes);
+        r->has_holes = 1;
+        relief_points_report_free(&prep);
+    }
     return st;
 }
 
@@ -125,6 +141,11 @@ static relief_status auto_base(relief_complete_run *r, const relief_fit_result *
 {
     relief_error why = {RELIEF_OK, ""};
     relief_status st = smooth_base(r, &why);
+    /* The user's selection fills nothing there: that is the answer, not
+     * the primitive's poor fit. */
+    if (st == RELIEF_E_RANGE && (r->cp->has_hole_ball || r->cp->hole_labels) &&
+        strncmp(why.message, RELIEF_HOLES_NONE_FILLED, strlen(RELIEF_HOLES_NONE_FILLED)) == 0)
+        return relief_fail(err, st, "%s", why.message);
     if (st == RELIEF_OK) {
         relief_complete_note(r, 0, "no primitive fits well (%s): growing on the capture's "
                              "smoothed base (base smooth; base primitive with "
@@ -145,7 +166,6 @@ static int auto_may_go_smooth(const relief_complete_run *r)
 {
     const relief_complete_params *cp = r->cp;
     return cp->base == RELIEF_BASE_AUTO && !cp->accept_poor_fit &&
-           !cp->has_hole_ball && !cp->hole_labels && /* a selection is over a primitive */
            cp->fit == RELIEF_FIT_AUTO && !cp->n_extent &&
            relief_mesh_triangle_count(r->capture) > 0;
 }

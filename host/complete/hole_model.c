@@ -105,4 +105,6 @@ void relief_complete_holes_free(relief_complete_run *r)
     relief_hole_info_free(&r->holes);
     free(r->rim);
     free(r->rim_index);
+    r->rim = r->rim_index = NULL;
+    r->has_holes = 0;
 }

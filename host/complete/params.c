@@ -73,13 +73,6 @@ static relief_status validate_own(const relief_complete_params *p, relief_error 
     if ((p->has_hole_ball || p->hole_labels) && p->fill == RELIEF_FILL_WHOLE)
         return relief_fail(err, RELIEF_E_USAGE, "a hole selection (hole_ball, hole_labels) "
                            "fills holes only: not with fill whole");
-    if (p->hole_labels && p->base == RELIEF_BASE_SMOOTH)
-        return relief_fail(err, RELIEF_E_USAGE, "hole_labels selects holes over a primitive; "
-                           "base smooth fills its holes by max_hole");
-    if (p->has_hole_ball && p->base == RELIEF_BASE_SMOOTH)
-        return relief_fail(err, RELIEF_E_USAGE, "hole_ball selects holes over a primitive; "
-                           "base smooth fills its holes by max_hole (relief_complete_points "
-                           "takes a hole_ball on any capture)");
     if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
         return relief_fail(err, RELIEF_E_RANGE, "max_hole %g out of range: expected 0..1e30 "
                            "(0: a quarter of the bounding box's diagonal)", p->max_hole);

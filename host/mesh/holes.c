@@ -369,7 +369,7 @@ relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *
                                 r->centre[1], r->centre[2], 0.6 * r->across);
     }
     free(shown);
-    return relief_fail(err, RELIEF_E_RANGE, "nothing to fill: no hole to fill among %u rim(s) "
+    return relief_fail(err, RELIEF_E_RANGE, RELIEF_HOLES_NONE_FILLED " no hole to fill among %u rim(s) "
                        "(%u outer border(s), %u wider than max_hole %.4g, %u not selected, %u "
                        "too small)%s", h->n_rims, h->n_borders, h->n_too_large,
                        h->max_across, h->n_not_selected, h->n_dropped, list);
@@ -408,6 +408,25 @@ relief_status relief_hole_ball_check(const char *name, const double ball[4],
                        "centre and a radius > 0", name, ball[0], ball[1], ball[2], ball[3]);
 }
 
+relief_status relief_holes_selection(const relief_mesh *m, int labels, int has_ball,
+                                     const double ball[4], uint8_t **select, relief_error *err)
+{
+    *select = NULL;
+    if (labels && !m->label)
+        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the mesh has no labels (a PLY "
+                           "`label` property)");
+    if (!labels && !has_ball)
+        return RELIEF_OK;
+    if (!(*select = calloc(m->nv + 1, 1)))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole selection");
+    for (size_t v = 0; v < m->nv; ++v) {
+        double d[3];
+        sub3(m->pos + 3 * v, ball, d);
+        (*select)[v] = labels ? m->label[v] != 0 : dot3(d, d) <= ball[3] * ball[3];
+    }
+    return RELIEF_OK;
+}
+
 relief_status relief_holes_of_mesh(const relief_mesh *m, double max_hole, int labels,
                                    int has_ball, const double ball[4], uint32_t **rim,
                                    relief_hole_info *info, relief_error *err)
@@ -416,19 +435,14 @@ relief_status relief_holes_of_mesh(const relief_mesh *m, double max_hole, int la
     relief_hole_rule rule;
     relief_status st;
     memset(info, 0, sizeof *info);
-    if (labels && !m->label)
-        return relief_fail(err, RELIEF_E_USAGE, "hole_labels: the mesh has no labels (a PLY "
-                           "`label` property)");
+    *rim = NULL;
+    st = relief_holes_selection(m, labels, has_ball, ball, &select, err);
+    if (st != RELIEF_OK)
+        return st;
     *rim = calloc(m->nv + 1, sizeof **rim);
-    if (!*rim || ((labels || has_ball) && !(select = calloc(m->nv + 1, 1)))) {
-        free(*rim);
-        *rim = NULL;
+    if (!*rim) {
+        free(select);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mesh's rims");
-    }
-    for (size_t v = 0; select && v < m->nv; ++v) {
-        double d[3];
-        sub3(m->pos + 3 * v, ball, d);
-        select[v] = labels ? m->label[v] != 0 : dot3(d, d) <= ball[3] * ball[3];
     }
     rule.max_across = relief_hole_size_limit(m->pos, m->nv, max_hole);
     rule.select = select;

@@ -83,6 +83,9 @@ void relief_hole_info_free(relief_hole_info *info);
  * the diagonal of the n points' bounding box. */
 double relief_hole_size_limit(const double *pos, size_t n, double max_hole);
 
+/* How relief_holes_none_filled's message begins. */
+#define RELIEF_HOLES_NONE_FILLED "nothing to fill:"
+
 /* No hole is filled: RELIEF_E_RANGE with a one-line message saying what
  * was found, the widest rims left open and the max_hole or hole_ball that
  * would fill each. */
@@ -97,6 +100,12 @@ void relief_holes_json(struct relief_json *j, const char *name, const relief_hol
  * naming `name`, "hole_ball"). */
 relief_status relief_hole_ball_check(const char *name, const double ball[4],
                                      relief_error *err);
+
+/* A selection of a mesh's vertices (*select: nv bytes, owned, 1 when
+ * selected): those with a non-zero label (labels; RELIEF_E_USAGE when the
+ * mesh has none) or within ball (has_ball); NULL when neither is asked. */
+relief_status relief_holes_selection(const relief_mesh *m, int labels, int has_ball,
+                                     const double ball[4], uint8_t **select, relief_error *err);
 
 /* The hole model of a mesh as a user chooses it (complete, depth-fill):
  * max_hole (0: the default limit), and a selection, the vertices with a

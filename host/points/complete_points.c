@@ -270,7 +270,8 @@ static relief_status stage_analysis(work *w, relief_error *err)
     if (st != RELIEF_OK)
         return st;
     if (w->want_geometry) {
-        relief_hole_rule rule = {relief_hole_size_limit(in->pos, n, p->max_hole), p->hole_mask};
+        relief_hole_rule rule = {relief_hole_size_limit(in->pos, n, p->max_hole),
+                                 p->hole_mask ? p->hole_mask : p->hole_select};
         st = in->nt ? relief_holes_mesh(in->pos, n, in->tri, in->nt, &rule, w->rim,
                                         &rep->holes, err)
                     : relief_holes_points(in->pos, w->nrm, &w->g, p->rim_gap, &rule, w->rim,

@@ -45,6 +45,10 @@ typedef struct relief_points_params {
     const uint8_t *hole_mask; /* n_in entries or NULL: points whose colour and detail are to
                                  be synthesised again; the holes whose rims it touches
                                  are then the ones filled */
+    const uint8_t *hole_select; /* n_in entries or NULL, when hole_mask is NULL: the
+                                   holes whose rims it touches are the ones filled,
+                                   and no point is synthesised again (complete's
+                                   base smooth with a hole_ball or hole_labels) */
     const uint8_t *sample_mask; /* n_in entries or NULL: where exemplars may be centred;
                                    default everywhere outside the band */
     const relief_mesh *clone; /* or NULL: detail (and colour, when both have it) copied from

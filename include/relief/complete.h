@@ -241,11 +241,11 @@ typedef struct relief_complete_params {
                                    are filled, over a primitive; 0 (default): a
                                    quarter of the capture's bounding-box
                                    diagonal; [0, 1e30] */
-    int has_hole_ball;          /* 1: over a primitive, fill exactly the holes
-                                   whose rims have a vertex within hole_ball
-                                   (X, Y, Z, R > 0), whatever their size, and
-                                   only holes (fill auto becomes holes); not
-                                   with base smooth. 0 (default): none */
+    int has_hole_ball;          /* 1: fill exactly the holes whose rims have a
+                                   vertex within hole_ball (X, Y, Z, R > 0),
+                                   whatever their size: on the smooth base, and
+                                   over a primitive only holes (fill auto
+                                   becomes holes). 0 (default): none */
     double hole_ball[4];
     int hole_labels;            /* 1: the same with the holes whose rims have a
                                    vertex labelled non-zero (the capture's PLY
