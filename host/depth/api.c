@@ -517,6 +517,12 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
         o = NULL;
         st = relief_mesh_patch_holes(in, solid, r.grid.h, &holes, rim, &o, &patch, err);
         relief_mesh_destroy(solid);
+        if (st == RELIEF_OK && patch.holes_patched == 0)
+            st = relief_fail(err, RELIEF_E_RANGE, "nothing filled: none of the %u hole(s) the "
+                             "hole model fills could be patched (a hole filled in part, where a "
+                             "cut reaches the border, has no closed rim to join a patch to: "
+                             "complete or complete-points fill it; --solid gives the closed "
+                             "volume)", holes.n_holes);
     }
     if (st == RELIEF_OK && truth)
         st = relief_mesh_measure(o, (relief_mesh *)truth, &r.grid, &m, err);

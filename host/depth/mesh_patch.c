@@ -536,6 +536,28 @@ static relief_status close_hole(patch_work *w, const edge_list *re, const edge_l
     return RELIEF_OK;
 }
 
+/* A hole whose rim is no closed loop (filled in part: an arc of a border,
+ * mesh/holes.h) cannot be zipped: its patch is not taken, so that no
+ * piece floats apart from the capture; close_hole counts it unpatched. */
+static relief_status drop_open_rims(patch_work *w, uint32_t n_holes, relief_error *err)
+{
+    const relief_mesh *s = w->solid;
+    edge_list re = {0};
+    loop_set rl;
+    relief_status st = boundary_edges(w->in->tri, w->in->nt, NULL, &re, err);
+    for (uint32_t k = 1; st == RELIEF_OK && k <= n_holes; ++k) {
+        st = find_loops(&re, w->in->nv, w->rim_tag, k, &rl, err);
+        if (st != RELIEF_OK)
+            break;
+        for (size_t t = 0; rl.n == 0 && t < s->nt; ++t)
+            if (w->take[t] && w->hole[s->tri[3 * t]] == k)
+                w->take[t] = 0;
+        loops_free(&rl);
+    }
+    free(re.from), free(re.to);
+    return st;
+}
+
 /* The output: the capture, the patches' vertices and triangles, and the
  * strips; counts in rep. */
 static relief_status assemble(patch_work *w, const relief_hole_info *h, relief_mesh **out,
@@ -647,6 +669,8 @@ relief_status relief_mesh_patch_holes(const relief_mesh *in, const relief_mesh *
     if (st == RELIEF_OK) {
         keep_largest(&w, h->n_holes);
         st = unpinch(&w, err);
+        if (st == RELIEF_OK)
+            st = drop_open_rims(&w, h->n_holes, err);
         if (st == RELIEF_OK)
             st = assemble(&w, h, out, rep, err);
         /* A strip zipped across a pinch of the rim, or a fan against a

@@ -58,6 +58,37 @@ static void count_fate(relief_hole_info *info, relief_rim_fate fate)
     }
 }
 
+/* A selected rim the rule would leave open, filled in its selected points
+ * alone (holes.h): their count, centroid and width; too small under
+ * min_rim. Returns the points. */
+static uint32_t take_part(const double *pos, size_t n, const uint8_t *mark, const uint32_t *comp,
+                          uint32_t h, const uint8_t *select, double min_rim, relief_rim *r)
+{
+    double c[3] = {0, 0, 0}, far = 0.0, d[3];
+    uint32_t k = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i] && comp[i] == h && select[i]) {
+            for (int e = 0; e < 3; ++e)
+                c[e] += pos[3 * i + e];
+            ++k;
+        }
+    if (k < min_rim) {
+        r->fate = RELIEF_RIM_TOO_SMALL;
+        return k;
+    }
+    for (int e = 0; e < 3; ++e)
+        c[e] /= k;
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i] && comp[i] == h && select[i]) {
+            sub3(pos + 3 * i, c, d);
+            far = fmax(far, sqrt(dot3(d, d)));
+        }
+    r->part = r->points = k;
+    r->across = 2.0 * far;
+    memcpy(r->centre, c, sizeof c);
+    return k;
+}
+
 /* Number the components of the marked points (parent: a union-find over
  * all n), keep the holes (the border rule, the size rule of holes.h), and
  * write rim. */
@@ -149,13 +180,19 @@ relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mar
             memcpy(r->centre, a, sizeof r->centre);
             r->fate = rim_fate(rule, a[3] < min_rim, selected[h],
                                2 * inside[h] > piece_size[rim_piece[h]], r->across);
+            if (r->fate == RELIEF_RIM_FILLED && rule->select &&
+                rim_fate(&(relief_hole_rule){rule->max_across, NULL}, 0, 0,
+                         2 * inside[h] > piece_size[rim_piece[h]], r->across) !=
+                    RELIEF_RIM_FILLED)
+                take_part(pos, n, mark, comp, h, rule->select, min_rim, r);
             count_fate(info, r->fate);
             if (r->fate == RELIEF_RIM_FILLED)
                 keep[h] = info->n_holes;
         }
         info->n_rims = nc;
         for (size_t i = 0; i < n; ++i)
-            rim[i] = mark[i] ? keep[comp[i]] : 0;
+            rim[i] = mark[i] && (!info->rims[comp[i]].part || rule->select[i]) ? keep[comp[i]]
+                                                                               : 0;
         free(keep);
         free(inside);
         free(rim_piece);
@@ -392,6 +429,8 @@ void relief_holes_json(relief_json *j, const char *name, const relief_hole_info 
         rj_number(j, "across", m->across);
         rj_vec3(j, "centre", m->centre);
         rj_string(j, "fate", relief_rim_fate_name(m->fate));
+        if (m->part)
+            rj_bool(j, "in_part", 1);
         rj_end_object(j);
     }
     rj_end_array(j);

@@ -23,6 +23,13 @@
  * gaps of a few points everywhere; a hole with fewer than k rim points is
  * under about 2.5 spacings across) are dropped as noise.
  *
+ * A selected rim that the rule would leave open (an outer border, or
+ * wider than max_across) is filled in part: a cut that reaches a statue's
+ * border through the gaps between its folds merges with the border's
+ * loop, and the selection says which part is the hole. Only its selected
+ * points are labelled (at least 3 of them, else it is too small), so the
+ * fill keeps to them (relief_rim.part).
+ *
  * Output: rim[i] = 0 off any rim, h in 1..n_holes on hole h's rim. */
 #ifndef RELIEF_HOST_MESH_HOLES_H
 #define RELIEF_HOST_MESH_HOLES_H
@@ -54,6 +61,11 @@ typedef struct relief_rim {
                           the input's units */
     double centre[3];  /* the rim points' centroid */
     relief_rim_fate fate;
+    uint32_t part;     /* filled in part: the selected points of a rim that
+                          would otherwise stay open (a border or wider than
+                          max_across: a cut that reaches the border through
+                          a gap); points, across and centre are theirs, and
+                          only they are labelled; 0: the whole rim */
 } relief_rim;
 
 /* Which rims are filled. */

@@ -158,19 +158,33 @@ static uint32_t gap_next(const half_edge *he, size_t m, uint32_t a, uint32_t b)
 /* Cut loop (m vertices, in the gap's order) into ears, the shortest
  * diagonal first, none longer than max_diag; the ears go to *fill. 0 when
  * memory runs out. */
+/* May an ear use vertex v? Not a captured vertex on no filled rim: that
+ * is a border the hole model leaves open (a mouth; the rest of a border
+ * whose rim is filled in part), which the gap only touches. */
+static int ear_vertex(uint32_t v, size_t first_new, const uint32_t *rim)
+{
+    return !rim || v >= first_new || rim[v];
+}
+
 static int clip_ears(const double *pos, uint32_t *loop, size_t m, double max_diag,
-                     uint32_t **fill, size_t *nf, size_t *cap)
+                     size_t first_new, const uint32_t *rim, uint32_t **fill, size_t *nf,
+                     size_t *cap)
 {
     while (m >= 3) {
         size_t best = SIZE_MAX;
         double bl = max_diag;
         for (size_t q = 0; q < m && m > 3; ++q) {
+            const uint32_t a = loop[(q + m - 1) % m], b = loop[q], c = loop[(q + 1) % m];
             double d[3];
-            sub3(pos + 3 * (size_t)loop[(q + 1) % m], pos + 3 * (size_t)loop[(q + m - 1) % m], d);
+            if (!ear_vertex(a, first_new, rim) || !ear_vertex(b, first_new, rim) ||
+                !ear_vertex(c, first_new, rim))
+                continue;
+            sub3(pos + 3 * (size_t)c, pos + 3 * (size_t)a, d);
             if (sqrt(dot3(d, d)) <= bl)
                 bl = sqrt(dot3(d, d)), best = q;
         }
-        if (m == 3)
+        if (m == 3 && ear_vertex(loop[0], first_new, rim) &&
+            ear_vertex(loop[1], first_new, rim) && ear_vertex(loop[2], first_new, rim))
             best = 1;
         if (best == SIZE_MAX)
             return 1;
@@ -246,7 +260,8 @@ static int close_walk(gap_walk *w, const double *pos, size_t first_new, const ui
             }
             if (fresh && top - from >= 3) {
                 memcpy(w->ears, st + from, (top - from) * sizeof *w->ears);
-                if (!clip_ears(pos, w->ears, top - from, max_diag, fill, nf, cap))
+                if (!clip_ears(pos, w->ears, top - from, max_diag, first_new, rim, fill, nf,
+                               cap))
                     return 0;
             }
             top = from + 1;

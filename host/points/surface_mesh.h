@@ -45,7 +45,9 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
  * points pos, N x 3): each boundary loop of at most max_loop edges, through
  * vertices on one loop only and with at least one vertex >= first_new or
  * on a filled hole's rim (rim, first_new entries, non-zero; or NULL), cut
- * into ears, the shortest diagonal first (none longer than max_diag), then
+ * into ears, the shortest diagonal first (none longer than max_diag, and
+ * given rim, none with a captured vertex on no filled rim: a border left
+ * open stays as it was), then
  * those of the new triangles OpenMesh accepts after *tri's. *tri grows
  * (realloc'ed), *nt with it. RELIEF_E_NOMEM. */
 relief_status relief_points_close_gaps(const double *pos, size_t N, size_t first_new,

@@ -271,10 +271,24 @@ static void test_hole_rule(void)
     for (int i = 0; i < S * S; ++i)
         CHECK(rim[i] == 0, "vertex %d labelled %u with no hole kept", i, rim[i]);
     relief_hole_info_free(&info);
-    select[0] = 1; /* a corner of the outer border */
+    select[0] = 1; /* a corner of the outer border: too few points to fill */
     relief_holes_mesh(pos, S * S, tri, nt, &pick, rim, &info, &err);
-    CHECK(info.n_holes == 1 && info.n_not_selected == 1 && rim[0] == 1 && rim[8 * S + 8] == 0,
-          "selected border: %u holes, %u not selected", info.n_holes, info.n_not_selected);
+    CHECK(info.n_holes == 0 && info.n_dropped == 1 && info.n_not_selected == 1,
+          "one border point selected: %u holes, %u too small", info.n_holes, info.n_dropped);
+    relief_hole_info_free(&info);
+    /* Five border points about the corner: the border is filled in part,
+     * only they labelled (a cut reaching the border, issue 40). */
+    select[1] = select[2] = select[S] = select[2 * S] = 1;
+    relief_holes_mesh(pos, S * S, tri, nt, &pick, rim, &info, &err);
+    h = NULL;
+    for (uint32_t i = 0; i < info.n_rims; ++i)
+        if (info.rims[i].fate == RELIEF_RIM_FILLED)
+            h = info.rims + i;
+    CHECK(info.n_holes == 1 && info.n_not_selected == 1 && h && h->part == 5 &&
+              h->points == 5 && rim[0] == 1 && rim[2 * S] == 1 && rim[10] == 0 &&
+              rim[8 * S + 8] == 0,
+          "selected border part: %u holes, %u not selected, part %u, rim %u %u %u",
+          info.n_holes, info.n_not_selected, h ? h->part : 0, rim[0], rim[2 * S], rim[10]);
     CHECK(!strcmp(relief_rim_fate_name(RELIEF_RIM_TOO_LARGE), "too_large"), "fate name");
     relief_hole_info_free(&info);
 }
