@@ -50,6 +50,26 @@ static int keep_region(void *ctx, const double *pts, size_t n)
     return keep;
 }
 
+/* A point outside the capture's outline is taken when within half the
+ * width of a rim filled in part (a selected notch in a border,
+ * mesh/holes.h) of its centre: REACH would take a strip along the rest of
+ * the border too, where the lattice's last row stands over a wavy edge. */
+static int keep_point(void *ctx, const double *p)
+{
+    const relief_complete_run *r = ctx;
+    for (uint32_t i = 0; i < r->holes.n_rims; ++i) {
+        const relief_rim *m = r->holes.rims + i;
+        double d2 = 0.0;
+        if (m->fate != RELIEF_RIM_FILLED || !m->part)
+            continue;
+        for (int c = 0; c < 3; ++c)
+            d2 += (p[c] - m->centre[c]) * (p[c] - m->centre[c]);
+        if (sqrt(d2) <= 0.5 * m->across)
+            return 1;
+    }
+    return 0;
+}
+
 relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
 {
     const relief_mesh *c = r->capture;
@@ -71,6 +91,9 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
             r->rim_index[h++] = i;
     r->has_holes = 1;
     r->st.smooth.holes.keep = keep_region;
+    for (uint32_t i = 0; i < r->holes.n_rims; ++i)
+        if (r->holes.rims[i].fate == RELIEF_RIM_FILLED && r->holes.rims[i].part)
+            r->st.smooth.holes.keep_point = keep_point;
     r->st.smooth.holes.ctx = r;
     r->st.smooth.holes.on_plane = selected || cp->max_hole > 0.0;
     if (selected && r->st.smooth.fill == RELIEF_FILL_AUTO)

@@ -67,6 +67,7 @@ void relief_report_surface_fields(relief_json *j, const relief_surface *s)
     rj_int(j, "holes_left_open", (long long)s->fill.holes_left);
     rj_int(j, "holes_left_open_points", (long long)s->fill.holes_left_points);
     rj_int(j, "dropped_holes", (long long)s->fill.dropped_holes);
+    rj_int(j, "outside_points_taken", (long long)s->fill.outside_taken);
     rj_int(j, "vertices", (long long)relief_mesh_vertex_count(s->mesh));
     rj_int(j, "triangles", (long long)relief_mesh_triangle_count(s->mesh));
     rj_end_object(j);

@@ -45,6 +45,7 @@ relief_smooth_options relief_smooth_options_default(void)
     o.accept_poor_fit = 0;
     o.fill = RELIEF_FILL_AUTO;
     o.holes.keep = NULL;
+    o.holes.keep_point = NULL;
     o.holes.ctx = NULL;
     o.holes.on_plane = 0;
     o.max_growth = RELIEF_MAX_GROWTH;

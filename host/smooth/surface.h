@@ -35,6 +35,11 @@ typedef relief_fill_region relief_fill;
  * does not know which of the capture's boundary loops are the user's. */
 typedef struct relief_region_filter {
     int (*keep)(void *ctx, const double *pts, size_t n);
+    /* NULL, or: is this lattice point (3, on the primitive) of a region
+     * outside the outline to be completed all the same? A notch in the
+     * capture's edge is no enclosed hole; a selection that names it (a
+     * border's rim filled in part, mesh/holes.h) takes its points. */
+    int (*keep_point)(void *ctx, const double *p);
     void *ctx;
     int on_plane;   /* 1: a plane's holes too; 0: a cylinder's or sphere's
                        only (a plane's patch has no opening by design: its
@@ -117,6 +122,8 @@ typedef struct relief_fill_stats {
     int all_round;            /* 1: round_gap <= RELIEF_ALL_ROUND_DEGREES */
     size_t holes_left;        /* enclosed regions the filter left open */
     size_t holes_left_points; /* lattice points in them */
+    size_t outside_taken;     /* lattice points outside the outline that
+                                 holes.keep_point took (a selected notch) */
     size_t dropped_holes;     /* enclosed regions where the capture as scanned
                                  had triangles that relief dropped (folded,
                                  spikes): completed whatever the filter says */

@@ -629,12 +629,20 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *
             st = choose_regions(&rg, fill, &opts->holes, dropped ? &scov : NULL, spacing,
                                 take, stats, err);
     } else {
-        st = choose_regions(&rg, fill, &(relief_region_filter){NULL, NULL, 0}, NULL, spacing,
+        st = choose_regions(&rg, fill, &(relief_region_filter){NULL, NULL, NULL, 0}, NULL, spacing,
                             take, stats, err);
     }
-    for (size_t i = 0; st == RELIEF_OK && i < rg.pts.n; ++i)
-        if (take[rg.of[i]] && !push_point(out, rg.pts.p + 3 * i))
+    for (size_t i = 0; st == RELIEF_OK && i < rg.pts.n; ++i) {
+        const double *p = rg.pts.p + 3 * i;
+        int t = take[rg.of[i]];
+        if (!t && fill == RELIEF_FILL_HOLES && rg.outside[rg.of[i]] && opts->holes.keep_point &&
+            opts->holes.keep_point(opts->holes.ctx, p)) {
+            t = 1;
+            ++stats->outside_taken;
+        }
+        if (t && !push_point(out, p))
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+    }
 done:
     free(take);
     regions_free(&rg);

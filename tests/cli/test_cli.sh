@@ -220,6 +220,15 @@ ok '[[ ! -e $tmp/band_n.ply ]]' "output left when no hole was filled"
 expect 0 "" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_m.ply" --max-hole 0.5 --hole-mask ball:-1,0,1,0.4 --quiet
 ok 'cmp -s "$tmp/band_s.ply" "$tmp/band_m.ply"' "--hole-mask on the cut did not fill exactly the cut"
 expect 1 "3 not selected" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --hole-mask ball:5,5,5,0.1
+# A notch in the band's top edge is no enclosed hole: its rim is part of
+# the border. A mask at it fills the border's rim in part, and the
+# lattice's points outside the outline within the notch's half width are
+# completed (issue 40: the mask selected enclosed regions only; the notch
+# stayed open, "nothing to fill").
+expect 0 "" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_t.ply" --report "$tmp/band_t.json" --hole-mask ball:1,0,2,0.45 --quiet
+nt=$(grep -o '"outside_points_taken": [0-9]*' "$tmp/band_t.json" | grep -o '[0-9]*$')
+tt=$(grep -o '"targets": [0-9]*' "$tmp/band_t.json" | head -1 | grep -o '[0-9]*$')
+ok '[[ -n $nt && $nt -ge 60 && $nt -le 200 && $tt == "$nt" ]] && grep -q "\"in_part\": true" "$tmp/band_t.json"' "the notch: ${nt:-no} points taken outside the outline, ${tt:-no} targets (60 to 200 wanted, the notch alone)"
 # On the smoothed base too (issue 40: it was refused, so a statue that fits
 # no primitive could not be told which hole): the mask fills the cut alone,
 # and a mask that touches no rim lists the rims and the balls that would.
