@@ -148,6 +148,36 @@ static void test_complete_and_eval(relief_mesh *cap, relief_mesh *truth)
     relief_mesh_destroy(out);
 }
 
+/* The hole model's selection through the API (issue 40): a ball at the
+ * plane's hole fills it as the default does; one that touches no rim, or
+ * labels that mark none, fill nothing: RELIEF_E_RANGE naming the rims,
+ * and no output; both at once is a usage error. */
+static void test_hole_selection(relief_mesh *cap)
+{
+    relief_complete_params p = quick();
+    relief_error err = {RELIEF_OK, ""};
+    relief_mesh *all = NULL, *sel = NULL, *none = NULL;
+    CHECK_STATUS(relief_smooth(cap, &p, &all, NULL, &err), RELIEF_OK, err, NULL);
+    p.has_hole_ball = 1;
+    p.hole_ball[0] = p.hole_ball[1] = p.hole_ball[2] = 0.0, p.hole_ball[3] = 0.35;
+    CHECK_STATUS(relief_smooth(cap, &p, &sel, NULL, &err), RELIEF_OK, err, "the hole's ball");
+    CHECK(all && sel && count_completed(sel) == count_completed(all) && count_completed(all) > 0,
+          "the ball at the hole: %zu targets, the default %zu", sel ? count_completed(sel) : 0,
+          all ? count_completed(all) : 0);
+    p.hole_ball[0] = 5.0;
+    CHECK_STATUS(relief_smooth(cap, &p, &none, NULL, &err), RELIEF_E_RANGE, err, "not selected");
+    CHECK(none == NULL && strstr(err.message, "nothing to fill") &&
+              strstr(err.message, "not selected"),
+          "a ball that touches no rim: %s", err.message);
+    p.hole_labels = 1;
+    CHECK_STATUS(relief_smooth(cap, &p, &none, NULL, &err), RELIEF_E_USAGE, err, "hole_labels");
+    p.has_hole_ball = 0; /* the capture's labels are all 0: captured */
+    CHECK_STATUS(relief_complete(cap, &p, &none, NULL, &err), RELIEF_E_RANGE, err, "nothing to fill");
+    CHECK(none == NULL, "an output when the labels select nothing");
+    relief_mesh_destroy(all);
+    relief_mesh_destroy(sel);
+}
+
 /* ---------------------------------------------------------------- threads */
 
 typedef struct job {
@@ -295,6 +325,7 @@ int main(int argc, char **argv)
     test_params();
     test_bad_arguments(cap);
     test_complete_and_eval(cap, truth);
+    test_hole_selection(cap);
     test_threads(cap, cap2);
     test_cancel(cap, dir);
     test_report_folder(cap, dir);
