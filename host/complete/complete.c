@@ -20,6 +20,7 @@
 #include "match/search.h"
 #include "points/base_surface.h"
 #include "report/report_dir.h"
+#include "smooth/surface_check.h"
 
 void relief_complete_note(relief_complete_run *r, int warning, const char *fmt, ...)
 {
@@ -204,7 +205,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
         st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, &why);
         /* surface_check.c's fold refusal, the one a smooth base cures */
         if (st == RELIEF_E_MESH && auto_may_go_smooth(r) &&
-            strstr(why.message, "overlaps itself"))
+            strncmp(why.message, RELIEF_FOLD_REFUSAL, strlen(RELIEF_FOLD_REFUSAL)) == 0)
             st = overlap_base(r, &why);
         if (st == RELIEF_E_RANGE && r->has_holes && strstr(why.message, RELIEF_HOLES_LEFT_OPEN))
             st = relief_holes_none_filled(&r->holes, &why);

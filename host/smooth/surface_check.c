@@ -134,7 +134,7 @@ static relief_status check_folds(const relief_mesh *m, const relief_fit_primitiv
         const uint32_t *f = m->tri + 3 * worst;
         const double *p = m->pos + 3 * (size_t)f[0];
         st = relief_fail(err, RELIEF_E_MESH,
-                         "the capture overlaps itself over the fitted %s: %zu triangles "
+                         RELIEF_FOLD_REFUSAL " %s: %zu triangles "
                          "(%.1f%% of its area, more than %.0f%%) face away from it, the "
                          "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "
                          "%.6g); relief needs a height field over the primitive (or the "

@@ -28,6 +28,12 @@
  * cosine with the primitive's normal (120 degrees). */
 #define RELIEF_FOLD_COS -0.5
 
+/* How the refusal of a capture that folds over its primitive by more than
+ * RELIEF_FOLD_AREA_MAX begins (complete's base auto answers it with the
+ * smoothed base). */
+#define RELIEF_FOLD_REFUSAL "the capture overlaps itself over the fitted"
+
+
 /* Check the capture against its fitted primitive. RELIEF_E_MESH naming
  * the place: an edge shared by more than two triangles (its vertex ids,
  * midpoint and triangles), or triangles folded back over the primitive on
