@@ -73,17 +73,11 @@ print(near, max((len(l) for l in loops.values()), default=0), nv, len(loops))
 PY
 }
 
-# The vase: the cut at the widest part of its wall; the mouth at the top
-# (z about 280 to 400), the base at z 17.
-"$relief" cut "$data/blackVase.ply" --ball 148.82,20.99,223.15,30 -o "$tmp/vase.ply" 2>/dev/null || exit 2
-expect 0 "left open" -- "$relief" complete-points "$tmp/vase.ply" -o "$tmp/vase_out.ply" --report "$tmp/vase.json" --iterations 2
-ok '[[ $(fate "$tmp/vase.json" 148.8 21 223) == filled ]]' "the vase's cut is not filled: $(fate "$tmp/vase.json" 148.8 21 223)"
-ok '[[ $(fate "$tmp/vase.json" 4 8 17) == too_large ]]' "the vase's base is not left open as too large: $(fate "$tmp/vase.json" 4 8 17)"
-ok '[[ $(fate "$tmp/vase.json" -6 -3 279) == border ]]' "the vase's mouth is not left open as a border: $(fate "$tmp/vase.json" -6 -3 279)"
-# No new point in the mouth or the base: none above the rim's lowest point
-# outside the capture's small holes, none below z 30.
-low=$(python3 - "$tmp/vase_out.ply" <<'PY'
-import struct, sys
+# new_points FILE CONDITION: how many of the PLY's new vertices (label 1)
+# meet CONDITION, a Python expression in x, y, z (and math).
+new_points() {
+  python3 - "$1" "$2" <<'PY'
+import math, struct, sys
 f = open(sys.argv[1], "rb"); head = []
 while not head or head[-1] != b"end_header":
     head.append(f.readline().strip())
@@ -98,13 +92,24 @@ for l in head:
 code = {"float": "f", "double": "d", "uchar": "B", "int": "i"}
 fmt = "<" + "".join(code[t] for t, _ in props)
 rec, names = struct.calcsize(fmt), [p for _, p in props]
-low = 0
+test, count = compile(sys.argv[2], "condition", "eval"), 0
 for _ in range(n):
     v = dict(zip(names, struct.unpack(fmt, f.read(rec))))
-    low += v["label"] == 1 and v["z"] < 30
-print(low)
+    count += v["label"] == 1 and bool(eval(test, {"math": math}, v))
+print(count)
 PY
-)
+}
+
+# The vase: the cut at the widest part of its wall; the mouth at the top
+# (z about 280 to 400), the base at z 17.
+"$relief" cut "$data/blackVase.ply" --ball 148.82,20.99,223.15,30 -o "$tmp/vase.ply" 2>/dev/null || exit 2
+expect 0 "left open" -- "$relief" complete-points "$tmp/vase.ply" -o "$tmp/vase_out.ply" --report "$tmp/vase.json" --iterations 2
+ok '[[ $(fate "$tmp/vase.json" 148.8 21 223) == filled ]]' "the vase's cut is not filled: $(fate "$tmp/vase.json" 148.8 21 223)"
+ok '[[ $(fate "$tmp/vase.json" 4 8 17) == too_large ]]' "the vase's base is not left open as too large: $(fate "$tmp/vase.json" 4 8 17)"
+ok '[[ $(fate "$tmp/vase.json" -6 -3 279) == border ]]' "the vase's mouth is not left open as a border: $(fate "$tmp/vase.json" -6 -3 279)"
+# No new point in the mouth or the base: none above the rim's lowest point
+# outside the capture's small holes, none below z 30.
+low=$(new_points "$tmp/vase_out.ply" "z < 30")
 ok '[[ $low == 0 ]]' "new points in the vase's open base: ${low:-the output could not be read}"
 
 # The surface (--mesh): the filled holes' loops are closed, not only
@@ -145,31 +150,7 @@ expect 0 "" -- "$relief" complete-points "$tmp/edge.ply" -o "$tmp/edge_o.ply" --
 ok '[[ $(fate "$tmp/edge.json" 2 4 -111) == too_large ]]' "the cut merged with the plinth's border is not left open by default: $(fate "$tmp/edge.json" 2 4 -111)"
 expect 0 "" -- "$relief" complete-points "$tmp/edge.ply" -o "$tmp/edge_m.ply" --mesh "$tmp/edge_mm.ply" --report "$tmp/edge_m.json" --hole-mask ball:26.75,-68.85,-100,18 --iterations 2 --quiet
 ok 'grep -q "\"in_part\": true" "$tmp/edge_m.json" && [[ $(fate "$tmp/edge_m.json" 29.6 -62.4 -102.2) == filled ]]' "the mask did not fill the border's loop in part at the cut"
-far=$(python3 - "$tmp/edge_m.ply" <<'PY'
-import math, struct, sys
-f = open(sys.argv[1], "rb"); head = []
-while not head or head[-1] != b"end_header":
-    head.append(f.readline().strip())
-n, props, in_vertex = 0, [], False
-for l in head:
-    w = l.split()
-    if w[:1] == [b"element"]:
-        in_vertex = w[1] == b"vertex"
-        n = int(w[2]) if in_vertex else n
-    elif w[:1] == [b"property"] and in_vertex:
-        props.append((w[1].decode(), w[2].decode()))
-code = {"float": "f", "double": "d", "uchar": "B", "int": "i"}
-fmt = "<" + "".join(code[t] for t, _ in props)
-rec, names = struct.calcsize(fmt), [p for _, p in props]
-new = far = 0
-for _ in range(n):
-    v = dict(zip(names, struct.unpack(fmt, f.read(rec))))
-    if v["label"] == 1:
-        new += 1
-        far += math.dist((v["x"], v["y"], v["z"]), (26.75, -68.85, -100)) > 40
-print(new, far)
-PY
-)
+far="$(new_points "$tmp/edge_m.ply" True) $(new_points "$tmp/edge_m.ply" "math.dist((x, y, z), (26.75, -68.85, -100)) > 40")"
 ok '[[ ${far% *} -gt 50 && ${far#* } == 0 ]]' "the in-part fill: ${far% *} new points, ${far#* } over 40 from the cut (the plinth's bottom capped?)"
 read -r plinth longest _ <<<"$(boundary "$tmp/edge_mm.ply" 0 9 -112 60)"
 ok '[[ $plinth -ge 1 && $longest -ge 150 ]]' "the plinth's bottom is not left open by the in-part fill: ${plinth:-?} loops there, the longest ${longest:-?} edges"
