@@ -20,8 +20,9 @@ enum { CO_ASCII = OPT_COMMAND, CO_HOLE_MASK };
 static const cli_own own[] = {{"ascii", CO_ASCII, NULL, "write ascii PLY (default binary)"},
                               {"hole-mask", CO_HOLE_MASK, "WHAT",
                                "fill exactly the holes whose rims touch WHAT, whatever their "
-                               "size (over a primitive, only holes): ball:X,Y,Z,R or label (the "
-                               "capture's vertices with a non-zero PLY label)"},
+                               "size (over a primitive, only holes; a border, or a rim wider "
+                               "than max_hole, only where WHAT touches it): ball:X,Y,Z,R or "
+                               "label (the capture's vertices with a non-zero PLY label)"},
                               {NULL, 0, NULL, NULL}};
 static const char *const skip[] = {"measure", NULL};
 

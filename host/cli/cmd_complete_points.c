@@ -28,8 +28,9 @@ static const cli_own own[] = {
      "rim"},
     {"clone-from", CP_CLONE_FROM, "FILE", "copy the detail (and colour, when both have it) "
      "from another scan, sampled about as densely (paper 6.3)"},
-    {"hole-mask", CP_HOLE_MASK, "WHAT", "points to synthesise again besides the holes: "
-     "'label' (IN's PLY label 1) or 'ball:X,Y,Z,R'"},
+    {"hole-mask", CP_HOLE_MASK, "WHAT", "points to synthesise again; the holes whose rims "
+     "they touch are the ones filled (a border, or a rim wider than max_hole, only where they "
+     "touch it): 'label' (IN's PLY label 1) or 'ball:X,Y,Z,R'"},
     {"sample-region", CP_SAMPLE_REGION, "R", "exemplars only inside the box "
      "X0,Y0,Z0,X1,Y1,Z1 (IN's units), or on the points IN's PLY labels 1 ('label')"},
     {NULL, 0, NULL, NULL}};

@@ -63,8 +63,9 @@ typedef struct relief_complete_run {
     relief_hole_info holes;     /* every boundary loop and its fate */
     uint32_t *rim;              /* capture->nv: 0, or the filled hole's label */
     uint32_t *rim_index;        /* per label - 1: its index in holes.rims */
+    int closed_checked;         /* relief_complete_holes_closed ran: */
     size_t open_loops, open_edges; /* the surface's boundary loops where holes were
-                                      filled, their vertices (relief_complete_holes_closed) */
+                                      filled, their vertices */
 } relief_complete_run;
 
 /* Over a primitive (not base smooth), on a capture with triangles: judge

@@ -111,6 +111,7 @@ relief_status relief_complete_holes_closed(relief_complete_run *r, relief_error 
     st = relief_holes_not_closed(r->capture, r->rim, m, 2.0 * r->s->spacing, &o, err);
     if (st != RELIEF_OK)
         return st;
+    r->closed_checked = 1;
     r->open_loops = o.loops;
     r->open_edges = o.vertices;
     if (o.loops)

@@ -159,9 +159,12 @@ static void report_notes(relief_json *j, const relief_complete_report *rep)
     rj_end_array(j);
 }
 
-/* The surface's loops still open where holes were filled. */
+/* The surface's loops still open where holes were filled, when that was
+ * checked (over a primitive, only holes filled). */
 static void report_open(relief_json *j, const relief_complete_run *r)
 {
+    if (!r->closed_checked)
+        return;
     rj_begin_object(j, "holes_not_closed");
     rj_int(j, "loops", (long long)r->open_loops);
     rj_int(j, "boundary_vertices", (long long)r->open_edges);

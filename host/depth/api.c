@@ -475,6 +475,21 @@ static relief_status mesh_holes(const relief_mesh *in, const relief_depth_fill_p
     return st;
 }
 
+/* No hole could be patched: RELIEF_E_RANGE saying why it may be. */
+static relief_status nothing_patched(const relief_hole_info *h, relief_error *err)
+{
+    int part = 0;
+    for (uint32_t i = 0; i < h->n_rims; ++i)
+        part |= h->rims[i].fate == RELIEF_RIM_FILLED && h->rims[i].part;
+    return relief_fail(err, RELIEF_E_RANGE, "nothing filled: none of the %u hole(s) the hole "
+                       "model fills could be patched (%s; complete or complete-points fill "
+                       "it; --solid gives the closed volume)", h->n_holes,
+                       part ? "a hole filled in part, where a cut reaches the border, has no "
+                              "closed rim to join a patch to"
+                            : "no skin of the solid lies off the capture within reach of the "
+                              "rim, as over a hole under 1.5 voxels across");
+}
+
 relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_fill_params *p,
                                      const relief_mesh *truth, relief_mesh **out,
                                      relief_depth_fill_report *rep, relief_error *err)
@@ -518,11 +533,7 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
         st = relief_mesh_patch_holes(in, solid, r.grid.h, &holes, rim, &o, &patch, err);
         relief_mesh_destroy(solid);
         if (st == RELIEF_OK && patch.holes_patched == 0)
-            st = relief_fail(err, RELIEF_E_RANGE, "nothing filled: none of the %u hole(s) the "
-                             "hole model fills could be patched (a hole filled in part, where a "
-                             "cut reaches the border, has no closed rim to join a patch to: "
-                             "complete or complete-points fill it; --solid gives the closed "
-                             "volume)", holes.n_holes);
+            st = nothing_patched(&holes, err);
     }
     if (st == RELIEF_OK && truth)
         st = relief_mesh_measure(o, (relief_mesh *)truth, &r.grid, &m, err);

@@ -58,11 +58,14 @@ static void count_fate(relief_hole_info *info, relief_rim_fate fate)
     }
 }
 
-/* A selected rim the rule would leave open, filled in its selected points
- * alone (holes.h): their count, centroid and width; too small under
- * min_rim. Returns the points. */
+/* A selected rim the rule would leave open (its fate without the
+ * selection: `open`), filled in its selected points alone (holes.h):
+ * their count, centroid and width; under min_rim of them it keeps that
+ * fate, whole, so that a refusal lists it with the ball that fills it.
+ * Returns the points. */
 static uint32_t take_part(const double *pos, size_t n, const uint8_t *mark, const uint32_t *comp,
-                          uint32_t h, const uint8_t *select, double min_rim, relief_rim *r)
+                          uint32_t h, const uint8_t *select, double min_rim,
+                          relief_rim_fate open, relief_rim *r)
 {
     double c[3] = {0, 0, 0}, far = 0.0, d[3];
     uint32_t k = 0;
@@ -73,7 +76,7 @@ static uint32_t take_part(const double *pos, size_t n, const uint8_t *mark, cons
             ++k;
         }
     if (k < min_rim) {
-        r->fate = RELIEF_RIM_TOO_SMALL;
+        r->fate = open;
         return k;
     }
     for (int e = 0; e < 3; ++e)
@@ -180,11 +183,13 @@ relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mar
             memcpy(r->centre, a, sizeof r->centre);
             r->fate = rim_fate(rule, a[3] < min_rim, selected[h],
                                2 * inside[h] > piece_size[rim_piece[h]], r->across);
-            if (r->fate == RELIEF_RIM_FILLED && rule->select &&
-                rim_fate(&(relief_hole_rule){rule->max_across, NULL}, 0, 0,
-                         2 * inside[h] > piece_size[rim_piece[h]], r->across) !=
-                    RELIEF_RIM_FILLED)
-                take_part(pos, n, mark, comp, h, rule->select, min_rim, r);
+            if (r->fate == RELIEF_RIM_FILLED && rule->select) {
+                const relief_rim_fate open =
+                    rim_fate(&(relief_hole_rule){rule->max_across, NULL}, 0, 0,
+                             2 * inside[h] > piece_size[rim_piece[h]], r->across);
+                if (open != RELIEF_RIM_FILLED)
+                    take_part(pos, n, mark, comp, h, rule->select, min_rim, open, r);
+            }
             count_fate(info, r->fate);
             if (r->fate == RELIEF_RIM_FILLED)
                 keep[h] = info->n_holes;

@@ -27,8 +27,10 @@
  * wider than max_across) is filled in part: a cut that reaches a statue's
  * border through the gaps between its folds merges with the border's
  * loop, and the selection says which part is the hole. Only its selected
- * points are labelled (at least 3 of them, else it is too small), so the
- * fill keeps to them (relief_rim.part).
+ * points are labelled, so the fill keeps to them (relief_rim.part); with
+ * fewer than 3 (a point set: k) selected it keeps its fate, whole, and is
+ * not filled. A selection that takes all of such a rim's points (the
+ * hole_ball relief_holes_none_filled suggests) fills it whole.
  *
  * Output: rim[i] = 0 off any rim, h in 1..n_holes on hole h's rim. */
 #ifndef RELIEF_HOST_MESH_HOLES_H
@@ -73,7 +75,9 @@ typedef struct relief_hole_rule {
     double max_across;     /* a rim wider than this is left open (too_large);
                               0 or less: no limit */
     const uint8_t *select; /* NULL, or n entries: only the rims with a non-zero
-                              point are filled, whatever their size or border */
+                              point are filled, whatever their size or border
+                              (a border or a rim over max_across only in its
+                              selected points, above) */
 } relief_hole_rule;
 
 typedef struct relief_hole_info {

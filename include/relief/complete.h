@@ -245,7 +245,12 @@ typedef struct relief_complete_params {
                                    vertex within hole_ball (X, Y, Z, R > 0),
                                    whatever their size: on the smooth base, and
                                    over a primitive only holes (fill auto
-                                   becomes holes). 0 (default): none */
+                                   becomes holes). A rim the hole model would
+                                   leave open (a border, or wider than
+                                   max_hole: a cut that reaches the border)
+                                   is filled only where the ball touches it,
+                                   given 3 of its vertices (relief/points.h's
+                                   rule). 0 (default): none */
     double hole_ball[4];
     int hole_labels;            /* 1: the same with the holes whose rims have a
                                    vertex labelled non-zero (the capture's PLY

@@ -91,7 +91,10 @@ typedef struct relief_complete_points_params {
     /* Which holes are filled and which points are synthesised again: at
      * most one of hole_mask, hole_labels and has_hole_ball. Given one, the
      * holes whose rims it touches are filled, whatever their size, and no
-     * other; its points are synthesised again. */
+     * other; a rim the hole model would leave open (a border, or wider
+     * than max_hole: a cut that reaches the border) is filled only where
+     * the selection touches it, given at least k of its points; its
+     * points are synthesised again. */
     const uint8_t *hole_mask;    /* the input's vertex count: non-zero, this
                                     point's colour and detail are synthesised
                                     again; NULL (default): none */

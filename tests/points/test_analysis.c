@@ -273,8 +273,8 @@ static void test_hole_rule(void)
     relief_hole_info_free(&info);
     select[0] = 1; /* a corner of the outer border: too few points to fill */
     relief_holes_mesh(pos, S * S, tri, nt, &pick, rim, &info, &err);
-    CHECK(info.n_holes == 0 && info.n_dropped == 1 && info.n_not_selected == 1,
-          "one border point selected: %u holes, %u too small", info.n_holes, info.n_dropped);
+    CHECK(info.n_holes == 0 && info.n_borders == 1 && info.n_not_selected == 1,
+          "one border point selected: %u holes, %u borders", info.n_holes, info.n_borders);
     relief_hole_info_free(&info);
     /* Five border points about the corner: the border is filled in part,
      * only they labelled (a cut reaching the border, issue 40). */
