@@ -64,9 +64,9 @@ static relief_status read_resume(relief_complete_run *r, relief_error *err)
     relief_checkpoint_key_make(r->capture, &r->st.params, &r->st.smooth, &r->st.grow, &r->key);
     /* The hole model's choice changes the targets too. */
     snprintf(r->key.params + strlen(r->key.params), sizeof r->key.params - strlen(r->key.params),
-             " max_hole=%.17g hole_ball=%s%.17g,%.17g,%.17g,%.17g", r->cp->max_hole,
-             r->cp->has_hole_ball ? "" : "none:", r->cp->hole_ball[0], r->cp->hole_ball[1],
-             r->cp->hole_ball[2], r->cp->hole_ball[3]);
+             " max_hole=%.17g hole_ball=%s%.17g,%.17g,%.17g,%.17g hole_labels=%d",
+             r->cp->max_hole, r->cp->has_hole_ball ? "" : "none:", r->cp->hole_ball[0],
+             r->cp->hole_ball[1], r->cp->hole_ball[2], r->cp->hole_ball[3], r->cp->hole_labels);
     if (!r->cp->resume)
         return RELIEF_OK;
     return relief_checkpoint_read(r->cp->resume, &r->key, &r->resume, err);

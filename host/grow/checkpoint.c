@@ -62,6 +62,8 @@ void relief_checkpoint_key_make(const relief_mesh *in, const relief_params *p,
         h = fnv1a(h, in->tri, in->nt * 3 * sizeof *in->tri);
     if (in->col)
         h = fnv1a(h, in->col, in->nv * 3 * sizeof *in->col);
+    if (in->label) /* hole_labels chooses the holes by them */
+        h = fnv1a(h, in->label, in->nv * sizeof *in->label);
     key->input_hash = h;
     if (p->has_extent) {
         size_t at = 0;

@@ -35,7 +35,7 @@
 /* What a checkpoint must match to be resumed. */
 typedef struct relief_checkpoint_key {
     uint64_t input_hash; /* FNV-1a 64 of the input's vertex and triangle counts,
-                            positions, triangles and colours */
+                            positions, triangles, colours and labels */
     char params[RELIEF_CHECKPOINT_PARAMS_MAX]; /* "fit=auto window=3 ..." */
 } relief_checkpoint_key;
 

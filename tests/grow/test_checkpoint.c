@@ -475,6 +475,19 @@ int main(void)
         CHECK(relief_checkpoint_read(path, &other, &ck, &err) == RELIEF_E_USAGE &&
                   strstr(err.message, "different input"),
               "another input: %s", err.message);
+        /* Labels choose holes (hole_labels): another labelling is another input. */
+        {
+            relief_mesh *lab = NULL;
+            relief_checkpoint_key relabelled;
+            CHECK(relief_mesh_copy(ref.capture, &lab, &err) == RELIEF_OK && lab->label,
+                  "a labelled copy of the capture");
+            if (lab && lab->label) {
+                lab->label[0] ^= 1;
+                relief_checkpoint_key_make(lab, &ref.p, NULL, &go, &relabelled);
+                CHECK(relabelled.input_hash != key.input_hash, "a label changed, the same input");
+            }
+            relief_mesh_destroy(lab);
+        }
         p2.rotations = 8;
         relief_checkpoint_key_make(ref.capture, &p2, NULL, &go, &other);
         CHECK(relief_checkpoint_read(path, &other, &ck, &err) == RELIEF_E_USAGE &&
