@@ -33,4 +33,49 @@ for c in "${cases[@]}"; do
   "$relief" render "$tmp/${name}_pm.ply" -o "$out/ggg_${name}_points.png" --colour-by label \
     --view "$view" --size 360x360 >/dev/null 2>&1
 done
+# A cut at the statue's plinth edge, merged with the plinth's open bottom
+# into one loop: filled in part by a hole mask (complete-points --mesh),
+# the plinth left open; both cropped about the cut.
+edge=26.75,-68.85,-100
+"$relief" cut "$data/Angel.ply" --ball $edge,15 -o "$tmp/edge.ply" 2>/dev/null
+"$relief" complete-points "$tmp/edge.ply" -o "$tmp/edge_p.ply" --mesh "$tmp/edge_m.ply" \
+  --hole-mask ball:$edge,18 --quiet
+# crop IN OUT: IN's vertices within 45 of the cut and the triangles among
+# them, every property kept (relief cut --crop writes no labels).
+crop() {
+  python3 - "$1" "$2" <<'PY'
+import struct, sys
+c, r = (26.75, -68.85, -100.0), 45.0
+f = open(sys.argv[1], "rb"); head = b""
+while not head.endswith(b"end_header\n"):
+    head += f.readline()
+h = head.decode()
+nv = int(h.split("element vertex ")[1].split()[0])
+nf = int(h.split("element face ")[1].split()[0])
+props = [l.split() for l in h.splitlines() if l.startswith("property") and "list" not in l]
+fmt = "<" + "".join({"float": "f", "double": "d", "int": "i", "uchar": "B"}[p[1]] for p in props)
+raw = [f.read(struct.calcsize(fmt)) for _ in range(nv)]
+keep = [sum((a - b) ** 2 for a, b in zip(struct.unpack(fmt, x)[:3], c)) <= r * r for x in raw]
+faces = []
+for _ in range(nf):
+    n = f.read(1)[0]
+    faces.append(struct.unpack("<%di" % n, f.read(4 * n)))
+idx = {}
+for i, k in enumerate(keep):
+    if k:
+        idx[i] = len(idx)
+faces = [t for t in faces if all(keep[i] for i in t)]
+o = open(sys.argv[2], "wb")
+o.write(h.replace("element vertex %d" % nv, "element vertex %d" % len(idx))
+         .replace("element face %d" % nf, "element face %d" % len(faces)).encode())
+o.write(b"".join(x for x, k in zip(raw, keep) if k))
+for t in faces:
+    o.write(struct.pack("<B%di" % len(t), len(t), *[idx[i] for i in t]))
+PY
+}
+crop "$tmp/edge.ply" "$tmp/edge_x.ply"
+crop "$tmp/edge_m.ply" "$tmp/edge_mx.ply"
+"$relief" render "$tmp/edge_x.ply" -o "$out/ggg_edge_cut.png" --view -90,10 --size 300x300 >/dev/null 2>&1
+"$relief" render "$tmp/edge_mx.ply" -o "$out/ggg_edge_points.png" --colour-by label \
+  --view -90,10 --size 300x300 >/dev/null 2>&1
 echo "pictures in $out/ggg_*.png"
