@@ -12,7 +12,7 @@
 # on the statue and the pot's flutes, are left to the default pass (the
 # growth and depth-fill run under the sanitizers on the other cases).
 set -u
-relief=$1 data=$2/real/ggg_sfm full=1
+relief=$1 data=$2/real/ggg_sfm full=1 here=$(cd "$(dirname "$0")" && pwd)
 [[ ${3:-} == sanitize ]] && full=0
 tmp=$(mktemp -d /tmp/relief-ggg-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
@@ -80,27 +80,11 @@ PY
 # new_points FILE CONDITION: how many of the PLY's new vertices (label 1)
 # meet CONDITION, a Python expression in x, y, z (and math).
 new_points() {
-  python3 - "$1" "$2" <<'PY'
-import math, struct, sys
-f = open(sys.argv[1], "rb"); head = []
-while not head or head[-1] != b"end_header":
-    head.append(f.readline().strip())
-n, props, in_vertex = 0, [], False
-for l in head:
-    w = l.split()
-    if w[:1] == [b"element"]:
-        in_vertex = w[1] == b"vertex"
-        n = int(w[2]) if in_vertex else n
-    elif w[:1] == [b"property"] and in_vertex:
-        props.append((w[1].decode(), w[2].decode()))
-code = {"float": "f", "double": "d", "uchar": "B", "int": "i"}
-fmt = "<" + "".join(code[t] for t, _ in props)
-rec, names = struct.calcsize(fmt), [p for _, p in props]
-test, count = compile(sys.argv[2], "condition", "eval"), 0
-for _ in range(n):
-    v = dict(zip(names, struct.unpack(fmt, f.read(rec))))
-    count += v["label"] == 1 and bool(eval(test, {"math": math}, v))
-print(count)
+  PYTHONPATH="$here" python3 - "$1" "$2" <<'PY'
+import math, sys
+from ply_vertices import vertices
+test = compile(sys.argv[2], "condition", "eval")
+print(sum(v["label"] == 1 and bool(eval(test, {"math": math}, v)) for v in vertices(sys.argv[1])))
 PY
 }
 
@@ -201,24 +185,9 @@ ok '[[ $longest == 0 ]]' "depth-fill --solid is not closed: a loop of $longest e
 if [[ $full == 1 ]]; then
 "$relief" cut "$data/plasticVase.ply" --ball 207.04,-4.97,274.94,36 -o "$tmp/pot.ply" --truth "$tmp/pot_t.ply" 2>/dev/null || exit 2
 expect 0 "" -- "$relief" depth-fill "$tmp/pot.ply" -o "$tmp/pot_d.ply" --quiet
-read -r n corr rms sd <<<"$(python3 - "$tmp/pot_t.ply" "$tmp/pot_d.ply" <<'PY'
-import math, struct, sys
-def read(fn):
-    f = open(fn, "rb"); head = []
-    while not head or head[-1] != b"end_header":
-        head.append(f.readline().strip())
-    n, props, in_vertex = 0, [], False
-    for l in head:
-        w = l.split()
-        if w[:1] == [b"element"]:
-            in_vertex = w[1] == b"vertex"
-            n = int(w[2]) if in_vertex else n
-        elif w[:1] == [b"property"] and in_vertex:
-            props.append((w[1].decode(), w[2].decode()))
-    code = {"float": "f", "double": "d", "uchar": "B", "int": "i"}
-    fmt = "<" + "".join(code[t] for t, _ in props)
-    rec, names = struct.calcsize(fmt), [p for _, p in props]
-    return [dict(zip(names, struct.unpack(fmt, f.read(rec)))) for _ in range(n)]
+read -r n corr rms sd <<<"$(PYTHONPATH="$here" python3 - "$tmp/pot_t.ply" "$tmp/pot_d.ply" <<'PY'
+import math, sys
+from ply_vertices import vertices as read
 c, R = (177.05, -4.25, 274.94), 22.0
 rc = math.hypot(c[0], c[1])
 def cyl(v): return (math.atan2(v["y"], v["x"]), math.hypot(v["x"], v["y"]), v["z"])
