@@ -358,8 +358,8 @@ static relief_status surface_targets(surface_build *b, relief_error *err)
     const relief_fit_primitive *pr = &s->fit.prim;
     const double max_growth = b->opts->max_growth;
     const double t0 = relief_seconds();
-    relief_status st = relief_targets_lay(capture, b->scanned, &s->param, s->spacing, params, b->opts,
-                                          &b->targets, &s->fill, err);
+    relief_status st = relief_targets_lay(capture, b->scanned, &s->param, s->spacing, params,
+                                          b->opts, &b->targets, &s->fill, err);
     if (st != RELIEF_OK)
         return st;
     if (b->targets.n == 0) {

@@ -545,7 +545,8 @@ done:
 }
 
 relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *scanned,
-                                 const relief_domain *param, double spacing, const relief_params *params,
+                                 const relief_domain *param, double spacing,
+                                 const relief_params *params,
                                  const relief_smooth_options *opts,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err)

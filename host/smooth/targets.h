@@ -49,7 +49,8 @@ typedef struct relief_target_list {
  * an extent of the wrong length, RELIEF_E_RANGE for a lattice over 50
  * million points, RELIEF_E_NOMEM. */
 relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *scanned,
-                                 const relief_domain *param, double spacing, const relief_params *params,
+                                 const relief_domain *param, double spacing,
+                                 const relief_params *params,
                                  const relief_smooth_options *opts,
                                  relief_target_list *out, relief_fill_stats *stats,
                                  relief_error *err);

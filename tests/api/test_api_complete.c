@@ -172,7 +172,8 @@ static void test_hole_selection(relief_mesh *cap)
     p.hole_labels = 1;
     CHECK_STATUS(relief_smooth(cap, &p, &none, NULL, &err), RELIEF_E_USAGE, err, "hole_labels");
     p.has_hole_ball = 0; /* the capture's labels are all 0: captured */
-    CHECK_STATUS(relief_complete(cap, &p, &none, NULL, &err), RELIEF_E_RANGE, err, "nothing to fill");
+    CHECK_STATUS(relief_complete(cap, &p, &none, NULL, &err), RELIEF_E_RANGE, err,
+                 "nothing to fill");
     CHECK(none == NULL, "an output when the labels select nothing");
     relief_mesh_destroy(all);
     relief_mesh_destroy(sel);
