@@ -490,6 +490,17 @@ static relief_status nothing_patched(const relief_hole_info *h, relief_error *er
                               "rim, as over a hole under 1.5 voxels across");
 }
 
+/* 1 when a hole the model fills has a whole rim, which a patch can join:
+ * a hole filled in part never has (mesh_patch.c drops its patch), so a run
+ * with no other is refused before the reconstruction, not after it. */
+static int any_whole_rim(const relief_hole_info *h)
+{
+    for (uint32_t i = 0; i < h->n_rims; ++i)
+        if (h->rims[i].fate == RELIEF_RIM_FILLED && !h->rims[i].part)
+            return 1;
+    return 0;
+}
+
 relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_fill_params *p,
                                      const relief_mesh *truth, relief_mesh **out,
                                      relief_depth_fill_report *rep, relief_error *err)
@@ -512,6 +523,8 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
     memset(&patch, 0, sizeof patch);
     if (st == RELIEF_OK && !p->solid)
         st = mesh_holes(in, p, &holes, &rim, err);
+    if (st == RELIEF_OK && !p->solid && !any_whole_rim(&holes))
+        st = nothing_patched(&holes, err);
     if (st != RELIEF_OK) {
         relief_hole_info_free(&holes);
         free(rim);
