@@ -4,7 +4,7 @@
 # SECONDS: fuzz each target that long from a random seed, to find new bugs.
 # runs=N: a bounded run instead (the default test suite's fuzz_short): seed
 # 1, N executions per image and depth reader, N / 4 per mesh reader (OpenMesh
-# and the repair on reading: some 600 a second, a minute each at N), 30 N
+# and the repair on reading: some 600 a second), 30 N
 # for the command line and N / 100 for
 # the image fill (each run a whole fill of up to 32 x 32 pixels, some 5 to
 # 10 a second under the coverage instrumentation), from the checked-in seeds

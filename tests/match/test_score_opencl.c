@@ -316,8 +316,21 @@ static void set_lanes(const char *lanes)
         unsetenv("RELIEF_OPENCL_LANES");
 }
 
+/* The sanitize pass (RELIEF_TEST_PASS=sanitize, tests/CMakeLists.txt): the
+ * kernels run inside PoCL, which the sanitizers do not see, and a lane
+ * count of 32 drives the host code as 5 does; there the counts up to 5 and
+ * one completion sweep show that code to them, and the default pass checks
+ * every count. */
+static int sanitize_pass(void)
+{
+    const char *pass = getenv("RELIEF_TEST_PASS");
+    return pass && strcmp(pass, "sanitize") == 0;
+}
+
 int main(void)
 {
+    const size_t n_lanes = sanitize_pass() ? 3 : sizeof lane_settings / sizeof lane_settings[0];
+    const size_t n_sweeps = sanitize_pass() ? 1 : 2;
     /* Candidate by candidate, the kernel itself: no query on the host
      * (test_score_pool checks the host's split against the scalar loop). */
     setenv("RELIEF_OPENCL_HOST_MAX", "0", 1);
@@ -325,7 +338,7 @@ int main(void)
         printf("no OpenCL platform: skipped\n");
         return 77;
     }
-    for (size_t k = 0; k < sizeof lane_settings / sizeof lane_settings[0]; ++k) {
+    for (size_t k = 0; k < n_lanes; ++k) {
         set_lanes(lane_settings[k]);
         printf("RELIEF_OPENCL_LANES=%s\n", lane_settings[k] ? lane_settings[k] : "(unset)");
         if (k)
@@ -350,7 +363,7 @@ int main(void)
         }
         set_lanes(NULL);
     }
-    for (size_t k = 0; k < 2; ++k) {
+    for (size_t k = 0; k < n_sweeps; ++k) {
         set_lanes(lane_settings[k]);
         compare_completion(RELIEF_SYNTH_PLANE_WAVES, 1, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
         compare_completion(RELIEF_SYNTH_CYLINDER_BANDS, 0, 0, "0", RELIEF_SEARCH_EXHAUSTIVE);
