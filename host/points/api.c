@@ -346,6 +346,7 @@ static void write_json(relief_json *j, const void *ctx)
         rj_begin_object(j, "mesh");
         rj_int(j, "triangles", (long long)r->mesh_triangles);
         if (!r->mesh_of_points) {
+            rj_int(j, "copies_welded", (long long)r->copies_welded);
             rj_int(j, "open_loops", (long long)r->open_loops);
             rj_int(j, "open_edges", (long long)r->open_edges);
         }

@@ -11,6 +11,7 @@
 #include "base/linalg.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
+#include "mesh/weld.h"
 #include "points/analysis.h"
 #include "points/flow.h"
 #include "points/patch_mesh.h"
@@ -591,7 +592,13 @@ static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
         memcpy(out->tri + 3 * in->nt, pt, pnt * 3 * sizeof *out->tri);
     free(pt);
     out->nt = in->nt + pnt;
-    rep->patch_triangles = pnt;
+    /* An ear along a split bow-tie vertex joins its copies with a triangle
+     * of no area: the vertex is one again where the patch closed its pinch
+     * (the capture has no such triangle: only patch triangles are dropped). */
+    st = relief_weld_copies(out->pos, w->N, out->tri, &out->nt, &rep->copies_welded, err);
+    if (st != RELIEF_OK)
+        return st;
+    rep->patch_triangles = out->nt - in->nt;
     return relief_points_open_loops(out->tri, out->nt, w->N, w->n, w->rim, &rep->open_edges,
                                     &rep->open_loops, err);
 }

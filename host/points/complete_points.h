@@ -91,6 +91,8 @@ typedef struct relief_points_report {
                              hole or a new point left open, and the loops they make
                              (relief_points_open_loops) */
     size_t mesh_triangles;   /* all of *out's triangles (p->mesh) */
+    size_t copies_welded;    /* a split vertex's copies welded again where the patch
+                             closed the pinch (p->mesh; mesh/weld.h) */
     int mesh_of_points;      /* 1: they are a point set's surface, counted below */
     size_t mesh_candidates, mesh_boundary_edges, mesh_bare_points; /* a point set's surface
                              (p->mesh): triangles two or three corners proposed, edges with one
