@@ -3,6 +3,8 @@
 #   ./setup.sh          install what is missing, build, run the demo completion
 #   ./setup.sh deps     install what is missing, nothing else
 #   ./setup.sh build    install what is missing and build
+#   ./setup.sh python   install what is missing and build the Python package
+#                       into .venv (the full set-up does this too)
 # Idempotent: packages already there are not reinstalled, the build is
 # incremental. Environment: BUILD_DIR (default build), JOBS (default nproc).
 set -euo pipefail
@@ -11,7 +13,10 @@ cd "$(dirname "$0")"
 PACKAGES=(cmake make gcc g++ pkg-config
           libopenmesh-dev libflann-dev libqhull-dev zlib1g-dev libpng-dev libjpeg-dev liblzf-dev
           ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
-          clang libclang-rt-dev valgrind)
+          clang libclang-rt-dev valgrind
+          python3 python3-venv python3-dev ninja-build)
+# The Python package's build and test tools, from PyPI into .venv.
+PY_PACKAGES=(nanobind scikit-build-core numpy pytest)
 BUILD_DIR=${BUILD_DIR:-build}
 JOBS=${JOBS:-$(nproc)}
 
@@ -36,6 +41,17 @@ build() {
   cmake --build "$BUILD_DIR" -j"$JOBS"
 }
 
+# The Python package (python/) built over the library and installed into
+# the project's virtual environment .venv: afterwards
+# `.venv/bin/python -c "import relief"` works. Its build folder is
+# build/python, kept between runs.
+python_package() {
+  [[ -x .venv/bin/python ]] || python3 -m venv .venv
+  .venv/bin/python -m pip install -q --disable-pip-version-check "${PY_PACKAGES[@]}"
+  .venv/bin/python -m pip install -q --disable-pip-version-check --no-build-isolation ./python
+  echo "setup: Python package relief $(.venv/bin/python -c 'import relief; print(relief.__version__)') in .venv"
+}
+
 demo() {
   local out=out/demo relief=$BUILD_DIR/relief
   mkdir -p "$out"
@@ -57,6 +73,7 @@ demo() {
 case "${1:-all}" in
   deps) install_deps ;;
   build) install_deps; build ;;
-  all) install_deps; build; demo ;;
-  *) echo "usage: $0 [deps|build]" >&2; exit 1 ;;
+  python) install_deps; python_package ;;
+  all) install_deps; build; python_package; demo ;;
+  *) echo "usage: $0 [deps|build|python]" >&2; exit 1 ;;
 esac

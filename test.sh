@@ -3,8 +3,10 @@
 # Installs missing packages first when run as root. Slow tests are labelled
 # `slow` and left out; run them with: ctest --test-dir build -L slow
 #   ./test.sh            both passes below, default first
-#   ./test.sh default    the suite in build/, with a short fuzzing run (build/fuzz,
-#                        clang) and valgrind memcheck on one completion
+#   ./test.sh default    the Python package built into .venv (./setup.sh python),
+#                        then the suite in build/, with its pytest tests, a short
+#                        fuzzing run (build/fuzz, clang) and valgrind memcheck on
+#                        one completion
 #   ./test.sh sanitize   the suite again under ASan + UBSan, in build-asan/; its
 #                        end-to-end completions take a 1000-vertex truth
 #                        (the bark and plane-noise keep 2000)
@@ -18,8 +20,9 @@ suite() { # DIR CMAKE_OPTIONS...
   ctest --test-dir "$dir" --output-on-failure -j2 -LE slow
 }
 case "${1:-}" in
-  default) suite build ;;
+  default) ./setup.sh python && suite build ;;
   sanitize) suite build-asan -DRELIEF_SANITIZE=ON -DRELIEF_BUILD_BENCH=OFF ;;
-  "") suite build && suite build-asan -DRELIEF_SANITIZE=ON -DRELIEF_BUILD_BENCH=OFF ;;
+  "") ./setup.sh python && suite build &&
+      suite build-asan -DRELIEF_SANITIZE=ON -DRELIEF_BUILD_BENCH=OFF ;;
   *) echo "usage: $0 [default|sanitize]" >&2; exit 1 ;;
 esac

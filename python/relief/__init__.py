@@ -1,0 +1,339 @@
+"""relief: fill what scans, depth frames and photographs miss, with detail
+sampled from the capture itself (non-parametric sampling).
+
+numpy arrays in, new numpy arrays out; the inputs are never written.
+Images are (H, W) or (H, W, C) with channels last, and a mask is (H, W)
+where non-zero means *fill*, as ``cv2.inpaint`` and
+``skimage.restoration.inpaint_biharmonic`` take them. Meshes are an
+(N, 3) array of vertex positions and an (M, 3) array of vertex indices per
+triangle, counter-clockwise seen from outside; colours are (N, 3) floats in
+[0, 1] (uint8 is taken as 0..255).
+
+Every engine takes its parameters as keyword arguments, by the names of the
+command line's options with ``_`` for ``-`` (``min_window=5``,
+``max_memory="4G"``); ``relief.parameters("image_fill")`` lists them with
+their help. ``progress`` is a callable taking the fraction done (0 to 1);
+returning True cancels the run. The GIL is released while an engine runs,
+so several threads may run engines at once; Ctrl-C cancels a run
+(KeyboardInterrupt). Any failure raises :class:`ReliefError`, whose
+``status`` names its kind ("range", "usage", "mesh", "cancelled", ...).
+The same input and seed give the same bytes as the command line, whatever
+the backend.
+"""
+from collections import namedtuple
+import json
+import os
+
+import numpy as np
+
+from . import _relief
+
+__all__ = ["ReliefError", "Mesh", "image_fill", "depth_fill", "complete_mesh",
+           "complete_points", "read_mesh", "write_mesh", "read_image", "write_image",
+           "read_depth", "write_depth",
+           "devices", "parameters", "__version__"]
+
+__version__ = _relief.version()
+
+Mesh = namedtuple("Mesh", "vertices faces colours normals labels")
+Mesh.__doc__ = """A mesh or point cloud as relief reads and returns it: vertices (N, 3)
+float64; faces (M, 3) uint32 or None for a point cloud; colours (N, 3) float32
+in [0, 1], normals (N, 3) float64 and labels (N,) uint8 (0 captured,
+1 added by relief), each None when absent."""
+
+
+class ReliefError(RuntimeError):
+    """A relief call failed; ``status`` names the kind ("range", "usage", "io",
+    "format", "parse", "mesh", "nomem", "device", "cancelled", ...) and the
+    message says what and where."""
+
+    def __init__(self, status, message):
+        super().__init__(message)
+        self.status = status
+
+
+def _fail(status, message):
+    raise ReliefError(status if isinstance(status, str) else _relief.status_name(status), message)
+
+
+def _check(result):
+    status, message = result[0], result[1]
+    if status != 0:
+        _fail(status, message)
+    return result[2:]
+
+
+def _text(value):
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return ",".join(repr(float(v)) for v in np.ravel(value))
+    return str(value)
+
+
+def _params(params):
+    return {name: _text(value) for name, value in params.items() if value is not None}
+
+
+def _report(text, wanted):
+    return json.loads(text) if wanted and text else None
+
+
+def _progress(progress):
+    if progress is not None and not callable(progress):
+        _fail("usage", "progress must be a callable taking the fraction done, or None")
+    return progress
+
+
+def _array(name, value, ndim=None):
+    try:
+        a = np.asarray(value)
+    except Exception as e:  # a ragged list, an object that is no array
+        _fail("usage", f"{name}: not an array ({e})")
+    if a.dtype == object:
+        _fail("usage", f"{name}: not a numeric array (dtype object)")
+    if ndim is not None and a.ndim not in ndim:
+        _fail("usage", f"{name}: {a.ndim} dimensions, expected {' or '.join(map(str, ndim))}")
+    return a
+
+
+def _mask(mask, shape, name="mask"):
+    m = _array(name, mask, (2, 3))
+    if m.ndim == 3 and m.shape[2] == 1:
+        m = m[:, :, 0]
+    if m.shape != tuple(shape):
+        _fail("usage", f"{name}: shape {m.shape}, expected {tuple(shape)} (the image's height and width)")
+    return np.ascontiguousarray(m != 0, dtype=np.uint8)
+
+
+# ------------------------------------------------------------------ images
+
+def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
+               return_report=False, **params):
+    """Fill the pixels of ``image`` where ``mask`` is non-zero (paper 004:
+    a 1-D pass where a gap's ends agree and are smooth, then copy-paste of
+    windows matched coarse to fine).
+
+    image: (H, W) or (H, W, C), C 1 to 4 (grey, grey + alpha, RGB, RGBA),
+    uint8, uint16 or float32 (float is filled on a 16-bit scale of its own
+    range outside the mask; the pixels outside the mask keep their values).
+    mask: (H, W), non-zero = fill. window: the starting window, odd pixels.
+    Returns a new array like ``image`` (and the report as a dict when
+    ``return_report``). Alpha is not matched; a filled pixel becomes opaque.
+    """
+    img = _array("image", image, (2, 3))
+    if img.dtype not in (np.uint8, np.uint16, np.float32):
+        _fail("usage", f"image: dtype {img.dtype}, expected uint8, uint16 or float32")
+    planar = img.ndim == 2
+    work = img[:, :, None] if planar else img
+    if not 1 <= work.shape[2] <= 4:
+        _fail("usage", f"image: {work.shape[2]} channels, expected 1 to 4")
+    if work.shape[0] < 1 or work.shape[1] < 1:
+        _fail("usage", f"image: shape {img.shape} is empty")
+    m = _mask(mask, work.shape[:2])
+    lo = scale = None
+    if img.dtype == np.float32:
+        known = work[m == 0]
+        if known.size and not np.all(np.isfinite(known)):
+            _fail("range", "image: a pixel outside the mask is NaN or infinite")
+        lo = float(known.min()) if known.size else 0.0
+        hi = float(known.max()) if known.size else 1.0
+        scale = (hi - lo) if hi > lo else 1.0
+        out = np.rint((np.nan_to_num(work) - lo) / scale * 65535.0).clip(0, 65535)
+        out = np.ascontiguousarray(out, dtype=np.uint16)
+    else:
+        out = np.array(work, order="C", copy=True)
+    kw = _params(dict(params, window=window, seed=seed, backend=backend))
+    (report,) = _check(_relief.image_fill(out, m, kw, _progress(progress)))
+    if lo is not None:
+        filled = (lo + out.astype(np.float64) / 65535.0 * scale).astype(np.float32)
+        out = np.where(m[:, :, None] != 0, filled, work)
+    out = out[:, :, 0] if planar else out
+    return (out, _report(report, True)) if return_report else out
+
+
+def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
+               png_scale=5000.0, progress=None, return_report=False, **params):
+    """Repair a depth frame (paper 003): its missing pixels (0, NaN or inf,
+    or non-zero in ``mask``) inside the capture are filled; those outside it
+    (a camera's invalid margin) stay missing.
+
+    depth: (H, W) uint16 (a depth PNG's values, ``png_scale`` per metre, 0
+    missing) or float32 / float64 (NaN missing). Returns a new array of the
+    same dtype: uint16 keeps 0 where still missing, floats NaN.
+    """
+    d = _array("depth", depth, (2,))
+    if d.dtype == np.uint16:
+        if not png_scale > 0:
+            _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
+        z = np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
+    elif d.dtype in (np.float32, np.float64):
+        z = np.array(d, dtype=np.float32, order="C", copy=True)
+    else:
+        _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+    if z.size == 0:
+        _fail("usage", f"depth: shape {d.shape} is empty")
+    m = None if mask is None else _mask(mask, z.shape)
+    kw = _params(dict(params, variant=variant, seed=seed, backend=backend))
+    (report,) = _check(_relief.depth_fill(z, m, kw, _progress(progress)))
+    if d.dtype == np.uint16:
+        v = np.rint(np.nan_to_num(z, nan=0.0) * np.float64(png_scale))
+        filled = (d == 0) | (m != 0 if m is not None else False)
+        v = np.where(filled & (v < 1) & ~np.isnan(z), 1, v)  # a filled depth rounds to >= 1
+        out = np.where(filled, np.clip(v, 0, 65535), d).astype(np.uint16)
+    else:
+        out = z.astype(d.dtype)
+    return (out, _report(report, True)) if return_report else out
+
+
+# ------------------------------------------------------------------ meshes
+
+def _vertices(name, vertices):
+    v = _array(name, vertices, (2,))
+    if v.shape[0] < 1 or v.shape[1:] != (3,):
+        _fail("usage", f"{name}: shape {v.shape}, expected (N, 3) with N >= 1")
+    if not np.issubdtype(v.dtype, np.number):
+        _fail("usage", f"{name}: dtype {v.dtype}, expected numbers")
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    bad = np.flatnonzero(~np.isfinite(v).all(axis=1))
+    if bad.size:
+        _fail("range", f"{name}: vertex {bad[0]} is not finite ({v[bad[0]].tolist()})")
+    return v
+
+
+def _faces(faces, n):
+    if faces is None:
+        return None
+    f = _array("faces", faces, (2,))
+    if f.shape[0] == 0:
+        return None
+    if f.shape[1:] != (3,) or not np.issubdtype(f.dtype, np.integer):
+        _fail("usage", f"faces: shape {f.shape} dtype {f.dtype}, expected (M, 3) integers")
+    if f.min() < 0 or f.max() >= n:
+        _fail("range", f"faces: index {int(f.min() if f.min() < 0 else f.max())} out of "
+              f"range for {n} vertices")
+    return np.ascontiguousarray(f, dtype=np.uint32)
+
+
+def _per_vertex(name, value, n, dtype):
+    if value is None:
+        return None
+    a = _array(name, value, (2,))
+    if a.shape != (n, 3):
+        _fail("usage", f"{name}: shape {a.shape}, expected ({n}, 3)")
+    if name == "colours":
+        a = a / 255.0 if a.dtype == np.uint8 else a
+        if not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
+            _fail("range", "colours: expected floats in [0, 1] (or uint8)")
+    elif not np.all(np.isfinite(a)):
+        _fail("range", f"{name}: not finite")
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend="auto",
+                  progress=None, return_report=False, **params):
+    """Complete a capture with relief and colour grown from it (papers 000
+    and 001): over a fitted plane, sphere or cylinder, or the capture's own
+    smoothed surface (``base``). Returns (vertices, faces, colours, labels):
+    the capture's vertices first (label 0), then the new ones (label 1);
+    colours None when the capture has none."""
+    v = _vertices("vertices", vertices)
+    f = _faces(faces, len(v))
+    c = _per_vertex("colours", colours, len(v), np.float32)
+    kw = _params(dict(params, base=base, seed=seed, backend=backend))
+    report, arrays = _check(_relief.complete_mesh(v, f, c, kw, _progress(progress)))
+    out = Mesh(*arrays)
+    result = (out.vertices, out.faces, out.colours, out.labels)
+    return (result, _report(report, True)) if return_report else result
+
+
+def complete_points(points, colours=None, normals=None, *, faces=None, seed=1,
+                    progress=None, return_report=False, **params):
+    """Fill the holes of a point set (paper 002): the holes the hole model
+    fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``) get new points on a
+    smooth base with detail copied from the capture. ``faces`` (a mesh's
+    triangles) make its boundary loops the holes. Returns (points, colours,
+    labels): the input's points first (label 0), then the new ones."""
+    v = _vertices("points", points)
+    f = _faces(faces, len(v))
+    c = _per_vertex("colours", colours, len(v), np.float32)
+    n = _per_vertex("normals", normals, len(v), np.float64)
+    kw = _params(dict(params, seed=seed))
+    report, arrays = _check(_relief.complete_points(v, f, c, n, None, kw, _progress(progress)))
+    out = Mesh(*arrays)
+    result = (out.vertices, out.colours, out.labels)
+    return (result, _report(report, True)) if return_report else result
+
+
+# ------------------------------------------------------------------- files
+
+def read_mesh(path):
+    """Read a PLY, OBJ, OFF or STL mesh (or a PLY point cloud), repaired as
+    relief reads every mesh: a :class:`Mesh`."""
+    (arrays,) = _check(_relief.read_mesh(os.fspath(path)))
+    v, f, c, n, lab = arrays
+    return Mesh(v, f if f is not None and len(f) else None, c, n, lab)
+
+
+def write_mesh(path, vertices, faces=None, colours=None, labels=None, *, ascii=False):
+    """Write a mesh by the path's extension (PLY keeps colour and labels),
+    atomically: the file is whole or untouched."""
+    v = _vertices("vertices", vertices)
+    f = _faces(faces, len(v))
+    c = _per_vertex("colours", colours, len(v), np.float32)
+    lab = None
+    if labels is not None:
+        lab = np.ascontiguousarray(_array("labels", labels, (1,)), dtype=np.uint8)
+        if lab.shape != (len(v),):
+            _fail("usage", f"labels: shape {lab.shape}, expected ({len(v)},)")
+    _check(_relief.write_mesh(os.fspath(path), v, f, c, lab, bool(ascii)))
+
+
+def read_image(path):
+    """Read a PNG or JPEG: (H, W) for grey, else (H, W, C); uint8 or uint16."""
+    (img,) = _check(_relief.read_image(os.fspath(path)))
+    return img[:, :, 0] if img.shape[2] == 1 else img
+
+
+def write_image(path, image):
+    """Write (H, W) or (H, W, C) uint8 or uint16 samples as PNG or JPEG by
+    the path's extension (JPEG: 8 bits, no alpha), atomically."""
+    img = _array("image", image, (2, 3))
+    img = img[:, :, None] if img.ndim == 2 else img
+    if img.dtype not in (np.uint8, np.uint16) or not 1 <= img.shape[2] <= 4:
+        _fail("usage", f"image: dtype {img.dtype} with {img.shape[2]} channels, expected "
+              "uint8 or uint16 with 1 to 4")
+    _check(_relief.write_image(os.fspath(path), np.ascontiguousarray(img)))
+
+
+def write_depth(path, depth, *, format="pfm", png_scale=0.0):
+    """Write an (H, W) depth frame (NaN missing) as a PFM (format "pfm") or a
+    16-bit PNG of depth x png_scale ("png16"; 0: 5000 per metre), atomically."""
+    z = _array("depth", depth, (2,))
+    if format not in ("pfm", "png16"):
+        _fail("usage", f"format {format!r}: expected 'pfm' or 'png16'")
+    _check(_relief.write_depth(os.fspath(path), np.ascontiguousarray(z, dtype=np.float32),
+                               format, float(png_scale)))
+
+
+def read_depth(path, png_scale=0.0):
+    """Read a depth frame (organised PCD, PFM, 16-bit PNG): (H, W) float32,
+    metres for a PCD or PNG (PNG values / png_scale, 0: 5000), NaN missing."""
+    (z,) = _check(_relief.read_depth(os.fspath(path), float(png_scale)))
+    return z
+
+
+def devices():
+    """The OpenCL devices, as ``relief devices`` lists them: a list of dicts."""
+    (found,) = _check(_relief.devices())
+    return list(found)
+
+
+def parameters(engine):
+    """An engine's parameters ("image_fill", "depth_fill", "complete_mesh",
+    "complete_points"): {name: (value form, help)}."""
+    table = _relief.param_table(engine)
+    if not table:
+        _fail("usage", f"unknown engine {engine!r}: expected image_fill, depth_fill, "
+              "complete_mesh or complete_points")
+    return dict(table)

@@ -1,0 +1,460 @@
+// relief's Python extension (_relief): thin calls into librelief's public
+// API (include/relief/*.h). The package python/relief/__init__.py checks
+// and converts the arguments (dtype, shape, contiguity) and raises
+// ReliefError; here every call takes arrays of exactly the types it needs
+// and returns (status, message, ...): status 0 is success, any other is a
+// relief_status whose message names what went wrong.
+//
+// Ownership: an engine writes in place into an array the package made for
+// the result (image_fill, depth_fill), or its output mesh is copied into
+// new arrays owned by Python (complete_mesh, complete_points, read_mesh).
+// The GIL is released while an engine runs; the progress callback takes it
+// back at most every 50 ms to call the user's function and to look for
+// Ctrl-C (KeyboardInterrupt cancels the run: nothing is written).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "relief/relief.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace {
+
+template <typename T> using carray = nb::ndarray<nb::numpy, T, nb::c_contig, nb::device::cpu>;
+
+// --------------------------------------------------------------- progress
+
+struct progress_state {
+    nb::object fn;  // the user's callable, or None
+    std::unique_ptr<nb::python_error> error; // raised in it, or KeyboardInterrupt
+    std::chrono::steady_clock::time_point last;
+    bool started = false;
+};
+
+extern "C" int progress_cb(void *ctx, double fraction)
+{
+    auto *st = static_cast<progress_state *>(ctx);
+    const auto now = std::chrono::steady_clock::now();
+    if (st->started && fraction < 1.0 && now - st->last < std::chrono::milliseconds(50))
+        return 0;
+    st->started = true;
+    st->last = now;
+    nb::gil_scoped_acquire gil;
+    try {
+        if (PyErr_CheckSignals() != 0)
+            throw nb::python_error();
+        if (!st->fn.is_none() && nb::bool_(st->fn(fraction)))
+            return 1; // a true answer cancels, as the C callback's non-zero
+    } catch (nb::python_error &e) {
+        st->error = std::make_unique<nb::python_error>(std::move(e));
+        return 1;
+    }
+    return 0;
+}
+
+// Runs `call` without the GIL, with progress into `run`; rethrows what the
+// user's callback raised (or Ctrl-C's KeyboardInterrupt).
+template <typename F> relief_status run_released(relief_run_options *run, nb::object progress,
+                                                 F &&call)
+{
+    progress_state st;
+    st.fn = std::move(progress);
+    run->progress = progress_cb;
+    run->progress_ctx = &st;
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = call();
+    }
+    if (st.error)
+        throw *st.error;
+    return s;
+}
+
+// ------------------------------------------------------------- parameters
+
+// The keyword arguments, as text, into an engine's params through its
+// table (relief_param_set); the strings stay alive for PATH parameters.
+struct param_setter {
+    std::vector<std::string> kept;
+    relief_error err{RELIEF_OK, ""};
+
+    relief_status set(void *params, const relief_param *table, size_t count,
+                      const nb::dict &kw, const char *engine)
+    {
+        for (auto item : kw) {
+            const std::string name = nb::cast<std::string>(item.first);
+            const relief_param *p = relief_param_find(table, count, name.c_str());
+            if (!p) {
+                std::string known;
+                for (size_t i = 0; i < count; ++i)
+                    known += (i ? ", " : "") + std::string(table[i].name);
+                snprintf(err.message, sizeof err.message,
+                         "%s: unknown parameter '%s' (known: %s)", engine, name.c_str(),
+                         known.c_str());
+                return err.status = RELIEF_E_USAGE;
+            }
+            kept.push_back(nb::cast<std::string>(item.second));
+            if (relief_param_set(params, p, kept.back().c_str(), &err) != RELIEF_OK)
+                return err.status;
+        }
+        return RELIEF_OK;
+    }
+};
+
+nb::object json_or_none(const char *json)
+{
+    return json ? nb::object(nb::str(json)) : nb::none();
+}
+
+// ----------------------------------------------------------------- meshes
+
+template <typename T> nb::object new_array(const T *src, size_t rows, size_t cols)
+{
+    if (!src)
+        return nb::none();
+    T *buf = new T[rows * cols + 1];
+    std::memcpy(buf, src, rows * cols * sizeof(T));
+    nb::capsule owner(buf, [](void *p) noexcept { delete[] static_cast<T *>(p); });
+    const size_t shape[2] = {rows, cols};
+    return nb::cast(carray<T>(buf, cols == 1 ? 1 : 2, shape, owner));
+}
+
+// The mesh's arrays: (vertices, faces, colours, normals, labels); None for
+// what it lacks.
+nb::tuple mesh_arrays(relief_mesh *m)
+{
+    const size_t nv = relief_mesh_vertex_count(m), nt = relief_mesh_triangle_count(m);
+    return nb::make_tuple(new_array(relief_mesh_positions(m), nv, 3),
+                          new_array(relief_mesh_triangles(m), nt, 3),
+                          new_array(relief_mesh_colours(m), nv, 3),
+                          new_array(relief_mesh_normals(m), nv, 3),
+                          new_array(relief_mesh_labels(m), nv, 1));
+}
+
+// A relief_mesh from the package's arrays (checked there: shapes agree).
+relief_status make_mesh(const carray<const double> &v, nb::object faces, nb::object colours,
+                        nb::object normals, nb::object labels, relief_mesh **out,
+                        relief_error *err)
+{
+    const size_t nv = v.shape(0);
+    const size_t nt = faces.is_none() ? 0 : nb::cast<carray<const uint32_t>>(faces).shape(0);
+    unsigned attrs = (colours.is_none() ? 0u : unsigned(RELIEF_MESH_COLOURS)) |
+                     (normals.is_none() ? 0u : unsigned(RELIEF_MESH_NORMALS)) |
+                     (labels.is_none() ? 0u : unsigned(RELIEF_MESH_LABELS));
+    relief_status s = relief_mesh_create(nv, nt, attrs, out, err);
+    if (s != RELIEF_OK)
+        return s;
+    std::memcpy(relief_mesh_positions(*out), v.data(), nv * 3 * sizeof(double));
+    if (nt)
+        std::memcpy(relief_mesh_triangles(*out), nb::cast<carray<const uint32_t>>(faces).data(),
+                    nt * 3 * sizeof(uint32_t));
+    if (!colours.is_none())
+        std::memcpy(relief_mesh_colours(*out), nb::cast<carray<const float>>(colours).data(),
+                    nv * 3 * sizeof(float));
+    if (!normals.is_none())
+        std::memcpy(relief_mesh_normals(*out), nb::cast<carray<const double>>(normals).data(),
+                    nv * 3 * sizeof(double));
+    if (!labels.is_none())
+        std::memcpy(relief_mesh_labels(*out), nb::cast<carray<const uint8_t>>(labels).data(),
+                    nv);
+    return RELIEF_OK;
+}
+
+// ---------------------------------------------------------------- engines
+
+// image: H x W x C (C 1 to 4) uint8 or uint16, filled in place on success;
+// mask: H x W uint8, non-zero = fill.
+nb::tuple image_fill(nb::ndarray<nb::numpy, nb::c_contig, nb::device::cpu> image,
+                     carray<const uint8_t> mask, nb::dict kw, nb::object progress)
+{
+    relief_image_fill_params p = relief_image_fill_params_default();
+    param_setter ps;
+    size_t count = 0;
+    const relief_param *table = relief_image_fill_param_table(&count);
+    if (ps.set(&p, table, count, kw, "image_fill") != RELIEF_OK)
+        return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none());
+    relief_image img{int(image.shape(1)), int(image.shape(0)),
+                     int(image.ndim() == 3 ? image.shape(2) : 1), int(image.dtype().bits), 0,
+                     image.data()};
+    relief_image m{int(mask.shape(1)), int(mask.shape(0)), 1, 8, 0,
+                   const_cast<uint8_t *>(mask.data())};
+    relief_image_fill_report rep;
+    std::memset(&rep, 0, sizeof rep);
+    relief_error err{RELIEF_OK, ""};
+    relief_status s = run_released(&p.run, progress, [&] {
+        return relief_image_fill(&img, &m, &p, &rep, &err);
+    });
+    nb::object json = s == RELIEF_OK ? json_or_none(rep.json) : nb::none();
+    relief_image_fill_report_free(&rep);
+    return nb::make_tuple(int(s), std::string(err.message), json);
+}
+
+// z: H x W float32 (NaN where missing), filled in place on success; mask:
+// H x W uint8 or None.
+nb::tuple depth_fill(carray<float> z, nb::object mask, nb::dict kw, nb::object progress)
+{
+    relief_depth_fill_params p = relief_depth_fill_params_default();
+    param_setter ps;
+    size_t count = 0;
+    const relief_param *table = relief_depth_fill_param_table(&count);
+    if (ps.set(&p, table, count, kw, "depth_fill") != RELIEF_OK)
+        return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none());
+    relief_depth_image f;
+    std::memset(&f, 0, sizeof f);
+    f.width = int(z.shape(1)), f.height = int(z.shape(0)), f.z = z.data();
+    relief_image m{f.width, f.height, 1, 8, 0, nullptr};
+    if (!mask.is_none())
+        m.data = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(mask).data());
+    relief_depth_fill_report rep;
+    std::memset(&rep, 0, sizeof rep);
+    relief_error err{RELIEF_OK, ""};
+    relief_status s = run_released(&p.run, progress, [&] {
+        return relief_depth_fill(&f, m.data ? &m : nullptr, &p, &rep, &err);
+    });
+    nb::object json = s == RELIEF_OK ? json_or_none(rep.json) : nb::none();
+    relief_depth_fill_report_free(&rep);
+    return nb::make_tuple(int(s), std::string(err.message), json);
+}
+
+// A mesh engine's call (relief_complete, relief_complete_points): its
+// params through its table, the input mesh from the arrays, the run
+// without the GIL; (status, message, report, (vertices, faces, colours,
+// normals, labels)).
+template <typename Params, typename Report>
+nb::tuple mesh_engine(const char *engine, Params p, const relief_param *table, size_t count,
+                      const nb::dict &kw, nb::object progress, const carray<const double> &v,
+                      nb::object faces, nb::object colours, nb::object normals,
+                      nb::object labels,
+                      relief_status (*call)(const relief_mesh *, const Params *, relief_mesh **,
+                                            Report *, relief_error *),
+                      void (*free_report)(Report *))
+{
+    param_setter ps;
+    if (ps.set(&p, table, count, kw, engine) != RELIEF_OK)
+        return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
+                              nb::none());
+    relief_error err{RELIEF_OK, ""};
+    relief_mesh *in = nullptr, *out = nullptr;
+    relief_status s = make_mesh(v, faces, colours, normals, labels, &in, &err);
+    Report rep;
+    std::memset(&rep, 0, sizeof rep);
+    if (s == RELIEF_OK)
+        s = run_released(&p.run, progress, [&] { return call(in, &p, &out, &rep, &err); });
+    relief_mesh_destroy(in);
+    nb::object json = nb::none(), arrays = nb::none();
+    if (s == RELIEF_OK) {
+        json = json_or_none(rep.json);
+        arrays = mesh_arrays(out);
+    }
+    free_report(&rep);
+    relief_mesh_destroy(out);
+    return nb::make_tuple(int(s), std::string(err.message), json, arrays);
+}
+
+nb::tuple complete_mesh(carray<const double> v, nb::object faces, nb::object colours,
+                        nb::dict kw, nb::object progress)
+{
+    size_t count = 0;
+    const relief_param *table = relief_complete_param_table(&count);
+    return mesh_engine("complete_mesh", relief_complete_params_default(), table, count, kw,
+                       progress, v, faces, colours, nb::none(), nb::none(), relief_complete,
+                       relief_complete_report_free);
+}
+
+nb::tuple complete_points(carray<const double> v, nb::object faces, nb::object colours,
+                          nb::object normals, nb::object labels, nb::dict kw,
+                          nb::object progress)
+{
+    size_t count = 0;
+    const relief_param *table = relief_complete_points_param_table(&count);
+    return mesh_engine("complete_points", relief_complete_points_params_default(), table, count,
+                       kw, progress, v, faces, colours, normals, labels, relief_complete_points,
+                       relief_complete_points_report_free);
+}
+
+// ------------------------------------------------------------------ files
+
+nb::tuple read_mesh(const std::string &path)
+{
+    relief_error err{RELIEF_OK, ""};
+    relief_mesh *m = nullptr;
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_mesh_read(path.c_str(), &m, nullptr, &err);
+    }
+    nb::object arrays = s == RELIEF_OK ? nb::object(mesh_arrays(m)) : nb::none();
+    relief_mesh_destroy(m);
+    return nb::make_tuple(int(s), std::string(err.message), arrays);
+}
+
+nb::tuple write_mesh(const std::string &path, carray<const double> v, nb::object faces,
+                     nb::object colours, nb::object labels, bool ascii)
+{
+    relief_error err{RELIEF_OK, ""};
+    relief_mesh *m = nullptr;
+    relief_status s = make_mesh(v, faces, colours, nb::none(), labels, &m, &err);
+    relief_write_options o{ascii ? 1 : 0};
+    if (s == RELIEF_OK) {
+        nb::gil_scoped_release nogil;
+        s = relief_mesh_write(m, path.c_str(), &o, &err);
+    }
+    relief_mesh_destroy(m);
+    return nb::make_tuple(int(s), std::string(err.message));
+}
+
+// (status, message, samples as H x W x C uint8 or uint16)
+nb::tuple read_image(const std::string &path)
+{
+    relief_error err{RELIEF_OK, ""};
+    relief_image img;
+    std::memset(&img, 0, sizeof img);
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_image_read(path.c_str(), 0, &img, &err);
+    }
+    nb::object arr = nb::none();
+    if (s == RELIEF_OK) {
+        const size_t h = size_t(img.height), row = size_t(img.width) * size_t(img.channels);
+        const size_t shape[3] = {h, size_t(img.width), size_t(img.channels)};
+        if (img.bit_depth == 8) {
+            auto *buf = new uint8_t[h * row + 1];
+            std::memcpy(buf, img.data, h * row);
+            nb::capsule own(buf, [](void *q) noexcept { delete[] static_cast<uint8_t *>(q); });
+            arr = nb::cast(carray<uint8_t>(buf, 3, shape, own));
+        } else {
+            auto *buf = new uint16_t[h * row + 1];
+            std::memcpy(buf, img.data, h * row * 2);
+            nb::capsule own(buf, [](void *q) noexcept { delete[] static_cast<uint16_t *>(q); });
+            arr = nb::cast(carray<uint16_t>(buf, 3, shape, own));
+        }
+    }
+    relief_image_free(&img);
+    return nb::make_tuple(int(s), std::string(err.message), arr);
+}
+
+// image: H x W x C (C 1 to 4) uint8 or uint16; PNG or JPEG by the extension.
+nb::tuple write_image(const std::string &path,
+                      nb::ndarray<nb::ro, nb::c_contig, nb::device::cpu> image)
+{
+    relief_error err{RELIEF_OK, ""};
+    relief_image img{int(image.shape(1)), int(image.shape(0)), int(image.shape(2)),
+                     int(image.dtype().bits), 0, const_cast<void *>(image.data())};
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_image_write(&img, path.c_str(), &err);
+    }
+    return nb::make_tuple(int(s), std::string(err.message));
+}
+
+// z: H x W float32 (NaN missing), as a PFM or a 16-bit PNG (png_scale).
+nb::tuple write_depth(const std::string &path, carray<const float> z, const std::string &format,
+                      double png_scale)
+{
+    relief_error err{RELIEF_OK, ""};
+    relief_depth_image f;
+    std::memset(&f, 0, sizeof f);
+    f.width = int(z.shape(1)), f.height = int(z.shape(0)), f.z = const_cast<float *>(z.data());
+    const relief_depth_format fmt = format == "png16" ? RELIEF_DEPTH_PNG16 : RELIEF_DEPTH_PFM;
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_depth_write(&f, path.c_str(), fmt, png_scale, &err);
+    }
+    return nb::make_tuple(int(s), std::string(err.message));
+}
+
+// (status, message, z as H x W float32, NaN where missing)
+nb::tuple read_depth(const std::string &path, double png_scale)
+{
+    relief_error err{RELIEF_OK, ""};
+    relief_depth_image f;
+    std::memset(&f, 0, sizeof f);
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_depth_read(path.c_str(), png_scale, 0, &f, &err);
+    }
+    nb::object z = nb::none();
+    if (s == RELIEF_OK) {
+        const size_t shape[2] = {size_t(f.height), size_t(f.width)};
+        auto *buf = new float[shape[0] * shape[1] + 1];
+        std::memcpy(buf, f.z, shape[0] * shape[1] * sizeof(float));
+        nb::capsule own(buf, [](void *q) noexcept { delete[] static_cast<float *>(q); });
+        z = nb::cast(carray<float>(buf, 2, shape, own));
+    }
+    relief_depth_image_free(&f);
+    return nb::make_tuple(int(s), std::string(err.message), z);
+}
+
+nb::tuple devices()
+{
+    relief_device_info info[64];
+    size_t n = 0;
+    relief_error err{RELIEF_OK, ""};
+    relief_status s = relief_devices(info, 64, &n, &err);
+    nb::list out;
+    for (size_t i = 0; s == RELIEF_OK && i < n && i < 64; ++i) {
+        nb::dict d;
+        d["index"] = info[i].index;
+        d["platform"] = std::string(info[i].platform);
+        d["name"] = std::string(info[i].name);
+        d["type"] = std::string(info[i].type);
+        d["version"] = std::string(info[i].version);
+        d["compute_units"] = info[i].compute_units;
+        d["global_mem_bytes"] = info[i].global_mem_bytes;
+        out.append(d);
+    }
+    return nb::make_tuple(int(s), std::string(err.message), out);
+}
+
+// Every parameter of an engine: name -> (value form, help).
+nb::dict param_table(const std::string &engine)
+{
+    size_t count = 0;
+    const relief_param *t = engine == "image_fill"        ? relief_image_fill_param_table(&count)
+                            : engine == "depth_fill"      ? relief_depth_fill_param_table(&count)
+                            : engine == "complete_mesh"   ? relief_complete_param_table(&count)
+                            : engine == "complete_points" ? relief_complete_points_param_table(&count)
+                                                          : nullptr;
+    nb::dict d;
+    for (size_t i = 0; t && i < count; ++i)
+        d[t[i].name] = nb::make_tuple(std::string(t[i].value ? t[i].value : ""),
+                                      std::string(t[i].help ? t[i].help : ""));
+    return d;
+}
+
+} // namespace
+
+NB_MODULE(_relief, m)
+{
+    m.doc() = "librelief's engines; use the package relief, which checks the arguments";
+    m.def("version", [] { return std::string(relief_version()); });
+    m.def("status_name", [](int s) { return std::string(relief_status_name(relief_status(s))); });
+    m.def("image_fill", &image_fill, "image"_a, "mask"_a, "params"_a, "progress"_a.none());
+    m.def("depth_fill", &depth_fill, "z"_a, "mask"_a.none(), "params"_a, "progress"_a.none());
+    m.def("complete_mesh", &complete_mesh, "vertices"_a, "faces"_a.none(), "colours"_a.none(),
+          "params"_a, "progress"_a.none());
+    m.def("complete_points", &complete_points, "points"_a, "faces"_a.none(), "colours"_a.none(),
+          "normals"_a.none(), "labels"_a.none(), "params"_a, "progress"_a.none());
+    m.def("read_mesh", &read_mesh);
+    m.def("write_mesh", &write_mesh, "path"_a, "vertices"_a, "faces"_a.none(), "colours"_a.none(),
+          "labels"_a.none(), "ascii"_a);
+    m.def("read_image", &read_image);
+    m.def("read_depth", &read_depth);
+    m.def("write_image", &write_image);
+    m.def("write_depth", &write_depth);
+    m.def("devices", &devices);
+    m.def("param_table", &param_table);
+}
