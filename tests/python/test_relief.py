@@ -7,6 +7,7 @@ Run by ctest (test_python) with the project's .venv:
   RELIEF=build/relief DATA=../shared/data .venv/bin/python -m pytest tests/python
 """
 import os
+import signal
 import subprocess
 import threading
 
@@ -194,6 +195,16 @@ def test_progress_cancels_and_raises(brick):
 
     with pytest.raises(ValueError, match="stop here"):
         relief.image_fill(img, mask, progress=boom)
+
+
+def test_ctrl_c_cancels(brick):
+    """SIGINT during a run (here from its progress callback, on the main
+    thread, as Ctrl-C comes) ends it with KeyboardInterrupt; a later call
+    runs as before."""
+    img, mask = brick
+    with pytest.raises(KeyboardInterrupt):
+        relief.image_fill(img, mask, progress=lambda f: signal.raise_signal(signal.SIGINT))
+    assert np.array_equal(relief.image_fill(img, mask), relief.image_fill(img, mask))
 
 
 def test_no_memory_growth_over_200_calls():
