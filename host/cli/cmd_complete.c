@@ -83,7 +83,7 @@ static int parse(complete_cli *c, int argc, char **argv, int smooth)
     if (rc)
         return rc;
     if (!cli_one_input(&c->cm, argc, argv, "input mesh IN", &c->in))
-        return EXIT_USAGE;
+        return c->cm.batch.done ? (c->cm.batch.rc ? c->cm.batch.rc : -1) : EXIT_USAGE;
     if (!cli_known_mesh_ext(c->cm.out))
         return cli_usage_error(c->cm.cmd, "-o: '%s' has no known mesh extension (.ply, .obj, "
                                ".off, .stl)", c->cm.out);
@@ -263,6 +263,7 @@ static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_o
     int rc;
     memset(&c, 0, sizeof c);
     c.cm = cli_common_init(smooth ? "smooth" : "complete");
+    c.cm.batch = (cli_batch){smooth ? cli_cmd_smooth : cli_cmd_complete, ".ply", parse_only, 0, 0};
     c.p = relief_complete_params_default();
     rc = parse(&c, argc, argv, smooth);
     if (rc)

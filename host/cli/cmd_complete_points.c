@@ -120,9 +120,9 @@ static int take(void *ctx, int c, const char *arg)
  * or another output. 0 when they will do, else the exit status (said). */
 static int check_files(int argc, char **argv, points_cli *pc, relief_grid_search search)
 {
-    const cli_common *cm = &pc->cm;
+    cli_common *cm = &pc->cm;
     if (!cli_one_input(cm, argc, argv, "input IN", &pc->in))
-        return EXIT_USAGE;
+        return cm->batch.done ? cm->batch.rc : EXIT_USAGE;
     if (strcasecmp(cli_ext_of(cm->out), ".ply") != 0)
         return cli_usage_error(cmd, "-o: '%s' is not a .ply (the completed points carry "
                                "colour, normals and a label, which only PLY keeps)", cm->out);
@@ -235,12 +235,13 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
     points_cli pc = {cli_common_init(cmd), &p, NULL, NULL, NULL, {{NULL, NULL, 0}}};
     relief_error err = {RELIEF_OK, ""};
     const cli_spec s = spec();
-    int rc = cli_parse(&s, &pc.cm, &p, take, &pc, argc, argv);
-
+    int rc;
+    pc.cm.batch = (cli_batch){cli_cmd_complete_points, ".ply", parse_only, 0, 0};
+    rc = cli_parse(&s, &pc.cm, &p, take, &pc, argc, argv);
     if (rc)
         return rc < 0 ? 0 : rc;
     rc = check_files(argc, argv, &pc, p.grid_search);
-    if (rc)
+    if (rc || pc.cm.batch.done)
         return rc;
     if (relief_complete_points_params_validate(&p, &err) != RELIEF_OK)
         return cli_fail(cmd, &err);

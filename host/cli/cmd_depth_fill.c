@@ -139,19 +139,20 @@ static int check_files(depth_args *a, int argc, char **argv)
 }
 
 /* Options and operands into *a: -1 to go on, else the exit status. */
-static int parse_args(int argc, char **argv, depth_args *a)
+static int parse_args(int argc, char **argv, depth_args *a, int parse_only)
 {
     cli_spec s = spec();
     relief_error err = {RELIEF_OK, ""};
     int rc;
     memset(a, 0, sizeof *a);
     a->cm = cli_common_init("depth-fill");
+    a->cm.batch = (cli_batch){cli_cmd_depth_fill, NULL, parse_only, 0, 0};
     a->p = relief_depth_fill_params_default();
     rc = cli_parse(&s, &a->cm, &a->p, take, a, argc, argv);
     if (rc)
         return rc < 0 ? 0 : rc;
     if (!check_files(a, argc, argv))
-        return EXIT_USAGE;
+        return a->cm.batch.done ? a->cm.batch.rc : EXIT_USAGE;
     a->p.run.input_name = a->in;
     a->p.run.output_name = a->cm.out;
     if (relief_depth_fill_params_validate(&a->p, &err) != RELIEF_OK)
@@ -348,7 +349,7 @@ static int mesh_mode(depth_args *a)
 int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
 {
     depth_args a;
-    int rc = parse_args(argc, argv, &a);
+    int rc = parse_args(argc, argv, &a, parse_only);
     if (rc >= 0 || parse_only)
         return rc >= 0 ? rc : 0;
     return a.kind == IN_MESH ? mesh_mode(&a) : image_mode(&a);

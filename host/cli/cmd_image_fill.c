@@ -150,12 +150,14 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
     relief_image_fill_params p = relief_image_fill_params_default();
     relief_error err = {RELIEF_OK, ""};
     const char *in = NULL;
-    int rc = parse(argc, argv, &cm, &p);
+    int rc;
+    cm.batch = (cli_batch){cli_cmd_image_fill, NULL, parse_only, 0, 0};
+    rc = parse(argc, argv, &cm, &p);
 
     if (rc >= 0)
         return rc;
     if (!cli_one_input(&cm, argc, argv, "input image IN", &in))
-        return EXIT_USAGE;
+        return cm.batch.done ? cm.batch.rc : EXIT_USAGE;
     if (!image_ext(cm.out))
         return cli_usage_error(cm.cmd, "-o: '%s' does not end in .png, .jpg or .jpeg",
                                cm.out);

@@ -38,6 +38,16 @@ enum {
  * or "--window=V"? */
 int cli_given(int argc, char **argv, const char *opt);
 
+/* A command that runs once per input when given several (batch.c): the
+ * command itself, the extension its outputs take (NULL: the input's), and
+ * what the batch did. */
+typedef struct cli_batch {
+    int (*run)(int argc, char **argv, int parse_only);
+    const char *ext;
+    int parse_only;
+    int done, rc; /* done: cli_one_input ran the batch, whose exit status is rc */
+} cli_batch;
+
 /* What the shared options set. */
 typedef struct cli_common {
     const char *cmd;            /* "complete", for messages */
@@ -47,6 +57,7 @@ typedef struct cli_common {
     double max_seconds;         /* --max-seconds; 0: no limit */
     int seed_given;             /* 1 when --seed was given: */
     uint32_t seed;
+    cli_batch batch;            /* several inputs (cli_one_input, batch.h) */
 } cli_common;
 
 /* Defaults: nothing given. */
@@ -97,8 +108,10 @@ int cli_common_option(cli_common *cm, int c, const char *arg);
 
 /* "IN -o OUT": the one operand (`what` when missing), and -o when the
  * command writes one. Returns 0 (and says why) when either is missing or
- * there is an operand too many. */
-int cli_one_input(const cli_common *cm, int argc, char **argv, const char *what,
+ * there is an operand too many. A command with cm->batch.run set takes
+ * several operands (or one with -o ending in '/'): cli_one_input then runs
+ * the batch (batch.c), sets cm->batch.done and .rc, and returns 0. */
+int cli_one_input(cli_common *cm, int argc, char **argv, const char *what,
                   const char **in);
 
 /* Print "relief CMD: error: <message>" and return the status's exit code. */

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Several inputs to one command (issue 41, host/cli/batch.h): each output is
+# the bytes a run on that input alone gives; a bad input fails alone (exit
+# 1, the others written, a summary naming it); what a batch cannot do is
+# refused before any run, with nothing written.
+#   test_batch.sh PATH/TO/relief PATH/TO/image_tool DATA_DIR
+set -u
+relief=$1 image_tool=$2 data=$3
+tmp=$(mktemp -d /tmp/relief-batch-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+. "$(dirname "$0")/expect.sh" # expect, ok
+
+mkdir -p "$tmp/in" "$tmp/o" "$tmp/one" "$tmp/b"
+for i in 1 2; do "$relief" synth plane-waves -o "$tmp/in/cap$i.ply" --seed $i 2>/dev/null || exit 2; done
+echo "ply garbage" > "$tmp/in/bad.ply"
+expect 1 "2 of 3 inputs done" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/bad.ply" "$tmp/in/cap2.ply" -o "$tmp/o/" --backend scalar
+ok 'grep -q "failed: $tmp/in/bad.ply (exit 1)" "$tmp/err" && grep -q "\[3/3\]" "$tmp/err"' "the summary does not name the bad input, or the batch stopped at it"
+ok '[[ -f $tmp/o/cap1.ply && -f $tmp/o/cap2.ply && ! -e $tmp/o/bad.ply ]]' "the good outputs were not all kept, or the bad one left a file: $(ls "$tmp/o")"
+for i in 1 2; do
+  "$relief" complete "$tmp/in/cap$i.ply" -o "$tmp/one/cap$i.ply" --backend scalar --quiet
+  ok 'cmp -s "$tmp/o/cap$i.ply" "$tmp/one/cap$i.ply"' "cap$i: the batch's output differs from a run on it alone"
+done
+
+# image-fill keeps each input's extension; one mask serves every frame.
+brick=$data/images/brick.png grass=$data/images/grass.png
+if [[ -f $brick && -f $grass ]]; then
+  "$image_tool" mask "$tmp/mask.png" 512 512 200 240 30 20
+  expect 0 "2 of 2 inputs done" -- "$relief" image-fill "$brick" "$grass" --mask "$tmp/mask.png" -o "$tmp/o" --window 9
+  "$relief" image-fill "$grass" --mask "$tmp/mask.png" -o "$tmp/one/grass.png" --window 9 --quiet
+  ok 'cmp -s "$tmp/o/grass.png" "$tmp/one/grass.png" && [[ -f $tmp/o/brick.png ]]' "image-fill: the batch's grass.png differs from a run on it alone"
+fi
+
+# One input and -o ending in '/': written into that folder under its name.
+expect 0 "1 of 1 inputs done" -- "$relief" complete-points "$tmp/in/cap1.ply" -o "$tmp/b/" --iterations 1 --max-hole 1000
+ok '[[ -f $tmp/b/cap1.ply ]]' "complete-points: one input with -o DIR/ wrote no DIR/cap1.ply"
+
+# Refused before any run, nothing written.
+rm -rf "$tmp/b" && mkdir "$tmp/b"
+expect 1 "is a folder that exists" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/missing/"
+expect 1 "is a folder that exists" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/in/cap1.ply"
+expect 1 "--report names one file" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/b/" --report "$tmp/b/r.json"
+mkdir -p "$tmp/in2" && cp "$tmp/in/cap1.ply" "$tmp/in2/"
+expect 1 "would both be written to" -- "$relief" depth-fill "$tmp/in/cap1.ply" "$tmp/in2/cap1.ply" -o "$tmp/b/"
+ok '[[ -z $(ls -A "$tmp/b") ]]' "a refused batch wrote: $(ls "$tmp/b")"
+expect 1 "unexpected argument" -- "$relief" fit "$tmp/in/cap1.ply" "$tmp/in/cap2.ply"
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]
