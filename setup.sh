@@ -17,7 +17,7 @@ PACKAGES=(cmake make gcc g++ pkg-config
           python3 python3-venv python3-dev ninja-build
           gimp libgimp2.0-dev)
 # The Python package's build and test tools, from PyPI into .venv.
-PY_PACKAGES=(nanobind scikit-build-core numpy pytest)
+PY_PACKAGES=(nanobind scikit-build-core numpy pytest "dask[distributed]")
 BUILD_DIR=${BUILD_DIR:-build}
 JOBS=${JOBS:-$(nproc)}
 

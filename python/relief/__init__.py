@@ -18,7 +18,9 @@ so several threads may run engines at once; Ctrl-C cancels a run
 (KeyboardInterrupt). Any failure raises :class:`ReliefError`, whose
 ``status`` names its kind ("range", "usage", "mesh", "cancelled", ...).
 The same input and seed give the same bytes as the command line, whatever
-the backend.
+the backend. Every function is pure and picklable (module-level, numpy in
+and out, ReliefError pickles whole), so Dask, multiprocessing or
+concurrent.futures can run it on other processes or machines.
 """
 from collections import namedtuple
 import json
@@ -50,6 +52,9 @@ class ReliefError(RuntimeError):
     def __init__(self, status, message):
         super().__init__(message)
         self.status = status
+
+    def __reduce__(self):  # pickled whole, as Dask sends a worker's failure back
+        return (ReliefError, (self.status, str(self)))
 
 
 def _fail(status, message):
