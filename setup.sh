@@ -17,7 +17,10 @@ PACKAGES=(cmake make gcc g++ pkg-config
           python3 python3-venv python3-dev ninja-build
           gimp libgimp2.0-dev)
 # The Python package's build and test tools, from PyPI into .venv.
-PY_PACKAGES=(nanobind scikit-build-core numpy pytest "dask[distributed]")
+# dask runs the batch recipe; trimesh, OpenCV and scikit-image, the interop
+# tests (tests/python/test_interop.py).
+PY_PACKAGES=(nanobind scikit-build-core numpy pytest "dask[distributed]"
+             trimesh opencv-python-headless scikit-image)
 BUILD_DIR=${BUILD_DIR:-build}
 JOBS=${JOBS:-$(nproc)}
 

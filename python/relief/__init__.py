@@ -30,7 +30,7 @@ import numpy as np
 
 from . import _relief
 
-__all__ = ["ReliefError", "Mesh", "image_fill", "depth_fill", "complete_mesh",
+__all__ = ["ReliefError", "Mesh", "image_fill", "depth_fill", "complete_mesh", "fill_mesh_holes",
            "complete_points", "read_mesh", "write_mesh", "read_image", "write_image",
            "read_depth", "write_depth",
            "devices", "parameters", "__version__"]
@@ -252,6 +252,28 @@ def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend
     return (result, _report(report, True)) if return_report else result
 
 
+def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, backend="auto",
+                    progress=None, return_report=False, **params):
+    """Fill a mesh's holes through the six depth images of its bounding box
+    (paper 003, ``relief depth-fill`` on a mesh): the holes the hole model
+    fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``; a vessel's mouth and a
+    scan's border stay open) get a skin of the repaired solid zipped into
+    their rims; ``solid=True`` returns the whole closed solid instead.
+    ``resolution``: voxels along the box's longest side. Returns (vertices,
+    faces, colours, labels): the input's first, in order, then the patches'
+    (label 1)."""
+    v = _vertices("vertices", vertices)
+    f = _faces(faces, len(v))
+    if f is None:
+        _fail("usage", "faces: a mesh's holes need its triangles")
+    c = _per_vertex("colours", colours, len(v), np.float32)
+    kw = _params(dict(params, resolution=resolution, seed=seed, backend=backend))
+    report, arrays = _check(_relief.fill_mesh_holes(v, f, c, kw, _progress(progress)))
+    out = Mesh(*arrays)
+    result = (out.vertices, out.faces, out.colours, out.labels)
+    return (result, _report(report, True)) if return_report else result
+
+
 def complete_points(points, colours=None, normals=None, *, faces=None, seed=1,
                     progress=None, return_report=False, **params):
     """Fill the holes of a point set (paper 002): the holes the hole model
@@ -335,8 +357,8 @@ def devices():
 
 
 def parameters(engine):
-    """An engine's parameters ("image_fill", "depth_fill", "complete_mesh",
-    "complete_points"): {name: (value form, help)}."""
+    """An engine's parameters ("image_fill", "depth_fill", "fill_mesh_holes",
+    "complete_mesh", "complete_points"): {name: (value form, help)}."""
     table = _relief.param_table(engine)
     if not table:
         _fail("usage", f"unknown engine {engine!r}: expected image_fill, depth_fill, "

@@ -281,6 +281,24 @@ nb::tuple complete_points(carray<const double> v, nb::object faces, nb::object c
                        relief_complete_points_report_free);
 }
 
+// depth-fill on a mesh (the six depth images of its box), no truth.
+relief_status depth_fill_mesh_call(const relief_mesh *in, const relief_depth_fill_params *p,
+                                   relief_mesh **out, relief_depth_fill_report *rep,
+                                   relief_error *err)
+{
+    return relief_depth_fill_mesh(in, p, nullptr, out, rep, err);
+}
+
+nb::tuple fill_mesh_holes(carray<const double> v, nb::object faces, nb::object colours,
+                          nb::dict kw, nb::object progress)
+{
+    size_t count = 0;
+    const relief_param *table = relief_depth_fill_param_table(&count);
+    return mesh_engine("fill_mesh_holes", relief_depth_fill_params_default(), table, count, kw,
+                       progress, v, faces, colours, nb::none(), nb::none(),
+                       depth_fill_mesh_call, relief_depth_fill_report_free);
+}
+
 // ------------------------------------------------------------------ files
 
 nb::tuple read_mesh(const std::string &path)
@@ -424,7 +442,8 @@ nb::dict param_table(const std::string &engine)
 {
     size_t count = 0;
     const relief_param *t = engine == "image_fill"        ? relief_image_fill_param_table(&count)
-                            : engine == "depth_fill"      ? relief_depth_fill_param_table(&count)
+                            : engine == "depth_fill" || engine == "fill_mesh_holes"
+                                ? relief_depth_fill_param_table(&count)
                             : engine == "complete_mesh"   ? relief_complete_param_table(&count)
                             : engine == "complete_points" ? relief_complete_points_param_table(&count)
                                                           : nullptr;
@@ -446,6 +465,8 @@ NB_MODULE(_relief, m)
     m.def("depth_fill", &depth_fill, "z"_a, "mask"_a.none(), "params"_a, "progress"_a.none());
     m.def("complete_mesh", &complete_mesh, "vertices"_a, "faces"_a.none(), "colours"_a.none(),
           "params"_a, "progress"_a.none());
+    m.def("fill_mesh_holes", &fill_mesh_holes, "vertices"_a, "faces"_a.none(),
+          "colours"_a.none(), "params"_a, "progress"_a.none());
     m.def("complete_points", &complete_points, "points"_a, "faces"_a.none(), "colours"_a.none(),
           "normals"_a.none(), "labels"_a.none(), "params"_a, "progress"_a.none());
     m.def("read_mesh", &read_mesh);

@@ -135,6 +135,19 @@ def test_complete_mesh_same_bytes_as_cli(tmp_path):
     assert isinstance(rep, dict) and (lab == 1).sum() > 0
 
 
+def test_fill_mesh_holes_same_bytes_as_cli(tmp_path):
+    vase = need(os.path.join(DATA, "real", "ggg_sfm", "blackVase.ply"))
+    cli("cut", vase, "-o", tmp_path / "cut.ply", "--ball", "148.82,20.99,223.15,30")
+    cli("depth-fill", tmp_path / "cut.ply", "-o", tmp_path / "out.ply", "--resolution", 96,
+        "--quiet")
+    want = relief.read_mesh(tmp_path / "out.ply")
+    cut = relief.read_mesh(tmp_path / "cut.ply")
+    v, f, c, lab = relief.fill_mesh_holes(cut.vertices, cut.faces, cut.colours, resolution=96)
+    assert np.array_equal(v.astype(np.float32), want.vertices.astype(np.float32))
+    assert np.array_equal(f, want.faces) and np.array_equal(lab, want.labels)
+    assert (lab == 1).sum() > 0 and len(f) > len(cut.faces)
+
+
 @pytest.mark.parametrize("call, words", [
     (lambda: relief.image_fill(np.zeros((8, 8), np.int32), np.zeros((8, 8))), "image: dtype"),
     (lambda: relief.image_fill(np.zeros((8, 8, 5), np.uint8), np.zeros((8, 8))), "channels"),
@@ -152,6 +165,7 @@ def test_complete_mesh_same_bytes_as_cli(tmp_path):
     (lambda: relief.complete_mesh(np.zeros((3, 2)), [[0, 1, 2]]), "vertices: shape"),
     (lambda: relief.complete_mesh(np.zeros((3, 3)), [[0, 1, 3]]), "faces: index 3"),
     (lambda: relief.complete_mesh(np.zeros((0, 3)), None), "vertices: shape"),
+    (lambda: relief.fill_mesh_holes(np.eye(3), None), "faces: a mesh's holes"),
     (lambda: relief.complete_points(np.eye(3), colours=np.zeros((2, 3))), "colours: shape"),
     (lambda: relief.complete_points([["a", "b", "c"]]), "points"),
     (lambda: relief.read_mesh("/nonexistent/none.ply"), "none.ply"),
