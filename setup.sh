@@ -15,11 +15,11 @@ PACKAGES=(cmake make gcc g++ pkg-config
           ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           clang libclang-rt-dev valgrind
           python3 python3-venv python3-dev ninja-build
-          gimp libgimp2.0-dev)
+          gimp libgimp2.0-dev python3-open3d)
 # The Python package's build and test tools, from PyPI into .venv.
 # dask runs the batch recipe; trimesh, OpenCV and scikit-image, the interop
 # tests (tests/python/test_interop.py).
-PY_PACKAGES=(nanobind scikit-build-core numpy pytest "dask[distributed]"
+PY_PACKAGES=(nanobind scikit-build-core "numpy>=2" pytest "dask[distributed]"
              trimesh opencv-python-headless scikit-image)
 BUILD_DIR=${BUILD_DIR:-build}
 JOBS=${JOBS:-$(nproc)}
@@ -48,9 +48,13 @@ build() {
 # The Python package (python/) built over the library and installed into
 # the project's virtual environment .venv: afterwards
 # `.venv/bin/python -c "import relief"` works. Its build folder is
-# build/python, kept between runs.
+# build/python, kept between runs. The venv is Debian's Python's
+# (PYTHON), with its system packages in view: Open3D comes from Debian
+# (python3-open3d, for the interop test), built for that Python; the rest
+# from PyPI, inside the venv.
+PYTHON=${PYTHON:-/usr/bin/python3}
 python_package() {
-  [[ -x .venv/bin/python ]] || python3 -m venv .venv
+  [[ -x .venv/bin/python ]] || "$PYTHON" -m venv --system-site-packages .venv
   .venv/bin/python -m pip install -q --disable-pip-version-check "${PY_PACKAGES[@]}"
   .venv/bin/python -m pip install -q --disable-pip-version-check --no-build-isolation ./python
   echo "setup: Python package relief $(.venv/bin/python -c 'import relief; print(relief.__version__)') in .venv"

@@ -39,7 +39,7 @@ __version__ = _relief.version()
 
 Mesh = namedtuple("Mesh", "vertices faces colours normals labels")
 Mesh.__doc__ = """A mesh or point cloud as relief reads and returns it: vertices (N, 3)
-float64; faces (M, 3) uint32 or None for a point cloud; colours (N, 3) float32
+float64; faces (M, 3) int32 or None for a point cloud; colours (N, 3) float32
 in [0, 1], normals (N, 3) float64 and labels (N,) uint8 (0 captured,
 1 added by relief), each None when absent."""
 
@@ -59,6 +59,14 @@ class ReliefError(RuntimeError):
 
 def _fail(status, message):
     raise ReliefError(status if isinstance(status, str) else _relief.status_name(status), message)
+
+
+def _mesh(arrays):
+    """The extension's arrays as a Mesh, faces as int32 (what Open3D's
+    Vector3iVector takes; it crashes on uint32) or None without any."""
+    v, f, c, n, lab = arrays
+    f = f.astype(np.int32) if f is not None and len(f) else None
+    return Mesh(v, f, c, n, lab)
 
 
 def _check(result):
@@ -247,7 +255,7 @@ def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, base=base, seed=seed, backend=backend))
     report, arrays = _check(_relief.complete_mesh(v, f, c, kw, _progress(progress)))
-    out = Mesh(*arrays)
+    out = _mesh(arrays)
     result = (out.vertices, out.faces, out.colours, out.labels)
     return (result, _report(report, True)) if return_report else result
 
@@ -269,7 +277,7 @@ def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, b
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, resolution=resolution, seed=seed, backend=backend))
     report, arrays = _check(_relief.fill_mesh_holes(v, f, c, kw, _progress(progress)))
-    out = Mesh(*arrays)
+    out = _mesh(arrays)
     result = (out.vertices, out.faces, out.colours, out.labels)
     return (result, _report(report, True)) if return_report else result
 
@@ -287,7 +295,7 @@ def complete_points(points, colours=None, normals=None, *, faces=None, seed=1,
     n = _per_vertex("normals", normals, len(v), np.float64)
     kw = _params(dict(params, seed=seed))
     report, arrays = _check(_relief.complete_points(v, f, c, n, None, kw, _progress(progress)))
-    out = Mesh(*arrays)
+    out = _mesh(arrays)
     result = (out.vertices, out.colours, out.labels)
     return (result, _report(report, True)) if return_report else result
 
@@ -298,8 +306,7 @@ def read_mesh(path):
     """Read a PLY, OBJ, OFF or STL mesh (or a PLY point cloud), repaired as
     relief reads every mesh: a :class:`Mesh`."""
     (arrays,) = _check(_relief.read_mesh(os.fspath(path)))
-    v, f, c, n, lab = arrays
-    return Mesh(v, f if f is not None and len(f) else None, c, n, lab)
+    return _mesh(arrays)
 
 
 def write_mesh(path, vertices, faces=None, colours=None, labels=None, *, ascii=False):

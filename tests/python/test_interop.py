@@ -1,5 +1,5 @@
-"""relief with the Python tools its users hold (issue 41): a trimesh mesh
-through fill_mesh_holes and complete_mesh and back; an image from OpenCV
+"""relief with the Python tools its users hold (issue 41): an Open3D and a
+trimesh mesh through fill_mesh_holes and complete_mesh and back; an image from OpenCV
 (BGR, cv2.imread) and one as scikit-image takes it (a bool mask, as
 inpaint_biharmonic) through image_fill. Each tool is skipped where it is
 not installed (./setup.sh puts them in .venv)."""
@@ -44,6 +44,24 @@ def test_trimesh_fill_and_complete(tmp_path):
     new_faces = np.any(lab2[f2] == 1, axis=1)
     assert new_faces.sum() > 0 and len(v2) > len(tm.vertices)
     assert trimesh.Trimesh(v2, f2, process=False).is_winding_consistent
+
+
+def test_open3d_mesh(tmp_path):
+    o3d = pytest.importorskip("open3d")
+    vase = need(os.path.join(DATA, "real", "ggg_sfm", "blackVase.ply"))
+    subprocess.run([CLI, "cut", vase, "-o", str(tmp_path / "cut.ply"), "--ball",
+                    "148.82,20.99,223.15,30"], check=True, capture_output=True)
+    mesh = o3d.io.read_triangle_mesh(str(tmp_path / "cut.ply"))
+    v0, f0 = np.asarray(mesh.vertices), np.asarray(mesh.triangles)
+    v, f, _, lab = relief.fill_mesh_holes(v0, f0, resolution=96)
+    assert f.dtype == np.int32  # Open3D's Vector3iVector crashes on uint32
+    out = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(v), o3d.utility.Vector3iVector(f))
+    assert len(out.triangles) > len(mesh.triangles) and (lab == 1).sum() > 0
+    assert np.array_equal(np.asarray(out.vertices)[: len(v0)], v0)
+    assert out.is_edge_manifold() and out.is_vertex_manifold()
+    # Open3D's own count of boundary edges falls: the cut is closed.
+    assert len(out.get_non_manifold_edges(allow_boundary_edges=False)) < \
+        len(mesh.get_non_manifold_edges(allow_boundary_edges=False))
 
 
 def test_opencv_image(tmp_path):
