@@ -9,7 +9,10 @@
 #                        one completion
 #   ./test.sh sanitize   the suite again under ASan + UBSan, in build-asan/; its
 #                        end-to-end completions take a 1000-vertex truth
-#                        (the bark and plane-noise keep 2000)
+#                        (plane-noise keeps 2000), the bark and the real scans'
+#                        completions are left to the default pass, and the
+#                        reruns that only compare backends' bytes run once
+#                        (RELIEF_TEST_PASS=sanitize, tests/CMakeLists.txt)
 set -euo pipefail
 cd "$(dirname "$0")"
 ./setup.sh deps
