@@ -59,10 +59,9 @@ static int batch_checks(const cli_common *cm, int first, int argc, char **argv, 
 }
 
 /* argv for one run: the command's name, -o OUT, --quiet, the options
- * given (less -o's tokens: cm->out is the value getopt found in them),
- * the input. *n: its count. */
-static char **run_argv(const cli_common *cm, int first, char **argv, char *out, char *in,
-                       int *n)
+ * given less every -o (as "-o DIR", "-oDIR", "--output DIR" or
+ * "--output=DIR"), the input. *n: its count. */
+static char **run_argv(int first, char **argv, char *out, char *in, int *n)
 {
     char **a = malloc(((size_t)first + 5) * sizeof *a);
     static char o[] = "-o", quiet[] = "--quiet";
@@ -72,10 +71,12 @@ static char **run_argv(const cli_common *cm, int first, char **argv, char *out, 
     a[(*n)++] = argv[0], a[(*n)++] = o, a[(*n)++] = out, a[(*n)++] = quiet;
     for (int i = 1; i < first; ++i) {
         const char *t = argv[i];
-        if (i + 1 < first && argv[i + 1] == cm->out)
-            continue; /* "-o" or "--output" before its value */
-        if (t == cm->out || (cm->out > t && cm->out <= t + strlen(t)))
-            continue; /* the value, or "-oOUT", "--output=OUT" */
+        if (strcmp(t, "-o") == 0 || strcmp(t, "--output") == 0) {
+            ++i; /* and its value */
+            continue;
+        }
+        if ((t[0] == '-' && t[1] == 'o') || strncmp(t, "--output=", 9) == 0)
+            continue;
         a[(*n)++] = argv[i];
     }
     a[(*n)++] = in;
@@ -97,17 +98,18 @@ int cli_batch_run(const cli_common *cm, int argc, char **argv)
         ok = 0;
     for (int i = 0; ok && !cm->batch.parse_only && i < n; ++i) {
         int m = 0;
-        char **a = run_argv(cm, first, argv, outs[i], argv[first + i], &m);
+        char **a = run_argv(first, argv, outs[i], argv[first + i], &m);
         const double t = relief_seconds(), done = (double)(i + 1);
         rcs[i] = a ? cm->batch.run(m, a, 0) : 2;
         free(a);
         failed += rcs[i] != 0;
         rc = rcs[i] > rc ? rcs[i] : rc;
-        fprintf(stderr, "relief %s: [%d/%d] %s: %s in %.1f s (about %.0f s left)\n", cm->cmd,
-                i + 1, n, argv[first + i], rcs[i] ? "failed" : outs[i], relief_seconds() - t,
-                (relief_seconds() - t0) / done * (n - done));
+        if (!cm->quiet)
+            fprintf(stderr, "relief %s: [%d/%d] %s: %s in %.1f s (about %.0f s left)\n",
+                    cm->cmd, i + 1, n, argv[first + i], rcs[i] ? "failed" : outs[i],
+                    relief_seconds() - t, (relief_seconds() - t0) / done * (n - done));
     }
-    if (ok && !cm->batch.parse_only) {
+    if (ok && !cm->batch.parse_only && (failed || !cm->quiet)) { /* --quiet: failures only */
         fprintf(stderr, "relief %s: %d of %d inputs done in %.1f s", cm->cmd, n - failed, n,
                 relief_seconds() - t0);
         for (int i = 0, k = 0; i < n; ++i)

@@ -2,7 +2,8 @@
  * f3.png -o OUTDIR/` runs the command once per input, each written to OUTDIR under
  * its input's name (the command's extension where it has one: complete and
  * complete-points write .ply), with a line per file on stderr (done or
- * failed, seconds, time left) and a summary. A failed input does not stop
+ * failed, seconds, time left) and a summary (with --quiet, the summary
+ * only, and only when a run failed). A failed input does not stop
  * the others, and every good output is kept; the exit status is the
  * highest of the runs' (0 when all succeeded).
  *
