@@ -90,6 +90,10 @@ int cli_batch_run(const cli_common *cm, int argc, char **argv)
     char **outs = calloc((size_t)n + 1, sizeof *outs);
     int *rcs = calloc((size_t)n + 1, sizeof *rcs), rc = 0, failed = 0, ok = outs && rcs;
     const double t0 = relief_seconds();
+    if (!cm->out) {
+        free(outs), free(rcs);
+        return cli_usage_error(cm->cmd, "%smissing -o OUTDIR/ for several inputs", "");
+    }
     for (int i = 0; ok && i < n; ++i)
         ok = (outs[i] = output_name(cm->out, argv[first + i], cm->batch.ext)) != NULL;
     if (!ok)
