@@ -3,8 +3,9 @@
 # opens the brick photograph, selects a rectangle, runs
 # plug-in-relief-heal-selection non-interactively and saves. The pixels
 # outside the selection are unchanged, and the result is the bytes
-# `relief image-fill` gives for the same mask, window and seed. With nothing
-# selected the procedure fails, saying so. GIMP reads its plug-ins from a
+# `relief image-fill` gives for the same mask, window and seed; the same
+# image made RGB with alpha at 16 bits is healed inside the selection
+# only. With nothing selected the procedure fails, saying so. GIMP reads its plug-ins from a
 # folder of this test's own (GIMP2_DIRECTORY), never the user's.
 #   test_gimp.sh PLUGIN RELIEF IMAGE_TOOL DATA_DIR
 set -u
@@ -41,6 +42,18 @@ ok '! grep -q "leaked" "$tmp/gimp.log"' "the plug-in leaked: $(grep leaked "$tmp
 ok '"$image_tool" outside "$tmp/healed.png" "$tmp/in.png" "$tmp/mask.png" >/dev/null' "pixels outside the selection changed"
 ok '"$image_tool" outside "$tmp/healed.png" "$tmp/cli.png" "$tmp/none.png" >/dev/null' "the plug-in's fill differs from relief image-fill's: $("$image_tool" outside "$tmp/healed.png" "$tmp/cli.png" "$tmp/mask.png" 2>&1)"
 ok '! "$image_tool" outside "$tmp/healed.png" "$tmp/in.png" "$tmp/none.png" >/dev/null 2>&1' "the selection was not filled (the output is the input)"
+# RGB with alpha at 16 bits: the brick converted in GIMP, healed, saved as
+# a 16-bit RGBA PNG; against the same conversion saved unhealed.
+convert='(gimp-image-convert-rgb image) (gimp-image-convert-precision image PRECISION-U16-GAMMA)
+         (gimp-layer-add-alpha drawable)
+         (gimp-image-select-rectangle image CHANNEL-OP-REPLACE 200 240 40 28)'
+run_heal "$convert" deep
+conv=${heal//(SELECT)/$convert}
+conv=${conv//(plug-in-relief-heal-selection RUN-NONINTERACTIVE image drawable 17 3)/}
+timeout 300 gimp -i -d -f -b "${conv//OUT/conv}" -b '(gimp-quit 0)' > "$tmp/gimp2.log" 2>&1
+ok 'file "$tmp/deep.png" | grep -q "16-bit/color RGBA" && file "$tmp/conv.png" | grep -q "16-bit/color RGBA"' "16-bit RGBA: $(file "$tmp/deep.png" "$tmp/conv.png" | tr '\n' ' ')"
+ok '"$image_tool" outside "$tmp/deep.png" "$tmp/conv.png" "$tmp/mask.png" >/dev/null' "16-bit RGBA: pixels outside the selection changed"
+ok '! "$image_tool" outside "$tmp/deep.png" "$tmp/conv.png" "$tmp/none.png" >/dev/null 2>&1' "16-bit RGBA: the selection was not filled"
 run_heal '(gimp-selection-none image)' unhealed
 ok 'grep -q "nothing is selected" "$tmp/gimp.log" && [[ ! -f $tmp/unhealed.png ]]' "no selection: no clear failure: $(grep -i relief "$tmp/gimp.log" | head -2)"
 
