@@ -243,6 +243,15 @@ def _per_vertex(name, value, n, dtype):
     return np.ascontiguousarray(a, dtype=dtype)
 
 
+def _mesh_result(result, return_report):
+    """A mesh engine's (vertices, faces, colours, labels), and its report
+    when asked for."""
+    report, arrays = _check(result)
+    out = _mesh(arrays)
+    mesh = (out.vertices, out.faces, out.colours, out.labels)
+    return (mesh, _report(report, True)) if return_report else mesh
+
+
 def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend="auto",
                   progress=None, return_report=False, **params):
     """Complete a capture with relief and colour grown from it (papers 000
@@ -254,10 +263,7 @@ def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend
     f = _faces(faces, len(v))
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, base=base, seed=seed, backend=backend))
-    report, arrays = _check(_relief.complete_mesh(v, f, c, kw, _progress(progress)))
-    out = _mesh(arrays)
-    result = (out.vertices, out.faces, out.colours, out.labels)
-    return (result, _report(report, True)) if return_report else result
+    return _mesh_result(_relief.complete_mesh(v, f, c, kw, _progress(progress)), return_report)
 
 
 def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, backend="auto",
@@ -276,10 +282,8 @@ def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, b
         _fail("usage", "faces: a mesh's holes need its triangles")
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, resolution=resolution, seed=seed, backend=backend))
-    report, arrays = _check(_relief.fill_mesh_holes(v, f, c, kw, _progress(progress)))
-    out = _mesh(arrays)
-    result = (out.vertices, out.faces, out.colours, out.labels)
-    return (result, _report(report, True)) if return_report else result
+    return _mesh_result(_relief.fill_mesh_holes(v, f, c, kw, _progress(progress)),
+                        return_report)
 
 
 def complete_points(points, colours=None, normals=None, *, faces=None, seed=1,

@@ -14,17 +14,12 @@ import relief
 
 distributed = pytest.importorskip("dask.distributed")
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-DATA = os.environ.get("DATA", os.path.join(ROOT, "..", "shared", "data"))
+from common import DATA, ROOT, need
 
 
 @pytest.fixture(scope="module")
 def frames():
-    path = os.path.join(DATA, "depth", "motorcycle_disp.pfm")
-    if not os.path.exists(path):
-        pytest.skip(f"{path} not found")
-    z = relief.read_depth(path)
+    z = relief.read_depth(need(os.path.join(DATA, "depth", "motorcycle_disp.pfm")))
     out = []
     for k in range(8):
         f = np.ascontiguousarray(z[100 + 30 * k:164 + 30 * k, 200:264])

@@ -11,16 +11,7 @@ import pytest
 
 import relief
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-DATA = os.environ.get("DATA", os.path.join(ROOT, "..", "shared", "data"))
-CLI = os.environ.get("RELIEF", os.path.join(ROOT, "build", "relief"))
-
-
-def need(path):
-    if not os.path.exists(path):
-        pytest.skip(f"{path} not found")
-    return path
+from common import CLI, DATA, need
 
 
 def open_edges(tm):
