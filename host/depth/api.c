@@ -169,21 +169,15 @@ void relief_depth_fill_report_free(relief_depth_fill_report *rep)
 
 /* ------------------------------------------------------ what both routes share */
 
-/* The scorer of run->backend; host runs as scalar (the repair scores one
- * window at a time: there is nothing for the host's pool to share). The
- * report gets what it runs on and why. */
+/* The scorer of run->backend. The report gets what it runs on and why. */
 static relief_status make_scorer(const relief_run_options *run, relief_patch_scorer **s,
                                  relief_depth_fill_report *rep, relief_error *err)
 {
-    int host = run->backend == RELIEF_BACKEND_HOST;
-    relief_status st = relief_patch_scorer_create(host ? RELIEF_BACKEND_SCALAR : run->backend,
-                                                  run->device, s, rep->backend_note,
+    relief_status st = relief_patch_scorer_create(run->backend, run->device, s,
+                                                  rep->backend_note,
                                                   sizeof rep->backend_note, err);
     if (st != RELIEF_OK)
         return st;
-    if (host)
-        snprintf(rep->backend_note, sizeof rep->backend_note, "backend host: depth repair "
-                 "runs the scalar scorer (one window at a time)");
     rep->backend = (*s)->backend;
     snprintf(rep->device, sizeof rep->device, "%s", (*s)->device);
     rep->backend_warning = strncmp(rep->backend_note, "OpenCL unavailable", 18) == 0;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/pool.h"
 
 /* ---------------------------------------------------------------- membrane */
 
@@ -362,68 +363,148 @@ void relief_haar_inverse(const float *ll, const float *detail, int width, int he
 
 /* ---------------------------------------------------------------- ROF */
 
+/* One ROF solve's arrays, shared by the threads of its passes. */
+typedef struct rof_state {
+    const double *fl;      /* f / lambda, 0 where unknown */
+    const uint8_t *ex, *ey; /* 1 where the edge to i + 1, i + W is present */
+    double *px, *py, *div;
+    int W, H;
+} rof_state;
+
+/* div at pixel i: the four terms in the order of the definition, each
+ * read unconditionally and kept or not by a select (the edges from l =
+ * i - 1 and u = i - W where `left` and `up` say they may exist), so that
+ * the loops below have no branch to stop their vectorisation. */
+static inline double rof_div_at(const uint8_t *restrict ex, const uint8_t *restrict ey,
+                                const double *restrict px, const double *restrict py,
+                                size_t i, size_t l, size_t u, int left, int up)
+{
+    const double a = px[i], b = px[l], c = py[i], e = py[u];
+    double d = 0.0;
+    d = ex[i] ? d + a : d;
+    d = (left & (ex[l] != 0)) ? d - b : d;
+    d = ey[i] ? d + c : d;
+    d = (up & (ey[u] != 0)) ? d - e : d;
+    return d;
+}
+
+/* div = -grad^T p over rows [lo, hi): reads p, writes div's rows. */
+static void rof_div(void *ctx, int k, int parts)
+{
+    const rof_state *r = ctx;
+    const size_t W = (size_t)r->W;
+    const uint8_t *restrict ex = r->ex, *restrict ey = r->ey;
+    const double *restrict px = r->px, *restrict py = r->py;
+    double *restrict div = r->div;
+    size_t lo, hi;
+    relief_pool_share((size_t)r->H, k, parts, &lo, &hi);
+    for (size_t y = lo; y < hi; ++y) {
+        const size_t i0 = y * W, u0 = y > 0 ? i0 - W : i0;
+        const int up = y > 0;
+        div[i0] = rof_div_at(ex, ey, px, py, i0, i0, u0, 0, up);
+        for (size_t x = 1; x < W; ++x)
+            div[i0 + x] = rof_div_at(ex, ey, px, py, i0 + x, i0 + x - 1, u0 + x, 1, up);
+    }
+}
+
+/* Chambolle's projected step at pixel i, its edges' far ends `right` and
+ * `down` read unconditionally (the last column and row pass i itself,
+ * their edges being absent) and the terms kept or not by selects. An
+ * unknown pixel has no edge: its gradient is +0, so its p, +0 from the
+ * start, stays +0 ((0 + 0) / 1), the value a loop that skips it leaves;
+ * every pixel is stored, which lets the loop be vectorised. */
+static inline void rof_step_at(const uint8_t *restrict ex, const uint8_t *restrict ey,
+                               const double *restrict div,
+                               const double *restrict fl, double *restrict px,
+                               double *restrict py, size_t i, size_t right, size_t down)
+{
+    const double tau = 0.25;
+    const double here = div[i] - fl[i];
+    const double tx = (div[right] - fl[right]) - here;
+    const double ty = (div[down] - fl[down]) - here;
+    const double gx = ex[i] ? tx : 0.0, gy = ey[i] ? ty : 0.0;
+    const double norm = sqrt(gx * gx + gy * gy);
+    const double npx = (px[i] + tau * gx) / (1.0 + tau * norm);
+    const double npy = (py[i] + tau * gy) / (1.0 + tau * norm);
+    px[i] = npx;
+    py[i] = npy;
+}
+
+/* The step over rows [lo, hi): reads div, writes p's rows. */
+static void rof_step(void *ctx, int k, int parts)
+{
+    const rof_state *r = ctx;
+    const size_t W = (size_t)r->W, H = (size_t)r->H;
+    const uint8_t *restrict ex = r->ex, *restrict ey = r->ey;
+    const double *restrict div = r->div, *restrict fl = r->fl;
+    double *restrict px = r->px, *restrict py = r->py;
+    size_t lo, hi;
+    relief_pool_share(H, k, parts, &lo, &hi);
+    for (size_t y = lo; y < hi; ++y) {
+        const size_t i0 = y * W, below = y + 1 < H ? W : 0;
+        for (size_t x = 0; x + 1 < W; ++x)
+            rof_step_at(ex, ey, div, fl, px, py, i0 + x, i0 + x + 1, i0 + x + below);
+        rof_step_at(ex, ey, div, fl, px, py, i0 + W - 1, i0 + W - 1, i0 + W - 1 + below);
+    }
+}
+
 relief_status relief_rof(const float *f, const uint8_t *known, int width, int height,
-                         double lambda, int iterations, float *u, float *v, relief_error *err)
+                         double lambda, int iterations, int threads, float *u, float *v,
+                         relief_error *err)
 {
     size_t n = (size_t)width * height;
-    double *px = calloc(n, sizeof *px), *py = calloc(n, sizeof *py), *div = malloc(n * sizeof *div);
-    const double tau = 0.25;
+    double *px = calloc(n, sizeof *px), *py = calloc(n, sizeof *py);
+    double *div = malloc(n * sizeof *div), *fl = malloc(n * sizeof *fl);
+    uint8_t *ex = malloc(n), *ey = malloc(n);
+    relief_pool *pool = NULL;
+    relief_status st = RELIEF_OK;
     int W = width, H = height;
-    if (!px || !py || !div) {
-        free(px);
-        free(py);
-        free(div);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the ROF dual field (%zu "
-                           "pixels)", n);
+    if (!px || !py || !div || !fl || !ex || !ey) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the ROF dual field (%zu "
+                         "pixels)", n);
+        goto done;
     }
     if (!(lambda > 0.0)) {
         for (size_t i = 0; i < n; ++i) {
             u[i] = known[i] ? f[i] : 0.0f;
             v[i] = 0.0f;
         }
-        free(px);
-        free(py);
-        free(div);
-        return RELIEF_OK;
+        goto done;
+    }
+    if (threads > H / 16)
+        threads = H / 16; /* a share of 16 rows at least */
+    if (threads > 1 &&
+        relief_pool_create(threads > RELIEF_POOL_MAX ? RELIEF_POOL_MAX : threads, &pool, err) !=
+            RELIEF_OK) {
+        st = err->status;
+        goto done;
     }
     /* Edges: px[i] joins i and i + 1, py[i] joins i and i + W, present
-     * only when both ends are known. div = -grad^T. */
-#define EX(i, x) ((x) + 1 < W && known[i] && known[(i) + 1])
-#define EY(i, y) ((y) + 1 < H && known[i] && known[(i) + W])
-    for (int it = 0; it <= iterations; ++it) {
-        for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-                size_t i = (size_t)y * W + x;
-                double d = 0.0;
-                if (EX(i, x))
-                    d += px[i];
-                if (x > 0 && EX(i - 1, x - 1))
-                    d -= px[i - 1];
-                if (EY(i, y))
-                    d += py[i];
-                if (y > 0 && EY(i - W, y - 1))
-                    d -= py[i - W];
-                div[i] = d;
-            }
-        if (it == iterations)
-            break;
-        for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-                size_t i = (size_t)y * W + x;
-                double gx = 0.0, gy = 0.0, norm;
-                if (!known[i])
-                    continue;
-                if (EX(i, x))
-                    gx = (div[i + 1] - f[i + 1] / lambda) - (div[i] - f[i] / lambda);
-                if (EY(i, y))
-                    gy = (div[i + W] - f[i + W] / lambda) - (div[i] - f[i] / lambda);
-                norm = sqrt(gx * gx + gy * gy);
-                px[i] = (px[i] + tau * gx) / (1.0 + tau * norm);
-                py[i] = (py[i] + tau * gy) / (1.0 + tau * norm);
-            }
+     * only when both ends are known. div = -grad^T. Each pass writes only
+     * its own rows, so the threads' result is one thread's, bit for bit. */
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            size_t i = (size_t)y * W + x;
+            ex[i] = x + 1 < W && known[i] && known[i + 1];
+            ey[i] = y + 1 < H && known[i] && known[i + W];
+            fl[i] = known[i] ? f[i] / lambda : 0.0;
+        }
+    {
+        rof_state r = {fl, ex, ey, px, py, div, W, H};
+        int parts = pool ? relief_pool_threads(pool) : 1;
+        for (int it = 0; it <= iterations; ++it) {
+            if (pool)
+                relief_pool_run(pool, parts, rof_div, &r);
+            else
+                rof_div(&r, 0, 1);
+            if (it == iterations)
+                break;
+            if (pool)
+                relief_pool_run(pool, parts, rof_step, &r);
+            else
+                rof_step(&r, 0, 1);
+        }
     }
-#undef EX
-#undef EY
     for (size_t i = 0; i < n; ++i) {
         if (known[i]) {
             double uu = f[i] - lambda * div[i];
@@ -433,8 +514,13 @@ relief_status relief_rof(const float *f, const uint8_t *known, int width, int he
             u[i] = v[i] = 0.0f;
         }
     }
+done:
+    relief_pool_destroy(pool);
     free(px);
     free(py);
     free(div);
-    return RELIEF_OK;
+    free(fl);
+    free(ex);
+    free(ey);
+    return st;
 }

@@ -72,8 +72,11 @@ void relief_haar_inverse(const float *ll, const float *detail, int width, int he
  * reports converging in practice, and it did on every test image here);
  * v = f - u. Missing pixels get u = v = 0.
  * lambda is in the values' units times pixels: a bump of height h and
- * radius r moves to v when lambda >= h r / 2. RELIEF_E_NOMEM. */
+ * radius r moves to v when lambda >= h r / 2. Its passes run on `threads`
+ * host threads (1: this one), each over its own rows: the same bits
+ * whatever the count. RELIEF_E_NOMEM. */
 relief_status relief_rof(const float *f, const uint8_t *known, int width, int height,
-                         double lambda, int iterations, float *u, float *v, relief_error *err);
+                         double lambda, int iterations, int threads, float *u, float *v,
+                         relief_error *err);
 
 #endif

@@ -329,15 +329,9 @@ static relief_status make_hole(fill_call *c, relief_error *err)
     return RELIEF_OK;
 }
 
-/* The window scorer run.backend names; host runs as scalar. */
+/* The window scorer run.backend names. */
 static relief_status start_scorer(fill_call *c, relief_error *err)
 {
-    if (c->p->run.backend == RELIEF_BACKEND_HOST) {
-        snprintf(c->note, sizeof c->note, "backend host: the scalar scorer (the image "
-                 "filler scores its windows on one thread)");
-        return relief_patch_scorer_create(RELIEF_BACKEND_SCALAR, -1, &c->scorer, NULL, 0,
-                                          err);
-    }
     return relief_patch_scorer_create(c->p->run.backend, c->p->run.device, &c->scorer,
                                       c->note, sizeof c->note, err);
 }

@@ -1,6 +1,7 @@
 /* Window scoring of the image hole filler behind one small table, as the
  * mesh matcher's backends are (match/backend.h): patch_scalar.c, the
- * reference, and patch_opencl.c, the kernel kernels/patch.cl; both score
+ * reference, patch_host.c, the reference's function over a pool of host
+ * threads, and patch_opencl.c, the kernel kernels/patch.cl; all score
  * through kernels/patch_math.h's pm_score, so they give the same bits.
  *
  * The filler owns the pyramid's levels; a scorer reads them where they lie
@@ -46,12 +47,18 @@ typedef struct relief_patch_ops {
 typedef struct relief_patch_scorer {
     const relief_patch_ops *ops;
     void *ctx;
-    relief_backend backend; /* scalar or opencl */
+    relief_backend backend; /* scalar, host or opencl */
+    int threads;            /* host threads it scores on (1 but for host) */
     char device[256];       /* what it runs on, for messages and reports */
 } relief_patch_scorer;
 
 /* The scalar reference (never fails but for memory). */
 relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error *err);
+
+/* The host scorer on `threads` threads (<= 0: every online processor, at
+ * most RELIEF_POOL_MAX); RELIEF_E_NOMEM when its threads cannot start. */
+relief_status relief_patch_host_create(int threads, relief_patch_scorer **out,
+                                       relief_error *err);
 
 /* The OpenCL scorer on `device` (-1: the first GPU or accelerator, else the
  * first device). RELIEF_E_NOT_BUILT without OpenCL; RELIEF_E_DEVICE with
@@ -60,8 +67,9 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                                          relief_error *err);
 
 /* The scorer for `backend`. auto: OpenCL on `device` when one is named,
- * else on the first GPU or accelerator; the scalar scorer when there is
- * none (a CPU device is no faster) or OpenCL fails to start. Which and why
+ * else on the first GPU or accelerator; the host scorer on every core
+ * when there is none (a CPU device is no faster) or OpenCL fails to
+ * start. Which and why
  * goes to `note` (may be NULL); a note that starts with "OpenCL
  * unavailable" is a warning. */
 relief_status relief_patch_scorer_create(relief_backend backend, int device,

@@ -357,6 +357,7 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
     s->ops = &patch_cl_ops;
     s->ctx = p;
     s->backend = RELIEF_BACKEND_OPENCL;
+    s->threads = 1;
     snprintf(s->device, sizeof s->device, "%.96s (%s, %u compute units) on %.96s", info.name,
              info.type, info.compute_units, info.platform);
     *out = s;

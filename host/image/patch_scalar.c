@@ -83,6 +83,7 @@ relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error
     s->ops = &scalar_ops;
     s->ctx = c;
     s->backend = RELIEF_BACKEND_SCALAR;
+    s->threads = 1;
     snprintf(s->device, sizeof s->device, "host (1 thread, scalar reference)");
     *out = s;
     return RELIEF_OK;
@@ -109,20 +110,22 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
         note[0] = '\0';
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_patch_scalar_create(out, err);
+    if (backend == RELIEF_BACKEND_HOST)
+        return relief_patch_host_create(0, out, err);
     if (backend == RELIEF_BACKEND_OPENCL)
         return relief_patch_opencl_create(device, out, err);
     /* auto: OpenCL on the --device named, or on a GPU or accelerator. On a
      * CPU device the kernel runs on the same cores and measured no faster
      * than the scalar scorer once its start-up is counted (bench/
-     * image_fill.sh), so auto stays on the host there. */
+     * image_fill.sh), so auto takes the host's threads there. */
     st = relief_devices(info, 16, &n, &why);
     if (st == RELIEF_OK)
         gpu = relief_device_first_accelerator(info, n < 16 ? n : 16) >= 0;
     if (device < 0 && st == RELIEF_OK && !gpu) {
         if (note && note_size)
-            snprintf(note, note_size, "backend auto: the scalar scorer (no GPU; on a CPU "
+            snprintf(note, note_size, "backend auto: the host's threads (no GPU; on a CPU "
                      "the OpenCL kernel is no faster: backend opencl to use it)");
-        return relief_patch_scalar_create(out, err);
+        return relief_patch_host_create(0, out, err);
     }
     if (st == RELIEF_OK)
         st = relief_patch_opencl_create(device, out, &why);
@@ -134,7 +137,7 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
     if (st == RELIEF_E_RANGE) /* a --device there is none of is the user's mistake */
         return relief_fail(err, st, "%s", why.message);
     if (note && note_size)
-        snprintf(note, note_size, "OpenCL unavailable (%s); backend auto: the scalar "
-                 "scorer", why.message);
-    return relief_patch_scalar_create(out, err);
+        snprintf(note, note_size, "OpenCL unavailable (%s); backend auto: the host's "
+                 "threads", why.message);
+    return relief_patch_host_create(0, out, err);
 }

@@ -1,8 +1,11 @@
 #include "image/pixel_synth.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "base/clock.h"
 #include "base/error.h"
@@ -133,9 +136,13 @@ typedef struct run {
     int levels;
 } run;
 
+/* Both orders' progress: when they run side by side only the caller's
+ * thread calls p->progress, and a cancel there stops the other order. */
 typedef struct progress_state {
     const relief_pixsyn_params *p;
-    size_t done, total;
+    atomic_size_t done;
+    size_t total;
+    atomic_int stop;
 } progress_state;
 
 /* The mean of the known 8-neighbours of (x, y) into value (C channels). */
@@ -162,6 +169,21 @@ static void neighbour_mean(const relief_raster *img, const uint8_t *known, int C
         value[c] = m ? value[c] / (float)m : 0.0f;
 }
 
+/* One more pixel done: the progress told (reporter) or a cancel seen. */
+static relief_status step_done(progress_state *prog, int reporter, relief_error *err)
+{
+    const relief_pixsyn_params *p = prog->p;
+    size_t done = atomic_fetch_add(&prog->done, 1) + 1;
+    if (reporter && p->progress && p->progress(p->progress_ctx, done, prog->total)) {
+        atomic_store(&prog->stop, 1);
+        return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback "
+                           "after %zu of %zu pixels", done, prog->total);
+    }
+    if (!reporter && atomic_load_explicit(&prog->stop, memory_order_relaxed))
+        return relief_fail(err, RELIEF_E_CANCELLED, "cancelled");
+    return RELIEF_OK;
+}
+
 /* One order. wrap > 0: img is a tileable image padded by `wrap` pixels
  * on every side with copies of the opposite side (its targets central
  * only); a filled pixel's copies are filled with it. */
@@ -169,7 +191,7 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
                                  const uint8_t *target, const relief_pixsyn_params *p,
                                  relief_pixsyn_order order, int wrap,
                                  relief_patch_scorer *scorer, int64_t *source, run *out,
-                                 progress_state *prog, relief_error *err)
+                                 progress_state *prog, int reporter, relief_error *err)
 {
     int W = img->width, H = img->height, C = img->channels;
     int W0 = W - 2 * wrap, H0 = H - 2 * wrap;
@@ -277,11 +299,7 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
                         }
                     }
             }
-        ++prog->done;
-        if (st == RELIEF_OK && p->progress &&
-            p->progress(p->progress_ctx, prog->done, prog->total))
-            st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback "
-                             "after %zu of %zu pixels", prog->done, prog->total);
+        st = st == RELIEF_OK ? step_done(prog, reporter, err) : st;
     }
 #undef KEY
     /* Targets the queue never reached: cut off from every known pixel by
@@ -300,6 +318,81 @@ done:
     return st;
 }
 
+/* One order's call, for a thread of its own. */
+typedef struct order_job {
+    relief_raster *img;
+    const uint8_t *hole, *target;
+    const relief_pixsyn_params *p;
+    relief_pixsyn_order order;
+    int wrap;
+    relief_patch_scorer *scorer;
+    int64_t *source;
+    run *out;
+    progress_state *prog;
+    relief_status st;
+    relief_error err;
+    atomic_int finished;
+} order_job;
+
+static void *order_thread(void *arg)
+{
+    order_job *j = arg;
+    j->st = synth_order(j->img, j->hole, j->target, j->p, j->order, j->wrap, j->scorer,
+                        j->source, j->out, j->prog, 0, &j->err);
+    atomic_store(&j->finished, 1);
+    return NULL;
+}
+
+/* The second order's run on its thread, the first's on this one, each on
+ * half the host scorer's threads (the orders share nothing but the
+ * progress, and each draws from its own generator: the serial run's
+ * bits). While the second runs on after the first, its progress is told
+ * from here. RELIEF_E_NOMEM when no thread starts (*ran 0: run them one
+ * after the other). */
+static relief_status orders_side_by_side(order_job *a, order_job *b, int threads, int *ran,
+                                         relief_error *err)
+{
+    relief_patch_scorer *sa = NULL, *sb = NULL;
+    const relief_pixsyn_params *p = a->p;
+    pthread_t th;
+    relief_status st;
+    *ran = 0;
+    st = relief_patch_host_create(threads - threads / 2, &sa, err);
+    if (st == RELIEF_OK)
+        st = relief_patch_host_create(threads / 2, &sb, err);
+    b->scorer = sb;
+    atomic_init(&b->finished, 0);
+    if (st != RELIEF_OK || pthread_create(&th, NULL, order_thread, b) != 0) {
+        relief_patch_scorer_destroy(sa);
+        relief_patch_scorer_destroy(sb);
+        return RELIEF_OK;
+    }
+    *ran = 1;
+    st = synth_order(a->img, a->hole, a->target, p, a->order, a->wrap, sa, a->source, a->out,
+                     a->prog, 1, err);
+    if (st != RELIEF_OK)
+        atomic_store(&a->prog->stop, 1);
+    while (!atomic_load(&b->finished)) {
+        struct timespec pause = {0, 20000000L};
+        size_t done = atomic_load(&a->prog->done);
+        nanosleep(&pause, NULL);
+        if (st == RELIEF_OK && p->progress &&
+            p->progress(p->progress_ctx, done, a->prog->total)) {
+            atomic_store(&a->prog->stop, 1);
+            st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback "
+                             "after %zu of %zu pixels", done, a->prog->total);
+        }
+    }
+    pthread_join(th, NULL);
+    if (st == RELIEF_OK && b->st != RELIEF_OK) {
+        st = b->st;
+        *err = b->err;
+    }
+    relief_patch_scorer_destroy(sa);
+    relief_patch_scorer_destroy(sb);
+    return st;
+}
+
 static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
                             const relief_pixsyn_params *p, int wrap,
                             relief_patch_scorer *scorer, int64_t *source,
@@ -312,9 +405,14 @@ static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8
     relief_raster other = {0};
     int64_t *other_source = NULL;
     run runs[2];
-    progress_state prog = {p, 0, 0};
+    progress_state prog;
     relief_status st;
     double t0 = relief_seconds();
+
+    prog.p = p;
+    prog.total = 0;
+    atomic_init(&prog.done, 0);
+    atomic_init(&prog.stop, 0);
 
     if (!rep)
         rep = &local;
@@ -353,11 +451,23 @@ static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
         }
     }
-    st = synth_order(img, hole, target, p, orders[0], wrap, scorer, source, &runs[0], &prog,
-                     err);
-    if (st == RELIEF_OK && n_orders == 2)
-        st = synth_order(&other, hole, target, p, orders[1], wrap, scorer, other_source,
-                         &runs[1], &prog, err);
+    {
+        order_job a = {img, hole, target, p, orders[0], wrap, scorer, source, &runs[0], &prog,
+                       RELIEF_OK, {RELIEF_OK, ""}, 0};
+        order_job b = {&other, hole, target, p, orders[1 % n_orders], wrap, scorer,
+                       other_source, &runs[1], &prog, RELIEF_OK, {RELIEF_OK, ""}, 0};
+        int ran = 0;
+        st = RELIEF_OK;
+        if (n_orders == 2 && scorer->backend == RELIEF_BACKEND_HOST && scorer->threads >= 2)
+            st = orders_side_by_side(&a, &b, scorer->threads, &ran, err);
+        if (!ran) {
+            st = synth_order(img, hole, target, p, orders[0], wrap, scorer, source, &runs[0],
+                             &prog, 1, err);
+            if (st == RELIEF_OK && n_orders == 2)
+                st = synth_order(&other, hole, target, p, orders[1], wrap, scorer,
+                                 other_source, &runs[1], &prog, 1, err);
+        }
+    }
     if (st == RELIEF_OK) {
         int keep = 0;
         for (int k = 0; k < n_orders; ++k) {

@@ -362,8 +362,9 @@ RELIEF_API relief_status relief_synth(const relief_synth_params *params,
  *   scalar  the reference: plain C on one thread;
  *   opencl  the OpenCL kernel on a device (`device`; the first GPU or
  *           accelerator by default, else the first device);
- *   host    the reference's scoring on every core of the host (relief_complete;
- *           the other engines take it as scalar);
+ *   host    the reference's scoring on every core of the host, the same bits
+ *           (relief_complete, relief_image_fill, relief_depth_fill;
+ *           relief_complete_points takes it as scalar);
  *   auto    OpenCL on a GPU or accelerator when there is one (or on the
  *           device named), else the host's cores: on a CPU an OpenCL device
  *           runs on the same cores, and measured slower.

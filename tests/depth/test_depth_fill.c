@@ -10,6 +10,7 @@
  * OpenCL scorers give the same bytes for every variant.
  *   test_depth_fill [opencl] DEPTH_DIR */
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +21,7 @@
 #include "depth/depth_io.h"
 #include "depth/transform.h"
 #include "image/patch.h"
+#include "image/pixel_synth.h"
 
 static uint32_t lcg(uint32_t *s)
 {
@@ -136,7 +138,15 @@ static void test_rof(void)
             f[i] = (x >= W / 2 ? 1.0f : 0.0f) + tex[i];
             known[i] = !(x > 5 && x < 12 && y > 5 && y < 12); /* a hole: a free boundary */
         }
-    CHECK(relief_rof(f, known, W, H, 0.2, 300, u, v, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_rof(f, known, W, H, 0.2, 300, 1, u, v, &err) == RELIEF_OK, "%s", err.message);
+    /* On three threads (a share of rows each), the same bits. */
+    {
+        static float u3[W * H], v3[W * H];
+        CHECK(relief_rof(f, known, W, H, 0.2, 300, 3, u3, v3, &err) == RELIEF_OK, "%s",
+              err.message);
+        CHECK(memcmp(u, u3, sizeof u) == 0 && memcmp(v, v3, sizeof v) == 0,
+              "ROF on 3 threads differs from 1 thread");
+    }
     /* u keeps the step (rows away from the top and bottom edges). */
     {
         double left = 0, right = 0;
@@ -489,6 +499,98 @@ static void test_office(relief_patch_scorer *sc, const char *dir)
     relief_depth_frame_free(&f);
 }
 
+/* The host scorer (2 and 3 threads: both orders side by side, their
+ * scorers sharing the threads; ROF's passes split by rows) against the
+ * scalar reference, every variant, on a crop of the office frame. */
+static void test_host(relief_patch_scorer *sc, const char *dir)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_depth_frame f;
+    char path[512];
+    enum { X0 = 100, Y0 = 80, W = 200, H = 150 };
+    snprintf(path, sizeof path, "%s/office1.pcd", dir);
+    if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
+        CHECK(0, "%s", err.message);
+        return;
+    }
+    for (int threads = 2; threads <= 3; ++threads) {
+        relief_patch_scorer *h = NULL;
+        CHECK(relief_patch_host_create(threads, &h, &err) == RELIEF_OK, "%s", err.message);
+        for (int variant = 0; variant < 3 && h; ++variant) {
+            static float a[W * H], b[W * H];
+            static uint8_t missing[W * H];
+            relief_depth_repair_params p = relief_depth_repair_params_default();
+            relief_depth_repair_report ra, rb;
+            p.variant = (relief_depth_variant)variant;
+            for (int y = 0; y < H; ++y)
+                for (int x = 0; x < W; ++x) {
+                    float v = f.z[(size_t)(y + Y0) * f.width + x + X0];
+                    int i = y * W + x;
+                    missing[i] = !isfinite(v) || (x - 100) * (x - 100) + (y - 70) * (y - 70) < 300;
+                    a[i] = b[i] = missing[i] ? NAN : v;
+                }
+            CHECK(relief_depth_repair(a, missing, W, H, &p, sc, NULL, &ra, &err) == RELIEF_OK,
+                  "scalar: %s", err.message);
+            CHECK(relief_depth_repair(b, missing, W, H, &p, h, NULL, &rb, &err) == RELIEF_OK,
+                  "host: %s", err.message);
+            CHECK(memcmp(a, b, sizeof a) == 0 && ra.by_synthesis == rb.by_synthesis &&
+                      ra.candidates == rb.candidates && ra.kept == rb.kept,
+                  "variant %d on %d threads: the host scorer differs from the scalar one",
+                  variant, threads);
+        }
+        relief_patch_scorer_destroy(h);
+    }
+    relief_depth_frame_free(&f);
+}
+
+/* A cancel while the two orders run side by side: the progress is told
+ * on the caller's thread only, the call stops with RELIEF_E_CANCELLED. */
+typedef struct cancel_probe {
+    pthread_t caller;
+    size_t calls, last, after;
+    int elsewhere, backwards;
+} cancel_probe;
+
+static int cancel_after(void *ctx, size_t done, size_t total)
+{
+    cancel_probe *c = ctx;
+    (void)total;
+    c->elsewhere |= !pthread_equal(pthread_self(), c->caller);
+    c->backwards |= done < c->last;
+    c->last = done;
+    ++c->calls;
+    return done >= c->after;
+}
+
+static void test_host_cancel(void)
+{
+    enum { W = 96, H = 80 };
+    relief_error err = {RELIEF_OK, ""};
+    relief_patch_scorer *h = NULL;
+    relief_raster img;
+    static uint8_t hole[W * H];
+    relief_pixsyn_params p = relief_pixsyn_params_default();
+    cancel_probe c = {pthread_self(), 0, 0, 150, 0, 0};
+    relief_status st;
+    CHECK(relief_raster_create(W, H, 1, 0, &img, &err) == RELIEF_OK, "%s", err.message);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            img.v[y * W + x] = (float)((x * 7 + y * 3) % 11) / 11.0f;
+            hole[y * W + x] = x > 30 && x < 60 && y > 25 && y < 55;
+        }
+    p.progress = cancel_after;
+    p.progress_ctx = &c;
+    CHECK(relief_patch_host_create(2, &h, &err) == RELIEF_OK, "%s", err.message);
+    st = relief_pixsyn(&img, hole, NULL, &p, h, NULL, NULL, &err);
+    CHECK(st == RELIEF_E_CANCELLED && strstr(err.message, "cancelled") != NULL,
+          "cancel with both orders side by side: status %d, %s", (int)st, err.message);
+    CHECK(c.calls > 0 && !c.elsewhere && !c.backwards,
+          "progress: %zu calls, on another thread %d, backwards %d", c.calls, c.elsewhere,
+          c.backwards);
+    relief_patch_scorer_destroy(h);
+    relief_raster_free(&img);
+}
+
 /* Scalar against OpenCL, every variant, on a crop of the office frame. */
 static int test_opencl(const char *dir)
 {
@@ -550,6 +652,8 @@ int main(int argc, char **argv)
     test_tileable(sc);
     test_inside_and_measures(sc);
     test_office(sc, dir);
+    test_host(sc, dir);
+    test_host_cancel();
     relief_patch_scorer_destroy(sc);
     return check_result();
 }

@@ -1,5 +1,6 @@
 /* Small image chores for the image-fill CLI test (test_image_fill.sh):
- *   image_tool mask OUT.png W H X Y RW RH      grey mask, 255 in the rectangle
+ *   image_tool mask OUT.png W H X Y RW RH ...  grey mask, 255 in the rectangles
+ *   image_tool tile IN OUT.png W H             IN repeated to W x H
  *   image_tool rgba IN OUT.png X Y RW RH       IN with alpha, 0 in the rectangle
  *   image_tool deep IN OUT.png                 IN at 16 bits (x 257)
  *   image_tool outside A B MASK                exit 0 when A and B agree, value for
@@ -38,16 +39,34 @@ int main(int argc, char **argv)
 {
     relief_error err = {RELIEF_OK, ""};
     relief_raster a, b, m;
-    if (argc == 9 && strcmp(argv[1], "mask") == 0) {
-        int w = atoi(argv[3]), h = atoi(argv[4]), x0 = atoi(argv[5]), y0 = atoi(argv[6]),
-            rw = atoi(argv[7]), rh = atoi(argv[8]);
+    if (argc >= 9 && (argc - 5) % 4 == 0 && strcmp(argv[1], "mask") == 0) {
+        int w = atoi(argv[3]), h = atoi(argv[4]);
         if (relief_raster_create(w, h, 1, 8, &m, &err) != RELIEF_OK)
             return 2;
-        for (int y = y0; y < y0 + rh && y < h; ++y)
-            for (int x = x0; x < x0 + rw && x < w; ++x)
-                m.v[y * w + x] = 255.0f;
+        for (int k = 5; k + 3 < argc; k += 4) {
+            int x0 = atoi(argv[k]), y0 = atoi(argv[k + 1]), rw = atoi(argv[k + 2]),
+                rh = atoi(argv[k + 3]);
+            for (int y = y0; y < y0 + rh && y < h; ++y)
+                for (int x = x0; x < x0 + rw && x < w; ++x)
+                    m.v[y * w + x] = 255.0f;
+        }
         save(argv[2], &m);
         relief_raster_free(&m);
+        return 0;
+    }
+    if (argc == 6 && strcmp(argv[1], "tile") == 0) {
+        int w = atoi(argv[4]), h = atoi(argv[5]);
+        a = load(argv[2]);
+        if (relief_raster_create(w, h, a.channels, a.bit_depth, &b, &err) != RELIEF_OK)
+            return 2;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                memcpy(b.v + ((size_t)y * w + x) * a.channels,
+                       a.v + ((size_t)(y % a.height) * a.width + x % a.width) * a.channels,
+                       (size_t)a.channels * sizeof *b.v);
+        save(argv[3], &b);
+        relief_raster_free(&a);
+        relief_raster_free(&b);
         return 0;
     }
     if (argc == 8 && strcmp(argv[1], "rgba") == 0) {

@@ -423,6 +423,120 @@ static int test_opencl(const char *images)
     return check_result();
 }
 
+/* A level of `channels` channels with a scatter of holes, for the scorers
+ * to read. */
+static void random_level(relief_patch_level *l, float *v, uint8_t *known, int w, int h,
+                         int channels, uint32_t seed)
+{
+    for (int i = 0; i < w * h; ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        known[i] = (seed >> 24) % 7 != 0 && !(i % w > 20 && i % w < 26 && i / w > 12);
+        for (int c = 0; c < channels; ++c) {
+            seed = seed * 1664525u + 1013904223u;
+            v[i * channels + c] = (float)(seed >> 8) / 16777216.0f;
+        }
+    }
+    *l = (relief_patch_level){v, known, w, h, channels};
+}
+
+/* The host scorer's windows (lanes of 8 side by side, and the rows' and
+ * lists' last few one at a time) have the scalar reference's bits: every
+ * channel count, weighted and not, rectangles of every width near 8, lists
+ * of every length near 8, on 1, 2 and 3 threads. */
+static void test_host_scorer(void)
+{
+    enum { W = 48, H = 40, MAXC = W * H };
+    static float v[W * H * 4], ssd[2][MAXC], ws[2][MAXC];
+    static uint8_t known[W * H];
+    static int n[2][MAXC], xy[2 * 64];
+    relief_error err = {RELIEF_OK, ""};
+    relief_patch_scorer *sc = NULL, *host[3] = {NULL};
+    float g[8] = {1.0f, 0.8f, 0.5f, 0.25f, 0.1f, 0.03f, 0.01f, 0.001f};
+    size_t compared = 0, differ = 0;
+    CHECK(relief_patch_scalar_create(&sc, &err) == RELIEF_OK, "%s", err.message);
+    for (int t = 0; t < 3; ++t)
+        CHECK(relief_patch_host_create(t + 1, &host[t], &err) == RELIEF_OK, "%s", err.message);
+    for (int channels = 1; channels <= 4; ++channels) {
+        relief_patch_level l;
+        random_level(&l, v, known, W, H, channels, 7u * channels);
+        sc->ops->bind(sc->ctx, &l, 1, &err);
+        for (int t = 0; t < 3; ++t)
+            host[t]->ops->bind(host[t]->ctx, &l, 1, &err);
+        for (int q = 0; q < 6; ++q) {
+            int radius = 1 + q % 4, qx = 3 + 7 * q, qy = 2 + 5 * q, holes = q % 3 ? 8 : 100;
+            const float *gw = q % 2 ? g : NULL;
+            int nx = 5 + 2 * q, ny = 3 + q;
+            int count = 3 + 5 * q;
+            for (int i = 0; i < count; ++i) {
+                xy[2 * i] = radius + (i * 13 + q) % (W - 2 * radius);
+                xy[2 * i + 1] = radius + (i * 7 + 3 * q) % (H - 2 * radius);
+            }
+            sc->ops->score_rect(sc->ctx, 0, qx, qy, radius, holes, gw, radius, radius, nx, ny,
+                                ssd[0], ws[0], n[0], &err);
+            for (int t = 0; t < 3; ++t) {
+                host[t]->ops->score_rect(host[t]->ctx, 0, qx, qy, radius, holes, gw, radius,
+                                         radius, nx, ny, ssd[1], ws[1], n[1], &err);
+                for (int k = 0; k < nx * ny; ++k, ++compared)
+                    differ += memcmp(&ssd[0][k], &ssd[1][k], sizeof(float)) != 0 ||
+                              memcmp(&ws[0][k], &ws[1][k], sizeof(float)) != 0 ||
+                              n[0][k] != n[1][k];
+            }
+            sc->ops->score_list(sc->ctx, 0, qx, qy, radius, holes, gw, xy, count, ssd[0],
+                                ws[0], n[0], &err);
+            for (int t = 0; t < 3; ++t) {
+                host[t]->ops->score_list(host[t]->ctx, 0, qx, qy, radius, holes, gw, xy, count,
+                                         ssd[1], ws[1], n[1], &err);
+                for (int k = 0; k < count; ++k, ++compared)
+                    differ += memcmp(&ssd[0][k], &ssd[1][k], sizeof(float)) != 0 ||
+                              memcmp(&ws[0][k], &ws[1][k], sizeof(float)) != 0 ||
+                              n[0][k] != n[1][k];
+            }
+        }
+    }
+    CHECK(compared > 1000 && differ == 0, "host scorer: %zu of %zu windows differ from the "
+          "scalar reference", differ, compared);
+    printf("host scorer: %zu windows, 1 to 4 channels, 1 to 3 threads: the scalar bits\n",
+           compared);
+    relief_patch_scorer_destroy(sc);
+    for (int t = 0; t < 3; ++t)
+        relief_patch_scorer_destroy(host[t]);
+}
+
+/* A whole fill on the host's threads is the scalar fill, byte for byte,
+ * and says where it ran. */
+static void test_host_fill(relief_patch_scorer *sc, const char *images)
+{
+    relief_patch_scorer *h = NULL;
+    relief_error err = {RELIEF_OK, ""};
+    relief_fill_params p = relief_fill_params_default();
+    relief_raster a, b;
+    char path[512];
+    uint8_t *hole;
+    size_t n;
+    snprintf(path, sizeof path, "%s/brick.png", images);
+    if (relief_raster_read(path, NULL, &a, &err) != RELIEF_OK) {
+        printf("%s: %s: skipped\n", path, err.message);
+        return;
+    }
+    n = (size_t)a.width * a.height * a.channels;
+    relief_raster_create(a.width, a.height, a.channels, 8, &b, &err);
+    memcpy(b.v, a.v, n * sizeof(float));
+    hole = calloc((size_t)a.width * a.height, 1);
+    for (int y = 200; y < 260; ++y)
+        for (int x = 180; x < 250; ++x)
+            hole[y * a.width + x] = 1;
+    CHECK(relief_patch_host_create(2, &h, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(strstr(h->device, "2 threads") != NULL && h->backend == RELIEF_BACKEND_HOST,
+          "host scorer: %s", h->device);
+    CHECK(relief_fill(&a, hole, &p, sc, NULL, &err) == RELIEF_OK, "scalar: %s", err.message);
+    CHECK(relief_fill(&b, hole, &p, h, NULL, &err) == RELIEF_OK, "host: %s", err.message);
+    CHECK(memcmp(a.v, b.v, n * sizeof(float)) == 0, "host fill differs from the scalar one");
+    relief_patch_scorer_destroy(h);
+    relief_raster_free(&a);
+    relief_raster_free(&b);
+    free(hole);
+}
+
 int main(int argc, char **argv)
 {
     relief_patch_scorer *s = NULL;
@@ -440,6 +554,8 @@ int main(int argc, char **argv)
     test_periodic(s, 1);
     test_pyramid(s, images);
     test_bad(s);
+    test_host_scorer();
+    test_host_fill(s, images);
     relief_patch_scorer_destroy(s);
     return check_result();
 }
