@@ -2,7 +2,7 @@
 # The benchmark suite: builds, runs every case with both backends, writes
 # CSV, a summary and PNG plots under OUT (default bench-out/).
 #   bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy ...]
-# (no case named: all five). Environment: OUT (output folder), BUILD (build
+# (no case named: all six). Environment: OUT (output folder), BUILD (build
 # folder, default build), JOBS (build jobs, default nproc), SCALING_MAX.
 #
 # Cases (README.md, "Benchmarks", says what each measures):
@@ -20,6 +20,10 @@
 #   4 prune.csv        pruned against exhaustive on the same completion
 #   5 hierarchy.csv    mono-scale against hierarchical (--levels) completion
 #                      on OpenCL, same capture: times, ratio, MSI of each
+#   6 engines/         every engine's command on scalar and host (bench/
+#                      engines.py: image-fill, depth-fill, complete-points,
+#                      the demo; medians, ratios, bytes compared); on a GPU
+#                      machine bench/gpu.sh runs the same with OpenCL
 # --quick shrinks every case (the bark runs at an eighth of its size) so the
 # whole suite takes a few minutes on a quiet machine; its figures are for
 # checking, not quoting. The full suite takes about 55 minutes on 2 cores.
@@ -30,11 +34,11 @@ cases=()
 for a in "$@"; do
   case $a in
     --quick) quick=1 ;;
-    throughput|papers|prune|scaling|hierarchy) cases+=("$a") ;;
-    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy ...]" >&2; exit 1 ;;
+    throughput|papers|prune|scaling|hierarchy|engines) cases+=("$a") ;;
+    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy|engines ...]" >&2; exit 1 ;;
   esac
 done
-((${#cases[@]})) || cases=(throughput papers prune scaling hierarchy)
+((${#cases[@]})) || cases=(throughput papers prune scaling hierarchy engines)
 want() { [[ " ${cases[*]} " == *" $1 "* ]]; }
 OUT=${OUT:-bench-out}
 BUILD=${BUILD:-build}
@@ -51,7 +55,8 @@ if ! command -v gnuplot >/dev/null; then
   fi
 fi
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
-cmake --build "$BUILD" -j"$JOBS" --target bench_score bench_complete bench_hierarchy >/dev/null
+cmake --build "$BUILD" -j"$JOBS" --target relief image_tool bench_score bench_complete \
+  bench_hierarchy >/dev/null
 BS=$BUILD/bench/bench_score
 BC=$BUILD/bench/bench_complete
 BH=$BUILD/bench/bench_hierarchy
@@ -117,6 +122,12 @@ if want hierarchy; then
     --reps "$REPS" --csv "$OUT/hierarchy.csv"
   "$BH" --case "$BARK_CASE" "${BARK[@]}" --levels 4 --backend opencl --reps 1 \
     --csv "$OUT/hierarchy.csv"
+fi
+
+if want engines; then
+  log "6/6 every engine, scalar and host"
+  python3 bench/engines.py "$BUILD/relief" "$BUILD/tests/image_tool" ../shared/data \
+    "$OUT/engines" --backends scalar,host --reps $((quick ? 1 : 3))
 fi
 
 if want prune; then

@@ -15,10 +15,17 @@
  * window search's share of work; a busy caller hands jobs out faster. */
 #define SPIN_NS 200000L
 
+/* A worker's own job slot: written by the caller only while the worker
+ * is idle, then published by bumping its ticket; a worker reads nothing
+ * of a job it takes no part in. */
 typedef struct worker {
     relief_pool *pool;
     int index;
     pthread_t thread;
+    atomic_ulong ticket; /* bumped once per job this worker takes part in */
+    void (*fn)(void *ctx, int k, int n);
+    void *ctx;
+    int parts;
 } worker;
 
 struct relief_pool {
@@ -26,13 +33,9 @@ struct relief_pool {
     worker *w;
     pthread_mutex_t mu;
     pthread_cond_t go, done;
-    atomic_ulong generation; /* bumped once per job, under mu */
     atomic_int pending;      /* parts still running */
-    int active;              /* the job's parts, set before generation */
     int sleepers;            /* workers waiting on go, under mu */
     atomic_int quit;
-    void (*fn)(void *ctx, int k, int n);
-    void *ctx;
 };
 
 static long elapsed_ns(const struct timespec *t0)
@@ -78,28 +81,26 @@ void relief_pool_share(size_t count, int k, int n, size_t *lo, size_t *hi)
     *hi = count * (size_t)(k + 1) / (size_t)n;
 }
 
-/* Each worker sees every job (spinning a while, then asleep) and reads
- * its part count; only the first active - 1 take part and report back. */
+/* A worker waits for its ticket to move (spinning a while, then asleep),
+ * runs its part, and the last part to finish wakes the caller. */
 static void *worker_main(void *arg)
 {
     worker *w = arg;
     relief_pool *p = w->pool;
     unsigned long seen = 0;
     for (;;) {
-        if (!spin_ulong(&p->generation, seen, &p->quit)) {
+        if (!spin_ulong(&w->ticket, seen, &p->quit)) {
             pthread_mutex_lock(&p->mu);
             ++p->sleepers;
-            while (atomic_load(&p->generation) == seen && !atomic_load(&p->quit))
+            while (atomic_load(&w->ticket) == seen && !atomic_load(&p->quit))
                 pthread_cond_wait(&p->go, &p->mu);
             --p->sleepers;
             pthread_mutex_unlock(&p->mu);
         }
         if (atomic_load(&p->quit))
             return NULL;
-        seen = atomic_load_explicit(&p->generation, memory_order_acquire);
-        if (w->index >= p->active)
-            continue;
-        p->fn(p->ctx, w->index, p->active);
+        seen = atomic_load_explicit(&w->ticket, memory_order_acquire);
+        w->fn(w->ctx, w->index, w->parts);
         if (atomic_fetch_sub_explicit(&p->pending, 1, memory_order_acq_rel) == 1) {
             pthread_mutex_lock(&p->mu);
             pthread_cond_signal(&p->done);
@@ -127,6 +128,7 @@ relief_status relief_pool_create(int threads, relief_pool **out, relief_error *e
     for (int k = 1; k < threads; ++k) {
         p->w[k].pool = p;
         p->w[k].index = k;
+        atomic_init(&p->w[k].ticket, 0);
         if (pthread_create(&p->w[k].thread, NULL, worker_main, &p->w[k]) != 0) {
             relief_pool_destroy(p);
             return relief_fail(err, RELIEF_E_NOMEM, "cannot start host thread %d of %d",
@@ -146,13 +148,16 @@ void relief_pool_run(relief_pool *p, int parts, void (*fn)(void *ctx, int k, int
         fn(ctx, 0, 1);
         return;
     }
-    /* The job's fields first, then the generation that publishes them. */
-    pthread_mutex_lock(&p->mu);
-    p->fn = fn;
-    p->ctx = ctx;
-    p->active = n;
+    /* Each taking part gets its slot, then the ticket that publishes it
+     * (the ticket under mu, so that a worker going to sleep sees it). */
     atomic_store(&p->pending, n - 1);
-    atomic_fetch_add_explicit(&p->generation, 1, memory_order_release);
+    pthread_mutex_lock(&p->mu);
+    for (int k = 1; k < n; ++k) {
+        p->w[k].fn = fn;
+        p->w[k].ctx = ctx;
+        p->w[k].parts = n;
+        atomic_fetch_add_explicit(&p->w[k].ticket, 1, memory_order_release);
+    }
     if (p->sleepers)
         pthread_cond_broadcast(&p->go);
     pthread_mutex_unlock(&p->mu);

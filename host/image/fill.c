@@ -7,6 +7,7 @@
 
 #include "base/clock.h"
 #include "base/error.h"
+#include "base/parallel.h"
 #include "base/progress.h"
 #include "base/rng.h"
 
@@ -396,6 +397,21 @@ static void reduce_pixel(relief_filler *f, int l, int X, int Y)
     f->known[l][o] = (uint8_t)(all && wsum > 0.0f);
 }
 
+/* Level l's rows [lo, hi), for relief_parallel_ranges. */
+typedef struct reduce_level {
+    relief_filler *f;
+    int l;
+} reduce_level;
+
+static int reduce_rows(void *ctx, size_t lo, size_t hi)
+{
+    reduce_level *r = ctx;
+    for (size_t Y = lo; Y < hi; ++Y)
+        for (int X = 0; X < r->f->lv[r->l].width; ++X)
+            reduce_pixel(r->f, r->l, X, (int)Y);
+    return 0;
+}
+
 /* Pixels x0..x1, y0..y1 of level 0 changed: bring the coarser levels and
  * the scorer up to date. */
 static relief_status changed(relief_filler *f, int x0, int y0, int x1, int y1,
@@ -494,9 +510,10 @@ relief_status relief_filler_create(relief_raster *img, const uint8_t *hole,
                     f->v[0][i * f->C + c] = hole[i] ? 0.0f : img->v[i * img->channels + c];
             }
         } else {
-            for (int Y = 0; Y < h; ++Y)
-                for (int X = 0; X < w; ++X)
-                    reduce_pixel(f, l, X, Y);
+            reduce_level rl = {f, l};
+            /* Rows on the scorer's threads: each pixel its own, the same
+             * values however many. */
+            relief_parallel_ranges((size_t)h, scorer->threads, reduce_rows, &rl);
         }
     }
     st = scorer->ops->bind(scorer->ctx, f->lv, f->n_levels, err);

@@ -27,6 +27,11 @@ for v in plain haar decompose; do
   expect 0 "0 known differ" -- "$tool" same "$tmp/office.pcd" "$tmp/o_$v.pcd" "$tmp/m.png"
   ok 'grep -q "\"rms\"" "$tmp/r_$v.json" && grep -q "\"variant\": \"'$v'\"" "$tmp/r_$v.json"' "report $v lacks the measures"
 done
+# The host's threads (auto takes them) give each variant's scalar bytes.
+for v in plain haar decompose; do
+  expect 0 "on host (" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_${v}_host.pcd" --variant $v --backend host
+  ok 'cmp -s "$tmp/o_$v.pcd" "$tmp/o_${v}_host.pcd"' "variant $v: host and scalar outputs differ"
+done
 # The rim blend is on by default and reported; --no-seam turns it off
 # (another fill of the disc, the known pixels still untouched).
 ok 'grep -q "\"seam\": true" "$tmp/r_decompose.json" && grep -q "\"seam_edges\": [1-9]" "$tmp/r_decompose.json"' "the report lacks the seam"

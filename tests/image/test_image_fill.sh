@@ -26,6 +26,12 @@ if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | 
   expect 0 "" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f_cl.png" --backend opencl --quiet
   ok 'cmp -s "$tmp/f.png" "$tmp/f_cl.png"' "OpenCL and scalar outputs differ"
 fi
+# The host's threads, and auto (which takes them), give the same bytes and
+# say so.
+expect 0 "on host (" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f_host.png" --backend host
+ok 'cmp -s "$tmp/f.png" "$tmp/f_host.png"' "host and scalar outputs differ"
+expect 0 "backend auto: the host's threads" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f_auto.png"
+ok 'cmp -s "$tmp/f.png" "$tmp/f_auto.png"' "auto and scalar outputs differ"
 # The same seed, the same bytes; the JPEG writer.
 expect 0 "" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f2.png" --backend scalar --quiet
 ok 'cmp -s "$tmp/f.png" "$tmp/f2.png"' "two runs differ"
