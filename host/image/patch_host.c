@@ -201,7 +201,13 @@ score_lanes_c(const job *j, const size_t *at, size_t k, const int C, const int r
 }
 
 /* score_lanes_c with the channel count a constant: one channel (depth,
- * grey) and three (colour) have loops of their own. */
+ * grey) and three (colour) have loops of their own. Built twice on x86-64
+ * with GCC, for AVX2 (the 8 lanes in one register) and for the baseline,
+ * the loader picking one for the processor: the same operations either
+ * way (no contraction, no fused multiply-add), so the same bits. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 static void score_lanes(const job *j, const size_t *at, size_t k, int row)
 {
     switch (j->l->channels) {
