@@ -119,10 +119,10 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
      * search per pasted patch or synthesised pixel), and a launch and its
      * read-back per query cost more than the host's lanes and threads
      * spend on it: on an NVIDIA H100 with a 16-core host (bench/gpu.sh,
-     * 27 November 2026) the host's threads filled the astronaut in 0.94 s
-     * against the GPU's 1.51, the atlas in 1.89 against 2.52, the 2048 x
-     * 2048 grass in 5.09 against 4.98, and repaired office1 in 1.42 s
-     * against 10.25; on a CPU device the kernel runs on the same cores. */
+     * 27 November 2026, README) the host's threads filled the astronaut in
+     * 0.79 s against the GPU's 1.55, the 2048 x 2048 grass in 4.66 against
+     * 5.27, the atlas in 1.61 against 2.77, and repaired office1 in 0.94 s
+     * against 12.19; on a CPU device the kernel runs on the same cores. */
     if (device < 0) {
         st = relief_devices(info, 16, &n, &why);
         gpu = st == RELIEF_OK && relief_device_first_accelerator(info, n < 16 ? n : 16) >= 0;
