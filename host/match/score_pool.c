@@ -4,33 +4,18 @@
 #include "match/score_lanes.h"
 
 #include <float.h>
-#include <pthread.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 #include "base/error.h"
+#include "base/pool.h"
 
 /* A query takes one thread per this many centres (or probes), at most the
  * pool's: fewer per thread and the hand-over costs more than it saves. */
 #define MIN_PER_THREAD 16
 
-typedef struct worker {
-    relief_score_pool *pool;
-    int index;
-    pthread_t thread;
-} worker;
-
 struct relief_score_pool {
-    int threads, started;
-    int lanes; /* 1: score in lock-step (this processor has AVX2) */
-    int active; /* threads taking part in the query in progress; written
-                   and read under mu, with the generation */
-    worker *w;
-    pthread_mutex_t mu;
-    pthread_cond_t go, done;
-    unsigned long generation; /* bumped once per query */
-    int pending;              /* workers still scoring this query */
-    int quit;
+    relief_pool *threads; /* base/pool.h: started once */
+    int lanes;            /* 1: score in lock-step (this processor has AVX2) */
     /* The query in progress: scores (probes == 0) or a probe. */
     const relief_match_data *d;
     const relief_match_query *q;
@@ -76,9 +61,11 @@ void relief_score_host_blocks(const relief_match_data *d, const relief_match_que
     }
 }
 
-/* Thread k's share of the query, the first `active` threads taking part. */
-static void run_part(relief_score_pool *p, int k, int active)
+/* Thread k's share of the query, the first `active` threads taking part
+ * (a relief_pool job). */
+static void run_part(void *ctx, int k, int active)
 {
+    relief_score_pool *p = ctx;
     if (p->probes)
         p->best[k] = relief_score_host_probe(p->d, p->q, p->probes, (uint32_t)k,
                                              (uint32_t)active);
@@ -87,70 +74,26 @@ static void run_part(relief_score_pool *p, int k, int active)
                                  p->flag);
 }
 
-/* Run the job set in p on its first `active` threads and wait for them.
- * Every worker wakes and reads the generation and `active` together; only
- * the first active - 1 take part and report back, so the caller waits for
- * no idle thread. */
-static void run_all(relief_score_pool *p, int active)
-{
-    pthread_mutex_lock(&p->mu);
-    p->active = active;
-    p->pending = active - 1;
-    ++p->generation;
-    pthread_cond_broadcast(&p->go);
-    pthread_mutex_unlock(&p->mu);
-    run_part(p, 0, active);
-    pthread_mutex_lock(&p->mu);
-    while (p->pending > 0)
-        pthread_cond_wait(&p->done, &p->mu);
-    pthread_mutex_unlock(&p->mu);
-}
-
-static void *worker_main(void *arg)
-{
-    worker *w = arg;
-    relief_score_pool *p = w->pool;
-    unsigned long seen = 0;
-    int active;
-    for (;;) {
-        pthread_mutex_lock(&p->mu);
-        while (p->generation == seen && !p->quit)
-            pthread_cond_wait(&p->go, &p->mu);
-        if (p->quit) {
-            pthread_mutex_unlock(&p->mu);
-            return NULL;
-        }
-        seen = p->generation;
-        active = p->active;
-        pthread_mutex_unlock(&p->mu);
-        if (w->index >= active)
-            continue; /* not needed for this query */
-        run_part(p, w->index, active);
-        pthread_mutex_lock(&p->mu);
-        if (--p->pending == 0)
-            pthread_cond_signal(&p->done);
-        pthread_mutex_unlock(&p->mu);
-    }
-}
-
 /* The threads that take `items` centres or probes: at most one per
  * MIN_PER_THREAD of them. */
 static int threads_for(const relief_score_pool *p, size_t items)
 {
     size_t n = items / MIN_PER_THREAD;
-    return n < 1 ? 1 : n < (size_t)p->threads ? (int)n : p->threads;
+    int threads = relief_pool_threads(p->threads);
+    return n < 1 ? 1 : n < (size_t)threads ? (int)n : threads;
 }
 
 int relief_score_pool_default_threads(void)
 {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > RELIEF_SCORE_POOL_MAX ? RELIEF_SCORE_POOL_MAX : (int)n;
+    int n = relief_pool_default_threads();
+    return n > RELIEF_SCORE_POOL_MAX ? RELIEF_SCORE_POOL_MAX : n;
 }
 
 relief_status relief_score_pool_create(int threads, relief_score_pool **out,
                                        relief_error *err)
 {
     relief_score_pool *p;
+    relief_status st;
     if (!out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_score_pool_create: out is NULL");
     *out = NULL;
@@ -158,25 +101,14 @@ relief_status relief_score_pool_create(int threads, relief_score_pool **out,
         return relief_fail(err, RELIEF_E_RANGE, "host scoring threads %d out of range: "
                            "expected 1..%d", threads, RELIEF_SCORE_POOL_MAX);
     p = calloc(1, sizeof *p);
-    if (!p || !(p->w = calloc((size_t)threads, sizeof *p->w))) {
-        free(p);
+    if (!p)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the host scoring threads");
+    st = relief_pool_create(threads, &p->threads, err);
+    if (st != RELIEF_OK) {
+        free(p);
+        return st;
     }
-    p->threads = threads;
     p->lanes = relief_host_lanes_supported();
-    pthread_mutex_init(&p->mu, NULL);
-    pthread_cond_init(&p->go, NULL);
-    pthread_cond_init(&p->done, NULL);
-    for (int k = 1; k < threads; ++k) {
-        p->w[k].pool = p;
-        p->w[k].index = k;
-        if (pthread_create(&p->w[k].thread, NULL, worker_main, &p->w[k]) != 0) {
-            relief_score_pool_destroy(p);
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot start host scoring thread %d of "
-                               "%d", k + 1, threads);
-        }
-        p->started = k;
-    }
     *out = p;
     return RELIEF_OK;
 }
@@ -191,7 +123,7 @@ void relief_score_pool_run(relief_score_pool *p, const relief_match_data *d,
         return;
     }
     p->d = d, p->q = q, p->ssd = ssd, p->flag = flag, p->probes = 0;
-    run_all(p, use);
+    relief_pool_run(p->threads, use, run_part, p);
 }
 
 float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
@@ -202,7 +134,7 @@ float relief_score_pool_probe(relief_score_pool *p, const relief_match_data *d,
     if (use == 1)
         return relief_score_host_probe(d, q, probes, 0, 1);
     p->d = d, p->q = q, p->probes = probes;
-    run_all(p, use);
+    relief_pool_run(p->threads, use, run_part, p);
     for (int k = 0; k < use; ++k)
         best = p->best[k] < best ? p->best[k] : best;
     return best;
@@ -212,15 +144,6 @@ void relief_score_pool_destroy(relief_score_pool *p)
 {
     if (!p)
         return;
-    pthread_mutex_lock(&p->mu);
-    p->quit = 1;
-    pthread_cond_broadcast(&p->go);
-    pthread_mutex_unlock(&p->mu);
-    for (int k = 1; k <= p->started; ++k)
-        pthread_join(p->w[k].thread, NULL);
-    pthread_cond_destroy(&p->done);
-    pthread_cond_destroy(&p->go);
-    pthread_mutex_destroy(&p->mu);
-    free(p->w);
+    relief_pool_destroy(p->threads);
     free(p);
 }

@@ -499,6 +499,20 @@ static void test_office(relief_patch_scorer *sc, const char *dir)
     relief_depth_frame_free(&f);
 }
 
+/* The crop of the office frame both backend tests repair: its missing
+ * pixels and a disc cut at (100, 70), into a and b alike. */
+enum { CROP_X0 = 100, CROP_Y0 = 80, CROP_W = 200, CROP_H = 150 };
+static void office_crop(const relief_depth_frame *f, float *a, float *b, uint8_t *missing)
+{
+    for (int y = 0; y < CROP_H; ++y)
+        for (int x = 0; x < CROP_W; ++x) {
+            float v = f->z[(size_t)(y + CROP_Y0) * f->width + x + CROP_X0];
+            int i = y * CROP_W + x;
+            missing[i] = !isfinite(v) || (x - 100) * (x - 100) + (y - 70) * (y - 70) < 300;
+            a[i] = b[i] = missing[i] ? NAN : v;
+        }
+}
+
 /* The host scorer (2 and 3 threads: both orders side by side, their
  * scorers sharing the threads; ROF's passes split by rows) against the
  * scalar reference, every variant, on a crop of the office frame. */
@@ -507,7 +521,7 @@ static void test_host(relief_patch_scorer *sc, const char *dir)
     relief_error err = {RELIEF_OK, ""};
     relief_depth_frame f;
     char path[512];
-    enum { X0 = 100, Y0 = 80, W = 200, H = 150 };
+    enum { W = CROP_W, H = CROP_H };
     snprintf(path, sizeof path, "%s/office1.pcd", dir);
     if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         CHECK(0, "%s", err.message);
@@ -522,13 +536,7 @@ static void test_host(relief_patch_scorer *sc, const char *dir)
             relief_depth_repair_params p = relief_depth_repair_params_default();
             relief_depth_repair_report ra, rb;
             p.variant = (relief_depth_variant)variant;
-            for (int y = 0; y < H; ++y)
-                for (int x = 0; x < W; ++x) {
-                    float v = f.z[(size_t)(y + Y0) * f.width + x + X0];
-                    int i = y * W + x;
-                    missing[i] = !isfinite(v) || (x - 100) * (x - 100) + (y - 70) * (y - 70) < 300;
-                    a[i] = b[i] = missing[i] ? NAN : v;
-                }
+            office_crop(&f, a, b, missing);
             CHECK(relief_depth_repair(a, missing, W, H, &p, sc, NULL, &ra, &err) == RELIEF_OK,
                   "scalar: %s", err.message);
             CHECK(relief_depth_repair(b, missing, W, H, &p, h, NULL, &rb, &err) == RELIEF_OK,
@@ -598,7 +606,7 @@ static int test_opencl(const char *dir)
     relief_error err = {RELIEF_OK, ""};
     relief_depth_frame f;
     char path[512];
-    enum { X0 = 100, Y0 = 80, W = 200, H = 150 };
+    enum { W = CROP_W, H = CROP_H };
     if (relief_patch_opencl_create(-1, &cl, &err) != RELIEF_OK) {
         printf("no OpenCL device (%s): skipped\n", err.message);
         return 77;
@@ -616,13 +624,7 @@ static int test_opencl(const char *dir)
         static uint8_t missing[W * H];
         relief_depth_repair_params p = relief_depth_repair_params_default();
         p.variant = (relief_depth_variant)variant;
-        for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-                float v = f.z[(size_t)(y + Y0) * f.width + x + X0];
-                int i = y * W + x;
-                missing[i] = !isfinite(v) || (x - 100) * (x - 100) + (y - 70) * (y - 70) < 300;
-                a[i] = b[i] = missing[i] ? NAN : v;
-            }
+        office_crop(&f, a, b, missing);
         CHECK(relief_depth_repair(a, missing, W, H, &p, sc, NULL, NULL, &err) == RELIEF_OK,
               "scalar: %s", err.message);
         CHECK(relief_depth_repair(b, missing, W, H, &p, cl, NULL, NULL, &err) == RELIEF_OK,
