@@ -11,9 +11,13 @@
 
 /* How long a thread spins for the next job (a worker) or for the last
  * part to finish (the caller) before it sleeps: a sleeping thread takes
- * tens of microseconds to wake (more in a virtual machine), as long as a
- * window search's share of work; a busy caller hands jobs out faster. */
-#define SPIN_NS 200000L
+ * tens of microseconds to wake (more in a virtual machine), about a window
+ * search's share of work. Short, because a spinning thread takes a core
+ * from whatever else runs: 200 us filled the astronaut in 1.1 to 1.3 s on
+ * 2 threads here, 20 us in 1.3 to 1.4, none in 1.5 to 1.8; with 200 us
+ * the sanitized suite (two tests at a time, the mesh matcher's threads
+ * on this pool too) took 925 s, against 649 s before the pool. */
+#define SPIN_NS 20000L
 
 /* A worker's own job slot: written by the caller only while the worker
  * is idle, then published by bumping its ticket; a worker reads nothing
