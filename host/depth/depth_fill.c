@@ -394,10 +394,10 @@ static relief_status fill_decompose(float *z, const uint8_t *missing, const uint
         st = smooth_fill(bridge, known, domain, W, H, p, &rep->membrane_iterations, err);
         if (st == RELIEF_OK)
             st = relief_rof(bridge, domain, W, H, lambda, p->rof_iterations,
-                                scorer->threads, u, v, err);
+                            scorer->threads, u, v, err);
     } else if (st == RELIEF_OK) {
         st = relief_rof(z, known, W, H, lambda, p->rof_iterations, scorer->threads, u, v,
-                            err);
+                        err);
         if (st == RELIEF_OK)
             st = smooth_fill(u, known, domain, W, H, p, &rep->membrane_iterations, err);
     }

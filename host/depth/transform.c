@@ -473,12 +473,10 @@ relief_status relief_rof(const float *f, const uint8_t *known, int width, int he
     }
     if (threads > H / 16)
         threads = H / 16; /* a share of 16 rows at least */
-    if (threads > 1 &&
-        relief_pool_create(threads > RELIEF_POOL_MAX ? RELIEF_POOL_MAX : threads, &pool, err) !=
-            RELIEF_OK) {
-        st = err->status;
+    threads = threads < 1 ? 1 : threads > RELIEF_POOL_MAX ? RELIEF_POOL_MAX : threads;
+    st = relief_pool_create(threads, &pool, err); /* 1: no thread started */
+    if (st != RELIEF_OK)
         goto done;
-    }
     /* Edges: px[i] joins i and i + 1, py[i] joins i and i + W, present
      * only when both ends are known. div = -grad^T. Each pass writes only
      * its own rows, so the threads' result is one thread's, bit for bit. */
@@ -491,18 +489,11 @@ relief_status relief_rof(const float *f, const uint8_t *known, int width, int he
         }
     {
         rof_state r = {fl, ex, ey, px, py, div, W, H};
-        int parts = pool ? relief_pool_threads(pool) : 1;
         for (int it = 0; it <= iterations; ++it) {
-            if (pool)
-                relief_pool_run(pool, parts, rof_div, &r);
-            else
-                rof_div(&r, 0, 1);
+            relief_pool_run(pool, threads, rof_div, &r);
             if (it == iterations)
                 break;
-            if (pool)
-                relief_pool_run(pool, parts, rof_step, &r);
-            else
-                rof_step(&r, 0, 1);
+            relief_pool_run(pool, threads, rof_step, &r);
         }
     }
     for (size_t i = 0; i < n; ++i) {
