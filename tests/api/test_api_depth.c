@@ -343,6 +343,7 @@ static void test_cancel(const relief_depth_image *office)
 
 typedef struct job {
     relief_depth_image f;
+    relief_backend backend;
     relief_status st;
 } job;
 
@@ -351,11 +352,13 @@ static void *run_job(void *arg)
     job *j = arg;
     relief_depth_fill_params p = quick_params();
     p.order = RELIEF_DEPTH_ORDER_BOTH;
+    p.run.backend = j->backend;
     j->st = relief_depth_fill(&j->f, NULL, &p, NULL, NULL);
     return NULL;
 }
 
-/* Two frames repaired at once give the bytes of two calls in a row. */
+/* Two frames repaired at once on the host's threads (both orders side by
+ * side in each) give the bytes of two scalar calls in a row. */
 static void test_threads(const relief_depth_image *office)
 {
     job serial[2], threaded[2];
@@ -364,6 +367,8 @@ static void test_threads(const relief_depth_image *office)
         serial[k].f = crop(office, 90 + 40 * k, 60, 110, 100);
         cut(&serial[k].f, 40 + 5 * k, 30, 14, 12);
         threaded[k].f = copy_of(&serial[k].f);
+        serial[k].backend = RELIEF_BACKEND_SCALAR;
+        threaded[k].backend = RELIEF_BACKEND_HOST;
     }
     for (int k = 0; k < 2; ++k)
         run_job(&serial[k]);

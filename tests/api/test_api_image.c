@@ -552,6 +552,7 @@ int main(int argc, char **argv)
     test_fill();
     test_cancel();
     test_threads(RELIEF_BACKEND_SCALAR);
+    test_threads(RELIEF_BACKEND_HOST);
     {
         /* OpenCL too where a device runs: its scorers start at once. */
         relief_error err = {RELIEF_OK, ""};
