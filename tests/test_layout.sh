@@ -23,7 +23,8 @@ declare -A allowed=(
   [depth]="base mesh smooth report match image kernels"
   [points]="base mesh smooth match device depth kernels"
   [complete]="base mesh smooth match grow report points"
-  [cli]="base mesh smooth match grow report synth image depth points complete"
+  [occlude]="base mesh smooth report image depth"
+  [cli]="base mesh smooth match grow report synth image depth points complete occlude"
 )
 
 fail=0

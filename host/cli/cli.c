@@ -32,6 +32,10 @@ static const char main_help[] =
     "  depth-fill IN -o OUT  repair the holes of a depth image (PCD, PFM, PNG)\n"
     "  complete-points IN -o OUT.ply\n"
     "                        complete a point set with no primitive under it\n"
+    "  occluders IN -o MASK.png\n"
+    "                        find the foreground objects of an RGB-D frame from depth\n"
+    "  remove-occluders IN -o OUT\n"
+    "                        and see the surface behind them, in colour and depth\n"
     "  devices               list OpenCL devices\n"
     "\n"
     "  complete, smooth, image-fill, depth-fill and complete-points take several\n"
@@ -87,6 +91,10 @@ int relief_cli_main(int argc, char **argv, int parse_only)
         return cli_cmd_complete_points(argc - 1, argv + 1, parse_only);
     if (strcmp(cmd, "depth-fill") == 0)
         return cli_cmd_depth_fill(argc - 1, argv + 1, parse_only);
+    if (strcmp(cmd, "occluders") == 0)
+        return cli_cmd_occluders(argc - 1, argv + 1, parse_only);
+    if (strcmp(cmd, "remove-occluders") == 0)
+        return cli_cmd_remove_occluders(argc - 1, argv + 1, parse_only);
     fprintf(stderr, "relief: unknown command '%s'\n\n%s", cmd, main_help);
     return EXIT_USAGE;
 }

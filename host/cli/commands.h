@@ -15,5 +15,7 @@ int cli_cmd_devices(int argc, char **argv, int parse_only);
 int cli_cmd_image_fill(int argc, char **argv, int parse_only);
 int cli_cmd_depth_fill(int argc, char **argv, int parse_only);
 int cli_cmd_complete_points(int argc, char **argv, int parse_only);
+int cli_cmd_occluders(int argc, char **argv, int parse_only);
+int cli_cmd_remove_occluders(int argc, char **argv, int parse_only);
 
 #endif

@@ -37,5 +37,6 @@
 #include "relief/depth.h"
 #include "relief/points.h"
 #include "relief/eval.h"
+#include "relief/occluders.h"
 
 #endif /* RELIEF_RELIEF_H */

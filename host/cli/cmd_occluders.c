@@ -1,0 +1,501 @@
+/* relief occluders and relief remove-occluders: an RGB-D frame's
+ * foreground objects found from its depth, and the surface behind them
+ * (paper 004, chapter 2; relief/occluders.h): the options, the frame (an
+ * organised PCD with colour, or a colour image with its depth image), one
+ * call, the outputs (all or none) and the summary. */
+#include "cli/commands.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "relief/relief.h"
+#include "base/error.h"
+#include "base/memlimit.h"
+#include "cli/options.h"
+#include "depth/frame.h"
+
+enum { OC_DEPTH = OPT_COMMAND, OC_SCALE, OC_OVERLAY, OC_BG_MESH, OC_SAVE_MASK, OC_POINTS,
+       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_WINDOW, OC_DEPTH_VARIANT };
+
+static const char *const frame_help =
+    "IN is an organised PCD with colour (x y z rgb: a depth camera's frame), or a colour "
+    "image (PNG or JPEG) with --depth, its registered 16-bit depth PNG (--scale values per "
+    "metre, default 5000; --intrinsics, default a Kinect's scaled to the width).";
+
+static const cli_own find_own[] = {
+    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth"},
+    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect)"},
+    {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "
+     "the frame's camera coordinates), not planes found in the depth"},
+    {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},
+    {NULL, 0, NULL, NULL}};
+
+static const cli_own remove_own[] = {
+    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth"},
+    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect)"},
+    {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "
+     "the frame's camera coordinates), not planes found in the depth"},
+    {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},
+    {"occluders", OC_SAVE_MASK, "MASK.png", "the occluder mask used (255 = occluder)"},
+    {"depth-out", OC_DEPTH_OUT, "D.png", "(colour and depth input) the repaired depth, a "
+     "16-bit PNG at --scale; required with --depth"},
+    {"colour-out", OC_COLOUR_OUT, "C.png", "(PCD input) the colour after the removal as a "
+     "picture"},
+    {"points", OC_POINTS, "OUT.ply", "the frame's points after the removal, coloured, with a "
+     "'label' property: 1 for the points put behind the occluders"},
+    {"fill-window", OC_FILL_WINDOW, "W", "image-fill's starting window for the colour "
+     "(default 17)"},
+    {"depth-variant", OC_DEPTH_VARIANT, "V", "depth-fill's variant for the depth behind: "
+     "plain, haar or decompose (default)"},
+    {NULL, 0, NULL, NULL}};
+
+typedef struct occ_args {
+    cli_common cm;
+    relief_remove_params p;
+    int remove;
+    const char *in, *depth, *overlay, *bg_mesh, *save_mask, *points, *depth_out, *colour_out;
+    double scale;
+    cli_output outs[7]; /* -o, --overlay, --report, --occluders, --points, --depth-out,
+                           --colour-out */
+} occ_args;
+
+static cli_spec spec(int remove)
+{
+    cli_spec s = {"occluders", "IN -o MASK.png [--depth DEPTH.png] [options]",
+                  NULL, CLI_OUTPUT | CLI_REPORT | CLI_QUIET,
+                  "the mask, a PNG of IN's size: 255 on the occluders; required",
+                  NULL, NULL, 0, NULL, find_own, NULL};
+    static char about[2][1400];
+    snprintf(about[0], sizeof about[0], "Find the occluders of an RGB-D frame from its depth "
+             "(paper 004, section 2.1): the background's planes by RANSAC (those with nearly "
+             "nothing behind them: walls, a floor, a facade), the points more than --margin in "
+             "front of them as seeds, grown by colour constancy inside a --window square "
+             "around each seed into the pixels whose depth is missing or, at the rim, on the "
+             "background; the mask dilated, marking background as foreground rather than the "
+             "reverse. %s", frame_help);
+    snprintf(about[1], sizeof about[1], "Remove the occluders of an RGB-D frame: the mask "
+             "(found as `relief occluders` finds it, or --mask), the colour behind filled by "
+             "image-fill (paper 004, chapter 3) and the depth behind repaired by depth-fill "
+             "(paper 003) as the residual about the background, so that the new points lie on "
+             "the background with its own roughness. %s OUT is written as IN: a PCD (the "
+             "occluders' points replaced, the other pixels' bits kept), or the colour image "
+             "with --depth-out for the depth.", frame_help);
+    s.about = about[0];
+    if (remove) {
+        s.name = "remove-occluders";
+        s.usage = "IN -o OUT [--mask MASK] [--depth DEPTH.png --depth-out D.png] [options]";
+        s.about = about[1];
+        s.shared |= CLI_MASK | CLI_LIMIT;
+        s.out_help = "the frame without its occluders, IN's format; required, never IN";
+        s.mask_help = "the occluders, a PNG of IN's size (non-zero), instead of finding them";
+        s.own = remove_own;
+    }
+    s.params = relief_occluder_param_table(&s.n_params);
+    return s;
+}
+
+static int take(void *ctx, int c, const char *arg)
+{
+    occ_args *a = ctx;
+    static const char *const variants[] = CLI_NAMES(RELIEF_DEPTH_VARIANT_LIST);
+    const char *cmd = a->remove ? "remove-occluders" : "occluders";
+    long w;
+    int v;
+    switch (c) {
+    case OC_DEPTH: a->depth = arg; return 1;
+    case OC_SCALE: return cli_parse_real(cmd, "--scale", arg, &a->scale);
+    case OC_OVERLAY: a->overlay = arg; return 1;
+    case OC_BG_MESH: a->bg_mesh = arg; return 1;
+    case OC_SAVE_MASK: a->save_mask = arg; return 1;
+    case OC_POINTS: a->points = arg; return 1;
+    case OC_DEPTH_OUT: a->depth_out = arg; return 1;
+    case OC_COLOUR_OUT: a->colour_out = arg; return 1;
+    case OC_FILL_WINDOW:
+        if (!cli_parse_long(cmd, "--fill-window", arg, 3, 1025, &w))
+            return 0;
+        a->p.colour.window = (int)w;
+        return 1;
+    case OC_DEPTH_VARIANT:
+        if (!CLI_PARSE_ENUM(cmd, "--depth-variant", arg, variants, &v))
+            return 0;
+        a->p.depth.variant = (relief_depth_variant)v;
+        return 1;
+    }
+    return 0;
+}
+
+static int is_image_name(const char *path)
+{
+    const char *e = cli_ext_of(path);
+    return !strcasecmp(e, ".png") || !strcasecmp(e, ".jpg") || !strcasecmp(e, ".jpeg");
+}
+
+/* The operands and the files' names: 1 when they fit together. */
+static int check_files(occ_args *a, int argc, char **argv)
+{
+    const char *cmd = a->cm.cmd, *out, *ins[4];
+    int pcd;
+    if (!cli_one_input(&a->cm, argc, argv, "input IN", &a->in))
+        return 0;
+    out = a->cm.out;
+    pcd = !strcasecmp(cli_ext_of(a->in), ".pcd");
+    if (!pcd && !is_image_name(a->in))
+        return !cli_usage_error(cmd, "IN: '%s' is neither an organised PCD (.pcd) nor a colour "
+                                "image (.png, .jpg) with --depth", a->in);
+    if (pcd == (a->depth != NULL))
+        return !cli_usage_error(cmd, pcd ? "--depth %s: a PCD carries its own depth"
+                                         : "IN '%s' is a colour image: give its depth with "
+                                           "--depth DEPTH.png", pcd ? a->depth : a->in);
+    if (a->remove && !a->depth != !a->depth_out)
+        return !cli_usage_error(cmd, "%s--depth-out is the repaired depth of a colour and depth "
+                                "input: give both or neither", "");
+    if (!a->remove && strcasecmp(cli_ext_of(out), ".png"))
+        return !cli_usage_error(cmd, "-o: '%s': the mask is a PNG", out);
+    if (a->remove && (pcd ? strcasecmp(cli_ext_of(out), ".pcd") != 0 : !is_image_name(out)))
+        return !cli_usage_error(cmd, "-o: '%s': OUT is written as IN: give it IN's kind "
+                                "(.pcd, or .png / .jpg for a colour image)", out);
+    if (a->depth_out && strcasecmp(cli_ext_of(a->depth_out), ".png"))
+        return !cli_usage_error(cmd, "--depth-out '%s': the depth is a 16-bit PNG", a->depth_out);
+    ins[0] = a->in, ins[1] = a->depth, ins[2] = a->cm.mask, ins[3] = a->bg_mesh;
+    a->outs[0] = (cli_output){"-o", out, CLI_OUT_FILE};
+    a->outs[1] = (cli_output){"--overlay", a->overlay, CLI_OUT_FILE};
+    a->outs[2] = (cli_output){"--report", a->cm.report, CLI_OUT_FILE};
+    a->outs[3] = (cli_output){"--occluders", a->save_mask, CLI_OUT_FILE};
+    a->outs[4] = (cli_output){"--points", a->points, CLI_OUT_FILE};
+    a->outs[5] = (cli_output){"--depth-out", a->depth_out, CLI_OUT_FILE};
+    a->outs[6] = (cli_output){"--colour-out", a->colour_out, CLI_OUT_FILE};
+    if (a->colour_out && !is_image_name(a->colour_out))
+        return !cli_usage_error(cmd, "--colour-out '%s': a PNG or JPEG", a->colour_out);
+    return !cli_check_outputs(cmd, ins, 4, a->outs, 7);
+}
+
+static int parse_args(int argc, char **argv, occ_args *a, int remove)
+{
+    cli_spec s = spec(remove);
+    relief_error err = {RELIEF_OK, ""};
+    int rc;
+    memset(a, 0, sizeof *a);
+    a->remove = remove;
+    a->cm = cli_common_init(s.name);
+    a->p = relief_remove_params_default();
+    rc = cli_parse(&s, &a->cm, &a->p.find, take, a, argc, argv);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    if (!check_files(a, argc, argv))
+        return EXIT_USAGE;
+    a->p.find.run.input_name = a->in;
+    a->p.find.run.output_name = a->cm.out;
+    a->p.colour.run.backend = a->p.depth.run.backend = a->p.find.run.backend;
+    a->p.colour.run.device = a->p.depth.run.device = a->p.find.run.device;
+    a->p.colour.run.max_memory = a->p.depth.run.max_memory = a->p.find.run.max_memory;
+    if (a->bg_mesh && a->p.find.background == RELIEF_BACKGROUND_PLANES)
+        a->p.find.background = RELIEF_BACKGROUND_MESH;
+    if (a->p.find.background == RELIEF_BACKGROUND_MESH && !a->bg_mesh)
+        return cli_usage_error(s.name, "%s--background mesh needs --background-mesh MESH", "");
+    if (a->bg_mesh && a->p.find.background != RELIEF_BACKGROUND_MESH)
+        return cli_usage_error(s.name, "--background-mesh %s: the background is the mesh; "
+                               "leave --background out or give mesh", a->bg_mesh);
+    {
+        /* The ranges, before anything is read (the mesh comes later). */
+        relief_occluder_params q = a->p.find;
+        q.background = RELIEF_BACKGROUND_PLANES;
+        if (relief_occluder_params_validate(&q, &err) != RELIEF_OK ||
+            relief_image_fill_params_validate(&a->p.colour, &err) != RELIEF_OK)
+            return cli_fail(s.name, &err);
+    }
+    return -1;
+}
+
+static uint64_t read_limit(const occ_args *a)
+{
+    return a->p.find.run.max_memory ? a->p.find.run.max_memory : relief_default_memory_limit();
+}
+
+/* A colour image's samples as the frame's rgb bytes (grey expanded, alpha
+ * dropped, 16 bits to their high byte). */
+static relief_status colour_of(const relief_image *c, uint8_t *rgb)
+{
+    size_t stride = c->stride ? c->stride : (size_t)c->width * c->channels * c->bit_depth / 8;
+    for (int y = 0; y < c->height; ++y)
+        for (int x = 0; x < c->width; ++x)
+            for (int k = 0; k < 3; ++k) {
+                int ch = c->channels >= 3 ? k : 0;
+                const uint8_t *row = (const uint8_t *)c->data + (size_t)y * stride;
+                size_t i = (size_t)x * c->channels + ch;
+                rgb[3 * ((size_t)y * c->width + x) + k] =
+                    c->bit_depth == 8 ? row[i] : (uint8_t)(((const uint16_t *)(const void *)row)[i] >> 8);
+            }
+    return RELIEF_OK;
+}
+
+/* The frame: a PCD with colour, or a colour image and its depth. */
+static relief_status read_frame(const occ_args *a, relief_depth_image *f, relief_error *err)
+{
+    relief_image c = {0, 0, 0, 0, 0, NULL};
+    relief_status st = relief_depth_read(a->depth ? a->depth : a->in, a->scale,
+                                         read_limit(a) / 64, f, err);
+    if (st == RELIEF_OK && !a->depth && f->format == RELIEF_DEPTH_PFM)
+        st = relief_fail(err, RELIEF_E_FORMAT, "%s is a PFM named .pcd", a->in);
+    if (st == RELIEF_OK && !a->depth && !f->rgb)
+        st = relief_fail(err, RELIEF_E_USAGE, "%s has no colour (no rgb field): occluders "
+                         "are grown by colour; give a PCD with rgb, or a colour image with "
+                         "--depth", a->in);
+    if (st == RELIEF_OK && a->depth && f->format != RELIEF_DEPTH_PNG16)
+        st = relief_fail(err, RELIEF_E_FORMAT, "--depth %s: expected a 16-bit depth PNG, "
+                         "not a %s file", a->depth, relief_depth_format_name(f->format));
+    if (st == RELIEF_OK && a->depth)
+        st = relief_image_read(a->in, read_limit(a), &c, err);
+    if (st == RELIEF_OK && a->depth && (c.width != f->width || c.height != f->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "%s is %d x %d pixels, --depth %s is %d x %d: "
+                         "they must be the same size (registered)", a->in, c.width, c.height,
+                         a->depth, f->width, f->height);
+    if (st == RELIEF_OK && a->depth &&
+        !(f->rgb = malloc((size_t)f->width * f->height * 3)))
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the frame's colour");
+    if (st == RELIEF_OK && a->depth)
+        colour_of(&c, f->rgb);
+    relief_image_free(&c);
+    if (st != RELIEF_OK)
+        relief_depth_image_free(f);
+    return st;
+}
+
+/* The overlay: the colour, the occluders half red. */
+static relief_status write_overlay(const char *path, const relief_depth_image *f,
+                                   const uint8_t *mask, relief_error *err)
+{
+    size_t n = (size_t)f->width * f->height;
+    uint8_t *px = malloc(n * 3);
+    relief_status st;
+    if (!px)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the overlay");
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            px[3 * i + k] = mask[i] ? (uint8_t)((f->rgb[3 * i + k] + (k == 0 ? 255 : 0)) / 2)
+                                    : f->rgb[3 * i + k];
+    st = relief_image_write(&(relief_image){f->width, f->height, 3, 8, 0, px}, path, err);
+    free(px);
+    return st;
+}
+
+/* What write_one writes. */
+typedef struct occ_out {
+    const occ_args *a;
+    const relief_depth_image *in;  /* the frame as read (the overlay's colour) */
+    const relief_depth_image *out; /* after the removal (remove-occluders) */
+    const uint8_t *mask;           /* 1 = occluder */
+    const char *json;
+} occ_out;
+
+/* The mask (0 / 1) as a PNG, 255 on the occluders. */
+static relief_status write_mask(const char *path, int w, int h, const uint8_t *label,
+                                relief_error *err)
+{
+    size_t n = (size_t)w * h;
+    uint8_t *px = malloc(n);
+    relief_status st;
+    if (!px)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask's picture");
+    for (size_t i = 0; i < n; ++i)
+        px[i] = label[i] ? 255 : 0;
+    st = relief_image_write(&(relief_image){w, h, 1, 8, 0, px}, path, err);
+    free(px);
+    return st;
+}
+
+static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+{
+    const occ_out *o = ctx;
+    const relief_depth_image *f = o->out;
+    switch (i) {
+    case 0:
+        if (!o->a->remove)
+            return write_mask(tmp, f->width, f->height, o->mask, err);
+        if (!o->a->depth)
+            return relief_depth_write(f, tmp, f->format, 0.0, err);
+        return relief_image_write(&(relief_image){f->width, f->height, 3, 8, 0, f->rgb}, tmp,
+                                  err);
+    case 1: return write_overlay(tmp, o->in, o->mask, err);
+    case 2: return cli_write_json(tmp, o->json, 0, NULL, NULL, err);
+    case 3: return write_mask(tmp, f->width, f->height, o->mask, err);
+    case 4: return relief_depth_points_write(tmp, f, o->mask, err);
+    case 5: return relief_depth_write(f, tmp, RELIEF_DEPTH_PNG16, o->a->scale, err);
+    default:
+        return relief_image_write(&(relief_image){f->width, f->height, 3, 8, 0, f->rgb}, tmp,
+                                  err);
+    }
+}
+
+static void say_find(const occ_args *a, const relief_occluder_report *r)
+{
+    const char *cmd = a->cm.cmd;
+    fprintf(stderr, "relief %s: %s: %d x %d, %zu pixels captured; background: %d plane%s "
+            "(noise %.3g, margin %.3g), %zu points on it, %zu behind\n", cmd, a->in, r->width,
+            r->height, r->captured, r->planes, r->planes == 1 ? "" : "s", r->noise, r->margin,
+            r->on_background, r->behind);
+    fprintf(stderr, "relief %s: %zu seeds in %zu groups (%zu dropped), grown by %zu where the "
+            "depth is missing and %zu at the rim, dilated by %zu: %zu occluder pixels (%.1f "
+            "%%)\n", cmd, r->seeds, r->seed_groups, r->seeds_dropped, r->grown_missing,
+            r->grown_edge, r->dilated, r->occluder_pixels,
+            100.0 * r->occluder_pixels / ((double)r->width * r->height));
+}
+
+/* A given mask as 0 / 1 per pixel (any channel but alpha non-zero). */
+static relief_status binary_mask(const relief_image *m, int w, int h, uint8_t *out,
+                                 relief_error *err)
+{
+    size_t n = (size_t)w * h, in_input, by_mask;
+    float *one = malloc(n * sizeof *one);
+    relief_depth_image probe = {w, h, one, NULL, NULL, RELIEF_DEPTH_PFM};
+    relief_status st = relief_depth_mask_check(m, w, h, err);
+    if (st == RELIEF_OK && !one)
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask");
+    for (size_t i = 0; st == RELIEF_OK && i < n; ++i)
+        one[i] = 1.0f;
+    if (st == RELIEF_OK)
+        relief_depth_missing(&probe, m, out, &in_input, &by_mask);
+    free(one);
+    return st;
+}
+
+/* The inputs: the frame, the background mesh, the given mask. */
+static relief_status read_inputs(occ_args *a, relief_depth_image *f, relief_mesh **bg,
+                                 relief_image *mask, relief_error *err)
+{
+    relief_status st = read_frame(a, f, err);
+    if (st == RELIEF_OK && a->bg_mesh)
+        st = cli_read_mesh(a->cm.cmd, a->bg_mesh, a->cm.quiet, bg, NULL, err);
+    a->p.find.background_mesh = *bg;
+    if (st == RELIEF_OK && a->cm.mask)
+        st = relief_image_read(a->cm.mask, read_limit(a), mask, err);
+    if (st == RELIEF_OK && a->cm.mask && (mask->width != f->width || mask->height != f->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "--mask %s is %d x %d pixels, %s is %d x %d: "
+                         "they must be the same size", a->cm.mask, mask->width, mask->height,
+                         a->in, f->width, f->height);
+    return st;
+}
+
+static int find_mode(occ_args *a)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_depth_image f;
+    relief_image found = {0, 0, 0, 0, 0, NULL}, none = {0, 0, 0, 0, 0, NULL};
+    relief_mesh *bg = NULL;
+    relief_occluder_report r;
+    relief_status st;
+    memset(&f, 0, sizeof f);
+    memset(&r, 0, sizeof r);
+    st = read_inputs(a, &f, &bg, &none, &err);
+    if (st == RELIEF_OK)
+        st = relief_find_occluders(&f, &a->p.find, &found, &r, &err);
+    if (st == RELIEF_OK) {
+        occ_out o = {a, &f, &f, found.data, r.json};
+        for (size_t i = 0; i < (size_t)f.width * f.height; ++i)
+            ((uint8_t *)found.data)[i] = ((uint8_t *)found.data)[i] != 0;
+        st = cli_write_outputs(a->outs, 7, write_one, &o, NULL, &err);
+    }
+    if (st == RELIEF_OK && !a->cm.quiet)
+        say_find(a, &r);
+    relief_depth_image_free(&f);
+    relief_mesh_destroy(bg);
+    relief_image_free(&found);
+    relief_occluder_report_free(&r);
+    return st == RELIEF_OK ? 0 : cli_fail(a->cm.cmd, &err);
+}
+
+/* A copy of f (what the removal changes). */
+static relief_status copy_frame(const relief_depth_image *f, relief_depth_image *g,
+                                relief_error *err)
+{
+    size_t n = (size_t)f->width * f->height;
+    *g = *f;
+    g->z = malloc(n * sizeof *g->z);
+    g->xyz = f->xyz ? malloc(n * 3 * sizeof *g->xyz) : NULL;
+    g->rgb = malloc(n * 3);
+    if (!g->z || !g->rgb || (f->xyz && !g->xyz)) {
+        relief_depth_image_free(g);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the output frame");
+    }
+    memcpy(g->z, f->z, n * sizeof *g->z);
+    if (f->xyz)
+        memcpy(g->xyz, f->xyz, n * 3 * sizeof *g->xyz);
+    memcpy(g->rgb, f->rgb, n * 3);
+    return RELIEF_OK;
+}
+
+static void say_remove(const occ_args *a, const relief_remove_report *r)
+{
+    if (!a->cm.mask)
+        say_find(a, &r->find);
+    fprintf(stderr, "relief remove-occluders: %zu occluder pixels: colour filled, %zu given "
+            "the background's depth (RMS %.3g about it), %zu left missing (no background "
+            "behind); %.2f s\n", r->find.occluder_pixels, r->replaced, r->background_rms,
+            r->left_missing, r->seconds_total);
+}
+
+static int remove_mode(occ_args *a)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_depth_image f, g;
+    relief_image mask = {0, 0, 0, 0, 0, NULL};
+    relief_mesh *bg = NULL;
+    relief_remove_report r;
+    uint8_t *label = NULL;
+    cli_progress pr;
+    relief_status st;
+    memset(&f, 0, sizeof f);
+    memset(&g, 0, sizeof g);
+    memset(&r, 0, sizeof r);
+    if (a->points && a->depth)
+        return cli_usage_error(a->cm.cmd, "--points %s: points need an organised PCD input",
+                               a->points);
+    st = read_inputs(a, &f, &bg, &mask, &err);
+    if (st == RELIEF_OK)
+        st = copy_frame(&f, &g, &err);
+    if (st == RELIEF_OK) {
+        cli_progress_start(&pr, &a->cm, &a->p.colour.run);
+        st = relief_remove_occluders(&g, a->cm.mask ? &mask : NULL, &a->p, &r, &err);
+        cli_progress_end(&pr);
+        cli_progress_explain(&pr, st, &err);
+    }
+    if (st == RELIEF_OK && !(label = malloc((size_t)f.width * f.height)))
+        st = relief_fail(&err, RELIEF_E_NOMEM, "cannot allocate the labels");
+    if (st == RELIEF_OK && a->cm.mask)
+        st = binary_mask(&mask, f.width, f.height, label, &err);
+    if (st == RELIEF_OK && !a->cm.mask)
+        memcpy(label, r.mask, (size_t)f.width * f.height);
+    if (st == RELIEF_OK) {
+        occ_out o = {a, &f, &g, label, r.json};
+        st = cli_write_outputs(a->outs, 7, write_one, &o, NULL, &err);
+    }
+    if (st == RELIEF_OK && !a->cm.quiet)
+        say_remove(a, &r);
+    relief_depth_image_free(&f);
+    relief_depth_image_free(&g);
+    relief_mesh_destroy(bg);
+    relief_image_free(&mask);
+    relief_remove_report_free(&r);
+    free(label);
+    return st == RELIEF_OK ? 0 : cli_fail(a->cm.cmd, &err);
+}
+
+int cli_cmd_occluders(int argc, char **argv, int parse_only)
+{
+    occ_args a;
+    int rc = parse_args(argc, argv, &a, 0);
+    if (rc >= 0 || parse_only)
+        return rc >= 0 ? rc : 0;
+    return find_mode(&a);
+}
+
+int cli_cmd_remove_occluders(int argc, char **argv, int parse_only)
+{
+    occ_args a;
+    int rc = parse_args(argc, argv, &a, 1);
+    if (rc >= 0 || parse_only)
+        return rc >= 0 ? rc : 0;
+    return remove_mode(&a);
+}

@@ -1,0 +1,70 @@
+/* Occluders from depth (relief/occluders.h), inside: the frame's camera and
+ * points, its background (planes by RANSAC, or a given mesh) and each
+ * pixel's clearance in front of it (background.c); the seeds, the growth
+ * by colour and the dilation (mask.c). api.c ties them to the public
+ * calls. */
+#ifndef RELIEF_HOST_OCCLUDE_OCCLUDE_H
+#define RELIEF_HOST_OCCLUDE_OCCLUDE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "relief/relief.h"
+#include "relief/occluders.h"
+
+/* A frame's geometry: every pixel's point and what lies behind it. */
+typedef struct occ_scene {
+    int width, height;
+    double cam[4];       /* x / z = cam[0] u + cam[1], y / z = cam[2] v + cam[3] */
+    double *pts;         /* width x height x 3: the point, NaN where missing */
+    size_t captured;     /* pixels with a point */
+    double median_z;     /* of the captured points */
+    /* the background */
+    int n_planes;
+    relief_occluder_plane plane[RELIEF_OCCLUDER_MAX_PLANES];
+    float *surface;      /* width x height: the background's depth along the
+                            pixel's ray; NaN where the ray meets none */
+    float *clearance;    /* width x height: how far the point lies in front
+                            of the background (negative: behind); NaN where
+                            the point is missing or has no background */
+    /* The depth noise, a structured-light camera's: sigma(z) = noise x z^2
+     * (its disparity quantised: steps of about z^2 / 350 m for a Kinect),
+     * measured on the background. */
+    double noise;
+    double margin;       /* a constant margin (depth units), or 0: margin_k x
+                            sigma(z) */
+    double margin_k;
+} occ_scene;
+
+/* The margin a point at depth z must clear to be a seed. */
+static inline double occ_margin(const occ_scene *s, double z)
+{
+    return s->margin > 0.0 ? s->margin : s->margin_k * s->noise * z * z;
+}
+
+void occ_scene_free(occ_scene *s);
+
+/* The camera and the points of `f`: an organised cloud's xyz and the
+ * camera fitted to them, or z through p's intrinsics (or the default
+ * Kinect's). RELIEF_E_RANGE when fewer than 3 points are captured or no
+ * camera can be had; RELIEF_E_NOMEM. */
+relief_status occ_scene_points(const relief_depth_image *f, const relief_occluder_params *p,
+                               occ_scene *s, relief_error *err);
+
+/* The background of s's points (p->background) and every pixel's surface
+ * depth and clearance; s->margin is p->margin or measured. RELIEF_E_RANGE
+ * naming why when none is found; RELIEF_E_NOMEM. */
+relief_status occ_background(occ_scene *s, const relief_occluder_params *p,
+                             relief_error *err);
+
+/* What the mask's stages counted (relief_occluder_report's fields). */
+typedef struct occ_counts {
+    size_t seeds, seed_groups, seeds_dropped, grown_missing, grown_edge, dilated, total;
+} occ_counts;
+
+/* The occluder mask (width x height, 1 = occluder) of scene s with the
+ * colour rgb (width x height x 3, sRGB bytes). RELIEF_E_NOMEM. */
+relief_status occ_mask(const occ_scene *s, const uint8_t *rgb, const relief_occluder_params *p,
+                       uint8_t *mask, occ_counts *counts, relief_error *err);
+
+#endif

@@ -1,0 +1,49 @@
+/* relief_occluder_params described for clients that set them by name and
+ * for the documentation (relief_param, relief/core.h); the ranges are
+ * relief_occluder_params_validate's. */
+#include <float.h>
+
+#include "relief/relief.h"
+#include "base/param_table.h"
+
+#define T relief_occluder_params
+
+static const char *const backgrounds[] = {"planes", "plane", "mesh", NULL};
+
+static const relief_param table[] = {
+    RP_ENUM(T, background, "B", backgrounds, "planes (default: up to max_planes planes by "
+            "RANSAC, a corner or a floor too), plane (the dominant one), or mesh (a surface "
+            "given in the frame's camera coordinates)"),
+    RP_INT(T, max_planes, "N", 1, 8, "planes: at most N background planes, 1..8 (default 4)"),
+    RP_REAL(T, min_support, "F", 0, 1, "a background plane holds at least this share of the "
+            "captured points, (0, 1] (default 0.03)"),
+    RP_REAL(T, margin, "M", -HUGE_VAL, 1e9, "seeds lie more than M (depth units: metres) in "
+            "front of the background; <= 0 (default): 4 x the noise measured on it, at least "
+            "1 % of the median depth"),
+    RP_INT(T, window, "W", 3, 1025, "the growth's square around each seed, odd pixels "
+           "(default 61, the paper's)"),
+    RP_REAL(T, colour_distance, "D", 0, 200, "the growth's step: neighbours whose colours "
+            "differ by at most D (CIELAB delta E 1976) join, 0..200 (default 12)"),
+    RP_INT(T, edge, "N", 0, 64, "growth onto background depth within N pixels of a seed "
+           "(a depth camera's misregistered rim), 0..64 (default 3)"),
+    RP_INT(T, min_area, "N", 1, 100000000, "seed groups under N pixels are noise (default "
+           "50)"),
+    RP_INT(T, dilate, "N", 0, 64, "the mask grown by N pixels: background marked as "
+           "foreground rather than the reverse, 0..64 (default 1)"),
+    RP_INT(T, iterations, "N", 10, 1000000, "RANSAC hypotheses per plane (default 500)"),
+    RP_REALS(T, intrinsics, "FX,FY,CX,CY", 4, 4, has_intrinsics, 1, "the depth image's "
+             "pinhole camera, pixels (default: a cloud's camera fitted to its points; for a "
+             "depth image fx = fy = 525 x width / 640 and the centre)"),
+    RP_SEED(T, seed, "RANSAC's seed (default 1)"),
+    RP_BACKEND(T, "remove-occluders: the colour's and the depth's fills, auto (default), "
+               "scalar, host or opencl; outputs are identical"),
+    RP_DEVICE(T),
+    RP_MAX_MEMORY(T),
+};
+
+const relief_param *relief_occluder_param_table(size_t *count)
+{
+    if (count)
+        *count = sizeof table / sizeof table[0];
+    return table;
+}

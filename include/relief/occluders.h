@@ -1,0 +1,201 @@
+/* relief/occluders.h: the foreground objects of an RGB-D frame found from
+ * its depth, and the surface behind them seen (paper 004, chapter 2: a
+ * façade's occluders marked from range data, then its texture filled by
+ * chapter 3, relief_image_fill; the depth behind them by paper 003,
+ * relief_depth_fill, constrained to the background surface).
+ *
+ *   relief_depth_image f;                     an organised PCD with colour
+ *   relief_depth_read("office.pcd", 0, 0, &f, &err);
+ *   relief_occluder_params p = relief_occluder_params_default();
+ *   relief_image mask;                        1 channel, 8 bits, 255 = occluder
+ *   relief_find_occluders(&f, &p, &mask, NULL, &err);
+ *   relief_remove_params r = relief_remove_params_default();
+ *   relief_remove_occluders(&f, &mask, &r, NULL, &err);   f: the wall behind
+ *
+ * The method, step by step (units: the frame's depth units, metres for a
+ * PCD or a PNG; pixels):
+ * 1. The camera: fitted to an organised cloud's points (relief/depth.h), or
+ *    the pinhole `intrinsics` of a depth image; every pixel's ray.
+ * 2. The background: planes found by RANSAC among the captured points,
+ *    each refined by least squares on its inliers, kept only where nearly
+ *    nothing lies behind it (a wall, a floor, a façade; not a desk's top
+ *    with the floor under it). Together they bound the free space in front
+ *    of the camera: a point's clearance is its smallest distance in front
+ *    of any of them.
+ * 3. Seeds: the captured points whose clearance exceeds `margin` (the
+ *    paper's foreground scan points), in connected groups of at least
+ *    `min_area` pixels.
+ * 4. Growth (the paper's flood fill): from each seed, inside the `window`
+ *    square around it, into 4-neighbours whose colour differs from the
+ *    pixel they are reached from by at most `colour_distance` (CIELAB
+ *    delta E 1976) and whose depth is missing or, within `edge` pixels of
+ *    a seed, on the background (the misregistered rim of a depth camera).
+ * 5. The mask, dilated by `dilate` pixels: marking background as
+ *    foreground is preferred to the reverse.
+ */
+#ifndef RELIEF_OCCLUDERS_H
+#define RELIEF_OCCLUDERS_H
+
+#include "relief/core.h"
+#include "relief/depth.h"
+#include "relief/image.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Most background planes a frame is given. */
+#define RELIEF_OCCLUDER_MAX_PLANES 8
+
+/* What the background is: planes (default: up to max_planes, a corner, a
+ * floor), plane (the dominant one only) or mesh (background_mesh, in the
+ * frame's camera coordinates: z forwards, as the cloud's points).
+ * X(code, name) */
+#define RELIEF_BACKGROUND_LIST(X)                                               \
+    X(RELIEF_BACKGROUND_PLANES, "planes")                                       \
+    X(RELIEF_BACKGROUND_PLANE, "plane")                                         \
+    X(RELIEF_BACKGROUND_MESH, "mesh")
+
+typedef enum relief_background {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_BACKGROUND_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_background;
+
+RELIEF_API const char *relief_background_name(relief_background background);
+
+typedef struct relief_occluder_params {
+    relief_background background; /* default planes */
+    int max_planes;          /* planes: at most this many; 3, [1, 8] */
+    double min_support;      /* a plane holds at least this share of the
+                                captured points; 0.03, (0, 1] */
+    const relief_mesh *background_mesh; /* mesh: the surface (triangles), the
+                                frame's coordinates; NULL otherwise */
+    double margin;           /* a seed is this far in front of the background,
+                                depth units; <= 0 (default): 4 x the noise
+                                measured on the background (at least 1 % of
+                                the median depth); else (0, 1e9] */
+    int window;              /* the growth's square around each seed, odd
+                                pixels; 61 (the paper's), [3, 1025] */
+    double colour_distance;  /* the growth's step, CIELAB delta E; 12, [0, 200] */
+    int edge;                /* growth onto background depth within this many
+                                pixels of a seed; 3, [0, 64] */
+    int min_area;            /* seed groups smaller than this are noise; 50
+                                pixels, [1, 1e8] */
+    int dilate;              /* the mask grown by this many pixels; 1, [0, 64] */
+    int iterations;          /* RANSAC hypotheses per plane; 500, [10, 1e6] */
+    int has_intrinsics;      /* 1: intrinsics below; 0 (default): a cloud's
+                                fitted camera, or for a frame without xyz
+                                fx = fy = 525 x width / 640 and the centre
+                                (a Kinect's) */
+    double intrinsics[4];    /* fx, fy, cx, cy in pixels (a frame without xyz) */
+    uint32_t seed;           /* RANSAC's draws; 1 */
+    relief_run_options run;  /* max_memory, progress, names; backend unused */
+} relief_occluder_params;
+
+/* The defaults above. */
+RELIEF_API relief_occluder_params relief_occluder_params_default(void);
+
+/* Check the fields; RELIEF_E_RANGE naming the field and its range,
+ * RELIEF_E_USAGE for background mesh without background_mesh. */
+RELIEF_API relief_status relief_occluder_params_validate(const relief_occluder_params *p,
+                                                         relief_error *err);
+
+/* relief_occluder_params described field by field (relief_param). */
+RELIEF_API const relief_param *relief_occluder_param_table(size_t *count);
+
+/* One background plane: normal . p = offset, the normal facing away from
+ * the camera (offset > 0: the camera is in front of it). */
+typedef struct relief_occluder_plane {
+    double normal[3];
+    double offset;           /* depth units */
+    size_t inliers;          /* captured points within the margin */
+    double rms;              /* their RMS distance to it */
+} relief_occluder_plane;
+
+typedef struct relief_occluder_report {
+    int width, height;
+    size_t captured;         /* pixels with a finite depth */
+    size_t missing;          /* pixels without */
+    int planes;              /* background planes found (0 for a mesh) */
+    relief_occluder_plane plane[RELIEF_OCCLUDER_MAX_PLANES];
+    size_t on_background;    /* captured points within the margin of it */
+    size_t behind;           /* captured points behind it by more */
+    size_t no_background;    /* pixels whose ray meets no background */
+    double noise;            /* the background's noise, depth units (MAD) */
+    double margin;           /* the margin used */
+    size_t seeds;            /* seed pixels kept */
+    size_t seed_groups;      /* their connected groups */
+    size_t seeds_dropped;    /* seed pixels in groups under min_area */
+    size_t grown_missing;    /* added by growth: depth missing */
+    size_t grown_edge;       /* added by growth: background depth at the rim */
+    size_t dilated;          /* added by the dilation */
+    size_t occluder_pixels;  /* the mask's */
+    double camera[4];        /* x / z = c0 u + c1, y / z = c2 v + c3 */
+    double seconds_total;
+    char *json;              /* the report as `relief occluders --report`
+                                writes it (owned) */
+} relief_occluder_report;
+
+RELIEF_API void relief_occluder_report_free(relief_occluder_report *rep);
+
+/* Find the occluders of frame `f` (z, and xyz or the params' intrinsics;
+ * rgb required). *mask gets a new 1-channel 8-bit image of f's size, 255 on
+ * the occluders, 0 elsewhere (free with relief_image_free). RELIEF_E_USAGE
+ * for a frame without colour, a bad argument; RELIEF_E_RANGE when no
+ * background is found (too few captured points, no plane holding
+ * min_support with nothing behind it), or when every captured point is
+ * foreground, or none is (nothing to mark: the message says so);
+ * RELIEF_E_NOMEM. *mask and `rep` (may be NULL) are written only on
+ * success. */
+RELIEF_API relief_status relief_find_occluders(const relief_depth_image *f,
+                                               const relief_occluder_params *p,
+                                               relief_image *mask,
+                                               relief_occluder_report *rep,
+                                               relief_error *err);
+
+/* What relief_remove_occluders runs: the finding (when no mask is given),
+ * the colour's fill (paper 004, chapter 3) and the depth's repair (paper
+ * 003) of the residual against the background. */
+typedef struct relief_remove_params {
+    relief_occluder_params find;
+    relief_image_fill_params colour;
+    relief_depth_fill_params depth;
+} relief_remove_params;
+
+RELIEF_API relief_remove_params relief_remove_params_default(void);
+
+/* What a removal did: the finding's report, then the two fills'. */
+typedef struct relief_remove_report {
+    relief_occluder_report find;
+    size_t replaced;          /* occluder pixels given the surface behind */
+    size_t left_missing;      /* occluder pixels whose ray meets no background:
+                                 depth NaN */
+    double background_rms;    /* RMS of the filled depth about the background */
+    double seconds_colour, seconds_depth, seconds_total;
+    uint8_t *mask;            /* width x height: 1 on the pixels removed (the
+                                 found or the given mask; owned) */
+    char *json;               /* `relief remove-occluders --report` (owned) */
+} relief_remove_report;
+
+RELIEF_API void relief_remove_report_free(relief_remove_report *rep);
+
+/* Remove the occluders of `f` in place: `mask` (f's size, non-zero =
+ * occluder; NULL: found by relief_find_occluders with p->find) is filled
+ * in colour by relief_image_fill (p->colour) and in depth by
+ * relief_depth_fill (p->depth) on the depth's residual about the
+ * background surface, so that the points behind lie on it with the
+ * background's own roughness; xyz (when set) follows through the camera.
+ * Pixels outside the mask keep their bits, missing ones stay missing.
+ * The errors of the three calls; f and `rep` (may be NULL) are written only
+ * on success. */
+RELIEF_API relief_status relief_remove_occluders(relief_depth_image *f, const relief_image *mask,
+                                                 const relief_remove_params *p,
+                                                 relief_remove_report *rep,
+                                                 relief_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* RELIEF_OCCLUDERS_H */
