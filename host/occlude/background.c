@@ -25,6 +25,11 @@
 #define PRIOR_NOISE (1.0 / 348.0)
 /* The smallest noise measured (noise-free synthetic data): 0.1 mm at 1 m. */
 #define MIN_NOISE 1e-4
+/* A background plane's inliers are a surface: at least this share of
+ * their captured right neighbours are inliers too. */
+#define MIN_COHERENCE 0.5
+/* ... and passes at least this share of the median depth from the camera. */
+#define MIN_OFFSET 0.05
 /* RANSAC's consensus band and the default margin, in sigma(z). */
 #define BAND_SIGMAS 3.0
 #define MARGIN_SIGMAS 4.0
@@ -152,6 +157,7 @@ typedef struct plane_search {
     size_t n_sub;
     const uint8_t *taken;  /* per pixel: on an earlier plane */
     double noise;          /* sigma(z) = noise x z^2 so far */
+    double min_offset;     /* planes nearer the camera are edge-on */
 } plane_search;
 
 /* The consensus band at depth z: the given margin, or BAND_SIGMAS. */
@@ -213,7 +219,8 @@ static int ransac(const plane_search *ps, int iterations, relief_rng *rng,
         b = near_pixel(ps, a, reach, rng);
         c = near_pixel(ps, a, reach, rng);
         if (b == a || c == a || b == c ||
-            !plane_through(ps->s->pts + 3 * a, ps->s->pts + 3 * b, ps->s->pts + 3 * c, &pl))
+            !plane_through(ps->s->pts + 3 * a, ps->s->pts + 3 * b, ps->s->pts + 3 * c, &pl) ||
+            pl.offset < ps->min_offset)
             continue;
         in = score(ps, &pl);
         if (in > best_in)
@@ -261,12 +268,29 @@ static size_t polish(const plane_search *ps, relief_occluder_plane *pl, uint8_t 
     size_t m = refit_count(ps, pl, sel);
     for (int r = 0; r < REFITS; ++r) {
         relief_occluder_plane q = *pl;
-        if (!refit(ps, &q, sel) || score(ps, &q) < 0)
+        if (!refit(ps, &q, sel) || score(ps, &q) < 0 || q.offset < ps->min_offset)
             break;
         *pl = q;
     }
     m = refit_count(ps, pl, sel);
     return m >= 3 ? m : 0;
+}
+
+/* The share of sel's pixels whose right neighbour, when captured, is in
+ * sel too: near 1 for a surface, near sel's density for scattered
+ * depths that a plane happens to cut (which are no background). */
+static double coherence(const occ_scene *s, const uint8_t *sel)
+{
+    size_t pairs = 0, both = 0;
+    for (int v = 0; v < s->height; ++v)
+        for (int u = 0; u + 1 < s->width; ++u) {
+            size_t i = (size_t)v * s->width + u;
+            if (!sel[i] || !isfinite(s->pts[3 * (i + 1) + 2]))
+                continue;
+            ++pairs;
+            both += sel[i + 1];
+        }
+    return pairs ? (double)both / pairs : 0.0;
 }
 
 /* The noise of the pixels sel marks: their median |distance| / z^2 as a
@@ -309,7 +333,9 @@ static relief_status find_planes(occ_scene *s, const relief_occluder_params *p, 
     size_t n = (size_t)s->width * s->height, n_cap = 0, need;
     int max = p->background == RELIEF_BACKGROUND_PLANE ? 1 : p->max_planes;
     relief_rng rng;
-    plane_search ps = {s, sub, 0, taken, PRIOR_NOISE};
+    /* A plane through (nearly) the camera holds whole rays, whatever their
+     * depths: seen edge-on, it is no background. */
+    plane_search ps = {s, sub, 0, taken, PRIOR_NOISE, MIN_OFFSET * s->median_z};
     for (size_t i = 0; i < n; ++i)
         if (isfinite(s->pts[3 * i + 2]))
             sub[n_cap++] = i;
@@ -335,7 +361,7 @@ static relief_status find_planes(occ_scene *s, const relief_occluder_params *p, 
         size_t m;
         int found = ransac(&ps, p->iterations, &rng, &pl);
         m = found ? polish(&ps, &pl, sel) : 0;
-        if (!found || m < need)
+        if (!found || m < need || coherence(s, sel) < MIN_COHERENCE)
             break;
         if (k == 0)
             ps.noise = s->noise = plane_noise(s, &pl, sel);
@@ -345,8 +371,9 @@ static relief_status find_planes(occ_scene *s, const relief_occluder_params *p, 
     }
     if (s->n_planes == 0)
         return relief_fail(err, RELIEF_E_RANGE, "no background found: no plane holds %.3g %% of "
-                           "the %zu captured points (min_support) with nothing behind it; "
-                           "give background mesh, or a lower min_support",
+                           "the %zu captured points (min_support) as one surface facing the "
+                           "camera with nothing behind it; give background mesh, or a lower "
+                           "min_support",
                            100.0 * p->min_support, s->captured);
     return RELIEF_OK;
 }

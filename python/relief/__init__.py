@@ -31,7 +31,8 @@ import numpy as np
 from . import _relief
 
 __all__ = ["ReliefError", "Mesh", "image_fill", "depth_fill", "complete_mesh", "fill_mesh_holes",
-           "complete_points", "read_mesh", "write_mesh", "read_image", "write_image",
+           "complete_points", "find_occluders", "remove_occluders", "Removed",
+           "read_mesh", "write_mesh", "read_image", "write_image",
            "read_depth", "write_depth",
            "devices", "parameters", "__version__"]
 
@@ -197,6 +198,100 @@ def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
     else:
         out = z.astype(d.dtype)
     return (out, _report(report, True)) if return_report else out
+
+
+# --------------------------------------------------------------- occluders
+
+Removed = namedtuple("Removed", "colour depth points mask")
+Removed.__doc__ = """What remove_occluders returns: the colour (H, W, 3) uint8, the depth
+(the input's dtype), the points (H, W, 3) float32 or None, and the mask
+used (H, W) bool."""
+
+
+def _rgbd(colour, depth, points, png_scale):
+    """The frame's arrays for the extension: z float32 (NaN missing), rgb
+    uint8 (H, W, 3), xyz float32 (H, W, 3) or None."""
+    c = _array("colour", colour, (2, 3))
+    if c.dtype != np.uint8:
+        _fail("usage", f"colour: dtype {c.dtype}, expected uint8")
+    if c.ndim == 2:
+        c = np.repeat(c[:, :, None], 3, axis=2)
+    if c.shape[2] not in (3, 4):
+        _fail("usage", f"colour: {c.shape[2]} channels, expected 3 (RGB) or 4 (RGBA)")
+    rgb = np.ascontiguousarray(c[:, :, :3])
+    d = _array("depth", depth, (2,))
+    if d.shape != rgb.shape[:2]:
+        _fail("usage", f"depth: shape {d.shape}, colour {rgb.shape[:2]}: they must be the "
+              "same size (registered)")
+    if d.size == 0:
+        _fail("usage", f"depth: shape {d.shape} is empty")
+    if d.dtype == np.uint16:
+        if not png_scale > 0:
+            _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
+        z = np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
+    elif d.dtype in (np.float32, np.float64):
+        z = np.array(d, dtype=np.float32, order="C", copy=True)
+    else:
+        _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+    xyz = None
+    if points is not None:
+        xyz = np.array(_array("points", points, (3,)), dtype=np.float32, order="C", copy=True)
+        if xyz.shape != rgb.shape[:2] + (3,):
+            _fail("usage", f"points: shape {xyz.shape}, expected {rgb.shape[:2] + (3,)}")
+    return d, z, xyz, np.array(rgb, order="C", copy=True)
+
+
+def _intrinsics(params, intrinsics):
+    if intrinsics is not None:
+        params = dict(params, intrinsics=intrinsics)
+    return params
+
+
+def find_occluders(colour, depth, *, points=None, intrinsics=None, png_scale=5000.0, seed=1,
+                   return_report=False, **params):
+    """The occluders of an RGB-D frame (paper 004, section 2.1): the points
+    in front of the background (planes found by RANSAC), grown by colour.
+
+    colour: (H, W, 3) uint8 (RGBA's alpha ignored; grey repeated). depth:
+    (H, W) uint16 (``png_scale`` per metre, 0 missing) or float (metres,
+    NaN missing). points: (H, W, 3) an organised cloud's xyz (the camera is
+    fitted to them), or None with ``intrinsics`` (fx, fy, cx, cy; default a
+    Kinect's scaled to the width). Returns an (H, W) bool mask, True on the
+    occluders (and the report as a dict when ``return_report``).
+    """
+    _, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
+    kw = _params(_intrinsics(dict(params, seed=seed), intrinsics))
+    report, mask = _check(_relief.find_occluders(z, xyz, rgb, kw))
+    mask = np.asarray(mask).reshape(z.shape).astype(bool)
+    return (mask, _report(report, True)) if return_report else mask
+
+
+def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None,
+                     png_scale=5000.0, seed=1, colour_params=None, depth_params=None,
+                     return_report=False, **params):
+    """The frame without its occluders: ``mask`` (or the one find_occluders
+    finds with ``params``) filled in colour by image_fill and in depth by
+    depth_fill on the residual about the background, so the points behind
+    lie on the wall with its own roughness. Arguments as find_occluders;
+    colour_params and depth_params go to the two fills. Returns a
+    :class:`Removed` (and the report when ``return_report``); the pixels
+    outside the mask keep their values.
+    """
+    d, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
+    m = None if mask is None else _mask(mask, z.shape)
+    kw = _params(_intrinsics(dict(params, seed=seed), intrinsics))
+    report, used = _check(_relief.remove_occluders(
+        z, xyz, rgb, m, kw, _params(dict(colour_params or {}, seed=seed)),
+        _params(dict(depth_params or {}, seed=seed))))
+    used = np.asarray(used).reshape(z.shape).astype(bool)
+    if d.dtype == np.uint16:
+        v = np.clip(np.rint(np.nan_to_num(z, nan=0.0) * np.float64(png_scale)), 0, 65535)
+        v = np.where(used & (v < 1) & ~np.isnan(z), 1, v)
+        out = np.where(used, v, d).astype(np.uint16)
+    else:
+        out = z.astype(d.dtype)
+    result = Removed(rgb, out, xyz, used)
+    return (result, _report(report, True)) if return_report else result
 
 
 # ------------------------------------------------------------------ meshes
@@ -369,9 +464,11 @@ def devices():
 
 def parameters(engine):
     """An engine's parameters ("image_fill", "depth_fill", "fill_mesh_holes",
-    "complete_mesh", "complete_points"): {name: (value form, help)}."""
+    "complete_mesh", "complete_points", "find_occluders", "remove_occluders"):
+    {name: (value form, help)}."""
     table = _relief.param_table(engine)
     if not table:
         _fail("usage", f"unknown engine {engine!r}: expected image_fill, depth_fill, "
-              "complete_mesh or complete_points")
+              "fill_mesh_holes, complete_mesh, complete_points, find_occluders or "
+              "remove_occluders")
     return dict(table)

@@ -225,6 +225,85 @@ nb::tuple depth_fill(carray<float> z, nb::object mask, nb::dict kw, nb::object p
     return nb::make_tuple(int(s), std::string(err.message), json);
 }
 
+// An RGB-D frame over the package's arrays: z H x W float32 (NaN where
+// missing), xyz H x W x 3 float32 or None, rgb H x W x 3 uint8.
+relief_depth_image rgbd_frame(float *z, nb::object xyz, uint8_t *rgb, size_t h, size_t w)
+{
+    relief_depth_image f;
+    std::memset(&f, 0, sizeof f);
+    f.width = int(w), f.height = int(h), f.z = z, f.rgb = rgb;
+    if (!xyz.is_none())
+        f.xyz = nb::cast<carray<float>>(xyz).data();
+    return f;
+}
+
+// (status, message, report, mask H x W uint8: 1 on the occluders).
+nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, nb::dict kw)
+{
+    relief_occluder_params p = relief_occluder_params_default();
+    param_setter ps;
+    size_t count = 0;
+    const relief_param *table = relief_occluder_param_table(&count);
+    if (ps.set(&p, table, count, kw, "find_occluders") != RELIEF_OK)
+        return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
+                              nb::none());
+    relief_depth_image f = rgbd_frame(z.data(), xyz, rgb.data(), z.shape(0), z.shape(1));
+    relief_image mask{0, 0, 0, 0, 0, nullptr};
+    relief_occluder_report rep;
+    std::memset(&rep, 0, sizeof rep);
+    relief_error err{RELIEF_OK, ""};
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_find_occluders(&f, &p, &mask, &rep, &err);
+    }
+    nb::object json = s == RELIEF_OK ? json_or_none(rep.json) : nb::none(), m = nb::none();
+    if (s == RELIEF_OK) {
+        std::vector<uint8_t> bits(size_t(f.width) * f.height);
+        for (size_t i = 0; i < bits.size(); ++i)
+            bits[i] = static_cast<const uint8_t *>(mask.data)[i] != 0;
+        m = new_array(bits.data(), size_t(f.height), size_t(f.width));
+    }
+    relief_image_free(&mask);
+    relief_occluder_report_free(&rep);
+    return nb::make_tuple(int(s), std::string(err.message), json, m);
+}
+
+// The removal in place on z, xyz (or None) and rgb; mask H x W uint8 or
+// None (found). (status, message, report, the mask used).
+nb::tuple remove_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, nb::object mask,
+                           nb::dict kw, nb::dict colour_kw, nb::dict depth_kw)
+{
+    relief_remove_params p = relief_remove_params_default();
+    param_setter ps;
+    size_t nf = 0, nc = 0, nd = 0;
+    const relief_param *tf = relief_occluder_param_table(&nf);
+    const relief_param *tc = relief_image_fill_param_table(&nc);
+    const relief_param *td = relief_depth_fill_param_table(&nd);
+    if (ps.set(&p.find, tf, nf, kw, "remove_occluders") != RELIEF_OK ||
+        ps.set(&p.colour, tc, nc, colour_kw, "remove_occluders colour") != RELIEF_OK ||
+        ps.set(&p.depth, td, nd, depth_kw, "remove_occluders depth") != RELIEF_OK)
+        return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
+                              nb::none());
+    relief_depth_image f = rgbd_frame(z.data(), xyz, rgb.data(), z.shape(0), z.shape(1));
+    relief_image m{f.width, f.height, 1, 8, 0, nullptr};
+    if (!mask.is_none())
+        m.data = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(mask).data());
+    relief_remove_report rep;
+    std::memset(&rep, 0, sizeof rep);
+    relief_error err{RELIEF_OK, ""};
+    relief_status s;
+    {
+        nb::gil_scoped_release nogil;
+        s = relief_remove_occluders(&f, m.data ? &m : nullptr, &p, &rep, &err);
+    }
+    nb::object json = s == RELIEF_OK ? json_or_none(rep.json) : nb::none(), used = nb::none();
+    if (s == RELIEF_OK)
+        used = new_array(rep.mask, size_t(f.height), size_t(f.width));
+    relief_remove_report_free(&rep);
+    return nb::make_tuple(int(s), std::string(err.message), json, used);
+}
+
 // A mesh engine's call (relief_complete, relief_complete_points): its
 // params through its table, the input mesh from the arrays, the run
 // without the GIL; (status, message, report, (vertices, faces, colours,
@@ -446,7 +525,9 @@ nb::dict param_table(const std::string &engine)
                                 ? relief_depth_fill_param_table(&count)
                             : engine == "complete_mesh"   ? relief_complete_param_table(&count)
                             : engine == "complete_points" ? relief_complete_points_param_table(&count)
-                                                          : nullptr;
+                            : engine == "find_occluders" || engine == "remove_occluders"
+                                ? relief_occluder_param_table(&count)
+                                : nullptr;
     nb::dict d;
     for (size_t i = 0; t && i < count; ++i)
         d[t[i].name] = nb::make_tuple(std::string(t[i].value ? t[i].value : ""),
@@ -469,6 +550,9 @@ NB_MODULE(_relief, m)
           "colours"_a.none(), "params"_a, "progress"_a.none());
     m.def("complete_points", &complete_points, "points"_a, "faces"_a.none(), "colours"_a.none(),
           "normals"_a.none(), "labels"_a.none(), "params"_a, "progress"_a.none());
+    m.def("find_occluders", &find_occluders, "z"_a, "xyz"_a.none(), "rgb"_a, "params"_a);
+    m.def("remove_occluders", &remove_occluders, "z"_a, "xyz"_a.none(), "rgb"_a,
+          "mask"_a.none(), "params"_a, "colour_params"_a, "depth_params"_a);
     m.def("read_mesh", &read_mesh);
     m.def("write_mesh", &write_mesh, "path"_a, "vertices"_a, "faces"_a.none(), "colours"_a.none(),
           "labels"_a.none(), "ascii"_a);

@@ -8,7 +8,12 @@
  * wall's; the bad inputs' messages.
  *   test_api_occluders                 the checks
  *   test_api_occluders --write DIR     the frame as DIR/scene.pcd,
- *                                      colour.png, depth.png, truth.png
+ *                                      colour.png, depth.png, truth.png; the
+ *                                      bad ones: nocolour.pcd (no rgb),
+ *                                      flat.pcd (nothing in front),
+ *                                      noise.pcd (no background),
+ *                                      empty.png (a mask of nothing),
+ *                                      half.png (a depth image of another size)
  *   test_api_occluders --iou A.png B.png   print the IoU of two masks */
 #include <math.h>
 #include <stdint.h>
@@ -311,6 +316,31 @@ static void test_bad(scene *s)
 
 /* ------------------------------------------------------------ the files */
 
+/* flat.pcd (noise 0: the background alone) or noise.pcd (noise 1: depths
+ * scattered at random, no background). 1 when written. */
+static int write_bad(const scene *s, const char *dir, int noise, relief_error *err)
+{
+    char path[4096];
+    scene *t = malloc(sizeof *t);
+    uint64_t g = 99;
+    relief_depth_image f;
+    int ok;
+    if (!t)
+        return 0;
+    *t = *s;
+    for (size_t i = 0; i < (size_t)W * H; ++i) {
+        t->z[i] = noise ? (float)(1.0 + 4.0 * uniform(&g)) : t->bg_z[i];
+        t->xyz[3 * i] = (float)(((int)(i % W) - CX) / FX * t->z[i]);
+        t->xyz[3 * i + 1] = (float)(((int)(i / W) - CY) / FX * t->z[i]);
+        t->xyz[3 * i + 2] = t->z[i];
+    }
+    f = frame_of(t, 1);
+    snprintf(path, sizeof path, "%s/%s.pcd", dir, noise ? "noise" : "flat");
+    ok = relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, err) == RELIEF_OK;
+    free(t);
+    return ok;
+}
+
 static int write_files(scene *s, const char *dir)
 {
     char path[4096];
@@ -319,11 +349,20 @@ static int write_files(scene *s, const char *dir)
     uint8_t *truth = malloc((size_t)W * H);
     int ok = truth != NULL;
     for (size_t i = 0; ok && i < (size_t)W * H; ++i)
+        truth[i] = 0;
+    snprintf(path, sizeof path, "%s/empty.png", dir);
+    ok = ok && relief_image_write(&(relief_image){W, H, 1, 8, 0, truth}, path, &err) ==
+                   RELIEF_OK;
+    for (size_t i = 0; ok && i < (size_t)W * H; ++i)
         truth[i] = s->truth[i] ? 255 : 0;
     snprintf(path, sizeof path, "%s/scene.pcd", dir);
     ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, &err) == RELIEF_OK;
     snprintf(path, sizeof path, "%s/depth.png", dir);
     ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PNG16, 0, &err) == RELIEF_OK;
+    snprintf(path, sizeof path, "%s/half.png", dir);
+    f.width = W / 2, f.height = H / 2;
+    ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PNG16, 0, &err) == RELIEF_OK;
+    f.width = W, f.height = H;
     snprintf(path, sizeof path, "%s/colour.png", dir);
     ok = ok && relief_image_write(&(relief_image){W, H, 3, 8, 0, s->rgb}, path, &err) ==
                    RELIEF_OK;
@@ -331,6 +370,10 @@ static int write_files(scene *s, const char *dir)
     ok = ok && relief_image_write(&(relief_image){W, H, 1, 8, 0, truth}, path, &err) ==
                    RELIEF_OK;
     free(truth);
+    f.rgb = NULL;
+    snprintf(path, sizeof path, "%s/nocolour.pcd", dir);
+    ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, &err) == RELIEF_OK;
+    ok = ok && write_bad(s, dir, 0, &err) && write_bad(s, dir, 1, &err);
     if (!ok)
         fprintf(stderr, "test_api_occluders: %s\n", err.message);
     return ok ? 0 : 1;

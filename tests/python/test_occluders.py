@@ -1,0 +1,76 @@
+"""Occluders from depth in the Python package (issue 43): on the synthetic
+RGB-D frame the API test writes (a brick wall and a floor, two boxes and a
+sphere in front, a depth camera's noise), find_occluders and
+remove_occluders give the command line's bytes, the mask's IoU against the
+truth is at least 0.9, and bad arguments raise ReliefError naming them."""
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import relief
+
+from common import CLI
+
+
+@pytest.fixture(scope="module")
+def frame(tmp_path_factory):
+    tool = os.path.join(os.path.dirname(CLI), "tests", "test_api_occluders")
+    if not os.access(tool, os.X_OK) or not os.access(CLI, os.X_OK):
+        pytest.skip(f"{tool}: not built")
+    d = tmp_path_factory.mktemp("rgbd")
+    subprocess.run([tool, "--write", str(d)], check=True)
+    return d, relief.read_image(str(d / "colour.png")), read_png16(d / "depth.png"), \
+        relief.read_image(str(d / "truth.png")) != 0
+
+
+def read_png16(path):
+    z = relief.read_depth(str(path))  # metres, NaN missing
+    return np.where(np.isnan(z), 0, np.rint(z * 5000.0)).astype(np.uint16)
+
+
+def run(*args):
+    r = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+
+
+def test_find_matches_cli_and_truth(frame):
+    d, colour, depth, truth = frame
+    mask, report = relief.find_occluders(colour, depth, return_report=True)
+    assert mask.dtype == bool and mask.shape == depth.shape
+    iou = (mask & truth).sum() / (mask | truth).sum()
+    assert iou >= 0.9, iou
+    assert len(report["background"]["planes"]) == 2
+    run("occluders", d / "colour.png", "--depth", d / "depth.png", "-o", d / "m.png", "--quiet")
+    assert np.array_equal(relief.read_image(str(d / "m.png")) != 0, mask)
+
+
+def test_remove_matches_cli(frame):
+    d, colour, depth, truth = frame
+    out = relief.remove_occluders(colour, depth)
+    assert out.colour.shape == colour.shape and out.depth.dtype == np.uint16
+    assert np.array_equal(out.depth[~out.mask], depth[~out.mask])
+    assert np.all(out.depth[out.mask & truth] > 0)
+    run("remove-occluders", d / "colour.png", "--depth", d / "depth.png", "-o", d / "c.png",
+        "--depth-out", d / "z.png", "--quiet")
+    assert np.array_equal(relief.read_image(str(d / "c.png")), out.colour)
+    assert np.array_equal(read_png16(d / "z.png"), out.depth)
+    # The same with the mask given: the same frame.
+    again = relief.remove_occluders(colour, depth, out.mask)
+    assert np.array_equal(again.depth, out.depth)
+
+
+def test_bad_arguments(frame):
+    _, colour, depth, _ = frame
+    with pytest.raises(relief.ReliefError, match="same size"):
+        relief.find_occluders(colour[:-1], depth)
+    with pytest.raises(relief.ReliefError, match="window"):
+        relief.find_occluders(colour, depth, window=60)
+    with pytest.raises(relief.ReliefError, match="unknown parameter"):
+        relief.find_occluders(colour, depth, no_such=1)
+    with pytest.raises(relief.ReliefError, match="nothing to remove"):
+        relief.remove_occluders(colour, depth, np.zeros(depth.shape, np.uint8))
+    flat = np.full(depth.shape, 10000, np.uint16)  # a wall 2 m away, nothing in front
+    with pytest.raises(relief.ReliefError, match="nothing in front"):
+        relief.find_occluders(colour, flat)
