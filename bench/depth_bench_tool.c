@@ -3,6 +3,8 @@
  *   depth_bench_tool pfm IN OUT.pfm
  *       any depth file relief reads (organised PCD of every DATA kind, PFM)
  *       to a PFM of its depths (missing as +inf);
+ *   depth_bench_tool rgb IN.pcd OUT.png
+ *       an organised PCD's colour as a picture (the occluders' figures);
  *   depth_bench_tool measure FILLED.pfm TRUTH.pfm MASK.pfm
  *       relief_depth_measure over MASK's finite non-zero pixels (the holes
  *       cut), printed as JSON: compared, rms, rim_jump, capture_jump,
@@ -12,6 +14,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "depth/depth_fill.h"
 #include "depth/depth_io.h"
@@ -90,6 +93,17 @@ int main(int argc, char **argv)
         relief_depth_frame_free(&m);
         return 0;
     }
-    fprintf(stderr, "usage: depth_bench_tool pfm IN OUT.pfm | measure FILLED TRUTH MASK\n");
+    if (argc == 4 && strcmp(argv[1], "rgb") == 0) {
+        relief_depth_frame f = load(argv[2]);
+        relief_error err = {RELIEF_OK, ""};
+        int bad = !f.rgb || relief_image_write(&(relief_image){f.width, f.height, 3, 8, 0, f.rgb},
+                                               argv[3], &err) != RELIEF_OK;
+        if (bad)
+            fprintf(stderr, "depth_bench_tool: %s\n", f.rgb ? err.message : "no colour");
+        relief_depth_frame_free(&f);
+        return bad;
+    }
+    fprintf(stderr, "usage: depth_bench_tool pfm IN OUT.pfm | rgb IN.pcd OUT.png | measure "
+            "FILLED TRUTH MASK\n");
     return 2;
 }
