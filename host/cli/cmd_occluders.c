@@ -332,9 +332,14 @@ static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_erro
 static void say_find(const occ_args *a, const relief_occluder_report *r)
 {
     const char *cmd = a->cm.cmd;
-    fprintf(stderr, "relief %s: %s: %d x %d, %zu pixels captured; background: %d plane%s "
-            "(noise %.3g, margin %.3g), %zu points on it, %zu behind\n", cmd, a->in, r->width,
-            r->height, r->captured, r->planes, r->planes == 1 ? "" : "s", r->noise, r->margin,
+    char bg[64];
+    if (a->bg_mesh)
+        snprintf(bg, sizeof bg, "the mesh");
+    else
+        snprintf(bg, sizeof bg, "%d plane%s", r->planes, r->planes == 1 ? "" : "s");
+    fprintf(stderr, "relief %s: %s: %d x %d, %zu pixels captured; background: %s (noise "
+            "%.3g z^2, margin %.3g at the median depth), %zu points on it, %zu behind\n", cmd,
+            a->in, r->width, r->height, r->captured, bg, r->noise, r->margin,
             r->on_background, r->behind);
     fprintf(stderr, "relief %s: %zu seeds in %zu groups (%zu dropped), grown by %zu where the "
             "depth is missing and %zu at the rim, dilated by %zu: %zu occluder pixels (%.1f "

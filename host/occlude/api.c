@@ -57,17 +57,15 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
     if ((unsigned)p->background > RELIEF_BACKGROUND_MESH)
         return relief_fail(err, RELIEF_E_RANGE, "background %d out of range: expected planes, "
                            "plane or mesh", (int)p->background);
-    if ((p->background == RELIEF_BACKGROUND_MESH) != (p->background_mesh != NULL))
-        return relief_fail(err, RELIEF_E_USAGE, p->background_mesh
-                           ? "background_mesh is given: set background mesh"
-                           : "background mesh needs background_mesh (the surface, in the "
-                             "frame's camera coordinates)");
+    if (p->background == RELIEF_BACKGROUND_MESH && !p->background_mesh)
+        return relief_fail(err, RELIEF_E_USAGE, "background mesh needs background_mesh (the "
+                           "surface, in the frame's camera coordinates)");
     if (p->max_planes < 1 || p->max_planes > RELIEF_OCCLUDER_MAX_PLANES)
         return relief_fail(err, RELIEF_E_RANGE, "max_planes %d out of range: expected 1..%d",
                            p->max_planes, RELIEF_OCCLUDER_MAX_PLANES);
-    if (!(p->min_support > 0.0 && p->min_support <= 1.0))
-        return relief_fail(err, RELIEF_E_RANGE, "min_support %g out of range: expected (0, 1]",
-                           p->min_support);
+    if (!(p->min_support >= 1e-6 && p->min_support <= 1.0))
+        return relief_fail(err, RELIEF_E_RANGE, "min_support %g out of range: expected "
+                           "1e-6..1 (a share of the captured points)", p->min_support);
     if (isnan(p->margin) || p->margin > 1e9)
         return relief_fail(err, RELIEF_E_RANGE, "margin %g out of range: expected up to 1e9 "
                            "depth units (<= 0: measured)", p->margin);

@@ -15,8 +15,8 @@ static const relief_param table[] = {
             "RANSAC, a corner or a floor too), plane (the dominant one), or mesh (a surface "
             "given in the frame's camera coordinates)"),
     RP_INT(T, max_planes, "N", 1, 8, "planes: at most N background planes, 1..8 (default 4)"),
-    RP_REAL(T, min_support, "F", 0, 1, "a background plane holds at least this share of the "
-            "captured points, (0, 1] (default 0.03)"),
+    RP_REAL(T, min_support, "F", 1e-6, 1, "a background plane holds at least this share of "
+            "the captured points, 1e-6..1 (default 0.03)"),
     RP_REAL(T, margin, "M", -HUGE_VAL, 1e9, "seeds lie more than M (depth units: metres) in "
             "front of the background; <= 0 (default): 4 x the noise measured on it, at least "
             "1 % of the median depth"),

@@ -68,9 +68,9 @@ typedef struct relief_occluder_params {
     relief_background background; /* default planes */
     int max_planes;          /* planes: at most this many; 3, [1, 8] */
     double min_support;      /* a plane holds at least this share of the
-                                captured points; 0.03, (0, 1] */
+                                captured points; 0.03, [1e-6, 1] */
     const relief_mesh *background_mesh; /* mesh: the surface (triangles), the
-                                frame's coordinates; NULL otherwise */
+                                frame's coordinates; read only then */
     double margin;           /* a seed is this far in front of the background,
                                 depth units; <= 0 (default): 4 x the noise
                                 measured on the background (at least 1 % of
@@ -97,7 +97,8 @@ typedef struct relief_occluder_params {
 RELIEF_API relief_occluder_params relief_occluder_params_default(void);
 
 /* Check the fields; RELIEF_E_RANGE naming the field and its range,
- * RELIEF_E_USAGE for background mesh without background_mesh. */
+ * RELIEF_E_USAGE for background mesh without background_mesh (its
+ * triangles are checked by the call). */
 RELIEF_API relief_status relief_occluder_params_validate(const relief_occluder_params *p,
                                                          relief_error *err);
 

@@ -62,6 +62,15 @@ static void points_prepare(void *p, const relief_param *q)
     }
 }
 static relief_status points_validate(const void *p, relief_error *e) { return relief_complete_points_params_validate(p, e); }
+static void occluder_defaults(void *p) { *(relief_occluder_params *)p = relief_occluder_params_default(); }
+/* background mesh needs its mesh: one is there (never read by validate). */
+static void occluder_prepare(void *p, const relief_param *q)
+{
+    static char not_read;
+    (void)q;
+    ((relief_occluder_params *)p)->background_mesh = (const relief_mesh *)(void *)&not_read;
+}
+static relief_status occluder_validate(const void *p, relief_error *e) { return relief_occluder_params_validate(p, e); }
 
 /* ------------------------------------------------------------ the checks */
 
@@ -225,7 +234,7 @@ static void check_text(void)
 
 int main(void)
 {
-    engine engines[5];
+    engine engines[6];
     size_t k = 0;
     engines[k++] = (engine){"complete", NULL, 0, sizeof(relief_complete_params),
                             complete_defaults, NULL, complete_validate};
@@ -239,6 +248,9 @@ int main(void)
     engines[k++] = (engine){"complete-points", NULL, 0, sizeof(relief_complete_points_params),
                             points_defaults, points_prepare, points_validate};
     engines[3].table = relief_complete_points_param_table(&engines[3].n);
+    engines[k++] = (engine){"occluders", NULL, 0, sizeof(relief_occluder_params),
+                            occluder_defaults, occluder_prepare, occluder_validate};
+    engines[4].table = relief_occluder_param_table(&engines[4].n);
     engines[k] = engines[0];
     engines[k].name = "smooth";
     engines[k].table = relief_smooth_param_table(&engines[k].n);

@@ -32,6 +32,13 @@ ok 'at_least "$v" 0.9' "colour and depth: IoU $v under 0.9"
 # front of the wall, so the mask grows (marking more, never less).
 expect 0 "1 plane " -- "$relief" occluders "$tmp/scene.pcd" -o "$tmp/m1.png" --background plane
 
+# The background given as a mesh: the wall and the floor the frame was made of.
+printf 'OFF\n8 4 0\n-5 -5 2.25\n5 -5 3.75\n5 0.9 3.75\n-5 0.9 2.25\n-5 0.9 0.5\n5 0.9 0.5\n5 0.9 3.75\n-5 0.9 2.25\n3 0 1 2\n3 0 2 3\n3 4 6 5\n3 4 7 6\n' > "$tmp/bg.off"
+expect 0 "background: the mesh" -- "$relief" occluders "$tmp/scene.pcd" -o "$tmp/mm.png" \
+  --background-mesh "$tmp/bg.off"
+v=$(iou "$tmp/mm.png"); echo "scene.pcd, --background-mesh: IoU $v"
+ok 'at_least "$v" 0.9' "--background-mesh: IoU $v under 0.9"
+
 # The removal: the PCD, its points and pictures; the input untouched.
 sum=$(md5sum < "$tmp/scene.pcd")
 expect 0 "given the background's depth" -- "$relief" remove-occluders "$tmp/scene.pcd" \
