@@ -18,7 +18,7 @@
 #include "depth/frame.h"
 
 enum { OC_DEPTH = OPT_COMMAND, OC_SCALE, OC_OVERLAY, OC_BG_MESH, OC_SAVE_MASK, OC_POINTS,
-       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_WINDOW, OC_DEPTH_VARIANT };
+       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_WINDOW, OC_DEPTH_VARIANT, OC_VIEWS, OC_POSES };
 
 static const char *const frame_help =
     "IN is an organised PCD with colour (x y z rgb: a depth camera's frame), or a colour "
@@ -31,6 +31,10 @@ static const cli_own find_own[] = {
     {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "
      "the frame's camera coordinates), not planes found in the depth"},
     {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},
+    {"views", OC_VIEWS, "V1,V2", "registered neighbouring views (PNG, JPEG, or PCD with "
+     "colour; IN's size and camera): paper 004's second cue, eq. 2.1"},
+    {"poses", OC_POSES, "P.txt", "the views' poses, one line each: R and t as 12 numbers, "
+     "row by row (x_view = R x + t, x in IN's camera coordinates); '#' starts a comment"},
     {NULL, 0, NULL, NULL}};
 
 static const cli_own remove_own[] = {
@@ -39,6 +43,10 @@ static const cli_own remove_own[] = {
     {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "
      "the frame's camera coordinates), not planes found in the depth"},
     {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},
+    {"views", OC_VIEWS, "V1,V2", "registered neighbouring views (PNG, JPEG, or PCD with "
+     "colour; IN's size and camera): paper 004's second cue, eq. 2.1"},
+    {"poses", OC_POSES, "P.txt", "the views' poses, one line each: R and t as 12 numbers, "
+     "row by row (x_view = R x + t, x in IN's camera coordinates); '#' starts a comment"},
     {"occluders", OC_SAVE_MASK, "MASK.png", "the occluder mask used (255 = occluder)"},
     {"depth-out", OC_DEPTH_OUT, "D.png", "(colour and depth input) the repaired depth, a "
      "16-bit PNG at --scale; required with --depth"},
@@ -57,6 +65,11 @@ typedef struct occ_args {
     relief_remove_params p;
     int remove;
     const char *in, *depth, *overlay, *bg_mesh, *save_mask, *points, *depth_out, *colour_out;
+    const char *views_arg, *poses;
+    relief_occluder_view views[RELIEF_OCCLUDER_MAX_VIEWS];
+    char view_names[RELIEF_OCCLUDER_MAX_VIEWS][1024];
+    uint8_t *view_rgb[RELIEF_OCCLUDER_MAX_VIEWS]; /* owned */
+    int n_views;
     double scale;
     cli_output outs[7]; /* -o, --overlay, --report, --occluders, --points, --depth-out,
                            --colour-out */
@@ -113,6 +126,8 @@ static int take(void *ctx, int c, const char *arg)
     case OC_POINTS: a->points = arg; return 1;
     case OC_DEPTH_OUT: a->depth_out = arg; return 1;
     case OC_COLOUR_OUT: a->colour_out = arg; return 1;
+    case OC_VIEWS: a->views_arg = arg; return 1;
+    case OC_POSES: a->poses = arg; return 1;
     case OC_FILL_WINDOW:
         if (!cli_parse_long(cmd, "--fill-window", arg, 3, 1025, &w))
             return 0;
@@ -133,10 +148,30 @@ static int is_image_name(const char *path)
     return !strcasecmp(e, ".png") || !strcasecmp(e, ".jpg") || !strcasecmp(e, ".jpeg");
 }
 
+/* --views into view_names, with --poses: 1 when they fit together. */
+static int split_views(occ_args *a)
+{
+    const char *at = a->views_arg, *cmd = a->cm.cmd;
+    if (!a->views_arg != !a->poses)
+        return !cli_usage_error(cmd, "%s--views and --poses go together: the views and each "
+                                "one's pose", "");
+    while (at && *at) {
+        size_t len = strcspn(at, ",");
+        if (a->n_views == RELIEF_OCCLUDER_MAX_VIEWS || len == 0 ||
+            len >= sizeof a->view_names[0])
+            return !cli_usage_error(cmd, "--views '%s': expected 1 to 16 file names, comma "
+                                    "separated", a->views_arg);
+        memcpy(a->view_names[a->n_views], at, len);
+        a->view_names[a->n_views++][len] = '\0';
+        at += len + (at[len] == ',');
+    }
+    return 1;
+}
+
 /* The operands and the files' names: 1 when they fit together. */
 static int check_files(occ_args *a, int argc, char **argv)
 {
-    const char *cmd = a->cm.cmd, *out, *ins[4];
+    const char *cmd = a->cm.cmd, *out, *ins[5 + RELIEF_OCCLUDER_MAX_VIEWS];
     int pcd;
     if (!cli_one_input(&a->cm, argc, argv, "input IN", &a->in))
         return 0;
@@ -159,7 +194,12 @@ static int check_files(occ_args *a, int argc, char **argv)
                                 "(.pcd, or .png / .jpg for a colour image)", out);
     if (a->depth_out && strcasecmp(cli_ext_of(a->depth_out), ".png"))
         return !cli_usage_error(cmd, "--depth-out '%s': the depth is a 16-bit PNG", a->depth_out);
+    if (!split_views(a))
+        return 0;
     ins[0] = a->in, ins[1] = a->depth, ins[2] = a->cm.mask, ins[3] = a->bg_mesh;
+    ins[4] = a->poses;
+    for (int k = 0; k < a->n_views; ++k)
+        ins[5 + k] = a->view_names[k];
     a->outs[0] = (cli_output){"-o", out, CLI_OUT_FILE};
     a->outs[1] = (cli_output){"--overlay", a->overlay, CLI_OUT_FILE};
     a->outs[2] = (cli_output){"--report", a->cm.report, CLI_OUT_FILE};
@@ -169,7 +209,7 @@ static int check_files(occ_args *a, int argc, char **argv)
     a->outs[6] = (cli_output){"--colour-out", a->colour_out, CLI_OUT_FILE};
     if (a->colour_out && !is_image_name(a->colour_out))
         return !cli_usage_error(cmd, "--colour-out '%s': a PNG or JPEG", a->colour_out);
-    return !cli_check_outputs(cmd, ins, 4, a->outs, 7);
+    return !cli_check_outputs(cmd, ins, 5 + (size_t)a->n_views, a->outs, 7);
 }
 
 static int parse_args(int argc, char **argv, occ_args *a, int remove)
@@ -216,7 +256,7 @@ static uint64_t read_limit(const occ_args *a)
 
 /* A colour image's samples as the frame's rgb bytes (grey expanded, alpha
  * dropped, 16 bits to their high byte). */
-static relief_status colour_of(const relief_image *c, uint8_t *rgb)
+static void colour_of(const relief_image *c, uint8_t *rgb)
 {
     size_t stride = c->stride ? c->stride : (size_t)c->width * c->channels * c->bit_depth / 8;
     for (int y = 0; y < c->height; ++y)
@@ -225,10 +265,11 @@ static relief_status colour_of(const relief_image *c, uint8_t *rgb)
                 int ch = c->channels >= 3 ? k : 0;
                 const uint8_t *row = (const uint8_t *)c->data + (size_t)y * stride;
                 size_t i = (size_t)x * c->channels + ch;
-                rgb[3 * ((size_t)y * c->width + x) + k] =
-                    c->bit_depth == 8 ? row[i] : (uint8_t)(((const uint16_t *)(const void *)row)[i] >> 8);
+                uint16_t v = row[i];
+                if (c->bit_depth == 16)
+                    memcpy(&v, row + 2 * i, sizeof v), v >>= 8;
+                rgb[3 * ((size_t)y * c->width + x) + k] = (uint8_t)v;
             }
-    return RELIEF_OK;
 }
 
 /* The frame: a PCD with colour, or a colour image and its depth. */
@@ -346,24 +387,83 @@ static void say_find(const occ_args *a, const relief_occluder_report *r)
             "%%)\n", cmd, r->seeds, r->seed_groups, r->seeds_dropped, r->grown_missing,
             r->grown_edge, r->dilated, r->occluder_pixels,
             100.0 * r->occluder_pixels / ((double)r->width * r->height));
+    if (r->views)
+        fprintf(stderr, "relief %s: %d views (eq. 2.1): %zu seeds where the depth is missing; "
+                "verdicts %zu foreground, %zu background, %zu unknown\n", cmd, r->views,
+                r->parallax_seeds, r->view_foreground, r->view_background, r->view_unknown);
 }
 
-/* A given mask as 0 / 1 per pixel (any channel but alpha non-zero). */
-static relief_status binary_mask(const relief_image *m, int w, int h, uint8_t *out,
-                                 relief_error *err)
+/* View k's colour, of f's size: a colour image, or a PCD's colour. */
+static relief_status read_view(occ_args *a, int k, const relief_depth_image *f,
+                               relief_error *err)
 {
-    size_t n = (size_t)w * h, in_input, by_mask;
-    float *one = malloc(n * sizeof *one);
-    relief_depth_image probe = {w, h, one, NULL, NULL, RELIEF_DEPTH_PFM};
-    relief_status st = relief_depth_mask_check(m, w, h, err);
-    if (st == RELIEF_OK && !one)
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask");
-    for (size_t i = 0; st == RELIEF_OK && i < n; ++i)
-        one[i] = 1.0f;
-    if (st == RELIEF_OK)
-        relief_depth_missing(&probe, m, out, &in_input, &by_mask);
-    free(one);
+    const char *path = a->view_names[k];
+    relief_depth_image d;
+    relief_image c = {0, 0, 0, 0, 0, NULL};
+    relief_status st;
+    int w = 0, h = 0;
+    memset(&d, 0, sizeof d);
+    if (!strcasecmp(cli_ext_of(path), ".pcd")) {
+        st = relief_depth_read(path, 0.0, read_limit(a) / 64, &d, err);
+        if (st == RELIEF_OK && !d.rgb)
+            st = relief_fail(err, RELIEF_E_USAGE, "--views %s: no colour (no rgb field)", path);
+        w = d.width, h = d.height;
+    } else {
+        st = relief_image_read(path, read_limit(a), &c, err);
+        w = c.width, h = c.height;
+    }
+    if (st == RELIEF_OK && (w != f->width || h != f->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "--views %s is %d x %d pixels, %s is %d x %d: "
+                         "they must be the same size (the same camera)", path, w, h, a->in,
+                         f->width, f->height);
+    if (st == RELIEF_OK && !(a->view_rgb[k] = malloc((size_t)w * h * 3)))
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate view %s", path);
+    if (st == RELIEF_OK && d.rgb)
+        memcpy(a->view_rgb[k], d.rgb, (size_t)w * h * 3);
+    else if (st == RELIEF_OK)
+        colour_of(&c, a->view_rgb[k]);
+    a->views[k] = (relief_occluder_view){w, h, a->view_rgb[k], {0}};
+    relief_depth_image_free(&d);
+    relief_image_free(&c);
     return st;
+}
+
+/* The poses file: one line of 12 numbers per view ('#' comments, blank
+ * lines skipped; spaces or commas between). */
+static relief_status read_poses(occ_args *a, relief_error *err)
+{
+    char line[4096];
+    int k = 0, no = 0;
+    FILE *fp = fopen(a->poses, "r");
+    if (!fp)
+        return relief_fail(err, RELIEF_E_IO, "--poses %s: cannot be read", a->poses);
+    while (fgets(line, sizeof line, fp)) {
+        char *at = line, *end;
+        int n = 0;
+        ++no;
+        line[strcspn(line, "#")] = '\0';
+        if (strspn(line, " \t\r\n,") == strlen(line))
+            continue;
+        for (; k < a->n_views && n < 12; ++n, at = end) {
+            at += strspn(at, " \t,");
+            a->views[k].pose[n] = strtod(at, &end);
+            if (end == at)
+                break;
+        }
+        at += strspn(at, " \t\r\n,");
+        if (k >= a->n_views || n != 12 || *at) {
+            fclose(fp);
+            return relief_fail(err, RELIEF_E_PARSE, "--poses %s line %d: %s", a->poses, no,
+                               k >= a->n_views ? "more poses than --views"
+                                               : "expected 12 numbers (R row by row, then t)");
+        }
+        ++k;
+    }
+    fclose(fp);
+    if (k != a->n_views)
+        return relief_fail(err, RELIEF_E_PARSE, "--poses %s: %d poses for %d views", a->poses,
+                           k, a->n_views);
+    return RELIEF_OK;
 }
 
 /* The inputs: the frame, the background mesh, the given mask. */
@@ -371,6 +471,12 @@ static relief_status read_inputs(occ_args *a, relief_depth_image *f, relief_mesh
                                  relief_image *mask, relief_error *err)
 {
     relief_status st = read_frame(a, f, err);
+    for (int k = 0; st == RELIEF_OK && k < a->n_views; ++k)
+        st = read_view(a, k, f, err);
+    if (st == RELIEF_OK && a->n_views)
+        st = read_poses(a, err);
+    a->p.find.views = a->n_views ? a->views : NULL;
+    a->p.find.n_views = a->n_views;
     if (st == RELIEF_OK && a->bg_mesh)
         st = cli_read_mesh(a->cm.cmd, a->bg_mesh, a->cm.quiet, bg, NULL, err);
     a->p.find.background_mesh = *bg;
@@ -381,6 +487,12 @@ static relief_status read_inputs(occ_args *a, relief_depth_image *f, relief_mesh
                          "they must be the same size", a->cm.mask, mask->width, mask->height,
                          a->in, f->width, f->height);
     return st;
+}
+
+static void free_views(occ_args *a)
+{
+    for (int k = 0; k < a->n_views; ++k)
+        free(a->view_rgb[k]);
 }
 
 static int find_mode(occ_args *a)
@@ -408,6 +520,7 @@ static int find_mode(occ_args *a)
     relief_mesh_destroy(bg);
     relief_image_free(&found);
     relief_occluder_report_free(&r);
+    free_views(a);
     return st == RELIEF_OK ? 0 : cli_fail(a->cm.cmd, &err);
 }
 
@@ -468,10 +581,8 @@ static int remove_mode(occ_args *a)
     }
     if (st == RELIEF_OK && !(label = malloc((size_t)f.width * f.height)))
         st = relief_fail(&err, RELIEF_E_NOMEM, "cannot allocate the labels");
-    if (st == RELIEF_OK && a->cm.mask)
-        st = binary_mask(&mask, f.width, f.height, label, &err);
-    if (st == RELIEF_OK && !a->cm.mask)
-        memcpy(label, r.mask, (size_t)f.width * f.height);
+    if (st == RELIEF_OK)
+        memcpy(label, r.mask, (size_t)f.width * f.height); /* 0 / 1, found or given */
     if (st == RELIEF_OK) {
         occ_out o = {a, &f, &g, label, r.json};
         st = cli_write_outputs(a->outs, 7, write_one, &o, NULL, &err);
@@ -484,6 +595,7 @@ static int remove_mode(occ_args *a)
     relief_image_free(&mask);
     relief_remove_report_free(&r);
     free(label);
+    free_views(a);
     return st == RELIEF_OK ? 0 : cli_fail(a->cm.cmd, &err);
 }
 

@@ -18,7 +18,7 @@
 
 /* Bytes per pixel the finding holds at its peak: points, surface and
  * clearance, colour in CIELAB, the distances, origins, queue and RANSAC's
- * scratch, the mask. */
+ * scratch, the mask, the views' verdicts (and 4 per view: its L*). */
 #define FIND_BYTES_PER_PIXEL 80u
 
 relief_occluder_params relief_occluder_params_default(void)
@@ -35,6 +35,8 @@ relief_occluder_params relief_occluder_params_default(void)
     p.min_area = 50;
     p.dilate = 1;
     p.iterations = 500;
+    p.parallax = 2.0;
+    p.view_radius = 6;
     p.seed = 1;
     p.run = relief_run_options_default();
     return p;
@@ -47,6 +49,27 @@ static relief_status check_intrinsics(const relief_occluder_params *p, relief_er
             return relief_fail(err, RELIEF_E_RANGE, "intrinsics %g,%g,%g,%g out of range: "
                                "expected fx,fy > 0 and finite cx,cy (pixels)", p->intrinsics[0],
                                p->intrinsics[1], p->intrinsics[2], p->intrinsics[3]);
+    return RELIEF_OK;
+}
+
+static relief_status check_views(const relief_occluder_params *p, relief_error *err)
+{
+    if (p->n_views < 0 || p->n_views > RELIEF_OCCLUDER_MAX_VIEWS)
+        return relief_fail(err, RELIEF_E_RANGE, "n_views %d out of range: expected 0..%d",
+                           p->n_views, RELIEF_OCCLUDER_MAX_VIEWS);
+    if (p->n_views > 0 && !p->views)
+        return relief_fail(err, RELIEF_E_USAGE, "views: NULL with n_views %d", p->n_views);
+    for (int k = 0; k < p->n_views; ++k)
+        for (int i = 0; i < 12; ++i)
+            if (!isfinite(p->views[k].pose[i]))
+                return relief_fail(err, RELIEF_E_RANGE, "view %d: pose element %d is not "
+                                   "finite", k, i);
+    if (!(p->parallax >= 0.1 && p->parallax <= 64.0))
+        return relief_fail(err, RELIEF_E_RANGE, "parallax %g out of range: expected 0.1..64 "
+                           "pixels", p->parallax);
+    if (p->view_radius < 1 || p->view_radius > 32)
+        return relief_fail(err, RELIEF_E_RANGE, "view_radius %d out of range: expected 1..32 "
+                           "pixels", p->view_radius);
     return RELIEF_OK;
 }
 
@@ -89,6 +112,8 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
                            "10..1000000", p->iterations);
     if (check_intrinsics(p, err) != RELIEF_OK)
         return RELIEF_E_RANGE;
+    if (check_views(p, err) != RELIEF_OK)
+        return err ? err->status : RELIEF_E_RANGE;
     return relief_run_options_validate(&p->run, err);
 }
 
@@ -135,6 +160,9 @@ static void params_json(relief_json *j, const relief_occluder_params *p)
     rj_int(j, "min_area", p->min_area);
     rj_int(j, "dilate", p->dilate);
     rj_int(j, "iterations", p->iterations);
+    rj_int(j, "views", p->n_views);
+    rj_number(j, "parallax", p->parallax);
+    rj_int(j, "view_radius", p->view_radius);
     rj_int(j, "seed", p->seed);
     rj_end_object(j);
 }
@@ -179,9 +207,16 @@ static void find_body(relief_json *j, const relief_occluder_params *p,
     rj_int(j, "seeds_dropped", (long long)r->seeds_dropped);
     rj_int(j, "grown_missing", (long long)r->grown_missing);
     rj_int(j, "grown_edge", (long long)r->grown_edge);
+    rj_int(j, "parallax_seeds", (long long)r->parallax_seeds);
     rj_int(j, "dilated", (long long)r->dilated);
     rj_int(j, "occluder_pixels", (long long)r->occluder_pixels);
     rj_number(j, "share", (double)r->occluder_pixels / ((double)r->width * r->height));
+    rj_end_object(j);
+    rj_begin_object(j, "views");
+    rj_int(j, "count", r->views);
+    rj_int(j, "foreground", (long long)r->view_foreground);
+    rj_int(j, "background", (long long)r->view_background);
+    rj_int(j, "unknown", (long long)r->view_unknown);
     rj_end_object(j);
 }
 
@@ -268,6 +303,9 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
     r->seeds = c.seeds, r->seed_groups = c.seed_groups, r->seeds_dropped = c.seeds_dropped;
     r->grown_missing = c.grown_missing, r->grown_edge = c.grown_edge;
     r->dilated = c.dilated, r->occluder_pixels = c.total;
+    r->views = p->n_views, r->parallax_seeds = c.parallax_seeds;
+    r->view_foreground = c.view_fg;
+    r->view_background = c.view_bg, r->view_unknown = c.view_unknown;
     if (c.seeds == 0)
         return relief_fail(err, RELIEF_E_RANGE, "nothing in front of the background: no "
                            "captured point is more than the margin (%.4g at the median depth) "
@@ -295,7 +333,7 @@ relief_status relief_find_occluders(const relief_depth_image *f, const relief_oc
     if (st == RELIEF_OK)
         st = relief_occluder_params_validate(p, err);
     if (st == RELIEF_OK)
-        st = check_memory(f, &p->run, 0, err);
+        st = check_memory(f, &p->run, 4u * (unsigned)p->n_views, err);
     if (st != RELIEF_OK)
         return st;
     n = (size_t)f->width * f->height;
@@ -586,7 +624,7 @@ relief_status relief_remove_occluders(relief_depth_image *f, const relief_image 
     if (st == RELIEF_OK)
         st = relief_depth_fill_params_validate(&p->depth, err);
     if (st == RELIEF_OK)
-        st = check_memory(f, &p->find.run, 32, err);
+        st = check_memory(f, &p->find.run, 32u + 4u * (unsigned)p->find.n_views, err);
     if (st != RELIEF_OK)
         return st;
     memset(&w, 0, sizeof w);

@@ -21,8 +21,7 @@ static double lab_f(double t)
     return t > 216.0 / 24389.0 ? cbrt(t) : (24389.0 / 27.0 * t + 16.0) / 116.0;
 }
 
-/* CIELAB (D65) of n sRGB byte triples. */
-static void to_lab(const uint8_t *rgb, size_t n, float *lab)
+void occ_lab(const uint8_t *rgb, size_t n, float *lab)
 {
     for (size_t i = 0; i < n; ++i) {
         double r = srgb_linear(rgb[3 * i] / 255.0), g = srgb_linear(rgb[3 * i + 1] / 255.0);
@@ -118,6 +117,31 @@ static void drop_small(uint8_t *seed, int w, int h, int min_area, size_t *queue,
         seed[i] = seed[i] == 2;
 }
 
+/* Seeds where the depth is missing and the views see parallax, less a
+ * band of PARALLAX_ERODE pixels at their edges: a window that straddles
+ * an occluder's edge follows the edge's parallax, so the background beside
+ * an occluder looks displaced too (the window's fattening). dist:
+ * scratch. */
+#define PARALLAX_ERODE 0
+static void parallax_seeds(const occ_scene *s, occ_views *v, uint8_t *seed, uint16_t *dist,
+                           occ_counts *c)
+{
+    size_t n = (size_t)s->width * s->height;
+    uint8_t *not_fg = calloc(n, 1);
+    if (!v->cue || !not_fg) {
+        free(not_fg);
+        return;
+    }
+    for (size_t i = 0; i < n; ++i)
+        not_fg[i] = !seed[i] && !(!isfinite(s->pts[3 * i + 2]) &&
+                                  occ_views_cue(v, i) == OCC_CUE_FOREGROUND);
+    chess_distance(not_fg, s->width, s->height, PARALLAX_ERODE + 1, dist);
+    for (size_t i = 0; i < n; ++i)
+        if (!seed[i] && !not_fg[i] && dist[i] > PARALLAX_ERODE)
+            seed[i] = 1, ++c->parallax_seeds;
+    free(not_fg);
+}
+
 /* ------------------------------------------------------------ growth */
 
 typedef struct grower {
@@ -125,6 +149,7 @@ typedef struct grower {
     const float *lab;
     const uint16_t *near_seed; /* chessboard distance to the seeds */
     const relief_occluder_params *p;
+    occ_views *views;          /* the second cue (none: every cue unknown) */
     uint8_t *mask;
     int32_t *origin;           /* the seed each mask pixel was reached from */
     size_t *queue;
@@ -134,13 +159,16 @@ typedef struct grower {
 static int joins(const grower *g, size_t p, size_t q, size_t **count, occ_counts *c)
 {
     const occ_scene *s = g->s;
-    int half = g->p->window / 2, w = s->width;
+    int half = g->p->window / 2, w = s->width, cue;
     size_t o = (size_t)g->origin[p];
     if (g->mask[q] || abs((int)(q % (size_t)w) - (int)(o % (size_t)w)) > half ||
         abs((int)(q / (size_t)w) - (int)(o / (size_t)w)) > half)
         return 0;
     if (delta_e(g->lab + 3 * p, g->lab + 3 * q) > g->p->colour_distance)
         return 0;
+    cue = occ_views_cue(g->views, q);
+    if (cue == OCC_CUE_BACKGROUND)
+        return 0; /* the views see the background there */
     if (!isfinite(s->pts[3 * q + 2]))
         *count = &c->grown_missing;
     else if (g->near_seed[q] <= g->p->edge)
@@ -182,6 +210,36 @@ static void grow(grower *g, occ_counts *c)
     }
 }
 
+/* The seeds, their growth and the dilation into mask; lab, dist, origin
+ * and queue are the frame's scratch. */
+static relief_status mask_stages(const occ_scene *s, const relief_occluder_params *p,
+                                 grower *g, uint16_t *dist, occ_counts *c, relief_error *err)
+{
+    size_t n = (size_t)s->width * s->height;
+    occ_views views;
+    relief_status st = occ_views_init(&views, s, g->lab, p, err);
+    if (st != RELIEF_OK)
+        return st;
+    g->views = &views;
+    for (size_t i = 0; i < n; ++i)
+        g->mask[i] = s->clearance[i] > occ_margin(s, s->pts[3 * i + 2]); /* NaN: 0 */
+    parallax_seeds(s, &views, g->mask, dist, c);
+    drop_small(g->mask, s->width, s->height, p->min_area, g->queue, c);
+    chess_distance(g->mask, s->width, s->height, (uint16_t)(p->edge + 1), dist);
+    grow(g, c);
+    if (p->dilate > 0) {
+        chess_distance(g->mask, s->width, s->height, (uint16_t)(p->dilate + 1), dist);
+        for (size_t i = 0; i < n; ++i)
+            if (!g->mask[i] && dist[i] <= p->dilate)
+                g->mask[i] = 1, ++c->dilated;
+    }
+    for (size_t i = 0; i < n; ++i)
+        c->total += g->mask[i];
+    c->view_fg = views.fg, c->view_bg = views.bg, c->view_unknown = views.unknown;
+    occ_views_free(&views);
+    return RELIEF_OK;
+}
+
 relief_status occ_mask(const occ_scene *s, const uint8_t *rgb, const relief_occluder_params *p,
                        uint8_t *mask, occ_counts *counts, relief_error *err)
 {
@@ -190,26 +248,14 @@ relief_status occ_mask(const occ_scene *s, const uint8_t *rgb, const relief_occl
     uint16_t *dist = malloc(n * sizeof *dist);
     int32_t *origin = malloc(n * sizeof *origin);
     size_t *queue = malloc(n * sizeof *queue);
-    relief_status st = RELIEF_OK;
+    relief_status st;
     memset(counts, 0, sizeof *counts);
     if (!lab || !dist || !origin || !queue) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask's %zu pixels", n);
     } else {
-        grower g = {s, lab, dist, p, mask, origin, queue};
-        for (size_t i = 0; i < n; ++i)
-            mask[i] = s->clearance[i] > occ_margin(s, s->pts[3 * i + 2]); /* NaN: 0 */
-        drop_small(mask, s->width, s->height, p->min_area, queue, counts);
-        to_lab(rgb, n, lab);
-        chess_distance(mask, s->width, s->height, (uint16_t)(p->edge + 1), dist);
-        grow(&g, counts);
-        if (p->dilate > 0) {
-            chess_distance(mask, s->width, s->height, (uint16_t)(p->dilate + 1), dist);
-            for (size_t i = 0; i < n; ++i)
-                if (!mask[i] && dist[i] <= p->dilate)
-                    mask[i] = 1, ++counts->dilated;
-        }
-        for (size_t i = 0; i < n; ++i)
-            counts->total += mask[i];
+        grower g = {s, lab, dist, p, NULL, mask, origin, queue};
+        occ_lab(rgb, n, lab);
+        st = mask_stages(s, p, &g, dist, counts, err);
     }
     free(lab);
     free(dist);

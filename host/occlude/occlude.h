@@ -57,9 +57,41 @@ relief_status occ_scene_points(const relief_depth_image *f, const relief_occlude
 relief_status occ_background(occ_scene *s, const relief_occluder_params *p,
                              relief_error *err);
 
+/* CIELAB (D65) of n sRGB byte triples: lab n x 3. */
+void occ_lab(const uint8_t *rgb, size_t n, float *lab);
+
+/* ------------------------------------------------ the neighbouring views */
+
+/* What the views say of a pixel (paper 004, eq. 2.1). */
+enum {
+    OCC_CUE_UNSEEN = -2,    /* not asked yet */
+    OCC_CUE_UNKNOWN = -1,   /* no texture to match, or no view sees it */
+    OCC_CUE_BACKGROUND = 0, /* the correspondence error at most parallax */
+    OCC_CUE_FOREGROUND = 1  /* over it */
+};
+
+typedef struct occ_views {
+    const occ_scene *s;
+    const relief_occluder_params *p;
+    const float *lab;       /* the frame's CIELAB, width x height x 3 */
+    float *lum;             /* n_views x width x height: each view's L* */
+    int8_t *cue;            /* per pixel: OCC_CUE_*, computed when asked */
+    size_t fg, bg, unknown; /* the verdicts given */
+} occ_views;
+
+/* The views of p (none: v->cue stays NULL and every cue is UNKNOWN) over
+ * scene s and the frame's `lab`. RELIEF_E_USAGE for a view of another
+ * size or without colour; RELIEF_E_NOMEM. */
+relief_status occ_views_init(occ_views *v, const occ_scene *s, const float *lab,
+                             const relief_occluder_params *p, relief_error *err);
+/* Pixel i's verdict, computed on its first asking. */
+int occ_views_cue(occ_views *v, size_t i);
+void occ_views_free(occ_views *v);
+
 /* What the mask's stages counted (relief_occluder_report's fields). */
 typedef struct occ_counts {
     size_t seeds, seed_groups, seeds_dropped, grown_missing, grown_edge, dilated, total;
+    size_t parallax_seeds, view_fg, view_bg, view_unknown;
 } occ_counts;
 
 /* The occluder mask (width x height, 1 = occluder) of scene s with the

@@ -32,6 +32,13 @@
  *    a seed, on the background (the misregistered rim of a depth camera).
  * 5. The mask, dilated by `dilate` pixels: marking background as
  *    foreground is preferred to the reverse.
+ * With registered neighbouring views (the paper's eq. 2.1), each pixel's
+ * background point is projected into them and its window's colour
+ * searched for around there: the larger displacement found is the
+ * correspondence error. The views decide where the depth cannot: a pixel
+ * whose depth is missing and whose error is over `parallax` pixels is a
+ * seed; one whose error is at most that, on a textured window, is
+ * background and growth stops there.
  */
 #ifndef RELIEF_OCCLUDERS_H
 #define RELIEF_OCCLUDERS_H
@@ -64,6 +71,19 @@ typedef enum relief_background {
 
 RELIEF_API const char *relief_background_name(relief_background background);
 
+/* Most neighbouring views a call takes. */
+#define RELIEF_OCCLUDER_MAX_VIEWS 16
+
+/* A registered neighbouring view of the frame (paper 004: the previous and
+ * the next image): its colour, of the frame's size and seen through the
+ * frame's camera, and its pose. */
+typedef struct relief_occluder_view {
+    int width, height;   /* the frame's */
+    const uint8_t *rgb;  /* height x width x 3, sRGB */
+    double pose[12];     /* [R | t], 3 x 4 row-major: a point x in the frame's
+                            camera coordinates is R x + t in this view's */
+} relief_occluder_view;
+
 typedef struct relief_occluder_params {
     relief_background background; /* default planes */
     int max_planes;          /* planes: at most this many; 3, [1, 8] */
@@ -89,6 +109,12 @@ typedef struct relief_occluder_params {
                                 fx = fy = 525 x width / 640 and the centre
                                 (a Kinect's) */
     double intrinsics[4];    /* fx, fy, cx, cy in pixels (a frame without xyz) */
+    const relief_occluder_view *views; /* n_views neighbouring views, or NULL */
+    int n_views;             /* 0 (default) .. RELIEF_OCCLUDER_MAX_VIEWS */
+    double parallax;         /* views: a correspondence error over this is
+                                foreground; 2 pixels, [0.1, 64] */
+    int view_radius;         /* views: the colour search's radius; 6 pixels,
+                                [1, 32] */
     uint32_t seed;           /* RANSAC's draws; 1 */
     relief_run_options run;  /* max_memory, progress, names; backend unused */
 } relief_occluder_params;
@@ -131,6 +157,11 @@ typedef struct relief_occluder_report {
     size_t grown_missing;    /* added by growth: depth missing */
     size_t grown_edge;       /* added by growth: background depth at the rim */
     size_t dilated;          /* added by the dilation */
+    int views;               /* neighbouring views used */
+    size_t parallax_seeds;   /* seeds where the depth is missing, by the views */
+    size_t view_foreground;  /* pixels the views judged: over parallax */
+    size_t view_background;  /* at most parallax, on texture */
+    size_t view_unknown;     /* no texture, or seen by no view */
     size_t occluder_pixels;  /* the mask's */
     double camera[4];        /* x / z = c0 u + c1, y / z = c2 v + c3 */
     double seconds_total;

@@ -13,7 +13,10 @@
  *                                      flat.pcd (nothing in front),
  *                                      noise.pcd (no background),
  *                                      empty.png (a mask of nothing),
- *                                      half.png (a depth image of another size)
+ *                                      half.png (a depth image of another size);
+ *                                      dark.pcd (box B without depth), its
+ *                                      views left.png and right.png and
+ *                                      poses.txt
  *   test_api_occluders --iou A.png B.png   print the IoU of two masks */
 #include <math.h>
 #include <stdint.h>
@@ -31,7 +34,7 @@
 typedef struct scene {
     float z[W * H], xyz[W * H * 3];
     uint8_t rgb[W * H * 3];
-    uint8_t truth[W * H];   /* 1 on the objects */
+    uint8_t truth[W * H];   /* on the objects: 1 box A, 2 box B, 3 the sphere */
     float bg_z[W * H];      /* the true background's depth */
 } scene;
 
@@ -79,22 +82,24 @@ static void background_colour(double x, double y, double z, int on_floor, uint64
     }
 }
 
-/* The nearest object along ray r (z = 1), its depth and colour; 0: none. */
-static int object_hit(const double r[3], uint64_t *g, double *z, uint8_t *c)
+/* The nearest object along the ray from (tx, 0, 0) in direction r (z = 1),
+ * its depth and colour; which (1 box A, 2 box B, 3 the sphere), 0: none. Box B's front is a checker of 5 cm cells
+ * (world coordinates: the same in every view). */
+static int object_hit(double tx, const double r[3], uint64_t *g, double *z, uint8_t *c)
 {
     double best = INFINITY, t;
-    *z = NAN;
     int which = 0;
+    *z = NAN;
     /* box A's front, z = 2.0; box B's, z = 2.2, standing on the floor */
     t = 2.0;
-    if (fabs(r[0] * t + 0.65) <= 0.30 && fabs(r[1] * t + 0.15) <= 0.40 && t < best)
+    if (fabs(tx + r[0] * t + 0.65) <= 0.30 && fabs(r[1] * t + 0.15) <= 0.40 && t < best)
         best = t, which = 1;
     t = 2.2;
-    if (fabs(r[0] * t + 0.05) <= 0.20 && r[1] * t >= 0.35 && r[1] * t <= 0.9 && t < best)
+    if (fabs(tx + r[0] * t + 0.05) <= 0.20 && r[1] * t >= 0.35 && r[1] * t <= 0.9 && t < best)
         best = t, which = 2;
     {
         /* the sphere: centre (0.45, -0.05, 2.3), radius 0.35 */
-        double cx = 0.45, cy = -0.05, cz = 2.3, rr = 0.35 * 0.35;
+        double cx = 0.45 - tx, cy = -0.05, cz = 2.3, rr = 0.35 * 0.35;
         double a = r[0] * r[0] + r[1] * r[1] + 1.0, b = r[0] * cx + r[1] * cy + cz;
         double disc = b * b - a * (cx * cx + cy * cy + cz * cz - rr);
         if (disc >= 0.0 && (t = (b - sqrt(disc)) / a) < best) {
@@ -108,29 +113,36 @@ static int object_hit(const double r[3], uint64_t *g, double *z, uint8_t *c)
         return 0;
     if (which == 1)
         c[0] = clamp8(180 + 8 * gauss(g)), c[1] = clamp8(40 + 8 * gauss(g)), c[2] = 40;
-    if (which == 2)
-        c[0] = 50, c[1] = clamp8(150 + 8 * gauss(g)), c[2] = clamp8(60 + 8 * gauss(g));
+    if (which == 2) {
+        int cell = (int)floor((tx + r[0] * best) / 0.05) * 7 + (int)floor(r[1] * best / 0.05) * 13;
+        double tone = (cell * 2654435761u >> 7) % 100 / 100.0;
+        c[0] = clamp8(40 + 40 * tone), c[1] = clamp8(110 + 100 * tone), c[2] = clamp8(50 + 3 * gauss(g));
+    }
     *z = best;
-    return 1;
+    return which;
 }
 
-static void make_scene(scene *s)
+/* The frame seen from (tx, 0, 0), looking along z; dark: box B absorbs the
+ * depth camera's light (no depth on it). */
+static void render(scene *s, double tx, int dark)
 {
-    uint64_t g = 12345;
+    uint64_t g = 12345 + (uint64_t)(1000.0 * (tx + 1.0));
     for (int v = 0; v < H; ++v)
         for (int u = 0; u < W; ++u) {
             size_t i = (size_t)v * W + u;
             double r[3] = {(u - CX) / FX, (v - CY) / FX, 1.0};
-            double zw = 3.0 / (1.0 - 0.15 * r[0]), zf = r[1] > 0 ? 0.9 / r[1] : INFINITY;
+            double zw = (3.0 + 0.15 * tx) / (1.0 - 0.15 * r[0]);
+            double zf = r[1] > 0 ? 0.9 / r[1] : INFINITY;
             double zb = fmin(zw, zf), zo, z;
             uint8_t *c = s->rgb + 3 * i;
+            int hit = object_hit(tx, r, &g, &zo, c);
             s->bg_z[i] = (float)zb;
-            s->truth[i] = (uint8_t)object_hit(r, &g, &zo, c);
-            if (!s->truth[i])
-                background_colour(r[0] * zb, r[1] * zb, zb, zf < zw, &g, c);
-            z = s->truth[i] ? zo : zb;
+            s->truth[i] = (uint8_t)hit;
+            if (!hit)
+                background_colour(tx + r[0] * zb, r[1] * zb, zb, zf < zw, &g, c);
+            z = hit ? zo : zb;
             z += NOISE * z * z * gauss(&g);
-            s->z[i] = uniform(&g) < 0.02 ? NAN : (float)z;
+            s->z[i] = uniform(&g) < 0.02 || (dark && hit == 2) ? NAN : (float)z;
         }
     /* The projector's shadow: the background just left of an object. */
     for (int v = 0; v < H; ++v)
@@ -265,6 +277,71 @@ static void test_remove(scene *s)
     free(out);
 }
 
+/* The share of box B's pixels in the mask. */
+static double recall_b(const scene *s, const uint8_t *mask)
+{
+    size_t in = 0, all = 0;
+    for (size_t i = 0; i < (size_t)W * H; ++i)
+        if (s->truth[i] == 2)
+            ++all, in += mask[i] != 0;
+    return all ? (double)in / all : 0.0;
+}
+
+/* Box B dark to the depth camera (no depth on it): without views it has no
+ * seed; the views left and right (10 cm) see its parallax. */
+static void test_views(void)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_occluder_params p = relief_occluder_params_default();
+    relief_occluder_report r;
+    relief_occluder_view views[2];
+    relief_image m = {0, 0, 0, 0, 0, NULL};
+    scene *s = malloc(sizeof *s), *left = malloc(sizeof *left), *right = malloc(sizeof *right);
+    relief_depth_image f;
+    double without = 0.0, with = 0.0, b_without = 0.0, b_with = 0.0;
+    if (!s || !left || !right)
+        return;
+    render(s, 0.0, 1);
+    render(left, -0.1, 0);
+    render(right, 0.1, 0);
+    f = frame_of(s, 1);
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m, NULL, &err), RELIEF_OK, err, NULL);
+    if (m.data)
+        without = iou(m.data, s->truth, (size_t)W * H), b_without = recall_b(s, m.data);
+    relief_image_free(&m);
+    for (int k = 0; k < 2; ++k) {
+        memset(&views[k], 0, sizeof views[k]);
+        views[k].width = W, views[k].height = H;
+        views[k].rgb = (k ? right : left)->rgb;
+        views[k].pose[0] = views[k].pose[5] = views[k].pose[10] = 1.0;
+        views[k].pose[3] = k ? -0.1 : 0.1; /* x_view = x - C */
+    }
+    p.views = views, p.n_views = 2;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m, &r, &err), RELIEF_OK, err, NULL);
+    if (m.data)
+        with = iou(m.data, s->truth, (size_t)W * H), b_with = recall_b(s, m.data);
+    printf("a box dark to the depth camera: IoU %.4f without views (the box's recall %.3f), "
+           "%.4f with two (recall %.3f; %zu parallax seeds; verdicts: %zu foreground, %zu "
+           "background, %zu unknown)\n", without, b_without, with, b_with, r.parallax_seeds,
+           r.view_foreground, r.view_background, r.view_unknown);
+    CHECK(b_without < 0.2, "without views the dark box is found (recall %.3f): the case is void",
+          b_without);
+    /* Its lowest 18 of 66 rows stand within 2 pixels of parallax of the
+     * floor behind them (the box touches it): no view can tell them. */
+    CHECK(b_with >= 0.65, "with views the dark box's recall is %.3f, expected at least 0.65",
+          b_with);
+    CHECK(with >= without + 0.05, "with views: IoU %.4f, without %.4f", with, without);
+    CHECK(r.views == 2 && r.parallax_seeds > 0, "no parallax seeds");
+    relief_image_free(&m);
+    relief_occluder_report_free(&r);
+    views[1].width = W - 1;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m, NULL, &err), RELIEF_E_USAGE, err, "view 1");
+    views[1].width = W;
+    views[0].pose[2] = NAN;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m, NULL, &err), RELIEF_E_RANGE, err, "pose");
+    free(s), free(left), free(right);
+}
+
 static void test_bad(scene *s)
 {
     relief_error err = {RELIEF_OK, ""};
@@ -341,6 +418,34 @@ static int write_bad(const scene *s, const char *dir, int noise, relief_error *e
     return ok;
 }
 
+/* dark.pcd, left.png, right.png, poses.txt (test_views' frame). */
+static int write_views(const char *dir, relief_error *err)
+{
+    char path[4096];
+    scene *v = malloc(sizeof *v);
+    relief_depth_image f;
+    FILE *poses;
+    int ok = v != NULL;
+    const double tx[3] = {0.0, -0.1, 0.1};
+    const char *names[3] = {"dark.pcd", "left.png", "right.png"};
+    for (int k = 0; ok && k < 3; ++k) {
+        render(v, tx[k], k == 0);
+        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+        f = frame_of(v, 1);
+        ok = k == 0 ? relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, err) == RELIEF_OK
+                    : relief_image_write(&(relief_image){W, H, 3, 8, 0, v->rgb}, path, err) ==
+                          RELIEF_OK;
+    }
+    free(v);
+    snprintf(path, sizeof path, "%s/poses.txt", dir);
+    if (ok && (poses = fopen(path, "w"))) {
+        fprintf(poses, "# [R | t] of each view: x_view = R x + t\n"
+                "1 0 0 0.1  0 1 0 0  0 0 1 0\n1,0,0,-0.1, 0,1,0,0, 0,0,1,0\n");
+        ok = fclose(poses) == 0;
+    }
+    return ok;
+}
+
 static int write_files(scene *s, const char *dir)
 {
     char path[4096];
@@ -374,6 +479,7 @@ static int write_files(scene *s, const char *dir)
     snprintf(path, sizeof path, "%s/nocolour.pcd", dir);
     ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, &err) == RELIEF_OK;
     ok = ok && write_bad(s, dir, 0, &err) && write_bad(s, dir, 1, &err);
+    ok = ok && write_views(dir, &err);
     if (!ok)
         fprintf(stderr, "test_api_occluders: %s\n", err.message);
     return ok ? 0 : 1;
@@ -408,7 +514,7 @@ int main(int argc, char **argv)
         return print_iou(argv[2], argv[3]);
     if (!(s = malloc(sizeof *s)))
         return 1;
-    make_scene(s);
+    render(s, 0.0, 0);
     if (argc == 3 && !strcmp(argv[1], "--write")) {
         rc = write_files(s, argv[2]);
         free(s);
@@ -416,6 +522,7 @@ int main(int argc, char **argv)
     }
     test_find(s);
     test_remove(s);
+    test_views();
     test_bad(s);
     free(s);
     API_TEST_END();

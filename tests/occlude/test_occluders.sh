@@ -39,6 +39,14 @@ expect 0 "background: the mesh" -- "$relief" occluders "$tmp/scene.pcd" -o "$tmp
 v=$(iou "$tmp/mm.png"); echo "scene.pcd, --background-mesh: IoU $v"
 ok 'at_least "$v" 0.9' "--background-mesh: IoU $v under 0.9"
 
+# Neighbouring views (eq. 2.1): a box dark to the depth camera is found by
+# its parallax; the same mask from the command line as through the API.
+expect 0 "2 views" -- "$relief" occluders "$tmp/dark.pcd" -o "$tmp/dv.png" \
+  --views "$tmp/left.png,$tmp/right.png" --poses "$tmp/poses.txt"
+expect 0 "" -- "$relief" occluders "$tmp/dark.pcd" -o "$tmp/d0.png" --quiet
+v=$(iou "$tmp/dv.png") v0=$(iou "$tmp/d0.png"); echo "dark.pcd: IoU $v0 without views, $v with"
+ok 'at_least "$v" "$(awk -v a="$v0" "BEGIN { print a + 0.05 }")"' "views: IoU $v, without $v0"
+
 # The removal: the PCD, its points and pictures; the input untouched.
 sum=$(md5sum < "$tmp/scene.pcd")
 expect 0 "given the background's depth" -- "$relief" remove-occluders "$tmp/scene.pcd" \
@@ -83,6 +91,16 @@ bad "--depth-out" -- remove-occluders "$tmp/colour.png" --depth "$tmp/depth.png"
 bad "nothing to remove" -- remove-occluders "$tmp/scene.pcd" -o "$tmp/bad.pcd" --mask "$tmp/empty.png"
 printf 'VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 4\nHEIGHT 4\nPOINTS 16\nDATA binary\n' > "$tmp/short.pcd"
 bad "" -- occluders "$tmp/short.pcd" -o "$tmp/bad.png"
+bad "--views and --poses" -- occluders "$tmp/dark.pcd" -o "$tmp/bad.png" --views "$tmp/left.png"
+printf '1 0 0 0.1 0 1 0 0 0 0 1\n1 0 0 -0.1 0 1 0 0 0 0 1 0\n' > "$tmp/short_poses.txt"
+bad "line 1: expected 12 numbers" -- occluders "$tmp/dark.pcd" -o "$tmp/bad.png" \
+  --views "$tmp/left.png,$tmp/right.png" --poses "$tmp/short_poses.txt"
+bad "1 poses for 2 views" -- occluders "$tmp/dark.pcd" -o "$tmp/bad.png" \
+  --views "$tmp/left.png,$tmp/right.png" --poses <(head -2 "$tmp/poses.txt")
+bad "same size" -- occluders "$tmp/dark.pcd" -o "$tmp/bad.png" --views "$tmp/half.png" \
+  --poses <(sed -n 2p "$tmp/poses.txt")
+bad "no colour" -- occluders "$tmp/dark.pcd" -o "$tmp/bad.png" --views "$tmp/nocolour.pcd" \
+  --poses <(sed -n 2p "$tmp/poses.txt")
 # An existing output stays as it was when the run fails.
 cp "$tmp/m.png" "$tmp/keep.png"
 expect 1 "" -- "$relief" occluders "$tmp/flat.pcd" -o "$tmp/keep.png"
