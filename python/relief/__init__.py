@@ -241,14 +241,34 @@ def _rgbd(colour, depth, points, png_scale):
     return d, z, xyz, np.array(rgb, order="C", copy=True)
 
 
+def _views(views, shape):
+    """views: [(colour (H, W, 3) uint8, pose (3, 4)), ...] as two lists."""
+    colours, poses = [], []
+    for k, view in enumerate(views or ()):
+        try:
+            colour, pose = view
+        except (TypeError, ValueError):
+            _fail("usage", f"views[{k}]: expected a (colour, pose) pair")
+        c = _array(f"views[{k}] colour", colour, (3,))
+        if c.dtype != np.uint8 or c.shape[:2] != tuple(shape) or c.shape[2] < 3:
+            _fail("usage", f"views[{k}] colour: {c.dtype} {c.shape}, expected uint8 "
+                  f"{tuple(shape) + (3,)} (the frame's size)")
+        m = np.array(_array(f"views[{k}] pose", pose, (2,)), dtype=np.float64, order="C")
+        if m.shape != (3, 4):
+            _fail("usage", f"views[{k}] pose: shape {m.shape}, expected (3, 4): [R | t]")
+        colours.append(np.ascontiguousarray(c[:, :, :3]))
+        poses.append(m)
+    return colours, poses
+
+
 def _intrinsics(params, intrinsics):
     if intrinsics is not None:
         params = dict(params, intrinsics=intrinsics)
     return params
 
 
-def find_occluders(colour, depth, *, points=None, intrinsics=None, png_scale=5000.0, seed=1,
-                   return_report=False, **params):
+def find_occluders(colour, depth, *, points=None, intrinsics=None, views=None,
+                   png_scale=5000.0, seed=1, return_report=False, **params):
     """The occluders of an RGB-D frame (paper 004, section 2.1): the points
     in front of the background (planes found by RANSAC), grown by colour.
 
@@ -256,17 +276,20 @@ def find_occluders(colour, depth, *, points=None, intrinsics=None, png_scale=500
     (H, W) uint16 (``png_scale`` per metre, 0 missing) or float (metres,
     NaN missing). points: (H, W, 3) an organised cloud's xyz (the camera is
     fitted to them), or None with ``intrinsics`` (fx, fy, cx, cy; default a
-    Kinect's scaled to the width). Returns an (H, W) bool mask, True on the
-    occluders (and the report as a dict when ``return_report``).
+    Kinect's scaled to the width). views: registered neighbouring views,
+    [(colour, pose)], pose (3, 4) [R | t] with x_view = R x + t (paper 004's
+    eq. 2.1). Returns an (H, W) bool mask, True on the occluders (and the
+    report as a dict when ``return_report``).
     """
     _, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
+    colours, poses = _views(views, z.shape)
     kw = _params(_intrinsics(dict(params, seed=seed), intrinsics))
-    report, mask = _check(_relief.find_occluders(z, xyz, rgb, kw))
+    report, mask = _check(_relief.find_occluders(z, xyz, rgb, colours, poses, kw))
     mask = np.asarray(mask).reshape(z.shape).astype(bool)
     return (mask, _report(report, True)) if return_report else mask
 
 
-def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None,
+def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None, views=None,
                      png_scale=5000.0, seed=1, colour_params=None, depth_params=None,
                      return_report=False, **params):
     """The frame without its occluders: ``mask`` (or the one find_occluders
@@ -279,9 +302,10 @@ def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None,
     """
     d, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
     m = None if mask is None else _mask(mask, z.shape)
+    colours, poses = _views(views, z.shape)
     kw = _params(_intrinsics(dict(params, seed=seed), intrinsics))
     report, used = _check(_relief.remove_occluders(
-        z, xyz, rgb, m, kw, _params(dict(colour_params or {}, seed=seed)),
+        z, xyz, rgb, m, colours, poses, kw, _params(dict(colour_params or {}, seed=seed)),
         _params(dict(depth_params or {}, seed=seed))))
     used = np.asarray(used).reshape(z.shape).astype(bool)
     if d.dtype == np.uint16:

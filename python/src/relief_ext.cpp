@@ -237,8 +237,24 @@ relief_depth_image rgbd_frame(float *z, nb::object xyz, uint8_t *rgb, size_t h, 
     return f;
 }
 
+// The neighbouring views: colours (each H x W x 3 uint8) and poses (each
+// 3 x 4 float64), both lists of the same length (checked by the package).
+std::vector<relief_occluder_view> views_of(const nb::list &colours, const nb::list &poses,
+                                           size_t h, size_t w)
+{
+    std::vector<relief_occluder_view> v(nb::len(colours));
+    for (size_t k = 0; k < v.size(); ++k) {
+        auto c = nb::cast<carray<const uint8_t>>(colours[k]);
+        auto m = nb::cast<carray<const double>>(poses[k]);
+        v[k].width = int(w), v[k].height = int(h), v[k].rgb = c.data();
+        std::memcpy(v[k].pose, m.data(), sizeof v[k].pose);
+    }
+    return v;
+}
+
 // (status, message, report, mask H x W uint8: 1 on the occluders).
-nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, nb::dict kw)
+nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, nb::list colours,
+                         nb::list poses, nb::dict kw)
 {
     relief_occluder_params p = relief_occluder_params_default();
     param_setter ps;
@@ -248,6 +264,8 @@ nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, n
         return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
                               nb::none());
     relief_depth_image f = rgbd_frame(z.data(), xyz, rgb.data(), z.shape(0), z.shape(1));
+    std::vector<relief_occluder_view> views = views_of(colours, poses, z.shape(0), z.shape(1));
+    p.views = views.empty() ? nullptr : views.data(), p.n_views = int(views.size());
     relief_image mask{0, 0, 0, 0, 0, nullptr};
     relief_occluder_report rep;
     std::memset(&rep, 0, sizeof rep);
@@ -272,7 +290,8 @@ nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, n
 // The removal in place on z, xyz (or None) and rgb; mask H x W uint8 or
 // None (found). (status, message, report, the mask used).
 nb::tuple remove_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, nb::object mask,
-                           nb::dict kw, nb::dict colour_kw, nb::dict depth_kw)
+                           nb::list colours, nb::list poses, nb::dict kw, nb::dict colour_kw,
+                           nb::dict depth_kw)
 {
     relief_remove_params p = relief_remove_params_default();
     param_setter ps;
@@ -286,6 +305,8 @@ nb::tuple remove_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb,
         return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
                               nb::none());
     relief_depth_image f = rgbd_frame(z.data(), xyz, rgb.data(), z.shape(0), z.shape(1));
+    std::vector<relief_occluder_view> views = views_of(colours, poses, z.shape(0), z.shape(1));
+    p.find.views = views.empty() ? nullptr : views.data(), p.find.n_views = int(views.size());
     relief_image m{f.width, f.height, 1, 8, 0, nullptr};
     if (!mask.is_none())
         m.data = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(mask).data());
@@ -550,9 +571,11 @@ NB_MODULE(_relief, m)
           "colours"_a.none(), "params"_a, "progress"_a.none());
     m.def("complete_points", &complete_points, "points"_a, "faces"_a.none(), "colours"_a.none(),
           "normals"_a.none(), "labels"_a.none(), "params"_a, "progress"_a.none());
-    m.def("find_occluders", &find_occluders, "z"_a, "xyz"_a.none(), "rgb"_a, "params"_a);
+    m.def("find_occluders", &find_occluders, "z"_a, "xyz"_a.none(), "rgb"_a, "colours"_a,
+          "poses"_a, "params"_a);
     m.def("remove_occluders", &remove_occluders, "z"_a, "xyz"_a.none(), "rgb"_a,
-          "mask"_a.none(), "params"_a, "colour_params"_a, "depth_params"_a);
+          "mask"_a.none(), "colours"_a, "poses"_a, "params"_a, "colour_params"_a,
+          "depth_params"_a);
     m.def("read_mesh", &read_mesh);
     m.def("write_mesh", &write_mesh, "path"_a, "vertices"_a, "faces"_a.none(), "colours"_a.none(),
           "labels"_a.none(), "ascii"_a);

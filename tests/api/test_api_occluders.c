@@ -14,7 +14,8 @@
  *                                      noise.pcd (no background),
  *                                      empty.png (a mask of nothing),
  *                                      half.png (a depth image of another size);
- *                                      dark.pcd (box B without depth), its
+ *                                      dark.pcd (box B without depth; also as
+ *                                      dark_colour.png and dark_depth.png), its
  *                                      views left.png and right.png and
  *                                      poses.txt
  *   test_api_occluders --iou A.png B.png   print the IoU of two masks */
@@ -435,6 +436,13 @@ static int write_views(const char *dir, relief_error *err)
         ok = k == 0 ? relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, err) == RELIEF_OK
                     : relief_image_write(&(relief_image){W, H, 3, 8, 0, v->rgb}, path, err) ==
                           RELIEF_OK;
+        if (ok && k == 0) { /* the same frame as a colour and depth PNG pair */
+            snprintf(path, sizeof path, "%s/dark_depth.png", dir);
+            ok = relief_depth_write(&f, path, RELIEF_DEPTH_PNG16, 0, err) == RELIEF_OK;
+            snprintf(path, sizeof path, "%s/dark_colour.png", dir);
+            ok = ok && relief_image_write(&(relief_image){W, H, 3, 8, 0, v->rgb}, path, err) ==
+                           RELIEF_OK;
+        }
     }
     free(v);
     snprintf(path, sizeof path, "%s/poses.txt", dir);

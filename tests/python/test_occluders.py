@@ -61,6 +61,24 @@ def test_remove_matches_cli(frame):
     assert np.array_equal(again.depth, out.depth)
 
 
+def test_views_match_cli(frame):
+    d, colour, depth, truth = frame
+    run("occluders", d / "dark_colour.png", "--depth", d / "dark_depth.png", "-o", d / "dv.png",
+        "--views", f"{d / 'left.png'},{d / 'right.png'}", "--poses", d / "poses.txt", "--quiet")
+    pose = [np.array([[1, 0, 0, t], [0, 1, 0, 0], [0, 0, 1, 0]], float) for t in (0.1, -0.1)]
+    views = [(relief.read_image(str(d / n)), p) for n, p in zip(("left.png", "right.png"), pose)]
+    dark_colour = relief.read_image(str(d / "dark_colour.png"))
+    dark_depth = read_png16(d / "dark_depth.png")
+    mask = relief.find_occluders(dark_colour, dark_depth, views=views)
+    assert np.array_equal(relief.read_image(str(d / "dv.png")) != 0, mask)
+    without = relief.find_occluders(dark_colour, dark_depth)
+    assert (mask & truth).sum() / (mask | truth).sum() > (without & truth).sum() / (without | truth).sum()
+    with pytest.raises(relief.ReliefError, match="pose"):
+        relief.find_occluders(colour, depth, views=[(views[0][0], np.eye(3))])
+    with pytest.raises(relief.ReliefError, match="frame's size"):
+        relief.find_occluders(colour, depth, views=[(views[0][0][:-1], pose[0])])
+
+
 def test_bad_arguments(frame):
     _, colour, depth, _ = frame
     with pytest.raises(relief.ReliefError, match="same size"):
