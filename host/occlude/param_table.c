@@ -18,8 +18,8 @@ static const relief_param table[] = {
     RP_REAL(T, min_support, "F", 1e-6, 1, "a background plane holds at least this share of "
             "the captured points, 1e-6..1 (default 0.03)"),
     RP_REAL(T, margin, "M", -HUGE_VAL, 1e9, "seeds lie more than M (depth units: metres) in "
-            "front of the background; <= 0 (default): 4 x the noise measured on it, at least "
-            "1 % of the median depth"),
+            "front of the background; <= 0 (default): 4 sigma(z), the noise measured on it as "
+            "sigma(z) = a z^2 (a structured-light camera's)"),
     RP_INT(T, window, "W", 3, 1025, "the growth's square around each seed, odd pixels "
            "(default 61, the paper's)"),
     RP_REAL(T, colour_distance, "D", 0, 200, "the growth's step: neighbours whose colours "

@@ -92,9 +92,11 @@ typedef struct relief_occluder_params {
     const relief_mesh *background_mesh; /* mesh: the surface (triangles), the
                                 frame's coordinates; read only then */
     double margin;           /* a seed is this far in front of the background,
-                                depth units; <= 0 (default): 4 x the noise
-                                measured on the background (at least 1 % of
-                                the median depth); else (0, 1e9] */
+                                depth units; <= 0 (default): 4 sigma(z) at the
+                                point's depth z, the noise measured on the
+                                background as sigma(z) = a z^2 (a
+                                structured-light camera's quantised
+                                disparity); else (0, 1e9] */
     int window;              /* the growth's square around each seed, odd
                                 pixels; 61 (the paper's), [3, 1025] */
     double colour_distance;  /* the growth's step, CIELAB delta E; 12, [0, 200] */
@@ -149,8 +151,9 @@ typedef struct relief_occluder_report {
     size_t on_background;    /* captured points within the margin of it */
     size_t behind;           /* captured points behind it by more */
     size_t no_background;    /* pixels whose ray meets no background */
-    double noise;            /* the background's noise, depth units (MAD) */
-    double margin;           /* the margin used */
+    double noise;            /* the background's noise a: sigma(z) = a z^2
+                                (from the median absolute residual) */
+    double margin;           /* the margin at the median depth */
     size_t seeds;            /* seed pixels kept */
     size_t seed_groups;      /* their connected groups */
     size_t seeds_dropped;    /* seed pixels in groups under min_area */

@@ -61,10 +61,14 @@ ok 'cmp -s "$tmp/out.pcd" "$tmp/out2.pcd"' "a given mask (the found one) gave ot
 expect 0 "" -- "$relief" remove-occluders "$tmp/colour.png" --depth "$tmp/depth.png" \
   -o "$tmp/c2.png" --depth-out "$tmp/d2.png" --quiet
 
-# office1: a real frame.
+# office1: a real frame (its removal, 5 s here and half a minute under the
+# sanitizers, in the default pass only: the synthetic removals above run the
+# same code in both).
 if [[ -f $data/office1.pcd ]]; then
   expect 0 "3 planes" -- "$relief" occluders "$data/office1.pcd" -o "$tmp/office.png"
-  expect 0 "" -- "$relief" remove-occluders "$data/office1.pcd" -o "$tmp/office.pcd" --quiet
+  if [[ ${RELIEF_TEST_PASS:-} != sanitize ]]; then
+    expect 0 "" -- "$relief" remove-occluders "$data/office1.pcd" -o "$tmp/office.pcd" --quiet
+  fi
 fi
 
 # Bad input: one line, exit 1, no output.
