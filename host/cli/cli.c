@@ -16,9 +16,10 @@
 static const char main_help[] =
     "usage: relief COMMAND [options]\n"
     "\n"
-    "Complete the hidden part of a partially captured surface: fit a plane,\n"
-    "sphere or cylinder, then grow the capture's relief and colour over the\n"
-    "missing part by non-parametric sampling.\n"
+    "Fill what scans, depth frames and photographs miss with detail sampled\n"
+    "from the capture itself (non-parametric sampling): a scan's hidden side, a\n"
+    "photograph's hole, a depth frame's missing pixels, a point set's hole, the\n"
+    "wall behind the things in front of it.\n"
     "\n"
     "commands:\n"
     "  complete IN -o OUT    fit, smooth completion and relief/colour growth\n"
@@ -43,8 +44,39 @@ static const char main_help[] =
     "\n"
     "  relief COMMAND --help    options of a command\n"
     "  relief --version         version and build options\n"
+    "  relief --man             the manual page, relief(1), in troff\n"
     "\n"
     "Exit status: 0 success, 1 bad input or usage, 2 internal or device failure.\n";
+
+/* Every command, in the order the manual lists them. */
+static const char *const commands[] = {
+    "complete", "smooth", "fit", "synth", "cut", "eval", "render", "image-fill", "depth-fill",
+    "complete-points", "occluders", "remove-occluders", "devices", NULL};
+
+/* relief(1): its head, then each command's section from the command's own
+ * spec (--help-man), the same words as its --help. */
+static int man_page(void)
+{
+    int rc = 0;
+    printf(".TH RELIEF 1 \"\" \"relief %s\" \"User Commands\"\n"
+           ".SH NAME\nrelief \\- fill what scans, depth frames and photographs miss\n"
+           ".SH SYNOPSIS\n.B relief\n.I COMMAND\n[options]\n"
+           ".SH DESCRIPTION\nrelief fills what a capture misses with detail sampled from the "
+           "capture itself (non\\-parametric sampling): a scan's hidden side, a photograph's "
+           "hole, a depth frame's missing pixels, a point set's hole, the wall behind the "
+           "things in front of it. Each command below is one call of the library, "
+           "librelief.\n.SH COMMANDS\n", RELIEF_VERSION_STRING);
+    for (const char *const *c = commands; *c && rc == 0; ++c) {
+        char *args[] = {"relief", (char *)*c, "--help-man", NULL};
+        fflush(stdout);
+        rc = relief_cli_main(3, args, 1);
+    }
+    printf(".SH EXIT STATUS\n0 success; 1 bad input or usage (one line on stderr names what "
+           "is wrong; no output is written); 2 an internal or device failure.\n"
+           ".SH SEE ALSO\nThe documentation in the source's docs/ folder, one page per "
+           "command.\n");
+    return rc;
+}
 
 int relief_cli_main(int argc, char **argv, int parse_only)
 {
@@ -58,6 +90,8 @@ int relief_cli_main(int argc, char **argv, int parse_only)
         fputs(main_help, stdout);
         return 0;
     }
+    if (strcmp(cmd, "--man") == 0)
+        return man_page();
     if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "-V") == 0) {
         printf("relief %s (OpenCL backend: %s)\n", RELIEF_VERSION_STRING,
 #ifdef RELIEF_HAVE_OPENCL

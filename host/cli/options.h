@@ -95,6 +95,13 @@ typedef struct cli_spec {
  * flag is shown against (--no-name when it is on). */
 void cli_help(const cli_spec *s, const void *params, FILE *f);
 
+/* The help in another form, from the same spec: CLI_HELP_MAN, the
+ * command's section of relief(1) (troff); CLI_HELP_MARKDOWN, its options
+ * as the table of its page in docs/. cli_parse answers --help-man and
+ * --help-markdown with them. */
+enum { CLI_HELP_TEXT = 1, CLI_HELP_MAN, CLI_HELP_MARKDOWN };
+void cli_help_as(const cli_spec *s, const void *params, FILE *f, int format);
+
 /* Parse argv: the shared options into cm, the table's into `params`, the
  * command's own through take(ctx, id, arg) (1 taken, 0 a bad value, said
  * on stderr). Returns 0 to go on, -1 after --help, else the exit status. */

@@ -119,13 +119,19 @@ int cli_given(int argc, char **argv, const char *opt)
     return 0;
 }
 
+/* 0, or the help asked: CLI_HELP_TEXT (-h, --help), CLI_HELP_MAN
+ * (--help-man) or CLI_HELP_MARKDOWN (--help-markdown). */
 static int asks_help(int argc, char **argv)
 {
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--") == 0)
             return 0;
         if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0)
-            return 1;
+            return CLI_HELP_TEXT;
+        if (strcmp(argv[i], "--help-man") == 0)
+            return CLI_HELP_MAN;
+        if (strcmp(argv[i], "--help-markdown") == 0)
+            return CLI_HELP_MARKDOWN;
     }
     return 0;
 }
@@ -135,9 +141,9 @@ int cli_parse(const cli_spec *s, cli_common *cm, void *params,
               char **argv)
 {
     option_table t;
-    int c;
-    if (asks_help(argc, argv)) { /* the defaults, whatever came before it */
-        cli_help(s, params, stdout);
+    int c, help = asks_help(argc, argv);
+    if (help) { /* the defaults, whatever came before it */
+        cli_help_as(s, params, stdout, help);
         return -1;
     }
     build(s, &t);
@@ -202,19 +208,12 @@ static void option_line(FILE *f, const char *shown, const char *help)
     wrap(f, help ? help : "", HELP_COLUMN, HELP_COLUMN);
 }
 
+static void param_shown(const relief_param *p, const void *params, char *shown, size_t n);
+
 static void param_line(FILE *f, const relief_param *p, const void *params)
 {
-    char shown[96], name[48], value[32] = "0";
-    int on = 0;
-    if (p->kind == RELIEF_PARAM_FLAG && params) {
-        relief_param_format(params, p, value, sizeof value);
-        on = strcmp(value, "1") == 0;
-    }
-    dashed(on ? "--[no-]" : "--", p->name, name, sizeof name);
-    if (p->kind == RELIEF_PARAM_FLAG)
-        snprintf(shown, sizeof shown, "%s", name);
-    else
-        snprintf(shown, sizeof shown, "%s %s", name, p->value ? p->value : "V");
+    char shown[96];
+    param_shown(p, params, shown, sizeof shown);
     option_line(f, shown, p->help);
 }
 
@@ -226,6 +225,126 @@ static void shared_lines(FILE *f, const cli_spec *s, unsigned which)
                         shared[i].flag == CLI_OUTPUT ? s->out_help
                         : shared[i].flag == CLI_MASK ? s->mask_help
                                                      : shared[i].help);
+}
+
+/* ------------------------------------------------- the man page and docs */
+
+/* `text` for troff: backslashes and dashes escaped, a line never starting
+ * with a control character. */
+static void troff(FILE *f, const char *text)
+{
+    for (const char *c = text; *c; ++c) {
+        if ((c == text || c[-1] == '\n') && (*c == '.' || *c == '\''))
+            fputs("\\&", f);
+        if (*c == '\\')
+            fputs("\\e", f);
+        else if (*c == '-')
+            fputs("\\-", f);
+        else
+            fputc(*c, f);
+    }
+}
+
+/* `text` for a Markdown table cell: '|' escaped, line breaks as spaces. */
+static void cell(FILE *f, const char *text)
+{
+    for (const char *c = text; *c; ++c)
+        if (*c == '|')
+            fputs("\\|", f);
+        else
+            fputc(*c == '\n' ? ' ' : *c, f);
+}
+
+/* One option, shown as `shown`, in the man page or a docs table. */
+static void doc_option(FILE *f, int format, const char *shown, const char *help)
+{
+    if (format == CLI_HELP_MAN) {
+        fputs(".TP\n.B ", f);
+        troff(f, shown);
+        fputc('\n', f);
+        troff(f, help ? help : "");
+        fputc('\n', f);
+    } else {
+        fputs("| `", f);
+        cell(f, shown);
+        fputs("` | ", f);
+        cell(f, help ? help : "");
+        fputs(" |\n", f);
+    }
+}
+
+/* The shown form of a parameter, as param_line writes it. */
+static void param_shown(const relief_param *p, const void *params, char *shown, size_t n)
+{
+    char name[48], value[32] = "0";
+    int on = 0;
+    if (p->kind == RELIEF_PARAM_FLAG && params) {
+        relief_param_format(params, p, value, sizeof value);
+        on = strcmp(value, "1") == 0;
+    }
+    dashed(on ? "--[no-]" : "--", p->name, name, sizeof name);
+    if (p->kind == RELIEF_PARAM_FLAG)
+        snprintf(shown, n, "%s", name);
+    else
+        snprintf(shown, n, "%s %s", name, p->value ? p->value : "V");
+}
+
+static void doc_shared(FILE *f, int format, const cli_spec *s, unsigned which)
+{
+    for (size_t i = 0; i < sizeof shared / sizeof shared[0]; ++i)
+        if (s->shared & which & shared[i].flag)
+            doc_option(f, format, shared[i].shown,
+                       shared[i].flag == CLI_OUTPUT ? s->out_help
+                       : shared[i].flag == CLI_MASK ? s->mask_help
+                                                    : shared[i].help);
+}
+
+/* The command's section of relief(1), or its docs page's option table:
+ * the same options, in the same order, with the same words as --help. */
+static void cli_help_doc(const cli_spec *s, const void *params, FILE *f, int format)
+{
+    char shown[96];
+    if (format == CLI_HELP_MAN) {
+        fprintf(f, ".SS relief %s\n.B relief %s\n", s->name, s->name);
+        troff(f, s->usage);
+        fputs("\n.PP\n", f);
+        for (const char *para = s->about; para && *para;) {
+            const char *end = strstr(para, "\n\n");
+            size_t n = end ? (size_t)(end - para) : strlen(para);
+            char buf[2048];
+            snprintf(buf, sizeof buf, "%.*s", (int)n, para);
+            troff(f, buf);
+            fputs("\n.PP\n", f);
+            para = end ? end + 2 : para + n;
+        }
+    } else {
+        fputs("| option | what it does |\n| --- | --- |\n", f);
+    }
+    doc_shared(f, format, s, CLI_OUTPUT | CLI_REPORT | CLI_MASK);
+    for (const cli_own *o = s->own; o && o->name; ++o) {
+        snprintf(shown, sizeof shown, "--%s%s%s", o->name, o->arg ? " " : "",
+                 o->arg ? o->arg : "");
+        doc_option(f, format, shown, o->help);
+    }
+    for (size_t i = 0; i < s->n_params; ++i)
+        if (!skipped(s, s->params[i].name)) {
+            param_shown(&s->params[i], params, shown, sizeof shown);
+            doc_option(f, format, shown, s->params[i].help);
+        }
+    doc_shared(f, format, s, CLI_SEED | CLI_QUIET | CLI_LIMIT);
+    if (s->tail && format == CLI_HELP_MAN) {
+        fputs(".PP\n", f);
+        troff(f, s->tail);
+        fputc('\n', f);
+    }
+}
+
+void cli_help_as(const cli_spec *s, const void *params, FILE *f, int format)
+{
+    if (format == CLI_HELP_TEXT)
+        cli_help(s, params, f);
+    else
+        cli_help_doc(s, params, f, format);
 }
 
 void cli_help(const cli_spec *s, const void *params, FILE *f)
