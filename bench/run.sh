@@ -5,7 +5,7 @@
 # (no case named: all six). Environment: OUT (output folder), BUILD (build
 # folder, default build), JOBS (build jobs, default nproc), SCALING_MAX.
 #
-# Cases (README.md, "Benchmarks", says what each measures):
+# Cases (docs/benchmarks.md says what each measures):
 #   1 throughput.csv   candidates scored per second, W 2..4 x R 1, 4, 8,
 #                      exhaustive and pruned, both backends in one process
 #   2 papers.csv       whole completions at the papers' sizes: paper 001's

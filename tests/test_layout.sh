@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The layering of host/ (README, Layout): each folder includes only itself,
+# The layering of host/ (docs/design.md, Layout): each folder includes only itself,
 # the public header (relief/), the shared math header (kernels/) where the
 # table allows it, and the folders listed for it; lower folders never include
 # higher ones. Also: every include names its folder, no source file sits
@@ -35,7 +35,7 @@ for f in *; do
 done
 for dir in */; do
   dir=${dir%/}
-  [[ -v allowed[$dir] ]] || { complain "host/$dir/: a folder the layering table does not know; add it to tests/test_layout.sh and README's Layout"; continue; }
+  [[ -v allowed[$dir] ]] || { complain "host/$dir/: a folder the layering table does not know; add it to tests/test_layout.sh and docs/design.md's Layout"; continue; }
   ok=" $dir relief ${allowed[$dir]} "
   while IFS=: read -r file line text; do
     name=${text#*\"}; name=${name%%\"*}

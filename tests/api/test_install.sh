@@ -22,6 +22,7 @@ libdir=$(dirname "$(find "$stage" -name librelief.so | head -1)")
 ok '[[ -f $stage/include/relief/relief.h && -f $stage/include/relief/image.h ]]' "headers not installed"
 ok '[[ -L $libdir/librelief.so && -f $libdir/librelief.a && -f $libdir/pkgconfig/relief.pc ]]' "libraries or relief.pc not installed"
 ok '[[ -x $stage/bin/relief ]]' "the program not installed"
+ok '[[ -s $stage/share/man/man1/relief.1 ]]' "the manual page relief(1) not installed"
 # The GIMP plug-in, where it is built: under the prefix, never outside it.
 if [[ -x $build/plugins/gimp/relief-heal-selection ]]; then
   ok '[[ -n $(find "$stage" -path "*/plug-ins/relief-heal-selection/relief-heal-selection") ]]' "the GIMP plug-in is not installed under the prefix"
