@@ -9,6 +9,8 @@
   manual page come from: one source);
 - docs/c-api.md's function index is the headers' RELIEF_API functions;
 - docs/usage.md's synopsis is the commands' own first --help lines;
+- each page's report table (<!-- report: FILE -->) lists the members of
+  the report its example wrote (default pass);
 - every fenced block marked as an example (```sh example, ```python
   example) runs, in order per file, in a scratch folder where build/, docs/
   and ../shared/ are the repository's (python ones with the project's
@@ -17,6 +19,7 @@
 
   check_docs.py SOURCE_DIR RELIEF [--update]   (--update rewrites the tables)
 """
+import json
 import os
 import re
 import subprocess
@@ -157,6 +160,46 @@ def examples(text):
     return re.findall(r"^```(sh|python) example\n(.*?)^```", text, flags=re.S | re.M)
 
 
+def describe(v):
+    if isinstance(v, dict):
+        return ", ".join(f"`{k}`" for k in v) or "an empty object"
+    if isinstance(v, list):
+        inner = describe(v[0]) if v and isinstance(v[0], dict) else ""
+        return "a list" + (f" of objects: {inner}" if inner else "")
+    return {str: "a string", bool: "true or false", type(None): "null (not measured)",
+            int: "a number", float: "a number"}[type(v)]
+
+
+def report_table(file):
+    """The members of a report an example wrote, one row each."""
+    data = json.load(open(file))
+    rows = [f"| `{k}` | {describe(v)} |" for k, v in data.items()]
+    return "| member | holds |\n| --- | --- |\n" + "\n".join(rows) + "\n"
+
+
+def check_reports(path, repo):
+    """Each <!-- report: FILE --> table: the members of FILE, as the page's
+    example wrote it."""
+    text = open(path).read()
+
+    def table(m):
+        file = os.path.join(repo, m.group(2))
+        if not os.path.exists(file):
+            fail(f"{os.path.relpath(path, src)}: no example wrote {m.group(2)}")
+            return m.group(0)
+        want = report_table(file)
+        if m.group(3) != want and not update:
+            fail(f"{os.path.relpath(path, src)}: the report table of {m.group(2)} differs from "
+                 "what the example wrote (tests/docs/check_docs.py --update)")
+        return m.group(1) + want + m.group(4)
+
+    new = re.sub(r"(<!-- report: (\S+) -->\n)(.*?)(<!-- end report -->)", table, text,
+                 flags=re.S)
+    if update and new != text:
+        open(path, "w").write(new)
+        print("updated", os.path.relpath(path, src))
+
+
 def run_examples(path, blocks, py):
     with tempfile.TemporaryDirectory() as tmp:
         repo = os.path.join(tmp, "repo")
@@ -181,6 +224,7 @@ def run_examples(path, blocks, py):
                 fail(f"{where} exited {r.returncode}:\n{code}{r.stderr[-2000:]}")
             else:
                 print(f"{where}: ran in {time.time() - t:.1f} s")
+        check_reports(path, repo)
 
 
 def main():
