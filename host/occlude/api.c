@@ -5,6 +5,7 @@
  * success. */
 #include "relief/relief.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -112,8 +113,11 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
                            "10..1000000", p->iterations);
     if (check_intrinsics(p, err) != RELIEF_OK)
         return RELIEF_E_RANGE;
-    if (check_views(p, err) != RELIEF_OK)
-        return err ? err->status : RELIEF_E_RANGE;
+    {
+        relief_status st = check_views(p, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
     return relief_run_options_validate(&p->run, err);
 }
 
@@ -251,6 +255,21 @@ static relief_status check_frame(const relief_depth_image *f, relief_error *err)
     return RELIEF_OK;
 }
 
+/* A background mesh's indices and positions, before they are read. */
+static relief_status check_mesh(const relief_occluder_params *p, relief_error *err)
+{
+    if (p->background != RELIEF_BACKGROUND_MESH)
+        return RELIEF_OK;
+    relief_status st = relief_mesh_validate(p->background_mesh, err);
+    if (st != RELIEF_OK) {
+        relief_fail_prefix(err, "background_mesh: ");
+        return st;
+    }
+    if (relief_mesh_triangle_count(p->background_mesh) == 0)
+        return relief_fail(err, RELIEF_E_USAGE, "background_mesh: no triangles");
+    return RELIEF_OK;
+}
+
 static relief_status check_memory(const relief_depth_image *f, const relief_run_options *run,
                                   uint64_t extra, relief_error *err)
 {
@@ -272,6 +291,15 @@ static void background_counts(const occ_scene *s, relief_occluder_report *r)
     }
 }
 
+/* Is a captured point left outside the mask? */
+static int any_background_left(const occ_scene *s, const uint8_t *mask)
+{
+    for (size_t i = 0; i < (size_t)s->width * s->height; ++i)
+        if (!mask[i] && isfinite(s->pts[3 * i + 2]))
+            return 1;
+    return 0;
+}
+
 /* The scene's fields of the report. */
 static void scene_report(const occ_scene *s, relief_occluder_report *r)
 {
@@ -291,7 +319,6 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
                           relief_error *err)
 {
     occ_counts c;
-    size_t n = (size_t)f->width * f->height;
     relief_status st = occ_scene_points(f, p, s, err);
     if (st == RELIEF_OK)
         st = occ_background(s, p, err);
@@ -312,9 +339,9 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
                            "in front of it in a group of min_area (%d) pixels; no occluder to "
                            "mark", occ_margin(s, s->median_z),
                            p->min_area);
-    if (c.total >= n)
+    if (!any_background_left(s, mask))
         return relief_fail(err, RELIEF_E_RANGE, "everything is foreground: the mask covers "
-                           "every pixel; give a larger margin or the background");
+                           "every captured point; give a larger margin or the background");
     return RELIEF_OK;
 }
 
@@ -332,6 +359,8 @@ relief_status relief_find_occluders(const relief_depth_image *f, const relief_oc
         st = relief_fail(err, RELIEF_E_USAGE, "mask: NULL");
     if (st == RELIEF_OK)
         st = relief_occluder_params_validate(p, err);
+    if (st == RELIEF_OK)
+        st = check_mesh(p, err);
     if (st == RELIEF_OK)
         st = check_memory(f, &p->run, 4u * (unsigned)p->n_views, err);
     if (st != RELIEF_OK)
@@ -508,8 +537,10 @@ static relief_status fill_depth(const relief_depth_image *f, const occ_scene *s,
     size_t known = 0;
     for (size_t i = 0; i < w->n; ++i) {
         double c = s->clearance[i];
-        int bg = isfinite(c) && c <= occ_margin(s, s->pts[3 * i + 2]) && isfinite(s->surface[i]);
-        w->residual[i] = bg && !w->mask[i] ? (float)(f->z[i] - s->surface[i]) : NAN;
+        int bg = fabs(c) <= occ_margin(s, s->pts[3 * i + 2]) && isfinite(s->surface[i]);
+        float r = (float)(f->z[i] - s->surface[i]);
+        /* depth-fill takes 0 for missing: an exact 0 known is the least float */
+        w->residual[i] = bg && !w->mask[i] ? (r == 0.0f ? FLT_MIN : r) : NAN;
         known += bg && !w->mask[i];
     }
     dp.truth = NULL;
@@ -524,6 +555,7 @@ static relief_status fill_depth(const relief_depth_image *f, const occ_scene *s,
             if (w->mask[i])
                 w->residual[i] = NAN;
         memset(rep, 0, sizeof *rep);
+        relief_error_clear(err);
         st = RELIEF_OK;
     }
     return st;
@@ -619,6 +651,8 @@ relief_status relief_remove_occluders(relief_depth_image *f, const relief_image 
         st = relief_fail(err, RELIEF_E_USAGE, "params: NULL");
     if (st == RELIEF_OK)
         st = relief_occluder_params_validate(&p->find, err);
+    if (st == RELIEF_OK)
+        st = check_mesh(&p->find, err);
     if (st == RELIEF_OK)
         st = relief_image_fill_params_validate(&p->colour, err);
     if (st == RELIEF_OK)

@@ -265,7 +265,7 @@ static size_t refit(const plane_search *ps, relief_occluder_plane *pl, uint8_t *
  * its inliers (sel) and their count. */
 static size_t polish(const plane_search *ps, relief_occluder_plane *pl, uint8_t *sel)
 {
-    size_t m = refit_count(ps, pl, sel);
+    size_t m;
     for (int r = 0; r < REFITS; ++r) {
         relief_occluder_plane q = *pl;
         if (!refit(ps, &q, sel) || score(ps, &q) < 0 || q.offset < ps->min_offset)
@@ -294,13 +294,14 @@ static double coherence(const occ_scene *s, const uint8_t *sel)
 }
 
 /* The noise of the pixels sel marks: their median |distance| / z^2 as a
- * standard deviation's coefficient (sigma(z) = noise x z^2). */
+ * standard deviation's coefficient (sigma(z) = noise x z^2); -1 when
+ * memory runs out. */
 static double plane_noise(const occ_scene *s, const relief_occluder_plane *pl, const uint8_t *sel)
 {
     size_t n = (size_t)s->width * s->height, m = 0;
     double *d = malloc(n * sizeof *d), med;
     if (!d)
-        return 0.0;
+        return -1.0;
     for (size_t i = 0; i < n; ++i)
         if (sel[i])
             d[m++] = fabs(signed_dist(pl, s->pts + 3 * i)) / (s->pts[3 * i + 2] * s->pts[3 * i + 2]);
@@ -363,8 +364,8 @@ static relief_status find_planes(occ_scene *s, const relief_occluder_params *p, 
         m = found ? polish(&ps, &pl, sel) : 0;
         if (!found || m < need || coherence(s, sel) < MIN_COHERENCE)
             break;
-        if (k == 0)
-            ps.noise = s->noise = plane_noise(s, &pl, sel);
+        if (k == 0 && (ps.noise = s->noise = plane_noise(s, &pl, sel)) < 0.0)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the noise's residuals");
         s->plane[k] = pl;
         s->n_planes = k + 1;
         claim(s, k, taken);
@@ -419,6 +420,10 @@ static void draw_triangle(occ_scene *s, const double *pos, const uint32_t *t)
     }
     area = (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]);
     if (!(fabs(area) > 1e-12))
+        return;
+    /* Off the image (and no int conversion of a far bound). */
+    if (fmax(u[0], fmax(u[1], u[2])) < 0.0 || fmin(u[0], fmin(u[1], u[2])) > s->width - 1.0 ||
+        fmax(v[0], fmax(v[1], v[2])) < 0.0 || fmin(v[0], fmin(v[1], v[2])) > s->height - 1.0)
         return;
     u0 = (int)fmax(0.0, ceil(fmin(u[0], fmin(u[1], u[2]))));
     u1 = (int)fmin(s->width - 1.0, floor(fmax(u[0], fmax(u[1], u[2]))));

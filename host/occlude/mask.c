@@ -117,29 +117,16 @@ static void drop_small(uint8_t *seed, int w, int h, int min_area, size_t *queue,
         seed[i] = seed[i] == 2;
 }
 
-/* Seeds where the depth is missing and the views see parallax, less a
- * band of PARALLAX_ERODE pixels at their edges: a window that straddles
- * an occluder's edge follows the edge's parallax, so the background beside
- * an occluder looks displaced too (the window's fattening). dist:
- * scratch. */
-#define PARALLAX_ERODE 0
-static void parallax_seeds(const occ_scene *s, occ_views *v, uint8_t *seed, uint16_t *dist,
-                           occ_counts *c)
+/* Seeds where the depth is missing and the views see parallax. */
+static void parallax_seeds(const occ_scene *s, occ_views *v, uint8_t *seed, occ_counts *c)
 {
     size_t n = (size_t)s->width * s->height;
-    uint8_t *not_fg = calloc(n, 1);
-    if (!v->cue || !not_fg) {
-        free(not_fg);
+    if (!v->cue)
         return;
-    }
     for (size_t i = 0; i < n; ++i)
-        not_fg[i] = !seed[i] && !(!isfinite(s->pts[3 * i + 2]) &&
-                                  occ_views_cue(v, i) == OCC_CUE_FOREGROUND);
-    chess_distance(not_fg, s->width, s->height, PARALLAX_ERODE + 1, dist);
-    for (size_t i = 0; i < n; ++i)
-        if (!seed[i] && !not_fg[i] && dist[i] > PARALLAX_ERODE)
+        if (!seed[i] && !isfinite(s->pts[3 * i + 2]) &&
+            occ_views_cue(v, i) == OCC_CUE_FOREGROUND)
             seed[i] = 1, ++c->parallax_seeds;
-    free(not_fg);
 }
 
 /* ------------------------------------------------------------ growth */
@@ -151,7 +138,8 @@ typedef struct grower {
     const relief_occluder_params *p;
     occ_views *views;          /* the second cue (none: every cue unknown) */
     uint8_t *mask;
-    int32_t *origin;           /* the seed each mask pixel was reached from */
+    uint32_t *origin;          /* the seed each mask pixel was reached from (a
+                                  frame has at most 65535^2 < 2^32 pixels) */
     size_t *queue;
 } grower;
 
@@ -171,8 +159,9 @@ static int joins(const grower *g, size_t p, size_t q, size_t **count, occ_counts
         return 0; /* the views see the background there */
     if (!isfinite(s->pts[3 * q + 2]))
         *count = &c->grown_missing;
-    else if (g->near_seed[q] <= g->p->edge)
-        *count = &c->grown_edge;
+    else if (g->near_seed[q] <= g->p->edge &&
+             !(s->clearance[q] < -occ_margin(s, s->pts[3 * q + 2])))
+        *count = &c->grown_edge; /* the rim, not what lies behind the background */
     else
         return 0;
     return 1;
@@ -188,7 +177,7 @@ static void grow(grower *g, occ_counts *c)
     static const int step[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
     for (size_t i = 0; i < n; ++i)
         if (g->mask[i]) {
-            g->origin[i] = (int32_t)i;
+            g->origin[i] = (uint32_t)i;
             g->queue[tail++] = i;
         }
     while (head < tail) {
@@ -223,7 +212,7 @@ static relief_status mask_stages(const occ_scene *s, const relief_occluder_param
     g->views = &views;
     for (size_t i = 0; i < n; ++i)
         g->mask[i] = s->clearance[i] > occ_margin(s, s->pts[3 * i + 2]); /* NaN: 0 */
-    parallax_seeds(s, &views, g->mask, dist, c);
+    parallax_seeds(s, &views, g->mask, c);
     drop_small(g->mask, s->width, s->height, p->min_area, g->queue, c);
     chess_distance(g->mask, s->width, s->height, (uint16_t)(p->edge + 1), dist);
     grow(g, c);
@@ -246,7 +235,7 @@ relief_status occ_mask(const occ_scene *s, const uint8_t *rgb, const relief_occl
     size_t n = (size_t)s->width * s->height;
     float *lab = malloc(n * 3 * sizeof *lab);
     uint16_t *dist = malloc(n * sizeof *dist);
-    int32_t *origin = malloc(n * sizeof *origin);
+    uint32_t *origin = malloc(n * sizeof *origin);
     size_t *queue = malloc(n * sizeof *queue);
     relief_status st;
     memset(counts, 0, sizeof *counts);

@@ -29,16 +29,19 @@
  *    square around it, into 4-neighbours whose colour differs from the
  *    pixel they are reached from by at most `colour_distance` (CIELAB
  *    delta E 1976) and whose depth is missing or, within `edge` pixels of
- *    a seed, on the background (the misregistered rim of a depth camera).
+ *    a seed, not behind the background (the misregistered rim of a depth
+ *    camera).
  * 5. The mask, dilated by `dilate` pixels: marking background as
  *    foreground is preferred to the reverse.
  * With registered neighbouring views (the paper's eq. 2.1), each pixel's
  * background point is projected into them and its window's colour
  * searched for around there: the larger displacement found is the
  * correspondence error. The views decide where the depth cannot: a pixel
- * whose depth is missing and whose error is over `parallax` pixels is a
- * seed; one whose error is at most that, on a textured window, is
- * background and growth stops there.
+ * whose depth is missing and which every view matches displaced by over
+ * `parallax` pixels towards the camera (the smallest displacement over
+ * it: one view seeing behind an occluder's edge does not count) is a
+ * seed; one whose error (the larger displacement) is at most `parallax`,
+ * on a textured window, is background and growth stops there.
  */
 #ifndef RELIEF_OCCLUDERS_H
 #define RELIEF_OCCLUDERS_H
@@ -86,7 +89,7 @@ typedef struct relief_occluder_view {
 
 typedef struct relief_occluder_params {
     relief_background background; /* default planes */
-    int max_planes;          /* planes: at most this many; 3, [1, 8] */
+    int max_planes;          /* planes: at most this many; 4, [1, 8] */
     double min_support;      /* a plane holds at least this share of the
                                 captured points; 0.03, [1e-6, 1] */
     const relief_mesh *background_mesh; /* mesh: the surface (triangles), the
@@ -202,7 +205,7 @@ RELIEF_API relief_remove_params relief_remove_params_default(void);
 
 /* What a removal did: the finding's report, then the two fills'. */
 typedef struct relief_remove_report {
-    relief_occluder_report find;
+    relief_occluder_report find; /* its json NULL: the removal's json holds it */
     size_t replaced;          /* occluder pixels given the surface behind */
     size_t left_missing;      /* occluder pixels whose ray meets no background:
                                  depth NaN */
@@ -215,8 +218,9 @@ typedef struct relief_remove_report {
 
 RELIEF_API void relief_remove_report_free(relief_remove_report *rep);
 
-/* Remove the occluders of `f` in place: `mask` (f's size, non-zero =
- * occluder; NULL: found by relief_find_occluders with p->find) is filled
+/* Remove the occluders of `f` in place: `mask` (f's size, non-zero in any
+ * channel but alpha = occluder; NULL: found by relief_find_occluders with
+ * p->find) is filled
  * in colour by relief_image_fill (p->colour) and in depth by
  * relief_depth_fill (p->depth) on the depth's residual about the
  * background surface, so that the points behind lie on it with the

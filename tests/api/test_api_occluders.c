@@ -346,6 +346,7 @@ static void test_views(void)
 static void test_bad(scene *s)
 {
     relief_error err = {RELIEF_OK, ""};
+    relief_status st;
     relief_occluder_params p = relief_occluder_params_default();
     relief_image m = {0, 0, 0, 0, 0, NULL};
     relief_depth_image f = frame_of(s, 1);
@@ -361,6 +362,22 @@ static void test_bad(scene *s)
     p.background = RELIEF_BACKGROUND_MESH;
     CHECK_STATUS(relief_find_occluders(&f, &p, &m, NULL, &err), RELIEF_E_USAGE, err,
                  "background_mesh");
+    {
+        /* A background mesh whose triangle names a vertex it lacks. */
+        relief_mesh *bad = NULL;
+        if (relief_mesh_create(3, 1, 0, &bad, &err) == RELIEF_OK) {
+            double *v = relief_mesh_positions(bad);
+            uint32_t *tri = relief_mesh_triangles(bad);
+            const double corners[9] = {-1, -1, 3, 1, -1, 3, 0, 1, 3};
+            memcpy(v, corners, sizeof corners);
+            tri[0] = 0, tri[1] = 1, tri[2] = 7;
+            p.background_mesh = bad;
+            st = relief_find_occluders(&f, &p, &m, NULL, &err);
+            CHECK(st != RELIEF_OK && strstr(err.message, "background_mesh"),
+                  "a mesh with a triangle past its vertices: %s", err.message);
+            relief_mesh_destroy(bad);
+        }
+    }
     p = relief_occluder_params_default();
     if (!t)
         return;
