@@ -14,7 +14,7 @@ PACKAGES=(cmake make gcc g++ pkg-config
           libopenmesh-dev libflann-dev libqhull-dev zlib1g-dev libpng-dev libjpeg-dev liblzf-dev
           ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           clang libclang-rt-dev valgrind
-          python3 python3-venv python3-dev ninja-build
+          python3 python3-venv python3-dev ninja-build man-db
           gimp libgimp2.0-dev python3-open3d)
 # The Python package's build and test tools, from PyPI into .venv.
 # dask runs the batch recipe; trimesh, OpenCV and scikit-image, the interop
