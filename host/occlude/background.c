@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "base/linalg.h"
 #include "base/rng.h"
@@ -42,12 +43,6 @@ void occ_scene_free(occ_scene *s)
     free(s->surface);
     free(s->clearance);
     memset(s, 0, sizeof *s);
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 /* The pixel ray (x / z, y / z, 1) of pixel i. */
@@ -109,7 +104,7 @@ relief_status occ_scene_points(const relief_depth_image *f, const relief_occlude
     }
     s->captured = m;
     if (m >= 3) {
-        qsort(zs, m, sizeof *zs, cmp_double);
+        qsort(zs, m, sizeof *zs, relief_cmp_double);
         s->median_z = zs[m / 2];
     }
     free(zs);
