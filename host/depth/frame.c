@@ -53,6 +53,13 @@ static int masked(const relief_image *m, int x, int y)
     return 0;
 }
 
+void relief_depth_mask_bits(const relief_image *mask, uint8_t *bits)
+{
+    for (int y = 0; y < mask->height; ++y)
+        for (int x = 0; x < mask->width; ++x)
+            bits[(size_t)y * mask->width + x] = (uint8_t)masked(mask, x, y);
+}
+
 void relief_depth_missing(const relief_depth_image *f, const relief_image *mask,
                           uint8_t *missing, size_t *in_input, size_t *by_mask)
 {

@@ -17,6 +17,10 @@
 relief_status relief_depth_mask_check(const relief_image *mask, int width, int height,
                                       relief_error *err);
 
+/* bits[i] (width x height) = 1 where `mask` (checked) is non-zero in any
+ * channel but alpha, else 0. */
+void relief_depth_mask_bits(const relief_image *mask, uint8_t *bits);
+
 /* missing[i] (width x height) = 1 where f's z is not finite or 0, or where
  * `mask` (may be NULL; checked) is non-zero in any channel but alpha.
  * *in_input gets the pixels missing in f, *by_mask those known in f but

@@ -480,20 +480,9 @@ static relief_status removal_alloc(removal *w, const relief_depth_image *f, reli
 static relief_status given_mask(const relief_image *m, const relief_depth_image *f, uint8_t *out,
                                 relief_error *err)
 {
-    relief_depth_image probe = {f->width, f->height, NULL, NULL, NULL, RELIEF_DEPTH_PFM};
-    float *nan_z = malloc(f->width * (size_t)f->height * sizeof *nan_z);
-    size_t in_input, by_mask, n = (size_t)f->width * f->height;
     relief_status st = relief_depth_mask_check(m, f->width, f->height, err);
-    if (st == RELIEF_OK && !nan_z)
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask");
-    if (st == RELIEF_OK) {
-        /* A frame with every depth known: what is missing is the mask's. */
-        for (size_t i = 0; i < n; ++i)
-            nan_z[i] = 1.0f;
-        probe.z = nan_z;
-        relief_depth_missing(&probe, m, out, &in_input, &by_mask);
-    }
-    free(nan_z);
+    if (st == RELIEF_OK)
+        relief_depth_mask_bits(m, out);
     return st;
 }
 
