@@ -25,28 +25,22 @@ static const char *const frame_help =
     "image (PNG or JPEG) with --depth, its registered 16-bit depth PNG (--scale values per "
     "metre, default 5000; --intrinsics, default a Kinect's scaled to the width).";
 
-static const cli_own find_own[] = {
-    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth"},
-    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect)"},
-    {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "
-     "the frame's camera coordinates), not planes found in the depth"},
-    {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},
-    {"views", OC_VIEWS, "V1,V2", "registered neighbouring views (PNG, JPEG, or PCD with "
-     "colour; IN's size and camera): paper 004's second cue, eq. 2.1"},
-    {"poses", OC_POSES, "P.txt", "the views' poses, one line each: R and t as 12 numbers, "
-     "row by row (x_view = R x + t, x in IN's camera coordinates); '#' starts a comment"},
-    {NULL, 0, NULL, NULL}};
+/* The options both commands take: the frame, the background, the views. */
+#define FIND_OWN                                                                          \
+    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth"},   \
+    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect)"}, \
+    {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "  \
+     "the frame's camera coordinates), not planes found in the depth"},                    \
+    {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},          \
+    {"views", OC_VIEWS, "V1,V2", "registered neighbouring views (PNG, JPEG, or PCD with "   \
+     "colour; IN's size and camera): paper 004's second cue, eq. 2.1"},                    \
+    {"poses", OC_POSES, "P.txt", "the views' poses, one line each: R and t as 12 numbers, " \
+     "row by row (x_view = R x + t, x in IN's camera coordinates); '#' starts a comment"}
+
+static const cli_own find_own[] = {FIND_OWN, {NULL, 0, NULL, NULL}};
 
 static const cli_own remove_own[] = {
-    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth"},
-    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect)"},
-    {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "
-     "the frame's camera coordinates), not planes found in the depth"},
-    {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},
-    {"views", OC_VIEWS, "V1,V2", "registered neighbouring views (PNG, JPEG, or PCD with "
-     "colour; IN's size and camera): paper 004's second cue, eq. 2.1"},
-    {"poses", OC_POSES, "P.txt", "the views' poses, one line each: R and t as 12 numbers, "
-     "row by row (x_view = R x + t, x in IN's camera coordinates); '#' starts a comment"},
+    FIND_OWN,
     {"occluders", OC_SAVE_MASK, "MASK.png", "the occluder mask used (255 = occluder)"},
     {"depth-out", OC_DEPTH_OUT, "D.png", "(colour and depth input) the repaired depth, a "
      "16-bit PNG at --scale; required with --depth"},
