@@ -166,6 +166,30 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     return (out, _report(report, True)) if return_report else out
 
 
+def _depth_in(d, png_scale):
+    """A depth array as the engines take it: float32 metres (or the input's
+    units), NaN missing; uint16 is a depth PNG's values, png_scale per
+    metre, 0 missing."""
+    if d.dtype == np.uint16:
+        if not png_scale > 0:
+            _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
+        return np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
+    if d.dtype in (np.float32, np.float64):
+        return np.array(d, dtype=np.float32, order="C", copy=True)
+    _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+
+
+def _depth_out(d, z, filled, png_scale):
+    """The engine's z back in d's dtype: uint16 takes z where `filled` (a
+    filled depth rounds to at least 1; still missing stays 0) and keeps d's
+    values elsewhere; floats are z."""
+    if d.dtype != np.uint16:
+        return z.astype(d.dtype)
+    v = np.rint(np.nan_to_num(z, nan=0.0) * np.float64(png_scale))
+    v = np.where(filled & (v < 1) & ~np.isnan(z), 1, v)
+    return np.where(filled, np.clip(v, 0, 65535), d).astype(np.uint16)
+
+
 def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
                png_scale=5000.0, progress=None, return_report=False, **params):
     """Repair a depth frame (paper 003): its missing pixels (0, NaN or inf,
@@ -177,26 +201,14 @@ def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
     same dtype: uint16 keeps 0 where still missing, floats NaN.
     """
     d = _array("depth", depth, (2,))
-    if d.dtype == np.uint16:
-        if not png_scale > 0:
-            _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
-        z = np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
-    elif d.dtype in (np.float32, np.float64):
-        z = np.array(d, dtype=np.float32, order="C", copy=True)
-    else:
-        _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+    z = _depth_in(d, png_scale)
     if z.size == 0:
         _fail("usage", f"depth: shape {d.shape} is empty")
     m = None if mask is None else _mask(mask, z.shape)
     kw = _params(dict(params, variant=variant, seed=seed, backend=backend))
     (report,) = _check(_relief.depth_fill(z, m, kw, _progress(progress)))
-    if d.dtype == np.uint16:
-        v = np.rint(np.nan_to_num(z, nan=0.0) * np.float64(png_scale))
-        filled = (d == 0) | (m != 0 if m is not None else False)
-        v = np.where(filled & (v < 1) & ~np.isnan(z), 1, v)  # a filled depth rounds to >= 1
-        out = np.where(filled, np.clip(v, 0, 65535), d).astype(np.uint16)
-    else:
-        out = z.astype(d.dtype)
+    filled = (d == 0) | (m != 0 if m is not None else False)
+    out = _depth_out(d, z, filled, png_scale)
     return (out, _report(report, True)) if return_report else out
 
 
@@ -225,14 +237,7 @@ def _rgbd(colour, depth, points, png_scale):
               "same size (registered)")
     if d.size == 0:
         _fail("usage", f"depth: shape {d.shape} is empty")
-    if d.dtype == np.uint16:
-        if not png_scale > 0:
-            _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
-        z = np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
-    elif d.dtype in (np.float32, np.float64):
-        z = np.array(d, dtype=np.float32, order="C", copy=True)
-    else:
-        _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+    z = _depth_in(d, png_scale)
     xyz = None
     if points is not None:
         xyz = np.array(_array("points", points, (3,)), dtype=np.float32, order="C", copy=True)
@@ -308,12 +313,7 @@ def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None, 
         z, xyz, rgb, m, colours, poses, kw, _params(dict(colour_params or {}, seed=seed)),
         _params(dict(depth_params or {}, seed=seed))))
     used = np.asarray(used).reshape(z.shape).astype(bool)
-    if d.dtype == np.uint16:
-        v = np.clip(np.rint(np.nan_to_num(z, nan=0.0) * np.float64(png_scale)), 0, 65535)
-        v = np.where(used & (v < 1) & ~np.isnan(z), 1, v)
-        out = np.where(used, v, d).astype(np.uint16)
-    else:
-        out = z.astype(d.dtype)
+    out = _depth_out(d, z, used, png_scale)
     result = Removed(rgb, out, xyz, used)
     return (result, _report(report, True)) if return_report else result
 
