@@ -77,43 +77,46 @@ def commands():
     return re.findall(r"^  ([a-z][a-z-]*)", block, flags=re.M)
 
 
-def check_options(path, text, seen):
-    blocks = re.compile(r"(<!-- options: ([a-z-]+) -->\n)(.*?)(<!-- end options -->)", re.S)
+def generated(path, marker, make):
+    """Each block of the page between <!-- MARKER[: ARG] --> and <!-- end
+    MARKER --> must hold what make(ARG) returns, (text, what it is); None:
+    nothing to compare. --update writes the text in."""
+    text = open(path).read()
+    pattern = re.compile(rf"(<!-- {marker}(?:: (\S+))? -->\n)(.*?)(<!-- end {marker} -->)", re.S)
 
-    def table(m):
-        cmd = m.group(2)
-        seen.add(cmd)
-        want = subprocess.run([relief, cmd, "--help-markdown"], capture_output=True,
-                              text=True).stdout
-        if m.group(3) != want:
-            if not update:
-                fail(f"{os.path.relpath(path, src)}: the options of {cmd} differ from "
-                     f"`relief {cmd} --help-markdown` (tests/docs/check_docs.py --update)")
+    def block(m):
+        made = make(m.group(2))
+        if made is None:
+            return m.group(0)
+        want, what = made
+        if m.group(3) != want and not update:
+            fail(f"{os.path.relpath(path, src)}: {what} differs "
+                 "(tests/docs/check_docs.py --update)")
         return m.group(1) + want + m.group(4)
 
-    new = blocks.sub(table, text)
+    new = pattern.sub(block, text)
     if update and new != text:
         open(path, "w").write(new)
         print("updated", os.path.relpath(path, src))
 
 
-def check_usages(path, text):
+def check_options(path, seen):
+    """Each command's option table: what relief CMD --help-markdown prints."""
+    def table(cmd):
+        seen.add(cmd)
+        out = subprocess.run([relief, cmd, "--help-markdown"], capture_output=True, text=True)
+        return out.stdout, f"the option table of {cmd} against `relief {cmd} --help-markdown`"
+
+    generated(path, "options", table)
+
+
+def usages(_):
     """docs/usage.md's synopsis: every command's first --help line."""
-    def lines(m):
-        want = "```\n"
-        for cmd in commands():
-            out = subprocess.run([relief, cmd, "--help"], capture_output=True, text=True).stdout
-            want += out.split("\n", 1)[0].replace("usage: ", "", 1) + "\n"
-        want += "```\n"
-        if m.group(2) != want and not update:
-            fail(f"{os.path.relpath(path, src)}: the usages differ from the commands' --help "
-                 "(tests/docs/check_docs.py --update)")
-        return m.group(1) + want + m.group(3)
-
-    new = re.sub(r"(<!-- usages -->\n)(.*?)(<!-- end usages -->)", lines, text, flags=re.S)
-    if update and new != text:
-        open(path, "w").write(new)
-        print("updated", os.path.relpath(path, src))
+    want = "```\n"
+    for cmd in commands():
+        out = subprocess.run([relief, cmd, "--help"], capture_output=True, text=True).stdout
+        want += out.split("\n", 1)[0].replace("usage: ", "", 1) + "\n"
+    return want + "```\n", "the usages against the commands' --help"
 
 
 def api_index():
@@ -141,21 +144,6 @@ def api_index():
     return out + "\n"
 
 
-def check_api(path, text):
-    """docs/c-api.md's index: the headers' functions."""
-    def index(m):
-        want = api_index()
-        if m.group(2) != want and not update:
-            fail(f"{os.path.relpath(path, src)}: the function index differs from "
-                 "include/relief/*.h (tests/docs/check_docs.py --update)")
-        return m.group(1) + want + m.group(3)
-
-    new = re.sub(r"(<!-- api -->\n)(.*?)(<!-- end api -->)", index, text, flags=re.S)
-    if update and new != text:
-        open(path, "w").write(new)
-        print("updated", os.path.relpath(path, src))
-
-
 def examples(text):
     return re.findall(r"^```(sh|python) example\n(.*?)^```", text, flags=re.S | re.M)
 
@@ -180,24 +168,14 @@ def report_table(file):
 def check_reports(path, repo):
     """Each <!-- report: FILE --> table: the members of FILE, as the page's
     example wrote it."""
-    text = open(path).read()
-
-    def table(m):
-        file = os.path.join(repo, m.group(2))
+    def table(name):
+        file = os.path.join(repo, name)
         if not os.path.exists(file):
-            fail(f"{os.path.relpath(path, src)}: no example wrote {m.group(2)}")
-            return m.group(0)
-        want = report_table(file)
-        if m.group(3) != want and not update:
-            fail(f"{os.path.relpath(path, src)}: the report table of {m.group(2)} differs from "
-                 "what the example wrote (tests/docs/check_docs.py --update)")
-        return m.group(1) + want + m.group(4)
+            fail(f"{os.path.relpath(path, src)}: no example wrote {name}")
+            return None
+        return report_table(file), f"the report table of {name} against what the example wrote"
 
-    new = re.sub(r"(<!-- report: (\S+) -->\n)(.*?)(<!-- end report -->)", table, text,
-                 flags=re.S)
-    if update and new != text:
-        open(path, "w").write(new)
-        print("updated", os.path.relpath(path, src))
+    generated(path, "report", table)
 
 
 def run_examples(path, blocks, py):
@@ -235,9 +213,10 @@ def main():
     for path in pages():
         text = open(path).read()
         check_links(path, text)
-        check_options(path, text, seen)
-        check_usages(path, open(path).read())
-        check_api(path, open(path).read())
+        check_options(path, seen)
+        generated(path, "usages", usages)
+        generated(path, "api", lambda _: (api_index(), "the function index against "
+                                          "include/relief/*.h"))
         blocks = examples(open(path).read())
         total += len(blocks)
         if run and blocks:
