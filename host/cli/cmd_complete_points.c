@@ -138,10 +138,11 @@ static int check_files(int argc, char **argv, points_cli *pc, relief_grid_search
         if (cli_check_outputs(cmd, ins, 2, pc->outs, 3))
             return EXIT_USAGE;
     }
-    if ((cli_given(argc, argv, "--backend") || cli_given(argc, argv, "--device")) &&
+    if ((pc->p->run.backend == RELIEF_BACKEND_OPENCL || cli_given(argc, argv, "--device")) &&
         search == RELIEF_GRID_SEARCH_KDTREE)
-        return cli_usage_error(cmd, "%s--backend and --device choose where --grid-search brute "
-                               "runs; the kd-tree runs on the host", "");
+        return cli_usage_error(cmd, "%s--backend opencl and --device run --grid-search brute "
+                               "only; the kd-tree runs on the host (--backend scalar, host or "
+                               "auto)", "");
     return 0;
 }
 

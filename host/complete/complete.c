@@ -121,6 +121,7 @@ static relief_status smooth_base(relief_complete_run *r, relief_error *err)
         return st;
     pp.max_hole = cp->max_hole;
     pp.hole_select = select;
+    pp.threads = r->st.params.backend == RELIEF_BACKEND_SCALAR ? 1 : 0; /* as complete-points */
     st = relief_points_base_surface(r->capture, &pp, &r->s, &prep, err);
     free(select);
     r->smooth_base = st == RELIEF_OK;

@@ -2,18 +2,20 @@
 #include "points/analysis.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/error.h"
 #include "base/knn.h"
 #include "base/linalg.h"
+#include "base/parallel.h"
 #include "base/vec3.h"
 
 #define KNN_CHUNK 4096
 
-relief_status relief_knn_graph_build(const double *pos, size_t n, int k, relief_knn_graph *g,
-                                     relief_error *err)
+relief_status relief_knn_graph_build(const double *pos, size_t n, int k, int threads,
+                                     relief_knn_graph *g, relief_error *err)
 {
     struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
@@ -36,6 +38,9 @@ relief_status relief_knn_graph_build(const double *pos, size_t n, int k, relief_
         goto done;
     }
     index = flann_build_index_double((double *)pos, (int)n, 3, &speedup, &fp);
+    /* The queries of a chunk on FLANN's threads: each query's neighbours
+     * alone, the same whatever their number. */
+    fp.cores = threads < 1 ? 1 : threads;
     if (!index) {
         st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu points", n);
         goto done;
@@ -292,32 +297,55 @@ double relief_points_covariance(const double *pos, const relief_knn_graph *g, si
     return s > 0.0 ? fmax(ev[2], 0.0) / s : 0.0;
 }
 
+/* The covariance normals' shares (relief_points_normals): each point's
+ * row alone, its sign from the viewpoint or its hint; free[i] set where
+ * neither decides it. */
+typedef struct normal_job {
+    const double *pos, *hint, *viewpoint;
+    const relief_knn_graph *g;
+    double *nrm, *sigma;
+    uint8_t *free;
+} normal_job;
+
+static int normal_share(void *ctx, size_t lo, size_t hi)
+{
+    const normal_job *j = ctx;
+    for (size_t i = lo; i < hi; ++i) {
+        double *n = j->nrm + 3 * i, sv = relief_points_covariance(j->pos, j->g, i, NULL, n);
+        const double *h = j->hint ? j->hint + 3 * i : NULL;
+        int flip = 0;
+        if (j->sigma)
+            j->sigma[i] = sv;
+        j->free[i] = 0;
+        if (j->viewpoint) {
+            double d[3];
+            sub3(j->viewpoint, j->pos + 3 * i, d);
+            flip = dot3(d, n) < 0.0;
+        } else if (h && (h[0] != 0.0 || h[1] != 0.0 || h[2] != 0.0)) {
+            flip = dot3(h, n) < 0.0;
+        } else {
+            j->free[i] = 1;
+        }
+        if (flip)
+            for (int a = 0; a < 3; ++a)
+                n[a] = -n[a];
+    }
+    return 0;
+}
+
 relief_status relief_points_normals(const double *pos, const relief_knn_graph *g,
-                                    const double *hint, const double *viewpoint,
+                                    const double *hint, const double *viewpoint, int threads,
                                     double *nrm, double *sigma, relief_error *err)
 {
     size_t n = g->n;
     int any_free = 0;
-
-    for (size_t i = 0; i < n; ++i) {
-        double sv = relief_points_covariance(pos, g, i, NULL, nrm + 3 * i);
-        if (sigma)
-            sigma[i] = sv;
-        if (viewpoint) {
-            double d[3];
-            sub3(viewpoint, pos + 3 * i, d);
-            if (dot3(d, nrm + 3 * i) < 0.0)
-                for (int a = 0; a < 3; ++a)
-                    nrm[3 * i + a] = -nrm[3 * i + a];
-        } else if (hint && (hint[3 * i] != 0.0 || hint[3 * i + 1] != 0.0 ||
-                            hint[3 * i + 2] != 0.0)) {
-            if (dot3(hint + 3 * i, nrm + 3 * i) < 0.0)
-                for (int a = 0; a < 3; ++a)
-                    nrm[3 * i + a] = -nrm[3 * i + a];
-        } else {
-            any_free = 1;
-        }
-    }
+    normal_job j = {pos, hint, viewpoint, g, nrm, sigma, malloc(n ? n : 1)};
+    if (!j.free)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the normals of %zu points", n);
+    relief_parallel_ranges(n, threads, normal_share, &j);
+    for (size_t i = 0; i < n && !any_free; ++i)
+        any_free = j.free[i];
+    free(j.free);
     if (viewpoint || !any_free)
         return RELIEF_OK;
     return orient_mst(pos, g, hint, nrm, err);

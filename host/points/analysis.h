@@ -21,10 +21,12 @@ typedef struct relief_knn_graph {
     double *d2;    /* n x k */
 } relief_knn_graph;
 
-/* Exact k-NN (FLANN, single kd-tree, deterministic) of n points pos. k in
- * 3..64 and n > k, else RELIEF_E_RANGE naming both; RELIEF_E_NOMEM. */
-relief_status relief_knn_graph_build(const double *pos, size_t n, int k, relief_knn_graph *g,
-                                     relief_error *err);
+/* Exact k-NN (FLANN, single kd-tree, deterministic) of n points pos, the
+ * queries on `threads` of FLANN's (1: the calling thread; the same graph
+ * whatever their number). k in 3..64 and n > k, else RELIEF_E_RANGE naming
+ * both; RELIEF_E_NOMEM. */
+relief_status relief_knn_graph_build(const double *pos, size_t n, int k, int threads,
+                                     relief_knn_graph *g, relief_error *err);
 void relief_knn_graph_free(relief_knn_graph *g);
 
 /* The median over the points of the distance to the nearest neighbour. */
@@ -51,9 +53,11 @@ double relief_points_covariance(const double *pos, const relief_knn_graph *g, si
  *     along `view`, normal made to point along `view`). With `viewpoint`
  *     (3, may be NULL; a depth camera's centre) every normal instead faces
  *     the viewpoint, as for a one-sided capture.
+ * The covariances are shared out over `threads` (1: the calling thread
+ * alone), each point alone, so the bytes do not depend on it.
  * RELIEF_E_NOMEM. */
 relief_status relief_points_normals(const double *pos, const relief_knn_graph *g,
-                                    const double *hint, const double *viewpoint,
+                                    const double *hint, const double *viewpoint, int threads,
                                     double *nrm, double *sigma, relief_error *err);
 
 /* Are the points spread in 2 dimensions at least? 0 when they are all on a

@@ -158,9 +158,10 @@ static relief_status check_combinations(const relief_complete_points_params *p,
         return relief_fail(err, RELIEF_E_USAGE, "clone copies detail, which smooth_only leaves "
                            "out");
     if (p->grid_search == RELIEF_GRID_SEARCH_KDTREE &&
-        (p->run.backend != RELIEF_BACKEND_AUTO || p->run.device != -1))
-        return relief_fail(err, RELIEF_E_USAGE, "run.backend %s and run.device %d choose where "
-                           "grid_search brute runs; the kd-tree runs on the host",
+        (p->run.backend == RELIEF_BACKEND_OPENCL || p->run.device != -1))
+        return relief_fail(err, RELIEF_E_USAGE, "run.backend %s and run.device %d: OpenCL runs "
+                           "the brute grid search only; the kd-tree runs on the host (backend "
+                           "scalar, host or auto)",
                            relief_backend_name(p->run.backend), p->run.device);
     return RELIEF_OK;
 }
@@ -270,6 +271,9 @@ static relief_points_params engine_params(const relief_complete_points_params *p
     e.tex.seed = p->seed;
     e.tex.brute = p->grid_search == RELIEF_GRID_SEARCH_BRUTE;
     e.tex.backend = p->run.backend; /* host: grid_nn runs it as scalar */
+    /* scalar: every stage on the calling thread, the reference; else every
+     * stage on the host's threads (the same bytes). */
+    e.threads = p->run.backend == RELIEF_BACKEND_SCALAR ? 1 : 0;
     e.tex.device = p->run.device;
     return e;
 }

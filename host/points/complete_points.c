@@ -9,6 +9,8 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/linalg.h"
+#include "base/parallel.h"
+#include "base/pool.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "mesh/weld.h"
@@ -44,6 +46,13 @@ void relief_points_report_free(relief_points_report *r)
     r->base = r->base_nrm = NULL;
 }
 
+/* The host threads every stage runs on: p->threads, or the online
+ * processors for 0. */
+static int threads_of(const relief_points_params *p)
+{
+    return p->threads > 0 ? p->threads : relief_pool_default_threads();
+}
+
 static relief_status check_params(const relief_points_params *p, relief_error *err)
 {
     if (p->k < 6 || p->k > 64)
@@ -63,6 +72,9 @@ static relief_status check_params(const relief_points_params *p, relief_error *e
     if (!(p->rim_gap > 0.0 && p->rim_gap < 6.283185307179586))
         return relief_fail(err, RELIEF_E_RANGE, "rim_gap %g rad out of range: expected "
                            "(0, 2 pi)", p->rim_gap);
+    if (p->threads < 0 || p->threads > RELIEF_PARALLEL_MAX_THREADS)
+        return relief_fail(err, RELIEF_E_RANGE, "threads %d out of range: expected 0..%d (0: "
+                           "the online processors)", p->threads, RELIEF_PARALLEL_MAX_THREADS);
     if (!(p->band >= 0.0 && p->band <= 1e6) || !(p->seam_band >= 0.0 && p->seam_band <= 1e6))
         return relief_fail(err, RELIEF_E_RANGE, "band %g or seam_band %g spacings out of range: "
                            "expected 0..1e6", p->band, p->seam_band);
@@ -73,7 +85,8 @@ static relief_status check_params(const relief_points_params *p, relief_error *e
  * else by its triangles' (area-weighted vertex normals), else by a
  * viewpoint or Hoppe's tree (relief_points_normals). nrm: nv x 3. */
 static relief_status oriented_normals(const relief_mesh *m, const relief_knn_graph *g,
-                                      const double *viewpoint, double *nrm, relief_error *err)
+                                      const double *viewpoint, int threads, double *nrm,
+                                      relief_error *err)
 {
     double *hint = NULL;
     relief_status st;
@@ -87,7 +100,7 @@ static relief_status oriented_normals(const relief_mesh *m, const relief_knn_gra
         else
             relief_mesh_vertex_normals(m, hint);
     }
-    st = relief_points_normals(m->pos, g, hint, viewpoint, nrm, NULL, err);
+    st = relief_points_normals(m->pos, g, hint, viewpoint, threads, nrm, NULL, err);
     free(hint);
     return st;
 }
@@ -192,7 +205,7 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
     if (nc < (size_t)p->k + 1 || !relief_points_spread(c->pos, nc, &why))
         return relief_fail(err, RELIEF_E_RANGE, "clone: %zu points, too few or on a "
                            "line: no detail to copy", nc);
-    st = relief_knn_graph_build(c->pos, nc, p->k, &g, err);
+    st = relief_knn_graph_build(c->pos, nc, p->k, threads_of(p), &g, err);
     if (st != RELIEF_OK)
         return st;
     h = relief_knn_spacing(&g);
@@ -204,12 +217,12 @@ static relief_status clone_detail(const relief_mesh *c, const relief_points_para
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the clone's %zu points", nc);
         goto done;
     }
-    st = oriented_normals(c, &g, NULL, n0, err);
+    st = oriented_normals(c, &g, NULL, threads_of(p), n0, err);
     if (st == RELIEF_OK && !(h > 0.0))
         st = relief_fail(err, RELIEF_E_RANGE, "clone: most points are duplicates");
     if (st == RELIEF_OK)
         st = relief_curvature_flow(c->pos, n0, &g, p->smooth_steps, p->smooth_dt * h,
-                                   p->max_detail * h, *base, *nrm, err);
+                                   p->max_detail * h, threads_of(p), *base, *nrm, err);
     if (st == RELIEF_OK)
         relief_detail_encode(c->pos, *base, *nrm, nc, *detail);
 done:
@@ -255,7 +268,7 @@ static relief_status stage_analysis(work *w, relief_error *err)
     const relief_points_params *p = w->p;
     relief_points_report *rep = w->rep;
     size_t n = w->n;
-    relief_status st = relief_knn_graph_build(in->pos, n, p->k, &w->g, err);
+    relief_status st = relief_knn_graph_build(in->pos, n, p->k, threads_of(p), &w->g, err);
     if (st != RELIEF_OK)
         return st;
     w->spacing = relief_knn_spacing(&w->g);
@@ -267,7 +280,7 @@ static relief_status stage_analysis(work *w, relief_error *err)
     w->rim = calloc(n, sizeof *w->rim);
     if (!w->nrm || !w->rim)
         return nomem(w, err);
-    st = oriented_normals(in, &w->g, p->viewpoint, w->nrm, err);
+    st = oriented_normals(in, &w->g, p->viewpoint, threads_of(p), w->nrm, err);
     if (st != RELIEF_OK)
         return st;
     if (w->want_geometry) {
@@ -305,8 +318,8 @@ static relief_status stage_base(work *w, relief_error *err)
     if (w->want_geometry) {
         relief_status st = relief_curvature_flow(w->in->pos, w->nrm, &w->g, p->smooth_steps,
                                                  p->smooth_dt * w->spacing,
-                                                 p->max_detail * w->spacing, w->base,
-                                                 w->base_nrm, err);
+                                                 p->max_detail * w->spacing, threads_of(p),
+                                                 w->base, w->base_nrm, err);
         if (st != RELIEF_OK)
             return st;
     } else {
@@ -329,6 +342,7 @@ static relief_status stage_fill(work *w, relief_error *err)
     relief_points_report *rep = w->rep;
     if (w->want_geometry && rep->holes.n_holes) {
         relief_rbf_params rp = p->rbf;
+        rp.threads = threads_of(p);
         size_t max_new = p->max_new ? p->max_new : 4 * w->n;
         relief_status st;
         if (!(rp.spacing > 0.0))
@@ -464,6 +478,7 @@ static relief_status texture_run(work *w, relief_error *err)
 {
     const relief_points_params *p = w->p;
     relief_texopt_params tex = p->tex;
+    tex.threads = threads_of(p);
     size_t n_ex = 0, n_unk = 0, nc = w->nc;
     relief_status st;
     if (!w->channels)
@@ -532,11 +547,12 @@ static relief_status result_points(work *w, relief_mesh **out_mesh, relief_error
         }
     }
     /* Each normal agreeing with the one it had. */
-    st = relief_knn_graph_build(out->pos, N, p->k, &g2, err);
+    st = relief_knn_graph_build(out->pos, N, p->k, threads_of(p), &g2, err);
     if (st != RELIEF_OK)
         return st;
     memcpy(w->tnrm, w->nrm, n * 3 * sizeof *w->tnrm);
-    st = relief_points_normals(out->pos, &g2, w->tnrm, NULL, out->nrm, NULL, err);
+    st = relief_points_normals(out->pos, &g2, w->tnrm, NULL, threads_of(p), out->nrm, NULL,
+                               err);
     relief_knn_graph_free(&g2);
     if (st == RELIEF_OK && p->keep_base) {
         /* w->tnrm becomes the base's normals, handed to the report. */

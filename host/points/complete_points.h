@@ -73,8 +73,12 @@ typedef struct relief_points_params {
                                   consecutive shares of it (analysis, base, fill,
                                   texture, result), and a cancel stops the run at the
                                   next stage or texture iteration (RELIEF_E_CANCELLED) */
-    relief_texopt_params tex; /* its progress is set from the one above */
-    relief_rbf_params rbf; /* spacing is set from the points when 0 */
+    int threads;          /* host threads of every stage, 0..64 (default 0: the online
+                             processors; 1: the calling thread alone, the serial
+                             reference); each stage shares out work whose items are
+                             computed alone, so the bytes do not depend on it */
+    relief_texopt_params tex; /* its progress and threads are set from the ones above */
+    relief_rbf_params rbf; /* spacing is set from the points when 0; threads from above */
 } relief_points_params;
 
 relief_points_params relief_points_params_default(void);

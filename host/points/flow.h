@@ -39,11 +39,13 @@
  * sigma_n has no unit) from pos
  * (with its oriented normals nrm) into base (n x 3) and base_nrm (n x 3),
  * no base point farther than max_disp (a length; 0: unbounded) from its
- * point. RELIEF_E_RANGE for steps, dt or max_disp out of range. */
+ * point. Each step's points are shared out over `threads` (1: the calling
+ * thread alone); every point is computed alone, so the bytes do not depend
+ * on it. RELIEF_E_RANGE for steps, dt or max_disp out of range. */
 relief_status relief_curvature_flow(const double *pos, const double *nrm,
                                     const relief_knn_graph *g, int steps, double dt,
-                                    double max_disp, double *base, double *base_nrm,
-                                    relief_error *err);
+                                    double max_disp, int threads, double *base,
+                                    double *base_nrm, relief_error *err);
 
 /* The signed detail c (n) of pos over base/base_nrm, and the RMS of
  * |base + c base_nrm - pos| over the points (the reconstruction's error),

@@ -52,8 +52,10 @@ static const relief_param table[] = {
              "inside the box (the input's units; X0 < X1, Y0 < Y1, Z0 < Z1)"),
     RP_REALS(T, viewpoint, "X,Y,Z", 3, 3, has_viewpoint, 1, "the normals face this point (a "
              "PCD's sensor)"),
-    RP_BACKEND(T, "where grid_search brute runs: auto (OpenCL on a GPU or accelerator, else "
-               "scalar), scalar or opencl, the same bytes either way; host runs as scalar"),
+    RP_BACKEND(T, "scalar: every stage on one thread (the reference); host: every stage on "
+               "the host's threads; auto (default): host, and grid_search brute on OpenCL on "
+               "a GPU or accelerator; opencl: grid_search brute on OpenCL; the same bytes "
+               "each way"),
     RP_DEVICE(T),
     RP_MAX_MEMORY(T),
 };

@@ -6,6 +6,9 @@
 
 #include "base/error.h"
 #include "base/linalg.h"
+#include "base/parallel.h"
+#include "base/pool.h"
+#include "base/sort.h"
 #include "base/vec3.h"
 
 #define MAX_LEVELS 16
@@ -205,7 +208,7 @@ struct relief_rbf {
 
 relief_rbf_params relief_rbf_params_default(void)
 {
-    relief_rbf_params p = {0, 0.0, 0.0};
+    relief_rbf_params p = {0, 0.0, 0.0, 0};
     return p;
 }
 
@@ -328,19 +331,6 @@ int relief_rbf_project(const relief_rbf *f, double x[3], int max_iter, double to
 
 /* ---- the fit --------------------------------------------------------- */
 
-typedef struct keyed {
-    uint64_t key;
-    uint32_t index;
-} keyed;
-
-static int cmp_keyed(const void *a, const void *b)
-{
-    const keyed *x = a, *y = b;
-    if (x->key != y->key)
-        return x->key < y->key ? -1 : 1;
-    return (x->index > y->index) - (x->index < y->index);
-}
-
 /* One centre per occupied cell of side `cell`: the point nearest the
  * cell's centroid (the lower index on a tie), with the cell's mean normal
  * (the point's own where the cell's normals cancel: a thin sheet). Writes
@@ -349,7 +339,7 @@ static int cmp_keyed(const void *a, const void *b)
 static size_t cluster(const double *pos, const double *nrm, size_t n, const double lo[3],
                       double cell, double **c_out)
 {
-    keyed *k = malloc(n * sizeof *k);
+    relief_keyed *k = malloc(n * sizeof *k);
     double *c = malloc(n * 6 * sizeof *c);
     double inv = 1.0 / cell;
     size_t m = 0;
@@ -364,7 +354,10 @@ static size_t cluster(const double *pos, const double *nrm, size_t n, const doub
                             cell_coord(p[2], lo[2], inv));
         k[i].index = (uint32_t)i;
     }
-    qsort(k, n, sizeof *k, cmp_keyed);
+    if (relief_sort_keyed(k, n)) {
+        free(k), free(c);
+        return 0;
+    }
     for (size_t s = 0, e; s < n; s = e) {
         double m3[3] = {0, 0, 0}, nm[3] = {0, 0, 0}, best = INFINITY;
         size_t rep = k[s].index;
@@ -445,9 +438,14 @@ typedef struct fit_data {
     double spacing;
     int n_levels;
     cell_hash grid; /* cells of the fit's radius over pos */
-    uint32_t *near;
-    size_t near_cap;
+    int threads;    /* the fit's shares run on this many threads */
 } fit_data;
+
+/* A thread's list of points near a place (hash_within). */
+typedef struct scratch {
+    uint32_t *near;
+    size_t cap;
+} scratch;
 
 static void fit_data_clear(fit_data *fd)
 {
@@ -493,18 +491,19 @@ static relief_status fit_data_make(fit_data *fd, const double *pos, const double
  * written to q[0..5] (M: xx xy xz yy yz zz), q[6..8] (b) and q[9] (q0).
  * The tangent plane (q = n . (x - c)) when fewer than 6 points qualify or
  * the fit is singular. 0 when out of memory. */
-static int local_quadric(fit_data *fd, const double *c, double R, double q[10])
+static int local_quadric(const fit_data *fd, scratch *sc, const double *c, double R,
+                         double q[10])
 {
     double eu[3], ev[3], ata[36] = {0}, atb[6] = {0}, co[6] = {0}, e[3][3];
-    size_t nn = hash_within(&fd->grid, fd->pos, c, R, &fd->near, &fd->near_cap), used = 0;
+    size_t nn = hash_within(&fd->grid, fd->pos, c, R, &sc->near, &sc->cap), used = 0;
     const double *n = c + 3;
     if (nn == (size_t)-1)
         return 0;
     relief_perp_basis(n, eu, ev);
     for (size_t k = 0; k < nn; ++k) {
-        const double *p = fd->pos + 3 * (size_t)fd->near[k];
+        const double *p = fd->pos + 3 * (size_t)sc->near[k];
         double d[3], r, w, t, basis[6];
-        if (dot3(fd->nrm + 3 * (size_t)fd->near[k], n) < 0.5)
+        if (dot3(fd->nrm + 3 * (size_t)sc->near[k], n) < 0.5)
             continue;
         sub3(p, c, d);
         r = sqrt(dot3(d, d)) / R;
@@ -547,6 +546,55 @@ static int local_quadric(fit_data *fd, const double *c, double R, double q[10])
     return 1;
 }
 
+/* fit_level's per-centre work, shared out over threads: each writes only
+ * its own centre's row, so the bytes do not depend on the threads. */
+typedef struct level_job {
+    relief_rbf *f;
+    int l;
+    const fit_data *fd;
+    const double *c;      /* the centres as given (m x 6) */
+    const relief_keyed *order;   /* the level's i-th centre is c's order[i].index-th */
+    double R;
+    const size_t *start;  /* the level's phi_ij in CSR */
+    const uint32_t *col;
+    const double *val;
+    double *b;            /* in: each row's sum of phi; out: the right-hand side */
+} level_job;
+
+/* g_c = q_c / (S_c L) of each centre, and b = -f_{l-1}(c_i). */
+static int centre_share(void *ctx, size_t lo, size_t hi)
+{
+    const level_job *j = ctx;
+    rbf_level *lv = &j->f->level[j->l];
+    scratch sc = {NULL, 0};
+    int failed = 0;
+    for (size_t i = lo; i < hi && !failed; ++i) {
+        double q[10], *ci = lv->c + CW * i, s = j->b[i];
+        j->b[i] = -eval_levels(j->f, j->l, ci, NULL);
+        if (!local_quadric(j->fd, &sc, j->c + 6 * (size_t)j->order[i].index, j->R, q))
+            failed = 1;
+        for (int a = 0; a < 10; ++a)
+            ci[3 + a] = q[a] / (s * j->fd->n_levels);
+    }
+    free(sc.near);
+    return failed;
+}
+
+/* b_i -= sum_j g_j(c_i) phi_ij. */
+static int rhs_share(void *ctx, size_t lo, size_t hi)
+{
+    const level_job *j = ctx;
+    const rbf_level *lv = &j->f->level[j->l];
+    for (size_t i = lo; i < hi; ++i)
+        for (size_t e = j->start[i]; e < j->start[i + 1]; ++e) {
+            const double *cj = lv->c + CW * (size_t)j->col[e];
+            double d[3];
+            sub3(lv->c + CW * i, cj, d);
+            j->b[i] -= quadric(cj, d, NULL) * j->val[e];
+        }
+    return 0;
+}
+
 /* Level l of f (levels 0..l-1 done) on the centres c (m x 6: position,
  * normal), as Ohtake et al.:
  *   o_l(x) = sum_c (g_c(x) + lambda_c) phi(|x - c| / rho),
@@ -567,7 +615,7 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
     size_t *start = NULL, cap = 0, nnz = 0;
     uint32_t *col = NULL;
     double *val = NULL, *b = NULL, *lam = NULL;
-    keyed *order = NULL;
+    relief_keyed *order = NULL;
     relief_status st = RELIEF_OK;
 
     lv->n = m;
@@ -596,7 +644,8 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
                                 cell_coord(x[2], lo[2], 1.0 / rho));
         order[i].index = (uint32_t)i;
     }
-    qsort(order, m, sizeof *order, cmp_keyed);
+    if (relief_sort_keyed(order, m))
+        goto nomem;
     if (!hash_init(&lv->grid, lo, rho, m))
         goto nomem;
     for (size_t i = 0; i < m; ++i) {
@@ -607,12 +656,13 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
             goto nomem;
     }
 
-    /* Each centre's neighbours within rho and their phi; g_c from the
-     * quadric and the row's sum; b from f so far. */
+    /* Each centre's neighbours within rho and their phi, and the row's
+     * sum; then, a centre at a time over the threads, g_c from the quadric
+     * and b from f so far. */
     start[0] = 0;
     for (size_t i = 0; i < m; ++i) {
         size_t k = 0;
-        double s = 0.0, q[10], *ci = lv->c + CW * i;
+        double s = 0.0, *ci = lv->c + CW * i;
         int64_t cc[3];
         for (int a = 0; a < 3; ++a)
             cc[a] = cell_coord(ci[a], lo[a], lv->grid.inv_h);
@@ -645,19 +695,14 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
                     }
         nnz += k;
         start[i + 1] = nnz;
-        b[i] = -eval_levels(f, l, ci, NULL);
-        if (!local_quadric(fd, c + 6 * (size_t)order[i].index, R, q))
-            goto nomem;
-        for (int a = 0; a < 10; ++a)
-            ci[3 + a] = q[a] / (s * fd->n_levels);
+        b[i] = s; /* the row's sum until centre_share */
     }
-    for (size_t i = 0; i < m; ++i)
-        for (size_t e = start[i]; e < start[i + 1]; ++e) {
-            const double *cj = lv->c + CW * (size_t)col[e];
-            double d[3];
-            sub3(lv->c + CW * i, cj, d);
-            b[i] -= quadric(cj, d, NULL) * val[e];
-        }
+    {
+        level_job j = {f, l, fd, c, order, R, start, col, val, b};
+        if (relief_parallel_ranges(m, fd->threads, centre_share, &j))
+            goto nomem;
+        relief_parallel_ranges(m, fd->threads, rhs_share, &j);
+    }
     if (!solve_cg(m, start, col, val, b, lam))
         goto nomem;
     for (size_t i = 0; i < m; ++i) {
@@ -703,6 +748,9 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
     if (p->levels < 0 || p->levels > MAX_LEVELS)
         return relief_fail(err, RELIEF_E_RANGE, "rbf fit: levels %d; expected 1..%d (0: "
                            "automatic)", p->levels, MAX_LEVELS);
+    if (p->threads < 0 || p->threads > RELIEF_PARALLEL_MAX_THREADS)
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: threads %d; expected 0..%d (0: the "
+                           "online processors)", p->threads, RELIEF_PARALLEL_MAX_THREADS);
     if (!(p->base_support >= 0.0) || !isfinite(p->base_support))
         return relief_fail(err, RELIEF_E_RANGE, "rbf fit: base support %g; expected a finite "
                            "length > 0 (0: 0.75 x the bounding box's diagonal)", p->base_support);
@@ -750,6 +798,7 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
         }
     }
     fd.spacing = p->spacing, fd.n_levels = levels;
+    fd.threads = p->threads > 0 ? p->threads : relief_pool_default_threads();
     f = calloc(1, sizeof *f);
     if (!f) {
         st = relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot allocate the model");
@@ -787,7 +836,6 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
 done:
     relief_rbf_free(f);
     fit_data_clear(&fd);
-    free(fd.near);
     free(unit);
     return st;
 }

@@ -348,7 +348,7 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
                            "must be 6..64 and below the point count", N, k);
     if (!(spacing > 0.0))
         return relief_fail(err, RELIEF_E_RANGE, "a surface through points %g apart", spacing);
-    st = relief_knn_graph_build(pos, N, k, &g, err);
+    st = relief_knn_graph_build(pos, N, k, 1, &g, err);
     if (st != RELIEF_OK)
         return st;
     votes = malloc(N * ((size_t)k + SURF_CELL_SIDES) * sizeof *votes);

@@ -28,6 +28,7 @@
 #include "points/cluster.h"
 #include "points/grid_nn.h"
 
+#define START_PARALLEL_MIN 200000 /* floats a start's scan reads before it is shared out */
 #define MAX_EXEMPLARS 20000 /* exemplar grids searched at most (a seeded subset beyond) */
 #define CANDIDATES 8        /* nearest grids re-ranked by the energy */
 #define MAX_THREADS RELIEF_PARALLEL_MAX_THREADS
@@ -368,6 +369,81 @@ static relief_status texopt_cancelled(const relief_progress *pr, relief_error *e
                        100.0 * pr->last);
 }
 
+/* The start's search for the exemplar grid nearest q over the nodes that
+ * are valid. A grid's distance is summed node by node, each node's
+ * channels in order, and a grid stops once its partial sum reaches the
+ * best so far; the first grid of the least distance wins. The grids are
+ * shared out over threads by ranges; the shares' bests, the earliest of
+ * the least, are the serial scan's. (Summing 8 grids side by side, each in
+ * its own order, was slower: the scan is bound by reading the grids, and
+ * the lanes read past where each would have stopped.) */
+typedef struct start_job {
+    const opt *o;
+    const double *q;     /* dims: q's values as doubles */
+    const uint32_t *off; /* nv: the valid nodes' first value's offset */
+    size_t nv, parts;
+    double e[RELIEF_PARALLEL_MAX_THREADS];
+    uint32_t z[RELIEF_PARALLEL_MAX_THREADS];
+} start_job;
+
+/* Grid z's distance, stopped at be (any value >= be then). */
+static double start_distance(const start_job *j, size_t z, double be)
+{
+    const int ch = j->o->ch;
+    const float *zz = j->o->zvec + z * (size_t)j->o->dims;
+    double e = 0.0;
+    for (size_t v = 0; v < j->nv && e < be; ++v)
+        for (int k = 0; k < ch; ++k) {
+            const double d = j->q[j->off[v] + k] - zz[j->off[v] + k];
+            e += d * d;
+        }
+    return e;
+}
+
+static int start_parts(void *ctx, size_t lo, size_t hi)
+{
+    start_job *j = ctx;
+    const opt *o = j->o;
+    for (size_t part = lo; part < hi; ++part) {
+        const size_t z0 = o->nz * part / j->parts, z1 = o->nz * (part + 1) / j->parts;
+        double be = INFINITY;
+        uint32_t best = (uint32_t)z0;
+        for (size_t z = z0; z < z1; ++z) {
+            const double d = start_distance(j, z, be);
+            if (d < be)
+                be = d, best = (uint32_t)z;
+        }
+        j->e[part] = be, j->z[part] = best;
+    }
+    return 0;
+}
+
+/* q (dims) and its valid nodes (nodes) into the job's scratch qd (dims)
+ * and off (nodes); the best grid's index. */
+static uint32_t start_match(const opt *o, const float *q, const uint8_t *nvalid, double *qd,
+                            uint32_t *off, int threads)
+{
+    start_job j;
+    size_t parts = threads < 1 ? 1 : (size_t)threads, w = 0;
+    j.nv = 0;
+    for (int node = 0; node < o->nodes; ++node)
+        if (nvalid[node])
+            off[j.nv++] = (uint32_t)node * (uint32_t)o->ch;
+    for (int i = 0; i < o->dims; ++i)
+        qd[i] = (double)q[i];
+    /* Threads only where a scan is long enough to pay for starting them. */
+    if (o->nz * (size_t)o->dims < START_PARALLEL_MIN)
+        parts = 1;
+    if (parts > o->nz)
+        parts = o->nz ? o->nz : 1;
+    j.o = o, j.q = qd, j.off = off, j.parts = parts;
+    relief_parallel_ranges(parts, (int)parts, start_parts, &j);
+    for (size_t part = 1; part < parts; ++part)
+        if (j.e[part] < j.e[w])
+            w = part;
+    return j.z[w];
+}
+
 /* The unknown values' start, grown inward from the known part as patch-
  * based synthesis grows (Criminisi et al.'s onion order). Repeatedly the
  * active cluster with the largest share of valid members (known, or set
@@ -381,17 +457,19 @@ static relief_status texopt_cancelled(const relief_progress *pr, relief_error *e
  * set all its members reached across the hole before the clusters on the
  * other side were matched, and a tape line on frag_115 stopped at the rim.
  * Exhaustive over the exemplars: about 2 A x nz x nodes x channels. */
-static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
+static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n, int threads,
                                       relief_progress *pr, relief_error *err)
 {
     uint8_t *valid = malloc(n), *open = malloc(o->A + 1);
     float *q = malloc((size_t)o->dims * sizeof *q);
     uint8_t *nvalid = malloc((size_t)o->nodes);
+    double *qd = malloc((size_t)o->dims * sizeof *qd);
+    uint32_t *off = malloc((size_t)o->nodes * sizeof *off);
     const float half = 0.25f * (float)(o->gn - 1); /* |fa - centre| within it: central */
     const float centre = 0.5f * (float)(o->gn - 1);
     reader rd = {0};
-    if (!valid || !open || !q || !nvalid) {
-        free(valid), free(open), free(q), free(nvalid);
+    if (!valid || !open || !q || !nvalid || !qd || !off) {
+        free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
         return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (start)");
     }
     for (size_t i = 0; i < n; ++i)
@@ -399,8 +477,8 @@ static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
     memset(open, 1, o->A);
     for (size_t round = 0;; ++round) {
         size_t j = SIZE_MAX, central = 0;
-        double best_share = -1.0, be = INFINITY;
-        uint32_t best = 0;
+        double best_share = -1.0;
+        uint32_t best;
         for (size_t c = 0; c < o->A; ++c) {
             size_t nv = 0, tot = o->mstart[c + 1] - o->mstart[c];
             double share;
@@ -420,7 +498,7 @@ static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
             break;
         /* About one round a cluster: a share of the start each. */
         if (relief_progress_step(pr, START_SHARE * (round < o->A ? (double)round / o->A : 1.0))) {
-            free(valid), free(open), free(q), free(nvalid);
+            free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
             reader_free(&rd);
             return texopt_cancelled(pr, err);
         }
@@ -443,21 +521,10 @@ static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
                 q[node * o->ch + k] = nvalid[node] ? (float)(acc / wv) : 0.0f;
             }
         }
-        for (size_t z = 0; z < o->nz; ++z) {
-            const float *zz = o->zvec + z * (size_t)o->dims;
-            double e = 0.0;
-            for (int node = 0; node < o->nodes && e < be; ++node)
-                if (nvalid[node])
-                    for (int k = 0; k < o->ch; ++k) {
-                        const double d = (double)q[node * o->ch + k] - zz[node * o->ch + k];
-                        e += d * d;
-                    }
-            if (e < be)
-                be = e, best = (uint32_t)z;
-        }
+        best = start_match(o, q, nvalid, qd, off, threads);
         o->match[j] = best;
         if (read_exemplar(o, &rd, best, j, o->zread + o->mstart[j] * o->ch) < 0) {
-            free(valid), free(open), free(q), free(nvalid);
+            free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
             reader_free(&rd);
             return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (start)");
         }
@@ -473,7 +540,7 @@ static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n,
             valid[p] = 1;
         }
     }
-    free(valid), free(open), free(q), free(nvalid);
+    free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
     reader_free(&rd);
     return RELIEF_OK;
 }
@@ -852,10 +919,110 @@ nomem:
     return texrun_nomem(r, err);
 }
 
+/* The exemplar grids of one contiguous share of the picked exemplar
+ * points, kept in the share's own lists: the shares joined in order are
+ * the serial lists, whatever the threads. */
+typedef struct grid_share {
+    uint32_t *zq, *cand;
+    float *zv;
+    size_t nzq, zqcap, zlen, zcap, ncand_cap;
+    relief_pgrid_weights gw;
+    int nomem;
+} grid_share;
+
+typedef struct grid_job {
+    const texrun *r;
+    const float *value;
+    const uint8_t *exemplar;
+    size_t want, parts;
+    grid_share *share; /* parts */
+} grid_job;
+
+/* Pick e's grid into g when it is kept: no node reads a point that is not
+ * an exemplar and at most a quarter of the nodes have no point within h.
+ * 0, or -1 when out of memory. */
+static int exemplar_grid(const grid_job *j, grid_share *g, size_t e)
+{
+    const texrun *r = j->r;
+    const opt *o = &r->o;
+    const int channels = r->channels;
+    const uint32_t q = r->elist[r->pick[e]];
+    const size_t nc = relief_pbucket_query(&r->bk, r->pos + 3 * (size_t)q,
+                                           relief_pgrid_reach(o->gn, r->h), &g->cand,
+                                           &g->ncand_cap);
+    size_t empty, foreign;
+    int got;
+    if (nc == SIZE_MAX)
+        return -1;
+    got = relief_pgrid_weigh(r->pos, r->nrm, g->cand, nc, r->pos + 3 * (size_t)q,
+                             r->cl.frame + 9 * (size_t)r->cl.label[q], o->gn, r->h, j->exemplar,
+                             &g->gw, &empty, &foreign);
+    if (got < 0)
+        return -1;
+    /* Up to a quarter of the nodes may have no point within h and take
+     * their nearest exemplar point's value: where the grid is finer than
+     * the sampling (a decimated scan's sparse parts), no grid would have
+     * every node backed otherwise. */
+    if (got == 0 || foreign || empty > (size_t)o->nodes / 4)
+        return 0;
+    if (g->zlen + (size_t)o->dims > g->zcap) {
+        const size_t ncap = g->zcap ? 2 * g->zcap : 64 * (size_t)o->dims;
+        float *a = realloc(g->zv, ncap * sizeof *a);
+        if (!a)
+            return -1;
+        g->zv = a, g->zcap = ncap;
+    }
+    PUSH(g->zq, g->nzq, g->zqcap, q);
+    for (int node = 0; node < o->nodes; ++node)
+        for (int k = 0; k < channels; ++k) {
+            double s = 0;
+            for (size_t t = g->gw.start[node]; t < g->gw.start[node + 1]; ++t)
+                s += (double)g->gw.w[t] * j->value[(size_t)g->gw.point[t] * channels + k];
+            g->zv[g->zlen++] = (float)s;
+        }
+    return 0;
+nomem:
+    return -1;
+}
+
+static int grid_parts(void *ctx, size_t lo, size_t hi)
+{
+    const grid_job *j = ctx;
+    for (size_t part = lo; part < hi; ++part) {
+        grid_share *g = &j->share[part];
+        const size_t e0 = j->want * part / j->parts, e1 = j->want * (part + 1) / j->parts;
+        for (size_t e = e0; e < e1 && !g->nomem; ++e)
+            g->nomem = exemplar_grid(j, g, e) < 0;
+    }
+    return 0;
+}
+
+/* The shares' lists joined in order into r's. 0, or -1 when out of memory. */
+static int join_grids(texrun *r, const grid_job *j)
+{
+    size_t nzq = 0, zlen = 0;
+    for (size_t part = 0; part < j->parts; ++part) {
+        if (j->share[part].nomem)
+            return -1;
+        nzq += j->share[part].nzq, zlen += j->share[part].zlen;
+    }
+    r->zq = malloc((nzq ? nzq : 1) * sizeof *r->zq);
+    r->zv = malloc((zlen ? zlen : 1) * sizeof *r->zv);
+    if (!r->zq || !r->zv)
+        return -1;
+    r->zqcap = nzq ? nzq : 1, r->zcap = zlen ? zlen : 1;
+    for (size_t part = 0; part < j->parts; ++part) {
+        const grid_share *g = &j->share[part];
+        memcpy(r->zq + r->nzq, g->zq, g->nzq * sizeof *g->zq);
+        memcpy(r->zv + r->zlen, g->zv, g->zlen * sizeof *g->zv);
+        r->nzq += g->nzq, r->zlen += g->zlen;
+    }
+    return 0;
+}
+
 /* Exemplar grids: at the exemplar points (a seeded subset of MAX_EXEMPLARS
- * beyond that many), in the frame of the point's cluster; kept when no
- * node reads a point that is not an exemplar and at most a quarter of the
- * nodes have no point within h. *no_grid set when none is. */
+ * beyond that many), in the frame of the point's cluster, built over the
+ * threads (exemplar_grid says which are kept). *no_grid set when none is. */
 static relief_status build_exemplar_grids(texrun *r, const float *value,
                                           const uint8_t *exemplar, int *no_grid,
                                           relief_error *err)
@@ -863,47 +1030,25 @@ static relief_status build_exemplar_grids(texrun *r, const float *value,
     opt *o = &r->o;
     const size_t ne = r->ne, want = ne < MAX_EXEMPLARS ? ne : MAX_EXEMPLARS;
     const uint32_t seed32 = (uint32_t)(r->p.seed ^ (r->p.seed >> 32));
-    const int channels = r->channels;
+    const size_t parts = r->threads < 1 ? 1 : (size_t)r->threads;
+    grid_job j = {r, value, exemplar, want, parts, calloc(parts, sizeof(grid_share))};
+    int failed;
     r->pick = malloc(ne * sizeof *r->pick);
-    if (!r->pick)
+    if (!r->pick || !j.share) {
+        free(j.share);
         return texrun_nomem(r, err);
-    relief_rng_subset(r->pick, ne, want, seed32);
-    for (size_t e = 0; e < want; ++e) {
-        const uint32_t q = r->elist[r->pick[e]];
-        const size_t nc = relief_pbucket_query(&r->bk, r->pos + 3 * (size_t)q,
-                                               relief_pgrid_reach(o->gn, r->h), &r->cand,
-                                               &r->ncand_cap);
-        size_t empty, foreign;
-        int got;
-        if (nc == SIZE_MAX)
-            return texrun_nomem(r, err);
-        got = relief_pgrid_weigh(r->pos, r->nrm, r->cand, nc, r->pos + 3 * (size_t)q,
-                                 r->cl.frame + 9 * (size_t)r->cl.label[q], o->gn, r->h,
-                                 exemplar, &r->gw, &empty, &foreign);
-        if (got < 0)
-            return texrun_nomem(r, err);
-        /* Up to a quarter of the nodes may have no point within h and take
-         * their nearest exemplar point's value: where the grid is finer
-         * than the sampling (a decimated scan's sparse parts), no grid
-         * would have every node backed otherwise. */
-        if (got == 0 || foreign || empty > (size_t)o->nodes / 4)
-            continue;
-        if (r->zlen + (size_t)o->dims > r->zcap) {
-            const size_t ncap = r->zcap ? 2 * r->zcap : 64 * (size_t)o->dims;
-            float *a = realloc(r->zv, ncap * sizeof *a);
-            if (!a)
-                return texrun_nomem(r, err);
-            r->zv = a, r->zcap = ncap;
-        }
-        PUSH(r->zq, r->nzq, r->zqcap, q);
-        for (int node = 0; node < o->nodes; ++node)
-            for (int k = 0; k < channels; ++k) {
-                double s = 0;
-                for (size_t t = r->gw.start[node]; t < r->gw.start[node + 1]; ++t)
-                    s += (double)r->gw.w[t] * value[(size_t)r->gw.point[t] * channels + k];
-                r->zv[r->zlen++] = (float)s;
-            }
     }
+    relief_rng_subset(r->pick, ne, want, seed32);
+    relief_parallel_ranges(parts, r->threads, grid_parts, &j);
+    failed = join_grids(r, &j);
+    for (size_t part = 0; part < parts; ++part) {
+        grid_share *g = &j.share[part];
+        free(g->zq), free(g->zv), free(g->cand);
+        relief_pgrid_weights_free(&g->gw);
+    }
+    free(j.share);
+    if (failed)
+        return texrun_nomem(r, err);
     o->nz = r->zlen / (size_t)o->dims;
     if (!o->nz) {
         *no_grid = 1;
@@ -914,8 +1059,6 @@ static relief_status build_exemplar_grids(texrun *r, const float *value,
                            "grid_n", want, o->gn, o->gn, r->h);
     }
     return RELIEF_OK;
-nomem:
-    return texrun_nomem(r, err);
 }
 
 /* Per unknown point, the members standing for it (the E-step's lists),
@@ -1078,7 +1221,7 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
     if (st == RELIEF_OK)
         st = build_search(&r, unknown, exemplar, err);
     if (st == RELIEF_OK)
-        st = sequential_start(&r.o, unknown, n, r.p.progress, err);
+        st = sequential_start(&r.o, unknown, n, r.threads, r.p.progress, err);
     if (st == RELIEF_OK)
         st = run_iterations(&r, err);
     if (st == RELIEF_OK)

@@ -119,11 +119,14 @@ typedef struct relief_complete_points_params {
     double viewpoint[3];
     size_t non_finite_dropped;   /* for the report only: the points the reader
                                     left out (relief_points_read_info); 0 */
-    relief_run_options run;      /* backend and device: the brute grid search's
-                                    (auto: OpenCL on a GPU, else scalar; host runs
-                                    as scalar); with the kd-tree they stay at
-                                    their defaults. max_memory bounds the
-                                    estimate (relief_complete_points_max_points) */
+    relief_run_options run;      /* backend: scalar runs every stage on the
+                                    calling thread (the reference); host and auto
+                                    share each stage out over the host's threads
+                                    (the same bytes). The brute grid search runs
+                                    on OpenCL for opencl, and for auto on a GPU;
+                                    opencl and device are for grid_search brute
+                                    only. max_memory bounds the estimate
+                                    (relief_complete_points_max_points) */
 } relief_complete_points_params;
 
 /* The defaults above. */
@@ -132,8 +135,8 @@ RELIEF_API relief_complete_points_params relief_complete_points_params_default(v
 /* Check the fields (the flags 0 or 1, the enumerations in their lists, no
  * NaN); RELIEF_E_RANGE naming the field and its range, RELIEF_E_USAGE for
  * NULL or a combination that cannot be (colour with no hole mask, colour
- * with smooth_only, clone with smooth_only, a backend or device with the
- * kd-tree, two hole masks or two sample regions, hole_labels with
+ * with smooth_only, clone with smooth_only, backend opencl or a device with
+ * the kd-tree, two hole masks or two sample regions, hole_labels with
  * sample_labels). */
 RELIEF_API relief_status relief_complete_points_params_validate(
     const relief_complete_points_params *p, relief_error *err);

@@ -40,10 +40,18 @@ static void test_normals(void)
     relief_knn_graph g;
     relief_error err;
     n = sphere_points(n, 2.0, 0.0, pos);
-    CHECK(relief_knn_graph_build(pos, n, 12, &g, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_knn_graph_build(pos, n, 12, 2, &g, &err) == RELIEF_OK, "%s", err.message);
+    for (int t = 1; t <= 3; t += 2) { /* the same graph on 1 and 3 threads */
+        relief_knn_graph g2;
+        CHECK(relief_knn_graph_build(pos, n, 12, t, &g2, &err) == RELIEF_OK, "%s", err.message);
+        CHECK(!memcmp(g2.nbr, g.nbr, n * 12 * sizeof *g.nbr) &&
+                  !memcmp(g2.d2, g.d2, n * 12 * sizeof *g.d2),
+              "the graph on %d threads differs from 2", t);
+        relief_knn_graph_free(&g2);
+    }
     CHECK(relief_knn_spacing(&g) > 0.03 && relief_knn_spacing(&g) < 0.08, "spacing %g",
           relief_knn_spacing(&g));
-    CHECK(relief_points_normals(pos, &g, NULL, NULL, nrm, sig, &err) == RELIEF_OK, "%s",
+    CHECK(relief_points_normals(pos, &g, NULL, NULL, 2, nrm, sig, &err) == RELIEF_OK, "%s",
           err.message);
     for (size_t i = 0; i < n; ++i) {
         double d = pos[3 * i] * nrm[3 * i] + pos[3 * i + 1] * nrm[3 * i + 1] +
@@ -57,14 +65,14 @@ static void test_normals(void)
     {
         double c[3] = {0, 0, 0};
         bad = 0;
-        relief_points_normals(pos, &g, NULL, c, nrm, NULL, &err);
+        relief_points_normals(pos, &g, NULL, c, 2, nrm, NULL, &err);
         for (size_t i = 0; i < n; ++i)
             bad += pos[3 * i] * nrm[3 * i] + pos[3 * i + 1] * nrm[3 * i + 1] +
                        pos[3 * i + 2] * nrm[3 * i + 2] > 0.0;
         CHECK(bad == 0, "%zu normals do not face the viewpoint", bad);
     }
     relief_knn_graph_free(&g);
-    CHECK(relief_knn_graph_build(pos, 10, 12, &g, &err) == RELIEF_E_RANGE, "too few points");
+    CHECK(relief_knn_graph_build(pos, 10, 12, 2, &g, &err) == RELIEF_E_RANGE, "too few points");
     {
         const char *why;
         double line[30];
@@ -87,10 +95,10 @@ static void test_flow(void)
     relief_knn_graph g;
     relief_error err;
     n = sphere_points(n, 2.0, 0.02, pos);
-    relief_knn_graph_build(pos, n, 16, &g, &err);
-    relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
+    relief_knn_graph_build(pos, n, 16, 2, &g, &err);
+    relief_points_normals(pos, &g, NULL, NULL, 2, nrm, NULL, &err);
     h = relief_knn_spacing(&g);
-    CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.0, base, bn, &err) == RELIEF_OK,
+    CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.0, 2, base, bn, &err) == RELIEF_OK,
           "%s", err.message);
     /* The bumps (2 % of the radius, 3.4 spacings long) are what the flow
      * removes, most of them: the base is
@@ -116,6 +124,18 @@ static void test_flow(void)
         CHECK(dev_base < 0.55 * dev_in, "base radius deviation %g, input %g", dev_base, dev_in);
         CHECK(fabs(m_b - 1.0) < 0.05, "the base shrank to mean radius %g", m_b);
     }
+    /* The points are shared out over threads, each alone: one thread and
+     * three give the two threads' bytes, normals and base alike. */
+    for (int t = 1; t <= 3; t += 2) {
+        double *b2 = malloc(n * 3 * sizeof *b2), *n2 = malloc(n * 3 * sizeof *n2);
+        relief_points_normals(pos, &g, NULL, NULL, t, n2, NULL, &err);
+        CHECK(!memcmp(n2, nrm, n * 3 * sizeof *n2), "normals on %d threads differ", t);
+        CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.0, t, b2, n2, &err) ==
+                  RELIEF_OK, "%s", err.message);
+        CHECK(!memcmp(b2, base, n * 3 * sizeof *b2) && !memcmp(n2, bn, n * 3 * sizeof *n2),
+              "the flow on %d threads differs from 2", t);
+        free(b2), free(n2);
+    }
     rms = relief_detail_encode(pos, base, bn, n, c);
     CHECK(rms < 0.2 * dev_in, "reconstruction RMS %g against relief %g", rms, dev_in);
     /* max_disp bounds every base point's offset, and binds: half the
@@ -127,7 +147,7 @@ static void test_flow(void)
             sub3(base + 3 * i, pos + 3 * i, d);
             far = fmax(far, sqrt(dot3(d, d)));
         }
-        CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.5 * far, base, bn, &err) ==
+        CHECK(relief_curvature_flow(pos, nrm, &g, 20, 10 * h, 0.5 * far, 2, base, bn, &err) ==
                   RELIEF_OK, "%s", err.message);
         for (size_t i = 0; i < n; ++i) {
             sub3(base + 3 * i, pos + 3 * i, d);
@@ -138,11 +158,11 @@ static void test_flow(void)
               far_b, 0.5 * far);
         CHECK(bound > 0, "no point reached the bound %g", 0.5 * far);
     }
-    CHECK(relief_curvature_flow(pos, nrm, &g, -1, h, 0.0, base, bn, &err) == RELIEF_E_RANGE,
+    CHECK(relief_curvature_flow(pos, nrm, &g, -1, h, 0.0, 2, base, bn, &err) == RELIEF_E_RANGE,
           "steps");
-    CHECK(relief_curvature_flow(pos, nrm, &g, 1, 0.0, 0.0, base, bn, &err) == RELIEF_E_RANGE,
+    CHECK(relief_curvature_flow(pos, nrm, &g, 1, 0.0, 0.0, 2, base, bn, &err) == RELIEF_E_RANGE,
           "dt");
-    CHECK(relief_curvature_flow(pos, nrm, &g, 1, h, -h, base, bn, &err) == RELIEF_E_RANGE,
+    CHECK(relief_curvature_flow(pos, nrm, &g, 1, h, -h, 2, base, bn, &err) == RELIEF_E_RANGE,
           "max_disp");
     relief_knn_graph_free(&g);
     free(pos), free(nrm), free(base), free(bn), free(c);
@@ -159,8 +179,8 @@ static void test_holes_points(void)
     relief_error err;
     /* A cap cut off a sphere: one hole, its rim at the cut. */
     m = sphere_points(n, 0.8, 0.0, pos);
-    relief_knn_graph_build(pos, m, 16, &g, &err);
-    relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
+    relief_knn_graph_build(pos, m, 16, 2, &g, &err);
+    relief_points_normals(pos, &g, NULL, NULL, 2, nrm, NULL, &err);
     CHECK(relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, rim, &info, &err) == RELIEF_OK,
           "%s",
           err.message);
@@ -186,8 +206,8 @@ static void test_holes_points(void)
     relief_knn_graph_free(&g);
     /* A hemisphere: its rim is an outer border, not a hole. */
     m = sphere_points(n, 0.0, 0.0, pos);
-    relief_knn_graph_build(pos, m, 16, &g, &err);
-    relief_points_normals(pos, &g, NULL, NULL, nrm, NULL, &err);
+    relief_knn_graph_build(pos, m, 16, 2, &g, &err);
+    relief_points_normals(pos, &g, NULL, NULL, 2, nrm, NULL, &err);
     relief_hole_info_free(&info);
     relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, rim, &info, &err);
     CHECK(info.n_holes == 0 && info.n_borders == 1, "hemisphere: holes %u borders %u",

@@ -43,7 +43,13 @@ if "$relief" devices 2>/dev/null | grep -q "^Device 0"; then
   expect 0 "OpenCL on" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fo.ply" --iterations 10 --grid-search brute --backend opencl
   ok 'cmp -s "$tmp/fb.ply" "$tmp/fo.ply"' "the OpenCL grid search gave other bytes than the scalar twin"
 fi
-expect 1 "the kd-tree runs on the host" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --backend opencl; nothing "--backend without brute"
+expect 1 "the kd-tree runs on the host" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --backend opencl; nothing "--backend opencl without brute"
+# --backend scalar runs every stage on one thread, host (auto's choice on a
+# CPU) shares them out over the host's threads: the same bytes, with the
+# mesh (--mesh) and the report's stages alike.
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fsc.ply" --mesh "$tmp/fsc_m.ply" --iterations 10 --backend scalar --quiet
+expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fho.ply" --mesh "$tmp/fho_m.ply" --iterations 10 --backend host --quiet
+ok 'cmp -s "$tmp/f.ply" "$tmp/fsc.ply" && cmp -s "$tmp/f.ply" "$tmp/fho.ply" && cmp -s "$tmp/fm.ply" "$tmp/fsc_m.ply" && cmp -s "$tmp/fm.ply" "$tmp/fho_m.ply"' "--backend scalar or host gave other bytes than auto"
 expect 1 "not one of kdtree, brute" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid-search fast; nothing "--grid-search fast"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"

@@ -98,7 +98,7 @@ static double spacing_of(const double *pos, size_t n)
     relief_knn_graph g;
     relief_error err;
     double s = 0.0;
-    if (relief_knn_graph_build(pos, n, 8, &g, &err) == RELIEF_OK)
+    if (relief_knn_graph_build(pos, n, 8, 2, &g, &err) == RELIEF_OK)
         s = relief_knn_spacing(&g);
     relief_knn_graph_free(&g);
     return s;
@@ -258,8 +258,8 @@ static void test_real(const char *dir)
     }
     own = count(bunny->pos, bunny->nv, bunny->tri, bunny->nt);
     nrm = malloc(bunny->nv * 3 * sizeof *nrm);
-    CHECK(relief_knn_graph_build(bunny->pos, bunny->nv, 16, &g, &err) == RELIEF_OK &&
-          relief_points_normals(bunny->pos, &g, NULL, NULL, nrm, NULL, &err) == RELIEF_OK,
+    CHECK(relief_knn_graph_build(bunny->pos, bunny->nv, 16, 2, &g, &err) == RELIEF_OK &&
+          relief_points_normals(bunny->pos, &g, NULL, NULL, 2, nrm, NULL, &err) == RELIEF_OK,
           "%s", err.message);
     CHECK(relief_points_surface_mesh(bunny->pos, nrm, bunny->nv, relief_knn_spacing(&g), 16,
                                      &tri, &nt, NULL, &err) == RELIEF_OK, "%s", err.message);
