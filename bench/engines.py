@@ -3,9 +3,11 @@
 
     bench/engines.py RELIEF IMAGE_TOOL DATA OUT [--backends scalar,host,opencl]
                      [--reps N] [--cases NAME,...] [--bench-complete PATH]
+                     [--points-tool PATH]
 
 RELIEF is the relief program, IMAGE_TOOL tests/image_tool (it makes the
-tiled and masked inputs), DATA ../shared/data, OUT a folder for the inputs
+tiled and masked inputs), --points-tool bench/points_bench_tool (it makes
+the 226 405-point bunny; default beside RELIEF in bench/), DATA ../shared/data, OUT a folder for the inputs
 made, the outputs and engines.csv / engines.md. Each case runs the command
 line `relief ... -o OUT --backend B --quiet` for each backend in turn within
 a repetition (a noisy machine slows every backend alike), N repetitions
@@ -32,6 +34,7 @@ import time
 BARK = ["--kind", "cylinder-bark", "--colour", "--vertices", "7150", "--spacing", "0.0333",
         "--window", "3", "--rotations", "4"]
 FRAG_DISC = "1.65835,1.88511,1.06949,0.12"  # a 0.12 m ball on the floor of frag_115
+BUNNY_BALL = "-0.0336,0.0816,0.0446,0.02"  # bench/points.py's 2 cm ball on the bunny's flank
 
 
 def run(cmd):
@@ -39,6 +42,21 @@ def run(cmd):
     if r.returncode != 0:
         sys.exit("engines: %s: exit %d\n%s" % (" ".join(cmd), r.returncode, r.stderr[-2000:]))
     return r
+
+
+def prepare_bunny(points_tool, data, inp):
+    """Paper 002's size: the bunny scan sampled evenly to 240 000 points
+    (226 405 after the cut) and a 2 cm ball cut from its flank, as
+    bench/points.py makes it."""
+    cap = os.path.join(inp, "bunny226k.ply")
+    if os.path.exists(cap) or not points_tool:
+        return
+    smp, truth = os.path.join(inp, "bunny240k.ply"), os.path.join(inp, "bunny226k_truth.ply")
+    run([points_tool, "sample", data + "/real/stanford_bunny/stanford-bunny.obj", "240000", "1",
+         smp])
+    run([points_tool, "cut-points", smp, cap, truth, BUNNY_BALL])
+    os.remove(smp)
+    os.remove(truth)
 
 
 def prepare(relief, tool, data, inp):
@@ -82,6 +100,8 @@ def cases(data, inp):
          ["depth-fill", office]),
         ("complete-points", "frag_115, 0.12 m ball cut, --grid-search brute", "ply",
          ["complete-points", i("frag_cut.ply"), "--grid-search", "brute"]),
+        ("complete-points", "bunny, 226 405 points, 2 cm ball cut, --grid-search brute", "ply",
+         ["complete-points", i("bunny226k.ply"), "--grid-search", "brute"]),
     ]
 
 
@@ -126,13 +146,19 @@ def main():
     ap.add_argument("--cases", default="")
     ap.add_argument("--bench-complete", default="")
     ap.add_argument("--bark-scalar", action="store_true")
+    ap.add_argument("--points-tool", default="")
     a = ap.parse_args()
     backends = a.backends.split(",")
     inp = os.path.join(a.out, "in")
     prepare(a.relief, a.image_tool, a.data, inp)
+    prepare_bunny(a.points_tool or os.path.join(os.path.dirname(a.relief), "bench",
+                                                 "points_bench_tool"), a.data, inp)
     rows, ok = [], True
     for n, (engine, case, ext, args) in enumerate(cases(a.data, inp)):
         if a.cases and str(n + 1) not in a.cases.split(",") and engine not in a.cases.split(","):
+            continue
+        if not all(os.path.exists(x) for x in args if x.startswith(inp)):
+            print("engines: %s, %s: its input was not made (no points tool)" % (engine, case))
             continue
         med, same = time_case(a.relief, a.out, "case%d" % (n + 1), ext, args, backends, a.reps)
         rows.append((engine, case, med, same))
