@@ -1,5 +1,6 @@
 #include "image/fill.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -358,7 +359,21 @@ struct relief_filler {
     relief_fill_report *rep;
     double score_seconds;
     size_t candidates;
+    int *rects, *pairs, *first; /* a batch of searches' scratch (batch_rects, */
+    size_t rects_cap, pairs_cap, first_cap; /* batch_refine), in ints */
 };
+
+/* Room for `count` ints in *buf (cap). 0 when out of memory. */
+static int int_room(int **buf, size_t *cap, size_t count)
+{
+    if (count > *cap) {
+        int *b = realloc(*buf, count * sizeof *b);
+        if (!b)
+            return 0;
+        *buf = b, *cap = count;
+    }
+    return 1;
+}
 
 /* Level l's pixel (X, Y) from level l - 1: the Gaussian [1 4 6 4 1] / 16
  * in each direction over the known pixels around (2X, 2Y), normalised;
@@ -445,6 +460,7 @@ static void filler_free(relief_filler *f)
     free(f->ssd);
     free(f->wsum);
     free(f->n);
+    free(f->rects), free(f->pairs), free(f->first);
     free(f);
 }
 
@@ -609,17 +625,59 @@ static const float *weights(relief_filler *f, int l, int half, double sigma)
     return f->g;
 }
 
-/* Score the rectangle x0..x1, y0..y1 at level l on the scorer and keep the
- * `keep` best (coordinates at that level). */
-static relief_status score_rect(relief_filler *f, int l, int qx, int qy, int half,
-                                const float *g, int x0, int y0, int x1, int y1,
-                                relief_window_match *top, int *n_top, int keep,
-                                relief_error *err)
+relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int exhaustive,
+                                   relief_window_match *best, int *found,
+                                   relief_window_match *coarse, int *n_coarse,
+                                   relief_error *err)
 {
-    int nx = x1 - x0 + 1, ny = y1 - y0 + 1;
-    size_t count = (size_t)nx * ny;
-    double t0;
-    relief_status st;
+    int n_best = 0;
+    relief_status st = relief_filler_search_top(f, px, py, w, exhaustive, 0.0, best, 1, &n_best,
+                                                coarse, n_coarse, err);
+    *found = n_best > 0;
+    return st;
+}
+
+/* The start level of a search at (px, py) with half-size `half` (paper
+ * 004, 3.2): coarser while the search region holds region_pixels
+ * candidates or more and the window window_pixels or more, and the next
+ * level still holds the window. */
+static int start_level(const relief_filler *f, int px, int py, int half, int exhaustive)
+{
+    int start = 0, x0, y0, x1, y1;
+    if (!exhaustive)
+        while (start + 1 < f->n_levels) {
+            int h = half >> start, side = 2 * h + 1;
+            long cand = region(f, start, px, py, h, &x0, &y0, &x1, &y1)
+                            ? (long)(x1 - x0 + 1) * (y1 - y0 + 1)
+                            : 0;
+            int hn = half >> (start + 1);
+            if (cand < f->p.region_pixels || side * side < f->p.window_pixels ||
+                2 * hn + 1 > f->lv[start + 1].width || 2 * hn + 1 > f->lv[start + 1].height)
+                break;
+            ++start;
+        }
+    return start;
+}
+
+int relief_filler_reach(const relief_filler *f, int w)
+{
+    /* Level l's pixel X reads level 0 within 2^(l+1) - 2 of 2^l X; a search
+     * reads level l's pixels within its region (r) and window (w / 2) of
+     * its centre's image: level 0 within r + w / 2 + 3 x 2^l of it. */
+    if (f->p.search_radius <= 0)
+        return INT_MAX / 2; /* the whole image */
+    return f->p.search_radius + w / 2 + 4 * (1 << (f->n_levels - 1)) + 2;
+}
+
+/* One query of a batch of searches: where it is, how far it has come. */
+typedef struct query {
+    int px, py, start, keep, n_top, alive;
+    relief_window_match top[RELIEF_FILL_MAX_TOP];
+} query;
+
+/* Room for `count` scores in f->ssd, f->wsum, f->n. */
+static relief_status score_room(relief_filler *f, size_t count, relief_error *err)
+{
     if (count > f->cap) {
         float *s = realloc(f->ssd, count * sizeof *s), *ws;
         int *k;
@@ -635,35 +693,201 @@ static relief_status score_rect(relief_filler *f, int l, int qx, int qy, int hal
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu window scores", count);
         f->cap = count;
     }
-    t0 = relief_seconds();
-    st = f->scorer->ops->score_rect(f->scorer->ctx, l, qx, qy, half, max_holes(f, half), g, x0,
-                                    y0, nx, ny, f->ssd, g ? f->wsum : NULL, f->n, err);
-    f->score_seconds += relief_seconds() - t0;
-    f->candidates += count;
-    if (st != RELIEF_OK)
-        return st;
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
-            size_t k = (size_t)j * nx + i;
-            /* Weighted, a window whose common pixels all weigh 0 says
-             * nothing: refused. */
-            if (f->n[k] > 0 && (!g || f->wsum[k] > 0.0f))
-                offer(top, n_top, keep,
-                      make_match(x0 + i, y0 + j, f->ssd[k], f->n[k], g ? f->wsum[k] : 0.0f,
-                                 g != NULL));
-        }
     return RELIEF_OK;
 }
 
-relief_status relief_filler_search(relief_filler *f, int px, int py, int w, int exhaustive,
-                                   relief_window_match *best, int *found,
-                                   relief_window_match *coarse, int *n_coarse,
-                                   relief_error *err)
+/* The rectangles of the queries starting at level l, scored in one call
+ * where the scorer batches (else one call each), each query's `keep` best
+ * into its top. */
+static relief_status batch_rects(relief_filler *f, query *q, int count, int l, int half,
+                                 const float *g, relief_error *err)
 {
-    int n_best = 0;
-    relief_status st = relief_filler_search_top(f, px, py, w, exhaustive, 0.0, best, 1, &n_best,
-                                                coarse, n_coarse, err);
-    *found = n_best > 0;
+    const relief_patch_ops *ops = f->scorer->ops;
+    int h = half >> l, nr = 0, x0, y0, x1, y1;
+    size_t total = 0;
+    double t0;
+    relief_status st = RELIEF_OK;
+    int *rects;
+    if (!int_room(&f->rects, &f->rects_cap, (size_t)count * 7))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %d searches", count);
+    rects = f->rects;
+    for (int k = 0; k < count; ++k) {
+        if (!q[k].alive || q[k].start != l)
+            continue;
+        if (!region(f, l, q[k].px, q[k].py, h, &x0, &y0, &x1, &y1)) {
+            q[k].alive = 0; /* no candidate: nothing found */
+            continue;
+        }
+        int *r = rects + 7 * nr++;
+        r[0] = q[k].px >> l, r[1] = q[k].py >> l, r[2] = x0, r[3] = y0;
+        r[4] = x1 - x0 + 1, r[5] = y1 - y0 + 1, r[6] = (int)total;
+        total += (size_t)r[4] * (size_t)r[5];
+    }
+    if (nr && (st = score_room(f, total, err)) == RELIEF_OK) {
+        t0 = relief_seconds();
+        if (ops->score_rects && nr > 1)
+            st = ops->score_rects(f->scorer->ctx, l, h, max_holes(f, h), g, rects, nr, total,
+                                  f->ssd, g ? f->wsum : NULL, f->n, err);
+        else
+            for (int k = 0; k < nr && st == RELIEF_OK; ++k) {
+                const int *r = rects + 7 * k;
+                st = ops->score_rect(f->scorer->ctx, l, r[0], r[1], h, max_holes(f, h), g, r[2],
+                                     r[3], r[4], r[5], f->ssd + r[6],
+                                     g ? f->wsum + r[6] : NULL, f->n + r[6], err);
+            }
+        f->score_seconds += relief_seconds() - t0;
+        f->candidates += total;
+    }
+    for (int k = 0, j = 0; k < count && st == RELIEF_OK; ++k) {
+        const int *r;
+        if (!q[k].alive || q[k].start != l)
+            continue;
+        r = rects + 7 * j++;
+        for (int y = 0; y < r[5]; ++y)
+            for (int x = 0; x < r[4]; ++x) {
+                size_t at = (size_t)r[6] + (size_t)y * r[4] + x;
+                /* Weighted, a window whose common pixels all weigh 0 says
+                 * nothing: refused. */
+                if (f->n[at] > 0 && (!g || f->wsum[at] > 0.0f))
+                    offer(q[k].top, &q[k].n_top, q[k].keep,
+                          make_match(r[2] + x, r[3] + y, f->ssd[at], f->n[at],
+                                     g ? f->wsum[at] : 0.0f, g != NULL));
+            }
+    }
+    return st;
+}
+
+/* A query's refinement list at level l: the positions within REFINE pixels
+ * of each kept match's image inside the region, each once, appended to
+ * pairs (qx, qy, cx, cy); their number, or -1 when the region is empty. */
+static int refine_list(const relief_filler *f, const query *q, int l, int h, int *pairs)
+{
+    int count = 0, kx0, ky0, kx1, ky1;
+    if (!region(f, l, q->px, q->py, h, &kx0, &ky0, &kx1, &ky1))
+        return -1;
+    for (int i = 0; i < q->n_top; ++i)
+        for (int dy = -REFINE; dy <= REFINE; ++dy)
+            for (int dx = -REFINE; dx <= REFINE; ++dx) {
+                int cx = 2 * q->top[i].x + dx, cy = 2 * q->top[i].y + dy, dup = 0;
+                if (cx < kx0 || cx > kx1 || cy < ky0 || cy > ky1)
+                    continue;
+                /* A position two kept matches share is scored once. */
+                for (int j = 0; j < i && !dup; ++j)
+                    dup = abs(2 * q->top[j].x - cx) <= REFINE &&
+                          abs(2 * q->top[j].y - cy) <= REFINE;
+                if (dup)
+                    continue;
+                pairs[4 * count] = q->px >> l, pairs[4 * count + 1] = q->py >> l;
+                pairs[4 * count + 2] = cx, pairs[4 * count + 3] = cy;
+                ++count;
+            }
+    return count;
+}
+
+#define REFINE_MAX (RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1))
+
+/* The refinement at level l of the queries that started above it, scored
+ * in one call where the scorer batches (else one call per query), each
+ * keeping its best `keep` (keep_best at level 0). */
+static relief_status batch_refine(relief_filler *f, query *q, int count, int l, int half,
+                                  const float *g, int keep_best, relief_error *err)
+{
+    const relief_patch_ops *ops = f->scorer->ops;
+    int h = half >> l, np = 0, *pairs, *first;
+    relief_status st = RELIEF_OK;
+    double t0;
+    if (!int_room(&f->pairs, &f->pairs_cap, (size_t)count * REFINE_MAX * 4) ||
+        !int_room(&f->first, &f->first_cap, (size_t)count + 1))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %d searches", count);
+    pairs = f->pairs, first = f->first;
+    for (int k = 0; k < count; ++k) {
+        int c = q[k].alive && q[k].start > l ? refine_list(f, &q[k], l, h, pairs + 4 * np) : 0;
+        first[k] = np;
+        if (c < 0)
+            q[k].alive = 0, c = 0;
+        np += c;
+    }
+    first[count] = np;
+    if (np && (st = score_room(f, (size_t)np, err)) == RELIEF_OK) {
+        t0 = relief_seconds();
+        if (ops->score_pairs && count > 1)
+            st = ops->score_pairs(f->scorer->ctx, l, h, max_holes(f, h), g, pairs, np, f->ssd,
+                                  g ? f->wsum : NULL, f->n, err);
+        else
+            for (int k = 0; k < count && st == RELIEF_OK; ++k) {
+                /* Scored into the stack and copied: scoring straight into
+                 * the filler's score arrays ran 15 % slower (astronaut,
+                 * scalar), the same instructions (callgrind). */
+                int c = first[k + 1] - first[k], xy[2 * REFINE_MAX], ln[REFINE_MAX];
+                float ls[REFINE_MAX], lw[REFINE_MAX];
+                for (int i = 0; i < c; ++i)
+                    xy[2 * i] = pairs[4 * (first[k] + i) + 2],
+                    xy[2 * i + 1] = pairs[4 * (first[k] + i) + 3];
+                if (!c)
+                    continue;
+                st = ops->score_list(f->scorer->ctx, l, q[k].px >> l, q[k].py >> l, h,
+                                     max_holes(f, h), g, xy, c, ls, g ? lw : NULL, ln, err);
+                memcpy(f->ssd + first[k], ls, (size_t)c * sizeof *ls);
+                memcpy(f->n + first[k], ln, (size_t)c * sizeof *ln);
+                if (g)
+                    memcpy(f->wsum + first[k], lw, (size_t)c * sizeof *lw);
+            }
+        f->score_seconds += relief_seconds() - t0;
+        f->candidates += (size_t)np;
+    }
+    for (int k = 0; k < count && st == RELIEF_OK; ++k) {
+        relief_window_match next[RELIEF_FILL_MAX_TOP];
+        int n_next = 0;
+        if (!q[k].alive || q[k].start <= l)
+            continue;
+        for (int i = first[k]; i < first[k + 1]; ++i)
+            if (f->n[i] > 0 && (!g || f->wsum[i] > 0.0f))
+                offer(next, &n_next, l ? q[k].keep : keep_best,
+                      make_match(pairs[4 * i + 2], pairs[4 * i + 3], f->ssd[i], f->n[i],
+                                 g ? f->wsum[i] : 0.0f, g != NULL));
+        memcpy(q[k].top, next, sizeof(relief_window_match) * n_next);
+        q[k].n_top = n_next;
+    }
+    return st;
+}
+
+/* The searches of q[0 .. count) (relief_filler_search_batch), level by
+ * level from the coarsest start: each level's rectangles and refinements
+ * scored in a call or two for all of them. */
+static relief_status search_queries(relief_filler *f, query *q, int count, int w,
+                                    int exhaustive, double sigma, int keep_best,
+                                    relief_window_match *coarse, int *n_coarse,
+                                    relief_error *err)
+{
+    int half = w / 2, top_level = 0;
+    relief_status st = RELIEF_OK;
+    for (int k = 0; k < count; ++k) {
+        q[k].start = start_level(f, q[k].px, q[k].py, half, exhaustive);
+        q[k].keep = q[k].start == 0 ? keep_best : 4 * q[k].start;
+        if (q[k].keep > RELIEF_FILL_MAX_TOP)
+            q[k].keep = RELIEF_FILL_MAX_TOP;
+        q[k].n_top = 0, q[k].alive = 1;
+        top_level = q[k].start > top_level ? q[k].start : top_level;
+    }
+    if (count && f->rep && f->rep->start_level < 0) {
+        f->rep->start_level = q[0].start;
+        f->rep->top_m = q[0].start ? q[0].keep : 1;
+    }
+    for (int l = top_level; l >= 0 && st == RELIEF_OK; --l) {
+        const float *g = weights(f, l, half >> l, sigma);
+        st = batch_rects(f, q, count, l, half, g, err);
+        if (st == RELIEF_OK && coarse && n_coarse && q[0].start == l && q[0].alive) {
+            /* The first query's kept matches at its start level. */
+            for (int i = 0; i < q[0].n_top; ++i) {
+                coarse[i] = q[0].top[i];
+                coarse[i].x <<= l;
+                coarse[i].y <<= l;
+            }
+            *n_coarse = q[0].n_top;
+        }
+        if (st == RELIEF_OK && l < top_level)
+            st = batch_refine(f, q, count, l, half, g, keep_best, err);
+    }
     return st;
 }
 
@@ -672,103 +896,53 @@ relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, 
                                        int *n_best, relief_window_match *coarse, int *n_coarse,
                                        relief_error *err)
 {
-    relief_window_match top[RELIEF_FILL_MAX_TOP], next[RELIEF_FILL_MAX_TOP];
-    int half = w / 2, start = 0, keep, n_top = 0, x0, y0, x1, y1;
-    const float *g;
+    query q;
     relief_status st;
-
     *n_best = 0;
+    if (n_coarse)
+        *n_coarse = 0;
     if (keep_best < 1 || keep_best > RELIEF_FILL_MAX_TOP)
         return relief_fail(err, RELIEF_E_INTERNAL, "a search keeps 1..%d matches, not %d",
                            RELIEF_FILL_MAX_TOP, keep_best);
-    if (n_coarse)
-        *n_coarse = 0;
-    /* The start level (paper 004, 3.2): coarser while the search region
-     * holds region_pixels candidates or more and the window window_pixels
-     * or more, and the next level still holds the window. */
-    if (!exhaustive)
-        while (start + 1 < f->n_levels) {
-            int h = half >> start, side = 2 * h + 1;
-            long cand = region(f, start, px, py, h, &x0, &y0, &x1, &y1)
-                            ? (long)(x1 - x0 + 1) * (y1 - y0 + 1)
-                            : 0;
-            int hn = half >> (start + 1);
-            if (cand < f->p.region_pixels || side * side < f->p.window_pixels ||
-                2 * hn + 1 > f->lv[start + 1].width || 2 * hn + 1 > f->lv[start + 1].height)
-                break;
-            ++start;
-        }
-    keep = start == 0 ? keep_best : 4 * start;
-    if (keep > RELIEF_FILL_MAX_TOP)
-        keep = RELIEF_FILL_MAX_TOP;
-    if (f->rep && f->rep->start_level < 0) {
-        f->rep->start_level = start;
-        f->rep->top_m = start ? keep : 1;
+    q.px = px, q.py = py;
+    st = search_queries(f, &q, 1, w, exhaustive, sigma, keep_best, coarse, n_coarse, err);
+    if (st == RELIEF_OK && q.alive) {
+        memcpy(best, q.top, sizeof(relief_window_match) * q.n_top);
+        *n_best = q.n_top;
     }
-    if (!region(f, start, px, py, half >> start, &x0, &y0, &x1, &y1))
+    return st;
+}
+
+relief_status relief_filler_search_batch(relief_filler *f, int count, const int *pxy, int w,
+                                         int exhaustive, double sigma, int keep_best,
+                                         relief_window_match *best, int *n_best,
+                                         relief_error *err)
+{
+    query one, *q = &one;
+    relief_status st;
+    if (keep_best < 1 || keep_best > RELIEF_FILL_MAX_TOP)
+        return relief_fail(err, RELIEF_E_INTERNAL, "a search keeps 1..%d matches, not %d",
+                           RELIEF_FILL_MAX_TOP, keep_best);
+    if (count <= 0)
         return RELIEF_OK;
-    g = weights(f, start, half >> start, sigma);
-    st = score_rect(f, start, px >> start, py >> start, half >> start, g, x0, y0, x1, y1, top,
-                    &n_top, keep, err);
-    if (st != RELIEF_OK)
-        return st;
-    if (coarse && n_coarse) {
-        for (int i = 0; i < n_top; ++i) {
-            coarse[i] = top[i];
-            coarse[i].x <<= start;
-            coarse[i].y <<= start;
-        }
-        *n_coarse = n_top;
+    if (count > 1 && !(q = malloc((size_t)count * sizeof *q)))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %d searches", count);
+    for (int k = 0; k < count; ++k)
+        q[k].px = pxy[2 * k], q[k].py = pxy[2 * k + 1];
+    st = RELIEF_OK;
+    if (f->scorer->ops->score_rects)
+        st = search_queries(f, q, count, w, exhaustive, sigma, keep_best, NULL, NULL, err);
+    else /* a query at a time: its scores stay in the cache */
+        for (int k = 0; k < count && st == RELIEF_OK; ++k)
+            st = search_queries(f, q + k, 1, w, exhaustive, sigma, keep_best, NULL, NULL, err);
+    for (int k = 0; k < count; ++k) {
+        n_best[k] = st == RELIEF_OK && q[k].alive ? q[k].n_top : 0;
+        memcpy(best + (size_t)k * keep_best, q[k].top,
+               sizeof(relief_window_match) * (size_t)n_best[k]);
     }
-    /* Refine: at each finer level, the positions within REFINE pixels of
-     * each kept match's image, scored as a list on the scorer, keeping the
-     * best `keep` again. */
-    for (int l = start - 1; l >= 0; --l) {
-        int h = half >> l, n_next = 0, count = 0, kx0, ky0, kx1, ky1;
-        int xy[2 * RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
-        float ssd[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
-        float wsum[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
-        int n[RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1)];
-        double t0;
-        if (!region(f, l, px, py, h, &kx0, &ky0, &kx1, &ky1))
-            return RELIEF_OK;
-        for (int i = 0; i < n_top; ++i)
-            for (int dy = -REFINE; dy <= REFINE; ++dy)
-                for (int dx = -REFINE; dx <= REFINE; ++dx) {
-                    int cx = 2 * top[i].x + dx, cy = 2 * top[i].y + dy, dup = 0;
-                    if (cx < kx0 || cx > kx1 || cy < ky0 || cy > ky1)
-                        continue;
-                    /* A position two kept matches share is scored once. */
-                    for (int j = 0; j < i && !dup; ++j)
-                        dup = abs(2 * top[j].x - cx) <= REFINE &&
-                              abs(2 * top[j].y - cy) <= REFINE;
-                    if (dup)
-                        continue;
-                    xy[2 * count] = cx;
-                    xy[2 * count + 1] = cy;
-                    ++count;
-                }
-        g = weights(f, l, h, sigma);
-        t0 = relief_seconds();
-        st = count ? f->scorer->ops->score_list(f->scorer->ctx, l, px >> l, py >> l, h,
-                                                max_holes(f, h), g, xy, count, ssd,
-                                                g ? wsum : NULL, n, err)
-                   : RELIEF_OK;
-        f->score_seconds += relief_seconds() - t0;
-        f->candidates += (size_t)count;
-        if (st != RELIEF_OK)
-            return st;
-        for (int i = 0; i < count; ++i)
-            if (n[i] > 0 && (!g || wsum[i] > 0.0f))
-                offer(next, &n_next, l ? keep : keep_best,
-                      make_match(xy[2 * i], xy[2 * i + 1], ssd[i], n[i], g ? wsum[i] : 0.0f,
-                                 g != NULL));
-        memcpy(top, next, sizeof(relief_window_match) * n_next);
-        n_top = n_next;
-    }
-    memcpy(best, top, sizeof(relief_window_match) * n_top);
-    *n_best = n_top;
-    return RELIEF_OK;
+    if (q != &one)
+        free(q);
+    return st;
 }
 
 relief_status relief_filler_put(relief_filler *f, int x, int y, const float *value,

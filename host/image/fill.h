@@ -139,6 +139,23 @@ relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, 
                                        double sigma, relief_window_match *best, int keep,
                                        int *n_best, relief_window_match *coarse, int *n_coarse,
                                        relief_error *err);
+/* The searches of `count` queries centred at (pxy[2 k], pxy[2 k + 1]), as
+ * relief_filler_search_top gives each (no coarse matches): query k's best
+ * in best[k * keep .. k * keep + n_best[k]). Each level's windows are
+ * scored in one call for all the queries where the scorer batches
+ * (patch.h's score_rects, score_pairs), so a device pays a launch per level
+ * rather than per query; the results are each query's own search's, bit
+ * for bit. The queries must be independent: none may need a pixel another
+ * is about to fill. */
+relief_status relief_filler_search_batch(relief_filler *f, int count, const int *pxy, int w,
+                                         int exhaustive, double sigma, int keep,
+                                         relief_window_match *best, int *n_best,
+                                         relief_error *err);
+/* The distance (pixels, either axis) within which a filled pixel can
+ * change a search at a pixel with window w: the search region, the window
+ * and the pyramid's reach. Searches farther apart than this from every
+ * pixel filled meanwhile give the same matches. */
+int relief_filler_reach(const relief_filler *f, int w);
 /* Set the hole pixel (x, y) to value[0 .. channels matched) and make it
  * known, in the image, the pyramid and the scorer. */
 relief_status relief_filler_put(relief_filler *f, int x, int y, const float *value,

@@ -42,6 +42,20 @@ typedef struct relief_patch_ops {
                                 int max_holes, const float *g, const int *xy, int count,
                                 float *ssd, float *wsum, int *n, relief_error *err);
     void (*destroy)(void *ctx);
+    /* Optional batched forms (NULL: the filler calls the ones above once
+     * per query), for a device where a call costs more than its work.
+     * Many queries' rectangles at one level in one call: rectangle q is
+     * rects[7 q ..] = qx, qy, x0, y0, nx, ny, offset, its scores at
+     * ssd[offset + j * nx + i] (and wsum, n), `total` scores in all. */
+    relief_status (*score_rects)(void *ctx, int level, int radius, int max_holes,
+                                 const float *g, const int *rects, int count, size_t total,
+                                 float *ssd, float *wsum, int *n, relief_error *err);
+    /* Many queries' candidate centres at one level: pair i is
+     * pairs[4 i ..] = qx, qy, cx, cy (all wholly inside the level), its
+     * scores at ssd[i] (and wsum, n). */
+    relief_status (*score_pairs)(void *ctx, int level, int radius, int max_holes,
+                                 const float *g, const int *pairs, int count, float *ssd,
+                                 float *wsum, int *n, relief_error *err);
 } relief_patch_ops;
 
 typedef struct relief_patch_scorer {

@@ -31,7 +31,7 @@ typedef struct patch_cl {
     cl_context ctx;
     cl_command_queue queue;
     cl_program prog;
-    cl_kernel kernel, list_kernel;
+    cl_kernel kernel, list_kernel, rects_kernel, pairs_kernel;
     const relief_patch_level *levels;
     int n_levels;
     cl_mem v[MAX_LEVELS], known[MAX_LEVELS];
@@ -42,6 +42,10 @@ typedef struct patch_cl {
     int g_len;           /* entries of g_host in use; 0 none yet */
     cl_mem xy;     /* the last list's centres */
     size_t xy_cap; /* centres xy holds */
+    cl_mem batch;     /* the last batch's rectangles or pairs */
+    size_t batch_cap; /* ints batch holds */
+    int dirty_lo[MAX_LEVELS], dirty_hi[MAX_LEVELS]; /* rows changed on the host and not
+                                                       yet on the device (lo > hi: none) */
 } patch_cl;
 
 static void patch_cl_free(patch_cl *p)
@@ -64,6 +68,12 @@ static void patch_cl_free(patch_cl *p)
         clReleaseMemObject(p->g);
     if (p->xy)
         clReleaseMemObject(p->xy);
+    if (p->batch)
+        clReleaseMemObject(p->batch);
+    if (p->rects_kernel)
+        clReleaseKernel(p->rects_kernel);
+    if (p->pairs_kernel)
+        clReleaseKernel(p->pairs_kernel);
     if (p->kernel)
         clReleaseKernel(p->kernel);
     if (p->list_kernel)
@@ -108,6 +118,8 @@ static relief_status patch_cl_bind(void *ctx, const relief_patch_level *levels, 
     }
     p->levels = levels;
     p->n_levels = n_levels;
+    for (int l = 0; l < MAX_LEVELS; ++l)
+        p->dirty_lo[l] = 1, p->dirty_hi[l] = 0;
     for (int l = 0; l < n_levels && st == RELIEF_OK; ++l) {
         size_t px = (size_t)levels[l].width * levels[l].height;
         st = buffer(p, &p->v[l], levels[l].v, px * levels[l].channels * sizeof(float),
@@ -118,22 +130,45 @@ static relief_status patch_cl_bind(void *ctx, const relief_patch_level *levels, 
     return st;
 }
 
+/* Rows y0..y1 of a level changed: noted, and sent before the next launch
+ * (flush), so that a batch's many pastes cost one write per level rather
+ * than a round trip each. */
 static relief_status patch_cl_update(void *ctx, int level, int y0, int y1, relief_error *err)
 {
     patch_cl *p = ctx;
-    const relief_patch_level *l = &p->levels[level];
-    size_t row = (size_t)l->width, first = (size_t)y0 * row, count = (size_t)(y1 - y0 + 1) * row;
-    cl_int rc = clEnqueueWriteBuffer(p->queue, p->v[level], CL_TRUE,
-                                     first * l->channels * sizeof(float),
-                                     count * l->channels * sizeof(float),
-                                     l->v + first * l->channels, 0, NULL, NULL);
-    if (rc == CL_SUCCESS)
-        rc = clEnqueueWriteBuffer(p->queue, p->known[level], CL_TRUE, first, count,
-                                  l->known + first, 0, NULL, NULL);
-    if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "updating an image level on the device: %s",
-                           relief_cl_error_name(rc));
+    (void)err;
+    if (p->dirty_lo[level] > p->dirty_hi[level]) {
+        p->dirty_lo[level] = y0, p->dirty_hi[level] = y1;
+    } else {
+        p->dirty_lo[level] = y0 < p->dirty_lo[level] ? y0 : p->dirty_lo[level];
+        p->dirty_hi[level] = y1 > p->dirty_hi[level] ? y1 : p->dirty_hi[level];
+    }
     return RELIEF_OK;
+}
+
+/* The rows changed since the last launch, onto the device (in order
+ * before the launch; the host changes them again only after the launch's
+ * scores are read back). */
+static cl_int flush(patch_cl *p)
+{
+    cl_int rc = CL_SUCCESS;
+    for (int level = 0; level < p->n_levels && rc == CL_SUCCESS; ++level) {
+        const relief_patch_level *l = &p->levels[level];
+        size_t row = (size_t)l->width, first, count;
+        if (p->dirty_lo[level] > p->dirty_hi[level])
+            continue;
+        first = (size_t)p->dirty_lo[level] * row;
+        count = (size_t)(p->dirty_hi[level] - p->dirty_lo[level] + 1) * row;
+        rc = clEnqueueWriteBuffer(p->queue, p->v[level], CL_FALSE,
+                                  first * l->channels * sizeof(float),
+                                  count * l->channels * sizeof(float),
+                                  l->v + first * l->channels, 0, NULL, NULL);
+        if (rc == CL_SUCCESS)
+            rc = clEnqueueWriteBuffer(p->queue, p->known[level], CL_FALSE, first, count,
+                                      l->known + first, 0, NULL, NULL);
+        p->dirty_lo[level] = 1, p->dirty_hi[level] = 0;
+    }
+    return rc;
 }
 
 /* Room for `count` scores on the device. */
@@ -211,7 +246,9 @@ static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, i
     st = grow_scores(p, count, err);
     if (st != RELIEF_OK)
         return st;
-    rc = put_weights(p, g, radius);
+    rc = flush(p);
+    if (rc == CL_SUCCESS)
+        rc = put_weights(p, g, radius);
 #define ARG(x) (rc |= clSetKernelArg(p->kernel, a++, sizeof(x), &(x)))
     ARG(p->v[level]);
     ARG(p->known[level]);
@@ -272,6 +309,8 @@ static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, i
     rc = clEnqueueWriteBuffer(p->queue, p->xy, CL_TRUE, 0, 2 * (size_t)count * sizeof(int), xy,
                               0, NULL, NULL);
     if (rc == CL_SUCCESS)
+        rc = flush(p);
+    if (rc == CL_SUCCESS)
         rc = put_weights(p, g, radius);
 #define ARG(x) (rc |= clSetKernelArg(p->list_kernel, a++, sizeof(x), &(x)))
     ARG(p->v[level]);
@@ -302,11 +341,124 @@ static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, i
     return RELIEF_OK;
 }
 
+/* `ints` ints onto the device's batch buffer (grown as needed). */
+static relief_status put_batch(patch_cl *p, const int *data, size_t ints, relief_error *err)
+{
+    cl_int rc;
+    if (ints > p->batch_cap) {
+        relief_status st;
+        if (p->batch)
+            clReleaseMemObject(p->batch);
+        p->batch = NULL;
+        p->batch_cap = 0;
+        st = buffer(p, &p->batch, NULL, ints * sizeof(int), "a batch of windows", err);
+        if (st != RELIEF_OK)
+            return st;
+        p->batch_cap = ints;
+    }
+    rc = clEnqueueWriteBuffer(p->queue, p->batch, CL_FALSE, 0, ints * sizeof(int), data, 0,
+                              NULL, NULL);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "sending a batch of windows to the device: %s",
+                           relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+/* The arguments both batched kernels take, in their order. */
+static cl_int batch_args(patch_cl *p, cl_kernel k, int level, int radius, int max_holes,
+                         int weighted, int count)
+{
+    const relief_patch_level *l = &p->levels[level];
+    cl_int rc = CL_SUCCESS;
+    int a = 0;
+#define ARG(x) (rc |= clSetKernelArg(k, a++, sizeof(x), &(x)))
+    ARG(p->v[level]);
+    ARG(p->known[level]);
+    ARG(l->width);
+    ARG(l->height);
+    ARG(l->channels);
+    ARG(radius);
+    ARG(max_holes);
+    ARG(p->g);
+    ARG(weighted);
+    ARG(p->batch);
+    ARG(count);
+    ARG(p->ssd);
+    ARG(p->wsum);
+    ARG(p->n);
+#undef ARG
+    return rc;
+}
+
+static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int max_holes,
+                                          const float *g, const int *rects, int count,
+                                          size_t total, float *ssd, float *wsum, int *n,
+                                          relief_error *err)
+{
+    patch_cl *p = ctx;
+    size_t local[3] = {WG_X, WG_Y, 1}, global[3] = {0, 0, (size_t)count};
+    relief_status st = grow_scores(p, total, err);
+    cl_int rc;
+    for (int q = 0; q < count; ++q) {
+        size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
+        size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
+        global[0] = nx > global[0] ? nx : global[0];
+        global[1] = ny > global[1] ? ny : global[1];
+    }
+    if (st == RELIEF_OK)
+        st = put_batch(p, rects, 7 * (size_t)count, err);
+    if (st != RELIEF_OK || count <= 0)
+        return st;
+    rc = flush(p);
+    if (rc == CL_SUCCESS)
+        rc = put_weights(p, g, radius);
+    if (rc == CL_SUCCESS)
+        rc = batch_args(p, p->rects_kernel, level, radius, max_holes, g != NULL, count);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueNDRangeKernel(p->queue, p->rects_kernel, 3, NULL, global, local, 0, NULL,
+                                    NULL);
+    if (rc == CL_SUCCESS)
+        rc = read_scores(p, total, ssd, wsum, n);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "scoring a batch of windows on the device: "
+                           "%s", relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
+static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int max_holes,
+                                          const float *g, const int *pairs, int count,
+                                          float *ssd, float *wsum, int *n, relief_error *err)
+{
+    patch_cl *p = ctx;
+    size_t local = WG_X * WG_Y, global = ((size_t)count + local - 1) / local * local;
+    relief_status st = grow_scores(p, (size_t)count, err);
+    cl_int rc;
+    if (st == RELIEF_OK)
+        st = put_batch(p, pairs, 4 * (size_t)count, err);
+    if (st != RELIEF_OK || count <= 0)
+        return st;
+    rc = flush(p);
+    if (rc == CL_SUCCESS)
+        rc = put_weights(p, g, radius);
+    if (rc == CL_SUCCESS)
+        rc = batch_args(p, p->pairs_kernel, level, radius, max_holes, g != NULL, count);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueNDRangeKernel(p->queue, p->pairs_kernel, 1, NULL, &global, &local, 0,
+                                    NULL, NULL);
+    if (rc == CL_SUCCESS)
+        rc = read_scores(p, (size_t)count, ssd, wsum, n);
+    if (rc != CL_SUCCESS)
+        return relief_fail(err, RELIEF_E_DEVICE, "scoring a batch of refinements on the "
+                           "device: %s", relief_cl_error_name(rc));
+    return RELIEF_OK;
+}
+
 static void patch_cl_destroy(void *ctx) { patch_cl_free(ctx); }
 
 static const relief_patch_ops patch_cl_ops = {patch_cl_bind, patch_cl_update,
                                               patch_cl_score_rect, patch_cl_score_list,
-                                              patch_cl_destroy};
+                                              patch_cl_destroy, patch_cl_score_rects,
+                                              patch_cl_score_pairs};
 
 relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                                          relief_error *err)
@@ -346,13 +498,19 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                          "device: %s", relief_cl_error_name(rc));
         goto fail;
     }
-    p->kernel = clCreateKernel(p->prog, "patch_score", &rc);
-    if (rc == CL_SUCCESS)
-        p->list_kernel = clCreateKernel(p->prog, "patch_score_list", &rc);
-    if (rc != CL_SUCCESS) {
-        st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(patch_score%s): %s",
-                         p->kernel ? "_list" : "", relief_cl_error_name(rc));
-        goto fail;
+    {
+        static const char *names[4] = {"patch_score", "patch_score_list", "patch_score_rects",
+                                       "patch_score_pairs"};
+        cl_kernel *kernels[4] = {&p->kernel, &p->list_kernel, &p->rects_kernel,
+                                 &p->pairs_kernel};
+        for (int k = 0; k < 4; ++k) {
+            *kernels[k] = clCreateKernel(p->prog, names[k], &rc);
+            if (rc != CL_SUCCESS) {
+                st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(%s): %s", names[k],
+                                 relief_cl_error_name(rc));
+                goto fail;
+            }
+        }
     }
     s->ops = &patch_cl_ops;
     s->ctx = p;

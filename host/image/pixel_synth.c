@@ -184,6 +184,258 @@ static relief_status step_done(progress_state *prog, int reporter, relief_error 
     return RELIEF_OK;
 }
 
+/* ------------------------------------------------------- one order, batched
+ *
+ * The order of the pixels depends only on which are filled, never on the
+ * values: a pixel's turn is fixed once the pixels before it are taken. So
+ * the queue is run ahead of the copies: up to BATCH pixels are taken in
+ * their turn (pending), and those that no pending pixel before them can
+ * reach (relief_filler_reach: the search region, the window and the
+ * pyramid) are searched together, one scorer call per pyramid level for
+ * all of them. Then the pending pixels are copied in their turn, each
+ * drawing from the generator as the serial loop did, as far as the first
+ * one not yet searched. A search is made only once every pixel that can
+ * change it is copied, and nothing before its turn within its reach is
+ * copied after it, so every pixel gets the serial run's matches and
+ * draw: the same bits, with a device launch per batch and level instead
+ * of per pixel. */
+#define BATCH 256
+
+typedef struct pending {
+    uint32_t pixel;
+    int searched, n_best;
+    relief_window_match best[NEAR_KEEP];
+} pending;
+
+typedef struct order_state {
+    relief_raster *img;
+    const uint8_t *hole, *target;
+    const relief_pixsyn_params *p;
+    relief_pixsyn_order order;
+    int W, H, C, wrap, W0, H0, reach, cap;
+    double sigma;
+    uint8_t *known;   /* copied (or known from the start): what the copies read */
+    uint8_t *ordered; /* taken by the queue (known, pending or copied) */
+    uint8_t *count;   /* each pixel's ordered 8-neighbours */
+    heap h;
+    relief_filler *f;
+    relief_rng rng;
+    int64_t *source;
+    run *out;
+    pending *pend;    /* cap, in their turn */
+    int np;
+    int *stamp, gw, gh, gen; /* the readiness pass's cells (reach wide) */
+    int *pxy, *ready;
+} order_state;
+
+static uint32_t order_key(const order_state *s, int x, int y)
+{
+    return s->order == RELIEF_ORDER_VERTICAL ? (uint32_t)x * (uint32_t)s->H + (uint32_t)y
+                                             : (uint32_t)y * (uint32_t)s->W + (uint32_t)x;
+}
+
+/* Pixel (X, Y) taken: its unordered target neighbours count one more. */
+static int take_pixel(order_state *s, int X, int Y)
+{
+    s->ordered[(size_t)Y * s->W + X] = 1;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            int u = X + dx, v = Y + dy;
+            size_t j;
+            if ((!dx && !dy) || u < 0 || u >= s->W || v < 0 || v >= s->H)
+                continue;
+            j = (size_t)v * s->W + u;
+            if (s->ordered[j] || (s->target && !s->target[j]))
+                continue;
+            ++s->count[j];
+            if (!heap_push(&s->h, (entry){s->count[j], order_key(s, u, v), (uint32_t)j}))
+                return 0;
+        }
+    return 1;
+}
+
+/* The queue's initial counts over the known pixels. 0 when out of memory. */
+static int queue_start(order_state *s)
+{
+    for (int y = 0; y < s->H; ++y)
+        for (int x = 0; x < s->W; ++x) {
+            size_t i = (size_t)y * s->W + x;
+            int m = 0;
+            if (s->ordered[i] || (s->target && !s->target[i]))
+                continue;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int u = x + dx, v = y + dy;
+                    m += (dx || dy) && u >= 0 && u < s->W && v >= 0 && v < s->H &&
+                         s->ordered[(size_t)v * s->W + u];
+                }
+            s->count[i] = (uint8_t)m;
+            if (m && !heap_push(&s->h, (entry){m, order_key(s, x, y), (uint32_t)i}))
+                return 0;
+        }
+    return 1;
+}
+
+/* Pending filled up to cap from the queue, each pixel (and its copies in a
+ * tileable image's padding) taken in its turn. 0 when out of memory. */
+static int take_turns(order_state *s)
+{
+    while (s->np < s->cap && s->h.n) {
+        entry e = heap_pop(&s->h);
+        int x = (int)(e.pixel % (uint32_t)s->W), y = (int)(e.pixel / (uint32_t)s->W);
+        if (s->ordered[e.pixel] || e.count != s->count[e.pixel])
+            continue; /* taken already, or a stale count */
+        s->pend[s->np++] = (pending){e.pixel, 0, 0, {{0}}};
+        for (int ky = s->wrap ? -1 : 0; ky <= (s->wrap ? 1 : 0); ++ky)
+            for (int kx = s->wrap ? -1 : 0; kx <= (s->wrap ? 1 : 0); ++kx) {
+                int X = x + kx * s->W0, Y = y + ky * s->H0;
+                if (X < 0 || X >= s->W || Y < 0 || Y >= s->H || s->ordered[(size_t)Y * s->W + X])
+                    continue;
+                if (!take_pixel(s, X, Y))
+                    return 0;
+            }
+    }
+    return 1;
+}
+
+/* Search, together, the pending pixels no pending pixel before them can
+ * reach (cells `reach` wide: a pixel in the 3 x 3 cells about an earlier
+ * one waits, which is never nearer than reach). */
+static relief_status search_ready(order_state *s, relief_error *err)
+{
+    int nr = 0;
+    relief_window_match best[BATCH * NEAR_KEEP];
+    int n_best[BATCH];
+    relief_status st;
+    ++s->gen;
+    for (int i = 0; i < s->np; ++i) {
+        int x = (int)(s->pend[i].pixel % (uint32_t)s->W) / s->reach;
+        int y = (int)(s->pend[i].pixel / (uint32_t)s->W) / s->reach, blocked = 0;
+        for (int v = y - 1; v <= y + 1 && !blocked; ++v)
+            for (int u = x - 1; u <= x + 1 && !blocked; ++u)
+                blocked = u >= 0 && u < s->gw && v >= 0 && v < s->gh &&
+                          s->stamp[(size_t)v * s->gw + u] == s->gen;
+        if (!blocked && !s->pend[i].searched) {
+            s->ready[nr] = i;
+            s->pxy[2 * nr] = (int)(s->pend[i].pixel % (uint32_t)s->W);
+            s->pxy[2 * nr + 1] = (int)(s->pend[i].pixel / (uint32_t)s->W);
+            ++nr;
+        }
+        s->stamp[(size_t)y * s->gw + x] = s->gen;
+    }
+    st = relief_filler_search_batch(s->f, nr, s->pxy, s->p->window, s->p->exhaustive, s->sigma,
+                                    NEAR_KEEP, best, n_best, err);
+    for (int k = 0; k < nr && st == RELIEF_OK; ++k) {
+        pending *q = &s->pend[s->ready[k]];
+        q->searched = 1;
+        q->n_best = n_best[k];
+        memcpy(q->best, best + (size_t)k * NEAR_KEEP, sizeof(relief_window_match) * n_best[k]);
+    }
+    return st;
+}
+
+/* Pending pixel q copied in its turn: the near-minimum draw among its
+ * matches (else its known neighbours' mean), into the pixel and its
+ * copies in the padding. */
+static relief_status copy_pixel(order_state *s, const pending *q, relief_error *err)
+{
+    int x = (int)(q->pixel % (uint32_t)s->W), y = (int)(q->pixel / (uint32_t)s->W);
+    float value[4];
+    relief_status st = RELIEF_OK;
+    if (q->n_best > 0) {
+        double limit = q->best[0].msd * (1.0 + s->p->epsilon);
+        int near = 1, pick;
+        size_t from;
+        while (near < q->n_best && q->best[near].msd <= limit)
+            ++near;
+        pick = near > 1 ? (int)relief_rng_below(&s->rng, (uint32_t)near) : 0;
+        from = (size_t)q->best[pick].y * s->W + q->best[pick].x;
+        for (int c = 0; c < s->C; ++c)
+            value[c] = s->img->v[from * s->C + c];
+        s->out->energy += q->best[pick].msd;
+        ++s->out->synthesised;
+        /* The copy's origin: `from` itself when it was known from the
+         * start, else where its own value came from (resolved when it was
+         * filled), so the map always ends on a captured pixel. */
+        if (s->source)
+            s->source[q->pixel] = s->hole[from] ? s->source[from] : (int64_t)from;
+    } else {
+        neighbour_mean(s->img, s->known, s->C, x, y, value);
+        ++s->out->fallbacks;
+    }
+    for (int ky = s->wrap ? -1 : 0; ky <= (s->wrap ? 1 : 0) && st == RELIEF_OK; ++ky)
+        for (int kx = s->wrap ? -1 : 0; kx <= (s->wrap ? 1 : 0) && st == RELIEF_OK; ++kx) {
+            int X = x + kx * s->W0, Y = y + ky * s->H0;
+            size_t at;
+            if (X < 0 || X >= s->W || Y < 0 || Y >= s->H)
+                continue;
+            at = (size_t)Y * s->W + X;
+            if (s->known[at])
+                continue;
+            st = relief_filler_put(s->f, X, Y, value, err);
+            s->known[at] = 1;
+        }
+    return st;
+}
+
+/* The pending pixels searched at the front, copied in their turn. */
+static relief_status copy_front(order_state *s, progress_state *prog, int reporter,
+                                relief_error *err)
+{
+    int done = 0;
+    relief_status st = RELIEF_OK;
+    while (done < s->np && s->pend[done].searched && st == RELIEF_OK) {
+        st = copy_pixel(s, &s->pend[done++], err);
+        st = st == RELIEF_OK ? step_done(prog, reporter, err) : st;
+    }
+    memmove(s->pend, s->pend + done, (size_t)(s->np - done) * sizeof *s->pend);
+    s->np -= done;
+    return st;
+}
+
+static void order_free(order_state *s)
+{
+    relief_filler_destroy(s->f);
+    free(s->h.e), free(s->known), free(s->ordered), free(s->count);
+    free(s->pend), free(s->stamp), free(s->pxy), free(s->ready);
+}
+
+/* The state of one order over img; RELIEF_E_NOMEM. */
+static relief_status order_init(order_state *s, relief_error *err)
+{
+    size_t n = (size_t)s->W * s->H;
+    s->known = malloc(n), s->ordered = malloc(n), s->count = malloc(n);
+    s->pend = malloc(BATCH * sizeof *s->pend);
+    s->pxy = malloc(2 * BATCH * sizeof *s->pxy), s->ready = malloc(BATCH * sizeof *s->ready);
+    if (!s->known || !s->ordered || !s->count || !s->pend || !s->pxy || !s->ready)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis masks");
+    for (size_t i = 0; i < n; ++i) {
+        s->known[i] = s->ordered[i] = !s->hole[i];
+        if (s->source)
+            s->source[i] = -1;
+    }
+    if (!queue_start(s))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis queue");
+    return RELIEF_OK;
+}
+
+/* The readiness cells, once the filler knows its reach. A scorer that
+ * does not batch (the host's: a query's scores stay in its cache), a
+ * tileable image (whose copies land across it) or a search over the
+ * whole image takes one pixel at a time: the serial loop. */
+static relief_status batch_init(order_state *s, int batched, relief_error *err)
+{
+    s->reach = relief_filler_reach(s->f, s->p->window);
+    s->cap = !batched || s->wrap || s->reach >= s->W || s->reach >= s->H ? 1 : BATCH;
+    if (s->reach < 1)
+        s->reach = 1;
+    s->gw = s->W / s->reach + 1, s->gh = s->H / s->reach + 1;
+    s->stamp = calloc((size_t)s->gw * s->gh, sizeof *s->stamp);
+    if (!s->stamp)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis queue");
+    return RELIEF_OK;
+}
+
 /* One order. wrap > 0: img is a tileable image padded by `wrap` pixels
  * on every side with copies of the opposite side (its targets central
  * only); a filled pixel's copies are filled with it. */
@@ -193,128 +445,42 @@ static relief_status synth_order(relief_raster *img, const uint8_t *hole,
                                  relief_patch_scorer *scorer, int64_t *source, run *out,
                                  progress_state *prog, int reporter, relief_error *err)
 {
-    int W = img->width, H = img->height, C = img->channels;
-    int W0 = W - 2 * wrap, H0 = H - 2 * wrap;
-    size_t n = (size_t)W * H;
-    double sigma = p->sigma > 0.0 ? p->sigma : p->window / 6.4;
+    order_state s = {0};
     relief_fill_params fp = engine_params(p);
-    uint8_t *known = malloc(n), *count = malloc(n);
-    heap h = {NULL, 0, 0};
-    relief_filler *f = NULL;
-    relief_rng rng;
-    relief_status st = RELIEF_OK;
-    float value[4];
+    relief_status st;
 
     memset(out, 0, sizeof *out);
-    relief_rng_seed(&rng, p->seed);
-    if (!known || !count) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis masks");
-        goto done;
-    }
-    for (size_t i = 0; i < n; ++i) {
-        known[i] = !hole[i];
-        if (source)
-            source[i] = -1;
-    }
-#define KEY(x, y) (order == RELIEF_ORDER_VERTICAL ? (uint32_t)(x) * (uint32_t)H + (uint32_t)(y) \
-                                                  : (uint32_t)(y) * (uint32_t)W + (uint32_t)(x))
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            size_t i = (size_t)y * W + x;
-            int m = 0;
-            if (known[i] || (target && !target[i]))
-                continue;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    int u = x + dx, v = y + dy;
-                    m += (dx || dy) && u >= 0 && u < W && v >= 0 && v < H &&
-                         known[(size_t)v * W + u];
-                }
-            count[i] = (uint8_t)m;
-            if (m && !heap_push(&h, (entry){m, KEY(x, y), (uint32_t)i})) {
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis queue");
-                goto done;
-            }
-        }
-    st = relief_filler_create(img, hole, &fp, scorer, &f, err);
-    if (st != RELIEF_OK)
-        goto done;
-    while (h.n && st == RELIEF_OK) {
-        entry e = heap_pop(&h);
-        relief_window_match best[NEAR_KEEP];
-        int x = (int)(e.pixel % (uint32_t)W), y = (int)(e.pixel / (uint32_t)W), n_best = 0;
-        if (known[e.pixel] || e.count != count[e.pixel])
-            continue; /* filled already, or a stale count */
-        st = relief_filler_search_top(f, x, y, p->window, p->exhaustive, sigma, best, NEAR_KEEP,
-                                      &n_best, NULL, NULL, err);
-        if (st != RELIEF_OK)
+    s.img = img, s.hole = hole, s.target = target, s.p = p, s.order = order;
+    s.W = img->width, s.H = img->height, s.C = img->channels, s.wrap = wrap;
+    s.W0 = s.W - 2 * wrap, s.H0 = s.H - 2 * wrap;
+    s.sigma = p->sigma > 0.0 ? p->sigma : p->window / 6.4;
+    s.source = source, s.out = out;
+    relief_rng_seed(&s.rng, p->seed);
+    st = order_init(&s, err);
+    if (st == RELIEF_OK)
+        st = relief_filler_create(img, hole, &fp, scorer, &s.f, err);
+    if (st == RELIEF_OK)
+        st = batch_init(&s, scorer->ops->score_rects != NULL, err);
+    while (st == RELIEF_OK) {
+        if (!take_turns(&s)) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis queue");
             break;
-        if (n_best > 0) {
-            double limit = best[0].msd * (1.0 + p->epsilon);
-            int near = 1, pick;
-            size_t s;
-            while (near < n_best && best[near].msd <= limit)
-                ++near;
-            pick = near > 1 ? (int)relief_rng_below(&rng, (uint32_t)near) : 0;
-            s = (size_t)best[pick].y * W + best[pick].x;
-            for (int c = 0; c < C; ++c)
-                value[c] = img->v[s * C + c];
-            out->energy += best[pick].msd;
-            ++out->synthesised;
-            /* The copy's origin: s itself when it was known from the
-             * start, else where s's own value came from (resolved when s
-             * was filled), so the map always ends on a captured pixel. */
-            if (source)
-                source[e.pixel] = hole[s] ? source[s] : (int64_t)s;
-        } else {
-            neighbour_mean(img, known, C, x, y, value);
-            ++out->fallbacks;
         }
-        /* The pixel, and its copies in a tileable image's padding. */
-        for (int ky = wrap ? -1 : 0; ky <= (wrap ? 1 : 0) && st == RELIEF_OK; ++ky)
-            for (int kx = wrap ? -1 : 0; kx <= (wrap ? 1 : 0) && st == RELIEF_OK; ++kx) {
-                int X = x + kx * W0, Y = y + ky * H0;
-                size_t at;
-                if (X < 0 || X >= W || Y < 0 || Y >= H)
-                    continue;
-                at = (size_t)Y * W + X;
-                if (known[at])
-                    continue;
-                st = relief_filler_put(f, X, Y, value, err);
-                known[at] = 1;
-                for (int dy = -1; dy <= 1 && st == RELIEF_OK; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        int u = X + dx, v = Y + dy;
-                        size_t j;
-                        if ((!dx && !dy) || u < 0 || u >= W || v < 0 || v >= H)
-                            continue;
-                        j = (size_t)v * W + u;
-                        if (known[j] || (target && !target[j]))
-                            continue;
-                        ++count[j];
-                        if (!heap_push(&h, (entry){count[j], KEY(u, v), (uint32_t)j})) {
-                            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the "
-                                             "synthesis queue");
-                            break;
-                        }
-                    }
-            }
-        st = st == RELIEF_OK ? step_done(prog, reporter, err) : st;
+        if (!s.np)
+            break;
+        st = search_ready(&s, err);
+        if (st == RELIEF_OK)
+            st = copy_front(&s, prog, reporter, err);
     }
-#undef KEY
     /* Targets the queue never reached: cut off from every known pixel by
      * holes that are not targets. They keep their values, counted. */
-    for (size_t i = 0; i < n && st == RELIEF_OK; ++i)
-        out->unreached += !known[i] && (!target || target[i]);
-done:
-    if (f) {
-        out->levels = relief_filler_levels(f);
-        out->candidates = relief_filler_candidates(f, &out->seconds_score);
+    for (size_t i = 0; i < (size_t)s.W * s.H && st == RELIEF_OK; ++i)
+        out->unreached += !s.known[i] && (!target || target[i]);
+    if (s.f) {
+        out->levels = relief_filler_levels(s.f);
+        out->candidates = relief_filler_candidates(s.f, &out->seconds_score);
     }
-    relief_filler_destroy(f);
-    free(h.e);
-    free(known);
-    free(count);
+    order_free(&s);
     return st;
 }
 

@@ -365,6 +365,60 @@ static void test_bad(relief_patch_scorer *s)
 
 /* The OpenCL scorer fills exactly as the scalar one: a real photograph
  * with a disc and a rectangle cut, both searches. */
+/* A batch of searches on the OpenCL scorer (one launch per level for all
+ * of them: score_rects, score_pairs) finds, query by query, what a single
+ * search on the scalar scorer finds: the 8 best, weighted and not. */
+static void test_batch(relief_patch_scorer *sc, relief_patch_scorer *cl, const relief_raster *a)
+{
+    enum { NQ = 24, KEEP = 8 };
+    relief_error err = {RELIEF_OK, ""};
+    relief_fill_params p = relief_fill_params_default();
+    uint8_t *hole = calloc((size_t)a->width * a->height, 1);
+    relief_filler *fs = NULL, *fc = NULL;
+    relief_raster as, ac;
+    int pxy[2 * NQ], n_batch[NQ], differ = 0, found = 0;
+    relief_window_match batch[NQ * KEEP];
+    size_t n = (size_t)a->width * a->height * a->channels;
+    relief_raster_create(a->width, a->height, a->channels, 8, &as, &err);
+    relief_raster_create(a->width, a->height, a->channels, 8, &ac, &err);
+    memcpy(as.v, a->v, n * sizeof(float));
+    memcpy(ac.v, a->v, n * sizeof(float));
+    for (int y = 100; y < 140; ++y)
+        for (int x = 180; x < 220; ++x)
+            hole[y * a->width + x] = 1;
+    p.search_radius = 48;
+    CHECK(relief_filler_create(&as, hole, &p, sc, &fs, &err) == RELIEF_OK, "%s", err.message);
+    CHECK(relief_filler_create(&ac, hole, &p, cl, &fc, &err) == RELIEF_OK, "%s", err.message);
+    for (int k = 0; k < NQ; ++k) { /* around the hole's rim, and two away from it */
+        pxy[2 * k] = k < 22 ? 180 + (k * 7) % 40 : 40 + 300 * (k - 22);
+        pxy[2 * k + 1] = k < 22 ? (k % 2 ? 100 : 139) : 60;
+    }
+    for (int weighted = 0; weighted <= 1 && fs && fc; ++weighted) {
+        double sigma = weighted ? 1.6 : 0.0;
+        CHECK(relief_filler_search_batch(fc, NQ, pxy, 11, 0, sigma, KEEP, batch, n_batch,
+                                         &err) == RELIEF_OK, "batch: %s", err.message);
+        for (int k = 0; k < NQ; ++k) {
+            relief_window_match one[KEEP];
+            int n_one = 0;
+            CHECK(relief_filler_search_top(fs, pxy[2 * k], pxy[2 * k + 1], 11, 0, sigma, one,
+                                           KEEP, &n_one, NULL, NULL, &err) == RELIEF_OK,
+                  "single: %s", err.message);
+            found += n_one;
+            differ += n_one != n_batch[k] ||
+                      memcmp(one, batch + k * KEEP, (size_t)n_one * sizeof *one) != 0;
+        }
+    }
+    CHECK(!differ && found > NQ, "%d of %d batched searches differ from the single ones "
+          "(%d matches)", differ, 2 * NQ, found);
+    printf("batch: %d searches in batches of %d on OpenCL, each the scalar search's %d "
+           "matches\n", 2 * NQ, NQ, KEEP);
+    relief_filler_destroy(fs);
+    relief_filler_destroy(fc);
+    relief_raster_free(&as);
+    relief_raster_free(&ac);
+    free(hole);
+}
+
 static int test_opencl(const char *images)
 {
     relief_patch_scorer *sc = NULL, *cl = NULL;
@@ -416,6 +470,7 @@ static int test_opencl(const char *images)
         relief_raster_free(&b2);
         free(hole);
     }
+    test_batch(sc, cl, &a);
     (void)b;
     relief_raster_free(&a);
     relief_patch_scorer_destroy(sc);
