@@ -98,6 +98,8 @@ def cases(data, inp):
          ["depth-fill", office, "--variant", "plain"]),
         ("depth-fill", "office1.pcd, --variant decompose (default)", "pcd",
          ["depth-fill", office]),
+        ("depth-fill", "office1.pcd, decompose, waves of 64 (--batch 64)", "pcd",
+         ["depth-fill", office, "--batch", "64"]),
         ("complete-points", "frag_115, 0.12 m ball cut, --grid-search brute", "ply",
          ["complete-points", i("frag_cut.ply"), "--grid-search", "brute"]),
         ("complete-points", "bunny, 226 405 points, 2 cm ball cut, --grid-search brute", "ply",

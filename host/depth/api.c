@@ -35,6 +35,7 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.epsilon = r.synth.epsilon;
     p.search_radius = r.synth.search_radius;
     p.exhaustive = 0;
+    p.batch = 1;
     p.order = RELIEF_DEPTH_ORDER_BOTH;
     p.tileable = 0;
     p.levels = r.levels;
@@ -73,6 +74,9 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     if (p->membrane < RELIEF_MEMBRANE_AUTO || p->membrane > RELIEF_MEMBRANE_THIN_PLATE)
         return relief_fail(err, RELIEF_E_RANGE, "membrane %d is not one of auto, harmonic, "
                            "thin-plate", (int)p->membrane);
+    if (p->batch < 1 || p->batch > 256)
+        return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..256 (1: a "
+                           "pixel at a time)", p->batch);
     st = check_flag("exhaustive", p->exhaustive, err);
     if (st == RELIEF_OK)
         st = check_flag("tileable", p->tileable, err);
@@ -139,6 +143,7 @@ static relief_depth_repair_params repair_params(const relief_depth_fill_params *
     r.synth.epsilon = p->epsilon;
     r.synth.search_radius = p->search_radius;
     r.synth.exhaustive = p->exhaustive;
+    r.synth.batch = p->batch;
     r.synth.order = p->order == RELIEF_DEPTH_ORDER_HORIZONTAL ? RELIEF_ORDER_HORIZONTAL
                     : p->order == RELIEF_DEPTH_ORDER_VERTICAL ? RELIEF_ORDER_VERTICAL
                                                               : RELIEF_ORDER_BOTH;

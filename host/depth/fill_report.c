@@ -57,6 +57,7 @@ static void image_parameters(relief_json *j, const relief_depth_repair_params *p
     rj_number(j, "epsilon", p->synth.epsilon);
     rj_int(j, "search_radius", p->synth.search_radius);
     rj_bool(j, "exhaustive", p->synth.exhaustive);
+    rj_int(j, "batch", p->synth.batch);
     rj_string(j, "order", order_name(p->synth.order));
     rj_bool(j, "tileable", p->synth.tileable);
     rj_int(j, "levels", p->levels);

@@ -14,6 +14,8 @@
 
 /* Matches kept per search for the near-minimum draw. */
 #define NEAR_KEEP 8
+/* Pixels taken ahead of their copies, and the largest wave (batch). */
+#define BATCH 256
 
 relief_pixsyn_params relief_pixsyn_params_default(void)
 {
@@ -27,6 +29,7 @@ relief_pixsyn_params relief_pixsyn_params_default(void)
     p.max_hole_fraction = 0.1;
     p.order = RELIEF_ORDER_BOTH;
     p.seed = 1;
+    p.batch = 1;
     return p;
 }
 
@@ -60,6 +63,9 @@ relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int w
     if (!(p->epsilon >= 0.0 && p->epsilon <= 10.0))
         return relief_fail(err, RELIEF_E_RANGE, "epsilon %g out of range: expected 0..10",
                            p->epsilon);
+    if (p->batch < 1 || p->batch > BATCH)
+        return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..%d",
+                           p->batch, BATCH);
     if (p->order != RELIEF_ORDER_BOTH && p->order != RELIEF_ORDER_HORIZONTAL &&
         p->order != RELIEF_ORDER_VERTICAL)
         return relief_fail(err, RELIEF_E_RANGE, "order %d is not one of both, horizontal, vertical",
@@ -199,7 +205,6 @@ static relief_status step_done(progress_state *prog, int reporter, relief_error 
  * copied after it, so every pixel gets the serial run's matches and
  * draw: the same bits, with a device launch per batch and level instead
  * of per pixel. */
-#define BATCH 256
 
 typedef struct pending {
     uint32_t pixel;
@@ -213,6 +218,9 @@ typedef struct order_state {
     const relief_pixsyn_params *p;
     relief_pixsyn_order order;
     int W, H, C, wrap, W0, H0, reach, cap;
+    int wave;         /* 0: the order's own; else waves of up to this many (p->batch) */
+    int *cover;       /* a wave's pass: the pixels inside an earlier pending pixel's
+                         window hold its generation */
     double sigma;
     uint8_t *known;   /* copied (or known from the start): what the copies read */
     uint8_t *ordered; /* taken by the queue (known, pending or copied) */
@@ -298,15 +306,20 @@ static int take_turns(order_state *s)
     return 1;
 }
 
-/* Search, together, the pending pixels no pending pixel before them can
- * reach (cells `reach` wide: a pixel in the 3 x 3 cells about an earlier
- * one waits, which is never nearer than reach). */
-static relief_status search_ready(order_state *s, relief_error *err)
+/* The pending pixel i as a query of the batch (ready[nr], pxy). */
+static void add_query(order_state *s, int i, int nr)
+{
+    s->ready[nr] = i;
+    s->pxy[2 * nr] = (int)(s->pend[i].pixel % (uint32_t)s->W);
+    s->pxy[2 * nr + 1] = (int)(s->pend[i].pixel / (uint32_t)s->W);
+}
+
+/* The order's own batch: the pending pixels no pending pixel before them
+ * can reach (cells `reach` wide: a pixel in the 3 x 3 cells about an
+ * earlier one waits, which is never nearer than reach). */
+static int select_reach(order_state *s)
 {
     int nr = 0;
-    relief_window_match best[BATCH * NEAR_KEEP];
-    int n_best[BATCH];
-    relief_status st;
     ++s->gen;
     for (int i = 0; i < s->np; ++i) {
         int x = (int)(s->pend[i].pixel % (uint32_t)s->W) / s->reach;
@@ -315,16 +328,41 @@ static relief_status search_ready(order_state *s, relief_error *err)
             for (int u = x - 1; u <= x + 1 && !blocked; ++u)
                 blocked = u >= 0 && u < s->gw && v >= 0 && v < s->gh &&
                           s->stamp[(size_t)v * s->gw + u] == s->gen;
-        if (!blocked && !s->pend[i].searched) {
-            s->ready[nr] = i;
-            s->pxy[2 * nr] = (int)(s->pend[i].pixel % (uint32_t)s->W);
-            s->pxy[2 * nr + 1] = (int)(s->pend[i].pixel / (uint32_t)s->W);
-            ++nr;
-        }
+        if (!blocked && !s->pend[i].searched)
+            add_query(s, i, nr++);
         s->stamp[(size_t)y * s->gw + x] = s->gen;
     }
-    st = relief_filler_search_batch(s->f, nr, s->pxy, s->p->window, s->p->exhaustive, s->sigma,
-                                    NEAR_KEEP, best, n_best, err);
+    return nr;
+}
+
+/* A wave (p->batch): up to `wave` pending pixels, in their turn, none
+ * inside the window of a pending pixel before it. */
+static int select_wave(order_state *s)
+{
+    const int half = s->p->window / 2;
+    int nr = 0;
+    ++s->gen;
+    for (int i = 0; i < s->np && nr < s->wave; ++i) {
+        int x = (int)(s->pend[i].pixel % (uint32_t)s->W), y = (int)(s->pend[i].pixel / (uint32_t)s->W);
+        if (s->cover[s->pend[i].pixel] != s->gen)
+            add_query(s, i, nr++);
+        for (int v = y - half; v <= y + half; ++v)
+            for (int u = x - half; u <= x + half; ++u)
+                if (u >= 0 && u < s->W && v >= 0 && v < s->H)
+                    s->cover[(size_t)v * s->W + u] = s->gen;
+    }
+    return nr;
+}
+
+/* The batch's searches, together: one scorer call per pyramid level. */
+static relief_status search_ready(order_state *s, relief_error *err)
+{
+    int nr = s->wave ? select_wave(s) : select_reach(s);
+    relief_window_match best[BATCH * NEAR_KEEP];
+    int n_best[BATCH];
+    relief_status st = relief_filler_search_batch(s->f, nr, s->pxy, s->p->window,
+                                                  s->p->exhaustive, s->sigma, NEAR_KEEP, best,
+                                                  n_best, err);
     for (int k = 0; k < nr && st == RELIEF_OK; ++k) {
         pending *q = &s->pend[s->ready[k]];
         q->searched = 1;
@@ -378,18 +416,24 @@ static relief_status copy_pixel(order_state *s, const pending *q, relief_error *
     return st;
 }
 
-/* The pending pixels searched at the front, copied in their turn. */
+/* The searched pending pixels copied in their turn: those at the front
+ * (the order's own batches: a later one waits for its turn), or all of
+ * them (a wave); the rest keep their order. */
 static relief_status copy_front(order_state *s, progress_state *prog, int reporter,
                                 relief_error *err)
 {
-    int done = 0;
+    int kept = 0, front = 1;
     relief_status st = RELIEF_OK;
-    while (done < s->np && s->pend[done].searched && st == RELIEF_OK) {
-        st = copy_pixel(s, &s->pend[done++], err);
-        st = st == RELIEF_OK ? step_done(prog, reporter, err) : st;
+    for (int i = 0; i < s->np; ++i) {
+        front = front && s->pend[i].searched;
+        if (st == RELIEF_OK && s->pend[i].searched && (front || s->wave)) {
+            st = copy_pixel(s, &s->pend[i], err);
+            st = st == RELIEF_OK ? step_done(prog, reporter, err) : st;
+            continue;
+        }
+        s->pend[kept++] = s->pend[i];
     }
-    memmove(s->pend, s->pend + done, (size_t)(s->np - done) * sizeof *s->pend);
-    s->np -= done;
+    s->np = kept;
     return st;
 }
 
@@ -397,7 +441,7 @@ static void order_free(order_state *s)
 {
     relief_filler_destroy(s->f);
     free(s->h.e), free(s->known), free(s->ordered), free(s->count);
-    free(s->pend), free(s->stamp), free(s->pxy), free(s->ready);
+    free(s->pend), free(s->stamp), free(s->pxy), free(s->ready), free(s->cover);
 }
 
 /* The state of one order over img; RELIEF_E_NOMEM. */
@@ -429,6 +473,12 @@ static relief_status batch_init(order_state *s, int batched, relief_error *err)
     s->cap = !batched || s->wrap || s->reach >= s->W || s->reach >= s->H ? 1 : BATCH;
     if (s->reach < 1)
         s->reach = 1;
+    if (s->p->batch > 1 && !s->wrap) {
+        s->wave = s->p->batch, s->cap = BATCH;
+        s->cover = calloc((size_t)s->W * s->H, sizeof *s->cover);
+        if (!s->cover)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis waves");
+    }
     s->gw = s->W / s->reach + 1, s->gh = s->H / s->reach + 1;
     s->stamp = calloc((size_t)s->gw * s->gh, sizeof *s->stamp);
     if (!s->stamp)

@@ -50,6 +50,17 @@ if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | 
   expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_cl.pcd" --variant plain --backend opencl --quiet
   ok 'cmp -s "$tmp/o_plain.pcd" "$tmp/o_cl.pcd"' "OpenCL and scalar outputs differ"
 fi
+# Waves (--batch): the same bytes on every backend, the known pixels kept,
+# the batch reported (out of range: refused below).
+expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/o_w.pcd" --variant plain --batch 32 --backend scalar --report "$tmp/r_w.json" --quiet
+expect 0 "0 known differ" -- "$tool" same "$tmp/office.pcd" "$tmp/o_w.pcd"
+ok 'grep -q "\"batch\": 32" "$tmp/r_w.json" && grep -q "\"batch\": 1," "$tmp/r_plain.json"' "the report lacks the batch"
+expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/o_wh.pcd" --variant plain --batch 32 --backend host --quiet
+ok 'cmp -s "$tmp/o_w.pcd" "$tmp/o_wh.pcd"' "--batch 32: host and scalar outputs differ"
+if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | grep -i "cpu\|gpu") ]]; then
+  expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/o_wcl.pcd" --variant plain --batch 32 --backend opencl --quiet
+  ok 'cmp -s "$tmp/o_w.pcd" "$tmp/o_wcl.pcd"' "--batch 32: OpenCL and scalar outputs differ"
+fi
 # The Middlebury PFM (a crop), and a 16-bit PNG depth image.
 "$tool" crop "$moto" 300 200 200 150 "$tmp/moto.pfm" || exit 2
 expect 0 "filled" -- "$relief" depth-fill "$tmp/moto.pfm" -o "$tmp/moto_f.pfm" --backend scalar
@@ -77,6 +88,9 @@ fi
 
 # Bad input: exit 1 (2 for resources), the message, no output.
 nothing() { ok '[[ ! -e "$tmp/bad.pcd" && ! -e "$tmp/bad.pfm" && ! -e "$tmp/bad.png" && ! -e "$tmp/bad.json" ]]' "output left behind: $1"; }
+for b in 0 257; do
+  expect 1 "batch" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --batch $b; nothing "--batch $b"
+done
 head -c 300 "$office" > "$tmp/trunc.pcd"
 expect 1 "truncated" -- "$relief" depth-fill "$tmp/trunc.pcd" -o "$tmp/bad.pcd"; nothing truncated
 printf 'Pf\n4 4\n-1.0\n' > "$tmp/short.pfm"
