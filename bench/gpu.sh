@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Every engine on scalar, host and OpenCL on a machine with a GPU, in one
-# run of a few minutes (issue 42's table; bench/engines.py says what is
-# measured). The device machine is bare and builds nothing, so two steps:
+# Every engine on scalar, host and OpenCL on a machine with a GPU (issue
+# 42's table; bench/engines.py says what is measured). Every row, the bark
+# included, is about 9 minutes on a 16-core host: under one call's 10, or
+# split it (CASES=1,2,3,4,5,6,7 BARK=0, then CASES=8,9). The device machine is bare and builds nothing, so two steps:
 #   bench/gpu.sh stage [BUILD_DIR]   here: the programs (relief, bench_complete,
 #       image_tool), the shared libraries a bare machine lacks and the
 #       inputs (made here from ../shared/data) into .gpu-bench/ (ignored;

@@ -1,48 +1,10 @@
 /* Window scores of the image hole filler (host/image/patch_opencl.c; its
- * scalar twin is host/image/patch_scalar.c). One work-item per candidate
- * centre of the rectangle x0..x0 + nx - 1, y0..y0 + ny - 1, the first
- * dimension along x, so that neighbouring work-items read neighbouring
- * pixels. The level's pixels stay on the device between launches; only the
- * scores come back. */
+ * scalar twin is host/image/patch_scalar.c), for one query or a batch of
+ * them. One work-item per candidate centre, the first dimension along x,
+ * so that neighbouring work-items read neighbouring pixels. The level's
+ * pixels stay on the device between launches; only the scores come back. */
 
-__kernel void patch_score(__global const float *v, __global const uchar *known, int width,
-                          int height, int channels, int qx, int qy, int radius, int max_holes,
-                          __global const float *g, int weighted, int x0, int y0, int nx,
-                          int ny, __global float *ssd, __global float *wsum, __global int *n)
-{
-    int i = get_global_id(0), j = get_global_id(1);
-    float s, ws;
-    int k;
-    if (i >= nx || j >= ny)
-        return;
-    pm_score(v, known, width, height, channels, qx, qy, x0 + i, y0 + j, radius, max_holes, g,
-             weighted, &s, &ws, &k);
-    ssd[j * nx + i] = s;
-    wsum[j * nx + i] = ws;
-    n[j * nx + i] = k;
-}
-
-/* The same for a list of candidate centres xy[2 i], xy[2 i + 1], i < count:
- * the pyramid's refinement. */
-__kernel void patch_score_list(__global const float *v, __global const uchar *known, int width,
-                               int height, int channels, int qx, int qy, int radius,
-                               int max_holes, __global const float *g, int weighted,
-                               __global const int *xy, int count, __global float *ssd,
-                               __global float *wsum, __global int *n)
-{
-    int i = get_global_id(0);
-    float s, ws;
-    int k;
-    if (i >= count)
-        return;
-    pm_score(v, known, width, height, channels, qx, qy, xy[2 * i], xy[2 * i + 1], radius,
-             max_holes, g, weighted, &s, &ws, &k);
-    ssd[i] = s;
-    wsum[i] = ws;
-    n[i] = k;
-}
-
-/* Many queries' rectangles at once (the depth synthesis's batches):
+/* Queries' rectangles (one, or a depth synthesis's batch):
  * rectangle q is rects[7 q ..] = qx, qy, x0, y0, nx, ny, offset, its
  * scores at offset + j * nx + i. The third dimension is the query; the
  * first two span the largest rectangle, and the work-items past a smaller
@@ -67,8 +29,8 @@ __kernel void patch_score_rects(__global const float *v, __global const uchar *k
     n[at] = k;
 }
 
-/* Many queries' candidate centres at once: pair i is pairs[4 i ..] = qx,
- * qy, cx, cy (the refinements of a batch). */
+/* Queries' candidate centres (one query's refinement list, or a batch's):
+ * pair i is pairs[4 i ..] = qx, qy, cx, cy. */
 __kernel void patch_score_pairs(__global const float *v, __global const uchar *known, int width,
                                 int height, int channels, int radius, int max_holes,
                                 __global const float *g, int weighted,

@@ -1,7 +1,8 @@
 /* The OpenCL scorer of the image hole filler: kernels/patch.cl, which runs
  * kernels/patch_math.h's pm_score, the scalar twin's arithmetic. The
- * pyramid's levels go to the device once; after each paste only the rows
- * it changed travel, and per query only the scores come back. */
+ * pyramid's levels go to the device once; the rows pastes changed travel
+ * before the next launch, and only the scores come back. A single query
+ * is a batch of one (patch_score_rects, patch_score_pairs). */
 #include "image/patch.h"
 
 #include <stdio.h>
@@ -31,7 +32,7 @@ typedef struct patch_cl {
     cl_context ctx;
     cl_command_queue queue;
     cl_program prog;
-    cl_kernel kernel, list_kernel, rects_kernel, pairs_kernel;
+    cl_kernel rects_kernel, pairs_kernel;
     const relief_patch_level *levels;
     int n_levels;
     cl_mem v[MAX_LEVELS], known[MAX_LEVELS];
@@ -40,8 +41,6 @@ typedef struct patch_cl {
     cl_mem g;            /* the weights of the last weighted call (G_MAX floats) */
     float g_host[G_MAX]; /* what g holds, so that it travels only when it changes */
     int g_len;           /* entries of g_host in use; 0 none yet */
-    cl_mem xy;     /* the last list's centres */
-    size_t xy_cap; /* centres xy holds */
     cl_mem batch;     /* the last batch's rectangles or pairs */
     size_t batch_cap; /* ints batch holds */
     int dirty_lo[MAX_LEVELS], dirty_hi[MAX_LEVELS]; /* rows changed on the host and not
@@ -66,18 +65,12 @@ static void patch_cl_free(patch_cl *p)
         clReleaseMemObject(p->n);
     if (p->g)
         clReleaseMemObject(p->g);
-    if (p->xy)
-        clReleaseMemObject(p->xy);
     if (p->batch)
         clReleaseMemObject(p->batch);
     if (p->rects_kernel)
         clReleaseKernel(p->rects_kernel);
     if (p->pairs_kernel)
         clReleaseKernel(p->pairs_kernel);
-    if (p->kernel)
-        clReleaseKernel(p->kernel);
-    if (p->list_kernel)
-        clReleaseKernel(p->list_kernel);
     if (p->prog)
         clReleaseProgram(p->prog);
     if (p->queue)
@@ -229,118 +222,6 @@ static cl_int read_scores(patch_cl *p, size_t count, float *ssd, float *wsum, in
     return rc;
 }
 
-static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, int radius,
-                                         int max_holes, const float *g, int x0, int y0, int nx,
-                                         int ny, float *ssd, float *wsum, int *n,
-                                         relief_error *err)
-{
-    patch_cl *p = ctx;
-    const relief_patch_level *l = &p->levels[level];
-    size_t count = (size_t)nx * ny, local[2] = {WG_X, WG_Y};
-    size_t global[2] = {((size_t)nx + WG_X - 1) / WG_X * WG_X,
-                        ((size_t)ny + WG_Y - 1) / WG_Y * WG_Y};
-    cl_int rc;
-    int a = 0, weighted = g != NULL;
-    relief_status st;
-
-    st = grow_scores(p, count, err);
-    if (st != RELIEF_OK)
-        return st;
-    rc = flush(p);
-    if (rc == CL_SUCCESS)
-        rc = put_weights(p, g, radius);
-#define ARG(x) (rc |= clSetKernelArg(p->kernel, a++, sizeof(x), &(x)))
-    ARG(p->v[level]);
-    ARG(p->known[level]);
-    ARG(l->width);
-    ARG(l->height);
-    ARG(l->channels);
-    ARG(qx);
-    ARG(qy);
-    ARG(radius);
-    ARG(max_holes);
-    ARG(p->g);
-    ARG(weighted);
-    ARG(x0);
-    ARG(y0);
-    ARG(nx);
-    ARG(ny);
-    ARG(p->ssd);
-    ARG(p->wsum);
-    ARG(p->n);
-#undef ARG
-    if (rc == CL_SUCCESS)
-        rc = clEnqueueNDRangeKernel(p->queue, p->kernel, 2, NULL, global, local, 0, NULL,
-                                    NULL);
-    if (rc == CL_SUCCESS)
-        rc = read_scores(p, count, ssd, wsum, n);
-    if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "scoring windows on the device: %s",
-                           relief_cl_error_name(rc));
-    return RELIEF_OK;
-}
-
-static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, int radius,
-                                         int max_holes, const float *g, const int *xy,
-                                         int count, float *ssd, float *wsum, int *n,
-                                         relief_error *err)
-{
-    patch_cl *p = ctx;
-    const relief_patch_level *l = &p->levels[level];
-    size_t local = WG_X * WG_Y, global = ((size_t)count + local - 1) / local * local;
-    cl_int rc = CL_SUCCESS;
-    int a = 0, weighted = g != NULL;
-    relief_status st;
-
-    if (count <= 0)
-        return RELIEF_OK;
-    st = grow_scores(p, (size_t)count, err);
-    if (st == RELIEF_OK && (size_t)count > p->xy_cap) {
-        if (p->xy)
-            clReleaseMemObject(p->xy);
-        p->xy = NULL;
-        p->xy_cap = 0;
-        st = buffer(p, &p->xy, NULL, 2 * (size_t)count * sizeof(int), "window centres", err);
-        if (st == RELIEF_OK)
-            p->xy_cap = (size_t)count;
-    }
-    if (st != RELIEF_OK)
-        return st;
-    rc = clEnqueueWriteBuffer(p->queue, p->xy, CL_TRUE, 0, 2 * (size_t)count * sizeof(int), xy,
-                              0, NULL, NULL);
-    if (rc == CL_SUCCESS)
-        rc = flush(p);
-    if (rc == CL_SUCCESS)
-        rc = put_weights(p, g, radius);
-#define ARG(x) (rc |= clSetKernelArg(p->list_kernel, a++, sizeof(x), &(x)))
-    ARG(p->v[level]);
-    ARG(p->known[level]);
-    ARG(l->width);
-    ARG(l->height);
-    ARG(l->channels);
-    ARG(qx);
-    ARG(qy);
-    ARG(radius);
-    ARG(max_holes);
-    ARG(p->g);
-    ARG(weighted);
-    ARG(p->xy);
-    ARG(count);
-    ARG(p->ssd);
-    ARG(p->wsum);
-    ARG(p->n);
-#undef ARG
-    if (rc == CL_SUCCESS)
-        rc = clEnqueueNDRangeKernel(p->queue, p->list_kernel, 1, NULL, &global, &local, 0, NULL,
-                                    NULL);
-    if (rc == CL_SUCCESS)
-        rc = read_scores(p, (size_t)count, ssd, wsum, n);
-    if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "scoring a list of windows on the device: %s",
-                           relief_cl_error_name(rc));
-    return RELIEF_OK;
-}
-
 /* `ints` ints onto the device's batch buffer (grown as needed). */
 static relief_status put_batch(patch_cl *p, const int *data, size_t ints, relief_error *err)
 {
@@ -453,6 +334,40 @@ static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int 
     return RELIEF_OK;
 }
 
+/* One query's rectangle: a batch of one. */
+static relief_status patch_cl_score_rect(void *ctx, int level, int qx, int qy, int radius,
+                                         int max_holes, const float *g, int x0, int y0, int nx,
+                                         int ny, float *ssd, float *wsum, int *n,
+                                         relief_error *err)
+{
+    const int rect[7] = {qx, qy, x0, y0, nx, ny, 0};
+    return patch_cl_score_rects(ctx, level, radius, max_holes, g, rect, 1,
+                                (size_t)nx * (size_t)ny, ssd, wsum, n, err);
+}
+
+/* One query's list of centres: pairs that share the query. */
+static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, int radius,
+                                         int max_holes, const float *g, const int *xy,
+                                         int count, float *ssd, float *wsum, int *n,
+                                         relief_error *err)
+{
+    int *pairs;
+    relief_status st;
+    if (count <= 0)
+        return RELIEF_OK;
+    pairs = malloc(4 * (size_t)count * sizeof *pairs);
+    if (!pairs)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %d window centres", count);
+    for (int i = 0; i < count; ++i) {
+        pairs[4 * i] = qx, pairs[4 * i + 1] = qy;
+        pairs[4 * i + 2] = xy[2 * i], pairs[4 * i + 3] = xy[2 * i + 1];
+    }
+    st = patch_cl_score_pairs(ctx, level, radius, max_holes, g, pairs, count, ssd, wsum, n,
+                              err);
+    free(pairs);
+    return st;
+}
+
 static void patch_cl_destroy(void *ctx) { patch_cl_free(ctx); }
 
 static const relief_patch_ops patch_cl_ops = {patch_cl_bind, patch_cl_update,
@@ -499,11 +414,9 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
         goto fail;
     }
     {
-        static const char *names[4] = {"patch_score", "patch_score_list", "patch_score_rects",
-                                       "patch_score_pairs"};
-        cl_kernel *kernels[4] = {&p->kernel, &p->list_kernel, &p->rects_kernel,
-                                 &p->pairs_kernel};
-        for (int k = 0; k < 4; ++k) {
+        static const char *names[2] = {"patch_score_rects", "patch_score_pairs"};
+        cl_kernel *kernels[2] = {&p->rects_kernel, &p->pairs_kernel};
+        for (int k = 0; k < 2; ++k) {
             *kernels[k] = clCreateKernel(p->prog, names[k], &rc);
             if (rc != CL_SUCCESS) {
                 st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(%s): %s", names[k],
