@@ -77,6 +77,9 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     if (p->batch < 1 || p->batch > 256)
         return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..256 (1: a "
                            "pixel at a time)", p->batch);
+    if (p->batch > 1 && p->tileable)
+        return relief_fail(err, RELIEF_E_USAGE, "batch %d with tileable: a tileable image is "
+                           "filled a pixel at a time; give batch 1", p->batch);
     st = check_flag("exhaustive", p->exhaustive, err);
     if (st == RELIEF_OK)
         st = check_flag("tileable", p->tileable, err);

@@ -27,7 +27,8 @@ static const relief_param table[] = {
     RP_FLAG(T, exhaustive, "every window at full resolution, no pyramid (default: off)"),
     RP_INT(T, batch, "N", 1, 256, "1 (default): a pixel at a time, Efros and Leung's order; "
            "2..256: waves of up to N pixels, none inside an earlier one's window, searched "
-           "together (a device launch per wave; the same bytes on every backend)"),
+           "together (a device launch per wave; the same bytes on every backend; not with "
+           "tileable)"),
     RP_ENUM(T, order, "O", orders, "both (default: keep the better of the two), horizontal "
             "or vertical"),
     RP_FLAG(T, tileable, "the image is a torus (paper 003's tileable constraint): windows "

@@ -785,6 +785,9 @@ static int refine_list(const relief_filler *f, const query *q, int l, int h, int
 }
 
 #define REFINE_MAX (RELIEF_FILL_MAX_TOP * (2 * REFINE + 1) * (2 * REFINE + 1))
+/* The most scores one batched call holds (each 12 bytes, on the host and
+ * on the device): a batch past it runs in parts. */
+#define BATCH_SCORES ((size_t)1 << 24)
 
 /* The refinement at level l of the queries that started above it, scored
  * in one call where the scorer batches (else one call per query), each
@@ -913,6 +916,15 @@ relief_status relief_filler_search_top(relief_filler *f, int px, int py, int w, 
     return st;
 }
 
+/* The scores of a query's rectangle at its start level. */
+static size_t query_scores(const relief_filler *f, const query *q, int w, int exhaustive)
+{
+    int l = start_level(f, q->px, q->py, w / 2, exhaustive), x0, y0, x1, y1;
+    if (!region(f, l, q->px, q->py, (w / 2) >> l, &x0, &y0, &x1, &y1))
+        return 0;
+    return (size_t)(x1 - x0 + 1) * (size_t)(y1 - y0 + 1);
+}
+
 relief_status relief_filler_search_batch(relief_filler *f, int count, const int *pxy, int w,
                                          int exhaustive, double sigma, int keep_best,
                                          relief_window_match *best, int *n_best,
@@ -931,7 +943,19 @@ relief_status relief_filler_search_batch(relief_filler *f, int count, const int 
         q[k].px = pxy[2 * k], q[k].py = pxy[2 * k + 1];
     st = RELIEF_OK;
     if (f->scorer->ops->score_rects)
-        st = search_queries(f, q, count, w, exhaustive, sigma, keep_best, NULL, NULL, err);
+        /* In runs whose rectangles hold BATCH_SCORES scores at most (an
+         * exhaustive search over a whole large image is 10^8 a query). */
+        for (int k0 = 0, k1; k0 < count && st == RELIEF_OK; k0 = k1) {
+            size_t sum = query_scores(f, &q[k0], w, exhaustive);
+            for (k1 = k0 + 1; k1 < count; ++k1) {
+                size_t more = query_scores(f, &q[k1], w, exhaustive);
+                if (sum + more > BATCH_SCORES)
+                    break;
+                sum += more;
+            }
+            st = search_queries(f, q + k0, k1 - k0, w, exhaustive, sigma, keep_best, NULL, NULL,
+                                err);
+        }
     else /* a query at a time: its scores stay in the cache */
         for (int k = 0; k < count && st == RELIEF_OK; ++k)
             st = search_queries(f, q + k, 1, w, exhaustive, sigma, keep_best, NULL, NULL, err);

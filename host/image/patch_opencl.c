@@ -237,12 +237,22 @@ static relief_status put_batch(patch_cl *p, const int *data, size_t ints, relief
             return st;
         p->batch_cap = ints;
     }
-    rc = clEnqueueWriteBuffer(p->queue, p->batch, CL_FALSE, 0, ints * sizeof(int), data, 0,
+    /* Blocking: the caller's array may go as soon as this call fails. */
+    rc = clEnqueueWriteBuffer(p->queue, p->batch, CL_TRUE, 0, ints * sizeof(int), data, 0,
                               NULL, NULL);
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "sending a batch of windows to the device: %s",
                            relief_cl_error_name(rc));
     return RELIEF_OK;
+}
+
+/* A launch that failed on the way: what was queued (the levels' rows read
+ * from the host) is waited for before the caller may free anything. */
+static relief_status launch_failed(patch_cl *p, cl_int rc, const char *what,
+                                   relief_error *err)
+{
+    clFinish(p->queue);
+    return relief_fail(err, RELIEF_E_DEVICE, "%s: %s", what, relief_cl_error_name(rc));
 }
 
 /* The arguments both batched kernels take, in their order. */
@@ -278,8 +288,11 @@ static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int 
 {
     patch_cl *p = ctx;
     size_t local[3] = {WG_X, WG_Y, 1}, global[3] = {0, 0, (size_t)count};
-    relief_status st = grow_scores(p, total, err);
+    relief_status st;
     cl_int rc;
+    if (count <= 0)
+        return RELIEF_OK;
+    st = grow_scores(p, total, err);
     for (int q = 0; q < count; ++q) {
         size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
         size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
@@ -288,7 +301,7 @@ static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int 
     }
     if (st == RELIEF_OK)
         st = put_batch(p, rects, 7 * (size_t)count, err);
-    if (st != RELIEF_OK || count <= 0)
+    if (st != RELIEF_OK)
         return st;
     rc = flush(p);
     if (rc == CL_SUCCESS)
@@ -301,8 +314,7 @@ static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int 
     if (rc == CL_SUCCESS)
         rc = read_scores(p, total, ssd, wsum, n);
     if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "scoring a batch of windows on the device: "
-                           "%s", relief_cl_error_name(rc));
+        return launch_failed(p, rc, "scoring a batch of windows on the device", err);
     return RELIEF_OK;
 }
 
@@ -312,11 +324,14 @@ static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int 
 {
     patch_cl *p = ctx;
     size_t local = WG_X * WG_Y, global = ((size_t)count + local - 1) / local * local;
-    relief_status st = grow_scores(p, (size_t)count, err);
+    relief_status st;
     cl_int rc;
+    if (count <= 0)
+        return RELIEF_OK;
+    st = grow_scores(p, (size_t)count, err);
     if (st == RELIEF_OK)
         st = put_batch(p, pairs, 4 * (size_t)count, err);
-    if (st != RELIEF_OK || count <= 0)
+    if (st != RELIEF_OK)
         return st;
     rc = flush(p);
     if (rc == CL_SUCCESS)
@@ -329,8 +344,7 @@ static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int 
     if (rc == CL_SUCCESS)
         rc = read_scores(p, (size_t)count, ssd, wsum, n);
     if (rc != CL_SUCCESS)
-        return relief_fail(err, RELIEF_E_DEVICE, "scoring a batch of refinements on the "
-                           "device: %s", relief_cl_error_name(rc));
+        return launch_failed(p, rc, "scoring a batch of refinements on the device", err);
     return RELIEF_OK;
 }
 

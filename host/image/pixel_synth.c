@@ -66,6 +66,10 @@ relief_status relief_pixsyn_params_validate(const relief_pixsyn_params *p, int w
     if (p->batch < 1 || p->batch > BATCH)
         return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..%d",
                            p->batch, BATCH);
+    if (p->batch > 1 && p->tileable)
+        return relief_fail(err, RELIEF_E_RANGE, "batch %d with tileable: a tileable image is "
+                           "filled a pixel at a time (its copies land across the borders); "
+                           "give batch 1", p->batch);
     if (p->order != RELIEF_ORDER_BOTH && p->order != RELIEF_ORDER_HORIZONTAL &&
         p->order != RELIEF_ORDER_VERTICAL)
         return relief_fail(err, RELIEF_E_RANGE, "order %d is not one of both, horizontal, vertical",
@@ -234,6 +238,8 @@ typedef struct order_state {
     int np;
     int *stamp, gw, gh, gen; /* the readiness pass's cells (reach wide) */
     int *pxy, *ready;
+    relief_window_match *best; /* BATCH x NEAR_KEEP: a batch's matches */
+    int *n_best;               /* BATCH */
 } order_state;
 
 static uint32_t order_key(const order_state *s, int x, int y)
@@ -358,16 +364,15 @@ static int select_wave(order_state *s)
 static relief_status search_ready(order_state *s, relief_error *err)
 {
     int nr = s->wave ? select_wave(s) : select_reach(s);
-    relief_window_match best[BATCH * NEAR_KEEP];
-    int n_best[BATCH];
     relief_status st = relief_filler_search_batch(s->f, nr, s->pxy, s->p->window,
-                                                  s->p->exhaustive, s->sigma, NEAR_KEEP, best,
-                                                  n_best, err);
+                                                  s->p->exhaustive, s->sigma, NEAR_KEEP,
+                                                  s->best, s->n_best, err);
     for (int k = 0; k < nr && st == RELIEF_OK; ++k) {
         pending *q = &s->pend[s->ready[k]];
         q->searched = 1;
-        q->n_best = n_best[k];
-        memcpy(q->best, best + (size_t)k * NEAR_KEEP, sizeof(relief_window_match) * n_best[k]);
+        q->n_best = s->n_best[k];
+        memcpy(q->best, s->best + (size_t)k * NEAR_KEEP,
+               sizeof(relief_window_match) * (size_t)q->n_best);
     }
     return st;
 }
@@ -442,6 +447,7 @@ static void order_free(order_state *s)
     relief_filler_destroy(s->f);
     free(s->h.e), free(s->known), free(s->ordered), free(s->count);
     free(s->pend), free(s->stamp), free(s->pxy), free(s->ready), free(s->cover);
+    free(s->best), free(s->n_best);
 }
 
 /* The state of one order over img; RELIEF_E_NOMEM. */
@@ -451,7 +457,10 @@ static relief_status order_init(order_state *s, relief_error *err)
     s->known = malloc(n), s->ordered = malloc(n), s->count = malloc(n);
     s->pend = malloc(BATCH * sizeof *s->pend);
     s->pxy = malloc(2 * BATCH * sizeof *s->pxy), s->ready = malloc(BATCH * sizeof *s->ready);
-    if (!s->known || !s->ordered || !s->count || !s->pend || !s->pxy || !s->ready)
+    s->best = malloc(BATCH * NEAR_KEEP * sizeof *s->best);
+    s->n_best = malloc(BATCH * sizeof *s->n_best);
+    if (!s->known || !s->ordered || !s->count || !s->pend || !s->pxy || !s->ready || !s->best ||
+        !s->n_best)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the synthesis masks");
     for (size_t i = 0; i < n; ++i) {
         s->known[i] = s->ordered[i] = !s->hole[i];
@@ -473,7 +482,7 @@ static relief_status batch_init(order_state *s, int batched, relief_error *err)
     s->cap = !batched || s->wrap || s->reach >= s->W || s->reach >= s->H ? 1 : BATCH;
     if (s->reach < 1)
         s->reach = 1;
-    if (s->p->batch > 1 && !s->wrap) {
+    if (s->p->batch > 1 && !s->wrap) { /* tileable with a batch: refused (validate) */
         s->wave = s->p->batch, s->cap = BATCH;
         s->cover = calloc((size_t)s->W * s->H, sizeof *s->cover);
         if (!s->cover)

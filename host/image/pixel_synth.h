@@ -48,14 +48,14 @@ typedef struct relief_pixsyn_params {
     uint32_t seed;            /* the near-minimum draw; 1 */
     int batch;                /* 1 (default): Efros and Leung's order, a pixel at a
                                  time. N in 2..256: waves of up to N pixels, taken in
-                                 the order's turn, none inside the window of a pixel
-                                 before it still to be copied, are searched against
-                                 the same state and copied in turn: a query window is
-                                 as the order leaves it, but the search's candidate
-                                 windows do not see the same wave's copies. One
-                                 device launch per wave and level; the same bits on
-                                 every backend for a given N. Tileable images go a
-                                 pixel at a time */
+                                 the order's turn, none inside the full-resolution
+                                 window of a pixel before it still to be copied, are
+                                 searched against the same state and copied in turn:
+                                 the search's candidate windows (and a coarse level's
+                                 query window, a few pixels wider) do not see the same
+                                 wave's copies. One device launch per wave and level;
+                                 the same bits on every backend for a given N. Not
+                                 with tileable (RELIEF_E_RANGE) */
     /* Called after each pixel: pixels synthesised so far of all (both
      * orders counted when both run). A non-zero answer stops the
      * synthesis: relief_pixsyn returns RELIEF_E_CANCELLED, the image

@@ -1013,6 +1013,8 @@ static int join_grids(texrun *r, const grid_job *j)
     r->zqcap = nzq ? nzq : 1, r->zcap = zlen ? zlen : 1;
     for (size_t part = 0; part < j->parts; ++part) {
         const grid_share *g = &j->share[part];
+        if (!g->nzq)
+            continue; /* a share that kept no grid has no lists */
         memcpy(r->zq + r->nzq, g->zq, g->nzq * sizeof *g->zq);
         memcpy(r->zv + r->zlen, g->zv, g->zlen * sizeof *g->zv);
         r->nzq += g->nzq, r->zlen += g->zlen;

@@ -153,11 +153,12 @@ typedef struct relief_depth_fill_params {
     int exhaustive;      /* 1: every window at full resolution (no pyramid) */
     int batch;           /* 1 (default): Efros and Leung's order, a pixel at a
                             time; [2, 256]: waves of up to that many pixels,
-                            none inside the window of an earlier one still to
-                            be filled, searched against the same state (one
-                            device launch per wave; their candidate windows
-                            do not see the wave's own copies); the same bytes
-                            on every backend for a given batch */
+                            none inside the (full-resolution) window of an
+                            earlier one still to be filled, searched against
+                            the same state (one device launch per wave; their
+                            candidate windows do not see the wave's own
+                            copies); the same bytes on every backend for a
+                            given batch. Not with tileable (RELIEF_E_USAGE) */
     relief_depth_order order; /* default both */
     int tileable;        /* 1: the image is a torus (paper 003's tileable
                             constraint): the result repeats without seams and

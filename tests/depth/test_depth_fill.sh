@@ -91,6 +91,7 @@ nothing() { ok '[[ ! -e "$tmp/bad.pcd" && ! -e "$tmp/bad.pfm" && ! -e "$tmp/bad.
 for b in 0 257; do
   expect 1 "batch" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --batch $b; nothing "--batch $b"
 done
+expect 1 "a tileable image is filled a pixel at a time" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --batch 4 --tileable; nothing "--batch with --tileable"
 head -c 300 "$office" > "$tmp/trunc.pcd"
 expect 1 "truncated" -- "$relief" depth-fill "$tmp/trunc.pcd" -o "$tmp/bad.pcd"; nothing truncated
 printf 'Pf\n4 4\n-1.0\n' > "$tmp/short.pfm"

@@ -363,8 +363,6 @@ static void test_bad(relief_patch_scorer *s)
     relief_raster_free(&r);
 }
 
-/* The OpenCL scorer fills exactly as the scalar one: a real photograph
- * with a disc and a rectangle cut, both searches. */
 /* A batch of searches on the OpenCL scorer (one launch per level for all
  * of them: score_rects, score_pairs) finds, query by query, what a single
  * search on the scalar scorer finds: the 8 best, weighted and not. */
@@ -419,6 +417,8 @@ static void test_batch(relief_patch_scorer *sc, relief_patch_scorer *cl, const r
     free(hole);
 }
 
+/* The OpenCL scorer fills exactly as the scalar one: a real photograph
+ * with a disc and a rectangle cut, both searches. */
 static int test_opencl(const char *images)
 {
     relief_patch_scorer *sc = NULL, *cl = NULL;
