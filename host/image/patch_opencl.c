@@ -281,41 +281,60 @@ static cl_int batch_args(patch_cl *p, cl_kernel k, int level, int radius, int ma
     return rc;
 }
 
-static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int max_holes,
-                                          const float *g, const int *rects, int count,
-                                          size_t total, float *ssd, float *wsum, int *n,
-                                          relief_error *err)
+/* A batched kernel's launch over `dims` dimensions: the batch's ints
+ * sent, the levels' pending rows and the weights flushed, the arguments
+ * set, the kernel run and `scores` scores read back. */
+typedef struct launch_shape {
+    cl_kernel kernel;
+    cl_uint dims;
+    size_t global[3], local[3];
+    const char *what; /* for the message when it fails */
+} launch_shape;
+
+static relief_status launch(patch_cl *p, const launch_shape *k, int level, int radius,
+                            int max_holes, const float *g, const int *batch, size_t ints,
+                            int count, size_t scores, float *ssd, float *wsum, int *n,
+                            relief_error *err)
 {
-    patch_cl *p = ctx;
-    size_t local[3] = {WG_X, WG_Y, 1}, global[3] = {0, 0, (size_t)count};
-    relief_status st;
+    relief_status st = grow_scores(p, scores, err);
     cl_int rc;
-    if (count <= 0)
-        return RELIEF_OK;
-    st = grow_scores(p, total, err);
-    for (int q = 0; q < count; ++q) {
-        size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
-        size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
-        global[0] = nx > global[0] ? nx : global[0];
-        global[1] = ny > global[1] ? ny : global[1];
-    }
     if (st == RELIEF_OK)
-        st = put_batch(p, rects, 7 * (size_t)count, err);
+        st = put_batch(p, batch, ints, err);
     if (st != RELIEF_OK)
         return st;
     rc = flush(p);
     if (rc == CL_SUCCESS)
         rc = put_weights(p, g, radius);
     if (rc == CL_SUCCESS)
-        rc = batch_args(p, p->rects_kernel, level, radius, max_holes, g != NULL, count);
+        rc = batch_args(p, k->kernel, level, radius, max_holes, g != NULL, count);
     if (rc == CL_SUCCESS)
-        rc = clEnqueueNDRangeKernel(p->queue, p->rects_kernel, 3, NULL, global, local, 0, NULL,
-                                    NULL);
+        rc = clEnqueueNDRangeKernel(p->queue, k->kernel, k->dims, NULL, k->global, k->local, 0,
+                                    NULL, NULL);
     if (rc == CL_SUCCESS)
-        rc = read_scores(p, total, ssd, wsum, n);
+        rc = read_scores(p, scores, ssd, wsum, n);
     if (rc != CL_SUCCESS)
-        return launch_failed(p, rc, "scoring a batch of windows on the device", err);
+        return launch_failed(p, rc, k->what, err);
     return RELIEF_OK;
+}
+
+static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int max_holes,
+                                          const float *g, const int *rects, int count,
+                                          size_t total, float *ssd, float *wsum, int *n,
+                                          relief_error *err)
+{
+    patch_cl *p = ctx;
+    launch_shape k = {p->rects_kernel, 3, {0, 0, (size_t)count}, {WG_X, WG_Y, 1},
+                      "scoring a batch of windows on the device"};
+    if (count <= 0)
+        return RELIEF_OK;
+    for (int q = 0; q < count; ++q) {
+        size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
+        size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
+        k.global[0] = nx > k.global[0] ? nx : k.global[0];
+        k.global[1] = ny > k.global[1] ? ny : k.global[1];
+    }
+    return launch(p, &k, level, radius, max_holes, g, rects, 7 * (size_t)count, count, total,
+                  ssd, wsum, n, err);
 }
 
 static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int max_holes,
@@ -323,29 +342,13 @@ static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int 
                                           float *ssd, float *wsum, int *n, relief_error *err)
 {
     patch_cl *p = ctx;
-    size_t local = WG_X * WG_Y, global = ((size_t)count + local - 1) / local * local;
-    relief_status st;
-    cl_int rc;
+    size_t local = WG_X * WG_Y;
+    launch_shape k = {p->pairs_kernel, 1, {((size_t)count + local - 1) / local * local, 1, 1},
+                      {local, 1, 1}, "scoring a batch of refinements on the device"};
     if (count <= 0)
         return RELIEF_OK;
-    st = grow_scores(p, (size_t)count, err);
-    if (st == RELIEF_OK)
-        st = put_batch(p, pairs, 4 * (size_t)count, err);
-    if (st != RELIEF_OK)
-        return st;
-    rc = flush(p);
-    if (rc == CL_SUCCESS)
-        rc = put_weights(p, g, radius);
-    if (rc == CL_SUCCESS)
-        rc = batch_args(p, p->pairs_kernel, level, radius, max_holes, g != NULL, count);
-    if (rc == CL_SUCCESS)
-        rc = clEnqueueNDRangeKernel(p->queue, p->pairs_kernel, 1, NULL, &global, &local, 0,
-                                    NULL, NULL);
-    if (rc == CL_SUCCESS)
-        rc = read_scores(p, (size_t)count, ssd, wsum, n);
-    if (rc != CL_SUCCESS)
-        return launch_failed(p, rc, "scoring a batch of refinements on the device", err);
-    return RELIEF_OK;
+    return launch(p, &k, level, radius, max_holes, g, pairs, 4 * (size_t)count, count,
+                  (size_t)count, ssd, wsum, n, err);
 }
 
 /* One query's rectangle: a batch of one. */
