@@ -20,23 +20,11 @@ import csv, json, os, statistics, subprocess, sys, time
 import cv2
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pfm import read_pfm, write_pfm  # noqa: E402
+
 relief, tool, depth, out = sys.argv[1:5]
 repeat = int(sys.argv[sys.argv.index("--repeat") + 1]) if "--repeat" in sys.argv else 1
-
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        assert f.readline().strip() == b"Pf"
-        w, h = map(int, f.readline().split())
-        scale = float(f.readline())
-        d = np.fromfile(f, "<f4" if scale < 0 else ">f4").reshape(h, w)
-    return d[::-1].astype(np.float32)
-
-
-def write_pfm(path, d):
-    with open(path, "wb") as f:
-        f.write(b"Pf\n%d %d\n-1.0\n" % (d.shape[1], d.shape[0]))
-        np.where(np.isfinite(d), d, np.inf).astype("<f4")[::-1].tofile(f)
 
 
 def holes(shape, cx, cy, rect):
