@@ -53,8 +53,9 @@ static const relief_param table[] = {
             "units) are openings by design (a vessel's mouth) and stay open; 0 (default): "
             "a quarter of the bounding box's diagonal"),
     RP_SEED(T, seed, "the near-minimum draw's seed (default 1)"),
-    RP_BACKEND(T, "auto (default: OpenCL on a GPU or accelerator, else scalar), scalar or "
-               "opencl; host runs as scalar. Outputs are identical"),
+    RP_BACKEND(T, "scalar (one thread, the reference), host (the host's threads), opencl, "
+               "or auto (default: OpenCL on the device --device names, else the host's "
+               "threads); outputs are identical"),
     RP_DEVICE(T),
     RP_MAX_MEMORY(T),
 };

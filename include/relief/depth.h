@@ -193,8 +193,11 @@ typedef struct relief_depth_fill_params {
     const relief_depth_image *truth; /* NULL, or the complete frame (mesh: use
                             relief_depth_fill_mesh's truth): the report
                             measures the repair against it */
-    relief_run_options run; /* backend auto (OpenCL on a GPU, else scalar),
-                            scalar or opencl (host runs as scalar) */
+    relief_run_options run; /* backend: scalar (one thread, the reference),
+                            host (the host's threads), opencl, or auto
+                            (default: OpenCL on the device run.device names,
+                            else the host's threads); the same bytes on
+                            every backend */
 } relief_depth_fill_params;
 
 /* The defaults above. */
