@@ -153,6 +153,46 @@ static int watch(void *ctx, double fraction)
     return s->cancel_at > 0.0 && fraction >= s->cancel_at;
 }
 
+/* n x k values at a and b the same, or both absent. */
+static int same_array(const void *a, const void *b, size_t bytes)
+{
+    return (!a && !b) || (a && b && memcmp(a, b, bytes) == 0);
+}
+
+/* Positions, normals, colours and labels the same, bit for bit. */
+static int same_bytes(const relief_mesh *a, const relief_mesh *b)
+{
+    relief_mesh *x = (relief_mesh *)a, *y = (relief_mesh *)b;
+    size_t n;
+    if (!a || !b)
+        return 0;
+    n = relief_mesh_vertex_count(a);
+    return n == relief_mesh_vertex_count(b) &&
+           same_array(relief_mesh_positions(x), relief_mesh_positions(y), n * 3 * sizeof(double)) &&
+           same_array(relief_mesh_normals(x), relief_mesh_normals(y), n * 3 * sizeof(double)) &&
+           same_array(relief_mesh_colours(x), relief_mesh_colours(y), n * 3 * sizeof(float)) &&
+           same_array(relief_mesh_labels(x), relief_mesh_labels(y), n);
+}
+
+/* The same call on one thread (scalar, the reference) and on the host's
+ * threads (host): the same bytes as `out`, auto's. */
+static void test_backends(const relief_mesh *cut, const relief_complete_points_params *auto_p,
+                          const relief_mesh *out)
+{
+    static const relief_backend backends[2] = {RELIEF_BACKEND_SCALAR, RELIEF_BACKEND_HOST};
+    for (int k = 0; k < 2; ++k) {
+        relief_complete_points_params p = *auto_p;
+        relief_mesh *other = NULL;
+        relief_error err = {RELIEF_OK, ""};
+        p.run.backend = backends[k];
+        p.run.progress = NULL;
+        CHECK_STATUS(relief_complete_points(cut, &p, &other, NULL, &err), RELIEF_OK, err, NULL);
+        CHECK(same_bytes(out, other), "backend %s: other bytes than auto's",
+              relief_backend_name(backends[k]));
+        relief_mesh_destroy(other);
+    }
+}
+
 /* A hole cut from fertility, completed with few iterations: every point
  * finite, the input's first (label 0), the new ones (label 1) in the hole. */
 static void test_real_scan(const char *data)
@@ -222,6 +262,7 @@ static void test_real_scan(const char *data)
               s.calls, s.last, s.decreased ? ", decreased" : "");
         relief_complete_points_report_free(&rep);
         CHECK(!rep.json, "report freed");
+        test_backends(cut, &p, out);
     }
     relief_mesh_destroy(out);
     /* A mask read from labels the input does not have; too little memory. */
@@ -333,20 +374,6 @@ static void *run_job(void *arg)
     j->out = NULL;
     j->st = relief_complete_points(j->in, &p, &j->out, NULL, &j->err);
     return NULL;
-}
-
-static int same_bytes(const relief_mesh *a, const relief_mesh *b)
-{
-    relief_mesh *x = (relief_mesh *)a, *y = (relief_mesh *)b;
-    size_t n;
-    if (!a || !b)
-        return 0;
-    n = relief_mesh_vertex_count(a);
-    return n == relief_mesh_vertex_count(b) &&
-           memcmp(relief_mesh_positions(x), relief_mesh_positions(y), n * 3 * sizeof(double)) ==
-               0 &&
-           memcmp(relief_mesh_colours(x), relief_mesh_colours(y), n * 3 * sizeof(float)) == 0 &&
-           memcmp(relief_mesh_labels(x), relief_mesh_labels(y), n) == 0;
 }
 
 static void test_threads(void)
