@@ -29,8 +29,9 @@ static const relief_param table[] = {
     RP_REAL(T, interp_sd, "S", -HUGE_VAL, HUGE_VAL, "1-D pass: the 4 pixels beyond each end "
             "have a standard deviation of at most S; < 0 (default): 3 on 0..255, scaled"),
     RP_SEED(T, seed, "the fallback's random choice (default 1)"),
-    RP_BACKEND(T, "auto (default: OpenCL on a GPU or accelerator, else scalar), scalar or "
-               "opencl; host runs as scalar. Outputs are identical"),
+    RP_BACKEND(T, "scalar (one thread, the reference), host (the host's threads), opencl, "
+               "or auto (default: OpenCL on the device --device names, else the host's "
+               "threads); outputs are identical"),
     RP_DEVICE(T),
     RP_MAX_MEMORY(T),
 };

@@ -96,10 +96,12 @@ typedef struct relief_image_fill_params {
                             standard deviation of at most this; < 0
                             (default): 3 on 0..255, scaled */
     uint32_t seed;       /* the fallback's random choice; 1 */
-    relief_run_options run; /* backend: auto (OpenCL on a GPU, else scalar),
-                            scalar or opencl (host runs as scalar: the
-                            filler scores on one thread); progress: the
-                            share of the hole pixels filled */
+    relief_run_options run; /* backend: scalar (one thread, the reference),
+                            host (the host's threads), opencl, or auto
+                            (default: OpenCL on the device run.device names,
+                            else the host's threads); the same bytes on
+                            every backend. progress: the share of the hole
+                            pixels filled */
 } relief_image_fill_params;
 
 /* The defaults above. */
