@@ -116,8 +116,14 @@ cmp -s "$tmp/pw.ply" "$tmp/keep.ply" && pass=$((pass+1)) || { echo "FAIL: the in
 for key in '"acceptances":' '"candidates_scored":' '"threshold_raises":' '"msi_diff_percent":' '"seam_ratio":' '"name": "scalar"' '"kernel_seconds":'; do
   grep -qF "$key" "$tmp/pwc.json" && pass=$((pass+1)) || { echo "FAIL: complete report lacks $key"; fail=$((fail+1)); }
 done
-expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/pwc2.ply" --backend scalar --window 2 --quiet
-cmp -s "$tmp/pwc.ply" "$tmp/pwc2.ply" && pass=$((pass+1)) || { echo "FAIL: complete is not deterministic for one seed"; fail=$((fail+1)); }
+# Reruns that only compare bytes for one seed are left to the default pass:
+# in the sanitize pass (RELIEF_TEST_PASS=sanitize) one run shows each path.
+rerun=1
+[[ ${RELIEF_TEST_PASS:-} == sanitize ]] && rerun=0
+if [[ $rerun == 1 ]]; then
+  expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/pwc2.ply" --backend scalar --window 2 --quiet
+  cmp -s "$tmp/pwc.ply" "$tmp/pwc2.ply" && pass=$((pass+1)) || { echo "FAIL: complete is not deterministic for one seed"; fail=$((fail+1)); }
+fi
 expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/pwc3.ply" --backend scalar --window 2 --quiet --no-prune
 cmp -s "$tmp/pwc.ply" "$tmp/pwc3.ply" && pass=$((pass+1)) || { echo "FAIL: --no-prune changed the result"; fail=$((fail+1)); }
 grep -qF '"search": "exhaustive"' "$tmp/pwc.json" && pass=$((pass+1)) || { echo "FAIL: auto search on a small capture is not reported exhaustive"; fail=$((fail+1)); }
@@ -128,18 +134,22 @@ expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/kc.ply" --backend scala
 for key in '"search": "coherent"' '"search_k": 4' '"accepted_from_continuations":' '"continuations_mean":'; do
   grep -qF "$key" "$tmp/kc.json" && pass=$((pass+1)) || { echo "FAIL: coherent report lacks $key"; fail=$((fail+1)); }
 done
-expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/kc2.ply" --backend scalar --window 2 \
-  --search coherent --search-k 4 --quiet
-cmp -s "$tmp/kc.ply" "$tmp/kc2.ply" && pass=$((pass+1)) || { echo "FAIL: --search coherent is not deterministic for one seed"; fail=$((fail+1)); }
+if [[ $rerun == 1 ]]; then
+  expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/kc2.ply" --backend scalar --window 2 \
+    --search coherent --search-k 4 --quiet
+  cmp -s "$tmp/kc.ply" "$tmp/kc2.ply" && pass=$((pass+1)) || { echo "FAIL: --search coherent is not deterministic for one seed"; fail=$((fail+1)); }
+fi
 # The hierarchy: per-level figures in the report, deterministic for a seed.
 expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/lv.ply" --levels 3 --backend scalar \
   --window 2 --quiet --report "$tmp/lv.json"
 for key in '"levels": [' '"restricted_matches":' '"fallbacks_nothing_passed":' '"pyramid_boxes":'; do
   grep -qF "$key" "$tmp/lv.json" && pass=$((pass+1)) || { echo "FAIL: hierarchical report lacks $key"; fail=$((fail+1)); }
 done
-expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/lv2.ply" --levels 3 --backend scalar \
-  --window 2 --quiet
-cmp -s "$tmp/lv.ply" "$tmp/lv2.ply" && pass=$((pass+1)) || { echo "FAIL: --levels 3 is not deterministic for one seed"; fail=$((fail+1)); }
+if [[ $rerun == 1 ]]; then
+  expect 0 "" -- "$relief" complete "$tmp/pw.ply" -o "$tmp/lv2.ply" --levels 3 --backend scalar \
+    --window 2 --quiet
+  cmp -s "$tmp/lv.ply" "$tmp/lv2.ply" && pass=$((pass+1)) || { echo "FAIL: --levels 3 is not deterministic for one seed"; fail=$((fail+1)); }
+fi
 
 # eval: the contract's keys, text and JSON; no label is bad input.
 expect 0 '"msi_diff_percent":' -- "$relief" eval "$tmp/pwc.ply" --json
