@@ -74,9 +74,9 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     if (p->membrane < RELIEF_MEMBRANE_AUTO || p->membrane > RELIEF_MEMBRANE_THIN_PLATE)
         return relief_fail(err, RELIEF_E_RANGE, "membrane %d is not one of auto, harmonic, "
                            "thin-plate", (int)p->membrane);
-    if (p->batch < 1 || p->batch > 256)
-        return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..256 (1: a "
-                           "pixel at a time)", p->batch);
+    if (p->batch < 1 || p->batch > RELIEF_PIXSYN_MAX_BATCH)
+        return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..%d (1: a "
+                           "pixel at a time)", p->batch, RELIEF_PIXSYN_MAX_BATCH);
     if (p->batch > 1 && p->tileable)
         return relief_fail(err, RELIEF_E_USAGE, "batch %d with tileable: a tileable image is "
                            "filled a pixel at a time; give batch 1", p->batch);

@@ -732,8 +732,8 @@ static void keep_rect(const relief_filler *f, query *q, const int *r, int weight
 }
 
 /* The rectangles of the queries starting at level l, scored in one call
- * where the scorer batches (else one call each), each query's `keep` best
- * into its top. */
+ * where the scorer batches (a single query too: a batch of one), else one
+ * call each, each query's `keep` best into its top. */
 static relief_status batch_rects(relief_filler *f, query *q, int count, int l, int half,
                                  const float *g, relief_error *err)
 {
@@ -760,7 +760,7 @@ static relief_status batch_rects(relief_filler *f, query *q, int count, int l, i
     }
     if (nr && (st = score_room(f, total, err)) == RELIEF_OK) {
         t0 = relief_seconds();
-        if (ops->score_rects && nr > 1)
+        if (ops->score_rects)
             st = ops->score_rects(f->scorer->ctx, l, h, max_holes(f, h), g, rects, nr, total,
                                   f->ssd, g ? f->wsum : NULL, f->n, err);
         else
@@ -837,7 +837,7 @@ static relief_status batch_refine(relief_filler *f, query *q, int count, int l, 
     first[count] = np;
     if (np && (st = score_room(f, (size_t)np, err)) == RELIEF_OK) {
         t0 = relief_seconds();
-        if (ops->score_pairs && count > 1)
+        if (ops->score_pairs)
             st = ops->score_pairs(f->scorer->ctx, l, h, max_holes(f, h), g, pairs, np, f->ssd,
                                   g ? f->wsum : NULL, f->n, err);
         else

@@ -43,7 +43,8 @@ typedef struct relief_patch_ops {
                                 float *ssd, float *wsum, int *n, relief_error *err);
     void (*destroy)(void *ctx);
     /* Optional batched forms (NULL: the filler calls the ones above once
-     * per query), for a device where a call costs more than its work.
+     * per query; else it calls these alone, a single query as a batch of
+     * one), for a device where a call costs more than its work.
      * Many queries' rectangles at one level in one call: rectangle q is
      * rects[7 q ..] = qx, qy, x0, y0, nx, ny, offset, its scores at
      * ssd[offset + j * nx + i] (and wsum, n), `total` scores in all. */
@@ -80,10 +81,10 @@ relief_status relief_patch_host_create(int threads, relief_patch_scorer **out,
 relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                                          relief_error *err);
 
-/* The scorer for `backend`. auto: OpenCL on `device` when one is named,
- * else on the first GPU or accelerator; the host scorer on every core
- * when there is none (a CPU device is no faster) or OpenCL fails to
- * start. Which and why
+/* The scorer for `backend`. auto: OpenCL on `device` when one is named
+ * (>= 0), else the host scorer on every core, GPU or not (a launch per
+ * window search measured slower than the host's threads); the host
+ * scorer too when the named device's OpenCL fails to start. Which and why
  * goes to `note` (may be NULL); a note that starts with "OpenCL
  * unavailable" is a warning. */
 relief_status relief_patch_scorer_create(relief_backend backend, int device,

@@ -15,7 +15,7 @@
 /* Matches kept per search for the near-minimum draw. */
 #define NEAR_KEEP 8
 /* Pixels taken ahead of their copies, and the largest wave (batch). */
-#define BATCH 256
+#define BATCH RELIEF_PIXSYN_MAX_BATCH
 
 relief_pixsyn_params relief_pixsyn_params_default(void)
 {

@@ -33,6 +33,9 @@ typedef enum relief_pixsyn_order {
     RELIEF_ORDER_VERTICAL    /* ties column-major */
 } relief_pixsyn_order;
 
+/* The largest batch (relief_pixsyn_params.batch). */
+#define RELIEF_PIXSYN_MAX_BATCH 256
+
 typedef struct relief_pixsyn_params {
     int window;               /* w, odd, 3..1025; 9 */
     double sigma;             /* the weights' Gaussian, pixels; <= 0: w / 6.4 (Efros-Leung) */
