@@ -157,17 +157,10 @@ relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_ima
 
 relief_status relief_image_write(const relief_image *img, const char *path, relief_error *err)
 {
-    relief_raster r;
     relief_status st = relief_image_check(img, "image", err);
     if (st == RELIEF_OK && !path)
         st = relief_fail(err, RELIEF_E_USAGE, "relief_image_write: path is NULL");
-    if (st == RELIEF_OK)
-        st = raster_of(img, &r, err);
-    if (st != RELIEF_OK)
-        return st;
-    st = relief_raster_write(path, &r, err);
-    relief_raster_free(&r);
-    return st;
+    return st == RELIEF_OK ? relief_image_file_write(path, img, err) : st;
 }
 
 void relief_image_free(relief_image *img)

@@ -407,29 +407,52 @@ relief_status relief_raster_read(const char *path, const relief_image_limit *lim
 
 /* ---------------------------------------------------------------- writing */
 
-static relief_status write_png(FILE *f, const relief_raster *r, const char *path,
+static size_t packed_row(const relief_image *img)
+{
+    return (size_t)img->width * img->channels * (img->bit_depth / 8);
+}
+
+/* img's samples as PNG stores them: rows packed, 16 bits big endian. The
+ * caller's buffer itself when it is already so (8 bits, rows packed);
+ * else a copy, in *copy (the caller frees it). */
+static const uint8_t *png_samples(const relief_image *img, uint8_t **copy)
+{
+    size_t row = packed_row(img), stride = img->stride ? img->stride : row;
+    *copy = NULL;
+    if (img->bit_depth == 8 && stride == row)
+        return img->data;
+    *copy = malloc(row * (size_t)img->height);
+    if (!*copy)
+        return NULL;
+    for (int y = 0; y < img->height; ++y) {
+        const uint8_t *in = (const uint8_t *)img->data + (size_t)y * stride;
+        uint8_t *out = *copy + (size_t)y * row;
+        if (img->bit_depth == 8) {
+            memcpy(out, in, row);
+            continue;
+        }
+        for (size_t i = 0; i < row; i += 2) {
+            uint16_t v;
+            memcpy(&v, in + i, sizeof v); /* a caller's rows need not be aligned */
+            out[i] = (uint8_t)(v >> 8), out[i + 1] = (uint8_t)v;
+        }
+    }
+    return *copy;
+}
+
+static relief_status write_png(FILE *f, const relief_image *img, const char *path,
                                relief_error *err)
 {
-    size_t vals = (size_t)r->width * r->height * r->channels, n = 0;
-    int wide = r->bit_depth == 16;
-    float max = relief_raster_max_value(r);
-    uint8_t *pixels = malloc(vals * (wide ? 2 : 1)), *png = NULL;
+    uint8_t *copy, *png = NULL;
+    const uint8_t *pixels = png_samples(img, &copy);
+    size_t n = 0;
     relief_status st;
 
     if (!pixels)
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
-    for (size_t i = 0; i < vals; ++i) {
-        unsigned q = relief_raster_quantise(r->v[i], max);
-        if (wide) {
-            pixels[2 * i] = (uint8_t)(q >> 8);
-            pixels[2 * i + 1] = (uint8_t)q;
-        } else {
-            pixels[i] = (uint8_t)q;
-        }
-    }
-    st = relief_png_encode_pixels(pixels, r->width, r->height, r->channels, r->bit_depth, &png,
-                                  &n, err);
-    free(pixels);
+    st = relief_png_encode_pixels(pixels, img->width, img->height, img->channels,
+                                  img->bit_depth, &png, &n, err);
+    free(copy);
     if (st != RELIEF_OK)
         return relief_fail_prefix(err, "%s", path);
     if (fwrite(png, 1, n, f) != n)
@@ -438,15 +461,16 @@ static relief_status write_png(FILE *f, const relief_raster *r, const char *path
     return st;
 }
 
-static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *path,
+/* 8-bit samples only (relief_image_file_write checks). */
+static relief_status write_jpeg(FILE *f, const relief_image *img, const char *path,
                                 relief_error *err)
 {
     struct jpeg_compress_struct cinfo;
     jpeg_job job;
-    int colours = r->channels >= 3 ? 3 : 1;
+    int colours = img->channels >= 3 ? 3 : 1;
 
     memset(&job, 0, sizeof job);
-    job.row = malloc((size_t)r->width * colours);
+    job.row = malloc((size_t)img->width * colours);
     if (!job.row)
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate a row", path);
     cinfo.err = jpeg_std_error(&job.pub);
@@ -458,20 +482,20 @@ static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *pat
     }
     jpeg_create_compress(&cinfo);
     jpeg_stdio_dest(&cinfo, f);
-    cinfo.image_width = (JDIMENSION)r->width;
-    cinfo.image_height = (JDIMENSION)r->height;
+    cinfo.image_width = (JDIMENSION)img->width;
+    cinfo.image_height = (JDIMENSION)img->height;
     cinfo.input_components = colours;
     cinfo.in_color_space = colours == 3 ? JCS_RGB : JCS_GRAYSCALE;
     jpeg_set_defaults(&cinfo);
     jpeg_set_quality(&cinfo, 95, TRUE);
     jpeg_start_compress(&cinfo, TRUE);
     while (cinfo.next_scanline < cinfo.image_height) {
-        const float *v = r->v + (size_t)cinfo.next_scanline * r->width * r->channels;
+        size_t stride = img->stride ? img->stride : packed_row(img);
+        const uint8_t *v = (const uint8_t *)img->data + (size_t)cinfo.next_scanline * stride;
         JSAMPROW rows[1] = {job.row};
-        for (int x = 0; x < r->width; ++x)
+        for (int x = 0; x < img->width; ++x)
             for (int c = 0; c < colours; ++c)
-                job.row[x * colours + c] =
-                    (JSAMPLE)relief_raster_quantise(v[x * r->channels + c], 255.0f);
+                job.row[x * colours + c] = v[x * img->channels + c];
         jpeg_write_scanlines(&cinfo, rows, 1);
     }
     jpeg_finish_compress(&cinfo);
@@ -480,7 +504,8 @@ static relief_status write_jpeg(FILE *f, const relief_raster *r, const char *pat
     return RELIEF_OK;
 }
 
-relief_status relief_raster_write(const char *path, const relief_raster *r, relief_error *err)
+relief_status relief_image_file_write(const char *path, const relief_image *img,
+                                      relief_error *err)
 {
     relief_image_format fmt = relief_image_format_of_name(path);
     relief_status st;
@@ -490,10 +515,10 @@ relief_status relief_raster_write(const char *path, const relief_raster *r, reli
     if (fmt == RELIEF_IMAGE_UNKNOWN)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: unknown image extension; relief writes "
                            ".png, .jpg and .jpeg", path);
-    if (r->bit_depth != 8 && r->bit_depth != 16)
+    if (img->bit_depth != 8 && img->bit_depth != 16)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: an image of %d bits cannot be written; "
-                           "expected 8 or 16", path, r->bit_depth);
-    if (fmt == RELIEF_IMAGE_JPEG && r->bit_depth != 8)
+                           "expected 8 or 16", path, img->bit_depth);
+    if (fmt == RELIEF_IMAGE_JPEG && img->bit_depth != 8)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: JPEG holds 8 bits per channel, the image "
                            "has 16; write it as .png", path);
     st = relief_atomic_create(path, &tmp, err);
@@ -504,7 +529,7 @@ relief_status relief_raster_write(const char *path, const relief_raster *r, reli
         relief_atomic_abort(tmp);
         return relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
     }
-    st = fmt == RELIEF_IMAGE_PNG ? write_png(f, r, path, err) : write_jpeg(f, r, path, err);
+    st = fmt == RELIEF_IMAGE_PNG ? write_png(f, img, path, err) : write_jpeg(f, img, path, err);
     if (fclose(f) != 0 && st == RELIEF_OK)
         st = relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
     if (st != RELIEF_OK) {
@@ -512,4 +537,31 @@ relief_status relief_raster_write(const char *path, const relief_raster *r, reli
         return st;
     }
     return relief_atomic_commit(tmp, path, err);
+}
+
+relief_status relief_raster_write(const char *path, const relief_raster *r, relief_error *err)
+{
+    relief_image img = {r->width, r->height, r->channels, r->bit_depth, 0, NULL};
+    size_t vals = (size_t)r->width * r->height * r->channels;
+    float max = relief_raster_max_value(r);
+    relief_status st;
+
+    if (r->bit_depth != 8 && r->bit_depth != 16)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: an image of %d bits cannot be written; "
+                           "expected 8 or 16", path, r->bit_depth);
+    img.data = malloc(vals * (r->bit_depth / 8));
+    if (!img.data)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
+    if (r->bit_depth == 8) {
+        uint8_t *o = img.data;
+        for (size_t i = 0; i < vals; ++i)
+            o[i] = (uint8_t)relief_raster_quantise(r->v[i], max);
+    } else {
+        uint16_t *o = img.data;
+        for (size_t i = 0; i < vals; ++i)
+            o[i] = (uint16_t)relief_raster_quantise(r->v[i], max);
+    }
+    st = relief_image_file_write(path, &img, err);
+    free(img.data);
+    return st;
 }

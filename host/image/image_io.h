@@ -61,4 +61,10 @@ relief_status relief_raster_read(const char *path, const relief_image_limit *lim
  * extension, or 16 bits to JPEG; RELIEF_E_IO naming the path. */
 relief_status relief_raster_write(const char *path, const relief_raster *r, relief_error *err);
 
+/* The same for `img`'s samples as they are (relief_image_check'ed: 8 or 16
+ * bits, native endian, any stride), without a raster between: the
+ * writer of relief_image_write. */
+relief_status relief_image_file_write(const char *path, const relief_image *img,
+                                      relief_error *err);
+
 #endif

@@ -1,6 +1,5 @@
 #include "image/raster.h"
 
-#include <math.h>
 #include <stdlib.h>
 
 #include "base/error.h"
@@ -49,13 +48,4 @@ int relief_raster_has_alpha(const relief_raster *r)
 float relief_raster_max_value(const relief_raster *r)
 {
     return r->bit_depth == 16 ? 65535.0f : r->bit_depth == 8 ? 255.0f : 0.0f;
-}
-
-unsigned relief_raster_quantise(float v, float max)
-{
-    if (!(v > 0.0f)) /* NaN too */
-        return 0;
-    if (v >= max)
-        return (unsigned)max;
-    return (unsigned)floorf(v + 0.5f);
 }

@@ -38,7 +38,16 @@ int relief_raster_has_alpha(const relief_raster *r);
 float relief_raster_max_value(const relief_raster *r);
 
 /* A value as the integer sample written for it: rounded to the nearest,
- * clamped to 0..max (NaN: 0). */
-unsigned relief_raster_quantise(float v, float max);
+ * clamped to 0..max (NaN: 0). Inline: it runs once a sample on every
+ * image read, filled and written; v + 0.5f is positive here, so the
+ * conversion's truncation is floorf's rounding. */
+static inline unsigned relief_raster_quantise(float v, float max)
+{
+    if (!(v > 0.0f)) /* NaN too */
+        return 0;
+    if (v >= max)
+        return (unsigned)max;
+    return (unsigned)(v + 0.5f);
+}
 
 #endif

@@ -1,5 +1,7 @@
-/* PNG output through libpng, the one PNG writer of relief (renders,
- * reports, and image/image_io.h's images). Files are written atomically
+/* PNG output, the one PNG writer of relief (renders, reports, and
+ * image/image_io.h's images): relief's own encoder around zlib, which
+ * filters and deflates a large image on every core (png.c says how; the
+ * bytes do not depend on the number of threads). Files are written atomically
  * (atomic.h): they appear whole or not at all. */
 #ifndef RELIEF_HOST_PNG_H
 #define RELIEF_HOST_PNG_H
@@ -24,7 +26,7 @@ relief_status relief_png_write(const char *path, const uint8_t *rgb, int width, 
  * endian (2 bytes each, as PNG stores them), top row first. *out is
  * malloc'ed (the caller frees it). Errors: RELIEF_E_USAGE for a NULL
  * argument or a shape out of range, RELIEF_E_NOMEM, RELIEF_E_INTERNAL
- * with libpng's words. */
+ * when zlib fails. */
 relief_status relief_png_encode_pixels(const uint8_t *pixels, int width, int height,
                                        int channels, int bit_depth, uint8_t **out, size_t *n,
                                        relief_error *err);

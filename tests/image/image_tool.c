@@ -6,6 +6,9 @@
  *   image_tool outside A B MASK                exit 0 when A and B agree, value for
  *                                              value, wherever MASK is 0 (and print
  *                                              how many hole values differ)
+ *   image_tool same A B                        exit 0 when A and B hold the same image
+ *                                              (shape, bit depth, every value), whatever
+ *                                              their files' bytes
  *   image_tool opaque A                        exit 0 when every alpha is the maximum
  *   image_tool paint IN MASK OUT.png           IN with the hole painted red (white
  *                                              in grey images), for pictures */
@@ -121,6 +124,17 @@ int main(int argc, char **argv)
         relief_raster_free(&b);
         relief_raster_free(&m);
         return bad ? 1 : 0;
+    }
+    if (argc == 4 && strcmp(argv[1], "same") == 0) {
+        int same;
+        a = load(argv[2]);
+        b = load(argv[3]);
+        same = a.width == b.width && a.height == b.height && a.channels == b.channels &&
+               a.bit_depth == b.bit_depth &&
+               memcmp(a.v, b.v, sizeof(float) * a.width * a.height * a.channels) == 0;
+        relief_raster_free(&a);
+        relief_raster_free(&b);
+        return same ? 0 : 1;
     }
     if (argc == 3 && strcmp(argv[1], "opaque") == 0) {
         int opaque;
