@@ -10,33 +10,35 @@
 #include "base/parallel.h"
 #include "base/pool.h"
 
-/* The encoder is relief's own, around zlib, so that it can use every core:
- * the rows are filtered in parallel, then deflated in stripes of about
- * STRIPE_BYTES, each primed with the 32 KiB of filtered bytes before it
- * and ended on a byte boundary (Z_SYNC_FLUSH), as pigz does, so that the
- * stripes join into one zlib stream. The stripes are cut by the image's
- * size alone: the bytes do not depend on the number of threads. Each row
- * takes the filter that minimises the sum of its bytes read as signed,
- * the heuristic of the PNG specification and of libpng; zlib runs at its
- * default level with the Z_FILTERED strategy, as libpng does. */
+/* The encoder is relief's own, around zlib, so that it can use every core.
+ * The rows are cut into stripes of about STRIPE_BYTES, and each stripe is
+ * one task: its rows filtered and deflated, primed with the 32 KiB of
+ * filtered rows before it (refiltered there: a filter reads only the raw
+ * rows), and ended on a byte boundary (Z_SYNC_FLUSH), as pigz does, so
+ * that the stripes join into one zlib stream; each becomes an IDAT chunk.
+ * The stripes are cut by the image's size alone: the bytes do not depend
+ * on the number of threads. The memory is the file's and, a thread, a
+ * stripe's. Each row takes the filter that minimises the sum of its bytes
+ * read as signed, the heuristic of the PNG specification and of libpng;
+ * zlib runs at its default level with the Z_FILTERED strategy, as libpng
+ * does. */
 #define STRIPE_BYTES ((size_t)1 << 18)
 #define WINDOW_BYTES ((size_t)1 << 15)
-#define IDAT_BYTES ((size_t)1 << 20)
 
 /* One stripe's deflated bytes and the adler32 of its filtered rows. */
 typedef struct stripe {
     uint8_t *data;
-    size_t n;
+    size_t n, cap;
     uLong adler;
 } stripe;
 
 typedef struct encode_job {
     const uint8_t *pixels;
-    size_t stride; /* bytes of a row of samples */
-    size_t bpp;    /* bytes of a pixel (at least 1) */
-    size_t rows;   /* rows of the image */
-    uint8_t *filtered; /* rows x (1 + stride): each row's filter type, then its bytes */
-    size_t stripe_rows;
+    size_t stride;      /* bytes of a row of samples */
+    size_t bpp;         /* bytes of a pixel (at least 1) */
+    size_t rows;        /* rows of the image */
+    size_t stripe_rows; /* rows of a stripe (the last may have fewer) */
+    size_t prime_rows;  /* rows above a stripe that hold its 32 KiB of priming */
     size_t n_stripes;
     stripe *stripes;
     int out_of_memory;
@@ -86,19 +88,14 @@ static unsigned long signed_sum(const uint8_t *b, size_t len)
     return sum;
 }
 
-/* Rows [lo, hi), each with its best filter, for relief_parallel_ranges. */
-static int filter_rows(void *ctx, size_t lo, size_t hi)
+/* Rows [lo, hi), each with its best filter, into out: (hi - lo) rows of
+ * the filter type and stride bytes. trial: stride bytes of scratch;
+ * zeros: stride zero bytes, the row above the first. */
+static void filter_rows(const encode_job *j, size_t lo, size_t hi, uint8_t *out,
+                        uint8_t *trial, const uint8_t *zeros)
 {
-    encode_job *j = ctx;
-    uint8_t *trial = malloc(j->stride), *zeros = calloc(j->stride, 1);
-    if (!trial || !zeros) {
-        free(trial), free(zeros);
-        j->out_of_memory = 1;
-        return 1;
-    }
-    for (size_t y = lo; y < hi; ++y) {
+    for (size_t y = lo; y < hi; ++y, out += j->stride + 1) {
         const uint8_t *cur = j->pixels + y * j->stride, *up = y ? cur - j->stride : zeros;
-        uint8_t *out = j->filtered + y * (j->stride + 1);
         unsigned long best = signed_sum(cur, j->stride);
         out[0] = 0;
         memcpy(out + 1, cur, j->stride);
@@ -113,50 +110,77 @@ static int filter_rows(void *ctx, size_t lo, size_t hi)
             }
         }
     }
-    free(trial), free(zeros);
-    return 0;
 }
 
-/* Stripe k deflated into j->stripes[k]; 0, or 1 when zlib failed. */
-static int deflate_stripe(encode_job *j, size_t k)
+/* deflate with `flush` until it is done, growing s's buffer as it needs:
+ * 0, 1 when zlib fails, -1 when memory does. */
+static int deflate_into(z_stream *z, stripe *s, int flush)
 {
-    size_t row = j->stride + 1, lo = k * j->stripe_rows * row;
-    size_t hi = (k + 1) * j->stripe_rows * row, all = j->rows * row;
-    size_t dict = lo < WINDOW_BYTES ? lo : WINDOW_BYTES, cap;
+    for (;;) {
+        int rc;
+        if (s->n == s->cap) {
+            size_t cap = s->cap * 2 + 4096;
+            uint8_t *grown = realloc(s->data, cap);
+            if (!grown)
+                return -1;
+            s->data = grown, s->cap = cap;
+        }
+        z->next_out = s->data + s->n;
+        z->avail_out = (uInt)(s->cap - s->n);
+        rc = deflate(z, flush);
+        s->n = s->cap - z->avail_out;
+        if (flush == Z_FINISH ? rc == Z_STREAM_END : rc == Z_OK && z->avail_out > 0)
+            return 0;
+        if (rc != Z_OK && rc != Z_BUF_ERROR)
+            return 1;
+    }
+}
+
+/* Stripe k filtered (buf: its rows and the priming rows above) and
+ * deflated into j->stripes[k]; 0, or 1 when zlib or memory failed. */
+static int encode_stripe(encode_job *j, size_t k, uint8_t *buf, uint8_t *trial,
+                         const uint8_t *zeros)
+{
+    size_t row = j->stride + 1, lo = k * j->stripe_rows;
+    size_t hi = lo + j->stripe_rows > j->rows ? j->rows : lo + j->stripe_rows;
+    size_t pre = lo < j->prime_rows ? lo : j->prime_rows, len = (hi - lo) * row;
+    size_t dict = pre * row < WINDOW_BYTES ? pre * row : WINDOW_BYTES;
+    const uint8_t *in = buf + pre * row;
     stripe *s = &j->stripes[k];
     z_stream z;
-    int last = k + 1 == j->n_stripes, rc;
+    int rc;
 
-    hi = hi > all ? all : hi;
+    filter_rows(j, lo - pre, hi, buf, trial, zeros);
+    s->adler = adler32(1L, in, (uInt)len);
     memset(&z, 0, sizeof z);
-    if (deflateInit2(&z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, -15, 8, Z_FILTERED) != Z_OK) {
-        j->out_of_memory = 1;
+    rc = deflateInit2(&z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, -15, 8, Z_FILTERED);
+    if (rc != Z_OK) {
+        j->out_of_memory |= rc == Z_MEM_ERROR;
         return 1;
     }
-    rc = dict ? deflateSetDictionary(&z, j->filtered + lo - dict, (uInt)dict) : Z_OK;
-    cap = deflateBound(&z, (uLong)(hi - lo)) + 16;
-    s->data = rc == Z_OK ? malloc(cap) : NULL;
-    if (!s->data) {
-        deflateEnd(&z);
-        j->out_of_memory = rc == Z_OK;
-        return 1;
-    }
-    z.next_in = j->filtered + lo;
-    z.avail_in = (uInt)(hi - lo);
-    z.next_out = s->data;
-    z.avail_out = (uInt)cap;
-    rc = deflate(&z, last ? Z_FINISH : Z_SYNC_FLUSH);
-    s->n = cap - z.avail_out;
-    s->adler = adler32(1L, j->filtered + lo, (uInt)(hi - lo));
+    rc = dict ? deflateSetDictionary(&z, in - dict, (uInt)dict) : Z_OK;
+    z.next_in = (uint8_t *)in;
+    z.avail_in = (uInt)len;
+    if (rc == Z_OK)
+        rc = deflate_into(&z, s, k + 1 == j->n_stripes ? Z_FINISH : Z_SYNC_FLUSH);
+    else
+        rc = 1;
     deflateEnd(&z);
-    return (last ? rc != Z_STREAM_END : rc != Z_OK || z.avail_out == 0) || z.avail_in != 0;
+    j->out_of_memory |= rc < 0;
+    return rc != 0;
 }
 
-static int deflate_stripes(void *ctx, size_t lo, size_t hi)
+/* Stripes [lo, hi), for relief_parallel_ranges. */
+static int encode_stripes(void *ctx, size_t lo, size_t hi)
 {
-    int failed = 0;
+    encode_job *j = ctx;
+    uint8_t *buf = malloc((j->prime_rows + j->stripe_rows) * (j->stride + 1));
+    uint8_t *trial = malloc(j->stride), *zeros = calloc(j->stride, 1);
+    int failed = !buf || !trial || !zeros;
+    j->out_of_memory |= failed;
     for (size_t k = lo; k < hi && !failed; ++k)
-        failed = deflate_stripe(ctx, k);
+        failed = encode_stripe(j, k, buf, trial, zeros);
+    free(buf), free(trial), free(zeros);
     return failed;
 }
 
@@ -166,52 +190,50 @@ static void put32(uint8_t *b, uint32_t v)
     b[3] = (uint8_t)v;
 }
 
-/* A chunk of `type` holding `len` bytes (from `data`, or already at
- * o + 8 when data is NULL) written at o; returns the bytes after it. */
-static uint8_t *put_chunk(uint8_t *o, const char *type, const uint8_t *data, size_t len)
+/* The chunk begun at `start` (its data written from start + 8 to `end`):
+ * its length, its type and, after the data, its CRC; returns the byte
+ * after it. */
+static uint8_t *end_chunk(uint8_t *start, const char *type, uint8_t *end)
 {
-    put32(o, (uint32_t)len);
-    memcpy(o + 4, type, 4);
-    if (data && len)
-        memcpy(o + 8, data, len);
-    put32(o + 8 + len, (uint32_t)crc32(crc32(0L, Z_NULL, 0), o + 4, (uInt)(len + 4)));
-    return o + 12 + len;
+    size_t len = (size_t)(end - start) - 8;
+    put32(start, (uint32_t)len);
+    memcpy(start + 4, type, 4);
+    put32(end, (uint32_t)crc32(crc32(0L, Z_NULL, 0), start + 4, (uInt)(len + 4)));
+    return end + 4;
 }
 
-/* The file: signature, IHDR, the zlib stream (2-byte header, the stripes,
- * the adler32 of all filtered bytes) in IDAT chunks of at most IDAT_BYTES,
- * IEND. */
+/* The file: signature, IHDR, an IDAT a stripe (the first led by the zlib
+ * header, the last followed by the adler32 of all filtered bytes), IEND. */
 static uint8_t *assemble(const encode_job *j, const uint8_t ihdr[13], size_t *n)
 {
     static const uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    size_t zn = 6, at = 0, total;
-    uint8_t *zs, *file, *o;
+    size_t total = 8 + 25 + 2 + 4 + 12;
     uLong adler = 1L;
-    for (size_t k = 0; k < j->n_stripes; ++k)
-        zn += j->stripes[k].n;
-    zs = malloc(zn);
-    total = 8 + 25 + zn + 12 * (zn / IDAT_BYTES + 1) + 12;
-    file = zs ? malloc(total) : NULL;
-    if (!file) {
-        free(zs);
-        return NULL;
-    }
-    zs[at++] = 0x78, zs[at++] = 0x9c; /* deflate, 32 KiB window, default level */
+    uint8_t *file, *o;
     for (size_t k = 0; k < j->n_stripes; ++k) {
-        size_t len = (k + 1 == j->n_stripes ? j->rows : (k + 1) * j->stripe_rows) -
-                     k * j->stripe_rows;
-        memcpy(zs + at, j->stripes[k].data, j->stripes[k].n);
-        at += j->stripes[k].n;
-        adler = k ? adler32_combine(adler, j->stripes[k].adler, (z_off_t)(len * (j->stride + 1)))
+        size_t rows = (k + 1 == j->n_stripes ? j->rows : (k + 1) * j->stripe_rows) -
+                      k * j->stripe_rows;
+        total += 12 + j->stripes[k].n;
+        adler = k ? adler32_combine(adler, j->stripes[k].adler,
+                                    (z_off_t)(rows * (j->stride + 1)))
                   : j->stripes[k].adler;
     }
-    put32(zs + at, (uint32_t)adler);
+    if (!(file = malloc(total)))
+        return NULL;
     memcpy(file, signature, 8);
-    o = put_chunk(file + 8, "IHDR", ihdr, 13);
-    for (size_t off = 0; off < zn; off += IDAT_BYTES)
-        o = put_chunk(o, "IDAT", zs + off, zn - off < IDAT_BYTES ? zn - off : IDAT_BYTES);
-    o = put_chunk(o, "IEND", NULL, 0);
-    free(zs);
+    memcpy(file + 16, ihdr, 13);
+    o = end_chunk(file + 8, "IHDR", file + 16 + 13);
+    for (size_t k = 0; k < j->n_stripes; ++k) {
+        uint8_t *start = o, *d = o + 8;
+        if (k == 0)
+            *d++ = 0x78, *d++ = 0x9c; /* deflate, 32 KiB window, default level */
+        memcpy(d, j->stripes[k].data, j->stripes[k].n);
+        d += j->stripes[k].n;
+        if (k + 1 == j->n_stripes)
+            put32(d, (uint32_t)adler), d += 4;
+        o = end_chunk(start, "IDAT", d);
+    }
+    o = end_chunk(o, "IEND", o + 8);
     *n = (size_t)(o - file);
     return file;
 }
@@ -219,18 +241,16 @@ static uint8_t *assemble(const encode_job *j, const uint8_t ihdr[13], size_t *n)
 static relief_status encode(encode_job *j, const uint8_t ihdr[13], uint8_t **out, size_t *n,
                             relief_error *err)
 {
-    int threads = relief_pool_default_threads(), failed;
-    j->stripe_rows = STRIPE_BYTES / (j->stride + 1);
-    j->stripe_rows = j->stripe_rows ? j->stripe_rows : 1;
+    size_t row = j->stride + 1;
+    int failed;
+    j->stripe_rows = STRIPE_BYTES / row ? STRIPE_BYTES / row : 1;
+    j->prime_rows = (WINDOW_BYTES + row - 1) / row;
     j->n_stripes = (j->rows + j->stripe_rows - 1) / j->stripe_rows;
-    j->filtered = malloc(j->rows * (j->stride + 1));
     j->stripes = calloc(j->n_stripes, sizeof *j->stripes);
-    failed = !j->filtered || !j->stripes;
-    j->out_of_memory = failed;
+    failed = j->out_of_memory = !j->stripes;
     if (!failed)
-        failed = relief_parallel_ranges(j->rows, threads, filter_rows, j);
-    if (!failed)
-        failed = relief_parallel_ranges(j->n_stripes, threads, deflate_stripes, j);
+        failed = relief_parallel_ranges(j->n_stripes, relief_pool_default_threads(),
+                                        encode_stripes, j);
     if (!failed) {
         *out = assemble(j, ihdr, n);
         failed = j->out_of_memory = *out == NULL;
@@ -238,7 +258,6 @@ static relief_status encode(encode_job *j, const uint8_t ihdr[13], uint8_t **out
     for (size_t k = 0; j->stripes && k < j->n_stripes; ++k)
         free(j->stripes[k].data);
     free(j->stripes);
-    free(j->filtered);
     if (!failed)
         return RELIEF_OK;
     if (j->out_of_memory)

@@ -211,11 +211,13 @@ int main(int argc, char **argv)
         round_trip(dir, 37, 23, c, 8);
         round_trip(dir, 37, 23, c, 16);
     }
-    /* Large enough for the PNG writer's many stripes (each deflated apart,
-     * primed with the one before) and IDAT chunks of 1 MiB: libpng reads
-     * them back checking every CRC and the stream's adler32. */
+    /* Large enough for the PNG writer's many stripes, each deflated apart
+     * (primed with the 32 KiB before it) into an IDAT of its own, and rows
+     * wider than that window: libpng reads them back checking every CRC
+     * and the stream's adler32. */
     round_trip(dir, 1500, 700, 4, 16);
     round_trip(dir, 3001, 50, 3, 8);
+    round_trip(dir, 12000, 6, 3, 8);
 
     /* JPEG: 8 bits, lossy, alpha dropped. */
     st = relief_raster_create(40, 30, 4, 8, &r, &err);
