@@ -102,40 +102,16 @@ static relief_status raster_of(const relief_image *img, relief_raster *r, relief
     return RELIEF_OK;
 }
 
-/* A new image of packed rows holding `r`'s values as samples. */
-static relief_status image_of(const relief_raster *r, relief_image *out, relief_error *err)
-{
-    relief_image img = {r->width, r->height, r->channels, r->bit_depth, 0, NULL};
-    size_t row = (size_t)r->width * r->channels;
-    float max = relief_raster_max_value(r);
-    img.stride = row_bytes(&img);
-    img.data = malloc(img.stride * (size_t)img.height);
-    if (!img.data)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate an image of %d x %d x %d "
-                           "samples", r->width, r->height, r->channels);
-    for (int y = 0; y < img.height; ++y)
-        for (size_t i = 0; i < row; ++i)
-            put_sample(&img, y, i, relief_raster_quantise(r->v[(size_t)y * row + i], max));
-    *out = img;
-    return RELIEF_OK;
-}
-
 /* ------------------------------------------------------------------ files */
 
 relief_status relief_image_decode(const void *data, size_t n, const char *name,
                                   uint64_t max_bytes, relief_image *out, relief_error *err)
 {
-    relief_raster r;
-    relief_status st;
     name = name ? name : "image";
     if ((!data && n) || !out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_image_decode: %s is NULL",
                            out ? "data" : "out");
-    st = relief_raster_decode_samples(data, n, name, max_bytes, &r, err);
-    if (st == RELIEF_OK)
-        st = image_of(&r, out, err);
-    relief_raster_free(&r);
-    return st;
+    return relief_image_file_decode(data, n, name, max_bytes, out, err);
 }
 
 relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_image *out,

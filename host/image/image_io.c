@@ -155,35 +155,44 @@ typedef struct png_palette {
     int n_alpha;     /* entries past it are opaque */
 } png_palette;
 
-/* One decoded row into w x channels values: samples of `depth` bits, or
- * palette indexes (a byte each) looked up, an index past the palette
+/* The decoded palette indexes (a byte each, job->rows) looked up into
+ * *out: 8-bit samples, 3 or 4 channels; an index past the palette is
  * refused naming it. */
-static relief_status png_row(const png_byte *row, png_uint_32 w, int channels, int depth,
-                             const png_palette *pal, float *o, const char *name,
-                             relief_error *err)
+static relief_status expand_palette(const png_job *job, png_uint_32 w, png_uint_32 h,
+                                    int channels, const png_palette *pal, const char *name,
+                                    relief_image *out, relief_error *err)
 {
-    if (!pal->colours) {
-        for (size_t i = 0; i < (size_t)w * channels; ++i)
-            o[i] = depth == 16 ? (float)((row[2 * i] << 8) | row[2 * i + 1]) : (float)row[i];
-        return RELIEF_OK;
-    }
-    for (png_uint_32 x = 0; x < w; ++x, o += channels) {
-        int k = row[x];
-        if (k >= pal->entries)
-            return relief_fail(err, RELIEF_E_PARSE, "%s: malformed PNG: a pixel has palette "
-                               "index %d, past the palette of %d entries", name, k,
-                               pal->entries);
-        o[0] = pal->colours[k].red;
-        o[1] = pal->colours[k].green;
-        o[2] = pal->colours[k].blue;
-        if (channels == 4)
-            o[3] = k < pal->n_alpha ? pal->alpha[k] : 255.0f;
-    }
+    uint8_t *px = malloc((size_t)w * h * channels), *o = px;
+    if (!px)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate %u x %u pixels", name, w,
+                           h);
+    for (png_uint_32 y = 0; y < h; ++y)
+        for (png_uint_32 x = 0; x < w; ++x, o += channels) {
+            int k = job->rows[y][x];
+            if (k >= pal->entries) {
+                free(px);
+                return relief_fail(err, RELIEF_E_PARSE, "%s: malformed PNG: a pixel has "
+                                   "palette index %d, past the palette of %d entries", name,
+                                   k, pal->entries);
+            }
+            o[0] = pal->colours[k].red;
+            o[1] = pal->colours[k].green;
+            o[2] = pal->colours[k].blue;
+            if (channels == 4)
+                o[3] = k < pal->n_alpha ? pal->alpha[k] : 255;
+        }
+    *out = (relief_image){(int)w, (int)h, channels, 8, (size_t)w * channels, px};
     return RELIEF_OK;
 }
 
+static int little_endian(void)
+{
+    const uint16_t one = 1;
+    return *(const uint8_t *)&one == 1;
+}
+
 static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
-                                const relief_image_limit *lim, int samples, relief_raster *out,
+                                const relief_image_limit *lim, int samples, relief_image *out,
                                 relief_error *err)
 {
     png_job job;
@@ -207,7 +216,6 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
     }
     if (setjmp(job.jump)) {
         int over = 0;
-        relief_raster_free(out);
         if (strcmp(job.msg, "Invalid IHDR data") == 0)
             over = describe_ihdr(data, n, job.msg, sizeof job.msg);
         st = over ? relief_fail(err, RELIEF_E_RANGE, "%s: %s", name, job.msg)
@@ -230,6 +238,8 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
             png_set_expand_gray_1_2_4_to_8(png);
         if (png_get_valid(png, info, PNG_INFO_tRNS))
             png_set_tRNS_to_alpha(png);
+        if (depth == 16 && little_endian())
+            png_set_swap(png); /* 16-bit samples in the host's order */
     }
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
@@ -254,14 +264,12 @@ static relief_status decode_png(const uint8_t *data, size_t n, const char *name,
         job.rows[y] = job.pixels + y * rowbytes;
     png_read_image(png, job.rows);
     png_read_end(png, NULL);
-    st = relief_raster_create((int)w, (int)h, channels, depth, out, err);
-    if (st != RELIEF_OK)
-        goto done;
-    for (png_uint_32 y = 0; y < h && st == RELIEF_OK; ++y)
-        st = png_row(job.rows[y], w, channels, depth, &pal,
-                     out->v + (size_t)y * w * channels, name, err);
-    if (st != RELIEF_OK)
-        relief_raster_free(out);
+    if (pal.colours) {
+        st = expand_palette(&job, w, h, channels, &pal, name, out, err);
+    } else { /* libpng's rows are the samples, packed */
+        *out = (relief_image){(int)w, (int)h, channels, depth, rowbytes, job.pixels};
+        job.pixels = NULL;
+    }
 done:
     png_destroy_read_struct(&png, &info, NULL);
     free(job.pixels);
@@ -298,20 +306,20 @@ static void jpeg_on_message(j_common_ptr cinfo, int level)
 }
 
 static relief_status decode_jpeg(const uint8_t *data, size_t n, const char *name,
-                                 const relief_image_limit *lim, int samples, relief_raster *out,
+                                 const relief_image_limit *lim, int samples, relief_image *out,
                                  relief_error *err)
 {
     struct jpeg_decompress_struct cinfo;
     jpeg_job job;
     relief_status st = RELIEF_OK;
     int channels;
+    size_t row;
 
     memset(&job, 0, sizeof job);
     cinfo.err = jpeg_std_error(&job.pub);
     job.pub.error_exit = jpeg_on_error;
     job.pub.emit_message = jpeg_on_message;
     if (setjmp(job.jump)) {
-        relief_raster_free(out);
         st = relief_fail(err, RELIEF_E_PARSE, "%s: malformed JPEG: %s", name, job.msg);
         goto done;
     }
@@ -330,27 +338,26 @@ static relief_status decode_jpeg(const uint8_t *data, size_t n, const char *name
     if (st != RELIEF_OK)
         goto done;
     jpeg_start_decompress(&cinfo);
-    st = relief_raster_create((int)cinfo.output_width, (int)cinfo.output_height, channels, 8,
-                              out, err);
-    if (st == RELIEF_OK && !(job.row = malloc((size_t)cinfo.output_width * channels)))
-        st = relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate a row", name);
-    if (st != RELIEF_OK) {
+    row = (size_t)cinfo.output_width * channels;
+    if (!(job.row = malloc(row * cinfo.output_height))) {
+        st = relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate %u x %u pixels", name,
+                         cinfo.output_width, cinfo.output_height);
         jpeg_abort_decompress(&cinfo);
         goto done;
     }
     while (cinfo.output_scanline < cinfo.output_height && !job.warned) {
-        JSAMPROW rows[1] = {job.row};
-        float *o = out->v + (size_t)cinfo.output_scanline * cinfo.output_width * channels;
+        JSAMPROW rows[1] = {job.row + (size_t)cinfo.output_scanline * row};
         jpeg_read_scanlines(&cinfo, rows, 1);
-        for (size_t i = 0; i < (size_t)cinfo.output_width * channels; ++i)
-            o[i] = (float)job.row[i];
     }
     if (!job.warned)
         jpeg_finish_decompress(&cinfo);
     if (job.warned) {
-        relief_raster_free(out);
         st = relief_fail(err, RELIEF_E_PARSE, "%s: corrupt or truncated JPEG: %s", name,
                          job.msg);
+    } else {
+        *out = (relief_image){(int)cinfo.output_width, (int)cinfo.output_height, channels, 8,
+                              row, job.row};
+        job.row = NULL;
     }
 done:
     jpeg_destroy_decompress(&cinfo);
@@ -358,14 +365,15 @@ done:
     return st;
 }
 
-/* PNG or JPEG by the first bytes; samples: lim bounds the samples at the
- * file's bit depth, not the raster (check_size). */
+/* PNG or JPEG by the first bytes, into *out (out->data NULL on failure);
+ * samples: lim bounds the samples at the file's bit depth, not the raster
+ * (check_size). */
 static relief_status decode(const uint8_t *data, size_t n, const char *name,
-                            const relief_image_limit *lim, int samples, relief_raster *out,
+                            const relief_image_limit *lim, int samples, relief_image *out,
                             relief_error *err)
 {
     static const uint8_t png_sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    out->v = NULL;
+    memset(out, 0, sizeof *out);
     if (n >= 8 && memcmp(data, png_sig, 8) == 0)
         return decode_png(data, n, name, lim, samples, out, err);
     if (n >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff)
@@ -380,15 +388,28 @@ relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *na
                                   const relief_image_limit *lim, relief_raster *out,
                                   relief_error *err)
 {
-    return decode(data, n, name, lim, 0, out, err);
+    relief_image img;
+    relief_status st = decode(data, n, name, lim, 0, &img, err);
+    size_t vals = (size_t)img.width * img.height * img.channels;
+    out->v = NULL;
+    if (st == RELIEF_OK)
+        st = relief_raster_create(img.width, img.height, img.channels, img.bit_depth, out, err);
+    for (size_t i = 0; st == RELIEF_OK && i < vals; ++i)
+        out->v[i] = img.bit_depth == 16 ? (float)((const uint16_t *)img.data)[i]
+                                        : (float)((const uint8_t *)img.data)[i];
+    free(img.data);
+    return st;
 }
 
-relief_status relief_raster_decode_samples(const uint8_t *data, size_t n, const char *name,
-                                           uint64_t max_bytes, relief_raster *out,
-                                           relief_error *err)
+relief_status relief_image_file_decode(const uint8_t *data, size_t n, const char *name,
+                                       uint64_t max_bytes, relief_image *out, relief_error *err)
 {
     relief_image_limit lim = {max_bytes, 1.0, NULL};
-    return decode(data, n, name, &lim, 1, out, err);
+    relief_image img;
+    relief_status st = decode(data, n, name, &lim, 1, &img, err);
+    if (st == RELIEF_OK) /* *out is not touched on failure */
+        *out = img;
+    return st;
 }
 
 relief_status relief_raster_read(const char *path, const relief_image_limit *lim,

@@ -42,12 +42,13 @@ relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *na
                                   const relief_image_limit *lim, relief_raster *out,
                                   relief_error *err);
 
-/* The same with `max_bytes` (0: none) bounding the samples as relief_image
- * holds them, 1 or 2 bytes each by the file's bit depth, rather than the
- * raster: relief_image_read's limit (relief/image.h). */
-relief_status relief_raster_decode_samples(const uint8_t *data, size_t n, const char *name,
-                                           uint64_t max_bytes, relief_raster *out,
-                                           relief_error *err);
+/* The file's samples themselves into *out (packed rows of 8-bit, or
+ * 16-bit in the host's byte order, samples; the caller frees out->data),
+ * without a raster between: what relief_image_read returns. `max_bytes`
+ * (0: none) bounds those samples. Errors as relief_raster_decode's; *out
+ * is written only on success. */
+relief_status relief_image_file_decode(const uint8_t *data, size_t n, const char *name,
+                                       uint64_t max_bytes, relief_image *out, relief_error *err);
 
 /* Read the file at `path` (RELIEF_E_IO naming it when it cannot be read),
  * then as relief_raster_decode. */

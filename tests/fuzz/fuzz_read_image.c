@@ -1,13 +1,15 @@
 /* libFuzzer harness for the image readers (image/image_io.c): the input's
  * bytes go to relief_raster_decode, the path every image command's reading
  * takes after the file's bytes are in memory (PNG through libpng, JPEG
- * through libjpeg, told apart by the first bytes).
+ * through libjpeg, told apart by the first bytes), and to the public
+ * relief_image_decode, which returns the samples without a raster.
  *
  * Besides the sanitizers, it checks what the API promises: a decode that
  * succeeds gives 1 to 4 channels of 8 or 16 bits, every value an integer
  * in range; one that fails names the input, with a status of bad input
  * (exit 1) or out of memory, never an internal error, and leaves no
- * raster. A broken promise aborts. */
+ * raster; the public decode agrees, sample for sample, and leaves *out as
+ * it was when it fails. A broken promise aborts. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -24,6 +26,42 @@ static void fail(const char *what, const char *detail)
     abort();
 }
 
+/* relief_image_decode of the same bytes against the raster's outcome
+ * (st, r). */
+static void check_public(const uint8_t *data, size_t size, relief_status st,
+                         const relief_raster *r)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_image img, untouched;
+    relief_status pst;
+    memset(&img, 0xab, sizeof img);
+    untouched = img;
+    /* Its limit is on the samples (a quarter of an 8-bit raster's bytes, a
+     * half of a 16-bit one's): only the memory checks may disagree. */
+    pst = relief_image_decode(data, size, "input", 16u << 20, &img, &err);
+    if (pst != st && pst != RELIEF_E_NOMEM && st != RELIEF_E_NOMEM)
+        fail("relief_image_decode and relief_raster_decode disagree", err.message);
+    if (pst != RELIEF_OK) {
+        if (memcmp(&img, &untouched, sizeof img) != 0)
+            fail("a failed relief_image_decode wrote *out", err.message);
+        return;
+    }
+    if (st != RELIEF_OK) {
+        relief_image_free(&img);
+        return;
+    }
+    if (img.width != r->width || img.height != r->height || img.channels != r->channels ||
+        img.bit_depth != r->bit_depth)
+        fail("relief_image_decode's shape differs", "");
+    for (size_t i = 0; i < (size_t)r->width * r->height * r->channels; ++i) {
+        float v = img.bit_depth == 16 ? (float)((const uint16_t *)img.data)[i]
+                                      : (float)((const uint8_t *)img.data)[i];
+        if (v != r->v[i])
+            fail("relief_image_decode's samples differ", "");
+    }
+    relief_image_free(&img);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     /* 64 MiB of raster at most: a header may claim 65535 x 65535 pixels. */
@@ -31,6 +69,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     relief_error err = {RELIEF_OK, ""};
     relief_raster r;
     relief_status st = relief_raster_decode(data, size, "input", &lim, &r, &err);
+
+    check_public(data, size, st, &r);
 
     if (st != RELIEF_OK) {
         if (r.v)
