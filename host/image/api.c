@@ -1,8 +1,9 @@
 /* The image engine's public API (relief/image.h): relief_image, a view of
- * a caller's 8- or 16-bit samples with a row stride, over the float
- * rasters that the readers, the writers and the hole filler work on
- * (image_io.h, fill.h). A fill works on a copy of the image: the caller's
- * buffer and report are written only when the call succeeds. */
+ * a caller's 8- or 16-bit samples with a row stride, which the readers and
+ * writers (image_io.h) take and give as they are, over the float raster
+ * that the hole filler works on (fill.h). A fill works on a copy of the
+ * image: the caller's buffer and report are written only when the call
+ * succeeds. */
 #include "relief/relief.h"
 
 #include <stdio.h>

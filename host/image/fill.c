@@ -398,9 +398,12 @@ static inline int reduce_inside(relief_filler *f, int l, int X, int Y, int C)
              * memory, one store-to-load wait an addition). */
             const float wt = reduce_g[dx] * reduce_g[dy], *p = v + dx * C;
             a0 += wt * p[0];
-            a1 += C > 1 ? wt * p[1] : 0.0f;
-            a2 += C > 2 ? wt * p[2] : 0.0f;
-            a3 += C > 3 ? wt * p[3] : 0.0f;
+            if (C > 1)
+                a1 += wt * p[1];
+            if (C > 2)
+                a2 += wt * p[2];
+            if (C > 3)
+                a3 += wt * p[3];
         }
     out[0] = a0 / 256.0f;
     if (C > 1)

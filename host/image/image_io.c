@@ -37,7 +37,8 @@ static relief_status check_size(const char *name, uint32_t w, uint32_t h, int ch
                                 int depth, const relief_image_limit *lim, int samples,
                                 relief_error *err)
 {
-    uint64_t bytes;
+    uint64_t bytes, sample_bytes;
+    double need;
     char what[512];
     if (w == 0 || h == 0)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: the image has %u x %u pixels: nothing "
@@ -51,12 +52,12 @@ static relief_status check_size(const char *name, uint32_t w, uint32_t h, int ch
              channels, channels == 1 ? "" : "s", lim->what ? ": " : "",
              lim->what ? lim->what : "");
     bytes = relief_raster_bytes((int)w, (int)h, channels);
-    if (samples)
-        bytes = bytes / sizeof(float) * (uint64_t)(depth / 8);
-    return relief_memory_check(what,
-                               (uint64_t)((double)bytes *
-                                          (lim->factor > 1.0 ? lim->factor : 1.0)),
-                               lim->limit, "", err);
+    sample_bytes = bytes / sizeof(float) * (uint64_t)(depth / 8);
+    /* A raster is converted from the samples, both held a while. */
+    need = samples ? (double)sample_bytes
+                   : (double)bytes * (lim->factor > 1.0 ? lim->factor : 1.0) +
+                         (double)sample_bytes;
+    return relief_memory_check(what, (uint64_t)need, lim->limit, "", err);
 }
 
 /* ---------------------------------------------------------------- PNG */

@@ -47,7 +47,7 @@ static inline unsigned relief_raster_quantise(float v, float max)
         return 0;
     if (v >= max)
         return (unsigned)max;
-    return (unsigned)(v + 0.5f);
+    return (unsigned)(float)(v + 0.5f); /* the cast: float's rounding where sums are wider */
 }
 
 #endif

@@ -17,20 +17,25 @@
  * rows), and ended on a byte boundary (Z_SYNC_FLUSH), as pigz does, so
  * that the stripes join into one zlib stream; each becomes an IDAT chunk.
  * The stripes are cut by the image's size alone: the bytes do not depend
- * on the number of threads. The memory is the file's and, a thread, a
- * stripe's. Each row takes the filter that minimises the sum of its bytes
+ * on the number of threads. The memory is twice the file's (the stripes,
+ * then the file they are joined into) and, a thread, a stripe's. Each row takes the filter that minimises the sum of its bytes
  * read as signed, the heuristic of the PNG specification and of libpng;
  * zlib runs at its default level with the Z_FILTERED strategy, as libpng
  * does. */
 #define STRIPE_BYTES ((size_t)1 << 18)
 #define WINDOW_BYTES ((size_t)1 << 15)
 
-/* One stripe's deflated bytes and the adler32 of its filtered rows. */
+/* One stripe's deflated bytes, the adler32 of its filtered rows, and how
+ * its task ended: 0, ENCODE_ZLIB or ENCODE_MEMORY (each task writes only
+ * its own stripes). */
 typedef struct stripe {
     uint8_t *data;
     size_t n, cap;
     uLong adler;
+    int status;
 } stripe;
+
+enum { ENCODE_ZLIB = 1, ENCODE_MEMORY = 2 };
 
 typedef struct encode_job {
     const uint8_t *pixels;
@@ -41,7 +46,6 @@ typedef struct encode_job {
     size_t prime_rows;  /* rows above a stripe that hold its 32 KiB of priming */
     size_t n_stripes;
     stripe *stripes;
-    int out_of_memory;
 } encode_job;
 
 static inline uint8_t paeth(int a, int b, int c)
@@ -112,17 +116,19 @@ static void filter_rows(const encode_job *j, size_t lo, size_t hi, uint8_t *out,
     }
 }
 
-/* deflate with `flush` until it is done, growing s's buffer as it needs:
- * 0, 1 when zlib fails, -1 when memory does. */
+/* deflate with `flush` until it is done, into s's buffer (first of
+ * deflateBound's size, doubled should that fall short): 0, ENCODE_ZLIB
+ * or ENCODE_MEMORY. */
 static int deflate_into(z_stream *z, stripe *s, int flush)
 {
+    size_t first = deflateBound(z, z->avail_in) + 64; /* a sync flush's few bytes too */
     for (;;) {
         int rc;
         if (s->n == s->cap) {
-            size_t cap = s->cap * 2 + 4096;
+            size_t cap = s->cap ? 2 * s->cap : first;
             uint8_t *grown = realloc(s->data, cap);
             if (!grown)
-                return -1;
+                return ENCODE_MEMORY;
             s->data = grown, s->cap = cap;
         }
         z->next_out = s->data + s->n;
@@ -131,13 +137,13 @@ static int deflate_into(z_stream *z, stripe *s, int flush)
         s->n = s->cap - z->avail_out;
         if (flush == Z_FINISH ? rc == Z_STREAM_END : rc == Z_OK && z->avail_out > 0)
             return 0;
-        if (rc != Z_OK && rc != Z_BUF_ERROR)
-            return 1;
+        if ((rc != Z_OK && rc != Z_BUF_ERROR) || z->avail_out > 0) /* no progress */
+            return ENCODE_ZLIB;
     }
 }
 
 /* Stripe k filtered (buf: its rows and the priming rows above) and
- * deflated into j->stripes[k]; 0, or 1 when zlib or memory failed. */
+ * deflated into j->stripes[k], its status set; 0, or 1 when it failed. */
 static int encode_stripe(encode_job *j, size_t k, uint8_t *buf, uint8_t *trial,
                          const uint8_t *zeros)
 {
@@ -155,19 +161,20 @@ static int encode_stripe(encode_job *j, size_t k, uint8_t *buf, uint8_t *trial,
     memset(&z, 0, sizeof z);
     rc = deflateInit2(&z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, -15, 8, Z_FILTERED);
     if (rc != Z_OK) {
-        j->out_of_memory |= rc == Z_MEM_ERROR;
+        s->status = rc == Z_MEM_ERROR ? ENCODE_MEMORY : ENCODE_ZLIB;
         return 1;
     }
     rc = dict ? deflateSetDictionary(&z, in - dict, (uInt)dict) : Z_OK;
     z.next_in = (uint8_t *)in;
     z.avail_in = (uInt)len;
-    if (rc == Z_OK)
-        rc = deflate_into(&z, s, k + 1 == j->n_stripes ? Z_FINISH : Z_SYNC_FLUSH);
-    else
-        rc = 1;
+    s->status = rc != Z_OK ? ENCODE_ZLIB
+                           : deflate_into(&z, s, k + 1 == j->n_stripes ? Z_FINISH : Z_SYNC_FLUSH);
     deflateEnd(&z);
-    j->out_of_memory |= rc < 0;
-    return rc != 0;
+    if (s->status == 0 && s->n < s->cap) { /* give back what deflateBound kept */
+        uint8_t *fit = realloc(s->data, s->n);
+        s->data = fit ? fit : s->data;
+    }
+    return s->status != 0;
 }
 
 /* Stripes [lo, hi), for relief_parallel_ranges. */
@@ -177,7 +184,8 @@ static int encode_stripes(void *ctx, size_t lo, size_t hi)
     uint8_t *buf = malloc((j->prime_rows + j->stripe_rows) * (j->stride + 1));
     uint8_t *trial = malloc(j->stride), *zeros = calloc(j->stride, 1);
     int failed = !buf || !trial || !zeros;
-    j->out_of_memory |= failed;
+    if (failed)
+        j->stripes[lo].status = ENCODE_MEMORY;
     for (size_t k = lo; k < hi && !failed; ++k)
         failed = encode_stripe(j, k, buf, trial, zeros);
     free(buf), free(trial), free(zeros);
@@ -238,29 +246,31 @@ static uint8_t *assemble(const encode_job *j, const uint8_t ihdr[13], size_t *n)
     return file;
 }
 
-static relief_status encode(encode_job *j, const uint8_t ihdr[13], uint8_t **out, size_t *n,
-                            relief_error *err)
+static relief_status encode(encode_job *j, const uint8_t ihdr[13], int threads, uint8_t **out,
+                            size_t *n, relief_error *err)
 {
     size_t row = j->stride + 1;
-    int failed;
+    uint8_t *file = NULL;
+    int status = 0;
     j->stripe_rows = STRIPE_BYTES / row ? STRIPE_BYTES / row : 1;
     j->prime_rows = (WINDOW_BYTES + row - 1) / row;
     j->n_stripes = (j->rows + j->stripe_rows - 1) / j->stripe_rows;
     j->stripes = calloc(j->n_stripes, sizeof *j->stripes);
-    failed = j->out_of_memory = !j->stripes;
-    if (!failed)
-        failed = relief_parallel_ranges(j->n_stripes, relief_pool_default_threads(),
-                                        encode_stripes, j);
-    if (!failed) {
-        *out = assemble(j, ihdr, n);
-        failed = j->out_of_memory = *out == NULL;
-    }
+    if (!j->stripes)
+        status = ENCODE_MEMORY;
+    else if (relief_parallel_ranges(j->n_stripes, threads, encode_stripes, j))
+        for (size_t k = 0; k < j->n_stripes; ++k)
+            status = status ? status : j->stripes[k].status;
+    if (status == 0 && !(file = assemble(j, ihdr, n)))
+        status = ENCODE_MEMORY;
     for (size_t k = 0; j->stripes && k < j->n_stripes; ++k)
         free(j->stripes[k].data);
     free(j->stripes);
-    if (!failed)
+    if (status == 0) {
+        *out = file;
         return RELIEF_OK;
-    if (j->out_of_memory)
+    }
+    if (status == ENCODE_MEMORY)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu x %zu PNG",
                            j->stride / j->bpp, j->rows);
     return relief_fail(err, RELIEF_E_INTERNAL, "zlib could not compress a %zu x %zu image",
@@ -270,6 +280,14 @@ static relief_status encode(encode_job *j, const uint8_t ihdr[13], uint8_t **out
 relief_status relief_png_encode_pixels(const uint8_t *pixels, int width, int height,
                                        int channels, int bit_depth, uint8_t **out, size_t *n,
                                        relief_error *err)
+{
+    return relief_png_encode_threads(pixels, width, height, channels, bit_depth,
+                                     relief_pool_default_threads(), out, n, err);
+}
+
+relief_status relief_png_encode_threads(const uint8_t *pixels, int width, int height,
+                                        int channels, int bit_depth, int threads, uint8_t **out,
+                                        size_t *n, relief_error *err)
 {
     static const uint8_t types[5] = {0, 0, 4, 2, 6}; /* grey, grey + alpha, RGB, RGBA */
     uint8_t ihdr[13];
@@ -293,7 +311,7 @@ relief_status relief_png_encode_pixels(const uint8_t *pixels, int width, int hei
     put32(ihdr + 4, (uint32_t)height);
     ihdr[8] = (uint8_t)bit_depth, ihdr[9] = types[channels];
     ihdr[10] = ihdr[11] = ihdr[12] = 0; /* deflate, adaptive filtering, not interlaced */
-    return encode(&j, ihdr, out, n, err);
+    return encode(&j, ihdr, threads, out, n, err);
 }
 
 relief_status relief_png_encode(const uint8_t *rgb, int width, int height, uint8_t **out,

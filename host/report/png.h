@@ -31,6 +31,13 @@ relief_status relief_png_encode_pixels(const uint8_t *pixels, int width, int hei
                                        int channels, int bit_depth, uint8_t **out, size_t *n,
                                        relief_error *err);
 
+/* The same on `threads` threads (clamped to 1..RELIEF_PARALLEL_MAX_THREADS;
+ * relief_png_encode_pixels takes every core): the bytes do not depend on
+ * it, which the tests check. */
+relief_status relief_png_encode_threads(const uint8_t *pixels, int width, int height,
+                                        int channels, int bit_depth, int threads, uint8_t **out,
+                                        size_t *n, relief_error *err);
+
 /* The PNG bytes of the same image in memory: *out (malloc'ed, the caller
  * frees it) and *n its length. Same errors, without RELIEF_E_IO. */
 relief_status relief_png_encode(const uint8_t *rgb, int width, int height, uint8_t **out,

@@ -211,13 +211,11 @@ int main(int argc, char **argv)
         round_trip(dir, 37, 23, c, 8);
         round_trip(dir, 37, 23, c, 16);
     }
-    /* Large enough for the PNG writer's many stripes, each deflated apart
-     * (primed with the 32 KiB before it) into an IDAT of its own, and rows
-     * wider than that window: libpng reads them back checking every CRC
-     * and the stream's adler32. */
+    /* Images of the PNG writer's many stripes, each deflated apart into an
+     * IDAT of its own, and rows wider than the 32 KiB a stripe is primed
+     * with, read back by libpng (test_png checks the stream itself). */
     round_trip(dir, 1500, 700, 4, 16);
-    round_trip(dir, 3001, 50, 3, 8);
-    round_trip(dir, 12000, 6, 3, 8);
+    round_trip(dir, 12000, 40, 3, 8);
 
     /* JPEG: 8 bits, lossy, alpha dropped. */
     st = relief_raster_create(40, 30, 4, 8, &r, &err);

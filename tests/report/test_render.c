@@ -15,97 +15,28 @@
 #include <zlib.h>
 
 #include "check.h"
+#include "png_decode.h"
 #include "mesh/mesh.h"
 #include "report/png.h"
 #include "report/render.h"
 
 /* --------------------------------------------------------- PNG decoder */
 
-static uint32_t be32(const uint8_t *p)
-{
-    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
-}
-
-static int paeth(int a, int b, int c)
-{
-    int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
-    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
-}
-
-/* Decode an 8-bit RGB, non-interlaced PNG (what relief writes): *rgb
- * (malloc'ed), *w, *h. Returns NULL on success, else what is wrong. */
+/* Decode an 8-bit RGB PNG (what the renderer writes): *rgb (malloc'ed),
+ * *w, *h. Returns NULL on success, else what is wrong. */
 static const char *png_decode(const uint8_t *png, size_t n, uint8_t **rgb, int *w, int *h)
 {
-    static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    uint8_t *z = NULL, *raw = NULL, *out = NULL;
-    size_t zn = 0, pos = 8, stride;
-    uLongf raw_n;
-    int seen_ihdr = 0, seen_iend = 0;
-    const char *why = NULL;
-
-    if (n < 8 || memcmp(png, sig, 8) != 0)
-        return "bad signature";
-    while (pos + 12 <= n && !seen_iend) {
-        uint32_t len = be32(png + pos);
-        const uint8_t *type = png + pos + 4, *data = png + pos + 8;
-        if (pos + 12 + (size_t)len > n)
-            return "chunk runs past the end";
-        if ((uint32_t)crc32(0L, type, len + 4) != be32(data + len))
-            return "chunk CRC mismatch";
-        if (memcmp(type, "IHDR", 4) == 0) {
-            if (len != 13 || data[8] != 8 || data[9] != 2 || data[10] || data[11] || data[12])
-                return "IHDR is not 8-bit RGB, deflate, no interlace";
-            *w = (int)be32(data);
-            *h = (int)be32(data + 4);
-            seen_ihdr = 1;
-        } else if (memcmp(type, "IDAT", 4) == 0) {
-            uint8_t *grown = realloc(z, zn + len + 1);
-            if (!grown)
-                return "out of memory";
-            z = grown;
-            memcpy(z + zn, data, len);
-            zn += len;
-        } else if (memcmp(type, "IEND", 4) == 0) {
-            seen_iend = 1;
-        }
-        pos += 12 + len;
-    }
-    if (!seen_ihdr || !seen_iend || !z || *w < 1 || *h < 1) {
-        free(z);
-        return "missing IHDR, IDAT or IEND";
-    }
-    stride = (size_t)*w * 3;
-    raw_n = (uLongf)((stride + 1) * (size_t)*h);
-    raw = malloc(raw_n);
-    out = malloc(stride * (size_t)*h);
-    if (!raw || !out)
-        why = "out of memory";
-    else if (uncompress(raw, &raw_n, z, (uLong)zn) != Z_OK ||
-             raw_n != (stride + 1) * (size_t)*h)
-        why = "IDAT does not inflate to the image size";
-    for (int y = 0; !why && y < *h; ++y) {
-        const uint8_t *in = raw + (size_t)y * (stride + 1);
-        uint8_t *row = out + (size_t)y * stride, *prev = y ? row - stride : NULL;
-        for (size_t i = 0; i < stride; ++i) {
-            int a = i >= 3 ? row[i - 3] : 0, b = prev ? prev[i] : 0,
-                c = prev && i >= 3 ? prev[i - 3] : 0, x = in[1 + i];
-            switch (in[0]) {
-            case 0: row[i] = (uint8_t)x; break;
-            case 1: row[i] = (uint8_t)(x + a); break;
-            case 2: row[i] = (uint8_t)(x + b); break;
-            case 3: row[i] = (uint8_t)(x + ((a + b) >> 1)); break;
-            case 4: row[i] = (uint8_t)(x + paeth(a, b, c)); break;
-            default: why = "unknown filter type"; break;
-            }
-        }
-    }
-    free(z);
-    free(raw);
+    png_decoded d;
+    const char *why = png_decode_all(png, n, &d);
+    if (!why && (d.channels != 3 || d.depth != 8))
+        why = "not 8-bit RGB";
     if (why) {
-        free(out);
+        free(d.samples);
         return why;
     }
-    *rgb = out;
+    *rgb = d.samples;
+    *w = d.width;
+    *h = d.height;
     return NULL;
 }
 
