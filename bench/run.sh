@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The benchmark suite: builds, runs every case with both backends, writes
 # CSV, a summary and PNG plots under OUT (default bench-out/).
-#   bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy ...]
-# (no case named: all six). Environment: OUT (output folder), BUILD (build
+#   bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy|engines|png ...]
+# (no case named: all seven). Environment: OUT (output folder), BUILD (build
 # folder, default build), JOBS (build jobs, default nproc), SCALING_MAX.
 #
 # Cases (docs/benchmarks.md says what each measures):
@@ -24,6 +24,8 @@
 #                      engines.py: image-fill, depth-fill, complete-points,
 #                      the demo; medians, ratios, bytes compared); on a GPU
 #                      machine bench/gpu.sh runs the same with OpenCL
+#   7 png.txt          PNG writing: relief's writer against libpng's on the
+#                      images and an 8-megapixel atlas (bench/bench_png)
 # --quick shrinks every case (the bark runs at an eighth of its size) so the
 # whole suite takes a few minutes on a quiet machine; its figures are for
 # checking, not quoting. The full suite takes about 55 minutes on 2 cores.
@@ -34,11 +36,11 @@ cases=()
 for a in "$@"; do
   case $a in
     --quick) quick=1 ;;
-    throughput|papers|prune|scaling|hierarchy|engines) cases+=("$a") ;;
-    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy|engines ...]" >&2; exit 1 ;;
+    throughput|papers|prune|scaling|hierarchy|engines|png) cases+=("$a") ;;
+    *) echo "usage: bench/run.sh [--quick] [throughput|papers|prune|scaling|hierarchy|engines|png ...]" >&2; exit 1 ;;
   esac
 done
-((${#cases[@]})) || cases=(throughput papers prune scaling hierarchy engines)
+((${#cases[@]})) || cases=(throughput papers prune scaling hierarchy engines png)
 want() { [[ " ${cases[*]} " == *" $1 "* ]]; }
 OUT=${OUT:-bench-out}
 BUILD=${BUILD:-build}
@@ -56,7 +58,7 @@ if ! command -v gnuplot >/dev/null; then
 fi
 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRELIEF_BUILD_BENCH=ON >/dev/null
 cmake --build "$BUILD" -j"$JOBS" --target relief image_tool bench_score bench_complete \
-  bench_hierarchy >/dev/null
+  bench_hierarchy bench_png >/dev/null
 BS=$BUILD/bench/bench_score
 BC=$BUILD/bench/bench_complete
 BH=$BUILD/bench/bench_hierarchy
@@ -64,7 +66,7 @@ BH=$BUILD/bench/bench_hierarchy
 mkdir -p "$OUT"
 # A run of some cases keeps the other cases' CSV (the summary and plots
 # cover every CSV there).
-for c in "${cases[@]}"; do rm -f "$OUT/$c.csv"; [[ $c == scaling ]] && rm -f "$OUT/scaling_full.csv"; done
+for c in "${cases[@]}"; do rm -f "$OUT/$c.csv" "$OUT/$c.txt"; [[ $c == scaling ]] && rm -f "$OUT/scaling_full.csv"; done
 rm -f "$OUT"/*.png "$OUT/summary.txt" "$OUT/fits.gp"
 log() { echo "== $*" >&2; }
 
@@ -128,6 +130,11 @@ if want engines; then
   log "6/6 every engine, scalar and host"
   python3 bench/engines.py "$BUILD/relief" "$BUILD/tests/image_tool" ../shared/data \
     "$OUT/engines" --backends scalar,host --reps $((quick ? 1 : 3))
+fi
+
+if want png; then
+  log "7/7 PNG writing, relief's writer against libpng's"
+  "$BUILD/bench/bench_png" ../shared/data/images --repeat $((quick ? 3 : 7)) | tee "$OUT/png.txt"
 fi
 
 if want prune; then
