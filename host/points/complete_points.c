@@ -288,8 +288,8 @@ static relief_status stage_analysis(work *w, relief_error *err)
                                  p->hole_mask ? p->hole_mask : p->hole_select};
         st = in->nt ? relief_holes_mesh(in->pos, n, in->tri, in->nt, &rule, w->rim,
                                         &rep->holes, err)
-                    : relief_holes_points(in->pos, w->nrm, &w->g, p->rim_gap, &rule, w->rim,
-                                          &rep->holes, err);
+                    : relief_holes_points(in->pos, w->nrm, &w->g, p->rim_gap, &rule,
+                                          threads_of(p), w->rim, &rep->holes, err);
         if (st != RELIEF_OK)
             return st;
     }

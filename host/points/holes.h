@@ -6,10 +6,12 @@
 #include "mesh/holes.h"
 #include "points/analysis.h"
 
-/* From a bare point set with oriented normals and its k-NN graph. */
+/* From a bare point set with oriented normals and its k-NN graph; each
+ * point's rim test on `threads` threads (the same result whatever their
+ * number). */
 relief_status relief_holes_points(const double *pos, const double *nrm,
                                   const relief_knn_graph *g, double gap,
-                                  const relief_hole_rule *rule, uint32_t *rim,
+                                  const relief_hole_rule *rule, int threads, uint32_t *rim,
                                   relief_hole_info *info, relief_error *err);
 
 #endif

@@ -181,7 +181,7 @@ static void test_holes_points(void)
     m = sphere_points(n, 0.8, 0.0, pos);
     relief_knn_graph_build(pos, m, 16, 2, &g, &err);
     relief_points_normals(pos, &g, NULL, NULL, 2, nrm, NULL, &err);
-    CHECK(relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, rim, &info, &err) == RELIEF_OK,
+    CHECK(relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, 2, rim, &info, &err) == RELIEF_OK,
           "%s",
           err.message);
     CHECK(info.n_holes == 1 && info.n_borders == 0, "holes %u borders %u", info.n_holes,
@@ -209,7 +209,7 @@ static void test_holes_points(void)
     relief_knn_graph_build(pos, m, 16, 2, &g, &err);
     relief_points_normals(pos, &g, NULL, NULL, 2, nrm, NULL, &err);
     relief_hole_info_free(&info);
-    relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, rim, &info, &err);
+    relief_holes_points(pos, nrm, &g, PI / 2, &no_limit, 3, rim, &info, &err);
     CHECK(info.n_holes == 0 && info.n_borders == 1, "hemisphere: holes %u borders %u",
           info.n_holes, info.n_borders);
     relief_hole_info_free(&info);
