@@ -331,58 +331,88 @@ int relief_rbf_project(const relief_rbf *f, double x[3], int max_iter, double to
 
 /* ---- the fit --------------------------------------------------------- */
 
-/* One centre per occupied cell of side `cell`: the point nearest the
- * cell's centroid (the lower index on a tie), with the cell's mean normal
- * (the point's own where the cell's normals cancel: a thin sheet). Writes
- * position and normal into c (n x 6, allocated); returns the count, 0 when
- * out of memory. */
-static size_t cluster(const double *pos, const double *nrm, size_t n, const double lo[3],
-                      double cell, double **c_out)
+/* What cluster's shares read and write. */
+typedef struct cluster_job {
+    const double *pos, *nrm;
+    const double *lo;
+    double inv;       /* 1 / the cell's side */
+    relief_keyed *k;  /* n: each point's cell, then sorted by it */
+    const size_t *seg; /* m + 1: where each cell's run starts in k */
+    double *c;        /* m x 6: the centres */
+} cluster_job;
+
+static int cluster_keys(void *ctx, size_t lo, size_t hi)
 {
-    relief_keyed *k = malloc(n * sizeof *k);
-    double *c = malloc(n * 6 * sizeof *c);
-    double inv = 1.0 / cell;
-    size_t m = 0;
-    *c_out = NULL;
-    if (!k || !c) {
-        free(k), free(c);
-        return 0;
+    const cluster_job *j = ctx;
+    for (size_t i = lo; i < hi; ++i) {
+        const double *p = j->pos + 3 * i;
+        j->k[i].key = cell_key(cell_coord(p[0], j->lo[0], j->inv),
+                               cell_coord(p[1], j->lo[1], j->inv),
+                               cell_coord(p[2], j->lo[2], j->inv));
+        j->k[i].index = (uint32_t)i;
     }
-    for (size_t i = 0; i < n; ++i) {
-        const double *p = pos + 3 * i;
-        k[i].key = cell_key(cell_coord(p[0], lo[0], inv), cell_coord(p[1], lo[1], inv),
-                            cell_coord(p[2], lo[2], inv));
-        k[i].index = (uint32_t)i;
-    }
-    if (relief_sort_keyed(k, n)) {
-        free(k), free(c);
-        return 0;
-    }
-    for (size_t s = 0, e; s < n; s = e) {
+    return 0;
+}
+
+/* Centres [lo, hi): each from its cell's run of points alone. */
+static int cluster_centres(void *ctx, size_t lo, size_t hi)
+{
+    const cluster_job *j = ctx;
+    const double *pos = j->pos, *nrm = j->nrm;
+    for (size_t g = lo; g < hi; ++g) {
+        size_t s = j->seg[g], e = j->seg[g + 1], rep = j->k[s].index;
         double m3[3] = {0, 0, 0}, nm[3] = {0, 0, 0}, best = INFINITY;
-        size_t rep = k[s].index;
-        for (e = s; e < n && k[e].key == k[s].key; ++e)
+        for (size_t t = s; t < e; ++t)
             for (int a = 0; a < 3; ++a) {
-                m3[a] += pos[3 * (size_t)k[e].index + a];
-                nm[a] += nrm[3 * (size_t)k[e].index + a];
+                m3[a] += pos[3 * (size_t)j->k[t].index + a];
+                nm[a] += nrm[3 * (size_t)j->k[t].index + a];
             }
         for (int a = 0; a < 3; ++a)
             m3[a] /= (double)(e - s);
         for (size_t t = s; t < e; ++t) {
             double d[3], d2;
-            sub3(pos + 3 * (size_t)k[t].index, m3, d);
+            sub3(pos + 3 * (size_t)j->k[t].index, m3, d);
             d2 = dot3(d, d);
             if (d2 < best)
-                best = d2, rep = k[t].index;
+                best = d2, rep = j->k[t].index;
         }
-        memcpy(c + 6 * m, pos + 3 * rep, 3 * sizeof *c);
+        memcpy(j->c + 6 * g, pos + 3 * rep, 3 * sizeof *j->c);
         if (relief_normalize3(nm) < 0.25 * (double)(e - s))
             memcpy(nm, nrm + 3 * rep, sizeof nm);
-        memcpy(c + 6 * m + 3, nm, sizeof nm);
-        ++m;
+        memcpy(j->c + 6 * g + 3, nm, sizeof nm);
     }
-    free(k);
-    *c_out = c;
+    return 0;
+}
+
+/* One centre per occupied cell of side `cell`: the point nearest the
+ * cell's centroid (the lower index on a tie), with the cell's mean normal
+ * (the point's own where the cell's normals cancel: a thin sheet). Writes
+ * position and normal into c (n x 6, allocated); returns the count, 0 when
+ * out of memory. The keys and the centres on `threads` threads, the same
+ * whatever their number. */
+static size_t cluster(const double *pos, const double *nrm, size_t n, const double lo[3],
+                      double cell, int threads, double **c_out)
+{
+    relief_keyed *k = malloc(n * sizeof *k);
+    size_t *seg = malloc((n + 1) * sizeof *seg), m = 0;
+    cluster_job j = {pos, nrm, lo, 1.0 / cell, k, seg, malloc(n * 6 * sizeof(double))};
+    *c_out = NULL;
+    if (!k || !seg || !j.c) {
+        free(k), free(seg), free(j.c);
+        return 0;
+    }
+    relief_parallel_ranges(n, threads, cluster_keys, &j);
+    if (relief_sort_keyed(k, n)) {
+        free(k), free(seg), free(j.c);
+        return 0;
+    }
+    for (size_t i = 0; i < n; ++i)
+        if (i == 0 || k[i].key != k[i - 1].key)
+            seg[m++] = i;
+    seg[m] = n;
+    relief_parallel_ranges(m, threads, cluster_centres, &j);
+    free(k), free(seg);
+    *c_out = j.c;
     return m;
 }
 
@@ -460,7 +490,7 @@ static relief_status fit_data_make(fit_data *fd, const double *pos, const double
                                    const double lo[3], double R)
 {
     double *c;
-    size_t m = cluster(pos, nrm, n, lo, fmax(R / 6.0, 0.5 * fd->spacing), &c);
+    size_t m = cluster(pos, nrm, n, lo, fmax(R / 6.0, 0.5 * fd->spacing), fd->threads, &c);
     fit_data_clear(fd);
     if (!m)
         return RELIEF_E_NOMEM;
@@ -810,7 +840,8 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
          * level's functions overlap at each point of a surface (a sparse
          * system that still blends smoothly), no finer than half a spacing,
          * which also merges duplicates. */
-        size_t m = cluster(pos, unit, n, lo, fmax(0.5 * rho, 0.5 * p->spacing), &c);
+        size_t m = cluster(pos, unit, n, lo, fmax(0.5 * rho, 0.5 * p->spacing), fd.threads,
+                           &c);
         if (!m) {
             st = relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot cluster level %d", l + 1);
             goto done;
