@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/sort.h"
 #include "base/union_find.h"
 #include "base/vec3.h"
 #include "mesh/io_openmesh.h"
@@ -790,12 +791,6 @@ static double dist3(const double *p, const double *q)
     return sqrt(dot3(r, r));
 }
 
-static int dbl_cmp(const void *x, const void *y)
-{
-    const double a = *(const double *)x, b = *(const double *)y;
-    return a < b ? -1 : a > b;
-}
-
 relief_status relief_mesh_check_range(const relief_mesh *m, relief_error *err)
 {
     const size_t nv = m->nv;
@@ -811,15 +806,20 @@ relief_status relief_mesh_check_range(const relief_mesh *m, relief_error *err)
                                    "%g) are out of range: over 1e30 in magnitude", v,
                                    m->pos[3 * v], m->pos[3 * v + 1], m->pos[3 * v + 2]);
             }
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 3 && d; ++k) {
         for (size_t v = 0; v < nv; ++v)
             d[v] = m->pos[3 * v + k];
-        qsort(d, nv, sizeof *d, dbl_cmp);
-        med[k] = d[nv / 2];
+        if (relief_sort_doubles(d, nv))
+            free(d), d = NULL;
+        else
+            med[k] = d[nv / 2];
     }
-    for (size_t v = 0; v < nv; ++v)
+    for (size_t v = 0; d && v < nv; ++v)
         d[v] = dist3(m->pos + 3 * v, med);
-    qsort(d, nv, sizeof *d, dbl_cmp);
+    if (d && relief_sort_doubles(d, nv))
+        free(d), d = NULL;
+    if (!d)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot sort %zu distances", nv);
     /* The first jump of over 1e15 between neighbouring distances: the
      * vertices beyond it are that much farther than the rest's extent. */
     for (size_t i = 1; i < nv && gap == INFINITY; ++i)
