@@ -13,7 +13,10 @@
 # Environment for run: REPS (3), CASES (all; e.g. 2,3,4 or image-fill),
 # BARK (1: paper 000's bark growth on OpenCL and host; 0 to skip),
 # PROFILE (1: then Nsight Compute, where the machine has ncu, on the mesh
-# kernel's first launches of the demo: ncu.txt).
+# kernel's first launches of the demo: ncu.txt), IMAGEBENCH (1: then
+# bench_image_fill, the image filler's OpenCL reading every score back
+# against ranking blocks on the device, on the bench's 7 images and the
+# atlas, about a minute: image_fill.txt).
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
 stage=$here/.gpu-bench
@@ -23,12 +26,16 @@ do_stage() {
   rm -rf "$stage" && mkdir -p "$stage/lib" "$stage/data/images" "$stage/data/depth" "$stage/out"
   grep -qx '/.gpu-bench/' "$here/.git/info/exclude" 2>/dev/null ||
     echo '/.gpu-bench/' >> "$here/.git/info/exclude"
-  cp "$build/relief" "$build/bench/bench_complete" "$build/tests/image_tool" "$stage/"
-  for p in "$build/relief" "$build/bench/bench_complete" "$build/tests/image_tool"; do
+  cp "$build/relief" "$build/bench/bench_complete" "$build/bench/bench_image_fill" \
+    "$build/tests/image_tool" "$stage/"
+  for p in "$build/relief" "$build/bench/bench_complete" "$build/bench/bench_image_fill" \
+    "$build/tests/image_tool"; do
     ldd "$p" | awk '/=> \// {print $3}'
   done | sort -u | grep -E 'relief|OpenMesh|flann|qhull|png|jpeg|lzf|OpenCL|lz4|hdf5|gomp' |
     while read -r lib; do cp -L "$lib" "$stage/lib/"; done
-  cp "$data/images/astronaut.png" "$stage/data/images/"
+  for i in brick.png grass.png gravel.png coffee.png chelsea.png astronaut.png rocket.jpg; do
+    cp "$data/images/$i" "$stage/data/images/"
+  done
   cp "$data/depth/office1.pcd" "$stage/data/depth/"
   # The inputs engines.py makes, made here (the machine there lacks the
   # scans and the other images).
@@ -54,6 +61,11 @@ do_run() {
   python3 "$stage/engines.py" "$stage/relief" "$stage/image_tool" "$stage/data" "$out" \
     --backends scalar,host,opencl --reps "${REPS:-3}" ${CASES:+--cases "$CASES"} "${bark[@]}"
   local rc=$?
+  if [[ ${IMAGEBENCH:-0} == 1 ]]; then
+    "$stage/bench_image_fill" "$stage/data/images" --repeat 3 --atlas "$out/in/atlas.png" \
+      --atlas-mask "$out/in/atlas_mask.png" > "$out/image_fill.txt" 2>&1 || rc=1
+    cat "$out/image_fill.txt"
+  fi
   if [[ ${PROFILE:-0} == 1 ]] && command -v ncu >/dev/null; then
     timeout 240 ncu --target-processes all --launch-count 6 --section SpeedOfLight \
       --section MemoryWorkloadAnalysis --section Occupancy --section WarpStateStats \

@@ -2,7 +2,9 @@
  * scalar twin is host/image/patch_scalar.c), for one query or a batch of
  * them. One work-item per candidate centre, the first dimension along x,
  * so that neighbouring work-items read neighbouring pixels. The level's
- * pixels stay on the device between launches; only the scores come back. */
+ * pixels stay on the device between launches; only the scores come back,
+ * and of a large batch only the blocks that may hold each query's best
+ * (patch_block_min, patch_gather). */
 
 /* Queries' rectangles (one, or a depth synthesis's batch):
  * rectangle q is rects[7 q ..] = qx, qy, x0, y0, nx, ny, offset, its
@@ -48,4 +50,69 @@ __kernel void patch_score_pairs(__global const float *v, __global const uchar *k
     ssd[i] = s;
     wsum[i] = ws;
     n[i] = k;
+}
+
+/* The least msd in each block of PM_BLOCK consecutive scores of a batch's
+ * rectangles (rectangle q's blocks numbered from bstart[q], its scores from
+ * its offset r[6]), so that the host reads back only the blocks that may
+ * hold a query's best few (patch_opencl.c, select_rects). msd is ssd / wsum
+ * (weighted) or ssd / n, in float: the host ranks in double and selects
+ * with a margin far above the difference. A block with no candidate gives
+ * NaN; a NaN msd counts as -infinity, so that its block is always read. One
+ * work-group per block, the block's scores read side by side. */
+__kernel __attribute__((reqd_work_group_size(PM_BLOCK, 1, 1))) void
+patch_block_min(__global const float *ssd, __global const float *wsum, __global const int *n,
+                int weighted, __global const int *rects, __global const int *bstart, int count,
+                __global float *bmin)
+{
+    __local float m[PM_BLOCK];
+    int b = get_group_id(0), t = get_local_id(0), lo = 0, hi = count - 1;
+    float key = NAN;
+    while (lo < hi) { /* the rectangle of block b: the last q with bstart[q] <= b */
+        int mid = (lo + hi + 1) / 2;
+        if (bstart[mid] <= b)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    {
+        __global const int *r = rects + 7 * lo;
+        int k = (b - bstart[lo]) * PM_BLOCK + t;
+        if (k < r[4] * r[5]) {
+            int at = r[6] + k, nk = n[at];
+            float div = weighted ? wsum[at] : (float)nk;
+            if (nk > 0 && div > 0.0f) {
+                key = ssd[at] / div;
+                key = isnan(key) ? -INFINITY : key;
+            }
+        }
+    }
+    m[t] = key;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int s = PM_BLOCK / 2; s > 0; s >>= 1) {
+        if (t < s) {
+            float a = m[t], c = m[t + s];
+            m[t] = isnan(a) || c < a ? c : a;
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    if (t == 0)
+        bmin[b] = m[0];
+}
+
+/* The selected blocks' scores side by side: block j is runs[2 j] (its
+ * first score's index), runs[2 j + 1] (its length, up to PM_BLOCK), copied
+ * to j * PM_BLOCK of the outputs. */
+__kernel void patch_gather(__global const float *ssd, __global const float *wsum,
+                           __global const int *n, __global const int *runs, int blocks,
+                           __global float *out_ssd, __global float *out_wsum,
+                           __global int *out_n)
+{
+    int i = get_global_id(0), j = i / PM_BLOCK, k = i % PM_BLOCK, from;
+    if (j >= blocks || k >= runs[2 * j + 1])
+        return;
+    from = runs[2 * j] + k;
+    out_ssd[i] = ssd[from];
+    out_wsum[i] = wsum[from];
+    out_n[i] = n[from];
 }

@@ -24,6 +24,10 @@
 #ifndef PATCH_MATH_H
 #define PATCH_MATH_H
 
+/* Scores a device selects in (patch.cl's patch_block_min, patch_gather):
+ * each rectangle's scores in row-major runs of PM_BLOCK, the last shorter. */
+#define PM_BLOCK 256
+
 #ifdef __OPENCL_C_VERSION__
 #pragma OPENCL FP_CONTRACT OFF /* no fused multiply-add: match the host */
 #define PM_FN static inline

@@ -358,9 +358,9 @@ struct relief_filler {
     relief_rng rng;
     relief_fill_report *rep;
     double score_seconds;
-    size_t candidates;
-    int *rects, *pairs, *first; /* a batch of searches' scratch (batch_rects, */
-    size_t rects_cap, pairs_cap, first_cap; /* batch_refine), in ints */
+    size_t candidates, read_back; /* windows scored, their scores read back */
+    int *rects, *pairs, *first, *owner; /* a batch of searches' scratch (batch_rects, */
+    size_t rects_cap, pairs_cap, first_cap, owner_cap; /* batch_refine), in ints */
 };
 
 /* Room for `count` ints in *buf (cap). 0 when out of memory. */
@@ -508,7 +508,7 @@ static void filler_free(relief_filler *f)
     free(f->ssd);
     free(f->wsum);
     free(f->n);
-    free(f->rects), free(f->pairs), free(f->first);
+    free(f->rects), free(f->pairs), free(f->first), free(f->owner);
     free(f);
 }
 
@@ -522,6 +522,8 @@ size_t relief_filler_candidates(const relief_filler *f, double *seconds)
         *seconds = f->score_seconds;
     return f->candidates;
 }
+
+size_t relief_filler_scores_read(const relief_filler *f) { return f->read_back; }
 
 relief_status relief_filler_create(relief_raster *img, const uint8_t *hole,
                                    const relief_fill_params *p, relief_patch_scorer *scorer,
@@ -744,26 +746,28 @@ static relief_status score_room(relief_filler *f, size_t count, relief_error *er
     return RELIEF_OK;
 }
 
-/* Query q's `keep` best of its rectangle r's scores (f->ssd, f->n,
- * f->wsum when weighted), as offer() keeps them. Most of a rectangle
- * cannot enter a full top: a score whose ssd is at least the worst kept
- * msd times its divisor, with a margin far above the rounding's, has an
- * msd at least the worst's, and a later position loses a tie (the scan is
- * row-major), so it is passed over without the division or the call; the
- * rest go through offer(), whose choice this does not change (given, as
- * batch_rects gives it, a list holding nothing from before this scan: a
- * tie at msd 0 with an earlier scan's later position would be passed
- * over). On the
- * 2048 x 2048 grass (300 M windows) the selection cost as much as the
- * scoring on two threads before. */
-static void keep_rect(const relief_filler *f, query *q, const int *r, int weighted)
+/* Query q's `keep` best of its rectangle r's scores, as offer() keeps
+ * them: the `len` scores from index `first` of the rectangle's (row-major)
+ * on, at f->ssd[at ..] (f->n, f->wsum when weighted); a rectangle's runs
+ * come in ascending order. Most of a rectangle cannot enter a full top: a
+ * score whose ssd is at least the worst kept msd times its divisor, with a
+ * margin far above the rounding's, has an msd at least the worst's, and a
+ * later position loses a tie (the scan is row-major), so it is passed over
+ * without the division or the call; the rest go through offer(), whose
+ * choice this does not change (given, as batch_rects gives it, a list
+ * holding nothing from before this rectangle: a tie at msd 0 with an
+ * earlier scan's later position would be passed over). On the 2048 x 2048
+ * grass (300 M windows) the selection cost as much as the scoring on two
+ * threads before. */
+static void keep_run(const relief_filler *f, query *q, const int *r, int first, int len,
+                     size_t at, int weighted)
 {
     int full = q->n_top == q->keep;
     double worst = full ? q->top[q->keep - 1].msd * (1.0 + 1e-9) : 0.0;
-    for (int y = 0; y < r[5]; ++y) {
-        size_t row = (size_t)r[6] + (size_t)y * r[4];
-        for (int x = 0; x < r[4]; ++x) {
-            size_t at = row + x;
+    /* Row by row, so that the inner loop is a plain walk along x. */
+    for (int k = first, end = first + len; k < end;) {
+        int y = k / r[4], x0 = k % r[4], x1 = end - y * r[4] < r[4] ? end - y * r[4] : r[4];
+        for (int x = x0; x < x1; ++x, ++at) {
             int n = f->n[at];
             /* Weighted, a window whose common pixels all weigh 0 says
              * nothing: refused. */
@@ -776,22 +780,66 @@ static void keep_rect(const relief_filler *f, query *q, const int *r, int weight
             full = q->n_top == q->keep;
             worst = full ? q->top[q->keep - 1].msd * (1.0 + 1e-9) : 0.0;
         }
+        k += x1 - x0;
     }
 }
 
-/* The rectangles of the queries starting at level l, scored in one call
- * where the scorer batches (a single query too: a batch of one), else one
- * call each, each query's `keep` best into its top. */
+/* Rectangles rects[0 .. nr) (query owner[j] each) scored and ranked: in
+ * one call where the scorer batches (a single query too: a batch of one),
+ * reading back only what may rank where it selects, else one call each. */
+static relief_status score_rects(relief_filler *f, query *q, const int *rects, int nr,
+                                 size_t total, int l, int h, const float *g, relief_error *err)
+{
+    const relief_patch_ops *ops = f->scorer->ops;
+    const int *owner = f->owner, *keep = f->owner + nr, *runs = NULL;
+    size_t n_runs = 0;
+    double t0 = relief_seconds();
+    relief_status st = RELIEF_OK;
+    if (ops->select_rects)
+        st = ops->select_rects(f->scorer->ctx, l, h, max_holes(f, h), g, rects, keep, nr, total,
+                               f->ssd, g ? f->wsum : NULL, f->n, &runs, &n_runs, err);
+    else if (ops->score_rects)
+        st = ops->score_rects(f->scorer->ctx, l, h, max_holes(f, h), g, rects, nr, total, f->ssd,
+                              g ? f->wsum : NULL, f->n, err);
+    else
+        for (int k = 0; k < nr && st == RELIEF_OK; ++k) {
+            const int *r = rects + 7 * k;
+            st = ops->score_rect(f->scorer->ctx, l, r[0], r[1], h, max_holes(f, h), g, r[2],
+                                 r[3], r[4], r[5], f->ssd + r[6], g ? f->wsum + r[6] : NULL,
+                                 f->n + r[6], err);
+        }
+    f->score_seconds += relief_seconds() - t0;
+    f->candidates += total;
+    if (st != RELIEF_OK)
+        return st;
+    if (!ops->select_rects) {
+        for (int j = 0; j < nr; ++j) {
+            const int *r = rects + 7 * j;
+            keep_run(f, &q[owner[j]], r, 0, r[4] * r[5], (size_t)r[6], g != NULL);
+        }
+        f->read_back += total;
+        return RELIEF_OK;
+    }
+    for (size_t s = 0; s < n_runs; ++s) {
+        const int *run = runs + 4 * s;
+        keep_run(f, &q[owner[run[0]]], rects + 7 * run[0], run[1], run[2], (size_t)run[3],
+                 g != NULL);
+        f->read_back += (size_t)run[2];
+    }
+    return RELIEF_OK;
+}
+
+/* The rectangles of the queries starting at level l, scored (score_rects),
+ * each query's `keep` best into its top. */
 static relief_status batch_rects(relief_filler *f, query *q, int count, int l, int half,
                                  const float *g, relief_error *err)
 {
-    const relief_patch_ops *ops = f->scorer->ops;
     int h = half >> l, nr = 0, x0, y0, x1, y1;
     size_t total = 0;
-    double t0;
-    relief_status st = RELIEF_OK;
+    relief_status st;
     int *rects;
-    if (!int_room(&f->rects, &f->rects_cap, (size_t)count * 7))
+    if (!int_room(&f->rects, &f->rects_cap, (size_t)count * 7) ||
+        !int_room(&f->owner, &f->owner_cap, (size_t)count * 2))
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %d searches", count);
     rects = f->rects;
     for (int k = 0; k < count; ++k) {
@@ -801,32 +849,18 @@ static relief_status batch_rects(relief_filler *f, query *q, int count, int l, i
             q[k].alive = 0; /* no candidate: nothing found */
             continue;
         }
-        int *r = rects + 7 * nr++;
+        int *r = rects + 7 * nr;
         r[0] = q[k].px >> l, r[1] = q[k].py >> l, r[2] = x0, r[3] = y0;
         r[4] = x1 - x0 + 1, r[5] = y1 - y0 + 1, r[6] = (int)total;
         total += (size_t)r[4] * (size_t)r[5];
+        f->owner[nr++] = k;
     }
-    if (nr && (st = score_room(f, total, err)) == RELIEF_OK) {
-        t0 = relief_seconds();
-        if (ops->score_rects)
-            st = ops->score_rects(f->scorer->ctx, l, h, max_holes(f, h), g, rects, nr, total,
-                                  f->ssd, g ? f->wsum : NULL, f->n, err);
-        else
-            for (int k = 0; k < nr && st == RELIEF_OK; ++k) {
-                const int *r = rects + 7 * k;
-                st = ops->score_rect(f->scorer->ctx, l, r[0], r[1], h, max_holes(f, h), g, r[2],
-                                     r[3], r[4], r[5], f->ssd + r[6],
-                                     g ? f->wsum + r[6] : NULL, f->n + r[6], err);
-            }
-        f->score_seconds += relief_seconds() - t0;
-        f->candidates += total;
-    }
-    for (int k = 0, j = 0; k < count && st == RELIEF_OK; ++k) {
-        if (!q[k].alive || q[k].start != l)
-            continue;
-        keep_rect(f, &q[k], rects + 7 * j++, g != NULL);
-    }
-    return st;
+    if (!nr)
+        return RELIEF_OK;
+    for (int j = 0; j < nr; ++j) /* the keeps follow the owners */
+        f->owner[nr + j] = q[f->owner[j]].keep;
+    st = score_room(f, total, err);
+    return st == RELIEF_OK ? score_rects(f, q, rects, nr, total, l, h, g, err) : st;
 }
 
 /* A query's refinement list at level l: the positions within REFINE pixels
@@ -909,6 +943,7 @@ static relief_status batch_refine(relief_filler *f, query *q, int count, int l, 
             }
         f->score_seconds += relief_seconds() - t0;
         f->candidates += (size_t)np;
+        f->read_back += (size_t)np;
     }
     for (int k = 0; k < count && st == RELIEF_OK; ++k) {
         relief_window_match next[RELIEF_FILL_MAX_TOP];
@@ -1297,6 +1332,7 @@ relief_status relief_fill(relief_raster *img, const uint8_t *hole_in, const reli
     rep->levels = f->n_levels;
     st = copy_paste(f, holes, rep->by_rows + rep->by_columns, list, err);
     rep->candidates = f->candidates;
+    rep->scores_read = f->read_back;
     rep->seconds_score = f->score_seconds;
 done:
     rep->seconds_copy = relief_seconds() - t0;

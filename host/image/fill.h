@@ -73,6 +73,8 @@ typedef struct relief_fill_report {
     size_t searches;                     /* window searches, every size */
     size_t accepted;                     /* of them, matches under tau */
     size_t candidates;                   /* windows scored, all levels */
+    size_t scores_read;                  /* of their scores, those the scorer handed back
+                                            (fewer where a device ranks them first) */
     int levels;                          /* pyramid levels (1: full resolution only) */
     int start_level;                     /* where the first window size's search starts */
     int top_m;                           /* matches kept there (4 x start level) */
@@ -164,6 +166,9 @@ relief_status relief_filler_put(relief_filler *f, int x, int y, const float *val
  * scoring them (*seconds may be NULL). */
 int relief_filler_levels(const relief_filler *f);
 size_t relief_filler_candidates(const relief_filler *f, double *seconds);
+/* Of those windows' scores, how many the scorer read back to the host:
+ * all but where its select_rects ranked them on the device first. */
+size_t relief_filler_scores_read(const relief_filler *f);
 void relief_filler_destroy(relief_filler *f);
 
 /* The 1-D pass alone on `img` (holes filled are cleared in `hole`): for

@@ -57,6 +57,22 @@ typedef struct relief_patch_ops {
     relief_status (*score_pairs)(void *ctx, int level, int radius, int max_holes,
                                  const float *g, const int *pairs, int count, float *ssd,
                                  float *wsum, int *n, relief_error *err);
+    /* Optional (NULL: score_rects alone), for a device whose read-back of
+     * every score costs more than the scoring: score_rects' rectangles
+     * scored, but only the scores that may hold rectangle q's keep[q] best
+     * matches (by msd, as the filler ranks them) read back. They come in
+     * runs, run s = (*runs)[4 s ..] = q, first (the index of its first
+     * score among rectangle q's, row-major), length, at (where its scores
+     * lie in ssd, wsum and n): rectangle by rectangle in batch order,
+     * ascending within each, *n_runs of them, in the scorer's memory until
+     * its next call; at most `total` scores in all. Every score left out
+     * is, by a bound with a margin far above float rounding, worse than
+     * keep[q] of those read, so a ranking of the runs alone keeps the same
+     * matches. */
+    relief_status (*select_rects)(void *ctx, int level, int radius, int max_holes,
+                                  const float *g, const int *rects, const int *keep,
+                                  int count, size_t total, float *ssd, float *wsum, int *n,
+                                  const int **runs, size_t *n_runs, relief_error *err);
 } relief_patch_ops;
 
 typedef struct relief_patch_scorer {
@@ -80,6 +96,14 @@ relief_status relief_patch_host_create(int threads, relief_patch_scorer **out,
  * the reason; RELIEF_E_RANGE for a --device there is none of. */
 relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                                          relief_error *err);
+/* For tests and the bench: the OpenCL scorer's select_rects reads every
+ * score back for a batch of fewer than `scores`, else selects; 0 always
+ * selects, SIZE_MAX never. Other scorers: no effect. By default
+ * RELIEF_PATCH_SELECT_FROM: one read of 768 KiB costs less than the
+ * selection's second round trip on a GPU (about 25 GB/s against tens of
+ * microseconds a synchronisation). */
+#define RELIEF_PATCH_SELECT_FROM ((size_t)1 << 16)
+void relief_patch_opencl_select_from(relief_patch_scorer *s, size_t scores);
 
 /* The scorer for `backend`. auto: OpenCL on `device` when one is named
  * (>= 0), else the host scorer on every core, GPU or not (a launch per

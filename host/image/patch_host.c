@@ -343,7 +343,7 @@ static void host_destroy(void *ctx)
 }
 
 static const relief_patch_ops host_ops = {host_bind, host_update, host_score_rect,
-                                          host_score_list, host_destroy, NULL, NULL};
+                                          host_score_list, host_destroy, NULL, NULL, NULL};
 
 relief_status relief_patch_host_create(int threads, relief_patch_scorer **out,
                                        relief_error *err)

@@ -5,11 +5,13 @@
  * is a batch of one (patch_score_rects, patch_score_pairs). */
 #include "image/patch.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/error.h"
+#include "kernels/patch_math.h" /* PM_BLOCK */
 
 #ifdef RELIEF_HAVE_OPENCL
 #include "device/ocl.h"
@@ -27,12 +29,16 @@ extern const char relief_kernel_patch_cl[];
 #define WG_Y 2
 /* Weights of a radius up to 512 (windows up to 1025, fill.h's bound). */
 #define G_MAX 513
+/* The selection's margin over the float msd the device ranks blocks by:
+ * far above its division's 2.5 ulp (3e-7) and a flushed subnormal. */
+#define SELECT_REL 1e-5
+#define SELECT_ABS 1e-30
 
 typedef struct patch_cl {
     cl_context ctx;
     cl_command_queue queue;
     cl_program prog;
-    cl_kernel rects_kernel, pairs_kernel;
+    cl_kernel rects_kernel, pairs_kernel, bmin_kernel, gather_kernel;
     const relief_patch_level *levels;
     int n_levels;
     cl_mem v[MAX_LEVELS], known[MAX_LEVELS];
@@ -45,6 +51,17 @@ typedef struct patch_cl {
     size_t batch_cap; /* ints batch holds */
     int dirty_lo[MAX_LEVELS], dirty_hi[MAX_LEVELS]; /* rows changed on the host and not
                                                        yet on the device (lo > hi: none) */
+    /* select_rects: each rectangle's first block (bstart, count + 1 ints),
+     * the blocks' least msd (bmin), the blocks chosen (sel: first score,
+     * length) and their scores gathered (out_*), on the device and here;
+     * runs, what select_rects returns. */
+    int can_select;     /* patch_block_min runs PM_BLOCK work-items a group */
+    size_t select_from; /* batches of fewer scores are read back whole */
+    cl_mem bstart, bmin, sel, out_ssd, out_wsum, out_n;
+    size_t bstart_cap, bmin_cap, sel_cap, out_cap; /* elements each holds */
+    int *bstart_host, *sel_host, *runs;
+    float *bmin_host;
+    size_t bstart_host_cap, sel_host_cap, runs_cap, bmin_host_cap;
 } patch_cl;
 
 static void patch_cl_free(patch_cl *p)
@@ -67,6 +84,20 @@ static void patch_cl_free(patch_cl *p)
         clReleaseMemObject(p->g);
     if (p->batch)
         clReleaseMemObject(p->batch);
+    {
+        cl_mem sel_mems[6] = {p->bstart, p->bmin, p->sel, p->out_ssd, p->out_wsum, p->out_n};
+        for (int i = 0; i < 6; ++i)
+            if (sel_mems[i])
+                clReleaseMemObject(sel_mems[i]);
+    }
+    if (p->bmin_kernel)
+        clReleaseKernel(p->bmin_kernel);
+    if (p->gather_kernel)
+        clReleaseKernel(p->gather_kernel);
+    free(p->bstart_host);
+    free(p->sel_host);
+    free(p->runs);
+    free(p->bmin_host);
     if (p->rects_kernel)
         clReleaseKernel(p->rects_kernel);
     if (p->pairs_kernel)
@@ -207,17 +238,18 @@ static cl_int put_weights(patch_cl *p, const float *g, int radius)
     return rc;
 }
 
-/* Read `count` scores back (blocking: the queue is in order); wsum may
- * be NULL. */
-static cl_int read_scores(patch_cl *p, size_t count, float *ssd, float *wsum, int *n)
+/* Read `count` scores back from the device's ssd, wsum and n (blocking:
+ * the queue is in order); wsum may be NULL. */
+static cl_int read_scores(patch_cl *p, const cl_mem from[3], size_t count, float *ssd,
+                          float *wsum, int *n)
 {
-    cl_int rc = clEnqueueReadBuffer(p->queue, p->ssd, CL_FALSE, 0, count * sizeof(float), ssd,
+    cl_int rc = clEnqueueReadBuffer(p->queue, from[0], CL_FALSE, 0, count * sizeof(float), ssd,
                                     0, NULL, NULL);
     if (rc == CL_SUCCESS && wsum)
-        rc = clEnqueueReadBuffer(p->queue, p->wsum, CL_FALSE, 0, count * sizeof(float), wsum, 0,
+        rc = clEnqueueReadBuffer(p->queue, from[1], CL_FALSE, 0, count * sizeof(float), wsum, 0,
                                  NULL, NULL);
     if (rc == CL_SUCCESS)
-        rc = clEnqueueReadBuffer(p->queue, p->n, CL_TRUE, 0, count * sizeof(int), n, 0, NULL,
+        rc = clEnqueueReadBuffer(p->queue, from[2], CL_TRUE, 0, count * sizeof(int), n, 0, NULL,
                                  NULL);
     return rc;
 }
@@ -283,7 +315,8 @@ static cl_int batch_args(patch_cl *p, cl_kernel k, int level, int radius, int ma
 
 /* A batched kernel's launch over `dims` dimensions: the batch's ints
  * sent, the levels' pending rows and the weights flushed, the arguments
- * set, the kernel run and `scores` scores read back. */
+ * set, the kernel run and `scores` scores read back (none when ssd is
+ * NULL: they stay on the device). */
 typedef struct launch_shape {
     cl_kernel kernel;
     cl_uint dims;
@@ -310,11 +343,28 @@ static relief_status launch(patch_cl *p, const launch_shape *k, int level, int r
     if (rc == CL_SUCCESS)
         rc = clEnqueueNDRangeKernel(p->queue, k->kernel, k->dims, NULL, k->global, k->local, 0,
                                     NULL, NULL);
-    if (rc == CL_SUCCESS)
-        rc = read_scores(p, scores, ssd, wsum, n);
+    if (rc == CL_SUCCESS && ssd) {
+        const cl_mem from[3] = {p->ssd, p->wsum, p->n};
+        rc = read_scores(p, from, scores, ssd, wsum, n);
+    }
     if (rc != CL_SUCCESS)
         return launch_failed(p, rc, k->what, err);
     return RELIEF_OK;
+}
+
+/* The launch of patch_score_rects over a batch's rectangles: the largest
+ * one's extent, rounded up to the work-group, by the queries. */
+static launch_shape rects_shape(const patch_cl *p, const int *rects, int count)
+{
+    launch_shape k = {p->rects_kernel, 3, {0, 0, (size_t)count}, {WG_X, WG_Y, 1},
+                      "scoring a batch of windows on the device"};
+    for (int q = 0; q < count; ++q) {
+        size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
+        size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
+        k.global[0] = nx > k.global[0] ? nx : k.global[0];
+        k.global[1] = ny > k.global[1] ? ny : k.global[1];
+    }
+    return k;
 }
 
 static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int max_holes,
@@ -323,16 +373,10 @@ static relief_status patch_cl_score_rects(void *ctx, int level, int radius, int 
                                           relief_error *err)
 {
     patch_cl *p = ctx;
-    launch_shape k = {p->rects_kernel, 3, {0, 0, (size_t)count}, {WG_X, WG_Y, 1},
-                      "scoring a batch of windows on the device"};
+    launch_shape k;
     if (count <= 0)
         return RELIEF_OK;
-    for (int q = 0; q < count; ++q) {
-        size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
-        size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
-        k.global[0] = nx > k.global[0] ? nx : k.global[0];
-        k.global[1] = ny > k.global[1] ? ny : k.global[1];
-    }
+    k = rects_shape(p, rects, count);
     return launch(p, &k, level, radius, max_holes, g, rects, 7 * (size_t)count, count, total,
                   ssd, wsum, n, err);
 }
@@ -349,6 +393,260 @@ static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int 
         return RELIEF_OK;
     return launch(p, &k, level, radius, max_holes, g, pairs, 4 * (size_t)count, count,
                   (size_t)count, ssd, wsum, n, err);
+}
+
+/* Room for `need` elements of `size` bytes in a device buffer of
+ * select_rects (its contents are not kept). */
+static relief_status grow_mem(patch_cl *p, cl_mem *mem, size_t *cap, size_t need, size_t size,
+                              relief_error *err)
+{
+    cl_int rc;
+    if (need <= *cap)
+        return RELIEF_OK;
+    if (*mem)
+        clReleaseMemObject(*mem);
+    *cap = 0;
+    *mem = clCreateBuffer(p->ctx, CL_MEM_READ_WRITE, need * size, NULL, &rc);
+    if (rc != CL_SUCCESS) {
+        *mem = NULL;
+        return relief_fail(err, RELIEF_E_DEVICE, "cannot allocate %zu bytes of device memory "
+                           "for selecting windows: %s", need * size, relief_cl_error_name(rc));
+    }
+    *cap = need;
+    return RELIEF_OK;
+}
+
+/* Host array `ptr` of select_rects with room for `need` elements of
+ * `size` bytes (*cap updated), or `ptr` as it was with *ok 0. */
+static void *grown(void *ptr, size_t *cap, size_t need, size_t size, int *ok)
+{
+    void *b;
+    if (need <= *cap)
+        return ptr;
+    b = realloc(ptr, need * size);
+    if (!b) {
+        *ok = 0;
+        return ptr;
+    }
+    *cap = need;
+    return b;
+}
+#define GROW_HOST(ptr, cap, need, ok) ((ptr) = grown((ptr), &(cap), (need), sizeof *(ptr), &(ok)))
+
+/* select_rects' runs when every score came back: one a rectangle. */
+static relief_status runs_whole(patch_cl *p, const int *rects, int count, const int **runs,
+                                size_t *n_runs, relief_error *err)
+{
+    int ok = 1;
+    GROW_HOST(p->runs, p->runs_cap, 4 * (size_t)count, ok);
+    if (!ok)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %d runs of scores", count);
+    for (int q = 0; q < count; ++q) {
+        const int *r = rects + 7 * q;
+        int *run = p->runs + 4 * q;
+        run[0] = q, run[1] = 0, run[2] = r[4] * r[5], run[3] = r[6];
+    }
+    *runs = p->runs;
+    *n_runs = (size_t)count;
+    return RELIEF_OK;
+}
+
+/* The most matches a query keeps that the selection bounds; a query that
+ * keeps more reads every block that holds a candidate. */
+#define SELECT_KEEP_MAX 64
+
+/* Rectangle q's (r's) blocks b0 .. b1 - 1 that may hold its `keep` best:
+ * those whose least msd is within the margin of the keep-th least block
+ * minimum (keep blocks each hold a window that good, so the keep best are
+ * at least that good, and a block whose every window is worse by more than
+ * the rounding holds none of them). Appended to sel_host and runs from
+ * entry `nsel`; the new count. A NaN minimum (no candidate) is never
+ * taken, -infinity (a non-finite msd) always. */
+static size_t choose_blocks(patch_cl *p, const int *r, int q, int keep, size_t b0, size_t b1,
+                            size_t nsel)
+{
+    float kth[SELECT_KEEP_MAX];
+    int have = 0, size = r[4] * r[5];
+    double t = INFINITY;
+    for (size_t b = b0; b < b1 && keep <= SELECT_KEEP_MAX; ++b) {
+        float v = p->bmin_host[b];
+        int i;
+        if (!isfinite(v) || (have == keep && v >= kth[keep - 1]))
+            continue;
+        i = have < keep ? have++ : keep - 1;
+        for (; i > 0 && v < kth[i - 1]; --i)
+            kth[i] = kth[i - 1];
+        kth[i] = v;
+    }
+    if (keep <= SELECT_KEEP_MAX && have == keep)
+        t = (double)kth[keep - 1] * (1.0 + SELECT_REL) + SELECT_ABS;
+    for (size_t b = b0; b < b1; ++b) {
+        int first = (int)(b - b0) * PM_BLOCK, len = size - first < PM_BLOCK ? size - first
+                                                                            : PM_BLOCK;
+        int *run = p->runs + 4 * nsel;
+        if (!((double)p->bmin_host[b] <= t))
+            continue;
+        p->sel_host[2 * nsel] = r[6] + first, p->sel_host[2 * nsel + 1] = len;
+        run[0] = q, run[1] = first, run[2] = len, run[3] = (int)nsel * PM_BLOCK;
+        ++nsel;
+    }
+    return nsel;
+}
+
+/* Each rectangle's least msd per block, on the device, into bmin_host:
+ * the scores of the last launch, the blocks numbered by bstart_host. */
+static cl_int block_minima(patch_cl *p, int weighted, int count, size_t blocks)
+{
+    size_t global = blocks * PM_BLOCK, local = PM_BLOCK;
+    cl_int rc = clEnqueueWriteBuffer(p->queue, p->bstart, CL_FALSE, 0,
+                                     ((size_t)count + 1) * sizeof(int), p->bstart_host, 0, NULL,
+                                     NULL);
+    int a = 0;
+#define ARG(x) (rc |= clSetKernelArg(p->bmin_kernel, a++, sizeof(x), &(x)))
+    ARG(p->ssd);
+    ARG(p->wsum);
+    ARG(p->n);
+    ARG(weighted);
+    ARG(p->batch);
+    ARG(p->bstart);
+    ARG(count);
+    ARG(p->bmin);
+#undef ARG
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueNDRangeKernel(p->queue, p->bmin_kernel, 1, NULL, &global, &local, 0, NULL,
+                                    NULL);
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueReadBuffer(p->queue, p->bmin, CL_TRUE, 0, blocks * sizeof(float),
+                                 p->bmin_host, 0, NULL, NULL);
+    return rc;
+}
+
+/* The `nsel` blocks of sel_host gathered side by side on the device and
+ * read back into ssd, wsum (may be NULL) and n. */
+static cl_int gather(patch_cl *p, size_t nsel, float *ssd, float *wsum, int *n)
+{
+    size_t global = nsel * PM_BLOCK, local = PM_BLOCK;
+    int blocks = (int)nsel, a = 0;
+    cl_int rc = clEnqueueWriteBuffer(p->queue, p->sel, CL_FALSE, 0, 2 * nsel * sizeof(int),
+                                     p->sel_host, 0, NULL, NULL);
+#define ARG(x) (rc |= clSetKernelArg(p->gather_kernel, a++, sizeof(x), &(x)))
+    ARG(p->ssd);
+    ARG(p->wsum);
+    ARG(p->n);
+    ARG(p->sel);
+    ARG(blocks);
+    ARG(p->out_ssd);
+    ARG(p->out_wsum);
+    ARG(p->out_n);
+#undef ARG
+    if (rc == CL_SUCCESS)
+        rc = clEnqueueNDRangeKernel(p->queue, p->gather_kernel, 1, NULL, &global, &local, 0,
+                                    NULL, NULL);
+    if (rc == CL_SUCCESS) {
+        const cl_mem from[3] = {p->out_ssd, p->out_wsum, p->out_n};
+        rc = read_scores(p, from, global, ssd, wsum, n);
+    }
+    return rc;
+}
+
+/* Room for `need` gathered scores on the device (out_ssd, out_wsum and
+ * out_n, grown together). */
+static relief_status grow_out(patch_cl *p, size_t need, relief_error *err)
+{
+    size_t c0 = p->out_cap, c1 = p->out_cap, c2 = p->out_cap;
+    relief_status st = grow_mem(p, &p->out_ssd, &c0, need, sizeof(float), err);
+    if (st == RELIEF_OK)
+        st = grow_mem(p, &p->out_wsum, &c1, need, sizeof(float), err);
+    if (st == RELIEF_OK)
+        st = grow_mem(p, &p->out_n, &c2, need, sizeof(int), err);
+    p->out_cap = st == RELIEF_OK ? c0 : 0;
+    return st;
+}
+
+/* Room on the host and the device for a selection over `blocks` blocks of
+ * `count` rectangles. */
+static relief_status select_room(patch_cl *p, int count, size_t blocks, relief_error *err)
+{
+    relief_status st;
+    int ok = 1;
+    GROW_HOST(p->bstart_host, p->bstart_host_cap, (size_t)count + 1, ok);
+    GROW_HOST(p->bmin_host, p->bmin_host_cap, blocks, ok);
+    GROW_HOST(p->sel_host, p->sel_host_cap, 2 * blocks, ok);
+    GROW_HOST(p->runs, p->runs_cap, 4 * blocks, ok);
+    if (!ok)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the selection of %zu blocks "
+                           "of windows", blocks);
+    st = grow_mem(p, &p->bstart, &p->bstart_cap, (size_t)count + 1, sizeof(int), err);
+    if (st == RELIEF_OK)
+        st = grow_mem(p, &p->bmin, &p->bmin_cap, blocks, sizeof(float), err);
+    return st;
+}
+
+static relief_status patch_cl_select_rects(void *ctx, int level, int radius, int max_holes,
+                                           const float *g, const int *rects, const int *keep,
+                                           int count, size_t total, float *ssd, float *wsum,
+                                           int *n, const int **runs, size_t *n_runs,
+                                           relief_error *err)
+{
+    patch_cl *p = ctx;
+    size_t blocks = 0, nsel = 0;
+    launch_shape k;
+    relief_status st;
+    cl_int rc;
+    *runs = NULL;
+    *n_runs = 0;
+    if (count <= 0)
+        return RELIEF_OK;
+    k = rects_shape(p, rects, count);
+    if (!p->can_select || total < p->select_from) {
+        st = launch(p, &k, level, radius, max_holes, g, rects, 7 * (size_t)count, count, total,
+                    ssd, wsum, n, err);
+        return st == RELIEF_OK ? runs_whole(p, rects, count, runs, n_runs, err) : st;
+    }
+    for (int q = 0; q < count; ++q)
+        blocks += ((size_t)rects[7 * q + 4] * rects[7 * q + 5] + PM_BLOCK - 1) / PM_BLOCK;
+    if ((st = select_room(p, count, blocks, err)) != RELIEF_OK)
+        return st;
+    blocks = 0;
+    for (int q = 0; q < count; ++q) {
+        p->bstart_host[q] = (int)blocks;
+        blocks += ((size_t)rects[7 * q + 4] * rects[7 * q + 5] + PM_BLOCK - 1) / PM_BLOCK;
+    }
+    p->bstart_host[count] = (int)blocks;
+    /* The scores stay on the device; their blocks' minima come back. */
+    st = launch(p, &k, level, radius, max_holes, g, rects, 7 * (size_t)count, count, total,
+                NULL, NULL, NULL, err);
+    if (st != RELIEF_OK)
+        return st;
+    rc = block_minima(p, g != NULL, count, blocks);
+    if (rc != CL_SUCCESS)
+        return launch_failed(p, rc, "ranking a batch of windows on the device", err);
+    for (int q = 0; q < count; ++q)
+        nsel = choose_blocks(p, rects + 7 * q, q, keep[q], (size_t)p->bstart_host[q],
+                             (size_t)p->bstart_host[q + 1], nsel);
+    if (nsel * PM_BLOCK >= total / 2) { /* most of it: one read is cheaper */
+        const cl_mem from[3] = {p->ssd, p->wsum, p->n};
+        rc = read_scores(p, from, total, ssd, wsum, n);
+        if (rc != CL_SUCCESS)
+            return launch_failed(p, rc, "reading a batch of windows' scores", err);
+        return runs_whole(p, rects, count, runs, n_runs, err);
+    }
+    st = grow_mem(p, &p->sel, &p->sel_cap, 2 * nsel, sizeof(int), err);
+    if (st == RELIEF_OK)
+        st = grow_out(p, nsel * PM_BLOCK, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (nsel && (rc = gather(p, nsel, ssd, wsum, n)) != CL_SUCCESS)
+        return launch_failed(p, rc, "gathering a batch's best windows on the device", err);
+    *runs = p->runs;
+    *n_runs = nsel;
+    return RELIEF_OK;
+}
+
+void relief_patch_opencl_select_from(relief_patch_scorer *s, size_t scores)
+{
+    if (s && s->backend == RELIEF_BACKEND_OPENCL)
+        ((patch_cl *)s->ctx)->select_from = scores;
 }
 
 /* One query's rectangle: a batch of one. */
@@ -390,7 +688,7 @@ static void patch_cl_destroy(void *ctx) { patch_cl_free(ctx); }
 static const relief_patch_ops patch_cl_ops = {patch_cl_bind, patch_cl_update,
                                               patch_cl_score_rect, patch_cl_score_list,
                                               patch_cl_destroy, patch_cl_score_rects,
-                                              patch_cl_score_pairs};
+                                              patch_cl_score_pairs, patch_cl_select_rects};
 
 relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                                          relief_error *err)
@@ -431,9 +729,12 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
         goto fail;
     }
     {
-        static const char *names[2] = {"patch_score_rects", "patch_score_pairs"};
-        cl_kernel *kernels[2] = {&p->rects_kernel, &p->pairs_kernel};
-        for (int k = 0; k < 2; ++k) {
+        static const char *names[4] = {"patch_score_rects", "patch_score_pairs",
+                                       "patch_block_min", "patch_gather"};
+        cl_kernel *kernels[4] = {&p->rects_kernel, &p->pairs_kernel, &p->bmin_kernel,
+                                 &p->gather_kernel};
+        size_t wg = 0;
+        for (int k = 0; k < 4; ++k) {
             *kernels[k] = clCreateKernel(p->prog, names[k], &rc);
             if (rc != CL_SUCCESS) {
                 st = relief_fail(err, RELIEF_E_DEVICE, "clCreateKernel(%s): %s", names[k],
@@ -441,6 +742,12 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                 goto fail;
             }
         }
+        /* The block minima take PM_BLOCK work-items a group; a device
+         * that cannot run that many reads every score back. */
+        rc = clGetKernelWorkGroupInfo(p->bmin_kernel, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof wg,
+                                      &wg, NULL);
+        p->can_select = rc == CL_SUCCESS && wg >= PM_BLOCK;
+        p->select_from = RELIEF_PATCH_SELECT_FROM;
     }
     s->ops = &patch_cl_ops;
     s->ctx = p;

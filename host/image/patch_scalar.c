@@ -68,7 +68,8 @@ static relief_status scalar_score_list(void *ctx, int level, int qx, int qy, int
 static void scalar_destroy(void *ctx) { free(ctx); }
 
 static const relief_patch_ops scalar_ops = {scalar_bind, scalar_update, scalar_score_rect,
-                                            scalar_score_list, scalar_destroy, NULL, NULL};
+                                            scalar_score_list, scalar_destroy, NULL, NULL,
+                                            NULL};
 
 relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error *err)
 {

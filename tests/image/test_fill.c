@@ -417,8 +417,67 @@ static void test_batch(relief_patch_scorer *sc, relief_patch_scorer *cl, const r
     free(hole);
 }
 
+/* The fill of `r` (a copy) on the scalar scorer and on OpenCL, byte for
+ * byte; the OpenCL fill's report in *rb. */
+static void same_fill(relief_patch_scorer *sc, relief_patch_scorer *cl, const relief_raster *r,
+                      const uint8_t *hole, const relief_fill_params *p, const char *what,
+                      relief_fill_report *rb)
+{
+    relief_error err = {RELIEF_OK, ""};
+    relief_fill_report ra;
+    size_t n = (size_t)r->width * r->height * r->channels;
+    relief_raster a2, b2;
+    relief_raster_create(r->width, r->height, r->channels, 8, &a2, &err);
+    relief_raster_create(r->width, r->height, r->channels, 8, &b2, &err);
+    memcpy(a2.v, r->v, n * sizeof(float));
+    memcpy(b2.v, r->v, n * sizeof(float));
+    CHECK(relief_fill(&a2, hole, p, sc, &ra, &err) == RELIEF_OK, "%s: scalar: %s", what,
+          err.message);
+    CHECK(relief_fill(&b2, hole, p, cl, rb, &err) == RELIEF_OK, "%s: opencl: %s", what,
+          err.message);
+    CHECK(memcmp(a2.v, b2.v, n * sizeof(float)) == 0, "%s: the backends filled differently",
+          what);
+    CHECK(ra.by_copy == rb->by_copy && ra.searches == rb->searches &&
+              ra.candidates == rb->candidates && ra.scores_read == ra.candidates,
+          "%s: reports differ: %zu/%zu copied, %zu/%zu searches", what, ra.by_copy,
+          rb->by_copy, ra.searches, rb->searches);
+    printf("%s: %zu holes, %zu copied, %zu by the fallback, %zu searches: identical; "
+           "%zu of %zu scores read back\n", what, ra.hole_pixels, ra.by_copy, ra.by_fallback,
+           ra.searches, rb->scores_read, rb->candidates);
+    relief_raster_free(&a2);
+    relief_raster_free(&b2);
+}
+
+/* The OpenCL scorer's selection on the device (select_rects, here for
+ * every batch) keeps the scalar fill's bytes where ties abound: a periodic
+ * texture, whose every period ties at 0, and a flat image, whose every
+ * window does (then nearly every block is read, and the scorer reads all). */
+static void test_select_ties(relief_patch_scorer *sc, relief_patch_scorer *cl)
+{
+    relief_raster per = periodic(160, 144, 3, 7, 5, 3), flat = periodic(160, 144, 3, 7, 5, 3);
+    relief_fill_params p = relief_fill_params_default();
+    relief_fill_report rb;
+    uint8_t *hole = calloc(160 * 144, 1);
+    for (size_t i = 0; i < (size_t)160 * 144 * 3; ++i)
+        flat.v[i] = 91.0f;
+    for (int y = 50; y < 80; ++y)
+        for (int x = 60; x < 95; ++x)
+            hole[y * 160 + x] = 1;
+    for (int exhaustive = 0; exhaustive <= 1; ++exhaustive) {
+        p.exhaustive = exhaustive;
+        same_fill(sc, cl, &per, hole, &p, exhaustive ? "periodic, exhaustive, selected"
+                                                     : "periodic, pyramid, selected", &rb);
+        same_fill(sc, cl, &flat, hole, &p, exhaustive ? "flat, exhaustive, selected"
+                                                      : "flat, pyramid, selected", &rb);
+    }
+    free(hole);
+    relief_raster_free(&per);
+    relief_raster_free(&flat);
+}
+
 /* The OpenCL scorer fills exactly as the scalar one: a real photograph
- * with a disc and a rectangle cut, both searches. */
+ * with a disc and a rectangle cut, both searches, reading every score back
+ * and selecting them on the device (every batch, whatever its size). */
 static int test_opencl(const char *images)
 {
     relief_patch_scorer *sc = NULL, *cl = NULL;
@@ -436,41 +495,36 @@ static int test_opencl(const char *images)
         printf("%s: %s: skipped\n", path, err.message);
         return 77;
     }
-    for (int exhaustive = 0; exhaustive <= 1; ++exhaustive) {
-        relief_fill_params p = relief_fill_params_default();
-        relief_fill_report ra, rb;
-        uint8_t *hole = calloc((size_t)a.width * a.height, 1);
-        size_t n = (size_t)a.width * a.height * a.channels;
-        relief_raster a2, b2;
-        relief_raster_create(a.width, a.height, a.channels, 8, &a2, &err);
-        relief_raster_create(a.width, a.height, a.channels, 8, &b2, &err);
-        memcpy(a2.v, a.v, n * sizeof(float));
-        memcpy(b2.v, a.v, n * sizeof(float));
-        for (int y = 0; y < a.height; ++y)
-            for (int x = 0; x < a.width; ++x)
-                hole[y * a.width + x] = (x - 200) * (x - 200) + (y - 120) * (y - 120) < 15 * 15 ||
-                                        (x >= 330 && x < 350 && y >= 200 && y < 230);
-        p.exhaustive = exhaustive;
-        if (exhaustive)
-            p.search_radius = 40; /* keeps the reference quick */
-        CHECK(relief_fill(&a2, hole, &p, sc, &ra, &err) == RELIEF_OK, "scalar: %s",
-              err.message);
-        CHECK(relief_fill(&b2, hole, &p, cl, &rb, &err) == RELIEF_OK, "opencl: %s",
-              err.message);
-        CHECK(memcmp(a2.v, b2.v, n * sizeof(float)) == 0, "%s: the backends filled "
-              "differently", exhaustive ? "exhaustive" : "pyramid");
-        CHECK(ra.by_copy == rb.by_copy && ra.searches == rb.searches &&
-                  ra.candidates == rb.candidates,
-              "reports differ: %zu/%zu copied, %zu/%zu searches", ra.by_copy, rb.by_copy,
-              ra.searches, rb.searches);
-        printf("%s: %zu holes, %zu copied, %zu by the fallback, %zu searches: identical\n",
-               exhaustive ? "exhaustive" : "pyramid", ra.hole_pixels, ra.by_copy,
-               ra.by_fallback, ra.searches);
-        relief_raster_free(&a2);
-        relief_raster_free(&b2);
-        free(hole);
-    }
-    test_batch(sc, cl, &a);
+    for (int select = 0; select <= 1; ++select)
+        for (int exhaustive = 0; exhaustive <= 1; ++exhaustive) {
+            relief_fill_params p = relief_fill_params_default();
+            relief_fill_report rb;
+            uint8_t *hole = calloc((size_t)a.width * a.height, 1);
+            char what[64];
+            for (int y = 0; y < a.height; ++y)
+                for (int x = 0; x < a.width; ++x)
+                    hole[y * a.width + x] =
+                        (x - 200) * (x - 200) + (y - 120) * (y - 120) < 15 * 15 ||
+                        (x >= 330 && x < 350 && y >= 200 && y < 230);
+            p.exhaustive = exhaustive;
+            if (exhaustive)
+                p.search_radius = 40; /* keeps the reference quick */
+            relief_patch_opencl_select_from(cl, select ? 0 : (size_t)-1);
+            snprintf(what, sizeof what, "%s, %s", exhaustive ? "exhaustive" : "pyramid",
+                     select ? "selected on the device" : "every score read");
+            same_fill(sc, cl, &a, hole, &p, what, &rb);
+            /* Exhaustive, a search's few best lie in a few blocks of the
+             * whole image; the pyramid's small rectangles are mostly read. */
+            CHECK(!select ? rb.scores_read == rb.candidates
+                          : rb.scores_read < rb.candidates / (exhaustive ? 10 : 2),
+                  "%s: %zu of %zu scores read back", what, rb.scores_read, rb.candidates);
+            free(hole);
+        }
+    test_select_ties(sc, cl);
+    relief_patch_opencl_select_from(cl, (size_t)-1);
+    test_batch(sc, cl, &a); /* every score read */
+    relief_patch_opencl_select_from(cl, 0);
+    test_batch(sc, cl, &a); /* selected */
     (void)b;
     relief_raster_free(&a);
     relief_patch_scorer_destroy(sc);
