@@ -8,9 +8,9 @@
  * histogram distance below 0.25 (total variation; identical distributions
  * give 0, disjoint ones 1), and for the coloured bark (the demo) a
  * pattern lean distance within 2.5x the truth's own (report/pattern.h:
- * the ridges' layout). Where an
- * OpenCL device exists the completion is run again with the OpenCL matcher
- * and must come out byte-identical. */
+ * the ridges' layout). With colour, where an OpenCL device exists, the
+ * completion is run again with the OpenCL matcher and must come out
+ * byte-identical. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -97,8 +97,12 @@ int main(int argc, char **argv)
                   pat.d_height.lean, pat.d_truth_height.lean);
         }
     }
-    /* The same completion through OpenCL, from a fresh smooth surface. */
-    if (st == RELIEF_OK) {
+    /* The same completion through OpenCL, from a fresh smooth surface: with
+     * colour only. Without, the growth is the same less the colour term,
+     * and its bytes across backends are test_score_opencl's (whole
+     * completions of the bands and the dimples without colour) and the
+     * CLI tests'; the rerun was 45 s of the bark's 105 here. */
+    if (st == RELIEF_OK && sp.colour) {
         relief_surface *s2 = NULL;
         relief_match_data *d2 = NULL;
         relief_matcher *m2 = NULL;

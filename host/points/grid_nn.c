@@ -211,6 +211,7 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
                                     relief_error *err)
 {
     relief_grid_nn *nn;
+    (void)device; /* read only when built with OpenCL */
     *out = NULL;
     if (!nz || dims < 1 || nz > INT32_MAX / (size_t)dims)
         return relief_fail(err, RELIEF_E_RANGE, "%zu exemplar grids of %d floats", nz, dims);

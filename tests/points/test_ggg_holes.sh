@@ -8,9 +8,10 @@
 # would fill the widest rim, with no output. depth-fill on a mesh fills the
 # same holes and leaves the same openings.
 #   test_ggg_holes.sh PATH/TO/relief DATA_DIR (../shared/data) [sanitize]
-# sanitize (the ASan + UBSan pass): the two longest runs, complete's growth
-# on the statue and the pot's flutes, are left to the default pass (the
-# growth and depth-fill run under the sanitizers on the other cases).
+# sanitize (the ASan + UBSan pass): the longest runs, complete's growth on
+# the statue, the pot's flutes and depth-fill on the statue (24 s under
+# ASan), are left to the default pass (the growth and depth-fill run under
+# the sanitizers on the other cases).
 set -u
 relief=$1 data=$2/real/ggg_sfm full=1 here=$(cd "$(dirname "$0")" && pwd)
 [[ ${3:-} == sanitize ]] && full=0
@@ -167,10 +168,12 @@ ok '[[ $cut == 0 ]]' "depth-fill left ${cut:-?} loops open at the vase's cut"
 ok '[[ $longest -ge 1000 && $base -ge 1 ]]' "depth-fill closed the vase's mouth (its longest loop: ${longest:-?} edges) or its base (${base:-?} loops there)"
 ok '[[ $nv -lt 40000 ]]' "depth-fill returned a solid, not the vase: $nv vertices"
 ok 'grep -q "\"holes_patched\": [1-9]" "$tmp/vase_d.json" && grep -q "\"fate\": \"border\"" "$tmp/vase_d.json"' "the depth-fill report lacks its patches or the mouth's fate"
+if [[ $full == 1 ]]; then # the vase's run above shows this path to the sanitizers
 expect 0 "" -- "$relief" depth-fill "$tmp/angel.ply" -o "$tmp/angel_d.ply" --quiet
 read -r cut _ _ <<<"$(boundary "$tmp/angel_d.ply" 13.1 -64.5 16.4 20)"
 read -r plinth _ _ <<<"$(boundary "$tmp/angel_d.ply" 0 9 -112 60)"
 ok '[[ $cut == 0 && $plinth -ge 1 ]]' "depth-fill on the statue: ${cut:-?} loops open at the knee's cut, ${plinth:-?} at the plinth (1 wanted)"
+fi
 expect 0 "" -- "$relief" depth-fill "$tmp/vase.ply" -o "$tmp/vase_s.ply" --solid --resolution 96 --quiet
 read -r _ longest _ <<<"$(boundary "$tmp/vase_s.ply" 0 0 0 1)"
 ok '[[ $longest == 0 ]]' "depth-fill --solid is not closed: a loop of $longest edges"
