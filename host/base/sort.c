@@ -1,38 +1,63 @@
 /* The radix sorts of (key, index) pairs and of doubles (sort.h). */
 #include "base/sort.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-int relief_sort_keyed(relief_keyed *a, size_t n)
+/* The key that leads an element (its first 8 bytes). */
+static inline uint64_t key_at(const unsigned char *p)
 {
-    relief_keyed *tmp, *src = a, *dst;
-    uint64_t differ = 0;
-    if (n < 2)
-        return 0;
-    tmp = malloc(n * sizeof *tmp);
-    if (!tmp)
-        return -1;
-    dst = tmp;
+    uint64_t k;
+    memcpy(&k, p, sizeof k);
+    return k;
+}
+
+/* LSD radix sort of the n elements of `size` bytes at `src`, each led by
+ * its uint64_t key, stable, one pass a byte in which the keys differ, with
+ * `tmp` (as large) between; returns where the sorted elements are (src or
+ * tmp). Inlined into each caller (forced: left to itself GCC called it,
+ * and the copies of a size it did not know made both sorts 20 to 30 %
+ * slower on 2 M elements), whose constant size makes them plain moves. */
+__attribute__((always_inline)) static inline void *radix_sort(void *src, void *tmp, size_t n, size_t size)
+{
+    unsigned char *from = src, *to = tmp;
+    uint64_t differ = 0, first = key_at(from);
     for (size_t i = 1; i < n; ++i)
-        differ |= a[i].key ^ a[0].key;
+        differ |= key_at(from + i * size) ^ first;
     for (int shift = 0; shift < 64; shift += 8) {
         size_t count[257] = {0};
         if (!((differ >> shift) & 0xff))
             continue; /* every key has this byte: the pass would keep the order */
         for (size_t i = 0; i < n; ++i)
-            ++count[((src[i].key >> shift) & 0xff) + 1];
+            ++count[((key_at(from + i * size) >> shift) & 0xff) + 1];
         for (int b = 0; b < 256; ++b)
             count[b + 1] += count[b];
-        for (size_t i = 0; i < n; ++i)
-            dst[count[(src[i].key >> shift) & 0xff]++] = src[i];
+        for (size_t i = 0; i < n; ++i) {
+            const unsigned char *e = from + i * size;
+            memcpy(to + count[(key_at(e) >> shift) & 0xff]++ * size, e, size);
+        }
         {
-            relief_keyed *t = src;
-            src = dst, dst = t;
+            unsigned char *t = from;
+            from = to, to = t;
         }
     }
-    if (src != a)
-        memcpy(a, src, n * sizeof *a);
+    return from;
+}
+
+_Static_assert(offsetof(relief_keyed, key) == 0, "radix_sort reads the key first");
+
+int relief_sort_keyed(relief_keyed *a, size_t n)
+{
+    relief_keyed *tmp, *sorted;
+    if (n < 2)
+        return 0;
+    tmp = malloc(n * sizeof *tmp);
+    if (!tmp)
+        return -1;
+    sorted = radix_sort(a, tmp, n, sizeof *a);
+    if (sorted != a)
+        memcpy(a, sorted, n * sizeof *a);
     free(tmp);
     return 0;
 }
@@ -44,7 +69,7 @@ static uint64_t order_bits(uint64_t k) { return k >> 63 ? k & ~((uint64_t)1 << 6
 
 int relief_sort_doubles(double *a, size_t n)
 {
-    uint64_t *k, *tmp, *src, *dst, differ = 0;
+    uint64_t *k, *tmp, *sorted;
     if (n < 2)
         return 0;
     k = malloc(n * sizeof *k);
@@ -57,26 +82,10 @@ int relief_sort_doubles(double *a, size_t n)
         uint64_t b;
         memcpy(&b, a + i, sizeof b);
         k[i] = order_key(b);
-        differ |= k[i] ^ k[0];
     }
-    src = k, dst = tmp;
-    for (int shift = 0; shift < 64; shift += 8) {
-        size_t count[257] = {0};
-        if (!((differ >> shift) & 0xff))
-            continue; /* every key has this byte */
-        for (size_t i = 0; i < n; ++i)
-            ++count[((src[i] >> shift) & 0xff) + 1];
-        for (int b = 0; b < 256; ++b)
-            count[b + 1] += count[b];
-        for (size_t i = 0; i < n; ++i)
-            dst[count[(src[i] >> shift) & 0xff]++] = src[i];
-        {
-            uint64_t *t = src;
-            src = dst, dst = t;
-        }
-    }
+    sorted = radix_sort(k, tmp, n, sizeof *k);
     for (size_t i = 0; i < n; ++i) {
-        uint64_t b = order_bits(src[i]);
+        uint64_t b = order_bits(sorted[i]);
         memcpy(a + i, &b, sizeof b);
     }
     free(k), free(tmp);
