@@ -416,14 +416,41 @@ static size_t cluster(const double *pos, const double *nrm, size_t n, const doub
     return m;
 }
 
+/* q = A p over rows lo..hi of a CSR matrix: each row's sum in the
+ * row's order, so the same bits on any number of threads. */
+typedef struct matvec_job {
+    const size_t *start;
+    const uint32_t *col;
+    const double *val, *p;
+    double *q;
+} matvec_job;
+
+static int matvec_rows(void *ctx, size_t lo, size_t hi)
+{
+    const matvec_job *j = ctx;
+    for (size_t i = lo; i < hi; ++i) {
+        double s = 0.0;
+        for (size_t e = j->start[i]; e < j->start[i + 1]; ++e)
+            s += j->val[e] * j->p[j->col[e]];
+        j->q[i] = s;
+    }
+    return 0;
+}
+
+/* A product of fewer entries runs on the calling thread: starting the
+ * others would cost more than it saves. */
+#define MATVEC_SHARED_NNZ ((size_t)1 << 16)
+
 /* Conjugate gradients on the symmetric positive definite A (CSR: row
  * start, column, value) from x = 0. Stops at |r| <= 1e-5 |b| or after
  * CG_MAX_ITER steps, keeping the last iterate (the best so far in A's
  * norm): clustered centres can make the system ill-conditioned, and a
- * nearly interpolating f is still the right answer then. Returns 0 when out
- * of memory. */
+ * nearly interpolating f is still the right answer then. The products
+ * A p run on `threads`; the dot products and updates, a few operations a
+ * row against A's tens, stay on one in a fixed order, so the bits do not
+ * depend on the threads. Returns 0 when out of memory. */
 static int solve_cg(size_t n, const size_t *start, const uint32_t *col, const double *val,
-                    const double *b, double *x)
+                    const double *b, double *x, int threads)
 {
     double *r = malloc(n * sizeof *r), *p = malloc(n * sizeof *p), *q = malloc(n * sizeof *q);
     double rr = 0.0, bb;
@@ -436,15 +463,14 @@ static int solve_cg(size_t n, const size_t *start, const uint32_t *col, const do
         rr += b[i] * b[i];
     }
     bb = rr;
+    if (start[n] < MATVEC_SHARED_NNZ)
+        threads = 1;
     for (int it = 0; it < CG_MAX_ITER && rr > CG_REL_TOL * bb && rr > 0.0; ++it) {
         double pq = 0.0, alpha, rr_new = 0.0;
-        for (size_t i = 0; i < n; ++i) {
-            double s = 0.0;
-            for (size_t e = start[i]; e < start[i + 1]; ++e)
-                s += val[e] * p[col[e]];
-            q[i] = s;
-            pq += p[i] * s;
-        }
+        matvec_job mv = {start, col, val, p, q};
+        relief_parallel_ranges(n, threads, matvec_rows, &mv);
+        for (size_t i = 0; i < n; ++i)
+            pq += p[i] * q[i];
         if (!(pq > 0.0))
             break;
         alpha = rr / pq;
@@ -625,6 +651,109 @@ static int rhs_share(void *ctx, size_t lo, size_t hi)
     return 0;
 }
 
+/* The level's interpolation matrix, a row a centre: phi_ij for the
+ * centres j within rho of centre i, in the order of the level's grid. The
+ * rows are cut into one run a thread; each run's entries go to a buffer of
+ * its own, joined in order after (rows_assemble). */
+typedef struct row_run {
+    uint32_t *col;
+    double *val;
+    size_t n, cap; /* entries held, room */
+} row_run;
+
+typedef struct row_job {
+    const rbf_level *lv;
+    const double *lo; /* the grid's origin */
+    double rho;
+    size_t m, *len;   /* rows; row i's length in len[i + 1] */
+    double *b;        /* each row's sum of phi */
+    row_run *runs;
+    size_t n_runs;
+} row_job;
+
+/* Row i's entries appended to run r; 0 when out of memory. */
+static int row_entries(const row_job *j, size_t i, row_run *r)
+{
+    const rbf_level *lv = j->lv;
+    const double *ci = lv->c + CW * i;
+    size_t first = r->n;
+    double s = 0.0;
+    int64_t cc[3];
+    for (int a = 0; a < 3; ++a)
+        cc[a] = cell_coord(ci[a], j->lo[a], lv->grid.inv_h);
+    for (int64_t u = cc[0] - 1; u <= cc[0] + 1; ++u)
+        for (int64_t v = cc[1] - 1; v <= cc[1] + 1; ++v)
+            for (int64_t w = cc[2] - 1; w <= cc[2] + 1; ++w)
+                for (uint32_t it = hash_head(&lv->grid, u, v, w); it != NO_ITEM;
+                     it = lv->grid.next[it]) {
+                    double d[3], rr;
+                    sub3(ci, lv->c + CW * (size_t)it, d);
+                    rr = sqrt(dot3(d, d)) / j->rho;
+                    if (rr >= 1.0)
+                        continue;
+                    if (r->n == r->cap) {
+                        size_t nc = r->cap ? 2 * r->cap : 64;
+                        uint32_t *c2 = realloc(r->col, nc * sizeof *c2);
+                        double *v2;
+                        if (!c2)
+                            return 0;
+                        r->col = c2;
+                        v2 = realloc(r->val, nc * sizeof *v2);
+                        if (!v2)
+                            return 0;
+                        r->val = v2, r->cap = nc;
+                    }
+                    r->col[r->n] = it;
+                    r->val[r->n] = pow(1.0 - rr, 4) * (4.0 * rr + 1.0);
+                    s += r->val[r->n++];
+                }
+    j->len[i + 1] = r->n - first;
+    j->b[i] = s; /* the row's sum until centre_share */
+    return 1;
+}
+
+/* Runs lo..hi: run k holds rows k m / n_runs .. (k + 1) m / n_runs - 1. */
+static int row_runs(void *ctx, size_t lo, size_t hi)
+{
+    const row_job *j = ctx;
+    for (size_t k = lo; k < hi; ++k)
+        for (size_t i = k * j->m / j->n_runs; i < (k + 1) * j->m / j->n_runs; ++i)
+            if (!row_entries(j, i, &j->runs[k]))
+                return 1;
+    return 0;
+}
+
+/* The level's matrix in CSR (*start, m + 1 of them, allocated by the
+ * caller; *col, *val allocated here) and b, each row's sum, on `threads`;
+ * the same entries in the same order on any number of them. 0 when out of
+ * memory. */
+static int rows_assemble(const rbf_level *lv, const double lo[3], double rho, size_t m,
+                         int threads, size_t *start, uint32_t **col, double **val, double *b)
+{
+    row_run runs[RELIEF_PARALLEL_MAX_THREADS] = {{NULL, NULL, 0, 0}};
+    size_t n_runs = threads < 1 ? 1 : (size_t)threads, at = 0;
+    row_job j = {lv, lo, rho, m, start, b, runs, 0};
+    int ok;
+    n_runs = n_runs > RELIEF_PARALLEL_MAX_THREADS ? RELIEF_PARALLEL_MAX_THREADS : n_runs;
+    n_runs = n_runs > m ? (m ? m : 1) : n_runs;
+    j.n_runs = n_runs;
+    ok = !relief_parallel_ranges(n_runs, (int)n_runs, row_runs, &j);
+    start[0] = 0;
+    for (size_t i = 0; i < m && ok; ++i)
+        start[i + 1] += start[i];
+    *col = ok ? malloc((start[m] ? start[m] : 1) * sizeof **col) : NULL;
+    *val = *col ? malloc((start[m] ? start[m] : 1) * sizeof **val) : NULL;
+    for (size_t k = 0; k < n_runs; ++k) {
+        if (*val && runs[k].n) {
+            memcpy(*col + at, runs[k].col, runs[k].n * sizeof **col);
+            memcpy(*val + at, runs[k].val, runs[k].n * sizeof **val);
+        }
+        at += runs[k].n;
+        free(runs[k].col), free(runs[k].val);
+    }
+    return *val != NULL;
+}
+
 /* Level l of f (levels 0..l-1 done) on the centres c (m x 6: position,
  * normal), as Ohtake et al.:
  *   o_l(x) = sum_c (g_c(x) + lambda_c) phi(|x - c| / rho),
@@ -642,7 +771,7 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
 {
     rbf_level *lv = &f->level[l];
     double rho = lv->rho, lo[3] = {INFINITY, INFINITY, INFINITY};
-    size_t *start = NULL, cap = 0, nnz = 0;
+    size_t *start = NULL;
     uint32_t *col = NULL;
     double *val = NULL, *b = NULL, *lam = NULL;
     relief_keyed *order = NULL;
@@ -687,53 +816,18 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
     }
 
     /* Each centre's neighbours within rho and their phi, and the row's
-     * sum; then, a centre at a time over the threads, g_c from the quadric
-     * and b from f so far. */
-    start[0] = 0;
-    for (size_t i = 0; i < m; ++i) {
-        size_t k = 0;
-        double s = 0.0, *ci = lv->c + CW * i;
-        int64_t cc[3];
-        for (int a = 0; a < 3; ++a)
-            cc[a] = cell_coord(ci[a], lo[a], lv->grid.inv_h);
-        for (int64_t u = cc[0] - 1; u <= cc[0] + 1; ++u)
-            for (int64_t v = cc[1] - 1; v <= cc[1] + 1; ++v)
-                for (int64_t w = cc[2] - 1; w <= cc[2] + 1; ++w)
-                    for (uint32_t it = hash_head(&lv->grid, u, v, w); it != NO_ITEM;
-                         it = lv->grid.next[it]) {
-                        double d[3], r;
-                        sub3(ci, lv->c + CW * (size_t)it, d);
-                        r = sqrt(dot3(d, d)) / rho;
-                        if (r >= 1.0)
-                            continue;
-                        if (nnz + k == cap) {
-                            size_t nc = cap ? 2 * cap : 16 * m + 64;
-                            uint32_t *c2 = realloc(col, nc * sizeof *c2);
-                            double *v2;
-                            if (!c2)
-                                goto nomem;
-                            col = c2;
-                            v2 = realloc(val, nc * sizeof *v2);
-                            if (!v2)
-                                goto nomem;
-                            val = v2, cap = nc;
-                        }
-                        col[nnz + k] = it;
-                        val[nnz + k] = pow(1.0 - r, 4) * (4.0 * r + 1.0);
-                        s += val[nnz + k];
-                        ++k;
-                    }
-        nnz += k;
-        start[i + 1] = nnz;
-        b[i] = s; /* the row's sum until centre_share */
-    }
+     * sum, in two passes over the threads (the rows' lengths, then the
+     * rows); then, a centre at a time over the threads, g_c from the
+     * quadric and b from f so far. */
+    if (!rows_assemble(lv, lo, rho, m, fd->threads, start, &col, &val, b))
+        goto nomem;
     {
         level_job j = {f, l, fd, c, order, R, start, col, val, b};
         if (relief_parallel_ranges(m, fd->threads, centre_share, &j))
             goto nomem;
         relief_parallel_ranges(m, fd->threads, rhs_share, &j);
     }
-    if (!solve_cg(m, start, col, val, b, lam))
+    if (!solve_cg(m, start, col, val, b, lam, fd->threads))
         goto nomem;
     for (size_t i = 0; i < m; ++i) {
         if (!isfinite(lam[i])) {
