@@ -2,8 +2,9 @@
 # relief image-fill against its own references (scalar, OpenCL, --exhaustive)
 # and against OpenCV's inpainting (Telea, Navier-Stokes), on the images of
 # ../shared/data/images with holes cut where the truth is known
-# (bench/image_fill.py says what is measured); then the two scorers side
-# by side in one process (bench_image_fill), on those images with a 64 x 64
+# (bench/image_fill.py says what is measured); then the scorers side by
+# side in one process (bench_image_fill: scalar, OpenCL reading every score
+# back, OpenCL selecting on the device), on those images with a 64 x 64
 # hole and on a paper-sized atlas (coffee.png tiled to 8192 x 1024, eight
 # holes). OpenCV is a peer to compare with, never linked: python3-opencv is
 # installed here (as root) if missing.
