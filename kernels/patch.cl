@@ -58,7 +58,8 @@ __kernel void patch_score_pairs(__global const float *v, __global const uchar *k
  * hold a query's best few (patch_opencl.c, select_rects). msd is ssd / wsum
  * (weighted) or ssd / n, in float: the host ranks in double and selects
  * with a margin far above the difference. A block with no candidate gives
- * NaN; a NaN msd counts as -infinity, so that its block is always read. One
+ * NaN; a non-finite msd (an overflow in float) counts as -infinity, so that
+ * its block is always read. One
  * work-group per block, the block's scores read side by side. */
 __kernel __attribute__((reqd_work_group_size(PM_BLOCK, 1, 1))) void
 patch_block_min(__global const float *ssd, __global const float *wsum, __global const int *n,
@@ -83,7 +84,7 @@ patch_block_min(__global const float *ssd, __global const float *wsum, __global 
             float div = weighted ? wsum[at] : (float)nk;
             if (nk > 0 && div > 0.0f) {
                 key = ssd[at] / div;
-                key = isnan(key) ? -INFINITY : key;
+                key = isfinite(key) ? key : -INFINITY;
             }
         }
     }

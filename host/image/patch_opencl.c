@@ -461,7 +461,7 @@ static relief_status runs_whole(patch_cl *p, const int *rects, int count, const 
  * at least that good, and a block whose every window is worse by more than
  * the rounding holds none of them). Appended to sel_host and runs from
  * entry `nsel`; the new count. A NaN minimum (no candidate) is never
- * taken, -infinity (a non-finite msd) always. */
+ * taken, -infinity (a non-finite msd, which bounds nothing) always. */
 static size_t choose_blocks(patch_cl *p, const int *r, int q, int keep, size_t b0, size_t b1,
                             size_t nsel)
 {
