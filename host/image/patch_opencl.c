@@ -742,11 +742,15 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
                 goto fail;
             }
         }
-        /* The block minima take PM_BLOCK work-items a group; a device
-         * that cannot run that many reads every score back. */
-        rc = clGetKernelWorkGroupInfo(p->bmin_kernel, dev, CL_KERNEL_WORK_GROUP_SIZE, sizeof wg,
-                                      &wg, NULL);
-        p->can_select = rc == CL_SUCCESS && wg >= PM_BLOCK;
+        /* The block minima and the gathering take PM_BLOCK work-items a
+         * group; a device that cannot run that many reads every score
+         * back. */
+        p->can_select = 1;
+        for (int k = 2; k < 4; ++k) {
+            rc = clGetKernelWorkGroupInfo(*kernels[k], dev, CL_KERNEL_WORK_GROUP_SIZE,
+                                          sizeof wg, &wg, NULL);
+            p->can_select &= rc == CL_SUCCESS && wg >= PM_BLOCK;
+        }
         p->select_from = RELIEF_PATCH_SELECT_FROM;
     }
     s->ops = &patch_cl_ops;
