@@ -563,13 +563,22 @@ static relief_status grow_out(patch_cl *p, size_t need, relief_error *err)
     return st;
 }
 
-/* Room on the host and the device for a selection over `blocks` blocks of
- * `count` rectangles. */
-static relief_status select_room(patch_cl *p, int count, size_t blocks, relief_error *err)
+/* The `count` rectangles' blocks numbered (bstart_host: rectangle q's
+ * first, and bstart_host[count] their number), and room on the host and
+ * the device for a selection over them. */
+static relief_status select_room(patch_cl *p, const int *rects, int count, relief_error *err)
 {
     relief_status st;
+    size_t blocks = 0;
     int ok = 1;
     GROW_HOST(p->bstart_host, p->bstart_host_cap, (size_t)count + 1, ok);
+    if (!ok)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a batch of %d searches", count);
+    for (int q = 0; q < count; ++q) {
+        p->bstart_host[q] = (int)blocks;
+        blocks += ((size_t)rects[7 * q + 4] * rects[7 * q + 5] + PM_BLOCK - 1) / PM_BLOCK;
+    }
+    p->bstart_host[count] = (int)blocks;
     GROW_HOST(p->bmin_host, p->bmin_host_cap, blocks, ok);
     GROW_HOST(p->sel_host, p->sel_host_cap, 2 * blocks, ok);
     GROW_HOST(p->runs, p->runs_cap, 4 * blocks, ok);
@@ -603,16 +612,9 @@ static relief_status patch_cl_select_rects(void *ctx, int level, int radius, int
                     ssd, wsum, n, err);
         return st == RELIEF_OK ? runs_whole(p, rects, count, runs, n_runs, err) : st;
     }
-    for (int q = 0; q < count; ++q)
-        blocks += ((size_t)rects[7 * q + 4] * rects[7 * q + 5] + PM_BLOCK - 1) / PM_BLOCK;
-    if ((st = select_room(p, count, blocks, err)) != RELIEF_OK)
+    if ((st = select_room(p, rects, count, err)) != RELIEF_OK)
         return st;
-    blocks = 0;
-    for (int q = 0; q < count; ++q) {
-        p->bstart_host[q] = (int)blocks;
-        blocks += ((size_t)rects[7 * q + 4] * rects[7 * q + 5] + PM_BLOCK - 1) / PM_BLOCK;
-    }
-    p->bstart_host[count] = (int)blocks;
+    blocks = (size_t)p->bstart_host[count];
     /* The scores stay on the device; their blocks' minima come back. */
     st = launch(p, &k, level, radius, max_holes, g, rects, 7 * (size_t)count, count, total,
                 NULL, NULL, NULL, err);
