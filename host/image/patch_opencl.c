@@ -14,6 +14,7 @@
 #include "kernels/patch_math.h" /* PM_BLOCK */
 
 #ifdef RELIEF_HAVE_OPENCL
+#include "device/cl_profile.h"
 #include "device/ocl.h"
 
 extern const char relief_kernel_patch_math_h[];
@@ -37,6 +38,7 @@ extern const char relief_kernel_patch_cl[];
 typedef struct patch_cl {
     cl_context ctx;
     cl_command_queue queue;
+    relief_cl_profile *prof; /* RELIEF_OPENCL_PROFILE's record; NULL: off */
     cl_program prog;
     cl_kernel rects_kernel, pairs_kernel, bmin_kernel, gather_kernel;
     const relief_patch_level *levels;
@@ -64,10 +66,12 @@ typedef struct patch_cl {
     size_t bstart_host_cap, sel_host_cap, runs_cap, bmin_host_cap;
 } patch_cl;
 
-static void patch_cl_free(patch_cl *p)
+/* Free p; `created`: its creation succeeded (the profile is written). */
+static void patch_cl_free(patch_cl *p, int created)
 {
     if (!p)
         return;
+    relief_cl_profile_close(p->prof, created);
     for (int l = 0; l < MAX_LEVELS; ++l) {
         if (p->v[l])
             clReleaseMemObject(p->v[l]);
@@ -183,13 +187,15 @@ static cl_int flush(patch_cl *p)
             continue;
         first = (size_t)p->dirty_lo[level] * row;
         count = (size_t)(p->dirty_hi[level] - p->dirty_lo[level] + 1) * row;
+        size_t bytes = count * l->channels * sizeof(float);
         rc = clEnqueueWriteBuffer(p->queue, p->v[level], CL_FALSE,
-                                  first * l->channels * sizeof(float),
-                                  count * l->channels * sizeof(float),
-                                  l->v + first * l->channels, 0, NULL, NULL);
+                                  first * l->channels * sizeof(float), bytes,
+                                  l->v + first * l->channels, 0, NULL,
+                                  relief_cl_profile_event(p->prof, "write", bytes));
         if (rc == CL_SUCCESS)
             rc = clEnqueueWriteBuffer(p->queue, p->known[level], CL_FALSE, first, count,
-                                      l->known + first, 0, NULL, NULL);
+                                      l->known + first, 0, NULL,
+                                      relief_cl_profile_event(p->prof, "write", count));
         p->dirty_lo[level] = 1, p->dirty_hi[level] = 0;
     }
     return rc;
@@ -230,7 +236,7 @@ static cl_int put_weights(patch_cl *p, const float *g, int radius)
     if (len > G_MAX)
         return CL_INVALID_VALUE;
     rc = clEnqueueWriteBuffer(p->queue, p->g, CL_TRUE, 0, (size_t)len * sizeof *g, g, 0, NULL,
-                              NULL);
+                              relief_cl_profile_event(p->prof, "write", (size_t)len * sizeof *g));
     if (rc == CL_SUCCESS) {
         memcpy(p->g_host, g, (size_t)len * sizeof *g);
         p->g_len = len;
@@ -243,14 +249,15 @@ static cl_int put_weights(patch_cl *p, const float *g, int radius)
 static cl_int read_scores(patch_cl *p, const cl_mem from[3], size_t count, float *ssd,
                           float *wsum, int *n)
 {
-    cl_int rc = clEnqueueReadBuffer(p->queue, from[0], CL_FALSE, 0, count * sizeof(float), ssd,
-                                    0, NULL, NULL);
+    size_t bytes = count * sizeof(float);
+    cl_int rc = clEnqueueReadBuffer(p->queue, from[0], CL_FALSE, 0, bytes, ssd, 0, NULL,
+                                    relief_cl_profile_event(p->prof, "read", bytes));
     if (rc == CL_SUCCESS && wsum)
-        rc = clEnqueueReadBuffer(p->queue, from[1], CL_FALSE, 0, count * sizeof(float), wsum, 0,
-                                 NULL, NULL);
+        rc = clEnqueueReadBuffer(p->queue, from[1], CL_FALSE, 0, bytes, wsum, 0, NULL,
+                                 relief_cl_profile_event(p->prof, "read", bytes));
     if (rc == CL_SUCCESS)
         rc = clEnqueueReadBuffer(p->queue, from[2], CL_TRUE, 0, count * sizeof(int), n, 0, NULL,
-                                 NULL);
+                                 relief_cl_profile_event(p->prof, "read", count * sizeof(int)));
     return rc;
 }
 
@@ -271,7 +278,7 @@ static relief_status put_batch(patch_cl *p, const int *data, size_t ints, relief
     }
     /* Blocking: the caller's array may go as soon as this call fails. */
     rc = clEnqueueWriteBuffer(p->queue, p->batch, CL_TRUE, 0, ints * sizeof(int), data, 0,
-                              NULL, NULL);
+                              NULL, relief_cl_profile_event(p->prof, "write", ints * sizeof(int)));
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "sending a batch of windows to the device: %s",
                            relief_cl_error_name(rc));
@@ -321,6 +328,7 @@ typedef struct launch_shape {
     cl_kernel kernel;
     cl_uint dims;
     size_t global[3], local[3];
+    const char *name; /* the kernel's, for a profile */
     const char *what; /* for the message when it fails */
 } launch_shape;
 
@@ -342,7 +350,7 @@ static relief_status launch(patch_cl *p, const launch_shape *k, int level, int r
         rc = batch_args(p, k->kernel, level, radius, max_holes, g != NULL, count);
     if (rc == CL_SUCCESS)
         rc = clEnqueueNDRangeKernel(p->queue, k->kernel, k->dims, NULL, k->global, k->local, 0,
-                                    NULL, NULL);
+                                    NULL, relief_cl_profile_event(p->prof, k->name, 0));
     if (rc == CL_SUCCESS && ssd) {
         const cl_mem from[3] = {p->ssd, p->wsum, p->n};
         rc = read_scores(p, from, scores, ssd, wsum, n);
@@ -357,7 +365,7 @@ static relief_status launch(patch_cl *p, const launch_shape *k, int level, int r
 static launch_shape rects_shape(const patch_cl *p, const int *rects, int count)
 {
     launch_shape k = {p->rects_kernel, 3, {0, 0, (size_t)count}, {WG_X, WG_Y, 1},
-                      "scoring a batch of windows on the device"};
+                      "patch_score_rects", "scoring a batch of windows on the device"};
     for (int q = 0; q < count; ++q) {
         size_t nx = ((size_t)rects[7 * q + 4] + WG_X - 1) / WG_X * WG_X;
         size_t ny = ((size_t)rects[7 * q + 5] + WG_Y - 1) / WG_Y * WG_Y;
@@ -388,7 +396,8 @@ static relief_status patch_cl_score_pairs(void *ctx, int level, int radius, int 
     patch_cl *p = ctx;
     size_t local = WG_X * WG_Y;
     launch_shape k = {p->pairs_kernel, 1, {((size_t)count + local - 1) / local * local, 1, 1},
-                      {local, 1, 1}, "scoring a batch of refinements on the device"};
+                      {local, 1, 1}, "patch_score_pairs",
+                      "scoring a batch of refinements on the device"};
     if (count <= 0)
         return RELIEF_OK;
     return launch(p, &k, level, radius, max_holes, g, pairs, 4 * (size_t)count, count,
@@ -498,9 +507,9 @@ static size_t choose_blocks(patch_cl *p, const int *r, int q, int keep, size_t b
 static cl_int block_minima(patch_cl *p, int weighted, int count, size_t blocks)
 {
     size_t global = blocks * PM_BLOCK, local = PM_BLOCK;
-    cl_int rc = clEnqueueWriteBuffer(p->queue, p->bstart, CL_FALSE, 0,
-                                     ((size_t)count + 1) * sizeof(int), p->bstart_host, 0, NULL,
-                                     NULL);
+    size_t bytes = ((size_t)count + 1) * sizeof(int);
+    cl_int rc = clEnqueueWriteBuffer(p->queue, p->bstart, CL_FALSE, 0, bytes, p->bstart_host, 0,
+                                     NULL, relief_cl_profile_event(p->prof, "write", bytes));
     int a = 0;
 #define ARG(x) (rc |= clSetKernelArg(p->bmin_kernel, a++, sizeof(x), &(x)))
     ARG(p->ssd);
@@ -514,10 +523,11 @@ static cl_int block_minima(patch_cl *p, int weighted, int count, size_t blocks)
 #undef ARG
     if (rc == CL_SUCCESS)
         rc = clEnqueueNDRangeKernel(p->queue, p->bmin_kernel, 1, NULL, &global, &local, 0, NULL,
-                                    NULL);
+                                    relief_cl_profile_event(p->prof, "patch_block_min", 0));
     if (rc == CL_SUCCESS)
         rc = clEnqueueReadBuffer(p->queue, p->bmin, CL_TRUE, 0, blocks * sizeof(float),
-                                 p->bmin_host, 0, NULL, NULL);
+                                 p->bmin_host, 0, NULL,
+                                 relief_cl_profile_event(p->prof, "read", blocks * sizeof(float)));
     return rc;
 }
 
@@ -528,7 +538,9 @@ static cl_int gather(patch_cl *p, size_t nsel, float *ssd, float *wsum, int *n)
     size_t global = nsel * PM_BLOCK, local = PM_BLOCK;
     int blocks = (int)nsel, a = 0;
     cl_int rc = clEnqueueWriteBuffer(p->queue, p->sel, CL_FALSE, 0, 2 * nsel * sizeof(int),
-                                     p->sel_host, 0, NULL, NULL);
+                                     p->sel_host, 0, NULL,
+                                     relief_cl_profile_event(p->prof, "write",
+                                                             2 * nsel * sizeof(int)));
 #define ARG(x) (rc |= clSetKernelArg(p->gather_kernel, a++, sizeof(x), &(x)))
     ARG(p->ssd);
     ARG(p->wsum);
@@ -541,7 +553,7 @@ static cl_int gather(patch_cl *p, size_t nsel, float *ssd, float *wsum, int *n)
 #undef ARG
     if (rc == CL_SUCCESS)
         rc = clEnqueueNDRangeKernel(p->queue, p->gather_kernel, 1, NULL, &global, &local, 0,
-                                    NULL, NULL);
+                                    NULL, relief_cl_profile_event(p->prof, "patch_gather", 0));
     if (rc == CL_SUCCESS) {
         const cl_mem from[3] = {p->out_ssd, p->out_wsum, p->out_n};
         rc = read_scores(p, from, global, ssd, wsum, n);
@@ -685,7 +697,7 @@ static relief_status patch_cl_score_list(void *ctx, int level, int qx, int qy, i
     return st;
 }
 
-static void patch_cl_destroy(void *ctx) { patch_cl_free(ctx); }
+static void patch_cl_destroy(void *ctx) { patch_cl_free(ctx, 1); }
 
 static const relief_patch_ops patch_cl_ops = {patch_cl_bind, patch_cl_update,
                                               patch_cl_score_rect, patch_cl_score_list,
@@ -711,9 +723,13 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the OpenCL scorer");
         goto fail;
     }
+    st = relief_cl_profile_open("image and depth scorer", info.name, &p->prof, err);
+    if (st != RELIEF_OK)
+        goto fail;
     p->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
     if (rc == CL_SUCCESS)
-        p->queue = clCreateCommandQueue(p->ctx, dev, 0, &rc);
+        p->queue = clCreateCommandQueue(p->ctx, dev, relief_cl_profile_queue_flags(p->prof),
+                                        &rc);
     if (rc != CL_SUCCESS) {
         st = relief_fail(err, RELIEF_E_DEVICE, "starting OpenCL on %s: %s", info.name,
                          relief_cl_error_name(rc));
@@ -764,7 +780,7 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
     *out = s;
     return RELIEF_OK;
 fail:
-    patch_cl_free(p);
+    patch_cl_free(p, 0);
     free(s);
     return st;
 }

@@ -20,9 +20,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/clock.h"
 #include "base/error.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
+#include "device/cl_profile.h"
 #include "device/ocl.h"
 #include "match/score_pool.h"
 
@@ -66,6 +68,7 @@ extern const char relief_kernel_score_cl[];
 typedef struct ocl {
     cl_context ctx;
     cl_command_queue queue;
+    relief_cl_profile *prof; /* RELIEF_OPENCL_PROFILE's record; NULL: off */
     cl_program prog;
     cl_kernel kernel;
     cl_mem proj, pos, col, matchable, tri, vt_start, vt, cell_start, cell_items, lslot, litems;
@@ -97,11 +100,13 @@ static void release_data(ocl *o)
         }
 }
 
-static void ocl_free(ocl *o)
+/* Free o; `created`: its creation succeeded (the profile is written). */
+static void ocl_free(ocl *o, int created)
 {
     if (!o)
         return;
     release_data(o); /* waits for pending writes, which read the host's arrays */
+    relief_cl_profile_close(o->prof, created);
     relief_score_pool_destroy(o->pool);
     {
         cl_mem query[] = {o->qp, o->q, o->g, o->qcol};
@@ -337,11 +342,13 @@ static relief_status flush_updates(ocl *o, const relief_match_data *d, relief_er
     if (n == 0)
         return RELIEF_OK;
     rc |= clEnqueueWriteBuffer(o->queue, o->pos, CL_FALSE, lo * 3 * sizeof(float),
-                               n * 3 * sizeof(float), d->pos + 3 * lo, 0, NULL, NULL);
+                               n * 3 * sizeof(float), d->pos + 3 * lo, 0, NULL,
+                               relief_cl_profile_event(o->prof, "write", n * 3 * sizeof(float)));
     rc |= clEnqueueWriteBuffer(o->queue, o->col, CL_FALSE, lo * 3 * sizeof(float),
-                               n * 3 * sizeof(float), d->col + 3 * lo, 0, NULL, NULL);
+                               n * 3 * sizeof(float), d->col + 3 * lo, 0, NULL,
+                               relief_cl_profile_event(o->prof, "write", n * 3 * sizeof(float)));
     rc |= clEnqueueWriteBuffer(o->queue, o->matchable, CL_FALSE, lo, n, d->matchable + lo, 0,
-                               NULL, NULL);
+                               NULL, relief_cl_profile_event(o->prof, "write", n));
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "updating vertices %zu to %zu on the device: "
                            "%s", lo, lo + n - 1, relief_cl_error_name(rc));
@@ -378,18 +385,21 @@ static relief_status upload_query(ocl *o, const relief_match_query *qr, cl_uint 
                                   relief_error *err)
 {
     const cl_uint n = qr->n;
+    const size_t v3 = n * 3 * sizeof(float);
     cl_int rc = CL_SUCCESS;
-    rc |= clEnqueueWriteBuffer(o->queue, o->qp, CL_FALSE, 0, n * 3 * sizeof(float), qr->qp, 0,
-                               NULL, NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->q, CL_FALSE, 0, n * 3 * sizeof(float), qr->q, 0,
-                               NULL, NULL);
+    rc |= clEnqueueWriteBuffer(o->queue, o->qp, CL_FALSE, 0, v3, qr->qp, 0, NULL,
+                               relief_cl_profile_event(o->prof, "write", v3));
+    rc |= clEnqueueWriteBuffer(o->queue, o->q, CL_FALSE, 0, v3, qr->q, 0, NULL,
+                               relief_cl_profile_event(o->prof, "write", v3));
     rc |= clEnqueueWriteBuffer(o->queue, o->g, CL_FALSE, 0, n * sizeof(float), qr->g, 0, NULL,
-                               NULL);
-    rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, n * 3 * sizeof(float), qr->qcol,
-                               0, NULL, NULL);
+                               relief_cl_profile_event(o->prof, "write", n * sizeof(float)));
+    rc |= clEnqueueWriteBuffer(o->queue, o->qcol, CL_FALSE, 0, v3, qr->qcol, 0, NULL,
+                               relief_cl_profile_event(o->prof, "write", v3));
     if (qr->subset && centres > 0)
         rc |= clEnqueueWriteBuffer(o->queue, o->subset, CL_FALSE, 0, centres * sizeof(cl_uint),
-                                   qr->subset, 0, NULL, NULL);
+                                   qr->subset, 0, NULL,
+                                   relief_cl_profile_event(o->prof, "write",
+                                                           centres * sizeof(cl_uint)));
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "uploading the neighbourhood failed");
     return RELIEF_OK;
@@ -451,7 +461,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
          * less time here, on the host's cores, than a launch and its
          * probes; the same function scores it, so the best set is the
          * same. */
+        double t0 = o->prof ? relief_seconds() : 0;
         relief_score_pool_run(o->pool, d, qr, ssd, flag);
+        relief_cl_profile_host(o->prof, "queries too small to launch",
+                               o->prof ? relief_seconds() - t0 : 0);
         return RELIEF_OK;
     }
     /* From here on a failure goes to `fail`, which waits for the queue:
@@ -465,7 +478,10 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     if (qr->running) {
         /* Bound the minimum from a spread of candidates scored here. */
         const size_t probes = ncand < PROBES ? ncand : PROBES;
+        double t0 = o->prof ? relief_seconds() : 0;
         const float best = relief_score_pool_probe(o->pool, d, qr, probes);
+        relief_cl_profile_host(o->prof, "probes before a pruned launch",
+                               o->prof ? relief_seconds() - t0 : 0);
         if (best < FLT_MAX) {
             float c11 = relief_match_cutoff_after(best);
             if (c11 < cutoff)
@@ -493,17 +509,22 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
         rc |= clSetKernelArg(o->kernel, range_arg + 1, sizeof cend, &cend);
         if (rc == CL_SUCCESS)
             rc = clEnqueueNDRangeKernel(o->queue, o->kernel, 1, NULL, &global, &local, 0,
-                                        NULL, NULL);
+                                        NULL,
+                                        relief_cl_profile_event(o->prof, o->lanes > 1
+                                                                             ? "score_lanes"
+                                                                             : "score",
+                                                                0));
         if (rc != CL_SUCCESS) {
             st = relief_fail(err, RELIEF_E_DEVICE, "launching the score kernel: %s",
                              relief_cl_error_name(rc));
             goto fail;
         }
         rc = clEnqueueReadBuffer(o->queue, o->ssd, CL_FALSE, first * sizeof(float),
-                                 chunk * sizeof(float), ssd + first, 0, NULL, NULL);
+                                 chunk * sizeof(float), ssd + first, 0, NULL,
+                                 relief_cl_profile_event(o->prof, "read", chunk * sizeof(float)));
         if (rc == CL_SUCCESS)
             rc = clEnqueueReadBuffer(o->queue, o->flag, CL_TRUE, first, chunk, flag + first, 0,
-                                     NULL, NULL);
+                                     NULL, relief_cl_profile_event(o->prof, "read", chunk));
         if (rc != CL_SUCCESS) {
             st = relief_fail(err, RELIEF_E_DEVICE, "reading the scores back: %s",
                              relief_cl_error_name(rc));
@@ -539,7 +560,7 @@ static relief_status ocl_update(void *ctx, const relief_match_data *d, uint32_t 
     return RELIEF_OK;
 }
 
-static void ocl_destroy(void *ctx) { ocl_free(ctx); }
+static void ocl_destroy(void *ctx) { ocl_free(ctx, 1); }
 
 static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_rebind,
                                            ocl_destroy};
@@ -565,6 +586,8 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         goto fail;
     }
     st = tune_for(dev, o, err);
+    if (st == RELIEF_OK)
+        st = relief_cl_profile_open("mesh matcher", info.name, &o->prof, err);
     if (st != RELIEF_OK)
         goto fail;
     o->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
@@ -572,7 +595,7 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
         st = relief_fail(err, RELIEF_E_DEVICE, "clCreateContext: %s", relief_cl_error_name(rc));
         goto fail;
     }
-    o->queue = clCreateCommandQueue(o->ctx, dev, 0, &rc);
+    o->queue = clCreateCommandQueue(o->ctx, dev, relief_cl_profile_queue_flags(o->prof), &rc);
     if (rc != CL_SUCCESS) {
         st = relief_fail(err, RELIEF_E_DEVICE, "clCreateCommandQueue: %s",
                          relief_cl_error_name(rc));
@@ -600,7 +623,7 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     *out = m;
     return RELIEF_OK;
 fail:
-    ocl_free(o);
+    ocl_free(o, 0);
     free(m);
     return st;
 }

@@ -17,6 +17,7 @@
 #define GN_CHUNK 64 /* queries per OpenCL launch: 64 x nz distances come back */
 
 #ifdef RELIEF_HAVE_OPENCL
+#include "device/cl_profile.h"
 #include "device/ocl.h"
 extern const char relief_kernel_grid_math_h[];
 extern const char relief_kernel_grid_cl[];
@@ -33,6 +34,7 @@ struct relief_grid_nn {
 #ifdef RELIEF_HAVE_OPENCL
     cl_context ctx;
     cl_command_queue queue;
+    relief_cl_profile *prof; /* RELIEF_OPENCL_PROFILE's record; NULL: off */
     cl_program prog;
     cl_kernel kernel;
     cl_mem zt, q, out; /* exemplars transposed; a chunk's queries; its distances */
@@ -108,9 +110,13 @@ static relief_status cl_start(relief_grid_nn *nn, cl_device_id dev,
     size_t bytes = nn->nz * (size_t)nn->dims * sizeof(float);
     relief_status st;
     float *zt;
+    st = relief_cl_profile_open("point grids' search", info->name, &nn->prof, err);
+    if (st != RELIEF_OK)
+        return st;
     nn->ctx = clCreateContext(NULL, 1, &dev, NULL, NULL, &rc);
     if (rc == CL_SUCCESS)
-        nn->queue = clCreateCommandQueue(nn->ctx, dev, 0, &rc);
+        nn->queue = clCreateCommandQueue(nn->ctx, dev, relief_cl_profile_queue_flags(nn->prof),
+                                         &rc);
     if (rc != CL_SUCCESS)
         return relief_fail(err, RELIEF_E_DEVICE, "starting OpenCL on %s: %s", info->name,
                            relief_cl_error_name(rc));
@@ -147,8 +153,12 @@ static relief_status cl_start(relief_grid_nn *nn, cl_device_id dev,
     return RELIEF_OK;
 }
 
-static void cl_stop(relief_grid_nn *nn)
+/* Release the device's side; `created`: cl_start had succeeded (the
+ * profile is written). */
+static void cl_stop(relief_grid_nn *nn, int created)
 {
+    relief_cl_profile_close(nn->prof, created);
+    nn->prof = NULL;
     if (nn->zt)
         clReleaseMemObject(nn->zt);
     if (nn->q)
@@ -176,9 +186,11 @@ static relief_status cl_query(relief_grid_nn *nn, const float *q, size_t nq, int
     for (size_t c0 = 0; c0 < nq; c0 += GN_CHUNK) {
         const int nc = (int)(nq - c0 < GN_CHUNK ? nq - c0 : GN_CHUNK);
         int a = 0;
-        cl_int rc = clEnqueueWriteBuffer(nn->queue, nn->q, CL_FALSE, 0,
-                                         (size_t)nc * nn->dims * sizeof(float),
-                                         q + c0 * (size_t)nn->dims, 0, NULL, NULL);
+        const size_t qbytes = (size_t)nc * nn->dims * sizeof(float);
+        const size_t dbytes = (size_t)nc * nn->nz * sizeof(float);
+        cl_int rc = clEnqueueWriteBuffer(nn->queue, nn->q, CL_FALSE, 0, qbytes,
+                                         q + c0 * (size_t)nn->dims, 0, NULL,
+                                         relief_cl_profile_event(nn->prof, "write", qbytes));
 #define ARG(x) (rc |= clSetKernelArg(nn->kernel, a++, sizeof(x), &(x)))
         ARG(nn->zt);
         ARG(nz);
@@ -190,11 +202,10 @@ static relief_status cl_query(relief_grid_nn *nn, const float *q, size_t nq, int
 #undef ARG
         if (rc == CL_SUCCESS)
             rc = clEnqueueNDRangeKernel(nn->queue, nn->kernel, 1, NULL, &global, &local, 0, NULL,
-                                        NULL);
+                                        relief_cl_profile_event(nn->prof, "grid_dist", 0));
         if (rc == CL_SUCCESS)
-            rc = clEnqueueReadBuffer(nn->queue, nn->out, CL_TRUE, 0,
-                                     (size_t)nc * nn->nz * sizeof(float), nn->dist, 0, NULL,
-                                     NULL);
+            rc = clEnqueueReadBuffer(nn->queue, nn->out, CL_TRUE, 0, dbytes, nn->dist, 0, NULL,
+                                     relief_cl_profile_event(nn->prof, "read", dbytes));
         if (rc != CL_SUCCESS)
             return relief_fail(err, RELIEF_E_DEVICE, "grid distances on the device: %s",
                                relief_cl_error_name(rc));
@@ -238,7 +249,13 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
             relief_error cerr;
             relief_device_info info;
             cl_device_id dev;
-            relief_status st = relief_cl_device(device, &dev, &info, &cerr);
+            int profile;
+            relief_status st = relief_cl_profile_env(&profile, err);
+            if (st != RELIEF_OK) { /* refused, not a reason to run elsewhere */
+                free(nn);
+                return st;
+            }
+            st = relief_cl_device(device, &dev, &info, &cerr);
             /* auto takes a GPU or accelerator, or a device named by number */
             const int gpu = backend == RELIEF_BACKEND_OPENCL ||
                             (st == RELIEF_OK &&
@@ -248,7 +265,7 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
             if (gpu && st == RELIEF_OK)
                 nn->backend = RELIEF_BACKEND_OPENCL;
             else if (gpu) {
-                cl_stop(nn);
+                cl_stop(nn, 0);
                 snprintf(nn->name, sizeof nn->name, "brute force, scalar");
                 if (backend == RELIEF_BACKEND_OPENCL) {
                     *err = cerr;
@@ -304,7 +321,7 @@ void relief_grid_nn_destroy(relief_grid_nn *nn)
         flann_free_index_float(nn->index, &fp);
     }
 #ifdef RELIEF_HAVE_OPENCL
-    cl_stop(nn);
+    cl_stop(nn, 1);
 #endif
     free(nn);
 }

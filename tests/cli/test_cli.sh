@@ -319,7 +319,20 @@ if "$relief" devices | grep -q "^device 0"; then
     expect 1 "RELIEF_OPENCL_LANES='$bad'" -- env RELIEF_OPENCL_LANES="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
   done
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_LANES"; fail=$((fail+1)); }
-  expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
+  for bad in 2 yes " 1"; do
+    expect 1 "RELIEF_OPENCL_PROFILE='$bad'" -- env RELIEF_OPENCL_PROFILE="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
+  done
+  [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_PROFILE"; fail=$((fail+1)); }
+  # RELIEF_OPENCL_PROFILE=1: the matcher's device time on stderr, the same
+  # bytes (compared with scalar below); 0 writes none.
+  expect 0 "backend opencl" -- env RELIEF_KERNEL_DIR="$kdir" RELIEF_OPENCL_PROFILE=1 "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --window 2
+  ok 'grep -q "^relief: OpenCL profile of the mesh matcher on .* s from creation to release, the device busy" "$tmp/err" && grep -q "^relief:   on the host instead: queries too small to launch, 57 times" "$tmp/err"' "RELIEF_OPENCL_PROFILE=1 wrote no profile of the matcher"
+  # Every launch on the device (RELIEF_OPENCL_HOST_MAX=0): the kernel's
+  # commands are counted.
+  expect 0 "" -- env RELIEF_OPENCL_HOST_MAX=0 RELIEF_OPENCL_PROFILE=1 "$relief" complete "$small" -o "$tmp/ocl1.ply" --backend opencl --window 2 --quiet
+  ok 'grep -qE "^relief:   score(_lanes)? +57 commands" "$tmp/err" && cmp -s "$tmp/ocl.ply" "$tmp/ocl1.ply"' "the profile lacks the 57 launches, or their bytes differ"
+  expect 0 "" -- env RELIEF_OPENCL_PROFILE=0 "$relief" complete "$small" -o "$tmp/ocl0.ply" --backend opencl --window 2 --quiet
+  ok '! grep -q "OpenCL profile" "$tmp/err" && cmp -s "$tmp/ocl.ply" "$tmp/ocl0.ply"' "RELIEF_OPENCL_PROFILE=0 wrote a profile, or changed the bytes"
   expect 0 "" -- "$relief" complete "$small" -o "$tmp/scl.ply" --backend scalar --window 2 --quiet
   cmp -s "$tmp/ocl.ply" "$tmp/scl.ply" && pass=$((pass+1)) || { echo "FAIL: OpenCL and scalar outputs differ"; fail=$((fail+1)); }
   # auto on --device 0 is OpenCL there, whatever kind of device it is.

@@ -47,8 +47,13 @@ ok 'head -c 400 "$tmp/p.ply" | grep -q "property uchar label" && head -c 400 "$t
 # Same seed, same bytes; OpenCL gives the same bytes when a device runs.
 ok 'cmp -s "$tmp/o_plain.pcd" "$tmp/o2.pcd"' "two runs differ"
 if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | grep -i "cpu\|gpu") ]]; then
-  expect 0 "" -- "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_cl.pcd" --variant plain --backend opencl --quiet
+  # RELIEF_OPENCL_PROFILE=1: where the device's time went, on stderr
+  # whatever --quiet says; the same bytes.
+  expect 0 "OpenCL profile of the image and depth scorer on" -- env RELIEF_OPENCL_PROFILE=1 "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_cl.pcd" --variant plain --backend opencl --quiet
   ok 'cmp -s "$tmp/o_plain.pcd" "$tmp/o_cl.pcd"' "OpenCL and scalar outputs differ"
+  ok 'grep -qE "^relief:   patch_score_rects +[1-9][0-9]* commands +[0-9.]+ s busy" "$tmp/err" && grep -qE "^relief:   read +[1-9][0-9]* commands .* MB$" "$tmp/err"' "the profile lacks the scoring kernel or the read-backs"
+  expect 1 "RELIEF_OPENCL_PROFILE='on'" -- env RELIEF_OPENCL_PROFILE=on "$relief" depth-fill "$tmp/office.pcd" --mask "$tmp/m.png" -o "$tmp/o_bad.pcd" --variant plain --backend opencl --quiet
+  ok '[[ ! -e $tmp/o_bad.pcd ]]' "output left by a bad RELIEF_OPENCL_PROFILE"
 fi
 # Waves (--batch): the same bytes on every backend, the known pixels kept,
 # the batch reported (out of range: refused below).
