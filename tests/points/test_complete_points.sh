@@ -47,9 +47,18 @@ ok '[[ -n $added && -n $targets ]] && (( 4 * targets >= 3 * added ))' "--base sm
 # bytes (here the kd-tree's too: no near tie on this cut).
 expect 0 "brute force, scalar" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fb.ply" --iterations 10 --grid-search brute --backend scalar --report "$tmp/fb.json"
 ok 'cmp -s "$tmp/f.ply" "$tmp/fb.ply" && grep -q "\"grid_search\": \"grid search: brute force, scalar\"" "$tmp/fb.json"' "brute force differs from the kd-tree or is not in the report"
-if [[ $rerun == 1 ]] && "$relief" devices 2>/dev/null | grep -q "^Device 0"; then
-  expect 0 "OpenCL on" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fo.ply" --iterations 10 --grid-search brute --backend opencl
+# With RELIEF_OPENCL_PROFILE=1 the search's device time goes to stderr, and
+# the bytes stay the same.
+if [[ $rerun == 1 ]] && "$relief" devices 2>/dev/null | grep -q "^device 0"; then
+  expect 0 "OpenCL on" -- env RELIEF_OPENCL_PROFILE=1 "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fo.ply" --iterations 10 --grid-search brute --backend opencl
   ok 'cmp -s "$tmp/fb.ply" "$tmp/fo.ply"' "the OpenCL grid search gave other bytes than the scalar twin"
+  ok 'grep -q "OpenCL profile of the point grids. search on .*device busy" "$tmp/err" && grep -qE "^relief:   grid_dist +[1-9][0-9]* commands" "$tmp/err"' "RELIEF_OPENCL_PROFILE=1 wrote no profile of the grid search"
+fi
+if "$relief" devices 2>/dev/null | grep -q "^device 0"; then
+  # A bad setting is refused, under auto too (not a reason to run elsewhere).
+  for b in opencl auto; do
+    expect 1 "RELIEF_OPENCL_PROFILE='2'" -- env RELIEF_OPENCL_PROFILE=2 "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --iterations 1 --grid-search brute --backend $b; nothing "a bad RELIEF_OPENCL_PROFILE, --backend $b"
+  done
 fi
 expect 1 "the kd-tree runs on the host" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --backend opencl; nothing "--backend opencl without brute"
 # --backend scalar runs every stage on one thread, host (auto's choice on a
