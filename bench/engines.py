@@ -3,7 +3,7 @@
 
     bench/engines.py RELIEF IMAGE_TOOL DATA OUT [--backends scalar,host,opencl]
                      [--reps N] [--cases NAME,...] [--bench-complete PATH]
-                     [--points-tool PATH]
+                     [--points-tool PATH] [--profile]
 
 RELIEF is the relief program, IMAGE_TOOL tests/image_tool (it makes the
 tiled and masked inputs), --points-tool bench/points_bench_tool (it makes
@@ -20,6 +20,12 @@ With --bench-complete, paper 000's bark, exhaustive, growth only (bench/
 bench_complete, the bark of bench/run.sh's papers case) is a row too: its
 growth's median as bench_complete prints it; the scalar reference, 6.6
 minutes on one core, runs only when asked for with --bark-scalar.
+
+With --profile (and opencl among the backends), each case's OpenCL command
+runs once more, untimed, with RELIEF_OPENCL_PROFILE=1: where its engine's
+time went on the device (each kernel's, the writes' and the reads' count,
+bytes and device seconds, against the engine's lifetime), appended to
+OUT/profile.txt and printed (docs/devices.md, "Where the time goes").
 """
 import argparse
 import csv
@@ -123,6 +129,28 @@ def time_case(relief, out, key, ext, args, backends, reps):
     return {b: statistics.median(t) for b, t in times.items()}, same
 
 
+def profile_case(relief, out, title, ext, args, bench_complete=None):
+    """One more OpenCL run with RELIEF_OPENCL_PROFILE=1: its profile lines,
+    appended to OUT/profile.txt."""
+    env = dict(os.environ, RELIEF_OPENCL_PROFILE="1")
+    if bench_complete:
+        cmd = [bench_complete, "--case", "paper000-bark"] + BARK + [
+            "--backends", "opencl", "--reps", "1"]
+    else:
+        cmd = [relief] + args + ["-o", os.path.join(out, "profile." + ext), "--backend",
+                                 "opencl", "--quiet"]
+    t0 = time.perf_counter()
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    wall = time.perf_counter() - t0
+    lines = [l for l in r.stderr.splitlines() if l.startswith("relief: OpenCL profile")
+             or l.startswith("relief:   ")]
+    text = "## %s (whole run %.2f s, exit %d)\n%s\n\n" % (title, wall, r.returncode,
+                                                          "\n".join(lines) or "(no profile)")
+    with open(os.path.join(out, "profile.txt"), "a") as f:
+        f.write(text)
+    print(text, end="", flush=True)
+
+
 def bark_row(bench_complete, out, backends, scalar):
     use = [b for b in backends if b != "scalar" or scalar]
     path = os.path.join(out, "bark.csv")
@@ -149,7 +177,11 @@ def main():
     ap.add_argument("--bench-complete", default="")
     ap.add_argument("--bark-scalar", action="store_true")
     ap.add_argument("--points-tool", default="")
+    ap.add_argument("--profile", action="store_true")
     a = ap.parse_args()
+    profile = a.profile and "opencl" in a.backends.split(",")
+    if profile and os.path.exists(os.path.join(a.out, "profile.txt")):
+        os.remove(os.path.join(a.out, "profile.txt"))
     backends = a.backends.split(",")
     inp = os.path.join(a.out, "in")
     prepare(a.relief, a.image_tool, a.data, inp)
@@ -168,11 +200,16 @@ def main():
         print("engines: %s, %s: %s; %s" % (engine, case, ", ".join(
             "%s %.2f s" % (b, med[b]) for b in backends), "same bytes" if same else "DIFFERENT"),
             flush=True)
+        if profile:
+            profile_case(a.relief, a.out, "%s, %s" % (engine, case), ext, args)
     if a.bench_complete:
         med, same = bark_row(a.bench_complete, a.out, backends, a.bark_scalar)
         rows.append(("complete", "paper 000's bark, exhaustive, growth only", med, same))
         ok &= same
         print("engines: bark growth: %s" % med, flush=True)
+        if profile:
+            profile_case(a.relief, a.out, "complete, paper 000's bark, growth only", "", [],
+                         a.bench_complete)
     with open(os.path.join(a.out, "engines.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["engine", "case"] + ["%s_s" % b for b in backends] + ["same_bytes"])

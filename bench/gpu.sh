@@ -12,8 +12,12 @@
 #       /tmp/gpu-bench), exit 1 when a backend's bytes differ
 # Environment for run: REPS (3), CASES (all; e.g. 2,3,4 or image-fill),
 # BARK (1: paper 000's bark growth on OpenCL and host; 0 to skip),
-# PROFILE (1: then Nsight Compute, where the machine has ncu, on the mesh
-# kernel's first launches of the demo: ncu.txt), IMAGEBENCH (1: then
+# PROFILE (1, the default: each case's OpenCL run once more with
+# RELIEF_OPENCL_PROFILE=1, where the device's time goes, kernels against
+# transfers against the host: profile.txt, about a minute; 0 to skip),
+# NCU (1: Nsight Compute, where the machine has ncu, on the mesh kernel's
+# first launches of the demo: ncu.txt; it has seen no OpenCL kernel on
+# NVIDIA's driver so far), IMAGEBENCH (1: then
 # bench_image_fill, the image filler's OpenCL reading every score back
 # against ranking blocks on the device, on the bench's 7 images and the
 # atlas, about a minute: image_fill.txt).
@@ -58,6 +62,7 @@ do_run() {
   nproc; grep -m1 'model name' /proc/cpuinfo; nvidia-smi -L 2>/dev/null
   local bark=()
   [[ ${BARK:-1} == 1 ]] && bark=(--bench-complete "$stage/bench_complete")
+  [[ ${PROFILE:-1} == 1 ]] && bark+=(--profile)
   python3 "$stage/engines.py" "$stage/relief" "$stage/image_tool" "$stage/data" "$out" \
     --backends scalar,host,opencl --reps "${REPS:-3}" ${CASES:+--cases "$CASES"} "${bark[@]}"
   local rc=$?
@@ -66,7 +71,7 @@ do_run() {
       --atlas-mask "$out/in/atlas_mask.png" > "$out/image_fill.txt" 2>&1 || rc=1
     cat "$out/image_fill.txt"
   fi
-  if [[ ${PROFILE:-0} == 1 ]] && command -v ncu >/dev/null; then
+  if [[ ${NCU:-0} == 1 ]] && command -v ncu >/dev/null; then
     timeout 240 ncu --target-processes all --launch-count 6 --section SpeedOfLight \
       --section MemoryWorkloadAnalysis --section Occupancy --section WarpStateStats \
       "$stage/relief" complete "$out/in/demo.ply" -o "$out/ncu.ply" --backend opencl --quiet \
