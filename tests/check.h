@@ -54,4 +54,17 @@ static inline void check_write_file(const char *path, const void *data, size_t n
     fclose(f);
 }
 
+/* Sample i of an image whose rows hold `row` samples, for the image
+ * writers' tests: noise on two rows in three, a ramp along the others,
+ * so that the PNG writer's sub, up, average and Paeth filters each win
+ * somewhere and none wins everywhere. */
+#include <stdint.h>
+static inline uint32_t check_pattern(size_t i, size_t row)
+{
+    size_t y = i / row, x = i % row;
+    uint32_t v = (uint32_t)i * 2654435761u;
+    v = (v ^ v >> 15) * 2246822519u;
+    return y % 3 ? v ^ v >> 13 : (uint32_t)(x * 7 + y * 3);
+}
+
 #endif

@@ -10,18 +10,13 @@
 #include "check.h"
 #include "image/image_io.h"
 
-/* Noise, but on every third row a ramp, which the PNG writer's sub, up,
- * average and Paeth filters predict and its none does not. */
+/* check_pattern's samples, in the raster's range. */
 static void fill_pattern(relief_raster *r)
 {
     float max = relief_raster_max_value(r);
     size_t row = (size_t)r->width * r->channels, n = row * r->height;
-    for (size_t i = 0; i < n; ++i) {
-        size_t y = i / row, x = i % row;
-        uint32_t h = (uint32_t)i * 2654435761u;
-        h = (h ^ h >> 15) * 2246822519u;
-        r->v[i] = (float)((y % 3 ? h ^ h >> 13 : x * 7 + y * 3) % (unsigned)(max + 1));
-    }
+    for (size_t i = 0; i < n; ++i)
+        r->v[i] = (float)(check_pattern(i, row) % (unsigned)(max + 1));
 }
 
 static uint8_t *slurp(const char *path, size_t *n)

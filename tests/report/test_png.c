@@ -13,18 +13,13 @@
 #include "png_decode.h"
 #include "report/png.h"
 
-/* Samples that give every filter its turn: noise on two rows in three,
- * ramps along and across the others; bytes as PNG stores them. */
+/* check_pattern's samples, as the bytes PNG stores. */
 static uint8_t *pattern(int w, int h, int c, int depth)
 {
     size_t row = (size_t)w * c * (depth / 8), n = row * (size_t)h;
     uint8_t *px = malloc(n);
-    for (size_t i = 0; px && i < n; ++i) {
-        size_t y = i / row, x = i % row;
-        uint32_t v = (uint32_t)i * 2654435761u;
-        v = (v ^ v >> 15) * 2246822519u;
-        px[i] = (uint8_t)(y % 3 ? v ^ v >> 13 : x * 7 + y * 3);
-    }
+    for (size_t i = 0; px && i < n; ++i)
+        px[i] = (uint8_t)check_pattern(i, row);
     return px;
 }
 
