@@ -358,14 +358,18 @@ static void check_restriction_and_fallback(void)
         relief_surface_destroy(s[i]);
 }
 
-/* The same seed, the same bytes; and the same on OpenCL when there is one. */
+/* The same seed, the same bytes; and the same on OpenCL when there is one.
+ * The sanitize pass leaves the scalar run's repeat to the default pass. */
 static void check_determinism(void)
 {
     relief_hierarchy_stats hs;
+    const char *pass = getenv("RELIEF_TEST_PASS");
     relief_surface *a = run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR, NULL,
                             &hs, NULL);
-    relief_surface *b = run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR, NULL,
-                            &hs, NULL);
+    relief_surface *b = pass && strcmp(pass, "sanitize") == 0
+                            ? NULL
+                            : run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR,
+                                  NULL, &hs, NULL);
     relief_device_info info[4];
     size_t ndev = 0;
     relief_error err = {RELIEF_OK, ""};
@@ -437,55 +441,62 @@ static double ring_misalignment(const relief_surface *s, double *weak)
     return worst;
 }
 
+/* Turn the completed rings of s upside down (half a period out of step)
+ * over a third of the turn: the measure must see that. */
+static void check_ring_measure(relief_surface *s)
+{
+    relief_domain pm;
+    double weak = 0.0, off;
+    relief_domain_init(&pm, &s->fit.prim);
+    for (size_t v = s->n_samples; v < s->mesh->nv; ++v) {
+        double uv[2], d[3], h, *p = s->mesh->pos + 3 * v;
+        const double *n = s->nrm + 3 * v;
+        relief_domain_coords(&pm, p, uv);
+        if (fabs(uv[0] / s->fit.prim.radius) < 2.0 * RING_PI / 3.0)
+            continue;
+        sub3(p, s->proj + 3 * v, d);
+        h = dot3(d, n);
+        for (int i = 0; i < 3; ++i)
+            p[i] += (0.05 - 2.0 * h) * n[i]; /* h -> 0.05 - h */
+    }
+    off = ring_misalignment(s, &weak);
+    CHECK(off > 0.4, "rings turned upside down at the back read only %.3f period off", off);
+    printf("the same result with the rings upside down at the back: %.3f period off\n", off);
+}
+
 /* cylinder-bands (2000 vertices, capture 44 % of the turn): the hierarchy
  * closes the rings at the back. Mono-scale is measured beside it: on this
  * surface it closes them as well, so the issue's "smaller seam measure than
- * M = 1" is reported, not asserted. */
+ * M = 1" is reported, not asserted; the sanitize pass (RELIEF_TEST_PASS=
+ * sanitize), where the scalar mono-scale growth took 45 of the test's 89 s,
+ * leaves that report to the default pass. */
 static void check_rings(void)
 {
     relief_hierarchy_stats hs;
     relief_grow_stats gs;
     relief_error err = {RELIEF_OK, ""};
     pipeline pl = {RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, 7, 2, 1, 0, 0, RELIEF_SEARCH_AUTO};
+    const char *pass = getenv("RELIEF_TEST_PASS");
     relief_surface *hier = run(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_AUTO, NULL,
                                &hs, NULL);
     relief_surface *mono = NULL;
     double weak_h = 0.0, weak_m = 0.0, off_h, off_m;
-    CHECK(pipeline_run(&pl, &mono, &gs, &err) == RELIEF_OK, "mono-scale: %s", err.message);
-    if (!hier || !mono)
-        goto done;
+    if (!hier)
+        return;
     off_h = ring_misalignment(hier, &weak_h);
-    off_m = ring_misalignment(mono, &weak_m);
     printf("rings at the back (cylinder-bands 2000, W 2, seed 7): M = %d worst sector "
-           "%.3f period off, weakest %.2f of the capture's strength; mono-scale %.3f "
-           "period, %.2f\n", LEVELS, off_h, weak_h, off_m, weak_m);
+           "%.3f period off, weakest %.2f of the capture's strength\n", LEVELS, off_h, weak_h);
     CHECK(off_h < 0.1, "M = %d: a sector's rings are %.3f period out of step", LEVELS, off_h);
     CHECK(weak_h > 0.5 && weak_h < 1.5, "M = %d: a sector's rings have %.2f of the capture's "
           "strength", LEVELS, weak_h);
-    /* The measure itself: turn the completed rings upside down (half a
-     * period out of step) over a third of the turn; it must see that. */
-    {
-        relief_domain pm;
-        double weak_x = 0.0, off_x;
-        relief_domain_init(&pm, &mono->fit.prim);
-        for (size_t v = mono->n_samples; v < mono->mesh->nv; ++v) {
-            double uv[2], d[3], h, *p = mono->mesh->pos + 3 * v;
-            const double *n = mono->nrm + 3 * v;
-            relief_domain_coords(&pm, p, uv);
-            if (fabs(uv[0] / mono->fit.prim.radius) < 2.0 * RING_PI / 3.0)
-                continue;
-            sub3(p, mono->proj + 3 * v, d);
-            h = dot3(d, n);
-            for (int i = 0; i < 3; ++i)
-                p[i] += (0.05 - 2.0 * h) * n[i]; /* h -> 0.05 - h */
+    if (!(pass && strcmp(pass, "sanitize") == 0)) {
+        CHECK(pipeline_run(&pl, &mono, &gs, &err) == RELIEF_OK, "mono-scale: %s", err.message);
+        if (mono) {
+            off_m = ring_misalignment(mono, &weak_m);
+            printf("mono-scale: worst sector %.3f period off, weakest %.2f\n", off_m, weak_m);
         }
-        off_x = ring_misalignment(mono, &weak_x);
-        CHECK(off_x > 0.4, "rings turned upside down at the back read only %.3f period off",
-              off_x);
-        printf("the same mono-scale result with the rings upside down at the back: %.3f "
-               "period off\n", off_x);
     }
-done:
+    check_ring_measure(hier);
     relief_surface_destroy(hier);
     relief_surface_destroy(mono);
 }
@@ -496,17 +507,21 @@ done:
  * the selection's), every level triangle facing the surface's normals,
  * every level of a band still a band, the same bytes from every backend
  * and run, and the rings closed at the back as the primitive's levels
- * close them. */
+ * close them. The sanitize pass runs the scalar backend only: auto's
+ * rerun compares bytes, and check_rings shows auto's path. */
 static void check_free_form(void)
 {
     relief_hierarchy_stats hs;
     relief_hierarchy *h = NULL;
+    const char *pass = getenv("RELIEF_TEST_PASS");
+    const int rerun = !(pass && strcmp(pass, "sanitize") == 0);
     relief_surface *a = run_as(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_SCALAR, 1,
                                NULL, &hs, &h);
-    relief_surface *b = run_as(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_AUTO, 1,
-                               NULL, &hs, NULL);
+    relief_surface *b = rerun ? run_as(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0,
+                                       RELIEF_BACKEND_AUTO, 1, NULL, &hs, NULL)
+                              : NULL;
     double weak = 0.0, off;
-    if (!a || !b || !h)
+    if (!a || (rerun && !b) || !h)
         goto done;
     check_structure(a, h, 0.10);
     for (int k = 1; k < LEVELS; ++k) {
@@ -529,8 +544,9 @@ static void check_free_form(void)
                l->mesh->nv, (size_t)((double)k * (double)a->mesh->nv / LEVELS + 0.5),
                l->mesh->nt);
     }
-    CHECK(memcmp(a->mesh->pos, b->mesh->pos, a->mesh->nv * 3 * sizeof(double)) == 0,
-          "free-form hierarchy: scalar and auto backends differ");
+    if (b)
+        CHECK(memcmp(a->mesh->pos, b->mesh->pos, a->mesh->nv * 3 * sizeof(double)) == 0,
+              "free-form hierarchy: scalar and auto backends differ");
     off = ring_misalignment(a, &weak);
     printf("free-form rings at the back: worst sector %.3f period off, weakest %.2f\n", off,
            weak);
