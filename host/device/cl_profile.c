@@ -76,16 +76,21 @@ cl_command_queue_properties relief_cl_profile_queue_flags(const relief_cl_profil
     return p ? CL_QUEUE_PROFILING_ENABLE : 0;
 }
 
-/* The index of kind `what` (host work when `host`), added if new; the
- * last slot takes any kinds past KINDS. */
+/* The index of kind `what` (host work when `host`), added if new; past
+ * KINDS - 2 kinds, the last two slots take the rest as "other", device
+ * commands and host work apart. */
 static int kind_of(relief_cl_profile *p, const char *what, int host)
 {
     for (int i = 0; i < p->nkinds; ++i)
         if (p->kinds[i].host == host && strcmp(p->kinds[i].what, what) == 0)
             return i;
-    if (p->nkinds == KINDS) {
-        p->kinds[KINDS - 1].what = "other";
-        return KINDS - 1;
+    if (p->nkinds >= KINDS - 2) {
+        for (int i = 0; i < 2; ++i) {
+            p->kinds[KINDS - 2 + i].what = "other";
+            p->kinds[KINDS - 2 + i].host = i;
+        }
+        p->nkinds = KINDS;
+        return KINDS - 2 + (host != 0);
     }
     p->kinds[p->nkinds].what = what;
     p->kinds[p->nkinds].host = host;
@@ -216,6 +221,10 @@ void relief_cl_profile_close(relief_cl_profile *p, int write)
     if (!p)
         return;
     harvest(p, 1);
+    for (size_t i = 0; i < p->npend; ++i) { /* left running by a failed wait */
+        clReleaseEvent(p->pend[i].ev);
+        p->lost++;
+    }
     if (write)
         write_profile(p);
     free(p->pend);

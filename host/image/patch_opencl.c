@@ -75,6 +75,8 @@ static void patch_cl_free(patch_cl *p, int created)
 {
     if (!p)
         return;
+    if (p->queue && p->batch_in_flight) /* not met: every path ends waiting */
+        clFinish(p->queue);
     relief_cl_profile_close(p->prof, created);
     for (int l = 0; l < MAX_LEVELS; ++l) {
         if (p->v[l])

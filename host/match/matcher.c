@@ -7,6 +7,7 @@
 
 #include "base/clock.h"
 #include "base/error.h"
+#include "device/cl_profile.h"
 #include "device/device.h"
 #include "match/device_memory.h"
 #include "match/matcher_host.h"
@@ -94,6 +95,10 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     st = relief_opencl_host_max_env(&host_max, &set, err);
     if (st == RELIEF_OK)
         st = relief_opencl_lanes_env(&lanes, &set, err);
+#ifdef RELIEF_HAVE_OPENCL
+    if (st == RELIEF_OK)
+        st = relief_cl_profile_env(&set, err);
+#endif
     if (st != RELIEF_OK)
         return st;
     if (backend == RELIEF_BACKEND_AUTO && !named && (device = pick_device(why, sizeof why)) < 0)

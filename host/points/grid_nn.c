@@ -206,9 +206,11 @@ static relief_status cl_query(relief_grid_nn *nn, const float *q, size_t nq, int
         if (rc == CL_SUCCESS)
             rc = clEnqueueReadBuffer(nn->queue, nn->out, CL_TRUE, 0, dbytes, nn->dist, 0, NULL,
                                      relief_cl_profile_event(nn->prof, "read", dbytes));
-        if (rc != CL_SUCCESS)
+        if (rc != CL_SUCCESS) {
+            clFinish(nn->queue); /* the write may still read the caller's queries */
             return relief_fail(err, RELIEF_E_DEVICE, "grid distances on the device: %s",
                                relief_cl_error_name(rc));
+        }
         for (int i = 0; i < nc; ++i)
             top_k(nn->dist + (size_t)i * nn->nz, nn->nz, k, idx + (c0 + (size_t)i) * (size_t)k);
     }

@@ -322,6 +322,7 @@ if "$relief" devices | grep -q "^device 0"; then
   for bad in 2 yes " 1"; do
     expect 1 "RELIEF_OPENCL_PROFILE='$bad'" -- env RELIEF_OPENCL_PROFILE="$bad" "$relief" complete "$small" -o "$tmp/ocl.ply" --backend opencl --quiet
   done
+  expect 1 "RELIEF_OPENCL_PROFILE='x'" -- env RELIEF_OPENCL_PROFILE=x "$relief" complete "$small" -o "$tmp/ocl.ply" --quiet
   [[ ! -e $tmp/ocl.ply ]] && pass=$((pass+1)) || { echo "FAIL: output left by a bad RELIEF_OPENCL_PROFILE"; fail=$((fail+1)); }
   # RELIEF_OPENCL_PROFILE=1: the matcher's device time on stderr, the same
   # bytes (compared with scalar below); 0 writes none.
