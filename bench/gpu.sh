@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Every engine on scalar, host and OpenCL on a machine with a GPU (issue
 # 42's table; bench/engines.py says what is measured). Every row, the bark
-# included, is about 9 minutes on a 16-core host: under one call's 10, or
-# split it (CASES=1,2,3,4,5,6,7 BARK=0, then CASES=8,9). The device machine is bare and builds nothing, so two steps:
+# included, was about 9 minutes on a 16-core host before the profile runs
+# (PROFILE below, about a minute more): split it into two calls under the
+# 10 minutes each may take (CASES=1,2,3,4,5,6,7 BARK=0, then CASES=8,9).
+# The device machine is bare and builds nothing, so two steps:
 #   bench/gpu.sh stage [BUILD_DIR]   here: the programs (relief, bench_complete,
 #       image_tool), the shared libraries a bare machine lacks and the
 #       inputs (made here from ../shared/data) into .gpu-bench/ (ignored;

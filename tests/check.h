@@ -3,6 +3,7 @@
 #ifndef RELIEF_TESTS_CHECK_H
 #define RELIEF_TESTS_CHECK_H
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -58,7 +59,6 @@ static inline void check_write_file(const char *path, const void *data, size_t n
  * writers' tests: noise on two rows in three, a ramp along the others,
  * so that the PNG writer's sub, up, average and Paeth filters each win
  * somewhere and none wins everywhere. */
-#include <stdint.h>
 static inline uint32_t check_pattern(size_t i, size_t row)
 {
     size_t y = i / row, x = i % row;
