@@ -242,7 +242,9 @@ ok '[[ -n $nt && $nt -ge 60 && $nt -le 200 && $tt == "$nt" ]] && grep -q "\"in_p
 # On the smoothed base too (issue 40: it was refused, so a statue that fits
 # no primitive could not be told which hole): the mask fills the cut alone,
 # and a mask that touches no rim lists the rims and the balls that would.
-expect 0 "" -- "$relief" complete "$tmp/band.ply" -o "$tmp/band_b.ply" --base smooth --hole-mask ball:-1,0,1,0.4 --report "$tmp/band_b.json" --quiet
+# (--search coherent: the selection is what is checked, and the exhaustive
+# growth over the band's 5930 samples took 21 s under ASan.)
+expect 0 "" -- "$relief" complete "$tmp/band.ply" -o "$tmp/band_b.ply" --base smooth --hole-mask ball:-1,0,1,0.4 --search coherent --report "$tmp/band_b.json" --quiet
 ok 'grep -q "\"filled\": 1," "$tmp/band_b.json" && grep -q "\"not_selected\": 2," "$tmp/band_b.json"' "--hole-mask on the smoothed base did not fill the cut alone"
 expect 1 "nothing to fill: no hole to fill among 3 rim(s)" -- "$relief" complete "$tmp/band.ply" -o "$tmp/band_n.ply" --base smooth --hole-mask ball:5,5,5,0.1
 expect 1 "not with fill whole" -- "$relief" smooth "$tmp/band.ply" -o "$tmp/band_n.ply" --fill whole --hole-mask ball:5,5,5,0.1
