@@ -172,14 +172,19 @@ cl_event *relief_cl_profile_event(relief_cl_profile *p, const char *what, size_t
     return &c->ev;
 }
 
-void relief_cl_profile_host(relief_cl_profile *p, const char *what, double seconds)
+double relief_cl_profile_now(const relief_cl_profile *p)
+{
+    return p ? relief_seconds() : 0;
+}
+
+void relief_cl_profile_host(relief_cl_profile *p, const char *what, double since)
 {
     kind *k;
     if (!p)
         return;
     k = &p->kinds[kind_of(p, what, 1)];
     k->count++;
-    k->host_s += seconds;
+    k->host_s += relief_seconds() - since;
 }
 
 /* The profile, to stderr. */

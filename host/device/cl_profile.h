@@ -59,10 +59,15 @@ cl_command_queue_properties relief_cl_profile_queue_flags(const relief_cl_profil
  * that fails to enqueue leaves the slot empty and is not counted. */
 cl_event *relief_cl_profile_event(relief_cl_profile *p, const char *what, size_t bytes);
 
-/* Host work of kind `what` (a string literal) that took `seconds` in
- * place of the device's (a launch too small to pay, the probes before
- * one): written beside the device's kinds. Nothing when p is NULL. */
-void relief_cl_profile_host(relief_cl_profile *p, const char *what, double seconds);
+/* The host's clock for relief_cl_profile_host (0 when p is NULL, without
+ * reading it). */
+double relief_cl_profile_now(const relief_cl_profile *p);
+
+/* Host work of kind `what` (a string literal), begun at `since` (from
+ * relief_cl_profile_now) and done now, in place of the device's work (a
+ * launch too small to pay, the probes before one): written beside the
+ * device's kinds. Nothing when p is NULL. */
+void relief_cl_profile_host(relief_cl_profile *p, const char *what, double since);
 
 /* Wait for the recorded commands, write the profile to stderr when
  * `write` (0: an engine whose creation failed), and free p (NULL:

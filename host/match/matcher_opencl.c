@@ -20,7 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/clock.h"
 #include "base/error.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
@@ -461,10 +460,9 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
          * less time here, on the host's cores, than a launch and its
          * probes; the same function scores it, so the best set is the
          * same. */
-        double t0 = o->prof ? relief_seconds() : 0;
+        double t0 = relief_cl_profile_now(o->prof);
         relief_score_pool_run(o->pool, d, qr, ssd, flag);
-        relief_cl_profile_host(o->prof, "queries too small to launch",
-                               o->prof ? relief_seconds() - t0 : 0);
+        relief_cl_profile_host(o->prof, "queries too small to launch", t0);
         return RELIEF_OK;
     }
     /* From here on a failure goes to `fail`, which waits for the queue:
@@ -478,10 +476,9 @@ static relief_status ocl_score(void *ctx, const relief_match_data *d,
     if (qr->running) {
         /* Bound the minimum from a spread of candidates scored here. */
         const size_t probes = ncand < PROBES ? ncand : PROBES;
-        double t0 = o->prof ? relief_seconds() : 0;
+        double t0 = relief_cl_profile_now(o->prof);
         const float best = relief_score_pool_probe(o->pool, d, qr, probes);
-        relief_cl_profile_host(o->prof, "probes before a pruned launch",
-                               o->prof ? relief_seconds() - t0 : 0);
+        relief_cl_profile_host(o->prof, "probes before a pruned launch", t0);
         if (best < FLT_MAX) {
             float c11 = relief_match_cutoff_after(best);
             if (c11 < cutoff)
