@@ -528,8 +528,7 @@ static void test_host(relief_patch_scorer *sc, const char *dir)
         return;
     }
     /* The sanitize pass (RELIEF_TEST_PASS=sanitize) runs 2 threads only. */
-    const char *pass = getenv("RELIEF_TEST_PASS");
-    int most = pass && strcmp(pass, "sanitize") == 0 ? 2 : 3;
+    int most = check_sanitize_pass() ? 2 : 3;
     for (int threads = 2; threads <= most; ++threads) {
         relief_patch_scorer *h = NULL;
         CHECK(relief_patch_host_create(threads, &h, &err) == RELIEF_OK, "%s", err.message);

@@ -363,10 +363,9 @@ static void check_restriction_and_fallback(void)
 static void check_determinism(void)
 {
     relief_hierarchy_stats hs;
-    const char *pass = getenv("RELIEF_TEST_PASS");
     relief_surface *a = run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR, NULL,
                             &hs, NULL);
-    relief_surface *b = pass && strcmp(pass, "sanitize") == 0
+    relief_surface *b = check_sanitize_pass()
                             ? NULL
                             : run(RELIEF_SYNTH_CYLINDER_BANDS, 600, 1, RELIEF_BACKEND_SCALAR,
                                   NULL, &hs, NULL);
@@ -476,7 +475,6 @@ static void check_rings(void)
     relief_grow_stats gs;
     relief_error err = {RELIEF_OK, ""};
     pipeline pl = {RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, 7, 2, 1, 0, 0, RELIEF_SEARCH_AUTO};
-    const char *pass = getenv("RELIEF_TEST_PASS");
     relief_surface *hier = run(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_AUTO, NULL,
                                &hs, NULL);
     relief_surface *mono = NULL;
@@ -489,7 +487,7 @@ static void check_rings(void)
     CHECK(off_h < 0.1, "M = %d: a sector's rings are %.3f period out of step", LEVELS, off_h);
     CHECK(weak_h > 0.5 && weak_h < 1.5, "M = %d: a sector's rings have %.2f of the capture's "
           "strength", LEVELS, weak_h);
-    if (!(pass && strcmp(pass, "sanitize") == 0)) {
+    if (!check_sanitize_pass()) {
         CHECK(pipeline_run(&pl, &mono, &gs, &err) == RELIEF_OK, "mono-scale: %s", err.message);
         if (mono) {
             off_m = ring_misalignment(mono, &weak_m);
@@ -513,8 +511,7 @@ static void check_free_form(void)
 {
     relief_hierarchy_stats hs;
     relief_hierarchy *h = NULL;
-    const char *pass = getenv("RELIEF_TEST_PASS");
-    const int rerun = !(pass && strcmp(pass, "sanitize") == 0);
+    const int rerun = !check_sanitize_pass();
     relief_surface *a = run_as(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_SCALAR, 1,
                                NULL, &hs, &h);
     relief_surface *b = rerun ? run_as(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0,

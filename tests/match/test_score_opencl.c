@@ -362,21 +362,15 @@ static void set_lanes(const char *lanes)
         unsetenv("RELIEF_OPENCL_LANES");
 }
 
-/* The sanitize pass (RELIEF_TEST_PASS=sanitize, tests/CMakeLists.txt): the
- * kernels run inside PoCL, which the sanitizers do not see, and a lane
- * count of 32 drives the host code as 5 does; there the counts up to 5 and
- * one completion sweep show that code to them, and the default pass checks
- * every count. */
-static int sanitize_pass(void)
-{
-    const char *pass = getenv("RELIEF_TEST_PASS");
-    return pass && strcmp(pass, "sanitize") == 0;
-}
-
 int main(void)
 {
-    const size_t n_lanes = sanitize_pass() ? 3 : sizeof lane_settings / sizeof lane_settings[0];
-    const size_t n_sweeps = sanitize_pass() ? 1 : 2;
+    /* The sanitize pass: the kernels run inside PoCL, which the sanitizers
+     * do not see, and a lane count of 32 drives the host code as 5 does;
+     * there the counts up to 5 and one completion sweep show that code to
+     * them, and the default pass checks every count. */
+    const size_t n_lanes =
+        check_sanitize_pass() ? 3 : sizeof lane_settings / sizeof lane_settings[0];
+    const size_t n_sweeps = check_sanitize_pass() ? 1 : 2;
     /* Candidate by candidate, the kernel itself: no query on the host
      * (test_score_pool checks the host's split against the scalar loop). */
     setenv("RELIEF_OPENCL_HOST_MAX", "0", 1);
