@@ -52,37 +52,48 @@ static double target_rms(const relief_surface *s)
     return sqrt(sum / (double)s->n_targets);
 }
 
+/* The exhaustive reference and the same-seed rerun only measure and
+ * compare bytes: the sanitize pass leaves them to the default pass (the
+ * exhaustive bark took 31 of the test's 54 s under ASan; the exhaustive
+ * growth runs under the sanitizers in main's plane completions). */
 static void check_coherent(void)
 {
+    const int full = !check_sanitize_pass();
     relief_grow_stats se, sc, sc2, sn;
-    relief_surface *e = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
-                                        RELIEF_SEARCH_EXHAUSTIVE, &se);
+    relief_surface *e = full ? complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
+                                               RELIEF_SEARCH_EXHAUSTIVE, &se)
+                             : NULL;
     relief_surface *c = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
                                         RELIEF_SEARCH_COHERENT, &sc);
-    relief_surface *c2 = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
-                                         RELIEF_SEARCH_COHERENT, &sc2);
+    relief_surface *c2 = full ? complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 1, 0,
+                                                RELIEF_SEARCH_COHERENT, &sc2)
+                              : NULL;
     relief_surface *n = complete_search(RELIEF_SYNTH_CYLINDER_BARK, 1500, 1, 1, 0, 0,
                                         RELIEF_SEARCH_COHERENT, &sn);
-    if (e && c && c2 && n) {
+    if (c && n) {
+        CHECK(sc.search == RELIEF_SEARCH_COHERENT, "search used: %zu", sc.search);
+        CHECK(sc.acceptances == sc.targets, "coherent: %zu of %zu targets textured",
+              sc.acceptances, sc.targets);
+        CHECK(sc.search_hits * 10 >= sc.targets * 9, "only %zu of %zu targets accepted from "
+              "the continuations", sc.search_hits, sc.targets);
+        CHECK(same_surface(c, n), "coherent: pruning changed the completion");
+    }
+    if (c && c2)
+        CHECK(same_surface(c, c2), "coherent: the same seed gave different completions");
+    if (c && e) {
         const double re = target_rms(e), rc = target_rms(c);
         printf("coherent: %zu candidates (exhaustive %zu), %zu of %zu targets from the "
                "continuations, %zu + %zu fell back; target height RMS %.4g (exhaustive "
                "%.4g)\n", sc.candidates, se.candidates, sc.search_hits, sc.targets,
                sc.search_misses, sc.search_empty, rc, re);
-        CHECK(se.search == RELIEF_SEARCH_EXHAUSTIVE && sc.search == RELIEF_SEARCH_COHERENT,
-              "searches used: %zu and %zu", se.search, sc.search);
-        CHECK(sc.acceptances == sc.targets, "coherent: %zu of %zu targets textured",
-              sc.acceptances, sc.targets);
+        CHECK(se.search == RELIEF_SEARCH_EXHAUSTIVE, "search used: %zu", se.search);
         CHECK(sc.candidates * 5 < se.candidates, "coherent scored %zu candidates, over a "
               "fifth of the exhaustive %zu", sc.candidates, se.candidates);
-        CHECK(sc.search_hits * 10 >= sc.targets * 9, "only %zu of %zu targets accepted from "
-              "the continuations", sc.search_hits, sc.targets);
-        CHECK(same_surface(c, c2), "coherent: the same seed gave different completions");
-        CHECK(same_surface(c, n), "coherent: pruning changed the completion");
         CHECK(!same_surface(c, e), "coherent and exhaustive gave the same completion");
         CHECK(rc > re / 1.5 && rc < re * 1.5, "coherent target height RMS %.4g against the "
               "exhaustive %.4g", rc, re);
     }
+    CHECK(c && n && (!full || (e && c2)), "a bark completion failed");
     relief_surface_destroy(e);
     relief_surface_destroy(c);
     relief_surface_destroy(c2);
