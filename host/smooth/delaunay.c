@@ -544,6 +544,22 @@ static int circle_misses_copy(const double *a, const double *b,
     return 0;
 }
 
+/* The margin that would hold every copy of a point inside the circumcircle
+ * of (a, b, c): how far the circle reaches past [0, period) in u within the
+ * band's rows [vmin, vmax], where every point lies (a sliver along the rim
+ * has a huge circle, most of it off the band). */
+static double circle_margin(const double *a, const double *b, const double *c,
+                            double period, double vmin, double vmax)
+{
+    double ctr[2], r, d, h;
+    if (!circumcircle(a, b, c, ctr, &r))
+        return 0.0;
+    r *= 1.0 + CIRCLE_REL;
+    d = ctr[1] < vmin ? vmin - ctr[1] : ctr[1] > vmax ? ctr[1] - vmax : 0.0;
+    h = d < r ? sqrt(r * r - d * d) : 0.0;
+    return fmax(h - ctr[0], ctr[0] + h - period);
+}
+
 /* Angle at p of the triangle (p, q, r), in [0, pi]. */
 static double corner_angle(const double *p, const double *q, const double *r)
 {
@@ -554,8 +570,10 @@ static double corner_angle(const double *p, const double *q, const double *r)
 
 /* From the triangles et (ent x 3, indices into s), put one copy of each
  * periodic triangle into out as original indices. Returns 1 when the
- * margin was too narrow to trust them: then a wider one is needed; 2 when
- * only a whole period can do (circle_misses_copy).
+ * margin was too narrow to trust them: then a wider one is needed, at
+ * least *need, the widest reach of a circle that missed a copy (0 when only
+ * a star failed to close); 2 when only a whole period can do
+ * (circle_misses_copy).
  *
  * Why the checks suffice. If every triangle at an original (unshifted)
  * point has no copy of any point inside its circumcircle, and the angles
@@ -568,10 +586,11 @@ static double corner_angle(const double *p, const double *q, const double *r)
 static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
                      const double *w, const uint8_t *dup, size_t n,
                      double period, double margin, double vmin, double vmax,
-                     double *fan, uint32_t *out, size_t *kept)
+                     double *fan, uint32_t *out, size_t *kept, double *need)
 {
-    int last = margin >= period;
+    int last = margin >= period, missed = 0;
     *kept = 0;
+    *need = 0.0;
     memset(fan, 0, n * sizeof *fan);
     for (size_t t = 0; t < ent; ++t) {
         const uint32_t *e = et + 3 * t;
@@ -586,11 +605,19 @@ static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
         if (!any0)
             continue; /* only copies away from [0, period) */
         int miss = circle_misses_copy(p[0], p[1], p[2], w, dup, n, period, margin);
+        if (miss == 2 && !last)
+            return 2;
         if (miss) {
+            /* Every such circle measured: one wider margin settles them all,
+             * not a doubling for each (a jagged rim's slivers took 8 qhull
+             * runs of a 6000-vertex band). */
             if (!last)
-                return miss;
+                *need = fmax(*need, circle_margin(p[0], p[1], p[2], period, vmin, vmax));
+            missed = 1;
             continue;
         }
+        if (missed && !last)
+            continue; /* a wider margin follows: no star or copy to keep */
         for (int k = 0; k < 3; ++k) {
             if (s->shift[e[k]] == 0)
                 fan[s->src[e[k]]] +=
@@ -606,6 +633,8 @@ static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
     }
     if (last)
         return 0;
+    if (missed)
+        return 1;
     for (size_t i = 0; i < n; ++i) {
         double v = w[2 * i + 1];
         double full = (v == vmin || v == vmax) ? RELIEF_PI : 2.0 * RELIEF_PI;
@@ -622,7 +651,7 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
 {
     static const char what[] = "relief_delaunay_periodic";
     seam_copies s = {0};
-    double *w = NULL, *fan = NULL, vmin, vmax, margin;
+    double *w = NULL, *fan = NULL, vmin, vmax, margin, need;
     uint8_t *dup = NULL;
     uint32_t *et = NULL, *out = NULL;
     size_t ent = 0, kept = 0;
@@ -690,7 +719,7 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
             goto done;
         }
         wider = seam_pick(&s, et, ent, w, dup, n, period, margin, vmin, vmax,
-                          fan, out, &kept);
+                          fan, out, &kept, &need);
         free(et);
         et = NULL;
         seam_free(&s);
@@ -698,7 +727,7 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
             break;
         free(out);
         out = NULL;
-        margin = wider == 2 ? period : fmin(period, 2.0 * margin);
+        margin = wider == 2 ? period : fmin(period, fmax(2.0 * margin, need));
     }
     if (kept == 0) {
         st = relief_fail(err, RELIEF_E_MESH,

@@ -387,6 +387,68 @@ static void test_band(int nu, int nv, double jitter, double offset, int dup,
     free(uv);
 }
 
+/* A band as a scan gives it: rims that wander by `jag` of a row's spacing
+ * (a hair: their points nearly collinear, so the triangles along them are
+ * slivers with circles spanning periods) and a hole of radius hole_r across
+ * the seam, wider than the first margin. Every triangle kept is
+ * counter-clockwise and has no copy of any point (u + k period, k -1..1)
+ * inside its circle, every point is used, and no edge has three
+ * triangles. */
+static void test_jagged_band(int nu, int nv, double jag, double hole_r, uint32_t seed)
+{
+    const double period = 2.0 * PI; /* a unit cylinder unrolled, z along it */
+    double *uv = malloc(2 * (size_t)nu * nv * sizeof *uv);
+    uint32_t *tri = NULL;
+    size_t n = 0, nt = 0, unused = 99, inside = 0, negative = 0, wrong = 0;
+    relief_error err = {0};
+    relief_rng rng;
+    relief_status st;
+    edge_stats s;
+
+    relief_rng_seed(&rng, seed);
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            double u = (i + 0.4 * (relief_rng_uniform(&rng) - 0.5)) * period / nu;
+            double z = j / (nv - 1.0);
+            z += ((j == 0 || j == nv - 1) ? jag : 0.4) * (relief_rng_uniform(&rng) - 0.5) /
+                 (nv - 1);
+            if (hypot(remainder(u, period), z - 0.5) < hole_r)
+                continue; /* the hole, centred on the seam */
+            uv[2 * n] = u;
+            uv[2 * n + 1] = z;
+            ++n;
+        }
+    st = relief_delaunay_periodic(uv, n, period, &tri, &nt, &unused, &err);
+    CHECK(st == RELIEF_OK, "jagged band %dx%d: %s", nu, nv, err.message);
+    if (st != RELIEF_OK) {
+        free(uv);
+        return;
+    }
+    for (size_t t = 0; t < nt; ++t) {
+        double p[3][2];
+        for (int k = 0; k < 3; ++k) {
+            const double *v = uv + 2 * tri[3 * t + k];
+            p[k][0] = v[0] - (k ? period * round((v[0] - p[0][0]) / period) : 0.0);
+            p[k][1] = v[1];
+        }
+        negative += area2(p[0], p[1], p[2]) <= 0.0;
+        for (size_t i = 0; i < n; ++i)
+            for (int k = -1; k <= 1; ++k) {
+                double q[2] = {uv[2 * i] + k * period, uv[2 * i + 1]};
+                inside += incircle(p[0], p[1], p[2], q) > 1e-9;
+            }
+    }
+    CHECK(negative == 0 && inside == 0, "jagged band %dx%d: %zu of %zu triangles clockwise, "
+          "%zu points inside a circle", nu, nv, negative, nt, inside);
+    CHECK(unused == 0, "jagged band %dx%d: %zu points unused", nu, nv, unused);
+    s = edges_of(tri, nt, n, NULL, NULL, &wrong);
+    CHECK(s.bad == 0 && s.degenerate == 0 && s.dup_tris == 0,
+          "jagged band %dx%d: %zu bad edges, %zu degenerate, %zu duplicate", nu, nv, s.bad,
+          s.degenerate, s.dup_tris);
+    free(tri);
+    free(uv);
+}
+
 /* -------------------------------------------------------------- spheres */
 
 static void check_closed(const double *d, size_t n, const uint32_t *tri,
@@ -539,6 +601,9 @@ int main(void)
     test_band(7, 5, 0.5, -2.0, 0, 4);   /* few points around, negative u */
     test_band(300, 30, 0.8, 1.0, 1, 5);
     test_band(200, 4, 0.5, 0.0, 0, 6);  /* wide spacing in u: margin grows */
+    test_jagged_band(120, 16, 1e-4, 0.3, 7); /* slivers along the rims */
+    test_jagged_band(60, 30, 1e-4, 0.4, 8);
+    test_jagged_band(240, 16, 0.0, 0.45, 9);  /* straight rims, a wide hole */
     test_sphere();
     test_errors();
     return check_result();
