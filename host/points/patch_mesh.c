@@ -532,6 +532,140 @@ relief_status relief_points_lay_triangles(const double *pos, size_t N, const uin
     return RELIEF_OK;
 }
 
+/* Candidate triangles, grown as they come. */
+typedef struct cand_list {
+    relief_cand_tri *v;
+    size_t n, cap;
+} cand_list;
+
+static int cand_push(cand_list *l, relief_cand_tri c)
+{
+    if (l->n == l->cap) {
+        size_t nc = l->cap ? 2 * l->cap : 1024;
+        relief_cand_tri *g = realloc(l->v, nc * sizeof *g);
+        if (!g)
+            return 0;
+        l->v = g, l->cap = nc;
+    }
+    l->v[l->n++] = c;
+    return 1;
+}
+
+/* The points of hole k (its rim's capture points and its new points, of
+ * the N, the first n_in the capture's), in ids, with their (u, v) in the
+ * plane of their mean normal through their centroid, in uv (both room for
+ * N). How many there are; 0 when they are fewer than 3, hold no new point
+ * or their normals cancel (*skipped counts that one). */
+static size_t hole_points(const double *pos, const double *nrm, size_t n_in, size_t N,
+                          const uint32_t *rim, const uint32_t *hole, uint32_t k, uint32_t *ids,
+                          double *uv, size_t *skipped)
+{
+    double c[3] = {0, 0, 0}, nm[3] = {0, 0, 0}, u[3], v[3];
+    size_t m = 0, fresh = 0;
+    for (size_t i = 0; i < N; ++i)
+        if (i < n_in ? rim[i] == k : hole[i - n_in] == k) {
+            ids[m++] = (uint32_t)i;
+            fresh += i >= n_in;
+            for (int a = 0; a < 3; ++a)
+                c[a] += pos[3 * i + a], nm[a] += nrm[3 * i + a];
+        }
+    if (m < 3 || !fresh)
+        return 0;
+    for (int a = 0; a < 3; ++a)
+        c[a] /= (double)m;
+    if (relief_normalize3(nm) == 0.0) {
+        ++*skipped;
+        return 0;
+    }
+    relief_perp_basis(nm, u, v);
+    for (size_t j = 0; j < m; ++j) {
+        double d[3];
+        sub3(pos + 3 * (size_t)ids[j], c, d);
+        uv[2 * j] = dot3(d, u), uv[2 * j + 1] = dot3(d, v);
+    }
+    return m;
+}
+
+/* The Delaunay triangles of hole k's points (hole_points) that touch a new
+ * point and are no wider than the patch's bound, turned to the points'
+ * normals, onto `out`. A triangulation that fails (collinear points) skips
+ * the hole (*skipped); only running out of memory fails. */
+static relief_status hole_candidates(const double *pos, const double *nrm, size_t n_in,
+                                     size_t N, const uint32_t *rim, const uint32_t *hole,
+                                     uint32_t k, double spacing, uint32_t *ids, double *uv,
+                                     cand_list *out, size_t *skipped, relief_error *err)
+{
+    uint32_t *pt = NULL;
+    size_t pnt = 0;
+    relief_error qerr;
+    size_t m = hole_points(pos, nrm, n_in, N, rim, hole, k, ids, uv, skipped);
+    if (!m)
+        return RELIEF_OK;
+    if (relief_delaunay_2d(uv, m, &pt, &pnt, NULL, &qerr) != RELIEF_OK) {
+        if (qerr.status == RELIEF_E_NOMEM)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot triangulate hole %u", k);
+        ++*skipped;
+        return RELIEF_OK;
+    }
+    for (size_t t = 0; t < pnt; ++t) {
+        uint32_t a = ids[pt[3 * t]], b = ids[pt[3 * t + 1]], d = ids[pt[3 * t + 2]];
+        double e1[3], e2[3], x[3], vn[3];
+        if (a < n_in && b < n_in && d < n_in)
+            continue; /* rim only: over the capture, or a gap along the rim */
+        double r = relief_circumradius(pos + 3 * (size_t)a, pos + 3 * (size_t)b, pos + 3 * (size_t)d);
+        if (r > PATCH_MAX_CIRCUMRADIUS * spacing)
+            continue;
+        sub3(pos + 3 * (size_t)b, pos + 3 * (size_t)a, e1);
+        sub3(pos + 3 * (size_t)d, pos + 3 * (size_t)a, e2);
+        cross3(e1, e2, x);
+        for (int q = 0; q < 3; ++q)
+            vn[q] = nrm[3 * (size_t)a + q] + nrm[3 * (size_t)b + q] + nrm[3 * (size_t)d + q];
+        if (dot3(x, vn) < 0.0) {
+            uint32_t s = b;
+            b = d, d = s;
+        }
+        if (!cand_push(out, (relief_cand_tri){r, 0, {a, b, d}})) {
+            free(pt);
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+        }
+    }
+    free(pt);
+    return RELIEF_OK;
+}
+
+/* The cracks where fronts from two sides met, the strip a patch left along
+ * part of its rim, and the filled holes too small for a new point: loops
+ * through a new point or a filled hole's rim, closed by ears, with the
+ * mesh's own triangles (tri_in) in view (a loop of the capture's that the
+ * hole model leaves open stays open). The ears join the patches' *nt
+ * triangles *tri (reallocated). */
+static relief_status close_patch_gaps(const double *pos, size_t N, size_t n_in,
+                                      const uint32_t *rim, double spacing,
+                                      const uint32_t *tri_in, size_t nt_in, uint32_t **tri,
+                                      size_t *nt, relief_error *err)
+{
+    uint32_t *all = malloc((nt_in + *nt) * 3 * sizeof *all + 1);
+    size_t nall = nt_in + *nt;
+    relief_status st;
+    if (!all)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+    memcpy(all, tri_in, nt_in * 3 * sizeof *all);
+    memcpy(all + 3 * nt_in, *tri, *nt * 3 * sizeof *all);
+    st = relief_points_close_gaps(pos, N, n_in, rim, 2.0 * PATCH_MAX_CIRCUMRADIUS * spacing,
+                                  PATCH_MAX_GAP_LOOP, &all, &nall, err);
+    if (st == RELIEF_OK && nall > nt_in + *nt) {
+        uint32_t *g = realloc(*tri, (nall - nt_in) * 3 * sizeof *g);
+        if (!g) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
+        } else {
+            *tri = g, *nt = nall - nt_in;
+            memcpy(*tri, all + 3 * nt_in, *nt * 3 * sizeof **tri);
+        }
+    }
+    free(all);
+    return st;
+}
+
 relief_status relief_points_patch_mesh(const double *pos, const double *nrm, size_t n_in,
                                        size_t N, const uint32_t *rim, const uint32_t *hole,
                                        uint32_t n_holes, double spacing, const uint32_t *tri_in,
@@ -539,9 +673,9 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
                                        size_t *skipped, relief_error *err)
 {
     uint32_t *ids = malloc((N + 1) * sizeof *ids), *tri = NULL;
-    relief_cand_tri *cand = NULL;
     double *uv = malloc((N + 1) * 2 * sizeof *uv);
-    size_t nt = 0, cap = 0;
+    cand_list cand = {NULL, 0, 0};
+    size_t nt = 0;
     relief_status st = RELIEF_OK;
 
     *tri_out = NULL;
@@ -551,104 +685,15 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
         free(ids), free(uv);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
     }
-    for (uint32_t k = 1; k <= n_holes; ++k) {
-        double c[3] = {0, 0, 0}, nm[3] = {0, 0, 0}, u[3], v[3];
-        uint32_t *pt = NULL;
-        size_t m = 0, pnt = 0, fresh = 0;
-        relief_error qerr;
-        for (size_t i = 0; i < N; ++i)
-            if (i < n_in ? rim[i] == k : hole[i - n_in] == k) {
-                ids[m++] = (uint32_t)i;
-                fresh += i >= n_in;
-                for (int a = 0; a < 3; ++a)
-                    c[a] += pos[3 * i + a], nm[a] += nrm[3 * i + a];
-            }
-        if (m < 3 || !fresh)
-            continue;
-        for (int a = 0; a < 3; ++a)
-            c[a] /= (double)m;
-        if (relief_normalize3(nm) == 0.0) {
-            ++*skipped;
-            continue;
-        }
-        relief_perp_basis(nm, u, v);
-        for (size_t j = 0; j < m; ++j) {
-            double d[3];
-            sub3(pos + 3 * (size_t)ids[j], c, d);
-            uv[2 * j] = dot3(d, u), uv[2 * j + 1] = dot3(d, v);
-        }
-        if (relief_delaunay_2d(uv, m, &pt, &pnt, NULL, &qerr) != RELIEF_OK) {
-            if (qerr.status == RELIEF_E_NOMEM) {
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot triangulate hole %u", k);
-                break;
-            }
-            ++*skipped;
-            continue;
-        }
-        for (size_t t = 0; t < pnt; ++t) {
-            uint32_t a = ids[pt[3 * t]], b = ids[pt[3 * t + 1]], d = ids[pt[3 * t + 2]];
-            double e1[3], e2[3], x[3], vn[3];
-            if (a < n_in && b < n_in && d < n_in)
-                continue; /* rim only: over the capture, or a gap along the rim */
-            double r = relief_circumradius(pos + 3 * (size_t)a, pos + 3 * (size_t)b, pos + 3 * (size_t)d);
-            if (r > PATCH_MAX_CIRCUMRADIUS * spacing)
-                continue;
-            sub3(pos + 3 * (size_t)b, pos + 3 * (size_t)a, e1);
-            sub3(pos + 3 * (size_t)d, pos + 3 * (size_t)a, e2);
-            cross3(e1, e2, x);
-            for (int q = 0; q < 3; ++q)
-                vn[q] = nrm[3 * (size_t)a + q] + nrm[3 * (size_t)b + q] + nrm[3 * (size_t)d + q];
-            if (dot3(x, vn) < 0.0) {
-                uint32_t s = b;
-                b = d, d = s;
-            }
-            if (nt == cap) {
-                size_t nc = cap ? 2 * cap : 1024;
-                relief_cand_tri *g = realloc(cand, nc * sizeof *g);
-                if (!g) {
-                    free(pt);
-                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                    goto done;
-                }
-                cand = g, cap = nc;
-            }
-            cand[nt++] = (relief_cand_tri){r, 0, {a, b, d}};
-        }
-        free(pt);
-    }
-    if (st == RELIEF_OK && nt)
-        st = relief_points_lay_triangles(pos, N, tri_in, nt_in, cand, nt, 0, &tri, &nt, err);
-    else
-        nt = 0;
-    if (st == RELIEF_OK) {
-        /* The cracks where fronts from two sides met, the strip a patch
-         * left along part of its rim, and the filled holes too small for a
-         * new point: loops through a new point or a filled hole's rim,
-         * closed by ears, with the mesh's own triangles in view (a loop of
-         * the capture's that the hole model leaves open stays open). */
-        uint32_t *all = malloc((nt_in + nt) * 3 * sizeof *all + 1);
-        size_t nall = nt_in + nt;
-        if (!all) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-        } else {
-            memcpy(all, tri_in, nt_in * 3 * sizeof *all);
-            memcpy(all + 3 * nt_in, tri, nt * 3 * sizeof *all);
-            st = relief_points_close_gaps(pos, N, n_in, rim, 2.0 * PATCH_MAX_CIRCUMRADIUS * spacing,
-                                          PATCH_MAX_GAP_LOOP, &all, &nall, err);
-            if (st == RELIEF_OK && nall > nt_in + nt) {
-                uint32_t *g = realloc(tri, (nall - nt_in) * 3 * sizeof *g);
-                if (!g) {
-                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole patches");
-                } else {
-                    tri = g, nt = nall - nt_in;
-                    memcpy(tri, all + 3 * nt_in, nt * 3 * sizeof *tri);
-                }
-            }
-            free(all);
-        }
-    }
-done:
-    free(ids), free(uv), free(cand);
+    for (uint32_t k = 1; k <= n_holes && st == RELIEF_OK; ++k)
+        st = hole_candidates(pos, nrm, n_in, N, rim, hole, k, spacing, ids, uv, &cand, skipped,
+                             err);
+    if (st == RELIEF_OK && cand.n)
+        st = relief_points_lay_triangles(pos, N, tri_in, nt_in, cand.v, cand.n, 0, &tri, &nt,
+                                         err);
+    if (st == RELIEF_OK)
+        st = close_patch_gaps(pos, N, n_in, rim, spacing, tri_in, nt_in, &tri, &nt, err);
+    free(ids), free(uv), free(cand.v);
     if (st != RELIEF_OK) {
         free(tri);
         return st;
