@@ -552,25 +552,14 @@ static void choose_views(const relief_mesh *capture, const relief_mesh *fin,
     view[2][1] = view[0][1];
 }
 
-relief_status relief_report_dir_stage(const char *dir, const relief_report_content *c,
-                                      relief_report_dir **out, relief_error *err)
+/* A new report folder's record for `dir` with its staging folder made
+ * beside it (dir.tmp-XXXXXX, the permissions mkdir would give). */
+static relief_status make_staging(const char *dir, relief_report_dir **out, relief_error *err)
 {
-    const relief_mesh *fin;
     relief_report_dir *r = NULL;
-    double view[N_VIEWS][2], *h = NULL, range = 1.0, lo = 0.0, hi = 0.0;
     relief_status st;
-    FILE *f;
     mode_t mask;
-    size_t n;
 
-    if (!dir || !c || !out || !c->capture || !c->smooth || !c->surface || !c->params ||
-        !c->stats || !c->write_json)
-        return relief_fail(err, RELIEF_E_USAGE, "relief_report_dir_stage: NULL argument");
-    fin = c->surface->mesh;
-    if (!fin->label)
-        return relief_fail(err, RELIEF_E_MESH, "the completed surface has no labels");
-    if ((st = relief_report_dir_check(dir, err)) != RELIEF_OK)
-        return st;
     if (!(r = calloc(1, sizeof *r)) || !(r->dir = normalised(dir)) ||
         !(r->tmp = malloc(strlen(r->dir) + 16))) {
         relief_report_dir_abort(r);
@@ -590,33 +579,45 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
     umask(mask);
     if (chmod(r->tmp, 0777 & ~mask) != 0) { /* not fatal: the folder stays private */
     }
+    *out = r;
+    return RELIEF_OK;
+}
 
-    if (!(f = open_in(r, "report.json", err)))
-        st = err ? err->status : RELIEF_E_IO;
-    else
-        st = close_in(r, "report.json", f, c->write_json(f, c->json_ctx) == 0, err);
-
-    /* Heights of the final surface: the histogram, and one colour range
-     * for every displacement render. */
-    n = fin->nv;
-    if (st == RELIEF_OK && !(h = malloc(2 * n * sizeof *h)))
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu heights", n);
-    if (st == RELIEF_OK) {
-        lo = INFINITY;
-        hi = -INFINITY;
-        for (size_t v = 0; v < n; ++v) {
-            h[v] = relief_fit_distance(&c->surface->fit.prim, fin->pos + 3 * v);
-            h[n + v] = fabs(h[v]);
-            lo = fmin(lo, h[v]);
-            hi = fmax(hi, h[v]);
-        }
-        qsort(h + n, n, sizeof *h, relief_cmp_double);
-        range = h[n + (size_t)(0.99 * (double)(n - 1))];
-        if (!(range > 0.0))
-            range = 1.0;
+/* Heights of the final surface fin above the primitive: *h (malloc'd, 2 x
+ * nv: the heights, then their sorted magnitudes), their range [*lo, *hi]
+ * and *range, the 99th percentile of the magnitudes (1 when that is 0),
+ * one colour range for every displacement render. */
+static relief_status heights(const relief_mesh *fin, const relief_fit_primitive *prim,
+                             double **h, double *lo, double *hi, double *range,
+                             relief_error *err)
+{
+    size_t n = fin->nv;
+    double *x = malloc(2 * n * sizeof *x);
+    if (!x)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate %zu heights", n);
+    *lo = INFINITY;
+    *hi = -INFINITY;
+    for (size_t v = 0; v < n; ++v) {
+        x[v] = relief_fit_distance(prim, fin->pos + 3 * v);
+        x[n + v] = fabs(x[v]);
+        *lo = fmin(*lo, x[v]);
+        *hi = fmax(*hi, x[v]);
     }
+    qsort(x + n, n, sizeof *x, relief_cmp_double);
+    *range = x[n + (size_t)(0.99 * (double)(n - 1))];
+    if (!(*range > 0.0))
+        *range = 1.0;
+    *h = x;
+    return RELIEF_OK;
+}
 
-    choose_views(c->capture, fin, view);
+/* Every stage's render from every view into the staging folder. */
+static relief_status render_views(relief_report_dir *r, const relief_report_content *c,
+                                  const double view[N_VIEWS][2], double range,
+                                  relief_error *err)
+{
+    const relief_mesh *fin = c->surface->mesh;
+    relief_status st = RELIEF_OK;
     for (int v = 0; v < N_VIEWS && st == RELIEF_OK; ++v)
         for (int s = 0; s < N_STAGES && st == RELIEF_OK; ++s) {
             relief_render_options o = relief_render_options_default();
@@ -637,25 +638,63 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
             snprintf(name, sizeof name, "%s-view%d.png", stages[s].file, v + 1);
             st = render_to(r, mesh, &o, name, err);
         }
+    return st;
+}
 
-    if (st == RELIEF_OK) {
-        histogram hist;
-        histogram_fill(&hist, h, fin->label, n, lo, hi);
-        st = write_svg(r, "hist-displacement.svg", &hist, "Displacement",
-                       "height above the primitive (input units)", err);
-        if (fin->col) {
-            static const char *names[3] = {"red", "green", "blue"},
-                              *titles[3] = {"Red", "Green", "Blue"};
-            for (int k = 0; k < 3 && st == RELIEF_OK; ++k) {
-                char file[32];
-                for (size_t v = 0; v < n; ++v) /* float colours into the heights' room */
-                    h[v] = fin->col[3 * v + k];
-                histogram_fill(&hist, h, fin->label, n, 0.0, 1.0);
-                snprintf(file, sizeof file, "hist-%s.svg", names[k]);
-                st = write_svg(r, file, &hist, titles[k], "channel value", err);
-            }
-        }
+/* The histograms of fin's heights h (nv of them, in [lo, hi]) and, with
+ * colours, of each channel (h's room reused). */
+static relief_status write_histograms(relief_report_dir *r, const relief_mesh *fin, double *h,
+                                      double lo, double hi, relief_error *err)
+{
+    static const char *names[3] = {"red", "green", "blue"},
+                      *titles[3] = {"Red", "Green", "Blue"};
+    size_t n = fin->nv;
+    histogram hist;
+    relief_status st;
+    histogram_fill(&hist, h, fin->label, n, lo, hi);
+    st = write_svg(r, "hist-displacement.svg", &hist, "Displacement",
+                   "height above the primitive (input units)", err);
+    for (int k = 0; fin->col && k < 3 && st == RELIEF_OK; ++k) {
+        char file[32];
+        for (size_t v = 0; v < n; ++v) /* float colours into the heights' room */
+            h[v] = fin->col[3 * v + k];
+        histogram_fill(&hist, h, fin->label, n, 0.0, 1.0);
+        snprintf(file, sizeof file, "hist-%s.svg", names[k]);
+        st = write_svg(r, file, &hist, titles[k], "channel value", err);
     }
+    return st;
+}
+
+relief_status relief_report_dir_stage(const char *dir, const relief_report_content *c,
+                                      relief_report_dir **out, relief_error *err)
+{
+    const relief_mesh *fin;
+    relief_report_dir *r = NULL;
+    double view[N_VIEWS][2], *h = NULL, range = 1.0, lo = 0.0, hi = 0.0;
+    relief_status st;
+    FILE *f;
+
+    if (!dir || !c || !out || !c->capture || !c->smooth || !c->surface || !c->params ||
+        !c->stats || !c->write_json)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_report_dir_stage: NULL argument");
+    fin = c->surface->mesh;
+    if (!fin->label)
+        return relief_fail(err, RELIEF_E_MESH, "the completed surface has no labels");
+    if ((st = relief_report_dir_check(dir, err)) != RELIEF_OK)
+        return st;
+    if ((st = make_staging(dir, &r, err)) != RELIEF_OK)
+        return st;
+    if (!(f = open_in(r, "report.json", err)))
+        st = err ? err->status : RELIEF_E_IO;
+    else
+        st = close_in(r, "report.json", f, c->write_json(f, c->json_ctx) == 0, err);
+    if (st == RELIEF_OK)
+        st = heights(fin, &c->surface->fit.prim, &h, &lo, &hi, &range, err);
+    choose_views(c->capture, fin, view);
+    if (st == RELIEF_OK)
+        st = render_views(r, c, (const double(*)[2])view, range, err);
+    if (st == RELIEF_OK)
+        st = write_histograms(r, fin, h, lo, hi, err);
     if (st == RELIEF_OK) {
         if (!(f = open_in(r, "index.html", err)))
             st = err ? err->status : RELIEF_E_IO;
