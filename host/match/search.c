@@ -138,6 +138,74 @@ static relief_status principal_axes(const relief_match_data *d, int dims, float 
     return RELIEF_OK;
 }
 
+/* Every sample rotation's descriptor (describe) projected on the principal
+ * axes about `mean`: red, pairs x RELIEF_SEARCH_DIMS. */
+static void reduce_descriptors(const relief_match_data *d, int dims, float step,
+                               const double *mean, const double *axes, float *red)
+{
+    const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
+    float desc[2 * POINTS];
+    for (size_t c = 0; c < pairs; ++c) {
+        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
+                 desc);
+        for (int a = 0; a < RELIEF_SEARCH_DIMS; ++a) {
+            double sum = 0.0;
+            for (int i = 0; i < dims; ++i)
+                sum += axes[dims * a + i] * (desc[i] - mean[i]);
+            red[c * RELIEF_SEARCH_DIMS + a] = (float)sum;
+        }
+    }
+}
+
+/* Sample si's k similar sample rotations into sim (k of them, UINT32_MAX
+ * past the last): the first of the nn found, nearest first, whose sample
+ * lies farther than `exclude` from si (not itself, nor its own patch). */
+static void keep_similar(const relief_match_data *d, const int *found, int nn, int k,
+                         double exclude, size_t si, uint32_t *sim)
+{
+    const float *sp = d->s_proj + 3 * si;
+    int got = 0;
+    for (int j = 0; j < nn && got < k; ++j) {
+        const float *op;
+        float dx, dy, dz;
+        if (found[j] < 0)
+            continue;
+        op = d->s_proj + 3 * ((size_t)found[j] / (size_t)d->rotations);
+        dx = op[0] - sp[0], dy = op[1] - sp[1], dz = op[2] - sp[2];
+        if ((double)(dx * dx + dy * dy + dz * dz) <= exclude * exclude)
+            continue; /* itself, or its own patch of the surface */
+        sim[got++] = (uint32_t)found[j];
+    }
+    while (got < k)
+        sim[got++] = UINT32_MAX;
+}
+
+/* Every sample's similar rotations (S->sim) from FLANN's index of the
+ * reduced descriptors red, CHUNK samples a query; query, idx and dist
+ * room for CHUNK queries of nn. Only (s, 0) is asked: when (s, 0) reads
+ * as (s', r'), (s, r) reads as (s', r' + r), rotations composing about
+ * the normal. */
+static relief_status find_similar(flann_index_t index, struct FLANNParameters *fp,
+                                  const relief_match_data *d, const float *red, int nn,
+                                  double exclude, float *query, int *idx, float *dist,
+                                  relief_search *S, relief_error *err)
+{
+    for (size_t s0 = 0; s0 < d->ns; s0 += CHUNK) {
+        const size_t nc = d->ns - s0 < CHUNK ? d->ns - s0 : CHUNK;
+        for (size_t i = 0; i < nc; ++i)
+            memcpy(query + i * RELIEF_SEARCH_DIMS,
+                   red + (s0 + i) * (size_t)d->rotations * RELIEF_SEARCH_DIMS,
+                   RELIEF_SEARCH_DIMS * sizeof *query);
+        if (flann_find_nearest_neighbors_index_float(index, query, (int)nc, idx, dist, nn,
+                                                     fp) != 0)
+            return relief_fail(err, RELIEF_E_NOMEM, "FLANN's search of the descriptors failed");
+        for (size_t si = s0; si < s0 + nc; ++si)
+            keep_similar(d, idx + (si - s0) * (size_t)nn, nn, S->k, exclude, si,
+                         S->sim + si * (size_t)S->k);
+    }
+    return RELIEF_OK;
+}
+
 relief_status relief_search_create(const relief_surface *s, const relief_match_data *d,
                                    int window, int k, relief_search **out, relief_error *err)
 {
@@ -149,7 +217,7 @@ relief_status relief_search_create(const relief_surface *s, const relief_match_d
     struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
     relief_search *S;
-    float *red = NULL, *query = NULL, *dist = NULL, speedup, desc[2 * POINTS];
+    float *red = NULL, *query = NULL, *dist = NULL, speedup;
     int *idx = NULL, nn;
     relief_status st;
 
@@ -188,58 +256,19 @@ relief_status relief_search_create(const relief_surface *s, const relief_match_d
     st = principal_axes(d, dims, step, mean, axes, err);
     if (st != RELIEF_OK)
         goto done;
-    for (size_t c = 0; c < pairs; ++c) {
-        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
-                 desc);
-        for (int a = 0; a < RELIEF_SEARCH_DIMS; ++a) {
-            double sum = 0.0;
-            for (int i = 0; i < dims; ++i)
-                sum += axes[dims * a + i] * (desc[i] - mean[i]);
-            red[c * RELIEF_SEARCH_DIMS + a] = (float)sum;
-        }
-    }
+    reduce_descriptors(d, dims, step, mean, axes, red);
     index = flann_build_index_float(red, (int)pairs, RELIEF_SEARCH_DIMS, &speedup, &fp);
     if (!index) {
         st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu search descriptors",
                          pairs);
         goto done;
     }
-    /* Only (s, 0) is asked: when (s, 0) reads as (s', r'), (s, r) reads as
-     * (s', r' + r), rotations composing about the normal. */
-    for (size_t s0 = 0; s0 < d->ns; s0 += CHUNK) {
-        const size_t nc = d->ns - s0 < CHUNK ? d->ns - s0 : CHUNK;
-        for (size_t i = 0; i < nc; ++i)
-            memcpy(query + i * RELIEF_SEARCH_DIMS,
-                   red + (s0 + i) * (size_t)d->rotations * RELIEF_SEARCH_DIMS,
-                   RELIEF_SEARCH_DIMS * sizeof *query);
-        if (flann_find_nearest_neighbors_index_float(index, query, (int)nc, idx, dist, nn,
-                                                     &fp) != 0) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "FLANN's search of the descriptors failed");
-            goto done;
-        }
-        for (size_t si = s0; si < s0 + nc; ++si) {
-            const int *found = idx + (si - s0) * (size_t)nn;
-            const float *sp = d->s_proj + 3 * si;
-            int got = 0;
-            for (int j = 0; j < nn && got < k; ++j) {
-                const float *op;
-                float dx, dy, dz;
-                if (found[j] < 0)
-                    continue;
-                op = d->s_proj + 3 * ((size_t)found[j] / (size_t)d->rotations);
-                dx = op[0] - sp[0], dy = op[1] - sp[1], dz = op[2] - sp[2];
-                if ((double)(dx * dx + dy * dy + dz * dz) <= exclude * exclude)
-                    continue; /* itself, or its own patch of the surface */
-                S->sim[si * (size_t)k + (size_t)got++] = (uint32_t)found[j];
-            }
-            while (got < k)
-                S->sim[si * (size_t)k + (size_t)got++] = UINT32_MAX;
-        }
-    }
+    st = find_similar(index, &fp, d, red, nn, exclude, query, idx, dist, S, err);
+    if (st != RELIEF_OK)
+        goto done;
     S->seconds = relief_seconds() - t0;
     *out = S;
     S = NULL;
-    st = RELIEF_OK;
 done:
     if (index)
         flann_free_index_float(index, &fp);
