@@ -435,6 +435,59 @@ static relief_status part_frequency(const relief_domain *pm, const relief_mesh *
 
 /* -------------------------------------------------------------- truth */
 
+/* The truth as truth_heights reads it: its vertices projected on the
+ * primitive (tq, nv x 3), their heights above it (th), and each vertex's
+ * triangles (vt_start, vt: relief_mesh_vertex_triangles). */
+typedef struct truth_view {
+    const relief_mesh *tm;
+    const double *tq, *th;
+    const uint32_t *vt_start, *vt;
+    size_t nv;
+} truth_view;
+
+/* The truth's height at the projected place q, interpolated in the
+ * projected triangle around q best (its least barycentric weight the
+ * largest) among the triangles of q's k nearest truth vertices nb: 1.
+ * When q lies in none of them (beyond BARY_EPS), the nearest vertex's
+ * height: 0. */
+static int height_at(const truth_view *tv, const double *q, const int *nb, int k, double *h)
+{
+    double bscore = -INFINITY, bw[3] = {0, 0, 0};
+    size_t bt = 0;
+    for (int j = 0; j < k; ++j) {
+        if (nb[j] < 0 || (size_t)nb[j] >= tv->nv)
+            continue;
+        for (uint32_t e = tv->vt_start[nb[j]]; e < tv->vt_start[nb[j] + 1]; ++e) {
+            const uint32_t *t = tv->tm->tri + 3 * tv->vt[e];
+            const double *a = tv->tq + 3 * t[0], *b = tv->tq + 3 * t[1], *c = tv->tq + 3 * t[2];
+            double w[3], wa, wb, wc, s;
+            if (!relief_barycentric(q, a, b, c, w))
+                continue; /* degenerate once projected */
+            wa = w[0], wb = w[1], wc = w[2];
+            s = wa < wb ? wa : wb;
+            s = s < wc ? s : wc;
+            if (s > bscore) {
+                bscore = s;
+                bt = tv->vt[e];
+                bw[0] = wa, bw[1] = wb, bw[2] = wc;
+            }
+        }
+    }
+    if (bscore >= -BARY_EPS) {
+        const uint32_t *t = tv->tm->tri + 3 * bt;
+        double sw = 0.0, sh = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            double w = bw[c] > 0.0 ? bw[c] : 0.0;
+            sw += w;
+            sh += w * tv->th[t[c]];
+        }
+        *h = sh / sw;
+        return 1;
+    }
+    *h = tv->th[nb[0]];
+    return 0;
+}
+
 /* Truth heights at the completed vertices' places (see the header). */
 static relief_status truth_heights(const relief_fit_primitive *prim, const relief_mesh *cm,
                                    const relief_mesh *tm, double *ht_out, uint8_t *outside,
@@ -449,6 +502,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
     size_t nq = 0;
     const int k = nv < TRUTH_K ? (int)nv : TRUTH_K;
     float speedup = 0.0f;
+    truth_view tv;
     relief_status st = RELIEF_OK;
 
     *n_outside = 0;
@@ -474,6 +528,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
         relief_fit_project(prim, tm->pos + 3 * v, tq + 3 * v);
     }
     relief_mesh_vertex_triangles(tm, vt_start, vt);
+    tv = (truth_view){tm, tq, th, vt_start, vt, nv};
 
     for (size_t v = 0; v < cm->nv; ++v)
         if (cm->label[v] == RELIEF_LABEL_COMPLETED)
@@ -493,8 +548,6 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
     for (size_t i = 0; i < nq; ++i) {
         const double *q = qq + 3 * i;
         const int *nb = idx + (size_t)k * i;
-        double bscore = -INFINITY, bw[3] = {0, 0, 0};
-        size_t bt = 0;
         if (nb[0] < 0 || (size_t)nb[0] >= nv) {
             st = relief_fail(err, RELIEF_E_INTERNAL,
                              "FLANN returned truth vertex %d, outside 0..%zu", nb[0], nv - 1);
@@ -505,36 +558,7 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
             ht_out[i] = th[nb[0]];
             continue;
         }
-        for (int j = 0; j < k; ++j) {
-            if (nb[j] < 0 || (size_t)nb[j] >= nv)
-                continue;
-            for (uint32_t e = vt_start[nb[j]]; e < vt_start[nb[j] + 1]; ++e) {
-                const uint32_t *t = tm->tri + 3 * vt[e];
-                const double *a = tq + 3 * t[0], *b = tq + 3 * t[1], *c = tq + 3 * t[2];
-                double w[3], wa, wb, wc, s;
-                if (!relief_barycentric(q, a, b, c, w))
-                    continue; /* degenerate once projected */
-                wa = w[0], wb = w[1], wc = w[2];
-                s = wa < wb ? wa : wb;
-                s = s < wc ? s : wc;
-                if (s > bscore) {
-                    bscore = s;
-                    bt = vt[e];
-                    bw[0] = wa, bw[1] = wb, bw[2] = wc;
-                }
-            }
-        }
-        if (bscore >= -BARY_EPS) {
-            const uint32_t *t = tm->tri + 3 * bt;
-            double sw = 0.0, sh = 0.0;
-            for (int c = 0; c < 3; ++c) {
-                double w = bw[c] > 0.0 ? bw[c] : 0.0;
-                sw += w;
-                sh += w * th[t[c]];
-            }
-            ht_out[i] = sh / sw;
-        } else {
-            ht_out[i] = th[nb[0]];
+        if (!height_at(&tv, q, nb, k, ht_out + i)) {
             outside[i] = 1;
             ++*n_outside;
         }
