@@ -174,11 +174,120 @@ static int words(char *line, char **w, int max)
     return k;
 }
 
+/* Which of the per-field keys the header has given so far. */
+typedef struct pcd_seen {
+    int fields, size, type, count;
+} pcd_seen;
+
+/* A FIELDS, SIZE, TYPE or COUNT line (k words w, w[0] the key) into h's
+ * fields; once FIELDS has come, each lists one value per field. The key
+ * is noted in seen. */
+static relief_status parse_field_line(char **w, int k, int line_no, pcd_seen *seen,
+                                      pcd_header *h, const char *name, relief_error *err)
+{
+    char shown[4 * RELIEF_ESCAPE_MAX + 4];
+    if (k - 1 > PCD_MAX_FIELDS || k < 2)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s lists %d "
+                           "fields; expected 1..%d", name, line_no, w[0], k - 1,
+                           PCD_MAX_FIELDS);
+    if (seen->fields && k - 1 != h->nf)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s lists %d "
+                           "values for %d fields", name, line_no, w[0], k - 1, h->nf);
+    h->nf = k - 1;
+    for (int i = 0; i < h->nf; ++i) {
+        char *end;
+        long v;
+        if (w[0][0] == 'F') {
+            snprintf(h->f[i].name, sizeof h->f[i].name, "%s", w[i + 1]);
+        } else if (w[0][0] == 'T') {
+            if (strlen(w[i + 1]) != 1 || !strchr("FUI", w[i + 1][0]))
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: "
+                                   "TYPE '%s' is not F, U or I", name, line_no,
+                                   relief_escape(w[i + 1], RELIEF_ESCAPE_MAX, shown,
+                                                 sizeof shown));
+            h->f[i].type = w[i + 1][0];
+        } else {
+            v = strtol(w[i + 1], &end, 10);
+            if (*end || v < 1 || v > (w[0][0] == 'S' ? 8 : 1 << 20))
+                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s "
+                                   "'%s' is out of range", name, line_no, w[0],
+                                   relief_escape(w[i + 1], RELIEF_ESCAPE_MAX, shown,
+                                                 sizeof shown));
+            if (w[0][0] == 'S')
+                h->f[i].size = (int)v;
+            else
+                h->f[i].count = (int)v;
+        }
+    }
+    seen->fields |= w[0][0] == 'F';
+    seen->size |= w[0][0] == 'S';
+    seen->type |= w[0][0] == 'T';
+    seen->count |= w[0][0] == 'C';
+    return RELIEF_OK;
+}
+
+/* A WIDTH, HEIGHT or POINTS line (k words w): its one count, >= 0, into h. */
+static relief_status parse_count_line(char **w, int k, int line_no, pcd_header *h,
+                                      const char *name, relief_error *err)
+{
+    char *end;
+    long long v = k == 2 ? strtoll(w[1], &end, 10) : -1;
+    if (k != 2 || *end || v < 0)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s expects "
+                           "one count", name, line_no, w[0]);
+    if (w[0][0] == 'W')
+        h->width = v;
+    else if (w[0][0] == 'H')
+        h->height = v;
+    else
+        h->points = v;
+    return RELIEF_OK;
+}
+
+/* The DATA line (k words w), which ends the header: the data's encoding
+ * and where it starts (at, just past the line, in n bytes), then the
+ * checks that need the whole header (seen: the keys given). */
+static relief_status parse_data_line(char **w, int k, int line_no, size_t at, size_t n,
+                                     const pcd_seen *seen, pcd_header *h, const char *name,
+                                     relief_error *err)
+{
+    if (k != 2 || (strcmp(w[1], "ascii") && strcmp(w[1], "binary") &&
+                   strcmp(w[1], "binary_compressed")))
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: DATA must be "
+                           "ascii, binary or binary_compressed", name, line_no);
+    h->data = w[1][0] == 'a' ? PCD_ASCII : strcmp(w[1], "binary") == 0 ? PCD_BINARY
+                                                                         : PCD_COMPRESSED;
+    h->body = at > n ? n : at;
+    if (!seen->fields || !seen->size || !seen->type)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: FIELDS, SIZE and TYPE "
+                           "must come before DATA", name);
+    if (!seen->count)
+        for (int i = 0; i < h->nf; ++i)
+            h->f[i].count = 1;
+    if (h->width < 0 || h->height < 0)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: WIDTH and HEIGHT must "
+                           "come before DATA", name);
+    /* Sides over the maximum are refused later; their product
+     * could overflow here. A cloud (HEIGHT 1) is WIDTH points. */
+    if (h->points >= 0 &&
+        (h->height == 1 ||
+         (h->width <= RELIEF_DEPTH_MAX_SIDE && h->height <= RELIEF_DEPTH_MAX_SIDE)) &&
+        h->points != h->width * h->height)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: POINTS %lld is not "
+                           "WIDTH x HEIGHT (%lld x %lld)", name, h->points, h->width,
+                           h->height);
+    return RELIEF_OK;
+}
+
+/* The header of the n bytes at d into h, line by line up to DATA (h->body
+ * then the offset of the data). */
 static relief_status parse_header(const uint8_t *d, size_t n, const char *name, pcd_header *h,
                                   relief_error *err)
 {
     size_t at = 0;
-    int line_no = 0, have_fields = 0, have_size = 0, have_type = 0, have_count = 0;
+    int line_no = 0;
+    pcd_seen seen = {0, 0, 0, 0};
+    relief_status st;
     memset(h, 0, sizeof *h);
     h->width = h->height = h->points = -1;
     while (at < n) {
@@ -202,88 +311,20 @@ static relief_status parse_header(const uint8_t *d, size_t n, const char *name, 
             continue;
         if (strcmp(w[0], "FIELDS") == 0 || strcmp(w[0], "SIZE") == 0 ||
             strcmp(w[0], "TYPE") == 0 || strcmp(w[0], "COUNT") == 0) {
-            if (k - 1 > PCD_MAX_FIELDS || k < 2)
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s lists %d "
-                                   "fields; expected 1..%d", name, line_no, w[0], k - 1,
-                                   PCD_MAX_FIELDS);
-            if (have_fields && k - 1 != h->nf)
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s lists %d "
-                                   "values for %d fields", name, line_no, w[0], k - 1, h->nf);
-            h->nf = k - 1;
-            for (int i = 0; i < h->nf; ++i) {
-                char *end;
-                long v;
-                if (w[0][0] == 'F') {
-                    snprintf(h->f[i].name, sizeof h->f[i].name, "%s", w[i + 1]);
-                } else if (w[0][0] == 'T') {
-                    if (strlen(w[i + 1]) != 1 || !strchr("FUI", w[i + 1][0]))
-                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: "
-                                           "TYPE '%s' is not F, U or I", name, line_no,
-                                           relief_escape(w[i + 1], RELIEF_ESCAPE_MAX, shown,
-                                                         sizeof shown));
-                    h->f[i].type = w[i + 1][0];
-                } else {
-                    v = strtol(w[i + 1], &end, 10);
-                    if (*end || v < 1 || v > (w[0][0] == 'S' ? 8 : 1 << 20))
-                        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s "
-                                           "'%s' is out of range", name, line_no, w[0],
-                                           relief_escape(w[i + 1], RELIEF_ESCAPE_MAX, shown,
-                                                         sizeof shown));
-                    if (w[0][0] == 'S')
-                        h->f[i].size = (int)v;
-                    else
-                        h->f[i].count = (int)v;
-                }
-            }
-            have_fields |= w[0][0] == 'F';
-            have_size |= w[0][0] == 'S';
-            have_type |= w[0][0] == 'T';
-            have_count |= w[0][0] == 'C';
+            st = parse_field_line(w, k, line_no, &seen, h, name, err);
+            if (st != RELIEF_OK)
+                return st;
             continue;
         }
         if (strcmp(w[0], "WIDTH") == 0 || strcmp(w[0], "HEIGHT") == 0 ||
             strcmp(w[0], "POINTS") == 0) {
-            char *end;
-            long long v = k == 2 ? strtoll(w[1], &end, 10) : -1;
-            if (k != 2 || *end || v < 0)
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: %s expects "
-                                   "one count", name, line_no, w[0]);
-            if (w[0][0] == 'W')
-                h->width = v;
-            else if (w[0][0] == 'H')
-                h->height = v;
-            else
-                h->points = v;
+            st = parse_count_line(w, k, line_no, h, name, err);
+            if (st != RELIEF_OK)
+                return st;
             continue;
         }
-        if (strcmp(w[0], "DATA") == 0) {
-            if (k != 2 || (strcmp(w[1], "ascii") && strcmp(w[1], "binary") &&
-                           strcmp(w[1], "binary_compressed")))
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: DATA must be "
-                                   "ascii, binary or binary_compressed", name, line_no);
-            h->data = w[1][0] == 'a' ? PCD_ASCII : strcmp(w[1], "binary") == 0 ? PCD_BINARY
-                                                                                 : PCD_COMPRESSED;
-            h->body = at > n ? n : at;
-            if (!have_fields || !have_size || !have_type)
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: FIELDS, SIZE and TYPE "
-                                   "must come before DATA", name);
-            if (!have_count)
-                for (int i = 0; i < h->nf; ++i)
-                    h->f[i].count = 1;
-            if (h->width < 0 || h->height < 0)
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: WIDTH and HEIGHT must "
-                                   "come before DATA", name);
-            /* Sides over the maximum are refused later; their product
-             * could overflow here. A cloud (HEIGHT 1) is WIDTH points. */
-            if (h->points >= 0 &&
-                (h->height == 1 ||
-                 (h->width <= RELIEF_DEPTH_MAX_SIDE && h->height <= RELIEF_DEPTH_MAX_SIDE)) &&
-                h->points != h->width * h->height)
-                return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header: POINTS %lld is not "
-                                   "WIDTH x HEIGHT (%lld x %lld)", name, h->points, h->width,
-                                   h->height);
-            return RELIEF_OK;
-        }
+        if (strcmp(w[0], "DATA") == 0)
+            return parse_data_line(w, k, line_no, at, n, &seen, h, name, err);
         return relief_fail(err, RELIEF_E_PARSE, "%s: PCD header line %d: unknown key '%s'", name,
                            line_no, relief_escape(w[0], RELIEF_ESCAPE_MAX, shown, sizeof shown));
     }
@@ -356,124 +397,153 @@ static relief_status decode_ascii(const char *p, const char *end, const pcd_head
     return RELIEF_OK;
 }
 
-static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
-                                uint64_t max_pixels, int organised_only,
-                                relief_depth_frame *out, relief_error *err)
-{
-    pcd_header h;
-    int ix = -1, iy = -1, iz = -1, ic = -1;
-    size_t point_bytes = 0, offset[PCD_MAX_FIELDS], px;
-    uint8_t *plain = NULL; /* binary_compressed, decompressed */
-    relief_status st;
+/* Where each of a header's fields sits in a point: offset[i] bytes into
+ * it, point_bytes in all; ix, iy, iz and ic the indices of x, y, z and
+ * the colour (rgb or rgba), -1 where there is none. */
+typedef struct pcd_layout {
+    size_t offset[PCD_MAX_FIELDS], point_bytes;
+    int ix, iy, iz, ic;
+} pcd_layout;
 
-    memset(out, 0, sizeof *out);
-    st = parse_header(d, n, name, &h, err);
-    if (st != RELIEF_OK)
-        return st;
-    for (int i = 0; i < h.nf; ++i) {
-        offset[i] = point_bytes;
-        point_bytes += (size_t)h.f[i].size * (size_t)h.f[i].count;
-        if (strcmp(h.f[i].name, "x") == 0)
-            ix = i;
-        else if (strcmp(h.f[i].name, "y") == 0)
-            iy = i;
-        else if (strcmp(h.f[i].name, "z") == 0)
-            iz = i;
-        else if (strcmp(h.f[i].name, "rgb") == 0 || strcmp(h.f[i].name, "rgba") == 0)
-            ic = i;
+/* h's fields laid out into L. */
+static void layout_fields(const pcd_header *h, pcd_layout *L)
+{
+    L->ix = L->iy = L->iz = L->ic = -1;
+    L->point_bytes = 0;
+    for (int i = 0; i < h->nf; ++i) {
+        L->offset[i] = L->point_bytes;
+        L->point_bytes += (size_t)h->f[i].size * (size_t)h->f[i].count;
+        if (strcmp(h->f[i].name, "x") == 0)
+            L->ix = i;
+        else if (strcmp(h->f[i].name, "y") == 0)
+            L->iy = i;
+        else if (strcmp(h->f[i].name, "z") == 0)
+            L->iz = i;
+        else if (strcmp(h->f[i].name, "rgb") == 0 || strcmp(h->f[i].name, "rgba") == 0)
+            L->ic = i;
     }
-    if (ix < 0 || iy < 0 || iz < 0)
+}
+
+/* The fields and the sides, before the data is looked at: x, y and z
+ * each F4 or F8 of count 1; a colour not packed in 4 bytes is dropped
+ * (L->ic set to -1); organised_only refuses a cloud (HEIGHT 1). */
+static relief_status check_fields(const pcd_header *h, pcd_layout *L, int organised_only,
+                                  uint64_t max_pixels, const char *name, relief_error *err)
+{
+    if (L->ix < 0 || L->iy < 0 || L->iz < 0)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: the PCD has no x, y and z fields", name);
-    for (int i = 0; i < h.nf; ++i)
-        if ((i == ix || i == iy || i == iz) &&
-            (h.f[i].type != 'F' || (h.f[i].size != 4 && h.f[i].size != 8) || h.f[i].count != 1))
+    for (int i = 0; i < h->nf; ++i)
+        if ((i == L->ix || i == L->iy || i == L->iz) &&
+            (h->f[i].type != 'F' || (h->f[i].size != 4 && h->f[i].size != 8) ||
+             h->f[i].count != 1))
             return relief_fail(err, RELIEF_E_FORMAT, "%s: PCD field %s is %c%d x %d; expected "
-                               "F4 or F8, count 1", name, h.f[i].name, h.f[i].type, h.f[i].size,
-                               h.f[i].count);
-    if (ic >= 0 && (h.f[ic].size != 4 || h.f[ic].count != 1))
-        ic = -1; /* a colour packed otherwise is skipped */
-    if (organised_only && h.height == 1 && h.width > 1)
+                               "F4 or F8, count 1", name, h->f[i].name, h->f[i].type,
+                               h->f[i].size, h->f[i].count);
+    if (L->ic >= 0 && (h->f[L->ic].size != 4 || h->f[L->ic].count != 1))
+        L->ic = -1; /* a colour packed otherwise is skipped */
+    if (organised_only && h->height == 1 && h->width > 1)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: an unorganised point cloud (HEIGHT 1, "
                            "%lld points): a depth image needs an organised one (WIDTH x HEIGHT "
-                           "pixels)", name, h.width);
-    st = check_sides(name, h.width, h.height, max_pixels, err);
-    if (st != RELIEF_OK)
-        return st;
-    px = (size_t)h.width * (size_t)h.height;
-    if (h.data == PCD_COMPRESSED) {
-        uint32_t csize, usize;
-        if (n - h.body < 8)
-            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: no compressed sizes "
-                               "after DATA", name);
-        memcpy(&csize, d + h.body, 4);
-        memcpy(&usize, d + h.body + 4, 4);
-        if ((uint64_t)usize != (uint64_t)px * point_bytes)
-            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD binary_compressed: %u bytes "
-                               "uncompressed, expected %zu for %zu points of %zu bytes", name,
-                               usize, px * point_bytes, px, point_bytes);
-        if (csize > n - h.body - 8)
-            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %u compressed bytes "
-                               "announced, %zu there", name, csize, n - h.body - 8);
-        plain = malloc(usize ? usize : 1);
-        if (!plain)
-            return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate %u bytes", name, usize);
-        if (lzf_decompress(d + h.body + 8, csize, plain, usize) != usize) {
-            free(plain);
-            return relief_fail(err, RELIEF_E_PARSE, "%s: PCD binary_compressed: the LZF data "
-                               "is corrupt", name);
-        }
-    } else if (h.data == PCD_BINARY) {
-        if ((uint64_t)(n - h.body) < (uint64_t)px * point_bytes)
+                           "pixels)", name, h->width);
+    return check_sides(name, h->width, h->height, max_pixels, err);
+}
+
+/* The binary_compressed data of the n bytes at d: its two sizes checked
+ * against px points of L->point_bytes and against the file, then the LZF
+ * data decompressed into *plain (malloc'd, the caller's to free). */
+static relief_status decompress_data(const uint8_t *d, size_t n, const pcd_header *h,
+                                     const pcd_layout *L, size_t px, uint8_t **plain,
+                                     const char *name, relief_error *err)
+{
+    uint32_t csize, usize;
+    uint8_t *u;
+    if (n - h->body < 8)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: no compressed sizes "
+                           "after DATA", name);
+    memcpy(&csize, d + h->body, 4);
+    memcpy(&usize, d + h->body + 4, 4);
+    if ((uint64_t)usize != (uint64_t)px * L->point_bytes)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD binary_compressed: %u bytes "
+                           "uncompressed, expected %zu for %zu points of %zu bytes", name,
+                           usize, px * L->point_bytes, px, L->point_bytes);
+    if (csize > n - h->body - 8)
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %u compressed bytes "
+                           "announced, %zu there", name, csize, n - h->body - 8);
+    u = malloc(usize ? usize : 1);
+    if (!u)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate %u bytes", name, usize);
+    if (lzf_decompress(d + h->body + 8, csize, u, usize) != usize) {
+        free(u);
+        return relief_fail(err, RELIEF_E_PARSE, "%s: PCD binary_compressed: the LZF data "
+                           "is corrupt", name);
+    }
+    *plain = u;
+    return RELIEF_OK;
+}
+
+/* Whether the data (from h->body of the n bytes at d) can hold px points,
+ * checked before the frame is allocated; binary_compressed data is
+ * decompressed into *plain (see decompress_data), which stays NULL
+ * otherwise. */
+static relief_status check_data(const uint8_t *d, size_t n, const pcd_header *h,
+                                const pcd_layout *L, size_t px, uint8_t **plain,
+                                const char *name, relief_error *err)
+{
+    if (h->data == PCD_COMPRESSED) {
+        return decompress_data(d, n, h, L, px, plain, name, err);
+    } else if (h->data == PCD_BINARY) {
+        if ((uint64_t)(n - h->body) < (uint64_t)px * L->point_bytes)
             return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %zu points of %zu bytes "
-                               "need %zu bytes, the file has %zu", name, px, point_bytes,
-                               px * point_bytes, n - h.body);
+                               "need %zu bytes, the file has %zu", name, px, L->point_bytes,
+                               px * L->point_bytes, n - h->body);
     } else {
         /* ascii: each value is at least one character, so that a header
          * claiming 1e8 points over a few bytes is refused before the frame
          * is allocated (under 2^32 points x 2^25 values: no overflow). */
         uint64_t values = 0;
-        for (int k = 0; k < h.nf; ++k)
-            values += (uint64_t)h.f[k].count;
-        if ((uint64_t)(n - h.body) < (uint64_t)px * values)
+        for (int k = 0; k < h->nf; ++k)
+            values += (uint64_t)h->f[k].count;
+        if ((uint64_t)(n - h->body) < (uint64_t)px * values)
             return relief_fail(err, RELIEF_E_PARSE, "%s: PCD truncated: %zu points of %llu "
                                "ascii values need at least %llu bytes, the file has %zu", name,
                                px, (unsigned long long)values,
-                               (unsigned long long)((uint64_t)px * values), n - h.body);
+                               (unsigned long long)((uint64_t)px * values), n - h->body);
     }
-    st = alloc_frame(out, (int)h.width, (int)h.height, 1, ic >= 0, name, err);
-    if (st != RELIEF_OK) {
-        free(plain);
-        return st;
-    }
-    if (h.data == PCD_ASCII) {
-        st = decode_ascii((const char *)d + h.body, (const char *)d + n, &h, ix, iy, iz, ic, px,
-                          out, name, err);
-        if (st != RELIEF_OK) {
-            relief_depth_frame_free(out);
-            return st;
-        }
-    } else {
-        for (size_t i = 0; i < px; ++i)
-            for (int k = 0; k < h.nf; ++k) {
-                const uint8_t *p;
-                if (k != ix && k != iy && k != iz && k != ic)
-                    continue;
-                /* binary: point by point; compressed: field by field. */
-                p = h.data == PCD_BINARY
-                        ? d + h.body + i * point_bytes + offset[k]
-                        : plain + offset[k] * px + i * (size_t)h.f[k].size * h.f[k].count;
-                if (k == ic) {
-                    uint32_t u;
-                    memcpy(&u, p, 4);
-                    out->rgb[i * 3] = (uint8_t)(u >> 16);
-                    out->rgb[i * 3 + 1] = (uint8_t)(u >> 8);
-                    out->rgb[i * 3 + 2] = (uint8_t)u;
-                } else {
-                    out->xyz[i * 3 + (k == ix ? 0 : k == iy ? 1 : 2)] = field_value(p, &h.f[k]);
-                }
+    return RELIEF_OK;
+}
+
+/* The binary data (point by point from d + h->body) or the decompressed
+ * binary_compressed data (field by field at plain) of px points into
+ * out's xyz and rgb. */
+static void decode_binary(const uint8_t *d, const pcd_header *h, const pcd_layout *L,
+                          const uint8_t *plain, size_t px, relief_depth_frame *out)
+{
+    for (size_t i = 0; i < px; ++i)
+        for (int k = 0; k < h->nf; ++k) {
+            const uint8_t *p;
+            if (k != L->ix && k != L->iy && k != L->iz && k != L->ic)
+                continue;
+            /* binary: point by point; compressed: field by field. */
+            p = h->data == PCD_BINARY
+                    ? d + h->body + i * L->point_bytes + L->offset[k]
+                    : plain + L->offset[k] * px + i * (size_t)h->f[k].size * h->f[k].count;
+            if (k == L->ic) {
+                uint32_t u;
+                memcpy(&u, p, 4);
+                out->rgb[i * 3] = (uint8_t)(u >> 16);
+                out->rgb[i * 3 + 1] = (uint8_t)(u >> 8);
+                out->rgb[i * 3 + 2] = (uint8_t)u;
+            } else {
+                out->xyz[i * 3 + (k == L->ix ? 0 : k == L->iy ? 1 : 2)] =
+                    field_value(p, &h->f[k]);
             }
-    }
-    free(plain);
+        }
+}
+
+/* out's px points: one with a coordinate that is not finite becomes all
+ * NaN; z, the depth, is the point's z or NaN. */
+static void finish_points(relief_depth_frame *out, size_t px)
+{
     for (size_t i = 0; i < px; ++i) {
         float *q = out->xyz + i * 3;
         int ok = isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]);
@@ -481,6 +551,48 @@ static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
             q[0] = q[1] = q[2] = NAN;
         out->z[i] = ok ? q[2] : NAN;
     }
+}
+
+/* The PCD of n bytes at d into out; organised_only refuses a cloud. */
+static relief_status pcd_decode(const uint8_t *d, size_t n, const char *name,
+                                uint64_t max_pixels, int organised_only,
+                                relief_depth_frame *out, relief_error *err)
+{
+    pcd_header h;
+    pcd_layout L;
+    size_t px;
+    uint8_t *plain = NULL; /* binary_compressed, decompressed */
+    relief_status st;
+
+    memset(out, 0, sizeof *out);
+    st = parse_header(d, n, name, &h, err);
+    if (st != RELIEF_OK)
+        return st;
+    layout_fields(&h, &L);
+    st = check_fields(&h, &L, organised_only, max_pixels, name, err);
+    if (st != RELIEF_OK)
+        return st;
+    px = (size_t)h.width * (size_t)h.height;
+    st = check_data(d, n, &h, &L, px, &plain, name, err);
+    if (st != RELIEF_OK)
+        return st;
+    st = alloc_frame(out, (int)h.width, (int)h.height, 1, L.ic >= 0, name, err);
+    if (st != RELIEF_OK) {
+        free(plain);
+        return st;
+    }
+    if (h.data == PCD_ASCII) {
+        st = decode_ascii((const char *)d + h.body, (const char *)d + n, &h, L.ix, L.iy, L.iz,
+                          L.ic, px, out, name, err);
+        if (st != RELIEF_OK) {
+            relief_depth_frame_free(out);
+            return st;
+        }
+    } else {
+        decode_binary(d, &h, &L, plain, px, out);
+    }
+    free(plain);
+    finish_points(out, px);
     out->format = h.data == PCD_ASCII    ? RELIEF_DEPTH_PCD_ASCII
                 : h.data == PCD_BINARY ? RELIEF_DEPTH_PCD_BINARY
                                        : RELIEF_DEPTH_PCD_COMPRESSED;
@@ -610,6 +722,46 @@ static float packed_rgb(const uint8_t *c)
     return v;
 }
 
+/* The binary_compressed data of f's px points of nf fields: the fields
+ * one after another, LZF'd, after the two sizes. 0 on failure, with err
+ * set where the file is not the cause. */
+static int write_pcd_compressed(FILE *fp, const relief_depth_frame *f, size_t px, int nf,
+                                relief_error *err)
+{
+    size_t usize = px * (size_t)nf * 4u, cap = usize + usize / 16 + 64, csize;
+    uint8_t *plain, *packed;
+    int ok;
+    if (cap > 0xffffffffu) {
+        relief_fail(err, RELIEF_E_RANGE, "%zu bytes of points: a binary_compressed PCD "
+                    "holds at most 4 GiB", usize);
+        return 0;
+    }
+    plain = malloc(usize);
+    packed = malloc(cap);
+    if (!plain || !packed) {
+        free(plain);
+        free(packed);
+        relief_fail(err, RELIEF_E_NOMEM, "cannot compress %zu bytes of points", usize);
+        return 0;
+    }
+    for (size_t i = 0; i < px; ++i) {
+        for (int k = 0; k < 3; ++k)
+            memcpy(plain + ((size_t)k * px + i) * 4u, f->xyz + 3 * i + k, 4);
+        if (f->rgb) {
+            float c = packed_rgb(f->rgb + 3 * i);
+            memcpy(plain + (3 * px + i) * 4u, &c, 4);
+        }
+    }
+    csize = lzf_compress(plain, (unsigned)usize, packed, (unsigned)cap);
+    if (csize == 0) /* cannot happen: cap exceeds LZF's worst case */
+        relief_fail(err, RELIEF_E_INTERNAL, "LZF could not compress the points");
+    ok = csize > 0 && put_u32le(fp, (uint32_t)csize) && put_u32le(fp, (uint32_t)usize) &&
+         fwrite(packed, 1, csize, fp) == csize;
+    free(plain);
+    free(packed);
+    return ok;
+}
+
 static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind kind,
                      relief_error *err)
 {
@@ -650,41 +802,7 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
         }
         return ok;
     }
-    {
-        /* binary_compressed: the fields one after another, LZF'd, after the
-         * two sizes. */
-        size_t usize = px * (size_t)nf * 4u, cap = usize + usize / 16 + 64, csize;
-        uint8_t *plain, *packed;
-        if (cap > 0xffffffffu) {
-            relief_fail(err, RELIEF_E_RANGE, "%zu bytes of points: a binary_compressed PCD "
-                        "holds at most 4 GiB", usize);
-            return 0;
-        }
-        plain = malloc(usize);
-        packed = malloc(cap);
-        if (!plain || !packed) {
-            free(plain);
-            free(packed);
-            relief_fail(err, RELIEF_E_NOMEM, "cannot compress %zu bytes of points", usize);
-            return 0;
-        }
-        for (size_t i = 0; i < px; ++i) {
-            for (int k = 0; k < 3; ++k)
-                memcpy(plain + ((size_t)k * px + i) * 4u, f->xyz + 3 * i + k, 4);
-            if (f->rgb) {
-                float c = packed_rgb(f->rgb + 3 * i);
-                memcpy(plain + (3 * px + i) * 4u, &c, 4);
-            }
-        }
-        csize = lzf_compress(plain, (unsigned)usize, packed, (unsigned)cap);
-        if (csize == 0) /* cannot happen: cap exceeds LZF's worst case */
-            relief_fail(err, RELIEF_E_INTERNAL, "LZF could not compress the points");
-        ok = csize > 0 && put_u32le(fp, (uint32_t)csize) && put_u32le(fp, (uint32_t)usize) &&
-             fwrite(packed, 1, csize, fp) == csize;
-        free(plain);
-        free(packed);
-        return ok;
-    }
+    return write_pcd_compressed(fp, f, px, nf, err);
 }
 
 relief_status relief_depth_frame_write(const char *path, const relief_depth_frame *f,
