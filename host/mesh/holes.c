@@ -92,6 +92,55 @@ static uint32_t take_part(const double *pos, size_t n, const uint8_t *mark, cons
     return k;
 }
 
+/* Each of the nc rims' centre and radius from its marked points (comp:
+ * each point's rim): acc, nc x 5 (zeroed), receives the centroid (3), the
+ * point count and the largest distance from the centroid. */
+static void rim_shapes(const double *pos, size_t n, const uint8_t *mark, const uint32_t *comp,
+                       uint32_t nc, double *acc)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            double *a = acc + 5 * (size_t)comp[i];
+            for (int c = 0; c < 3; ++c)
+                a[c] += pos[3 * i + c];
+            a[3] += 1.0;
+        }
+    for (uint32_t h = 0; h < nc; ++h)
+        for (int c = 0; c < 3; ++c)
+            acc[5 * (size_t)h + c] /= acc[5 * (size_t)h + 3];
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i]) {
+            double *a = acc + 5 * (size_t)comp[i], d[3];
+            sub3(pos + 3 * i, a, d);
+            a[4] = fmax(a[4], sqrt(dot3(d, d)));
+        }
+}
+
+/* For each rim of at least min_rim points (acc: rim_shapes), how many
+ * points of the connected piece it lies on (rim_piece[h], set here) lie
+ * within its ball: inside (nc, zeroed). O(n x rims): rims are few (tens);
+ * a scan with thousands of rims is noise the size rule drops first. */
+static void rim_insides(const double *pos, size_t n, const uint8_t *mark,
+                        const uint32_t *piece, const uint32_t *comp, uint32_t nc,
+                        const double *acc, double min_rim, uint32_t *rim_piece, size_t *inside)
+{
+    for (size_t i = 0; i < n; ++i)
+        if (mark[i])
+            rim_piece[comp[i]] = piece[i];
+    for (uint32_t h = 0; h < nc; ++h) {
+        const double *a = acc + 5 * (size_t)h;
+        if (a[3] < min_rim)
+            continue;
+        for (size_t i = 0; i < n; ++i) {
+            double d[3];
+            if (piece[i] != rim_piece[h])
+                continue;
+            sub3(pos + 3 * i, a, d);
+            inside[h] += dot3(d, d) <= a[4] * a[4];
+        }
+    }
+}
+
 /* Number the components of the marked points (parent: a union-find over
  * all n), keep the holes (the border rule, the size rule of holes.h), and
  * write rim. */
@@ -126,22 +175,7 @@ relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mar
         free(comp), free(piece_size);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
     }
-    for (size_t i = 0; i < n; ++i)
-        if (mark[i]) {
-            double *a = acc + 5 * (size_t)comp[i];
-            for (int c = 0; c < 3; ++c)
-                a[c] += pos[3 * i + c];
-            a[3] += 1.0;
-        }
-    for (uint32_t h = 0; h < nc; ++h)
-        for (int c = 0; c < 3; ++c)
-            acc[5 * (size_t)h + c] /= acc[5 * (size_t)h + 3];
-    for (size_t i = 0; i < n; ++i)
-        if (mark[i]) {
-            double *a = acc + 5 * (size_t)comp[i], d[3];
-            sub3(pos + 3 * i, a, d);
-            a[4] = fmax(a[4], sqrt(dot3(d, d)));
-        }
+    rim_shapes(pos, n, mark, comp, nc, acc);
     {
         uint32_t *keep = calloc((size_t)nc + 1, sizeof *keep);
         size_t *inside = calloc((size_t)nc + 1, sizeof *inside);
@@ -154,23 +188,7 @@ relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mar
             relief_hole_info_free(info);
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole labels");
         }
-        /* O(n x rims): rims are few (tens); a scan with thousands of rims is
-         * noise the size rule drops first. */
-        for (size_t i = 0; i < n; ++i)
-            if (mark[i])
-                rim_piece[comp[i]] = piece[i];
-        for (uint32_t h = 0; h < nc; ++h) {
-            const double *a = acc + 5 * (size_t)h;
-            if (a[3] < min_rim)
-                continue;
-            for (size_t i = 0; i < n; ++i) {
-                double d[3];
-                if (piece[i] != rim_piece[h])
-                    continue;
-                sub3(pos + 3 * i, a, d);
-                inside[h] += dot3(d, d) <= a[4] * a[4];
-            }
-        }
+        rim_insides(pos, n, mark, piece, comp, nc, acc, min_rim, rim_piece, inside);
         for (size_t i = 0; rule->select && i < n; ++i)
             if (mark[i] && rule->select[i])
                 selected[comp[i]] = 1;
