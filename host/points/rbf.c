@@ -846,20 +846,12 @@ done:
     return st;
 }
 
-relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
-                             const relief_rbf_params *p, relief_rbf **out,
-                             relief_error *err)
+/* The fit's arguments checked, in the order the messages are tried: the
+ * pointers, n (4..NO_ITEM - 1 points), the spacing, levels, threads and
+ * base support of p. RELIEF_OK, or RELIEF_E_RANGE with its message. */
+static relief_status fit_check(const double *pos, const double *nrm, size_t n,
+                               const relief_rbf_params *p, relief_rbf **out, relief_error *err)
 {
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    double diag, rho0, *unit = NULL;
-    int levels;
-    relief_rbf *f = NULL;
-    fit_data fd;
-    relief_status st = RELIEF_OK;
-
-    memset(&fd, 0, sizeof fd);
-    if (out)
-        *out = NULL;
     if (!pos || !nrm || !p || !out)
         return relief_fail(err, RELIEF_E_RANGE, "rbf fit: positions, normals, parameters "
                            "and output must not be NULL");
@@ -878,31 +870,47 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
     if (!(p->base_support >= 0.0) || !isfinite(p->base_support))
         return relief_fail(err, RELIEF_E_RANGE, "rbf fit: base support %g; expected a finite "
                            "length > 0 (0: 0.75 x the bounding box's diagonal)", p->base_support);
-    unit = malloc(n * 3 * sizeof *unit);
-    if (!unit)
-        return relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot copy %zu normals", n);
+    return RELIEF_OK;
+}
+
+/* The n points' unit normals into unit (n x 3, the caller's) and their
+ * bounding box grown into lo, hi (3 each, from +-INFINITY). RELIEF_E_RANGE
+ * at the first point with a coordinate or normal that is not finite, or a
+ * zero normal (unit and the box then partly written). */
+static relief_status fit_normals(const double *pos, const double *nrm, size_t n, double *unit,
+                                 double lo[3], double hi[3], relief_error *err)
+{
     for (size_t i = 0; i < n; ++i) {
         for (int a = 0; a < 3; ++a) {
             double v = pos[3 * i + a];
-            if (!isfinite(v) || !isfinite(nrm[3 * i + a])) {
-                st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: point %zu has a coordinate "
-                                 "or normal that is not finite", i);
-                goto done;
-            }
+            if (!isfinite(v) || !isfinite(nrm[3 * i + a]))
+                return relief_fail(err, RELIEF_E_RANGE, "rbf fit: point %zu has a coordinate "
+                                   "or normal that is not finite", i);
             lo[a] = fmin(lo[a], v), hi[a] = fmax(hi[a], v);
             unit[3 * i + a] = nrm[3 * i + a];
         }
-        if (!(relief_normalize3(unit + 3 * i) > 0.0)) {
-            st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: point %zu has a zero normal", i);
-            goto done;
-        }
+        if (!(relief_normalize3(unit + 3 * i) > 0.0))
+            return relief_fail(err, RELIEF_E_RANGE, "rbf fit: point %zu has a zero normal", i);
     }
+    return RELIEF_OK;
+}
+
+/* From the n points' box lo, hi (3 each): *rho0, the coarsest level's
+ * support (p's, or 0.75 x the box's diagonal), and *levels (p's, or as
+ * many as halve rho0 to 2 spacings, at most DEFAULT_MAX_LEVELS), in the
+ * points' units. RELIEF_E_RANGE when the points coincide or the finest
+ * grid would be over CELL_SPAN cells across. */
+static relief_status fit_supports(const relief_rbf_params *p, size_t n, const double lo[3],
+                                  const double hi[3], double *rho0_out, int *levels_out,
+                                  relief_error *err)
+{
+    double diag, rho0;
+    int levels;
+
     diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    if (!(diag > 0.0)) {
-        st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: all %zu points coincide", n);
-        goto done;
-    }
+    if (!(diag > 0.0))
+        return relief_fail(err, RELIEF_E_RANGE, "rbf fit: all %zu points coincide", n);
     rho0 = p->base_support > 0.0 ? p->base_support : 0.75 * diag;
     levels = p->levels;
     if (levels == 0)
@@ -914,13 +922,74 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
          * least half a spacing wide. */
         double fine = ldexp(rho0, -(levels - 1));
         double cell = fmin(fine, 0.5 * p->spacing);
-        if ((diag + 2.0 * rho0) / cell > CELL_SPAN) {
-            st = relief_fail(err, RELIEF_E_RANGE, "rbf fit: the finest support %g (spacing %g, "
-                             "%d levels) is too small for points spanning %g: at most %g cells "
-                             "across", fine, p->spacing, levels, diag, CELL_SPAN);
-            goto done;
-        }
+        if ((diag + 2.0 * rho0) / cell > CELL_SPAN)
+            return relief_fail(err, RELIEF_E_RANGE, "rbf fit: the finest support %g (spacing %g, "
+                               "%d levels) is too small for points spanning %g: at most %g cells "
+                               "across", fine, p->spacing, levels, diag, CELL_SPAN);
     }
+    *rho0_out = rho0, *levels_out = levels;
+    return RELIEF_OK;
+}
+
+/* Level l of f, support rho0 / 2^l, fitted to the n points pos (n x 3)
+ * with unit normals unit (n x 3) in the box from lo: its centres, fd's
+ * data for the fit's radius, then fit_level. f->n_levels counts the level
+ * once fd is made, so that relief_rbf_free takes what fit_level leaves
+ * on failure. */
+static relief_status add_level(relief_rbf *f, int l, fit_data *fd, const double *pos,
+                               const double *unit, size_t n, const double lo[3], double rho0,
+                               double spacing, relief_error *err)
+{
+    double *c, rho = ldexp(rho0, -l), R = fmax(rho, 3.0 * spacing);
+    /* Centres: clusters half a support wide, so that about 4 pi of the
+     * level's functions overlap at each point of a surface (a sparse
+     * system that still blends smoothly), no finer than half a spacing,
+     * which also merges duplicates. */
+    size_t m = cluster(pos, unit, n, lo, fmax(0.5 * rho, 0.5 * spacing), fd->threads, &c);
+    relief_status st;
+    if (!m)
+        return relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot cluster level %d", l + 1);
+    /* The quadrics' data: the points clustered 6 to the fit's radius
+     * (about 100 of them in each fit), so that a coarse level's fit
+     * does not visit every point, each of them again. */
+    st = fit_data_make(fd, pos, unit, n, lo, R);
+    if (st == RELIEF_OK) {
+        f->level[l].rho = rho;
+        f->level[l].inv_rho = 1.0 / rho;
+        f->n_levels = l + 1;
+        st = fit_level(f, l, fd, c, m, R, err);
+    } else {
+        st = relief_fail(err, st, "rbf fit: cannot cluster level %d", l + 1);
+    }
+    free(c);
+    return st;
+}
+
+relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
+                             const relief_rbf_params *p, relief_rbf **out,
+                             relief_error *err)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double rho0 = 0.0, *unit = NULL;
+    int levels = 0;
+    relief_rbf *f = NULL;
+    fit_data fd;
+    relief_status st;
+
+    memset(&fd, 0, sizeof fd);
+    if (out)
+        *out = NULL;
+    st = fit_check(pos, nrm, n, p, out, err);
+    if (st != RELIEF_OK)
+        return st;
+    unit = malloc(n * 3 * sizeof *unit);
+    if (!unit)
+        return relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot copy %zu normals", n);
+    st = fit_normals(pos, nrm, n, unit, lo, hi, err);
+    if (st == RELIEF_OK)
+        st = fit_supports(p, n, lo, hi, &rho0, &levels, err);
+    if (st != RELIEF_OK)
+        goto done;
     fd.spacing = p->spacing, fd.n_levels = levels;
     fd.threads = p->threads > 0 ? p->threads : relief_pool_default_threads();
     f = calloc(1, sizeof *f);
@@ -929,30 +998,7 @@ relief_status relief_rbf_fit(const double *pos, const double *nrm, size_t n,
         goto done;
     }
     for (int l = 0; l < levels; ++l) {
-        double *c, rho = ldexp(rho0, -l), R = fmax(rho, 3.0 * p->spacing);
-        /* Centres: clusters half a support wide, so that about 4 pi of the
-         * level's functions overlap at each point of a surface (a sparse
-         * system that still blends smoothly), no finer than half a spacing,
-         * which also merges duplicates. */
-        size_t m = cluster(pos, unit, n, lo, fmax(0.5 * rho, 0.5 * p->spacing), fd.threads,
-                           &c);
-        if (!m) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "rbf fit: cannot cluster level %d", l + 1);
-            goto done;
-        }
-        /* The quadrics' data: the points clustered 6 to the fit's radius
-         * (about 100 of them in each fit), so that a coarse level's fit
-         * does not visit every point, each of them again. */
-        st = fit_data_make(&fd, pos, unit, n, lo, R);
-        if (st == RELIEF_OK) {
-            f->level[l].rho = rho;
-            f->level[l].inv_rho = 1.0 / rho;
-            f->n_levels = l + 1;
-            st = fit_level(f, l, &fd, c, m, R, err);
-        } else {
-            st = relief_fail(err, st, "rbf fit: cannot cluster level %d", l + 1);
-        }
-        free(c);
+        st = add_level(f, l, &fd, pos, unit, n, lo, rho0, p->spacing, err);
         if (st != RELIEF_OK)
             goto done;
     }

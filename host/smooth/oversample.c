@@ -411,6 +411,91 @@ static double median(double *x, size_t n)
     return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
 }
 
+/* The sizes of the colour queries of nnew vertices among nv0, k asked:
+ * *kq = min(k, nv0) neighbours blended, out of *nq = min(2 kq, nv0) that
+ * each query fetches (ties with the kq-th come from the rest), *batch
+ * queries at a time (QUERY_BATCH_ENTRIES / nq, at most nnew); and a
+ * batch's lists, *idx (int) and *d2 (double) of batch x nq each,
+ * malloc'd. RELIEF_E_NOMEM when either list cannot be had; the caller
+ * frees both lists whatever the result. */
+static relief_status query_lists(int k, size_t nv0, size_t nnew, size_t *kq, size_t *nq,
+                                 size_t *batch, int **idx, double **d2, relief_error *err)
+{
+    *kq = (size_t)k < nv0 ? (size_t)k : nv0;
+    *nq = 2 * *kq < nv0 ? 2 * *kq : nv0;
+    *batch = QUERY_BATCH_ENTRIES / *nq;
+    if (*batch > nnew)
+        *batch = nnew;
+    *idx = malloc(*batch * *nq * sizeof **idx);
+    *d2 = malloc(*batch * *nq * sizeof **d2);
+    if (!*idx || !*d2)
+        return relief_fail(err, RELIEF_E_NOMEM,
+                           "cannot allocate the neighbour lists of %zu vertices",
+                           *batch);
+    return RELIEF_OK;
+}
+
+/* The nq neighbours of one query, indices ii and squared distances dd (nq
+ * each, as FLANN returned them, by distance), put in the canonical order
+ * (distance, index) in place: FLANN's list is sorted by distance already,
+ * so this only orders ties and fixes the summation order. */
+static void order_neighbours(int *ii, double *dd, size_t nq)
+{
+    for (size_t j = 1; j < nq; ++j) {
+        int xi = ii[j];
+        double xd = dd[j];
+        size_t l = j;
+        while (l > 0 && (dd[l - 1] > xd || (dd[l - 1] == xd && ii[l - 1] > xi))) {
+            ii[l] = ii[l - 1];
+            dd[l] = dd[l - 1];
+            --l;
+        }
+        ii[l] = xi;
+        dd[l] = xd;
+    }
+}
+
+/* The colour col (3 floats in [0, 1]) of out's vertex `vertex`: the Gaussian
+ * blend, weight exp(-d^2 / (2 sigma^2)) with inv2s2 = 1 / (2 sigma^2), of
+ * in's colours at the kq nearest of the nq neighbours ii, dd (canonical
+ * order, squared distances in the mesh's units) and at those tied with the
+ * kq-th. RELIEF_E_INTERNAL, col unwritten, when a neighbour is not one of
+ * in's nv0 vertices. */
+static relief_status blend_neighbours(const relief_mesh *in, const int *ii, const double *dd,
+                                      size_t kq, size_t nq, size_t vertex, double inv2s2,
+                                      float *col, relief_error *err)
+{
+    const size_t nv0 = in->nv;
+    double sw = 0.0, sc[3] = {0.0, 0.0, 0.0}, lim;
+    size_t m = kq;
+
+    lim = dd[kq - 1] * (1.0 + TIE_REL);
+    while (m < nq && dd[m] <= lim)
+        ++m;
+    /* Weights relative to the nearest one (w = 1 there): the
+     * normalised sum is the same and cannot underflow to 0/0 when
+     * sigma is small against the spacing. */
+    for (size_t j = 0; j < m; ++j) {
+        const float *c;
+        double w;
+        if (ii[j] < 0 || (size_t)ii[j] >= nv0)
+            return relief_fail(err, RELIEF_E_INTERNAL,
+                               "FLANN returned neighbour %d of vertex "
+                               "%zu, outside 0..%zu", ii[j],
+                               vertex, nv0 - 1);
+        c = in->col + 3 * (size_t)ii[j];
+        w = exp(-(dd[j] - dd[0]) * inv2s2);
+        sw += w;
+        for (int ch = 0; ch < 3; ++ch)
+            sc[ch] += w * c[ch];
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+        double v = sc[ch] / sw;
+        col[ch] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+    }
+    return RELIEF_OK;
+}
+
 /* Colour of out's vertices past in->nv from the k nearest of in's vertices
  * (out's first in->nv vertices are in's, colour copied). */
 static relief_status transfer_colour(const relief_mesh *in, relief_mesh *out,
@@ -434,19 +519,9 @@ static relief_status transfer_colour(const relief_mesh *in, relief_mesh *out,
                            "colour transfer: %zu original vertices; the "
                            "nearest-neighbour search takes at most %d", nv0,
                            INT_MAX);
-    kq = (size_t)k < nv0 ? (size_t)k : nv0;
-    nq = 2 * kq < nv0 ? 2 * kq : nv0;
-    batch = QUERY_BATCH_ENTRIES / nq;
-    if (batch > nnew)
-        batch = nnew;
-    idx = malloc(batch * nq * sizeof *idx);
-    d2 = malloc(batch * nq * sizeof *d2);
-    if (!idx || !d2) {
-        st = relief_fail(err, RELIEF_E_NOMEM,
-                         "cannot allocate the neighbour lists of %zu vertices",
-                         batch);
+    st = query_lists(k, nv0, nnew, &kq, &nq, &batch, &idx, &d2, err);
+    if (st != RELIEF_OK)
         goto done;
-    }
 
     /* FLANN's C API takes non-const data; it only reads it (and copies it,
      * as the single kd-tree reorders its points). */
@@ -471,51 +546,11 @@ static relief_status transfer_colour(const relief_mesh *in, relief_mesh *out,
         for (size_t i = 0; i < nb; ++i) {
             int *ii = idx + i * nq;
             double *dd = d2 + i * nq;
-            double sw = 0.0, sc[3] = {0.0, 0.0, 0.0}, lim;
-            size_t m = kq;
-            float *col = out->col + 3 * (nv0 + q0 + i);
-
-            /* Canonical order (distance, index): FLANN returns the list
-             * sorted by distance already, so this only orders ties and
-             * fixes the summation order. */
-            for (size_t j = 1; j < nq; ++j) {
-                int xi = ii[j];
-                double xd = dd[j];
-                size_t l = j;
-                while (l > 0 && (dd[l - 1] > xd || (dd[l - 1] == xd && ii[l - 1] > xi))) {
-                    ii[l] = ii[l - 1];
-                    dd[l] = dd[l - 1];
-                    --l;
-                }
-                ii[l] = xi;
-                dd[l] = xd;
-            }
-            lim = dd[kq - 1] * (1.0 + TIE_REL);
-            while (m < nq && dd[m] <= lim)
-                ++m;
-            /* Weights relative to the nearest one (w = 1 there): the
-             * normalised sum is the same and cannot underflow to 0/0 when
-             * sigma is small against the spacing. */
-            for (size_t j = 0; j < m; ++j) {
-                const float *c;
-                double w;
-                if (ii[j] < 0 || (size_t)ii[j] >= nv0) {
-                    st = relief_fail(err, RELIEF_E_INTERNAL,
-                                     "FLANN returned neighbour %d of vertex "
-                                     "%zu, outside 0..%zu", ii[j],
-                                     nv0 + q0 + i, nv0 - 1);
-                    goto done;
-                }
-                c = in->col + 3 * (size_t)ii[j];
-                w = exp(-(dd[j] - dd[0]) * inv2s2);
-                sw += w;
-                for (int ch = 0; ch < 3; ++ch)
-                    sc[ch] += w * c[ch];
-            }
-            for (int ch = 0; ch < 3; ++ch) {
-                double v = sc[ch] / sw;
-                col[ch] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
-            }
+            order_neighbours(ii, dd, nq);
+            st = blend_neighbours(in, ii, dd, kq, nq, nv0 + q0 + i, inv2s2,
+                                  out->col + 3 * (nv0 + q0 + i), err);
+            if (st != RELIEF_OK)
+                goto done;
         }
     }
 
