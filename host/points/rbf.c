@@ -754,6 +754,46 @@ static int rows_assemble(const rbf_level *lv, const double lo[3], double rho, si
     return *val != NULL;
 }
 
+/* Level lv's centres, c's m of them (m x 6: position, normal), in the
+ * order of their cells of side lv->rho, so that each cell's lie together.
+ * order (m, the caller's) gets each one's index in c; lv->c (m x CW,
+ * allocated) and lv->xyz (m x 3, allocated) their positions, lv->grid
+ * their cells; lv->lo, lv->hi the centres' box grown by rho (f's
+ * support), and lo (3, from INFINITY) the centres' own lower corner, the
+ * cells' origin. 0 when out of memory. */
+static int level_centres(rbf_level *lv, const double *c, size_t m, double lo[3],
+                         relief_keyed *order)
+{
+    double rho = lv->rho;
+    for (int a = 0; a < 3; ++a)
+        lv->lo[a] = INFINITY, lv->hi[a] = -INFINITY;
+    for (size_t i = 0; i < m; ++i)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = fmin(lo[a], c[6 * i + a]);
+            lv->lo[a] = fmin(lv->lo[a], c[6 * i + a] - rho);
+            lv->hi[a] = fmax(lv->hi[a], c[6 * i + a] + rho);
+        }
+    for (size_t i = 0; i < m; ++i) {
+        const double *x = c + 6 * i;
+        order[i].key = cell_key(cell_coord(x[0], lo[0], 1.0 / rho),
+                                cell_coord(x[1], lo[1], 1.0 / rho),
+                                cell_coord(x[2], lo[2], 1.0 / rho));
+        order[i].index = (uint32_t)i;
+    }
+    if (relief_sort_keyed(order, m))
+        return 0;
+    if (!hash_init(&lv->grid, lo, rho, m))
+        return 0;
+    for (size_t i = 0; i < m; ++i) {
+        const double *x = c + 6 * (size_t)order[i].index;
+        memcpy(lv->c + CW * i, x, 3 * sizeof *x);
+        memcpy(lv->xyz + 3 * i, x, 3 * sizeof *x);
+        if (!hash_insert(&lv->grid, x))
+            return 0;
+    }
+    return 1;
+}
+
 /* Level l of f (levels 0..l-1 done) on the centres c (m x 6: position,
  * normal), as Ohtake et al.:
  *   o_l(x) = sum_c (g_c(x) + lambda_c) phi(|x - c| / rho),
@@ -786,34 +826,8 @@ static relief_status fit_level(relief_rbf *f, int l, fit_data *fd, const double 
     lam = malloc(m * sizeof *lam);
     if (!lv->c || !lv->xyz || !order || !start || !b || !lam)
         goto nomem;
-    for (int a = 0; a < 3; ++a)
-        lv->lo[a] = INFINITY, lv->hi[a] = -INFINITY;
-    for (size_t i = 0; i < m; ++i)
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = fmin(lo[a], c[6 * i + a]);
-            lv->lo[a] = fmin(lv->lo[a], c[6 * i + a] - rho);
-            lv->hi[a] = fmax(lv->hi[a], c[6 * i + a] + rho);
-        }
-    /* The centres in the order of their cells (side rho), so that each
-     * cell's lie together. */
-    for (size_t i = 0; i < m; ++i) {
-        const double *x = c + 6 * i;
-        order[i].key = cell_key(cell_coord(x[0], lo[0], 1.0 / rho),
-                                cell_coord(x[1], lo[1], 1.0 / rho),
-                                cell_coord(x[2], lo[2], 1.0 / rho));
-        order[i].index = (uint32_t)i;
-    }
-    if (relief_sort_keyed(order, m))
+    if (!level_centres(lv, c, m, lo, order))
         goto nomem;
-    if (!hash_init(&lv->grid, lo, rho, m))
-        goto nomem;
-    for (size_t i = 0; i < m; ++i) {
-        const double *x = c + 6 * (size_t)order[i].index;
-        memcpy(lv->c + CW * i, x, 3 * sizeof *x);
-        memcpy(lv->xyz + 3 * i, x, 3 * sizeof *x);
-        if (!hash_insert(&lv->grid, x))
-            goto nomem;
-    }
 
     /* Each centre's neighbours within rho and their phi, and the row's
      * sum, in two passes over the threads (the rows' lengths, then the

@@ -133,6 +133,65 @@ static void add_ring_stencil(const double *pos, uint32_t a, const uint32_t *ring
     }
 }
 
+/* Each edge's first slot, first[e] (ne of them), and how many slots it
+ * has, cnt[e] (ne, zeros; counted up to 3: 2 is an interior manifold
+ * edge), from edge (ns slots: each slot's edge id). */
+static void count_edge_slots(const uint32_t *edge, size_t ns, uint32_t *first, uint8_t *cnt)
+{
+    for (size_t s = 0; s < ns; ++s) {
+        const uint32_t e = edge[s];
+        if (cnt[e] == 0)
+            first[e] = (uint32_t)s;
+        if (cnt[e] < 3)
+            ++cnt[e];
+    }
+}
+
+/* The modified butterfly point bf (3, the mesh's units) of the interior
+ * edge (a, b) of pos (nv x 3): ra (ka of them) is a's 1-ring from b, rb
+ * (kb) b's from a, neither end on the boundary. */
+static void butterfly_point(const double *pos, uint32_t a, uint32_t b, const uint32_t *ra,
+                            int ka, const uint32_t *rb, int kb, double bf[3])
+{
+    if (ka == 6 && kb == 6) {
+        /* Regular: 1/2 (a + b) + 1/8 (c + d) - 1/16 (wings), with c, d
+         * = ra[1], ra[5] and the wings ra[2], ra[4], rb[2], rb[4]. */
+        for (int i = 0; i < 3; ++i)
+            bf[i] = 0.5 * (pos[3 * (size_t)a + i] + pos[3 * (size_t)b + i]) +
+                    0.125 * (pos[3 * (size_t)ra[1] + i] + pos[3 * (size_t)ra[5] + i]) -
+                    0.0625 * (pos[3 * (size_t)ra[2] + i] + pos[3 * (size_t)ra[4] + i] +
+                              pos[3 * (size_t)rb[2] + i] + pos[3 * (size_t)rb[4] + i]);
+    } else {
+        bf[0] = bf[1] = bf[2] = 0.0;
+        if (ka != 6 && kb != 6) {
+            add_ring_stencil(pos, a, ra, ka, 0.5, bf);
+            add_ring_stencil(pos, b, rb, kb, 0.5, bf);
+        } else if (ka != 6) {
+            add_ring_stencil(pos, a, ra, ka, 1.0, bf);
+        } else {
+            add_ring_stencil(pos, b, rb, kb, 1.0, bf);
+        }
+    }
+}
+
+/* q (3), the midpoint of edge (a, b) of pos (nv x 3), moved to bf (3)
+ * unless that is over half the edge away. A smooth surface moves it by a
+ * small part of the edge; a spike or sliver in the capture can throw it
+ * far off, and a sample out there would be copied into the completion. */
+static void move_if_near(const double *pos, uint32_t a, uint32_t b, const double bf[3],
+                         double q[3])
+{
+    double move2 = 0.0, len2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        const double dm = bf[i] - q[i];
+        const double de = pos[3 * (size_t)a + i] - pos[3 * (size_t)b + i];
+        move2 += dm * dm;
+        len2 += de * de;
+    }
+    if (move2 <= 0.25 * len2)
+        memcpy(q, bf, 3 * sizeof *bf);
+}
+
 /* Moves every new vertex of m (nv + e for edge e of src) from its edge's
  * midpoint to the modified butterfly point (oversample.h). */
 static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
@@ -157,13 +216,7 @@ static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
                            "cannot allocate the butterfly tables of %zu edges", ne);
     }
     relief_mesh_vertex_triangles(src, vt_start, vt);
-    for (size_t s = 0; s < ns; ++s) {
-        const uint32_t e = edge[s];
-        if (cnt[e] == 0)
-            first[e] = (uint32_t)s;
-        if (cnt[e] < 3)
-            ++cnt[e];
-    }
+    count_edge_slots(edge, ns, first, cnt);
     for (size_t e = 0; e < ne; ++e) {
         const uint32_t a = tri[first[e]], b = slot_end(tri, first[e]);
         double *q = m->pos + 3 * (nv + e);
@@ -175,40 +228,8 @@ static relief_status butterfly(const relief_mesh *src, const uint32_t *edge,
         kb = ring_from(tri, vt + vt_start[b], vt_start[b + 1] - vt_start[b], b, a, rb);
         if (!ka || !kb)
             continue; /* an end on the boundary */
-        if (ka == 6 && kb == 6) {
-            /* Regular: 1/2 (a + b) + 1/8 (c + d) - 1/16 (wings), with c, d
-             * = ra[1], ra[5] and the wings ra[2], ra[4], rb[2], rb[4]. */
-            for (int i = 0; i < 3; ++i)
-                bf[i] = 0.5 * (pos[3 * (size_t)a + i] + pos[3 * (size_t)b + i]) +
-                        0.125 * (pos[3 * (size_t)ra[1] + i] + pos[3 * (size_t)ra[5] + i]) -
-                        0.0625 * (pos[3 * (size_t)ra[2] + i] + pos[3 * (size_t)ra[4] + i] +
-                                  pos[3 * (size_t)rb[2] + i] + pos[3 * (size_t)rb[4] + i]);
-        } else {
-            bf[0] = bf[1] = bf[2] = 0.0;
-            if (ka != 6 && kb != 6) {
-                add_ring_stencil(pos, a, ra, ka, 0.5, bf);
-                add_ring_stencil(pos, b, rb, kb, 0.5, bf);
-            } else if (ka != 6) {
-                add_ring_stencil(pos, a, ra, ka, 1.0, bf);
-            } else {
-                add_ring_stencil(pos, b, rb, kb, 1.0, bf);
-            }
-        }
-        /* q holds the midpoint. A smooth surface moves it by a small part
-         * of the edge; a spike or sliver in the capture can throw it far
-         * off, and a sample out there would be copied into the completion:
-         * keep the midpoint when the move exceeds half the edge. */
-        {
-            double move2 = 0.0, len2 = 0.0;
-            for (int i = 0; i < 3; ++i) {
-                const double dm = bf[i] - q[i];
-                const double de = pos[3 * (size_t)a + i] - pos[3 * (size_t)b + i];
-                move2 += dm * dm;
-                len2 += de * de;
-            }
-            if (move2 <= 0.25 * len2)
-                memcpy(q, bf, sizeof bf);
-        }
+        butterfly_point(pos, a, b, ra, ka, rb, kb, bf);
+        move_if_near(pos, a, b, bf, q);
     }
     free(first);
     free(cnt);
@@ -312,6 +333,42 @@ static void place_midpoints(const relief_mesh *src, uint32_t *edge, relief_mesh 
     }
 }
 
+/* m (nv + ne vertices, 4 nt triangles, created) as src subdivided: src's
+ * vertices with their normals and labels where both carry them, each
+ * edge's new vertex after them placed by `scheme`, and each triangle's
+ * four children on its corners and its edges' vertices. edge (3 nt) holds
+ * each slot's first slot on entry and its edge id on return; len (NULL,
+ * or ne) gets each edge's length. Fails only as butterfly does. */
+static relief_status subdivide(const relief_mesh *src, int scheme, uint32_t *edge, size_t ne,
+                               relief_mesh *m, double *len, relief_error *err)
+{
+    const size_t nv = src->nv, nt = src->nt;
+    const uint32_t *tri = src->tri;
+    relief_status st;
+
+    memcpy(m->pos, src->pos, nv * 3 * sizeof *m->pos);
+    if (m->nrm && src->nrm)
+        memcpy(m->nrm, src->nrm, nv * 3 * sizeof *m->nrm);
+    if (m->label && src->label)
+        memcpy(m->label, src->label, nv);
+    place_midpoints(src, edge, m, len);
+    if (scheme == RELIEF_OVERSAMPLE_BUTTERFLY) {
+        st = butterfly(src, edge, ne, m, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
+    /* Each triangle's four children, on its corners and edges' vertices. */
+    for (size_t t = 0; t < nt; ++t) {
+        const uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+        const uint32_t ab = (uint32_t)(nv + edge[3 * t]);
+        const uint32_t bc = (uint32_t)(nv + edge[3 * t + 1]);
+        const uint32_t ca = (uint32_t)(nv + edge[3 * t + 2]);
+        const uint32_t child[12] = {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca};
+        memcpy(m->tri + 12 * t, child, sizeof child);
+    }
+    return RELIEF_OK;
+}
+
 /* One 1-to-4 pass of src into a new mesh carrying `attrs` (src's normals and
  * labels are propagated when both carry them; colour is left zero for the
  * caller), the new vertices placed by `scheme`. When `edge_len` is not NULL
@@ -322,7 +379,6 @@ static relief_status split_once(const relief_mesh *src, unsigned attrs, int sche
                                 size_t *n_edges, relief_error *err)
 {
     const size_t nv = src->nv, nt = src->nt;
-    const uint32_t *tri = src->tri;
     uint32_t *off = NULL, *edge = NULL;
     slot_ref *ref = NULL;
     double *len = NULL;
@@ -362,26 +418,9 @@ static relief_status split_once(const relief_mesh *src, unsigned attrs, int sche
             goto done;
         }
     }
-    memcpy(m->pos, src->pos, nv * 3 * sizeof *m->pos);
-    if (m->nrm && src->nrm)
-        memcpy(m->nrm, src->nrm, nv * 3 * sizeof *m->nrm);
-    if (m->label && src->label)
-        memcpy(m->label, src->label, nv);
-    place_midpoints(src, edge, m, len);
-    if (scheme == RELIEF_OVERSAMPLE_BUTTERFLY) {
-        st = butterfly(src, edge, ne, m, err);
-        if (st != RELIEF_OK)
-            goto done;
-    }
-    /* Each triangle's four children, on its corners and edges' vertices. */
-    for (size_t t = 0; t < nt; ++t) {
-        const uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
-        const uint32_t ab = (uint32_t)(nv + edge[3 * t]);
-        const uint32_t bc = (uint32_t)(nv + edge[3 * t + 1]);
-        const uint32_t ca = (uint32_t)(nv + edge[3 * t + 2]);
-        const uint32_t child[12] = {a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca};
-        memcpy(m->tri + 12 * t, child, sizeof child);
-    }
+    st = subdivide(src, scheme, edge, ne, m, len, err);
+    if (st != RELIEF_OK)
+        goto done;
 
     *dst = m;
     m = NULL;
@@ -582,6 +621,37 @@ static relief_status copy_mesh(const relief_mesh *in, relief_mesh **out,
     return RELIEF_OK;
 }
 
+/* relief_oversample's passes and parameters prm checked (RELIEF_E_RANGE),
+ * then that in has triangles (RELIEF_E_MESH), in that order. */
+static relief_status oversample_check(const relief_mesh *in, int passes,
+                                      const relief_oversample_params *prm, relief_error *err)
+{
+    if (passes < 0 || passes > RELIEF_OVERSAMPLE_PASSES_MAX)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "oversampling passes = %d is out of range [0, %d]",
+                           passes, RELIEF_OVERSAMPLE_PASSES_MAX);
+    if (prm->scheme != RELIEF_OVERSAMPLE_MIDPOINT && prm->scheme != RELIEF_OVERSAMPLE_BUTTERFLY)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "oversampling scheme %d is not one of midpoint (%d), "
+                           "butterfly (%d)", prm->scheme, RELIEF_OVERSAMPLE_MIDPOINT,
+                           RELIEF_OVERSAMPLE_BUTTERFLY);
+    if (prm->k < 1 || prm->k > RELIEF_OVERSAMPLE_K_MAX)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "oversampling colour neighbours k = %d is out of "
+                           "range [1, %d]", prm->k, RELIEF_OVERSAMPLE_K_MAX);
+    if (!(isfinite(prm->sigma) && prm->sigma >= 0.0))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "oversampling colour sigma = %g is out of range: "
+                           "0 (half the median edge length) or a finite "
+                           "length > 0", prm->sigma);
+    if (in->nt == 0)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "cannot oversample a point cloud (%zu vertices, no "
+                           "triangle): subdivision needs a triangulated "
+                           "surface", in->nv);
+    return RELIEF_OK;
+}
+
 relief_status relief_oversample(const relief_mesh *in, int passes,
                                 const relief_oversample_params *p,
                                 relief_mesh **out, relief_error *err)
@@ -597,29 +667,9 @@ relief_status relief_oversample(const relief_mesh *in, int passes,
     if (!in || !out)
         return relief_fail(err, RELIEF_E_USAGE,
                            "relief_oversample: %s is NULL", in ? "out" : "in");
-    if (passes < 0 || passes > RELIEF_OVERSAMPLE_PASSES_MAX)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "oversampling passes = %d is out of range [0, %d]",
-                           passes, RELIEF_OVERSAMPLE_PASSES_MAX);
-    if (prm.scheme != RELIEF_OVERSAMPLE_MIDPOINT && prm.scheme != RELIEF_OVERSAMPLE_BUTTERFLY)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "oversampling scheme %d is not one of midpoint (%d), "
-                           "butterfly (%d)", prm.scheme, RELIEF_OVERSAMPLE_MIDPOINT,
-                           RELIEF_OVERSAMPLE_BUTTERFLY);
-    if (prm.k < 1 || prm.k > RELIEF_OVERSAMPLE_K_MAX)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "oversampling colour neighbours k = %d is out of "
-                           "range [1, %d]", prm.k, RELIEF_OVERSAMPLE_K_MAX);
-    if (!(isfinite(prm.sigma) && prm.sigma >= 0.0))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "oversampling colour sigma = %g is out of range: "
-                           "0 (half the median edge length) or a finite "
-                           "length > 0", prm.sigma);
-    if (in->nt == 0)
-        return relief_fail(err, RELIEF_E_MESH,
-                           "cannot oversample a point cloud (%zu vertices, no "
-                           "triangle): subdivision needs a triangulated "
-                           "surface", in->nv);
+    st = oversample_check(in, passes, &prm, err);
+    if (st != RELIEF_OK)
+        return st;
     st = relief_mesh_validate(in, err);
     if (st != RELIEF_OK)
         return st;
