@@ -510,21 +510,28 @@ static void seam_free(seam_copies *s)
 
 /* 1 when a copy of some point (not a duplicate) left out of the extended
  * set lies inside or on the circumcircle of (a, b, c): the triangle may
- * then not be Delaunay for the whole periodic set. 2 when that copy is
- * more than a period away, which no margin short of the last resort's
- * whole period settles (a long sliver along a jagged rim, whose circle
- * spans periods). */
+ * then not be Delaunay for the whole periodic set; *reach is then the
+ * margin that would hold every copy inside it, how far the circle reaches
+ * past [0, period) in u within the band's rows [vmin, vmax], where every
+ * point lies (a sliver along the rim has a huge circle, most of it off the
+ * band). 2 when that copy is more than a period away, which no margin
+ * short of the last resort's whole period settles (a long sliver along a
+ * jagged rim, whose circle spans periods). */
 static int circle_misses_copy(const double *a, const double *b,
                               const double *c, const double *w,
                               const uint8_t *dup, size_t n, double period,
-                              double margin)
+                              double margin, double vmin, double vmax,
+                              double *reach)
 {
-    double ctr[2], r;
+    double ctr[2], r, d, half;
     if (!circumcircle(a, b, c, ctr, &r))
         return 0; /* a flat fan triangle; its cell's others are checked */
     r *= 1.0 + CIRCLE_REL;
     if (ctr[0] - r > -margin && ctr[0] + r < period + margin)
         return 0;
+    d = ctr[1] < vmin ? vmin - ctr[1] : ctr[1] > vmax ? ctr[1] - vmax : 0.0;
+    half = d < r ? sqrt(r * r - d * d) : 0.0; /* the circle's half-width on the band */
+    *reach = fmax(half - ctr[0], ctr[0] + half - period);
     for (size_t j = 0; j < n; ++j) {
         double dv = w[2 * j + 1] - ctr[1], h2 = r * r - dv * dv, h;
         double kmin, kmax;
@@ -542,22 +549,6 @@ static int circle_misses_copy(const double *a, const double *b,
                 return 1;
     }
     return 0;
-}
-
-/* The margin that would hold every copy of a point inside the circumcircle
- * of (a, b, c): how far the circle reaches past [0, period) in u within the
- * band's rows [vmin, vmax], where every point lies (a sliver along the rim
- * has a huge circle, most of it off the band). */
-static double circle_margin(const double *a, const double *b, const double *c,
-                            double period, double vmin, double vmax)
-{
-    double ctr[2], r, d, h;
-    if (!circumcircle(a, b, c, ctr, &r))
-        return 0.0;
-    r *= 1.0 + CIRCLE_REL;
-    d = ctr[1] < vmin ? vmin - ctr[1] : ctr[1] > vmax ? ctr[1] - vmax : 0.0;
-    h = d < r ? sqrt(r * r - d * d) : 0.0;
-    return fmax(h - ctr[0], ctr[0] + h - period);
 }
 
 /* Angle at p of the triangle (p, q, r), in [0, pi]. */
@@ -604,15 +595,16 @@ static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
         }
         if (!any0)
             continue; /* only copies away from [0, period) */
-        int miss = circle_misses_copy(p[0], p[1], p[2], w, dup, n, period, margin);
+        double reach = 0.0;
+        int miss = circle_misses_copy(p[0], p[1], p[2], w, dup, n, period, margin, vmin, vmax,
+                                      &reach);
         if (miss == 2 && !last)
             return 2;
         if (miss) {
             /* Every such circle measured: one wider margin settles them all,
              * not a doubling for each (a jagged rim's slivers took 8 qhull
              * runs of a 6000-vertex band). */
-            if (!last)
-                *need = fmax(*need, circle_margin(p[0], p[1], p[2], period, vmin, vmax));
+            *need = fmax(*need, reach);
             missed = 1;
             continue;
         }
