@@ -39,12 +39,18 @@ double relief_rng_uniform(relief_rng *rng)
 
 uint32_t relief_rng_below(relief_rng *rng, uint32_t n)
 {
+    return relief_rng_below_from(rng, relief_rng_next(rng), n);
+}
+
+/* The limit below is at least UINT32_MAX - (n - 1) > UINT32_MAX - n_max. */
+int relief_rng_below_one(uint32_t x, uint32_t n_max) { return x <= UINT32_MAX - n_max; }
+
+uint32_t relief_rng_below_from(relief_rng *rng, uint32_t x, uint32_t n)
+{
     /* Reject the top partial copy of [0, n) so every value is equally likely. */
-    uint32_t limit = UINT32_MAX - UINT32_MAX % n;
-    uint32_t x;
-    do
+    const uint32_t limit = UINT32_MAX - UINT32_MAX % n;
+    while (x >= limit)
         x = relief_rng_next(rng);
-    while (x >= limit);
     return x % n;
 }
 

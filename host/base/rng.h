@@ -23,6 +23,17 @@ double relief_rng_uniform(relief_rng *rng);
 /* Uniform integer in [0, n) without modulo bias; n >= 1. */
 uint32_t relief_rng_below(relief_rng *rng, uint32_t n);
 
+/* relief_rng_below in two steps, for a caller that knows n only to lie in
+ * 1..n_max when it draws: x = relief_rng_next(rng) is the draw's first
+ * output. relief_rng_below_one(x, n_max) is 1 when x ends the draw for every
+ * such n (as it nearly always does), so that the draw took one output;
+ * otherwise relief_rng_below_from(rng, x, n) finishes it for the true n,
+ * taking what further outputs relief_rng_below would. Either way the
+ * generator ends where relief_rng_below(rng, n) leaves it, and
+ * relief_rng_below_from returns its value. */
+int relief_rng_below_one(uint32_t x, uint32_t n_max);
+uint32_t relief_rng_below_from(relief_rng *rng, uint32_t x, uint32_t n);
+
 /* Standard normal deviate (Box-Muller, two uniforms per call). */
 double relief_rng_normal(relief_rng *rng);
 

@@ -568,6 +568,16 @@ static relief_status grow_between_targets(grow_run *g, size_t li, relief_error *
     return RELIEF_OK;
 }
 
+/* A pruned query's first cutoff: just above 1.1 x e. When the least SSD
+ * passes e, every member of the best set (SSD at most 1.1 x that, below
+ * 1.1 x e) comes under it; when it does not, the draw is rejected whatever
+ * it picks, and score_set takes what it would from the random stream
+ * without the set's members. */
+static float e_cutoff(double e)
+{
+    return e < (double)FLT_MAX / 2 ? relief_match_cutoff_after((float)e) : FLT_MAX;
+}
+
 /* Target t's neighbourhood, and the samples to score first when the search
  * or a pyramid narrows them (the continuations, or the parent's box). */
 static void grow_query(grow_run *g, uint32_t t, relief_match_query *query)
@@ -576,6 +586,8 @@ static void grow_query(grow_run *g, uint32_t t, relief_match_query *query)
     relief_grow_stats *stats = g->stats;
     relief_query_build(g->qb, g->textured, t, g->win[t], query);
     query->running = opts->prune;
+    if (opts->prune)
+        query->cutoff = e_cutoff(g->e);
     if (g->search) { /* k-coherence: the continuations first */
         const uint32_t *cs;
         uint32_t nc = relief_search_candidates(g->search, g->s, g->d, g->qb->nb, query->n,
@@ -612,39 +624,123 @@ static relief_status grow_score_failed(grow_run *g, size_t li, relief_status st,
     return st;
 }
 
+/* One scoring of a target's candidates. */
+typedef struct scored {
+    double minv;     /* the least valid SSD; INFINITY when none came under
+                        the cutoff */
+    int valid;       /* some candidate is valid (the best set is not empty) */
+    uint32_t chosen; /* drawn from the best set when minv < e; else
+                        UINT32_MAX (any draw would fail e) */
+} scored;
+
+/* Whether any candidate the cutoff pruned is valid, scored in full one at
+ * a time (nearly always the first is). */
+static int any_pruned_valid(const grow_run *g, const relief_match_query *query, size_t ncand)
+{
+    const uint32_t R = (uint32_t)g->d->rotations;
+    for (size_t c = 0; c < ncand; ++c) {
+        float ssd;
+        if (g->flag[c] == RM_PRUNED &&
+            relief_score_host_one(g->d, query,
+                                  relief_match_query_sample(query, (uint32_t)(c / R)),
+                                  (int)(c % R), FLT_MAX, &ssd) == RM_VALID)
+            return 1;
+    }
+    return 0;
+}
+
+/* The best set's size: the valid candidates within 10 % of minv. */
+static size_t best_set(grow_run *g, size_t ncand, double minv)
+{
+    size_t nbest = 0;
+    for (size_t c = 0; c < ncand; ++c)
+        if (g->flag[c] == RM_VALID && (double)g->ssd[c] <= 1.1 * minv)
+            g->best[nbest++] = (uint32_t)c;
+    return nbest;
+}
+
+/* Score the query's candidates into g->ssd and g->flag, counting them. */
+static relief_status score_into(grow_run *g, size_t li, const relief_match_query *query,
+                                size_t *pruned, double *minv, relief_error *err)
+{
+    const size_t ncand = relief_match_query_candidates(g->d, query);
+    relief_status st = relief_matcher_score(g->m, g->d, query, g->ssd, g->flag, err);
+    if (st != RELIEF_OK)
+        return grow_score_failed(g, li, st, err);
+    *pruned = 0;
+    *minv = INFINITY;
+    g->stats->candidates += ncand;
+    for (size_t c = 0; c < ncand; ++c) {
+        *pruned += g->flag[c] == RM_PRUNED;
+        g->stats->invalid += g->flag[c] == RM_INVALID;
+        if (g->flag[c] == RM_VALID && g->ssd[c] < *minv)
+            *minv = g->ssd[c];
+    }
+    g->stats->pruned += *pruned;
+    return RELIEF_OK;
+}
+
+/* The draw from a best set whose least SSD fails e: rejected whatever it
+ * picks, it must still take from the random stream what the draw would,
+ * which depends on the set's size only when the first output falls in the
+ * top ncand values of 2^32; then the set is scored again without the cutoff
+ * to learn its size. */
+static relief_status draw_rejected(grow_run *g, size_t li, relief_match_query *query,
+                                   size_t ncand, relief_error *err)
+{
+    const uint32_t x = relief_rng_next(&g->rng);
+    size_t pruned;
+    double minv;
+    relief_status st;
+    if (relief_rng_below_one(x, (uint32_t)ncand))
+        return RELIEF_OK;
+    query->cutoff = FLT_MAX;
+    st = score_into(g, li, query, &pruned, &minv, err);
+    if (st == RELIEF_OK)
+        relief_rng_below_from(&g->rng, x, (uint32_t)best_set(g, ncand, minv));
+    return st;
+}
+
 /* Score the query's candidates and draw one from the best set (SSD within
- * 10 % of the minimum *minv): *chosen, UINT32_MAX when none is valid; *nbest
- * is the best set's size. When a narrowed query finds nothing that passes
- * e, every sample is scored (001 section 3.4). */
+ * 10 % of the least). The query's cutoff comes from e (e_cutoff): what it
+ * prunes can only belong to a best set that fails e, so the choice, and
+ * what the growth takes from the random stream, are as if every candidate
+ * were scored in full. */
+static relief_status score_set(grow_run *g, size_t li, relief_match_query *query, scored *out,
+                               relief_error *err)
+{
+    const size_t ncand = relief_match_query_candidates(g->d, query);
+    size_t pruned;
+    relief_status st = score_into(g, li, query, &pruned, &out->minv, err);
+    if (st != RELIEF_OK)
+        return st;
+    out->chosen = UINT32_MAX;
+    /* With no valid score under the cutoff, a pruned candidate may still
+     * be valid, above it: then a draw was due. */
+    out->valid = isfinite(out->minv) || (pruned > 0 && any_pruned_valid(g, query, ncand));
+    if (!out->valid)
+        return RELIEF_OK;
+    g->any_valid = 1;
+    if (!(out->minv < g->e))
+        return draw_rejected(g, li, query, ncand, err);
+    const size_t nbest = best_set(g, ncand, out->minv);
+    out->chosen = g->best[relief_rng_below(&g->rng, (uint32_t)nbest)];
+    return RELIEF_OK;
+}
+
+/* Score the query's candidates and draw (score_set). When a narrowed query
+ * finds nothing that passes e, every sample is scored (001 section 3.4). */
 static relief_status grow_score(grow_run *g, size_t li, relief_match_query *query,
-                                double *minv, size_t *nbest, uint32_t *chosen, relief_error *err)
+                                scored *out, relief_error *err)
 {
     const relief_match_data *d = g->d;
     relief_grow_stats *stats = g->stats;
     for (;;) {
-        const size_t ncand = relief_match_query_candidates(d, query);
-        relief_status st = relief_matcher_score(g->m, d, query, g->ssd, g->flag, err);
+        relief_status st = score_set(g, li, query, out, err);
         if (st != RELIEF_OK)
-            return grow_score_failed(g, li, st, err);
-        *minv = INFINITY;
-        *nbest = 0;
-        stats->candidates += ncand;
-        for (size_t c = 0; c < ncand; ++c) {
-            stats->pruned += g->flag[c] == RM_PRUNED;
-            stats->invalid += g->flag[c] == RM_INVALID;
-            if (g->flag[c] == RM_VALID && g->ssd[c] < *minv)
-                *minv = g->ssd[c];
-        }
-        if (isfinite(*minv)) {
-            g->any_valid = 1;
-            for (size_t c = 0; c < ncand; ++c)
-                if (g->flag[c] == RM_VALID && (double)g->ssd[c] <= 1.1 * *minv)
-                    g->best[(*nbest)++] = (uint32_t)c;
-        }
-        *chosen = *nbest > 0 ? g->best[relief_rng_below(&g->rng, (uint32_t)*nbest)]
-                             : UINT32_MAX;
+            return st;
         if (!(query->subset && query->n_subset < d->ns &&
-              (*chosen == UINT32_MAX || !((double)g->ssd[*chosen] < g->e))))
+              (out->chosen == UINT32_MAX || !((double)g->ssd[out->chosen] < g->e))))
             return RELIEF_OK;
         /* Nothing in the box (or among the continuations) passes e. */
         if (g->search)
@@ -653,7 +749,7 @@ static relief_status grow_score(grow_run *g, size_t li, relief_match_query *quer
             ++stats->pyramid_misses;
         query->subset = NULL;
         query->n_subset = 0;
-        query->cutoff = FLT_MAX;
+        query->cutoff = g->opts->prune ? e_cutoff(g->e) : FLT_MAX;
     }
 }
 
@@ -731,33 +827,34 @@ static relief_status grow_target(grow_run *g, size_t li, relief_error *err)
     relief_grow_stats *stats = g->stats;
     const uint32_t t = g->list[li].v;
     const double kappa = g->params->coherence;
-    size_t nbest;
-    uint32_t chosen, coh_si = 0;
+    uint32_t coh_si = 0;
     float coh_ssd = 0.0f;
     int coh_r = 0, use_coh = 0;
     relief_match_query query;
-    double minv;
+    scored sc;
     relief_status st = grow_between_targets(g, li, err);
     if (st != RELIEF_OK)
         return st;
     grow_query(g, t, &query);
-    st = grow_score(g, li, &query, &minv, &nbest, &chosen, err);
+    st = grow_score(g, li, &query, &sc, err);
     if (st != RELIEF_OK)
         return st;
     if (kappa > 0.0) {
         float cssd = 0.0f;
         uint32_t csi = 0;
         int cr = 0;
+        /* The draw's best set: none, one that fails e (the continuation
+         * then passes or fails e by itself), or the minimum to beat. */
         if (coherent_best(g->s, d, g->qb, &query, g->src, t, &cssd, &csi, &cr) &&
-            (nbest == 0 || (double)cssd <= kappa * minv)) {
+            (sc.chosen == UINT32_MAX || (double)cssd <= kappa * sc.minv)) {
             coh_ssd = cssd;
             coh_si = csi;
             coh_r = cr;
             use_coh = 1;
         }
     }
-    if (nbest > 0 || use_coh) {
-        const uint32_t c = chosen;
+    if (sc.chosen != UINT32_MAX || use_coh) {
+        const uint32_t c = sc.chosen;
         const float score = use_coh ? coh_ssd : g->ssd[c];
         if ((double)score < g->e) {
             const uint32_t si = use_coh ? coh_si :
@@ -765,7 +862,7 @@ static relief_status grow_target(grow_run *g, size_t li, relief_error *err)
             const int r = use_coh ? coh_r : (int)(c % (uint32_t)d->rotations);
             return grow_accept(g, t, si, r, query.subset != NULL, use_coh, err);
         }
-    } else {
+    } else if (!sc.valid) {
         ++stats->no_candidate;
     }
     ++stats->rejections;

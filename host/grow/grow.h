@@ -19,8 +19,8 @@ typedef struct relief_grow_stats {
     size_t pruned;            /* of which stopped early by the cutoff */
     size_t invalid;           /* of which mapped onto an unmatchable vertex */
     size_t acceptances;
-    size_t rejections;        /* draws at or above e, or no valid candidate */
-    size_t no_candidate;      /* of the rejections: no valid candidate at all */
+    size_t rejections;        /* nothing that passes e, or a draw at or above it */
+    size_t no_candidate;      /* of the rejections: every candidate invalid */
     size_t threshold_raises;  /* passes with no acceptance: e *= 1.1 */
     size_t coherent;          /* of the acceptances: coherent candidates */
     size_t window_shrinks;

@@ -100,6 +100,60 @@ static void check_coherent(void)
     relief_surface_destroy(n);
 }
 
+/* A pruned query starts at just above 1.1 x e (grow.c, e_cutoff): the
+ * completion and every count but the pruned must be those of the search
+ * without pruning, with rejections, shrunk windows and raised thresholds
+ * (e 0.03), and where for many passes nothing comes under the cutoff (e
+ * 0.01, raised some 20 times: a rejected draw must still take from the
+ * random stream, and a pass that finds no valid candidate fails), by either
+ * search. */
+static void check_cutoff_from_e(void)
+{
+    static const double errors[] = {0.03, 0.01};
+    static const relief_search_mode searches[] = {RELIEF_SEARCH_EXHAUSTIVE,
+                                                  RELIEF_SEARCH_COHERENT};
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+            relief_surface *s[2] = {NULL, NULL};
+            relief_grow_stats st[2];
+            for (int prune = 0; prune < 2; ++prune) {
+                relief_params p = relief_params_default();
+                relief_grow_options go = relief_grow_options_default();
+                relief_error err = {RELIEF_OK, ""};
+                p.window = 2;
+                p.error = errors[i];
+                p.search = searches[j];
+                go.prune = prune;
+                relief_status rc = pipeline_smooth(RELIEF_SYNTH_PLANE_WAVES, 300, 1, &s[prune],
+                                                   &err);
+                if (rc == RELIEF_OK)
+                    rc = pipeline_grow(s[prune], &p, &go, 1, 0, &st[prune], &err);
+                CHECK(rc == RELIEF_OK, "e %g, search %d, prune %d: %s", errors[i], (int)j,
+                      prune, err.message);
+            }
+            if (s[0] && s[1]) {
+                const relief_grow_stats *a = &st[0], *b = &st[1];
+                CHECK(same_surface(s[0], s[1]), "e %g, search %d: pruning changed the "
+                      "completion", errors[i], (int)j);
+                CHECK(a->acceptances == b->acceptances && a->rejections == b->rejections &&
+                          a->no_candidate == b->no_candidate &&
+                          a->threshold_raises == b->threshold_raises &&
+                          a->window_shrinks == b->window_shrinks &&
+                          a->search_misses == b->search_misses,
+                      "e %g, search %d: %zu/%zu rejections, %zu/%zu raises, %zu/%zu misses "
+                      "without/with pruning", errors[i], (int)j, a->rejections, b->rejections,
+                      a->threshold_raises, b->threshold_raises, a->search_misses,
+                      b->search_misses);
+                CHECK(b->rejections > 0 && b->threshold_raises > (i ? 10u : 0u) &&
+                          b->pruned > 0 && a->pruned == 0,
+                      "e %g, search %d: %zu rejections, %zu raises, %zu pruned", errors[i],
+                      (int)j, b->rejections, b->threshold_raises, b->pruned);
+            }
+            relief_surface_destroy(s[0]);
+            relief_surface_destroy(s[1]);
+        }
+}
+
 static int same_surface(const relief_surface *a, const relief_surface *b)
 {
     const relief_mesh *x = a->mesh, *y = b->mesh;
@@ -151,5 +205,6 @@ int main(void)
         relief_surface_destroy(f);
     }
     check_coherent();
+    check_cutoff_from_e();
     return check_result();
 }
