@@ -194,6 +194,118 @@ static void lattice_uv(const lattice *l, size_t i, size_t j, double *u, double *
         *u = a, *v = b;
 }
 
+/* The lattice's shape: points per row over [a_lo, a_hi] at spacing l->da,
+ * rows over [b_lo, b_hi] at l->db (on a cylinder an even number of at
+ * least 4 that closes the turn, the step stretched to fit), centred in the
+ * non-periodic extent so that both ends get the same margin. */
+static void lattice_shape(lattice *l, double a_lo, double a_hi, double b_lo, double b_hi)
+{
+    const double sp = l->da, row = l->db; /* as laid, before a cylinder's stretch */
+    l->na = (size_t)floor((a_hi - a_lo) / sp) + 1;
+    if (l->periodic) {
+        l->nb = 2 * (size_t)floor((b_hi - b_lo) / (2.0 * row) + 0.5);
+        if (l->nb < 4)
+            l->nb = 4;
+        l->db = (b_hi - b_lo) / (double)l->nb;
+    } else {
+        l->nb = (size_t)floor((b_hi - b_lo) / row) + 1;
+    }
+    if (l->periodic)
+        l->a0 += 0.5 * ((a_hi - a_lo) - (double)(l->na - 1) * sp);
+    else
+        l->b0 += 0.5 * ((b_hi - b_lo) - (double)(l->nb - 1) * row);
+}
+
+/* lab (na x nb, row after row): COVERED where the capture lies within
+ * sqrt(cover2) of the point, else UNSEEN; the covered counted in out. */
+static void lattice_cover(const lattice *l, const coverage *cov, const relief_domain *pm,
+                          double cover2, uint32_t *lab, regions *out)
+{
+    for (size_t j = 0; j < l->nb; ++j)
+        for (size_t i = 0; i < l->na; ++i) {
+            double p[3], u, v;
+            lattice_uv(l, i, j, &u, &v);
+            relief_domain_point(pm, u, v, p);
+            lab[j * l->na + i] = covered(cov, p, cover2) ? COVERED : UNSEEN;
+            out->covered += lab[j * l->na + i] == COVERED;
+        }
+}
+
+/* Region id from the point seed through every UNSEEN point joined to it by
+ * lattice edges (six neighbours, wrapping round the turn on a cylinder),
+ * with its size and whether it touches the border. stack: scratch for
+ * na x nb point indices. */
+static void lattice_flood_one(const lattice *l, size_t seed, uint32_t id, uint32_t *lab,
+                              uint32_t *stack, regions *out)
+{
+    uint32_t top = 0;
+    lab[seed] = id;
+    stack[top++] = (uint32_t)seed;
+    while (top > 0) {
+        size_t at = stack[--top], i = at % l->na, j = at / l->na;
+        /* Six neighbours; odd rows sit half a step further along. */
+        long di[6] = {-1, 1, 0, 1, 0, 1}, dj[6] = {0, 0, -1, -1, 1, 1};
+        ++out->size[id];
+        /* The border: a cylinder's first and last axial positions, a
+         * plane's first and last rows and columns. */
+        if (i == 0 || i == l->na - 1 || (!l->periodic && (j == 0 || j == l->nb - 1)))
+            out->outside[id] = 1;
+        if (j % 2 == 0)
+            di[2] = -1, di[3] = 0, di[4] = -1, di[5] = 0;
+        for (int q = 0; q < 6; ++q) {
+            long ii = (long)i + di[q], jj = (long)j + dj[q];
+            size_t nb;
+            if (l->periodic)
+                jj = (jj + (long)l->nb) % (long)l->nb;
+            if (ii < 0 || jj < 0 || ii >= (long)l->na || jj >= (long)l->nb)
+                continue;
+            nb = (size_t)jj * l->na + (size_t)ii;
+            if (lab[nb] == UNSEEN) {
+                lab[nb] = id;
+                stack[top++] = (uint32_t)nb;
+            }
+        }
+    }
+}
+
+/* Every UNSEEN point of lab (na x nb) into a region of out, the regions
+ * numbered in the order of their first point. */
+static relief_status lattice_flood(const lattice *l, uint32_t *lab, uint32_t *stack,
+                                   regions *out, relief_error *err)
+{
+    const size_t n = l->na * l->nb;
+    for (size_t seed = 0; seed < n; ++seed) {
+        uint32_t id;
+        if (lab[seed] != UNSEEN)
+            continue;
+        if ((id = new_region(out)) == UINT32_MAX)
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
+        lattice_flood_one(l, seed, id, lab, stack, out);
+    }
+    return RELIEF_OK;
+}
+
+/* The uncovered points (row after row) into out->pts, the region of each
+ * into out->of. */
+static relief_status lattice_collect(const lattice *l, const relief_domain *pm,
+                                     const uint32_t *lab, regions *out, relief_error *err)
+{
+    out->of = malloc((l->na * l->nb - out->covered + 1) * sizeof *out->of);
+    if (!out->of)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
+    for (size_t j = 0; j < l->nb; ++j)
+        for (size_t i = 0; i < l->na; ++i)
+            if (lab[j * l->na + i] != COVERED) {
+                double p[3], u, v;
+                lattice_uv(l, i, j, &u, &v);
+                relief_domain_point(pm, u, v, p);
+                out->of[out->pts.n] = lab[j * l->na + i];
+                if (!push_point(&out->pts, p))
+                    return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+            }
+    return RELIEF_OK;
+}
+
 static relief_status lattice_regions(const coverage *cov, const relief_domain *pm, double sp,
                                      double u0, double u1, double v0, double v1, int periodic,
                                      regions *out, relief_error *err)
@@ -216,15 +328,7 @@ static relief_status lattice_regions(const coverage *cov, const relief_domain *p
                            "a %g x %g region); raise the spacing",
                            (floor((a_hi - a_lo) / sp) + 1.0) * (floor((b_hi - b_lo) / row) + 1.0),
                            sp, u1 - u0, v1 - v0);
-    l.na = (size_t)floor((a_hi - a_lo) / sp) + 1;
-    if (periodic) {
-        l.nb = 2 * (size_t)floor((b_hi - b_lo) / (2.0 * row) + 0.5);
-        if (l.nb < 4)
-            l.nb = 4;
-        l.db = (b_hi - b_lo) / (double)l.nb;
-    } else {
-        l.nb = (size_t)floor((b_hi - b_lo) / row) + 1;
-    }
+    lattice_shape(&l, a_lo, a_hi, b_lo, b_hi);
     n = l.na * l.nb;
     lab = malloc(n * sizeof *lab);
     stack = malloc(n * sizeof *stack);
@@ -232,73 +336,10 @@ static relief_status lattice_regions(const coverage *cov, const relief_domain *p
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a %zu-point lattice", n);
         goto done;
     }
-    /* Centre the lattice in the non-periodic extents so both ends get the
-     * same margin. */
-    if (periodic)
-        l.a0 += 0.5 * ((a_hi - a_lo) - (double)(l.na - 1) * sp);
-    else
-        l.b0 += 0.5 * ((b_hi - b_lo) - (double)(l.nb - 1) * row);
-    for (size_t j = 0; j < l.nb; ++j)
-        for (size_t i = 0; i < l.na; ++i) {
-            double p[3], u, v;
-            lattice_uv(&l, i, j, &u, &v);
-            relief_domain_point(pm, u, v, p);
-            lab[j * l.na + i] = covered(cov, p, cover2) ? COVERED : UNSEEN;
-            out->covered += lab[j * l.na + i] == COVERED;
-        }
-    for (size_t seed = 0; seed < n; ++seed) {
-        uint32_t id, top = 0;
-        if (lab[seed] != UNSEEN)
-            continue;
-        if ((id = new_region(out)) == UINT32_MAX) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
-            goto done;
-        }
-        lab[seed] = id;
-        stack[top++] = (uint32_t)seed;
-        while (top > 0) {
-            size_t at = stack[--top], i = at % l.na, j = at / l.na;
-            /* Six neighbours; odd rows sit half a step further along. */
-            long di[6] = {-1, 1, 0, 1, 0, 1}, dj[6] = {0, 0, -1, -1, 1, 1};
-            ++out->size[id];
-            /* The border: a cylinder's first and last axial positions, a
-             * plane's first and last rows and columns. */
-            if (i == 0 || i == l.na - 1 || (!periodic && (j == 0 || j == l.nb - 1)))
-                out->outside[id] = 1;
-            if (j % 2 == 0)
-                di[2] = -1, di[3] = 0, di[4] = -1, di[5] = 0;
-            for (int q = 0; q < 6; ++q) {
-                long ii = (long)i + di[q], jj = (long)j + dj[q];
-                size_t nb;
-                if (periodic)
-                    jj = (jj + (long)l.nb) % (long)l.nb;
-                if (ii < 0 || jj < 0 || ii >= (long)l.na || jj >= (long)l.nb)
-                    continue;
-                nb = (size_t)jj * l.na + (size_t)ii;
-                if (lab[nb] == UNSEEN) {
-                    lab[nb] = id;
-                    stack[top++] = (uint32_t)nb;
-                }
-            }
-        }
-    }
-    out->of = malloc((n - out->covered + 1) * sizeof *out->of);
-    if (!out->of) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the lattice's regions");
-        goto done;
-    }
-    for (size_t j = 0; j < l.nb; ++j)
-        for (size_t i = 0; i < l.na; ++i)
-            if (lab[j * l.na + i] != COVERED) {
-                double p[3], u, v;
-                lattice_uv(&l, i, j, &u, &v);
-                relief_domain_point(pm, u, v, p);
-                out->of[out->pts.n] = lab[j * l.na + i];
-                if (!push_point(&out->pts, p)) {
-                    st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
-                    goto done;
-                }
-            }
+    lattice_cover(&l, cov, pm, cover2, lab, out);
+    st = lattice_flood(&l, lab, stack, out, err);
+    if (st == RELIEF_OK)
+        st = lattice_collect(&l, pm, lab, out, err);
 done:
     free(stack);
     free(lab);
