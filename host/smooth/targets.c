@@ -346,26 +346,17 @@ done:
     return st;
 }
 
-/* Fibonacci lattice on the sphere at the density of a triangular lattice of
- * edge `spacing`: its uncovered points, joined into regions through the
- * pairs within 1.5 spacings (a Fibonacci lattice's nearest neighbours lie
- * 0.9 to 1.1 spacings apart). A region larger than the capture's own cover
- * is outside its outline. */
-static relief_status sphere_regions(const coverage *cov, const relief_domain *pm, double sp,
+/* The Fibonacci lattice's points (at least 12) on the sphere at the
+ * density of a triangular lattice of edge sp: the uncovered ones into
+ * out->pts, the covered counted in out->covered. */
+static relief_status sphere_lattice(const coverage *cov, const relief_domain *pm, double sp,
                                     regions *out, relief_error *err)
 {
-    enum { K = 8 };
     const relief_fit_primitive *pr = &pm->prim;
-    const double golden = RELIEF_PI * (3.0 - sqrt(5.0)), link2 = 2.25 * sp * sp;
+    const double golden = RELIEF_PI * (3.0 - sqrt(5.0));
     double area = 4.0 * RELIEF_PI * pr->radius * pr->radius;
     double nf = area / (sp * sp * sqrt(3.0) / 2.0), e3[3];
-    uint32_t *parent = NULL;
-    int *idx = NULL;
-    double *dist = NULL;
-    flann_index_t index = NULL;
-    struct FLANNParameters fp = relief_knn_exact_params();
-    relief_status st = RELIEF_OK;
-    size_t n, m, k;
+    size_t n;
 
     if (nf > 50000000.0)
         return relief_fail(err, RELIEF_E_RANGE,
@@ -385,6 +376,80 @@ static relief_status sphere_regions(const coverage *cov, const relief_domain *pm
         else if (!push_point(&out->pts, p))
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
     }
+    return RELIEF_OK;
+}
+
+/* Union-find over the m points (parent: m), joining each to those of its
+ * k nearest (idx, dist: m x k, squared distances) within sqrt(link2); the
+ * smaller id the root, so that regions come out in the order of their
+ * first point, whatever order FLANN lists neighbours in. */
+static void sphere_link(uint32_t *parent, const int *idx, const double *dist, size_t m,
+                        size_t k, double link2)
+{
+    for (size_t i = 0; i < m; ++i)
+        parent[i] = (uint32_t)i;
+    for (size_t i = 0; i < m; ++i)
+        for (size_t q = 0; q < k; ++q) {
+            uint32_t a = (uint32_t)i, b;
+            if (idx[i * k + q] < 0 || dist[i * k + q] > link2)
+                continue;
+            b = (uint32_t)idx[i * k + q];
+            while (parent[a] != a)
+                a = parent[a] = parent[parent[a]];
+            while (parent[b] != b)
+                b = parent[b] = parent[parent[b]];
+            if (a < b)
+                parent[b] = a;
+            else if (b < a)
+                parent[a] = b;
+        }
+}
+
+/* A region of out per root of parent (m), numbered in the order of the
+ * roots, with each point's region in out->of (m) and the sizes; a region
+ * larger than the capture's own cover is outside its outline. */
+static relief_status sphere_number(const uint32_t *parent, size_t m, regions *out,
+                                   relief_error *err)
+{
+    for (size_t i = 0; i < m; ++i) {
+        uint32_t r = (uint32_t)i;
+        while (parent[r] != r)
+            r = parent[r];
+        if (r == i) {
+            uint32_t id = new_region(out);
+            if (id == UINT32_MAX)
+                return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sphere's regions");
+            out->of[i] = id;
+        } else {
+            out->of[i] = out->of[r]; /* r < i: already numbered */
+        }
+        ++out->size[out->of[i]];
+    }
+    for (size_t id = 0; id < out->n; ++id)
+        out->outside[id] = out->size[id] > out->covered;
+    return RELIEF_OK;
+}
+
+/* Fibonacci lattice on the sphere at the density of a triangular lattice of
+ * edge `spacing`: its uncovered points, joined into regions through the
+ * pairs within 1.5 spacings (a Fibonacci lattice's nearest neighbours lie
+ * 0.9 to 1.1 spacings apart). A region larger than the capture's own cover
+ * is outside its outline. */
+static relief_status sphere_regions(const coverage *cov, const relief_domain *pm, double sp,
+                                    regions *out, relief_error *err)
+{
+    enum { K = 8 };
+    const double link2 = 2.25 * sp * sp;
+    uint32_t *parent = NULL;
+    int *idx = NULL;
+    double *dist = NULL;
+    flann_index_t index = NULL;
+    struct FLANNParameters fp = relief_knn_exact_params();
+    relief_status st = sphere_lattice(cov, pm, sp, out, err);
+    size_t m, k;
+
+    if (st != RELIEF_OK)
+        return st;
     m = out->pts.n;
     if (m == 0)
         return RELIEF_OK;
@@ -406,43 +471,8 @@ static relief_status sphere_regions(const coverage *cov, const relief_domain *pm
         st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not search the sphere's lattice");
         goto done;
     }
-    /* Union-find, the smaller id the root: regions come out in the order
-     * of their first point, whatever order FLANN lists neighbours in. */
-    for (size_t i = 0; i < m; ++i)
-        parent[i] = (uint32_t)i;
-    for (size_t i = 0; i < m; ++i)
-        for (size_t q = 0; q < k; ++q) {
-            uint32_t a = (uint32_t)i, b;
-            if (idx[i * k + q] < 0 || dist[i * k + q] > link2)
-                continue;
-            b = (uint32_t)idx[i * k + q];
-            while (parent[a] != a)
-                a = parent[a] = parent[parent[a]];
-            while (parent[b] != b)
-                b = parent[b] = parent[parent[b]];
-            if (a < b)
-                parent[b] = a;
-            else if (b < a)
-                parent[a] = b;
-        }
-    for (size_t i = 0; i < m; ++i) {
-        uint32_t r = (uint32_t)i;
-        while (parent[r] != r)
-            r = parent[r];
-        if (r == i) {
-            uint32_t id = new_region(out);
-            if (id == UINT32_MAX) {
-                st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sphere's regions");
-                goto done;
-            }
-            out->of[i] = id;
-        } else {
-            out->of[i] = out->of[r]; /* r < i: already numbered */
-        }
-        ++out->size[out->of[i]];
-    }
-    for (size_t id = 0; id < out->n; ++id)
-        out->outside[id] = out->size[id] > out->covered;
+    sphere_link(parent, idx, dist, m, k, link2);
+    st = sphere_number(parent, m, out, err);
 done:
     if (index)
         flann_free_index_double(index, &fp);
