@@ -615,6 +615,87 @@ done:
     return st;
 }
 
+/* The regions of the primitive's lattice: a sphere's Fibonacci lattice; a
+ * cylinder's whole turn over the extent's z0..z1 or the capture's axial
+ * span; a plane's extent u0,v0,u1,v1 or the capture's (u, v) box grown by
+ * a spacing each side. extent: whether the params' extent applies. */
+static relief_status primitive_regions(const coverage *cov, const relief_domain *param,
+                                       double spacing, const relief_params *params, int extent,
+                                       regions *rg, relief_error *err)
+{
+    const relief_fit_primitive *pr = &param->prim;
+    double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
+    if (pr->model == RELIEF_FIT_SPHERE)
+        return sphere_regions(cov, param, spacing, rg, err);
+    for (size_t v = 0; v < cov->cap->nv; ++v) {
+        double uv[2];
+        relief_domain_coords(param, cov->proj + 3 * v, uv);
+        for (int k = 0; k < 2; ++k) {
+            lo[k] = fmin(lo[k], uv[k]);
+            hi[k] = fmax(hi[k], uv[k]);
+        }
+    }
+    if (extent && params->n_extent != (pr->model == RELIEF_FIT_CYLINDER ? 2 : 4))
+        return pr->model == RELIEF_FIT_CYLINDER
+                   ? relief_fail(err, RELIEF_E_USAGE,
+                                 "an extent for a cylinder takes 2 values z0,z1")
+                   : relief_fail(err, RELIEF_E_USAGE,
+                                 "an extent for a plane takes 4 values u0,v0,u1,v1");
+    if (pr->model == RELIEF_FIT_CYLINDER)
+        return lattice_regions(cov, param, spacing, 0.0, 2.0 * RELIEF_PI * pr->radius,
+                               extent ? params->extent[0] : lo[1],
+                               extent ? params->extent[1] : hi[1], 1, rg, err);
+    if (extent)
+        return lattice_regions(cov, param, spacing, params->extent[0], params->extent[2],
+                               params->extent[1], params->extent[3], 0, rg, err);
+    return lattice_regions(cov, param, spacing, lo[0] - spacing, hi[0] + spacing,
+                           lo[1] - spacing, hi[1] + spacing, 0, rg, err);
+}
+
+/* The regions' counts into stats: holes and points inside the outline and
+ * outside it, the capture's cover of the lattice and, round a cylinder or
+ * a sphere, the widest gap (degrees) and whether it goes all round. */
+static void region_stats(const regions *rg, const coverage *cov, const relief_domain *param,
+                         relief_fill_stats *stats)
+{
+    const relief_fit_primitive *pr = &param->prim;
+    for (size_t id = 0; id < rg->n; ++id) {
+        if (rg->outside[id]) {
+            stats->outside_points += rg->size[id];
+        } else {
+            ++stats->holes;
+            stats->hole_points += rg->size[id];
+        }
+    }
+    stats->cover = (double)rg->covered / (double)(rg->covered + rg->pts.n);
+    if (pr->model != RELIEF_FIT_PLANE) {
+        stats->round_gap = pr->model == RELIEF_FIT_SPHERE ? sphere_gap(cov, param)
+                                                          : cylinder_gap(cov, param);
+        stats->all_round = stats->round_gap <= RELIEF_ALL_ROUND_DEGREES;
+    }
+}
+
+/* The points of the regions taken (take: per region) into out, and with
+ * fill holes those outside the outline that the filter's keep_point asks
+ * for. */
+static relief_status push_taken(const regions *rg, const uint8_t *take, relief_fill fill,
+                                const relief_smooth_options *opts, relief_target_list *out,
+                                relief_fill_stats *stats, relief_error *err)
+{
+    for (size_t i = 0; i < rg->pts.n; ++i) {
+        const double *p = rg->pts.p + 3 * i;
+        int t = take[rg->of[i]];
+        if (!t && fill == RELIEF_FILL_HOLES && rg->outside[rg->of[i]] && opts->holes.keep_point &&
+            opts->holes.keep_point(opts->holes.ctx, p)) {
+            t = 1;
+            ++stats->outside_taken;
+        }
+        if (t && !push_point(out, p))
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
+    }
+    return RELIEF_OK;
+}
+
 relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *scanned,
                                  const relief_domain *param, double spacing,
                                  const relief_params *params,
@@ -636,54 +717,11 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *
     st = coverage_build(&cov, capture, pr, err);
     if (st != RELIEF_OK)
         goto done;
-    if (pr->model == RELIEF_FIT_SPHERE) {
-        st = sphere_regions(&cov, param, spacing, &rg, err);
-    } else {
-        double lo[2] = {DBL_MAX, DBL_MAX}, hi[2] = {-DBL_MAX, -DBL_MAX};
-        for (size_t v = 0; v < capture->nv; ++v) {
-            double uv[2];
-            relief_domain_coords(param, cov.proj + 3 * v, uv);
-            for (int k = 0; k < 2; ++k) {
-                lo[k] = fmin(lo[k], uv[k]);
-                hi[k] = fmax(hi[k], uv[k]);
-            }
-        }
-        if (extent && params->n_extent != (pr->model == RELIEF_FIT_CYLINDER ? 2 : 4)) {
-            st = pr->model == RELIEF_FIT_CYLINDER
-                     ? relief_fail(err, RELIEF_E_USAGE,
-                                   "an extent for a cylinder takes 2 values z0,z1")
-                     : relief_fail(err, RELIEF_E_USAGE,
-                                   "an extent for a plane takes 4 values u0,v0,u1,v1");
-            goto done;
-        }
-        if (pr->model == RELIEF_FIT_CYLINDER)
-            st = lattice_regions(&cov, param, spacing, 0.0, 2.0 * RELIEF_PI * pr->radius,
-                                 extent ? params->extent[0] : lo[1],
-                                 extent ? params->extent[1] : hi[1], 1, &rg, err);
-        else if (extent)
-            st = lattice_regions(&cov, param, spacing, params->extent[0], params->extent[2],
-                                 params->extent[1], params->extent[3], 0, &rg, err);
-        else
-            st = lattice_regions(&cov, param, spacing, lo[0] - spacing, hi[0] + spacing,
-                                 lo[1] - spacing, hi[1] + spacing, 0, &rg, err);
-    }
+    st = primitive_regions(&cov, param, spacing, params, extent, &rg, err);
     if (st != RELIEF_OK)
         goto done;
 
-    for (size_t id = 0; id < rg.n; ++id) {
-        if (rg.outside[id]) {
-            stats->outside_points += rg.size[id];
-        } else {
-            ++stats->holes;
-            stats->hole_points += rg.size[id];
-        }
-    }
-    stats->cover = (double)rg.covered / (double)(rg.covered + rg.pts.n);
-    if (pr->model != RELIEF_FIT_PLANE) {
-        stats->round_gap = pr->model == RELIEF_FIT_SPHERE ? sphere_gap(&cov, param)
-                                                          : cylinder_gap(&cov, param);
-        stats->all_round = stats->round_gap <= RELIEF_ALL_ROUND_DEGREES;
-    }
+    region_stats(&rg, &cov, param, stats);
     if (fill == RELIEF_FILL_AUTO)
         fill = auto_fill(pr, extent, stats);
     stats->region = fill;
@@ -704,17 +742,8 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *
         st = choose_regions(&rg, fill, &(relief_region_filter){NULL, NULL, NULL, 0}, NULL, spacing,
                             take, stats, err);
     }
-    for (size_t i = 0; st == RELIEF_OK && i < rg.pts.n; ++i) {
-        const double *p = rg.pts.p + 3 * i;
-        int t = take[rg.of[i]];
-        if (!t && fill == RELIEF_FILL_HOLES && rg.outside[rg.of[i]] && opts->holes.keep_point &&
-            opts->holes.keep_point(opts->holes.ctx, p)) {
-            t = 1;
-            ++stats->outside_taken;
-        }
-        if (t && !push_point(out, p))
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate targets");
-    }
+    if (st == RELIEF_OK)
+        st = push_taken(&rg, take, fill, opts, out, stats, err);
 done:
     free(take);
     regions_free(&rg);
