@@ -68,23 +68,19 @@ static relief_status check_manifold(const relief_mesh *m, relief_error *err)
     return st;
 }
 
-/* Triangles whose normal turns away from the primitive's: the capture
- * folds back over itself (or its triangles are not consistently wound).
- * Those over RELIEF_FOLD_AREA_MAX of the area are refused; fewer are the
- * fringes a depth camera leaves at depth edges, and go, with every vertex
- * they touch, so that the fold becomes a hole the completion fills. */
-static relief_status check_folds(const relief_mesh *m, const relief_fit_primitive *pr,
-                                 relief_mesh **unfolded, relief_fold_stats *fs,
-                                 relief_error *err)
-{
-    double with = 0.0, against = 0.0, total = 0.0, folded = 0.0, largest = 0.0;
-    size_t n_folded = 0, worst = 0;
-    signed char *side = malloc(m->nt + 1);
-    uint8_t *keep = NULL;
-    relief_status st = RELIEF_OK;
+/* What the orientation pass finds, areas in the capture's square units. */
+typedef struct fold_tally {
+    double with, against, total; /* facing the primitive's normal, away from it, all */
+    double folded, largest;      /* the folded triangles', the largest one's */
+    size_t n_folded, worst;      /* folded triangles, the largest one */
+} fold_tally;
 
-    if (!side)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's orientations");
+/* side (nt): 1 where a triangle faces with the primitive's normal (at the
+ * projection of its centroid), -1 against it, 0 when degenerate or too
+ * close to edge-on to tell; the areas summed into ft. */
+static void fold_sides(const relief_mesh *m, const relief_fit_primitive *pr, signed char *side,
+                       fold_tally *ft)
+{
     for (size_t t = 0; t < m->nt; ++t) {
         const double *a = m->pos + 3 * (size_t)m->tri[3 * t];
         const double *b = m->pos + 3 * (size_t)m->tri[3 * t + 1];
@@ -105,68 +101,108 @@ static relief_status check_folds(const relief_mesh *m, const relief_fit_primitiv
         relief_fit_project(pr, g, q);
         relief_fit_normal(pr, q, pn);
         cosv = (n[0] * pn[0] + n[1] * pn[1] + n[2] * pn[2]) / len;
-        total += 0.5 * len;
+        ft->total += 0.5 * len;
         if (cosv > -RELIEF_FOLD_COS)
-            side[t] = 1, with += 0.5 * len;
+            side[t] = 1, ft->with += 0.5 * len;
         else if (cosv < RELIEF_FOLD_COS)
-            side[t] = -1, against += 0.5 * len;
+            side[t] = -1, ft->against += 0.5 * len;
     }
-    /* The file may wind every triangle the other way: the majority decides
-     * which side is "with". side[t] becomes 1 for a folded triangle. */
+}
+
+/* The file may wind every triangle the other way: the majority decides
+ * which side is "with". side[t] becomes 1 for a folded triangle, else 0;
+ * their count, area and the largest of them into ft. */
+static void fold_mark(const relief_mesh *m, signed char *side, fold_tally *ft)
+{
     for (size_t t = 0; t < m->nt; ++t) {
         double area;
-        if (side[t] == 0 || (side[t] > 0) == (with >= against)) {
+        if (side[t] == 0 || (side[t] > 0) == (ft->with >= ft->against)) {
             side[t] = 0;
             continue;
         }
         side[t] = 1;
         area = relief_mesh_triangle_area(m, t);
-        ++n_folded;
-        folded += area;
-        if (area > largest) {
-            largest = area;
-            worst = t;
+        ++ft->n_folded;
+        ft->folded += area;
+        if (area > ft->largest) {
+            ft->largest = area;
+            ft->worst = t;
         }
     }
-    fs->triangles = n_folded;
-    fs->area_fraction = total > 0.0 ? folded / total : 0.0;
-    if (total > 0.0 && folded > RELIEF_FOLD_AREA_MAX * total) {
-        const uint32_t *f = m->tri + 3 * worst;
-        const double *p = m->pos + 3 * (size_t)f[0];
+}
+
+/* The refusal of a capture folded over too much of its area, quoting the
+ * largest folded triangle. */
+static relief_status refuse_folds(const relief_mesh *m, const relief_fit_primitive *pr,
+                                  const fold_tally *ft, relief_error *err)
+{
+    const uint32_t *f = m->tri + 3 * ft->worst;
+    const double *p = m->pos + 3 * (size_t)f[0];
+    return relief_fail(err, RELIEF_E_MESH,
+                       RELIEF_FOLD_REFUSAL " %s: %zu triangles "
+                       "(%.1f%% of its area, more than %.0f%%) face away from it, the "
+                       "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "
+                       "%.6g); relief needs a height field over the primitive (or the "
+                       "file's triangles are not consistently wound)",
+                       relief_fit_model_name(pr->model), ft->n_folded,
+                       100.0 * ft->folded / ft->total, 100.0 * RELIEF_FOLD_AREA_MAX, ft->worst,
+                       f[0], f[1], f[2], p[0], p[1], p[2]);
+}
+
+/* *unfolded: the capture without its n_folded folded triangles (side[t]
+ * 1) and every vertex they touch; what went into fs. */
+static relief_status drop_folded(const relief_mesh *m, const signed char *side, size_t n_folded,
+                                 relief_mesh **unfolded, relief_fold_stats *fs,
+                                 relief_error *err)
+{
+    uint8_t *keep = malloc(m->nv);
+    relief_status st;
+    if (!keep)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the unfolded capture");
+    memset(keep, 1, m->nv);
+    for (size_t t = 0; t < m->nt; ++t)
+        if (side[t])
+            for (int i = 0; i < 3; ++i)
+                keep[m->tri[3 * t + i]] = 0;
+    st = relief_mesh_subset(m, keep, unfolded, NULL, err);
+    if (st == RELIEF_OK && (*unfolded)->nt == 0) {
+        relief_mesh_destroy(*unfolded);
+        *unfolded = NULL;
         st = relief_fail(err, RELIEF_E_MESH,
-                         RELIEF_FOLD_REFUSAL " %s: %zu triangles "
-                         "(%.1f%% of its area, more than %.0f%%) face away from it, the "
-                         "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "
-                         "%.6g); relief needs a height field over the primitive (or the "
-                         "file's triangles are not consistently wound)",
-                         relief_fit_model_name(pr->model), n_folded, 100.0 * folded / total,
-                         100.0 * RELIEF_FOLD_AREA_MAX, worst, f[0], f[1], f[2], p[0], p[1],
-                         p[2]);
-    } else if (n_folded > 0) {
-        keep = malloc(m->nv);
-        if (!keep) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the unfolded capture");
-        } else {
-            memset(keep, 1, m->nv);
-            for (size_t t = 0; t < m->nt; ++t)
-                if (side[t])
-                    for (int i = 0; i < 3; ++i)
-                        keep[m->tri[3 * t + i]] = 0;
-            st = relief_mesh_subset(m, keep, unfolded, NULL, err);
-            if (st == RELIEF_OK && (*unfolded)->nt == 0) {
-                relief_mesh_destroy(*unfolded);
-                *unfolded = NULL;
-                st = relief_fail(err, RELIEF_E_MESH,
-                                 "the capture has no triangle left once its %zu folded "
-                                 "triangles and their vertices are dropped", n_folded);
-            }
-            if (st == RELIEF_OK) {
-                fs->vertices_dropped = m->nv - (*unfolded)->nv;
-                fs->triangles_dropped = m->nt - (*unfolded)->nt;
-            }
-        }
+                         "the capture has no triangle left once its %zu folded "
+                         "triangles and their vertices are dropped", n_folded);
+    }
+    if (st == RELIEF_OK) {
+        fs->vertices_dropped = m->nv - (*unfolded)->nv;
+        fs->triangles_dropped = m->nt - (*unfolded)->nt;
     }
     free(keep);
+    return st;
+}
+
+/* Triangles whose normal turns away from the primitive's: the capture
+ * folds back over itself (or its triangles are not consistently wound).
+ * Those over RELIEF_FOLD_AREA_MAX of the area are refused; fewer are the
+ * fringes a depth camera leaves at depth edges, and go, with every vertex
+ * they touch, so that the fold becomes a hole the completion fills. */
+static relief_status check_folds(const relief_mesh *m, const relief_fit_primitive *pr,
+                                 relief_mesh **unfolded, relief_fold_stats *fs,
+                                 relief_error *err)
+{
+    fold_tally ft = {0.0, 0.0, 0.0, 0.0, 0.0, 0, 0};
+    signed char *side = malloc(m->nt + 1);
+    relief_status st = RELIEF_OK;
+
+    if (!side)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's orientations");
+    fold_sides(m, pr, side, &ft);
+    fold_mark(m, side, &ft);
+    fs->triangles = ft.n_folded;
+    fs->area_fraction = ft.total > 0.0 ? ft.folded / ft.total : 0.0;
+    if (ft.total > 0.0 && ft.folded > RELIEF_FOLD_AREA_MAX * ft.total)
+        st = refuse_folds(m, pr, &ft, err);
+    else if (ft.n_folded > 0)
+        st = drop_folded(m, side, ft.n_folded, unfolded, fs, err);
     free(side);
     return st;
 }
