@@ -225,6 +225,98 @@ relief_status relief_capture_check(const relief_mesh *capture,
 
 /* ----------------------------------------------------------------- spikes */
 
+/* h (nv): each vertex's distance to the primitive; returns the largest
+ * number of neighbours a vertex has. */
+static size_t spike_heights(const relief_mesh *m, const relief_fit_primitive *pr,
+                            const relief_adjacency *adj, double *h)
+{
+    size_t ring_max = 0;
+    for (size_t v = 0; v < m->nv; ++v) {
+        h[v] = relief_fit_distance(pr, m->pos + 3 * v);
+        if (adj->start[v + 1] - adj->start[v] > ring_max)
+            ring_max = adj->start[v + 1] - adj->start[v];
+    }
+    return ring_max;
+}
+
+/* r (nv): each vertex's excess outside its neighbours' heights (0 for a
+ * vertex with fewer than 3 neighbours: no local test); absr (one per
+ * vertex tested): |h - the neighbours' median|, whose median gives the
+ * scale. ring: scratch for the largest ring. Returns the vertices tested. */
+static size_t spike_excess(const relief_mesh *m, const relief_adjacency *adj, const double *h,
+                           double *r, double *ring, double *absr)
+{
+    size_t n_tested = 0;
+    for (size_t v = 0; v < m->nv; ++v) {
+        size_t n = adj->start[v + 1] - adj->start[v];
+        double lo = DBL_MAX, hi = -DBL_MAX;
+        r[v] = 0.0;
+        if (n < 3)
+            continue;
+        for (size_t i = 0; i < n; ++i) {
+            ring[i] = h[adj->nbr[adj->start[v] + i]];
+            lo = fmin(lo, ring[i]);
+            hi = fmax(hi, ring[i]);
+        }
+        absr[n_tested++] = fabs(h[v] - relief_select_median(ring, n));
+        r[v] = h[v] > hi ? h[v] - hi : h[v] < lo ? lo - h[v] : 0.0; /* the excess */
+    }
+    return n_tested;
+}
+
+/* The noise scale: 1.4826 times the median of absr (n_tested; reordered),
+ * never below the precision of a float file (1e-6 of the capture's size):
+ * over a noise-free surface that is exactly flat in places the median is 0
+ * and rounding alone would stand out. */
+static double spike_scale(const relief_mesh *m, double *absr, size_t n_tested)
+{
+    double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+    for (size_t v = 0; v < m->nv; ++v)
+        for (int k3 = 0; k3 < 3; ++k3) {
+            lo[k3] = fmin(lo[k3], m->pos[3 * v + k3]);
+            hi[k3] = fmax(hi[k3], m->pos[3 * v + k3]);
+        }
+    return fmax(1.4826 * relief_select_median(absr, n_tested),
+                1e-6 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                            (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                            (hi[2] - lo[2]) * (hi[2] - lo[2])));
+}
+
+/* keep (nv): 0 for each vertex whose excess r (nv) passes sp->threshold,
+ * counted in sp with the largest excess. */
+static void spike_mark(const relief_mesh *m, const double *r, uint8_t *keep,
+                       relief_spike_stats *sp)
+{
+    memset(keep, 1, m->nv);
+    for (size_t v = 0; v < m->nv; ++v) {
+        if (fabs(r[v]) > sp->largest)
+            sp->largest = fabs(r[v]);
+        if (fabs(r[v]) > sp->threshold) {
+            keep[v] = 0;
+            ++sp->vertices;
+        }
+    }
+}
+
+/* *despiked: the capture with only the vertices keep marks (and the
+ * triangles among them); refused when no triangle is left. */
+static relief_status drop_spikes(const relief_mesh *m, const uint8_t *keep,
+                                 relief_mesh **despiked, relief_spike_stats *sp,
+                                 relief_error *err)
+{
+    relief_status st = relief_mesh_subset(m, keep, despiked, NULL, err);
+    if (st == RELIEF_OK && (*despiked)->nt == 0) {
+        relief_mesh_destroy(*despiked);
+        *despiked = NULL;
+        st = relief_fail(err, RELIEF_E_MESH,
+                         "the capture has no triangle left once its %zu spikes are dropped; "
+                         "keep_spikes keeps them", sp->vertices);
+    }
+    if (st == RELIEF_OK)
+        sp->triangles_dropped = m->nt - (*despiked)->nt;
+    return st;
+}
+
 relief_status relief_capture_spikes(const relief_mesh *m, const relief_fit_primitive *pr,
                                     double k, relief_mesh **despiked, relief_spike_stats *sp,
                                     relief_error *err)
@@ -245,73 +337,22 @@ relief_status relief_capture_spikes(const relief_mesh *m, const relief_fit_primi
     st = relief_mesh_adjacency(m, &adj, err);
     if (st != RELIEF_OK)
         goto done;
-    for (size_t v = 0; v < m->nv; ++v) {
-        h[v] = relief_fit_distance(pr, m->pos + 3 * v);
-        if (adj.start[v + 1] - adj.start[v] > ring_max)
-            ring_max = adj.start[v + 1] - adj.start[v];
-    }
+    ring_max = spike_heights(m, pr, &adj, h);
     ring = malloc((ring_max + 1) * sizeof *ring);
     keep = malloc(m->nv + 1);
     if (!ring || !keep) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's spike test");
         goto done;
     }
-    /* r: each vertex's excess outside its neighbours' heights (0 for a
-     * vertex with fewer than 3 neighbours: no local test); absr: |h - the
-     * neighbours' median|, whose median gives the scale. */
-    for (size_t v = 0; v < m->nv; ++v) {
-        size_t n = adj.start[v + 1] - adj.start[v];
-        double lo = DBL_MAX, hi = -DBL_MAX;
-        r[v] = 0.0;
-        if (n < 3)
-            continue;
-        for (size_t i = 0; i < n; ++i) {
-            ring[i] = h[adj.nbr[adj.start[v] + i]];
-            lo = fmin(lo, ring[i]);
-            hi = fmax(hi, ring[i]);
-        }
-        absr[n_tested++] = fabs(h[v] - relief_select_median(ring, n));
-        r[v] = h[v] > hi ? h[v] - hi : h[v] < lo ? lo - h[v] : 0.0; /* the excess */
-    }
+    n_tested = spike_excess(m, &adj, h, r, ring, absr);
     if (n_tested == 0)
         goto done;
-    /* Never below the precision of a float file (1e-6 of the capture's
-     * size): over a noise-free surface that is exactly flat in places the
-     * median is 0 and rounding alone would stand out. */
-    {
-        double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
-        for (size_t v = 0; v < m->nv; ++v)
-            for (int k3 = 0; k3 < 3; ++k3) {
-                lo[k3] = fmin(lo[k3], m->pos[3 * v + k3]);
-                hi[k3] = fmax(hi[k3], m->pos[3 * v + k3]);
-            }
-        sp->scale = fmax(1.4826 * relief_select_median(absr, n_tested),
-                         1e-6 * sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
-                                     (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                                     (hi[2] - lo[2]) * (hi[2] - lo[2])));
-    }
+    sp->scale = spike_scale(m, absr, n_tested);
     sp->threshold = k * sp->scale;
-    memset(keep, 1, m->nv);
-    for (size_t v = 0; v < m->nv; ++v) {
-        if (fabs(r[v]) > sp->largest)
-            sp->largest = fabs(r[v]);
-        if (fabs(r[v]) > sp->threshold) {
-            keep[v] = 0;
-            ++sp->vertices;
-        }
-    }
+    spike_mark(m, r, keep, sp);
     if (sp->vertices == 0)
         goto done;
-    st = relief_mesh_subset(m, keep, despiked, NULL, err);
-    if (st == RELIEF_OK && (*despiked)->nt == 0) {
-        relief_mesh_destroy(*despiked);
-        *despiked = NULL;
-        st = relief_fail(err, RELIEF_E_MESH,
-                         "the capture has no triangle left once its %zu spikes are dropped; "
-                         "keep_spikes keeps them", sp->vertices);
-    }
-    if (st == RELIEF_OK)
-        sp->triangles_dropped = m->nt - (*despiked)->nt;
+    st = drop_spikes(m, keep, despiked, sp, err);
 done:
     relief_adjacency_free(&adj);
     free(keep);
