@@ -225,6 +225,81 @@ static int ring_cmp(const void *pa, const void *pb)
     return (a->angle > b->angle) - (a->angle < b->angle);
 }
 
+/* Over the hull's lower (Delaunay) cells of 3 or more vertices: the
+ * triangles their fans make (*count) and the most vertices of one cell
+ * (*widest). */
+static void cells_count(qhT *qh, size_t *count, size_t *widest)
+{
+    facetT *facet;
+    FORALLfacets {
+        size_t k = (size_t)qh_setsize(qh, facet->vertices);
+        if (facet->upperdelaunay || k < 3)
+            continue;
+        *count += k - 2;
+        if (k > *widest)
+            *widest = k;
+    }
+}
+
+/* The vertices of one Delaunay cell into ring (*k of them) as indices into
+ * xy (m x 2), sorted by angle about the cell's centroid: counter-clockwise. */
+static relief_status cell_ring(qhT *qh, const facetT *facet, const double *xy, size_t m,
+                               ring_vertex *ring, size_t *k, const char *what,
+                               relief_error *err)
+{
+    vertexT *vertex, **vertexp;
+    double c[2] = {0.0, 0.0};
+    *k = 0;
+    FOREACHvertex_(facet->vertices) {
+        int id = qh_pointid(qh, vertex->point);
+        if (id < 0 || (size_t)id >= m)
+            return relief_fail(err, RELIEF_E_INTERNAL,
+                               "%s: qhull cell f%u has vertex p%d, not one "
+                               "of the %zu input points", what, facet->id,
+                               id, m);
+        ring[(*k)++].id = (uint32_t)id;
+        c[0] += xy[2 * id];
+        c[1] += xy[2 * id + 1];
+    }
+    c[0] /= (double)*k;
+    c[1] /= (double)*k;
+    for (size_t i = 0; i < *k; ++i) {
+        const double *p = xy + 2 * (size_t)ring[i].id;
+        ring[i].angle = atan2(p[1] - c[1], p[0] - c[0]);
+    }
+    qsort(ring, *k, sizeof *ring, ring_cmp);
+    return RELIEF_OK;
+}
+
+/* The k - 2 triangles (out: (k - 2) x 3, counter-clockwise) of the fan
+ * over the ring's k vertices from the one of least key[] (key NULL: the
+ * index). */
+static void cell_fan(const double *xy, const uint32_t *key, const ring_vertex *ring, size_t k,
+                     uint32_t *out)
+{
+    size_t first = 0;
+    for (size_t i = 1; i < k; ++i) {
+        uint32_t ki = key ? key[ring[i].id] : ring[i].id;
+        uint32_t kf = key ? key[ring[first].id] : ring[first].id;
+        if (ki < kf)
+            first = i;
+    }
+    for (size_t i = 1; i + 1 < k; ++i) {
+        uint32_t *o = out + 3 * (i - 1);
+        o[0] = ring[first].id;
+        o[1] = ring[(first + i) % k].id;
+        o[2] = ring[(first + i + 1) % k].id;
+        /* The angular order is counter-clockwise; this only catches a
+         * nearly flat cell whose angles rounded out of order. */
+        if (orient2d(xy + 2 * (size_t)o[0], xy + 2 * (size_t)o[1],
+                     xy + 2 * (size_t)o[2]) < 0.0) {
+            uint32_t s = o[1];
+            o[1] = o[2];
+            o[2] = s;
+        }
+    }
+}
+
 /* Delaunay triangulation of the m points xy (m x 2), counter-clockwise, as
  * indices into xy. Qhull gives each Delaunay cell once with all of its
  * cocircular vertices; the cell is split into a fan from the vertex of least
@@ -240,7 +315,6 @@ static relief_status delaunay_cells(const double *xy, size_t m,
     ring_vertex *ring = NULL;
     size_t count = 0, widest = 0, t = 0;
     facetT *facet;
-    vertexT *vertex, **vertexp;
     qhT *qh;
     relief_status st = check_planar(xy, m, what, err);
 
@@ -256,14 +330,7 @@ static relief_status delaunay_cells(const double *xy, size_t m,
     if (st)
         goto done;
     qh = &run->qh;
-    FORALLfacets {
-        size_t k = (size_t)qh_setsize(qh, facet->vertices);
-        if (facet->upperdelaunay || k < 3)
-            continue;
-        count += k - 2;
-        if (k > widest)
-            widest = k;
-    }
+    cells_count(qh, &count, &widest);
     out = malloc((count ? count : 1) * 3 * sizeof *out);
     ring = malloc((widest ? widest : 1) * sizeof *ring);
     if (!out || !ring) {
@@ -272,50 +339,14 @@ static relief_status delaunay_cells(const double *xy, size_t m,
         goto done;
     }
     FORALLfacets {
-        size_t k = 0, first = 0;
-        double c[2] = {0.0, 0.0};
+        size_t k;
         if (facet->upperdelaunay || qh_setsize(qh, facet->vertices) < 3)
             continue;
-        FOREACHvertex_(facet->vertices) {
-            int id = qh_pointid(qh, vertex->point);
-            if (id < 0 || (size_t)id >= m) {
-                st = relief_fail(err, RELIEF_E_INTERNAL,
-                                 "%s: qhull cell f%u has vertex p%d, not one "
-                                 "of the %zu input points", what, facet->id,
-                                 id, m);
-                goto done;
-            }
-            ring[k++].id = (uint32_t)id;
-            c[0] += xy[2 * id];
-            c[1] += xy[2 * id + 1];
-        }
-        c[0] /= (double)k;
-        c[1] /= (double)k;
-        for (size_t i = 0; i < k; ++i) {
-            const double *p = xy + 2 * (size_t)ring[i].id;
-            ring[i].angle = atan2(p[1] - c[1], p[0] - c[0]);
-        }
-        qsort(ring, k, sizeof *ring, ring_cmp);
-        for (size_t i = 1; i < k; ++i) {
-            uint32_t ki = key ? key[ring[i].id] : ring[i].id;
-            uint32_t kf = key ? key[ring[first].id] : ring[first].id;
-            if (ki < kf)
-                first = i;
-        }
-        for (size_t i = 1; i + 1 < k; ++i) {
-            uint32_t *o = out + 3 * t++;
-            o[0] = ring[first].id;
-            o[1] = ring[(first + i) % k].id;
-            o[2] = ring[(first + i + 1) % k].id;
-            /* The angular order is counter-clockwise; this only catches a
-             * nearly flat cell whose angles rounded out of order. */
-            if (orient2d(xy + 2 * (size_t)o[0], xy + 2 * (size_t)o[1],
-                         xy + 2 * (size_t)o[2]) < 0.0) {
-                uint32_t s = o[1];
-                o[1] = o[2];
-                o[2] = s;
-            }
-        }
+        st = cell_ring(qh, facet, xy, m, ring, &k, what, err);
+        if (st)
+            goto done;
+        cell_fan(xy, key, ring, k, out + 3 * t);
+        t += k - 2;
     }
     *tri = out;
     *nt = t;
