@@ -667,17 +667,100 @@ static int seam_pick(const seam_copies *s, const uint32_t *et, size_t ent,
     return 0;
 }
 
+/* The band as the margin search sees it: the points w (n x 2) with u in
+ * [0, period) and v in [vmin, vmax], dup marking those taken as another,
+ * fan (n) scratch for seam_pick's angle sums. */
+typedef struct seam_band {
+    const double *w;
+    const uint8_t *dup;
+    double *fan;
+    size_t n;
+    double period, vmin, vmax;
+} seam_band;
+
+/* w (n x 2): the points uv (n x 2) with u wrapped into [0, period); their
+ * range of v into *vmin, *vmax. */
+static void wrap_points(const double *uv, size_t n, double period, double *w, double *vmin,
+                        double *vmax)
+{
+    *vmin = *vmax = uv[1];
+    for (size_t i = 0; i < n; ++i) {
+        double u = fmod(uv[2 * i], period);
+        if (u < 0.0)
+            u += period;
+        if (u >= period) /* -tiny + period rounds up to period */
+            u = 0.0;
+        w[2 * i] = u;
+        w[2 * i + 1] = uv[2 * i + 1];
+        *vmin = fmin(*vmin, uv[2 * i + 1]);
+        *vmax = fmax(*vmax, uv[2 * i + 1]);
+    }
+}
+
+/* The band's periodic triangles (*out: *kept x 3, original indices; the
+ * caller's on success, NULL otherwise): the Delaunay cells of the points
+ * and their copies within a margin of the seam, from `margin` widened
+ * until seam_pick trusts them, or until a whole period. */
+static relief_status seam_triangulate(const seam_band *b, double margin, uint32_t **out,
+                                      size_t *kept, const char *what, relief_error *err)
+{
+    seam_copies s = {0};
+    uint32_t *et = NULL, *picked = NULL;
+    size_t ent = 0;
+    double need;
+    relief_status st;
+
+    *out = NULL;
+    for (;;) {
+        int wider;
+        st = seam_copy(b->w, b->dup, b->n, b->period, margin, &s, what, err);
+        if (st)
+            goto done;
+        st = delaunay_cells(s.xy, s.m, s.src, &et, &ent, what, err);
+        /* A few points away from the seam can be collinear on their own. */
+        if (st == RELIEF_E_MESH && margin < b->period) {
+            margin = fmin(b->period, 2.0 * margin);
+            seam_free(&s);
+            continue;
+        }
+        if (st)
+            goto done;
+        picked = malloc((ent ? ent : 1) * 3 * sizeof *picked);
+        if (!picked) {
+            st = relief_fail(err, RELIEF_E_NOMEM,
+                             "%s: no memory for %zu triangles", what, ent);
+            goto done;
+        }
+        wider = seam_pick(&s, et, ent, b->w, b->dup, b->n, b->period, margin, b->vmin,
+                          b->vmax, b->fan, picked, kept, &need);
+        free(et);
+        et = NULL;
+        seam_free(&s);
+        if (!wider)
+            break;
+        free(picked);
+        picked = NULL;
+        margin = wider == 2 ? b->period : fmin(b->period, fmax(2.0 * margin, need));
+    }
+    *out = picked;
+    picked = NULL;
+done:
+    free(picked);
+    free(et);
+    seam_free(&s);
+    return st;
+}
+
 relief_status relief_delaunay_periodic(const double *uv, size_t n,
                                        double period, uint32_t **tri,
                                        size_t *nt, size_t *unused,
                                        relief_error *err)
 {
     static const char what[] = "relief_delaunay_periodic";
-    seam_copies s = {0};
-    double *w = NULL, *fan = NULL, vmin, vmax, margin, need;
+    double *w = NULL, *fan = NULL, vmin, vmax, margin;
     uint8_t *dup = NULL;
-    uint32_t *et = NULL, *out = NULL;
-    size_t ent = 0, kept = 0;
+    uint32_t *out = NULL;
+    size_t kept = 0;
     relief_status st = check_args(uv, n, 3, tri, nt, 2, what, err);
 
     if (st)
@@ -697,18 +780,7 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
                          what, n);
         goto done;
     }
-    vmin = vmax = uv[1];
-    for (size_t i = 0; i < n; ++i) {
-        double u = fmod(uv[2 * i], period);
-        if (u < 0.0)
-            u += period;
-        if (u >= period) /* -tiny + period rounds up to period */
-            u = 0.0;
-        w[2 * i] = u;
-        w[2 * i + 1] = uv[2 * i + 1];
-        vmin = fmin(vmin, uv[2 * i + 1]);
-        vmax = fmax(vmax, uv[2 * i + 1]);
-    }
+    wrap_points(uv, n, period, w, &vmin, &vmax);
     if (!(vmax - vmin > FLAT_REL * (period + fabs(vmax)))) {
         st = relief_fail(err, RELIEF_E_MESH,
                          "%s: all %zu points have v = %g: one ring of points "
@@ -721,37 +793,10 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
         goto done;
     margin = fmin(period, MARGIN_SPACINGS *
                               sqrt(period * (vmax - vmin) / (double)n));
-    for (;;) {
-        int wider;
-        st = seam_copy(w, dup, n, period, margin, &s, what, err);
-        if (st)
-            goto done;
-        st = delaunay_cells(s.xy, s.m, s.src, &et, &ent, what, err);
-        /* A few points away from the seam can be collinear on their own. */
-        if (st == RELIEF_E_MESH && margin < period) {
-            margin = fmin(period, 2.0 * margin);
-            seam_free(&s);
-            continue;
-        }
-        if (st)
-            goto done;
-        out = malloc((ent ? ent : 1) * 3 * sizeof *out);
-        if (!out) {
-            st = relief_fail(err, RELIEF_E_NOMEM,
-                             "%s: no memory for %zu triangles", what, ent);
-            goto done;
-        }
-        wider = seam_pick(&s, et, ent, w, dup, n, period, margin, vmin, vmax,
-                          fan, out, &kept, &need);
-        free(et);
-        et = NULL;
-        seam_free(&s);
-        if (!wider)
-            break;
-        free(out);
-        out = NULL;
-        margin = wider == 2 ? period : fmin(period, fmax(2.0 * margin, need));
-    }
+    st = seam_triangulate(&(seam_band){w, dup, fan, n, period, vmin, vmax}, margin, &out,
+                          &kept, what, err);
+    if (st)
+        goto done;
     if (kept == 0) {
         st = relief_fail(err, RELIEF_E_MESH,
                          "%s: no triangle: %zu points are too few around the "
@@ -763,8 +808,6 @@ relief_status relief_delaunay_periodic(const double *uv, size_t n,
     out = NULL;
 done:
     free(out);
-    free(et);
-    seam_free(&s);
     free(dup);
     free(fan);
     free(w);
