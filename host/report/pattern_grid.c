@@ -169,6 +169,103 @@ void pattern_grid_free(part_grid *gr)
     memset(gr, 0, sizeof *gr);
 }
 
+/* The grid's shape: nx x ny nodes of step g over the part's (u, v)
+ * bounding box, org the (u, v) of node (0, 0). */
+static void grid_frame(const part_points *pp, double g, part_grid *gr)
+{
+    gr->g = g;
+    gr->nx = (size_t)floor((pp->hi[0] - pp->lo[0]) / g) + 1;
+    gr->ny = (size_t)floor((pp->hi[1] - pp->lo[1]) / g) + 1;
+    /* Centred on the box, so both edges lose the same. */
+    for (int c = 0; c < 2; ++c) {
+        size_t nn = c ? gr->ny : gr->nx;
+        gr->org[c] = pp->lo[c] + 0.5 * ((pp->hi[c] - pp->lo[c]) - (double)(nn - 1) * g);
+    }
+}
+
+/* The fields at one node (x, y) from its k nearest points (nb: their
+ * indices, dd: their squared distances, FLANN's order): the constant
+ * term of a weighted least-squares plane, written to gr->val[f][node]
+ * for the nfield fields, and the node marked inside. A node farther
+ * than RELIEF_PATTERN_REACH steps from every point stays outside. */
+static void node_fit(const part_points *pp, int nfield, int k, double x, double y,
+                     const int *nb, const double *dd, size_t node, part_grid *gr)
+{
+    const double g = gr->g;
+    double ds[RELIEF_PATTERN_KNN], r, r2, M[6] = {0}, b[NF][3] = {{0}}, sw = 0.0;
+    double det;
+    for (int a = 0; a < k; ++a)
+        ds[a] = dd[a];
+    qsort(ds, (size_t)k, sizeof *ds, relief_cmp_double);
+    if (!(sqrt(ds[0]) <= RELIEF_PATTERN_REACH * g))
+        return;
+    r = sqrt(ds[k < 6 ? k - 1 : 5]) * 1.25;
+    if (r < RELIEF_PATTERN_FIT_RADIUS * g)
+        r = RELIEF_PATTERN_FIT_RADIUS * g;
+    r2 = r * r;
+    /* Normal equations of the weighted plane a + b du + c dv, with
+     * offsets in steps g so the matrix is well scaled. M holds
+     * the symmetric 3 x 3: [0]=11 [1]=1u [2]=1v [3]=uu [4]=uv
+     * [5]=vv. */
+    for (int a = 0; a < k; ++a) {
+        const double *p = pp->uv + 2 * (size_t)nb[a];
+        double du = (p[0] - x) / g, dv = (p[1] - y) / g;
+        double t = 1.0 - dd[a] / r2, w;
+        if (t <= 0.0)
+            continue;
+        w = t * t;
+        sw += w;
+        M[0] += w, M[1] += w * du, M[2] += w * dv;
+        M[3] += w * du * du, M[4] += w * du * dv, M[5] += w * dv * dv;
+        for (int f = 0; f < nfield; ++f) {
+            double z = pp->f[f][nb[a]];
+            b[f][0] += w * z, b[f][1] += w * du * z, b[f][2] += w * dv * z;
+        }
+    }
+    if (!(sw > 0.0))
+        return; /* cannot happen: the nearest is within r */
+    {
+        /* The first row of M's inverse, by cofactors: only the
+         * plane's value at the node (its constant term) is used. */
+        double c0 = M[3] * M[5] - M[4] * M[4], c1 = M[2] * M[4] - M[1] * M[5],
+               c2 = M[1] * M[4] - M[2] * M[3];
+        det = M[0] * c0 + M[1] * c1 + M[2] * c2;
+        for (int f = 0; f < nfield; ++f)
+            gr->val[f][node] = det > 1e-9 * sw * sw * sw
+                                   ? (c0 * b[f][0] + c1 * b[f][1] + c2 * b[f][2]) / det
+                                   : b[f][0] / sw;
+    }
+    gr->inside[node] = 1;
+    ++gr->n_inside;
+}
+
+/* Row j of the grid: one k-nearest search for its nx nodes, then each
+ * node's fit. q (2 nx), idx and d2 (k nx each): scratch for the search;
+ * fp: the part's search parameters (FLANN takes them non-const). */
+static relief_status resample_row(const part_points *pp, struct FLANNParameters *fp,
+                                  int nfield, int k, size_t j, double *q, int *idx, double *d2,
+                                  part_grid *gr, relief_error *err)
+{
+    const double g = gr->g, y = gr->org[1] + (double)j * g;
+    for (size_t i = 0; i < gr->nx; ++i) {
+        q[2 * i] = gr->org[0] + (double)i * g;
+        q[2 * i + 1] = y;
+    }
+    if (flann_find_nearest_neighbors_index_double(pp->index, q, (int)gr->nx, idx, d2, k, fp) !=
+        0)
+        return relief_fail(err, RELIEF_E_INTERNAL,
+                           "FLANN nearest-neighbour search failed on %zu grid nodes", gr->nx);
+    for (size_t i = 0; i < gr->nx; ++i) {
+        const int *nb = idx + (size_t)k * i;
+        for (int a = 0; a < k; ++a)
+            if (nb[a] < 0 || (size_t)nb[a] >= pp->n)
+                return relief_fail(err, RELIEF_E_INTERNAL,
+                                   "FLANN returned a neighbour outside 0..%zu", pp->n - 1);
+        node_fit(pp, nfield, k, q[2 * i], y, nb, d2 + (size_t)k * i, j * gr->nx + i, gr);
+    }
+    return RELIEF_OK;
+}
+
 /* Resample the part's fields onto nodes of step g over its bounding box
  * (see the header: inside test, local weighted plane). */
 relief_status pattern_grid_resample(const part_points *pp, double g, part_grid *gr,
@@ -182,14 +279,7 @@ relief_status pattern_grid_resample(const part_points *pp, double g, part_grid *
     relief_status st = RELIEF_OK;
 
     memset(gr, 0, sizeof *gr);
-    gr->g = g;
-    gr->nx = (size_t)floor((pp->hi[0] - pp->lo[0]) / g) + 1;
-    gr->ny = (size_t)floor((pp->hi[1] - pp->lo[1]) / g) + 1;
-    /* Centred on the box, so both edges lose the same. */
-    for (int c = 0; c < 2; ++c) {
-        size_t nn = c ? gr->ny : gr->nx;
-        gr->org[c] = pp->lo[c] + 0.5 * ((pp->hi[c] - pp->lo[c]) - (double)(nn - 1) * g);
-    }
+    grid_frame(pp, g, gr);
     gr->inside = calloc(gr->nx * gr->ny, 1);
     for (int f = 0; f < nfield; ++f)
         gr->val[f] = calloc(gr->nx * gr->ny, sizeof *gr->val[f]);
@@ -201,79 +291,8 @@ relief_status pattern_grid_resample(const part_points *pp, double g, part_grid *
                          gr->ny);
         goto done;
     }
-
-    for (size_t j = 0; j < gr->ny; ++j) {
-        const double y = gr->org[1] + (double)j * g;
-        for (size_t i = 0; i < gr->nx; ++i) {
-            q[2 * i] = gr->org[0] + (double)i * g;
-            q[2 * i + 1] = y;
-        }
-        if (flann_find_nearest_neighbors_index_double(pp->index, q, (int)gr->nx, idx, d2, k,
-                                                      &fp) != 0) {
-            st = relief_fail(err, RELIEF_E_INTERNAL,
-                             "FLANN nearest-neighbour search failed on %zu grid nodes", gr->nx);
-            goto done;
-        }
-        for (size_t i = 0; i < gr->nx; ++i) {
-            const int *nb = idx + (size_t)k * i;
-            const double *dd = d2 + (size_t)k * i;
-            double ds[RELIEF_PATTERN_KNN], r, r2, M[6] = {0}, b[NF][3] = {{0}}, sw = 0.0;
-            double det;
-            const size_t node = j * gr->nx + i;
-            int ok = 1;
-            for (int a = 0; a < k; ++a) {
-                if (nb[a] < 0 || (size_t)nb[a] >= pp->n)
-                    ok = 0;
-                ds[a] = dd[a];
-            }
-            if (!ok) {
-                st = relief_fail(err, RELIEF_E_INTERNAL,
-                                 "FLANN returned a neighbour outside 0..%zu", pp->n - 1);
-                goto done;
-            }
-            qsort(ds, (size_t)k, sizeof *ds, relief_cmp_double);
-            if (!(sqrt(ds[0]) <= RELIEF_PATTERN_REACH * g))
-                continue;
-            r = sqrt(ds[k < 6 ? k - 1 : 5]) * 1.25;
-            if (r < RELIEF_PATTERN_FIT_RADIUS * g)
-                r = RELIEF_PATTERN_FIT_RADIUS * g;
-            r2 = r * r;
-            /* Normal equations of the weighted plane a + b du + c dv, with
-             * offsets in steps g so the matrix is well scaled. M holds
-             * the symmetric 3 x 3: [0]=11 [1]=1u [2]=1v [3]=uu [4]=uv
-             * [5]=vv. */
-            for (int a = 0; a < k; ++a) {
-                const double *p = pp->uv + 2 * (size_t)nb[a];
-                double du = (p[0] - q[2 * i]) / g, dv = (p[1] - y) / g;
-                double t = 1.0 - dd[a] / r2, w;
-                if (t <= 0.0)
-                    continue;
-                w = t * t;
-                sw += w;
-                M[0] += w, M[1] += w * du, M[2] += w * dv;
-                M[3] += w * du * du, M[4] += w * du * dv, M[5] += w * dv * dv;
-                for (int f = 0; f < nfield; ++f) {
-                    double z = pp->f[f][nb[a]];
-                    b[f][0] += w * z, b[f][1] += w * du * z, b[f][2] += w * dv * z;
-                }
-            }
-            if (!(sw > 0.0))
-                continue; /* cannot happen: the nearest is within r */
-            {
-                /* The first row of M's inverse, by cofactors: only the
-                 * plane's value at the node (its constant term) is used. */
-                double c0 = M[3] * M[5] - M[4] * M[4], c1 = M[2] * M[4] - M[1] * M[5],
-                       c2 = M[1] * M[4] - M[2] * M[3];
-                det = M[0] * c0 + M[1] * c1 + M[2] * c2;
-                for (int f = 0; f < nfield; ++f)
-                    gr->val[f][node] = det > 1e-9 * sw * sw * sw
-                                           ? (c0 * b[f][0] + c1 * b[f][1] + c2 * b[f][2]) / det
-                                           : b[f][0] / sw;
-            }
-            gr->inside[node] = 1;
-            ++gr->n_inside;
-        }
-    }
+    for (size_t j = 0; j < gr->ny && st == RELIEF_OK; ++j)
+        st = resample_row(pp, &fp, nfield, k, j, q, idx, d2, gr, err);
 done:
     free(idx);
     free(d2);
