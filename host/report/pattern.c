@@ -69,38 +69,35 @@ static void orient_add(double *bins, double theta, double w)
 
 /* ----------------------------------------------------------- spectrum */
 
-/* Binned power spectrum of field f on the grid (see the header, 1). */
-static relief_status grid_spectrum(const part_grid *gr, int f, const double *taper,
-                                   double k_min, double k_max, relief_pattern_part *out,
-                                   relief_error *err)
-{
-    const size_t nx = gr->nx, ny = gr->ny, nku = 2 * KG + 1;
-    const double dk = k_max / KG, lr = log(k_max / k_min);
-    double tc[2 * KG], ts[2 * KG], sw = 0.0, mean = 0.0, total = 0.0, sk = 0.0;
-    double *fw = malloc(nx * ny * sizeof *fw), *A = malloc(2 * ny * nku * sizeof *A);
-    double hist[NO][NR] = {{0}};
+/* Power and its bins, summed over the wave numbers in the band. */
+typedef struct spectrum_sum {
+    double hist[NO][NR]; /* power by orientation and log |k| scale */
+    double total;        /* all the power */
+    double sk;           /* power times |k| (cycles per input unit) */
+} spectrum_sum;
 
-    if (!fw || !A) {
-        free(fw);
-        free(A);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the spectrum of a %zu x %zu "
-                                                "grid", nx, ny);
-    }
-    /* Node x_i = i g and k = iu dk with dk g = 1 / (2 KG): the phase
-     * 2 pi k x is pi (iu i mod 2 KG) / KG, one table for both axes. */
-    for (int m = 0; m < 2 * KG; ++m) {
-        tc[m] = cos(RELIEF_PI * m / KG);
-        ts[m] = -sin(RELIEF_PI * m / KG);
-    }
-    for (size_t v = 0; v < nx * ny; ++v) {
+/* The taper-weighted field with its weighted mean removed: fw[v] for the
+ * nx ny nodes (the field's units). */
+static void spectrum_field(const part_grid *gr, int f, const double *taper, double *fw)
+{
+    const size_t nn = gr->nx * gr->ny;
+    double sw = 0.0, mean = 0.0;
+    for (size_t v = 0; v < nn; ++v) {
         sw += taper[v];
         mean += taper[v] * gr->val[f][v];
     }
     mean /= sw;
-    for (size_t v = 0; v < nx * ny; ++v)
+    for (size_t v = 0; v < nn; ++v)
         fw[v] = taper[v] * (gr->val[f][v] - mean);
+}
 
-    /* Along u, every row at once per wave number. */
+/* The transform along u of each of the ny rows of fw (nx x ny) at the
+ * 2 KG + 1 wave numbers iu dk, iu = -KG..KG: A, ny x (2 KG + 1) complex
+ * values (re, im), row-major. tc, ts: the 2 KG phase table. */
+static void spectrum_rows(const double *fw, size_t nx, size_t ny, const double *tc,
+                          const double *ts, double *A)
+{
+    const size_t nku = 2 * KG + 1;
     for (size_t j = 0; j < ny; ++j) {
         const double *row = fw + j * nx;
         for (long iu = -KG; iu <= KG; ++iu) {
@@ -118,12 +115,46 @@ static relief_status grid_spectrum(const part_grid *gr, int f, const double *tap
             A[2 * (j * nku + (size_t)(iu + KG)) + 1] = im;
         }
     }
-    /* Along v, the half plane k_v >= 0, and into the bins. */
+}
+
+/* Add power p at wave vector (iu, iv) dk, |k| = kk, to the histogram:
+ * shared between the two nearest scale bins, linear in log |k| between
+ * the bin centres (lr = log(k_max / k_min)), and the two nearest
+ * orientation bins. */
+static void spectrum_bin(spectrum_sum *s, long iu, long iv, double kk, double p, double k_min,
+                         double lr)
+{
+    double x, y;
+    int r0;
+    s->total += p;
+    s->sk += p * kk;
+    y = log(kk / k_min) / lr * NR - 0.5;
+    x = y <= 0.0 ? 0.0 : y >= NR - 1 ? NR - 1 : y;
+    r0 = (int)floor(x);
+    if (r0 >= NR - 1)
+        r0 = NR - 2;
+    {
+        double fr = x - r0, ob[NO] = {0};
+        orient_add(ob, atan2((double)iv, (double)iu), p);
+        for (int o = 0; o < NO; ++o) {
+            s->hist[o][r0] += (1.0 - fr) * ob[o];
+            s->hist[o][r0 + 1] += fr * ob[o];
+        }
+    }
+}
+
+/* The transform along v of A (spectrum_rows) over the half plane
+ * k_v >= 0, each wave number with k_min <= |k| <= k_max (cycles per
+ * input unit, dk apart) into s. */
+static void spectrum_columns(const double *A, size_t ny, const double *tc, const double *ts,
+                             double dk, double k_min, double k_max, spectrum_sum *s)
+{
+    const size_t nku = 2 * KG + 1;
+    const double lr = log(k_max / k_min);
     for (long iv = 0; iv <= KG; ++iv)
         for (long iu = -KG; iu <= KG; ++iu) {
-            double re = 0.0, im = 0.0, kk, p, x, y;
+            double re = 0.0, im = 0.0, kk;
             long m = 0;
-            int r0;
             if (iv == 0 && iu <= 0)
                 continue; /* -k of a k already counted, or k = 0 */
             kk = dk * sqrt((double)(iu * iu + iv * iv));
@@ -137,41 +168,62 @@ static relief_status grid_spectrum(const part_grid *gr, int f, const double *tap
                 if (m >= 2 * KG)
                     m -= 2 * KG;
             }
-            p = re * re + im * im;
-            total += p;
-            sk += p * kk;
-            /* Scale: linear in log |k| between the bin centres. */
-            y = log(kk / k_min) / lr * NR - 0.5;
-            x = y <= 0.0 ? 0.0 : y >= NR - 1 ? NR - 1 : y;
-            r0 = (int)floor(x);
-            if (r0 >= NR - 1)
-                r0 = NR - 2;
-            {
-                double fr = x - r0, ob[NO] = {0};
-                orient_add(ob, atan2((double)iv, (double)iu), p);
-                for (int o = 0; o < NO; ++o) {
-                    hist[o][r0] += (1.0 - fr) * ob[o];
-                    hist[o][r0 + 1] += fr * ob[o];
-                }
-            }
+            spectrum_bin(s, iu, iv, kk, re * re + im * im, k_min, lr);
         }
-    free(A);
-    free(fw);
-    if (!(total > 0.0))
-        return RELIEF_OK; /* stays NaN */
+}
+
+/* The part's spectrum, orientation and radial histograms (shares of the
+ * total power) and spacing (1 / the power-weighted mean |k|, input
+ * units) from s; left NaN when there is no power. */
+static void spectrum_out(const spectrum_sum *s, relief_pattern_part *out)
+{
+    if (!(s->total > 0.0))
+        return; /* stays NaN */
     for (int o = 0; o < NO; ++o) {
         out->orientation[o] = 0.0;
         for (int r = 0; r < NR; ++r)
-            out->spectrum[o][r] = hist[o][r] / total;
+            out->spectrum[o][r] = s->hist[o][r] / s->total;
     }
     for (int r = 0; r < NR; ++r)
         out->radial[r] = 0.0;
-    out->spacing = total / sk; /* 1 / the power-weighted mean |k| */
+    out->spacing = s->total / s->sk; /* 1 / the power-weighted mean |k| */
     for (int o = 0; o < NO; ++o)
         for (int r = 0; r < NR; ++r) {
             out->orientation[o] += out->spectrum[o][r];
             out->radial[r] += out->spectrum[o][r];
         }
+}
+
+/* Binned power spectrum of field f on the grid (see the header, 1). */
+static relief_status grid_spectrum(const part_grid *gr, int f, const double *taper,
+                                   double k_min, double k_max, relief_pattern_part *out,
+                                   relief_error *err)
+{
+    const size_t nx = gr->nx, ny = gr->ny, nku = 2 * KG + 1;
+    const double dk = k_max / KG;
+    double tc[2 * KG], ts[2 * KG];
+    double *fw = malloc(nx * ny * sizeof *fw), *A = malloc(2 * ny * nku * sizeof *A);
+    spectrum_sum s = {{{0}}, 0.0, 0.0};
+
+    if (!fw || !A) {
+        free(fw);
+        free(A);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the spectrum of a %zu x %zu "
+                                                "grid", nx, ny);
+    }
+    /* Node x_i = i g and k = iu dk with dk g = 1 / (2 KG): the phase
+     * 2 pi k x is pi (iu i mod 2 KG) / KG, one table for both axes. */
+    for (int m = 0; m < 2 * KG; ++m) {
+        tc[m] = cos(RELIEF_PI * m / KG);
+        ts[m] = -sin(RELIEF_PI * m / KG);
+    }
+    spectrum_field(gr, f, taper, fw);
+    /* Along u, every row at once per wave number; then along v. */
+    spectrum_rows(fw, nx, ny, tc, ts, A);
+    spectrum_columns(A, ny, tc, ts, dk, k_min, k_max, &s);
+    free(A);
+    free(fw);
+    spectrum_out(&s, out);
     return RELIEF_OK;
 }
 
@@ -207,36 +259,14 @@ static void smooth(double *const *ch, int n_ch, size_t nx, size_t ny, const doub
     }
 }
 
-/* Coherence-weighted orientation histogram of field f (header, 2); at
- * each node z = c (cos 2 theta, sin 2 theta), NaN without a tensor (2 per
- * node, for the layout). */
-static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part *out,
-                                 double *z, relief_error *err)
+/* The structure tensor's inputs at each node of field v (nx x ny) whose
+ * four neighbours are inside: ch[0..2] = Juu, Juv, Jvv of the central
+ * differences (the field's units squared), ch[3] = 1 and has = 1 there;
+ * elsewhere left as they are (zero). */
+static void tensor_gradients(const part_grid *gr, const double *v, double *const *ch,
+                             uint8_t *has)
 {
-    const size_t nx = gr->nx, ny = gr->ny, nn = nx * ny;
-    const long R = (long)ceil(3.0 * RELIEF_PATTERN_TENSOR_SIGMA);
-    const double *v = gr->val[f];
-    double kern[2 * KERN_MAX + 1], hist[NO] = {0}, sc = 0.0;
-    double *buf, *ch[4];
-    uint8_t *has;
-    size_t count = 0;
-
-    if (R > KERN_MAX)
-        return relief_fail(err, RELIEF_E_INTERNAL, "RELIEF_PATTERN_TENSOR_SIGMA %g needs %ld "
-                           "taps, more than %d", RELIEF_PATTERN_TENSOR_SIGMA, R, KERN_MAX);
-    buf = calloc(5 * nn, sizeof *buf);
-    has = calloc(nn, 1);
-    if (!buf || !has) {
-        free(buf);
-        free(has);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the tensor of a %zu x %zu grid",
-                           nx, ny);
-    }
-    for (int c = 0; c < 4; ++c)
-        ch[c] = buf + (size_t)c * nn; /* Juu, Juv, Jvv, has-gradient; then tmp */
-    for (long a = -R; a <= R; ++a)
-        kern[a + R] = exp(-0.5 * (double)(a * a) /
-                          (RELIEF_PATTERN_TENSOR_SIGMA * RELIEF_PATTERN_TENSOR_SIGMA));
+    const size_t nx = gr->nx, ny = gr->ny;
     for (size_t j = 1; j + 1 < ny; ++j)
         for (size_t i = 1; i + 1 < nx; ++i) {
             const size_t c = j * nx + i;
@@ -252,7 +282,16 @@ static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part
             ch[3][c] = 1.0;
             has[c] = 1;
         }
-    smooth(ch, 4, nx, ny, kern, R, buf + 4 * nn);
+}
+
+/* From the smoothed channels (tensor_gradients, nn nodes): z (2 nn, NaN
+ * where no tensor), the coherence-weighted orientation histogram hist
+ * (NO bins), the coherences' sum *sc and the count of nodes with a
+ * tensor. */
+static size_t tensor_orientations(double *const *ch, const uint8_t *has, size_t nn, double *z,
+                                  double *hist, double *sc)
+{
+    size_t count = 0;
     for (size_t c = 0; c < nn; ++c) {
         double juu, juv, jvv, tr, zc, zs, coh;
         z[2 * c] = z[2 * c + 1] = NAN;
@@ -275,9 +314,44 @@ static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part
         z[2 * c] = zc;
         z[2 * c + 1] = zs;
         orient_add(hist, 0.5 * atan2(zs, zc), coh);
-        sc += coh;
+        *sc += coh;
         ++count;
     }
+    return count;
+}
+
+/* Coherence-weighted orientation histogram of field f (header, 2); at
+ * each node z = c (cos 2 theta, sin 2 theta), NaN without a tensor (2 per
+ * node, for the layout). */
+static relief_status grid_tensor(const part_grid *gr, int f, relief_pattern_part *out,
+                                 double *z, relief_error *err)
+{
+    const size_t nx = gr->nx, ny = gr->ny, nn = nx * ny;
+    const long R = (long)ceil(3.0 * RELIEF_PATTERN_TENSOR_SIGMA);
+    double kern[2 * KERN_MAX + 1], hist[NO] = {0}, sc = 0.0;
+    double *buf, *ch[4];
+    uint8_t *has;
+    size_t count;
+
+    if (R > KERN_MAX)
+        return relief_fail(err, RELIEF_E_INTERNAL, "RELIEF_PATTERN_TENSOR_SIGMA %g needs %ld "
+                           "taps, more than %d", RELIEF_PATTERN_TENSOR_SIGMA, R, KERN_MAX);
+    buf = calloc(5 * nn, sizeof *buf);
+    has = calloc(nn, 1);
+    if (!buf || !has) {
+        free(buf);
+        free(has);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the tensor of a %zu x %zu grid",
+                           nx, ny);
+    }
+    for (int c = 0; c < 4; ++c)
+        ch[c] = buf + (size_t)c * nn; /* Juu, Juv, Jvv, has-gradient; then tmp */
+    for (long a = -R; a <= R; ++a)
+        kern[a + R] = exp(-0.5 * (double)(a * a) /
+                          (RELIEF_PATTERN_TENSOR_SIGMA * RELIEF_PATTERN_TENSOR_SIGMA));
+    tensor_gradients(gr, gr->val[f], ch, has);
+    smooth(ch, 4, nx, ny, kern, R, buf + 4 * nn);
+    count = tensor_orientations(ch, has, nn, z, hist, &sc);
     free(has);
     free(buf);
     out->n_tensor_nodes = count;
