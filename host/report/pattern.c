@@ -425,6 +425,114 @@ static void pattern_nan(relief_pattern *r)
     r->step = r->k_min = r->k_max = NAN;
 }
 
+/* r (NaN measures) with the part counts and the primitive measured from:
+ * prim when given, else fitted to cm's captured part. */
+static relief_status measure_begin(const relief_mesh *cm, const relief_fit_primitive *prim,
+                                   const relief_mesh *tm, relief_pattern *r, relief_error *err)
+{
+    relief_status st;
+    memset(r, 0, sizeof *r);
+    pattern_nan(r);
+    st = relief_measure_check_parts(cm, tm, &r->n_captured, &r->n_completed, NULL, err);
+    if (st != RELIEF_OK)
+        return st;
+    r->has_truth = tm != NULL;
+    if (prim) {
+        r->prim = *prim;
+    } else {
+        relief_fit_result fit;
+        st = relief_measure_fit_captured(cm, &fit, err);
+        if (st != RELIEF_OK)
+            return st;
+        r->prim = fit.prim;
+        r->fitted = 1;
+    }
+    return RELIEF_OK;
+}
+
+/* One step and one band for every part (see the header): r->step, the
+ * grid step (input units), and r->k_min, r->k_max (cycles per unit); the
+ * step stays NaN when no part is measurable, the band also when the
+ * parts are narrower than RELIEF_PATTERN_MIN_SIDE steps. */
+static void measure_band(const part_points pts[2], relief_pattern *r)
+{
+    double g = 0.0, L = INFINITY;
+    for (int p = 0; p < 2; ++p) {
+        if (!pattern_points_measurable(&pts[p]))
+            continue;
+        g = pts[p].spacing > g ? pts[p].spacing : g;
+        g = pattern_points_long_side(&pts[p]) / RELIEF_PATTERN_GRID_MAX > g
+                ? pattern_points_long_side(&pts[p]) / RELIEF_PATTERN_GRID_MAX
+                : g;
+        L = pattern_points_short_side(&pts[p]) < L ? pattern_points_short_side(&pts[p]) : L;
+    }
+    if (g > 0.0 && isfinite(g)) {
+        r->step = g;
+        if (L >= RELIEF_PATTERN_MIN_SIDE * g) {
+            r->k_min = 1.0 / L;
+            r->k_max = 1.0 / (2.0 * g);
+        }
+    }
+}
+
+/* The completion's two parts (pts: loaded here, freed by the caller on
+ * failure): the step and band, their measures and distances in r. */
+static relief_status measure_completion(const relief_domain *pm, const relief_mesh *cm,
+                                        int colour, part_points pts[2], relief_pattern *r,
+                                        relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+    for (int p = 0; p < 2 && st == RELIEF_OK; ++p)
+        st = pattern_points_load(pm, cm, p, colour, &pts[p], err);
+    if (st != RELIEF_OK)
+        return st;
+    measure_band(pts, r);
+    for (int p = 0; p < 2 && st == RELIEF_OK; ++p) {
+        relief_pattern_part two[NF];
+        st = analyse_part(&pts[p], r->step, r->k_min, r->k_max, two, err);
+        r->height[p] = two[0];
+        r->colour[p] = two[1];
+    }
+    if (st != RELIEF_OK)
+        return st;
+    distances(&r->height[0], &r->height[1], &r->d_height);
+    if (colour)
+        distances(&r->colour[0], &r->colour[1], &r->d_colour);
+    for (int p = 0; p < 2; ++p)
+        pattern_points_free(&pts[p]);
+    return RELIEF_OK;
+}
+
+/* The truth's two parts on the completion's band (tpts: as pts in
+ * measure_completion): their measures and distances in r. */
+static relief_status measure_truth(const relief_domain *pm, const relief_mesh *tm,
+                                   part_points tpts[2], relief_pattern *r, relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+    for (int p = 0; p < 2 && st == RELIEF_OK; ++p) {
+        relief_pattern_part two[NF];
+        double g = r->step;
+        st = pattern_points_load(pm, tm, p, r->has_truth_colour, &tpts[p], err);
+        if (st != RELIEF_OK)
+            break;
+        /* Bounded like the completion's grids; a coarser step leaves
+         * the top scale bins empty rather than moving them. */
+        if (pattern_points_measurable(&tpts[p]) &&
+            pattern_points_long_side(&tpts[p]) / RELIEF_PATTERN_GRID_MAX > g)
+            g = pattern_points_long_side(&tpts[p]) / RELIEF_PATTERN_GRID_MAX;
+        st = analyse_part(&tpts[p], g, r->k_min, r->k_max, two, err);
+        r->truth_height[p] = two[0];
+        r->truth_colour[p] = two[1];
+        pattern_points_free(&tpts[p]);
+    }
+    if (st != RELIEF_OK)
+        return st;
+    distances(&r->truth_height[0], &r->truth_height[1], &r->d_truth_height);
+    if (r->has_truth_colour)
+        distances(&r->truth_colour[0], &r->truth_colour[1], &r->d_truth_colour);
+    return RELIEF_OK;
+}
+
 relief_status relief_pattern_measure(const relief_mesh *cm, const relief_fit_primitive *prim,
                                      const relief_mesh *tm, relief_pattern *out,
                                      relief_error *err)
@@ -440,90 +548,16 @@ relief_status relief_pattern_measure(const relief_mesh *cm, const relief_fit_pri
     if (!cm || !out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_pattern_measure: %s is NULL",
                            !cm ? "the completed mesh" : "out");
-    memset(&r, 0, sizeof r);
-    pattern_nan(&r);
-    st = relief_measure_check_parts(cm, tm, &r.n_captured, &r.n_completed, NULL, err);
+    st = measure_begin(cm, prim, tm, &r, err);
     if (st != RELIEF_OK)
         return st;
-    r.has_truth = tm != NULL;
-    if (prim) {
-        r.prim = *prim;
-    } else {
-        relief_fit_result fit;
-        st = relief_measure_fit_captured(cm, &fit, err);
-        if (st != RELIEF_OK)
-            return st;
-        r.prim = fit.prim;
-        r.fitted = 1;
-    }
     relief_domain_init(&pm, &r.prim);
     r.has_colour = colour;
     r.has_truth_colour = tm && colour && tm->col;
 
-    for (int p = 0; p < 2 && st == RELIEF_OK; ++p)
-        st = pattern_points_load(&pm, cm, p, colour, &pts[p], err);
-    if (st != RELIEF_OK)
-        goto done;
-
-    /* One step and one band for every part (see the header). */
-    {
-        double g = 0.0, L = INFINITY;
-        for (int p = 0; p < 2; ++p) {
-            if (!pattern_points_measurable(&pts[p]))
-                continue;
-            g = pts[p].spacing > g ? pts[p].spacing : g;
-            g = pattern_points_long_side(&pts[p]) / RELIEF_PATTERN_GRID_MAX > g
-                    ? pattern_points_long_side(&pts[p]) / RELIEF_PATTERN_GRID_MAX
-                    : g;
-            L = pattern_points_short_side(&pts[p]) < L ? pattern_points_short_side(&pts[p]) : L;
-        }
-        if (g > 0.0 && isfinite(g)) {
-            r.step = g;
-            if (L >= RELIEF_PATTERN_MIN_SIDE * g) {
-                r.k_min = 1.0 / L;
-                r.k_max = 1.0 / (2.0 * g);
-            }
-        }
-    }
-    for (int p = 0; p < 2 && st == RELIEF_OK; ++p) {
-        relief_pattern_part two[NF];
-        st = analyse_part(&pts[p], r.step, r.k_min, r.k_max, two, err);
-        r.height[p] = two[0];
-        r.colour[p] = two[1];
-    }
-    if (st != RELIEF_OK)
-        goto done;
-    distances(&r.height[0], &r.height[1], &r.d_height);
-    if (colour)
-        distances(&r.colour[0], &r.colour[1], &r.d_colour);
-    for (int p = 0; p < 2; ++p)
-        pattern_points_free(&pts[p]);
-
-    if (tm) {
-        for (int p = 0; p < 2 && st == RELIEF_OK; ++p) {
-            relief_pattern_part two[NF];
-            double g = r.step;
-            st = pattern_points_load(&pm, tm, p, r.has_truth_colour, &tpts[p], err);
-            if (st != RELIEF_OK)
-                break;
-            /* Bounded like the completion's grids; a coarser step leaves
-             * the top scale bins empty rather than moving them. */
-            if (pattern_points_measurable(&tpts[p]) &&
-                pattern_points_long_side(&tpts[p]) / RELIEF_PATTERN_GRID_MAX > g)
-                g = pattern_points_long_side(&tpts[p]) / RELIEF_PATTERN_GRID_MAX;
-            st = analyse_part(&tpts[p], g, r.k_min, r.k_max, two, err);
-            r.truth_height[p] = two[0];
-            r.truth_colour[p] = two[1];
-            pattern_points_free(&tpts[p]);
-        }
-        if (st != RELIEF_OK)
-            goto done;
-        distances(&r.truth_height[0], &r.truth_height[1], &r.d_truth_height);
-        if (r.has_truth_colour)
-            distances(&r.truth_colour[0], &r.truth_colour[1], &r.d_truth_colour);
-    }
-
-done:
+    st = measure_completion(&pm, cm, colour, pts, &r, err);
+    if (st == RELIEF_OK && tm)
+        st = measure_truth(&pm, tm, tpts, &r, err);
     for (int p = 0; p < 2; ++p) {
         pattern_points_free(&pts[p]);
         pattern_points_free(&tpts[p]);
