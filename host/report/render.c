@@ -402,24 +402,10 @@ static void draw_points(const camera *c, const relief_mesh *m, const double *scr
     }
 }
 
-relief_status relief_render(const relief_mesh *m, const relief_render_options *o,
-                            relief_rgb_image *out, relief_render_info *info_out,
-                            relief_error *err)
+/* The options' and mesh's checks before anything is allocated. */
+static relief_status render_check(const relief_mesh *m, const relief_render_options *o,
+                                  relief_error *err)
 {
-    const int ss = RELIEF_RENDER_SUPERSAMPLE;
-    const float bg[3] = {RELIEF_RENDER_BACKGROUND_R / 255.0f,
-                         RELIEF_RENDER_BACKGROUND_G / 255.0f,
-                         RELIEF_RENDER_BACKGROUND_B / 255.0f};
-    relief_render_info info;
-    camera c;
-    float *alb = NULL, *zbuf = NULL, *img = NULL;
-    double *vn = NULL, *scr = NULL;
-    uint8_t *rgb = NULL;
-    size_t npx;
-    relief_status st;
-
-    if (!m || !o || !out)
-        return relief_fail(err, RELIEF_E_USAGE, "relief_render: NULL argument");
     if (o->width < 1 || o->height < 1 || o->width > RELIEF_RENDER_MAX_SIDE ||
         o->height > RELIEF_RENDER_MAX_SIDE)
         return relief_fail(err, RELIEF_E_RANGE, "image size %dx%d is out of range: expected "
@@ -434,7 +420,68 @@ relief_status relief_render(const relief_mesh *m, const relief_render_options *o
                            ">= 0 (0: automatic)", o->displacement_range);
     if (m->nv == 0)
         return relief_fail(err, RELIEF_E_MESH, "the mesh has no vertices to render");
-    if ((st = relief_mesh_validate(m, err)) != RELIEF_OK)
+    return relief_mesh_validate(m, err);
+}
+
+/* Draw m into the supersampled c->w x c->h buffers: zbuf (depth towards
+ * the camera) and img (3 floats a pixel, linear 0..1), cleared to the
+ * background first. scr and vn: 3 nv scratch for the screen positions
+ * and vertex normals; alb: 3 nv vertex colours. */
+static void rasterise(const camera *c, const relief_mesh *m, const float *alb, double *scr,
+                      double *vn, float *zbuf, float *img)
+{
+    const float bg[3] = {RELIEF_RENDER_BACKGROUND_R / 255.0f,
+                         RELIEF_RENDER_BACKGROUND_G / 255.0f,
+                         RELIEF_RENDER_BACKGROUND_B / 255.0f};
+    const size_t npx = (size_t)c->w * (size_t)c->h;
+    for (size_t v = 0; v < m->nv; ++v)
+        project(c, m->pos + 3 * v, scr + 3 * v);
+    for (size_t i = 0; i < npx; ++i) {
+        zbuf[i] = -FLT_MAX;
+        memcpy(img + 3 * i, bg, sizeof bg);
+    }
+    if (m->nt > 0) {
+        relief_mesh_vertex_normals(m, vn); /* not normalised; shade does */
+        for (size_t t = 0; t < m->nt; ++t)
+            draw_triangle(c, m, t, scr, vn, alb, zbuf, img);
+    } else {
+        draw_points(c, m, scr, alb, zbuf, img);
+    }
+}
+
+/* Box filter img (supersampled by ss, row length w_ss pixels, 3 floats
+ * a pixel) down to the width x height output, 3 bytes a pixel. */
+static void downsample(const float *img, int w_ss, int ss, int width, int height, uint8_t *rgb)
+{
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int k = 0; k < 3; ++k) {
+                double s = 0.0;
+                for (int j = 0; j < ss; ++j)
+                    for (int i = 0; i < ss; ++i)
+                        s += img[3 * ((size_t)(y * ss + j) * (size_t)w_ss + (size_t)(x * ss + i)) +
+                                 k];
+                s = fmin(1.0, fmax(0.0, s / (ss * ss)));
+                rgb[3 * ((size_t)y * (size_t)width + (size_t)x) + k] = (uint8_t)lround(s * 255.0);
+            }
+}
+
+relief_status relief_render(const relief_mesh *m, const relief_render_options *o,
+                            relief_rgb_image *out, relief_render_info *info_out,
+                            relief_error *err)
+{
+    const int ss = RELIEF_RENDER_SUPERSAMPLE;
+    relief_render_info info;
+    camera c;
+    float *alb = NULL, *zbuf = NULL, *img = NULL;
+    double *vn = NULL, *scr = NULL;
+    uint8_t *rgb = NULL;
+    size_t npx;
+    relief_status st;
+
+    if (!m || !o || !out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_render: NULL argument");
+    if ((st = render_check(m, o, err)) != RELIEF_OK)
         return st;
 
     memset(&info, 0, sizeof info);
@@ -465,31 +512,8 @@ relief_status relief_render(const relief_mesh *m, const relief_render_options *o
     camera_setup(&c, info.azimuth, info.elevation);
     camera_frame(&c, o->frame && o->frame->nv > 0 ? o->frame : m, RELIEF_RENDER_MARGIN);
     info.pixel_size = ss / c.scale;
-    for (size_t v = 0; v < m->nv; ++v)
-        project(&c, m->pos + 3 * v, scr + 3 * v);
-    for (size_t i = 0; i < npx; ++i) {
-        zbuf[i] = -FLT_MAX;
-        memcpy(img + 3 * i, bg, sizeof bg);
-    }
-    if (m->nt > 0) {
-        relief_mesh_vertex_normals(m, vn); /* not normalised; shade does */
-        for (size_t t = 0; t < m->nt; ++t)
-            draw_triangle(&c, m, t, scr, vn, alb, zbuf, img);
-    } else {
-        draw_points(&c, m, scr, alb, zbuf, img);
-    }
-    /* Box filter down to the output size. */
-    for (int y = 0; y < o->height; ++y)
-        for (int x = 0; x < o->width; ++x)
-            for (int k = 0; k < 3; ++k) {
-                double s = 0.0;
-                for (int j = 0; j < ss; ++j)
-                    for (int i = 0; i < ss; ++i)
-                        s += img[3 * ((size_t)(y * ss + j) * (size_t)c.w + (size_t)(x * ss + i)) + k];
-                s = fmin(1.0, fmax(0.0, s / (ss * ss)));
-                rgb[3 * ((size_t)y * (size_t)o->width + (size_t)x) + k] =
-                    (uint8_t)lround(s * 255.0);
-            }
+    rasterise(&c, m, alb, scr, vn, zbuf, img);
+    downsample(img, c.w, ss, o->width, o->height, rgb);
     out->width = o->width;
     out->height = o->height;
     out->rgb = rgb;
