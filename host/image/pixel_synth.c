@@ -618,14 +618,108 @@ static relief_status orders_side_by_side(order_job *a, order_job *b, int threads
     return st;
 }
 
+/* The hole pixels to fill in *targets (those target marks, all when
+ * target is NULL; hole, target: one byte a pixel of img); RELIEF_E_RANGE
+ * when there are some and no pixel is known to fill them from. */
+static relief_status count_targets(const relief_raster *img, const uint8_t *hole,
+                                   const uint8_t *target, size_t *targets, relief_error *err)
+{
+    size_t n = (size_t)img->width * img->height, holes = 0, t = 0;
+    for (size_t i = 0; i < n; ++i) {
+        holes += hole[i] != 0;
+        t += hole[i] && (!target || target[i]);
+    }
+    *targets = t;
+    if (t == 0)
+        return RELIEF_OK;
+    if (holes == n)
+        return relief_fail(err, RELIEF_E_RANGE, "every pixel is missing: there is nothing to "
+                           "synthesise from");
+    return RELIEF_OK;
+}
+
+/* The second order's copy of img in *other, and an uninitialised source
+ * map for it (one int64_t a pixel) when with_source; nothing left
+ * allocated on failure. */
+static relief_status order_copy(const relief_raster *img, int with_source, relief_raster *other,
+                                int64_t **other_source, relief_error *err)
+{
+    size_t n = (size_t)img->width * img->height;
+    relief_status st = relief_raster_create(img->width, img->height, img->channels,
+                                            img->bit_depth, other, err);
+    if (st != RELIEF_OK)
+        return st;
+    memcpy(other->v, img->v, n * img->channels * sizeof *other->v);
+    if (with_source && !(*other_source = malloc(n * sizeof **other_source))) {
+        relief_raster_free(other);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
+    }
+    return RELIEF_OK;
+}
+
+/* Run a's order, then b's when n_orders is 2: side by side on a host
+ * scorer of two threads or more, else one after the other on a's
+ * scorer. */
+static relief_status run_orders(order_job *a, order_job *b, int n_orders, relief_error *err)
+{
+    /* Not b->scorer: orders_side_by_side points it at a scorer of its own,
+     * gone when it returns. */
+    relief_patch_scorer *scorer = a->scorer;
+    int ran = 0;
+    relief_status st = RELIEF_OK;
+    if (n_orders == 2 && scorer->backend == RELIEF_BACKEND_HOST && scorer->threads >= 2)
+        st = orders_side_by_side(a, b, scorer->threads, &ran, err);
+    if (!ran) {
+        st = synth_order(a->img, a->hole, a->target, a->p, a->order, a->wrap, scorer, a->source,
+                         a->out, a->prog, 1, err);
+        if (st == RELIEF_OK && n_orders == 2)
+            st = synth_order(b->img, b->hole, b->target, b->p, b->order, b->wrap, scorer,
+                             b->source, b->out, b->prog, 1, err);
+    }
+    return st;
+}
+
+/* The report from the orders' runs (a: img's; b: the copy's when
+ * n_orders is 2); the copy's image and sources replace a's when the
+ * vertical order won. */
+static void keep_better(const order_job *a, const order_job *b, int n_orders,
+                        relief_pixsyn_report *rep)
+{
+    const order_job *job[2] = {a, b};
+    const size_t n = (size_t)a->img->width * a->img->height;
+    int keep = 0;
+    for (int k = 0; k < n_orders; ++k) {
+        const run *r = job[k]->out;
+        double e = r->synthesised ? r->energy / (double)r->synthesised : 0.0;
+        rep->energy[job[k]->order == RELIEF_ORDER_VERTICAL] = e;
+        rep->candidates += r->candidates;
+        rep->seconds_score += r->seconds_score;
+        rep->levels = r->levels;
+    }
+    /* The vertical order replaces the horizontal one only when its
+     * copies matched strictly better. */
+    if (n_orders == 2 && rep->energy[1] < rep->energy[0]) {
+        keep = 1;
+        memcpy(a->img->v, b->img->v, n * a->img->channels * sizeof *a->img->v);
+        if (a->source)
+            memcpy(a->source, b->source, n * sizeof *a->source);
+    }
+    rep->kept = job[keep]->order;
+    rep->by_synthesis = job[keep]->out->synthesised;
+    rep->by_fallback = job[keep]->out->fallbacks;
+    rep->unreached = job[keep]->out->unreached;
+}
+
 static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8_t *target,
                             const relief_pixsyn_params *p, int wrap,
                             relief_patch_scorer *scorer, int64_t *source,
                             relief_pixsyn_report *rep, relief_error *err)
 {
-    size_t n = (size_t)img->width * img->height, holes = 0, targets = 0;
+    size_t targets;
     relief_pixsyn_report local;
-    relief_pixsyn_order orders[2];
+    /* Set below from p->order; initialised only for gcc 12's
+     * -Wmaybe-uninitialized, which cannot see that p->order is valid. */
+    relief_pixsyn_order orders[2] = {RELIEF_ORDER_HORIZONTAL, RELIEF_ORDER_VERTICAL};
     int n_orders = 0;
     relief_raster other = {0};
     int64_t *other_source = NULL;
@@ -648,16 +742,10 @@ static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8
     st = relief_pixsyn_params_validate(p, img->width, img->height, err);
     if (st != RELIEF_OK)
         return st;
-    for (size_t i = 0; i < n; ++i) {
-        holes += hole[i] != 0;
-        targets += hole[i] && (!target || target[i]);
-    }
+    st = count_targets(img, hole, target, &targets, err);
     rep->hole_pixels = targets;
-    if (targets == 0)
-        return RELIEF_OK;
-    if (holes == n)
-        return relief_fail(err, RELIEF_E_RANGE, "every pixel is missing: there is nothing to "
-                           "synthesise from");
+    if (st != RELIEF_OK || targets == 0)
+        return st;
     if (p->order == RELIEF_ORDER_BOTH || p->order == RELIEF_ORDER_HORIZONTAL)
         orders[n_orders++] = RELIEF_ORDER_HORIZONTAL;
     if (p->order == RELIEF_ORDER_BOTH || p->order == RELIEF_ORDER_VERTICAL)
@@ -666,54 +754,18 @@ static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8
 
     /* The second order works on a copy; the better result ends in img. */
     if (n_orders == 2) {
-        st = relief_raster_create(img->width, img->height, img->channels, img->bit_depth,
-                                  &other, err);
+        st = order_copy(img, source != NULL, &other, &other_source, err);
         if (st != RELIEF_OK)
             return st;
-        memcpy(other.v, img->v, n * img->channels * sizeof *other.v);
-        if (source && !(other_source = malloc(n * sizeof *other_source))) {
-            relief_raster_free(&other);
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the source map");
-        }
     }
     {
         order_job a = {img, hole, target, p, orders[0], wrap, scorer, source, &runs[0], &prog,
                        RELIEF_OK, {RELIEF_OK, ""}, 0};
         order_job b = {&other, hole, target, p, orders[1 % n_orders], wrap, scorer,
                        other_source, &runs[1], &prog, RELIEF_OK, {RELIEF_OK, ""}, 0};
-        int ran = 0;
-        st = RELIEF_OK;
-        if (n_orders == 2 && scorer->backend == RELIEF_BACKEND_HOST && scorer->threads >= 2)
-            st = orders_side_by_side(&a, &b, scorer->threads, &ran, err);
-        if (!ran) {
-            st = synth_order(img, hole, target, p, orders[0], wrap, scorer, source, &runs[0],
-                             &prog, 1, err);
-            if (st == RELIEF_OK && n_orders == 2)
-                st = synth_order(&other, hole, target, p, orders[1], wrap, scorer,
-                                 other_source, &runs[1], &prog, 1, err);
-        }
-    }
-    if (st == RELIEF_OK) {
-        int keep = 0;
-        for (int k = 0; k < n_orders; ++k) {
-            double e = runs[k].synthesised ? runs[k].energy / (double)runs[k].synthesised : 0.0;
-            rep->energy[orders[k] == RELIEF_ORDER_VERTICAL] = e;
-            rep->candidates += runs[k].candidates;
-            rep->seconds_score += runs[k].seconds_score;
-            rep->levels = runs[k].levels;
-        }
-        /* The vertical order replaces the horizontal one only when its
-         * copies matched strictly better. */
-        if (n_orders == 2 && rep->energy[1] < rep->energy[0]) {
-            keep = 1;
-            memcpy(img->v, other.v, n * img->channels * sizeof *img->v);
-            if (source)
-                memcpy(source, other_source, n * sizeof *source);
-        }
-        rep->kept = orders[keep];
-        rep->by_synthesis = runs[keep].synthesised;
-        rep->by_fallback = runs[keep].fallbacks;
-        rep->unreached = runs[keep].unreached;
+        st = run_orders(&a, &b, n_orders, err);
+        if (st == RELIEF_OK)
+            keep_better(&a, &b, n_orders, rep);
     }
     relief_raster_free(&other);
     free(other_source);
