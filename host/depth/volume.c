@@ -76,17 +76,14 @@ void relief_zbuffers_free(relief_zbuffers *z)
     }
 }
 
-relief_status relief_zbuffers_make(relief_mesh *m, const relief_grid *g, relief_zbuffers *z,
-                                   relief_error *err)
+/* The six images' buffers for grid g: front and back depths (float, in the
+ * mesh's units, width[a] x height[a] = n[b] x n[c] pixels along axis a,
+ * b = a+1, c = a+2 mod 3) set to +inf and -inf, their states zeroed, and
+ * face_near/face_far (int8, same shape) zeroed for the side each kept
+ * depth's triangle faces. On failure the caller frees what was made. */
+static relief_status zbuffers_alloc(const relief_grid *g, relief_zbuffers *z,
+                                    int8_t *face_near[3], int8_t *face_far[3], relief_error *err)
 {
-    const double *p = relief_mesh_positions(m);
-    const uint32_t *t = relief_mesh_triangles(m);
-    size_t nt = relief_mesh_triangle_count(m);
-    int8_t *face_near[3] = {NULL}, *face_far[3] = {NULL};
-    relief_status st = RELIEF_OK;
-
-    memset(z, 0, sizeof *z);
-    z->g = *g;
     for (int a = 0; a < 3; ++a) {
         int b = (a + 1) % 3, c = (a + 2) % 3;
         size_t n = (size_t)g->n[b] * g->n[c];
@@ -99,82 +96,110 @@ relief_status relief_zbuffers_make(relief_mesh *m, const relief_grid *g, relief_
         face_near[a] = calloc(n, 1);
         face_far[a] = calloc(n, 1);
         if (!z->front[a] || !z->back[a] || !z->front_state[a] || !z->back_state[a] || !face_near[a] ||
-            !face_far[a]) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the z-buffers");
-            goto done;
-        }
+            !face_far[a])
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the z-buffers");
         for (size_t i = 0; i < n; ++i) {
             z->front[a][i] = INFINITY;
             z->back[a][i] = -INFINITY;
         }
     }
-    /* Every triangle into every image: the pixel centres inside its
-     * projection (edges included: a ray through a shared edge meets both
-     * triangles at the same depth, which changes nothing), the depth by
-     * barycentric interpolation; the nearest and the farthest kept with
-     * the side they face. */
+    return RELIEF_OK;
+}
+
+/* One triangle P (three xyz vertices, mesh units) into the image along axis
+ * a: the pixel centres inside its projection (edges included: a ray through
+ * a shared edge meets both triangles at the same depth, which changes
+ * nothing), the depth by barycentric interpolation; the nearest and the
+ * farthest kept in z->front/back[a] with the side they face (+1 or -1) in
+ * face_near/face_far. */
+static void zbuffers_rasterise(const double *const P[3], int a, const relief_grid *g,
+                               relief_zbuffers *z, int8_t *face_near, int8_t *face_far)
+{
+    int b = (a + 1) % 3, c = (a + 2) % 3, W = g->n[b], H = g->n[c];
+    double u[3], v[3], area;
+    int u0, u1, v0, v1;
+    for (int k = 0; k < 3; ++k) {
+        u[k] = (P[k][b] - g->origin[b]) / g->h - 0.5;
+        v[k] = (P[k][c] - g->origin[c]) / g->h - 0.5;
+    }
+    /* Twice the signed area in (b, c): the sign of the outward
+     * normal's a-component. */
+    area = (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]);
+    if (area == 0.0)
+        return; /* edge-on */
+    u0 = (int)ceil(fmin(u[0], fmin(u[1], u[2])));
+    u1 = (int)floor(fmax(u[0], fmax(u[1], u[2])));
+    v0 = (int)ceil(fmin(v[0], fmin(v[1], v[2])));
+    v1 = (int)floor(fmax(v[0], fmax(v[1], v[2])));
+    u0 = u0 < 0 ? 0 : u0;
+    v0 = v0 < 0 ? 0 : v0;
+    u1 = u1 >= W ? W - 1 : u1;
+    v1 = v1 >= H ? H - 1 : v1;
+    for (int y = v0; y <= v1; ++y)
+        for (int x = u0; x <= u1; ++x) {
+            double w0 = (u[1] - x) * (v[2] - y) - (u[2] - x) * (v[1] - y);
+            double w1 = (u[2] - x) * (v[0] - y) - (u[0] - x) * (v[2] - y);
+            double w2 = (u[0] - x) * (v[1] - y) - (u[1] - x) * (v[0] - y);
+            double d;
+            size_t i = (size_t)y * W + x;
+            if (area > 0 ? (w0 < 0 || w1 < 0 || w2 < 0) : (w0 > 0 || w1 > 0 || w2 > 0))
+                continue;
+            d = (w0 * P[0][a] + w1 * P[1][a] + w2 * P[2][a]) / area;
+            if (d < z->front[a][i]) {
+                z->front[a][i] = (float)d;
+                face_near[i] = area > 0 ? 1 : -1;
+            }
+            if (d > z->back[a][i]) {
+                z->back[a][i] = (float)d;
+                face_far[i] = area > 0 ? 1 : -1;
+            }
+        }
+}
+
+/* The states of image a from the sides its kept depths face: the ray along
+ * +a enters through a triangle facing -a and leaves through one facing +a;
+ * otherwise it went through a hole (its depth NaN). No triangle: EMPTY. */
+static void zbuffers_classify(relief_zbuffers *z, int a, const int8_t *face_near,
+                              const int8_t *face_far)
+{
+    size_t n = (size_t)z->width[a] * z->height[a];
+    for (size_t i = 0; i < n; ++i) {
+        if (!face_near[i]) {
+            z->front[a][i] = z->back[a][i] = NAN;
+            continue; /* EMPTY */
+        }
+        z->front_state[a][i] = face_near[i] < 0 ? RELIEF_Z_SURFACE : RELIEF_Z_HOLE;
+        z->back_state[a][i] = face_far[i] > 0 ? RELIEF_Z_SURFACE : RELIEF_Z_HOLE;
+        if (face_near[i] >= 0)
+            z->front[a][i] = NAN;
+        if (face_far[i] <= 0)
+            z->back[a][i] = NAN;
+    }
+}
+
+relief_status relief_zbuffers_make(relief_mesh *m, const relief_grid *g, relief_zbuffers *z,
+                                   relief_error *err)
+{
+    const double *p = relief_mesh_positions(m);
+    const uint32_t *t = relief_mesh_triangles(m);
+    size_t nt = relief_mesh_triangle_count(m);
+    int8_t *face_near[3] = {NULL}, *face_far[3] = {NULL};
+    relief_status st = RELIEF_OK;
+
+    memset(z, 0, sizeof *z);
+    z->g = *g;
+    st = zbuffers_alloc(g, z, face_near, face_far, err);
+    if (st != RELIEF_OK)
+        goto done;
+    /* Every triangle into every image. */
     for (size_t f = 0; f < nt; ++f) {
         const double *P[3] = {p + 3 * (size_t)t[3 * f], p + 3 * (size_t)t[3 * f + 1],
                               p + 3 * (size_t)t[3 * f + 2]};
-        for (int a = 0; a < 3; ++a) {
-            int b = (a + 1) % 3, c = (a + 2) % 3, W = g->n[b], H = g->n[c];
-            double u[3], v[3], area;
-            int u0, u1, v0, v1;
-            for (int k = 0; k < 3; ++k) {
-                u[k] = (P[k][b] - g->origin[b]) / g->h - 0.5;
-                v[k] = (P[k][c] - g->origin[c]) / g->h - 0.5;
-            }
-            /* Twice the signed area in (b, c): the sign of the outward
-             * normal's a-component. */
-            area = (u[1] - u[0]) * (v[2] - v[0]) - (u[2] - u[0]) * (v[1] - v[0]);
-            if (area == 0.0)
-                continue; /* edge-on */
-            u0 = (int)ceil(fmin(u[0], fmin(u[1], u[2])));
-            u1 = (int)floor(fmax(u[0], fmax(u[1], u[2])));
-            v0 = (int)ceil(fmin(v[0], fmin(v[1], v[2])));
-            v1 = (int)floor(fmax(v[0], fmax(v[1], v[2])));
-            u0 = u0 < 0 ? 0 : u0;
-            v0 = v0 < 0 ? 0 : v0;
-            u1 = u1 >= W ? W - 1 : u1;
-            v1 = v1 >= H ? H - 1 : v1;
-            for (int y = v0; y <= v1; ++y)
-                for (int x = u0; x <= u1; ++x) {
-                    double w0 = (u[1] - x) * (v[2] - y) - (u[2] - x) * (v[1] - y);
-                    double w1 = (u[2] - x) * (v[0] - y) - (u[0] - x) * (v[2] - y);
-                    double w2 = (u[0] - x) * (v[1] - y) - (u[1] - x) * (v[0] - y);
-                    double d;
-                    size_t i = (size_t)y * W + x;
-                    if (area > 0 ? (w0 < 0 || w1 < 0 || w2 < 0) : (w0 > 0 || w1 > 0 || w2 > 0))
-                        continue;
-                    d = (w0 * P[0][a] + w1 * P[1][a] + w2 * P[2][a]) / area;
-                    if (d < z->front[a][i]) {
-                        z->front[a][i] = (float)d;
-                        face_near[a][i] = area > 0 ? 1 : -1;
-                    }
-                    if (d > z->back[a][i]) {
-                        z->back[a][i] = (float)d;
-                        face_far[a][i] = area > 0 ? 1 : -1;
-                    }
-                }
-        }
+        for (int a = 0; a < 3; ++a)
+            zbuffers_rasterise(P, a, g, z, face_near[a], face_far[a]);
     }
-    /* The ray along +a enters through a triangle facing -a and leaves
-     * through one facing +a; otherwise it went through a hole. */
-    for (int a = 0; a < 3; ++a) {
-        size_t n = (size_t)z->width[a] * z->height[a];
-        for (size_t i = 0; i < n; ++i) {
-            if (!face_near[a][i]) {
-                z->front[a][i] = z->back[a][i] = NAN;
-                continue; /* EMPTY */
-            }
-            z->front_state[a][i] = face_near[a][i] < 0 ? RELIEF_Z_SURFACE : RELIEF_Z_HOLE;
-            z->back_state[a][i] = face_far[a][i] > 0 ? RELIEF_Z_SURFACE : RELIEF_Z_HOLE;
-            if (face_near[a][i] >= 0)
-                z->front[a][i] = NAN;
-            if (face_far[a][i] <= 0)
-                z->back[a][i] = NAN;
-        }
-    }
+    for (int a = 0; a < 3; ++a)
+        zbuffers_classify(z, a, face_near[a], face_far[a]);
 done:
     for (int a = 0; a < 3; ++a) {
         free(face_near[a]);
