@@ -106,6 +106,53 @@ relief_status relief_membrane_fill(float *z, const uint8_t *known, int width, in
                                err);
 }
 
+/* Numbers the unknowns of the n pixels in raster order: idx[i] (n entries)
+ * is pixel i's unknown number or -1, pix[k] (one per unknown) its pixel.
+ * Returns the unknowns' count. */
+static size_t poisson_number(const uint8_t *known, const uint8_t *domain, size_t n,
+                             int32_t *idx, int32_t *pix)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i) {
+        idx[i] = unknown(known, domain, i) ? (int32_t)m : -1;
+        if (idx[i] >= 0)
+            pix[m++] = (int32_t)i;
+    }
+    return m;
+}
+
+/* The right-hand side b (m entries, zeroed by the caller) for the m
+ * unknowns pix[]: the known neighbours' depths in z (width x height) plus
+ * source at the pixel if given; the starting guess x (m entries): the known
+ * neighbours' mean where there are any (faster than 0 on thin holes), else
+ * 0. Returns |b|^2. */
+static double poisson_rhs(const float *z, const uint8_t *known, const uint8_t *domain,
+                          const float *source, int width, int height, const int32_t *pix,
+                          size_t m, double *b, double *x)
+{
+    double b2 = 0.0;
+    for (size_t k = 0; k < m; ++k) {
+        int px = pix[k] % width, py = pix[k] / width, c = 0;
+        int nb[4][2] = {{px - 1, py}, {px + 1, py}, {px, py - 1}, {px, py + 1}};
+        for (int j = 0; j < 4; ++j) {
+            int u = nb[j][0], v = nb[j][1];
+            size_t o;
+            if (u < 0 || u >= width || v < 0 || v >= height)
+                continue;
+            o = (size_t)v * width + u;
+            if (known[o] && in_domain(domain, o)) {
+                b[k] += z[o];
+                ++c;
+            }
+        }
+        x[k] = c ? b[k] / c : 0.0;
+        if (source)
+            b[k] += source[pix[k]];
+        b2 += b[k] * b[k];
+    }
+    return b2;
+}
+
 relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t *domain,
                                   const float *source, int width, int height, int max_iter,
                                   int *iterations, relief_error *err)
@@ -138,33 +185,8 @@ relief_status relief_poisson_fill(float *z, const uint8_t *known, const uint8_t 
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the membrane's %zu unknowns", m);
         goto done;
     }
-    m = 0;
-    for (size_t i = 0; i < n; ++i) {
-        idx[i] = unknown(known, domain, i) ? (int32_t)m : -1;
-        if (idx[i] >= 0)
-            pix[m++] = (int32_t)i;
-    }
-    /* b: the known neighbours' values; the starting guess x: their mean
-     * where there are any (faster than 0 on thin holes). */
-    for (size_t k = 0; k < m; ++k) {
-        int px = pix[k] % width, py = pix[k] / width, c = 0;
-        int nb[4][2] = {{px - 1, py}, {px + 1, py}, {px, py - 1}, {px, py + 1}};
-        for (int j = 0; j < 4; ++j) {
-            int u = nb[j][0], v = nb[j][1];
-            size_t o;
-            if (u < 0 || u >= width || v < 0 || v >= height)
-                continue;
-            o = (size_t)v * width + u;
-            if (known[o] && in_domain(domain, o)) {
-                b[k] += z[o];
-                ++c;
-            }
-        }
-        x[k] = c ? b[k] / c : 0.0;
-        if (source)
-            b[k] += source[pix[k]];
-        b2 += b[k] * b[k];
-    }
+    m = poisson_number(known, domain, n, idx, pix);
+    b2 = poisson_rhs(z, known, domain, source, width, height, pix, m, b, x);
     /* Conjugate gradients: A is symmetric positive definite when every
      * component of the unknowns touches a known pixel (it does unless
      * none is known, refused above). */
@@ -230,38 +252,14 @@ static void plate_apply(void *ctx, double *in, double *out)
     laplacian(o->band, o->nb, o->at, o->W, o->H, o->domain, o->y, out);
 }
 
-relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
-                                              const uint8_t *domain, int width, int height,
-                                              int max_iter, int *iterations, relief_error *err)
+/* The thin plate's band in at[] (n = W x H entries, -1 on entry) and
+ * band[] (its pixels, room for n): the unknowns first in raster order, then
+ * the domain's pixels within two steps of one (the reach of L L). Returns
+ * the band's size. */
+static size_t plate_band(const uint8_t *known, const uint8_t *domain, int W, int H,
+                         int32_t *at, int32_t *band)
 {
-    size_t n = (size_t)width * height, nb = 0, m = 0;
-    int32_t *at = NULL, *band = NULL;
-    double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, *y = NULL, *c = NULL;
-    double b2 = 0.0;
-    int it = 0, W = width, H = height;
-    relief_status st = relief_poisson_fill(z, known, domain, NULL, W, H, max_iter, NULL, err);
-    if (iterations)
-        *iterations = 0;
-    if (st != RELIEF_OK)
-        return st;
-    /* The band: the unknowns and the pixels within two steps of one (the
-     * reach of L L); the unknowns first. */
-    at = malloc(n * sizeof *at);
-    if (!at)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
-    for (size_t i = 0; i < n; ++i)
-        at[i] = -1;
-    for (size_t i = 0; i < n; ++i)
-        m += unknown(known, domain, i);
-    if (!m) {
-        free(at);
-        return RELIEF_OK;
-    }
-    band = malloc(n * sizeof *band);
-    if (!band) {
-        free(at);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
-    }
+    size_t n = (size_t)W * H, nb = 0;
     for (size_t i = 0; i < n; ++i)
         if (unknown(known, domain, i)) {
             at[i] = (int32_t)nb;
@@ -285,6 +283,42 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
             }
         }
     }
+    return nb;
+}
+
+/* b = -(L L u_known) on the op's m unknowns: c = u_known on the band (0 on
+ * the unknowns), y = L c (op->y), b = -(L y) through q; x = the harmonic
+ * fill already in z, the start. b, x, c, q: op->nb entries, zeroed by the
+ * caller. Returns |b|^2. */
+static double plate_rhs(const float *z, const plate_op *op, double *b, double *x, double *c,
+                        double *q)
+{
+    double b2 = 0.0;
+    for (size_t k = op->m; k < op->nb; ++k)
+        c[k] = z[op->band[k]];
+    laplacian(op->band, op->nb, op->at, op->W, op->H, op->domain, c, op->y);
+    laplacian(op->band, op->nb, op->at, op->W, op->H, op->domain, op->y, q);
+    for (size_t k = 0; k < op->m; ++k) {
+        b[k] = -q[k];
+        b2 += b[k] * b[k];
+        x[k] = z[op->band[k]]; /* the harmonic fill: the start */
+    }
+    return b2;
+}
+
+/* Solves L L w = 0 on the op's unknowns with the band's other pixels held
+ * at z (W x H depths; its unknowns hold the harmonic fill, the start) by
+ * conjugate gradients, and writes w into z's unknowns; op->y is set to
+ * scratch made here. *iterations (if given) gets the iterations made, on
+ * success only. */
+static relief_status plate_solve(float *z, plate_op *op, int max_iter, int *iterations,
+                                 relief_error *err)
+{
+    size_t nb = op->nb, m = op->m;
+    double *x = NULL, *b = NULL, *r = NULL, *p = NULL, *q = NULL, *y = NULL, *c = NULL;
+    double b2 = 0.0;
+    int it = 0;
+    relief_status st = RELIEF_OK;
     x = calloc(nb, sizeof *x);
     b = calloc(nb, sizeof *b);
     r = calloc(nb, sizeof *r);
@@ -297,28 +331,14 @@ relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
                          nb);
         goto done;
     }
-    /* b = -(L L u_known) on the unknowns: c = u_known on the band (0 on
-     * the unknowns), y = L c, b = -(L y). */
-    for (size_t k = m; k < nb; ++k)
-        c[k] = z[band[k]];
-    laplacian(band, nb, at, W, H, domain, c, y);
-    laplacian(band, nb, at, W, H, domain, y, q);
-    for (size_t k = 0; k < m; ++k) {
-        b[k] = -q[k];
-        b2 += b[k] * b[k];
-        x[k] = z[band[k]]; /* the harmonic fill: the start */
-    }
-    {
-        plate_op op = {band, at, nb, m, W, H, domain, y};
-        it = conjugate_gradients(m, b, b2, x, r, p, q, plate_apply, &op, max_iter);
-    }
+    op->y = y;
+    b2 = plate_rhs(z, op, b, x, c, q);
+    it = conjugate_gradients(m, b, b2, x, r, p, q, plate_apply, op, max_iter);
     for (size_t k = 0; k < m; ++k)
-        z[band[k]] = (float)x[k];
+        z[op->band[k]] = (float)x[k];
     if (iterations)
         *iterations = it;
 done:
-    free(at);
-    free(band);
     free(x);
     free(b);
     free(r);
@@ -326,6 +346,46 @@ done:
     free(q);
     free(y);
     free(c);
+    return st;
+}
+
+relief_status relief_membrane_fill_biharmonic(float *z, const uint8_t *known,
+                                              const uint8_t *domain, int width, int height,
+                                              int max_iter, int *iterations, relief_error *err)
+{
+    size_t n = (size_t)width * height, nb = 0, m = 0;
+    int32_t *at = NULL, *band = NULL;
+    int W = width, H = height;
+    relief_status st = relief_poisson_fill(z, known, domain, NULL, W, H, max_iter, NULL, err);
+    if (iterations)
+        *iterations = 0;
+    if (st != RELIEF_OK)
+        return st;
+    /* The band: the unknowns and the pixels within two steps of one (the
+     * reach of L L); the unknowns first. */
+    at = malloc(n * sizeof *at);
+    if (!at)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
+    for (size_t i = 0; i < n; ++i)
+        at[i] = -1;
+    for (size_t i = 0; i < n; ++i)
+        m += unknown(known, domain, i);
+    if (!m) {
+        free(at);
+        return RELIEF_OK;
+    }
+    band = malloc(n * sizeof *band);
+    if (!band) {
+        free(at);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the thin plate");
+    }
+    nb = plate_band(known, domain, W, H, at, band);
+    {
+        plate_op op = {band, at, nb, m, W, H, domain, NULL};
+        st = plate_solve(z, &op, max_iter, iterations, err);
+    }
+    free(at);
+    free(band);
     return st;
 }
 
