@@ -239,16 +239,95 @@ static relief_status smooth_fill(float *z, const uint8_t *known, const uint8_t *
                                                p->membrane_iterations, iterations, err);
 }
 
+/* What the seam's helpers read: the smooth part u (NULL: 0) and the detail
+ * v of the depth, and which pixels are captured; all width x height. */
+typedef struct seam_in {
+    const float *u, *v;
+    const uint8_t *known;
+    int W, H;
+} seam_in;
+
+#define U(i) (S->u ? S->u[i] : 0.0f)
+
+/* The wanted step q -> p's neighbour q (one step along d from the filled
+ * pixel p) where the step after it, q -> r, is captured: the mean of the
+ * capture's own step r - q and the texture's step (u's step plus the
+ * source's detail step s -> t), each weighted by the inverse square of its
+ * error on the next captured step, r -> a (b: the source's), where both can
+ * be checked. Depth units. */
+static double seam_two_steps(const seam_in *S, const int d[2], int rx, int ry, int tx, int ty,
+                             size_t q, size_t r, size_t t, size_t s)
+{
+    const float *v = S->v;
+    const uint8_t *known = S->known;
+    int W = S->W, H = S->H;
+    double capture = ((double)U(r) + v[r]) - ((double)U(q) + v[q]);
+    double texture = ((double)U(r) - U(q)) + ((double)v[t] - v[s]);
+    int ax = rx + d[0], ay = ry + d[1];
+    int bx = tx + d[0], by = ty + d[1];
+    size_t a, b;
+    double g = 0.5 * (capture + texture);
+    if (ax >= 0 && ax < W && ay >= 0 && ay < H && known[a = (size_t)ay * W + ax] &&
+        bx >= 0 && bx < W && by >= 0 && by < H && known[b = (size_t)by * W + bx]) {
+        double next = ((double)U(a) + v[a]) - ((double)U(r) + v[r]);
+        double ec = capture - next;
+        double et = capture - (((double)U(a) - U(r)) + ((double)v[b] - v[t]));
+        if (et == 0.0)
+            g = texture;
+        else if (ec == 0.0)
+            g = capture;
+        else
+            g = (capture * et * et + texture * ec * ec) / (et * et + ec * ec);
+    }
+    return g;
+}
+
+/* The filled pixel p = (x, y), copied from pixel s: adds to *flux (p's
+ * entry of the correction's right-hand side) -sum over p's captured
+ * neighbours of the wanted step out of p, with the fill's own steps
+ * cancelled. Returns the guided edges (0..4). */
+static size_t seam_pixel(const seam_in *S, int x, int y, size_t s, float *flux)
+{
+    static const int dir[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    const float *v = S->v;
+    const uint8_t *known = S->known;
+    int W = S->W, H = S->H;
+    size_t p = (size_t)y * W + x, guided = 0;
+    int sx = (int)(s % W), sy = (int)(s / W);
+    for (int j = 0; j < 4; ++j) {
+        int qx = x + dir[j][0], qy = y + dir[j][1];
+        int rx = qx + dir[j][0], ry = qy + dir[j][1];
+        int tx = sx + dir[j][0], ty = sy + dir[j][1];
+        size_t q, r, t;
+        double have, g;
+        if (qx < 0 || qx >= W || qy < 0 || qy >= H || !known[q = (size_t)qy * W + qx])
+            continue;
+        if (tx < 0 || tx >= W || ty < 0 || ty >= H || !known[t = (size_t)ty * W + tx] ||
+            !known[s])
+            continue;
+        have = ((double)U(q) + v[q]) - ((double)U(p) + v[p]);
+        if (rx >= 0 && rx < W && ry >= 0 && ry < H && known[r = (size_t)ry * W + rx])
+            g = seam_two_steps(S, dir[j], rx, ry, tx, ty, q, r, t, s);
+        else
+            g = ((double)U(q) - U(p)) + ((double)v[t] - v[s]);
+        *flux += (float)(have - g);
+        ++guided;
+    }
+    return guided;
+}
+
+#undef U
+
 relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
                                 const uint8_t *filled, const int64_t *source, int width,
                                 int height, int max_iter, size_t *edges, int *iterations,
                                 relief_error *err)
 {
-    static const int dir[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
     int W = width, H = height;
     size_t n = (size_t)W * H, guided = 0;
     float *c = calloc(n, sizeof *c), *flux = calloc(n, sizeof *flux);
     uint8_t *fixed = malloc(n), *domain = malloc(n);
+    seam_in S = {u, v, known, W, H};
     relief_status st = RELIEF_OK;
     if (edges)
         *edges = 0;
@@ -258,62 +337,15 @@ relief_status relief_depth_seam(const float *u, float *v, const uint8_t *known,
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the seam's correction");
         goto done;
     }
-#define U(i) (u ? u[i] : 0.0f)
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             size_t p = (size_t)y * W + x;
-            int sx, sy;
             fixed[p] = !filled[p];
             domain[p] = known[p] || filled[p];
             if (!filled[p] || source[p] < 0 || (uint64_t)source[p] >= n)
                 continue;
-            sx = (int)(source[p] % W);
-            sy = (int)(source[p] / W);
-            for (int j = 0; j < 4; ++j) {
-                int qx = x + dir[j][0], qy = y + dir[j][1];
-                int rx = qx + dir[j][0], ry = qy + dir[j][1];
-                int tx = sx + dir[j][0], ty = sy + dir[j][1];
-                size_t q, r, t, s = (size_t)source[p];
-                double have, g;
-                if (qx < 0 || qx >= W || qy < 0 || qy >= H || !known[q = (size_t)qy * W + qx])
-                    continue;
-                if (tx < 0 || tx >= W || ty < 0 || ty >= H || !known[t = (size_t)ty * W + tx] ||
-                    !known[s])
-                    continue;
-                have = ((double)U(q) + v[q]) - ((double)U(p) + v[p]);
-                if (rx >= 0 && rx < W && ry >= 0 && ry < H && known[r = (size_t)ry * W + rx]) {
-                    double capture = ((double)U(r) + v[r]) - ((double)U(q) + v[q]);
-                    double texture = ((double)U(r) - U(q)) + ((double)v[t] - v[s]);
-                    int ax = rx + dir[j][0], ay = ry + dir[j][1];
-                    int bx = tx + dir[j][0], by = ty + dir[j][1];
-                    size_t a, b;
-                    g = 0.5 * (capture + texture);
-                    /* Each prediction weighted by the inverse square of
-                     * its error on the next captured step, r - q, where
-                     * both can be checked. */
-                    if (ax >= 0 && ax < W && ay >= 0 && ay < H && known[a = (size_t)ay * W + ax] &&
-                        bx >= 0 && bx < W && by >= 0 && by < H && known[b = (size_t)by * W + bx]) {
-                        double next = ((double)U(a) + v[a]) - ((double)U(r) + v[r]);
-                        double ec = capture - next;
-                        double et = capture - (((double)U(a) - U(r)) + ((double)v[b] - v[t]));
-                        if (et == 0.0)
-                            g = texture;
-                        else if (ec == 0.0)
-                            g = capture;
-                        else
-                            g = (capture * et * et + texture * ec * ec) / (et * et + ec * ec);
-                    }
-                } else {
-                    g = ((double)U(q) - U(p)) + ((double)v[t] - v[s]);
-                }
-                /* -sum over p's neighbours of the wanted step out of p,
-                 * with the fill's own steps cancelled (the correction's
-                 * right-hand side). */
-                flux[p] += (float)(have - g);
-                ++guided;
-            }
+            guided += seam_pixel(&S, x, y, (size_t)source[p], &flux[p]);
         }
-#undef U
     if (guided) {
         st = relief_poisson_fill(c, fixed, domain, flux, W, H, max_iter, iterations, err);
         if (st == RELIEF_OK)
