@@ -17,6 +17,78 @@ static int inside(const relief_cut_region *r, const double *p)
            r->radius;
 }
 
+/* Checks the region r (finite, radius > 0 in the mesh's units) and makes a
+ * slab's normal unit length in place. */
+static relief_status cut_region_check(relief_cut_region *r, relief_error *err)
+{
+    double len;
+    int finite = isfinite(r->radius);
+
+    for (int k = 0; k < 3; ++k)
+        finite = finite && isfinite(r->point[k]) &&
+                 (r->shape == RELIEF_CUT_BALL || isfinite(r->normal[k]));
+    if (!finite || !(r->radius > 0))
+        return relief_fail(err, RELIEF_E_RANGE,
+                           "the cut region must be finite with a radius > 0 (radius %g)",
+                           r->radius);
+    if (r->shape == RELIEF_CUT_SLAB) {
+        len = sqrt(r->normal[0] * r->normal[0] + r->normal[1] * r->normal[1] +
+                   r->normal[2] * r->normal[2]);
+        if (!(len > 0))
+            return relief_fail(err, RELIEF_E_RANGE, "the slab's normal is the zero vector");
+        for (int k = 0; k < 3; ++k)
+            r->normal[k] /= len;
+    }
+    return RELIEF_OK;
+}
+
+/* keep[v] (m->nv entries): whether vertex v stays captured, outside the
+ * region (inside it for a crop). Fails when the cut takes no vertex. */
+static relief_status cut_keep(const relief_mesh *m, const relief_cut_region *r, uint8_t *keep,
+                              relief_error *err)
+{
+    size_t inside_count = 0;
+    for (size_t v = 0; v < m->nv; ++v) {
+        keep[v] = !inside(r, m->pos + 3 * v) == !r->crop;
+        inside_count += !keep[v];
+    }
+    if (inside_count == 0)
+        return relief_fail(err, RELIEF_E_RANGE,
+                           r->crop ? "the crop region holds every one of the mesh's %zu "
+                                     "vertices: nothing is cut away"
+                                   : "the cut region holds none of the mesh's %zu vertices: "
+                                     "nothing to fill",
+                           m->nv);
+    return RELIEF_OK;
+}
+
+/* The ground truth *whole: a copy of m (its positions, triangles, colours
+ * and normals) labelled per vertex COMPLETED where the cut took it
+ * (remap[v] == UINT32_MAX, m->nv entries) and CAPTURED elsewhere; *missing
+ * gets the cut vertices' count. On failure *whole is left for the caller to
+ * destroy. */
+static relief_status cut_truth(const relief_mesh *m, const uint32_t *remap, relief_mesh **whole,
+                               size_t *missing, relief_error *err)
+{
+    relief_mesh *w;
+    relief_status st = relief_mesh_create(m->nv, m->nt, m->attrs | RELIEF_MESH_LABELS, whole,
+                                          err);
+    if (st != RELIEF_OK)
+        return st;
+    w = *whole;
+    memcpy(w->pos, m->pos, 3 * m->nv * sizeof *m->pos);
+    memcpy(w->tri, m->tri, 3 * m->nt * sizeof *m->tri);
+    if (m->col)
+        memcpy(w->col, m->col, 3 * m->nv * sizeof *m->col);
+    if (m->nrm)
+        memcpy(w->nrm, m->nrm, 3 * m->nv * sizeof *m->nrm);
+    for (size_t v = 0; v < m->nv; ++v) {
+        w->label[v] = remap[v] == UINT32_MAX ? RELIEF_LABEL_COMPLETED : RELIEF_LABEL_CAPTURED;
+        *missing += remap[v] == UINT32_MAX;
+    }
+    return RELIEF_OK;
+}
+
 relief_status relief_mesh_cut(const relief_mesh *m, const relief_cut_region *region,
                               relief_mesh **captured, relief_mesh **truth, size_t *n_cut,
                               relief_error *err)
@@ -25,26 +97,11 @@ relief_status relief_mesh_cut(const relief_mesh *m, const relief_cut_region *reg
     relief_mesh *cap = NULL, *whole = NULL;
     uint8_t *keep = NULL;
     uint32_t *remap = NULL;
-    size_t inside_count = 0, missing = 0;
-    relief_status st;
-    double len;
-    int finite = isfinite(r.radius);
+    size_t missing = 0;
+    relief_status st = cut_region_check(&r, err);
 
-    for (int k = 0; k < 3; ++k)
-        finite = finite && isfinite(r.point[k]) &&
-                 (r.shape == RELIEF_CUT_BALL || isfinite(r.normal[k]));
-    if (!finite || !(r.radius > 0))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "the cut region must be finite with a radius > 0 (radius %g)",
-                           r.radius);
-    if (r.shape == RELIEF_CUT_SLAB) {
-        len = sqrt(r.normal[0] * r.normal[0] + r.normal[1] * r.normal[1] +
-                   r.normal[2] * r.normal[2]);
-        if (!(len > 0))
-            return relief_fail(err, RELIEF_E_RANGE, "the slab's normal is the zero vector");
-        for (int k = 0; k < 3; ++k)
-            r.normal[k] /= len;
-    }
+    if (st != RELIEF_OK)
+        return st;
     if (m->nt == 0)
         return relief_fail(err, RELIEF_E_MESH,
                            "the mesh has no triangles: a cut needs a surface whose "
@@ -55,19 +112,9 @@ relief_status relief_mesh_cut(const relief_mesh *m, const relief_cut_region *reg
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a cut of %zu vertices", m->nv);
         goto done;
     }
-    for (size_t v = 0; v < m->nv; ++v) {
-        keep[v] = !inside(&r, m->pos + 3 * v) == !r.crop;
-        inside_count += !keep[v];
-    }
-    if (inside_count == 0) {
-        st = relief_fail(err, RELIEF_E_RANGE,
-                         r.crop ? "the crop region holds every one of the mesh's %zu "
-                                  "vertices: nothing is cut away"
-                                : "the cut region holds none of the mesh's %zu vertices: "
-                                  "nothing to fill",
-                         m->nv);
+    st = cut_keep(m, &r, keep, err);
+    if (st != RELIEF_OK)
         goto done;
-    }
     st = relief_mesh_subset(m, keep, &cap, remap, err);
     if (st != RELIEF_OK)
         goto done;
@@ -82,20 +129,9 @@ relief_status relief_mesh_cut(const relief_mesh *m, const relief_cut_region *reg
     free(cap->label);
     cap->label = NULL;
     cap->attrs &= ~(unsigned)RELIEF_MESH_LABELS;
-    st = relief_mesh_create(m->nv, m->nt, m->attrs | RELIEF_MESH_LABELS, &whole, err);
+    st = cut_truth(m, remap, &whole, &missing, err);
     if (st != RELIEF_OK)
         goto done;
-    memcpy(whole->pos, m->pos, 3 * m->nv * sizeof *m->pos);
-    memcpy(whole->tri, m->tri, 3 * m->nt * sizeof *m->tri);
-    if (m->col)
-        memcpy(whole->col, m->col, 3 * m->nv * sizeof *m->col);
-    if (m->nrm)
-        memcpy(whole->nrm, m->nrm, 3 * m->nv * sizeof *m->nrm);
-    for (size_t v = 0; v < m->nv; ++v) {
-        whole->label[v] = remap[v] == UINT32_MAX ? RELIEF_LABEL_COMPLETED
-                                                 : RELIEF_LABEL_CAPTURED;
-        missing += remap[v] == UINT32_MAX;
-    }
     if (n_cut)
         *n_cut = missing;
     *captured = cap;
