@@ -306,6 +306,70 @@ static relief_status mean_edge(relief_hierarchy *h, int ki, relief_error *err)
     return RELIEF_OK;
 }
 
+/* Coarse level k (1 <= k < levels, stored at index k - 1): the vertices
+ * whose first level is at most k, retriangulated on the base, with their
+ * ids into the full surface (nv + 1 uint32_t). keep is an nv-byte scratch
+ * mask. Lowers first_level for the vertices the level could not drop. */
+static relief_status build_coarse_level(relief_hierarchy *h, int k, uint8_t *keep,
+                                        relief_error *err)
+{
+    const relief_surface *s = h->full;
+    const size_t nv = s->mesh->nv;
+    const int levels = h->levels;
+    relief_status st;
+
+    for (size_t v = 0; v < nv; ++v)
+        keep[v] = h->first_level[v] <= k;
+    h->ids[k - 1] = malloc((nv + 1) * sizeof(uint32_t));
+    if (!h->ids[k - 1])
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a hierarchy level");
+    /* A maximal disc set of radius r leaves no empty circle much wider
+     * than r: triangles up to 2 r plus the finest level's own limit. */
+    st = relief_surface_level(s, keep, s->alpha + 2.0 * h->radius[k - 1], &h->level[k - 1],
+                              h->ids[k - 1], err);
+    if (st != RELIEF_OK) {
+        relief_fail_prefix(err, "hierarchy level %d of %d", k, levels);
+        return st;
+    }
+    /* A free-form level keeps the vertices it could not collapse
+     * away: they belong to it and so to every finer level. */
+    for (size_t v = 0; v < h->level[k - 1]->mesh->nv; ++v) {
+        uint8_t *f = h->first_level + h->ids[k - 1][v];
+        if (*f > k)
+            *f = (uint8_t)k;
+    }
+    if (h->level[k - 1]->n_samples == 0 || h->level[k - 1]->n_targets == 0)
+        return relief_fail(err, RELIEF_E_MESH,
+                           "hierarchy level %d of %d has %zu samples and %zu targets; "
+                           "use fewer levels", k, levels, h->level[k - 1]->n_samples,
+                           h->level[k - 1]->n_targets);
+    return RELIEF_OK;
+}
+
+/* The finest level is the full surface itself (identity ids); then every
+ * level's parent links (levels 1..) and mean edge length on the base. */
+static relief_status finish_levels(relief_hierarchy *h, relief_error *err)
+{
+    const size_t nv = h->full->mesh->nv;
+    const int levels = h->levels;
+    relief_status st;
+
+    h->level[levels - 1] = (relief_surface *)h->full;
+    h->ids[levels - 1] = malloc((nv + 1) * sizeof(uint32_t));
+    if (!h->ids[levels - 1])
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a hierarchy level");
+    for (size_t v = 0; v < nv; ++v)
+        h->ids[levels - 1][v] = (uint32_t)v;
+    for (int k = 0; k < levels; ++k) {
+        st = k ? link_level(h, k, err) : RELIEF_OK;
+        if (st == RELIEF_OK)
+            st = mean_edge(h, k, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
+    return RELIEF_OK;
+}
+
 relief_status relief_hierarchy_build(const relief_surface *s, int levels,
                                      relief_hierarchy **out, relief_error *err)
 {
@@ -336,51 +400,13 @@ relief_status relief_hierarchy_build(const relief_surface *s, int levels,
     if (st != RELIEF_OK)
         goto fail;
     for (int k = 1; k < levels; ++k) {
-        for (size_t v = 0; v < nv; ++v)
-            keep[v] = h->first_level[v] <= k;
-        h->ids[k - 1] = malloc((nv + 1) * sizeof(uint32_t));
-        if (!h->ids[k - 1]) {
-            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a hierarchy level");
-            goto fail;
-        }
-        /* A maximal disc set of radius r leaves no empty circle much wider
-         * than r: triangles up to 2 r plus the finest level's own limit. */
-        st = relief_surface_level(s, keep, s->alpha + 2.0 * h->radius[k - 1], &h->level[k - 1],
-                                  h->ids[k - 1], err);
-        if (st != RELIEF_OK) {
-            relief_fail_prefix(err, "hierarchy level %d of %d", k, levels);
-            goto fail;
-        }
-        /* A free-form level keeps the vertices it could not collapse
-         * away: they belong to it and so to every finer level. */
-        for (size_t v = 0; v < h->level[k - 1]->mesh->nv; ++v) {
-            uint8_t *f = h->first_level + h->ids[k - 1][v];
-            if (*f > k)
-                *f = (uint8_t)k;
-        }
-        if (h->level[k - 1]->n_samples == 0 || h->level[k - 1]->n_targets == 0) {
-            st = relief_fail(err, RELIEF_E_MESH,
-                             "hierarchy level %d of %d has %zu samples and %zu targets; "
-                             "use fewer levels", k, levels, h->level[k - 1]->n_samples,
-                             h->level[k - 1]->n_targets);
-            goto fail;
-        }
-    }
-    h->level[levels - 1] = (relief_surface *)s;
-    h->ids[levels - 1] = malloc((nv + 1) * sizeof(uint32_t));
-    if (!h->ids[levels - 1]) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a hierarchy level");
-        goto fail;
-    }
-    for (size_t v = 0; v < nv; ++v)
-        h->ids[levels - 1][v] = (uint32_t)v;
-    for (int k = 0; k < levels; ++k) {
-        st = k ? link_level(h, k, err) : RELIEF_OK;
-        if (st == RELIEF_OK)
-            st = mean_edge(h, k, err);
+        st = build_coarse_level(h, k, keep, err);
         if (st != RELIEF_OK)
             goto fail;
     }
+    st = finish_levels(h, err);
+    if (st != RELIEF_OK)
+        goto fail;
     free(keep);
     *out = h;
     return RELIEF_OK;
