@@ -135,73 +135,87 @@ static void put_stats(buffer *b, const relief_grow_stats *s)
     put(b, s, sizeof *s);
 }
 
-relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_key *key,
-                                      const relief_grow_state *g, relief_error *err)
+/* The header: magic, format, byte order, the version (16 bytes, NUL
+ * padded), the input's hash and the params text: what a reader checks
+ * before it trusts the rest. */
+static void put_head(buffer *b, const relief_checkpoint_key *key)
+{
+    char version[16] = {0};
+    uint32_t plen = (uint32_t)strlen(key->params);
+
+    put(b, MAGIC, 8);
+    put_u32(b, FORMAT);
+    put_u32(b, ORDER);
+    snprintf(version, sizeof version, "%s", RELIEF_VERSION_STRING);
+    put(b, version, sizeof version);
+    put_u64(b, key->input_hash);
+    put_u32(b, plen);
+    put(b, key->params, plen);
+}
+
+/* The growth itself, per target (nt = nv - n_samples entries; disp and
+ * colours 3 per target), then the list, the pass, the random generator,
+ * the stats and the optional matches. */
+static void put_growth(buffer *b, const relief_grow_state *g)
 {
     const size_t nt = g->nv - g->n_samples;
-    buffer b = {NULL, 0, 0, 0};
-    char version[16] = {0}, *tmp = NULL;
-    uint32_t plen = (uint32_t)strlen(key->params);
-    relief_status st;
+
+    put_u64(b, g->nv);
+    put_u64(b, g->n_samples);
+    put_u32(b, g->mesh_colour != NULL);
+    put(b, g->textured, nt);
+    for (size_t i = 0; i < nt; ++i)
+        put_u32(b, (uint32_t)g->window[i]);
+    put(b, g->disp, nt * 3 * sizeof *g->disp);
+    put(b, g->colour, nt * 3 * sizeof *g->colour);
+    if (g->mesh_colour)
+        put(b, g->mesh_colour, nt * 3 * sizeof *g->mesh_colour);
+    put(b, g->source, nt * sizeof *g->source);
+    put_u64(b, g->n_list);
+    put(b, g->list, g->n_list * sizeof *g->list);
+    put_u64(b, g->next);
+    put_u64(b, g->pass_accepted);
+    put_u32(b, (uint32_t)g->pass_any_valid);
+    put_u32(b, (uint32_t)g->pass_all_min_window);
+    put_f64(b, g->error);
+    put(b, g->rng.mt, sizeof g->rng.mt);
+    put_u32(b, (uint32_t)g->rng.index);
+    put_stats(b, &g->stats);
+    put_u32(b, g->matched != NULL);
+    if (g->matched)
+        put(b, g->matched, nt * sizeof *g->matched);
+}
+
+/* The hierarchy's place, behind a flag: the previous level's heights and
+ * matches (prev_nv each) and the finished levels' stats (level - 1). */
+static void put_hier(buffer *b, const relief_hierarchy_state *h)
+{
+    put_u32(b, h != NULL);
+    if (!h)
+        return;
+    put_u32(b, (uint32_t)h->levels);
+    put_u32(b, (uint32_t)h->level);
+    put_u64(b, h->prev_nv);
+    put(b, h->heights_prev, h->prev_nv * sizeof *h->heights_prev);
+    put(b, h->match_prev, h->prev_nv * sizeof *h->match_prev);
+    /* As the stats: in memory (size_t and double only), behind their size. */
+    put_u32(b, (uint32_t)sizeof *h->done);
+    put(b, h->done, (size_t)(h->level - 1) * sizeof *h->done);
+}
+
+/* Writes the n bytes to path whole or not at all: a temporary name,
+ * flushed and synced, then renamed over path. */
+static relief_status write_whole(const char *path, const unsigned char *data, size_t n,
+                                 relief_error *err)
+{
+    char *tmp = NULL;
+    relief_status st = relief_atomic_create(path, &tmp, err);
     FILE *f;
 
-    put(&b, MAGIC, 8);
-    put_u32(&b, FORMAT);
-    put_u32(&b, ORDER);
-    snprintf(version, sizeof version, "%s", RELIEF_VERSION_STRING);
-    put(&b, version, sizeof version);
-    put_u64(&b, key->input_hash);
-    put_u32(&b, plen);
-    put(&b, key->params, plen);
-    put_u64(&b, g->nv);
-    put_u64(&b, g->n_samples);
-    put_u32(&b, g->mesh_colour != NULL);
-    put(&b, g->textured, nt);
-    for (size_t i = 0; i < nt; ++i)
-        put_u32(&b, (uint32_t)g->window[i]);
-    put(&b, g->disp, nt * 3 * sizeof *g->disp);
-    put(&b, g->colour, nt * 3 * sizeof *g->colour);
-    if (g->mesh_colour)
-        put(&b, g->mesh_colour, nt * 3 * sizeof *g->mesh_colour);
-    put(&b, g->source, nt * sizeof *g->source);
-    put_u64(&b, g->n_list);
-    put(&b, g->list, g->n_list * sizeof *g->list);
-    put_u64(&b, g->next);
-    put_u64(&b, g->pass_accepted);
-    put_u32(&b, (uint32_t)g->pass_any_valid);
-    put_u32(&b, (uint32_t)g->pass_all_min_window);
-    put_f64(&b, g->error);
-    put(&b, g->rng.mt, sizeof g->rng.mt);
-    put_u32(&b, (uint32_t)g->rng.index);
-    put_stats(&b, &g->stats);
-    put_u32(&b, g->matched != NULL);
-    if (g->matched)
-        put(&b, g->matched, nt * sizeof *g->matched);
-    put_u32(&b, g->hier != NULL);
-    if (g->hier) {
-        const relief_hierarchy_state *h = g->hier;
-        put_u32(&b, (uint32_t)h->levels);
-        put_u32(&b, (uint32_t)h->level);
-        put_u64(&b, h->prev_nv);
-        put(&b, h->heights_prev, h->prev_nv * sizeof *h->heights_prev);
-        put(&b, h->match_prev, h->prev_nv * sizeof *h->match_prev);
-        /* As the stats: in memory (size_t and double only), behind their size. */
-        put_u32(&b, (uint32_t)sizeof *h->done);
-        put(&b, h->done, (size_t)(h->level - 1) * sizeof *h->done);
-    }
-    put_u64(&b, fnv1a(FNV_START, b.data, b.n));
-    if (b.failed) {
-        free(b.data);
-        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint", path);
-    }
-
-    st = relief_atomic_create(path, &tmp, err);
-    if (st != RELIEF_OK) {
-        free(b.data);
+    if (st != RELIEF_OK)
         return st;
-    }
     f = fopen(tmp, "wb");
-    if (!f || fwrite(b.data, 1, b.n, f) != b.n || fflush(f) != 0 || fsync(fileno(f)) != 0) {
+    if (!f || fwrite(data, 1, n, f) != n || fflush(f) != 0 || fsync(fileno(f)) != 0) {
         st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the checkpoint: %s", path,
                          strerror(errno));
         if (f)
@@ -214,6 +228,24 @@ relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_
     } else {
         st = relief_atomic_commit(tmp, path, err);
     }
+    return st;
+}
+
+relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_key *key,
+                                      const relief_grow_state *g, relief_error *err)
+{
+    buffer b = {NULL, 0, 0, 0};
+    relief_status st;
+
+    put_head(&b, key);
+    put_growth(&b, g);
+    put_hier(&b, g->hier);
+    put_u64(&b, fnv1a(FNV_START, b.data, b.n));
+    if (b.failed) {
+        free(b.data);
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the checkpoint", path);
+    }
+    st = write_whole(path, b.data, b.n, err);
     free(b.data);
     return st;
 }
