@@ -895,6 +895,70 @@ static relief_status grow_end_pass(grow_run *g, relief_error *err)
     return RELIEF_OK;
 }
 
+/* The run's inputs and starting figures: e at the parameters' threshold,
+ * the clock started, the stats cleared but for what the data fix. */
+static void grow_start(grow_run *g, relief_surface *s, relief_match_data *d,
+                       relief_matcher *m, const relief_params *params,
+                       const relief_grow_options *opts, relief_grow_stats *stats)
+{
+    memset(g, 0, sizeof *g);
+    g->s = s;
+    g->d = d;
+    g->m = m;
+    g->params = params;
+    g->opts = opts;
+    g->stats = stats;
+    g->remaining = s->n_targets;
+    g->e = params->error;
+    g->t0 = relief_seconds();
+    memset(stats, 0, sizeof *stats);
+    stats->targets = s->n_targets;
+    stats->b_shape = d->b_shape;
+    stats->mu = d->mu;
+}
+
+/* Passes until every target is textured; the first one goes on with the
+ * saved pass when resume_pass is set. */
+static relief_status grow_passes(grow_run *g, int resume_pass, relief_error *err)
+{
+    relief_status st;
+
+    while (g->remaining > 0) {
+        size_t first = 0;
+        if (resume_pass) { /* the saved pass, from where it stopped */
+            first = grow_resume_pass(g);
+            resume_pass = 0;
+        } else {
+            st = grow_rank_boundary(g, err);
+            if (st != RELIEF_OK)
+                return st;
+        }
+        for (size_t li = first; li < g->nl; ++li) {
+            st = grow_target(g, li, err);
+            if (st != RELIEF_OK)
+                return st;
+        }
+        st = grow_end_pass(g, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
+    return RELIEF_OK;
+}
+
+/* Frees what grow_alloc and grow_choose_search made (any may be NULL). */
+static void grow_free(grow_run *g)
+{
+    relief_search_destroy(g->search);
+    free(g->src);
+    free(g->best);
+    free(g->flag);
+    free(g->ssd);
+    free(g->list);
+    free(g->win);
+    free(g->textured);
+    relief_query_builder_destroy(g->qb);
+}
+
 relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matcher *m,
                           const relief_params *params, const relief_grow_options *opts,
                           relief_grow_stats *stats, relief_error *err)
@@ -904,20 +968,7 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
     relief_status st;
     int resume_pass = 0;
 
-    memset(&g, 0, sizeof g);
-    g.s = s;
-    g.d = d;
-    g.m = m;
-    g.params = params;
-    g.opts = opts ? opts : &dflt;
-    g.stats = stats;
-    g.remaining = s->n_targets;
-    g.e = params->error;
-    g.t0 = relief_seconds();
-    memset(stats, 0, sizeof *stats);
-    stats->targets = s->n_targets;
-    stats->b_shape = d->b_shape;
-    stats->mu = d->mu;
+    grow_start(&g, s, d, m, params, opts ? opts : &dflt, stats);
     if (d->ns == 0)
         return relief_fail(err, RELIEF_E_MESH, "no sample vertex to grow from");
     st = relief_surface_check_growth(s, params->window, err);
@@ -936,37 +987,9 @@ relief_status relief_grow(relief_surface *s, relief_match_data *d, relief_matche
         resume_pass = g.opts->resume->n_list > 0;
     }
     g.last_save = relief_seconds();
-
-    while (g.remaining > 0) {
-        size_t first = 0;
-        if (resume_pass) { /* the saved pass, from where it stopped */
-            first = grow_resume_pass(&g);
-            resume_pass = 0;
-        } else {
-            st = grow_rank_boundary(&g, err);
-            if (st != RELIEF_OK)
-                goto done;
-        }
-        for (size_t li = first; li < g.nl; ++li) {
-            st = grow_target(&g, li, err);
-            if (st != RELIEF_OK)
-                goto done;
-        }
-        st = grow_end_pass(&g, err);
-        if (st != RELIEF_OK)
-            goto done;
-    }
-    st = RELIEF_OK;
+    st = grow_passes(&g, resume_pass, err);
 done:
     stats_now(&g);
-    relief_search_destroy(g.search);
-    free(g.src);
-    free(g.best);
-    free(g.flag);
-    free(g.ssd);
-    free(g.list);
-    free(g.win);
-    free(g.textured);
-    relief_query_builder_destroy(g.qb);
+    grow_free(&g);
     return st;
 }
