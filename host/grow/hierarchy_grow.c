@@ -167,6 +167,91 @@ static relief_status box_items(pyramid_build *b, uint32_t ms, const double lo[3]
     return RELIEF_OK;
 }
 
+/* Sets b up for level k (index ki): its scratch for the walks on level
+ * k - 1 (npv each) and for the radius searches (ns + 1 each; spos 3 per
+ * sample). Any allocation may fail: the caller checks. */
+static void pyramid_init(pyramid_build *b, const relief_hierarchy *h, int ki,
+                         const relief_adjacency *prev_adj, int hops)
+{
+    const size_t ns = h->level[ki]->n_samples, npv = h->level[ki - 1]->mesh->nv;
+
+    memset(b, 0, sizeof *b);
+    b->h = h, b->ki = ki, b->hops = hops, b->adj = prev_adj;
+    b->stamp = calloc(npv, sizeof *b->stamp);
+    b->depth = malloc(npv * sizeof *b->depth);
+    b->queue = malloc(npv * sizeof *b->queue);
+    b->seen = calloc(npv, sizeof *b->seen);
+    b->spos = malloc((ns + 1) * 3 * sizeof *b->spos);
+    b->dist = malloc((ns + 1) * sizeof *b->dist);
+    b->idx = malloc((ns + 1) * sizeof *b->idx);
+    b->fp = relief_knn_exact_params();
+}
+
+/* The kd-tree over level k's samples, at their positions on the base. */
+static relief_status pyramid_index(pyramid_build *b, relief_error *err)
+{
+    const relief_hierarchy *h = b->h;
+    const size_t ns = h->level[b->ki]->n_samples;
+    const double *pp = h->full->proj;
+    float speedup;
+
+    for (size_t v = 0; v < ns; ++v)
+        memcpy(b->spos + 3 * v, pp + 3 * (size_t)h->ids[b->ki][v], 3 * sizeof(double));
+    b->index = flann_build_index_double(b->spos, (int)ns, 3, &speedup, &b->fp);
+    if (!b->index)
+        return relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a level's samples");
+    return RELIEF_OK;
+}
+
+/* Each target's box of samples, appended to b->items; start (nv + 1,
+ * zeroed) gets the CSR offsets and *boxes the targets with a non-empty box. */
+static relief_status pyramid_boxes(pyramid_build *b, const uint32_t *prev_match,
+                                   uint32_t *start, size_t *boxes, relief_error *err)
+{
+    const relief_hierarchy *h = b->h;
+    const int ki = b->ki, hops = b->hops;
+    const relief_adjacency *prev_adj = b->adj;
+    const size_t nv = h->level[ki]->mesh->nv, ns = h->level[ki]->n_samples,
+                 npv = h->level[ki - 1]->mesh->nv;
+    relief_status st;
+
+    for (uint32_t t = 0; t < nv; ++t) {
+        double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+        uint32_t p, ms;
+        start[t + 1] = start[t];
+        if (t < ns)
+            continue;
+        p = h->parent[ki][t];
+        ms = prev_match[p];
+        if (ms >= npv) /* a sample's child, at the hole's rim */
+            ms = rim_match(prev_adj, prev_match, npv, p, hops, t + 1, b->seen, b->depth,
+                           b->queue);
+        if (ms >= npv)
+            continue; /* no match to follow: all samples */
+        match_box(b, ms, t + 1, lo, hi);
+        st = box_items(b, ms, lo, hi, err);
+        if (st != RELIEF_OK)
+            return st;
+        *boxes += b->n_items > start[t + 1];
+        start[t + 1] = (uint32_t)b->n_items;
+    }
+    return RELIEF_OK;
+}
+
+/* Frees b's index and scratch; not its items, which become the result. */
+static void pyramid_free(pyramid_build *b)
+{
+    if (b->index)
+        flann_free_index_double(b->index, &b->fp);
+    free(b->idx);
+    free(b->dist);
+    free(b->spos);
+    free(b->seen);
+    free(b->queue);
+    free(b->depth);
+    free(b->stamp);
+}
+
 /* The sample pyramids of level k (index ki): for each target, the level k
  * samples inside the box of the samples within `hops` of the sample its
  * parent matched at level k - 1 (prev_match, level k - 1 ids; UINT32_MAX
@@ -177,66 +262,22 @@ static relief_status build_pyramids(const relief_hierarchy *h, int ki,
                                     const uint32_t *prev_match, int hops, uint32_t **start_out,
                                     uint32_t **items_out, size_t *boxes, relief_error *err)
 {
-    const relief_surface *lv = h->level[ki], *prev = h->level[ki - 1];
-    const size_t nv = lv->mesh->nv, ns = lv->n_samples, npv = prev->mesh->nv;
-    const double *pp = h->full->proj;
+    const size_t nv = h->level[ki]->mesh->nv;
     uint32_t *start = calloc(nv + 1, sizeof *start);
     pyramid_build b;
     relief_status st;
-    float speedup;
 
-    memset(&b, 0, sizeof b);
-    b.h = h, b.ki = ki, b.hops = hops, b.adj = prev_adj;
-    b.stamp = calloc(npv, sizeof *b.stamp);
-    b.depth = malloc(npv * sizeof *b.depth);
-    b.queue = malloc(npv * sizeof *b.queue);
-    b.seen = calloc(npv, sizeof *b.seen);
-    b.spos = malloc((ns + 1) * 3 * sizeof *b.spos);
-    b.dist = malloc((ns + 1) * sizeof *b.dist);
-    b.idx = malloc((ns + 1) * sizeof *b.idx);
-    b.fp = relief_knn_exact_params();
+    pyramid_init(&b, h, ki, prev_adj, hops);
     *boxes = 0;
     if (!start || !b.stamp || !b.depth || !b.queue || !b.seen || !b.spos || !b.dist || !b.idx) {
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the sample pyramids");
         goto done;
     }
-    for (size_t v = 0; v < ns; ++v)
-        memcpy(b.spos + 3 * v, pp + 3 * (size_t)h->ids[ki][v], 3 * sizeof(double));
-    b.index = flann_build_index_double(b.spos, (int)ns, 3, &speedup, &b.fp);
-    if (!b.index) {
-        st = relief_fail(err, RELIEF_E_INTERNAL, "FLANN could not index a level's samples");
-        goto done;
-    }
-    for (uint32_t t = 0; t < nv; ++t) {
-        double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
-        uint32_t p, ms;
-        start[t + 1] = start[t];
-        if (t < ns)
-            continue;
-        p = h->parent[ki][t];
-        ms = prev_match[p];
-        if (ms >= npv) /* a sample's child, at the hole's rim */
-            ms = rim_match(prev_adj, prev_match, npv, p, hops, t + 1, b.seen, b.depth, b.queue);
-        if (ms >= npv)
-            continue; /* no match to follow: all samples */
-        match_box(&b, ms, t + 1, lo, hi);
-        st = box_items(&b, ms, lo, hi, err);
-        if (st != RELIEF_OK)
-            goto done;
-        *boxes += b.n_items > start[t + 1];
-        start[t + 1] = (uint32_t)b.n_items;
-    }
-    st = RELIEF_OK;
+    st = pyramid_index(&b, err);
+    if (st == RELIEF_OK)
+        st = pyramid_boxes(&b, prev_match, start, boxes, err);
 done:
-    if (b.index)
-        flann_free_index_double(b.index, &b.fp);
-    free(b.idx);
-    free(b.dist);
-    free(b.spos);
-    free(b.seen);
-    free(b.queue);
-    free(b.depth);
-    free(b.stamp);
+    pyramid_free(&b);
     if (st != RELIEF_OK) {
         free(start);
         free(b.items);
