@@ -103,76 +103,104 @@ static void to_param(const relief_surface *s, const double p[3], double uv[2])
 
 /* ------------------------------------------------------- triangulation */
 
+/* On the sphere: the convex hull of the vertices' directions from the
+ * centre, less the faces wider than alpha (circumradius, input units).
+ * *tri gets the hull's triangles (3 ids each), the first *kept of them
+ * the ones kept; on a failure after the hull the caller frees *tri. */
+static relief_status sphere_triangles(const relief_surface *s, double alpha, uint32_t **tri,
+                                      size_t *kept, relief_error *err)
+{
+    const relief_fit_primitive *pr = &s->fit.prim;
+    const relief_mesh *m = s->mesh;
+    double *dir = malloc(m->nv * 3 * sizeof *dir);
+    size_t nt = 0;
+    relief_status st;
+
+    if (!dir)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate directions");
+    for (size_t v = 0; v < m->nv; ++v) {
+        for (int k = 0; k < 3; ++k)
+            dir[3 * v + k] = s->proj[3 * v + k] - pr->point[k];
+        rm_normalise(dir + 3 * v);
+    }
+    st = relief_hull_sphere(dir, m->nv, tri, &nt, NULL, err);
+    free(dir);
+    /* The hull also closes whatever the completion leaves open (the
+     * outside of a patch whose holes alone are filled) with faces
+     * across the sphere: drop them as the plane drops its long ones. */
+    for (size_t t = 0; st == RELIEF_OK && t < nt; ++t) {
+        const double *a = s->proj + 3 * (size_t)(*tri)[3 * t];
+        const double *b = s->proj + 3 * (size_t)(*tri)[3 * t + 1];
+        const double *c = s->proj + 3 * (size_t)(*tri)[3 * t + 2];
+        double ab[3], ac[3], bc[3], x[3], r;
+        for (int k = 0; k < 3; ++k)
+            ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], bc[k] = c[k] - b[k];
+        rm_cross(ab, ac, x);
+        r = sqrt(rm_dot(ab, ab) * rm_dot(ac, ac) * rm_dot(bc, bc)) /
+            (2.0 * sqrt(rm_dot(x, x)));
+        if (!(r > alpha)) /* a degenerate triangle (r NaN) stays: not ours to judge */
+            memmove(*tri + 3 * (*kept)++, *tri + 3 * t, 3 * sizeof **tri);
+    }
+    return st;
+}
+
+/* On the plane or the cylinder: the Delaunay triangulation of the
+ * vertices' parameters (periodic on the cylinder, period 2 pi radius),
+ * less the triangles wider than alpha. *tri and *kept as sphere_triangles. */
+static relief_status param_triangles(const relief_surface *s, double alpha, uint32_t **tri,
+                                     size_t *kept, relief_error *err)
+{
+    const relief_fit_primitive *pr = &s->fit.prim;
+    const relief_mesh *m = s->mesh;
+    double *uv = malloc(m->nv * 2 * sizeof *uv);
+    size_t nt = 0;
+    relief_status st;
+
+    if (!uv)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate parameters");
+    for (size_t v = 0; v < m->nv; ++v)
+        to_param(s, s->proj + 3 * v, uv + 2 * v);
+    if (pr->model == RELIEF_FIT_PLANE)
+        st = relief_delaunay_2d(uv, m->nv, tri, &nt, NULL, err);
+    else
+        st = relief_delaunay_periodic(uv, m->nv, 2.0 * RELIEF_PI * pr->radius, tri, &nt, NULL,
+                                      err);
+    if (st == RELIEF_OK) {
+        const double period = 2.0 * RELIEF_PI * pr->radius;
+        for (size_t t = 0; t < nt; ++t) {
+            double a[2], b[2], c[2];
+            memcpy(a, uv + 2 * (*tri)[3 * t], sizeof a);
+            memcpy(b, uv + 2 * (*tri)[3 * t + 1], sizeof b);
+            memcpy(c, uv + 2 * (*tri)[3 * t + 2], sizeof c);
+            if (pr->model == RELIEF_FIT_CYLINDER) { /* unwrap across the seam */
+                if (b[0] - a[0] > period / 2) b[0] -= period;
+                if (a[0] - b[0] > period / 2) b[0] += period;
+                if (c[0] - a[0] > period / 2) c[0] -= period;
+                if (a[0] - c[0] > period / 2) c[0] += period;
+            }
+            if (relief_circumradius_2d(a, b, c) <= alpha)
+                memmove(*tri + 3 * (*kept)++, *tri + 3 * t, 3 * sizeof **tri);
+        }
+    }
+    free(uv);
+    return st;
+}
+
 /* Triangulate all vertices of s->mesh in the parameter domain (on the
  * sphere, their directions' convex hull) and keep the triangles no wider
  * than `alpha` (circumradius, input units), which drops the long triangles
  * Delaunay spans across concave parts of the outline. */
 static relief_status triangulate(relief_surface *s, double alpha, relief_error *err)
 {
-    const relief_fit_primitive *pr = &s->fit.prim;
     relief_mesh *m = s->mesh;
     uint32_t *tri = NULL;
-    size_t nt = 0, kept = 0;
-    double *uv = NULL;
+    size_t kept = 0;
     relief_status st;
 
-    if (pr->model == RELIEF_FIT_SPHERE) {
-        double *dir = malloc(m->nv * 3 * sizeof *dir);
-        if (!dir)
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate directions");
-        for (size_t v = 0; v < m->nv; ++v) {
-            for (int k = 0; k < 3; ++k)
-                dir[3 * v + k] = s->proj[3 * v + k] - pr->point[k];
-            rm_normalise(dir + 3 * v);
-        }
-        st = relief_hull_sphere(dir, m->nv, &tri, &nt, NULL, err);
-        free(dir);
-        /* The hull also closes whatever the completion leaves open (the
-         * outside of a patch whose holes alone are filled) with faces
-         * across the sphere: drop them as the plane drops its long ones. */
-        for (size_t t = 0; st == RELIEF_OK && t < nt; ++t) {
-            const double *a = s->proj + 3 * (size_t)tri[3 * t];
-            const double *b = s->proj + 3 * (size_t)tri[3 * t + 1];
-            const double *c = s->proj + 3 * (size_t)tri[3 * t + 2];
-            double ab[3], ac[3], bc[3], x[3], r;
-            for (int k = 0; k < 3; ++k)
-                ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], bc[k] = c[k] - b[k];
-            rm_cross(ab, ac, x);
-            r = sqrt(rm_dot(ab, ab) * rm_dot(ac, ac) * rm_dot(bc, bc)) /
-                (2.0 * sqrt(rm_dot(x, x)));
-            if (!(r > alpha)) /* a degenerate triangle (r NaN) stays: not ours to judge */
-                memmove(tri + 3 * kept++, tri + 3 * t, 3 * sizeof *tri);
-        }
-    } else {
-        uv = malloc(m->nv * 2 * sizeof *uv);
-        if (!uv)
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate parameters");
-        for (size_t v = 0; v < m->nv; ++v)
-            to_param(s, s->proj + 3 * v, uv + 2 * v);
-        if (pr->model == RELIEF_FIT_PLANE)
-            st = relief_delaunay_2d(uv, m->nv, &tri, &nt, NULL, err);
-        else
-            st = relief_delaunay_periodic(uv, m->nv, 2.0 * RELIEF_PI * pr->radius, &tri, &nt, NULL,
-                                          err);
-        if (st == RELIEF_OK) {
-            const double period = 2.0 * RELIEF_PI * pr->radius;
-            for (size_t t = 0; t < nt; ++t) {
-                double a[2], b[2], c[2];
-                memcpy(a, uv + 2 * tri[3 * t], sizeof a);
-                memcpy(b, uv + 2 * tri[3 * t + 1], sizeof b);
-                memcpy(c, uv + 2 * tri[3 * t + 2], sizeof c);
-                if (pr->model == RELIEF_FIT_CYLINDER) { /* unwrap across the seam */
-                    if (b[0] - a[0] > period / 2) b[0] -= period;
-                    if (a[0] - b[0] > period / 2) b[0] += period;
-                    if (c[0] - a[0] > period / 2) c[0] -= period;
-                    if (a[0] - c[0] > period / 2) c[0] += period;
-                }
-                if (relief_circumradius_2d(a, b, c) <= alpha)
-                    memmove(tri + 3 * kept++, tri + 3 * t, 3 * sizeof *tri);
-            }
-        }
-        free(uv);
-    }
+    if (s->fit.prim.model == RELIEF_FIT_SPHERE)
+        st = sphere_triangles(s, alpha, &tri, &kept, err);
+    else
+        st = param_triangles(s, alpha, &tri, &kept, err);
     if (st != RELIEF_OK) {
         free(tri);
         return st;
@@ -564,30 +592,10 @@ static relief_status collapse_level(const relief_surface *s, uint8_t *keep, doub
     return st;
 }
 
-relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep_in,
-                                   double alpha, relief_surface **out, uint32_t *ids,
-                                   relief_error *err)
+/* What a level shares with its surface: the fit, the parameter domain,
+ * the spacings and the capture's size; alpha is the level's own width. */
+static void level_header(relief_surface *l, const relief_surface *s, double alpha)
 {
-    const relief_mesh *m = s->mesh;
-    relief_surface *l = calloc(1, sizeof *l);
-    uint8_t *keep = malloc(m->nv + 1);
-    uint32_t *ctri = NULL, *to = NULL;
-    size_t n = 0, w = 0, cnt = 0;
-    relief_status st;
-
-    if (!l || !keep) {
-        free(l), free(keep);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level surface");
-    }
-    for (size_t v = 0; v < m->nv; ++v)
-        keep[v] = keep_in[v] != 0;
-    if (s->free_form) {
-        st = collapse_level(s, keep, alpha, &ctri, &cnt, err);
-        if (st != RELIEF_OK)
-            goto fail;
-    }
-    for (size_t v = 0; v < m->nv; ++v)
-        n += keep[v];
     l->fit = s->fit;
     l->param = s->param;
     l->free_form = s->free_form;
@@ -595,19 +603,37 @@ relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep_
     l->spacing_from_capture = s->spacing_from_capture;
     l->alpha = alpha;
     l->n_captured = s->n_captured;
-    st = relief_mesh_create(n, 0, m->attrs & (RELIEF_MESH_LABELS | RELIEF_MESH_COLOURS), &l->mesh,
-                            err);
+}
+
+/* The level's mesh for n vertices (labels and colours as m's) and its
+ * per-vertex arrays (n + 1 rows: proj, disp, nrm 3 each, frame 9); *to
+ * gets m->nv + 1 entries for the map from s's ids to the level's. */
+static relief_status level_alloc(relief_surface *l, const relief_mesh *m, size_t n,
+                                 uint32_t **to, relief_error *err)
+{
+    relief_status st = relief_mesh_create(n, 0, m->attrs & (RELIEF_MESH_LABELS |
+                                                            RELIEF_MESH_COLOURS),
+                                          &l->mesh, err);
     if (st != RELIEF_OK)
-        goto fail;
+        return st;
     l->proj = malloc((n + 1) * 3 * sizeof *l->proj);
     l->disp = malloc((n + 1) * 3 * sizeof *l->disp);
     l->nrm = malloc((n + 1) * 3 * sizeof *l->nrm);
     l->frame = malloc((n + 1) * 9 * sizeof *l->frame);
-    to = malloc((m->nv + 1) * sizeof *to);
-    if (!l->proj || !l->disp || !l->nrm || !l->frame || !to) {
-        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's per-vertex state");
-        goto fail;
-    }
+    *to = malloc((m->nv + 1) * sizeof **to);
+    if (!l->proj || !l->disp || !l->nrm || !l->frame || !*to)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level's per-vertex state");
+    return RELIEF_OK;
+}
+
+/* Copies s's kept vertices, in order, into l; to[v] (s->nv) becomes v's
+ * id in l or UINT32_MAX, ids[w] (l's nv) w's id in s. Counts l's samples. */
+static void level_copy(relief_surface *l, const relief_surface *s, const uint8_t *keep,
+                       uint32_t *to, uint32_t *ids)
+{
+    const relief_mesh *m = s->mesh;
+    size_t w = 0;
+
     for (size_t v = 0; v < m->nv; ++v) {
         to[v] = UINT32_MAX;
         if (!keep[v])
@@ -625,12 +651,23 @@ relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep_
         to[v] = (uint32_t)w;
         ids[w++] = (uint32_t)v;
     }
-    l->n_targets = n - l->n_samples;
-    if (s->free_form) {
+}
+
+/* The level's triangles: a free-form level takes the collapsed ones
+ * (*ctri, cnt x 3 on s's ids, renumbered through to; l owns them after),
+ * others are triangulated afresh; then the unused vertices go (ids kept
+ * in step) and the result must be manifold. */
+static relief_status level_triangles(relief_surface *l, int free_form, double alpha,
+                                     uint32_t **ctri, size_t cnt, const uint32_t *to,
+                                     uint32_t *ids, relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+
+    if (free_form) {
         for (size_t i = 0; i < 3 * cnt; ++i)
-            ctri[i] = to[ctri[i]];
-        l->mesh->tri = ctri, l->mesh->nt = cnt;
-        ctri = NULL;
+            (*ctri)[i] = to[(*ctri)[i]];
+        l->mesh->tri = *ctri, l->mesh->nt = cnt;
+        *ctri = NULL;
     } else {
         st = triangulate(l, alpha, err);
     }
@@ -638,6 +675,40 @@ relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep_
         st = drop_unused(l, ids, err);
     if (st == RELIEF_OK)
         st = check_manifold(l, err);
+    return st;
+}
+
+relief_status relief_surface_level(const relief_surface *s, const uint8_t *keep_in,
+                                   double alpha, relief_surface **out, uint32_t *ids,
+                                   relief_error *err)
+{
+    const relief_mesh *m = s->mesh;
+    relief_surface *l = calloc(1, sizeof *l);
+    uint8_t *keep = malloc(m->nv + 1);
+    uint32_t *ctri = NULL, *to = NULL;
+    size_t n = 0, cnt = 0;
+    relief_status st;
+
+    if (!l || !keep) {
+        free(l), free(keep);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a level surface");
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        keep[v] = keep_in[v] != 0;
+    if (s->free_form) {
+        st = collapse_level(s, keep, alpha, &ctri, &cnt, err);
+        if (st != RELIEF_OK)
+            goto fail;
+    }
+    for (size_t v = 0; v < m->nv; ++v)
+        n += keep[v];
+    level_header(l, s, alpha);
+    st = level_alloc(l, m, n, &to, err);
+    if (st != RELIEF_OK)
+        goto fail;
+    level_copy(l, s, keep, to, ids);
+    l->n_targets = n - l->n_samples;
+    st = level_triangles(l, s->free_form, alpha, &ctri, cnt, to, ids, err);
     if (st != RELIEF_OK)
         goto fail;
     free(to), free(keep);
