@@ -327,28 +327,22 @@ done:
     return st;
 }
 
-relief_status relief_points_surface_mesh(const double *pos, const double *nrm, size_t N,
-                                         double spacing, int k, uint32_t **tri, size_t *nt,
-                                         relief_surface_mesh_info *info, relief_error *err)
+/* The candidate triangles of the N points pos (N x 3, unit normals nrm):
+ * every point's umbrella (the triangles its Voronoi cell on the tangent
+ * plane proposes, cut from a 16-gon SURF_CELL_RADIUS spacings out) votes,
+ * and each distinct triangle is ranked by its votes (0: three or more, 1:
+ * two, 2: one) with its circumradius in pos's units. *cand_out (ncand,
+ * the caller's to free) on RELIEF_OK; nothing to free otherwise. */
+static relief_status surface_candidates(const double *pos, const double *nrm, size_t N,
+                                        double spacing, int k, relief_cand_tri **cand_out,
+                                        size_t *ncand_out, relief_error *err)
 {
     relief_knn_graph g;
     vote *votes = NULL;
     relief_cand_tri *cand = NULL;
     size_t nvote = 0, ncand = 0;
-    relief_status st;
-    relief_surface_mesh_info dummy;
+    relief_status st = relief_knn_graph_build(pos, N, k, 1, &g, err);
 
-    *tri = NULL;
-    *nt = 0;
-    if (!info)
-        info = &dummy;
-    memset(info, 0, sizeof *info);
-    if (k < 6 || k > 64 || N <= (size_t)k)
-        return relief_fail(err, RELIEF_E_RANGE, "a surface through %zu points with k = %d: k "
-                           "must be 6..64 and below the point count", N, k);
-    if (!(spacing > 0.0))
-        return relief_fail(err, RELIEF_E_RANGE, "a surface through points %g apart", spacing);
-    st = relief_knn_graph_build(pos, N, k, 1, &g, err);
     if (st != RELIEF_OK)
         return st;
     votes = malloc(N * ((size_t)k + SURF_CELL_SIDES) * sizeof *votes);
@@ -371,7 +365,66 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
         memcpy(cand[ncand++].v, v, sizeof cand->v);
     }
     free(votes);
-    votes = NULL;
+    *cand_out = cand, *ncand_out = ncand;
+    return RELIEF_OK;
+nomem:
+    relief_knn_graph_free(&g);
+    free(votes), free(cand);
+    return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a surface through %zu points", N);
+}
+
+/* info's counts for the nt triangles tri (nt x 3) over N points: the edges
+ * that only one triangle has, and the points that no triangle uses, so
+ * that a caller sees how open the surface is. 0 when out of memory (info
+ * then untouched). */
+static int count_open(const uint32_t *tri, size_t nt, size_t N, relief_surface_mesh_info *info)
+{
+    uint64_t *e = malloc((3 * nt + 1) * sizeof *e);
+    uint8_t *used = calloc(N + 1, 1);
+    if (!e || !used) {
+        free(e), free(used);
+        return 0;
+    }
+    for (size_t t = 0; t < nt; ++t)
+        for (int q = 0; q < 3; ++q) {
+            uint32_t a = tri[3 * t + q], b = tri[3 * t + (q + 1) % 3];
+            e[3 * t + q] = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+            used[a] = 1;
+        }
+    qsort(e, 3 * nt, sizeof *e, relief_cmp_u64);
+    for (size_t a = 0, b; a < 3 * nt; a = b) {
+        for (b = a + 1; b < 3 * nt && e[b] == e[a]; ++b)
+            ;
+        info->boundary_edges += b - a == 1;
+    }
+    for (size_t i = 0; i < N; ++i)
+        info->bare_points += !used[i];
+    free(e), free(used);
+    return 1;
+}
+
+relief_status relief_points_surface_mesh(const double *pos, const double *nrm, size_t N,
+                                         double spacing, int k, uint32_t **tri, size_t *nt,
+                                         relief_surface_mesh_info *info, relief_error *err)
+{
+    relief_cand_tri *cand = NULL;
+    size_t ncand = 0;
+    relief_status st;
+    relief_surface_mesh_info dummy;
+
+    *tri = NULL;
+    *nt = 0;
+    if (!info)
+        info = &dummy;
+    memset(info, 0, sizeof *info);
+    if (k < 6 || k > 64 || N <= (size_t)k)
+        return relief_fail(err, RELIEF_E_RANGE, "a surface through %zu points with k = %d: k "
+                           "must be 6..64 and below the point count", N, k);
+    if (!(spacing > 0.0))
+        return relief_fail(err, RELIEF_E_RANGE, "a surface through points %g apart", spacing);
+    st = surface_candidates(pos, nrm, N, spacing, k, &cand, &ncand, err);
+    if (st != RELIEF_OK)
+        return st;
     info->candidates = ncand;
     st = relief_points_lay_triangles(pos, N, NULL, 0, cand, ncand, 1, tri, nt, err);
     free(cand);
@@ -385,34 +438,10 @@ relief_status relief_points_surface_mesh(const double *pos, const double *nrm, s
         return st;
     }
     info->triangles = *nt;
-    /* Counts: edges with one triangle, points with none. */
-    {
-        uint64_t *e = malloc((3 * *nt + 1) * sizeof *e);
-        uint8_t *used = calloc(N + 1, 1);
-        if (!e || !used) {
-            free(e), free(used), free(*tri);
-            *tri = NULL, *nt = 0;
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot count the surface's edges");
-        }
-        for (size_t t = 0; t < *nt; ++t)
-            for (int q = 0; q < 3; ++q) {
-                uint32_t a = (*tri)[3 * t + q], b = (*tri)[3 * t + (q + 1) % 3];
-                e[3 * t + q] = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-                used[a] = 1;
-            }
-        qsort(e, 3 * *nt, sizeof *e, relief_cmp_u64);
-        for (size_t a = 0, b; a < 3 * *nt; a = b) {
-            for (b = a + 1; b < 3 * *nt && e[b] == e[a]; ++b)
-                ;
-            info->boundary_edges += b - a == 1;
-        }
-        for (size_t i = 0; i < N; ++i)
-            info->bare_points += !used[i];
-        free(e), free(used);
+    if (!count_open(*tri, *nt, N, info)) {
+        free(*tri);
+        *tri = NULL, *nt = 0;
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot count the surface's edges");
     }
     return RELIEF_OK;
-nomem:
-    relief_knn_graph_free(&g);
-    free(votes), free(cand);
-    return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a surface through %zu points", N);
 }
