@@ -147,36 +147,15 @@ static float centre_weight(int gn, float fa, float fb)
     return fmaxf(wa * wb, 1.0f / 16.0f);
 }
 
-/* Exemplar grid z read at cluster j's members (their grid coordinates
- * mfa, mfb), into out (members x ch), from the exemplar points about z's
- * centre as they lie on its tangent plane (its grid coordinates): the
- * inverse-square-distance mean of those within READ_RADIUS steps of the
- * member's place; else the nearest within READ_FAR; else z's bilinear
- * value. Why not z's nodes: they are Gaussian means of the points about
- * them (sigma h / 2), and a bilinear read blurs them again: stripes 3
- * spacings apart came back at 0.57 of their amplitude (0.65 read so;
- * test_texopt), frag_115's tape with a colour RMS of 0.030 against the
- * truth (0.027). The nearest point alone kept the stripes whole (0.99) but
- * made the bunny's fill speckled: neighbours reading different points,
- * averaged over the clusters, gave a staircase that shading shows
- * (README). Returns -1 when memory runs out. */
+/* How far read_exemplar (below) looks about a member's place. */
 #define READ_RADIUS 1.5f /* grid steps, about 1.3 spacings at the default grid */
 #define READ_FAR 2.0f
 #define READ_EPS 1e-3     /* grid steps squared: a point on the spot does not take all */
 
-static int read_exemplar(const opt *o, reader *rd, uint32_t z, size_t j, float *out)
+/* Room in rd for nc kept points (ab, pt, next) and for the gn x gn cell
+ * heads; -1 when memory runs out. */
+static int reader_reserve(reader *rd, size_t nc, int gn)
 {
-    const float *zz = o->zvec + (size_t)z * o->dims;
-    const size_t m0 = o->mstart[j], nm = o->mstart[j + 1] - m0;
-    const int gn = o->gn;
-    const double half = 0.5 * (gn - 1); /* the centre node's coordinate */
-    const uint32_t q = o->zq[z];
-    const double *c = o->pos + 3 * (size_t)q, *f = o->frame + 9 * (size_t)o->label[q];
-    size_t nc, kept = 0;
-    nc = relief_pbucket_query(o->bk, c, relief_pgrid_reach(gn, o->h) + 2 * o->h, &rd->cand,
-                              &rd->cand_cap);
-    if (nc == SIZE_MAX)
-        return -1;
     if (nc > rd->kept_cap) {
         float *ab = realloc(rd->ab, 2 * nc * sizeof *ab);
         uint32_t *pt;
@@ -193,10 +172,21 @@ static int read_exemplar(const opt *o, reader *rd, uint32_t z, size_t j, float *
     }
     if (!rd->head && !(rd->head = malloc((size_t)gn * gn * sizeof *rd->head)))
         return -1;
+    return 0;
+}
+
+/* The exemplar points among the query's nc (rd->cand) on the side of the
+ * surface of the grid centred at c (frame f: 9, its normal last), at their
+ * grid coordinates (rd->ab, in grid steps, half: the centre node's) and
+ * chained by the grid cell they fall in (rd->head, rd->next), in query
+ * order so that ties break the same way. */
+static void chain_exemplar(const opt *o, reader *rd, size_t nc, const double *c, const double *f,
+                           double half)
+{
+    const int gn = o->gn;
+    size_t kept = 0;
     for (int i = 0; i < gn * gn; ++i)
         rd->head[i] = -1;
-    /* The exemplar points on z's side of the surface, chained by the grid
-     * cell they fall in (in query order, so ties break the same way). */
     for (size_t i = nc; i-- > 0;) {
         const uint32_t p = rd->cand[i];
         const double *np = o->nrm + 3 * (size_t)p;
@@ -215,38 +205,77 @@ static int read_exemplar(const opt *o, reader *rd, uint32_t z, size_t j, float *
         rd->next[kept] = rd->head[ib * gn + ia];
         rd->head[ib * gn + ia] = (int32_t)kept++;
     }
-    for (size_t m = 0; m < nm; ++m) {
-        const float fa = o->mfa[m0 + m], fb = o->mfb[m0 + m];
-        const int ia = (int)(fa + 0.5f), ib = (int)(fb + 0.5f);
-        double acc[4] = {0, 0, 0, 0}, ws = 0.0;
-        int32_t best = -1;
-        float bd = READ_FAR * READ_FAR;
-        for (int b = ib - 2; b <= ib + 2; ++b)
-            for (int a = ia - 2; a <= ia + 2; ++a) {
-                if (a < 0 || b < 0 || a >= gn || b >= gn)
-                    continue;
-                for (int32_t e = rd->head[b * gn + a]; e >= 0; e = rd->next[e]) {
-                    const float da = rd->ab[2 * e] - fa, db = rd->ab[2 * e + 1] - fb;
-                    const float d2 = da * da + db * db;
-                    if (d2 < bd || (d2 == bd && e < best))
-                        bd = d2, best = e;
-                    if (d2 <= READ_RADIUS * READ_RADIUS) {
-                        const double w = 1.0 / ((double)d2 + READ_EPS);
-                        for (int k = 0; k < o->ch; ++k)
-                            acc[k] += w * o->x[(size_t)rd->pt[e] * o->ch + k];
-                        ws += w;
-                    }
+}
+
+/* One member's read at grid coordinates (fa, fb) into out (ch), from the
+ * chained points of the 5 x 5 cells about it (chain_exemplar's): their
+ * inverse-square-distance mean within READ_RADIUS, else the nearest within
+ * READ_FAR, else the bilinear value of the grid zz (gn x gn x ch). */
+static void read_member(const opt *o, const reader *rd, const float *zz, float fa, float fb,
+                        float *out)
+{
+    const int gn = o->gn;
+    const int ia = (int)(fa + 0.5f), ib = (int)(fb + 0.5f);
+    double acc[4] = {0, 0, 0, 0}, ws = 0.0;
+    int32_t best = -1;
+    float bd = READ_FAR * READ_FAR;
+    for (int b = ib - 2; b <= ib + 2; ++b)
+        for (int a = ia - 2; a <= ia + 2; ++a) {
+            if (a < 0 || b < 0 || a >= gn || b >= gn)
+                continue;
+            for (int32_t e = rd->head[b * gn + a]; e >= 0; e = rd->next[e]) {
+                const float da = rd->ab[2 * e] - fa, db = rd->ab[2 * e + 1] - fb;
+                const float d2 = da * da + db * db;
+                if (d2 < bd || (d2 == bd && e < best))
+                    bd = d2, best = e;
+                if (d2 <= READ_RADIUS * READ_RADIUS) {
+                    const double w = 1.0 / ((double)d2 + READ_EPS);
+                    for (int k = 0; k < o->ch; ++k)
+                        acc[k] += w * o->x[(size_t)rd->pt[e] * o->ch + k];
+                    ws += w;
                 }
             }
-        if (ws > 0.0)
-            for (int k = 0; k < o->ch; ++k)
-                out[m * o->ch + k] = (float)(acc[k] / ws);
-        else if (best >= 0)
-            memcpy(out + m * o->ch, o->x + (size_t)rd->pt[best] * o->ch,
-                   (size_t)o->ch * sizeof *out);
-        else
-            bilerp(zz, gn, o->ch, fa, fb, out + m * o->ch);
-    }
+        }
+    if (ws > 0.0)
+        for (int k = 0; k < o->ch; ++k)
+            out[k] = (float)(acc[k] / ws);
+    else if (best >= 0)
+        memcpy(out, o->x + (size_t)rd->pt[best] * o->ch, (size_t)o->ch * sizeof *out);
+    else
+        bilerp(zz, gn, o->ch, fa, fb, out);
+}
+
+/* Exemplar grid z read at cluster j's members (their grid coordinates
+ * mfa, mfb), into out (members x ch), from the exemplar points about z's
+ * centre as they lie on its tangent plane (its grid coordinates): the
+ * inverse-square-distance mean of those within READ_RADIUS steps of the
+ * member's place; else the nearest within READ_FAR; else z's bilinear
+ * value. Why not z's nodes: they are Gaussian means of the points about
+ * them (sigma h / 2), and a bilinear read blurs them again: stripes 3
+ * spacings apart came back at 0.57 of their amplitude (0.65 read so;
+ * test_texopt), frag_115's tape with a colour RMS of 0.030 against the
+ * truth (0.027). The nearest point alone kept the stripes whole (0.99) but
+ * made the bunny's fill speckled: neighbours reading different points,
+ * averaged over the clusters, gave a staircase that shading shows
+ * (README). Returns -1 when memory runs out. */
+static int read_exemplar(const opt *o, reader *rd, uint32_t z, size_t j, float *out)
+{
+    const float *zz = o->zvec + (size_t)z * o->dims;
+    const size_t m0 = o->mstart[j], nm = o->mstart[j + 1] - m0;
+    const int gn = o->gn;
+    const double half = 0.5 * (gn - 1); /* the centre node's coordinate */
+    const uint32_t q = o->zq[z];
+    const double *c = o->pos + 3 * (size_t)q, *f = o->frame + 9 * (size_t)o->label[q];
+    size_t nc;
+    nc = relief_pbucket_query(o->bk, c, relief_pgrid_reach(gn, o->h) + 2 * o->h, &rd->cand,
+                              &rd->cand_cap);
+    if (nc == SIZE_MAX)
+        return -1;
+    if (reader_reserve(rd, nc, gn) < 0)
+        return -1;
+    chain_exemplar(o, rd, nc, c, f, half);
+    for (size_t m = 0; m < nm; ++m)
+        read_member(o, rd, zz, o->mfa[m0 + m], o->mfb[m0 + m], out + m * o->ch);
     return 0;
 }
 
@@ -444,6 +473,93 @@ static uint32_t start_match(const opt *o, const float *q, const uint8_t *nvalid,
     return j.z[w];
 }
 
+/* sequential_start's state and scratch, freed together on every path. */
+typedef struct start_scratch {
+    uint8_t *valid;  /* n: known, or set by the start already */
+    uint8_t *open;   /* A + 1: clusters that may still have unset members */
+    float *q;        /* dims: the chosen cluster's grid over valid points */
+    uint8_t *nvalid; /* nodes: which of q's nodes count */
+    double *qd;      /* dims: start_match's scratch */
+    uint32_t *off;   /* nodes: start_match's scratch */
+    reader rd;
+} start_scratch;
+
+static void start_scratch_free(start_scratch *s)
+{
+    free(s->valid), free(s->open), free(s->q), free(s->nvalid), free(s->qd), free(s->off);
+    reader_free(&s->rd);
+}
+
+/* The next cluster to match: the open one with the largest share of valid
+ * members that still has unset ones (the first such on ties); clusters
+ * found all valid are closed on the way. SIZE_MAX when none is left. */
+static size_t start_pick(const opt *o, const uint8_t *valid, uint8_t *open)
+{
+    size_t j = SIZE_MAX;
+    double best_share = -1.0;
+    for (size_t c = 0; c < o->A; ++c) {
+        size_t nv = 0, tot = o->mstart[c + 1] - o->mstart[c];
+        double share;
+        if (!open[c])
+            continue;
+        for (size_t m = o->mstart[c]; m < o->mstart[c + 1]; ++m)
+            nv += valid[o->mpt[m]];
+        if (nv == tot) {
+            open[c] = 0; /* nothing left to set */
+            continue;
+        }
+        share = (double)nv / (double)tot;
+        if (share > best_share)
+            best_share = share, j = c;
+    }
+    return j;
+}
+
+/* Cluster j's grid over valid points into q (dims) and which nodes count
+ * into nvalid (nodes): a node counts when at least half its weight is on
+ * valid points, its value renormalised over them (0 when it does not). */
+static void start_grid(const opt *o, size_t j, const uint8_t *valid, float *q, uint8_t *nvalid)
+{
+    for (int node = 0; node < o->nodes; ++node) {
+        const size_t wn = j * (size_t)o->nodes + (size_t)node;
+        double wv = 0.0, wt = 0.0;
+        for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t) {
+            wt += o->ww[t];
+            if (valid[o->wpt[t]])
+                wv += o->ww[t];
+        }
+        nvalid[node] = wt > 0.0 && wv >= 0.5 * wt;
+        for (int k = 0; k < o->ch; ++k) {
+            double acc = 0.0;
+            for (size_t t = o->wstart[wn]; nvalid[node] && t < o->wstart[wn + 1]; ++t)
+                if (valid[o->wpt[t]])
+                    acc += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
+            q[node * o->ch + k] = nvalid[node] ? (float)(acc / wv) : 0.0f;
+        }
+    }
+}
+
+/* Cluster j's unset members take its match's read (o->zread) and become
+ * valid: those in the central half of its grid, or all of them when none
+ * is central. */
+static void start_take(opt *o, size_t j, uint8_t *valid)
+{
+    const float half = 0.25f * (float)(o->gn - 1); /* |fa - centre| within it: central */
+    const float centre = 0.5f * (float)(o->gn - 1);
+    size_t central = 0;
+    for (size_t m = o->mstart[j]; m < o->mstart[j + 1]; ++m)
+        central += !valid[o->mpt[m]] && fabsf(o->mfa[m] - centre) <= half &&
+                   fabsf(o->mfb[m] - centre) <= half;
+    for (size_t m = o->mstart[j]; m < o->mstart[j + 1]; ++m) {
+        const uint32_t p = o->mpt[m];
+        if (valid[p] || (central && (fabsf(o->mfa[m] - centre) > half ||
+                                     fabsf(o->mfb[m] - centre) > half)))
+            continue;
+        memcpy(o->x + (size_t)p * o->ch, o->zread + m * o->ch, (size_t)o->ch * sizeof *o->x);
+        valid[p] = 1;
+    }
+}
+
 /* The unknown values' start, grown inward from the known part as patch-
  * based synthesis grows (Criminisi et al.'s onion order). Repeatedly the
  * active cluster with the largest share of valid members (known, or set
@@ -460,89 +576,41 @@ static uint32_t start_match(const opt *o, const float *q, const uint8_t *nvalid,
 static relief_status sequential_start(opt *o, const uint8_t *unknown, size_t n, int threads,
                                       relief_progress *pr, relief_error *err)
 {
-    uint8_t *valid = malloc(n), *open = malloc(o->A + 1);
-    float *q = malloc((size_t)o->dims * sizeof *q);
-    uint8_t *nvalid = malloc((size_t)o->nodes);
-    double *qd = malloc((size_t)o->dims * sizeof *qd);
-    uint32_t *off = malloc((size_t)o->nodes * sizeof *off);
-    const float half = 0.25f * (float)(o->gn - 1); /* |fa - centre| within it: central */
-    const float centre = 0.5f * (float)(o->gn - 1);
-    reader rd = {0};
-    if (!valid || !open || !q || !nvalid || !qd || !off) {
-        free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
+    start_scratch s = {0};
+    relief_status st = RELIEF_OK;
+    s.valid = malloc(n), s.open = malloc(o->A + 1);
+    s.q = malloc((size_t)o->dims * sizeof *s.q);
+    s.nvalid = malloc((size_t)o->nodes);
+    s.qd = malloc((size_t)o->dims * sizeof *s.qd);
+    s.off = malloc((size_t)o->nodes * sizeof *s.off);
+    if (!s.valid || !s.open || !s.q || !s.nvalid || !s.qd || !s.off) {
+        start_scratch_free(&s);
         return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (start)");
     }
     for (size_t i = 0; i < n; ++i)
-        valid[i] = !unknown[i];
-    memset(open, 1, o->A);
+        s.valid[i] = !unknown[i];
+    memset(s.open, 1, o->A);
     for (size_t round = 0;; ++round) {
-        size_t j = SIZE_MAX, central = 0;
-        double best_share = -1.0;
+        const size_t j = start_pick(o, s.valid, s.open);
         uint32_t best;
-        for (size_t c = 0; c < o->A; ++c) {
-            size_t nv = 0, tot = o->mstart[c + 1] - o->mstart[c];
-            double share;
-            if (!open[c])
-                continue;
-            for (size_t m = o->mstart[c]; m < o->mstart[c + 1]; ++m)
-                nv += valid[o->mpt[m]];
-            if (nv == tot) {
-                open[c] = 0; /* nothing left to set */
-                continue;
-            }
-            share = (double)nv / (double)tot;
-            if (share > best_share)
-                best_share = share, j = c;
-        }
         if (j == SIZE_MAX)
             break;
         /* About one round a cluster: a share of the start each. */
         if (relief_progress_step(pr, START_SHARE * (round < o->A ? (double)round / o->A : 1.0))) {
-            free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
-            reader_free(&rd);
-            return texopt_cancelled(pr, err);
+            st = texopt_cancelled(pr, err);
+            break;
         }
-        /* The grid over valid points: a node counts when at least half its
-         * weight is on valid points, renormalised over them. */
-        for (int node = 0; node < o->nodes; ++node) {
-            const size_t wn = j * (size_t)o->nodes + (size_t)node;
-            double wv = 0.0, wt = 0.0;
-            for (size_t t = o->wstart[wn]; t < o->wstart[wn + 1]; ++t) {
-                wt += o->ww[t];
-                if (valid[o->wpt[t]])
-                    wv += o->ww[t];
-            }
-            nvalid[node] = wt > 0.0 && wv >= 0.5 * wt;
-            for (int k = 0; k < o->ch; ++k) {
-                double acc = 0.0;
-                for (size_t t = o->wstart[wn]; nvalid[node] && t < o->wstart[wn + 1]; ++t)
-                    if (valid[o->wpt[t]])
-                        acc += (double)o->ww[t] * o->x[(size_t)o->wpt[t] * o->ch + k];
-                q[node * o->ch + k] = nvalid[node] ? (float)(acc / wv) : 0.0f;
-            }
-        }
-        best = start_match(o, q, nvalid, qd, off, threads);
+        start_grid(o, j, s.valid, s.q, s.nvalid);
+        best = start_match(o, s.q, s.nvalid, s.qd, s.off, threads);
         o->match[j] = best;
-        if (read_exemplar(o, &rd, best, j, o->zread + o->mstart[j] * o->ch) < 0) {
-            free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
-            reader_free(&rd);
-            return relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (start)");
+        if (read_exemplar(o, &s.rd, best, j, o->zread + o->mstart[j] * o->ch) < 0) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "texture optimisation: out of memory (start)");
+            break;
         }
-        for (size_t m = o->mstart[j]; m < o->mstart[j + 1]; ++m)
-            central += !valid[o->mpt[m]] && fabsf(o->mfa[m] - centre) <= half &&
-                       fabsf(o->mfb[m] - centre) <= half;
-        for (size_t m = o->mstart[j]; m < o->mstart[j + 1]; ++m) {
-            const uint32_t p = o->mpt[m];
-            if (valid[p] || (central && (fabsf(o->mfa[m] - centre) > half ||
-                                         fabsf(o->mfb[m] - centre) > half)))
-                continue;
-            memcpy(o->x + (size_t)p * o->ch, o->zread + m * o->ch, (size_t)o->ch * sizeof *o->x);
-            valid[p] = 1;
-        }
+        start_take(o, j, s.valid);
     }
-    free(valid), free(open), free(q), free(nvalid), free(qd), free(off);
-    reader_free(&rd);
-    return RELIEF_OK;
+    start_scratch_free(&s);
+    return st;
 }
 
 /* Append to a growing array. */
