@@ -382,20 +382,13 @@ static int grow(void **p, size_t *cap, size_t need, size_t size)
     return 0;
 }
 
-int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *cand, size_t nc,
-                       const double c[3], const double f[9], int gn, double h,
-                       const uint8_t *allowed, relief_pgrid_weights *g, size_t *empty,
-                       size_t *foreign)
+/* The candidates whose normals face the grid's (frame f: 9, its normal
+ * last) kept in g->pt, in candidate order, with their tangent-plane
+ * coordinates about c in g->st (2 each, pos's units); returns how many. */
+static size_t pgrid_keep(const double *pos, const double *nrm, const uint32_t *cand, size_t nc,
+                         const double c[3], const double f[9], relief_pgrid_weights *g)
 {
-    const int k = (gn - 1) / 2;
-    const size_t nodes = (size_t)gn * (size_t)gn;
     size_t kept = 0;
-    *empty = 0, *foreign = 0;
-    if (!g->start && !(g->start = malloc((nodes + 1) * sizeof *g->start)))
-        return -1;
-    if (grow((void **)&g->st, &g->st_cap, 2 * nc + 2, sizeof *g->st) ||
-        grow((void **)&g->pt, &g->pt_cap, nc + 1, sizeof *g->pt))
-        return -1;
     for (size_t j = 0; j < nc; ++j) {
         const double *nn = nrm + 3 * (size_t)cand[j];
         if (nn[0] * f[6] + nn[1] * f[7] + nn[2] * f[8] < RELIEF_PGRID_NORMAL_COS)
@@ -403,11 +396,16 @@ int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *can
         relief_ptangent(pos + 3 * (size_t)cand[j], c, f, g->st + 2 * kept, g->st + 2 * kept + 1);
         g->pt[kept++] = cand[j];
     }
-    if (!kept)
-        return 0;
-    /* Each candidate reaches the nodes within h of it, a 3 x 3 block at
-     * most: count per node, then fill, so that a node's points stay in
-     * candidate order (deterministic). An empty node gets one slot. */
+    return kept;
+}
+
+/* g->start (gn^2 + 1) as the prefix sums of how many kept points reach
+ * each node (within h; k: the centre node's index), an empty node given
+ * one slot and counted in *empty. */
+static void pgrid_count(relief_pgrid_weights *g, size_t kept, int gn, double h, int k,
+                        size_t *empty)
+{
+    const size_t nodes = (size_t)gn * (size_t)gn;
     memset(g->start, 0, (nodes + 1) * sizeof *g->start);
     for (size_t j = 0; j < kept; ++j) {
         const double s = g->st[2 * j] / h + k, t = g->st[2 * j + 1] / h + k;
@@ -423,13 +421,15 @@ int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *can
             g->start[q + 1] = 1, ++*empty;
         g->start[q + 1] += g->start[q];
     }
-    if (grow((void **)&g->point, &g->cap, g->start[nodes], sizeof *g->point))
-        return -1;
-    if (grow((void **)&g->w, &g->w_cap, g->start[nodes], sizeof *g->w))
-        return -1;
-    if (grow((void **)&g->fill, &g->fill_cap, nodes, sizeof *g->fill))
-        return -1;
-    memcpy(g->fill, g->start, nodes * sizeof *g->fill);
+}
+
+/* Each node's (point, Gaussian weight) pairs, sigma h / 2, in candidate
+ * order, into the slots pgrid_count laid out (g->fill: each node's next
+ * slot); the uses of points that allowed does not flag are counted in
+ * *foreign. The weights are not yet normalised. */
+static void pgrid_fill(relief_pgrid_weights *g, size_t kept, int gn, double h, int k,
+                       const uint8_t *allowed, size_t *foreign)
+{
     for (size_t j = 0; j < kept; ++j) {
         const double s = g->st[2 * j] / h + k, t = g->st[2 * j + 1] / h + k;
         const int a0 = (int)fmax(ceil(s - 1), 0), a1 = (int)fmin(floor(s + 1), gn - 1);
@@ -446,6 +446,14 @@ int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *can
                     ++*foreign;
             }
     }
+}
+
+/* Every node's weights made to sum to 1; an empty node's one slot given
+ * its nearest kept point (the first of the nearest) with weight 1, counted
+ * in *foreign when allowed does not flag it. */
+static void pgrid_normalise(relief_pgrid_weights *g, size_t kept, int gn, double h, int k,
+                            const uint8_t *allowed, size_t *foreign)
+{
     for (int b = 0; b < gn; ++b)
         for (int a = 0; a < gn; ++a) {
             const size_t q = (size_t)b * (size_t)gn + (size_t)a;
@@ -468,6 +476,38 @@ int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *can
             for (size_t j = g->start[q]; j < g->start[q + 1]; ++j)
                 g->w[j] = (float)(g->w[j] / sum);
         }
+}
+
+int relief_pgrid_weigh(const double *pos, const double *nrm, const uint32_t *cand, size_t nc,
+                       const double c[3], const double f[9], int gn, double h,
+                       const uint8_t *allowed, relief_pgrid_weights *g, size_t *empty,
+                       size_t *foreign)
+{
+    const int k = (gn - 1) / 2;
+    const size_t nodes = (size_t)gn * (size_t)gn;
+    size_t kept;
+    *empty = 0, *foreign = 0;
+    if (!g->start && !(g->start = malloc((nodes + 1) * sizeof *g->start)))
+        return -1;
+    if (grow((void **)&g->st, &g->st_cap, 2 * nc + 2, sizeof *g->st) ||
+        grow((void **)&g->pt, &g->pt_cap, nc + 1, sizeof *g->pt))
+        return -1;
+    kept = pgrid_keep(pos, nrm, cand, nc, c, f, g);
+    if (!kept)
+        return 0;
+    /* Each candidate reaches the nodes within h of it, a 3 x 3 block at
+     * most: count per node, then fill, so that a node's points stay in
+     * candidate order (deterministic). An empty node gets one slot. */
+    pgrid_count(g, kept, gn, h, k, empty);
+    if (grow((void **)&g->point, &g->cap, g->start[nodes], sizeof *g->point))
+        return -1;
+    if (grow((void **)&g->w, &g->w_cap, g->start[nodes], sizeof *g->w))
+        return -1;
+    if (grow((void **)&g->fill, &g->fill_cap, nodes, sizeof *g->fill))
+        return -1;
+    memcpy(g->fill, g->start, nodes * sizeof *g->fill);
+    pgrid_fill(g, kept, gn, h, k, allowed, foreign);
+    pgrid_normalise(g, kept, gn, h, k, allowed, foreign);
     return 1;
 }
 
