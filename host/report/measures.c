@@ -333,6 +333,47 @@ static void freq_refine_peak(const double *suv, const double *sf, size_t m, doub
     }
 }
 
+/* The larger side of the bounding box of the n points uv (n x 2), in uv's
+ * units: the longest wavelength the spectrum looks for. */
+static double freq_extent(const double *uv, size_t n)
+{
+    double lo[2], hi[2];
+    lo[0] = hi[0] = uv[0];
+    lo[1] = hi[1] = uv[1];
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 2; ++c) {
+            lo[c] = uv[2 * i + c] < lo[c] ? uv[2 * i + c] : lo[c];
+            hi[c] = uv[2 * i + c] > hi[c] ? uv[2 * i + c] : hi[c];
+        }
+    return hi[0] - lo[0] > hi[1] - lo[1] ? hi[0] - lo[0] : hi[1] - lo[1];
+}
+
+/* The spectrum's peak over the subset suv (m x 2), sf (m, mean removed,
+ * var its sum of squares) into r->k and r->freq (cycles per uv unit),
+ * within r->min..r->limit; left as they are (NaN) when the relief is flat
+ * against the extent L or no frequency is in range. */
+static relief_status freq_peak(const double *suv, const double *sf, size_t m, double var,
+                               double L, relief_measure_freq *r, relief_error *err)
+{
+    double step, best = -1.0, bu = 0.0, bv = 0.0;
+    relief_status st;
+    /* Rounding noise (a part flattened onto a curved primitive keeps
+     * |h| ~ 1e-16) is no relief: its peak would be meaningless. */
+    if (!(sqrt(var / (double)m) > RELIEF_MEASURE_FREQ_FLAT * L) || r->min > r->limit)
+        return RELIEF_OK;
+    step = 1.0 / (2.0 * L);
+    if (step < r->limit / RELIEF_MEASURE_FREQ_GRID)
+        step = r->limit / RELIEF_MEASURE_FREQ_GRID;
+    st = freq_coarse_peak(suv, sf, m, step, r, &best, &bu, &bv, err);
+    if (st != RELIEF_OK || best < 0.0)
+        return st;
+    freq_refine_peak(suv, sf, m, step, r->min, best, &bu, &bv);
+    r->k[0] = bu;
+    r->k[1] = bv;
+    r->freq = sqrt(bu * bu + bv * bv);
+    return RELIEF_OK;
+}
+
 relief_status relief_dominant_frequency(const double *uv, const double *f, size_t n,
                                         relief_measure_freq *out, relief_error *err)
 {
@@ -340,8 +381,7 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
     double *suv = NULL, *sf = NULL;
     size_t *pick = NULL, m = n;
     relief_status st = RELIEF_OK;
-    double var, lo[2], hi[2], L, spacing = 0.0, step, best = -1.0;
-    double bu = 0.0, bv = 0.0;
+    double var, L, spacing = 0.0;
 
     r.freq = NAN;
     r.k[0] = r.k[1] = NAN;
@@ -358,14 +398,7 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
                            "most %d",
                            n, INT_MAX);
 
-    lo[0] = hi[0] = uv[0];
-    lo[1] = hi[1] = uv[1];
-    for (size_t i = 0; i < n; ++i)
-        for (int c = 0; c < 2; ++c) {
-            lo[c] = uv[2 * i + c] < lo[c] ? uv[2 * i + c] : lo[c];
-            hi[c] = uv[2 * i + c] > hi[c] ? uv[2 * i + c] : hi[c];
-        }
-    L = hi[0] - lo[0] > hi[1] - lo[1] ? hi[0] - lo[0] : hi[1] - lo[1];
+    L = freq_extent(uv, n);
     st = median_spacing(uv, n, &spacing, err);
     if (st != RELIEF_OK)
         return st;
@@ -387,20 +420,7 @@ relief_status relief_dominant_frequency(const double *uv, const double *f, size_
     }
     var = freq_subset(uv, f, n, m, pick, suv, sf);
     r.n_points = m;
-    /* Rounding noise (a part flattened onto a curved primitive keeps
-     * |h| ~ 1e-16) is no relief: its peak would be meaningless. */
-    if (!(sqrt(var / (double)m) > RELIEF_MEASURE_FREQ_FLAT * L) || r.min > r.limit)
-        goto done;
-    step = 1.0 / (2.0 * L);
-    if (step < r.limit / RELIEF_MEASURE_FREQ_GRID)
-        step = r.limit / RELIEF_MEASURE_FREQ_GRID;
-    st = freq_coarse_peak(suv, sf, m, step, &r, &best, &bu, &bv, err);
-    if (st != RELIEF_OK || best < 0.0)
-        goto done;
-    freq_refine_peak(suv, sf, m, step, r.min, best, &bu, &bv);
-    r.k[0] = bu;
-    r.k[1] = bv;
-    r.freq = sqrt(bu * bu + bv * bv);
+    st = freq_peak(suv, sf, m, var, L, &r, err);
 
 done:
     if (st == RELIEF_OK)
@@ -488,20 +508,65 @@ static int height_at(const truth_view *tv, const double *q, const int *nb, int k
     return 0;
 }
 
+/* The k nearest truth vertices of each of the nq completed vertices'
+ * projected places qq (nq x 3) among the nv projected truth vertices tq
+ * (nv x 3): idx and d2 (nq x k each; squared distances), searched exactly. */
+static relief_status truth_knn(double *tq, size_t nv, double *qq, size_t nq, int k, int *idx,
+                               double *d2, relief_error *err)
+{
+    struct FLANNParameters fp = relief_knn_exact_params();
+    float speedup = 0.0f;
+    relief_status st = RELIEF_OK;
+    flann_index_t index = flann_build_index_double(tq, (int)nv, 3, &speedup, &fp);
+    if (!index)
+        return relief_fail(err, RELIEF_E_INTERNAL,
+                           "FLANN could not build a kd-tree on %zu truth vertices", nv);
+    if (flann_find_nearest_neighbors_index_double(index, qq, (int)nq, idx, d2, k, &fp) != 0)
+        st = relief_fail(err, RELIEF_E_INTERNAL,
+                         "FLANN nearest-neighbour search failed on %zu completed vertices", nq);
+    flann_free_index_double(index, &fp);
+    return st;
+}
+
+/* The truth's height at each of the nq projected places qq (nq x 3) into
+ * ht_out (nq), from its k nearest truth vertices (idx, d2: truth_knn's):
+ * the nearest's height when on the spot, else height_at's; outside (nq)
+ * flags, and *n_outside counts, the places no truth triangle covers. */
+static relief_status truth_lookup(const truth_view *tv, const double *qq, size_t nq,
+                                  const int *idx, const double *d2, int k, double *ht_out,
+                                  uint8_t *outside, size_t *n_outside, relief_error *err)
+{
+    const size_t nv = tv->nv;
+    for (size_t i = 0; i < nq; ++i) {
+        const double *q = qq + 3 * i;
+        const int *nb = idx + (size_t)k * i;
+        if (nb[0] < 0 || (size_t)nb[0] >= nv)
+            return relief_fail(err, RELIEF_E_INTERNAL,
+                               "FLANN returned truth vertex %d, outside 0..%zu", nb[0], nv - 1);
+        outside[i] = 0;
+        if (d2[(size_t)k * i] == 0.0) {
+            ht_out[i] = tv->th[nb[0]];
+            continue;
+        }
+        if (!height_at(tv, q, nb, k, ht_out + i)) {
+            outside[i] = 1;
+            ++*n_outside;
+        }
+    }
+    return RELIEF_OK;
+}
+
 /* Truth heights at the completed vertices' places (see the header). */
 static relief_status truth_heights(const relief_fit_primitive *prim, const relief_mesh *cm,
                                    const relief_mesh *tm, double *ht_out, uint8_t *outside,
                                    size_t *n_outside, relief_error *err)
 {
-    struct FLANNParameters fp = relief_knn_exact_params();
-    flann_index_t index = NULL;
     const size_t nv = tm->nv;
     double *tq = NULL, *th = NULL, *qq = NULL, *d2 = NULL;
     int *idx = NULL;
     uint32_t *vt_start = NULL, *vt = NULL;
     size_t nq = 0;
     const int k = nv < TRUTH_K ? (int)nv : TRUTH_K;
-    float speedup = 0.0f;
     truth_view tv;
     relief_status st = RELIEF_OK;
 
@@ -533,40 +598,11 @@ static relief_status truth_heights(const relief_fit_primitive *prim, const relie
     for (size_t v = 0; v < cm->nv; ++v)
         if (cm->label[v] == RELIEF_LABEL_COMPLETED)
             relief_fit_project(prim, cm->pos + 3 * v, qq + 3 * nq++);
-    index = flann_build_index_double(tq, (int)nv, 3, &speedup, &fp);
-    if (!index) {
-        st = relief_fail(err, RELIEF_E_INTERNAL,
-                         "FLANN could not build a kd-tree on %zu truth vertices", nv);
-        goto done;
-    }
-    if (flann_find_nearest_neighbors_index_double(index, qq, (int)nq, idx, d2, k, &fp) != 0) {
-        st = relief_fail(err, RELIEF_E_INTERNAL,
-                         "FLANN nearest-neighbour search failed on %zu completed vertices", nq);
-        goto done;
-    }
-
-    for (size_t i = 0; i < nq; ++i) {
-        const double *q = qq + 3 * i;
-        const int *nb = idx + (size_t)k * i;
-        if (nb[0] < 0 || (size_t)nb[0] >= nv) {
-            st = relief_fail(err, RELIEF_E_INTERNAL,
-                             "FLANN returned truth vertex %d, outside 0..%zu", nb[0], nv - 1);
-            goto done;
-        }
-        outside[i] = 0;
-        if (d2[(size_t)k * i] == 0.0) {
-            ht_out[i] = th[nb[0]];
-            continue;
-        }
-        if (!height_at(&tv, q, nb, k, ht_out + i)) {
-            outside[i] = 1;
-            ++*n_outside;
-        }
-    }
+    st = truth_knn(tq, nv, qq, nq, k, idx, d2, err);
+    if (st == RELIEF_OK)
+        st = truth_lookup(&tv, qq, nq, idx, d2, k, ht_out, outside, n_outside, err);
 
 done:
-    if (index)
-        flann_free_index_double(index, &fp);
     free(vt);
     free(vt_start);
     free(d2);
