@@ -721,6 +721,12 @@ static relief_status score_set(grow_run *g, size_t li, relief_match_query *query
     if (!out->valid)
         return RELIEF_OK;
     g->any_valid = 1;
+    if (!(out->minv < g->e) && !g->opts->prune) {
+        /* Every candidate scored in full: DESIGN.md's draw as it reads,
+         * the reference that draw_rejected must equal (test_grow). */
+        relief_rng_below(&g->rng, (uint32_t)best_set(g, ncand, out->minv));
+        return RELIEF_OK;
+    }
     if (!(out->minv < g->e))
         return draw_rejected(g, li, query, ncand, err);
     const size_t nbest = best_set(g, ncand, out->minv);

@@ -102,7 +102,8 @@ static void check_coherent(void)
 
 /* A pruned query starts at just above 1.1 x e (grow.c, e_cutoff): the
  * completion and every count but the pruned must be those of the search
- * without pruning, with rejections, shrunk windows and raised thresholds
+ * without pruning (which draws from a best set that fails e as DESIGN.md
+ * reads, where the pruned search takes one output or finishes the draw), with rejections, shrunk windows and raised thresholds
  * (e 0.03), and where for many passes nothing comes under the cutoff (e
  * 0.01, raised some 20 times: a rejected draw must still take from the
  * random stream, and a pass that finds no valid candidate fails), by either
