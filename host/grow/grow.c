@@ -568,14 +568,16 @@ static relief_status grow_between_targets(grow_run *g, size_t li, relief_error *
     return RELIEF_OK;
 }
 
-/* A pruned query's first cutoff: just above 1.1 x e. When the least SSD
- * passes e, every member of the best set (SSD at most 1.1 x that, below
- * 1.1 x e) comes under it; when it does not, the draw is rejected whatever
- * it picks, and score_set takes what it would from the random stream
- * without the set's members. */
-static float e_cutoff(double e)
+/* A query's first cutoff: just above 1.1 x e when pruning (FLT_MAX
+ * without). When the least SSD passes e, every member of the best set
+ * (SSD at most 1.1 x that, below 1.1 x e) comes under it; when it does
+ * not, the draw is rejected whatever it picks, and score_set takes what it
+ * would from the random stream without the set's members. */
+static float e_cutoff(const grow_run *g)
 {
-    return e < (double)FLT_MAX / 2 ? relief_match_cutoff_after((float)e) : FLT_MAX;
+    if (!g->opts->prune)
+        return FLT_MAX;
+    return g->e < (double)FLT_MAX / 2 ? relief_match_cutoff_after((float)g->e) : FLT_MAX;
 }
 
 /* Target t's neighbourhood, and the samples to score first when the search
@@ -586,8 +588,7 @@ static void grow_query(grow_run *g, uint32_t t, relief_match_query *query)
     relief_grow_stats *stats = g->stats;
     relief_query_build(g->qb, g->textured, t, g->win[t], query);
     query->running = opts->prune;
-    if (opts->prune)
-        query->cutoff = e_cutoff(g->e);
+    query->cutoff = e_cutoff(g);
     if (g->search) { /* k-coherence: the continuations first */
         const uint32_t *cs;
         uint32_t nc = relief_search_candidates(g->search, g->s, g->d, g->qb->nb, query->n,
@@ -721,14 +722,14 @@ static relief_status score_set(grow_run *g, size_t li, relief_match_query *query
     if (!out->valid)
         return RELIEF_OK;
     g->any_valid = 1;
-    if (!(out->minv < g->e) && !g->opts->prune) {
+    if (!(out->minv < g->e)) {
+        if (g->opts->prune)
+            return draw_rejected(g, li, query, ncand, err);
         /* Every candidate scored in full: DESIGN.md's draw as it reads,
          * the reference that draw_rejected must equal (test_grow). */
         relief_rng_below(&g->rng, (uint32_t)best_set(g, ncand, out->minv));
         return RELIEF_OK;
     }
-    if (!(out->minv < g->e))
-        return draw_rejected(g, li, query, ncand, err);
     const size_t nbest = best_set(g, ncand, out->minv);
     out->chosen = g->best[relief_rng_below(&g->rng, (uint32_t)nbest)];
     return RELIEF_OK;
@@ -755,7 +756,7 @@ static relief_status grow_score(grow_run *g, size_t li, relief_match_query *quer
             ++stats->pyramid_misses;
         query->subset = NULL;
         query->n_subset = 0;
-        query->cutoff = g->opts->prune ? e_cutoff(g->e) : FLT_MAX;
+        query->cutoff = e_cutoff(g); /* draw_rejected may have lifted it */
     }
 }
 
