@@ -387,7 +387,7 @@ int main(int argc, char **argv)
     prepared pp = {NULL, NULL};
     series *se = calloc(NB, sizeof *se);
     relief_mesh *cap = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     FILE *out = NULL;
     int rc = parse_args(argc, argv, &c);
     if (rc != 0 || !se) {

@@ -176,7 +176,7 @@ int main(int argc, char **argv)
     bench_machine mc;
     result *res = calloc(2, sizeof *res);
     relief_mesh *cap = NULL, *truth = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     FILE *out = NULL;
     double med[2], lo[2], hi[2];
     int rc = parse_args(argc, argv, &c);

@@ -34,7 +34,7 @@ typedef struct job {
 static double fill_once(const job *j, relief_patch_scorer *s, relief_raster *out,
                         relief_fill_report *rep)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t n = (size_t)j->img.width * j->img.height * j->img.channels;
     double t0;
     relief_raster_create(j->img.width, j->img.height, j->img.channels, j->img.bit_depth, out,
@@ -56,7 +56,7 @@ int main(int argc, char **argv)
     static const char *names[] = {"brick.png", "grass.png", "gravel.png", "coffee.png",
                                   "chelsea.png", "astronaut.png", "rocket.jpg"};
     relief_patch_scorer *sc = NULL, *cl = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     double t0, setup_scalar, setup_cl;
     int repeat = 5, n_jobs = 0;
     job jobs[10];

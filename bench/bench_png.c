@@ -70,7 +70,7 @@ static size_t libpng_encode(const uint8_t *px, int w, int h, int c)
 /* relief's encoding; the file's size, after checking it decodes to px. */
 static size_t relief_encode(const uint8_t *px, int w, int h, int c, int check)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *out = NULL;
     size_t n = 0, vals = (size_t)w * h * c;
     relief_raster r;
@@ -117,7 +117,7 @@ static void row(const char *name, const uint8_t *px, int w, int h, int c, int re
 /* The file's samples at 8 bits; NULL when it is not an 8-bit image. */
 static uint8_t *samples(const char *path, int *w, int *h, int *c)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_raster r;
     uint8_t *px;
     size_t vals;

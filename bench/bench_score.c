@@ -90,7 +90,7 @@ int main(int argc, char **argv)
     relief_params p = relief_params_default();
     relief_mesh *cap = NULL;
     relief_surface *s = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_device_info dev[8];
     size_t ndev = 0;
     char machine[256], devname[200] = "none";

@@ -22,7 +22,7 @@
 static relief_depth_frame load(const char *path)
 {
     relief_depth_frame f;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         fprintf(stderr, "depth_bench_tool: %s\n", err.message);
         exit(1);
@@ -55,7 +55,7 @@ int main(int argc, char **argv)
 {
     if (argc == 4 && argv[1][0] == 'p') {
         relief_depth_frame f = load(argv[2]);
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         int rc = relief_depth_frame_write(argv[3], &f, RELIEF_DEPTH_PFM, &err) != RELIEF_OK;
         if (rc)
             fprintf(stderr, "depth_bench_tool: %s\n", err.message);
@@ -95,7 +95,7 @@ int main(int argc, char **argv)
     }
     if (argc == 4 && strcmp(argv[1], "rgb") == 0) {
         relief_depth_frame f = load(argv[2]);
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         int bad = !f.rgb || relief_image_write(&(relief_image){f.width, f.height, 3, 8, 0, f.rgb},
                                                argv[3], &err) != RELIEF_OK;
         if (bad)

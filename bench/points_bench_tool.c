@@ -29,7 +29,7 @@
 static relief_mesh *load(const char *path)
 {
     relief_mesh *m;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (relief_mesh_read(path, &m, NULL, &err) != RELIEF_OK) {
         fprintf(stderr, "points_bench_tool: %s\n", err.message);
         exit(1);
@@ -39,7 +39,7 @@ static relief_mesh *load(const char *path)
 
 static void save(const relief_mesh *m, const char *path)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (relief_mesh_write(m, path, NULL, &err) != RELIEF_OK) {
         fprintf(stderr, "points_bench_tool: %s\n", err.message);
         exit(1);
@@ -56,7 +56,7 @@ static void num(const char *key, double v, int last)
 
 int main(int argc, char **argv)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if ((argc == 4 || argc == 5) && strcmp(argv[1], "measure") == 0) {
         relief_mesh *c = load(argv[2]), *t = load(argv[3]);
         relief_points_measures m;

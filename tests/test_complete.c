@@ -32,7 +32,7 @@ int main(int argc, char **argv)
     relief_surface *s = NULL;
     relief_grow_stats stats;
     relief_measures me;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
     int periodic;
 

@@ -119,7 +119,7 @@ int main(int argc, char **argv)
     relief_surface *s = NULL;
     relief_grow_stats stats;
     relief_measures floor_m, smooth_m, me;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
     size_t n_cut = 0;
     char path[4096];

@@ -1,5 +1,6 @@
 #include "base/error.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -40,17 +41,105 @@ int relief_status_exit_code(relief_status status)
     return 2;
 }
 
+const char *relief_reason_name(relief_reason reason)
+{
+    switch (reason) {
+#define RELIEF_X_CASE(code, value, name, desc) \
+    case code:                                 \
+        return name;
+        RELIEF_REASON_LIST(RELIEF_X_CASE)
+#undef RELIEF_X_CASE
+    }
+    return "unknown";
+}
+
+/* Status, reason and message; the other fields cleared. */
+static relief_status vfail(relief_error *err, relief_status status, relief_reason reason,
+                           const char *fmt, va_list ap)
+{
+    if (err) {
+        relief_error_clear(err);
+        err->status = status;
+        err->reason = reason;
+        vsnprintf(err->message, sizeof err->message, fmt, ap);
+    }
+    return status;
+}
+
 relief_status relief_fail(relief_error *err, relief_status status,
                           const char *fmt, ...)
 {
-    if (err) {
-        va_list ap;
-        err->status = status;
-        va_start(ap, fmt);
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
-        va_end(ap);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    vfail(err, status, RELIEF_REASON_NONE, fmt, ap);
+    va_end(ap);
     return status;
+}
+
+relief_status relief_fail_reason(relief_error *err, relief_status status, relief_reason reason,
+                                 const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vfail(err, status, reason, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+relief_status relief_fail_param(relief_error *err, relief_status status, const char *param,
+                                const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vfail(err, status, RELIEF_REASON_PARAMETER, fmt, ap);
+    va_end(ap);
+    if (err)
+        snprintf(err->param, sizeof err->param, "%s", param);
+    return status;
+}
+
+relief_status relief_errno_status(int e)
+{
+    switch (e) {
+    case ENOSPC:
+    case EDQUOT:
+    case EFBIG:
+    case EIO:
+    case EROFS:
+    case EMFILE:
+    case ENFILE:
+        return RELIEF_E_SYSTEM;
+    case ENOMEM:
+        return RELIEF_E_NOMEM;
+    default:
+        return RELIEF_E_IO;
+    }
+}
+
+static relief_reason errno_reason(int e)
+{
+    switch (e) {
+    case ENOSPC:
+    case EDQUOT:
+    case EFBIG:
+        return RELIEF_REASON_NO_SPACE;
+    case EROFS:
+        return RELIEF_REASON_READ_ONLY;
+    case EACCES:
+    case EPERM:
+        return RELIEF_REASON_NO_PERMISSION;
+    default:
+        return RELIEF_REASON_NONE;
+    }
+}
+
+relief_status relief_fail_errno(relief_error *err, int e, const char *path, const char *what)
+{
+    relief_status st = relief_errno_status(e);
+    relief_fail_reason(err, st, errno_reason(e), "%s: %s: %s", path, what, strerror(e));
+    if (err)
+        err->sys_errno = e;
+    return st;
 }
 
 void relief_error_clear(relief_error *err)
@@ -58,6 +147,9 @@ void relief_error_clear(relief_error *err)
     if (err) {
         err->status = RELIEF_OK;
         err->message[0] = '\0';
+        err->reason = RELIEF_REASON_NONE;
+        err->sys_errno = 0;
+        err->param[0] = '\0';
     }
 }
 

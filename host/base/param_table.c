@@ -107,6 +107,7 @@ static relief_status set_reals(char *params, const relief_param *p, const char *
 relief_status relief_param_set(void *params, const relief_param *p, const char *text,
                                relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     char *field;
     long long l;
     if (!params || !p || !text)

@@ -23,6 +23,7 @@ relief_run_options relief_run_options_default(void)
 
 relief_status relief_run_options_validate(const relief_run_options *run, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     if (!run)
         return relief_fail(err, RELIEF_E_USAGE, "run options: NULL");
     if (run->backend < RELIEF_BACKEND_AUTO || run->backend > RELIEF_BACKEND_HOST)

@@ -25,7 +25,7 @@ static int keep_region(void *ctx, const double *pts, size_t n)
     const relief_hole_info *h = &r->holes;
     double *dist = malloc((n ? n : 1) * sizeof *dist);
     uint32_t *near = malloc((n ? n : 1) * sizeof *near);
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t inside = 0;
     int keep = 1; /* on failure, as before the hole model: filled */
     if (dist && near && h->n_holes > 0 &&

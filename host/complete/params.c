@@ -98,6 +98,7 @@ static relief_status validate_own(const relief_complete_params *p, relief_error 
 relief_status relief_complete_params_validate(const relief_complete_params *p,
                                               relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_complete_stages st;
     relief_status s;
     if (!p)

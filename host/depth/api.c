@@ -93,6 +93,7 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
 relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p,
                                                 relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st;
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "params: NULL");
@@ -359,6 +360,7 @@ relief_status relief_depth_fill(relief_depth_image *f, const relief_image *mask,
                                 const relief_depth_fill_params *p,
                                 relief_depth_fill_report *rep, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     image_job job;
     relief_status st = check_image_args(f, mask, p, err);
     if (st != RELIEF_OK)
@@ -507,6 +509,7 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
                                      const relief_mesh *truth, relief_mesh **out,
                                      relief_depth_fill_report *rep, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_hole_info holes;
     relief_mesh_patch_report patch;
     uint32_t *rim = NULL;

@@ -59,6 +59,7 @@ static void device_string(cl_device_id d, cl_device_info what, char *buf, size_t
 relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
                              relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     cl_platform_id plats[16];
     cl_uint np = 0;
     cl_int rc;

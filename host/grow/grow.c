@@ -615,7 +615,7 @@ static void grow_query(grow_run *g, uint32_t t, relief_match_query *query)
 static relief_status grow_score_failed(grow_run *g, size_t li, relief_status st,
                                        relief_error *err)
 {
-    relief_error serr = {RELIEF_OK, ""};
+    relief_error serr = {0};
     stats_now(g);
     if (g->opts->save && save_state(g, li, &serr) != RELIEF_OK && err) {
         char msg[RELIEF_ERROR_MESSAGE_MAX];

@@ -60,6 +60,7 @@ static void put_sample(relief_image *img, int y, size_t i, unsigned v)
 
 relief_status relief_image_check(const relief_image *img, const char *what, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     what = what ? what : "image";
     if (!img)
         return relief_fail(err, RELIEF_E_USAGE, "%s: NULL", what);
@@ -108,6 +109,7 @@ static relief_status raster_of(const relief_image *img, relief_raster *r, relief
 relief_status relief_image_decode(const void *data, size_t n, const char *name,
                                   uint64_t max_bytes, relief_image *out, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     name = name ? name : "image";
     if ((!data && n) || !out)
         return relief_fail(err, RELIEF_E_USAGE, "relief_image_decode: %s is NULL",
@@ -118,6 +120,7 @@ relief_status relief_image_decode(const void *data, size_t n, const char *name,
 relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_image *out,
                                 relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     uint8_t *data;
     size_t n;
     relief_status st;
@@ -134,6 +137,7 @@ relief_status relief_image_read(const char *path, uint64_t max_bytes, relief_ima
 
 relief_status relief_image_write(const relief_image *img, const char *path, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st = relief_image_check(img, "image", err);
     if (st == RELIEF_OK && !path)
         st = relief_fail(err, RELIEF_E_USAGE, "relief_image_write: path is NULL");
@@ -192,6 +196,7 @@ static relief_fill_params engine_params(const relief_image_fill_params *p,
 relief_status relief_image_fill_params_validate(const relief_image_fill_params *p,
                                                 relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_fill_params f;
     relief_status st;
     if (!p)
@@ -453,6 +458,7 @@ relief_status relief_image_fill(relief_image *image, const relief_image *mask,
                                 const relief_image_fill_params *p,
                                 relief_image_fill_report *rep, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     fill_call c;
     relief_image_fill_report out;
     relief_status st;

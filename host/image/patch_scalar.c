@@ -101,7 +101,7 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
                                          relief_patch_scorer **out, char *note,
                                          size_t note_size, relief_error *err)
 {
-    relief_error why = {RELIEF_OK, ""};
+    relief_error why = {0};
     relief_status st;
     if (note && note_size)
         note[0] = '\0';

@@ -760,9 +760,9 @@ static relief_status pixsyn(relief_raster *img, const uint8_t *hole, const uint8
     }
     {
         order_job a = {img, hole, target, p, orders[0], wrap, scorer, source, &runs[0], &prog,
-                       RELIEF_OK, {RELIEF_OK, ""}, 0};
+                       RELIEF_OK, {0}, 0};
         order_job b = {&other, hole, target, p, orders[1 % n_orders], wrap, scorer,
-                       other_source, &runs[1], &prog, RELIEF_OK, {RELIEF_OK, ""}, 0};
+                       other_source, &runs[1], &prog, RELIEF_OK, {0}, 0};
         st = run_orders(&a, &b, n_orders, err);
         if (st == RELIEF_OK)
             keep_better(&a, &b, n_orders, rep);

@@ -53,7 +53,7 @@ static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
 static int pick_device(char *why, size_t why_size)
 {
     relief_device_info info[64];
-    relief_error e = {RELIEF_OK, ""};
+    relief_error e = {0};
     size_t n = 0;
     int first;
     if (relief_devices(info, 64, &n, &e) != RELIEF_OK) {

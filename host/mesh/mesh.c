@@ -21,6 +21,7 @@ relief_status relief_mesh_create(size_t n_vertices, size_t n_triangles,
                                  unsigned attributes, relief_mesh **out,
                                  relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     const unsigned known = RELIEF_MESH_COLOURS | RELIEF_MESH_NORMALS |
                            RELIEF_MESH_LABELS;
     relief_mesh *m;
@@ -105,6 +106,7 @@ double relief_mesh_triangle_area(const relief_mesh *m, size_t t)
 
 relief_status relief_mesh_validate(const relief_mesh *m, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     size_t good = 0;
 
     if (!m || m->nv == 0)

@@ -740,6 +740,7 @@ relief_status relief_mesh_repair_impl(relief_mesh *m, relief_repair_info *info,
 
 relief_status relief_mesh_repair(relief_mesh *mesh, relief_repair_info *info, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     if (!mesh)
         return relief_fail(err, RELIEF_E_USAGE, "relief_mesh_repair: NULL mesh");
     relief_status st = relief_mesh_validate(mesh, err);

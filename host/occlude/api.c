@@ -76,6 +76,7 @@ static relief_status check_views(const relief_occluder_params *p, relief_error *
 
 relief_status relief_occluder_params_validate(const relief_occluder_params *p, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "params: NULL");
     if ((unsigned)p->background > RELIEF_BACKGROUND_MESH)
@@ -349,6 +350,7 @@ relief_status relief_find_occluders(const relief_depth_image *f, const relief_oc
                                     relief_image *mask, relief_occluder_report *rep,
                                     relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     double t0 = relief_seconds();
     occ_scene s;
     relief_occluder_report r;
@@ -630,6 +632,7 @@ relief_status relief_remove_occluders(relief_depth_image *f, const relief_image 
                                       const relief_remove_params *p, relief_remove_report *rep,
                                       relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     double t0 = relief_seconds();
     removal w;
     occ_scene s;

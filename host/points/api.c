@@ -169,6 +169,7 @@ static relief_status check_combinations(const relief_complete_points_params *p,
 relief_status relief_complete_points_params_validate(const relief_complete_points_params *p,
                                                      relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st;
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "complete-points parameters: NULL");
@@ -442,6 +443,7 @@ relief_status relief_complete_points(const relief_mesh *in, const relief_complet
                                      relief_mesh **out, relief_complete_points_report *rep,
                                      relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_complete_points_report pub;
     relief_points_report r;
     relief_points_params e;

@@ -30,6 +30,7 @@ static relief_status read_pcd(const char *path, uint64_t max_points, relief_mesh
 relief_status relief_points_read(const char *path, uint64_t max_points, relief_mesh **out,
                                  relief_points_read_info *info, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_points_read_info ri;
     relief_mesh *m = NULL;
     relief_status st;

@@ -118,6 +118,7 @@ static void fill(relief_eval_result *out, const relief_measures *m, const relief
 relief_status relief_eval(const relief_mesh *completed, const relief_mesh *truth,
                           relief_eval_result *out, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_measures *m;
     relief_pattern *pat;
     relief_eval_result r;

@@ -454,6 +454,7 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
                          relief_fit_model model, relief_fit_result *out,
                          relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st;
     fit_run f;
     relief_fit_result res;
@@ -490,6 +491,7 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
 relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
                               relief_fit_result *out, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st = RELIEF_OK;
     double *nrm = NULL;
     const double *use = NULL;

@@ -41,6 +41,7 @@ const char *relief_synth_kind_description(relief_synth_kind kind)
 relief_status relief_synth_kind_parse(const char *name, relief_synth_kind *out,
                                       relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT; ++k)
         if (name && strcmp(name, kinds[k].name) == 0) {
             *out = (relief_synth_kind)k;
@@ -542,6 +543,7 @@ static int captured(relief_synth_kind kind, const double p[3], const double n[3]
 relief_status relief_synth_params_validate(const relief_synth_params *params,
                                            relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     if (!params)
         return relief_fail(err, RELIEF_E_USAGE, "params is NULL");
     if ((unsigned)params->kind >= RELIEF_SYNTH_KIND_COUNT)
@@ -647,6 +649,7 @@ static relief_status synth_capture(const relief_synth_params *params, const base
 relief_status relief_synth(const relief_synth_params *params, relief_mesh **captured_out,
                            relief_mesh **truth_out, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_field field;
     base_mesh b;
     relief_rng rng;

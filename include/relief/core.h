@@ -48,7 +48,10 @@ RELIEF_API const char *relief_version(void);
       "not implemented yet", 2)                                                \
     X(RELIEF_E_INTERNAL, 11, "internal", "internal error", 2)                  \
     X(RELIEF_E_CANCELLED, 12, "cancelled",                                  \
-      "cancelled (by the progress callback or SIGINT)", 130)
+      "cancelled (by the progress callback or SIGINT)", 130)                   \
+    X(RELIEF_E_SYSTEM, 13, "system",                                           \
+      "the system failed a read or write (disk full, I/O error, read-only "    \
+      "file system)", 2)
 
 typedef enum relief_status {
 #define RELIEF_X_ENUM(code, value, name, msg, exit_code) code = value,
@@ -64,17 +67,61 @@ RELIEF_API const char *relief_strerror(relief_status status);
 RELIEF_API const char *relief_status_name(relief_status status);
 
 /* Process exit code the CLI uses for a status: 0 success, 1 bad input or
- * usage, 2 internal or device failure, 130 interrupted (128 + SIGINT, as a
- * shell reports a process killed by Ctrl-C). */
+ * usage, 2 a resource (memory, disk, the system's I/O), device or internal
+ * failure, 130 interrupted (128 + SIGINT, as a shell reports a process
+ * killed by Ctrl-C). */
 RELIEF_API int relief_status_exit_code(relief_status status);
 
+/* Why a call failed, where a caller may act on it without reading the
+ * message: a finer kind than the status. One list generates the enum, the
+ * names and the descriptions. X(code, value, name, description) */
+#define RELIEF_REASON_LIST(X)                                                  \
+    X(RELIEF_REASON_NONE, 0, "none", "no finer reason")                        \
+    X(RELIEF_REASON_NOTHING_TO_FILL, 1, "nothing-to-fill",                     \
+      "the selection holds no hole to fill")                                   \
+    X(RELIEF_REASON_HOLES_LEFT_OPEN, 2, "holes-left-open",                     \
+      "the hole model leaves every missing region open")                       \
+    X(RELIEF_REASON_FOLD_REFUSED, 3, "fold-refused",                           \
+      "the capture overlaps itself over its primitive")                        \
+    X(RELIEF_REASON_DEVICE_FELL_BACK, 4, "device-fell-back",                   \
+      "OpenCL was unavailable and the host ran the call")                      \
+    X(RELIEF_REASON_NO_SPACE, 5, "no-space",                                   \
+      "no space left (disk full, quota or file size limit)")                   \
+    X(RELIEF_REASON_READ_ONLY, 6, "read-only", "a read-only file system")      \
+    X(RELIEF_REASON_NO_PERMISSION, 7, "no-permission",                         \
+      "the system refused access to a path")                                   \
+    X(RELIEF_REASON_NOT_RELIEFS, 8, "not-reliefs",                             \
+      "a file or folder relief did not write was named as its output")         \
+    X(RELIEF_REASON_PARAMETER, 9, "parameter",                                 \
+      "a parameter's value (the error's `param` names it)")                    \
+    X(RELIEF_REASON_TIME_LIMIT, 10, "time-limit",                              \
+      "the call ran past its time limit")
+
+typedef enum relief_reason {
+#define RELIEF_X_ENUM(code, value, name, desc) code = value,
+    RELIEF_REASON_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_reason;
+
+/* Short stable name of a reason ("no-space"); "unknown" out of range. */
+RELIEF_API const char *relief_reason_name(relief_reason reason);
+
 #define RELIEF_ERROR_MESSAGE_MAX 1024
+#define RELIEF_ERROR_PARAM_MAX 64
 
 /* Where a failed call explains itself. Owned by the caller; zero-initialise
- * it or pass NULL when the detail is not wanted. */
+ * it (`relief_error err = {0}`) or pass NULL when the detail is not wanted:
+ * every entry point accepts NULL. Decide on `status`, `reason`, `param`
+ * and `sys_errno`, never on the message's text, which is for people and
+ * may change. */
 typedef struct relief_error {
     relief_status status;
-    char message[RELIEF_ERROR_MESSAGE_MAX];
+    char message[RELIEF_ERROR_MESSAGE_MAX]; /* one line: what, where, why */
+    relief_reason reason;       /* RELIEF_REASON_NONE when no finer kind */
+    int sys_errno;              /* the system's errno behind an I/O or system
+                                   failure (ENOSPC, EROFS, ...), else 0 */
+    char param[RELIEF_ERROR_PARAM_MAX]; /* the parameter the failure concerns
+                                   ("min_window", "run.threads"), or "" */
 } relief_error;
 
 /* ------------------------------------------------------- parameter tables */

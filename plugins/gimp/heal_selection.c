@@ -121,7 +121,7 @@ static gchar *heal(gint32 image, gint32 drawable, const heal_values *v)
     guchar *pixels, *mask;
     relief_image img, m;
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
 
     if (gimp_selection_is_empty(image) ||

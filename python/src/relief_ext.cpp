@@ -85,7 +85,7 @@ template <typename F> relief_status run_released(relief_run_options *run, nb::ob
 // table (relief_param_set); the strings stay alive for PATH parameters.
 struct param_setter {
     std::vector<std::string> kept;
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
 
     relief_status set(void *params, const relief_param *table, size_t count,
                       const nb::dict &kw, const char *engine)
@@ -189,7 +189,7 @@ nb::tuple image_fill(nb::ndarray<nb::numpy, nb::c_contig, nb::device::cpu> image
                    const_cast<uint8_t *>(mask.data())};
     relief_image_fill_report rep;
     std::memset(&rep, 0, sizeof rep);
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_status s = run_released(&p.run, progress, [&] {
         return relief_image_fill(&img, &m, &p, &rep, &err);
     });
@@ -216,7 +216,7 @@ nb::tuple depth_fill(carray<float> z, nb::object mask, nb::dict kw, nb::object p
         m.data = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(mask).data());
     relief_depth_fill_report rep;
     std::memset(&rep, 0, sizeof rep);
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_status s = run_released(&p.run, progress, [&] {
         return relief_depth_fill(&f, m.data ? &m : nullptr, &p, &rep, &err);
     });
@@ -269,7 +269,7 @@ nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, n
     relief_image mask{0, 0, 0, 0, 0, nullptr};
     relief_occluder_report rep;
     std::memset(&rep, 0, sizeof rep);
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_status s;
     {
         nb::gil_scoped_release nogil;
@@ -312,7 +312,7 @@ nb::tuple remove_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb,
         m.data = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(mask).data());
     relief_remove_report rep;
     std::memset(&rep, 0, sizeof rep);
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_status s;
     {
         nb::gil_scoped_release nogil;
@@ -342,7 +342,7 @@ nb::tuple mesh_engine(const char *engine, Params p, const relief_param *table, s
     if (ps.set(&p, table, count, kw, engine) != RELIEF_OK)
         return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
                               nb::none());
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_mesh *in = nullptr, *out = nullptr;
     relief_status s = make_mesh(v, faces, colours, normals, labels, &in, &err);
     Report rep;
@@ -403,7 +403,7 @@ nb::tuple fill_mesh_holes(carray<const double> v, nb::object faces, nb::object c
 
 nb::tuple read_mesh(const std::string &path)
 {
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_mesh *m = nullptr;
     relief_status s;
     {
@@ -418,7 +418,7 @@ nb::tuple read_mesh(const std::string &path)
 nb::tuple write_mesh(const std::string &path, carray<const double> v, nb::object faces,
                      nb::object colours, nb::object labels, bool ascii)
 {
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_mesh *m = nullptr;
     relief_status s = make_mesh(v, faces, colours, nb::none(), labels, &m, &err);
     relief_write_options o{ascii ? 1 : 0};
@@ -433,7 +433,7 @@ nb::tuple write_mesh(const std::string &path, carray<const double> v, nb::object
 // (status, message, samples as H x W x C uint8 or uint16)
 nb::tuple read_image(const std::string &path)
 {
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_image img;
     std::memset(&img, 0, sizeof img);
     relief_status s;
@@ -465,7 +465,7 @@ nb::tuple read_image(const std::string &path)
 nb::tuple write_image(const std::string &path,
                       nb::ndarray<nb::ro, nb::c_contig, nb::device::cpu> image)
 {
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_image img{int(image.shape(1)), int(image.shape(0)), int(image.shape(2)),
                      int(image.dtype().bits), 0, const_cast<void *>(image.data())};
     relief_status s;
@@ -480,7 +480,7 @@ nb::tuple write_image(const std::string &path,
 nb::tuple write_depth(const std::string &path, carray<const float> z, const std::string &format,
                       double png_scale)
 {
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_depth_image f;
     std::memset(&f, 0, sizeof f);
     f.width = int(z.shape(1)), f.height = int(z.shape(0)), f.z = const_cast<float *>(z.data());
@@ -496,7 +496,7 @@ nb::tuple write_depth(const std::string &path, carray<const float> z, const std:
 // (status, message, z as H x W float32, NaN where missing)
 nb::tuple read_depth(const std::string &path, double png_scale)
 {
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_depth_image f;
     std::memset(&f, 0, sizeof f);
     relief_status s;
@@ -520,7 +520,7 @@ nb::tuple devices()
 {
     relief_device_info info[64];
     size_t n = 0;
-    relief_error err{RELIEF_OK, ""};
+    relief_error err{};
     relief_status s = relief_devices(info, 64, &n, &err);
     nb::list out;
     for (size_t i = 0; s == RELIEF_OK && i < n && i < 64; ++i) {

@@ -25,7 +25,7 @@ static void test_status(void)
 static void test_run_options(void)
 {
     relief_run_options r = relief_run_options_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(r.backend == RELIEF_BACKEND_AUTO && r.device == -1 && r.max_memory == 0 &&
               !r.progress && !r.input_name,
           "defaults");
@@ -40,7 +40,7 @@ static void test_run_options(void)
 
 static void test_mesh(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *m = NULL;
     relief_synth_params sp = relief_synth_params_default();
     sp.kind = RELIEF_SYNTH_PLANE_WAVES;
@@ -70,7 +70,7 @@ static void test_repair(void)
         "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n2 1 0\n1 1 0\n"
         "3 0 1 2\n3 0 2 3\n3 2 1 0\n3 1 4 5\n3 1 6 5\n";
     char dir[] = "/tmp/relief-api-repair-XXXXXX", path[64];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_read_info info;
     relief_read_options raw = {1};
     relief_mesh *m = NULL, *r = NULL;
@@ -116,7 +116,7 @@ static void test_repair(void)
 
 static void test_devices(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t n = 99;
     relief_status st = relief_devices(NULL, 0, &n, &err);
     CHECK(st == RELIEF_OK || st == RELIEF_E_NOT_BUILT, "devices: %s", err.message);

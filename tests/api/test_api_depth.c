@@ -85,7 +85,7 @@ static relief_depth_fill_params quick_params(void)
 static void test_defaults(void)
 {
     relief_depth_fill_params p = relief_depth_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(p.variant == RELIEF_DEPTH_DECOMPOSE && p.window == 9 && p.sigma <= 0.0 &&
               p.epsilon == 0.1 && p.search_radius == 32 && !p.exhaustive &&
               p.order == RELIEF_DEPTH_ORDER_BOTH && !p.tileable && p.levels == 2 &&
@@ -103,7 +103,7 @@ static void test_defaults(void)
 /* Each field out of range, and NaN, refused by _validate naming it. */
 static void test_bad_params(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_fill_params p;
 #define BAD(field, stmt)                                                                     \
     do {                                                                                     \
@@ -146,7 +146,7 @@ static void test_bad_arguments(void)
     relief_depth_image f = {W, H, z, NULL, NULL, RELIEF_DEPTH_PFM}, t = f;
     relief_image mask = {10, 10, 1, 8, 0, m};
     relief_depth_fill_params p = quick_params();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *out = NULL;
     for (int i = 0; i < W * H; ++i)
         z[i] = tz[i] = 1.0f;
@@ -197,7 +197,7 @@ static void test_bad_arguments(void)
 static void test_round_trips(const relief_depth_image *office)
 {
     relief_depth_image c = crop(office, 200, 150, 64, 48), r;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     char path[512];
     size_t n = (size_t)c.width * c.height, worst = 0;
     int missing = 0;
@@ -263,7 +263,7 @@ static void test_repair(const relief_depth_image *office)
     relief_depth_image truth = crop(office, 90, 60, 150, 120), f = copy_of(&truth);
     relief_depth_fill_params p = quick_params();
     relief_depth_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t n = (size_t)f.width * f.height, changed = 0, unfilled = 0, no_point = 0;
     memset(&rep, 0, sizeof rep);
     cut(&f, HX, HY, HW, HH);
@@ -323,7 +323,7 @@ static void test_cancel(const relief_depth_image *office)
     relief_depth_image f = crop(office, 90, 60, 150, 120), before;
     relief_depth_fill_params p = quick_params();
     relief_depth_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     cancel_ctx c = {0.0, 0, 1};
     cut(&f, HX, HY, HW, HH);
     before = copy_of(&f);
@@ -473,7 +473,7 @@ static void test_mesh(void)
     relief_mesh *holed = sphere(18, 36, 1), *whole = sphere(18, 36, 0), *out = NULL;
     relief_depth_fill_params p = quick_params();
     relief_depth_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     cancel_ctx c = {0.0, 0, 1};
     memset(&rep, 0, sizeof rep);
     CHECK(holed && whole && !closed(holed) && closed(whole), "the test's spheres");
@@ -527,7 +527,7 @@ static void test_mesh(void)
 int main(int argc, char **argv)
 {
     relief_depth_image office;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     char path[512];
     if (argc < 2) {
         fprintf(stderr, "usage: test_api_depth DEPTH_DIR\n");

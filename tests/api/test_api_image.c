@@ -20,7 +20,7 @@ static char brick[1024], chelsea[1024];
 static void test_defaults(void)
 {
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(p.window == 17 && p.min_window == 5 && p.tau == 0.0 && p.max_hole_fraction == 0.1 &&
               p.search_radius == 0 && p.exhaustive == 0 && p.interp == 1 &&
               p.interp_diff < 0.0 && p.interp_sd < 0.0 && p.seed == 1,
@@ -33,7 +33,7 @@ static void test_defaults(void)
 /* Each field out of range, NaN included: its status, its name. */
 static void test_params(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_image_fill_params p;
 #define BAD(field, value, want, needle)                                                    \
     do {                                                                                   \
@@ -88,7 +88,7 @@ static void test_bad_images(void)
     enum { W = 40, H = 30 };
     uint8_t *pix = card(W, H), *keep = malloc(W * H), hole[H][W], small[10][10];
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_image img = {W, H, 1, 8, 0, pix}, m = {W, H, 1, 8, 0, hole}, bad;
     relief_image other = {10, 10, 1, 8, 0, small};
 
@@ -168,7 +168,7 @@ static size_t image_bytes(const relief_image *img)
  * written and read back sample for sample. */
 static void test_files(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_image a, b, c;
     char path[1100];
     FILE *f;
@@ -242,7 +242,7 @@ static void test_files(void)
  * mask in *mask (caller frees both buffers). */
 static int cut_brick(int x0, int y0, int s, relief_image *img, relief_image *mask)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *m;
     if (relief_image_read(brick, 0, img, &err) != RELIEF_OK) {
         fprintf(stderr, "%s\n", err.message);
@@ -269,7 +269,7 @@ static void test_fill(void)
     relief_image img, mask;
     relief_image_fill_params p = relief_image_fill_params_default();
     relief_image_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *before;
     size_t n, changed_out = 0, zero_in = 0;
     double sum_in = 0, sum2_in = 0, sum_all = 0;
@@ -349,7 +349,7 @@ static void test_cancel(void)
     relief_image img, mask;
     relief_image_fill_params p = relief_image_fill_params_default();
     relief_image_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     cancel_ctx c = {0.0, 0, 0, -1.0};
     uint8_t *before;
     size_t n;
@@ -389,7 +389,7 @@ static void *fill_job(void *arg)
 {
     job *j = arg;
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     p.run.backend = j->backend;
     p.window = 11;
     j->st = relief_image_fill(&j->img, &j->mask, &p, NULL, &err);
@@ -403,7 +403,7 @@ static void *fill_job(void *arg)
  * give the same bits). */
 static void test_threads(relief_backend backend)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     job serial[2], par[2];
     pthread_t t[2];
     uint8_t *cm;
@@ -446,7 +446,7 @@ static void test_view(void)
     enum { X0 = 64, Y0 = 80, VW = 160, VH = 120 };
     relief_image big, mask;
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *before, *packed, *vm;
     size_t n;
     int outside = 0, differ = 0;
@@ -501,7 +501,7 @@ static void test_alpha16(void)
     relief_image img = {W, H, 4, 16, 0, px};
     relief_image_fill_params p = relief_image_fill_params_default();
     relief_image_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int kept = 1, opaque = 1;
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -555,7 +555,7 @@ int main(int argc, char **argv)
     test_threads(RELIEF_BACKEND_HOST);
     {
         /* OpenCL too where a device runs: its scorers start at once. */
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         size_t n = 0;
         if (relief_devices(NULL, 0, &n, &err) == RELIEF_OK && n > 0)
             test_threads(RELIEF_BACKEND_OPENCL);

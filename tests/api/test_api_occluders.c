@@ -178,7 +178,7 @@ static relief_depth_image frame_of(scene *s, int with_xyz)
 
 static void test_find(scene *s)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_occluder_params p = relief_occluder_params_default();
     relief_occluder_report r;
     relief_image m, m2;
@@ -238,7 +238,7 @@ static double texture(const uint8_t *rgb, const uint8_t *sel, int want)
 
 static void test_remove(scene *s)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_remove_params p = relief_remove_params_default();
     relief_remove_report r;
     scene *out = malloc(sizeof *out);
@@ -292,7 +292,7 @@ static double recall_b(const scene *s, const uint8_t *mask)
  * seed; the views left and right (10 cm) see its parallax. */
 static void test_views(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_occluder_params p = relief_occluder_params_default();
     relief_occluder_report r;
     relief_occluder_view views[2];
@@ -345,7 +345,7 @@ static void test_views(void)
 
 static void test_bad(scene *s)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
     relief_occluder_params p = relief_occluder_params_default();
     relief_image m = {0, 0, 0, 0, 0, NULL};
@@ -474,7 +474,7 @@ static int write_views(const char *dir, relief_error *err)
 static int write_files(scene *s, const char *dir)
 {
     char path[4096];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_image f = frame_of(s, 1);
     uint8_t *truth = malloc((size_t)W * H);
     int ok = truth != NULL;
@@ -512,7 +512,7 @@ static int write_files(scene *s, const char *dir)
 
 static int print_iou(const char *a, const char *b)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_image x, y;
     int ok = relief_image_read(a, 0, &x, &err) == RELIEF_OK;
     ok = ok && relief_image_read(b, 0, &y, &err) == RELIEF_OK;

@@ -77,7 +77,7 @@ static relief_status occluder_validate(const void *p, relief_error *e) { return 
 static void set_number(void *params, const relief_param *p, double v)
 {
     char text[64];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (p->kind == RELIEF_PARAM_REAL)
         snprintf(text, sizeof text, "%.17g", v);
     else
@@ -90,7 +90,7 @@ static void expect(const engine *e, const relief_param *p, double v, int ok)
 {
     buffer buf;
     unsigned char *params = buf.b;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
     e->defaults(params);
     if (e->prepare)
@@ -137,7 +137,7 @@ static void check_range(const engine *e, const relief_param *p)
     if (p->kind == RELIEF_PARAM_REAL) { /* NaN cannot come as text: put it there */
         buffer buf;
         unsigned char *params = buf.b;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         const double nan = NAN;
         e->defaults(params);
         memcpy(params + p->offset, &nan, sizeof nan);
@@ -150,7 +150,7 @@ static void check_enum(const engine *e, const relief_param *p)
 {
     buffer buf;
     unsigned char *params = buf.b;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int n = 0;
     for (; p->names[n]; ++n) {
         e->defaults(params);
@@ -174,7 +174,7 @@ static void check_round_trip(const engine *e, const relief_param *p)
     buffer ba, bb;
     unsigned char *a = ba.b, *b = bb.b;
     char text[512], again[512];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     e->defaults(a);
     e->defaults(b);
     relief_param_format(a, p, text, sizeof text);
@@ -214,7 +214,7 @@ static void check_engine(const engine *e)
 static void check_text(void)
 {
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t n;
     const relief_param *t = relief_image_fill_param_table(&n);
     CHECK_STATUS(relief_param_set(&p, relief_param_find(t, n, "window"), "x9", &err),

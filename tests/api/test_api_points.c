@@ -15,7 +15,7 @@
 static void test_defaults(void)
 {
     relief_complete_points_params p = relief_complete_points_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(p.what == RELIEF_POINTS_ALL && !p.smooth_only && p.detail_histogram == 1 && !p.mesh,
           "what, smooth_only, detail_histogram, mesh");
     CHECK(p.k == 16 && p.smooth_steps == 20 && p.max_detail == 1.0 && p.band == 2.0, "base");
@@ -40,7 +40,7 @@ static void test_defaults(void)
 #define BAD(change, want, field)                                                       \
     do {                                                                               \
         relief_complete_points_params p = relief_complete_points_params_default();     \
-        relief_error err = {RELIEF_OK, ""};                                            \
+        relief_error err = {0};                                            \
         change;                                                                        \
         CHECK_STATUS(relief_complete_points_params_validate(&p, &err), want, err, field); \
     } while (0)
@@ -48,7 +48,7 @@ static void test_defaults(void)
 static void test_bad_params(void)
 {
     static const uint8_t mask[4] = {1, 0, 0, 0};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK_STATUS(relief_complete_points_params_validate(NULL, &err), RELIEF_E_USAGE, err, NULL);
     BAD(p.what = (relief_points_what)7, RELIEF_E_RANGE, "what");
     BAD(p.smooth_only = 2, RELIEF_E_RANGE, "smooth_only");
@@ -102,7 +102,7 @@ static relief_mesh *cut_ball(relief_mesh *m, const double c[3], double r, size_t
     uint8_t *used = calloc(n, 1);
     size_t nk = 0, ntk = 0;
     relief_mesh *out = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     for (size_t i = 0; i < n; ++i) {
         double d2 = 0.0;
         for (int a = 0; a < 3; ++a)
@@ -187,7 +187,7 @@ static void test_backends(const relief_mesh *cut, const relief_complete_points_p
     for (int k = 0; k < n; ++k) {
         relief_complete_points_params p = *auto_p;
         relief_mesh *other = NULL;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         p.run.backend = backends[k];
         p.run.progress = NULL;
         CHECK_STATUS(relief_complete_points(cut, &p, &other, NULL, &err), RELIEF_OK, err, NULL);
@@ -203,7 +203,7 @@ static void test_real_scan(const char *data)
 {
     static const double c[3] = {5.48, 31.18, 10.73}, r = 8.0;
     char path[1024];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_points_read_info info;
     relief_mesh *whole = NULL, *cut = NULL, *out = NULL;
     relief_complete_points_params p = relief_complete_points_params_default();
@@ -294,7 +294,7 @@ static void test_real_scan(const char *data)
 static void test_read_pcd(const char *data)
 {
     char path[1024];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_points_read_info info;
     relief_mesh *m = NULL;
     snprintf(path, sizeof path, "%s/points/milk_color.pcd", data);
@@ -323,7 +323,7 @@ static void test_read_pcd(const char *data)
 static relief_mesh *plane(uint32_t seed)
 {
     relief_synth_params sp = relief_synth_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *m = NULL;
     sp.kind = RELIEF_SYNTH_PLANE_WAVES;
     sp.seed = seed;
@@ -348,7 +348,7 @@ static void test_cancel(void)
     relief_mesh *in = plane(3), *out = (relief_mesh *)&out; /* a value to keep */
     relief_complete_points_params p = small_params();
     relief_complete_points_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     seen s = {0.0, 0.5, 0, 0};
     if (!in)
         return;

@@ -28,7 +28,7 @@ int main(void)
                 {"7b", 7}};
     static const char *const bad[] = {"", "0", "-1", "x", "12Q", "1.5X", "4GG", "nan",
                                       "inf", "1e30T", "0.1"};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     char buf[32];
 
     for (size_t i = 0; i < sizeof good / sizeof good[0]; ++i) {

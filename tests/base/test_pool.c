@@ -37,7 +37,7 @@ static void sum_share(void *ctx, int k, int n)
 
 int main(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_pool *p = NULL;
     static tally t;
     size_t prev = 0;

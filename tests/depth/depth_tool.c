@@ -19,7 +19,7 @@
 static relief_depth_frame load(const char *path)
 {
     relief_depth_frame f;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t len = strlen(path);
     if (len > 4 && strcmp(path + len - 4, ".png") == 0) {
         relief_raster r;
@@ -45,7 +45,7 @@ static relief_depth_frame load(const char *path)
 
 static void save(const char *path, const relief_depth_frame *f)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t len = strlen(path);
     relief_depth_kind k = len > 4 && strcmp(path + len - 4, ".pcd") == 0
                               ? RELIEF_DEPTH_PCD_BINARY
@@ -100,7 +100,7 @@ int main(int argc, char **argv)
     if (argc == 5 && strcmp(argv[1], "png16") == 0) {
         relief_depth_frame f = load(argv[2]);
         relief_raster r;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         double scale = atof(argv[3]);
         relief_raster_create(f.width, f.height, 1, 16, &r, &err);
         for (size_t i = 0; i < (size_t)f.width * f.height; ++i)
@@ -116,7 +116,7 @@ int main(int argc, char **argv)
     if ((argc == 4 || argc == 5) && strcmp(argv[1], "same") == 0) {
         relief_depth_frame a = load(argv[2]), b = load(argv[3]);
         relief_raster m = {0, 0, 0, 0, NULL};
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         size_t differ = 0, filled = 0, left = 0;
         if (argc == 5 && relief_raster_read(argv[4], NULL, &m, &err) != RELIEF_OK) {
             fprintf(stderr, "depth_tool: %s\n", err.message);

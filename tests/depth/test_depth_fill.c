@@ -63,7 +63,7 @@ static void test_membrane(void)
     enum { W = 40, H = 30 };
     float z[W * H];
     uint8_t known[W * H];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int it = 0;
     double worst = 0.0;
     for (int y = 0; y < H; ++y)
@@ -129,7 +129,7 @@ static void test_rof(void)
     enum { W = 64, H = 48 };
     static float f[W * H], u[W * H], v[W * H], tex[W * H];
     static uint8_t known[W * H];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     double jump_u, cov = 0, vv = 0, tt = 0;
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -178,7 +178,7 @@ static void test_periodic(relief_patch_scorer *sc)
     enum { W = 96, H = 72 };
     static float z[W * H], truth[W * H];
     static uint8_t missing[W * H];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             int i = y * W + x;
@@ -212,7 +212,7 @@ static void test_poisson(void)
     enum { W = 20, H = 16 };
     static float z[W * H], src[W * H];
     static uint8_t known[W * H];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     double worst = 0.0;
     int it = 0;
     for (int y = 0; y < H; ++y)
@@ -269,7 +269,7 @@ static void test_seam(relief_patch_scorer *sc)
     static float z[W * H], truth[W * H], a[W * H], b[W * H];
     static uint8_t missing[W * H], known[W * H];
     static int64_t src[W * H];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     double worst = 0.0;
     size_t edges = 0;
     uint32_t seed = 7;
@@ -346,7 +346,7 @@ static void test_tileable(relief_patch_scorer *sc)
     enum { W = 96, H = 72 };
     static float z[W * H], truth[W * H], w[W * H];
     static uint8_t missing[W * H];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
             int i = y * W + x;
@@ -384,7 +384,7 @@ static void test_inside_and_measures(relief_patch_scorer *sc)
     uint8_t missing[W * H], inside[W * H];
     float z[W * H], truth[W * H];
     relief_depth_measures m;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     /* A margin two pixels wide (outside) and one pixel in the middle. */
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
@@ -442,7 +442,7 @@ static void test_office(relief_patch_scorer *sc, const char *dir)
 {
     char path[512];
     relief_depth_frame f;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     snprintf(path, sizeof path, "%s/office1.pcd", dir);
     if (relief_depth_frame_read(path, 0, &f, &err) != RELIEF_OK) {
         CHECK(0, "%s", err.message);
@@ -518,7 +518,7 @@ static void office_crop(const relief_depth_frame *f, float *a, float *b, uint8_t
  * scalar reference, every variant, on a crop of the office frame. */
 static void test_host(relief_patch_scorer *sc, const char *dir)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_frame f;
     char path[512];
     enum { W = CROP_W, H = CROP_H };
@@ -575,7 +575,7 @@ static int cancel_after(void *ctx, size_t done, size_t total)
 static void test_host_cancel(void)
 {
     enum { W = 96, H = 80 };
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_patch_scorer *h = NULL;
     relief_raster img;
     static uint8_t hole[W * H];
@@ -605,7 +605,7 @@ static void test_host_cancel(void)
 static int test_opencl(const char *dir)
 {
     relief_patch_scorer *sc = NULL, *cl = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_frame f;
     char path[512];
     enum { W = CROP_W, H = CROP_H };
@@ -642,7 +642,7 @@ static int test_opencl(const char *dir)
 int main(int argc, char **argv)
 {
     relief_patch_scorer *sc = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     const char *dir = argc > 1 ? argv[argc - 1] : "../shared/data/depth";
     if (argc > 1 && strcmp(argv[1], "opencl") == 0)
         return test_opencl(argc > 2 ? argv[2] : "../shared/data/depth");

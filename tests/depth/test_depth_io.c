@@ -71,7 +71,7 @@ static void bad(relief_status (*decode)(const uint8_t *, size_t, const char *, u
                 const uint8_t *d, size_t n, const char *what)
 {
     relief_depth_frame f;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st = decode(d, n, "x", 0, &f, &err);
     CHECK(st != RELIEF_OK, "%s (%zu bytes): decoded", what, n);
     CHECK(f.z == NULL && f.xyz == NULL && f.rgb == NULL, "%s: a frame left behind", what);
@@ -87,7 +87,7 @@ int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : "../shared/data/depth";
     static const char *kinds[] = {"ascii", "binary", "binary_compressed"};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_frame f;
     uint8_t buf[4096];
     char path[1024];

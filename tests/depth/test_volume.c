@@ -106,7 +106,7 @@ static void test_cube(void)
     relief_mesh *m = cube(2.0);
     relief_grid g;
     relief_zbuffers z;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t surface = 0, empty = 0, wrong = 0, holes = 0;
     CHECK(relief_grid_of_mesh(m, 16, &g, &err) == RELIEF_OK, "%s", err.message);
     CHECK(fabs(g.h - 0.125) < 1e-12 && g.n[0] == 20, "cube grid: h %g n %d", g.h, g.n[0]);
@@ -142,7 +142,7 @@ static void test_sphere(relief_patch_scorer *sc)
     relief_mesh *m = sphere(1.0, 64, 128, 0.0), *out = NULL, *holed;
     relief_grid g;
     relief_zbuffers z;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh_measures mm;
     double worst = 0.0;
     CHECK(relief_grid_of_mesh(m, 64, &g, &err) == RELIEF_OK, "%s", err.message);
@@ -239,7 +239,7 @@ static void test_sphere(relief_patch_scorer *sc)
 int main(void)
 {
     relief_patch_scorer *sc = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_patch_scalar_create(&sc, &err);
     test_cube();
     test_sphere(sc);

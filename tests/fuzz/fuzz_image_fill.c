@@ -148,7 +148,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     relief_image img, mask;
     relief_image_fill_params p = relief_image_fill_params_default();
     relief_image_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     cancel c;
     stream s = {data, size, HEADER};
     uint8_t head[HEADER] = {0}, *pix, *before, *mpix;

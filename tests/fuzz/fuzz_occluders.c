@@ -81,7 +81,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     uint8_t head[HEADER] = {0};
     relief_occluder_params p = relief_occluder_params_default();
     relief_remove_params rp = relief_remove_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_image mask = {0, 0, 0, 0, 0, NULL}, given;
     stream s = {data, size, HEADER};
     int w, h, flags;

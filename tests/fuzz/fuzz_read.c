@@ -44,7 +44,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     relief_mesh *mesh = NULL;
     relief_read_info info;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
     FILE *f;
 
@@ -63,7 +63,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     st = relief_mesh_read(input_path, &mesh, &info, &err);
     if (st == RELIEF_OK) {
-        relief_error verr = {RELIEF_OK, ""};
+        relief_error verr = {0};
         if (!mesh)
             fail("read succeeded without a mesh", input_path);
         if (relief_mesh_validate(mesh, &verr) != RELIEF_OK)

@@ -58,7 +58,7 @@ static void check(relief_status st, const relief_depth_frame *f, const relief_er
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    relief_error err = {RELIEF_OK, ""}, cerr = {RELIEF_OK, ""};
+    relief_error err = {0}, cerr = {0};
     relief_depth_frame f, c;
     relief_status st = relief_depth_frame_decode(data, size, "input", FUZZ_MAX_PIXELS, &f, &err), cst;
 

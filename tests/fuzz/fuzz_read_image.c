@@ -31,7 +31,7 @@ static void fail(const char *what, const char *detail)
 static void check_public(const uint8_t *data, size_t size, relief_status st,
                          const relief_raster *r)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_image img, untouched;
     relief_status pst;
     memset(&img, 0xab, sizeof img);
@@ -66,7 +66,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     /* 64 MiB of raster at most: a header may claim 65535 x 65535 pixels. */
     relief_image_limit lim = {64u << 20, 1.0, "fuzzing"};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_raster r;
     relief_status st = relief_raster_decode(data, size, "input", &lim, &r, &err);
 

@@ -135,7 +135,7 @@ static relief_status grow_levels(setup *u, const relief_grow_options *go,
 
 static void check_hierarchy(const char *path)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_grow_options go = relief_grow_options_default();
     relief_hierarchy_stats ref_hs;
     relief_grow_stats ref_total;
@@ -267,7 +267,7 @@ static void check_hierarchy(const char *path)
  * similar pairs on resume): stopped and resumed, the same surface. */
 static void check_resume_coherent(const char *path)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_grow_options go = relief_grow_options_default(), g1 = go, g2 = go;
     relief_grow_stats ref_stats, st1, st2;
     relief_checkpoint_key key;
@@ -310,7 +310,7 @@ static void check_resume_coherent(const char *path)
 
 int main(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_grow_options go = relief_grow_options_default();
     relief_grow_stats ref_stats;
     relief_checkpoint_key key;

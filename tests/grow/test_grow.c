@@ -21,7 +21,7 @@ static relief_surface *complete_search(relief_synth_kind kind, size_t n, int col
 {
     const pipeline pl = {kind, n, colour, seed, 2, prune, bootstrap, 0, search};
     relief_surface *s = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(pipeline_run(&pl, &s, stats, &err) == RELIEF_OK, "%s: %s",
           relief_synth_kind_name(kind), err.message);
     return s;
@@ -120,7 +120,7 @@ static void check_cutoff_from_e(void)
             for (int prune = 0; prune < 2; ++prune) {
                 relief_params p = relief_params_default();
                 relief_grow_options go = relief_grow_options_default();
-                relief_error err = {RELIEF_OK, ""};
+                relief_error err = {0};
                 p.window = 2;
                 p.error = errors[i];
                 p.search = searches[j];

@@ -24,7 +24,7 @@
 static relief_surface *smooth_of(relief_synth_kind kind, size_t vertices, int colour)
 {
     relief_surface *s = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(pipeline_smooth(kind, vertices, colour, &s, &err) == RELIEF_OK, "%s", err.message);
     return s;
 }
@@ -65,7 +65,7 @@ static void check_structure(const relief_surface *s, const relief_hierarchy *h, 
         edges2 = 3 * l->mesh->nt; /* a band: every interior edge twice */
         {
             relief_adjacency adj;
-            relief_error err = {RELIEF_OK, ""};
+            relief_error err = {0};
             CHECK(relief_mesh_adjacency(l->mesh, &adj, &err) == RELIEF_OK, "%s", err.message);
             if (adj.start) {
                 long e = (long)adj.start[l->mesh->nv] / 2;
@@ -117,7 +117,7 @@ static relief_surface *run_as(relief_synth_kind kind, size_t vertices, int colou
     relief_hierarchy *h = NULL;
     relief_grow_stats total;
     relief_backend used;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     char device[256];
     if (!s)
         return NULL;
@@ -308,7 +308,7 @@ static void check_restriction_and_fallback(void)
         relief_grow_options go = relief_grow_options_default();
         relief_match_data *d = NULL;
         relief_matcher *m = NULL;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         uint32_t *start = NULL, *items = NULL;
         s[mode] = smooth_of(RELIEF_SYNTH_PLANE_WAVES, 600, 1);
         if (!s[mode])
@@ -371,7 +371,7 @@ static void check_determinism(void)
                                   NULL, &hs, NULL);
     relief_device_info info[4];
     size_t ndev = 0;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (a && b)
         CHECK(memcmp(a->mesh->pos, b->mesh->pos, a->mesh->nv * 3 * sizeof(double)) == 0 &&
                   memcmp(a->mesh->col, b->mesh->col, a->mesh->nv * 3 * sizeof(float)) == 0,
@@ -473,7 +473,7 @@ static void check_rings(void)
 {
     relief_hierarchy_stats hs;
     relief_grow_stats gs;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     pipeline pl = {RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, 7, 2, 1, 0, 0, RELIEF_SEARCH_AUTO};
     relief_surface *hier = run(RELIEF_SYNTH_CYLINDER_BANDS, 2000, 0, RELIEF_BACKEND_AUTO, NULL,
                                &hs, NULL);
@@ -559,7 +559,7 @@ int main(void)
 {
     relief_hierarchy *h = NULL;
     relief_surface *s = smooth_of(RELIEF_SYNTH_CYLINDER_BANDS, 400, 0);
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (s) {
         CHECK(relief_hierarchy_build(s, 1, &h, &err) == RELIEF_E_RANGE, "1 level is mono-scale");
         CHECK(relief_hierarchy_build(s, RELIEF_MAX_LEVELS + 1, &h, &err) == RELIEF_E_RANGE,

@@ -21,7 +21,7 @@
 static relief_raster load(const char *path)
 {
     relief_raster r;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (relief_raster_read(path, NULL, &r, &err) != RELIEF_OK) {
         fprintf(stderr, "image_tool: %s\n", err.message);
         exit(2);
@@ -31,7 +31,7 @@ static relief_raster load(const char *path)
 
 static void save(const char *path, const relief_raster *r)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (relief_raster_write(path, r, &err) != RELIEF_OK) {
         fprintf(stderr, "image_tool: %s\n", err.message);
         exit(2);
@@ -40,7 +40,7 @@ static void save(const char *path, const relief_raster *r)
 
 int main(int argc, char **argv)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_raster a, b, m;
     if (argc >= 9 && (argc - 5) % 4 == 0 && strcmp(argv[1], "mask") == 0) {
         int w = atoi(argv[3]), h = atoi(argv[4]);

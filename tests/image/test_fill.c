@@ -16,7 +16,7 @@
 static relief_raster make(int w, int h, int c)
 {
     relief_raster r;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (relief_raster_create(w, h, c, 8, &r, &err) != RELIEF_OK) {
         fprintf(stderr, "%s\n", err.message);
         exit(2);
@@ -119,7 +119,7 @@ static void test_texture(relief_patch_scorer *s)
         relief_rng rng;
         relief_fill_params p = relief_fill_params_default();
         relief_fill_report rep;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         uint8_t *hole = calloc(176 * 160, 1);
         relief_rng_seed(&rng, 7 + kind);
         for (int i = 0; i < 176 * 160; ++i) /* white noise, sd 7.5, or stars */
@@ -179,7 +179,7 @@ static void test_interp_gradient(relief_patch_scorer *s)
     relief_raster r = make(96, 64, 3);
     relief_fill_params p = relief_fill_params_default();
     relief_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *hole = calloc(96 * 64, 1);
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 96; ++x) {
@@ -217,7 +217,7 @@ static void test_periodic(relief_patch_scorer *s, int exhaustive)
     relief_raster truth = periodic(160, 144, 3, 7, 5, 3), r = periodic(160, 144, 3, 7, 5, 3);
     relief_fill_params p = relief_fill_params_default();
     relief_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *hole = calloc(160 * 144, 1);
     size_t wrong = 0, holes = 0;
     relief_status st;
@@ -256,7 +256,7 @@ static void test_pyramid(relief_patch_scorer *s, const char *images)
 {
     char path[512];
     relief_raster full, r;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_fill_params p = relief_fill_params_default();
     relief_filler *f = NULL;
     uint8_t *hole;
@@ -320,7 +320,7 @@ static void test_bad(relief_patch_scorer *s)
 {
     relief_raster r = periodic(40, 30, 1, 5, 5, 1);
     relief_fill_params p = relief_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *hole = calloc(40 * 30, 1);
     relief_fill_report rep;
     /* Nothing to fill: fine, nothing changes. */
@@ -369,7 +369,7 @@ static void test_bad(relief_patch_scorer *s)
 static void test_batch(relief_patch_scorer *sc, relief_patch_scorer *cl, const relief_raster *a)
 {
     enum { NQ = 24, KEEP = 8 };
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_fill_params p = relief_fill_params_default();
     uint8_t *hole = calloc((size_t)a->width * a->height, 1);
     relief_filler *fs = NULL, *fc = NULL;
@@ -423,7 +423,7 @@ static void same_fill(relief_patch_scorer *sc, relief_patch_scorer *cl, const re
                       const uint8_t *hole, const relief_fill_params *p, const char *what,
                       relief_fill_report *rb)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_fill_report ra;
     size_t n = (size_t)r->width * r->height * r->channels;
     relief_raster a2, b2;
@@ -481,7 +481,7 @@ static void test_select_ties(relief_patch_scorer *sc, relief_patch_scorer *cl)
 static int test_opencl(const char *images)
 {
     relief_patch_scorer *sc = NULL, *cl = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     char path[512];
     relief_raster a, b;
     relief_status st = relief_patch_opencl_create(-1, &cl, &err);
@@ -558,7 +558,7 @@ static void test_host_scorer(void)
     static float v[W * H * 4], ssd[2][MAXC], ws[2][MAXC];
     static uint8_t known[W * H];
     static int n[2][MAXC], xy[2 * 64];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_patch_scorer *sc = NULL, *host[3] = {NULL};
     float g[8] = {1.0f, 0.8f, 0.5f, 0.25f, 0.1f, 0.03f, 0.01f, 0.001f};
     size_t compared = 0, differ = 0;
@@ -616,7 +616,7 @@ static void test_host_scorer(void)
 static void test_host_fill(relief_patch_scorer *sc, const char *images)
 {
     relief_patch_scorer *h = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_fill_params p = relief_fill_params_default();
     relief_raster a, b;
     char path[512];
@@ -649,7 +649,7 @@ static void test_host_fill(relief_patch_scorer *sc, const char *images)
 int main(int argc, char **argv)
 {
     relief_patch_scorer *s = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     const char *images = "../shared/data/images";
     if (argc > 1 && strcmp(argv[1], "opencl") == 0)
         return test_opencl(argc > 2 ? argv[2] : images);

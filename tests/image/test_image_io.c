@@ -39,7 +39,7 @@ static void round_trip(const char *dir, int w, int h, int channels, int depth)
 {
     char path[256];
     relief_raster a, b;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
     snprintf(path, sizeof path, "%s/rt_%d_%d_%d.png", dir, w, channels, depth);
     st = relief_raster_create(w, h, channels, depth, &a, &err);
@@ -63,7 +63,7 @@ static void round_trip(const char *dir, int w, int h, int channels, int depth)
 static void bad(const uint8_t *d, size_t n, relief_status want, const char *what)
 {
     relief_raster r;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st = relief_raster_decode(d, n, "x", NULL, &r, &err);
     CHECK(st != RELIEF_OK, "%s: decoded", what);
     CHECK(r.v == NULL, "%s: a raster left behind", what);
@@ -173,7 +173,7 @@ static void test_png_fields(void)
     };
     uint8_t buf[2048];
     relief_raster r;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t n = craft_png(buf, 4, 4, 8, 3, 0, 0, 2, 1);
     /* The same file with every index in its palette reads. */
     CHECK(relief_raster_decode(buf, n, "x", NULL, &r, &err) == RELIEF_OK && r.channels == 3 &&
@@ -195,7 +195,7 @@ int main(int argc, char **argv)
 {
     const char *images = argc > 1 ? argv[1] : "../shared/data/images";
     const char *dir = check_tmpdir();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_raster r;
     relief_status st;
     char path[512];

@@ -40,7 +40,7 @@ static size_t check_best_last(relief_matcher *ms, relief_matcher *mo,
     float *s1 = malloc(nc * sizeof *s1), *s2 = malloc(nc * sizeof *s2);
     size_t late = 0, differ = 0, loose = 0;
     float min_o = FLT_MAX;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(sub && best && f1 && f2 && s1 && s2, "out of memory");
     if (!sub || !best || !f1 || !f2 || !s1 || !s2)
         goto done;
@@ -104,7 +104,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
     relief_surface *s = NULL;
     relief_match_data *d = NULL;
     relief_matcher *ms = NULL, *mo = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_rng rng;
     relief_query_builder *qb = NULL;
     uint8_t *textured = NULL;
@@ -294,7 +294,7 @@ static const relief_surface *scalar_reference(const pipeline *pl)
 {
     relief_surface *out = NULL;
     relief_grow_stats stats;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     for (size_t i = 0; i < n_references; ++i)
         if (same_pipeline(&references[i].pl, pl))
             return references[i].out;
@@ -330,7 +330,7 @@ static void compare_completion(relief_synth_kind kind, int colour, int bootstrap
     const relief_surface *out[2] = {scalar_reference(&ref), NULL};
     relief_surface *ocl = NULL;
     relief_grow_stats stats;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     if (host_max)
         setenv("RELIEF_OPENCL_HOST_MAX", host_max, 1);
     else
@@ -393,7 +393,7 @@ int main(void)
     {
         /* A lane count out of range is refused, naming the variable. */
         relief_matcher *m = NULL;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         static const char *const bad[] = {"0", "65", "x", "8x", "-4"};
         for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
             set_lanes(bad[k]);

@@ -63,7 +63,7 @@ static void check_surface(relief_synth_kind kind, int colour)
     relief_surface *s = NULL;
     relief_match_data *d = NULL;
     relief_query_builder *qb = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_rng rng;
     uint8_t *textured = NULL, *fh = NULL, *fp = NULL;
     float *sh = NULL, *spool = NULL;
@@ -164,7 +164,7 @@ done:
 int main(void)
 {
     relief_score_pool *pool = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(relief_score_pool_create(0, &pool, &err) == RELIEF_E_RANGE && !pool,
           "0 threads accepted");
     CHECK(relief_score_pool_create(RELIEF_SCORE_POOL_MAX + 1, &pool, &err) == RELIEF_E_RANGE,

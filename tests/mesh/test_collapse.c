@@ -59,7 +59,7 @@ static void check_disc(const relief_mesh *m, const uint8_t *removed, const uint3
 {
     relief_mesh view = *m;
     relief_adjacency adj;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t nv = 0, down = 0, long_edges = 0, off_border = 0, used_removed = 0;
     uint32_t *count;
     for (size_t v = 0; v < m->nv; ++v)
@@ -111,7 +111,7 @@ int main(void)
     uint8_t remove[N * N], want[N * N];
     uint32_t *tri = NULL;
     size_t nt = 0, left = 0;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *m = make_grid(nrm, 1.0);
 
     /* Keep the even sublattice (11 x 11): everything else goes. */

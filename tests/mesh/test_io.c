@@ -58,7 +58,7 @@ static void round_trip(const char *name, int ascii, int has_colour, int has_labe
     char path[256];
     relief_mesh *m = make_grid(), *r = NULL;
     relief_write_options wo = {ascii};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_read_info info;
     relief_status st;
 
@@ -111,7 +111,7 @@ static const char *put(const char *name, const char *text)
 static void expect_reject(const char *path, relief_status want, const char *needle)
 {
     relief_mesh *m = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st = relief_mesh_read(path, &m, NULL, &err);
     CHECK(st == want, "%s: status %s, expected %s (%s)", path, relief_status_name(st),
           relief_status_name(want), err.message);
@@ -274,7 +274,7 @@ static void test_bad_input(void)
 static void test_variants(void)
 {
     relief_mesh *m = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_status st;
 
     st = relief_mesh_read(put("uchar_label.ply",
@@ -344,7 +344,7 @@ static void test_atomic_write(void)
 {
     char dir[256], path[300], bad[300];
     relief_mesh *m = make_grid();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     struct stat sb;
     const char keep[] = "precious";
     char back[16] = {0};
@@ -402,7 +402,7 @@ static void test_real_scans(const char *data)
     for (size_t i = 0; i < sizeof scans / sizeof scans[0]; ++i) {
         char path[512];
         relief_mesh *m = NULL;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         relief_read_info info;
         struct stat sb;
         snprintf(path, sizeof path, "%s/%s", data, scans[i].file);

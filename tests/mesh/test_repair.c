@@ -122,7 +122,7 @@ static int is_manifold(const relief_mesh *m, const char *what)
 static relief_repair_info repair(relief_mesh *m, const char *what)
 {
     relief_repair_info info;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     memset(&info, 0, sizeof info);
     CHECK(relief_mesh_repair(m, &info, &err) == RELIEF_OK, "%s: %s", what, err.message);
     CHECK(is_manifold(m, what), "%s: not manifold after the repair", what);
@@ -308,7 +308,7 @@ static void test_real(const char *data)
         struct stat sb;
         relief_mesh *m = NULL, *cap = NULL, *truth = NULL, *back = NULL;
         relief_read_info info;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         size_t n_cut;
         snprintf(path, sizeof path, "%s/ggg_sfm/%s.ply", data, names[n]);
         if (stat(path, &sb) != 0) {

@@ -29,7 +29,7 @@ static void closed_pinch(void)
                       0, 3, 7, 7, 3, 4,                    /* wedge r3 r4 */
                       7, 6, 1, 7, 1, 0};                   /* wedge r6 r1 */
     size_t nt = sizeof tri / sizeof tri[0] / 3, welded = 0;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     hexagon(pos);
     CHECK(relief_weld_copies(pos, 8, tri, &nt, &welded, &err) == RELIEF_OK, "%s", err.message);
     CHECK(welded == 1 && nt == 6, "closed pinch: %zu welded, %zu triangles (1, 6 wanted)",
@@ -48,7 +48,7 @@ static void half_closed(void)
     double pos[8 * 3];
     uint32_t tri[] = {0, 1, 2, 0, 2, 3, 7, 4, 5, 7, 5, 6, 0, 3, 7, 7, 3, 4};
     size_t nt = 6, welded = 0;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     hexagon(pos);
     CHECK(relief_weld_copies(pos, 8, tri, &nt, &welded, &err) == RELIEF_OK, "%s", err.message);
     CHECK(welded == 1 && nt == 5, "one wedge filled: %zu welded, %zu triangles (1, 5 wanted)",
@@ -63,7 +63,7 @@ static void open_pinch(void)
     uint32_t tri[] = {0, 1, 2, 7, 4, 5, 0, 2, 7};
     const uint32_t before[] = {0, 1, 2, 7, 4, 5, 0, 2, 7};
     size_t nt = 3, welded = 0;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     hexagon(pos);
     CHECK(relief_weld_copies(pos, 8, tri, &nt, &welded, &err) == RELIEF_OK, "%s", err.message);
     CHECK(welded == 0 && nt == 3 && memcmp(tri, before, sizeof before) == 0,
@@ -78,7 +78,7 @@ static void untouched(void)
     uint32_t tri[] = {0, 1, 2, 0, 2, 3, 7, 4, 5, 7, 5, 6};
     const uint32_t before[] = {0, 1, 2, 0, 2, 3, 7, 4, 5, 7, 5, 6};
     size_t nt = 4, welded = 0;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     hexagon(pos);
     CHECK(relief_weld_copies(pos, 8, tri, &nt, &welded, &err) == RELIEF_OK, "%s", err.message);
     CHECK(welded == 0 && nt == 4 && memcmp(tri, before, sizeof before) == 0,

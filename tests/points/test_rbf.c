@@ -69,7 +69,7 @@ static void test_sphere(void)
     double worst_f = 0.0, worst_grad = 1.0, worst_len = 1.0, worst_r = 0.0, x[3], g[3], v;
     relief_rbf_params prm = relief_rbf_params_default();
     relief_rbf *f = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     unsigned long long seed = 7;
     prm.spacing = s;
     CHECK(relief_rbf_fit(p, p, n, &prm, &f, &err) == RELIEF_OK, "%s", err.message);
@@ -141,7 +141,7 @@ static void test_cap(void)
     uint32_t *rim = malloc(n0 * sizeof *rim), *hole = NULL;
     relief_rbf_params prm = relief_rbf_params_default();
     relief_rbf *f = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     s = mean_spacing(all, n0);
     for (size_t i = 0; i < n0; ++i)
         if (all[3 * i + 2] <= 0.8) {
@@ -226,7 +226,7 @@ static void test_plane(void)
     uint32_t *rim = malloc(41 * 41 * sizeof *rim), *hole = NULL;
     relief_rbf_params prm = relief_rbf_params_default();
     relief_rbf *f = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     for (int i = 0; i < 41; ++i)
         for (int j = 0; j < 41; ++j) {
             double x = -1.0 + h * i, y = -1.0 + h * j, c = fmax(fabs(x), fabs(y));
@@ -274,7 +274,7 @@ static void test_bad_input(void)
     size_t n_new = 5;
     relief_rbf_params prm = relief_rbf_params_default();
     relief_rbf *f = (relief_rbf *)1;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     double zero[12] = {0};
 
     prm.spacing = 0.3;

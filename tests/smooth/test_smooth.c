@@ -131,7 +131,7 @@ static void check_geometry(const relief_surface *s, const char *what)
 static relief_surface *smooth_synth(relief_synth_kind kind, size_t n, const char *what)
 {
     relief_surface *s = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(pipeline_smooth(kind, n, 1, &s, &err) == RELIEF_OK, "%s: %s", what, err.message);
     return s;
 }
@@ -271,7 +271,7 @@ static relief_mesh *patch(relief_fit_model model, double span_deg, double hole)
     double *pos = malloc(3 * nv * sizeof *pos);
     uint32_t *tri = malloc(6 * nv * sizeof *tri);
     relief_mesh *m = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t nt = 0;
 
     if (!pos || !tri) {
@@ -343,7 +343,7 @@ static void test_fill(void)
         relief_params p = relief_params_default();
         relief_smooth_options o = relief_smooth_options_default();
         relief_surface *s = NULL;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         relief_status st;
         if (!m) {
             CHECK(0, "%s: cannot build the patch", cases[c].what);
@@ -387,7 +387,7 @@ static void test_errors(void)
     relief_params p = relief_params_default();
     relief_mesh *m = NULL;
     relief_surface *s = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
 
     /* A flat square with no hole: nothing to complete without --extent. */
     relief_mesh_create(4, 2, 0, &m, &err);
@@ -433,7 +433,7 @@ static void test_real(const char *data)
     relief_mesh *m = NULL;
     relief_surface *s = NULL;
     relief_params p = relief_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     snprintf(path, sizeof path, "%s/bennu_radar/bennu.obj", data);
     if (stat(path, &sb) != 0) {
         printf("skip %s: not found\n", path);

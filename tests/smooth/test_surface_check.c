@@ -51,7 +51,7 @@ static relief_status capture_check(const relief_mesh *m, const relief_fit_primit
 int main(void)
 {
     relief_fit_primitive plane;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     memset(&plane, 0, sizeof plane);
     plane.model = RELIEF_FIT_PLANE;
     plane.dir[2] = 1.0; /* normal +z through the origin */

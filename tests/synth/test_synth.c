@@ -51,7 +51,7 @@ static void check_kind(relief_synth_kind kind)
     const char *name = relief_synth_kind_name(kind);
     relief_synth_params p = relief_synth_params_default();
     relief_mesh *c1 = NULL, *t1 = NULL, *c2 = NULL, *t2 = NULL, *c3 = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t ncap = 0;
 
     p.kind = kind;
@@ -134,7 +134,7 @@ static void check_stationary(relief_synth_kind kind)
     for (uint32_t seed = 1; seed <= 8; ++seed) {
         relief_mesh *t = NULL;
         relief_measures me;
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         p.seed = seed;
         CHECK(relief_synth(&p, NULL, &t, &err) == RELIEF_OK, "%s", err.message);
         if (t) {
@@ -154,7 +154,7 @@ static void check_params(void)
 {
     relief_synth_params p = relief_synth_params_default();
     relief_mesh *c = NULL, *t = NULL;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_synth_kind k;
 
     p.vertices = 99;

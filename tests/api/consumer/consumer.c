@@ -18,7 +18,7 @@ static int fail(const char *what, const relief_error *err)
 
 static int complete_mesh(void)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_synth_params sp = relief_synth_params_default();
     relief_complete_params p = relief_complete_params_default();
     relief_complete_report rep;
@@ -49,7 +49,7 @@ static int fill_image(void)
     static uint8_t rgb[H][W][3], hole[H][W];
     relief_image img = {W, H, 3, 8, 0, rgb}, mask = {W, H, 1, 8, 0, hole};
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int bad = 0;
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -75,7 +75,7 @@ static int repair_depth(void)
     static float z[H * W];
     relief_depth_image f;
     relief_depth_fill_params p = relief_depth_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int left = 0;
     memset(&f, 0, sizeof f);
     f.width = W;
