@@ -11,4 +11,13 @@
  * still prints. Reentrant: getopt's state is reset by every command. */
 int relief_cli_main(int argc, char **argv, int parse_only);
 
+/* Take SIGINT, SIGTERM, SIGHUP and SIGQUIT for the whole command (those
+ * the caller ignores stay ignored): the first stops an engine's call at
+ * its next progress report, and its outputs are then not written; a
+ * second acts as usual (options.c). */
+void cli_take_signals(void);
+
+/* The signal that came since, or 0. */
+int cli_signal(void);
+
 #endif

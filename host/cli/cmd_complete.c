@@ -14,6 +14,7 @@
 #include "relief/relief.h"
 #include "base/memlimit.h"
 #include "cli/options.h"
+#include "mesh/mesh.h"
 
 enum { CO_ASCII = OPT_COMMAND, CO_HOLE_MASK };
 
@@ -78,7 +79,7 @@ static int take(void *ctx, int id, const char *arg)
 static int parse(complete_cli *c, int argc, char **argv, int smooth)
 {
     const cli_spec s = spec(smooth);
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int rc = cli_parse(&s, &c->cm, &c->p, take, c, argc, argv);
     if (rc)
         return rc;
@@ -196,12 +197,12 @@ typedef struct complete_out {
     const char *repair; /* the "input_repair" member (cli_repair_json) */
 } complete_out;
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     const complete_out *o = ctx;
     relief_write_options wo = {o->c->ascii};
-    return i == 0 ? relief_mesh_write(o->done, tmp, &wo, err)
-                  : cli_write_json_with(tmp, o->json, 0, NULL, NULL, o->repair, err);
+    return i == 0 ? relief_mesh_write_to(o->done, s, &wo, err)
+                  : cli_json_with_to(s, o->json, 0, NULL, NULL, o->repair, err);
 }
 
 /* After a cancel or a device failure with --checkpoint, how to go on. */
@@ -216,7 +217,7 @@ static void say_resume(const complete_cli *c, relief_status st)
 
 static int run(complete_cli *c, int smooth)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_complete_report rep;
     relief_mesh *in = NULL, *done = NULL;
     cli_progress pr;

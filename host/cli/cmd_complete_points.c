@@ -153,14 +153,14 @@ typedef struct points_out {
     const char *json;
 } points_out;
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     const points_out *o = ctx;
     const relief_write_options wo = {0};
     relief_mesh points = *o->done; /* a view of done without its triangles */
     points.nt = 0, points.tri = NULL;
-    return i == 2 ? cli_write_json(tmp, o->json, 0, NULL, NULL, err)
-                  : relief_mesh_write(i == 0 ? &points : o->done, tmp, &wo, err);
+    return i == 2 ? cli_json_to(s, o->json, 0, NULL, NULL, err)
+                  : relief_mesh_write_to(i == 0 ? &points : o->done, s, &wo, err);
 }
 
 /* The grid search's warning, and what the completion did, on stderr. */
@@ -193,7 +193,7 @@ static void summary(const points_cli *pc, const relief_complete_points_params *p
 /* Read IN (and the clone), complete, write the outputs. */
 static int run(const points_cli *pc, relief_complete_points_params *p)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_complete_points_report rep;
     relief_points_read_info info;
     relief_mesh *in = NULL, *clone = NULL, *done = NULL;
@@ -234,7 +234,7 @@ int cli_cmd_complete_points(int argc, char **argv, int parse_only)
 {
     relief_complete_points_params p = relief_complete_points_params_default();
     points_cli pc = {cli_common_init(cmd), &p, NULL, NULL, NULL, {{NULL, NULL, 0}}};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     const cli_spec s = spec();
     int rc;
     pc.cm.batch = (cli_batch){cli_cmd_complete_points, ".ply", parse_only, 0, 0};

@@ -7,6 +7,7 @@
 
 #include "relief/relief.h"
 #include "cli/options.h"
+#include "mesh/mesh.h"
 #include "synth/cut.h"
 
 enum { CUT_TRUTH = OPT_COMMAND, CUT_BALL, CUT_SLAB, CUT_ASCII, CUT_CROP };
@@ -74,17 +75,17 @@ typedef struct cut_out {
     relief_write_options wo;
 } cut_out;
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     const cut_out *o = ctx;
-    return relief_mesh_write(i == 0 ? o->cap : o->truth, tmp, &o->wo, err);
+    return relief_mesh_write_to(i == 0 ? o->cap : o->truth, s, &o->wo, err);
 }
 
 int cli_cmd_cut(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("cut");
     cut_args a;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *in = NULL;
     cut_out o = {NULL, NULL, {0}};
     const char *in_path;

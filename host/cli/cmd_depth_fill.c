@@ -14,6 +14,8 @@
 #include "base/error.h"
 #include "base/memlimit.h"
 #include "cli/options.h"
+#include "depth/depth_io.h"
+#include "mesh/mesh.h"
 #include "depth/frame.h"
 
 typedef enum in_kind { IN_PNG, IN_PFM, IN_PCD, IN_MESH } in_kind;
@@ -142,7 +144,7 @@ static int check_files(depth_args *a, int argc, char **argv)
 static int parse_args(int argc, char **argv, depth_args *a, int parse_only)
 {
     cli_spec s = spec();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int rc;
     memset(a, 0, sizeof *a);
     a->cm = cli_common_init("depth-fill");
@@ -194,19 +196,19 @@ typedef struct depth_out {
     const char *repair; /* a mesh's "input_repair" member (cli_repair_json) */
 } depth_out;
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     static const char *const keys[] = {"mask", "truth"};
     const depth_out *o = ctx;
     const char *values[] = {o->a->cm.mask, o->a->truth};
     if (i == 0)
-        return o->mesh ? relief_mesh_write(o->mesh, tmp, NULL, err)
-                       : relief_depth_write(o->f, tmp, o->f->format, o->a->scale, err);
+        return o->mesh ? relief_mesh_write_to(o->mesh, s, NULL, err)
+                       : relief_depth_write_to(s, o->f, o->f->format, o->a->scale, err);
     if (i == 1)
-        return relief_depth_points_write(tmp, o->f, o->label, err);
+        return relief_depth_points_write_to(s, o->f, o->label, err);
     /* A mesh's report names its truth only. */
-    return o->mesh ? cli_write_json_with(tmp, o->json, 1, keys + 1, values + 1, o->repair, err)
-                   : cli_write_json(tmp, o->json, 2, keys, values, err);
+    return o->mesh ? cli_json_with_to(s, o->json, 1, keys + 1, values + 1, o->repair, err)
+                   : cli_json_to(s, o->json, 2, keys, values, err);
 }
 
 static void say_image(const depth_args *a, const relief_depth_image *f,
@@ -244,7 +246,7 @@ static void say_image(const depth_args *a, const relief_depth_image *f,
 /* A depth image: read, repaired, written. */
 static int image_mode(depth_args *a)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_image f, truth;
     relief_image mask = {0, 0, 0, 0, 0, NULL};
     relief_depth_fill_report rep;
@@ -304,7 +306,7 @@ static int image_mode(depth_args *a)
 /* A mesh through its six depth images. */
 static int mesh_mode(depth_args *a)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *m = NULL, *t = NULL, *o = NULL;
     relief_depth_fill_report r;
     cli_progress pr;

@@ -15,7 +15,7 @@ int cli_cmd_devices(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("devices");
     relief_device_info dev[64];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     size_t n = 0;
     int rc = cli_parse(&spec, &cm, NULL, NULL, NULL, argc, argv);
 

@@ -55,7 +55,7 @@ int cli_cmd_eval(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("eval");
     eval_args args = {NULL, 0};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *done = NULL, *truth = NULL;
     relief_eval_result r;
     relief_status st;

@@ -59,7 +59,7 @@ int cli_cmd_fit(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("fit");
     fit_args args = {RELIEF_FIT_AUTO, 0};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_fit_result r;
     relief_mesh *in = NULL;
     relief_status st;

@@ -10,6 +10,7 @@
 #include "base/error.h"
 #include "base/memlimit.h"
 #include "cli/options.h"
+#include "image/image_io.h"
 
 enum { IF_ATLAS = OPT_COMMAND };
 
@@ -78,12 +79,12 @@ typedef struct image_out {
     const char *json;
 } image_out;
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     static const char *const keys[] = {"mask"};
     const image_out *o = ctx;
-    return i == 0 ? relief_image_write(o->img, tmp, err)
-                  : cli_write_json(tmp, o->json, 1, keys, &o->cm->mask, err);
+    return i == 0 ? relief_image_write_to(s, o->img, err)
+                  : cli_json_to(s, o->json, 1, keys, &o->cm->mask, err);
 }
 
 /* What the fill did, on stderr. */
@@ -109,7 +110,7 @@ static int run(const cli_common *cm, const char *in, relief_image_fill_params *p
 {
     relief_image img = {0, 0, 0, 0, 0, NULL}, mask = {0, 0, 0, 0, 0, NULL};
     relief_image_fill_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint64_t limit = p->run.max_memory ? p->run.max_memory : relief_default_memory_limit();
     cli_progress pr;
     relief_status st = relief_image_read(in, limit, &img, &err);
@@ -148,7 +149,7 @@ int cli_cmd_image_fill(int argc, char **argv, int parse_only)
 {
     cli_common cm = cli_common_init("image-fill");
     relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     const char *in = NULL;
     int rc;
     cm.batch = (cli_batch){cli_cmd_image_fill, NULL, parse_only, 0, 0};

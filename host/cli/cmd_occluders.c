@@ -15,6 +15,8 @@
 #include "base/error.h"
 #include "base/memlimit.h"
 #include "cli/options.h"
+#include "depth/depth_io.h"
+#include "image/image_io.h"
 #include "depth/frame.h"
 
 enum { OC_DEPTH = OPT_COMMAND, OC_SCALE, OC_OVERLAY, OC_BG_MESH, OC_SAVE_MASK, OC_POINTS,
@@ -209,7 +211,7 @@ static int check_files(occ_args *a, int argc, char **argv)
 static int parse_args(int argc, char **argv, occ_args *a, int remove)
 {
     cli_spec s = spec(remove);
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     int rc;
     memset(a, 0, sizeof *a);
     a->remove = remove;
@@ -299,7 +301,7 @@ static relief_status read_frame(const occ_args *a, relief_depth_image *f, relief
 }
 
 /* The overlay: the colour, the occluders half red. */
-static relief_status write_overlay(const char *path, const relief_depth_image *f,
+static relief_status write_overlay(relief_sink *s, const relief_depth_image *f,
                                    const uint8_t *mask, relief_error *err)
 {
     size_t n = (size_t)f->width * f->height;
@@ -311,7 +313,7 @@ static relief_status write_overlay(const char *path, const relief_depth_image *f
         for (int k = 0; k < 3; ++k)
             px[3 * i + k] = mask[i] ? (uint8_t)((f->rgb[3 * i + k] + (k == 0 ? 255 : 0)) / 2)
                                     : f->rgb[3 * i + k];
-    st = relief_image_write(&(relief_image){f->width, f->height, 3, 8, 0, px}, path, err);
+    st = relief_image_write_to(s, &(relief_image){f->width, f->height, 3, 8, 0, px}, err);
     free(px);
     return st;
 }
@@ -326,7 +328,7 @@ typedef struct occ_out {
 } occ_out;
 
 /* The mask (0 / 1) as a PNG, 255 on the occluders. */
-static relief_status write_mask(const char *path, int w, int h, const uint8_t *label,
+static relief_status write_mask(relief_sink *s, int w, int h, const uint8_t *label,
                                 relief_error *err)
 {
     size_t n = (size_t)w * h;
@@ -336,31 +338,31 @@ static relief_status write_mask(const char *path, int w, int h, const uint8_t *l
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the mask's picture");
     for (size_t i = 0; i < n; ++i)
         px[i] = label[i] ? 255 : 0;
-    st = relief_image_write(&(relief_image){w, h, 1, 8, 0, px}, path, err);
+    st = relief_image_write_to(s, &(relief_image){w, h, 1, 8, 0, px}, err);
     free(px);
     return st;
 }
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     const occ_out *o = ctx;
     const relief_depth_image *f = o->out;
     switch (i) {
     case 0:
         if (!o->a->remove)
-            return write_mask(tmp, f->width, f->height, o->mask, err);
+            return write_mask(s, f->width, f->height, o->mask, err);
         if (!o->a->depth)
-            return relief_depth_write(f, tmp, f->format, 0.0, err);
-        return relief_image_write(&(relief_image){f->width, f->height, 3, 8, 0, f->rgb}, tmp,
-                                  err);
-    case 1: return write_overlay(tmp, o->in, o->mask, err);
-    case 2: return cli_write_json(tmp, o->json, 0, NULL, NULL, err);
-    case 3: return write_mask(tmp, f->width, f->height, o->mask, err);
-    case 4: return relief_depth_points_write(tmp, f, o->mask, err);
-    case 5: return relief_depth_write(f, tmp, RELIEF_DEPTH_PNG16, o->a->scale, err);
+            return relief_depth_write_to(s, f, f->format, 0.0, err);
+        return relief_image_write_to(s, &(relief_image){f->width, f->height, 3, 8, 0, f->rgb},
+                                     err);
+    case 1: return write_overlay(s, o->in, o->mask, err);
+    case 2: return cli_json_to(s, o->json, 0, NULL, NULL, err);
+    case 3: return write_mask(s, f->width, f->height, o->mask, err);
+    case 4: return relief_depth_points_write_to(s, f, o->mask, err);
+    case 5: return relief_depth_write_to(s, f, RELIEF_DEPTH_PNG16, o->a->scale, err);
     default:
-        return relief_image_write(&(relief_image){f->width, f->height, 3, 8, 0, f->rgb}, tmp,
-                                  err);
+        return relief_image_write_to(s, &(relief_image){f->width, f->height, 3, 8, 0, f->rgb},
+                                     err);
     }
 }
 
@@ -491,7 +493,7 @@ static void free_views(occ_args *a)
 
 static int find_mode(occ_args *a)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_image f;
     relief_image found = {0, 0, 0, 0, 0, NULL}, none = {0, 0, 0, 0, 0, NULL};
     relief_mesh *bg = NULL;
@@ -550,7 +552,7 @@ static void say_remove(const occ_args *a, const relief_remove_report *r)
 
 static int remove_mode(occ_args *a)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_depth_image f, g;
     relief_image mask = {0, 0, 0, 0, 0, NULL};
     relief_mesh *bg = NULL;

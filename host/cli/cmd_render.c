@@ -107,11 +107,11 @@ static int take(void *ctx, int id, const char *arg)
     return 0;
 }
 
-static relief_status write_png(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_png(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     const relief_rgb_image *img = ctx;
     (void)i;
-    return relief_png_write(tmp, img->rgb, img->width, img->height, err);
+    return relief_png_write_to(s, img->rgb, img->width, img->height, err);
 }
 
 int cli_cmd_render(int argc, char **argv, int parse_only)
@@ -119,7 +119,7 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
     cli_common cm = cli_common_init("render");
     relief_render_options ro = relief_render_options_default();
     relief_render_info info;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_rgb_image img = {0, 0, NULL};
     relief_mesh *mesh = NULL;
     cli_output out = {"-o", NULL, CLI_OUT_FILE};

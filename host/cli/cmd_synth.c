@@ -7,6 +7,7 @@
 
 #include "relief/relief.h"
 #include "cli/options.h"
+#include "mesh/mesh.h"
 
 enum { SY_TRUTH = OPT_COMMAND, SY_VERTICES, SY_COLOUR, SY_NOISE, SY_ASCII };
 
@@ -67,10 +68,10 @@ typedef struct synth_out {
     relief_write_options wo;
 } synth_out;
 
-static relief_status write_one(void *ctx, size_t i, const char *tmp, relief_error *err)
+static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error *err)
 {
     const synth_out *o = ctx;
-    return relief_mesh_write(i == 0 ? o->cap : o->truth, tmp, &o->wo, err);
+    return relief_mesh_write_to(i == 0 ? o->cap : o->truth, s, &o->wo, err);
 }
 
 int cli_cmd_synth(int argc, char **argv, int parse_only)
@@ -80,7 +81,7 @@ int cli_cmd_synth(int argc, char **argv, int parse_only)
     cli_common cm = cli_common_init("synth");
     synth_args a = {relief_synth_params_default(), NULL, 0};
     synth_out o = {NULL, NULL, {0}};
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     const char *kind;
     int rc = cli_parse(&s, &cm, NULL, take, &a, argc, argv);
 

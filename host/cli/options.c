@@ -2,6 +2,7 @@
  * (options.h). */
 #include "cli/options.h"
 #include "cli/batch.h"
+#include "cli/cli.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -14,11 +15,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "base/atomic.h"
+#include "base/output.h"
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/json.h"
 #include "base/memlimit.h"
+#include "complete/engine.h"
 #include "report/report_dir.h"
 
 cli_common cli_common_init(const char *cmd)
@@ -88,6 +90,10 @@ int cli_fail(const char *cmd, const relief_error *err)
 {
     fprintf(stderr, "relief %s: error: %s\n", cmd,
             err->message[0] ? err->message : relief_strerror(err->status));
+    /* Stopped by a signal: 128 + its number, as a shell reports a process
+     * the signal killed (SIGINT's 130 is the status's own). */
+    if (err->status == RELIEF_E_CANCELLED && cli_signal())
+        return 128 + cli_signal();
     return relief_status_exit_code(err->status);
 }
 
@@ -245,7 +251,7 @@ static int check_output(const char *cmd, const cli_output *o)
     char *dir;
     int rc = 0;
     if (o->kind == CLI_OUT_FOLDER) {
-        relief_error err = {RELIEF_OK, ""};
+        relief_error err = {0};
         if (relief_report_dir_check(o->path, &err) == RELIEF_OK)
             return 0;
         fprintf(stderr, "relief %s: %s: %s\n", cmd, o->opt, err.message);
@@ -287,57 +293,79 @@ int cli_check_outputs(const char *cmd, const char *const *ins, size_t n_ins,
     return 0;
 }
 
-/* The test hook RELIEF_TEST_OUTPUT_FAIL=N fails the N-th step of writing
- * (each asked file written, then each moved into place, then the folder),
- * as a full disk or a vanished folder would. */
-static relief_status hook(unsigned long *step, relief_status st, relief_error *err)
+/* The test hooks of writing: RELIEF_TEST_OUTPUT_FAIL=N fails the N-th
+ * step (base/output.h: each file written, the journal, each link and
+ * rename, the commit), as a full disk or a vanished folder would;
+ * RELIEF_TEST_OUTPUT_KILL=N kills the process there (SIGKILL), as a power
+ * cut would. */
+typedef struct output_hooks {
+    unsigned long fail, kill;
+} output_hooks;
+
+static int output_hook(void *ctx, unsigned step, const char *what)
 {
-    const char *at = getenv("RELIEF_TEST_OUTPUT_FAIL");
-    if (st == RELIEF_OK && at && ++*step == strtoul(at, NULL, 10))
-        st = relief_fail(err, RELIEF_E_IO, "writing the outputs: step %lu failed (test hook)",
-                         *step);
-    return st;
+    const output_hooks *h = ctx;
+    if (h->kill == step) {
+        fprintf(stderr, "relief: test hook: killed at step %u (%s)\n", step, what);
+        raise(SIGKILL);
+    }
+    return h->fail == step;
 }
 
-/* A writer's message names the temporary it wrote; say the target. */
-static void name_target(relief_error *err, const char *tmp, const char *path)
+/* What cli_sink hands the command's writer. */
+typedef struct cli_job {
+    cli_write_fn write;
+    void *ctx;
+    size_t i;
+} cli_job;
+
+static relief_status cli_sink(relief_sink *s, void *ctx, relief_error *err)
 {
-    char *at = err ? strstr(err->message, tmp) : NULL, rest[RELIEF_ERROR_MESSAGE_MAX];
-    if (!at)
-        return;
-    snprintf(rest, sizeof rest, "%s", at + strlen(tmp));
-    snprintf(at, sizeof err->message - (size_t)(at - err->message), "%s%s", path, rest);
+    const cli_job *j = ctx;
+    return j->write(j->ctx, j->i, s, err);
+}
+
+/* Stage every asked file of outs, then *folder. */
+static relief_status stage_all(relief_outputs *o, const cli_output *outs, size_t n,
+                               cli_write_fn write, void *ctx, relief_report_folder **folder,
+                               relief_error *err)
+{
+    relief_status st = RELIEF_OK;
+    for (size_t i = 0; i < n && i < CLI_MAX_OUTPUTS && st == RELIEF_OK; ++i)
+        if (outs[i].path && outs[i].kind == CLI_OUT_FILE) {
+            cli_job job = {write, ctx, i};
+            st = relief_outputs_file(o, outs[i].path, cli_sink, &job, err);
+        }
+    if (st == RELIEF_OK && folder && *folder) {
+        relief_staged_folder *s = relief_report_folder_release(*folder);
+        *folder = NULL;
+        st = relief_outputs_folder(o, &s, relief_report_dir_replaceable, err);
+    }
+    return st;
 }
 
 relief_status cli_write_outputs(const cli_output *outs, size_t n, cli_write_fn write,
                                 void *ctx, relief_report_folder **folder, relief_error *err)
 {
-    relief_atomic_file f[CLI_MAX_OUTPUTS];
-    relief_status st = RELIEF_OK;
-    unsigned long step = 0;
+    const char *fail = getenv("RELIEF_TEST_OUTPUT_FAIL"), *kill = getenv("RELIEF_TEST_OUTPUT_KILL");
+    output_hooks hooks = {fail ? strtoul(fail, NULL, 10) : 0, kill ? strtoul(kill, NULL, 10) : 0};
+    relief_outputs *o = NULL;
+    relief_status st;
     sigset_t held;
-    memset(f, 0, sizeof f);
     cli_hold_signals(&held);
-    /* Every file written beside its target before any is moved. */
-    for (size_t i = 0; i < n && i < CLI_MAX_OUTPUTS && st == RELIEF_OK; ++i)
-        if (outs[i].path && outs[i].kind == CLI_OUT_FILE) {
-            f[i].path = outs[i].path;
-            st = relief_atomic_create(f[i].path, &f[i].tmp, err);
-            if (st == RELIEF_OK && (st = write(ctx, i, f[i].tmp, err)) != RELIEF_OK)
-                name_target(err, f[i].tmp, f[i].path);
-            st = hook(&step, st, err);
-        }
-    for (size_t i = 0; i < n && i < CLI_MAX_OUTPUTS && st == RELIEF_OK; ++i)
-        if (f[i].tmp && (st = hook(&step, st, err)) == RELIEF_OK)
-            st = relief_atomic_place(&f[i], err);
-    /* The folder last: it cannot be put back once placed, the files can. */
-    if (st == RELIEF_OK && folder && *folder &&
-        (st = hook(&step, st, err)) == RELIEF_OK) {
-        st = relief_report_folder_commit(*folder, err);
-        *folder = NULL;
+    if (cli_signal())
+        st = relief_fail(err, RELIEF_E_CANCELLED, "interrupted by %s: nothing written",
+                         cli_signal_name(cli_signal()));
+    else
+        st = relief_outputs_begin(&o, err);
+    if (st == RELIEF_OK) {
+        relief_outputs_set_hook(o, output_hook, &hooks);
+        st = stage_all(o, outs, n, write, ctx, folder, err);
+        if (st == RELIEF_OK)
+            st = relief_outputs_commit(o, err);
+        else
+            relief_outputs_abort(o);
     }
-    for (size_t i = 0; i < CLI_MAX_OUTPUTS; ++i)
-        relief_atomic_settle(&f[i], st == RELIEF_OK);
     cli_release_signals(&held);
     return st;
 }
@@ -355,22 +383,55 @@ int cli_known_mesh_ext(const char *path)
            strcasecmp(e, ".off") == 0 || strcasecmp(e, ".stl") == 0;
 }
 
-/* SIGINT during an engine call: set by the handler, read by
- * cli_progress_fn. The command line's one piece of global state: a signal
- * handler can reach nothing else (C11 7.14.1.1). The library has none. */
+/* SIGINT, SIGTERM, SIGHUP or SIGQUIT during a command: the signal's
+ * number, set by the handler, read by cli_progress_fn (which cancels the
+ * engine's call) and by cli_write_outputs (which then writes nothing).
+ * The command line's one piece of global state: a signal handler can
+ * reach nothing else (C11 7.14.1.1). The library has none. */
 static volatile sig_atomic_t interrupted = 0;
 
-static void on_sigint(int sig)
+static const int held_signals[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT};
+#define N_HELD (sizeof held_signals / sizeof held_signals[0])
+
+static void on_signal(int sig)
 {
-    (void)sig;
-    interrupted = 1;
+    interrupted = sig;
+}
+
+void cli_take_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    /* A first signal stops the command cleanly; SA_RESETHAND lets a second
+     * one act as usual (a kill). */
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    interrupted = 0;
+    for (size_t i = 0; i < N_HELD; ++i) {
+        struct sigaction old;
+        /* A signal the caller ignores (nohup's SIGHUP) stays ignored. */
+        if (sigaction(held_signals[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN)
+            continue;
+        sigaction(held_signals[i], &sa, NULL);
+    }
+}
+
+int cli_signal(void)
+{
+    return (int)interrupted;
+}
+
+const char *cli_signal_name(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP"
+           : sig == SIGQUIT ? "SIGQUIT" : "a signal";
 }
 
 void cli_progress_start(cli_progress *pr, const cli_common *cm, relief_run_options *run)
 {
     const char *cmd = cm->cmd;
     const int quiet = cm->quiet;
-    struct sigaction sa;
     const char *after = getenv("RELIEF_TEST_SIGINT_AFTER");
     memset(pr, 0, sizeof *pr);
     pr->cmd = cmd;
@@ -390,14 +451,6 @@ void cli_progress_start(cli_progress *pr, const cli_common *cm, relief_run_optio
         pr->sigint_after = strtoul(after, NULL, 10);
     if (run)
         run->progress = cli_progress_fn, run->progress_ctx = pr;
-    /* A first SIGINT cancels the call cleanly; SA_RESETHAND lets a second
-     * one kill the process as usual. */
-    interrupted = 0;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_sigint;
-    sa.sa_flags = SA_RESETHAND;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &pr->old);
 }
 
 /* The time left by the recent rate: from a mark that moves up as the call
@@ -499,19 +552,19 @@ void cli_progress_close_line(cli_progress *pr)
 void cli_progress_end(cli_progress *pr)
 {
     cli_progress_close_line(pr);
-    sigaction(SIGINT, &pr->old, NULL);
 }
 
-/* Outputs appear whole or not at all even on Ctrl-C or SIGTERM: both are
- * held back while the files are written (temporary names, then renames)
- * and delivered once every file is in place or removed. The test hook
- * RELIEF_TEST_SIGINT_IN_WRITE raises SIGINT just as the writing starts. */
+/* Outputs appear whole or not at all even on Ctrl-C, SIGTERM, SIGHUP or
+ * SIGQUIT: they are held back while the files are staged and committed
+ * (temporaries, then renames) and delivered once every file is in place
+ * or removed. The test hook RELIEF_TEST_SIGINT_IN_WRITE raises SIGINT
+ * just as the writing starts. */
 void cli_hold_signals(sigset_t *old)
 {
     sigset_t set;
     sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);
+    for (size_t i = 0; i < N_HELD; ++i)
+        sigaddset(&set, held_signals[i]);
     sigprocmask(SIG_BLOCK, &set, old);
     if (getenv("RELIEF_TEST_SIGINT_IN_WRITE"))
         raise(SIGINT); /* pending until release_signals */
@@ -521,13 +574,6 @@ void cli_release_signals(const sigset_t *old)
 {
     sigprocmask(SIG_SETMASK, old, NULL);
 }
-
-typedef struct named_json {
-    const char *json;
-    size_t n;
-    const char *const *keys, *const *values;
-    const char *member;
-} named_json;
 
 /* The engine's object with the named members and `member` spliced in after
  * its "{\n". */
@@ -559,25 +605,21 @@ int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
     return print_json_with(f, json, n, keys, values, NULL);
 }
 
-static int write_named(FILE *f, void *ctx)
+relief_status cli_json_to(relief_sink *s, const char *json, size_t n,
+                          const char *const *keys, const char *const *values,
+                          relief_error *err)
 {
-    const named_json *c = ctx;
-    return print_json_with(f, c->json, c->n, c->keys, c->values, c->member);
+    return cli_json_with_to(s, json, n, keys, values, NULL, err);
 }
 
-relief_status cli_write_json(const char *path, const char *json, size_t n,
-                             const char *const *keys, const char *const *values,
-                             relief_error *err)
+relief_status cli_json_with_to(relief_sink *s, const char *json, size_t n,
+                               const char *const *keys, const char *const *values,
+                               const char *member, relief_error *err)
 {
-    return cli_write_json_with(path, json, n, keys, values, NULL, err);
-}
-
-relief_status cli_write_json_with(const char *path, const char *json, size_t n,
-                                  const char *const *keys, const char *const *values,
-                                  const char *member, relief_error *err)
-{
-    named_json c = {json, n, keys, values, member};
-    return relief_atomic_write_text(path, write_named, &c, err);
+    errno = 0;
+    if (print_json_with(s->f, json, n, keys, values, member) != 0)
+        return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write");
+    return RELIEF_OK;
 }
 
 relief_status cli_read_mesh(const char *cmd, const char *path, int quiet, relief_mesh **out,

@@ -16,6 +16,7 @@
 #include <stdio.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 
 #define EXIT_USAGE 1
 #define EXIT_INTERNAL 2
@@ -121,7 +122,8 @@ int cli_common_option(cli_common *cm, int c, const char *arg);
 int cli_one_input(cli_common *cm, int argc, char **argv, const char *what,
                   const char **in);
 
-/* Print "relief CMD: error: <message>" and return the status's exit code. */
+/* Print "relief CMD: error: <message>" and return the status's exit code
+ * (128 + the signal's number for a call a signal stopped). */
 int cli_fail(const char *cmd, const relief_error *err);
 
 /* Print "relief CMD: <fmt with arg>" and the --help hint; EXIT_USAGE. */
@@ -176,18 +178,20 @@ typedef struct cli_output {
 int cli_check_outputs(const char *cmd, const char *const *ins, size_t n_ins,
                       const cli_output *outs, size_t n_outs);
 
-/* Write outs[i] (an asked CLI_OUT_FILE) to `tmp`, a new file beside its
- * target with the target's extension, for cli_write_outputs. */
-typedef relief_status (*cli_write_fn)(void *ctx, size_t i, const char *tmp,
-                                      relief_error *err);
+/* Write outs[i] (an asked CLI_OUT_FILE) into the sink s (base/output.h:
+ * a staged file beside the target; s->path is the target), for
+ * cli_write_outputs. */
+typedef relief_status (*cli_write_fn)(void *ctx, size_t i, relief_sink *s, relief_error *err);
 
 /* Every asked CLI_OUT_FILE of outs[0 .. n) written by write() to a
- * temporary file beside it, then, all written, moved into place, and
- * *folder (a staged --report-dir, or NULL; taken, *folder set to NULL)
- * last: all or none. On any failure the temporaries go and every file that
- * was there is as it was (base/atomic.h: its inode, bytes and mtime);
- * nothing that existed before is removed. SIGINT and SIGTERM wait until
- * the end (cli_hold_signals). At most CLI_MAX_OUTPUTS. */
+ * temporary beside it, and *folder (a staged --report-dir, or NULL; taken,
+ * *folder set to NULL), then all moved into place together through a
+ * journal (base/output.h): all or none, across a failure or a kill at any
+ * step. On any failure the temporaries go and every file that was there
+ * is as it was (its inode, bytes and mtime); nothing that existed before
+ * is removed. SIGINT, SIGTERM, SIGHUP and SIGQUIT wait until the end
+ * (cli_hold_signals); one that came before (cli_signal) writes
+ * nothing (RELIEF_E_CANCELLED). At most CLI_MAX_OUTPUTS. */
 #define CLI_MAX_OUTPUTS 8
 relief_status cli_write_outputs(const cli_output *outs, size_t n, cli_write_fn write,
                                 void *ctx, relief_report_folder **folder, relief_error *err);
@@ -203,6 +207,9 @@ const char *cli_ext_of(const char *path);
 
 /* Does `path` end in a mesh extension relief writes (.ply .obj .off .stl)? */
 int cli_known_mesh_ext(const char *path);
+
+/* "SIGTERM" for SIGTERM, and the others held. */
+const char *cli_signal_name(int sig);
 
 /* Progress of one engine call on stderr, and SIGINT: a line with the
  * fraction done and an ETA at most four times a second on a terminal
@@ -230,7 +237,6 @@ typedef struct cli_progress {
     double max_seconds;         /* 0: no limit */
     char limit[192];            /* why --max-seconds stopped the call; "" */
     unsigned long sigint_after, seen;
-    struct sigaction old;
 } cli_progress;
 
 /* Start reporting (and take SIGINT) for cm's command with its --quiet and
@@ -261,18 +267,18 @@ void cli_release_signals(const sigset_t *old);
 int cli_print_json(FILE *f, const char *json, size_t n, const char *const *keys,
                    const char *const *values);
 
-/* Write an engine's JSON report to `path` atomically, with the string
- * members keys[i]: values[i] (NULL: null) first, for the files the command
- * read that the engine did not (a mask, a truth). n may be 0. */
-relief_status cli_write_json(const char *path, const char *json, size_t n,
-                             const char *const *keys, const char *const *values,
-                             relief_error *err);
+/* Write an engine's JSON report into the sink s, with the string members
+ * keys[i]: values[i] (NULL: null) first, for the files the command read
+ * that the engine did not (a mask, a truth). n may be 0. */
+relief_status cli_json_to(relief_sink *s, const char *json, size_t n,
+                          const char *const *keys, const char *const *values,
+                          relief_error *err);
 
-/* cli_write_json with `member` (a JSON member's text, "\"key\": value", or
+/* cli_json_to with `member` (a JSON member's text, "\"key\": value", or
  * NULL) after the string members: what the command's reading repaired. */
-relief_status cli_write_json_with(const char *path, const char *json, size_t n,
-                                  const char *const *keys, const char *const *values,
-                                  const char *member, relief_error *err);
+relief_status cli_json_with_to(relief_sink *s, const char *json, size_t n,
+                               const char *const *keys, const char *const *values,
+                               const char *member, relief_error *err);
 
 /* Read the mesh at `path` (relief_mesh_read) for `cmd`; when the reader
  * repaired it and not `quiet`, say so in one warning line naming every

@@ -89,7 +89,7 @@ static void build(const cli_spec *s, option_table *t)
 /* A table parameter given on the command line. */
 static int set_param(const cli_spec *s, void *params, int id, const char *arg)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     const int no = id >= OPT_NO_PARAM;
     const relief_param *p = &s->params[id - (no ? OPT_NO_PARAM : OPT_PARAM)];
     const size_t n = strlen(p->name);

@@ -141,7 +141,7 @@ static relief_status smooth_base(relief_complete_run *r, relief_error *err)
 static relief_status auto_base(relief_complete_run *r, const relief_fit_result *pre,
                                relief_error *err)
 {
-    relief_error why = {RELIEF_OK, ""};
+    relief_error why = {0};
     relief_status st = smooth_base(r, &why);
     /* The user's selection fills nothing there: that is the answer, not
      * the primitive's poor fit. */
@@ -178,7 +178,7 @@ static int auto_may_go_smooth(const relief_complete_run *r)
  * reasons. */
 static relief_status overlap_base(relief_complete_run *r, relief_error *err)
 {
-    relief_error why = {RELIEF_OK, ""};
+    relief_error why = {0};
     char fold[RELIEF_ERROR_MESSAGE_MAX];
     snprintf(fold, sizeof fold, "%s", err->message);
     if (smooth_base(r, &why) != RELIEF_OK)
@@ -202,7 +202,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                pre.poor_fit) {
         st = auto_base(r, &pre, err);
     } else {
-        relief_error why = {RELIEF_OK, ""};
+        relief_error why = {0};
         st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, &why);
         /* surface_check.c's fold refusal, the one a smooth base cures */
         if (st == RELIEF_E_MESH && auto_may_go_smooth(r) &&
@@ -357,18 +357,12 @@ static relief_status save_checkpoint(void *ctx, const relief_grow_state *g, reli
 }
 
 /* After a finished run its checkpoint described an unfinished one: it goes
- * when this call wrote it or resumed from it, never a file (or a folder)
- * that was there for another reason. */
+ * when this call made it, never a file that was there before the call
+ * (relief removes only what it can prove it wrote). */
 static void drop_checkpoint(const relief_complete_run *r)
 {
-    const char *ck = r->cp->checkpoint, *from = r->cp->resume;
-    struct stat a, b;
-    if (!ck || stat(ck, &a) != 0 || !S_ISREG(a.st_mode))
-        return;
-    if (r->saved || (from && (strcmp(from, ck) == 0 || (stat(from, &b) == 0 &&
-                                                        a.st_dev == b.st_dev &&
-                                                        a.st_ino == b.st_ino))))
-        unlink(ck);
+    if (r->cp->checkpoint && r->saved && !r->checkpoint_existed)
+        unlink(r->cp->checkpoint);
 }
 
 static void note_resume(relief_complete_run *r, const relief_grow_state *g)
@@ -426,7 +420,7 @@ static relief_status grow(relief_complete_run *r, relief_error *err)
 
 static void measure(relief_complete_run *r)
 {
-    relief_error merr = {RELIEF_OK, ""};
+    relief_error merr = {0};
     if (!r->cp->measure)
         return;
     r->measured = relief_measure(r->s->mesh, NULL, &r->s->fit.prim, &r->meas, &merr) ==
@@ -543,13 +537,20 @@ relief_status relief_complete(const relief_mesh *capture, const relief_complete_
                               relief_mesh **out, relief_complete_report *rep,
                               relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_complete_report own;
     relief_complete_run r;
     relief_status st = check_args(capture, p, out, rep, err);
+    int existed = 0;
+    /* A file named as the checkpoint is replaced only when relief wrote
+     * it: refused now, before the work, when it is anything else. */
+    if (st == RELIEF_OK && p->checkpoint)
+        st = relief_checkpoint_check_path(p->checkpoint, &existed, err);
     if (st != RELIEF_OK)
         return st;
     memset(&own, 0, sizeof own);
     run_init(&r, capture, p, &own);
+    r.checkpoint_existed = existed;
     st = relief_complete_holes(&r, err);
     if (st == RELIEF_OK)
         st = read_resume(&r, err);
@@ -579,6 +580,7 @@ relief_status relief_complete(const relief_mesh *capture, const relief_complete_
 relief_status relief_smooth(const relief_mesh *capture, const relief_complete_params *p,
                             relief_mesh **out, relief_complete_report *rep, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_complete_report own;
     relief_complete_run r;
     relief_status st = check_args(capture, p, out, rep, err);

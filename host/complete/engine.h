@@ -9,6 +9,7 @@
 #include <signal.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 #include "base/params.h"
 #include "base/progress.h"
 #include "grow/checkpoint.h"
@@ -45,6 +46,8 @@ typedef struct relief_complete_run {
     relief_checkpoint_key key;
     relief_checkpoint *resume;  /* cp->resume read */
     int saved;                  /* 1 once this call wrote cp->checkpoint */
+    int checkpoint_existed;     /* 1: cp->checkpoint was there before the
+                                   call (a relief checkpoint): never removed */
     relief_mesh *before;        /* the surface before growth (report folder) */
     relief_backend backend;     /* what scored */
     char device[256];
@@ -93,5 +96,9 @@ char *relief_complete_json(const relief_complete_run *r, int smooth);
 /* Stage the report folder of a finished run beside cp->report_dir. */
 relief_status relief_complete_stage_folder(const relief_complete_run *r,
                                            relief_report_folder **out, relief_error *err);
+
+/* The staged folder of `folder`, for a commit with other outputs
+ * (base/output.h); `folder` is freed. */
+relief_staged_folder *relief_report_folder_release(relief_report_folder *folder);
 
 #endif

@@ -266,12 +266,20 @@ relief_status relief_complete_stage_folder(const relief_complete_run *r,
 
 relief_status relief_report_folder_commit(relief_report_folder *folder, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st;
     if (!folder)
         return RELIEF_OK;
     st = relief_report_dir_commit(folder->staged, err);
     free(folder);
     return st;
+}
+
+relief_staged_folder *relief_report_folder_release(relief_report_folder *folder)
+{
+    relief_staged_folder *s = relief_report_dir_release(folder->staged);
+    free(folder);
+    return s;
 }
 
 void relief_complete_report_free(relief_complete_report *rep)

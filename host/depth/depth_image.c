@@ -19,7 +19,7 @@ static relief_status png_scale_of(double png_scale, double *scale, relief_error 
         return RELIEF_OK;
     }
     if (!(png_scale > 0.0 && png_scale <= 1e9))
-        return relief_fail(err, RELIEF_E_RANGE, "png_scale %g out of range: expected "
+        return relief_fail_param(err, RELIEF_E_RANGE, "png_scale", "png_scale %g out of range: expected "
                            "values per metre in (0, 1e9], or 0 for the default %g", png_scale,
                            RELIEF_DEPTH_PNG_SCALE);
     *scale = png_scale;
@@ -68,6 +68,7 @@ static int is_png(const uint8_t *d, size_t n)
 relief_status relief_depth_read(const char *path, double png_scale, uint64_t max_pixels,
                                 relief_depth_image *out, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     uint8_t *d = NULL;
     size_t n = 0;
     double scale = RELIEF_DEPTH_PNG_SCALE;
@@ -100,6 +101,7 @@ relief_status relief_depth_decode(const void *data, size_t n, const char *name,
                                   uint64_t max_pixels, relief_depth_image *out,
                                   relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_status st;
     if (!out)
         return relief_fail(err, RELIEF_E_USAGE, "out: NULL");
@@ -114,7 +116,7 @@ relief_status relief_depth_decode(const void *data, size_t n, const char *name,
 
 /* z x scale, rounded, 0 where missing: a filled depth rounds to at least
  * 1 (0 would read as missing), and clamps at 65535. */
-static relief_status write_png16(const relief_depth_image *f, const char *path, double scale,
+static relief_status write_png16(relief_sink *s, const relief_depth_image *f, double scale,
                                  relief_error *err)
 {
     relief_raster r = {0, 0, 0, 0, NULL};
@@ -126,17 +128,15 @@ static relief_status write_png16(const relief_depth_image *f, const char *path, 
         double v = isfinite(f->z[i]) ? floor(f->z[i] * scale + 0.5) : 0.0;
         r.v[i] = (float)(v < 1.0 && isfinite(f->z[i]) ? 1.0 : v > 65535.0 ? 65535.0 : v);
     }
-    st = relief_raster_write(path, &r, err);
+    st = relief_raster_write_to(s, &r, err);
     relief_raster_free(&r);
     return st;
 }
 
-relief_status relief_depth_write(const relief_depth_image *f, const char *path,
-                                 relief_depth_format format, double png_scale,
-                                 relief_error *err)
+/* Can f be written as `format` to `path`? */
+static relief_status check_write(const relief_depth_image *f, const char *path,
+                                 relief_depth_format format, relief_error *err)
 {
-    double scale = RELIEF_DEPTH_PNG_SCALE;
-    relief_status st;
     if (!f || !path)
         return relief_fail(err, RELIEF_E_USAGE, "%s: NULL", f ? "path" : "frame");
     if (!f->z)
@@ -146,15 +146,52 @@ relief_status relief_depth_write(const relief_depth_image *f, const char *path,
         return relief_fail(err, RELIEF_E_RANGE, "frame width x height %d x %d out of range: "
                            "expected 1..%d each", f->width, f->height, RELIEF_DEPTH_MAX_SIDE);
     if (format < RELIEF_DEPTH_PFM || format > RELIEF_DEPTH_PNG16)
-        return relief_fail(err, RELIEF_E_RANGE, "format %d is not one of pfm, pcd-ascii, "
-                           "pcd-binary, pcd-compressed, png16", (int)format);
+        return relief_fail_param(err, RELIEF_E_RANGE, "format", "format %d is not one of pfm, "
+                                 "pcd-ascii, pcd-binary, pcd-compressed, png16", (int)format);
     if (format != RELIEF_DEPTH_PFM && format != RELIEF_DEPTH_PNG16 && !f->xyz)
         return relief_fail(err, RELIEF_E_USAGE, "%s: a PCD needs points (x y z), this frame "
                            "has depths only (xyz NULL)", path);
+    return RELIEF_OK;
+}
+
+/* What depth_sink writes. */
+typedef struct depth_job {
+    const relief_depth_image *f;
+    relief_depth_format format;
+    double png_scale;
+} depth_job;
+
+relief_status relief_depth_write_to(relief_sink *s, const relief_depth_image *f,
+                                    relief_depth_format format, double png_scale,
+                                    relief_error *err)
+{
+    double scale = RELIEF_DEPTH_PNG_SCALE;
+    relief_status st = check_write(f, s->path, format, err);
+    if (st != RELIEF_OK)
+        return st;
     if (format != RELIEF_DEPTH_PNG16)
-        return relief_depth_frame_write(path, f, format, err);
+        return relief_depth_frame_write_to(s, f, format, err);
     st = png_scale_of(png_scale, &scale, err);
-    return st != RELIEF_OK ? st : write_png16(f, path, scale, err);
+    return st != RELIEF_OK ? st : write_png16(s, f, scale, err);
+}
+
+static relief_status depth_sink(relief_sink *s, void *ctx, relief_error *err)
+{
+    const depth_job *job = ctx;
+    return relief_depth_write_to(s, job->f, job->format, job->png_scale, err);
+}
+
+relief_status relief_depth_write(const relief_depth_image *f, const char *path,
+                                 relief_depth_format format, double png_scale,
+                                 relief_error *err)
+{
+    depth_job job = {f, format, png_scale};
+    double scale;
+    RELIEF_ENTRY_ERR(err);
+    if (check_write(f, path, format, err) != RELIEF_OK ||
+        (format == RELIEF_DEPTH_PNG16 && png_scale_of(png_scale, &scale, err) != RELIEF_OK))
+        return err->status;
+    return relief_output_file(path, depth_sink, &job, err);
 }
 
 void relief_depth_image_free(relief_depth_image *f)

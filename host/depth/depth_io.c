@@ -5,13 +5,13 @@
 #include "depth/depth_io.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <liblzf/lzf.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/atomic.h"
 #include "base/error.h"
 #include "base/file.h"
 #include "mesh/mesh.h"
@@ -805,32 +805,38 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
     return write_pcd_compressed(fp, f, px, nf, err);
 }
 
-relief_status relief_depth_frame_write(const char *path, const relief_depth_frame *f,
-                                 relief_depth_kind kind, relief_error *err)
+relief_status relief_depth_frame_write_to(relief_sink *s, const relief_depth_frame *f,
+                                          relief_depth_kind kind, relief_error *err)
 {
-    char *tmp = NULL;
-    FILE *fp;
+    relief_error why = {0};
     int ok;
-    relief_error why = {RELIEF_OK, ""};
-    relief_status st;
     if (kind != RELIEF_DEPTH_PFM && !f->xyz)
         return relief_fail(err, RELIEF_E_RANGE, "%s: a PCD needs points (x y z), this frame "
-                           "has depths only", path);
-    st = relief_atomic_create(path, &tmp, err);
-    if (st != RELIEF_OK)
-        return st;
-    fp = fopen(tmp, "wb");
-    if (!fp) {
-        relief_atomic_abort(tmp);
-        return relief_fail(err, RELIEF_E_IO, "cannot write %s", path);
-    }
-    ok = kind == RELIEF_DEPTH_PFM ? write_pfm(fp, f) : write_pcd(fp, f, kind, &why);
-    ok = fclose(fp) == 0 && ok;
-    if (!ok) {
-        relief_atomic_abort(tmp);
-        if (why.status != RELIEF_OK)
-            return relief_fail(err, why.status, "%s: %s", path, why.message);
-        return relief_fail(err, RELIEF_E_IO, "cannot write %s (disk full?)", path);
-    }
-    return relief_atomic_commit(tmp, path, err);
+                           "has depths only", s->path);
+    errno = 0;
+    ok = kind == RELIEF_DEPTH_PFM ? write_pfm(s->f, f) : write_pcd(s->f, f, kind, &why);
+    if (ok)
+        return RELIEF_OK;
+    if (why.status != RELIEF_OK)
+        return relief_fail(err, why.status, "%s: %s", s->path, why.message);
+    return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write");
+}
+
+/* What frame_sink writes. */
+typedef struct frame_job {
+    const relief_depth_frame *f;
+    relief_depth_kind kind;
+} frame_job;
+
+static relief_status frame_sink(relief_sink *s, void *ctx, relief_error *err)
+{
+    const frame_job *j = ctx;
+    return relief_depth_frame_write_to(s, j->f, j->kind, err);
+}
+
+relief_status relief_depth_frame_write(const char *path, const relief_depth_frame *f,
+                                       relief_depth_kind kind, relief_error *err)
+{
+    frame_job j = {f, kind};
+    return relief_output_file(path, frame_sink, &j, err);
 }

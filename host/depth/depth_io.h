@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 
 /* The public depth image (relief/depth.h) is the frame every reader and
  * writer here takes; its format says how it was read and is written. */
@@ -68,13 +69,22 @@ relief_status relief_depth_frame_decode(const uint8_t *data, size_t n, const cha
 relief_status relief_depth_frame_read(const char *path, uint64_t max_pixels,
                                 relief_depth_frame *out, relief_error *err);
 
-/* Write `f` atomically to `path` as `kind`: a PFM ("Pf", little endian,
+/* Write `f` into the sink s (base/output.h) as `kind`: a PFM ("Pf", little endian,
  * rows bottom to top) of z, NaN written as +inf (Middlebury's unknown); or
  * an organised PCD v0.7 with fields x y z (F 4) and rgb (F 4, PCL's packed
  * colour) when f->rgb is set, DATA ascii, binary or binary_compressed
- * (LZF, field by field). A PCD needs f->xyz. RELIEF_E_IO naming the path;
- * no file is left on failure. */
+ * (LZF, field by field). A PCD needs f->xyz. Failures name s->path. */
+relief_status relief_depth_frame_write_to(relief_sink *s, const relief_depth_frame *f,
+                                          relief_depth_kind kind, relief_error *err);
+
+/* The same to `path`, whole or not at all. */
 relief_status relief_depth_frame_write(const char *path, const relief_depth_frame *f,
-                                 relief_depth_kind kind, relief_error *err);
+                                       relief_depth_kind kind, relief_error *err);
+
+/* relief_depth_write (relief/depth.h) into the sink s, the same checks and
+ * bytes, for a caller that stages the file itself. */
+relief_status relief_depth_write_to(relief_sink *s, const relief_depth_image *f,
+                                    relief_depth_format format, double png_scale,
+                                    relief_error *err);
 
 #endif

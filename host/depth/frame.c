@@ -1,11 +1,12 @@
 /* A frame around its repair (frame.h). */
 #include "depth/frame.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "base/atomic.h"
+#include "base/output.h"
 #include "base/error.h"
 
 relief_status relief_depth_mask_check(const relief_image *mask, int width, int height,
@@ -133,8 +134,9 @@ typedef struct points_ctx {
     const uint8_t *label;
 } points_ctx;
 
-static int write_points(FILE *fp, void *ctx)
+static relief_status write_points(relief_sink *s, void *ctx, relief_error *err)
 {
+    FILE *fp = s->f;
     const points_ctx *c = ctx;
     const relief_depth_image *f = c->f;
     size_t n = (size_t)f->width * f->height, m = 0;
@@ -156,14 +158,21 @@ static int write_points(FILE *fp, void *ctx)
         }
         rec[k++] = c->label[i];
         if (fwrite(rec, 1, k, fp) != k)
-            return 1;
+            return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write");
     }
-    return ferror(fp);
+    return RELIEF_OK;
+}
+
+relief_status relief_depth_points_write_to(relief_sink *s, const relief_depth_image *f,
+                                           const uint8_t *label, relief_error *err)
+{
+    points_ctx c = {f, label};
+    return write_points(s, &c, err);
 }
 
 relief_status relief_depth_points_write(const char *path, const relief_depth_image *f,
                                         const uint8_t *label, relief_error *err)
 {
     points_ctx c = {f, label};
-    return relief_atomic_write_text(path, write_points, &c, err);
+    return relief_output_file(path, write_points, &c, err);
 }

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 
 /* Check `mask` (relief/image.h) as a mask of a width x height frame: data
  * set, 1 to 4 channels of 8 or 16 bits, a stride that holds a row, and the
@@ -47,5 +48,10 @@ void relief_depth_cloud_fill(relief_depth_image *f, const uint8_t *missing,
  * RELIEF_E_IO naming the path. */
 relief_status relief_depth_points_write(const char *path, const relief_depth_image *f,
                                         const uint8_t *label, relief_error *err);
+
+/* The same into the sink s (base/output.h), for a caller that stages the
+ * file itself. */
+relief_status relief_depth_points_write_to(relief_sink *s, const relief_depth_image *f,
+                                           const uint8_t *label, relief_error *err);
 
 #endif

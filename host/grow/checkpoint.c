@@ -8,9 +8,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
-#include "base/atomic.h"
+#include "base/output.h"
 #include "base/error.h"
 #include "grow/hierarchy.h"
 #include "mesh/mesh.h"
@@ -203,32 +204,53 @@ static void put_hier(buffer *b, const relief_hierarchy_state *h)
     put(b, h->done, (size_t)(h->level - 1) * sizeof *h->done);
 }
 
-/* Writes the n bytes to path whole or not at all: a temporary name,
- * flushed and synced, then renamed over path. */
+/* What bytes_sink writes. */
+typedef struct bytes {
+    const unsigned char *data;
+    size_t n;
+} bytes;
+
+static relief_status bytes_sink(relief_sink *s, void *ctx, relief_error *err)
+{
+    const bytes *b = ctx;
+    if (fwrite(b->data, 1, b->n, s->f) != b->n)
+        return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write the "
+                                 "checkpoint");
+    return RELIEF_OK;
+}
+
+/* Writes the n bytes to path whole or not at all (base/output.h). */
 static relief_status write_whole(const char *path, const unsigned char *data, size_t n,
                                  relief_error *err)
 {
-    char *tmp = NULL;
-    relief_status st = relief_atomic_create(path, &tmp, err);
-    FILE *f;
+    bytes b = {data, n};
+    return relief_output_file(path, bytes_sink, &b, err);
+}
 
-    if (st != RELIEF_OK)
-        return st;
-    f = fopen(tmp, "wb");
-    if (!f || fwrite(data, 1, n, f) != n || fflush(f) != 0 || fsync(fileno(f)) != 0) {
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the checkpoint: %s", path,
-                         strerror(errno));
-        if (f)
-            fclose(f);
-        relief_atomic_abort(tmp);
-    } else if (fclose(f) != 0) {
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the checkpoint: %s", path,
-                         strerror(errno));
-        relief_atomic_abort(tmp);
-    } else {
-        st = relief_atomic_commit(tmp, path, err);
-    }
-    return st;
+relief_status relief_checkpoint_check_path(const char *path, int *exists, relief_error *err)
+{
+    char head[8];
+    struct stat sb;
+    FILE *f;
+    size_t got;
+    *exists = 0;
+    if (stat(path, &sb) != 0)
+        return errno == ENOENT ? RELIEF_OK
+                               : relief_fail_errno(err, errno, path, "cannot inspect");
+    if (!S_ISREG(sb.st_mode))
+        return relief_fail_reason(err, RELIEF_E_IO, RELIEF_REASON_NOT_RELIEFS, "%s: is there "
+                                  "and is not a file; a checkpoint names a file", path);
+    if (!(f = fopen(path, "rb")))
+        return relief_fail_errno(err, errno, path, "cannot read");
+    got = fread(head, 1, sizeof head, f);
+    fclose(f);
+    if (got != sizeof head || memcmp(head, MAGIC, sizeof head) != 0)
+        return relief_fail_reason(err, RELIEF_E_IO, RELIEF_REASON_NOT_RELIEFS, "%s: is there "
+                                  "and is no relief checkpoint (no '%s' magic): relief "
+                                  "replaces only a checkpoint it wrote; name another file",
+                                  path, MAGIC);
+    *exists = 1;
+    return RELIEF_OK;
 }
 
 relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_key *key,

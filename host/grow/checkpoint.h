@@ -44,8 +44,15 @@ void relief_checkpoint_key_make(const relief_mesh *input, const relief_params *p
                                 const relief_smooth_options *sopts,
                                 const relief_grow_options *gopts, relief_checkpoint_key *key);
 
-/* Write `state` with its fingerprint to `path`, atomically. RELIEF_E_IO
- * naming the file when it cannot be written. */
+/* May `path` be a checkpoint's file: absent (*exists 0), or a relief
+ * checkpoint (it starts with the magic; *exists 1)? Anything else is
+ * refused (RELIEF_E_IO, reason RELIEF_REASON_NOT_RELIEFS): relief replaces
+ * only a checkpoint it wrote. */
+relief_status relief_checkpoint_check_path(const char *path, int *exists, relief_error *err);
+
+/* Write `state` with its fingerprint to `path`, whole or not at all.
+ * RELIEF_E_IO or RELIEF_E_SYSTEM naming the file and the system's reason
+ * when it cannot be written. */
 relief_status relief_checkpoint_write(const char *path, const relief_checkpoint_key *key,
                                       const relief_grow_state *state, relief_error *err);
 

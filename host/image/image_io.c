@@ -13,7 +13,7 @@
 #include <jpeglib.h> /* after stdio.h, which it needs and does not include */
 #include <png.h>
 
-#include "base/atomic.h"
+#include "base/output.h"
 #include "base/error.h"
 #include "base/file.h"
 #include "base/memlimit.h"
@@ -478,7 +478,7 @@ static relief_status write_png(FILE *f, const relief_image *img, const char *pat
     if (st != RELIEF_OK)
         return relief_fail_prefix(err, "%s", path);
     if (fwrite(png, 1, n, f) != n)
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the PNG", path);
+        st = relief_fail_errno(err, errno ? errno : EIO, path, "cannot write");
     free(png);
     return st;
 }
@@ -497,10 +497,15 @@ static relief_status write_jpeg(FILE *f, const relief_image *img, const char *pa
         return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate a row", path);
     cinfo.err = jpeg_std_error(&job.pub);
     job.pub.error_exit = jpeg_on_error;
+    errno = 0;
     if (setjmp(job.jump)) {
+        int e = errno;
         jpeg_destroy_compress(&cinfo);
         free(job.row);
-        return relief_fail(err, RELIEF_E_IO, "%s: cannot write the JPEG: %s", path, job.msg);
+        if (e) /* the file's write failed (libjpeg: "Output file write error") */
+            return relief_fail_errno(err, e, path, "cannot write");
+        return relief_fail(err, RELIEF_E_INTERNAL, "%s: cannot encode the JPEG: %s", path,
+                           job.msg);
     }
     jpeg_create_compress(&cinfo);
     jpeg_stdio_dest(&cinfo, f);
@@ -526,64 +531,89 @@ static relief_status write_jpeg(FILE *f, const relief_image *img, const char *pa
     return RELIEF_OK;
 }
 
-relief_status relief_image_file_write(const char *path, const relief_image *img,
-                                      relief_error *err)
+/* Can `img` go to `path`'s format? */
+static relief_status check_format(const char *path, const relief_image *img,
+                                  relief_image_format *fmt, relief_error *err)
 {
-    relief_image_format fmt = relief_image_format_of_name(path);
-    relief_status st;
-    char *tmp = NULL;
-    FILE *f;
-
-    if (fmt == RELIEF_IMAGE_UNKNOWN)
+    *fmt = relief_image_format_of_name(path);
+    if (*fmt == RELIEF_IMAGE_UNKNOWN)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: unknown image extension; relief writes "
                            ".png, .jpg and .jpeg", path);
     if (img->bit_depth != 8 && img->bit_depth != 16)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: an image of %d bits cannot be written; "
                            "expected 8 or 16", path, img->bit_depth);
-    if (fmt == RELIEF_IMAGE_JPEG && img->bit_depth != 8)
+    if (*fmt == RELIEF_IMAGE_JPEG && img->bit_depth != 8)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: JPEG holds 8 bits per channel, the image "
                            "has 16; write it as .png", path);
-    st = relief_atomic_create(path, &tmp, err);
+    return RELIEF_OK;
+}
+
+relief_status relief_image_write_to(relief_sink *s, const relief_image *img, relief_error *err)
+{
+    relief_image_format fmt;
+    relief_status st = check_format(s->path, img, &fmt, err);
     if (st != RELIEF_OK)
         return st;
-    f = fopen(tmp, "wb");
-    if (!f) {
-        relief_atomic_abort(tmp);
-        return relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
-    }
-    st = fmt == RELIEF_IMAGE_PNG ? write_png(f, img, path, err) : write_jpeg(f, img, path, err);
-    if (fclose(f) != 0 && st == RELIEF_OK)
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
-    if (st != RELIEF_OK) {
-        relief_atomic_abort(tmp);
+    return fmt == RELIEF_IMAGE_PNG ? write_png(s->f, img, s->path, err)
+                                   : write_jpeg(s->f, img, s->path, err);
+}
+
+static relief_status image_sink(relief_sink *s, void *ctx, relief_error *err)
+{
+    return relief_image_write_to(s, ctx, err);
+}
+
+relief_status relief_image_file_write(const char *path, const relief_image *img,
+                                      relief_error *err)
+{
+    relief_image_format fmt;
+    relief_status st = check_format(path, img, &fmt, err);
+    if (st != RELIEF_OK)
         return st;
+    return relief_output_file(path, image_sink, (void *)img, err);
+}
+
+/* r's samples as an 8- or 16-bit image (img->data malloc'ed). */
+static relief_status raster_image(const relief_raster *r, relief_image *img, const char *path,
+                                  relief_error *err)
+{
+    size_t vals = (size_t)r->width * r->height * r->channels;
+    float max = relief_raster_max_value(r);
+    *img = (relief_image){r->width, r->height, r->channels, r->bit_depth, 0, NULL};
+    if (r->bit_depth != 8 && r->bit_depth != 16)
+        return relief_fail(err, RELIEF_E_FORMAT, "%s: an image of %d bits cannot be written; "
+                           "expected 8 or 16", path, r->bit_depth);
+    img->data = malloc(vals * (r->bit_depth / 8));
+    if (!img->data)
+        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
+    if (r->bit_depth == 8) {
+        uint8_t *o = img->data;
+        for (size_t i = 0; i < vals; ++i)
+            o[i] = (uint8_t)relief_raster_quantise(r->v[i], max);
+    } else {
+        uint16_t *o = img->data;
+        for (size_t i = 0; i < vals; ++i)
+            o[i] = (uint16_t)relief_raster_quantise(r->v[i], max);
     }
-    return relief_atomic_commit(tmp, path, err);
+    return RELIEF_OK;
+}
+
+relief_status relief_raster_write_to(relief_sink *s, const relief_raster *r, relief_error *err)
+{
+    relief_image img;
+    relief_status st = raster_image(r, &img, s->path, err);
+    if (st == RELIEF_OK)
+        st = relief_image_write_to(s, &img, err);
+    free(img.data);
+    return st;
 }
 
 relief_status relief_raster_write(const char *path, const relief_raster *r, relief_error *err)
 {
-    relief_image img = {r->width, r->height, r->channels, r->bit_depth, 0, NULL};
-    size_t vals = (size_t)r->width * r->height * r->channels;
-    float max = relief_raster_max_value(r);
-    relief_status st;
-
-    if (r->bit_depth != 8 && r->bit_depth != 16)
-        return relief_fail(err, RELIEF_E_FORMAT, "%s: an image of %d bits cannot be written; "
-                           "expected 8 or 16", path, r->bit_depth);
-    img.data = malloc(vals * (r->bit_depth / 8));
-    if (!img.data)
-        return relief_fail(err, RELIEF_E_NOMEM, "%s: cannot allocate the image's bytes", path);
-    if (r->bit_depth == 8) {
-        uint8_t *o = img.data;
-        for (size_t i = 0; i < vals; ++i)
-            o[i] = (uint8_t)relief_raster_quantise(r->v[i], max);
-    } else {
-        uint16_t *o = img.data;
-        for (size_t i = 0; i < vals; ++i)
-            o[i] = (uint16_t)relief_raster_quantise(r->v[i], max);
-    }
-    st = relief_image_file_write(path, &img, err);
+    relief_image img;
+    relief_status st = raster_image(r, &img, path, err);
+    if (st == RELIEF_OK)
+        st = relief_image_file_write(path, &img, err);
     free(img.data);
     return st;
 }

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 #include "image/raster.h"
 
 typedef enum relief_image_format {
@@ -67,5 +68,10 @@ relief_status relief_raster_write(const char *path, const relief_raster *r, reli
  * writer of relief_image_write. */
 relief_status relief_image_file_write(const char *path, const relief_image *img,
                                       relief_error *err);
+
+/* The two above into a sink (base/output.h), the format by s->path's
+ * extension, for a caller that stages the file itself. */
+relief_status relief_raster_write_to(relief_sink *s, const relief_raster *r, relief_error *err);
+relief_status relief_image_write_to(relief_sink *s, const relief_image *img, relief_error *err);
 
 #endif

@@ -1,10 +1,10 @@
-/* Mesh I/O: structural check, OpenMesh read, validation; atomic writes. */
+/* Mesh I/O: structural check, OpenMesh read, validation; whole writes. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "base/atomic.h"
+#include "base/output.h"
 #include "base/error.h"
 #include "mesh/io_check.h"
 #include "mesh/io_openmesh.h"
@@ -23,6 +23,7 @@ static relief_status name_file(relief_status st, const char *path, relief_error 
 relief_status relief_mesh_read(const char *path, relief_mesh **out,
                                relief_read_info *info, relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     return relief_mesh_read_with(path, NULL, out, info, err);
 }
 
@@ -30,6 +31,7 @@ relief_status relief_mesh_read_with(const char *path, const relief_read_options 
                                     relief_mesh **out, relief_read_info *info,
                                     relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_file_check chk;
     relief_om_read_result res;
     relief_mesh *m = NULL;
@@ -95,35 +97,49 @@ relief_status relief_mesh_read_with(const char *path, const relief_read_options 
     return RELIEF_OK;
 }
 
-relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
-                                const relief_write_options *opts,
-                                relief_error *err)
+/* What mesh_sink writes. */
+typedef struct mesh_job {
+    const relief_mesh *mesh;
+    const relief_write_options *opts;
+} mesh_job;
+
+relief_status relief_mesh_write_to(const relief_mesh *mesh, relief_sink *s,
+                                   const relief_write_options *opts, relief_error *err)
 {
     static const char *const exts[] = {".ply", ".obj", ".off", ".stl"};
-    relief_file_format fmt;
-    char *tmp = NULL;
+    relief_file_format fmt = relief_file_format_of(s->path);
     relief_status st;
-
-    if (!mesh || !path)
-        return relief_fail(err, RELIEF_E_USAGE, "relief_mesh_write: NULL argument");
-    fmt = relief_file_format_of(path);
     if (fmt == RELIEF_FILE_UNKNOWN)
         return relief_fail(err, RELIEF_E_FORMAT,
                            "%s: unknown output format; expected a name ending in .ply, "
                            ".obj, .off or .stl",
-                           path);
-    st = relief_mesh_validate(mesh, err);
-    if (st != RELIEF_OK)
+                           s->path);
+    if ((st = relief_mesh_validate(mesh, err)) != RELIEF_OK)
         return st;
+    return relief_om_write(mesh, s->f, s->path, exts[fmt], opts ? opts->ascii : 0, err);
+}
 
-    st = relief_atomic_create(path, &tmp, err);
-    if (st != RELIEF_OK)
-        return st;
-    /* OpenMesh picks its writer by the temporary name's extension. */
-    st = relief_om_write(mesh, tmp, exts[fmt], opts ? opts->ascii : 0, err);
-    if (st != RELIEF_OK) {
-        relief_atomic_abort(tmp);
-        return st;
-    }
-    return relief_atomic_commit(tmp, path, err);
+static relief_status mesh_sink(relief_sink *s, void *ctx, relief_error *err)
+{
+    const mesh_job *job = ctx;
+    return relief_mesh_write_to(job->mesh, s, job->opts, err);
+}
+
+relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
+                                const relief_write_options *opts,
+                                relief_error *err)
+{
+    mesh_job job = {mesh, opts};
+    RELIEF_ENTRY_ERR(err);
+    if (!mesh || !path)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_mesh_write: NULL argument");
+    /* Refused before any file is made: an unknown extension, a bad mesh. */
+    if (relief_file_format_of(path) == RELIEF_FILE_UNKNOWN)
+        return relief_fail(err, RELIEF_E_FORMAT,
+                           "%s: unknown output format; expected a name ending in .ply, "
+                           ".obj, .off or .stl",
+                           path);
+    if (relief_mesh_validate(mesh, err) != RELIEF_OK)
+        return err->status;
+    return relief_output_file(path, mesh_sink, &job, err);
 }

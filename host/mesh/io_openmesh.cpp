@@ -15,7 +15,11 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <cstdio>
+#include <locale>
+#include <ostream>
 #include <sstream>
+#include <streambuf>
 #include <string>
 #include <vector>
 
@@ -314,7 +318,29 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
     return RELIEF_OK;
 }
 
-relief_status write_impl(const relief_mesh *m, const char *path, const char *ext,
+/* A std::ostream's bytes into a C stream, whose errors the caller checks
+ * (OpenMesh's own file writer does not see a failed flush or close). */
+class FileBuf : public std::streambuf {
+  public:
+    explicit FileBuf(FILE *f) : f_(f) {}
+
+  protected:
+    int_type overflow(int_type c) override
+    {
+        if (traits_type::eq_int_type(c, traits_type::eof()))
+            return traits_type::not_eof(c);
+        return std::fputc(c, f_) == EOF ? traits_type::eof() : c;
+    }
+    std::streamsize xsputn(const char *s, std::streamsize n) override
+    {
+        return (std::streamsize)std::fwrite(s, 1, (size_t)n, f_);
+    }
+
+  private:
+    FILE *f_;
+};
+
+relief_status write_impl(const relief_mesh *m, FILE *f, const char *path, const char *ext,
                          int ascii, relief_error *err)
 {
     Mesh mesh;
@@ -371,7 +397,10 @@ relief_status write_impl(const relief_mesh *m, const char *path, const char *ext
             opt += OpenMesh::IO::Options::Custom;
         if (!ascii && (std::strcmp(ext, ".ply") == 0 || std::strcmp(ext, ".stl") == 0))
             opt += OpenMesh::IO::Options::Binary;
-        if (!OpenMesh::IO::write_mesh(mesh, path, opt, 9)) {
+        FileBuf buf(f);
+        std::ostream out(&buf);
+        out.imbue(std::locale::classic());
+        if (!OpenMesh::IO::write_mesh(mesh, out, ext, opt, 9) || !out) {
             said = capture.str();
             return relief_fail(err, RELIEF_E_IO, "%s: OpenMesh could not write it%s%s",
                                path, said.empty() ? "" : ": ", said.c_str());
@@ -663,12 +692,12 @@ extern "C" relief_status relief_om_read(const char *path, const char *ext,
     }
 }
 
-extern "C" relief_status relief_om_write(const relief_mesh *m, const char *path,
+extern "C" relief_status relief_om_write(const relief_mesh *m, FILE *f, const char *path,
                                          const char *ext, int ascii,
                                          relief_error *err)
 {
     try {
-        return write_impl(m, path, ext, ascii, err);
+        return write_impl(m, f, path, ext, ascii, err);
     } catch (const std::bad_alloc &) {
         return relief_fail(err, RELIEF_E_NOMEM, "%s: out of memory while writing",
                            path);

@@ -7,6 +7,8 @@
 #ifndef RELIEF_HOST_IO_OPENMESH_H
 #define RELIEF_HOST_IO_OPENMESH_H
 
+#include <stdio.h>
+
 #include "relief/relief.h"
 
 #ifdef __cplusplus
@@ -31,10 +33,11 @@ relief_status relief_om_read(const char *path, const char *ext,
                              int ascii_char_label, relief_mesh **out,
                              relief_om_read_result *res, relief_error *err);
 
-/* Write `m` to `path` through OpenMesh in the format of `ext`. `ascii`
- * applies to PLY. Colours go to PLY and OFF, labels to PLY as
- * `property int label`. Writes `path` directly: callers handle atomicity. */
-relief_status relief_om_write(const relief_mesh *m, const char *path,
+/* Write `m` to the stream `f` through OpenMesh in the format of `ext`.
+ * `ascii` applies to PLY. Colours go to PLY and OFF, labels to PLY as
+ * `property int label`. Messages name `shown`. Writes to f only: the
+ * caller checks, syncs and closes it (base/output.h). */
+relief_status relief_om_write(const relief_mesh *m, FILE *f, const char *shown,
                               const char *ext, int ascii, relief_error *err);
 
 /* Which of n_extra triangles (n_extra x 3 indices into m's vertices) can

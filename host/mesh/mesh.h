@@ -4,6 +4,7 @@
 #define RELIEF_HOST_MESH_H
 
 #include "relief/relief.h"
+#include "base/output.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -65,5 +66,11 @@ relief_status relief_mesh_copy(const relief_mesh *m, relief_mesh **out, relief_e
 #ifdef __cplusplus
 }
 #endif
+
+/* Write `mesh` into the sink in the format of s->path's extension (PLY,
+ * OBJ, OFF or STL, as relief_mesh_write), for a caller that stages the
+ * file itself (several outputs committed together). */
+relief_status relief_mesh_write_to(const relief_mesh *mesh, relief_sink *s,
+                                   const relief_write_options *opts, relief_error *err);
 
 #endif

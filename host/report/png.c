@@ -1,11 +1,12 @@
 #include "report/png.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
 
-#include "base/atomic.h"
+#include "base/output.h"
 #include "base/error.h"
 #include "base/parallel.h"
 #include "base/pool.h"
@@ -320,35 +321,53 @@ relief_status relief_png_encode(const uint8_t *rgb, int width, int height, uint8
     return relief_png_encode_pixels(rgb, width, height, 3, 8, out, n, err);
 }
 
+/* What png_sink writes: encoded bytes. */
+typedef struct png_bytes {
+    const uint8_t *data;
+    size_t n;
+} png_bytes;
+
+static relief_status png_sink(relief_sink *s, void *ctx, relief_error *err)
+{
+    const png_bytes *b = ctx;
+    if (fwrite(b->data, 1, b->n, s->f) != b->n)
+        return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write");
+    return RELIEF_OK;
+}
+
+/* Encode, then write into a sink (to), a file inside a staged folder
+ * (plain: shown names it) or a file on its own. */
+static relief_status png_out(const char *path, relief_sink *to, const char *shown,
+                             const uint8_t *rgb, int width, int height, relief_error *err)
+{
+    png_bytes b = {NULL, 0};
+    uint8_t *png = NULL;
+    relief_status st = relief_png_encode(rgb, width, height, &png, &b.n, err);
+    b.data = png;
+    if (st == RELIEF_OK)
+        st = to ? png_sink(to, &b, err)
+             : shown ? relief_output_plain(path, shown, png_sink, &b, err)
+                     : relief_output_file(path, png_sink, &b, err);
+    free(png);
+    return st;
+}
+
 relief_status relief_png_write(const char *path, const uint8_t *rgb, int width, int height,
                                relief_error *err)
 {
-    uint8_t *png = NULL;
-    size_t n = 0;
-    char *tmp = NULL;
-    FILE *f;
-    relief_status st;
-
     if (!path)
         return relief_fail(err, RELIEF_E_USAGE, "relief_png_write: NULL path");
-    st = relief_png_encode(rgb, width, height, &png, &n, err);
-    if (st == RELIEF_OK)
-        st = relief_atomic_create(path, &tmp, err);
-    if (st == RELIEF_OK) {
-        int ok;
-        f = fopen(tmp, "wb");
-        ok = f != NULL;
-        if (f) {
-            ok = fwrite(png, 1, n, f) == n;
-            ok = fclose(f) == 0 && ok;
-        }
-        if (!ok) {
-            st = relief_fail(err, RELIEF_E_IO, "%s: cannot write the image", path);
-            relief_atomic_abort(tmp);
-        } else {
-            st = relief_atomic_commit(tmp, path, err);
-        }
-    }
-    free(png);
-    return st;
+    return png_out(path, NULL, NULL, rgb, width, height, err);
+}
+
+relief_status relief_png_write_to(relief_sink *s, const uint8_t *rgb, int width, int height,
+                                  relief_error *err)
+{
+    return png_out(NULL, s, NULL, rgb, width, height, err);
+}
+
+relief_status relief_png_write_plain(const char *path, const char *shown, const uint8_t *rgb,
+                                     int width, int height, relief_error *err)
+{
+    return png_out(path, NULL, shown, rgb, width, height, err);
 }

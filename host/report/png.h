@@ -10,16 +10,26 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 
 /* Largest width or height accepted (pixels). */
 #define RELIEF_PNG_MAX_SIDE 16384
 
 /* Write `rgb` (height rows of width x 3 bytes, top row first) to `path`.
  * Errors: RELIEF_E_USAGE for a NULL argument or a side outside
- * 1..RELIEF_PNG_MAX_SIDE; RELIEF_E_IO naming the path; RELIEF_E_NOMEM;
+ * 1..RELIEF_PNG_MAX_SIDE; RELIEF_E_IO or RELIEF_E_SYSTEM naming the path
+ * and the system's reason; RELIEF_E_NOMEM;
  * RELIEF_E_INTERNAL when zlib fails. */
 relief_status relief_png_write(const char *path, const uint8_t *rgb, int width, int height,
                                relief_error *err);
+
+/* The same into a sink (base/output.h), for a caller that stages the file
+ * itself, or as a new file `path` inside a folder being staged, its
+ * messages naming `shown`. */
+relief_status relief_png_write_to(relief_sink *s, const uint8_t *rgb, int width, int height,
+                                  relief_error *err);
+relief_status relief_png_write_plain(const char *path, const char *shown, const uint8_t *rgb,
+                                     int width, int height, relief_error *err);
 
 /* The PNG bytes of `pixels`: height rows of width x channels samples
  * (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), of 8 bits, or of 16 bits big

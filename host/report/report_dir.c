@@ -2,6 +2,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -11,15 +12,18 @@
 
 #include "base/compare.h"
 #include "base/error.h"
+#include "base/output.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "report/png.h"
 #include "report/render.h"
 
 struct relief_report_dir {
-    char *dir; /* where the report goes, without trailing slashes */
-    char *tmp; /* the staged folder beside it */
+    relief_staged_folder *staged; /* beside where the report goes */
 };
+
+/* What the marker file starts with (then the version and a newline). */
+#define MARKER_TEXT "relief report folder; relief may replace it as a whole\nversion "
 
 #define N_VIEWS 3
 #define N_STAGES 5
@@ -39,109 +43,107 @@ static const struct {
 static int is_report_file(const char *name)
 {
     size_t n = strlen(name);
-    return strcmp(name, "index.html") == 0 || strcmp(name, "report.json") == 0 ||
+    return strcmp(name, RELIEF_REPORT_DIR_MARKER) == 0 || strcmp(name, "index.html") == 0 ||
+           strcmp(name, "report.json") == 0 ||
            (n > 4 && (strcmp(name + n - 4, ".png") == 0 || strcmp(name + n - 4, ".svg") == 0));
 }
 
-/* Is `path` absent (1), an empty folder or a previous report (2)? 0 with
- * err set otherwise. */
-static int replaceable(const char *path, relief_error *err)
+/* Does the folder `path` carry relief's marker? */
+static int has_marker(const char *path)
 {
-    struct stat sb;
-    DIR *d;
-    struct dirent *e;
-    int ok = 2;
-    if (lstat(path, &sb) != 0) {
-        if (errno == ENOENT)
-            return 1;
-        relief_fail(err, RELIEF_E_IO, "%s: cannot inspect: %s", path, strerror(errno));
+    char full[PATH_MAX], head[sizeof MARKER_TEXT - 1];
+    FILE *f;
+    size_t got = 0;
+    if ((size_t)snprintf(full, sizeof full, "%s/%s", path, RELIEF_REPORT_DIR_MARKER) >=
+            sizeof full ||
+        !(f = fopen(full, "rb")))
         return 0;
-    }
-    if (!S_ISDIR(sb.st_mode)) {
-        relief_fail(err, RELIEF_E_IO, "%s: exists and is not a folder; a report folder needs a "
-                    "folder name", path);
-        return 0;
-    }
-    if (!(d = opendir(path))) {
-        relief_fail(err, RELIEF_E_IO, "%s: cannot read the folder: %s", path, strerror(errno));
-        return 0;
-    }
-    while ((e = readdir(d)) != NULL) {
-        char full[4096];
-        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
-            continue;
-        snprintf(full, sizeof full, "%s/%s", path, e->d_name);
-        if (!is_report_file(e->d_name) || lstat(full, &sb) != 0 || !S_ISREG(sb.st_mode)) {
-            relief_fail(err, RELIEF_E_IO, "%s: holds '%s', which a relief report does not "
-                        "write; refusing to replace the folder", path, e->d_name);
-            ok = 0;
-            break;
-        }
-    }
-    closedir(d);
-    return ok;
+    got = fread(head, 1, sizeof head, f);
+    fclose(f);
+    return got == sizeof head && memcmp(head, MARKER_TEXT, sizeof head) == 0;
 }
 
-/* Remove a folder holding only plain files (the staged or the old report). */
-static void remove_flat_folder(const char *path)
+/* The first entry of the folder `path` that a report does not write, or
+ * that is no plain file, into `name` (size bytes); 0 when there is none,
+ * -1 when the folder cannot be read (errno). *empty: it has no entry. */
+static int foreign_entry(const char *path, char *name, size_t size, int *empty)
 {
     DIR *d = opendir(path);
     struct dirent *e;
+    int found = 0;
+    *empty = 1;
     if (!d)
-        return;
-    while ((e = readdir(d)) != NULL) {
-        char full[4096];
+        return -1;
+    while (!found && (e = readdir(d)) != NULL) {
+        char full[PATH_MAX];
+        struct stat sb;
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
             continue;
+        *empty = 0;
         snprintf(full, sizeof full, "%s/%s", path, e->d_name);
-        unlink(full);
+        if (!is_report_file(e->d_name) || lstat(full, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+            snprintf(name, size, "%s", e->d_name);
+            found = 1;
+        }
     }
     closedir(d);
-    rmdir(path);
+    return found;
 }
 
-/* `dir` without trailing slashes (malloc'ed), or NULL. */
-static char *normalised(const char *dir)
+/* May the report folder at `path`, which is there, be replaced: an empty
+ * folder, or a report relief wrote (its marker) holding nothing else? 1,
+ * or 0 with err saying why not. */
+static int replaceable(const char *path, relief_error *err)
 {
-    size_t n = strlen(dir);
-    char *s;
-    while (n > 1 && dir[n - 1] == '/')
-        --n;
-    if (!(s = malloc(n + 1)))
-        return NULL;
-    memcpy(s, dir, n);
-    s[n] = '\0';
-    return s;
+    struct stat sb;
+    char name[256];
+    int empty, foreign;
+    if (lstat(path, &sb) != 0) {
+        relief_fail_errno(err, errno, path, "cannot inspect");
+        return 0;
+    }
+    if (!S_ISDIR(sb.st_mode)) {
+        relief_fail_reason(err, RELIEF_E_IO, RELIEF_REASON_NOT_RELIEFS, "%s: exists and is not "
+                           "a folder; a report folder needs a folder name", path);
+        return 0;
+    }
+    if ((foreign = foreign_entry(path, name, sizeof name, &empty)) < 0) {
+        relief_fail_errno(err, errno, path, "cannot read the folder");
+        return 0;
+    }
+    if (!empty && !has_marker(path)) {
+        relief_fail_reason(err, RELIEF_E_IO, RELIEF_REASON_NOT_RELIEFS, "%s: is a folder relief "
+                           "did not write (no %s marker); refusing to replace it: name a new "
+                           "or empty folder", path, RELIEF_REPORT_DIR_MARKER);
+        return 0;
+    }
+    if (foreign) {
+        relief_fail_reason(err, RELIEF_E_IO, RELIEF_REASON_NOT_RELIEFS, "%s: holds '%s', which "
+                           "a relief report does not write; refusing to replace the folder",
+                           path, name);
+        return 0;
+    }
+    return 1;
 }
 
-relief_status relief_report_dir_check(const char *dir_in, relief_error *err)
+relief_status relief_report_dir_check(const char *dir, relief_error *err)
 {
-    char *dir, *parent, *slash;
+    const char *name;
+    char *parent;
     struct stat sb;
     relief_status st = RELIEF_OK;
-    if (!dir_in || !dir_in[0])
+    if (!dir || !dir[0])
         return relief_fail(err, RELIEF_E_USAGE, "report folder: empty name");
-    if (!(dir = normalised(dir_in)) || !(parent = strdup(dir))) {
-        free(dir);
+    if (!(parent = relief_output_split(dir, &name)))
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
-    }
-    slash = strrchr(parent, '/');
-    if (!slash)
-        strcpy(parent, ".");
-    else if (slash == parent)
-        parent[1] = '\0';
-    else
-        *slash = '\0';
     if (stat(parent, &sb) != 0 || !S_ISDIR(sb.st_mode))
         st = relief_fail(err, RELIEF_E_IO, "%s: the folder it goes in, '%s', does not exist",
                          dir, parent);
     else if (access(parent, W_OK | X_OK) != 0)
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot write in '%s': %s", dir, parent,
-                         strerror(errno));
-    else if (!replaceable(dir, err))
-        st = err ? err->status : RELIEF_E_IO;
+        st = relief_fail_errno(err, errno, dir, "cannot write in the folder it goes in");
+    else if (lstat(dir, &sb) == 0 && !replaceable(dir, err))
+        st = err->status;
     free(parent);
-    free(dir);
     return st;
 }
 
@@ -149,78 +151,64 @@ void relief_report_dir_abort(relief_report_dir *r)
 {
     if (!r)
         return;
-    if (r->tmp)
-        remove_flat_folder(r->tmp);
-    free(r->tmp);
-    free(r->dir);
+    relief_staged_folder_abort(r->staged);
     free(r);
 }
 
 relief_status relief_report_dir_commit(relief_report_dir *r, relief_error *err)
 {
-    relief_status st = RELIEF_OK;
-    char *old = NULL;
-    int kind;
+    relief_staged_folder *s;
     if (!r)
         return relief_fail(err, RELIEF_E_USAGE, "relief_report_dir_commit: NULL report");
-    kind = replaceable(r->dir, err);
-    if (kind == 0) {
-        relief_report_dir_abort(r);
-        return err ? err->status : RELIEF_E_IO;
-    }
-    if (kind == 2) {
-        /* Move the old report aside first so that a failure can put it back. */
-        size_t n = strlen(r->tmp) + 8;
-        if (!(old = malloc(n))) {
-            relief_report_dir_abort(r);
-            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
-        }
-        snprintf(old, n, "%s.old", r->tmp);
-        if (rename(r->dir, old) != 0) {
-            st = relief_fail(err, RELIEF_E_IO, "%s: cannot move the previous report aside: %s",
-                             r->dir, strerror(errno));
-            free(old);
-            relief_report_dir_abort(r);
-            return st;
-        }
-    }
-    if (rename(r->tmp, r->dir) != 0) {
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot move the finished report into place: "
-                         "%s", r->dir, strerror(errno));
-        if (old)
-            rename(old, r->dir);
-        relief_report_dir_abort(r);
-    } else {
-        free(r->tmp);
-        r->tmp = NULL;
-        relief_report_dir_abort(r);
-        if (old)
-            remove_flat_folder(old);
-    }
-    free(old);
-    return st;
+    s = relief_report_dir_release(r);
+    return relief_staged_folder_commit(s, replaceable, err);
+}
+
+relief_staged_folder *relief_report_dir_release(relief_report_dir *r)
+{
+    relief_staged_folder *s = r->staged;
+    free(r);
+    return s;
+}
+
+int relief_report_dir_replaceable(const char *path, relief_error *err)
+{
+    return replaceable(path, err);
 }
 
 /* ------------------------------------------------------------ writers */
 
-static FILE *open_in(const relief_report_dir *r, const char *name, relief_error *err)
+/* What text_sink writes: fn(f, ctx), 0 on success. */
+typedef struct text_job {
+    int (*fn)(FILE *f, void *ctx);
+    void *ctx;
+} text_job;
+
+static relief_status text_sink(relief_sink *s, void *ctx, relief_error *err)
 {
-    char path[4096];
-    FILE *f;
-    snprintf(path, sizeof path, "%s/%s", r->tmp, name);
-    if (!(f = fopen(path, "w")))
-        relief_fail(err, RELIEF_E_IO, "%s: cannot write: %s", path, strerror(errno));
-    return f;
+    const text_job *j = ctx;
+    if (j->fn(s->f, j->ctx) != 0)
+        return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write");
+    return RELIEF_OK;
 }
 
-static relief_status close_in(const relief_report_dir *r, const char *name, FILE *f, int ok,
-                              relief_error *err)
+/* A new file `name` in the staged folder, written by fn(f, ctx); messages
+ * name it where it will stand (DIR/name). */
+static relief_status write_in(const relief_report_dir *r, const char *name,
+                              int (*fn)(FILE *f, void *ctx), void *ctx, relief_error *err)
 {
-    ok = !ferror(f) && ok;
-    ok = fclose(f) == 0 && ok;
-    if (!ok)
-        return relief_fail(err, RELIEF_E_IO, "%s/%s: write failed", r->tmp, name);
-    return RELIEF_OK;
+    char path[PATH_MAX], shown[PATH_MAX];
+    text_job j = {fn, ctx};
+    snprintf(path, sizeof path, "%s/%s", relief_staged_folder_path(r->staged), name);
+    snprintf(shown, sizeof shown, "%s/%s", relief_staged_folder_target(r->staged), name);
+    errno = 0;
+    return relief_output_plain(path, shown, text_sink, &j, err);
+}
+
+static int marker_text(FILE *f, void *ctx)
+{
+    (void)ctx;
+    return fprintf(f, "%s%s\n", MARKER_TEXT, RELIEF_VERSION_STRING) < 0;
 }
 
 /* Text with &, <, > and " escaped. */
@@ -341,14 +329,24 @@ static int svg_histogram(FILE *f, const histogram *h, const char *title, const c
     return 0;
 }
 
+/* What svg_job writes. */
+typedef struct svg_job {
+    const histogram *h;
+    const char *title, *xlabel;
+} svg_job;
+
+static int svg_text(FILE *f, void *ctx)
+{
+    const svg_job *j = ctx;
+    return svg_histogram(f, j->h, j->title, j->xlabel);
+}
+
 static relief_status write_svg(const relief_report_dir *r, const char *name,
                                const histogram *h, const char *title, const char *xlabel,
                                relief_error *err)
 {
-    FILE *f = open_in(r, name, err);
-    if (!f)
-        return err ? err->status : RELIEF_E_IO;
-    return close_in(r, name, f, svg_histogram(f, h, title, xlabel) == 0, err);
+    svg_job j = {h, title, xlabel};
+    return write_in(r, name, svg_text, &j, err);
 }
 
 /* --------------------------------------------------------------- html */
@@ -506,6 +504,20 @@ static int write_html(FILE *f, const relief_report_content *c, const double view
     return 0;
 }
 
+/* What html_text_of writes. */
+typedef struct html_job {
+    const relief_report_content *c;
+    const double (*view)[2];
+    double range;
+    int colour;
+} html_job;
+
+static int html_text_of(FILE *f, void *ctx)
+{
+    const html_job *j = ctx;
+    return write_html(f, j->c, j->view, j->range, j->colour);
+}
+
 /* ------------------------------------------------------------- stage */
 
 static relief_status render_to(const relief_report_dir *r, const relief_mesh *mesh,
@@ -514,10 +526,12 @@ static relief_status render_to(const relief_report_dir *r, const relief_mesh *me
 {
     relief_rgb_image img = {0, 0, NULL};
     char path[4096];
+    char shown[4096];
     relief_status st = relief_render(mesh, o, &img, NULL, err);
     if (st == RELIEF_OK) {
-        snprintf(path, sizeof path, "%s/%s", r->tmp, name);
-        st = relief_png_write(path, img.rgb, img.width, img.height, err);
+        snprintf(path, sizeof path, "%s/%s", relief_staged_folder_path(r->staged), name);
+        snprintf(shown, sizeof shown, "%s/%s", relief_staged_folder_target(r->staged), name);
+        st = relief_png_write_plain(path, shown, img.rgb, img.width, img.height, err);
     }
     relief_rgb_image_free(&img);
     return st;
@@ -553,31 +567,19 @@ static void choose_views(const relief_mesh *capture, const relief_mesh *fin,
 }
 
 /* A new report folder's record for `dir` with its staging folder made
- * beside it (dir.tmp-XXXXXX, the permissions mkdir would give). */
+ * beside it (base/output.h) and relief's marker in it. */
 static relief_status make_staging(const char *dir, relief_report_dir **out, relief_error *err)
 {
-    relief_report_dir *r = NULL;
+    relief_report_dir *r = calloc(1, sizeof *r);
     relief_status st;
-    mode_t mask;
-
-    if (!(r = calloc(1, sizeof *r)) || !(r->dir = normalised(dir)) ||
-        !(r->tmp = malloc(strlen(r->dir) + 16))) {
-        relief_report_dir_abort(r);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a path");
-    }
-    snprintf(r->tmp, strlen(r->dir) + 16, "%s.tmp-XXXXXX", r->dir);
-    if (!mkdtemp(r->tmp)) {
-        st = relief_fail(err, RELIEF_E_IO, "%s: cannot create a folder there: %s", r->tmp,
-                         strerror(errno));
-        free(r->tmp);
-        r->tmp = NULL;
+    if (!r)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a report folder");
+    st = relief_staged_folder_create(dir, &r->staged, err);
+    if (st == RELIEF_OK)
+        st = write_in(r, RELIEF_REPORT_DIR_MARKER, marker_text, NULL, err);
+    if (st != RELIEF_OK) {
         relief_report_dir_abort(r);
         return st;
-    }
-    /* mkdtemp makes the folder 0700; give it what mkdir would. */
-    mask = umask(0);
-    umask(mask);
-    if (chmod(r->tmp, 0777 & ~mask) != 0) { /* not fatal: the folder stays private */
     }
     *out = r;
     return RELIEF_OK;
@@ -672,7 +674,6 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
     relief_report_dir *r = NULL;
     double view[N_VIEWS][2], *h = NULL, range = 1.0, lo = 0.0, hi = 0.0;
     relief_status st;
-    FILE *f;
 
     if (!dir || !c || !out || !c->capture || !c->smooth || !c->surface || !c->params ||
         !c->stats || !c->write_json)
@@ -684,10 +685,7 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
         return st;
     if ((st = make_staging(dir, &r, err)) != RELIEF_OK)
         return st;
-    if (!(f = open_in(r, "report.json", err)))
-        st = err ? err->status : RELIEF_E_IO;
-    else
-        st = close_in(r, "report.json", f, c->write_json(f, c->json_ctx) == 0, err);
+    st = write_in(r, "report.json", c->write_json, c->json_ctx, err);
     if (st == RELIEF_OK)
         st = heights(fin, &c->surface->fit.prim, &h, &lo, &hi, &range, err);
     choose_views(c->capture, fin, view);
@@ -696,12 +694,8 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
     if (st == RELIEF_OK)
         st = write_histograms(r, fin, h, lo, hi, err);
     if (st == RELIEF_OK) {
-        if (!(f = open_in(r, "index.html", err)))
-            st = err ? err->status : RELIEF_E_IO;
-        else
-            st = close_in(r, "index.html", f,
-                          write_html(f, c, (const double(*)[2])view, range, fin->col != NULL) == 0,
-                          err);
+        html_job j = {c, (const double(*)[2])view, range, fin->col != NULL};
+        st = write_in(r, "index.html", html_text_of, &j, err);
     }
     free(h);
     if (st != RELIEF_OK) {

@@ -18,23 +18,30 @@
  *   their total-variation distance (the measures' definition);
  * - report.json, written by the caller's writer.
  *
- * Atomic in spirit, like every relief output: the folder is built as
- * "DIR.tmp-XXXXXX" beside DIR and renamed into place by
- * relief_report_dir_commit, so a failed run leaves no partial report. An
- * existing DIR is replaced only when it is empty or holds nothing but
- * files a report writes (index.html, report.json, *.png, *.svg);
- * otherwise relief refuses, naming the first foreign entry. */
+ * - RELIEF_REPORT_DIR_MARKER, relief's mark that it wrote the folder.
+ *
+ * Whole or not at all, like every relief output (base/output.h): the
+ * folder is built beside DIR and moved into place by
+ * relief_report_dir_commit (or with other outputs), so a failed run leaves
+ * no partial report. An existing DIR is replaced only when it is empty, or
+ * carries the marker and holds nothing but files a report writes
+ * (index.html, report.json, *.png, *.svg): relief replaces only what it
+ * wrote. Otherwise it refuses (RELIEF_REASON_NOT_RELIEFS), naming why. */
 #ifndef RELIEF_HOST_REPORT_DIR_H
 #define RELIEF_HOST_REPORT_DIR_H
 
 #include <stdio.h>
 
 #include "relief/relief.h"
+#include "base/output.h"
 #include "base/params.h"
 #include "grow/grow.h"
 #include "report/measures.h"
 #include "smooth/fit.h"
 #include "smooth/surface.h"
+
+/* The marker file in every report folder relief writes. */
+#define RELIEF_REPORT_DIR_MARKER ".relief-report"
 
 #define RELIEF_REPORT_DIR_WIDTH 640
 #define RELIEF_REPORT_DIR_HEIGHT 480
@@ -74,5 +81,13 @@ relief_status relief_report_dir_commit(relief_report_dir *r, relief_error *err);
 
 /* Remove the staged folder and free `r` (NULL accepted). */
 void relief_report_dir_abort(relief_report_dir *r);
+
+/* The staged folder, for a commit with other outputs (base/output.h);
+ * `r` is freed. */
+relief_staged_folder *relief_report_dir_release(relief_report_dir *r);
+
+/* May the report folder at `path`, which is there, be replaced (above)?
+ * 1, or 0 with err set: the check a commit makes. */
+int relief_report_dir_replaceable(const char *path, relief_error *err);
 
 #endif

@@ -15,7 +15,7 @@
 static relief_mesh *synth(relief_synth_kind kind, uint32_t seed, size_t vertices,
                           relief_mesh **truth)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_synth_params sp = relief_synth_params_default();
     relief_mesh *cap = NULL;
     sp.kind = kind;
@@ -38,7 +38,7 @@ static relief_complete_params quick(void)
 static void test_params(void)
 {
     relief_complete_params d = relief_complete_params_default(), p;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     CHECK(d.window == 3 && d.error == 0.1 && d.levels == 1 && d.prune == 1 && d.seed == 1 &&
               d.base == RELIEF_BASE_AUTO && d.run.device == -1 && d.measure == 1,
           "defaults");
@@ -83,7 +83,7 @@ static void test_params(void)
 static void test_bad_arguments(relief_mesh *cap)
 {
     relief_complete_params p = quick();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *out = NULL, *empty = NULL;
     CHECK_STATUS(relief_complete(NULL, &p, &out, NULL, &err), RELIEF_E_USAGE, err, "capture");
     CHECK_STATUS(relief_complete(cap, NULL, &out, NULL, &err), RELIEF_E_USAGE, err, "params");
@@ -117,7 +117,7 @@ static void test_complete_and_eval(relief_mesh *cap, relief_mesh *truth)
     relief_complete_params p = quick();
     relief_complete_report rep;
     relief_eval_result ev;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *out = NULL, *smooth = NULL;
     p.run.input_name = "capture.ply";
     CHECK_STATUS(relief_complete(cap, &p, &out, &rep, &err), RELIEF_OK, err, NULL);
@@ -155,7 +155,7 @@ static void test_complete_and_eval(relief_mesh *cap, relief_mesh *truth)
 static void test_hole_selection(relief_mesh *cap)
 {
     relief_complete_params p = quick();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *all = NULL, *sel = NULL, *none = NULL;
     CHECK_STATUS(relief_smooth(cap, &p, &all, NULL, &err), RELIEF_OK, err, NULL);
     p.has_hole_ball = 1;
@@ -191,7 +191,7 @@ static void *run_job(void *ctx)
 {
     job *j = ctx;
     relief_complete_params p = quick();
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     j->st = relief_complete(j->cap, &p, &j->out, NULL, &err);
     return NULL;
 }
@@ -245,7 +245,7 @@ static void test_cancel(relief_mesh *cap, const char *dir)
 {
     relief_complete_params p = quick();
     relief_complete_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *out = NULL;
     canceller c = {0.5, 0.0, 0};
     char ck[512];
@@ -261,28 +261,46 @@ static void test_cancel(relief_mesh *cap, const char *dir)
     CHECK(c.calls > 2 && c.last >= 0.5 && c.at == 0.5, "progress: %d calls, last %g",
           c.calls, c.last);
     CHECK(stat(ck, &sb) == 0, "no checkpoint saved on cancel");
-    /* Resumed, it finishes; the checkpoint goes. */
+    /* Resumed, it finishes; the checkpoint, there before this call, stays
+     * (relief never removes a file that was there before the call). */
     p.run.progress = NULL;
     p.resume = ck;
     CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_OK, err, NULL);
     CHECK(out && count_completed(out) > 0, "resumed");
-    CHECK(stat(ck, &sb) != 0, "the checkpoint of a finished run was kept");
+    CHECK(stat(ck, &sb) == 0, "the checkpoint there before the call was removed");
     relief_mesh_destroy(out);
-    /* A checkpoint name this call never wrote to is not its to remove: a
-     * folder (remove() took an empty one) or another run's file. */
+    out = NULL;
+    /* One this call made (saved at every step) goes once the call is done. */
+    unlink(ck);
     p.resume = NULL;
-    CHECK(mkdir(ck, 0700) == 0, "mkdir %s", ck);
+    p.checkpoint_every = 1e-9;
     CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_OK, err, NULL);
-    CHECK(stat(ck, &sb) == 0 && S_ISDIR(sb.st_mode), "a finished run removed a folder");
+    CHECK(stat(ck, &sb) != 0, "the checkpoint this call made was kept");
     relief_mesh_destroy(out);
+    out = NULL;
+    /* A checkpoint name that is not relief's is refused before any work,
+     * and left as it was: a folder, or another program's file. */
+    CHECK(mkdir(ck, 0700) == 0, "mkdir %s", ck);
+    CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_E_IO, err, "not a file");
+    CHECK(err.reason == RELIEF_REASON_NOT_RELIEFS, "reason %s", relief_reason_name(err.reason));
+    CHECK(stat(ck, &sb) == 0 && S_ISDIR(sb.st_mode) && out == NULL, "a folder was touched");
     rmdir(ck);
+    {
+        FILE *f = fopen(ck, "w");
+        CHECK(f && fputs("my notes\n", f) >= 0 && fclose(f) == 0, "write %s", ck);
+    }
+    CHECK_STATUS(relief_complete(cap, &p, &out, NULL, &err), RELIEF_E_IO, err, "no relief "
+                 "checkpoint");
+    CHECK(err.reason == RELIEF_REASON_NOT_RELIEFS && stat(ck, &sb) == 0 && sb.st_size == 9,
+          "another program's file was touched");
+    unlink(ck);
 }
 
 static void test_report_folder(relief_mesh *cap, const char *dir)
 {
     relief_complete_params p = quick();
     relief_complete_report rep;
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *out = NULL;
     char folder[512], index[600];
     struct stat sb;
@@ -301,7 +319,7 @@ static void test_report_folder(relief_mesh *cap, const char *dir)
 static void test_fit_real(const char *data)
 {
     char path[1024];
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     relief_mesh *drill = NULL;
     relief_fit_result fit;
     snprintf(path, sizeof path, "%s/stanford_drill/drill_shaft_vrip.ply", data);

@@ -25,7 +25,7 @@ static uint8_t *pattern(int w, int h, int c, int depth)
 
 static void shape(int w, int h, int c, int depth)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *px = pattern(w, h, c, depth), *png[3] = {NULL, NULL, NULL};
     size_t n[3] = {0, 0, 0};
     png_decoded d;
@@ -60,7 +60,7 @@ done:
 
 static void refused(const uint8_t *px, int w, int h, int c, int depth, const char *what)
 {
-    relief_error err = {RELIEF_OK, ""};
+    relief_error err = {0};
     uint8_t *png = NULL;
     size_t n = 0;
     CHECK(relief_png_encode_pixels(px, w, h, c, depth, &png, &n, &err) == RELIEF_E_USAGE &&

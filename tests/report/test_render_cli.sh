@@ -98,17 +98,27 @@ grep -q 'msi_diff_percent' "$rep/report.json" && grep -q 'MSI difference' "$rep/
 # Again over the previous report: replaced, nothing left beside it.
 expect 0 "" -- "$relief" complete "$tmp/cap.ply" -o "$tmp/done.ply" --report-dir "$rep" --backend scalar --quiet
 [[ -f $rep/index.html ]] && ok || bad "the report was not replaced"
-# A folder holding something else is not replaced, and that fails before the work.
+[[ -f $rep/.relief-report ]] && ok || bad "the report folder carries no marker"
+# A folder relief did not write is not replaced, and that fails before the
+# work: one holding something else, and one of the user's pictures that
+# looks like a report (only *.png and index.html, no marker; issue 60).
 mkdir -p "$tmp/mine" && echo keep > "$tmp/mine/notes.txt"
-expect 1 "holds 'notes.txt'" -- "$relief" complete "$tmp/cap.ply" -o "$tmp/d2.ply" --report-dir "$tmp/mine"
+expect 1 "relief did not write (no .relief-report marker)" -- "$relief" complete "$tmp/cap.ply" -o "$tmp/d2.ply" --report-dir "$tmp/mine"
 [[ -f $tmp/mine/notes.txt && ! -e $tmp/d2.ply ]] && ok || bad "a foreign folder was touched"
+mkdir -p "$tmp/pics" && cp "$rep"/captured-view1.png "$tmp/pics/holiday.png" && echo '<html>' > "$tmp/pics/index.html"
+expect 1 "relief did not write (no .relief-report marker)" -- "$relief" complete "$tmp/cap.ply" -o "$tmp/d2.ply" --report-dir "$tmp/pics"
+[[ -f $tmp/pics/holiday.png && -f $tmp/pics/index.html && ! -e $tmp/d2.ply ]] && ok || bad "a folder of pictures was touched"
+# A report of relief's to which the user added a file of their own.
+cp -r "$rep" "$tmp/mine2" && echo keep > "$tmp/mine2/notes.txt"
+expect 1 "holds 'notes.txt'" -- "$relief" complete "$tmp/cap.ply" -o "$tmp/d2.ply" --report-dir "$tmp/mine2"
+[[ -f $tmp/mine2/notes.txt && ! -e $tmp/d2.ply ]] && ok || bad "a report with the user's notes was touched"
 expect 1 "does not exist" -- "$relief" complete "$tmp/cap.ply" -o "$tmp/d2.ply" --report-dir "$tmp/no/such"
 # A failure after the report is staged (the mesh cannot be moved into
 # place: the test hook) leaves no report.
-expect 1 "step 2 failed" -- env RELIEF_TEST_OUTPUT_FAIL=2 "$relief" complete "$tmp/cap.ply" -o "$tmp/d.ply" --report-dir "$tmp/rep2" --backend scalar --quiet
+expect 2 "step 2 (journal) failed" -- env RELIEF_TEST_OUTPUT_FAIL=2 "$relief" complete "$tmp/cap.ply" -o "$tmp/d.ply" --report-dir "$tmp/rep2" --backend scalar --quiet
 [[ ! -e $tmp/d.ply ]] && ok || bad "a mesh was left after a failed run"
 [[ ! -e $tmp/rep2 ]] && ok || bad "a report folder was left after a failed run"
-leftovers=$(find "$tmp" -name '*.tmp-*' | wc -l)
+leftovers=$(find "$tmp" -name '.relief-*' ! -name .relief-report | wc -l)
 [[ $leftovers -eq 0 ]] && ok || bad "$leftovers temporary files or folders left"
 
 echo "$pass passed, $fail failed"
