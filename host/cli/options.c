@@ -1,7 +1,6 @@
 /* Shared option parsing, progress and output guards of the commands
  * (options.h). */
 #include "cli/options.h"
-#include "cli/batch.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -62,14 +61,8 @@ int cli_common_option(cli_common *cm, int c, const char *arg)
 int cli_one_input(cli_common *cm, int argc, char **argv, const char *what,
                   const char **in)
 {
-    const size_t n_out = cm->out ? strlen(cm->out) : 0;
     if (optind >= argc) {
         cli_usage_error(cm->cmd, "missing %s", what);
-        return 0;
-    }
-    if (cm->batch.run && (argc - optind > 1 || (n_out && cm->out[n_out - 1] == '/'))) {
-        cm->batch.rc = cli_batch_run(cm, argc, argv);
-        cm->batch.done = 1;
         return 0;
     }
     if (argc - optind > 1) {

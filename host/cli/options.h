@@ -34,19 +34,8 @@ enum {
     CLI_LIMIT = 1u << 5       /* --max-seconds S (an engine run with progress) */
 };
 
-/* Was the long option `opt` ("--window") given in argv, as "--window V"
- * or "--window=V"? */
-int cli_given(int argc, char **argv, const char *opt);
-
-/* A command that runs once per input when given several (batch.c): the
- * command itself, the extension its outputs take (NULL: the input's), and
- * what the batch did. */
-typedef struct cli_batch {
-    int (*run)(int argc, char **argv, int parse_only);
-    const char *ext;
-    int parse_only;
-    int done, rc; /* done: cli_one_input ran the batch, whose exit status is rc */
-} cli_batch;
+/* Entries of an engine's table a command can offer. */
+#define CLI_MAX_PARAMS 128
 
 /* What the shared options set. */
 typedef struct cli_common {
@@ -57,7 +46,7 @@ typedef struct cli_common {
     double max_seconds;         /* --max-seconds; 0: no limit */
     int seed_given;             /* 1 when --seed was given: */
     uint32_t seed;
-    cli_batch batch;            /* several inputs (cli_one_input, batch.h) */
+    unsigned char given[CLI_MAX_PARAMS / 8]; /* bit i: the spec's params[i] was given */
 } cli_common;
 
 /* Defaults: nothing given. */
@@ -109,15 +98,18 @@ int cli_parse(const cli_spec *s, cli_common *cm, void *params,
               int (*take)(void *ctx, int id, const char *arg), void *ctx, int argc,
               char **argv);
 
+/* Did the command line give the parameter `name` ("window") of s's
+ * table, in any spelling (--window, --wind=9, --no-NAME)? After cli_parse. */
+int cli_param_given(const cli_common *cm, const cli_spec *s, const char *name);
+
 /* Take shared option `c` (a getopt_long id) with `arg`: 1 taken, 0 not a
  * shared option, -1 a bad value (said on stderr: exit EXIT_USAGE). */
 int cli_common_option(cli_common *cm, int c, const char *arg);
 
 /* "IN -o OUT": the one operand (`what` when missing), and -o when the
  * command writes one. Returns 0 (and says why) when either is missing or
- * there is an operand too many. A command with cm->batch.run set takes
- * several operands (or one with -o ending in '/'): cli_one_input then runs
- * the batch (batch.c), sets cm->batch.done and .rc, and returns 0. */
+ * there is an operand too many. (A command that takes several asks
+ * cli_batch_asked first, batch.h.) */
 int cli_one_input(cli_common *cm, int argc, char **argv, const char *what,
                   const char **in);
 
