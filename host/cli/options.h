@@ -201,13 +201,16 @@ int cli_known_mesh_ext(const char *path);
  * (print), a one-time estimate when the call looks long (estimate: after
  * 10 s or 5 % of the engine's own progress, when more than a minute is left;
  * RELIEF_TEST_ESTIMATE_NOW=1 says it at once), a first SIGINT cancelling
- * the call (a second kills, as usual), and --max-seconds cancelling it
- * when past the limit, or sooner when its estimate is over three times it. The rate is taken
- * from the first report whose fraction moved on (base), so reading and
- * set-up, the engine's own before its first step included (a coherent
- * search's index: 18 s before 3367 targets grew in 1.3 s on frag_115),
- * do not make the first estimate absurd. The test hook RELIEF_TEST_SIGINT_AFTER=N
- * raises SIGINT at the N-th report of progress past 0. */
+ * the call (a second kills, as usual), and --max-seconds cancelling it once
+ * its elapsed time passes the limit, never on an estimate: an estimate over
+ * the limit is one warning line, and the call goes on (issue 60). The rate
+ * is taken from the first report whose fraction moved on (base), so reading
+ * and set-up, the engine's own before its first step included (a coherent
+ * search's index: 18 s before 3367 targets grew in 1.3 s on frag_115), do
+ * not make the first estimate absurd. Test hooks: RELIEF_TEST_SIGINT_AFTER=N
+ * raises SIGINT at the N-th report of progress past 0;
+ * RELIEF_TEST_ESTIMATE_SCALE=F multiplies every estimate of the time left
+ * by F (a run that looks F times slower than it is). */
 typedef struct cli_progress {
     const char *cmd;
     int print, estimate;
@@ -220,6 +223,8 @@ typedef struct cli_progress {
     double mark[2], mark_fraction[2]; /* the recent rate's marks (time_left) */
     double estimate_after, estimate_min, estimate_settle;
     double max_seconds;         /* 0: no limit */
+    double estimate_scale;      /* 1, or RELIEF_TEST_ESTIMATE_SCALE */
+    int limit_warned;           /* the estimate over --max-seconds was said */
     char limit[192];            /* why --max-seconds stopped the call; "" */
     unsigned long sigint_after, seen;
     struct sigaction old;

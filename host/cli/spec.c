@@ -31,8 +31,8 @@ static const struct {
     {CLI_SEED, {"seed", required_argument, 0, OPT_SEED}, "--seed N", "random seed (default 1)"},
     {CLI_QUIET, {"quiet", no_argument, 0, OPT_QUIET}, "--quiet", "no progress or notes on stderr"},
     {CLI_LIMIT, {"max-seconds", required_argument, 0, OPT_MAX_SECONDS}, "--max-seconds S",
-     "stop (exit 1, no output) when the run passes S seconds, or as soon as its "
-     "estimate is over 3 x S (0, the default: no limit)"},
+     "stop (exit 1, no output) once the run has taken more than S seconds, measured; "
+     "an estimate over S is a warning, never a stop (0, the default: no limit)"},
 };
 
 static int skipped(const cli_spec *s, const char *name)
