@@ -19,9 +19,10 @@
 
 /* The matcher for `backend`: scalar, host or OpenCL (on `device`, -1: the
  * first); the host's scoring on `threads` (relief_run_options.threads: 0
- * the default, at most RELIEF_SCORE_POOL_MAX), scalar on one. For auto: OpenCL on `device` when one is named (>= 0), else on the
- * first GPU or accelerator; the host matcher when there is none, or when
- * that device cannot run; which one and why is written to `note` (may be
+ * the default, at most RELIEF_SCORE_POOL_MAX), scalar on one. For auto:
+ * OpenCL on `device` when one is named (>= 0), else on the first GPU or
+ * accelerator; the host matcher when there is none, or when that device
+ * cannot run; which one and why is written to `note` (may be
  * NULL). A note that starts with RELIEF_MATCHER_UNAVAILABLE says OpenCL
  * could not be used (no platform, or the device failed to start): a
  * warning, where the others are a plain choice. OpenCL is refused

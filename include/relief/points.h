@@ -123,10 +123,11 @@ typedef struct relief_complete_points_params {
                                     calling thread (the reference), whatever
                                     threads says; host and auto share each stage
                                     out over run.threads host threads (0: the
-                                    CPUs this thread may run on), the same bytes. The brute grid search runs
-                                    on OpenCL for opencl, and for auto on a GPU;
-                                    opencl and device are for grid_search brute
-                                    only. max_memory bounds the estimate
+                                    CPUs this thread may run on), the same
+                                    bytes. The brute grid search runs on OpenCL
+                                    for opencl, and for auto on a GPU; opencl
+                                    and device are for grid_search brute only.
+                                    max_memory bounds the estimate
                                     (relief_complete_points_max_points) */
 } relief_complete_points_params;
 
