@@ -106,7 +106,7 @@ static relief_status make_matcher(int b, const relief_match_data *d, relief_matc
 {
     return b == B_SCALAR   ? relief_matcher_scalar_create(d, m, err)
            : b == B_HOST ? relief_matcher_host_create(d, 0, m, err)
-                         : relief_matcher_opencl_create(d, -1, m, err);
+                         : relief_matcher_opencl_create(d, -1, 0, m, err);
 }
 
 /* One whole completion of `cap` with backend b; stage times into rep `r`. */

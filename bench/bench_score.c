@@ -166,7 +166,7 @@ int main(int argc, char **argv)
             }
             make_queries(s, d, w, ntargets, &qs);
             relief_matcher_scalar_create(d, &m[0], &err);
-            if (relief_matcher_opencl_create(d, -1, &m[1], &err) != RELIEF_OK)
+            if (relief_matcher_opencl_create(d, -1, 0, &m[1], &err) != RELIEF_OK)
                 m[1] = NULL;
             if (relief_matcher_host_create(d, 0, &m[2], &err) != RELIEF_OK)
                 m[2] = NULL;

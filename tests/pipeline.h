@@ -56,7 +56,7 @@ static inline relief_status pipeline_grow(relief_surface *s, const relief_params
     relief_status st = relief_match_data_build(s, p->rotations, relief_grow_mu(p, colour), &d,
                                                err);
     if (st == RELIEF_OK)
-        st = opencl ? relief_matcher_opencl_create(d, -1, &m, err)
+        st = opencl ? relief_matcher_opencl_create(d, -1, 0, &m, err)
                     : relief_matcher_scalar_create(d, &m, err);
     if (st == RELIEF_OK)
         st = relief_grow(s, d, m, p, go, stats, err);

@@ -111,7 +111,7 @@ int main(int argc, char **argv)
         if (st == RELIEF_OK)
             st = relief_match_data_build(s2, p.rotations, relief_grow_mu(&p, sp.colour), &d2,
                                          &err);
-        if (st == RELIEF_OK && relief_matcher_opencl_create(d2, -1, &m2, &err) != RELIEF_OK) {
+        if (st == RELIEF_OK && relief_matcher_opencl_create(d2, -1, 0, &m2, &err) != RELIEF_OK) {
             printf("OpenCL comparison skipped: %s\n", err.message);
         } else if (st == RELIEF_OK) {
             st = relief_grow(s2, d2, m2, &p, &go, &stats2, &err);

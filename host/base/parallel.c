@@ -1,7 +1,46 @@
 /* Contiguous shares of a range over threads (parallel.h). */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT_S: this file only */
 #include "base/parallel.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <pthread.h>
+#include <sched.h>
+#include <unistd.h>
+
+/* The affinity's count, or 0 when it cannot be read. The mask starts at
+ * 1024 CPUs and doubles while the kernel's is larger (EINVAL). */
+static int affinity_count(void)
+{
+#if defined(__linux__) && defined(CPU_ALLOC)
+    for (int cpus = 1024; cpus <= (1 << 20); cpus *= 2) {
+        cpu_set_t *set = CPU_ALLOC(cpus);
+        const size_t size = CPU_ALLOC_SIZE(cpus);
+        int count = 0, again = 0;
+        if (!set)
+            return 0;
+        CPU_ZERO_S(size, set);
+        if (sched_getaffinity(0, size, set) == 0)
+            count = CPU_COUNT_S(size, set);
+        else
+            again = errno == EINVAL;
+        CPU_FREE(set);
+        if (!again)
+            return count;
+    }
+#endif
+    return 0;
+}
+
+int relief_cpus_available(void)
+{
+    const int n = affinity_count();
+    long online;
+    if (n > 0)
+        return n;
+    online = sysconf(_SC_NPROCESSORS_ONLN);
+    return online < 1 ? 1 : online > INT_MAX ? INT_MAX : (int)online;
+}
 
 typedef struct share {
     int (*fn)(void *ctx, size_t lo, size_t hi);

@@ -8,6 +8,12 @@
 
 #define RELIEF_PARALLEL_MAX_THREADS 64
 
+/* The CPUs the calling thread may run on: its affinity mask's count
+ * (sched_getaffinity, any mask size), which taskset, a container's cpuset
+ * or a scheduler's one-core worker narrow; the online processors where the
+ * mask cannot be read (not Linux). At least 1. */
+int relief_cpus_available(void);
+
 /* Run fn(ctx, lo, hi) over [0, n) cut into min(threads, n) contiguous
  * shares (threads clamped to 1..RELIEF_PARALLEL_MAX_THREADS), the first on
  * the calling thread and each other on a thread of its own, or on the

@@ -41,8 +41,8 @@ extern const char *const relief_backend_names[];
     {#field, RELIEF_PARAM_REALS, offsetof(type, field), value, NULL, lo, hi, 0, {0, 0},    \
      offsetof(type, count_field), is_flag, help}
 
-/* run's backend (`help` says what this engine's backends do), device and
- * max_memory in an engine's params `type`. */
+/* run's backend (`help` says what this engine's backends do), device,
+ * max_memory and threads in an engine's params `type`. */
 #define RP_BACKEND(type, help)                                                          \
     {"backend", RELIEF_PARAM_ENUM, offsetof(type, run.backend), "B",                    \
      relief_backend_names, 0, 0, 0, {0, 0}, 0, 0, help}
@@ -56,5 +56,12 @@ extern const char *const relief_backend_names[];
      HUGE_VAL, 0, {0, 0}, 0, 0,                                                         \
      "host memory the call may plan for, e.g. 512M, 4G: a larger call is refused "      \
      "before it starts; 0 (default): 80 % of physical memory"}
+
+#define RP_THREADS(type)                                                                \
+    {"threads", RELIEF_PARAM_INT, offsetof(type, run.threads), "N", NULL, 1,            \
+     RELIEF_THREADS_MAX, 1, {0, 0}, 0, 0,                                               \
+     "host threads the call may run on at once, 1..64; 0 (default): the CPUs this "     \
+     "process may run on (its affinity: taskset, a container's cpuset); scalar runs "    \
+     "on one whatever this says; the same output for any count"}
 
 #endif

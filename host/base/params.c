@@ -24,6 +24,7 @@ relief_params relief_params_default(void)
     p.has_extent = 0;
     p.n_extent = 0;
     p.max_memory = 0;
+    p.threads = 0;
     for (int i = 0; i < 4; ++i)
         p.extent[i] = 0.0;
     return p;
@@ -82,6 +83,10 @@ relief_status relief_params_validate(const relief_params *p, relief_error *err)
     if (p->device < -1 || p->device > 255)
         return relief_fail(err, RELIEF_E_RANGE,
                            "device %d out of range: expected 0..255", p->device);
+    if (p->threads < 0 || p->threads > RELIEF_THREADS_MAX)
+        return relief_fail(err, RELIEF_E_RANGE, "threads %d out of range: expected 1..%d "
+                           "(0: the CPUs this thread may run on)", p->threads,
+                           RELIEF_THREADS_MAX);
     if (p->oversample < 0 || p->oversample > 4)
         return relief_fail(err, RELIEF_E_RANGE,
                            "oversample %d out of range: expected 0..4", p->oversample);

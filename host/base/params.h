@@ -50,6 +50,9 @@ typedef struct relief_params {
                                estimate exceeds it is refused before it
                                allocates. 0 (default): 80% of physical
                                memory */
+    int threads;            /* host threads (relief_run_options.threads):
+                               0 (default) the CPUs this thread may run on,
+                               else 1..RELIEF_THREADS_MAX; scalar runs on one */
 } relief_params;
 
 /* Defaults as documented in relief_params. */

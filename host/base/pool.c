@@ -5,9 +5,9 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "base/error.h"
+#include "base/parallel.h"
 
 /* How long a thread spins for the next job (a worker) or for the last
  * part to finish (the caller) before it sleeps: a sleeping thread takes
@@ -73,8 +73,15 @@ static int spin_ulong(atomic_ulong *flag, unsigned long from, const atomic_int *
 
 int relief_pool_default_threads(void)
 {
-    long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : n > RELIEF_POOL_MAX ? RELIEF_POOL_MAX : (int)n;
+    const int n = relief_cpus_available();
+    return n > RELIEF_POOL_MAX ? RELIEF_POOL_MAX : n;
+}
+
+int relief_pool_threads_for(int threads)
+{
+    if (threads <= 0)
+        return relief_pool_default_threads();
+    return threads > RELIEF_POOL_MAX ? RELIEF_POOL_MAX : threads;
 }
 
 int relief_pool_threads(const relief_pool *p) { return p ? p->threads : 1; }

@@ -19,8 +19,13 @@
 
 typedef struct relief_pool relief_pool;
 
-/* The online processors, 1 .. RELIEF_POOL_MAX. */
+/* The CPUs this thread may run on (relief_cpus_available, base/parallel.h:
+ * its affinity), 1 .. RELIEF_POOL_MAX. */
 int relief_pool_default_threads(void);
+
+/* The threads a call asked for (relief_run_options.threads): `threads`
+ * itself, at most RELIEF_POOL_MAX, or for 0 the default above. */
+int relief_pool_threads_for(int threads);
 
 /* A pool of `threads` (1 .. RELIEF_POOL_MAX; threads - 1 are started).
  * RELIEF_E_RANGE out of range, RELIEF_E_NOMEM when a thread cannot start. */

@@ -18,6 +18,7 @@ relief_run_options relief_run_options_default(void)
     r.progress_ctx = NULL;
     r.input_name = NULL;
     r.output_name = NULL;
+    r.threads = 0;
     return r;
 }
 
@@ -32,5 +33,9 @@ relief_status relief_run_options_validate(const relief_run_options *run, relief_
     if (run->device < -1 || run->device > 255)
         return relief_fail(err, RELIEF_E_RANGE, "device %d out of range: expected -1 (the "
                            "first GPU or accelerator) or 0..255", run->device);
+    if (run->threads < 0 || run->threads > RELIEF_THREADS_MAX)
+        return relief_fail(err, RELIEF_E_RANGE, "threads %d out of range: expected 1..%d "
+                           "host threads, or 0 (the CPUs this thread may run on)",
+                           run->threads, RELIEF_THREADS_MAX);
     return RELIEF_OK;
 }

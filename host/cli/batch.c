@@ -8,10 +8,8 @@
 #include <sys/stat.h>
 
 #include "base/clock.h"
-
-/* Options whose file is one per run. */
-static const char *const single_files[] = {"--report", "--mesh", "--points", "--report-dir",
-                                           "--checkpoint", "--truth", "--resume", NULL};
+#include "cli/cli.h"
+#include "cli/options.h"
 
 static const char *base_name(const char *path)
 {
@@ -33,97 +31,101 @@ static char *output_name(const char *dir, const char *in, const char *ext)
     return out;
 }
 
-/* Refuses, before any run, what a batch cannot do; 1 when it can. */
-static int batch_checks(const cli_common *cm, int first, int argc, char **argv, char **outs)
+int cli_batch_asked(const cli_common *cm, int argc)
+{
+    const size_t n_out = cm->out ? strlen(cm->out) : 0;
+    return argc - optind > 1 || (argc - optind == 1 && n_out && cm->out[n_out - 1] == '/');
+}
+
+/* Refuses, before any run, what a batch cannot do; 1 when it can. The
+ * single files are the parsed job's, whatever spelling named them. */
+static int batch_checks(const cli_common *cm, const cli_batch *b, char *const *ins, int n,
+                        char **outs)
 {
     struct stat st;
     if (stat(cm->out, &st) != 0 || !S_ISDIR(st.st_mode)) {
         fprintf(stderr, "relief %s: error: -o '%s': with %d inputs, OUT is a folder that "
-                "exists (create it first)\n", cm->cmd, cm->out, argc - first);
+                "exists (create it first)\n", cm->cmd, cm->out, n);
         return 0;
     }
-    for (const char *const *opt = single_files; *opt; ++opt)
-        if (cli_given(first, argv, *opt)) {
+    for (int k = 0; k < CLI_BATCH_MAX_ONCE && b->once[k].opt; ++k)
+        if (b->once[k].path) {
             fprintf(stderr, "relief %s: error: %s names one file, which %d inputs cannot "
-                    "share: run them one by one\n", cm->cmd, *opt, argc - first);
+                    "share: run them one by one\n", cm->cmd, b->once[k].opt, n);
             return 0;
         }
-    for (int i = 0; i < argc - first; ++i)
+    for (int i = 0; i < n; ++i)
         for (int j = 0; j < i; ++j)
             if (strcmp(outs[i], outs[j]) == 0) {
                 fprintf(stderr, "relief %s: error: '%s' and '%s' would both be written to "
-                        "'%s'\n", cm->cmd, argv[first + j], argv[first + i], outs[i]);
+                        "'%s'\n", cm->cmd, ins[j], ins[i], outs[i]);
                 return 0;
             }
     return 1;
 }
 
-/* argv for one run: the command's name, -o OUT, --quiet, the options
- * given less every -o (as "-o DIR", "-oDIR", "--output DIR" or
- * "--output=DIR"), the input. *n: its count. */
-static char **run_argv(int first, char **argv, char *out, char *in, int *n)
+/* The runs, a line each unless --quiet; the runs' exit statuses in rcs. */
+static void run_all(const cli_common *cm, const cli_batch *b, char *const *ins, int n,
+                    char **outs, int *rcs, double t0)
 {
-    char **a = malloc(((size_t)first + 5) * sizeof *a);
-    static char o[] = "-o", quiet[] = "--quiet";
-    if (!a)
-        return NULL;
-    *n = 0;
-    a[(*n)++] = argv[0], a[(*n)++] = o, a[(*n)++] = out, a[(*n)++] = quiet;
-    for (int i = 1; i < first; ++i) {
-        const char *t = argv[i];
-        if (strcmp(t, "-o") == 0 || strcmp(t, "--output") == 0) {
-            ++i; /* and its value */
-            continue;
+    for (int i = 0; i < n; ++i) {
+        const double t = relief_seconds(), done = (double)(i + 1);
+        if (cli_signal()) { /* a signal stops the batch, not only its run */
+            fprintf(stderr, "relief %s: stopped by %s: %d of %d inputs not run\n", cm->cmd,
+                    cli_signal_name(cli_signal()), n - i, n);
+            for (; i < n; ++i)
+                rcs[i] = 128 + cli_signal();
+            return;
         }
-        if ((t[0] == '-' && t[1] == 'o') || strncmp(t, "--output=", 9) == 0)
-            continue;
-        a[(*n)++] = argv[i];
+        rcs[i] = b->run(b->job, ins[i], outs[i]);
+        if (!cm->quiet)
+            fprintf(stderr, "relief %s: [%d/%d] %s: %s in %.1f s (about %.0f s left)\n",
+                    cm->cmd, i + 1, n, ins[i], rcs[i] ? "failed" : outs[i],
+                    relief_seconds() - t, (relief_seconds() - t0) / done * (n - done));
     }
-    a[(*n)++] = in;
-    a[*n] = NULL;
-    return a;
 }
 
-int cli_batch_run(const cli_common *cm, int argc, char **argv)
+/* The summary (with --quiet, only when a run failed); the highest status. */
+static int summary(const cli_common *cm, char *const *ins, int n, const int *rcs, double t0)
 {
-    const int first = optind, n = argc - optind;
+    int failed = 0, rc = 0;
+    for (int i = 0; i < n; ++i) {
+        failed += rcs[i] != 0;
+        rc = rcs[i] > rc ? rcs[i] : rc;
+    }
+    if (!failed && cm->quiet)
+        return 0;
+    fprintf(stderr, "relief %s: %d of %d inputs done in %.1f s", cm->cmd, n - failed, n,
+            relief_seconds() - t0);
+    for (int i = 0, k = 0; i < n; ++i)
+        if (rcs[i])
+            fprintf(stderr, "%s%s (exit %d)", k++ ? ", " : "; failed: ", ins[i], rcs[i]);
+    fputc('\n', stderr);
+    return rc;
+}
+
+int cli_batch_run(const cli_common *cm, const cli_batch *b, char *const *ins, int n,
+                  int parse_only)
+{
     char **outs = calloc((size_t)n + 1, sizeof *outs);
-    int *rcs = calloc((size_t)n + 1, sizeof *rcs), rc = 0, failed = 0, ok = outs && rcs;
+    int *rcs = calloc((size_t)n + 1, sizeof *rcs), rc = 1, ok = outs && rcs;
     const double t0 = relief_seconds();
     if (!cm->out) {
         free(outs), free(rcs);
         return cli_usage_error(cm->cmd, "%smissing -o OUTDIR/ for several inputs", "");
     }
     for (int i = 0; ok && i < n; ++i)
-        ok = (outs[i] = output_name(cm->out, argv[first + i], cm->batch.ext)) != NULL;
+        ok = (outs[i] = output_name(cm->out, ins[i], b->ext)) != NULL;
     if (!ok)
         fprintf(stderr, "relief %s: error: out of memory for %d inputs\n", cm->cmd, n);
-    else if (!batch_checks(cm, first, argc, argv, outs))
-        ok = 0;
-    for (int i = 0; ok && !cm->batch.parse_only && i < n; ++i) {
-        int m = 0;
-        char **a = run_argv(first, argv, outs[i], argv[first + i], &m);
-        const double t = relief_seconds(), done = (double)(i + 1);
-        rcs[i] = a ? cm->batch.run(m, a, 0) : 2;
-        free(a);
-        failed += rcs[i] != 0;
-        rc = rcs[i] > rc ? rcs[i] : rc;
-        if (!cm->quiet)
-            fprintf(stderr, "relief %s: [%d/%d] %s: %s in %.1f s (about %.0f s left)\n",
-                    cm->cmd, i + 1, n, argv[first + i], rcs[i] ? "failed" : outs[i],
-                    relief_seconds() - t, (relief_seconds() - t0) / done * (n - done));
-    }
-    if (ok && !cm->batch.parse_only && (failed || !cm->quiet)) { /* --quiet: failures only */
-        fprintf(stderr, "relief %s: %d of %d inputs done in %.1f s", cm->cmd, n - failed, n,
-                relief_seconds() - t0);
-        for (int i = 0, k = 0; i < n; ++i)
-            if (rcs[i])
-                fprintf(stderr, "%s%s (exit %d)", k++ ? ", " : "; failed: ", argv[first + i],
-                        rcs[i]);
-        fputc('\n', stderr);
+    else if (batch_checks(cm, b, ins, n, outs))
+        rc = 0;
+    if (rc == 0 && !parse_only) {
+        run_all(cm, b, ins, n, outs, rcs, t0);
+        rc = summary(cm, ins, n, rcs, t0);
     }
     for (int i = 0; outs && i < n; ++i)
         free(outs[i]);
     free(outs), free(rcs);
-    return ok ? rc : 1;
+    return rc;
 }

@@ -13,6 +13,7 @@
 
 #include "relief/relief.h"
 #include "base/memlimit.h"
+#include "cli/batch.h"
 #include "cli/options.h"
 #include "mesh/mesh.h"
 
@@ -59,7 +60,7 @@ typedef struct complete_cli {
     cli_common cm;
     relief_complete_params p;
     const char *in;
-    int ascii;
+    int smooth, ascii;
     relief_read_info read; /* what reading IN repaired, for the report */
     cli_output outs[4]; /* -o, --report, --checkpoint, --report-dir */
 } complete_cli;
@@ -75,30 +76,31 @@ static int take(void *ctx, int id, const char *arg)
                                c->p.hole_ball);
 }
 
-/* Parse and check the command line: 0 to go on, else the exit status. */
+/* Parse the options into c: 0 to go on, -1 after --help, else the exit
+ * status. */
 static int parse(complete_cli *c, int argc, char **argv, int smooth)
 {
     const cli_spec s = spec(smooth);
+    return cli_parse(&s, &c->cm, &c->p, take, c, argc, argv);
+}
+
+/* The files and the parameters of one run (c->in to c->cm.out): 0 when
+ * they will do, else the exit status (said). */
+static int check(complete_cli *c)
+{
     relief_error err = {0};
-    int rc = cli_parse(&s, &c->cm, &c->p, take, c, argc, argv);
-    if (rc)
-        return rc;
-    if (!cli_one_input(&c->cm, argc, argv, "input mesh IN", &c->in))
-        return c->cm.batch.done ? (c->cm.batch.rc ? c->cm.batch.rc : -1) : EXIT_USAGE;
+    /* --resume and --checkpoint may name one file: the run goes on saving
+     * where it was resumed from. */
+    const cli_output outs[] = {{"-o", c->cm.out, CLI_OUT_FILE},
+                               {"--report", c->cm.report, CLI_OUT_FILE},
+                               {"--checkpoint", c->p.checkpoint, CLI_OUT_ENGINE},
+                               {"--report-dir", c->p.report_dir, CLI_OUT_FOLDER}};
     if (!cli_known_mesh_ext(c->cm.out))
         return cli_usage_error(c->cm.cmd, "-o: '%s' has no known mesh extension (.ply, .obj, "
                                ".off, .stl)", c->cm.out);
-    {
-        /* --resume and --checkpoint may name one file: the run goes on saving
-         * where it was resumed from. */
-        const cli_output outs[] = {{"-o", c->cm.out, CLI_OUT_FILE},
-                                   {"--report", c->cm.report, CLI_OUT_FILE},
-                                   {"--checkpoint", c->p.checkpoint, CLI_OUT_ENGINE},
-                                   {"--report-dir", c->p.report_dir, CLI_OUT_FOLDER}};
-        memcpy(c->outs, outs, sizeof outs);
-        if (cli_check_outputs(c->cm.cmd, &c->in, 1, c->outs, 4))
-            return EXIT_USAGE;
-    }
+    memcpy(c->outs, outs, sizeof outs);
+    if (cli_check_outputs(c->cm.cmd, &c->in, 1, c->outs, 4))
+        return EXIT_USAGE;
     if (relief_complete_params_validate(&c->p, &err) != RELIEF_OK)
         return cli_fail(c->cm.cmd, &err);
     return 0;
@@ -258,18 +260,42 @@ static int run(complete_cli *c, int smooth)
     return st == RELIEF_OK ? 0 : cli_fail(c->cm.cmd, &err);
 }
 
+/* One input (c->in to c->cm.out): the checks, then, unless parse_only,
+ * the run. Returns the exit status. */
+static int one(complete_cli *c, int parse_only)
+{
+    int rc = check(c);
+    return rc ? rc : parse_only ? 0 : run(c, c->smooth);
+}
+
+/* A batch's run on one input (batch.h): a copy of the job, quiet. */
+static int batch_one(const void *job, const char *in, const char *out)
+{
+    complete_cli c = *(const complete_cli *)job;
+    c.in = in, c.cm.out = out, c.cm.quiet = 1;
+    return one(&c, 0);
+}
+
 static int cmd_complete_or_smooth(int argc, char **argv, int smooth, int parse_only)
 {
     complete_cli c;
     int rc;
     memset(&c, 0, sizeof c);
     c.cm = cli_common_init(smooth ? "smooth" : "complete");
-    c.cm.batch = (cli_batch){smooth ? cli_cmd_smooth : cli_cmd_complete, ".ply", parse_only, 0, 0};
     c.p = relief_complete_params_default();
+    c.smooth = smooth;
     rc = parse(&c, argc, argv, smooth);
     if (rc)
         return rc < 0 ? 0 : rc;
-    return parse_only ? 0 : run(&c, smooth);
+    if (cli_batch_asked(&c.cm, argc)) {
+        const cli_batch b = {".ply", batch_one, &c,
+                             {{"--report", c.cm.report}, {"--checkpoint", c.p.checkpoint},
+                              {"--report-dir", c.p.report_dir}, {"--resume", c.p.resume}}};
+        return cli_batch_run(&c.cm, &b, argv + optind, argc - optind, parse_only);
+    }
+    if (!cli_one_input(&c.cm, argc, argv, "input mesh IN", &c.in))
+        return EXIT_USAGE;
+    return one(&c, parse_only);
 }
 
 int cli_cmd_complete(int argc, char **argv, int parse_only)

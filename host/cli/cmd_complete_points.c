@@ -10,6 +10,7 @@
 #include <strings.h>
 
 #include "relief/relief.h"
+#include "cli/batch.h"
 #include "cli/options.h"
 #include "mesh/mesh.h"
 
@@ -61,7 +62,7 @@ static cli_spec spec(void)
 /* What the command knows that the parameters do not. */
 typedef struct points_cli {
     cli_common cm;
-    relief_complete_points_params *p;
+    relief_complete_points_params p;
     const char *in, *mesh, *clone;
     cli_output outs[3]; /* -o, --mesh, --report */
 } points_cli;
@@ -103,7 +104,7 @@ static int parse_sample_region(const char *arg, relief_complete_points_params *p
 static int take(void *ctx, int c, const char *arg)
 {
     points_cli *pc = ctx;
-    relief_complete_points_params *p = pc->p;
+    relief_complete_points_params *p = &pc->p;
     switch (c) {
     case CP_COLOUR_ONLY: return set_what(p, RELIEF_POINTS_COLOUR_ONLY);
     case CP_GEOMETRY_ONLY: return set_what(p, RELIEF_POINTS_GEOMETRY_ONLY);
@@ -116,30 +117,28 @@ static int take(void *ctx, int c, const char *arg)
     return 0;
 }
 
-/* The operand and the files: -o a PLY, --mesh a mesh, none of them an input
- * or another output. 0 when they will do, else the exit status (said). */
-static int check_files(int argc, char **argv, points_cli *pc, relief_grid_search search)
+/* The files of one run (pc->in to pc->cm.out): -o a PLY, --mesh a mesh,
+ * none of them an input or another output; the search where it can run.
+ * 0 when they will do, else the exit status (said). */
+static int check_files(points_cli *pc)
 {
-    cli_common *cm = &pc->cm;
-    if (!cli_one_input(cm, argc, argv, "input IN", &pc->in))
-        return cm->batch.done ? cm->batch.rc : EXIT_USAGE;
+    const cli_common *cm = &pc->cm;
+    const char *ins[] = {pc->in, pc->clone};
+    const cli_output outs[] = {{"-o", cm->out, CLI_OUT_FILE},
+                               {"--mesh", pc->mesh, CLI_OUT_FILE},
+                               {"--report", cm->report, CLI_OUT_FILE}};
     if (strcasecmp(cli_ext_of(cm->out), ".ply") != 0)
         return cli_usage_error(cmd, "-o: '%s' is not a .ply (the completed points carry "
                                "colour, normals and a label, which only PLY keeps)", cm->out);
     if (pc->mesh && !cli_known_mesh_ext(pc->mesh))
         return cli_usage_error(cmd, "--mesh: '%s' has no mesh extension (.ply .obj .off .stl)",
                                pc->mesh);
-    {
-        const char *ins[] = {pc->in, pc->clone};
-        const cli_output outs[] = {{"-o", cm->out, CLI_OUT_FILE},
-                                   {"--mesh", pc->mesh, CLI_OUT_FILE},
-                                   {"--report", cm->report, CLI_OUT_FILE}};
-        memcpy(pc->outs, outs, sizeof outs);
-        if (cli_check_outputs(cmd, ins, 2, pc->outs, 3))
-            return EXIT_USAGE;
-    }
-    if ((pc->p->run.backend == RELIEF_BACKEND_OPENCL || cli_given(argc, argv, "--device")) &&
-        search == RELIEF_GRID_SEARCH_KDTREE)
+    memcpy(pc->outs, outs, sizeof outs);
+    if (cli_check_outputs(cmd, ins, 2, pc->outs, 3))
+        return EXIT_USAGE;
+    /* --device -1 is the default's value: the option given or not, the same run. */
+    if ((pc->p.run.backend == RELIEF_BACKEND_OPENCL || pc->p.run.device >= 0) &&
+        pc->p.grid_search == RELIEF_GRID_SEARCH_KDTREE)
         return cli_usage_error(cmd, "%s--backend opencl and --device run --grid-search brute "
                                "only; the kd-tree runs on the host (--backend scalar, host or "
                                "auto)", "");
@@ -230,23 +229,44 @@ static int run(const points_cli *pc, relief_complete_points_params *p)
     return st == RELIEF_OK ? 0 : cli_fail(cmd, &err);
 }
 
+/* One input (pc->in to pc->cm.out): the checks, then, unless parse_only,
+ * the run. Returns the exit status. */
+static int one(points_cli *pc, int parse_only)
+{
+    relief_error err = {0};
+    int rc = check_files(pc);
+    if (rc)
+        return rc;
+    if (relief_complete_points_params_validate(&pc->p, &err) != RELIEF_OK)
+        return cli_fail(cmd, &err);
+    return parse_only ? 0 : run(pc, &pc->p);
+}
+
+/* A batch's run on one input (batch.h): a copy of the job, quiet. */
+static int batch_one(const void *job, const char *in, const char *out)
+{
+    points_cli pc = *(const points_cli *)job;
+    pc.in = in, pc.cm.out = out, pc.cm.quiet = 1;
+    return one(&pc, 0);
+}
+
 int cli_cmd_complete_points(int argc, char **argv, int parse_only)
 {
-    relief_complete_points_params p = relief_complete_points_params_default();
-    points_cli pc = {cli_common_init(cmd), &p, NULL, NULL, NULL, {{NULL, NULL, 0}}};
-    relief_error err = {0};
+    points_cli pc;
     const cli_spec s = spec();
     int rc;
-    pc.cm.batch = (cli_batch){cli_cmd_complete_points, ".ply", parse_only, 0, 0};
-    rc = cli_parse(&s, &pc.cm, &p, take, &pc, argc, argv);
+    memset(&pc, 0, sizeof pc);
+    pc.cm = cli_common_init(cmd);
+    pc.p = relief_complete_points_params_default();
+    rc = cli_parse(&s, &pc.cm, &pc.p, take, &pc, argc, argv);
     if (rc)
         return rc < 0 ? 0 : rc;
-    rc = check_files(argc, argv, &pc, p.grid_search);
-    if (rc || pc.cm.batch.done)
-        return rc;
-    if (relief_complete_points_params_validate(&p, &err) != RELIEF_OK)
-        return cli_fail(cmd, &err);
-    if (parse_only)
-        return 0;
-    return run(&pc, &p);
+    if (cli_batch_asked(&pc.cm, argc)) {
+        const cli_batch b = {".ply", batch_one, &pc,
+                             {{"--report", pc.cm.report}, {"--mesh", pc.mesh}}};
+        return cli_batch_run(&pc.cm, &b, argv + optind, argc - optind, parse_only);
+    }
+    if (!cli_one_input(&pc.cm, argc, argv, "input IN", &pc.in))
+        return EXIT_USAGE;
+    return one(&pc, parse_only);
 }

@@ -13,6 +13,7 @@
 #include "relief/relief.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "cli/batch.h"
 #include "cli/options.h"
 #include "depth/depth_io.h"
 #include "mesh/mesh.h"
@@ -105,14 +106,12 @@ static int take(void *ctx, int c, const char *arg)
     return 0;
 }
 
-/* The operands and the files' names: 1 when they fit together. */
-static int check_files(depth_args *a, int argc, char **argv)
+/* The files' names of one run (a->in to a->cm.out): 1 when they fit
+ * together. */
+static int check_files(depth_args *a)
 {
-    const char *out, *ins[3];
+    const char *out = a->cm.out, *ins[3];
     in_kind kout, kt;
-    if (!cli_one_input(&a->cm, argc, argv, "input IN", &a->in))
-        return 0;
-    out = a->cm.out;
     if (!kind_of_name(a->in, &a->kind))
         return !cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm, .png or "
                                 "a mesh's .ply, .obj, .off, .stl", a->in);
@@ -140,21 +139,25 @@ static int check_files(depth_args *a, int argc, char **argv)
     return !cli_check_outputs("depth-fill", ins, 3, a->outs, 3);
 }
 
-/* Options and operands into *a: -1 to go on, else the exit status. */
-static int parse_args(int argc, char **argv, depth_args *a, int parse_only)
+/* The options into *a: -1 to go on, else the exit status. */
+static int parse_args(int argc, char **argv, depth_args *a)
 {
     cli_spec s = spec();
-    relief_error err = {0};
     int rc;
     memset(a, 0, sizeof *a);
     a->cm = cli_common_init("depth-fill");
-    a->cm.batch = (cli_batch){cli_cmd_depth_fill, NULL, parse_only, 0, 0};
     a->p = relief_depth_fill_params_default();
     rc = cli_parse(&s, &a->cm, &a->p, take, a, argc, argv);
-    if (rc)
-        return rc < 0 ? 0 : rc;
-    if (!check_files(a, argc, argv))
-        return a->cm.batch.done ? a->cm.batch.rc : EXIT_USAGE;
+    return rc ? (rc < 0 ? 0 : rc) : -1;
+}
+
+/* The files and the parameters of one run: -1 to go on, else the exit
+ * status (said). */
+static int check_run(depth_args *a)
+{
+    relief_error err = {0};
+    if (!check_files(a))
+        return EXIT_USAGE;
     a->p.run.input_name = a->in;
     a->p.run.output_name = a->cm.out;
     if (relief_depth_fill_params_validate(&a->p, &err) != RELIEF_OK)
@@ -348,11 +351,37 @@ static int mesh_mode(depth_args *a)
     return st == RELIEF_OK ? 0 : cli_fail("depth-fill", &err);
 }
 
+/* One input (a->in to a->cm.out): the checks, then, unless parse_only,
+ * the run. Returns the exit status. */
+static int one(depth_args *a, int parse_only)
+{
+    int rc = check_run(a);
+    if (rc >= 0 || parse_only)
+        return rc >= 0 ? rc : 0;
+    return a->kind == IN_MESH ? mesh_mode(a) : image_mode(a);
+}
+
+/* A batch's run on one input (batch.h): a copy of the job, quiet. */
+static int batch_one(const void *job, const char *in, const char *out)
+{
+    depth_args a = *(const depth_args *)job;
+    a.in = in, a.cm.out = out, a.cm.quiet = 1;
+    return one(&a, 0);
+}
+
 int cli_cmd_depth_fill(int argc, char **argv, int parse_only)
 {
     depth_args a;
-    int rc = parse_args(argc, argv, &a, parse_only);
-    if (rc >= 0 || parse_only)
-        return rc >= 0 ? rc : 0;
-    return a.kind == IN_MESH ? mesh_mode(&a) : image_mode(&a);
+    int rc = parse_args(argc, argv, &a);
+    if (rc >= 0)
+        return rc;
+    if (cli_batch_asked(&a.cm, argc)) {
+        const cli_batch b = {NULL, batch_one, &a,
+                             {{"--report", a.cm.report}, {"--points", a.points},
+                              {"--truth", a.truth}}};
+        return cli_batch_run(&a.cm, &b, argv + optind, argc - optind, parse_only);
+    }
+    if (!cli_one_input(&a.cm, argc, argv, "input IN", &a.in))
+        return EXIT_USAGE;
+    return one(&a, parse_only);
 }

@@ -9,6 +9,7 @@
 #include "relief/relief.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "cli/batch.h"
 #include "cli/options.h"
 #include "image/image_io.h"
 
@@ -54,10 +55,10 @@ static int parse(int argc, char **argv, cli_common *cm, relief_image_fill_params
     int rc = cli_parse(&s, cm, p, take, &a, argc, argv);
     if (rc)
         return rc < 0 ? 0 : rc;
-    /* Paper 004's windows for atlases, unless given. */
-    if (a.atlas && !cli_given(argc, argv, "--window"))
+    /* Paper 004's windows for atlases, unless given (in any spelling). */
+    if (a.atlas && !cli_param_given(cm, &s, "window"))
         p->window = 129;
-    if (a.atlas && !cli_given(argc, argv, "--min-window"))
+    if (a.atlas && !cli_param_given(cm, &s, "min_window"))
         p->min_window = 9;
     return -1;
 }
@@ -145,33 +146,50 @@ static int run(const cli_common *cm, const char *in, relief_image_fill_params *p
     return rc;
 }
 
+/* The parsed command line: what the run on each input takes. */
+typedef struct image_job {
+    cli_common cm;
+    relief_image_fill_params p;
+} image_job;
+
+/* One input with j's options: the checks, then, unless parse_only, the
+ * run. Returns the exit status. */
+static int one(image_job *j, const char *in, int parse_only)
+{
+    relief_error err = {0};
+    const char *ins[] = {in, j->cm.mask};
+    const cli_output outs[] = {{"-o", j->cm.out, CLI_OUT_FILE},
+                               {"--report", j->cm.report, CLI_OUT_FILE}};
+    if (!image_ext(j->cm.out))
+        return cli_usage_error(j->cm.cmd, "-o: '%s' does not end in .png, .jpg or .jpeg",
+                               j->cm.out);
+    if (relief_image_fill_params_validate(&j->p, &err) != RELIEF_OK)
+        return cli_fail(j->cm.cmd, &err);
+    if (cli_check_outputs(j->cm.cmd, ins, 2, outs, 2))
+        return EXIT_USAGE;
+    return parse_only ? 0 : run(&j->cm, in, &j->p);
+}
+
+/* A batch's run on one input (batch.h): a copy of the job, quiet. */
+static int batch_one(const void *job, const char *in, const char *out)
+{
+    image_job j = *(const image_job *)job;
+    j.cm.out = out, j.cm.quiet = 1;
+    return one(&j, in, 0);
+}
+
 int cli_cmd_image_fill(int argc, char **argv, int parse_only)
 {
-    cli_common cm = cli_common_init("image-fill");
-    relief_image_fill_params p = relief_image_fill_params_default();
-    relief_error err = {0};
+    image_job j = {cli_common_init("image-fill"), relief_image_fill_params_default()};
     const char *in = NULL;
-    int rc;
-    cm.batch = (cli_batch){cli_cmd_image_fill, NULL, parse_only, 0, 0};
-    rc = parse(argc, argv, &cm, &p);
-
+    int rc = parse(argc, argv, &j.cm, &j.p);
     if (rc >= 0)
         return rc;
-    if (!cli_one_input(&cm, argc, argv, "input image IN", &in))
-        return cm.batch.done ? cm.batch.rc : EXIT_USAGE;
-    if (!image_ext(cm.out))
-        return cli_usage_error(cm.cmd, "-o: '%s' does not end in .png, .jpg or .jpeg",
-                               cm.out);
-    if (relief_image_fill_params_validate(&p, &err) != RELIEF_OK)
-        return cli_fail(cm.cmd, &err);
-    {
-        const char *ins[] = {in, cm.mask};
-        const cli_output outs[] = {{"-o", cm.out, CLI_OUT_FILE},
-                                   {"--report", cm.report, CLI_OUT_FILE}};
-        if (cli_check_outputs(cm.cmd, ins, 2, outs, 2))
-            return EXIT_USAGE;
+    if (cli_batch_asked(&j.cm, argc)) {
+        const cli_batch b = {NULL, batch_one, &j, {{"--report", j.cm.report}}};
+        return cli_batch_run(&j.cm, &b, argv + optind, argc - optind, parse_only);
     }
-    if (parse_only)
-        return 0;
-    return run(&cm, in, &p);
+    if (!cli_one_input(&j.cm, argc, argv, "input image IN", &in))
+        return EXIT_USAGE;
+    return one(&j, in, parse_only);
 }

@@ -227,6 +227,7 @@ static int parse_args(int argc, char **argv, occ_args *a, int remove)
     a->p.colour.run.backend = a->p.depth.run.backend = a->p.find.run.backend;
     a->p.colour.run.device = a->p.depth.run.device = a->p.find.run.device;
     a->p.colour.run.max_memory = a->p.depth.run.max_memory = a->p.find.run.max_memory;
+    a->p.colour.run.threads = a->p.depth.run.threads = a->p.find.run.threads;
     if (a->bg_mesh && a->p.find.background == RELIEF_BACKGROUND_PLANES)
         a->p.find.background = RELIEF_BACKGROUND_MESH;
     if (a->p.find.background == RELIEF_BACKGROUND_MESH && !a->bg_mesh)

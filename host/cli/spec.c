@@ -31,8 +31,8 @@ static const struct {
     {CLI_SEED, {"seed", required_argument, 0, OPT_SEED}, "--seed N", "random seed (default 1)"},
     {CLI_QUIET, {"quiet", no_argument, 0, OPT_QUIET}, "--quiet", "no progress or notes on stderr"},
     {CLI_LIMIT, {"max-seconds", required_argument, 0, OPT_MAX_SECONDS}, "--max-seconds S",
-     "stop (exit 1, no output) when the run passes S seconds, or as soon as its "
-     "estimate is over 3 x S (0, the default: no limit)"},
+     "stop (exit 1, no output) once the run has taken more than S seconds, measured; "
+     "an estimate over S is a warning, never a stop (0, the default: no limit)"},
 };
 
 static int skipped(const cli_spec *s, const char *name)
@@ -107,16 +107,11 @@ static int set_param(const cli_spec *s, void *params, int id, const char *arg)
     return 0;
 }
 
-int cli_given(int argc, char **argv, const char *opt)
+int cli_param_given(const cli_common *cm, const cli_spec *s, const char *name)
 {
-    const size_t n = strlen(opt);
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--") == 0)
-            return 0;
-        if (strncmp(argv[i], opt, n) == 0 && (argv[i][n] == '\0' || argv[i][n] == '='))
-            return 1;
-    }
-    return 0;
+    const relief_param *p = relief_param_find(s->params, s->n_params, name);
+    const size_t i = p ? (size_t)(p - s->params) : CLI_MAX_PARAMS;
+    return i < CLI_MAX_PARAMS && (cm->given[i / 8] >> (i % 8) & 1u);
 }
 
 /* 0, or the help asked: CLI_HELP_TEXT (-h, --help), CLI_HELP_MAN
@@ -156,8 +151,11 @@ int cli_parse(const cli_spec *s, cli_common *cm, void *params,
         if (r > 0)
             continue;
         if (c >= OPT_PARAM && s->params) {
+            const int i = c - (c >= OPT_NO_PARAM ? OPT_NO_PARAM : OPT_PARAM);
             if (!set_param(s, params, c, optarg))
                 return EXIT_USAGE;
+            if (i < CLI_MAX_PARAMS)
+                cm->given[i / 8] |= (unsigned char)(1u << (i % 8));
         } else if (c >= OPT_COMMAND && c < OPT_PARAM && take) {
             if (!take(ctx, c, optarg))
                 return EXIT_USAGE;

@@ -121,7 +121,8 @@ static relief_status smooth_base(relief_complete_run *r, relief_error *err)
         return st;
     pp.max_hole = cp->max_hole;
     pp.hole_select = select;
-    pp.threads = r->st.params.backend == RELIEF_BACKEND_SCALAR ? 1 : 0; /* as complete-points */
+    /* as complete-points: scalar on one thread, else the threads asked */
+    pp.threads = r->st.params.backend == RELIEF_BACKEND_SCALAR ? 1 : r->st.params.threads;
     st = relief_points_base_surface(r->capture, &pp, &r->s, &prep, err);
     free(select);
     r->smooth_base = st == RELIEF_OK;
@@ -280,8 +281,8 @@ static relief_status make_matcher(relief_complete_run *r, relief_error *err)
         r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL), &r->d,
         err);
     if (st == RELIEF_OK)
-        st = relief_matcher_create(p->backend, p->device, r->d, &r->m, r->choice,
-                                   sizeof r->choice, err);
+        st = relief_matcher_create(p->backend, p->device, p->threads, r->d, &r->m,
+                                   r->choice, sizeof r->choice, err);
     if (st != RELIEF_OK)
         return st;
     r->backend = r->m->backend;
@@ -399,6 +400,7 @@ static relief_status grow(relief_complete_run *r, relief_error *err)
         relief_hierarchy_stats hs;
         ho.backend = r->st.params.backend;
         ho.device = r->st.params.device;
+        ho.threads = r->st.params.threads;
         st = relief_hierarchy_grow(r->hier, r->s, &r->st.params, go, &ho, &hs, &r->stats,
                                    &r->backend, r->device, sizeof r->device, r->choice,
                                    sizeof r->choice, err);

@@ -1,7 +1,7 @@
 /* relief_complete_params described for clients that set them by name and
  * for the documentation (relief_param, relief/core.h). The smooth
- * completion's fields come first: relief_smooth takes those and the memory
- * limit. The ranges are relief_complete_params_validate's. */
+ * completion's fields come first: relief_smooth takes those, the memory
+ * limit and the threads. The ranges are relief_complete_params_validate's. */
 #include "complete/engine.h"
 
 #include <float.h>
@@ -18,7 +18,7 @@ static const char *const schemes[] = {"midpoint", "butterfly", NULL};
 static const char *const searches[] = {"auto", "exhaustive", "coherent", NULL};
 
 /* What relief_smooth takes: SMOOTH_COUNT entries. */
-#define SMOOTH_COUNT 12
+#define SMOOTH_COUNT 13
 
 static const relief_param table[] = {
     RP_ENUM(T, fit, "MODEL", fits, "the primitive fitted to the capture: auto (default: "
@@ -58,6 +58,7 @@ static const relief_param table[] = {
             "filled (a plane's too when L is given); 0 (default): a quarter of the bounding "
             "box's diagonal"),
     RP_MAX_MEMORY(T),
+    RP_THREADS(T),
     /* the growth: relief_complete only */
     RP_ENUM(T, base, "B", bases, "what the relief grows over: primitive (the fitted one), "
             "smooth (paper 002's smoothed, hole-filled base, for a mesh no primitive fits: "

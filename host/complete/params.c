@@ -136,6 +136,7 @@ void relief_complete_stages_make(const relief_complete_params *p, relief_complet
     g->n_extent = p->n_extent;
     memcpy(g->extent, p->extent, sizeof g->extent);
     g->max_memory = p->run.max_memory;
+    g->threads = p->run.threads;
     *o = relief_smooth_options_default();
     o->frames = p->frames;
     o->oversample_scheme = (int)p->oversample_scheme;

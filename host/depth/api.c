@@ -182,7 +182,7 @@ void relief_depth_fill_report_free(relief_depth_fill_report *rep)
 static relief_status make_scorer(const relief_run_options *run, relief_patch_scorer **s,
                                  relief_depth_fill_report *rep, relief_error *err)
 {
-    relief_status st = relief_patch_scorer_create(run->backend, run->device, s,
+    relief_status st = relief_patch_scorer_create(run->backend, run->device, run->threads, s,
                                                   rep->backend_note,
                                                   sizeof rep->backend_note, err);
     if (st != RELIEF_OK)

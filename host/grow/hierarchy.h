@@ -116,6 +116,7 @@ typedef struct relief_level_heights {
 typedef struct relief_hierarchy_options {
     relief_backend backend;   /* per level, as relief_matcher_create */
     int device;
+    int threads;              /* host threads (0: the default) */
     int pyramids;             /* 1 (default): sample pyramids; 0: every
                                  target scores every sample at every level */
     relief_level_heights *heights; /* NULL, or RELIEF_MAX_LEVELS entries the

@@ -22,6 +22,7 @@ relief_hierarchy_options relief_hierarchy_options_default(void)
     relief_hierarchy_options o;
     o.backend = RELIEF_BACKEND_AUTO;
     o.device = -1;
+    o.threads = 0;
     o.pyramids = 1;
     o.heights = NULL;
     return o;
@@ -604,8 +605,8 @@ static relief_status level_matcher(hier_run *g, int ki, level_work *w, relief_er
      * program, and only the surface's buffers change. */
     if (g->m)
         return relief_matcher_rebind(g->m, w->d, err);
-    st = relief_matcher_create(g->ho->backend, g->ho->device, w->d, &g->m, lnote, sizeof lnote,
-                               err);
+    st = relief_matcher_create(g->ho->backend, g->ho->device, g->ho->threads, w->d, &g->m,
+                               lnote, sizeof lnote, err);
     if (st == RELIEF_OK && lnote[0] && g->note && g->note_size && !g->note[0])
         snprintf(g->note, g->note_size, "%s", lnote);
     return st;

@@ -307,8 +307,8 @@ static relief_status make_hole(fill_call *c, relief_error *err)
 /* The window scorer run.backend names. */
 static relief_status start_scorer(fill_call *c, relief_error *err)
 {
-    return relief_patch_scorer_create(c->p->run.backend, c->p->run.device, &c->scorer,
-                                      c->note, sizeof c->note, err);
+    return relief_patch_scorer_create(c->p->run.backend, c->p->run.device, c->p->run.threads,
+                                      &c->scorer, c->note, sizeof c->note, err);
 }
 
 /* Fill the copy. Nothing to fill: no copy, the thresholds reported. */

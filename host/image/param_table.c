@@ -34,6 +34,7 @@ static const relief_param table[] = {
                "threads); outputs are identical"),
     RP_DEVICE(T),
     RP_MAX_MEMORY(T),
+    RP_THREADS(T),
 };
 
 const relief_param *relief_image_fill_param_table(size_t *count)

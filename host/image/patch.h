@@ -86,8 +86,9 @@ typedef struct relief_patch_scorer {
 /* The scalar reference (never fails but for memory). */
 relief_status relief_patch_scalar_create(relief_patch_scorer **out, relief_error *err);
 
-/* The host scorer on `threads` threads (<= 0: every online processor, at
- * most RELIEF_POOL_MAX); RELIEF_E_NOMEM when its threads cannot start. */
+/* The host scorer on `threads` threads (<= 0: the CPUs this thread may run
+ * on, base/pool.h; at most RELIEF_POOL_MAX); RELIEF_E_NOMEM when its
+ * threads cannot start. */
 relief_status relief_patch_host_create(int threads, relief_patch_scorer **out,
                                        relief_error *err);
 
@@ -106,12 +107,12 @@ relief_status relief_patch_opencl_create(int device, relief_patch_scorer **out,
 void relief_patch_opencl_select_from(relief_patch_scorer *s, size_t scores);
 
 /* The scorer for `backend`. auto: OpenCL on `device` when one is named
- * (>= 0), else the host scorer on every core, GPU or not (a launch per
- * window search measured slower than the host's threads); the host
- * scorer too when the named device's OpenCL fails to start. Which and why
- * goes to `note` (may be NULL); a note that starts with "OpenCL
- * unavailable" is a warning. */
-relief_status relief_patch_scorer_create(relief_backend backend, int device,
+ * (>= 0), else the host scorer on `threads` (0: the default), GPU or not
+ * (a launch per window search measured slower than the host's threads);
+ * the host scorer too when the named device's OpenCL fails to start.
+ * Which and why goes to `note` (may be NULL); a note that starts with
+ * "OpenCL unavailable" is a warning. */
+relief_status relief_patch_scorer_create(relief_backend backend, int device, int threads,
                                          relief_patch_scorer **out, char *note,
                                          size_t note_size, relief_error *err);
 void relief_patch_scorer_destroy(relief_patch_scorer *s);

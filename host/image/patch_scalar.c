@@ -97,7 +97,7 @@ void relief_patch_scorer_destroy(relief_patch_scorer *s)
     }
 }
 
-relief_status relief_patch_scorer_create(relief_backend backend, int device,
+relief_status relief_patch_scorer_create(relief_backend backend, int device, int threads,
                                          relief_patch_scorer **out, char *note,
                                          size_t note_size, relief_error *err)
 {
@@ -108,7 +108,7 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_patch_scalar_create(out, err);
     if (backend == RELIEF_BACKEND_HOST)
-        return relief_patch_host_create(0, out, err);
+        return relief_patch_host_create(threads, out, err);
     if (backend == RELIEF_BACKEND_OPENCL)
         return relief_patch_opencl_create(device, out, err);
     /* auto: OpenCL on the device named; else the host's threads, with or
@@ -127,7 +127,7 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
             snprintf(note, note_size, "backend auto: the host's threads (a launch per window "
                      "search measured slower than them on a GPU, and no faster on a CPU; "
                      "backend opencl to use it)");
-        return relief_patch_host_create(0, out, err);
+        return relief_patch_host_create(threads, out, err);
     }
     st = relief_patch_opencl_create(device, out, &why);
     if (st == RELIEF_OK) {
@@ -140,5 +140,5 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device,
     if (note && note_size)
         snprintf(note, note_size, "OpenCL unavailable (%s); backend auto: the host's "
                  "threads", why.message);
-    return relief_patch_host_create(0, out, err);
+    return relief_patch_host_create(threads, out, err);
 }

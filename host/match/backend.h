@@ -35,6 +35,8 @@ struct relief_matcher {
     void *ctx;
     relief_backend backend;  /* the one actually used */
     int device_index;        /* the OpenCL device asked for (-1: first) */
+    int threads;             /* the host threads asked for (0: the default):
+                                auto's fallback to the host matcher takes them */
     char device[256];        /* "scalar reference (1 thread)", "host (N
                                 threads[, 16 lanes AVX2])" or the OpenCL
                                 device [with its lanes] */

@@ -13,6 +13,7 @@
 #include "match/matcher_host.h"
 #include "match/matcher_opencl.h"
 #include "match/matcher_scalar.h"
+#include "match/score_pool.h"
 
 /* Refuse a device the surface cannot fit on before uploading anything. */
 static relief_status device_fits(int device, const relief_match_data *d, relief_error *err)
@@ -30,7 +31,8 @@ static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
                                const relief_error *why, relief_error *err)
 {
     relief_matcher *sc = NULL;
-    relief_status st = relief_matcher_host_create(d, 0, &sc, err);
+    relief_status st = relief_matcher_host_create(d, relief_score_pool_threads_for(m->threads),
+                                                  &sc, err);
     if (st != RELIEF_OK)
         return st;
     snprintf(m->fallback_note, sizeof m->fallback_note,
@@ -74,10 +76,11 @@ static int pick_device(char *why, size_t why_size)
     return -1;
 }
 
-relief_status relief_matcher_create(relief_backend backend, int device,
+relief_status relief_matcher_create(relief_backend backend, int device, int threads,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err)
 {
+    const int host_threads = relief_score_pool_threads_for(threads);
     relief_status st;
     char why[RELIEF_ERROR_MESSAGE_MAX + 64] = "";
     const int named = device >= 0; /* --device given */
@@ -89,7 +92,7 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_matcher_scalar_create(d, out, err);
     if (backend == RELIEF_BACKEND_HOST)
-        return relief_matcher_host_create(d, 0, out, err);
+        return relief_matcher_host_create(d, host_threads, out, err);
     /* A bad setting is the user's to mend, under auto too, whichever
      * backend auto then picks. */
     st = relief_opencl_host_max_env(&host_max, &set, err);
@@ -106,9 +109,10 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     else {
         st = device_fits(device, d, err);
         if (st == RELIEF_OK)
-            st = relief_matcher_opencl_create(d, device, out, err);
+            st = relief_matcher_opencl_create(d, device, threads, out, err);
         if (st == RELIEF_OK) {
             (*out)->fallback = backend == RELIEF_BACKEND_AUTO;
+            (*out)->threads = threads;
             (*out)->device_index = device;
             if (backend == RELIEF_BACKEND_AUTO && note && note_size)
                 snprintf(note, note_size, "%s: %.200s",
@@ -124,7 +128,7 @@ relief_status relief_matcher_create(relief_backend backend, int device,
     }
     /* auto on the host: say why. */
     relief_error_clear(err);
-    st = relief_matcher_host_create(d, 0, out, err);
+    st = relief_matcher_host_create(d, host_threads, out, err);
     if (st == RELIEF_OK && note && note_size)
         snprintf(note, note_size, "%s; scoring on the %s", why, (*out)->device);
     return st;

@@ -18,9 +18,11 @@
 #include "match/match_data.h"
 
 /* The matcher for `backend`: scalar, host or OpenCL (on `device`, -1: the
- * first). For auto: OpenCL on `device` when one is named (>= 0), else on the
- * first GPU or accelerator; the host matcher when there is none, or when
- * that device cannot run; which one and why is written to `note` (may be
+ * first); the host's scoring on `threads` (relief_run_options.threads: 0
+ * the default, at most RELIEF_SCORE_POOL_MAX), scalar on one. For auto:
+ * OpenCL on `device` when one is named (>= 0), else on the first GPU or
+ * accelerator; the host matcher when there is none, or when that device
+ * cannot run; which one and why is written to `note` (may be
  * NULL). A note that starts with RELIEF_MATCHER_UNAVAILABLE says OpenCL
  * could not be used (no platform, or the device failed to start): a
  * warning, where the others are a plain choice. OpenCL is refused
@@ -29,7 +31,7 @@
  * opencl alike, a bad RELIEF_OPENCL_HOST_MAX or a --device there is none
  * of is refused (RELIEF_E_RANGE). */
 #define RELIEF_MATCHER_UNAVAILABLE "OpenCL unavailable"
-relief_status relief_matcher_create(relief_backend backend, int device,
+relief_status relief_matcher_create(relief_backend backend, int device, int threads,
                                     const relief_match_data *d, relief_matcher **out,
                                     char *note, size_t note_size, relief_error *err);
 

@@ -563,7 +563,8 @@ static const relief_matcher_ops ocl_ops = {"opencl", ocl_score, ocl_update, ocl_
                                            ocl_destroy};
 
 relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
-                                           relief_matcher **out, relief_error *err)
+                                           int threads, relief_matcher **out,
+                                           relief_error *err)
 {
     relief_device_info info;
     cl_device_id dev = NULL;
@@ -600,7 +601,7 @@ relief_status relief_matcher_opencl_create(const relief_match_data *d, int devic
     }
     st = build_program(o, dev, err);
     if (st == RELIEF_OK)
-        st = relief_score_pool_create(relief_score_pool_default_threads(), &o->pool, err);
+        st = relief_score_pool_create(relief_score_pool_threads_for(threads), &o->pool, err);
     if (st != RELIEF_OK)
         goto fail;
     st = upload_data(o, d, err);

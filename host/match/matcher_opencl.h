@@ -17,13 +17,15 @@
 #define RELIEF_OPENCL_CHUNK_FIRST 16384
 
 /* The OpenCL matcher on device `device` (relief_devices order; -1: the
- * first). RELIEF_E_RANGE for a device index there is none of;
+ * first), its small launches scored on the host's `threads` (0: the
+ * default; relief_score_pool_threads_for). RELIEF_E_RANGE for a device index there is none of;
  * RELIEF_E_DEVICE naming the reason (no platform, the build log of a failed
  * kernel build, out of device memory); RELIEF_E_NOT_BUILT in a build
  * without OpenCL. */
 #ifdef RELIEF_HAVE_OPENCL
 relief_status relief_matcher_opencl_create(const relief_match_data *d, int device,
-                                           relief_matcher **out, relief_error *err);
+                                           int threads, relief_matcher **out,
+                                           relief_error *err);
 
 /* RELIEF_OPENCL_HOST_MAX, the largest launch scored on the host instead:
  * *set 0 when unset (out untouched), else its value in *out;
@@ -39,11 +41,13 @@ relief_status relief_opencl_lanes_env(int *out, int *set, relief_error *err);
 #else
 #include "base/error.h"
 static inline relief_status relief_matcher_opencl_create(const relief_match_data *d,
-                                                         int device, relief_matcher **out,
+                                                         int device, int threads,
+                                                         relief_matcher **out,
                                                          relief_error *err)
 {
     (void)d;
     (void)device;
+    (void)threads;
     (void)out;
     return relief_fail(err, RELIEF_E_NOT_BUILT,
                        "relief was built without OpenCL (RELIEF_WITH_OPENCL=OFF)");

@@ -89,6 +89,12 @@ int relief_score_pool_default_threads(void)
     return n > RELIEF_SCORE_POOL_MAX ? RELIEF_SCORE_POOL_MAX : n;
 }
 
+int relief_score_pool_threads_for(int threads)
+{
+    const int n = relief_pool_threads_for(threads);
+    return n > RELIEF_SCORE_POOL_MAX ? RELIEF_SCORE_POOL_MAX : n;
+}
+
 relief_status relief_score_pool_create(int threads, relief_score_pool **out,
                                        relief_error *err)
 {

@@ -28,9 +28,13 @@ typedef struct relief_score_pool relief_score_pool;
 relief_status relief_score_pool_create(int threads, relief_score_pool **out,
                                        relief_error *err);
 
-/* The threads to use here: the online processors, at most
- * RELIEF_SCORE_POOL_MAX. */
+/* The threads to use here: the CPUs this thread may run on (its
+ * affinity), at most RELIEF_SCORE_POOL_MAX. */
 int relief_score_pool_default_threads(void);
+
+/* The threads a call asked for (relief_run_options.threads; 0: the
+ * default above), at most RELIEF_SCORE_POOL_MAX. */
+int relief_score_pool_threads_for(int threads);
 
 /* 1 when this build and processor score in lock-step (score_lanes.h: an
  * x86-64 build on a processor with AVX2), else 0. */

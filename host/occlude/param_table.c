@@ -43,6 +43,7 @@ static const relief_param table[] = {
                "scalar, host or opencl; outputs are identical"),
     RP_DEVICE(T),
     RP_MAX_MEMORY(T),
+    RP_THREADS(T),
 };
 
 const relief_param *relief_occluder_param_table(size_t *count)

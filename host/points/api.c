@@ -272,9 +272,10 @@ static relief_points_params engine_params(const relief_complete_points_params *p
     e.tex.seed = p->seed;
     e.tex.brute = p->grid_search == RELIEF_GRID_SEARCH_BRUTE;
     e.tex.backend = p->run.backend; /* host: grid_nn runs it as scalar */
-    /* scalar: every stage on the calling thread, the reference; else every
-     * stage on the host's threads (the same bytes). */
-    e.threads = p->run.backend == RELIEF_BACKEND_SCALAR ? 1 : 0;
+    /* scalar: every stage on the calling thread, the reference, whatever
+     * run.threads says; else every stage on run.threads (0: the CPUs this
+     * thread may run on), the same bytes. */
+    e.threads = p->run.backend == RELIEF_BACKEND_SCALAR ? 1 : p->run.threads;
     e.tex.device = p->run.device;
     return e;
 }

@@ -46,8 +46,8 @@ void relief_points_report_free(relief_points_report *r)
     r->base = r->base_nrm = NULL;
 }
 
-/* The host threads every stage runs on: p->threads, or the online
- * processors for 0. */
+/* The host threads every stage runs on: p->threads, or for 0 the CPUs
+ * this thread may run on (its affinity). */
 static int threads_of(const relief_points_params *p)
 {
     return p->threads > 0 ? p->threads : relief_pool_default_threads();
@@ -74,7 +74,8 @@ static relief_status check_params(const relief_points_params *p, relief_error *e
                            "(0, 2 pi)", p->rim_gap);
     if (p->threads < 0 || p->threads > RELIEF_PARALLEL_MAX_THREADS)
         return relief_fail(err, RELIEF_E_RANGE, "threads %d out of range: expected 0..%d (0: "
-                           "the online processors)", p->threads, RELIEF_PARALLEL_MAX_THREADS);
+                           "the CPUs this thread may run on)", p->threads,
+                           RELIEF_PARALLEL_MAX_THREADS);
     if (!(p->band >= 0.0 && p->band <= 1e6) || !(p->seam_band >= 0.0 && p->seam_band <= 1e6))
         return relief_fail(err, RELIEF_E_RANGE, "band %g or seam_band %g spacings out of range: "
                            "expected 0..1e6", p->band, p->seam_band);

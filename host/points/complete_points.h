@@ -73,8 +73,9 @@ typedef struct relief_points_params {
                                   consecutive shares of it (analysis, base, fill,
                                   texture, result), and a cancel stops the run at the
                                   next stage or texture iteration (RELIEF_E_CANCELLED) */
-    int threads;          /* host threads of every stage, 0..64 (default 0: the online
-                             processors; 1: the calling thread alone, the serial
+    int threads;          /* host threads of every stage, 0..64 (default 0: the CPUs
+                             this thread may run on, its affinity; 1: the calling
+                             thread alone, the serial
                              reference); each stage shares out work whose items are
                              computed alone, so the bytes do not depend on it */
     relief_texopt_params tex; /* its progress and threads are set from the ones above */

@@ -58,6 +58,7 @@ static const relief_param table[] = {
                "each way"),
     RP_DEVICE(T),
     RP_MAX_MEMORY(T),
+    RP_THREADS(T),
 };
 
 const relief_param *relief_complete_points_param_table(size_t *count)

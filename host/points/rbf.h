@@ -40,8 +40,8 @@ typedef struct relief_rbf_params {
     double spacing;       /* the points' mean nearest-neighbour distance (> 0; required) */
     double base_support;  /* rho of the coarsest level (default 0: 0.75 x the
                              bounding box's diagonal, Ohtake's choice) */
-    int threads;          /* host threads of the fit, 0..64 (default 0: the online
-                             processors); the bytes do not depend on it */
+    int threads;          /* host threads of the fit, 0..64 (default 0: the CPUs
+                             this thread may run on); the bytes do not depend on it */
 } relief_rbf_params;
 
 /* Defaults as stated above (spacing must then be set by the caller). */

@@ -20,10 +20,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "base/error.h"
 #include "base/parallel.h"
+#include "base/pool.h"
 #include "base/rng.h"
 #include "points/cluster.h"
 #include "points/grid_nn.h"
@@ -32,6 +32,7 @@
 #define MAX_EXEMPLARS 20000 /* exemplar grids searched at most (a seeded subset beyond) */
 #define CANDIDATES 8        /* nearest grids re-ranked by the energy */
 #define MAX_THREADS RELIEF_PARALLEL_MAX_THREADS
+_Static_assert(RELIEF_POOL_MAX <= MAX_THREADS, "the default threads fit the shares");
 
 relief_texopt_params relief_texopt_params_default(void)
 {
@@ -1279,10 +1280,8 @@ static relief_status texopt_run(const double *pos, const double *nrm_in, size_t 
     memset(&r, 0, sizeof r);
     r.p = *pp, r.pos = pos, r.n = n, r.channels = channels, r.o.rim = rim;
     r.threads = r.p.threads;
-    if (r.threads == 0) {
-        const long c = sysconf(_SC_NPROCESSORS_ONLN);
-        r.threads = c < 1 ? 1 : c > MAX_THREADS ? MAX_THREADS : (int)c;
-    }
+    if (r.threads == 0) /* the CPUs this thread may run on */
+        r.threads = relief_pool_default_threads();
     st = run_prepare(&r, nrm_in, value, unknown, exemplar, n_exemplar, err);
     if (st == RELIEF_OK)
         st = build_active_clusters(&r, unknown, err);

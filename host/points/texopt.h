@@ -50,7 +50,8 @@ typedef struct relief_texopt_params {
     double lambda;       /* weight of the rim term (default 1) */
     uint64_t seed;       /* the subset of exemplar grids searched when there are more
                             than 20 000 (default 1) */
-    int threads;         /* worker threads, 0 = online CPUs (default 0) */
+    int threads;         /* worker threads, 0 = the CPUs this thread may run on
+                            (its affinity; default 0) */
     unsigned histogram;  /* bit c set: channel c's unknown values end histogram-matched
                             to the exemplars' about them (those in the clusters
                             that hold unknown points; all exemplars when fewer than

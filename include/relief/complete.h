@@ -310,7 +310,7 @@ RELIEF_API relief_status relief_complete_params_validate(const relief_complete_p
 
 /* relief_complete_params described field by field (relief_param,
  * relief/core.h): relief_complete's parameters, and relief_smooth's (the
- * smooth completion's fields and max_memory). */
+ * smooth completion's fields, max_memory and threads). */
 RELIEF_API const relief_param *relief_complete_param_table(size_t *count);
 RELIEF_API const relief_param *relief_smooth_param_table(size_t *count);
 

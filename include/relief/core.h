@@ -454,7 +454,19 @@ typedef struct relief_run_options {
     const char *input_name;      /* what the report's JSON calls the input and */
     const char *output_name;     /* the output (a path, or any label); NULL
                                     (default): not named */
+    int threads;                 /* host threads the call may run on at once,
+                                    its own included: 1..RELIEF_THREADS_MAX, or 0
+                                    (default): the CPUs the calling thread may
+                                    run on (its affinity: taskset, a cpuset),
+                                    at most RELIEF_THREADS_MAX. A stage may use
+                                    fewer (the mesh growth's host scoring 16 at
+                                    most); backend scalar runs on the calling
+                                    thread alone whatever this says. The output
+                                    is the same bytes for any count */
 } relief_run_options;
+
+/* The most host threads a call takes (relief_run_options.threads). */
+#define RELIEF_THREADS_MAX 64
 
 /* The defaults above. */
 RELIEF_API relief_run_options relief_run_options_default(void);

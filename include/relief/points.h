@@ -120,12 +120,14 @@ typedef struct relief_complete_points_params {
     size_t non_finite_dropped;   /* for the report only: the points the reader
                                     left out (relief_points_read_info); 0 */
     relief_run_options run;      /* backend: scalar runs every stage on the
-                                    calling thread (the reference); host and auto
-                                    share each stage out over the host's threads
-                                    (the same bytes). The brute grid search runs
-                                    on OpenCL for opencl, and for auto on a GPU;
-                                    opencl and device are for grid_search brute
-                                    only. max_memory bounds the estimate
+                                    calling thread (the reference), whatever
+                                    threads says; host and auto share each stage
+                                    out over run.threads host threads (0: the
+                                    CPUs this thread may run on), the same
+                                    bytes. The brute grid search runs on OpenCL
+                                    for opencl, and for auto on a GPU; opencl
+                                    and device are for grid_search brute only.
+                                    max_memory bounds the estimate
                                     (relief_complete_points_max_points) */
 } relief_complete_points_params;
 

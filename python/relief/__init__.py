@@ -12,7 +12,9 @@ triangle, counter-clockwise seen from outside; colours are (N, 3) floats in
 Every engine takes its parameters as keyword arguments, by the names of the
 command line's options with ``_`` for ``-`` (``min_window=5``,
 ``max_memory="4G"``); ``relief.parameters("image_fill")`` lists them with
-their help. ``progress`` is a callable taking the fraction done (0 to 1);
+their help. ``threads=N`` bounds the host threads of a call (0, the
+default: the CPUs this process may run on, its affinity); the result is the
+same for any N. ``progress`` is a callable taking the fraction done (0 to 1);
 returning True cancels the run. The GIL is released while an engine runs,
 so several threads may run engines at once; Ctrl-C cancels a run
 (KeyboardInterrupt). Any failure raises :class:`ReliefError`, whose
@@ -309,9 +311,12 @@ def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None, 
     m = None if mask is None else _mask(mask, z.shape)
     colours, poses = _views(views, z.shape)
     kw = _params(_intrinsics(dict(params, seed=seed), intrinsics))
+    # threads= bounds the two fills too, unless their own params say
+    fills = {"threads": params["threads"]} if params.get("threads") is not None else {}
     report, used = _check(_relief.remove_occluders(
-        z, xyz, rgb, m, colours, poses, kw, _params(dict(colour_params or {}, seed=seed)),
-        _params(dict(depth_params or {}, seed=seed))))
+        z, xyz, rgb, m, colours, poses, kw,
+        _params(dict(dict(fills, **(colour_params or {})), seed=seed)),
+        _params(dict(dict(fills, **(depth_params or {})), seed=seed))))
     used = np.asarray(used).reshape(z.shape).astype(bool)
     out = _depth_out(d, z, used, png_scale)
     result = Removed(rgb, out, xyz, used)

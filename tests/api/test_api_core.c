@@ -27,9 +27,19 @@ static void test_run_options(void)
     relief_run_options r = relief_run_options_default();
     relief_error err = {0};
     CHECK(r.backend == RELIEF_BACKEND_AUTO && r.device == -1 && r.max_memory == 0 &&
-              !r.progress && !r.input_name,
+              !r.progress && !r.input_name && r.threads == 0,
           "defaults");
     CHECK_STATUS(relief_run_options_validate(&r, &err), RELIEF_OK, err, NULL);
+    /* threads: 0 (the affinity's CPUs) or 1..RELIEF_THREADS_MAX, the message
+     * naming the field and its range */
+    r.threads = RELIEF_THREADS_MAX;
+    CHECK_STATUS(relief_run_options_validate(&r, &err), RELIEF_OK, err, NULL);
+    r.threads = RELIEF_THREADS_MAX + 1;
+    CHECK_STATUS(relief_run_options_validate(&r, &err), RELIEF_E_RANGE, err, "threads 65 out "
+                 "of range: expected 1..64");
+    r.threads = -1;
+    CHECK_STATUS(relief_run_options_validate(&r, &err), RELIEF_E_RANGE, err, "threads");
+    r.threads = 0;
     r.device = 300;
     CHECK_STATUS(relief_run_options_validate(&r, &err), RELIEF_E_RANGE, err, "device");
     r.device = -1;

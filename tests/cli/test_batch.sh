@@ -33,6 +33,11 @@ if [[ -f $brick && -f $grass ]]; then
   expect 0 "2 of 2 inputs done" -- "$relief" image-fill "$brick" "$grass" --mask "$tmp/mask.png" -o "$tmp/o" --window 9
   "$relief" image-fill "$grass" --mask "$tmp/mask.png" -o "$tmp/one/grass.png" --window 9 --quiet
   ok 'cmp -s "$tmp/o/grass.png" "$tmp/one/grass.png" && [[ -f $tmp/o/brick.png ]]' "image-fill: the batch's grass.png differs from a run on it alone"
+  # What --atlas leaves alone is known from the parse, not from argv's
+  # text: --wind 9 is --window 9 (before, --atlas took it for not given).
+  "$image_tool" mask "$tmp/small.png" 512 512 200 240 10 10
+  expect 0 "" -- "$relief" image-fill "$brick" --mask "$tmp/small.png" -o "$tmp/one/atlas.png" --atlas --wind 9 --report "$tmp/one/atlas.json"
+  ok 'grep -q "\"window\": 9," "$tmp/one/atlas.json"' "image-fill --atlas --wind 9: the report's window is not 9"
 fi
 
 # One input and -o ending in '/': written into that folder under its name.
@@ -48,6 +53,26 @@ mkdir -p "$tmp/in2" && cp "$tmp/in/cap1.ply" "$tmp/in2/"
 expect 1 "would both be written to" -- "$relief" depth-fill "$tmp/in/cap1.ply" "$tmp/in2/cap1.ply" -o "$tmp/b/"
 ok '[[ -z $(ls -A "$tmp/b") ]]' "a refused batch wrote: $(ls "$tmp/b")"
 expect 1 "unexpected argument" -- "$relief" fit "$tmp/in/cap1.ply" "$tmp/in/cap2.ply"
+
+# Issue 60: the command line is parsed once and its job run per input, so
+# every spelling getopt takes works (before, `--out DIR/` made the batch
+# call itself until the stack overflowed, and `--rep` slipped past the
+# refusal, every run writing the one report).
+for spelling in "--out=$tmp/ab/" "--outp $tmp/ab/" "-o$tmp/ab/"; do
+  rm -rf "$tmp/ab" && mkdir "$tmp/ab"
+  # shellcheck disable=SC2086 # the spelling is two words or one
+  expect 0 "2 of 2 inputs done" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" $spelling --backend scalar
+  ok 'cmp -s "$tmp/ab/cap1.ply" "$tmp/one/cap1.ply" && cmp -s "$tmp/ab/cap2.ply" "$tmp/one/cap2.ply"' "$spelling: the batch's outputs differ from runs on each input alone"
+done
+rm -rf "$tmp/b" && mkdir "$tmp/b"
+expect 1 "--report names one file" -- "$relief" image-fill "$tmp/x.png" "$tmp/y.png" --out "$tmp/b/" --rep "$tmp/b/r.json"
+expect 1 "--report-dir names one file" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/b/" --report-d="$tmp/b/rd"
+expect 1 "--resume names one file" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/b/" --resu "$tmp/b/ck"
+expect 1 "--checkpoint names one file" -- "$relief" complete "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" --outp="$tmp/b/" --checkpoint="$tmp/b/ck"
+expect 1 "--mesh names one file" -- "$relief" complete-points "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/b/" --mes "$tmp/b/m.ply"
+expect 1 "--truth names one file" -- "$relief" depth-fill "$tmp/in/cap1.ply" "$tmp/in/cap2.ply" -o "$tmp/b/" --tr "$tmp/in/cap1.ply"
+expect 1 "--points names one file" -- "$relief" depth-fill "$tmp/a.pcd" "$tmp/b.pcd" -o "$tmp/b/" --poi "$tmp/b/p.ply"
+ok '[[ -z $(ls -A "$tmp/b") ]]' "a refused batch wrote: $(ls "$tmp/b")"
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -46,6 +46,17 @@ ok '[[ -s $tmp/ck ]]' "the checkpoint there before the run was removed"
 ok '[[ $(find "$tmp" -name ".relief-*" | wc -l) -eq 0 ]]' "temporary files left"
 rm -f "$tmp/ck"
 
+# --max-seconds stops on the elapsed time only (issue 60). An estimate far
+# over the limit (the test hook makes the run look a million times slower
+# than it is, as a shared core once made a 15 s run look like 6379 s) is
+# one warning, with --quiet too, and the run goes on to the same bytes.
+expect 0 "over --max-seconds 1000; it goes on" -- env RELIEF_TEST_ESTIMATE_NOW=1 RELIEF_TEST_ESTIMATE_SCALE=1e6 "$relief" "${run[@]}" -o "$tmp/lim.ply" --max-seconds 1000
+ok '[[ $(grep -c "warning: the run may take" "$tmp/err") -eq 1 ]]' "not one warning for an estimate over --max-seconds: $(cat "$tmp/err")"
+ok 'cmp -s "$tmp/full.ply" "$tmp/lim.ply"' "a run warned about --max-seconds differs from the run without it"
+# Past the limit it stops: exit 1, the elapsed time and the limit named, no output.
+expect 1 "over --max-seconds 0.001, with" -- "$relief" "${run[@]}" -o "$tmp/lim2.ply" --max-seconds 0.001
+ok '[[ ! -e $tmp/lim2.ply ]]' "a run stopped by --max-seconds left its output"
+
 # SIGINT while the outputs are written waits until they are whole and in
 # place; then the command dies of it (130), so that a shell's loop stops.
 expect 0 "" -- "$relief" smooth "$pw" -o "$tmp/s0.ply" --quiet

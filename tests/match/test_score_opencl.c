@@ -123,7 +123,7 @@ static int compare_surface(relief_synth_kind kind, int colour, size_t vertices)
           err.message);
     if (!d)
         goto done;
-    if (relief_matcher_opencl_create(d, -1, &mo, &err) != RELIEF_OK) {
+    if (relief_matcher_opencl_create(d, -1, 0, &mo, &err) != RELIEF_OK) {
         if (strstr(err.message, "no OpenCL platform")) {
             skip = 1;
             goto done;
@@ -397,7 +397,7 @@ int main(void)
         static const char *const bad[] = {"0", "65", "x", "8x", "-4"};
         for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
             set_lanes(bad[k]);
-            CHECK(relief_matcher_opencl_create(NULL, -1, &m, &err) == RELIEF_E_RANGE && !m &&
+            CHECK(relief_matcher_opencl_create(NULL, -1, 0, &m, &err) == RELIEF_E_RANGE && !m &&
                       strstr(err.message, "RELIEF_OPENCL_LANES"),
                   "RELIEF_OPENCL_LANES=%s accepted: %s", bad[k], err.message);
         }

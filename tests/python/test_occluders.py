@@ -59,6 +59,9 @@ def test_remove_matches_cli(frame):
     # The same with the mask given: the same frame.
     again = relief.remove_occluders(colour, depth, out.mask)
     assert np.array_equal(again.depth, out.depth)
+    # On one thread (issue 60: the finding's threads= bounds the fills too).
+    one = relief.remove_occluders(colour, depth, threads=1)
+    assert np.array_equal(one.colour, out.colour) and np.array_equal(one.depth, out.depth)
 
 
 def test_views_match_cli(frame):

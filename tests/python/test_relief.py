@@ -87,6 +87,30 @@ def test_depth_fill_same_bytes_as_cli(tmp_path):
     assert np.array_equal(got[known], crop[known])
 
 
+def test_threads_give_the_default_result(brick, tmp_path):
+    """threads= (issue 60): 1, 3 or the default (the CPUs this process may
+    run on), the same arrays from each engine; out of range raises naming
+    the parameter."""
+    img, mask = brick
+    want = relief.image_fill(img, mask, backend="host")
+    for t in (1, 3):
+        assert np.array_equal(relief.image_fill(img, mask, backend="host", threads=t), want)
+    z = np.full((64, 64), 1500, np.uint16) + (np.arange(64, dtype=np.uint16) * 4)[None, :]
+    z[20:30, 20:30] = 0
+    assert np.array_equal(relief.depth_fill(z, threads=1), relief.depth_fill(z))
+    cli("synth", "plane-waves", "-o", tmp_path / "cap.ply", "--vertices", 500)
+    cap = relief.read_mesh(tmp_path / "cap.ply")
+    same = lambda a, b: all((x is None and y is None) or np.array_equal(x, y)
+                            for x, y in zip(a, b))
+    assert same(relief.complete_mesh(cap.vertices, cap.faces, threads=1),
+                relief.complete_mesh(cap.vertices, cap.faces))
+    kw = dict(faces=cap.faces, iterations=2, max_hole=10)
+    assert same(relief.complete_points(cap.vertices, threads=1, **kw),
+                relief.complete_points(cap.vertices, **kw))
+    with pytest.raises(relief.ReliefError, match="threads 65 out of range"):
+        relief.image_fill(img, mask, threads=65)
+
+
 def test_depth_fill_uint16_and_mask():
     z = np.full((64, 64), 1500, np.uint16) + (np.arange(64, dtype=np.uint16) * 4)[None, :]
     z[20:30, 20:30] = 0
