@@ -13,25 +13,31 @@ Every engine takes its parameters as keyword arguments, by the names of the
 command line's options with ``_`` for ``-`` (``min_window=5``,
 ``max_memory="4G"``); ``relief.parameters("image_fill")`` lists them with
 their help. ``progress`` is a callable taking the fraction done (0 to 1);
-returning True cancels the run. The GIL is released while an engine runs,
-so several threads may run engines at once; Ctrl-C cancels a run
-(KeyboardInterrupt). Any failure raises :class:`ReliefError`, whose
-``status`` names its kind ("range", "usage", "mesh", "cancelled", ...).
+returning True cancels the run; ``cancel`` is an object whose ``is_set()``
+says to cancel (a ``threading.Event``), and :func:`cancel_all` cancels
+every call in flight, from any thread. The GIL is released while an engine
+runs, so several threads may run engines at once; Ctrl-C cancels a run on
+the main thread (KeyboardInterrupt); a call in flight in a daemon thread
+when the interpreter exits is cancelled and waited for. Any failure raises
+:class:`ReliefError`, whose ``status`` names its kind ("range", "usage",
+"mesh", "cancelled", ...).
 The same input and seed give the same bytes as the command line, whatever
 the backend. Every function is pure and picklable (module-level, numpy in
 and out, ReliefError pickles whole), so Dask, multiprocessing or
 concurrent.futures can run it on other processes or machines.
 """
+import atexit
 from collections import namedtuple
 import json
 import os
+import sys
 
 import numpy as np
 
 from . import _relief
 
-__all__ = ["ReliefError", "Mesh", "image_fill", "depth_fill", "complete_mesh", "fill_mesh_holes",
-           "complete_points", "find_occluders", "remove_occluders", "Removed",
+__all__ = ["ReliefError", "Mesh", "cancel_all", "image_fill", "depth_fill", "complete_mesh",
+           "fill_mesh_holes", "complete_points", "find_occluders", "remove_occluders", "Removed",
            "read_mesh", "write_mesh", "read_image", "write_image",
            "read_depth", "write_depth",
            "devices", "parameters", "__version__"]
@@ -99,6 +105,48 @@ def _progress(progress):
     return progress
 
 
+def _cancel(cancel):
+    if cancel is not None and not callable(getattr(cancel, "is_set", None)):
+        _fail("usage", f"cancel: {type(cancel).__name__} has no is_set(); expected an object "
+              "such as threading.Event, or None")
+    return cancel
+
+
+# ------------------------------------------------------------ cancelling
+
+def cancel_all():
+    """Cancel every relief call in flight, in any thread: each raises
+    ReliefError with status "cancelled" at its next progress step
+    (find_occluders and the readers and writers have none: they run to
+    their end). Calls that start afterwards run as usual. Safe from any
+    thread and from a signal handler; Ctrl-C reaches only a call on the
+    main thread by itself, so a program that runs relief in other threads
+    calls this (or sets the calls' ``cancel`` event) on KeyboardInterrupt
+    (docs/python.md shows how)."""
+    _relief.cancel_all()
+
+
+# Seconds the exit waits for the calls in flight to see their cancel.
+_EXIT_WAIT_S = 5.0
+
+
+def _at_exit():
+    """Before Python finalises (atexit runs while daemon threads live): no
+    call starts any more, those in flight are cancelled and waited for, and
+    one that returns later parks its thread rather than take the GIL of a
+    finalising interpreter (which would end it through std::terminate)."""
+    left = _relief.at_exit(_EXIT_WAIT_S)
+    if left:
+        print(f"relief: {left} call{'s' if left > 1 else ''} without progress steps (as "
+              f"find_occluders) still running {_EXIT_WAIT_S:g} s into the interpreter's exit; "
+              "ended with the process", file=sys.stderr)
+
+
+atexit.register(_at_exit)
+if hasattr(os, "register_at_fork"):  # a child has none of its parent's calls
+    os.register_at_fork(after_in_child=_relief.after_fork_in_child)
+
+
 def _array(name, value, ndim=None):
     try:
         a = np.asarray(value)
@@ -122,7 +170,7 @@ def _mask(mask, shape, name="mask"):
 
 # ------------------------------------------------------------------ images
 
-def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
+def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None, cancel=None,
                return_report=False, **params):
     """Fill the pixels of ``image`` where ``mask`` is non-zero (paper 004:
     a 1-D pass where a gap's ends agree and are smooth, then copy-paste of
@@ -135,6 +183,7 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     Returns a new array like ``image`` (and the report as a dict when
     ``return_report``). Alpha is not matched; a filled pixel becomes opaque.
     """
+    progress, cancel = _progress(progress), _cancel(cancel)
     img = _array("image", image, (2, 3))
     if img.dtype not in (np.uint8, np.uint16, np.float32):
         _fail("usage", f"image: dtype {img.dtype}, expected uint8, uint16 or float32")
@@ -158,7 +207,7 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     else:
         out = np.array(work, order="C", copy=True)
     kw = _params(dict(params, window=window, seed=seed, backend=backend))
-    (report,) = _check(_relief.image_fill(out, m, kw, _progress(progress)))
+    (report,) = _check(_relief.image_fill(out, m, kw, progress, cancel))
     if lo is not None:
         filled = (lo + out.astype(np.float64) / 65535.0 * scale).astype(np.float32)
         out = np.where(m[:, :, None] != 0, filled, work)
@@ -191,7 +240,7 @@ def _depth_out(d, z, filled, png_scale):
 
 
 def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
-               png_scale=5000.0, progress=None, return_report=False, **params):
+               png_scale=5000.0, progress=None, cancel=None, return_report=False, **params):
     """Repair a depth frame (paper 003): its missing pixels (0, NaN or inf,
     or non-zero in ``mask``) inside the capture are filled; those outside it
     (a camera's invalid margin) stay missing.
@@ -200,13 +249,14 @@ def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
     missing) or float32 / float64 (NaN missing). Returns a new array of the
     same dtype: uint16 keeps 0 where still missing, floats NaN.
     """
+    progress, cancel = _progress(progress), _cancel(cancel)
     d = _array("depth", depth, (2,))
     z = _depth_in(d, png_scale)
     if z.size == 0:
         _fail("usage", f"depth: shape {d.shape} is empty")
     m = None if mask is None else _mask(mask, z.shape)
     kw = _params(dict(params, variant=variant, seed=seed, backend=backend))
-    (report,) = _check(_relief.depth_fill(z, m, kw, _progress(progress)))
+    (report,) = _check(_relief.depth_fill(z, m, kw, progress, cancel))
     filled = (d == 0) | (m != 0 if m is not None else False)
     out = _depth_out(d, z, filled, png_scale)
     return (out, _report(report, True)) if return_report else out
@@ -296,22 +346,24 @@ def find_occluders(colour, depth, *, points=None, intrinsics=None, views=None,
 
 def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None, views=None,
                      png_scale=5000.0, seed=1, colour_params=None, depth_params=None,
-                     return_report=False, **params):
+                     cancel=None, return_report=False, **params):
     """The frame without its occluders: ``mask`` (or the one find_occluders
     finds with ``params``) filled in colour by image_fill and in depth by
     depth_fill on the residual about the background, so the points behind
     lie on the wall with its own roughness. Arguments as find_occluders;
     colour_params and depth_params go to the two fills. Returns a
     :class:`Removed` (and the report when ``return_report``); the pixels
-    outside the mask keep their values.
+    outside the mask keep their values. ``cancel`` (or :func:`cancel_all`,
+    or Ctrl-C on the main thread) stops the two fills.
     """
+    cancel = _cancel(cancel)
     d, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
     m = None if mask is None else _mask(mask, z.shape)
     colours, poses = _views(views, z.shape)
     kw = _params(_intrinsics(dict(params, seed=seed), intrinsics))
     report, used = _check(_relief.remove_occluders(
         z, xyz, rgb, m, colours, poses, kw, _params(dict(colour_params or {}, seed=seed)),
-        _params(dict(depth_params or {}, seed=seed))))
+        _params(dict(depth_params or {}, seed=seed)), cancel))
     used = np.asarray(used).reshape(z.shape).astype(bool)
     out = _depth_out(d, z, used, png_scale)
     result = Removed(rgb, out, xyz, used)
@@ -372,21 +424,22 @@ def _mesh_result(result, return_report):
 
 
 def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend="auto",
-                  progress=None, return_report=False, **params):
+                  progress=None, cancel=None, return_report=False, **params):
     """Complete a capture with relief and colour grown from it (papers 000
     and 001): over a fitted plane, sphere or cylinder, or the capture's own
     smoothed surface (``base``). Returns (vertices, faces, colours, labels):
     the capture's vertices first (label 0), then the new ones (label 1);
     colours None when the capture has none."""
+    progress, cancel = _progress(progress), _cancel(cancel)
     v = _vertices("vertices", vertices)
     f = _faces(faces, len(v))
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, base=base, seed=seed, backend=backend))
-    return _mesh_result(_relief.complete_mesh(v, f, c, kw, _progress(progress)), return_report)
+    return _mesh_result(_relief.complete_mesh(v, f, c, kw, progress, cancel), return_report)
 
 
 def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, backend="auto",
-                    progress=None, return_report=False, **params):
+                    progress=None, cancel=None, return_report=False, **params):
     """Fill a mesh's holes through the six depth images of its bounding box
     (paper 003, ``relief depth-fill`` on a mesh): the holes the hole model
     fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``; a vessel's mouth and a
@@ -395,29 +448,30 @@ def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, b
     ``resolution``: voxels along the box's longest side. Returns (vertices,
     faces, colours, labels): the input's first, in order, then the patches'
     (label 1)."""
+    progress, cancel = _progress(progress), _cancel(cancel)
     v = _vertices("vertices", vertices)
     f = _faces(faces, len(v))
     if f is None:
         _fail("usage", "faces: a mesh's holes need its triangles")
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, resolution=resolution, seed=seed, backend=backend))
-    return _mesh_result(_relief.fill_mesh_holes(v, f, c, kw, _progress(progress)),
-                        return_report)
+    return _mesh_result(_relief.fill_mesh_holes(v, f, c, kw, progress, cancel), return_report)
 
 
 def complete_points(points, colours=None, normals=None, *, faces=None, seed=1,
-                    progress=None, return_report=False, **params):
+                    progress=None, cancel=None, return_report=False, **params):
     """Fill the holes of a point set (paper 002): the holes the hole model
     fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``) get new points on a
     smooth base with detail copied from the capture. ``faces`` (a mesh's
     triangles) make its boundary loops the holes. Returns (points, colours,
     labels): the input's points first (label 0), then the new ones."""
+    progress, cancel = _progress(progress), _cancel(cancel)
     v = _vertices("points", points)
     f = _faces(faces, len(v))
     c = _per_vertex("colours", colours, len(v), np.float32)
     n = _per_vertex("normals", normals, len(v), np.float64)
     kw = _params(dict(params, seed=seed))
-    report, arrays = _check(_relief.complete_points(v, f, c, n, None, kw, _progress(progress)))
+    report, arrays = _check(_relief.complete_points(v, f, c, n, None, kw, progress, cancel))
     out = _mesh(arrays)
     result = (out.vertices, out.colours, out.labels)
     return (result, _report(report, True)) if return_report else result

@@ -1,0 +1,156 @@
+"""What the package promises at its edges (issue 60, docs/limits.md):
+
+- the interpreter's exit with a call in flight in a daemon thread cancels
+  and waits for it, never std::terminate (exit 134);
+- relief.cancel_all() and a call's cancel= event cancel calls in other
+  threads, and Ctrl-C reaches them as docs/python.md wires it.
+"""
+import concurrent.futures
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import relief
+
+# A fill that runs for seconds on the scalar backend: a 300 x 300 hole.
+RNG = np.random.default_rng(1)
+IMG = RNG.integers(0, 255, (600, 600, 3), dtype=np.uint8)
+HOLE = np.zeros(IMG.shape[:2], np.uint8)
+HOLE[100:400, 100:400] = 1
+
+EXIT_SCRIPT = """
+import sys, threading, time
+import numpy as np, relief
+relief._EXIT_WAIT_S = float(sys.argv[2])
+rng = np.random.default_rng(1)
+img = rng.integers(0, 255, (600, 600, 3), dtype=np.uint8)
+hole = np.zeros(img.shape[:2], np.uint8); hole[100:400, 100:400] = 1
+y, x = np.mgrid[0:720, 0:960]
+colour = rng.integers(0, 255, (720, 960, 3), dtype=np.uint8)
+depth = (2000 + x + y // 2).astype(np.uint16)
+started = threading.Event()
+
+def progress(f):
+    started.set()
+    if sys.argv[1] == "python":  # in the user's Python when the exit comes
+        time.sleep(0.2)
+
+def run():
+    if sys.argv[1] == "plain":   # no progress steps: runs to its end, then parks
+        while True:
+            started.set()
+            relief.find_occluders(colour, depth)
+    relief.image_fill(img, hole, backend="scalar", progress=progress)
+
+threading.Thread(target=run, daemon=True).start()
+started.wait()
+# A finalisation long enough for the worker's next progress step, which
+# took the GIL of a finalising interpreter before issue 60 (exit 134).
+junk = [{"k": i} for i in range(1_000_000)]
+"""
+
+
+@pytest.mark.parametrize("case, wait, runs", [("library", 5, 10), ("python", 0, 4),
+                                             ("plain", 0, 4)])
+def test_exit_with_a_call_in_flight(tmp_path, case, wait, runs):
+    """A daemon thread's fill in the library (10 runs; 10 of 10 ended in
+    exit 134 before issue 60), in its progress callback's Python, or a call
+    without progress steps (waited for 0 s, so left running) when the main
+    thread ends: exit 0, no terminate, no fatal error."""
+    script = tmp_path / "exit.py"
+    script.write_text(EXIT_SCRIPT)
+    for run in range(runs):
+        t0 = time.monotonic()
+        r = subprocess.run([sys.executable, str(script), case, str(wait)], capture_output=True,
+                           text=True, timeout=60)
+        took = time.monotonic() - t0
+        assert r.returncode == 0, f"run {run}: exit {r.returncode}\n{r.stderr}"
+        assert "terminate called" not in r.stderr and "Fatal Python error" not in r.stderr, \
+            r.stderr
+        assert took < 20, f"run {run}: the exit took {took:.1f} s"
+        if case == "plain":
+            assert "still running" in r.stderr, r.stderr
+
+
+def _fill_in_thread(**kw):
+    """A long fill in a thread; (thread, started event, result dict)."""
+    started, result = threading.Event(), {}
+
+    def run():
+        try:
+            relief.image_fill(IMG, HOLE, backend="scalar", progress=lambda f: started.set(), **kw)
+            result["status"] = "done"
+        except relief.ReliefError as e:
+            result["status"], result["message"] = e.status, str(e)
+
+    t = threading.Thread(target=run)
+    t.start()
+    return t, started, result
+
+
+def test_cancel_all_reaches_every_thread():
+    runs = [_fill_in_thread() for _ in range(2)]
+    for _, started, _ in runs:
+        assert started.wait(30)
+    t0 = time.monotonic()
+    relief.cancel_all()
+    for t, _, result in runs:
+        t.join(10)
+        assert not t.is_alive()
+        assert result["status"] == "cancelled", result
+        assert "relief.cancel_all()" in result["message"], result
+    assert time.monotonic() - t0 < 2
+    small = relief.image_fill(IMG[:48, :48], HOLE[:48, :48] * 0)  # later calls run
+    assert np.array_equal(small, IMG[:48, :48])
+
+
+def test_cancel_event():
+    stop = threading.Event()
+    t, started, result = _fill_in_thread(cancel=stop)
+    assert started.wait(30)
+    t0 = time.monotonic()
+    stop.set()
+    t.join(10)
+    assert result["status"] == "cancelled" and "cancel event" in result["message"], result
+    assert time.monotonic() - t0 < 2
+    with pytest.raises(relief.ReliefError) as e:  # set before: cancelled at once
+        relief.depth_fill(np.where(HOLE != 0, np.nan, 1.0), cancel=stop)
+    assert e.value.status == "cancelled"
+    with pytest.raises(relief.ReliefError, match="is_set"):
+        relief.image_fill(IMG, HOLE, cancel=True)
+
+
+def test_ctrl_c_cancels_worker_threads_as_documented():
+    """docs/python.md's recipe: the main thread waits on an executor's
+    futures; Ctrl-C's KeyboardInterrupt sets the calls' cancel event, and
+    every call, running or queued, ends at once."""
+    stop, started = threading.Event(), threading.Event()
+
+    def fill(seed):
+        return relief.image_fill(IMG, HOLE, backend="scalar", seed=seed, cancel=stop,
+                                 progress=lambda f: started.set())
+
+    timer = None
+    t0 = time.monotonic()
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        futures = [pool.submit(fill, seed) for seed in range(6)]
+        assert started.wait(30)
+        timer = threading.Timer(0.1, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            try:
+                [f.result() for f in futures]
+            except KeyboardInterrupt:
+                stop.set()
+                raise
+    timer.join()
+    assert time.monotonic() - t0 < 10
+    for f in futures:
+        assert isinstance(f.exception(), relief.ReliefError)
+        assert f.exception().status == "cancelled"
