@@ -18,9 +18,10 @@ says to cancel (a ``threading.Event``), and :func:`cancel_all` cancels
 every call in flight, from any thread. The GIL is released while an engine
 runs, so several threads may run engines at once; Ctrl-C cancels a run on
 the main thread (KeyboardInterrupt); a call in flight in a daemon thread
-when the interpreter exits is cancelled and waited for. Any failure raises
-:class:`ReliefError`, whose ``status`` names its kind ("range", "usage",
-"mesh", "cancelled", ...).
+when the interpreter exits is cancelled and waited for. ``max_memory`` is
+checked from the arrays' shapes before anything is copied. Any failure
+raises :class:`ReliefError`, whose ``status`` names its kind ("range",
+"usage", "mesh", "cancelled", ...).
 The same input and seed give the same bytes as the command line, whatever
 the backend. Every function is pure and picklable (module-level, numpy in
 and out, ReliefError pickles whole), so Dask, multiprocessing or
@@ -159,13 +160,23 @@ def _array(name, value, ndim=None):
     return a
 
 
-def _mask(mask, shape, name="mask"):
+def _mask_view(mask, shape, name="mask"):
+    """The mask checked against the image's (H, W), not yet copied."""
     m = _array(name, mask, (2, 3))
     if m.ndim == 3 and m.shape[2] == 1:
         m = m[:, :, 0]
     if m.shape != tuple(shape):
         _fail("usage", f"{name}: shape {m.shape}, expected {tuple(shape)} (the image's height and width)")
+    return m
+
+
+def _mask_bits(m):
+    """A checked mask as the engines take it: uint8, 1 = fill."""
     return np.ascontiguousarray(m != 0, dtype=np.uint8)
+
+
+def _mask(mask, shape, name="mask"):
+    return _mask_bits(_mask_view(mask, shape, name))
 
 
 # ------------------------------------------------------------------ images
@@ -182,6 +193,7 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     mask: (H, W), non-zero = fill. window: the starting window, odd pixels.
     Returns a new array like ``image`` (and the report as a dict when
     ``return_report``). Alpha is not matched; a filled pixel becomes opaque.
+    ``max_memory`` is checked from the shapes before anything is copied.
     """
     progress, cancel = _progress(progress), _cancel(cancel)
     img = _array("image", image, (2, 3))
@@ -193,7 +205,10 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
         _fail("usage", f"image: {work.shape[2]} channels, expected 1 to 4")
     if work.shape[0] < 1 or work.shape[1] < 1:
         _fail("usage", f"image: shape {img.shape} is empty")
-    m = _mask(mask, work.shape[:2])
+    m = _mask_view(mask, work.shape[:2])
+    kw = _params(dict(params, window=window, seed=seed, backend=backend))
+    _check(_relief.image_fill_check_memory(*work.shape, kw))
+    m = _mask_bits(m)
     lo = scale = None
     if img.dtype == np.float32:
         known = work[m == 0]
@@ -206,7 +221,6 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
         out = np.ascontiguousarray(out, dtype=np.uint16)
     else:
         out = np.array(work, order="C", copy=True)
-    kw = _params(dict(params, window=window, seed=seed, backend=backend))
     (report,) = _check(_relief.image_fill(out, m, kw, progress, cancel))
     if lo is not None:
         filled = (lo + out.astype(np.float64) / 65535.0 * scale).astype(np.float32)
@@ -215,17 +229,21 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     return (out, _report(report, True)) if return_report else out
 
 
+def _depth_dtype(d):
+    if d.dtype not in (np.uint16, np.float32, np.float64):
+        _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+
+
 def _depth_in(d, png_scale):
     """A depth array as the engines take it: float32 metres (or the input's
     units), NaN missing; uint16 is a depth PNG's values, png_scale per
     metre, 0 missing."""
+    _depth_dtype(d)
     if d.dtype == np.uint16:
         if not png_scale > 0:
             _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
         return np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
-    if d.dtype in (np.float32, np.float64):
-        return np.array(d, dtype=np.float32, order="C", copy=True)
-    _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+    return np.array(d, dtype=np.float32, order="C", copy=True)
 
 
 def _depth_out(d, z, filled, png_scale):
@@ -248,14 +266,18 @@ def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
     depth: (H, W) uint16 (a depth PNG's values, ``png_scale`` per metre, 0
     missing) or float32 / float64 (NaN missing). Returns a new array of the
     same dtype: uint16 keeps 0 where still missing, floats NaN.
+    ``max_memory`` is checked from the shape before anything is copied.
     """
     progress, cancel = _progress(progress), _cancel(cancel)
     d = _array("depth", depth, (2,))
-    z = _depth_in(d, png_scale)
-    if z.size == 0:
+    _depth_dtype(d)
+    if d.size == 0:
         _fail("usage", f"depth: shape {d.shape} is empty")
-    m = None if mask is None else _mask(mask, z.shape)
+    m = None if mask is None else _mask_view(mask, d.shape)
     kw = _params(dict(params, variant=variant, seed=seed, backend=backend))
+    _check(_relief.depth_fill_check_memory(*d.shape, kw))
+    z = _depth_in(d, png_scale)
+    m = None if m is None else _mask_bits(m)
     (report,) = _check(_relief.depth_fill(z, m, kw, progress, cancel))
     filled = (d == 0) | (m != 0 if m is not None else False)
     out = _depth_out(d, z, filled, png_scale)

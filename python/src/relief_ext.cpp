@@ -402,6 +402,50 @@ relief_status make_mesh(const carray<const double> &v, nb::object faces, nb::obj
 
 // ---------------------------------------------------------------- engines
 
+// The library's memory check from an array's shape (before the package
+// copies it): (status, message). A side over the library's largest is
+// said here, as the library says it, since it may not fit an int.
+nb::tuple image_fill_check_memory(size_t height, size_t width, size_t channels, nb::dict kw)
+{
+    relief_image_fill_params p = relief_image_fill_params_default();
+    param_setter ps;
+    size_t count = 0;
+    const relief_param *table = relief_image_fill_param_table(&count);
+    relief_error err{RELIEF_OK, ""};
+    relief_status s = ps.set(&p, table, count, kw, "image_fill");
+    if (s != RELIEF_OK)
+        return nb::make_tuple(int(s), std::string(ps.err.message));
+    if (width > RELIEF_IMAGE_MAX_SIDE || height > RELIEF_IMAGE_MAX_SIDE) {
+        const bool w = width > RELIEF_IMAGE_MAX_SIDE;
+        snprintf(err.message, sizeof err.message,
+                 "image: %s %zu out of range: expected 1..%d pixels", w ? "width" : "height",
+                 w ? width : height, RELIEF_IMAGE_MAX_SIDE);
+        return nb::make_tuple(int(RELIEF_E_RANGE), std::string(err.message));
+    }
+    s = relief_image_fill_check_memory(int(width), int(height), int(channels), &p, &err);
+    return nb::make_tuple(int(s), std::string(err.message));
+}
+
+nb::tuple depth_fill_check_memory(size_t height, size_t width, nb::dict kw)
+{
+    relief_depth_fill_params p = relief_depth_fill_params_default();
+    param_setter ps;
+    size_t count = 0;
+    const relief_param *table = relief_depth_fill_param_table(&count);
+    relief_error err{RELIEF_OK, ""};
+    relief_status s = ps.set(&p, table, count, kw, "depth_fill");
+    if (s != RELIEF_OK)
+        return nb::make_tuple(int(s), std::string(ps.err.message));
+    if (width > RELIEF_DEPTH_MAX_SIDE || height > RELIEF_DEPTH_MAX_SIDE) {
+        const bool w = width > RELIEF_DEPTH_MAX_SIDE;
+        snprintf(err.message, sizeof err.message, "frame %s %zu out of range: expected 1..%d",
+                 w ? "width" : "height", w ? width : height, RELIEF_DEPTH_MAX_SIDE);
+        return nb::make_tuple(int(RELIEF_E_RANGE), std::string(err.message));
+    }
+    s = relief_depth_fill_check_memory(int(width), int(height), &p, &err);
+    return nb::make_tuple(int(s), std::string(err.message));
+}
+
 // image: H x W x C (C 1 to 4) uint8 or uint16, filled in place on success;
 // mask: H x W uint8, non-zero = fill.
 nb::tuple image_fill(nb::ndarray<nb::numpy, nb::c_contig, nb::device::cpu> image,
@@ -799,6 +843,10 @@ NB_MODULE(_relief, m)
           "cancel"_a.none());
     m.def("depth_fill", &depth_fill, "z"_a, "mask"_a.none(), "params"_a, "progress"_a.none(),
           "cancel"_a.none());
+    m.def("image_fill_check_memory", &image_fill_check_memory, "height"_a, "width"_a,
+          "channels"_a, "params"_a);
+    m.def("depth_fill_check_memory", &depth_fill_check_memory, "height"_a, "width"_a,
+          "params"_a);
     m.def("complete_mesh", &complete_mesh, "vertices"_a, "faces"_a.none(), "colours"_a.none(),
           "params"_a, "progress"_a.none(), "cancel"_a.none());
     m.def("fill_mesh_holes", &fill_mesh_holes, "vertices"_a, "faces"_a.none(),

@@ -3,10 +3,12 @@
 - the interpreter's exit with a call in flight in a daemon thread cancels
   and waits for it, never std::terminate (exit 134);
 - relief.cancel_all() and a call's cancel= event cancel calls in other
-  threads, and Ctrl-C reaches them as docs/python.md wires it.
+  threads, and Ctrl-C reaches them as docs/python.md wires it;
+- max_memory is checked from the arrays' shapes before anything is copied.
 """
 import concurrent.futures
 import os
+import resource
 import signal
 import subprocess
 import sys
@@ -154,3 +156,35 @@ def test_ctrl_c_cancels_worker_threads_as_documented():
     for f in futures:
         assert isinstance(f.exception(), relief.ReliefError)
         assert f.exception().status == "cancelled"
+
+
+def _peak_rss():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: KiB
+
+
+@pytest.mark.parametrize("call", [
+    lambda: relief.image_fill(np.broadcast_to(np.zeros((1, 1, 3), np.uint8), (20000, 20000, 3)),
+                              np.broadcast_to(np.uint8(1), (20000, 20000)), max_memory="64M"),
+    lambda: relief.image_fill(np.broadcast_to(np.float32(0.5), (20000, 20000)),
+                              np.broadcast_to(np.uint8(1), (20000, 20000)), max_memory="1G"),
+    lambda: relief.depth_fill(np.broadcast_to(np.float64(1.5), (20000, 20000)),
+                              np.broadcast_to(np.uint8(1), (20000, 20000)), max_memory="1G"),
+    lambda: relief.depth_fill(np.broadcast_to(np.uint16(0), (60000, 60000)), max_memory="1G"),
+])
+def test_memory_refused_before_any_copy(call):
+    """Arrays of 1.2 to 7.2 GB that take no memory (np.broadcast_to) are
+    refused by max_memory at once, and the peak resident memory does not
+    grow by a copy of them."""
+    before = _peak_rss()
+    t0 = time.monotonic()
+    with pytest.raises(relief.ReliefError) as e:
+        call()
+    assert e.value.status == "nomem" and "over the limit" in str(e.value), str(e.value)
+    assert time.monotonic() - t0 < 2
+    grown = _peak_rss() - before
+    assert grown < 64 << 20, f"peak resident memory grew by {grown / 2**20:.0f} MiB"
+
+
+def test_side_over_the_limit_refused_before_any_copy():
+    with pytest.raises(relief.ReliefError, match="height 70000 out of range"):
+        relief.image_fill(np.broadcast_to(np.uint8(0), (70000, 8)), np.zeros((70000, 8), bool))
