@@ -19,7 +19,8 @@ every call in flight, from any thread. The GIL is released while an engine
 runs, so several threads may run engines at once; Ctrl-C cancels a run on
 the main thread (KeyboardInterrupt); a call in flight in a daemon thread
 when the interpreter exits is cancelled and waited for. ``max_memory`` is
-checked from the arrays' shapes before anything is copied. Any failure
+checked from the arrays' shapes before anything is copied, and a value the
+engine's dtype cannot hold is refused, never read as missing. Any failure
 raises :class:`ReliefError`, whose ``status`` names its kind ("range",
 "usage", "mesh", "cancelled", ...).
 The same input and seed give the same bytes as the command line, whatever
@@ -179,6 +180,29 @@ def _mask(mask, shape, name="mask"):
     return _mask_bits(_mask_view(mask, shape, name))
 
 
+def _float32(name, a, zero_missing=False, note=""):
+    """``a`` as a new C-ordered float32 array, refusing what float32 cannot
+    hold: a finite value over 3.4e38 in magnitude (it would become inf,
+    which relief reads as missing) and, where ``zero_missing``, a non-zero
+    value that rounds to 0. NaN and inf stay what they were. ``note`` says
+    where the values came from."""
+    with np.errstate(over="ignore", under="ignore"):
+        z = np.array(a, dtype=np.float32, order="C", copy=True)
+    if np.can_cast(a.dtype, np.float32, "safe"):
+        return z
+    lost = np.isinf(z) & np.isfinite(a)
+    if zero_missing:
+        lost |= (z == 0) & (a != 0) & np.isfinite(a)
+    n = int(np.count_nonzero(lost))
+    if n:
+        i = np.unravel_index(int(np.flatnonzero(lost)[0]), a.shape)
+        why = ("rounds to 0 in float32, and 0 is missing" if z[i] == 0 else
+               "is over float32's largest, 3.4e38: it would become inf, which is missing")
+        _fail("range", f"{name}[{', '.join(map(str, map(int, i)))}] = {float(a[i]):g}{note} "
+              f"{why} ({n} value{'s' if n > 1 else ''} float32 cannot hold)")
+    return z
+
+
 # ------------------------------------------------------------------ images
 
 def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None, cancel=None,
@@ -217,8 +241,9 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
         lo = float(known.min()) if known.size else 0.0
         hi = float(known.max()) if known.size else 1.0
         scale = (hi - lo) if hi > lo else 1.0
-        out = np.rint((np.nan_to_num(work) - lo) / scale * 65535.0).clip(0, 65535)
-        out = np.ascontiguousarray(out, dtype=np.uint16)
+        # In float64: the span of two float32 values may overflow float32.
+        out = np.rint((np.nan_to_num(work.astype(np.float64)) - lo) / scale * 65535.0)
+        out = np.ascontiguousarray(out.clip(0, 65535), dtype=np.uint16)
     else:
         out = np.array(work, order="C", copy=True)
     (report,) = _check(_relief.image_fill(out, m, kw, progress, cancel))
@@ -237,13 +262,15 @@ def _depth_dtype(d):
 def _depth_in(d, png_scale):
     """A depth array as the engines take it: float32 metres (or the input's
     units), NaN missing; uint16 is a depth PNG's values, png_scale per
-    metre, 0 missing."""
+    metre, 0 missing. A known depth float32 cannot hold (over 3.4e38, or
+    rounding to 0, which is missing) is refused."""
     _depth_dtype(d)
     if d.dtype == np.uint16:
         if not png_scale > 0:
             _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
-        return np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
-    return np.array(d, dtype=np.float32, order="C", copy=True)
+        return _float32("depth", np.where(d == 0, np.nan, d / np.float64(png_scale)),
+                        zero_missing=True, note=f" (the PNG's value / png_scale {png_scale:g})")
+    return _float32("depth", d, zero_missing=True)
 
 
 def _depth_out(d, z, filled, png_scale):
@@ -264,9 +291,11 @@ def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
     (a camera's invalid margin) stay missing.
 
     depth: (H, W) uint16 (a depth PNG's values, ``png_scale`` per metre, 0
-    missing) or float32 / float64 (NaN missing). Returns a new array of the
-    same dtype: uint16 keeps 0 where still missing, floats NaN.
-    ``max_memory`` is checked from the shape before anything is copied.
+    missing) or float32 / float64 (NaN missing; a finite float64 that
+    float32 cannot hold is refused). Returns a new array of the same dtype:
+    uint16 keeps 0 where still missing, floats NaN; a filled uint16 depth
+    is at least 1 and at most 65535. ``max_memory`` is checked from the
+    shape before anything is copied.
     """
     progress, cancel = _progress(progress), _cancel(cancel)
     d = _array("depth", depth, (2,))
@@ -312,7 +341,7 @@ def _rgbd(colour, depth, points, png_scale):
     z = _depth_in(d, png_scale)
     xyz = None
     if points is not None:
-        xyz = np.array(_array("points", points, (3,)), dtype=np.float32, order="C", copy=True)
+        xyz = _float32("points", _array("points", points, (3,)))
         if xyz.shape != rgb.shape[:2] + (3,):
             _fail("usage", f"points: shape {xyz.shape}, expected {rgb.shape[:2] + (3,)}")
     return d, z, xyz, np.array(rgb, order="C", copy=True)
@@ -427,13 +456,16 @@ def _per_vertex(name, value, n, dtype):
     a = _array(name, value, (2,))
     if a.shape != (n, 3):
         _fail("usage", f"{name}: shape {a.shape}, expected ({n}, 3)")
+    if name == "colours" and a.dtype == np.uint8:
+        a = a / 255.0
+    with np.errstate(over="ignore"):  # checked below, as the engine gets them
+        a = np.ascontiguousarray(a, dtype=dtype)
     if name == "colours":
-        a = a / 255.0 if a.dtype == np.uint8 else a
         if not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
             _fail("range", "colours: expected floats in [0, 1] (or uint8)")
     elif not np.all(np.isfinite(a)):
-        _fail("range", f"{name}: not finite")
-    return np.ascontiguousarray(a, dtype=dtype)
+        _fail("range", f"{name}: not finite (or over {np.dtype(dtype).name}'s range)")
+    return a
 
 
 def _mesh_result(result, return_report):
@@ -516,9 +548,17 @@ def write_mesh(path, vertices, faces=None, colours=None, labels=None, *, ascii=F
     c = _per_vertex("colours", colours, len(v), np.float32)
     lab = None
     if labels is not None:
-        lab = np.ascontiguousarray(_array("labels", labels, (1,)), dtype=np.uint8)
+        lab = _array("labels", labels, (1,))
         if lab.shape != (len(v),):
             _fail("usage", f"labels: shape {lab.shape}, expected ({len(v)},)")
+        if lab.dtype != np.bool_ and not np.issubdtype(lab.dtype, np.number):
+            _fail("usage", f"labels: dtype {lab.dtype}, expected integers")
+        if lab.dtype != np.bool_:  # what uint8 cannot hold would wrap or truncate
+            bad = np.flatnonzero(~((lab >= 0) & (lab <= 255) & (lab == np.round(lab))))
+            if bad.size:
+                _fail("range", f"labels[{bad[0]}] = {lab[bad[0]]}: expected an integer in "
+                      "0..255 (0 captured, 1 added)")
+        lab = np.ascontiguousarray(lab, dtype=np.uint8)
     _check(_relief.write_mesh(os.fspath(path), v, f, c, lab, bool(ascii)))
 
 
@@ -545,7 +585,7 @@ def write_depth(path, depth, *, format="pfm", png_scale=0.0):
     z = _array("depth", depth, (2,))
     if format not in ("pfm", "png16"):
         _fail("usage", f"format {format!r}: expected 'pfm' or 'png16'")
-    _check(_relief.write_depth(os.fspath(path), np.ascontiguousarray(z, dtype=np.float32),
+    _check(_relief.write_depth(os.fspath(path), _float32("depth", z, zero_missing=True),
                                format, float(png_scale)))
 
 

@@ -4,7 +4,8 @@
   and waits for it, never std::terminate (exit 134);
 - relief.cancel_all() and a call's cancel= event cancel calls in other
   threads, and Ctrl-C reaches them as docs/python.md wires it;
-- max_memory is checked from the arrays' shapes before anything is copied.
+- max_memory is checked from the arrays' shapes before anything is copied;
+- a value the engine's dtype cannot hold is refused, never read as missing.
 """
 import concurrent.futures
 import os
@@ -188,3 +189,61 @@ def test_memory_refused_before_any_copy(call):
 def test_side_over_the_limit_refused_before_any_copy():
     with pytest.raises(relief.ReliefError, match="height 70000 out of range"):
         relief.image_fill(np.broadcast_to(np.uint8(0), (70000, 8)), np.zeros((70000, 8), bool))
+
+
+@pytest.mark.parametrize("value, words", [
+    (1e300, "depth[3, 4] = 1e+300 is over float32's largest"),
+    (-1e300, "depth[3, 4] = -1e+300 is over float32's largest"),
+    (4e38, "depth[3, 4] = 4e+38 is over float32's largest"),
+    (1e-50, "depth[3, 4] = 1e-50 rounds to 0 in float32"),
+])
+def test_depth_float32_cannot_hold_is_refused(value, words):
+    z = np.ones((32, 32))
+    z[10:14, 10:14] = np.nan  # NaN: missing, as documented
+    z[3, 4] = value
+    with pytest.raises(relief.ReliefError) as e:
+        relief.depth_fill(z)
+    assert e.value.status == "range" and words in str(e.value), str(e.value)
+    with pytest.raises(relief.ReliefError, match=r"depth\[3, 4\]"):
+        relief.write_depth("/nonexistent/never.pfm", z)
+
+
+def test_missing_stays_missing_and_float32_extremes_pass():
+    z = np.ones((32, 32))
+    z[10:14, 10:14] = np.nan
+    z[20, 20] = np.inf  # inf and 0 are missing too
+    z[21, 21] = 0.0
+    out = relief.depth_fill(z)
+    assert np.isfinite(out[10:14, 10:14]).all() and np.isfinite(out[20, 20])
+    big = np.full((32, 32), 1e30, np.float32)  # float32 input is never refused
+    big[10:14, 10:14] = np.nan
+    assert np.isfinite(relief.depth_fill(big)[10:14, 10:14]).all()
+
+
+def test_other_conversions_refuse_what_they_cannot_hold(tmp_path):
+    d = np.full((16, 16), 1000, np.uint16)
+    with pytest.raises(relief.ReliefError, match="png_scale 1e-40"):
+        relief.depth_fill(d, png_scale=1e-40)  # 1000 / 1e-40 is over float32's range
+    with pytest.raises(relief.ReliefError, match="png_scale 1e"):
+        relief.depth_fill(d, png_scale=1e60)  # 1000 / 1e60 rounds to 0: missing
+    pts = np.zeros((16, 16, 3))
+    pts[2, 3, 1] = 1e300
+    with pytest.raises(relief.ReliefError, match=r"points\[2, 3, 1\] = 1e\+300"):
+        relief.find_occluders(np.zeros((16, 16, 3), np.uint8), d, points=pts)
+    for labels, words in (([0, 1, 256], "labels[2] = 256"), ([0, -1, 1], "labels[1] = -1"),
+                          ([0, 0.5, 1], "labels[1] = 0.5")):
+        with pytest.raises(relief.ReliefError) as e:
+            relief.write_mesh(tmp_path / "m.ply", np.eye(3), [[0, 1, 2]], labels=labels)
+        assert words in str(e.value), str(e.value)
+    assert not (tmp_path / "m.ply").exists()
+
+
+def test_float32_image_of_the_widest_range_keeps_its_pixels():
+    """The 16-bit scale of a float32 image is computed in float64: a range
+    wider than float32's largest no longer overflows to inf."""
+    f = np.linspace(-3e38, 3e38, 64 * 64, dtype=np.float32).reshape(64, 64)
+    mask = np.zeros(f.shape, np.uint8)
+    mask[20:30, 20:30] = 1
+    out = relief.image_fill(f, mask, window=5)
+    assert np.array_equal(out[mask == 0], f[mask == 0])
+    assert np.isfinite(out).all()
