@@ -227,6 +227,18 @@ typedef struct image_job {
     double t0;
 } image_job;
 
+/* A frame's sides, named by `what`. */
+static relief_status check_sides(const char *what, int width, int height, relief_error *err)
+{
+    if (width < 1 || width > RELIEF_DEPTH_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s width %d out of range: expected 1..%d",
+                           what, width, RELIEF_DEPTH_MAX_SIDE);
+    if (height < 1 || height > RELIEF_DEPTH_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s height %d out of range: expected 1..%d",
+                           what, height, RELIEF_DEPTH_MAX_SIDE);
+    return RELIEF_OK;
+}
+
 static relief_status check_frame(const relief_depth_image *f, const char *what,
                                  relief_error *err)
 {
@@ -234,12 +246,26 @@ static relief_status check_frame(const relief_depth_image *f, const char *what,
         return relief_fail(err, RELIEF_E_USAGE, "%s: NULL", what);
     if (!f->z)
         return relief_fail(err, RELIEF_E_USAGE, "%s z: NULL", what);
-    if (f->width < 1 || f->width > RELIEF_DEPTH_MAX_SIDE)
-        return relief_fail(err, RELIEF_E_RANGE, "%s width %d out of range: expected 1..%d",
-                           what, f->width, RELIEF_DEPTH_MAX_SIDE);
-    if (f->height < 1 || f->height > RELIEF_DEPTH_MAX_SIDE)
-        return relief_fail(err, RELIEF_E_RANGE, "%s height %d out of range: expected 1..%d",
-                           what, f->height, RELIEF_DEPTH_MAX_SIDE);
+    return check_sides(what, f->width, f->height, err);
+}
+
+relief_status relief_depth_fill_check_memory(int width, int height,
+                                             const relief_depth_fill_params *p,
+                                             relief_error *err)
+{
+    relief_depth_fill_params d = relief_depth_fill_params_default();
+    uint64_t need, limit = memory_limit(p ? &p->run : &d.run);
+    relief_status st = check_sides("frame", width, height, err);
+    if (st != RELIEF_OK)
+        return st;
+    /* The repair's own, and the copy of z, the missing mask and the
+     * source map kept here. */
+    need = relief_depth_repair_estimate(width, height) +
+           (uint64_t)width * (uint64_t)height * 13u;
+    if (need > limit)
+        return relief_fail(err, RELIEF_E_NOMEM, "repairing a %d x %d image needs about %.0f "
+                           "MiB, over the limit of %.0f MiB (max_memory)", width, height,
+                           need / 1048576.0, limit / 1048576.0);
     return RELIEF_OK;
 }
 
@@ -248,7 +274,6 @@ static relief_status check_frame(const relief_depth_image *f, const char *what,
 static relief_status check_image_args(const relief_depth_image *f, const relief_image *mask,
                                       const relief_depth_fill_params *p, relief_error *err)
 {
-    uint64_t need, limit;
     relief_status st = check_frame(f, "frame", err);
     if (st == RELIEF_OK)
         st = relief_depth_fill_params_validate(p, err);
@@ -261,18 +286,9 @@ static relief_status check_image_args(const relief_depth_image *f, const relief_
     }
     if (st == RELIEF_OK && mask)
         st = relief_depth_mask_check(mask, f->width, f->height, err);
-    if (st != RELIEF_OK)
-        return st;
-    /* The repair's own, and the copy of z, the missing mask and the
-     * source map kept here. */
-    need = relief_depth_repair_estimate(f->width, f->height) +
-           (uint64_t)f->width * (uint64_t)f->height * 13u;
-    limit = memory_limit(&p->run);
-    if (need > limit)
-        return relief_fail(err, RELIEF_E_NOMEM, "repairing a %d x %d image needs about %.0f "
-                           "MiB, over the limit of %.0f MiB (max_memory)", f->width,
-                           f->height, need / 1048576.0, limit / 1048576.0);
-    return RELIEF_OK;
+    if (st == RELIEF_OK)
+        st = relief_depth_fill_check_memory(f->width, f->height, p, err);
+    return st;
 }
 
 /* The masks and the copy; the refusal of a frame with nothing known. */

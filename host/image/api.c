@@ -58,24 +58,34 @@ static void put_sample(relief_image *img, int y, size_t i, unsigned v)
         memcpy(row + 2 * i, &w, sizeof w);
 }
 
+/* The sides and channels of an image, named by `what`. */
+static relief_status check_shape(const char *what, int width, int height, int channels,
+                                 relief_error *err)
+{
+    if (width < 1 || width > RELIEF_IMAGE_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: width %d out of range: expected 1..%d "
+                           "pixels", what, width, RELIEF_IMAGE_MAX_SIDE);
+    if (height < 1 || height > RELIEF_IMAGE_MAX_SIDE)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: height %d out of range: expected 1..%d "
+                           "pixels", what, height, RELIEF_IMAGE_MAX_SIDE);
+    if (channels < 1 || channels > 4)
+        return relief_fail(err, RELIEF_E_RANGE, "%s: channels %d out of range: expected 1 "
+                           "(grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA)", what, channels);
+    return RELIEF_OK;
+}
+
 relief_status relief_image_check(const relief_image *img, const char *what, relief_error *err)
 {
+    relief_status st;
     RELIEF_ENTRY_ERR(err);
     what = what ? what : "image";
     if (!img)
         return relief_fail(err, RELIEF_E_USAGE, "%s: NULL", what);
     if (!img->data)
         return relief_fail(err, RELIEF_E_USAGE, "%s: data is NULL", what);
-    if (img->width < 1 || img->width > RELIEF_IMAGE_MAX_SIDE)
-        return relief_fail(err, RELIEF_E_RANGE, "%s: width %d out of range: expected 1..%d "
-                           "pixels", what, img->width, RELIEF_IMAGE_MAX_SIDE);
-    if (img->height < 1 || img->height > RELIEF_IMAGE_MAX_SIDE)
-        return relief_fail(err, RELIEF_E_RANGE, "%s: height %d out of range: expected 1..%d "
-                           "pixels", what, img->height, RELIEF_IMAGE_MAX_SIDE);
-    if (img->channels < 1 || img->channels > 4)
-        return relief_fail(err, RELIEF_E_RANGE, "%s: channels %d out of range: expected 1 "
-                           "(grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA)", what,
-                           img->channels);
+    st = check_shape(what, img->width, img->height, img->channels, err);
+    if (st != RELIEF_OK)
+        return st;
     if (img->bit_depth != 8 && img->bit_depth != 16)
         return relief_fail(err, RELIEF_E_RANGE, "%s: bit_depth %d out of range: expected 8 "
                            "or 16", what, img->bit_depth);
@@ -240,18 +250,29 @@ typedef struct fill_call {
     double t0;
 } fill_call;
 
+relief_status relief_image_fill_check_memory(int width, int height, int channels,
+                                             const relief_image_fill_params *p,
+                                             relief_error *err)
+{
+    relief_image_fill_params d = relief_image_fill_params_default();
+    const relief_image_fill_params *q = p ? p : &d;
+    uint64_t limit = q->run.max_memory ? q->run.max_memory : relief_default_memory_limit();
+    uint64_t need;
+    char what[128];
+    relief_status st = check_shape("image", width, height, channels, err);
+    if (st != RELIEF_OK)
+        return st;
+    need = relief_fill_estimate(width, height, channels) + (uint64_t)width * (uint64_t)height;
+    snprintf(what, sizeof what, "filling an image of %d x %d pixels and %d channel%s", width,
+             height, channels, channels == 1 ? "" : "s");
+    return relief_memory_check(what, need, limit, "", err);
+}
+
 /* The memory a fill plans for, against run.max_memory (0: the default). */
 static relief_status check_memory(const fill_call *c, relief_error *err)
 {
     const relief_image *img = c->image;
-    uint64_t limit = c->p->run.max_memory ? c->p->run.max_memory
-                                          : relief_default_memory_limit();
-    uint64_t need = relief_fill_estimate(img->width, img->height, img->channels) +
-                    (uint64_t)img->width * (uint64_t)img->height;
-    char what[128];
-    snprintf(what, sizeof what, "filling an image of %d x %d pixels and %d channel%s",
-             img->width, img->height, img->channels, img->channels == 1 ? "" : "s");
-    return relief_memory_check(what, need, limit, "", err);
+    return relief_image_fill_check_memory(img->width, img->height, img->channels, c->p, err);
 }
 
 /* The arguments, each named: the image, the parameters, the memory, the

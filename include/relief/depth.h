@@ -263,6 +263,17 @@ typedef struct relief_depth_fill_report {
 /* Free what the report owns and zero it. NULL accepted. */
 RELIEF_API void relief_depth_fill_report_free(relief_depth_fill_report *rep);
 
+/* The memory check relief_depth_fill makes on an image before it
+ * allocates, from the size alone: the host bytes a repair of a width x
+ * height frame plans for against p->run.max_memory (0: 80 % of physical
+ * memory; NULL p: the defaults'). RELIEF_E_NOMEM naming the estimate and
+ * the limit, as relief_depth_fill refuses; RELIEF_E_RANGE for a side out
+ * of 1..RELIEF_DEPTH_MAX_SIDE; else RELIEF_OK. Needs no depths, so that a
+ * caller who must convert a frame first can refuse it before the copy. */
+RELIEF_API relief_status relief_depth_fill_check_memory(int width, int height,
+                                                        const relief_depth_fill_params *p,
+                                                        relief_error *err);
+
 /* Repair `f` in place: its missing pixels (z NaN, inf or 0, or non-zero in
  * `mask`, an image of the same size: any channel but alpha) inside the
  * capture are filled; those outside (a camera's invalid margin) stay NaN.

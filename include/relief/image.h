@@ -118,6 +118,18 @@ RELIEF_API relief_status relief_image_fill_params_validate(const relief_image_fi
  * relief/core.h). */
 RELIEF_API const relief_param *relief_image_fill_param_table(size_t *count);
 
+/* The memory check relief_image_fill makes before it allocates, from the
+ * size alone: the host bytes it plans for on a width x height image of
+ * `channels` channels (any bit depth) against p->run.max_memory (0: 80 %
+ * of physical memory; NULL p: the defaults'). RELIEF_E_NOMEM naming the
+ * estimate and the limit, as relief_image_fill refuses; RELIEF_E_RANGE for
+ * a side or a channel count out of range; else RELIEF_OK. Needs no pixels,
+ * so that a caller who must copy or convert an image first can refuse it
+ * before the copy. */
+RELIEF_API relief_status relief_image_fill_check_memory(int width, int height, int channels,
+                                                        const relief_image_fill_params *p,
+                                                        relief_error *err);
+
 /* What a relief_image_fill call did. */
 typedef struct relief_image_fill_report {
     size_t hole_pixels;       /* pixels to fill */

@@ -15,25 +15,33 @@ command line's options with ``_`` for ``-`` (``min_window=5``,
 their help. ``threads=N`` bounds the host threads of a call (0, the
 default: the CPUs this process may run on, its affinity); the result is the
 same for any N. ``progress`` is a callable taking the fraction done (0 to 1);
-returning True cancels the run. The GIL is released while an engine runs,
-so several threads may run engines at once; Ctrl-C cancels a run
-(KeyboardInterrupt). Any failure raises :class:`ReliefError`, whose
-``status`` names its kind ("range", "usage", "mesh", "cancelled", ...).
+returning True cancels the run; ``cancel`` is an object whose ``is_set()``
+says to cancel (a ``threading.Event``), and :func:`cancel_all` cancels
+every call in flight, from any thread. The GIL is released while an engine
+runs, so several threads may run engines at once; Ctrl-C cancels a run on
+the main thread (KeyboardInterrupt); a call in flight in a daemon thread
+when the interpreter exits is cancelled and waited for. ``max_memory`` is
+checked from the arrays' shapes before anything is copied, and a value the
+engine's dtype cannot hold is refused, never read as missing. Any failure
+raises :class:`ReliefError`, whose ``status`` names its kind ("range",
+"usage", "mesh", "cancelled", ...).
 The same input and seed give the same bytes as the command line, whatever
 the backend. Every function is pure and picklable (module-level, numpy in
 and out, ReliefError pickles whole), so Dask, multiprocessing or
 concurrent.futures can run it on other processes or machines.
 """
+import atexit
 from collections import namedtuple
 import json
 import os
+import sys
 
 import numpy as np
 
 from . import _relief
 
-__all__ = ["ReliefError", "Mesh", "image_fill", "depth_fill", "complete_mesh", "fill_mesh_holes",
-           "complete_points", "find_occluders", "remove_occluders", "Removed",
+__all__ = ["ReliefError", "Mesh", "cancel_all", "image_fill", "depth_fill", "complete_mesh",
+           "fill_mesh_holes", "complete_points", "find_occluders", "remove_occluders", "Removed",
            "read_mesh", "write_mesh", "read_image", "write_image",
            "read_depth", "write_depth",
            "devices", "parameters", "__version__"]
@@ -101,6 +109,48 @@ def _progress(progress):
     return progress
 
 
+def _cancel(cancel):
+    if cancel is not None and not callable(getattr(cancel, "is_set", None)):
+        _fail("usage", f"cancel: {type(cancel).__name__} has no is_set(); expected an object "
+              "such as threading.Event, or None")
+    return cancel
+
+
+# ------------------------------------------------------------ cancelling
+
+def cancel_all():
+    """Cancel every relief call in flight, in any thread: each raises
+    ReliefError with status "cancelled" at its next progress step
+    (find_occluders and the readers and writers have none: they run to
+    their end). Calls that start afterwards run as usual. Safe from any
+    thread and from a signal handler; Ctrl-C reaches only a call on the
+    main thread by itself, so a program that runs relief in other threads
+    calls this (or sets the calls' ``cancel`` event) on KeyboardInterrupt
+    (docs/python.md shows how)."""
+    _relief.cancel_all()
+
+
+# Seconds the exit waits for the calls in flight to see their cancel.
+_EXIT_WAIT_S = 5.0
+
+
+def _at_exit():
+    """Before Python finalises (atexit runs while daemon threads live): no
+    call starts any more, those in flight are cancelled and waited for, and
+    one that returns later parks its thread rather than take the GIL of a
+    finalising interpreter (which would end it through std::terminate)."""
+    left = _relief.at_exit(_EXIT_WAIT_S)
+    if left:
+        print(f"relief: {left} call{'s' if left > 1 else ''} without progress steps (as "
+              f"find_occluders) still running {_EXIT_WAIT_S:g} s into the interpreter's exit; "
+              "ended with the process", file=sys.stderr)
+
+
+atexit.register(_at_exit)
+if hasattr(os, "register_at_fork"):  # a child has none of its parent's calls
+    os.register_at_fork(after_in_child=_relief.after_fork_in_child)
+
+
 def _array(name, value, ndim=None):
     try:
         a = np.asarray(value)
@@ -113,18 +163,51 @@ def _array(name, value, ndim=None):
     return a
 
 
-def _mask(mask, shape, name="mask"):
+def _mask_view(mask, shape, name="mask"):
+    """The mask checked against the image's (H, W), not yet copied."""
     m = _array(name, mask, (2, 3))
     if m.ndim == 3 and m.shape[2] == 1:
         m = m[:, :, 0]
     if m.shape != tuple(shape):
         _fail("usage", f"{name}: shape {m.shape}, expected {tuple(shape)} (the image's height and width)")
+    return m
+
+
+def _mask_bits(m):
+    """A checked mask as the engines take it: uint8, 1 = fill."""
     return np.ascontiguousarray(m != 0, dtype=np.uint8)
+
+
+def _mask(mask, shape, name="mask"):
+    return _mask_bits(_mask_view(mask, shape, name))
+
+
+def _float32(name, a, zero_missing=False, note=""):
+    """``a`` as a new C-ordered float32 array, refusing what float32 cannot
+    hold: a finite value over 3.4e38 in magnitude (it would become inf,
+    which relief reads as missing) and, where ``zero_missing``, a non-zero
+    value that rounds to 0. NaN and inf stay what they were. ``note`` says
+    where the values came from."""
+    with np.errstate(over="ignore", under="ignore"):
+        z = np.array(a, dtype=np.float32, order="C", copy=True)
+    if np.can_cast(a.dtype, np.float32, "safe"):
+        return z
+    lost = np.isinf(z) & np.isfinite(a)
+    if zero_missing:
+        lost |= (z == 0) & (a != 0) & np.isfinite(a)
+    n = int(np.count_nonzero(lost))
+    if n:
+        i = np.unravel_index(int(np.flatnonzero(lost)[0]), a.shape)
+        why = ("rounds to 0 in float32, and 0 is missing" if z[i] == 0 else
+               "is over float32's largest, 3.4e38: it would become inf, which is missing")
+        _fail("range", f"{name}[{', '.join(map(str, map(int, i)))}] = {float(a[i]):g}{note} "
+              f"{why} ({n} value{'s' if n > 1 else ''} float32 cannot hold)")
+    return z
 
 
 # ------------------------------------------------------------------ images
 
-def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
+def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None, cancel=None,
                return_report=False, **params):
     """Fill the pixels of ``image`` where ``mask`` is non-zero (paper 004:
     a 1-D pass where a gap's ends agree and are smooth, then copy-paste of
@@ -136,7 +219,9 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     mask: (H, W), non-zero = fill. window: the starting window, odd pixels.
     Returns a new array like ``image`` (and the report as a dict when
     ``return_report``). Alpha is not matched; a filled pixel becomes opaque.
+    ``max_memory`` is checked from the shapes before anything is copied.
     """
+    progress, cancel = _progress(progress), _cancel(cancel)
     img = _array("image", image, (2, 3))
     if img.dtype not in (np.uint8, np.uint16, np.float32):
         _fail("usage", f"image: dtype {img.dtype}, expected uint8, uint16 or float32")
@@ -146,7 +231,10 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
         _fail("usage", f"image: {work.shape[2]} channels, expected 1 to 4")
     if work.shape[0] < 1 or work.shape[1] < 1:
         _fail("usage", f"image: shape {img.shape} is empty")
-    m = _mask(mask, work.shape[:2])
+    m = _mask_view(mask, work.shape[:2])
+    kw = _params(dict(params, window=window, seed=seed, backend=backend))
+    _check(_relief.image_fill_check_memory(*work.shape, kw))
+    m = _mask_bits(m)
     lo = scale = None
     if img.dtype == np.float32:
         known = work[m == 0]
@@ -155,12 +243,12 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
         lo = float(known.min()) if known.size else 0.0
         hi = float(known.max()) if known.size else 1.0
         scale = (hi - lo) if hi > lo else 1.0
-        out = np.rint((np.nan_to_num(work) - lo) / scale * 65535.0).clip(0, 65535)
-        out = np.ascontiguousarray(out, dtype=np.uint16)
+        # In float64: the span of two float32 values may overflow float32.
+        out = np.rint((np.nan_to_num(work.astype(np.float64)) - lo) / scale * 65535.0)
+        out = np.ascontiguousarray(out.clip(0, 65535), dtype=np.uint16)
     else:
         out = np.array(work, order="C", copy=True)
-    kw = _params(dict(params, window=window, seed=seed, backend=backend))
-    (report,) = _check(_relief.image_fill(out, m, kw, _progress(progress)))
+    (report,) = _check(_relief.image_fill(out, m, kw, progress, cancel))
     if lo is not None:
         filled = (lo + out.astype(np.float64) / 65535.0 * scale).astype(np.float32)
         out = np.where(m[:, :, None] != 0, filled, work)
@@ -168,17 +256,23 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     return (out, _report(report, True)) if return_report else out
 
 
+def _depth_dtype(d):
+    if d.dtype not in (np.uint16, np.float32, np.float64):
+        _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+
+
 def _depth_in(d, png_scale):
     """A depth array as the engines take it: float32 metres (or the input's
     units), NaN missing; uint16 is a depth PNG's values, png_scale per
-    metre, 0 missing."""
+    metre, 0 missing. A known depth float32 cannot hold (over 3.4e38, or
+    rounding to 0, which is missing) is refused."""
+    _depth_dtype(d)
     if d.dtype == np.uint16:
         if not png_scale > 0:
             _fail("range", f"png_scale {png_scale}: expected values per metre > 0")
-        return np.where(d == 0, np.nan, d / np.float64(png_scale)).astype(np.float32)
-    if d.dtype in (np.float32, np.float64):
-        return np.array(d, dtype=np.float32, order="C", copy=True)
-    _fail("usage", f"depth: dtype {d.dtype}, expected uint16, float32 or float64")
+        return _float32("depth", np.where(d == 0, np.nan, d / np.float64(png_scale)),
+                        zero_missing=True, note=f" (the PNG's value / png_scale {png_scale:g})")
+    return _float32("depth", d, zero_missing=True)
 
 
 def _depth_out(d, z, filled, png_scale):
@@ -193,22 +287,29 @@ def _depth_out(d, z, filled, png_scale):
 
 
 def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
-               png_scale=5000.0, progress=None, return_report=False, **params):
+               png_scale=5000.0, progress=None, cancel=None, return_report=False, **params):
     """Repair a depth frame (paper 003): its missing pixels (0, NaN or inf,
     or non-zero in ``mask``) inside the capture are filled; those outside it
     (a camera's invalid margin) stay missing.
 
     depth: (H, W) uint16 (a depth PNG's values, ``png_scale`` per metre, 0
-    missing) or float32 / float64 (NaN missing). Returns a new array of the
-    same dtype: uint16 keeps 0 where still missing, floats NaN.
+    missing) or float32 / float64 (NaN missing; a finite float64 that
+    float32 cannot hold is refused). Returns a new array of the same dtype:
+    uint16 keeps 0 where still missing, floats NaN; a filled uint16 depth
+    is at least 1 and at most 65535. ``max_memory`` is checked from the
+    shape before anything is copied.
     """
+    progress, cancel = _progress(progress), _cancel(cancel)
     d = _array("depth", depth, (2,))
-    z = _depth_in(d, png_scale)
-    if z.size == 0:
+    _depth_dtype(d)
+    if d.size == 0:
         _fail("usage", f"depth: shape {d.shape} is empty")
-    m = None if mask is None else _mask(mask, z.shape)
+    m = None if mask is None else _mask_view(mask, d.shape)
     kw = _params(dict(params, variant=variant, seed=seed, backend=backend))
-    (report,) = _check(_relief.depth_fill(z, m, kw, _progress(progress)))
+    _check(_relief.depth_fill_check_memory(*d.shape, kw))
+    z = _depth_in(d, png_scale)
+    m = None if m is None else _mask_bits(m)
+    (report,) = _check(_relief.depth_fill(z, m, kw, progress, cancel))
     filled = (d == 0) | (m != 0 if m is not None else False)
     out = _depth_out(d, z, filled, png_scale)
     return (out, _report(report, True)) if return_report else out
@@ -242,7 +343,7 @@ def _rgbd(colour, depth, points, png_scale):
     z = _depth_in(d, png_scale)
     xyz = None
     if points is not None:
-        xyz = np.array(_array("points", points, (3,)), dtype=np.float32, order="C", copy=True)
+        xyz = _float32("points", _array("points", points, (3,)))
         if xyz.shape != rgb.shape[:2] + (3,):
             _fail("usage", f"points: shape {xyz.shape}, expected {rgb.shape[:2] + (3,)}")
     return d, z, xyz, np.array(rgb, order="C", copy=True)
@@ -298,15 +399,17 @@ def find_occluders(colour, depth, *, points=None, intrinsics=None, views=None,
 
 def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None, views=None,
                      png_scale=5000.0, seed=1, colour_params=None, depth_params=None,
-                     return_report=False, **params):
+                     cancel=None, return_report=False, **params):
     """The frame without its occluders: ``mask`` (or the one find_occluders
     finds with ``params``) filled in colour by image_fill and in depth by
     depth_fill on the residual about the background, so the points behind
     lie on the wall with its own roughness. Arguments as find_occluders;
     colour_params and depth_params go to the two fills. Returns a
     :class:`Removed` (and the report when ``return_report``); the pixels
-    outside the mask keep their values.
+    outside the mask keep their values. ``cancel`` (or :func:`cancel_all`,
+    or Ctrl-C on the main thread) stops the two fills.
     """
+    cancel = _cancel(cancel)
     d, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
     m = None if mask is None else _mask(mask, z.shape)
     colours, poses = _views(views, z.shape)
@@ -316,7 +419,7 @@ def remove_occluders(colour, depth, mask=None, *, points=None, intrinsics=None, 
     report, used = _check(_relief.remove_occluders(
         z, xyz, rgb, m, colours, poses, kw,
         _params(dict(dict(fills, **(colour_params or {})), seed=seed)),
-        _params(dict(dict(fills, **(depth_params or {})), seed=seed))))
+        _params(dict(dict(fills, **(depth_params or {})), seed=seed)), cancel))
     used = np.asarray(used).reshape(z.shape).astype(bool)
     out = _depth_out(d, z, used, png_scale)
     result = Removed(rgb, out, xyz, used)
@@ -358,13 +461,16 @@ def _per_vertex(name, value, n, dtype):
     a = _array(name, value, (2,))
     if a.shape != (n, 3):
         _fail("usage", f"{name}: shape {a.shape}, expected ({n}, 3)")
+    if name == "colours" and a.dtype == np.uint8:
+        a = a / 255.0
+    with np.errstate(over="ignore"):  # checked below, as the engine gets them
+        a = np.ascontiguousarray(a, dtype=dtype)
     if name == "colours":
-        a = a / 255.0 if a.dtype == np.uint8 else a
         if not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
             _fail("range", "colours: expected floats in [0, 1] (or uint8)")
     elif not np.all(np.isfinite(a)):
-        _fail("range", f"{name}: not finite")
-    return np.ascontiguousarray(a, dtype=dtype)
+        _fail("range", f"{name}: not finite (or over {np.dtype(dtype).name}'s range)")
+    return a
 
 
 def _mesh_result(result, return_report):
@@ -377,21 +483,22 @@ def _mesh_result(result, return_report):
 
 
 def complete_mesh(vertices, faces, colours=None, *, base="auto", seed=1, backend="auto",
-                  progress=None, return_report=False, **params):
+                  progress=None, cancel=None, return_report=False, **params):
     """Complete a capture with relief and colour grown from it (papers 000
     and 001): over a fitted plane, sphere or cylinder, or the capture's own
     smoothed surface (``base``). Returns (vertices, faces, colours, labels):
     the capture's vertices first (label 0), then the new ones (label 1);
     colours None when the capture has none."""
+    progress, cancel = _progress(progress), _cancel(cancel)
     v = _vertices("vertices", vertices)
     f = _faces(faces, len(v))
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, base=base, seed=seed, backend=backend))
-    return _mesh_result(_relief.complete_mesh(v, f, c, kw, _progress(progress)), return_report)
+    return _mesh_result(_relief.complete_mesh(v, f, c, kw, progress, cancel), return_report)
 
 
 def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, backend="auto",
-                    progress=None, return_report=False, **params):
+                    progress=None, cancel=None, return_report=False, **params):
     """Fill a mesh's holes through the six depth images of its bounding box
     (paper 003, ``relief depth-fill`` on a mesh): the holes the hole model
     fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``; a vessel's mouth and a
@@ -400,29 +507,30 @@ def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, b
     ``resolution``: voxels along the box's longest side. Returns (vertices,
     faces, colours, labels): the input's first, in order, then the patches'
     (label 1)."""
+    progress, cancel = _progress(progress), _cancel(cancel)
     v = _vertices("vertices", vertices)
     f = _faces(faces, len(v))
     if f is None:
         _fail("usage", "faces: a mesh's holes need its triangles")
     c = _per_vertex("colours", colours, len(v), np.float32)
     kw = _params(dict(params, resolution=resolution, seed=seed, backend=backend))
-    return _mesh_result(_relief.fill_mesh_holes(v, f, c, kw, _progress(progress)),
-                        return_report)
+    return _mesh_result(_relief.fill_mesh_holes(v, f, c, kw, progress, cancel), return_report)
 
 
 def complete_points(points, colours=None, normals=None, *, faces=None, seed=1,
-                    progress=None, return_report=False, **params):
+                    progress=None, cancel=None, return_report=False, **params):
     """Fill the holes of a point set (paper 002): the holes the hole model
     fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``) get new points on a
     smooth base with detail copied from the capture. ``faces`` (a mesh's
     triangles) make its boundary loops the holes. Returns (points, colours,
     labels): the input's points first (label 0), then the new ones."""
+    progress, cancel = _progress(progress), _cancel(cancel)
     v = _vertices("points", points)
     f = _faces(faces, len(v))
     c = _per_vertex("colours", colours, len(v), np.float32)
     n = _per_vertex("normals", normals, len(v), np.float64)
     kw = _params(dict(params, seed=seed))
-    report, arrays = _check(_relief.complete_points(v, f, c, n, None, kw, _progress(progress)))
+    report, arrays = _check(_relief.complete_points(v, f, c, n, None, kw, progress, cancel))
     out = _mesh(arrays)
     result = (out.vertices, out.colours, out.labels)
     return (result, _report(report, True)) if return_report else result
@@ -445,9 +553,17 @@ def write_mesh(path, vertices, faces=None, colours=None, labels=None, *, ascii=F
     c = _per_vertex("colours", colours, len(v), np.float32)
     lab = None
     if labels is not None:
-        lab = np.ascontiguousarray(_array("labels", labels, (1,)), dtype=np.uint8)
+        lab = _array("labels", labels, (1,))
         if lab.shape != (len(v),):
             _fail("usage", f"labels: shape {lab.shape}, expected ({len(v)},)")
+        if lab.dtype != np.bool_ and not np.issubdtype(lab.dtype, np.number):
+            _fail("usage", f"labels: dtype {lab.dtype}, expected integers")
+        if lab.dtype != np.bool_:  # what uint8 cannot hold would wrap or truncate
+            bad = np.flatnonzero(~((lab >= 0) & (lab <= 255) & (lab == np.round(lab))))
+            if bad.size:
+                _fail("range", f"labels[{bad[0]}] = {lab[bad[0]]}: expected an integer in "
+                      "0..255 (0 captured, 1 added)")
+        lab = np.ascontiguousarray(lab, dtype=np.uint8)
     _check(_relief.write_mesh(os.fspath(path), v, f, c, lab, bool(ascii)))
 
 
@@ -474,7 +590,7 @@ def write_depth(path, depth, *, format="pfm", png_scale=0.0):
     z = _array("depth", depth, (2,))
     if format not in ("pfm", "png16"):
         _fail("usage", f"format {format!r}: expected 'pfm' or 'png16'")
-    _check(_relief.write_depth(os.fspath(path), np.ascontiguousarray(z, dtype=np.float32),
+    _check(_relief.write_depth(os.fspath(path), _float32("depth", z, zero_missing=True),
                                format, float(png_scale)))
 
 

@@ -185,6 +185,18 @@ static void test_bad_arguments(void)
     p.run.max_memory = 1024;
     CHECK_STATUS(relief_depth_fill(&f, NULL, &p, NULL, &err), RELIEF_E_NOMEM, err,
                  "max_memory");
+    {
+        /* The same refusal from the size alone, before any depth. */
+        relief_error by_size;
+        CHECK_STATUS(relief_depth_fill_check_memory(W, H, &p, &by_size), RELIEF_E_NOMEM,
+                     by_size, "max_memory");
+        CHECK(strcmp(by_size.message, err.message) == 0, "'%s', the engine said '%s'",
+              by_size.message, err.message);
+        CHECK_STATUS(relief_depth_fill_check_memory(W, 0, &p, &by_size), RELIEF_E_RANGE,
+                     by_size, "height 0");
+        CHECK_STATUS(relief_depth_fill_check_memory(W, H, NULL, &by_size), RELIEF_OK, by_size,
+                     NULL);
+    }
     p = quick_params();
     CHECK_STATUS(relief_depth_fill_mesh(NULL, &p, NULL, &out, NULL, &err), RELIEF_E_USAGE, err,
                  "mesh");

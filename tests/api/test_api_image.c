@@ -141,6 +141,21 @@ static void test_bad_images(void)
     p.tau = 0.0;
     p.run.max_memory = 1000;
     CHECK_STATUS(relief_image_fill(&img, &m, &p, NULL, &err), RELIEF_E_NOMEM, err, "40 x 30");
+    {
+        /* The same refusal from the size alone, as a caller makes it
+         * before it copies the pixels (the Python package). */
+        relief_error by_size;
+        CHECK_STATUS(relief_image_fill_check_memory(W, H, 1, &p, &by_size), RELIEF_E_NOMEM,
+                     by_size, "40 x 30");
+        CHECK(strcmp(by_size.message, err.message) == 0, "'%s', the engine said '%s'",
+              by_size.message, err.message);
+        CHECK_STATUS(relief_image_fill_check_memory(70000, H, 1, &p, &by_size), RELIEF_E_RANGE,
+                     by_size, "width 70000");
+        CHECK_STATUS(relief_image_fill_check_memory(W, H, 5, &p, &by_size), RELIEF_E_RANGE,
+                     by_size, "channels 5");
+        CHECK_STATUS(relief_image_fill_check_memory(W, H, 3, NULL, &by_size), RELIEF_OK,
+                     by_size, NULL);
+    }
     p.run.max_memory = 0;
     CHECK(memcmp(pix, keep, W * H) == 0, "a refused call changed the image");
     /* Nothing to fill: OK, untouched, said. */
