@@ -104,15 +104,12 @@ static relief_status set_reals(char *params, const relief_param *p, const char *
     return RELIEF_OK;
 }
 
-relief_status relief_param_set(void *params, const relief_param *p, const char *text,
+/* relief_param_set's work: messages start with "NAME: ". */
+static relief_status param_set(void *params, const relief_param *p, const char *text,
                                relief_error *err)
 {
-    RELIEF_ENTRY_ERR(err);
     char *field;
     long long l;
-    if (!params || !p || !text)
-        return relief_fail(err, RELIEF_E_USAGE, "%s is NULL",
-                           !params ? "params" : !p ? "the parameter" : "the text");
     field = (char *)params + p->offset;
     switch (p->kind) {
     case RELIEF_PARAM_FLAG: {
@@ -157,6 +154,22 @@ relief_status relief_param_set(void *params, const relief_param *p, const char *
     }
     return relief_fail(err, RELIEF_E_USAGE, "%s: '%s' is not %s", p->name, text,
                        p->kind == RELIEF_PARAM_FLAG ? "0 or 1 (no or yes)" : "a value");
+}
+
+relief_status relief_param_set(void *params, const relief_param *p, const char *text,
+                               relief_error *err)
+{
+    relief_status st;
+    RELIEF_ENTRY_ERR(err);
+    if (!params || !p || !text)
+        return relief_fail(err, RELIEF_E_USAGE, "%s is NULL",
+                           !params ? "params" : !p ? "the parameter" : "the text");
+    st = param_set(params, p, text, err);
+    if (st != RELIEF_OK) {
+        err->reason = RELIEF_REASON_PARAMETER;
+        snprintf(err->param, sizeof err->param, "%s", p->name);
+    }
+    return st;
 }
 
 size_t relief_param_format(const void *params, const relief_param *p, char *buf, size_t size)

@@ -97,9 +97,10 @@ static int set_param(const cli_spec *s, void *params, int id, const char *arg)
     if (relief_param_set(params, p, p->kind == RELIEF_PARAM_FLAG ? (no ? "0" : "1") : arg,
                          &err) == RELIEF_OK)
         return 1;
-    /* The library names the parameter; the command line, its option. */
+    /* The library names the parameter ("min_window: ..." with err.param
+     * set, relief/core.h); the command line, its option. */
     dashed("--", p->name, flag, sizeof flag);
-    if (strncmp(err.message, p->name, n) == 0 && err.message[n] == ':')
+    if (strcmp(err.param, p->name) == 0)
         fprintf(stderr, "relief %s: %s%s\n", s->name, flag, err.message + n);
     else
         fprintf(stderr, "relief %s: %s: %s\n", s->name, flag, err.message);

@@ -147,8 +147,10 @@ static relief_status auto_base(relief_complete_run *r, const relief_fit_result *
     /* The user's selection fills nothing there: that is the answer, not
      * the primitive's poor fit. */
     if (st == RELIEF_E_RANGE && (r->cp->has_hole_ball || r->cp->hole_labels) &&
-        strncmp(why.message, RELIEF_HOLES_NONE_FILLED, strlen(RELIEF_HOLES_NONE_FILLED)) == 0)
-        return relief_fail(err, st, "%s", why.message);
+        why.reason == RELIEF_REASON_NOTHING_TO_FILL) {
+        *err = why;
+        return st;
+    }
     if (st == RELIEF_OK) {
         relief_complete_note(r, 0, "no primitive fits well (%s): growing on the capture's "
                              "smoothed base (base smooth; base primitive with "
@@ -207,12 +209,12 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
         st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, &why);
         /* surface_check.c's fold refusal, the one a smooth base cures */
         if (st == RELIEF_E_MESH && auto_may_go_smooth(r) &&
-            strncmp(why.message, RELIEF_FOLD_REFUSAL, strlen(RELIEF_FOLD_REFUSAL)) == 0)
+            why.reason == RELIEF_REASON_FOLD_REFUSED)
             st = overlap_base(r, &why);
-        if (st == RELIEF_E_RANGE && r->has_holes && strstr(why.message, RELIEF_HOLES_LEFT_OPEN))
+        if (st == RELIEF_E_RANGE && r->has_holes && why.reason == RELIEF_REASON_HOLES_LEFT_OPEN)
             st = relief_holes_none_filled(&r->holes, &why);
         if (st != RELIEF_OK)
-            relief_fail(err, st, "%s", why.message);
+            *err = why;
     }
     if (st != RELIEF_OK)
         return st;
@@ -282,7 +284,7 @@ static relief_status make_matcher(relief_complete_run *r, relief_error *err)
         err);
     if (st == RELIEF_OK)
         st = relief_matcher_create(p->backend, p->device, p->threads, r->d, &r->m,
-                                   r->choice, sizeof r->choice, err);
+                                   r->choice, sizeof r->choice, &r->choice_reason, err);
     if (st != RELIEF_OK)
         return st;
     r->backend = r->m->backend;
@@ -406,6 +408,7 @@ static relief_status grow(relief_complete_run *r, relief_error *err)
                                    sizeof r->choice, err);
         hs.build_seconds = r->hstats.build_seconds;
         r->hstats = hs;
+        r->choice_reason = hs.backend_reason;
         if (r->hstats.fallback[0])
             relief_complete_note(r, 1, "backend auto: %s", r->hstats.fallback);
     } else {
@@ -476,8 +479,7 @@ static void fill_backend(relief_complete_report *rep, const relief_complete_run 
     rep->backend = r->backend;
     snprintf(rep->device, sizeof rep->device, "%s", r->device);
     snprintf(rep->backend_note, sizeof rep->backend_note, "%.1000s", r->choice);
-    rep->backend_warning = strncmp(r->choice, RELIEF_MATCHER_UNAVAILABLE,
-                                   strlen(RELIEF_MATCHER_UNAVAILABLE)) == 0;
+    rep->backend_warning = r->choice_reason == RELIEF_REASON_DEVICE_FELL_BACK;
 }
 
 static relief_status finish_report(relief_complete_run *r, int smooth, relief_error *err)
@@ -598,7 +600,7 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_complete_pa
         st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback");
     if (st == RELIEF_OK)
         st = relief_surface_build(capture, &r.st.params, &r.st.smooth, &r.s, err);
-    if (st == RELIEF_E_RANGE && r.has_holes && strstr(err->message, RELIEF_HOLES_LEFT_OPEN))
+    if (st == RELIEF_E_RANGE && r.has_holes && err->reason == RELIEF_REASON_HOLES_LEFT_OPEN)
         st = relief_holes_none_filled(&r.holes, err);
     if (st == RELIEF_OK) {
         own.seconds_smooth = relief_seconds() - r.t0;

@@ -52,6 +52,7 @@ typedef struct relief_complete_run {
     relief_backend backend;     /* what scored */
     char device[256];
     char choice[RELIEF_ERROR_MESSAGE_MAX + 320]; /* why auto chose it */
+    relief_reason choice_reason; /* RELIEF_REASON_DEVICE_FELL_BACK: a warning */
     relief_progress progress;
     double *level_share;        /* levels + 1: where each level's growth starts */
     volatile sig_atomic_t cancel; /* set when the progress callback asks */

@@ -182,14 +182,15 @@ void relief_depth_fill_report_free(relief_depth_fill_report *rep)
 static relief_status make_scorer(const relief_run_options *run, relief_patch_scorer **s,
                                  relief_depth_fill_report *rep, relief_error *err)
 {
+    relief_reason why = RELIEF_REASON_NONE;
     relief_status st = relief_patch_scorer_create(run->backend, run->device, run->threads, s,
                                                   rep->backend_note,
-                                                  sizeof rep->backend_note, err);
+                                                  sizeof rep->backend_note, &why, err);
     if (st != RELIEF_OK)
         return st;
     rep->backend = (*s)->backend;
     snprintf(rep->device, sizeof rep->device, "%s", (*s)->device);
-    rep->backend_warning = strncmp(rep->backend_note, "OpenCL unavailable", 18) == 0;
+    rep->backend_warning = why == RELIEF_REASON_DEVICE_FELL_BACK;
     return RELIEF_OK;
 }
 

@@ -102,6 +102,9 @@ typedef struct relief_hierarchy_stats {
     /* Why auto left the OpenCL device during the run (the matcher's
      * fallback_note), else "". */
     char fallback[RELIEF_ERROR_MESSAGE_MAX + 192];
+    /* RELIEF_REASON_DEVICE_FELL_BACK when auto's choice (the note) is
+     * OpenCL unavailable, a warning; else RELIEF_REASON_NONE. */
+    relief_reason backend_reason;
 } relief_hierarchy_stats;
 
 /* Heights along the normal (input units) of one level's vertices, kept for

@@ -595,6 +595,7 @@ static void level_place(const hier_run *g, int ki, level_work *w)
 static relief_status level_matcher(hier_run *g, int ki, level_work *w, relief_error *err)
 {
     char lnote[RELIEF_ERROR_MESSAGE_MAX + 320];
+    relief_reason why = RELIEF_REASON_NONE;
     relief_status st = relief_match_data_build(g->h->level[ki], g->params->rotations, g->mu,
                                                &w->d, err);
     if (st != RELIEF_OK)
@@ -606,9 +607,11 @@ static relief_status level_matcher(hier_run *g, int ki, level_work *w, relief_er
     if (g->m)
         return relief_matcher_rebind(g->m, w->d, err);
     st = relief_matcher_create(g->ho->backend, g->ho->device, g->ho->threads, w->d, &g->m,
-                               lnote, sizeof lnote, err);
-    if (st == RELIEF_OK && lnote[0] && g->note && g->note_size && !g->note[0])
+                               lnote, sizeof lnote, &why, err);
+    if (st == RELIEF_OK && lnote[0] && g->note && g->note_size && !g->note[0]) {
         snprintf(g->note, g->note_size, "%s", lnote);
+        g->hs->backend_reason = why;
+    }
     return st;
 }
 

@@ -246,6 +246,7 @@ typedef struct fill_call {
     relief_raster work;           /* the copy being filled */
     relief_patch_scorer *scorer;
     char note[1024];
+    relief_reason note_reason; /* RELIEF_REASON_DEVICE_FELL_BACK: a warning */
     relief_fill_report fr;
     double t0;
 } fill_call;
@@ -329,7 +330,8 @@ static relief_status make_hole(fill_call *c, relief_error *err)
 static relief_status start_scorer(fill_call *c, relief_error *err)
 {
     return relief_patch_scorer_create(c->p->run.backend, c->p->run.device, c->p->run.threads,
-                                      &c->scorer, c->note, sizeof c->note, err);
+                                      &c->scorer, c->note, sizeof c->note, &c->note_reason,
+                                      err);
 }
 
 /* Fill the copy. Nothing to fill: no copy, the thresholds reported. */
@@ -461,7 +463,7 @@ static relief_status make_report(const fill_call *c, relief_image_fill_report *r
     r->backend = c->scorer->backend;
     snprintf(r->device, sizeof r->device, "%s", c->scorer->device);
     snprintf(r->backend_note, sizeof r->backend_note, "%s", c->note);
-    r->backend_warning = strncmp(c->note, "OpenCL unavailable", 18) == 0;
+    r->backend_warning = c->note_reason == RELIEF_REASON_DEVICE_FELL_BACK;
     r->seconds_interp = fr->seconds_interp;
     r->seconds_copy = fr->seconds_copy;
     r->seconds_score = fr->seconds_score;

@@ -110,11 +110,13 @@ void relief_patch_opencl_select_from(relief_patch_scorer *s, size_t scores);
  * (>= 0), else the host scorer on `threads` (0: the default), GPU or not
  * (a launch per window search measured slower than the host's threads);
  * the host scorer too when the named device's OpenCL fails to start.
- * Which and why goes to `note` (may be NULL); a note that starts with
- * "OpenCL unavailable" is a warning. */
+ * Which and why goes to `note` (may be NULL); *why (may be NULL) is
+ * RELIEF_REASON_DEVICE_FELL_BACK when OpenCL failed to start (a
+ * warning), else RELIEF_REASON_NONE. */
 relief_status relief_patch_scorer_create(relief_backend backend, int device, int threads,
                                          relief_patch_scorer **out, char *note,
-                                         size_t note_size, relief_error *err);
+                                         size_t note_size, relief_reason *why,
+                                         relief_error *err);
 void relief_patch_scorer_destroy(relief_patch_scorer *s);
 
 #endif

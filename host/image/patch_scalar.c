@@ -99,12 +99,15 @@ void relief_patch_scorer_destroy(relief_patch_scorer *s)
 
 relief_status relief_patch_scorer_create(relief_backend backend, int device, int threads,
                                          relief_patch_scorer **out, char *note,
-                                         size_t note_size, relief_error *err)
+                                         size_t note_size, relief_reason *why_code,
+                                         relief_error *err)
 {
     relief_error why = {0};
     relief_status st;
     if (note && note_size)
         note[0] = '\0';
+    if (why_code)
+        *why_code = RELIEF_REASON_NONE;
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_patch_scalar_create(out, err);
     if (backend == RELIEF_BACKEND_HOST)
@@ -140,5 +143,7 @@ relief_status relief_patch_scorer_create(relief_backend backend, int device, int
     if (note && note_size)
         snprintf(note, note_size, "OpenCL unavailable (%s); backend auto: the host's "
                  "threads", why.message);
+    if (why_code)
+        *why_code = RELIEF_REASON_DEVICE_FELL_BACK;
     return relief_patch_host_create(threads, out, err);
 }

@@ -51,8 +51,9 @@ static relief_status fall_back(relief_matcher *m, const relief_match_data *d,
 }
 
 /* auto without --device: the index of the first GPU or accelerator among
- * the OpenCL devices, or -1 with the reason in why[]. */
-static int pick_device(char *why, size_t why_size)
+ * the OpenCL devices, or -1 with the reason in why[] (and *code
+ * RELIEF_REASON_DEVICE_FELL_BACK when OpenCL could not be asked). */
+static int pick_device(char *why, size_t why_size, relief_reason *code)
 {
     relief_device_info info[64];
     relief_error e = {0};
@@ -60,11 +61,15 @@ static int pick_device(char *why, size_t why_size)
     int first;
     if (relief_devices(info, 64, &n, &e) != RELIEF_OK) {
         snprintf(why, why_size, RELIEF_MATCHER_UNAVAILABLE " (%s)", e.message);
+        if (code)
+            *code = RELIEF_REASON_DEVICE_FELL_BACK;
         return -1;
     }
     if (n == 0) {
         snprintf(why, why_size, RELIEF_MATCHER_UNAVAILABLE " (no OpenCL platform or device "
                  "found)");
+        if (code)
+            *code = RELIEF_REASON_DEVICE_FELL_BACK;
         return -1;
     }
     first = relief_device_first_accelerator(info, n < 64 ? n : 64);
@@ -78,7 +83,8 @@ static int pick_device(char *why, size_t why_size)
 
 relief_status relief_matcher_create(relief_backend backend, int device, int threads,
                                     const relief_match_data *d, relief_matcher **out,
-                                    char *note, size_t note_size, relief_error *err)
+                                    char *note, size_t note_size, relief_reason *why_code,
+                                    relief_error *err)
 {
     const int host_threads = relief_score_pool_threads_for(threads);
     relief_status st;
@@ -89,6 +95,8 @@ relief_status relief_matcher_create(relief_backend backend, int device, int thre
     int set;
     if (note && note_size)
         note[0] = '\0';
+    if (why_code)
+        *why_code = RELIEF_REASON_NONE;
     if (backend == RELIEF_BACKEND_SCALAR)
         return relief_matcher_scalar_create(d, out, err);
     if (backend == RELIEF_BACKEND_HOST)
@@ -104,7 +112,8 @@ relief_status relief_matcher_create(relief_backend backend, int device, int thre
 #endif
     if (st != RELIEF_OK)
         return st;
-    if (backend == RELIEF_BACKEND_AUTO && !named && (device = pick_device(why, sizeof why)) < 0)
+    if (backend == RELIEF_BACKEND_AUTO && !named &&
+        (device = pick_device(why, sizeof why, why_code)) < 0)
         st = RELIEF_E_DEVICE; /* the host, for the reason in why[] */
     else {
         st = device_fits(device, d, err);
@@ -125,6 +134,8 @@ relief_status relief_matcher_create(relief_backend backend, int device, int thre
             return st;
         snprintf(why, sizeof why, RELIEF_MATCHER_UNAVAILABLE " (%s)",
                  err ? err->message : relief_strerror(st));
+        if (why_code)
+            *why_code = RELIEF_REASON_DEVICE_FELL_BACK;
     }
     /* auto on the host: say why. */
     relief_error_clear(err);

@@ -22,10 +22,10 @@
  * the default, at most RELIEF_SCORE_POOL_MAX), scalar on one. For auto:
  * OpenCL on `device` when one is named (>= 0), else on the first GPU or
  * accelerator; the host matcher when there is none, or when that device
- * cannot run; which one and why is written to `note` (may be
- * NULL). A note that starts with RELIEF_MATCHER_UNAVAILABLE says OpenCL
+ * cannot run; which one and why is written to `note` (may be NULL),
+ * and *why (may be NULL) is RELIEF_REASON_DEVICE_FELL_BACK when OpenCL
  * could not be used (no platform, or the device failed to start): a
- * warning, where the others are a plain choice. OpenCL is refused
+ * warning, where the others (RELIEF_REASON_NONE) are a plain choice. OpenCL is refused
  * (RELIEF_E_NOMEM, naming the need and the device's memory) when the
  * surface does not fit on the device (device_memory.h). Under auto and
  * opencl alike, a bad RELIEF_OPENCL_HOST_MAX or a --device there is none
@@ -33,7 +33,8 @@
 #define RELIEF_MATCHER_UNAVAILABLE "OpenCL unavailable"
 relief_status relief_matcher_create(relief_backend backend, int device, int threads,
                                     const relief_match_data *d, relief_matcher **out,
-                                    char *note, size_t note_size, relief_error *err);
+                                    char *note, size_t note_size, relief_reason *why,
+                                    relief_error *err);
 
 /* Score through the matcher, timing it. */
 relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,

@@ -429,7 +429,7 @@ relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *
                                 r->centre[1], r->centre[2], 0.6 * r->across);
     }
     free(shown);
-    return relief_fail(err, RELIEF_E_RANGE,
+    return relief_fail_reason(err, RELIEF_E_RANGE, RELIEF_REASON_NOTHING_TO_FILL,
                        RELIEF_HOLES_NONE_FILLED " no hole to fill among %u rim(s) "
                        "(%u outer border(s), %u wider than max_hole %.4g, %u not selected, %u "
                        "too small)%s", h->n_rims, h->n_borders, h->n_too_large,

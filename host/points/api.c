@@ -416,7 +416,7 @@ static relief_status make_report(const relief_complete_points_params *p,
     out->iterations = r->tex.iterations;
     out->converged = r->tex.converged;
     snprintf(out->grid_search, sizeof out->grid_search, "%s", r->tex.search);
-    out->grid_search_warning = strncmp(r->tex.search, "OpenCL unavailable", 18) == 0;
+    out->grid_search_warning = r->tex.search_reason == RELIEF_REASON_DEVICE_FELL_BACK;
     out->seconds_analysis = r->t_analysis;
     out->seconds_base = r->t_base;
     out->seconds_fill = r->t_fill;

@@ -221,11 +221,13 @@ static relief_status cl_query(relief_grid_nn *nn, const float *q, size_t nq, int
 relief_status relief_grid_nn_create(relief_grid_search search, relief_backend backend,
                                     int device, const float *z, size_t nz, int dims, int threads,
                                     relief_grid_nn **out, char *note, size_t note_size,
-                                    relief_error *err)
+                                    relief_reason *why, relief_error *err)
 {
     relief_grid_nn *nn;
     (void)device; /* read only when built with OpenCL */
     *out = NULL;
+    if (why)
+        *why = RELIEF_REASON_NONE;
     if (!nz || dims < 1 || nz > INT32_MAX / (size_t)dims)
         return relief_fail(err, RELIEF_E_RANGE, "%zu exemplar grids of %d floats", nz, dims);
     nn = calloc(1, sizeof *nn);
@@ -277,6 +279,8 @@ relief_status relief_grid_nn_create(relief_grid_search search, relief_backend ba
                 if (note)
                     snprintf(note, note_size, "OpenCL unavailable for the grid search (%s): "
                              "the scalar twin runs", cerr.message);
+                if (why)
+                    *why = RELIEF_REASON_DEVICE_FELL_BACK;
                 note = NULL;
             }
         }

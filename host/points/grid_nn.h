@@ -26,12 +26,14 @@ typedef struct relief_grid_nn relief_grid_nn;
  * first GPU or accelerator, else the first device), or auto (OpenCL on a
  * GPU or accelerator when there is one, else scalar); host is scalar.
  * threads: the scalar twin's and the kd-tree's workers (>= 1). `note`
- * (may be NULL) says what runs. RELIEF_E_NOMEM; RELIEF_E_DEVICE,
+ * (may be NULL) says what runs, and *why (may be NULL) is
+ * RELIEF_REASON_DEVICE_FELL_BACK when auto's OpenCL failed to start (a
+ * warning), else RELIEF_REASON_NONE. RELIEF_E_NOMEM; RELIEF_E_DEVICE,
  * RELIEF_E_NOT_BUILT, RELIEF_E_RANGE from OpenCL when asked for by name. */
 relief_status relief_grid_nn_create(relief_grid_search search, relief_backend backend,
                                     int device, const float *z, size_t nz, int dims, int threads,
                                     relief_grid_nn **out, char *note, size_t note_size,
-                                    relief_error *err);
+                                    relief_reason *why, relief_error *err);
 
 /* For each of nq queries q (nq x dims), its k (1..8, at most nz) nearest
  * exemplars, nearest first: idx[i * k + j]. RELIEF_E_NOMEM, RELIEF_E_DEVICE. */

@@ -812,6 +812,7 @@ typedef struct texrun {
     uint8_t *hist_ref;
     int iterations, converged;
     char search_note[336];
+    relief_reason search_reason;
 } texrun;
 
 static void texrun_free(texrun *r)
@@ -1173,7 +1174,8 @@ static relief_status build_search(texrun *r, const uint8_t *unknown, const uint8
     return relief_grid_nn_create(r->p.brute ? RELIEF_GRID_SEARCH_BRUTE
                                             : RELIEF_GRID_SEARCH_KDTREE,
                                  r->p.backend, r->p.device, r->zv, o->nz, o->dims, r->threads,
-                                 &o->nn, r->search_note, sizeof r->search_note, err);
+                                 &o->nn, r->search_note, sizeof r->search_note,
+                                 &r->search_reason, err);
 }
 
 /* The E-step: each unknown point the centre-weighted mean of its members'
@@ -1259,6 +1261,7 @@ static relief_status run_finish(texrun *r, float *value, const uint8_t *unknown,
         res->grid_n = o->gn;
         res->cluster_size = r->p.cluster_size;
         snprintf(res->search, sizeof res->search, "%s", r->search_note);
+        res->search_reason = r->search_reason;
         r->energy = NULL;
     }
     return RELIEF_OK;

@@ -76,6 +76,7 @@ typedef struct relief_texopt_result {
     double *energy;           /* energy per iteration (iterations entries), malloc'ed */
     int converged;            /* 1 when tol stopped it */
     char search[336];         /* the grid search that ran, and any warning (grid_nn.h) */
+    relief_reason search_reason; /* RELIEF_REASON_DEVICE_FELL_BACK: the warning */
     int grid_n, cluster_size; /* what ran: smaller than asked when no exemplar grid could be
                                  built at the size asked (halved clusters, grids 1/sqrt 2 the
                                  side, the same step, down to 7) */

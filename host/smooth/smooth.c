@@ -392,7 +392,8 @@ static relief_status surface_targets(surface_build *b, relief_error *err)
         return st;
     if (b->targets.n == 0) {
         if (s->fill.holes_left > 0)
-            return relief_fail(err, RELIEF_E_RANGE, RELIEF_HOLES_LEFT_OPEN " %zu region%s the "
+            return relief_fail_reason(err, RELIEF_E_RANGE, RELIEF_REASON_HOLES_LEFT_OPEN,
+                                      RELIEF_HOLES_LEFT_OPEN " %zu region%s the "
                                "capture's outline encloses open", s->fill.holes_left,
                                s->fill.holes_left == 1 ? "" : "s");
         if (s->fill.region == RELIEF_FILL_HOLES && s->fill.outside_points > 0)

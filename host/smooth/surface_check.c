@@ -138,7 +138,7 @@ static relief_status refuse_folds(const relief_mesh *m, const relief_fit_primiti
 {
     const uint32_t *f = m->tri + 3 * ft->worst;
     const double *p = m->pos + 3 * (size_t)f[0];
-    return relief_fail(err, RELIEF_E_MESH,
+    return relief_fail_reason(err, RELIEF_E_MESH, RELIEF_REASON_FOLD_REFUSED,
                        RELIEF_FOLD_REFUSAL " %s: %zu triangles "
                        "(%.1f%% of its area, more than %.0f%%) face away from it, the "
                        "largest triangle %zu (vertices %u, %u, %u) at (%.6g, %.6g, "

@@ -121,7 +121,10 @@ typedef struct relief_error {
     int sys_errno;              /* the system's errno behind an I/O or system
                                    failure (ENOSPC, EROFS, ...), else 0 */
     char param[RELIEF_ERROR_PARAM_MAX]; /* the parameter the failure concerns
-                                   ("min_window", "run.threads"), or "" */
+                                   ("min_window", "threads"), or "";
+                                   relief_param_set's message then starts
+                                   with "PARAM:", which a client may show
+                                   under its own name for it (--min-window) */
 } relief_error;
 
 /* ------------------------------------------------------- parameter tables */

@@ -28,7 +28,7 @@ static relief_status search(relief_grid_search s, relief_backend b, const float 
                             const float *q, uint32_t *idx, char *name, relief_error *err)
 {
     relief_grid_nn *nn = NULL;
-    relief_status st = relief_grid_nn_create(s, b, -1, z, NZ, DIMS, 2, &nn, NULL, 0, err);
+    relief_status st = relief_grid_nn_create(s, b, -1, z, NZ, DIMS, 2, &nn, NULL, 0, NULL, err);
     if (st == RELIEF_OK) {
         st = relief_grid_nn_query(nn, q, NQ, K, idx, err);
         snprintf(name, 320, "%s", relief_grid_nn_name(nn));
@@ -99,12 +99,12 @@ int main(void)
     {
         relief_grid_nn *nn = NULL;
         CHECK(relief_grid_nn_create(RELIEF_GRID_SEARCH_BRUTE, RELIEF_BACKEND_SCALAR, -1, z, NZ, DIMS, 1,
-                                    &nn, NULL, 0, &err) == RELIEF_OK, "%s", err.message);
+                                    &nn, NULL, 0, NULL, &err) == RELIEF_OK, "%s", err.message);
         CHECK(nn && relief_grid_nn_query(nn, q, 1, 9, scalar, &err) == RELIEF_E_RANGE,
               "k 9 accepted");
         relief_grid_nn_destroy(nn);
         CHECK(relief_grid_nn_create(RELIEF_GRID_SEARCH_BRUTE, RELIEF_BACKEND_SCALAR, -1, z, 0, DIMS, 1,
-                                    &nn, NULL, 0, &err) == RELIEF_E_RANGE, "no exemplars accepted");
+                                    &nn, NULL, 0, NULL, &err) == RELIEF_E_RANGE, "no exemplars accepted");
     }
     free(z), free(q);
     return check_result();
