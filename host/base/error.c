@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/numtext.h"
+
 const char *relief_strerror(relief_status status)
 {
     switch (status) {
@@ -47,7 +49,7 @@ relief_status relief_fail(relief_error *err, relief_status status,
         va_list ap;
         err->status = status;
         va_start(ap, fmt);
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        relief_vsnprintf_c(err->message, sizeof err->message, fmt, ap);
         va_end(ap);
     }
     return status;
@@ -69,7 +71,7 @@ relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...)
     if (!err)
         return RELIEF_E_INTERNAL;
     va_start(ap, fmt);
-    vsnprintf(head, sizeof head, fmt, ap);
+    relief_vsnprintf_c(head, sizeof head, fmt, ap);
     va_end(ap);
     memcpy(msg, err->message, sizeof msg);
     msg[sizeof msg - 1] = '\0';
