@@ -19,6 +19,7 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/memlimit.h"
+#include "base/numtext.h"
 #include "report/report_dir.h"
 
 cli_common cli_common_init(const char *cmd)
@@ -37,7 +38,7 @@ int cli_common_option(cli_common *cm, int c, const char *arg)
     case OPT_QUIET: cm->quiet = 1; return 1;
     case OPT_MAX_SECONDS: {
         char *end;
-        double v = strtod(arg, &end);
+        double v = relief_strtod(arg, &end);
         if (end == arg || *end != '\0' || !(v >= 0.0) || !isfinite(v)) {
             fprintf(stderr, "relief %s: --max-seconds: '%s' is not a number of seconds >= 0\n",
                     cm->cmd, arg);
@@ -143,7 +144,7 @@ int cli_parse_real(const char *cmd, const char *opt, const char *s, double *out)
     char *end;
     double v;
     errno = 0;
-    v = strtod(s, &end);
+    v = relief_strtod(s, &end);
     if (end == s || *end != '\0' || errno != 0 || !isfinite(v)) {
         fprintf(stderr, "relief %s: %s: '%s' is not a finite number\n", cmd, opt, s);
         return 0;
