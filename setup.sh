@@ -10,12 +10,15 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
+# locales: localedef's sources, for the tests' comma-decimal locale
+# (tests/comma_locale.sh).
 PACKAGES=(cmake make gcc g++ pkg-config
           libopenmesh-dev libflann-dev libqhull-dev zlib1g-dev libpng-dev libjpeg-dev liblzf-dev
           ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
           clang libclang-rt-dev valgrind
           python3 python3-venv python3-dev ninja-build man-db
-          gimp libgimp2.0-dev python3-open3d)
+          gimp libgimp2.0-dev python3-open3d
+          locales)
 # The Python package's build and test tools, from PyPI into .venv.
 # dask runs the batch recipe; trimesh, OpenCV and scikit-image, the interop
 # tests (tests/python/test_interop.py).

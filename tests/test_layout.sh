@@ -3,7 +3,8 @@
 # the public header (relief/), the shared math header (kernels/) where the
 # table allows it, and the folders listed for it; lower folders never include
 # higher ones. Also: every include names its folder, no source file sits
-# directly in host/, and no include climbs out with "../".
+# directly in host/, no include climbs out with "../", and numbers are read
+# only through base/numtext.h (the C locale whatever the caller's).
 #   tests/test_layout.sh [SOURCE_DIR]
 set -euo pipefail
 src=${1:-$(cd "$(dirname "$0")/.." && pwd)}
@@ -49,6 +50,15 @@ for dir in */; do
       complain "host/$file:$line: $dir/ may not include $name (allowed: ${allowed[$dir]:-none})"
   done < <(grep -Hn '^[[:space:]]*#[[:space:]]*include[[:space:]]*"' "$dir"/* || true)
 done
+# strtod and the scanf family follow the caller's LC_NUMERIC ("0.5" stops at
+# the '.' under a comma-decimal locale): host/ reads numbers with
+# relief_strtod (base/numtext.h, issue 60). Integers (strtol) are the same
+# in every locale.
+while IFS= read -r hit; do
+  complain "host/$hit: reads a number in the caller's locale; use relief_strtod (base/numtext.h)"
+done < <(grep -rnE '\b(strto(d|f|ld)|atof|v?f?scanf|v?sscanf)[[:space:]]*\(' \
+           --include='*.c' --include='*.cpp' --include='*.h' . | grep -v '^\./base/numtext\.' |
+         sed 's|^\./||' || true)
 if [[ $fail -ne 0 ]]; then
   echo "layout: FAILED" >&2
   exit 1

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/numtext.h"
+
 const char *relief_strerror(relief_status status)
 {
     switch (status) {
@@ -61,7 +63,7 @@ static relief_status vfail(relief_error *err, relief_status status, relief_reaso
         relief_error_clear(err);
         err->status = status;
         err->reason = reason;
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        relief_vsnprintf_c(err->message, sizeof err->message, fmt, ap);
     }
     return status;
 }
@@ -161,7 +163,7 @@ relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...)
     if (!err)
         return RELIEF_E_INTERNAL;
     va_start(ap, fmt);
-    vsnprintf(head, sizeof head, fmt, ap);
+    relief_vsnprintf_c(head, sizeof head, fmt, ap);
     va_end(ap);
     memcpy(msg, err->message, sizeof msg);
     msg[sizeof msg - 1] = '\0';

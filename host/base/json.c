@@ -3,6 +3,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "base/numtext.h"
+
 void rj_init(relief_json *j, FILE *f)
 {
     j->f = f;
@@ -75,7 +77,7 @@ void rj_number(relief_json *j, const char *key, double value)
 {
     item(j, key);
     if (isfinite(value))
-        fprintf(j->f, "%.10g", value);
+        relief_fprintf_c(j->f, "%.10g", value); /* "0.5" whatever the locale */
     else
         fputs("null", j->f);
 }
@@ -101,7 +103,7 @@ void rj_null(relief_json *j, const char *key)
 void rj_vec3(relief_json *j, const char *key, const double v[3])
 {
     item(j, key);
-    fprintf(j->f, "[%.10g, %.10g, %.10g]", v[0], v[1], v[2]);
+    relief_fprintf_c(j->f, "[%.10g, %.10g, %.10g]", v[0], v[1], v[2]);
 }
 
 void rj_string_or_null(relief_json *j, const char *key, const char *value)

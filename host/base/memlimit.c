@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "base/error.h"
+#include "base/numtext.h"
 
 uint64_t relief_physical_memory(void)
 {
@@ -44,7 +45,7 @@ relief_status relief_parse_size(const char *text, uint64_t *out, relief_error *e
     double v;
     int shift = -1;
     errno = 0;
-    v = strtod(text, &end);
+    v = relief_strtod(text, &end);
     if (end == text || errno != 0 || !isfinite(v) || !(v > 0.0))
         return relief_fail(err, RELIEF_E_USAGE,
                            "'%s' is not a size: expected a positive number of bytes with an "
@@ -81,7 +82,7 @@ void relief_format_size(uint64_t bytes, char *buf, size_t cap)
     if (u == 0)
         snprintf(buf, cap, "%llu B", (unsigned long long)bytes);
     else
-        snprintf(buf, cap, "%.*f %s", v < 10.0 ? 2 : v < 100.0 ? 1 : 0, v, units[u]);
+        relief_snprintf_c(buf, cap, "%.*f %s", v < 10.0 ? 2 : v < 100.0 ? 1 : 0, v, units[u]);
 }
 
 /* a * b + c, saturating instead of wrapping. */

@@ -451,19 +451,26 @@ relief_status relief_staged_folder_commit(relief_staged_folder *s,
 
 /* ------------------------------------------------------------- recovery */
 
+/* The value of a hexadecimal digit, or -1. */
+static int hex(char c)
+{
+    return c >= '0' && c <= '9' ? c - '0' : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                          : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+}
+
 /* Undo put_path in place; 0 on a malformed escape. */
 static int unescape(char *s)
 {
     char *w = s;
     for (; *s; ++s, ++w) {
-        unsigned v;
+        int hi, lo;
         if (*s != '%') {
             *w = *s;
             continue;
         }
-        if (sscanf(s + 1, "%2x", &v) != 1 || !s[1] || !s[2] || v == 0)
+        if ((hi = hex(s[1])) < 0 || (lo = hex(s[2])) < 0 || (hi | lo) == 0)
             return 0;
-        *w = (char)v;
+        *w = (char)(16 * hi + lo);
         s += 2;
     }
     *w = '\0';

@@ -11,6 +11,7 @@
 
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "base/numtext.h"
 
 const char *const relief_backend_names[] = {"auto", "scalar", "opencl", "host", NULL};
 
@@ -36,12 +37,13 @@ static int parse_long(const char *s, long long lo, long long hi, long long *out)
     return 1;
 }
 
+/* A whole finite number, as C writes it ("0.5") whatever the caller's locale. */
 static int parse_real(const char *s, double *out)
 {
     char *end;
     double v;
     errno = 0;
-    v = strtod(s, &end);
+    v = relief_strtod(s, &end);
     if (end == s || *end != '\0' || errno != 0 || !isfinite(v))
         return 0;
     *out = v;
@@ -190,7 +192,7 @@ size_t relief_param_format(const void *params, const relief_param *p, char *buf,
         return (size_t)snprintf(buf, size, "%u", (unsigned)u);
     case RELIEF_PARAM_REAL:
         memcpy(&d, field, sizeof d);
-        return (size_t)snprintf(buf, size, "%.17g", d);
+        return (size_t)relief_snprintf_c(buf, size, "%.17g", d);
     case RELIEF_PARAM_ENUM: {
         int n = 0;
         memcpy(&i, field, sizeof i);
@@ -213,8 +215,9 @@ size_t relief_param_format(const void *params, const relief_param *p, char *buf,
             n = (int)p->max;
         for (int k = 0; k < n; ++k) {
             memcpy(&d, field + (size_t)k * sizeof d, sizeof d);
-            at += (size_t)snprintf(buf + (at < size ? at : size), at < size ? size - at : 0,
-                                   "%s%.17g", k ? "," : "", d);
+            at += (size_t)relief_snprintf_c(buf + (at < size ? at : size),
+                                            at < size ? size - at : 0, "%s%.17g", k ? "," : "",
+                                            d);
         }
         if (size && at == 0)
             buf[0] = '\0';

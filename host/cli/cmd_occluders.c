@@ -14,6 +14,7 @@
 #include "relief/relief.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "base/numtext.h"
 #include "cli/options.h"
 #include "depth/depth_io.h"
 #include "image/image_io.h"
@@ -443,7 +444,7 @@ static relief_status read_poses(occ_args *a, relief_error *err)
             continue;
         for (; k < a->n_views && n < 12; ++n, at = end) {
             at += strspn(at, " \t,");
-            a->views[k].pose[n] = strtod(at, &end);
+            a->views[k].pose[n] = relief_strtod(at, &end);
             if (end == at)
                 break;
         }

@@ -11,6 +11,7 @@
 
 #include "relief/relief.h"
 #include "base/error.h"
+#include "base/numtext.h"
 #include "cli/options.h"
 #include "report/png.h"
 #include "report/render.h"
@@ -67,11 +68,11 @@ static int parse_view(const char *s, double *az, double *el)
     char *end;
     const char *second;
     errno = 0;
-    *az = strtod(s, &end);
+    *az = relief_strtod(s, &end);
     if (end == s || *end != ',' || !isfinite(*az))
         goto bad;
     second = end + 1;
-    *el = strtod(second, &end);
+    *el = relief_strtod(second, &end);
     if (end == second || *end != '\0' || errno != 0 || !isfinite(*el))
         goto bad;
     if (*el < -90.0 || *el > 90.0) {

@@ -19,6 +19,7 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/memlimit.h"
+#include "base/numtext.h"
 #include "complete/engine.h"
 #include "report/report_dir.h"
 
@@ -38,7 +39,7 @@ int cli_common_option(cli_common *cm, int c, const char *arg)
     case OPT_QUIET: cm->quiet = 1; return 1;
     case OPT_MAX_SECONDS: {
         char *end;
-        double v = strtod(arg, &end);
+        double v = relief_strtod(arg, &end);
         if (end == arg || *end != '\0' || !(v >= 0.0) || !isfinite(v)) {
             fprintf(stderr, "relief %s: --max-seconds: '%s' is not a number of seconds >= 0\n",
                     cm->cmd, arg);
@@ -142,7 +143,7 @@ int cli_parse_real(const char *cmd, const char *opt, const char *s, double *out)
     char *end;
     double v;
     errno = 0;
-    v = strtod(s, &end);
+    v = relief_strtod(s, &end);
     if (end == s || *end != '\0' || errno != 0 || !isfinite(v)) {
         fprintf(stderr, "relief %s: %s: '%s' is not a finite number\n", cmd, opt, s);
         return 0;
@@ -442,8 +443,8 @@ void cli_progress_start(cli_progress *pr, const cli_common *cm, relief_run_optio
     pr->estimate_scale = 1.0;
     if (getenv("RELIEF_TEST_ESTIMATE_NOW"))
         pr->estimate_after = pr->estimate_min = pr->estimate_settle = 0.0;
-    if (scale && strtod(scale, NULL) > 0.0)
-        pr->estimate_scale = strtod(scale, NULL);
+    if (scale && relief_strtod(scale, NULL) > 0.0)
+        pr->estimate_scale = relief_strtod(scale, NULL);
     if (after)
         pr->sigint_after = strtoul(after, NULL, 10);
     if (run)

@@ -15,6 +15,7 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "base/numtext.h"
 #include "match/match_data.h"
 #include "mesh/mesh.h"
 #include "match/search.h"
@@ -30,7 +31,7 @@ void relief_complete_note(relief_complete_run *r, int warning, const char *fmt, 
         return;
     rep->notes[rep->n_notes].warning = warning;
     va_start(ap, fmt);
-    vsnprintf(rep->notes[rep->n_notes].text, sizeof rep->notes[0].text, fmt, ap);
+    relief_vsnprintf_c(rep->notes[rep->n_notes].text, sizeof rep->notes[0].text, fmt, ap);
     va_end(ap);
     ++rep->n_notes;
 }
@@ -63,10 +64,12 @@ static relief_status read_resume(relief_complete_run *r, relief_error *err)
 {
     relief_checkpoint_key_make(r->capture, &r->st.params, &r->st.smooth, &r->st.grow, &r->key);
     /* The hole model's choice changes the targets too. */
-    snprintf(r->key.params + strlen(r->key.params), sizeof r->key.params - strlen(r->key.params),
-             " max_hole=%.17g hole_ball=%s%.17g,%.17g,%.17g,%.17g hole_labels=%d",
-             r->cp->max_hole, r->cp->has_hole_ball ? "" : "none:", r->cp->hole_ball[0],
-             r->cp->hole_ball[1], r->cp->hole_ball[2], r->cp->hole_ball[3], r->cp->hole_labels);
+    relief_snprintf_c(r->key.params + strlen(r->key.params),
+                      sizeof r->key.params - strlen(r->key.params),
+                      " max_hole=%.17g hole_ball=%s%.17g,%.17g,%.17g,%.17g hole_labels=%d",
+                      r->cp->max_hole, r->cp->has_hole_ball ? "" : "none:", r->cp->hole_ball[0],
+                      r->cp->hole_ball[1], r->cp->hole_ball[2], r->cp->hole_ball[3],
+                      r->cp->hole_labels);
     if (!r->cp->resume)
         return RELIEF_OK;
     return relief_checkpoint_read(r->cp->resume, &r->key, &r->resume, err);

@@ -14,6 +14,7 @@
 
 #include "base/error.h"
 #include "base/file.h"
+#include "base/numtext.h"
 #include "mesh/mesh.h"
 
 void relief_depth_frame_free(relief_depth_frame *f)
@@ -113,7 +114,7 @@ relief_status relief_pfm_decode(const uint8_t *d, size_t n, const char *name,
         !header_token(d, n, &at, tok, sizeof tok) || (h = strtoll(tok, &end, 10), *end))
         return relief_fail(err, RELIEF_E_PARSE, "%s: PFM header: expected WIDTH HEIGHT after "
                            "the magic", name);
-    if (!header_token(d, n, &at, tok, sizeof tok) || (scale = strtod(tok, &end), *end) ||
+    if (!header_token(d, n, &at, tok, sizeof tok) || (scale = relief_strtod(tok, &end), *end) ||
         !isfinite(scale) || scale == 0.0)
         return relief_fail(err, RELIEF_E_PARSE, "%s: PFM header: expected a non-zero scale "
                            "(its sign is the byte order) after the size", name);
@@ -368,7 +369,7 @@ static relief_status decode_ascii(const char *p, const char *end, const pcd_head
                 if (len == 0)
                     return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii data ends at "
                                        "point %zu of %zu (truncated)", name, i, px);
-                v = strtod(tok, &e);
+                v = relief_strtod(tok, &e);
                 if (*e && strcmp(tok, "nan") && strcmp(tok, "NaN"))
                     return relief_fail(err, RELIEF_E_PARSE, "%s: PCD ascii point %zu: '%s' "
                                        "is not a number", name, i,
@@ -781,7 +782,7 @@ static int write_pcd(FILE *fp, const relief_depth_frame *f, relief_depth_kind ki
         for (size_t i = 0; i < px && ok; ++i) {
             const float *q = f->xyz + 3 * i;
             if (isfinite(q[0]) && isfinite(q[1]) && isfinite(q[2]))
-                ok = fprintf(fp, "%.9g %.9g %.9g", q[0], q[1], q[2]) > 0;
+                ok = relief_fprintf_c(fp, "%.9g %.9g %.9g", q[0], q[1], q[2]) > 0;
             else
                 ok = fputs("nan nan nan", fp) >= 0;
             /* PCL writes a packed rgb in ascii as its integer 0x00RRGGBB. */

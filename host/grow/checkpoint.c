@@ -13,6 +13,7 @@
 
 #include "base/output.h"
 #include "base/error.h"
+#include "base/numtext.h"
 #include "grow/hierarchy.h"
 #include "mesh/mesh.h"
 #include "smooth/oversample.h"
@@ -37,12 +38,13 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
 #define FNV_START 0xcbf29ce484222325ull
 
 /* The shortest %g text that reads back as exactly v ("0.1", not
- * "0.10000000000000001"): the key must tell every double apart. */
+ * "0.10000000000000001"): the key must tell every double apart. In the C
+ * locale: a checkpoint made under one locale resumes under another. */
 static void exact(char *buf, size_t cap, double v)
 {
     for (int prec = 6; prec <= 17; ++prec) {
-        snprintf(buf, cap, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v)
+        relief_snprintf_c(buf, cap, "%.*g", prec, v);
+        if (relief_strtod(buf, NULL) == v)
             return;
     }
 }

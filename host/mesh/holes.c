@@ -9,6 +9,7 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/knn.h"
+#include "base/numtext.h"
 #include "base/union_find.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
@@ -420,13 +421,14 @@ relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *
         const relief_rim *r = h->rims + best;
         char larger[48] = "";
         if (r->fate == RELIEF_RIM_TOO_LARGE)
-            snprintf(larger, sizeof larger, "max_hole %.4g or ", 1.01 * r->across);
-        len += (size_t)snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
-                                "; %s rim of %u points, %.4g across at (%.4g, %.4g, %.4g): "
-                                "%shole_ball %.4g,%.4g,%.4g,%.4g fills it",
-                                relief_rim_fate_name(r->fate), r->points, r->across,
-                                r->centre[0], r->centre[1], r->centre[2], larger, r->centre[0],
-                                r->centre[1], r->centre[2], 0.6 * r->across);
+            relief_snprintf_c(larger, sizeof larger, "max_hole %.4g or ", 1.01 * r->across);
+        len += (size_t)relief_snprintf_c(list + len, len < sizeof list ? sizeof list - len : 0,
+                                         "; %s rim of %u points, %.4g across at (%.4g, %.4g, "
+                                         "%.4g): %shole_ball %.4g,%.4g,%.4g,%.4g fills it",
+                                         relief_rim_fate_name(r->fate), r->points, r->across,
+                                         r->centre[0], r->centre[1], r->centre[2], larger,
+                                         r->centre[0], r->centre[1], r->centre[2],
+                                         0.6 * r->across);
     }
     free(shown);
     return relief_fail_reason(err, RELIEF_E_RANGE, RELIEF_REASON_NOTHING_TO_FILL,

@@ -43,7 +43,7 @@ relief_status relief_mesh_read_with(const char *path, const relief_read_options 
     st = relief_io_check(path, &chk, err);
     if (st != RELIEF_OK)
         return st;
-    st = relief_om_read(path, chk.ext, chk.ascii_char_label, &m, &res, err);
+    st = relief_om_read(path, chk.ext, chk.binary, chk.ascii_char_label, &m, &res, err);
     if (st != RELIEF_OK)
         return st;
 

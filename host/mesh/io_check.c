@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "base/error.h"
+#include "base/numtext.h"
 #include "mesh/io_check_reader.h"
 
 relief_file_format relief_file_format_of(const char *path)
@@ -74,7 +75,7 @@ int io_parse_double(const char *s, double *out)
 {
     char *end;
     errno = 0;
-    *out = strtod(s, &end);
+    *out = relief_strtod(s, &end);
     return end != s && *end == '\0';
 }
 

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/numtext.h"
 #include "mesh/io_check_reader.h"
 
 /* ---------------------------------------------------------------- PLY */
@@ -201,7 +202,7 @@ static relief_status check_ply_body(reader *r, const ply_element *el, int nel,
 static int plain_version(const char *s)
 {
     int digits = 0, dots = 0;
-    if (strlen(s) > 16 || strtod(s, NULL) > 1000.0)
+    if (strlen(s) > 16 || relief_strtod(s, NULL) > 1000.0)
         return 0;
     for (; *s; ++s) {
         if (*s >= '0' && *s <= '9')

@@ -27,7 +27,9 @@ typedef struct reader {
 int io_next_line(reader *r, int comments);
 /* The next line with at least one token. */
 int io_next_nonblank(reader *r, int comments);
-/* A whole token as a double / a long long; 0 when it is not one. */
+/* A whole token as a double / a long long; 0 when it is not one. A double
+ * is written with '.' whatever the caller's locale ("0.5", as every mesh
+ * format has it). */
 int io_parse_double(const char *s, double *out);
 int io_parse_long(const char *s, long long *out);
 /* Three finite coordinates in tokens first..first+2 of the line. */

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <fstream>
+#include <locale>
 #include <new>
 #include <cstdio>
 #include <locale>
@@ -254,9 +256,73 @@ void copy_faces(ReadMesh &mesh, const std::vector<int> &keep_index,
     }
 }
 
-relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
-                 relief_mesh **out, relief_om_read_result *res,
-                 relief_error *err)
+// Numbers in OpenMesh's text formats. OpenMesh reads and writes them through
+// C++ streams, which follow their std::locale, never C's setlocale (libstdc++'s
+// classic facets convert through the C locale themselves): a program's
+// setlocale(LC_ALL, "de_DE.UTF-8") leaves them alone. A C++ program's
+// std::locale::global(std::locale("de_DE.UTF-8")) does not: every stream made
+// after it, OpenMesh's own included, reads "1.5" as 15 (an ascii PLY's header
+// never ends) and writes "1,5", and under en_US "1,234" for 1234. Where
+// OpenMesh takes a stream, relief opens it in the classic locale: reading a
+// PLY (what OpenMesh's path overload does, in a stream of relief's) and all
+// writing. The OFF, OBJ and ascii STL readers parse each line through a
+// stringstream of their own (and OFF's takes its options from the path):
+// under such a locale they are refused, not misread.
+
+// Does `loc` read numbers as the classic locale: '.' the decimal point, and
+// no '.' between groups of digits?
+bool classic_numbers(const std::locale &loc)
+{
+    const std::numpunct<char> &np = std::use_facet<std::numpunct<char>>(loc);
+    return np.decimal_point() == '.' && (np.grouping().empty() || np.thousands_sep() != '.');
+}
+
+// OpenMesh's read of `path` into `mesh`: a PLY through a classic stream.
+bool read_file(ReadMesh &mesh, const char *path, const char *ext, OpenMesh::IO::Options &opt)
+{
+    if (std::strcmp(ext, ".ply") != 0)
+        return OpenMesh::IO::read_mesh(mesh, path, opt);
+    std::ifstream in(path, std::ios::binary);
+    in.imbue(std::locale::classic());
+    return in.is_open() && OpenMesh::IO::read_mesh(mesh, in, ext, opt);
+}
+
+/* A std::ostream's bytes into a C stream, whose errors the caller checks
+ * (OpenMesh's own file writer does not see a failed flush or close). */
+class FileBuf : public std::streambuf {
+  public:
+    explicit FileBuf(FILE *f) : f_(f) {}
+
+  protected:
+    int_type overflow(int_type c) override
+    {
+        if (traits_type::eq_int_type(c, traits_type::eof()))
+            return traits_type::not_eof(c);
+        return std::fputc(c, f_) == EOF ? traits_type::eof() : c;
+    }
+    std::streamsize xsputn(const char *s, std::streamsize n) override
+    {
+        return (std::streamsize)std::fwrite(s, 1, (size_t)n, f_);
+    }
+
+  private:
+    FILE *f_;
+};
+
+// `m` written into the C stream f as `ext` by OpenMesh, through a classic
+// stream (its numbers "0.5" whatever the program's locale).
+bool write_file(const Mesh &mesh, FILE *f, const char *ext, OpenMesh::IO::Options opt)
+{
+    FileBuf buf(f);
+    std::ostream os(&buf);
+    os.imbue(std::locale::classic());
+    if (std::strcmp(ext, ".obj") == 0) // as OpenMesh's OBJ writer sets its own file
+        os << std::fixed;
+    return OpenMesh::IO::write_mesh(mesh, os, ext, opt, 9) && !os.fail();
+}
+
+relief_status read_impl(const char *path, const char *ext, int binary, int ascii_char_label,
+                        relief_mesh **out, relief_om_read_result *res, relief_error *err)
 {
     ReadMesh mesh;
     mesh.request_vertex_colors();
@@ -266,9 +332,15 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
                                 OpenMesh::IO::Options::Custom;
     bool ok;
     std::string said;
+    if (std::strcmp(ext, ".ply") != 0 && !binary && !classic_numbers(std::locale()))
+        return relief_fail(err, RELIEF_E_USAGE, "%s: this program's C++ global locale (%s, "
+                           "set by std::locale::global) does not read 0.5 as a half, and "
+                           "OpenMesh would misread the numbers of a text %s file in it; keep "
+                           "that locale classic, or read a PLY", path,
+                           std::locale().name().c_str(), ext);
     {
         OmerrCapture capture;
-        ok = OpenMesh::IO::read_mesh(mesh, path, opt);
+        ok = read_file(mesh, path, ext, opt);
         said = capture.str();
     }
     std::replace(said.begin(), said.end(), '\n', ' ');
@@ -318,27 +390,6 @@ relief_status read_impl(const char *path, const char *ext, int ascii_char_label,
     return RELIEF_OK;
 }
 
-/* A std::ostream's bytes into a C stream, whose errors the caller checks
- * (OpenMesh's own file writer does not see a failed flush or close). */
-class FileBuf : public std::streambuf {
-  public:
-    explicit FileBuf(FILE *f) : f_(f) {}
-
-  protected:
-    int_type overflow(int_type c) override
-    {
-        if (traits_type::eq_int_type(c, traits_type::eof()))
-            return traits_type::not_eof(c);
-        return std::fputc(c, f_) == EOF ? traits_type::eof() : c;
-    }
-    std::streamsize xsputn(const char *s, std::streamsize n) override
-    {
-        return (std::streamsize)std::fwrite(s, 1, (size_t)n, f_);
-    }
-
-  private:
-    FILE *f_;
-};
 
 relief_status write_impl(const relief_mesh *m, FILE *f, const char *path, const char *ext,
                          int ascii, relief_error *err)
@@ -397,10 +448,7 @@ relief_status write_impl(const relief_mesh *m, FILE *f, const char *path, const 
             opt += OpenMesh::IO::Options::Custom;
         if (!ascii && (std::strcmp(ext, ".ply") == 0 || std::strcmp(ext, ".stl") == 0))
             opt += OpenMesh::IO::Options::Binary;
-        FileBuf buf(f);
-        std::ostream out(&buf);
-        out.imbue(std::locale::classic());
-        if (!OpenMesh::IO::write_mesh(mesh, out, ext, opt, 9) || !out) {
+        if (!write_file(mesh, f, ext, opt)) {
             said = capture.str();
             return relief_fail(err, RELIEF_E_IO, "%s: OpenMesh could not write it%s%s",
                                path, said.empty() ? "" : ": ", said.c_str());
@@ -672,14 +720,14 @@ extern "C" relief_status relief_om_storable(const relief_mesh *m, const uint32_t
     }
 }
 
-extern "C" relief_status relief_om_read(const char *path, const char *ext,
+extern "C" relief_status relief_om_read(const char *path, const char *ext, int binary,
                                         int ascii_char_label, relief_mesh **out,
                                         relief_om_read_result *res,
                                         relief_error *err)
 {
     try {
         *res = relief_om_read_result();
-        return read_impl(path, ext, ascii_char_label, out, res, err);
+        return read_impl(path, ext, binary, ascii_char_label, out, res, err);
     } catch (const std::bad_alloc &) {
         return relief_fail(err, RELIEF_E_NOMEM, "%s: out of memory while reading",
                            path);

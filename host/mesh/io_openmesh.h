@@ -24,17 +24,22 @@ typedef struct relief_om_read_result {
     char messages[512];         /* what OpenMesh said, newline-separated */
 } relief_om_read_result;
 
-/* Read `path` through OpenMesh; `ext` is ".ply", ".obj", ".off" or ".stl".
- * `ascii_char_label` tells that the file is an ascii PLY whose `label`
- * property is a char type, which OpenMesh reads as a character code.
+/* Read `path` through OpenMesh; `ext` is ".ply", ".obj", ".off" or ".stl",
+ * `binary` 1 for a binary file (io_check tells). `ascii_char_label` tells
+ * that the file is an ascii PLY whose `label` property is a char type, which
+ * OpenMesh reads as a character code. Numbers are read as "0.5" whatever
+ * the program's locale; a text OFF, OBJ or STL under a C++ global locale
+ * (std::locale::global) that reads "0,5" is RELIEF_E_USAGE (OpenMesh would
+ * misread it).
  * On success `*out` holds positions, triangles and, when the file has them,
  * colours, normals and labels. */
-relief_status relief_om_read(const char *path, const char *ext,
+relief_status relief_om_read(const char *path, const char *ext, int binary,
                              int ascii_char_label, relief_mesh **out,
                              relief_om_read_result *res, relief_error *err);
 
-/* Write `m` to the stream `f` through OpenMesh in the format of `ext`.
- * `ascii` applies to PLY. Colours go to PLY and OFF, labels to PLY as
+/* Write `m` to the stream `f` through OpenMesh in the format of `ext`, its
+ * numbers "0.5" whatever the program's locale (C's or C++'s). `ascii`
+ * applies to PLY. Colours go to PLY and OFF, labels to PLY as
  * `property int label`. Messages name `shown`. Writes to f only: the
  * caller checks, syncs and closes it (base/output.h). */
 relief_status relief_om_write(const relief_mesh *m, FILE *f, const char *shown,

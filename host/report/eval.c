@@ -9,6 +9,7 @@
 #include "relief/relief.h"
 #include "base/error.h"
 #include "base/json.h"
+#include "base/numtext.h"
 #include "report/measures.h"
 #include "report/pattern.h"
 
@@ -82,16 +83,20 @@ static void write_json(FILE *f, const relief_measures *m, const relief_pattern *
     rj_end_object(&j);
 }
 
-/* What write(f, m, pat) writes, as a string; NULL when out of memory. */
+/* What write(f, m, pat) writes, as a string, its numbers in the C locale
+ * ("0.5" whatever the caller's); NULL when out of memory. */
 static char *render(void (*write)(FILE *, const relief_measures *, const relief_pattern *),
                     const relief_measures *m, const relief_pattern *pat)
 {
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
+    relief_numtext_scope c;
     if (!f)
         return NULL;
+    relief_numtext_begin(&c);
     write(f, m, pat);
+    relief_numtext_end(&c);
     if (fclose(f) != 0) {
         free(buf);
         return NULL;

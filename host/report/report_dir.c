@@ -12,6 +12,7 @@
 
 #include "base/compare.h"
 #include "base/error.h"
+#include "base/numtext.h"
 #include "base/output.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
@@ -667,8 +668,8 @@ static relief_status write_histograms(relief_report_dir *r, const relief_mesh *f
     return st;
 }
 
-relief_status relief_report_dir_stage(const char *dir, const relief_report_content *c,
-                                      relief_report_dir **out, relief_error *err)
+static relief_status stage(const char *dir, const relief_report_content *c,
+                           relief_report_dir **out, relief_error *err)
 {
     const relief_mesh *fin;
     relief_report_dir *r = NULL;
@@ -704,4 +705,17 @@ relief_status relief_report_dir_stage(const char *dir, const relief_report_conte
     }
     *out = r;
     return RELIEF_OK;
+}
+
+/* The numbers in the figures and the page in the C locale (numtext.h),
+ * "0.5" whatever the caller's: one scope for the whole folder. */
+relief_status relief_report_dir_stage(const char *dir, const relief_report_content *c,
+                                      relief_report_dir **out, relief_error *err)
+{
+    relief_numtext_scope scope;
+    relief_status st;
+    relief_numtext_begin(&scope);
+    st = stage(dir, c, out, err);
+    relief_numtext_end(&scope);
+    return st;
 }

@@ -10,6 +10,7 @@
 
 #include "base/error.h"
 #include "base/linalg.h"
+#include "base/numtext.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "smooth/fit_robust.h"
@@ -125,7 +126,7 @@ static void append(char *buf, size_t cap, const char *fmt, ...)
     if (len + 1 >= cap)
         return;
     va_start(ap, fmt);
-    vsnprintf(buf + len, cap - len, fmt, ap);
+    relief_vsnprintf_c(buf + len, cap - len, fmt, ap);
     va_end(ap);
 }
 

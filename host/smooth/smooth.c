@@ -23,6 +23,7 @@
 #include "base/clock.h"
 #include "base/error.h"
 #include "base/memlimit.h"
+#include "base/numtext.h"
 #include "base/vec3.h"
 #include "mesh/io_openmesh.h"
 #include "mesh/mesh.h"
@@ -430,10 +431,10 @@ static relief_status surface_memory_check(const surface_build *b, relief_error *
     const relief_params *params = b->params;
     double nsamp = (double)b->capture->nv * pow(4.0, params->oversample);
     char what[160];
-    snprintf(what, sizeof what,
-             "the smooth completion of about %.0f samples (%zu captured vertices, "
-             "oversampled %d times) and %zu targets",
-             nsamp, b->capture->nv, params->oversample, b->targets.n);
+    relief_snprintf_c(what, sizeof what,
+                      "the smooth completion of about %.0f samples (%zu captured vertices, "
+                      "oversampled %d times) and %zu targets",
+                      nsamp, b->capture->nv, params->oversample, b->targets.n);
     return relief_memory_check(what, relief_estimate_smooth((size_t)fmin(nsamp, 1e15) +
                                                             b->targets.n),
                                relief_memory_limit(params),

@@ -2,8 +2,10 @@
  * calls them: defaults and the check of every field, bad arguments, a
  * completion with its report, the same bytes from two threads as from two
  * calls in a row, a cancel that leaves nothing behind, the report folder,
+ * its numbers written with '.' (in every locale: test_api_complete_comma),
  * and a fit of a real scan.
  *   test_api_complete DATA_DIR   (../shared/data/real) */
+#include <ctype.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
@@ -133,11 +135,14 @@ static void test_complete_and_eval(relief_mesh *cap, relief_mesh *truth)
               strstr(rep.json, "\"input\": \"capture.ply\"") &&
               strstr(rep.json, "\"output\": null"),
           "report json");
+    CHECK(rep.json && api_json_numbers_use_dots(rep.json), "a decimal comma in the report");
     CHECK(rep.seconds_total >= rep.seconds_growth && rep.seconds_growth > 0, "seconds");
     CHECK_STATUS(relief_eval(out, truth, &ev, &err), RELIEF_OK, err, NULL);
     CHECK(ev.has_truth && isfinite(ev.truth_rms) && ev.truth_rms < 0.05 && ev.completed > 0,
           "truth rms %g", ev.truth_rms);
     CHECK(ev.json && ev.text && strstr(ev.text, "msi_captured"), "eval renderings");
+    CHECK(ev.json && ev.text && api_json_numbers_use_dots(ev.json) &&
+              api_json_numbers_use_dots(ev.text), "a decimal comma in eval's renderings");
     relief_eval_result_free(&ev);
     CHECK_STATUS(relief_eval(cap, NULL, &ev, &err), RELIEF_E_MESH, err, NULL);
     relief_complete_report_free(&rep);
@@ -296,6 +301,30 @@ static void test_cancel(relief_mesh *cap, const char *dir)
     unlink(ck);
 }
 
+/* Does the report folder's file `name` write its numbers with '.'? A comma
+ * between digits is a decimal comma there, but in a colour
+ * ("rgba(74,111,165,0.45)"), which is passed over. 0 when it cannot be read. */
+static int page_numbers_use_dots(const char *folder, const char *name)
+{
+    char path[600], buf[1 << 16];
+    size_t n;
+    FILE *f;
+    snprintf(path, sizeof path, "%s/%s", folder, name);
+    if (!(f = fopen(path, "rb")))
+        return 0;
+    n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    for (const char *s = buf; *s; ++s) {
+        if (strncmp(s, "rgb", 3) == 0 && !(s = strchr(s, ')')))
+            break;
+        if (*s == ',' && s > buf && isdigit((unsigned char)s[-1]) &&
+            isdigit((unsigned char)s[1]))
+            return 0;
+    }
+    return n > 0;
+}
+
 static void test_report_folder(relief_mesh *cap, const char *dir)
 {
     relief_complete_params p = quick();
@@ -312,6 +341,9 @@ static void test_report_folder(relief_mesh *cap, const char *dir)
     CHECK_STATUS(relief_report_folder_commit(rep.folder, &err), RELIEF_OK, err, NULL);
     rep.folder = NULL;
     CHECK(stat(index, &sb) == 0, "no %s", index);
+    CHECK(page_numbers_use_dots(folder, "index.html") &&
+              page_numbers_use_dots(folder, "hist-displacement.svg"),
+          "a decimal comma in %s's page or its histogram", folder);
     relief_complete_report_free(&rep);
     relief_mesh_destroy(out);
 }
@@ -337,8 +369,11 @@ static void test_fit_real(const char *data)
 int main(int argc, char **argv)
 {
     char dir[] = "/tmp/relief-api-complete-XXXXXX";
-    relief_mesh *truth = NULL, *cap = synth(RELIEF_SYNTH_PLANE_WAVES, 1, 600, &truth);
-    relief_mesh *cap2 = synth(RELIEF_SYNTH_PLANE_NOISE, 2, 600, NULL);
+    relief_mesh *truth = NULL, *cap, *cap2;
+    if (!api_test_locale())
+        return 2;
+    cap = synth(RELIEF_SYNTH_PLANE_WAVES, 1, 600, &truth);
+    cap2 = synth(RELIEF_SYNTH_PLANE_NOISE, 2, 600, NULL);
     if (!mkdtemp(dir) || !cap || !cap2)
         return 2;
     test_params();

@@ -135,6 +135,8 @@ static void test_devices(void)
 
 int main(void)
 {
+    if (!api_test_locale())
+        return 2;
     test_status();
     test_run_options();
     test_mesh();

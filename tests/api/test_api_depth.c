@@ -308,7 +308,8 @@ static void test_repair(const relief_depth_image *office)
     CHECK(rep.slope_jump > 0.5 && rep.slope_jump < 1.5, "slope jump %g", rep.slope_jump);
     CHECK(rep.backend == RELIEF_BACKEND_SCALAR && rep.device[0], "backend");
     CHECK(rep.json && strstr(rep.json, "\"command\": \"depth-fill\"") &&
-              strstr(rep.json, "\"input\": null") && strstr(rep.json, "\"rms\""),
+              strstr(rep.json, "\"input\": null") && strstr(rep.json, "\"rms\"") &&
+              api_json_numbers_use_dots(rep.json),
           "the report's JSON");
     relief_depth_fill_report_free(&rep);
     CHECK(rep.json == NULL, "report freed");
@@ -512,7 +513,8 @@ static void test_mesh(void)
           "mesh report: %zu hole pixels, %zu filled, IoU %g, mean distance %g", rep.missing,
           rep.filled, rep.iou, rep.rms);
     CHECK(rep.json && strstr(rep.json, "\"voxel_iou\"") &&
-              strstr(rep.json, "\"holes_patched\": 1"), "the mesh report's JSON");
+              strstr(rep.json, "\"holes_patched\": 1") && api_json_numbers_use_dots(rep.json),
+          "the mesh report's JSON");
     relief_depth_fill_report_free(&rep);
     relief_mesh_destroy(out);
     out = NULL;
@@ -541,6 +543,8 @@ int main(int argc, char **argv)
     relief_depth_image office;
     relief_error err = {0};
     char path[512];
+    if (!api_test_locale())
+        return 2;
     if (argc < 2) {
         fprintf(stderr, "usage: test_api_depth DEPTH_DIR\n");
         return 2;

@@ -546,6 +546,8 @@ static void test_alpha16(void)
 
 int main(int argc, char **argv)
 {
+    if (!api_test_locale())
+        return 2;
     if (argc != 2) {
         fprintf(stderr, "usage: test_api_image IMAGES_DIR\n");
         return 2;

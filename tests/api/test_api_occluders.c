@@ -535,6 +535,8 @@ int main(int argc, char **argv)
 {
     scene *s;
     int rc;
+    if (!api_test_locale())
+        return 2;
     if (argc == 4 && !strcmp(argv[1], "--iou"))
         return print_iou(argv[2], argv[3]);
     if (!(s = malloc(sizeof *s)))

@@ -247,7 +247,8 @@ static void test_real_scan(const char *data)
         CHECK(memcmp(q, relief_mesh_positions(cut), n * 3 * sizeof *q) == 0,
               "the input's points moved");
         CHECK(rep.json && strstr(rep.json, "\"command\": \"complete-points\"") &&
-                  strstr(rep.json, "\"input\": null") && strstr(rep.json, "\"energy\": ["),
+                  strstr(rep.json, "\"input\": null") && strstr(rep.json, "\"energy\": [") &&
+                  api_json_numbers_use_dots(rep.json),
               "the report's JSON: %.200s", rep.json ? rep.json : "(none)");
         CHECK(rep.iterations >= 1 && rep.iterations <= 3 && rep.exemplars > 0, "texture");
         { /* the hole model: the cut is listed, filled, 2 r to 4 r across (a ball
@@ -414,6 +415,8 @@ static void test_threads(void)
 int main(int argc, char **argv)
 {
     const char *data = argc > 1 ? argv[1] : "../shared/data";
+    if (!api_test_locale())
+        return 2;
     test_defaults();
     test_bad_params();
     test_real_scan(data);
