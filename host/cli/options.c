@@ -190,24 +190,6 @@ int cli_parse_enum(const char *cmd, const char *opt, const char *s, const char *
     return 0;
 }
 
-/* The folder `path` goes in (malloc'ed; "." when it names none), and
- * where its last name starts in path. */
-static char *folder_of(const char *path, const char **name)
-{
-    size_t n = strlen(path);
-    char *d = malloc(n + 2), *slash;
-    if (!d)
-        return NULL;
-    memcpy(d, path, n + 1);
-    slash = strrchr(d, '/');
-    *name = path + (slash ? (size_t)(slash - d) + 1 : 0);
-    if (!slash)
-        strcpy(d, ".");
-    else
-        slash[slash == d] = '\0'; /* "/x" goes in "/" */
-    return d;
-}
-
 int cli_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
@@ -221,7 +203,7 @@ int cli_same_file(const char *a, const char *b)
     ha = stat(a, &sa) == 0, hb = stat(b, &sb) == 0;
     if (ha || hb) /* one is there: the same inode */
         return ha && hb && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-    da = folder_of(a, &na), db = folder_of(b, &nb);
+    da = relief_output_split(a, &na), db = relief_output_split(b, &nb);
     same = da && db && *na && strcmp(na, nb) == 0 && cli_same_file(da, db);
     free(da);
     free(db);
@@ -249,20 +231,26 @@ static int check_output(const char *cmd, const cli_output *o)
         if (relief_report_dir_check(o->path, &err) == RELIEF_OK)
             return 0;
         fprintf(stderr, "relief %s: %s: %s\n", cmd, o->opt, err.message);
-        return EXIT_USAGE;
+        return relief_status_exit_code(err.status);
     }
     if (stat(o->path, &sb) == 0 && S_ISDIR(sb.st_mode))
         return refuse(cmd, o, "is a folder; %s names a file", o->opt);
     if (stat(o->path, &sb) == 0 && !S_ISREG(sb.st_mode))
         return refuse(cmd, o, "%sis there and is not a plain file", "");
-    if (!(dir = folder_of(o->path, &name)))
+    if (!(dir = relief_output_split(o->path, &name)))
         return refuse(cmd, o, "%s: cannot allocate a path", "");
     if (!*name)
         rc = refuse(cmd, o, "is a folder's name; %s names a file", o->opt);
     else if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
         rc = refuse(cmd, o, "cannot be written: the folder '%s' does not exist", dir);
-    else if (access(dir, W_OK | X_OK) != 0)
-        rc = refuse(cmd, o, "cannot be written: no permission to write in '%s'", dir);
+    else if (access(dir, W_OK | X_OK) != 0) {
+        /* The system's reason: a read-only file system is no permission
+         * problem, and is a resource failure (exit 2). */
+        const int e = errno;
+        fprintf(stderr, "relief %s: %s: '%s' cannot be written in '%s': %s\n", cmd, o->opt,
+                o->path, dir, strerror(e));
+        rc = relief_status_exit_code(relief_errno_status(e));
+    }
     free(dir);
     return rc;
 }

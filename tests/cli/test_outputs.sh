@@ -72,6 +72,7 @@ every_step() {
     [[ $hook == RELIEF_TEST_OUTPUT_FAIL ]] &&
       ok 'grep -q "step $s (.*) failed" "$tmp/err" && [[ $(wc -l < "$tmp/err") -eq 1 ]]' \
          "$hook=$s: not one line naming the step: $(cat "$tmp/err")"
+    ok '[[ $(find "$tmp" -name ".relief-*.relief-*" | wc -l) -eq 0 ]]' "$hook=$s: nested temporaries"
     for d in "$w" "$w"/*/; do # a later run writing into each folder tidies it
       "$relief" synth plane-waves -o "$d/.tidy.ply" --vertices 100 2>/dev/null
       rm -f "$d/.tidy.ply"
@@ -191,6 +192,35 @@ killed_each "$relief" depth-fill "$in/f.pcd" -o "$w/out.pcd" --points "$w/pts.pl
 killed_each "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/sub/rep.json" --report-dir "$w/repdir" --backend scalar --search coherent --quiet
 killed_each "$relief" image-fill "$in/img.png" --mask "$in/m.png" -o "$w/out.png" --quiet
 rm -rf "$w/sub" "$w/repdir"
+
+# ------------------------------------------------ a signal at any moment
+# SIGTERM, SIGHUP or SIGQUIT at any moment of a run that writes a mesh, a
+# report and a report folder (reading, growing, rendering the folder,
+# writing): the run either finishes (exit 0, every output new) or dies of
+# the signal (128 + its number) with every file as it was and no
+# temporary, staged folder or journal left. (The moments are spread by
+# sleeping; whichever one a signal lands in, the same must hold.)
+for sig in TERM HUP QUIT; do
+  for delay in 0.05 0.2 0.4 0.7 1.0 1.5; do
+    rm -rf "$w/sigdir"
+    before="$(snap)"
+    "$relief" complete "$in/pw.ply" -o "$w/out.ply" --report "$w/rep.json" --report-dir "$w/sigdir" \
+      --backend scalar --quiet 2>"$tmp/err" &
+    pid=$!
+    sleep "$delay"
+    kill -"$sig" "$pid" 2>/dev/null
+    wait "$pid"
+    got=$?
+    [[ $got -eq 0 ]] || ok '[[ $got -eq $((128 + $(kill -l "$sig"))) ]]' "SIG$sig after $delay s: exit $got: $(cat "$tmp/err")"
+    if [[ -f $w/sigdir/index.html ]]; then # finished, or held until its commit was done
+      ok '[[ $(snap) != "$before" ]]' "SIG$sig after $delay s: a report folder, the other outputs not new"
+    else
+      ok '[[ $got -ne 0 && ! -e $w/sigdir && $(snap) == "$before" ]]' "SIG$sig after $delay s (exit $got) changed the user's files"
+    fi
+    ok '[[ $(temps) -eq 0 ]]' "SIG$sig after $delay s left temporaries: $(find "$tmp" -name '.relief-*')"
+  done
+done
+rm -rf "$w/sigdir"
 
 # -------------------------------------------- and when all goes well
 # The outputs replace the files there.
