@@ -544,12 +544,22 @@ static int parse_journal(char *text, journal *j)
  * before any output moved: it only goes. */
 static void recover(const char *path, int fd)
 {
-    char text[64 * 1024];
-    ssize_t n = read(fd, text, sizeof text - 1);
-    journal j;
     struct stat sb;
-    text[n > 0 ? n : 0] = '\0';
-    if (n <= 0 || !parse_journal(text, &j)) {
+    char *text = NULL;
+    ssize_t n = -1;
+    journal j;
+    /* Read whole: one cut short by a short read would pass for one a kill
+     * cut short, and go without its roll back. */
+    if (fstat(fd, &sb) == 0 && sb.st_size < (off_t)(MAX_ENTRIES * 4 * 3 * PATH_MAX) &&
+        (text = malloc((size_t)sb.st_size + 1)) != NULL)
+        n = pread(fd, text, (size_t)sb.st_size, 0);
+    if (!text || n != (ssize_t)sb.st_size) { /* unreadable now: left for a later run */
+        free(text);
+        return;
+    }
+    text[n] = '\0';
+    if (n == 0 || !parse_journal(text, &j)) {
+        free(text);
         unlink(path);
         return;
     }
@@ -566,6 +576,7 @@ static void recover(const char *path, int fd)
     for (size_t c = 0; c < j.n_copies; ++c)
         unlink(j.copy[c]);
     unlink(path); /* in case the folder was named otherwise there */
+    free(text);
 }
 
 /* ---------------------------------------------------------------- tidy */
