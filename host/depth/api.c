@@ -269,6 +269,7 @@ relief_status relief_depth_fill_check_memory(int width, int height,
                                              const relief_depth_fill_params *p,
                                              relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_depth_fill_params d = relief_depth_fill_params_default();
     uint64_t need, limit = memory_limit(p ? &p->run : &d.run);
     relief_status st = check_sides("frame", width, height, err);

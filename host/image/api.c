@@ -255,6 +255,7 @@ relief_status relief_image_fill_check_memory(int width, int height, int channels
                                              const relief_image_fill_params *p,
                                              relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_image_fill_params d = relief_image_fill_params_default();
     const relief_image_fill_params *q = p ? p : &d;
     uint64_t limit = q->run.max_memory ? q->run.max_memory : relief_default_memory_limit();

@@ -42,6 +42,8 @@ relief_status relief_synth_kind_parse(const char *name, relief_synth_kind *out,
                                       relief_error *err)
 {
     RELIEF_ENTRY_ERR(err);
+    if (!out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_synth_kind_parse: out is NULL");
     for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT; ++k)
         if (name && strcmp(name, kinds[k].name) == 0) {
             *out = (relief_synth_kind)k;
