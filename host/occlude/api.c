@@ -265,7 +265,7 @@ static relief_status check_mesh(const relief_occluder_params *p, relief_error *e
         return RELIEF_OK;
     relief_status st = relief_mesh_validate(p->background_mesh, err);
     if (st != RELIEF_OK) {
-        relief_fail_prefix(err, "background_mesh: ");
+        relief_fail_prefix(err, "background_mesh");
         return st;
     }
     if (relief_mesh_triangle_count(p->background_mesh) == 0)
