@@ -155,13 +155,13 @@ void relief_error_clear(relief_error *err)
     }
 }
 
-relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...)
+void relief_fail_prefix(relief_error *err, const char *fmt, ...)
 {
     char head[RELIEF_ERROR_MESSAGE_MAX / 4], msg[RELIEF_ERROR_MESSAGE_MAX];
     size_t n;
     va_list ap;
     if (!err)
-        return RELIEF_E_INTERNAL;
+        return;
     va_start(ap, fmt);
     relief_vsnprintf_c(head, sizeof head, fmt, ap);
     va_end(ap);
@@ -174,7 +174,6 @@ relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...)
     n += 2;
     memcpy(err->message + n, msg, strnlen(msg, sizeof err->message - n - 1));
     err->message[n + strnlen(msg, sizeof err->message - n - 1)] = '\0';
-    return err->status;
 }
 
 const char *relief_escape(const char *text, size_t max, char *out, size_t cap)

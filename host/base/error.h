@@ -54,8 +54,10 @@ relief_status relief_errno_status(int e);
 relief_status relief_fail_errno(relief_error *err, int e, const char *path, const char *what);
 
 /* Put a printf-formatted context in front of err's message (err may be
- * NULL) and return its status: "level 2 of 3: <message>". */
-relief_status relief_fail_prefix(relief_error *err, const char *fmt, ...) RELIEF_PRINTF(2, 3);
+ * NULL: nothing to do): "level 2 of 3: <message>". It returns nothing: a
+ * NULL err holds no status to return, so a caller returns the status it
+ * already has. */
+void relief_fail_prefix(relief_error *err, const char *fmt, ...) RELIEF_PRINTF(2, 3);
 
 /* The bytes of `text` (up to a NUL) as a message may quote them from a
  * file: printable ASCII kept (a backslash doubled), every other byte as

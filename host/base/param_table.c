@@ -146,8 +146,10 @@ static relief_status param_set(void *params, const relief_param *p, const char *
         uint64_t v = 0; /* "0": the default limit */
         relief_status st = strcmp(text, "0") == 0 ? RELIEF_OK
                                                   : relief_parse_size(text, &v, err);
-        if (st != RELIEF_OK)
-            return relief_fail_prefix(err, "%s", p->name);
+        if (st != RELIEF_OK) {
+            relief_fail_prefix(err, "%s", p->name);
+            return st;
+        }
         memcpy(field, &v, sizeof v);
         return RELIEF_OK;
     }

@@ -46,71 +46,93 @@ relief_search_mode relief_params_search(const relief_params *params, size_t ns, 
                ? RELIEF_SEARCH_COHERENT : RELIEF_SEARCH_EXHAUSTIVE;
 }
 
-relief_status relief_params_validate(const relief_params *p, relief_error *err)
+/* The extent's values (the engine's "extent"), when given. */
+static relief_status validate_extent(const relief_params *p, relief_error *err)
+{
+    if (p->n_extent != 2 && p->n_extent != 4)
+        return relief_fail_param(err, RELIEF_E_RANGE, "extent",
+                                 "extent has %d values: expected 2 (cylinder z0,z1) or "
+                                 "4 (plane u0,v0,u1,v1)", p->n_extent);
+    for (int i = 0; i < p->n_extent; ++i)
+        if (!isfinite(p->extent[i]))
+            return relief_fail_param(err, RELIEF_E_RANGE, "extent",
+                                     "extent value %d is not finite", i + 1);
+    if (p->extent[0] >= p->extent[p->n_extent / 2])
+        return relief_fail_param(err, RELIEF_E_RANGE, "extent",
+                                 "extent is empty: the lower bound %g is not below the "
+                                 "upper bound %g", p->extent[0], p->extent[p->n_extent / 2]);
+    if (p->n_extent == 4 && p->extent[1] >= p->extent[3])
+        return relief_fail_param(err, RELIEF_E_RANGE, "extent",
+                                 "extent is empty: v0 %g is not below v1 %g",
+                                 p->extent[1], p->extent[3]);
+    return RELIEF_OK;
+}
+
+/* The growth's fields; each refusal names its field (err->param). */
+static relief_status validate_growth(const relief_params *p, relief_error *err)
 {
     if (p->fit < RELIEF_FIT_AUTO || p->fit > RELIEF_FIT_CYLINDER)
-        return relief_fail(err, RELIEF_E_RANGE, "fit model %d is not one of "
-                           "auto, plane, sphere, cylinder", (int)p->fit);
+        return relief_fail_param(err, RELIEF_E_RANGE, "fit", "fit model %d is not one of "
+                                 "auto, plane, sphere, cylinder", (int)p->fit);
     if (p->window < 1 || p->window > 16)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "window %d out of range: expected 1..16 edge hops", p->window);
+        return relief_fail_param(err, RELIEF_E_RANGE, "window",
+                                 "window %d out of range: expected 1..16 edge hops", p->window);
     if (p->rotations < 0 || p->rotations > 64)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "rotations %d out of range: expected 1..64 (0: the primitive's "
-                           "default)", p->rotations);
+        return relief_fail_param(err, RELIEF_E_RANGE, "rotations",
+                                 "rotations %d out of range: expected 1..64 (0: the "
+                                 "primitive's default)", p->rotations);
     if (!(p->error > 0.0 && p->error <= 1e6))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "error threshold %g out of range: expected 0 < e <= 1e6",
-                           p->error);
+        return relief_fail_param(err, RELIEF_E_RANGE, "error",
+                                 "error threshold %g out of range: expected 0 < e <= 1e6",
+                                 p->error);
     if (!(p->coherence == 0.0 || (p->coherence >= 1.0 && p->coherence <= 100.0)))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "coherence %g out of range: expected 0 (off) or 1..100", p->coherence);
+        return relief_fail_param(err, RELIEF_E_RANGE, "coherence",
+                                 "coherence %g out of range: expected 0 (off) or 1..100",
+                                 p->coherence);
     if (!(p->mu < 0.0 && p->mu == -1.0) && !(p->mu >= 0.0 && p->mu <= 1.0))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "mu %g out of range: expected 0 <= mu <= 1", p->mu);
+        return relief_fail_param(err, RELIEF_E_RANGE, "mu",
+                                 "mu %g out of range: expected 0 <= mu <= 1", p->mu);
     if (p->search < RELIEF_SEARCH_AUTO || p->search > RELIEF_SEARCH_COHERENT)
-        return relief_fail(err, RELIEF_E_RANGE, "search %d is not one of "
-                           "auto, exhaustive, coherent", (int)p->search);
+        return relief_fail_param(err, RELIEF_E_RANGE, "search", "search %d is not one of "
+                                 "auto, exhaustive, coherent", (int)p->search);
     if (p->search_k < 1 || p->search_k > 64)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "search_k %d out of range: expected 1..64", p->search_k);
+        return relief_fail_param(err, RELIEF_E_RANGE, "search_k",
+                                 "search_k %d out of range: expected 1..64", p->search_k);
     if (p->levels < 1 || p->levels > 8)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "levels %d out of range: expected 1..8", p->levels);
-    if (p->backend < RELIEF_BACKEND_AUTO || p->backend > RELIEF_BACKEND_HOST)
-        return relief_fail(err, RELIEF_E_RANGE, "backend %d is not one of "
-                           "auto, scalar, opencl, host", (int)p->backend);
-    if (p->device < -1 || p->device > 255)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "device %d out of range: expected 0..255", p->device);
-    if (p->threads < 0 || p->threads > RELIEF_THREADS_MAX)
-        return relief_fail(err, RELIEF_E_RANGE, "threads %d out of range: expected 1..%d "
-                           "(0: the CPUs this thread may run on)", p->threads,
-                           RELIEF_THREADS_MAX);
-    if (p->oversample < 0 || p->oversample > 4)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "oversample %d out of range: expected 0..4", p->oversample);
-    if (!(p->spacing == 0.0 || (p->spacing > 0.0 && isfinite(p->spacing))))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "spacing %g out of range: expected a finite value > 0 "
-                           "(or 0 for the capture's own)", p->spacing);
-    if (p->has_extent) {
-        if (p->n_extent != 2 && p->n_extent != 4)
-            return relief_fail(err, RELIEF_E_RANGE,
-                               "extent has %d values: expected 2 (cylinder z0,z1) or "
-                               "4 (plane u0,v0,u1,v1)", p->n_extent);
-        for (int i = 0; i < p->n_extent; ++i)
-            if (!isfinite(p->extent[i]))
-                return relief_fail(err, RELIEF_E_RANGE, "extent value %d is not finite",
-                                   i + 1);
-        if (p->extent[0] >= p->extent[p->n_extent / 2])
-            return relief_fail(err, RELIEF_E_RANGE,
-                               "extent is empty: the lower bound %g is not below the "
-                               "upper bound %g", p->extent[0], p->extent[p->n_extent / 2]);
-        if (p->n_extent == 4 && p->extent[1] >= p->extent[3])
-            return relief_fail(err, RELIEF_E_RANGE,
-                               "extent is empty: v0 %g is not below v1 %g",
-                               p->extent[1], p->extent[3]);
-    }
+        return relief_fail_param(err, RELIEF_E_RANGE, "levels",
+                                 "levels %d out of range: expected 1..8", p->levels);
     return RELIEF_OK;
+}
+
+/* Where it runs, and the capture's sampling. */
+static relief_status validate_run(const relief_params *p, relief_error *err)
+{
+    if (p->backend < RELIEF_BACKEND_AUTO || p->backend > RELIEF_BACKEND_HOST)
+        return relief_fail_param(err, RELIEF_E_RANGE, "backend", "backend %d is not one of "
+                                 "auto, scalar, opencl, host", (int)p->backend);
+    if (p->device < -1 || p->device > 255)
+        return relief_fail_param(err, RELIEF_E_RANGE, "device",
+                                 "device %d out of range: expected 0..255", p->device);
+    if (p->threads < 0 || p->threads > RELIEF_THREADS_MAX)
+        return relief_fail_param(err, RELIEF_E_RANGE, "threads", "threads %d out of range: "
+                                 "expected 1..%d (0: the CPUs this thread may run on)",
+                                 p->threads, RELIEF_THREADS_MAX);
+    if (p->oversample < 0 || p->oversample > 4)
+        return relief_fail_param(err, RELIEF_E_RANGE, "oversample",
+                                 "oversample %d out of range: expected 0..4", p->oversample);
+    if (!(p->spacing == 0.0 || (p->spacing > 0.0 && isfinite(p->spacing))))
+        return relief_fail_param(err, RELIEF_E_RANGE, "spacing",
+                                 "spacing %g out of range: expected a finite value > 0 "
+                                 "(or 0 for the capture's own)", p->spacing);
+    return RELIEF_OK;
+}
+
+relief_status relief_params_validate(const relief_params *p, relief_error *err)
+{
+    relief_status st = validate_growth(p, err);
+    if (st == RELIEF_OK)
+        st = validate_run(p, err);
+    if (st == RELIEF_OK && p->has_extent)
+        st = validate_extent(p, err);
+    return st;
 }

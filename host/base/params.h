@@ -59,7 +59,8 @@ typedef struct relief_params {
 relief_params relief_params_default(void);
 
 /* Check every field against its range; names the first one out of range
- * with its allowed range. */
+ * with its allowed range, and in err->param (RELIEF_REASON_PARAMETER) by
+ * its name in relief_complete_params ("window", "extent"). */
 relief_status relief_params_validate(const relief_params *params,
                                      relief_error *err);
 

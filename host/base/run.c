@@ -28,14 +28,15 @@ relief_status relief_run_options_validate(const relief_run_options *run, relief_
     if (!run)
         return relief_fail(err, RELIEF_E_USAGE, "run options: NULL");
     if (run->backend < RELIEF_BACKEND_AUTO || run->backend > RELIEF_BACKEND_HOST)
-        return relief_fail(err, RELIEF_E_RANGE, "backend %d is not one of auto, scalar, "
-                           "opencl, host", (int)run->backend);
+        return relief_fail_param(err, RELIEF_E_RANGE, "backend", "backend %d is not one of "
+                                 "auto, scalar, opencl, host", (int)run->backend);
     if (run->device < -1 || run->device > 255)
-        return relief_fail(err, RELIEF_E_RANGE, "device %d out of range: expected -1 (the "
-                           "first GPU or accelerator) or 0..255", run->device);
+        return relief_fail_param(err, RELIEF_E_RANGE, "device", "device %d out of range: "
+                                 "expected -1 (the first GPU or accelerator) or 0..255",
+                                 run->device);
     if (run->threads < 0 || run->threads > RELIEF_THREADS_MAX)
-        return relief_fail(err, RELIEF_E_RANGE, "threads %d out of range: expected 1..%d "
-                           "host threads, or 0 (the CPUs this thread may run on)",
-                           run->threads, RELIEF_THREADS_MAX);
+        return relief_fail_param(err, RELIEF_E_RANGE, "threads", "threads %d out of range: "
+                                 "expected 1..%d host threads, or 0 (the CPUs this thread may "
+                                 "run on)", run->threads, RELIEF_THREADS_MAX);
     return RELIEF_OK;
 }

@@ -57,26 +57,28 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
 static relief_status check_flag(const char *name, int v, relief_error *err)
 {
     return v == 0 || v == 1 ? RELIEF_OK
-                            : relief_fail(err, RELIEF_E_RANGE, "%s %d out of range: expected "
-                                          "0 or 1", name, v);
+                            : relief_fail_param(err, RELIEF_E_RANGE, name, "%s %d out of "
+                                                "range: expected 0 or 1", name, v);
 }
 
-/* The enumerations and the switches. */
+/* The enumerations and the switches; each refusal names its field
+ * (err->param), as do check_values'. */
 static relief_status check_choices(const relief_depth_fill_params *p, relief_error *err)
 {
     relief_status st = RELIEF_OK;
     if (p->variant < RELIEF_DEPTH_PLAIN || p->variant > RELIEF_DEPTH_DECOMPOSE)
-        return relief_fail(err, RELIEF_E_RANGE, "variant %d is not one of plain, haar, "
-                           "decompose", (int)p->variant);
+        return relief_fail_param(err, RELIEF_E_RANGE, "variant", "variant %d is not one of "
+                                 "plain, haar, decompose", (int)p->variant);
     if (p->order < RELIEF_DEPTH_ORDER_BOTH || p->order > RELIEF_DEPTH_ORDER_VERTICAL)
-        return relief_fail(err, RELIEF_E_RANGE, "order %d is not one of both, horizontal, "
-                           "vertical", (int)p->order);
+        return relief_fail_param(err, RELIEF_E_RANGE, "order", "order %d is not one of both, "
+                                 "horizontal, vertical", (int)p->order);
     if (p->membrane < RELIEF_MEMBRANE_AUTO || p->membrane > RELIEF_MEMBRANE_THIN_PLATE)
-        return relief_fail(err, RELIEF_E_RANGE, "membrane %d is not one of auto, harmonic, "
-                           "thin-plate", (int)p->membrane);
+        return relief_fail_param(err, RELIEF_E_RANGE, "membrane", "membrane %d is not one of "
+                                 "auto, harmonic, thin-plate", (int)p->membrane);
     if (p->batch < 1 || p->batch > RELIEF_PIXSYN_MAX_BATCH)
-        return relief_fail(err, RELIEF_E_RANGE, "batch %d out of range: expected 1..%d (1: a "
-                           "pixel at a time)", p->batch, RELIEF_PIXSYN_MAX_BATCH);
+        return relief_fail_param(err, RELIEF_E_RANGE, "batch", "batch %d out of range: "
+                                 "expected 1..%d (1: a pixel at a time)", p->batch,
+                                 RELIEF_PIXSYN_MAX_BATCH);
     if (p->batch > 1 && p->tileable)
         return relief_fail(err, RELIEF_E_USAGE, "batch %d with tileable: a tileable image is "
                            "filled a pixel at a time; give batch 1", p->batch);
@@ -90,6 +92,38 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     return st;
 }
 
+/* The numbers, each against its range. */
+static relief_status check_values(const relief_depth_fill_params *p, relief_error *err)
+{
+    if (p->window < 3 || p->window > 1025 || p->window % 2 == 0)
+        return relief_fail_param(err, RELIEF_E_RANGE, "window", "window %d out of range: "
+                                 "expected an odd number in 3..1025 (the window is centred "
+                                 "on a pixel)", p->window);
+    if (isnan(p->sigma) || p->sigma > 1e6 || (p->sigma > 0.0 && p->sigma < 0.5))
+        return relief_fail_param(err, RELIEF_E_RANGE, "sigma", "sigma %g out of range: "
+                                 "expected 0.5..1e6 pixels, or <= 0 for window / 6.4",
+                                 p->sigma);
+    if (!(p->epsilon >= 0.0 && p->epsilon <= 10.0))
+        return relief_fail_param(err, RELIEF_E_RANGE, "epsilon", "epsilon %g out of range: "
+                                 "expected 0..10", p->epsilon);
+    if (p->search_radius < 0 || p->search_radius > 1000000)
+        return relief_fail_param(err, RELIEF_E_RANGE, "search_radius", "search_radius %d out "
+                                 "of range: expected 0..1000000 pixels (0: the whole image)",
+                                 p->search_radius);
+    if (p->levels < 1 || p->levels > 6)
+        return relief_fail_param(err, RELIEF_E_RANGE, "levels", "levels %d out of range: "
+                                 "expected 1..6", p->levels);
+    if (isnan(p->lambda) || p->lambda > 1e12)
+        return relief_fail_param(err, RELIEF_E_RANGE, "lambda", "lambda %g out of range: "
+                                 "expected up to 1e12 (<= 0: 8 x the capture's robust step)",
+                                 p->lambda);
+    if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
+        return relief_fail_param(err, RELIEF_E_RANGE, "max_hole", "max_hole %g out of range: "
+                                 "expected 0..1e30 (0: a quarter of the bounding box's "
+                                 "diagonal)", p->max_hole);
+    return RELIEF_OK;
+}
+
 relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *p,
                                                 relief_error *err)
 {
@@ -98,29 +132,10 @@ relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "params: NULL");
     st = check_choices(p, err);
+    if (st == RELIEF_OK)
+        st = check_values(p, err);
     if (st != RELIEF_OK)
         return st;
-    if (p->window < 3 || p->window > 1025 || p->window % 2 == 0)
-        return relief_fail(err, RELIEF_E_RANGE, "window %d out of range: expected an odd "
-                           "number in 3..1025 (the window is centred on a pixel)", p->window);
-    if (isnan(p->sigma) || p->sigma > 1e6 || (p->sigma > 0.0 && p->sigma < 0.5))
-        return relief_fail(err, RELIEF_E_RANGE, "sigma %g out of range: expected 0.5..1e6 "
-                           "pixels, or <= 0 for window / 6.4", p->sigma);
-    if (!(p->epsilon >= 0.0 && p->epsilon <= 10.0))
-        return relief_fail(err, RELIEF_E_RANGE, "epsilon %g out of range: expected 0..10",
-                           p->epsilon);
-    if (p->search_radius < 0 || p->search_radius > 1000000)
-        return relief_fail(err, RELIEF_E_RANGE, "search_radius %d out of range: expected "
-                           "0..1000000 pixels (0: the whole image)", p->search_radius);
-    if (p->levels < 1 || p->levels > 6)
-        return relief_fail(err, RELIEF_E_RANGE, "levels %d out of range: expected 1..6",
-                           p->levels);
-    if (isnan(p->lambda) || p->lambda > 1e12)
-        return relief_fail(err, RELIEF_E_RANGE, "lambda %g out of range: expected up to 1e12 "
-                           "(<= 0: 8 x the capture's robust step)", p->lambda);
-    if (!(p->max_hole >= 0.0 && p->max_hole <= 1e30))
-        return relief_fail(err, RELIEF_E_RANGE, "max_hole %g out of range: expected 0..1e30 "
-                           "(0: a quarter of the bounding box's diagonal)", p->max_hole);
     if (p->has_hole_ball && relief_hole_ball_check("hole_ball", p->hole_ball, err) != RELIEF_OK)
         return RELIEF_E_RANGE;
     if (p->has_hole_ball && p->hole_labels)
@@ -130,8 +145,8 @@ relief_status relief_depth_fill_params_validate(const relief_depth_fill_params *
                            "selection (max_hole, hole_ball, hole_labels) chooses holes of the "
                            "capture, without solid");
     if (p->resolution < 8 || p->resolution > 1024)
-        return relief_fail(err, RELIEF_E_RANGE, "resolution %d out of range: expected 8..1024 "
-                           "voxels", p->resolution);
+        return relief_fail_param(err, RELIEF_E_RANGE, "resolution", "resolution %d out of "
+                                 "range: expected 8..1024 voxels", p->resolution);
     return relief_run_options_validate(&p->run, err);
 }
 
@@ -254,6 +269,7 @@ relief_status relief_depth_fill_check_memory(int width, int height,
                                              const relief_depth_fill_params *p,
                                              relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_depth_fill_params d = relief_depth_fill_params_default();
     uint64_t need, limit = memory_limit(p ? &p->run : &d.run);
     relief_status st = check_sides("frame", width, height, err);

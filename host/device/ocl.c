@@ -65,6 +65,9 @@ relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
     cl_int rc;
     size_t n = 0;
 
+    if (!count || (!out && cap))
+        return relief_fail(err, RELIEF_E_USAGE, "relief_devices: %s is NULL",
+                           count ? "out (with cap > 0)" : "count");
     *count = 0;
     rc = clGetPlatformIDs(16, plats, &np);
     if (rc == -1001 /* CL_PLATFORM_NOT_FOUND_KHR: the ICD loader found none */ ||
@@ -197,8 +200,10 @@ relief_status relief_cl_build(cl_context ctx, cl_device_id dev, const char **src
 relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
                              relief_error *err)
 {
-    (void)out;
-    (void)cap;
+    RELIEF_ENTRY_ERR(err);
+    if (!count || (!out && cap))
+        return relief_fail(err, RELIEF_E_USAGE, "relief_devices: %s is NULL",
+                           count ? "out (with cap > 0)" : "count");
     *count = 0;
     return relief_fail(err, RELIEF_E_NOT_BUILT,
                        "relief was built without OpenCL (RELIEF_WITH_OPENCL=OFF)");

@@ -212,11 +212,11 @@ relief_status relief_image_fill_params_validate(const relief_image_fill_params *
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "image fill parameters: NULL");
     if (p->exhaustive != 0 && p->exhaustive != 1)
-        return relief_fail(err, RELIEF_E_RANGE, "exhaustive %d out of range: expected 0 or 1",
-                           p->exhaustive);
+        return relief_fail_param(err, RELIEF_E_RANGE, "exhaustive", "exhaustive %d out of "
+                                 "range: expected 0 or 1", p->exhaustive);
     if (p->interp != 0 && p->interp != 1)
-        return relief_fail(err, RELIEF_E_RANGE, "interp %d out of range: expected 0 or 1",
-                           p->interp);
+        return relief_fail_param(err, RELIEF_E_RANGE, "interp", "interp %d out of range: "
+                                 "expected 0 or 1", p->interp);
     f = engine_params(p, NULL);
     st = relief_fill_params_check(&f, err);
     if (st == RELIEF_OK)
@@ -255,6 +255,7 @@ relief_status relief_image_fill_check_memory(int width, int height, int channels
                                              const relief_image_fill_params *p,
                                              relief_error *err)
 {
+    RELIEF_ENTRY_ERR(err);
     relief_image_fill_params d = relief_image_fill_params_default();
     const relief_image_fill_params *q = p ? p : &d;
     uint64_t limit = q->run.max_memory ? q->run.max_memory : relief_default_memory_limit();

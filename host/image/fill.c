@@ -37,30 +37,35 @@ relief_fill_params relief_fill_params_default(void)
 relief_status relief_fill_params_check(const relief_fill_params *p, relief_error *err)
 {
     if (p->window < 3 || p->window > 1025 || p->window % 2 == 0)
-        return relief_fail(err, RELIEF_E_RANGE, "window %d out of range: expected an odd "
-                           "number of pixels in 3..1025", p->window);
+        return relief_fail_param(err, RELIEF_E_RANGE, "window", "window %d out of range: "
+                                 "expected an odd number of pixels in 3..1025", p->window);
     if (p->min_window < 3 || p->min_window > p->window || p->min_window % 2 == 0)
-        return relief_fail(err, RELIEF_E_RANGE, "min_window %d out of range: expected an odd "
-                           "number of pixels in 3..%d (window)", p->min_window, p->window);
+        return relief_fail_param(err, RELIEF_E_RANGE, "min_window", "min_window %d out of "
+                                 "range: expected an odd number of pixels in 3..%d (window)",
+                                 p->min_window, p->window);
     if (!(p->max_hole_fraction >= 0.0 && p->max_hole_fraction < 1.0))
-        return relief_fail(err, RELIEF_E_RANGE, "max_hole_fraction %g out of range: expected "
-                           "0 <= f < 1", p->max_hole_fraction);
+        return relief_fail_param(err, RELIEF_E_RANGE, "max_hole_fraction", "max_hole_fraction "
+                                 "%g out of range: expected 0 <= f < 1", p->max_hole_fraction);
     if (!isfinite(p->tau) || p->tau < 0.0)
-        return relief_fail(err, RELIEF_E_RANGE, "tau %g out of range: expected a finite value "
-                           "> 0, or 0 for the default", p->tau);
+        return relief_fail_param(err, RELIEF_E_RANGE, "tau", "tau %g out of range: expected a "
+                                 "finite value > 0, or 0 for the default", p->tau);
     if (p->search_radius < 0 || p->search_radius > 1000000)
-        return relief_fail(err, RELIEF_E_RANGE, "search_radius %d out of range: expected "
-                           "0..1000000 pixels (0: the whole image)", p->search_radius);
+        return relief_fail_param(err, RELIEF_E_RANGE, "search_radius", "search_radius %d out "
+                                 "of range: expected 0..1000000 pixels (0: the whole image)",
+                                 p->search_radius);
     if (p->search_radius > 0 && 2 * p->search_radius + 1 < p->window)
-        return relief_fail(err, RELIEF_E_RANGE, "search_radius %d: the search region must "
-                           "hold a window: expected at least %d (window %d)",
-                           p->search_radius, p->window / 2, p->window);
+        return relief_fail_param(err, RELIEF_E_RANGE, "search_radius", "search_radius %d: the "
+                                 "search region must hold a window: expected at least %d "
+                                 "(window %d)", p->search_radius, p->window / 2, p->window);
     if (!isfinite(p->interp_diff))
-        return relief_fail(err, RELIEF_E_RANGE, "interp_diff %g out of range: expected a "
-                           "finite value (< 0: the default)", p->interp_diff);
+        return relief_fail_param(err, RELIEF_E_RANGE, "interp_diff", "interp_diff %g out of "
+                                 "range: expected a finite value (< 0: the default)",
+                                 p->interp_diff);
     if (!isfinite(p->interp_sd))
-        return relief_fail(err, RELIEF_E_RANGE, "interp_sd %g out of range: expected a "
-                           "finite value (< 0: the default)", p->interp_sd);
+        return relief_fail_param(err, RELIEF_E_RANGE, "interp_sd", "interp_sd %g out of "
+                                 "range: expected a finite value (< 0: the default)",
+                                 p->interp_sd);
+    /* The filler's own (no public field: nothing to name). */
     if (p->interp_span < 1 || p->interp_span > 64)
         return relief_fail(err, RELIEF_E_RANGE, "interp_span %d out of range: expected 1..64",
                            p->interp_span);
@@ -80,9 +85,9 @@ relief_status relief_fill_params_validate(const relief_fill_params *p, int width
         st = relief_fail(err, RELIEF_E_RANGE, "the image (%d x %d pixels) is smaller than the "
                          "smallest window (3 x 3)", width, height);
     else if (st == RELIEF_OK && p->window > side)
-        st = relief_fail(err, RELIEF_E_RANGE, "window %d is larger than the image (%d x %d "
-                         "pixels): expected at most %d", p->window, width, height,
-                         side % 2 ? side : side - 1);
+        st = relief_fail_param(err, RELIEF_E_RANGE, "window", "window %d is larger than the "
+                               "image (%d x %d pixels): expected at most %d", p->window, width,
+                               height, side % 2 ? side : side - 1);
     return st;
 }
 

@@ -55,7 +55,8 @@ typedef struct relief_fill_params {
 relief_fill_params relief_fill_params_default(void);
 
 /* Check the fields alone (ranges, odd windows, finite thresholds):
- * RELIEF_E_RANGE naming the field as spelt here and its range. */
+ * RELIEF_E_RANGE naming the field as spelt here and its range, and in
+ * err->param (relief_image_fill_params's fields have the same names). */
 relief_status relief_fill_params_check(const relief_fill_params *p, relief_error *err);
 
 /* The thresholds used for values of `bit_depth` bits (0: real-valued):

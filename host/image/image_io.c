@@ -475,8 +475,10 @@ static relief_status write_png(FILE *f, const relief_image *img, const char *pat
     st = relief_png_encode_pixels(pixels, img->width, img->height, img->channels,
                                   img->bit_depth, &png, &n, err);
     free(copy);
-    if (st != RELIEF_OK)
-        return relief_fail_prefix(err, "%s", path);
+    if (st != RELIEF_OK) {
+        relief_fail_prefix(err, "%s", path);
+        return st;
+    }
     if (fwrite(png, 1, n, f) != n)
         st = relief_fail_errno(err, errno ? errno : EIO, path, "cannot write");
     free(png);

@@ -469,8 +469,9 @@ relief_status relief_hole_ball_check(const char *name, const double ball[4],
     if (isfinite(ball[0]) && isfinite(ball[1]) && isfinite(ball[2]) && ball[3] > 0.0 &&
         isfinite(ball[3]))
         return RELIEF_OK;
-    return relief_fail(err, RELIEF_E_RANGE, "%s %g,%g,%g,%g out of range: expected a finite "
-                       "centre and a radius > 0", name, ball[0], ball[1], ball[2], ball[3]);
+    return relief_fail_param(err, RELIEF_E_RANGE, name, "%s %g,%g,%g,%g out of range: "
+                             "expected a finite centre and a radius > 0", name, ball[0],
+                             ball[1], ball[2], ball[3]);
 }
 
 relief_status relief_holes_selection(const relief_mesh *m, int labels, int has_ball,

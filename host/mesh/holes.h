@@ -113,7 +113,7 @@ struct relief_json;
 void relief_holes_json(struct relief_json *j, const char *name, const relief_hole_info *h);
 
 /* A hole ball's check: a finite centre and a radius > 0 (RELIEF_E_RANGE
- * naming `name`, "hole_ball"). */
+ * naming `name`, "hole_ball", in the message and err->param). */
 relief_status relief_hole_ball_check(const char *name, const double ball[4],
                                      relief_error *err);
 

@@ -47,30 +47,31 @@ static relief_status check_intrinsics(const relief_occluder_params *p, relief_er
 {
     for (int k = 0; k < 4 && p->has_intrinsics; ++k)
         if (!isfinite(p->intrinsics[k]) || (k < 2 && !(p->intrinsics[k] > 0.0)))
-            return relief_fail(err, RELIEF_E_RANGE, "intrinsics %g,%g,%g,%g out of range: "
-                               "expected fx,fy > 0 and finite cx,cy (pixels)", p->intrinsics[0],
-                               p->intrinsics[1], p->intrinsics[2], p->intrinsics[3]);
+            return relief_fail_param(err, RELIEF_E_RANGE, "intrinsics", "intrinsics %g,%g,%g,%g "
+                                     "out of range: expected fx,fy > 0 and finite cx,cy (pixels)",
+                                     p->intrinsics[0], p->intrinsics[1], p->intrinsics[2],
+                                     p->intrinsics[3]);
     return RELIEF_OK;
 }
 
 static relief_status check_views(const relief_occluder_params *p, relief_error *err)
 {
     if (p->n_views < 0 || p->n_views > RELIEF_OCCLUDER_MAX_VIEWS)
-        return relief_fail(err, RELIEF_E_RANGE, "n_views %d out of range: expected 0..%d",
-                           p->n_views, RELIEF_OCCLUDER_MAX_VIEWS);
+        return relief_fail_param(err, RELIEF_E_RANGE, "n_views", "n_views %d out of range: "
+                                 "expected 0..%d", p->n_views, RELIEF_OCCLUDER_MAX_VIEWS);
     if (p->n_views > 0 && !p->views)
         return relief_fail(err, RELIEF_E_USAGE, "views: NULL with n_views %d", p->n_views);
     for (int k = 0; k < p->n_views; ++k)
         for (int i = 0; i < 12; ++i)
             if (!isfinite(p->views[k].pose[i]))
-                return relief_fail(err, RELIEF_E_RANGE, "view %d: pose element %d is not "
-                                   "finite", k, i);
+                return relief_fail_param(err, RELIEF_E_RANGE, "views", "view %d: pose element %d "
+                                         "is not finite", k, i);
     if (!(p->parallax >= 0.1 && p->parallax <= 64.0))
-        return relief_fail(err, RELIEF_E_RANGE, "parallax %g out of range: expected 0.1..64 "
-                           "pixels", p->parallax);
+        return relief_fail_param(err, RELIEF_E_RANGE, "parallax", "parallax %g out of range: "
+                                 "expected 0.1..64 pixels", p->parallax);
     if (p->view_radius < 1 || p->view_radius > 32)
-        return relief_fail(err, RELIEF_E_RANGE, "view_radius %d out of range: expected 1..32 "
-                           "pixels", p->view_radius);
+        return relief_fail_param(err, RELIEF_E_RANGE, "view_radius", "view_radius %d out of range: "
+                                 "expected 1..32 pixels", p->view_radius);
     return RELIEF_OK;
 }
 
@@ -80,38 +81,39 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "params: NULL");
     if ((unsigned)p->background > RELIEF_BACKGROUND_MESH)
-        return relief_fail(err, RELIEF_E_RANGE, "background %d out of range: expected planes, "
-                           "plane or mesh", (int)p->background);
+        return relief_fail_param(err, RELIEF_E_RANGE, "background", "background %d out of range: "
+                                 "expected planes, plane or mesh", (int)p->background);
     if (p->background == RELIEF_BACKGROUND_MESH && !p->background_mesh)
         return relief_fail(err, RELIEF_E_USAGE, "background mesh needs background_mesh (the "
                            "surface, in the frame's camera coordinates)");
     if (p->max_planes < 1 || p->max_planes > RELIEF_OCCLUDER_MAX_PLANES)
-        return relief_fail(err, RELIEF_E_RANGE, "max_planes %d out of range: expected 1..%d",
-                           p->max_planes, RELIEF_OCCLUDER_MAX_PLANES);
+        return relief_fail_param(err, RELIEF_E_RANGE, "max_planes", "max_planes %d out of range: "
+                                 "expected 1..%d", p->max_planes, RELIEF_OCCLUDER_MAX_PLANES);
     if (!(p->min_support >= 1e-6 && p->min_support <= 1.0))
-        return relief_fail(err, RELIEF_E_RANGE, "min_support %g out of range: expected "
-                           "1e-6..1 (a share of the captured points)", p->min_support);
+        return relief_fail_param(err, RELIEF_E_RANGE, "min_support", "min_support %g out of range: "
+                                 "expected 1e-6..1 (a share of the captured points)",
+                                 p->min_support);
     if (isnan(p->margin) || p->margin > 1e9)
-        return relief_fail(err, RELIEF_E_RANGE, "margin %g out of range: expected up to 1e9 "
-                           "depth units (<= 0: measured)", p->margin);
+        return relief_fail_param(err, RELIEF_E_RANGE, "margin", "margin %g out of range: expected "
+                                 "up to 1e9 depth units (<= 0: measured)", p->margin);
     if (p->window < 3 || p->window > 1025 || p->window % 2 == 0)
-        return relief_fail(err, RELIEF_E_RANGE, "window %d out of range: expected an odd "
-                           "number in 3..1025", p->window);
+        return relief_fail_param(err, RELIEF_E_RANGE, "window", "window %d out of range: expected "
+                                 "an odd number in 3..1025", p->window);
     if (!(p->colour_distance >= 0.0 && p->colour_distance <= 200.0))
-        return relief_fail(err, RELIEF_E_RANGE, "colour_distance %g out of range: expected "
-                           "0..200 (CIELAB delta E)", p->colour_distance);
+        return relief_fail_param(err, RELIEF_E_RANGE, "colour_distance", "colour_distance %g out "
+                                 "of range: expected 0..200 (CIELAB delta E)", p->colour_distance);
     if (p->edge < 0 || p->edge > 64)
-        return relief_fail(err, RELIEF_E_RANGE, "edge %d out of range: expected 0..64 pixels",
-                           p->edge);
+        return relief_fail_param(err, RELIEF_E_RANGE, "edge", "edge %d out of range: expected "
+                                 "0..64 pixels", p->edge);
     if (p->min_area < 1 || p->min_area > 100000000)
-        return relief_fail(err, RELIEF_E_RANGE, "min_area %d out of range: expected 1..1e8 "
-                           "pixels", p->min_area);
+        return relief_fail_param(err, RELIEF_E_RANGE, "min_area", "min_area %d out of range: "
+                                 "expected 1..1e8 pixels", p->min_area);
     if (p->dilate < 0 || p->dilate > 64)
-        return relief_fail(err, RELIEF_E_RANGE, "dilate %d out of range: expected 0..64 "
-                           "pixels", p->dilate);
+        return relief_fail_param(err, RELIEF_E_RANGE, "dilate", "dilate %d out of range: expected "
+                                 "0..64 pixels", p->dilate);
     if (p->iterations < 10 || p->iterations > 1000000)
-        return relief_fail(err, RELIEF_E_RANGE, "iterations %d out of range: expected "
-                           "10..1000000", p->iterations);
+        return relief_fail_param(err, RELIEF_E_RANGE, "iterations", "iterations %d out of range: "
+                                 "expected 10..1000000", p->iterations);
     if (check_intrinsics(p, err) != RELIEF_OK)
         return RELIEF_E_RANGE;
     {
@@ -263,7 +265,7 @@ static relief_status check_mesh(const relief_occluder_params *p, relief_error *e
         return RELIEF_OK;
     relief_status st = relief_mesh_validate(p->background_mesh, err);
     if (st != RELIEF_OK) {
-        relief_fail_prefix(err, "background_mesh: ");
+        relief_fail_prefix(err, "background_mesh");
         return st;
     }
     if (relief_mesh_triangle_count(p->background_mesh) == 0)

@@ -43,26 +43,21 @@ relief_complete_points_params relief_complete_points_params_default(void)
     return p;
 }
 
-static relief_status check_flag(int v, const char *name, relief_error *err)
-{
-    return v == 0 || v == 1 ? RELIEF_OK
-                            : relief_fail(err, RELIEF_E_RANGE, "%s %d out of range: expected 0 "
-                                          "or 1", name, v);
-}
-
+/* Each check names the field it refuses in err->param too. */
 static relief_status check_int(int v, int lo, int hi, const char *name, relief_error *err)
 {
     return v >= lo && v <= hi ? RELIEF_OK
-                              : relief_fail(err, RELIEF_E_RANGE, "%s %d out of range: expected "
-                                            "%d..%d", name, v, lo, hi);
+                              : relief_fail_param(err, RELIEF_E_RANGE, name, "%s %d out of "
+                                                  "range: expected %d..%d", name, v, lo, hi);
 }
 
 static relief_status check_real(double v, double lo, double hi, const char *name,
                                 relief_error *err)
 {
     return v >= lo && v <= hi ? RELIEF_OK
-                              : relief_fail(err, RELIEF_E_RANGE, "%s %g spacings out of range: "
-                                            "expected %.10g..%.10g", name, v, lo, hi);
+                              : relief_fail_param(err, RELIEF_E_RANGE, name, "%s %g spacings "
+                                                  "out of range: expected %.10g..%.10g", name,
+                                                  v, lo, hi);
 }
 
 static int all_finite(const double *v, int n)
@@ -78,21 +73,26 @@ static relief_status check_fields(const relief_complete_points_params *p, relief
 {
     const struct {
         int v;
-        const char *name;
-    } flags[] = {{p->smooth_only, "smooth_only"}, {p->detail_histogram, "detail_histogram"},
-                 {p->mesh, "mesh"}, {p->hole_labels, "hole_labels"},
-                 {p->has_hole_ball, "has_hole_ball"}, {p->sample_labels, "sample_labels"},
-                 {p->has_sample_box, "has_sample_box"}, {p->has_viewpoint, "has_viewpoint"}};
+        const char *name, *param; /* the field, and its entry in the parameter table */
+    } flags[] = {{p->smooth_only, "smooth_only", "smooth_only"},
+                 {p->detail_histogram, "detail_histogram", "detail_histogram"},
+                 {p->mesh, "mesh", "mesh"}, {p->hole_labels, "hole_labels", "hole_labels"},
+                 {p->has_hole_ball, "has_hole_ball", "hole_ball"},
+                 {p->sample_labels, "sample_labels", "sample_labels"},
+                 {p->has_sample_box, "has_sample_box", "sample_box"},
+                 {p->has_viewpoint, "has_viewpoint", "viewpoint"}};
     relief_status st = RELIEF_OK;
     if ((int)p->what < RELIEF_POINTS_ALL || (int)p->what > RELIEF_POINTS_GEOMETRY_ONLY)
-        return relief_fail(err, RELIEF_E_RANGE, "what %d is not one of all, colour, geometry",
-                           (int)p->what);
+        return relief_fail_param(err, RELIEF_E_RANGE, "what", "what %d is not one of all, "
+                                 "colour, geometry", (int)p->what);
     if ((int)p->grid_search < RELIEF_GRID_SEARCH_KDTREE ||
         (int)p->grid_search > RELIEF_GRID_SEARCH_BRUTE)
-        return relief_fail(err, RELIEF_E_RANGE, "grid_search %d is not one of kdtree, brute",
-                           (int)p->grid_search);
+        return relief_fail_param(err, RELIEF_E_RANGE, "grid_search", "grid_search %d is not "
+                                 "one of kdtree, brute", (int)p->grid_search);
     for (size_t i = 0; st == RELIEF_OK && i < sizeof flags / sizeof flags[0]; ++i)
-        st = check_flag(flags[i].v, flags[i].name, err);
+        if (flags[i].v != 0 && flags[i].v != 1)
+            st = relief_fail_param(err, RELIEF_E_RANGE, flags[i].param, "%s %d out of range: "
+                                   "expected 0 or 1", flags[i].name, flags[i].v);
     if (st == RELIEF_OK)
         st = check_int(p->k, 6, 64, "k", err);
     if (st == RELIEF_OK)
@@ -104,8 +104,8 @@ static relief_status check_fields(const relief_complete_points_params *p, relief
     if (st == RELIEF_OK)
         st = check_real(p->max_hole, 0.0, 1e30, "max_hole", err);
     if (st == RELIEF_OK && (p->grid < 3 || p->grid > 33 || p->grid % 2 == 0))
-        st = relief_fail(err, RELIEF_E_RANGE, "grid %d out of range: expected an odd number "
-                         "in 3..33", p->grid);
+        st = relief_fail_param(err, RELIEF_E_RANGE, "grid", "grid %d out of range: expected "
+                               "an odd number in 3..33", p->grid);
     if (st == RELIEF_OK)
         st = check_int(p->cluster_size, 16, 100000, "cluster_size", err);
     if (st == RELIEF_OK)
@@ -118,18 +118,21 @@ static relief_status check_places(const relief_complete_points_params *p, relief
 {
     const double *b = p->sample_box;
     if (p->has_hole_ball && !all_finite(p->hole_ball, 3))
-        return relief_fail(err, RELIEF_E_RANGE, "hole_ball centre (%g, %g, %g) is not finite",
-                           p->hole_ball[0], p->hole_ball[1], p->hole_ball[2]);
+        return relief_fail_param(err, RELIEF_E_RANGE, "hole_ball", "hole_ball centre (%g, %g, "
+                                 "%g) is not finite", p->hole_ball[0], p->hole_ball[1],
+                                 p->hole_ball[2]);
     if (p->has_hole_ball && !(p->hole_ball[3] > 0.0 && isfinite(p->hole_ball[3])))
-        return relief_fail(err, RELIEF_E_RANGE, "hole_ball radius R %g out of range: expected "
-                           "a finite R > 0", p->hole_ball[3]);
+        return relief_fail_param(err, RELIEF_E_RANGE, "hole_ball", "hole_ball radius R %g out "
+                                 "of range: expected a finite R > 0", p->hole_ball[3]);
     if (p->has_sample_box && (!all_finite(b, 6) || !(b[0] < b[3] && b[1] < b[4] && b[2] < b[5])))
-        return relief_fail(err, RELIEF_E_RANGE, "sample_box %g,%g,%g,%g,%g,%g out of range: "
-                           "expected finite X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1",
-                           b[0], b[1], b[2], b[3], b[4], b[5]);
+        return relief_fail_param(err, RELIEF_E_RANGE, "sample_box", "sample_box "
+                                 "%g,%g,%g,%g,%g,%g out of range: expected finite "
+                                 "X0,Y0,Z0,X1,Y1,Z1 with X0 < X1, Y0 < Y1, Z0 < Z1", b[0], b[1],
+                                 b[2], b[3], b[4], b[5]);
     if (p->has_viewpoint && !all_finite(p->viewpoint, 3))
-        return relief_fail(err, RELIEF_E_RANGE, "viewpoint (%g, %g, %g) is not finite",
-                           p->viewpoint[0], p->viewpoint[1], p->viewpoint[2]);
+        return relief_fail_param(err, RELIEF_E_RANGE, "viewpoint", "viewpoint (%g, %g, %g) is "
+                                 "not finite", p->viewpoint[0], p->viewpoint[1],
+                                 p->viewpoint[2]);
     return RELIEF_OK;
 }
 

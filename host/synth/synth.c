@@ -42,15 +42,17 @@ relief_status relief_synth_kind_parse(const char *name, relief_synth_kind *out,
                                       relief_error *err)
 {
     RELIEF_ENTRY_ERR(err);
+    if (!out)
+        return relief_fail(err, RELIEF_E_USAGE, "relief_synth_kind_parse: out is NULL");
     for (int k = 0; k < RELIEF_SYNTH_KIND_COUNT; ++k)
         if (name && strcmp(name, kinds[k].name) == 0) {
             *out = (relief_synth_kind)k;
             return RELIEF_OK;
         }
-    return relief_fail(err, RELIEF_E_USAGE,
-                       "unknown surface kind '%s'; expected one of plane-waves, "
-                       "plane-noise, cylinder-bands, cylinder-bark, sphere-dimples",
-                       name ? name : "(null)");
+    return relief_fail_param(err, RELIEF_E_USAGE, "kind",
+                             "unknown surface kind '%s'; expected one of plane-waves, "
+                             "plane-noise, cylinder-bands, cylinder-bark, sphere-dimples",
+                             name ? name : "(null)");
 }
 
 relief_synth_params relief_synth_params_default(void)
@@ -547,17 +549,17 @@ relief_status relief_synth_params_validate(const relief_synth_params *params,
     if (!params)
         return relief_fail(err, RELIEF_E_USAGE, "params is NULL");
     if ((unsigned)params->kind >= RELIEF_SYNTH_KIND_COUNT)
-        return relief_fail(err, RELIEF_E_RANGE, "synthetic kind %d out of range",
-                           (int)params->kind);
+        return relief_fail_param(err, RELIEF_E_RANGE, "kind", "synthetic kind %d out of range",
+                                 (int)params->kind);
     if (params->vertices < 100 || params->vertices > 4000000)
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "vertices %zu out of range: expected 100..4000000",
-                           params->vertices);
+        return relief_fail_param(err, RELIEF_E_RANGE, "vertices",
+                                 "vertices %zu out of range: expected 100..4000000",
+                                 params->vertices);
     if (!(params->noise >= 0.0 && params->noise <= 0.1))
-        return relief_fail(err, RELIEF_E_RANGE,
-                           "noise %g out of range: expected 0..0.1 (fraction of the "
-                           "primitive's size)",
-                           params->noise);
+        return relief_fail_param(err, RELIEF_E_RANGE, "noise",
+                                 "noise %g out of range: expected 0..0.1 (fraction of the "
+                                 "primitive's size)",
+                                 params->noise);
     return RELIEF_OK;
 }
 

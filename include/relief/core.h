@@ -496,7 +496,8 @@ typedef struct relief_device_info {
 /* Enumerate the OpenCL devices of every platform, numbered in platform then
  * device order. Fills at most `cap` entries of `out` (may be NULL with cap 0)
  * and sets `*count` to the number found; no platform is not an error (count
- * 0). RELIEF_E_NOT_BUILT when relief was built without OpenCL;
+ * 0). RELIEF_E_USAGE for count NULL, or out NULL with cap > 0;
+ * RELIEF_E_NOT_BUILT when relief was built without OpenCL;
  * RELIEF_E_DEVICE, naming the OpenCL error, when a query fails. */
 RELIEF_API relief_status relief_devices(relief_device_info *out, size_t cap, size_t *count,
                              relief_error *err);

@@ -4,7 +4,11 @@
  * the table states held to _validate: the bounds and the special values
  * accepted, just outside refused naming the parameter, NaN refused, every
  * enumeration name accepted and one past them refused. A table that says
- * one thing while the engine checks another fails here. */
+ * one thing while the engine checks another fails here. Each refusal of a
+ * value put straight into the struct (a bound's neighbour, NaN, an
+ * enumeration past its names, a flag of 2, a list of NaNs) names the
+ * table's entry in err.param with RELIEF_REASON_PARAMETER (issue 60 item
+ * 4): what a client decides on, never the message. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -74,6 +78,14 @@ static relief_status occluder_validate(const void *p, relief_error *e) { return 
 
 /* ------------------------------------------------------------ the checks */
 
+/* Does err name p as the parameter it refused (issue 60 item 4): the
+ * reason RELIEF_REASON_PARAMETER and err.param p's name, which a client
+ * reads instead of the message? */
+static int names_param(const relief_error *err, const relief_param *p)
+{
+    return err->reason == RELIEF_REASON_PARAMETER && strcmp(err->param, p->name) == 0;
+}
+
 /* v as relief reads it ("0.5"), whatever this program's locale: under
  * tests/comma_locale.sh its own printf writes "0,5". */
 static void set_number(void *params, const relief_param *p, double v)
@@ -108,6 +120,60 @@ static void expect(const engine *e, const relief_param *p, double v, int ok)
               e->name, p->name, v, relief_status_name(st), err.message);
 }
 
+/* v put straight into p's field, as a caller fills the struct (no text, so
+ * relief_param_set names nothing): an int (a flag, an enumeration), a
+ * double. */
+static void put(void *params, const relief_param *p, double v)
+{
+    unsigned char *field = (unsigned char *)params + p->offset;
+    if (p->kind == RELIEF_PARAM_REAL) {
+        memcpy(field, &v, sizeof v);
+    } else {
+        const int i = (int)v;
+        memcpy(field, &i, sizeof i);
+    }
+}
+
+/* params with p's field set to v in the struct must be refused by
+ * _validate with RELIEF_E_RANGE naming p in err.param. */
+static void expect_named(const engine *e, const relief_param *p, double v)
+{
+    buffer buf;
+    unsigned char *params = buf.b;
+    relief_error err = {0};
+    relief_status st;
+    e->defaults(params);
+    if (e->prepare)
+        e->prepare(params, p);
+    put(params, p, v);
+    st = e->validate(params, &err);
+    CHECK(st == RELIEF_E_RANGE && names_param(&err, p),
+          "%s: %s = %.17g in the struct: %s, param '%s', reason %s (%s)", e->name, p->name, v,
+          relief_status_name(st), err.param, relief_reason_name(err.reason), err.message);
+}
+
+/* A list of reals (a ball, a box, a point) given, every value NaN: refused
+ * naming it. */
+static void expect_reals_named(const engine *e, const relief_param *p)
+{
+    buffer buf;
+    unsigned char *params = buf.b;
+    relief_error err = {0};
+    relief_status st;
+    const double nan = NAN;
+    const int count = p->count_is_flag ? 1 : (int)p->max;
+    e->defaults(params);
+    if (e->prepare)
+        e->prepare(params, p);
+    for (int i = 0; i < (int)p->max; ++i)
+        memcpy(params + p->offset + (size_t)i * sizeof nan, &nan, sizeof nan);
+    memcpy(params + p->count_offset, &count, sizeof count);
+    st = e->validate(params, &err);
+    CHECK(st == RELIEF_E_RANGE && names_param(&err, p),
+          "%s: %s NaN in the struct: %s, param '%s', reason %s (%s)", e->name, p->name,
+          relief_status_name(st), err.param, relief_reason_name(err.reason), err.message);
+}
+
 /* Just outside a bound: the next integer, or a millionth beyond. */
 static double outside(const relief_param *p, double bound, int below)
 {
@@ -128,13 +194,17 @@ static void check_range(const engine *e, const relief_param *p)
     const double lo = p->min, hi = p->kind == RELIEF_PARAM_SEED ? 4294967295.0 : p->max;
     if (isfinite(lo)) {
         expect(e, p, lo, 1);
-        if (p->kind != RELIEF_PARAM_SEED && !special(p, outside(p, lo, 1)))
+        if (p->kind != RELIEF_PARAM_SEED && !special(p, outside(p, lo, 1))) {
             expect(e, p, outside(p, lo, 1), 0);
+            expect_named(e, p, outside(p, lo, 1));
+        }
     }
     if (isfinite(hi)) {
         expect(e, p, hi, 1);
-        if (p->kind != RELIEF_PARAM_SEED && !special(p, outside(p, hi, 0)))
+        if (p->kind != RELIEF_PARAM_SEED && !special(p, outside(p, hi, 0))) {
             expect(e, p, outside(p, hi, 0), 0);
+            expect_named(e, p, outside(p, hi, 0));
+        }
     }
     for (int i = 0; i < p->n_special; ++i)
         expect(e, p, p->special[i], 1);
@@ -145,8 +215,9 @@ static void check_range(const engine *e, const relief_param *p)
         const double nan = NAN;
         e->defaults(params);
         memcpy(params + p->offset, &nan, sizeof nan);
-        CHECK(e->validate(params, &err) == RELIEF_E_RANGE && strstr(err.message, p->name),
-              "%s: %s = NaN: %s", e->name, p->name, err.message);
+        CHECK(e->validate(params, &err) == RELIEF_E_RANGE && strstr(err.message, p->name) &&
+                  names_param(&err, p),
+              "%s: %s = NaN: param '%s' (%s)", e->name, p->name, err.param, err.message);
     }
 }
 
@@ -168,8 +239,9 @@ static void check_enum(const engine *e, const relief_param *p)
                  p->name);
     e->defaults(params);
     memcpy(params + p->offset, &n, sizeof n);
-    CHECK(e->validate(params, &err) == RELIEF_E_RANGE, "%s: %s %d (past the names) accepted",
-          e->name, p->name, n);
+    CHECK(e->validate(params, &err) == RELIEF_E_RANGE && names_param(&err, p),
+          "%s: %s %d (past the names): param '%s' (%s)", e->name, p->name, n, err.param,
+          err.message);
 }
 
 /* The default, written as text and set again, changes nothing. */
@@ -210,7 +282,9 @@ static void check_engine(const engine *e)
         else if (p->kind == RELIEF_PARAM_FLAG) {
             expect(e, p, 0, 1);
             expect(e, p, 1, 1);
-        }
+            expect_named(e, p, 2);
+        } else if (p->kind == RELIEF_PARAM_REALS)
+            expect_reals_named(e, p);
     }
     CHECK(relief_param_find(e->table, e->n, "no_such_parameter") == NULL, "found nothing");
 }
