@@ -84,31 +84,63 @@ relief_status relief_sink_text(relief_sink *s, void *ctx, relief_error *err)
     return RELIEF_OK;
 }
 
-/* Run write() on a stream over a dup of fd, then check the stream, flush,
- * sync and close. fd stays open (it holds the lock). */
+/* The stream a writer fills: its bytes go to fd by write(), and the first
+ * failure's errno is kept. A writer that sees only "it failed" (OpenMesh's
+ * stream, a short fwrite, libpng) or whose errno a later call overwrote
+ * cannot lose the system's reason ("No space left on device"): the file's
+ * failure is told with it whatever the writer made of it. */
+typedef struct sink_fd {
+    int fd;
+    int err; /* the first failed write's errno; 0 while every byte went */
+} sink_fd;
+
+static ssize_t sink_write(void *cookie, const char *buf, size_t n)
+{
+    sink_fd *c = cookie;
+    size_t done = 0;
+    while (!c->err && done < n) {
+        ssize_t k = write(c->fd, buf + done, n - done);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            c->err = k < 0 ? errno : EIO;
+        else
+            done += (size_t)k;
+    }
+    if (c->err)
+        errno = c->err;
+    return (ssize_t)done; /* fewer than n: stdio marks the stream failed */
+}
+
+/* Run write() on a stream over fd, then check the stream, flush and sync.
+ * fd stays open (it holds the lock). */
 relief_status relief_output_fill(int fd, const char *shown, relief_sink_fn write, void *ctx,
                                relief_error *err)
 {
-    int dup_fd = dup(fd), e = 0;
+    static const cookie_io_functions_t io = {NULL, sink_write, NULL, NULL};
+    sink_fd c = {fd, 0};
     relief_sink s = {NULL, shown};
     relief_status st;
-    if (dup_fd < 0 || !(s.f = fdopen(dup_fd, "wb"))) {
-        e = errno;
-        if (dup_fd >= 0)
-            close(dup_fd);
-        return relief_fail_errno(err, e, shown, "cannot write");
-    }
+    int during, flushed;
+    if (!(s.f = fopencookie(&c, "wb", io)))
+        return relief_fail_errno(err, errno, shown, "cannot write");
+    setvbuf(s.f, NULL, _IOFBF, 1 << 16);
     st = write(&s, ctx, err);
-    errno = 0;
-    if (st == RELIEF_OK && (fflush(s.f) != 0 || ferror(s.f)))
-        e = errno ? errno : EIO;
-    if (st == RELIEF_OK && !e && fsync(fileno(s.f)) != 0)
-        e = errno;
-    if (fclose(s.f) != 0 && st == RELIEF_OK && !e)
-        e = errno;
-    if (st == RELIEF_OK && e)
-        st = relief_fail_errno(err, e, shown, "cannot write");
-    return st;
+    during = c.err;
+    flushed = fflush(s.f) == 0 && !ferror(s.f);
+    fclose(s.f); /* nothing left to flush; fd is not the stream's to close */
+    /* A write the system refused explains the writer's failure too; a
+     * writer's own reason (a bad mesh, no memory) stands when no write
+     * failed before it. */
+    if (c.err && (st == RELIEF_OK || during))
+        return relief_fail_errno(err, c.err, shown, "cannot write");
+    if (st != RELIEF_OK)
+        return st;
+    if (!flushed)
+        return relief_fail_errno(err, EIO, shown, "cannot write");
+    if (fsync(fd) != 0)
+        return relief_fail_errno(err, errno, shown, "cannot write");
+    return RELIEF_OK;
 }
 
 int relief_output_create(const char *path)

@@ -37,7 +37,9 @@
 /* Where a writer puts its bytes: an open stream on a staged file, and the
  * target's name as the user gave it (for messages, and for writers that
  * choose a format by extension). A writer need not check each write: the
- * stream's error state, the flush, fsync and close are checked after it. */
+ * stream's error state, the flush and fsync are checked after it, and a
+ * write the system refused (no space, a file size limit, an I/O error) is
+ * told with the system's reason whatever the writer returned. */
 typedef struct relief_sink {
     FILE *f;
     const char *path;

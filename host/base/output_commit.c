@@ -39,6 +39,7 @@ struct relief_outputs {
     entry e[MAX_ENTRIES];
     size_t n;
     char *journal[MAX_ENTRIES]; /* a copy per folder; [0] is the primary */
+    size_t journal_entry[MAX_ENTRIES]; /* the first output in that folder */
     size_t n_journal;
     int journal_fd[MAX_ENTRIES];
     relief_output_hook hook;
@@ -248,8 +249,8 @@ static relief_status journal_create(relief_outputs *o, relief_error *err)
         const char *name;
         char *dir = relief_output_split(o->e[i].target, &name);
         int rc = dir ? 0 : (errno = ENOMEM, -1);
-        if (dir && !seen_folder(o, i, dir))
-            rc = journal_open(o, dir, token);
+        if (dir && !seen_folder(o, i, dir) && (rc = journal_open(o, dir, token)) == 0)
+            o->journal_entry[o->n_journal - 1] = i;
         free(dir);
         if (rc != 0)
             return relief_fail_errno(err, errno, o->e[i].shown, "cannot create a journal "
@@ -265,7 +266,9 @@ static relief_status journal_write(relief_outputs *o, relief_error *err)
     if (st == RELIEF_OK)
         st = journal_create(o, err);
     for (size_t j = o->n_journal; st == RELIEF_OK && j-- > 0;)
-        st = relief_output_fill(o->journal_fd[j], o->e[0].shown, journal_text, o, err);
+        /* A full disk there is told with an output of that folder. */
+        st = relief_output_fill(o->journal_fd[j], o->e[o->journal_entry[j]].shown,
+                                journal_text, o, err);
     for (size_t j = 0; st == RELIEF_OK && j < o->n_journal; ++j)
         relief_output_sync_dir_of(o->journal[j]);
     return st;

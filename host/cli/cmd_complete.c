@@ -63,6 +63,8 @@ typedef struct complete_cli {
     int smooth, ascii;
     relief_read_info read; /* what reading IN repaired, for the report */
     cli_output outs[4]; /* -o, --report, --checkpoint, --report-dir */
+    int had_checkpoint;      /* --checkpoint's file was there before the run, */
+    struct stat checkpoint; /* as this */
 } complete_cli;
 
 static int take(void *ctx, int id, const char *arg)
@@ -207,12 +209,16 @@ static relief_status write_one(void *ctx, size_t i, relief_sink *s, relief_error
                   : cli_json_with_to(s, o->json, 0, NULL, NULL, o->repair, err);
 }
 
-/* After a cancel or a device failure with --checkpoint, how to go on. */
+/* After a cancel or a device failure with --checkpoint, how to go on: only
+ * when this run saved the file (a save renames a new one into place), never
+ * on the strength of an older checkpoint that a failed save left there. */
 static void say_resume(const complete_cli *c, relief_status st)
 {
     struct stat sb;
     if (c->p.checkpoint && (st == RELIEF_E_CANCELLED || st == RELIEF_E_DEVICE) &&
-        stat(c->p.checkpoint, &sb) == 0)
+        stat(c->p.checkpoint, &sb) == 0 &&
+        (!c->had_checkpoint || sb.st_ino != c->checkpoint.st_ino ||
+         sb.st_dev != c->checkpoint.st_dev))
         fprintf(stderr, "relief complete: state saved to %s; continue with the same command "
                 "and --resume %s\n", c->p.checkpoint, c->p.checkpoint);
 }
@@ -230,6 +236,7 @@ static int run(complete_cli *c, int smooth)
     c->p.run.input_name = c->in;
     c->p.run.output_name = c->cm.out;
     c->p.measure = c->cm.report || c->p.report_dir;
+    c->had_checkpoint = c->p.checkpoint && stat(c->p.checkpoint, &c->checkpoint) == 0;
     cli_progress_start(&pr, &c->cm, &c->p.run);
     pr.estimate_tail = c->p.checkpoint ? " and saves the checkpoint" : "";
     st = smooth ? relief_smooth(in, &c->p, &done, &rep, &err)

@@ -620,7 +620,7 @@ static relief_status grow_score_failed(grow_run *g, size_t li, relief_status st,
     if (g->opts->save && save_state(g, li, &serr) != RELIEF_OK && err) {
         char msg[RELIEF_ERROR_MESSAGE_MAX];
         memcpy(msg, err->message, sizeof msg);
-        relief_fail(err, st, "%.600s (and no checkpoint: %.380s)", msg, serr.message);
+        relief_fail(err, st, "%.600s (and %.380s)", msg, serr.message);
     }
     return st;
 }

@@ -1,6 +1,7 @@
 /* Small depth chores for the depth-fill CLI test (test_depth_fill.sh):
- *   depth_tool crop IN X Y W H OUT          a crop of IN (PCD or PFM), written as OUT's
- *                                           kind (.pfm, or .pcd: binary)
+ *   depth_tool crop IN X Y W H OUT [KIND]   a crop of IN (PCD or PFM), written as OUT's
+ *                                           kind (.pfm, or .pcd: binary, or KIND:
+ *                                           pcd-ascii, pcd-binary, pcd-compressed)
  *   depth_tool ring W H OUT.pfm             a tilted plane whose 2-pixel margin is
  *                                           missing (+inf), and nothing else
  *   depth_tool png16 IN SCALE OUT.png       IN's depths x SCALE as a 16-bit PNG (0 missing)
@@ -43,13 +44,17 @@ static relief_depth_frame load(const char *path)
     return f;
 }
 
-static void save(const char *path, const relief_depth_frame *f)
+static void save(const char *path, const relief_depth_frame *f, const char *kind)
 {
     relief_error err = {0};
     size_t len = strlen(path);
     relief_depth_kind k = len > 4 && strcmp(path + len - 4, ".pcd") == 0
                               ? RELIEF_DEPTH_PCD_BINARY
                               : RELIEF_DEPTH_PFM;
+    if (kind && strcmp(kind, "pcd-ascii") == 0)
+        k = RELIEF_DEPTH_PCD_ASCII;
+    else if (kind && strcmp(kind, "pcd-compressed") == 0)
+        k = RELIEF_DEPTH_PCD_COMPRESSED;
     if (relief_depth_frame_write(path, f, k, &err) != RELIEF_OK) {
         fprintf(stderr, "depth_tool: %s\n", err.message);
         exit(2);
@@ -58,7 +63,7 @@ static void save(const char *path, const relief_depth_frame *f)
 
 int main(int argc, char **argv)
 {
-    if (argc == 8 && strcmp(argv[1], "crop") == 0) {
+    if ((argc == 8 || argc == 9) && strcmp(argv[1], "crop") == 0) {
         relief_depth_frame f = load(argv[2]), c;
         int x0 = atoi(argv[3]), y0 = atoi(argv[4]), w = atoi(argv[5]), h = atoi(argv[6]);
         memset(&c, 0, sizeof c);
@@ -76,7 +81,7 @@ int main(int argc, char **argv)
                 if (c.rgb)
                     memcpy(c.rgb + 3 * o, f.rgb + 3 * s, 3);
             }
-        save(argv[7], &c);
+        save(argv[7], &c, argc == 9 ? argv[8] : NULL);
         relief_depth_frame_free(&f);
         relief_depth_frame_free(&c);
         return 0;
@@ -93,7 +98,7 @@ int main(int argc, char **argv)
                 f.z[(size_t)y * w + x] = x < 2 || y < 2 || x >= w - 2 || y >= h - 2
                                              ? NAN
                                              : 20.0f + 0.1f * x + 0.05f * y;
-        save(argv[4], &f);
+        save(argv[4], &f, NULL);
         relief_depth_frame_free(&f);
         return 0;
     }
