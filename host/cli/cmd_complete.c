@@ -101,8 +101,9 @@ static int check(complete_cli *c)
         return cli_usage_error(c->cm.cmd, "-o: '%s' has no known mesh extension (.ply, .obj, "
                                ".off, .stl)", c->cm.out);
     memcpy(c->outs, outs, sizeof outs);
-    if (cli_check_outputs(c->cm.cmd, &c->in, 1, c->outs, 4))
-        return EXIT_USAGE;
+    const int check_rc = cli_check_outputs(c->cm.cmd, &c->in, 1, c->outs, 4);
+    if (check_rc)
+        return check_rc;
     if (relief_complete_params_validate(&c->p, &err) != RELIEF_OK)
         return cli_fail(c->cm.cmd, &err);
     return 0;

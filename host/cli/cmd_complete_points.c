@@ -134,8 +134,9 @@ static int check_files(points_cli *pc)
         return cli_usage_error(cmd, "--mesh: '%s' has no mesh extension (.ply .obj .off .stl)",
                                pc->mesh);
     memcpy(pc->outs, outs, sizeof outs);
-    if (cli_check_outputs(cmd, ins, 2, pc->outs, 3))
-        return EXIT_USAGE;
+    const int check_rc = cli_check_outputs(cmd, ins, 2, pc->outs, 3);
+    if (check_rc)
+        return check_rc;
     /* --device -1 is the default's value: the option given or not, the same run. */
     if ((pc->p.run.backend == RELIEF_BACKEND_OPENCL || pc->p.run.device >= 0) &&
         pc->p.grid_search == RELIEF_GRID_SEARCH_KDTREE)

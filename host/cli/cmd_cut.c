@@ -112,8 +112,9 @@ int cli_cmd_cut(int argc, char **argv, int parse_only)
     {
         const cli_output outs[] = {{"-o", cm.out, CLI_OUT_FILE},
                                    {"--truth", a.truth, CLI_OUT_FILE}};
-        if (cli_check_outputs("cut", &in_path, 1, outs, 2))
-            return EXIT_USAGE;
+        const int check_rc = cli_check_outputs("cut", &in_path, 1, outs, 2);
+        if (check_rc)
+            return check_rc;
         if (parse_only)
             return 0;
         if (cli_read_mesh("cut", in_path, 0, &in, NULL, &err) != RELIEF_OK ||

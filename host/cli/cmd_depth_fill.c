@@ -106,37 +106,37 @@ static int take(void *ctx, int c, const char *arg)
     return 0;
 }
 
-/* The files' names of one run (a->in to a->cm.out): 1 when they fit
- * together. */
+/* The files' names of one run (a->in to a->cm.out): 0 when they fit
+ * together, else the exit status (said). */
 static int check_files(depth_args *a)
 {
     const char *out = a->cm.out, *ins[3];
     in_kind kout, kt;
     if (!kind_of_name(a->in, &a->kind))
-        return !cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm, .png or "
+        return cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm, .png or "
                                 "a mesh's .ply, .obj, .off, .stl", a->in);
     if (!kind_of_name(out, &kout) || kout != a->kind)
-        return !cli_usage_error("depth-fill", "-o: '%s': OUT is written in IN's format: give "
+        return cli_usage_error("depth-fill", "-o: '%s': OUT is written in IN's format: give "
                                 "it IN's extension (a mesh: .ply, .obj, .off or .stl)", out);
     if (a->kind == IN_MESH && (a->cm.mask || a->points))
-        return !cli_usage_error("depth-fill", "%s--mask and --points are for depth images, "
+        return cli_usage_error("depth-fill", "%s--mask and --points are for depth images, "
                                 "not meshes", "");
     if (a->points && a->kind != IN_PCD)
-        return !cli_usage_error("depth-fill", "--points: '%s': points need an organised PCD "
+        return cli_usage_error("depth-fill", "--points: '%s': points need an organised PCD "
                                 "input (a depth image has no camera)", a->points);
     if (a->truth && a->kind == IN_MESH && !cli_known_mesh_ext(a->truth))
-        return !cli_usage_error("depth-fill", "--truth '%s': a mesh's truth is the complete "
+        return cli_usage_error("depth-fill", "--truth '%s': a mesh's truth is the complete "
                                 "mesh (.ply, .obj, .off or .stl)", a->truth);
     if (a->truth && a->kind != IN_MESH && (!kind_of_name(a->truth, &kt) || kt != a->kind)) {
         fprintf(stderr, "relief depth-fill: error: --truth %s: expected IN's format (%s)\n",
                 a->truth, kind_name(a->kind));
-        return 0;
+        return EXIT_USAGE;
     }
     ins[0] = a->in, ins[1] = a->cm.mask, ins[2] = a->truth;
     a->outs[0] = (cli_output){"-o", out, CLI_OUT_FILE};
     a->outs[1] = (cli_output){"--points", a->points, CLI_OUT_FILE};
     a->outs[2] = (cli_output){"--report", a->cm.report, CLI_OUT_FILE};
-    return !cli_check_outputs("depth-fill", ins, 3, a->outs, 3);
+    return cli_check_outputs("depth-fill", ins, 3, a->outs, 3);
 }
 
 /* The options into *a: -1 to go on, else the exit status. */
@@ -156,8 +156,9 @@ static int parse_args(int argc, char **argv, depth_args *a)
 static int check_run(depth_args *a)
 {
     relief_error err = {0};
-    if (!check_files(a))
-        return EXIT_USAGE;
+    int rc = check_files(a);
+    if (rc)
+        return rc;
     a->p.run.input_name = a->in;
     a->p.run.output_name = a->cm.out;
     if (relief_depth_fill_params_validate(&a->p, &err) != RELIEF_OK)

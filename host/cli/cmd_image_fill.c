@@ -165,8 +165,9 @@ static int one(image_job *j, const char *in, int parse_only)
                                j->cm.out);
     if (relief_image_fill_params_validate(&j->p, &err) != RELIEF_OK)
         return cli_fail(j->cm.cmd, &err);
-    if (cli_check_outputs(j->cm.cmd, ins, 2, outs, 2))
-        return EXIT_USAGE;
+    const int check_rc = cli_check_outputs(j->cm.cmd, ins, 2, outs, 2);
+    if (check_rc)
+        return check_rc;
     return parse_only ? 0 : run(&j->cm, in, &j->p);
 }
 

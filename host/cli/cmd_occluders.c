@@ -165,34 +165,35 @@ static int split_views(occ_args *a)
     return 1;
 }
 
-/* The operands and the files' names: 1 when they fit together. */
+/* The operands and the files' names: 0 when they fit together, else the
+ * exit status (said). */
 static int check_files(occ_args *a, int argc, char **argv)
 {
     const char *cmd = a->cm.cmd, *out, *ins[5 + RELIEF_OCCLUDER_MAX_VIEWS];
     int pcd;
     if (!cli_one_input(&a->cm, argc, argv, "input IN", &a->in))
-        return 0;
+        return EXIT_USAGE;
     out = a->cm.out;
     pcd = !strcasecmp(cli_ext_of(a->in), ".pcd");
     if (!pcd && !is_image_name(a->in))
-        return !cli_usage_error(cmd, "IN: '%s' is neither an organised PCD (.pcd) nor a colour "
+        return cli_usage_error(cmd, "IN: '%s' is neither an organised PCD (.pcd) nor a colour "
                                 "image (.png, .jpg) with --depth", a->in);
     if (pcd == (a->depth != NULL))
-        return !cli_usage_error(cmd, pcd ? "--depth %s: a PCD carries its own depth"
+        return cli_usage_error(cmd, pcd ? "--depth %s: a PCD carries its own depth"
                                          : "IN '%s' is a colour image: give its depth with "
                                            "--depth DEPTH.png", pcd ? a->depth : a->in);
     if (a->remove && !a->depth != !a->depth_out)
-        return !cli_usage_error(cmd, "%s--depth-out is the repaired depth of a colour and depth "
+        return cli_usage_error(cmd, "%s--depth-out is the repaired depth of a colour and depth "
                                 "input: give both or neither", "");
     if (!a->remove && strcasecmp(cli_ext_of(out), ".png"))
-        return !cli_usage_error(cmd, "-o: '%s': the mask is a PNG", out);
+        return cli_usage_error(cmd, "-o: '%s': the mask is a PNG", out);
     if (a->remove && (pcd ? strcasecmp(cli_ext_of(out), ".pcd") != 0 : !is_image_name(out)))
-        return !cli_usage_error(cmd, "-o: '%s': OUT is written as IN: give it IN's kind "
+        return cli_usage_error(cmd, "-o: '%s': OUT is written as IN: give it IN's kind "
                                 "(.pcd, or .png / .jpg for a colour image)", out);
     if (a->depth_out && strcasecmp(cli_ext_of(a->depth_out), ".png"))
-        return !cli_usage_error(cmd, "--depth-out '%s': the depth is a 16-bit PNG", a->depth_out);
+        return cli_usage_error(cmd, "--depth-out '%s': the depth is a 16-bit PNG", a->depth_out);
     if (!split_views(a))
-        return 0;
+        return EXIT_USAGE;
     ins[0] = a->in, ins[1] = a->depth, ins[2] = a->cm.mask, ins[3] = a->bg_mesh;
     ins[4] = a->poses;
     for (int k = 0; k < a->n_views; ++k)
@@ -205,8 +206,8 @@ static int check_files(occ_args *a, int argc, char **argv)
     a->outs[5] = (cli_output){"--depth-out", a->depth_out, CLI_OUT_FILE};
     a->outs[6] = (cli_output){"--colour-out", a->colour_out, CLI_OUT_FILE};
     if (a->colour_out && !is_image_name(a->colour_out))
-        return !cli_usage_error(cmd, "--colour-out '%s': a PNG or JPEG", a->colour_out);
-    return !cli_check_outputs(cmd, ins, 5 + (size_t)a->n_views, a->outs, 7);
+        return cli_usage_error(cmd, "--colour-out '%s': a PNG or JPEG", a->colour_out);
+    return cli_check_outputs(cmd, ins, 5 + (size_t)a->n_views, a->outs, 7);
 }
 
 static int parse_args(int argc, char **argv, occ_args *a, int remove)
@@ -221,8 +222,8 @@ static int parse_args(int argc, char **argv, occ_args *a, int remove)
     rc = cli_parse(&s, &a->cm, &a->p.find, take, a, argc, argv);
     if (rc)
         return rc < 0 ? 0 : rc;
-    if (!check_files(a, argc, argv))
-        return EXIT_USAGE;
+    if ((rc = check_files(a, argc, argv)) != 0)
+        return rc;
     a->p.find.run.input_name = a->in;
     a->p.find.run.output_name = a->cm.out;
     a->p.colour.run.backend = a->p.depth.run.backend = a->p.find.run.backend;

@@ -136,8 +136,9 @@ int cli_cmd_render(int argc, char **argv, int parse_only)
         return cli_usage_error("render", "-o: '%s' does not end in .png; relief renders PNG "
                            "images", cm.out);
     out.path = cm.out;
-    if (cli_check_outputs("render", &in, 1, &out, 1))
-        return EXIT_USAGE;
+    const int check_rc = cli_check_outputs("render", &in, 1, &out, 1);
+    if (check_rc)
+        return check_rc;
     if (parse_only)
         return 0;
     st = cli_read_mesh("render", in, 0, &mesh, NULL, &err);

@@ -95,8 +95,9 @@ int cli_cmd_synth(int argc, char **argv, int parse_only)
     {
         const cli_output outs[] = {{"-o", cm.out, CLI_OUT_FILE},
                                    {"--truth", a.truth, CLI_OUT_FILE}};
-        if (cli_check_outputs("synth", NULL, 0, outs, 2))
-            return EXIT_USAGE;
+        const int check_rc = cli_check_outputs("synth", NULL, 0, outs, 2);
+        if (check_rc)
+            return check_rc;
         if (relief_synth_kind_parse(kind, &a.sp.kind, &err) != RELIEF_OK ||
             relief_synth_params_validate(&a.sp, &err) != RELIEF_OK)
             return cli_fail("synth", &err);

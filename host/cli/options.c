@@ -269,8 +269,9 @@ int cli_check_outputs(const char *cmd, const char *const *ins, size_t n_ins,
             if (cli_same_file(outs[p].path, outs[o].path))
                 return refuse(cmd, &outs[o], "is also named by %s: one file per output",
                               outs[p].opt);
-        if (check_output(cmd, &outs[o]))
-            return EXIT_USAGE;
+        int rc = check_output(cmd, &outs[o]);
+        if (rc)
+            return rc;
     }
     return 0;
 }

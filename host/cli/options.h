@@ -166,7 +166,8 @@ typedef struct cli_output {
  * goes in that is missing or not writable, a --report-dir that cannot be
  * one (report/report_dir.h), the same file as one of ins[0 .. n_ins) (NULL
  * entries skipped) or as another output. One line naming the option and
- * the path; returns EXIT_USAGE then, else 0. */
+ * the path; returns the exit status then (EXIT_USAGE, or 2 for what the
+ * system refuses: a read-only file system), else 0. */
 int cli_check_outputs(const char *cmd, const char *const *ins, size_t n_ins,
                       const cli_output *outs, size_t n_outs);
 

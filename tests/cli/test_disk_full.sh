@@ -239,5 +239,19 @@ full 0 "$R/o.png" "$F/d.png" -- "${rc[@]}" -o "$R/o.png" --depth-out "$F/d.png"
 full 0 "$F/r.png" -- "$relief" render "$in/pw.ply" -o "$F/r.png" --size 64x48
 
 ((fail > fail_then)) && bad=$((bad + 1))
+
+# A read-only file system (root: a tmpfs mounted ro) is the system's to
+# name, and a resource failure: exit 2 with "Read-only file system", never
+# "no permission" (issue 60 item 10), before any work and the file kept.
+if [[ $mode == tmpfs ]] && mkdir "$tmp/ro" && mount -t tmpfs -o size=64k tmpfs "$tmp/ro" 2>/dev/null; then
+  echo "the user's" > "$tmp/ro/x.ply"
+  mount -o remount,ro "$tmp/ro" 2>/dev/null
+  "$relief" synth plane-waves -o "$tmp/ro/x.ply" --vertices 200 2>"$tmp/err"
+  got=$?
+  ok '[[ $got -eq 2 ]] && grep -q "Read-only file system" "$tmp/err" && [[ $(wc -l < "$tmp/err") -eq 1 ]]' \
+     "a read-only file system: exit $got: $(cat "$tmp/err")"
+  ok '[[ $(cat "$tmp/ro/x.ply") == "the user'"'"'s" ]]' "a file on a read-only file system changed"
+  umount "$tmp/ro"
+fi
 echo "test_disk_full ($mode): $cases cases ($bad failed), $pass checks passed, $fail failed"
 [[ $fail -eq 0 ]]
