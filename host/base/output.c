@@ -77,10 +77,11 @@ char *relief_output_name(const char *dir, const char *role, long pid, const char
 
 /* ---------------------------------------------------------- sinks */
 
-relief_status relief_sink_text(relief_sink *s, void *ctx, relief_error *err)
+relief_status relief_sink_bytes(relief_sink *s, void *ctx, relief_error *err)
 {
+    const relief_bytes *b = ctx;
     (void)err;
-    fputs((const char *)ctx, s->f);
+    fwrite(b->data, 1, b->n, s->f);
     return RELIEF_OK;
 }
 

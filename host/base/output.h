@@ -61,8 +61,16 @@ relief_status relief_output_file(const char *path, relief_sink_fn write, void *c
 relief_status relief_output_plain(const char *path, const char *shown, relief_sink_fn write,
                                   void *ctx, relief_error *err);
 
-/* A text sink's helper: fputs and report 0, for writers built on it. */
-relief_status relief_sink_text(relief_sink *s, void *ctx, relief_error *err);
+/* Bytes already made (an encoded PNG, a checkpoint's record), for
+ * relief_sink_bytes. */
+typedef struct relief_bytes {
+    const void *data;
+    size_t n;
+} relief_bytes;
+
+/* A relief_sink_fn writing the relief_bytes ctx points to (a failed write
+ * is the sink's to tell, with the system's reason). */
+relief_status relief_sink_bytes(relief_sink *s, void *ctx, relief_error *err);
 
 /* The folder `path` goes in (malloc'ed; "." when it names none) and its
  * last name (borrowed from path). NULL when out of memory. */

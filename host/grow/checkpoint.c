@@ -207,26 +207,12 @@ static void put_hier(buffer *b, const relief_hierarchy_state *h)
 }
 
 /* What bytes_sink writes. */
-typedef struct bytes {
-    const unsigned char *data;
-    size_t n;
-} bytes;
-
-/* (A failed write is the sink's to tell, with the system's reason.) */
-static relief_status bytes_sink(relief_sink *s, void *ctx, relief_error *err)
-{
-    const bytes *b = ctx;
-    (void)err;
-    fwrite(b->data, 1, b->n, s->f);
-    return RELIEF_OK;
-}
-
 /* Writes the n bytes to path whole or not at all (base/output.h). */
 static relief_status write_whole(const char *path, const unsigned char *data, size_t n,
                                  relief_error *err)
 {
-    bytes b = {data, n};
-    return relief_output_file(path, bytes_sink, &b, err);
+    relief_bytes b = {data, n};
+    return relief_output_file(path, relief_sink_bytes, &b, err);
 }
 
 relief_status relief_checkpoint_check_path(const char *path, int *exists, relief_error *err)

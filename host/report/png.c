@@ -321,33 +321,19 @@ relief_status relief_png_encode(const uint8_t *rgb, int width, int height, uint8
     return relief_png_encode_pixels(rgb, width, height, 3, 8, out, n, err);
 }
 
-/* What png_sink writes: encoded bytes. */
-typedef struct png_bytes {
-    const uint8_t *data;
-    size_t n;
-} png_bytes;
-
-static relief_status png_sink(relief_sink *s, void *ctx, relief_error *err)
-{
-    const png_bytes *b = ctx;
-    if (fwrite(b->data, 1, b->n, s->f) != b->n)
-        return relief_fail_errno(err, errno ? errno : EIO, s->path, "cannot write");
-    return RELIEF_OK;
-}
-
 /* Encode, then write into a sink (to), a file inside a staged folder
  * (plain: shown names it) or a file on its own. */
 static relief_status png_out(const char *path, relief_sink *to, const char *shown,
                              const uint8_t *rgb, int width, int height, relief_error *err)
 {
-    png_bytes b = {NULL, 0};
+    relief_bytes b = {NULL, 0};
     uint8_t *png = NULL;
     relief_status st = relief_png_encode(rgb, width, height, &png, &b.n, err);
     b.data = png;
     if (st == RELIEF_OK)
-        st = to ? png_sink(to, &b, err)
-             : shown ? relief_output_plain(path, shown, png_sink, &b, err)
-                     : relief_output_file(path, png_sink, &b, err);
+        st = to ? relief_sink_bytes(to, &b, err)
+             : shown ? relief_output_plain(path, shown, relief_sink_bytes, &b, err)
+                     : relief_output_file(path, relief_sink_bytes, &b, err);
     free(png);
     return st;
 }
