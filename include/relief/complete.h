@@ -280,7 +280,11 @@ typedef struct relief_complete_params {
     const char *checkpoint;     /* file the growth's state is saved to when the
                                    call is cancelled or the device fails, and
                                    every checkpoint_every seconds; removed when
-                                   the call succeeds; NULL (default): none */
+                                   the call succeeds, unless it was there
+                                   before the call (a relief checkpoint, then
+                                   replaced, never removed; any other file is
+                                   refused, RELIEF_REASON_NOT_RELIEFS); NULL
+                                   (default): none */
     double checkpoint_every;    /* seconds between saves; 300, >= 0; 0: only on
                                    cancel or failure */
     const char *resume;         /* a checkpoint of a call with the same input
@@ -319,8 +323,11 @@ RELIEF_API const relief_param *relief_smooth_param_table(size_t *count);
 /* A --report-dir folder staged by relief_complete, not yet in place. */
 typedef struct relief_report_folder relief_report_folder;
 
-/* Move the folder into place (replacing an earlier report there) and free
- * it; on failure it is removed. NULL is accepted (nothing to do). */
+/* Move the folder into place and free it; on failure it is removed. A
+ * folder there before is replaced only when it is empty or a report relief
+ * wrote (its .relief-report marker, nothing else added), else
+ * RELIEF_E_IO with reason RELIEF_REASON_NOT_RELIEFS. NULL is accepted
+ * (nothing to do). */
 RELIEF_API relief_status relief_report_folder_commit(relief_report_folder *folder,
                                                      relief_error *err);
 

@@ -340,8 +340,12 @@ typedef struct relief_write_options {
 /* Write a mesh as PLY, OBJ, OFF or STL by the path's extension. PLY keeps
  * colour and the `label` property; OFF keeps colour; OBJ and STL keep
  * geometry only. The file is written under a temporary name in the same
- * folder and renamed into place, so `path` is either the complete new file
- * or untouched. `opts` may be NULL (defaults). */
+ * folder, every write, the flush and fsync checked, and renamed into
+ * place, so `path` is either the complete new file or untouched. A full
+ * disk, a file size limit, an I/O error or a read-only file system is
+ * RELIEF_E_SYSTEM with the system's reason and `path` (err->sys_errno,
+ * err->reason); a folder that is not there or not writable, RELIEF_E_IO.
+ * `opts` may be NULL (defaults). */
 RELIEF_API relief_status relief_mesh_write(const relief_mesh *mesh, const char *path,
                                 const relief_write_options *opts,
                                 relief_error *err);

@@ -81,8 +81,10 @@ RELIEF_API relief_status relief_depth_decode(const void *data, size_t n, const c
  * organised PCD (needs xyz; rgb when set); a 16-bit PNG of z x png_scale
  * rounded, 0 where missing (png_scale 0: the default, as relief_depth_read;
  * a filled depth rounds to at least 1, a deep one clamps at 65535).
- * RELIEF_E_IO naming the path, RELIEF_E_USAGE for a PCD without xyz,
- * RELIEF_E_RANGE for a bad size, format or png_scale. */
+ * Whole or not at all, as relief_mesh_write (RELIEF_E_SYSTEM on a full
+ * disk, with the system's reason), RELIEF_E_IO naming the path,
+ * RELIEF_E_USAGE for a PCD without xyz, RELIEF_E_RANGE for a bad size,
+ * format or png_scale. */
 RELIEF_API relief_status relief_depth_write(const relief_depth_image *f, const char *path,
                                             relief_depth_format format, double png_scale,
                                             relief_error *err);

@@ -55,9 +55,10 @@ RELIEF_API relief_status relief_image_decode(const void *data, size_t n, const c
                                              relief_error *err);
 
 /* Write `img` as PNG or JPEG by the path's extension (.png, .jpg, .jpeg),
- * atomically: the file appears whole or not at all. PNG keeps channels and
- * bit depth; JPEG (quality 95) takes 8 bits and drops alpha. RELIEF_E_FORMAT
- * for another extension or 16 bits to JPEG; RELIEF_E_IO naming the path. */
+ * whole or not at all, as relief_mesh_write (RELIEF_E_SYSTEM on a full
+ * disk, with the system's reason). PNG keeps channels and bit depth; JPEG
+ * (quality 95) takes 8 bits and drops alpha. RELIEF_E_FORMAT for another
+ * extension or 16 bits to JPEG; RELIEF_E_IO naming the path. */
 RELIEF_API relief_status relief_image_write(const relief_image *img, const char *path,
                                             relief_error *err);
 
