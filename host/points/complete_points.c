@@ -12,6 +12,7 @@
 #include "base/parallel.h"
 #include "base/pool.h"
 #include "base/vec3.h"
+#include "mesh/hole_fill.h"
 #include "mesh/mesh.h"
 #include "mesh/weld.h"
 #include "points/analysis.h"
@@ -122,6 +123,8 @@ typedef struct work {
     uint32_t *rim, *nhole, *near_rim;
     uint8_t *unknown, *exemplar, *rim_term;
     relief_rbf *rbf;
+    uint32_t *ptri;       /* a mesh's hole patches (mesh/hole_fill.h): pnt x 3 */
+    size_t pnt;
 } work;
 
 static void work_free(work *w)
@@ -134,6 +137,7 @@ static void work_free(work *w)
     free(w->rim), free(w->nhole), free(w->near_rim);
     free(w->unknown), free(w->exemplar), free(w->rim_term);
     relief_rbf_free(w->rbf);
+    free(w->ptri);
 }
 
 static relief_status nomem(const work *w, relief_error *err)
@@ -337,11 +341,64 @@ static relief_status stage_base(work *w, relief_error *err)
 }
 
 /* 3. The base's holes filled by the RBF, new base points laid on it. */
+/* A mesh's holes closed on its base (mesh/hole_fill.h): the patches'
+ * vertices are the new points, their normals the base mesh's, and their
+ * triangles kept for the result (5b), closed and edge to edge with the
+ * rims, where a patch of the RBF's points triangulated afterwards left
+ * cracks. */
+static relief_status fill_mesh_holes(work *w, size_t max_new, relief_error *err)
+{
+    const relief_mesh *in = w->in;
+    relief_hole_fill_options o;
+    relief_hole_patches hp;
+    relief_mesh bm = {0};
+    double *vn = NULL;
+    relief_status st;
+    relief_hole_fill_options_default(&o);
+    o.max_new = max_new;
+    st = relief_fill_rims(w->base, w->n, in->tri, in->nt, w->rim, &o, &hp, err);
+    if (st != RELIEF_OK)
+        return st;
+    w->rep->patch_skipped = hp.skipped;
+    bm.nv = w->n + hp.nv_new, bm.nt = in->nt + hp.nt_new;
+    bm.pos = malloc(bm.nv * 3 * sizeof *bm.pos + 1);
+    bm.tri = malloc(bm.nt * 3 * sizeof *bm.tri + 1);
+    vn = malloc(bm.nv * 3 * sizeof *vn + 1);
+    w->nnrm = malloc(hp.nv_new * 3 * sizeof *w->nnrm + 1);
+    if (!bm.pos || !bm.tri || !vn || !w->nnrm) {
+        st = nomem(w, err);
+        goto done;
+    }
+    memcpy(bm.pos, w->base, w->n * 3 * sizeof *bm.pos);
+    memcpy(bm.pos + 3 * w->n, hp.pos, hp.nv_new * 3 * sizeof *bm.pos);
+    memcpy(bm.tri, in->tri, in->nt * 3 * sizeof *bm.tri);
+    memcpy(bm.tri + 3 * in->nt, hp.tri, hp.nt_new * 3 * sizeof *bm.tri);
+    relief_mesh_vertex_normals(&bm, vn);
+    for (size_t i = 0; i < hp.nv_new; ++i) {
+        const double *v = vn + 3 * (w->n + i);
+        double len = sqrt(dot3(v, v));
+        for (int e = 0; e < 3; ++e)
+            w->nnrm[3 * i + e] = len > 0.0 ? v[e] / len : 0.0;
+    }
+    w->m = hp.nv_new;
+    w->npos = hp.pos, w->nhole = hp.hole, w->ptri = hp.tri, w->pnt = hp.nt_new;
+    hp.pos = NULL, hp.hole = NULL, hp.tri = NULL;
+done:
+    relief_hole_patches_free(&hp);
+    free(bm.pos), free(bm.tri), free(vn);
+    return st;
+}
+
 static relief_status stage_fill(work *w, relief_error *err)
 {
     const relief_points_params *p = w->p;
     relief_points_report *rep = w->rep;
-    if (w->want_geometry && rep->holes.n_holes) {
+    if (w->want_geometry && rep->holes.n_holes && w->in->nt &&
+        p->mesh_patch == RELIEF_MESH_PATCH_FAIR) {
+        relief_status st = fill_mesh_holes(w, p->max_new ? p->max_new : 4 * w->n, err);
+        if (st != RELIEF_OK)
+            return st;
+    } else if (w->want_geometry && rep->holes.n_holes) {
         relief_rbf_params rp = p->rbf;
         rp.threads = threads_of(p);
         size_t max_new = p->max_new ? p->max_new : 4 * w->n;
@@ -587,18 +644,23 @@ static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
         rep->mesh_bare_points = si.bare_points;
         return RELIEF_OK;
     }
-    if (p->keep_base) {
+    if (w->ptri) { /* the patches closed the holes (fill_mesh_holes) */
+        pt = w->ptri, pnt = w->pnt;
+        w->ptri = NULL;
+    } else if (p->keep_base) {
         /* The caller grows detail on the base (base_surface.h): join the
          * holes where they lie on it. The captured rim stands off the bare
          * base by the detail, which can be wider than the patches reach
          * (fertility: detail RMS 1.7 spacings). */
         mpos = w->tpos, mnrm = w->tnrm;
     }
-    st = relief_points_patch_mesh(mpos, mnrm, w->n, w->N, w->rim, w->nhole, rep->holes.n_holes,
-                                  w->spacing, in->tri, in->nt, &pt, &pnt, &rep->patch_skipped,
-                                  err);
-    if (st != RELIEF_OK)
-        return st;
+    if (!pt) {
+        st = relief_points_patch_mesh(mpos, mnrm, w->n, w->N, w->rim, w->nhole,
+                                      rep->holes.n_holes, w->spacing, in->tri, in->nt, &pt, &pnt,
+                                      &rep->patch_skipped, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
     out->tri = malloc((in->nt + pnt) * 3 * sizeof *out->tri + 1);
     if (!out->tri) {
         free(pt);

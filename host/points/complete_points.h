@@ -29,6 +29,8 @@
 #include "points/rbf.h"
 #include "points/texopt.h"
 
+enum { RELIEF_MESH_PATCH_FAIR = 0, RELIEF_MESH_PATCH_RBF = 1 };
+
 typedef struct relief_points_params {
     relief_points_what what;
     int k;                /* neighbours of the local analysis, 6..64 (default 16) */
@@ -69,6 +71,11 @@ typedef struct relief_points_params {
     int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm),
                              and the mesh's hole patches join the points on it */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
+    int mesh_patch;       /* a mesh's holes: RELIEF_MESH_PATCH_FAIR (0, the default)
+                             closes each on the base by mesh/hole_fill.h, its
+                             vertices the new points; RELIEF_MESH_PATCH_RBF lays
+                             paper 002's RBF points and triangulates them after
+                             (points/patch_mesh.h), as relief did before issue 61 */
     relief_progress *progress; /* NULL (default), or the caller's: the stages take
                                   consecutive shares of it (analysis, base, fill,
                                   texture, result), and a cancel stops the run at the
