@@ -13,9 +13,12 @@
  *     used. A polygon of more than RELIEF_HOLE_DP_MAX vertices, where the
  *     O(n^3) search would take seconds, is cut by ears instead, smallest
  *     angle first, over the rim's mean plane.
- *  2. Refine: a triangle whose centroid lies farther than sigma / sqrt(2)
+ *  2. Refine: a triangle whose centroid lies farther than sigma / 1.7
  *     from each of its corners (sigma: the mean edge length about a rim
- *     vertex, interpolated inward) is split at the centroid, and the
+ *     vertex, interpolated inward; Liepa's factor is sqrt 2, which leaves
+ *     the patch at 60 % of the capture's vertex density, where relief's
+ *     growth wants a target for each sample the capture would have had)
+ *     is split at the centroid, and the
  *     patch's edges are flipped until every one is Delaunay (opposite
  *     angles summing to at most pi), until nothing splits: the patch takes
  *     the capture's own density.

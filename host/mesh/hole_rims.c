@@ -239,35 +239,37 @@ static size_t walk_loop(fill_job *j, uint32_t v, uint8_t *seen, uint32_t *poly)
     return ok && u == v ? n : 0;
 }
 
-/* The loop's labelled runs: the whole loop when one label covers it,
- * else each run of one label, as an arc. */
+/* The loop's fill: the whole loop when one label covers it, else the arc
+ * from the first labelled vertex to the last, round the other way from the
+ * longest stretch without the label (a notch's rim weaves in and out of a
+ * ball that selects it: the stretches it leaves inside are bridged). A
+ * loop that carries two labels closes the first's arc only. */
 static relief_status close_loop(fill_job *j, uint32_t *poly, size_t n, uint32_t *run,
                                 relief_error *err)
 {
     const uint32_t *rim = j->rim;
-    size_t s = 0, all = 1;
-    for (size_t i = 1; i < n; ++i)
+    size_t all = 1, gap = 0, gap_end = 0, m = 0;
+    uint32_t h = 0;
+    for (size_t i = 0; i < n; ++i) {
         all &= rim[poly[i]] == rim[poly[0]];
-    if (all)
-        return rim[poly[0]] ? close_polygon(j, poly, n, 1, rim[poly[0]], err) : RELIEF_OK;
-    while (rim[poly[s]] == rim[poly[(s + n - 1) % n]]) /* start where a run starts */
-        ++s;
-    for (size_t i = 0; i < n;) {
-        uint32_t h = rim[poly[(s + i) % n]];
-        size_t m = 0;
-        while (i < n && rim[poly[(s + i) % n]] == h)
-            run[m++] = poly[(s + i) % n], ++i;
-        if (!h)
-            continue;
-        if (m < 3) {
-            ++j->out->skipped;
-            continue;
-        }
-        relief_status st = close_polygon(j, run, m, 0, h, err);
-        if (st != RELIEF_OK)
-            return st;
+        if (!h && rim[poly[i]])
+            h = rim[poly[i]];
     }
-    return RELIEF_OK;
+    if (all)
+        return h ? close_polygon(j, poly, n, 1, h, err) : RELIEF_OK;
+    /* the longest stretch off h, walked twice round to see it whole */
+    for (size_t i = 0, len = 0; i < 2 * n; ++i) {
+        len = rim[poly[i % n]] == h ? 0 : len + 1;
+        if (len > gap && len <= n)
+            gap = len, gap_end = i % n;
+    }
+    for (size_t i = 1; i + gap <= n; ++i)
+        run[m++] = poly[(gap_end + i) % n];
+    if (m < 3) {
+        ++j->out->skipped;
+        return RELIEF_OK;
+    }
+    return close_polygon(j, run, m, 0, h, err);
 }
 
 relief_status relief_fill_rims(const double *pos, size_t nv, const uint32_t *tri, size_t nt,

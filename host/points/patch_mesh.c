@@ -726,18 +726,29 @@ relief_status relief_points_open_loops(const uint32_t *tri, size_t nt, size_t N,
     qsort(e, 3 * nt, sizeof *e, relief_cmp_u64);
     for (size_t v = 0; v < N; ++v)
         parent[v] = (uint32_t)v;
+    /* on: 1 on the boundary, 2 on a loop through a vertex of the capture
+     * off every filled rim (a border the hole model leaves open, which an
+     * arc's chord may join: issue 61) */
     for (size_t i = 0, j; i < 3 * nt; i = j) {
         const uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
         for (j = i + 1; j < 3 * nt && e[j] == e[i]; ++j)
             ;
-        if (j - i != 1 || !(a >= n_in || rim[a] || b >= n_in || rim[b]))
-            continue; /* inside, or a border the hole model leaves open */
-        ++*edges;
-        on[a] = on[b] = 1;
+        if (j - i != 1)
+            continue;
+        on[a] |= 1, on[b] |= 1;
         relief_uf_join(parent, a, b);
     }
+    for (size_t v = 0; v < n_in; ++v)
+        if (on[v] && !rim[v])
+            on[relief_uf_find(parent, (uint32_t)v)] |= 2;
     for (size_t v = 0; v < N; ++v)
-        *loops += on[v] && relief_uf_find(parent, (uint32_t)v) == v;
+        *loops += on[v] == 1 && relief_uf_find(parent, (uint32_t)v) == v;
+    for (size_t i = 0, j; i < 3 * nt; i = j) {
+        const uint32_t a = (uint32_t)(e[i] >> 32);
+        for (j = i + 1; j < 3 * nt && e[j] == e[i]; ++j)
+            ;
+        *edges += j - i == 1 && !(on[relief_uf_find(parent, a)] & 2);
+    }
     free(e), free(parent), free(on);
     return RELIEF_OK;
 }

@@ -69,10 +69,13 @@ relief_status relief_points_patch_mesh(const double *pos, const double *nrm, siz
 
 /* What is left open about the filled holes of a completed surface (nt x 3
  * triangles over N points, the input's n_in first, rim their hole ids as
- * for relief_points_patch_mesh): *edges, the boundary edges with a new
- * point or a filled hole's rim point at one end, and *loops, the groups
- * they join into. Issue 40: a completion said to fill a hole must close
- * it; these say where it did not. RELIEF_E_NOMEM. */
+ * for relief_points_patch_mesh): *loops, the boundary loops all of whose
+ * vertices are new or on a filled hole's rim, and *edges, their edges. A
+ * loop through a capture vertex off every filled rim is an opening the
+ * hole model leaves (a border, a mouth; the chord that closes a notch
+ * joins its border's loop) and is not counted. Issue 40: a completion said
+ * to fill a hole must close it; these say where it did not.
+ * RELIEF_E_NOMEM. */
 relief_status relief_points_open_loops(const uint32_t *tri, size_t nt, size_t N, size_t n_in,
                                        const uint32_t *rim, size_t *edges, size_t *loops,
                                        relief_error *err);

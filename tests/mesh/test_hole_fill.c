@@ -133,7 +133,9 @@ static void test_flat(void)
     CHECK(relief_fill_rims(m.pos, m.nv, m.tri, m.nt, rim, NULL, &p, &err) == RELIEF_OK, "%s",
           err.message);
     CHECK(p.polygons == 1 && p.arcs == 0 && p.skipped == 0, "%zu polygons", p.polygons);
-    CHECK(p.nv_new > 20, "the hole's refinement added %zu vertices", p.nv_new);
+    printf("flat: %zu new vertices (the grid had about 43 there)\n", p.nv_new);
+    CHECK(p.nv_new >= 35 && p.nv_new <= 52, "the refinement keeps the grid's density: %zu "
+          "vertices where it had about 43", p.nv_new);
     for (size_t i = 0; i < p.nv_new; ++i)
         zmax = fmax(zmax, fabs(p.pos[3 * i + 2]));
     CHECK(zmax < 1e-9, "a flat hole's patch is flat: |z| up to %g", zmax);
