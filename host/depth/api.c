@@ -561,7 +561,7 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
     memset(&patch, 0, sizeof patch);
     if (st == RELIEF_OK && !p->solid)
         st = mesh_holes(in, p, &holes, &rim, err);
-    if (st == RELIEF_OK && !p->solid && !any_whole_rim(&holes))
+    if (st == RELIEF_OK && !p->solid && p->skin && !any_whole_rim(&holes))
         st = nothing_patched(&holes, err);
     if (st != RELIEF_OK) {
         relief_hole_info_free(&holes);
@@ -581,7 +581,9 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
     if (st == RELIEF_OK && !p->solid) {
         relief_mesh *solid = o;
         o = NULL;
-        st = relief_mesh_patch_holes(in, solid, r.grid.h, &holes, rim, &o, &patch, err);
+        st = p->skin ? relief_mesh_patch_holes(in, solid, r.grid.h, &holes, rim, &o, &patch,
+                                               err)
+                     : relief_mesh_fair_holes(in, solid, r.grid.h, rim, &o, &patch, err);
         relief_mesh_destroy(solid);
         if (st == RELIEF_OK && patch.holes_patched == 0)
             st = nothing_patched(&holes, err);

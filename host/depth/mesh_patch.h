@@ -36,4 +36,18 @@ relief_status relief_mesh_patch_holes(const relief_mesh *in, const relief_mesh *
                                       const uint32_t *rim, relief_mesh **out,
                                       relief_mesh_patch_report *rep, relief_error *err);
 
+/* The default since issue 61: each hole the model fills (rim: in->nv
+ * labels, as relief_holes_mesh gives them; a notch's arc closed by its
+ * chord) closed by mesh/hole_fill.h's faired patch, edge to edge with its
+ * rim; then, where the repaired solid (may be NULL: the faired patch as
+ * it is) lies within 3 voxels of a patch vertex along its normal, the
+ * vertex takes the solid's offset, smoothed over the patch (the voxels'
+ * steps do not come through) and faded in over the three rings next to
+ * the rim. `in`'s vertices and triangles come first, unchanged; what is
+ * added is labelled 1 and coloured as its rim on average. The report's
+ * patch and vertex counts are set (strip_triangles 0). */
+relief_status relief_mesh_fair_holes(const relief_mesh *in, const relief_mesh *solid,
+                                     double voxel, const uint32_t *rim, relief_mesh **out,
+                                     relief_mesh_patch_report *rep, relief_error *err);
+
 #endif

@@ -49,6 +49,9 @@ static const relief_param table[] = {
     RP_FLAG(T, solid, "meshes: return the whole repaired solid, every opening capped and "
             "the inside filled (paper 003; default: the capture with only its holes "
             "filled, the hole model's: its mouths and borders stay open)"),
+    RP_FLAG(T, skin, "meshes: close each hole with the repaired solid's skin zipped to its "
+            "rim (paper 003's surface; default: a faired patch from the rim's own edges, "
+            "given the solid's relief where it lies within 3 voxels)"),
     RP_REAL(T, max_hole, "L", 0, 1e30, "meshes: holes whose rims are wider than L (mesh "
             "units) are openings by design (a vessel's mouth) and stay open; 0 (default): "
             "a quarter of the bounding box's diagonal"),

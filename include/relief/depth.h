@@ -200,6 +200,13 @@ typedef struct relief_depth_fill_params {
                             (default: OpenCL on the device run.device names,
                             else the host's threads); the same bytes on
                             every backend */
+    int skin;            /* meshes, without solid: 1 closes each hole with the
+                            solid's skin zipped to its rim (paper 003's
+                            surface, relief's route before issue 61); 0
+                            (default): with a faired patch made from the
+                            rim's own edges (closed, no crossing at the
+                            seam), given the solid's relief where the solid
+                            lies within 3 voxels of it */
 } relief_depth_fill_params;
 
 /* The defaults above. */
@@ -299,8 +306,8 @@ RELIEF_API relief_status relief_depth_fill(relief_depth_image *f, const relief_i
  * front and back depths kept, and their surface extracted, closed. With
  * p->solid that surface is *out; by default *out is `in` (the vertices in a
  * triangle and the triangles first, in order, as relief_mesh_repair leaves
- * them) with the skin over each hole the hole model
- * fills zipped into its rim, labelled 1 (relief_depth_fill_params.solid).
+ * them) with each hole the hole model fills closed, what is added
+ * labelled 1 (relief_depth_fill_params.solid and .skin).
  * `truth` (may be NULL): the complete mesh, measured against (p->truth must
  * be NULL). RELIEF_E_RANGE for a mesh without triangles, or when the hole
  * model fills no hole (the message names the loops and what would fill
