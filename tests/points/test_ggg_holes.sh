@@ -136,8 +136,9 @@ fi
 # plinth's front edge merges with the plinth's open bottom into one loop,
 # which the model leaves open (too large). A hole mask at the cut fills
 # that loop in part, only its rim points within the mask: the new points
-# stay at the cut and the plinth's bottom stays open. depth-fill cannot
-# join a patch to a rim that is no closed loop: it says so, exit 1.
+# stay at the cut and the plinth's bottom stays open. depth-fill closes
+# the same notch (issue 61: it refused, having no closed rim to zip its
+# skin to): its arc of the loop and the chord between the arc's ends.
 "$relief" cut "$data/Angel.ply" --ball 26.75,-68.85,-100,15 -o "$tmp/edge.ply" 2>/dev/null || exit 2
 expect 0 "" -- "$relief" complete-points "$tmp/edge.ply" -o "$tmp/edge_o.ply" --report "$tmp/edge.json" --iterations 2 --quiet
 ok '[[ $(fate "$tmp/edge.json" 2 4 -111) == too_large ]]' "the cut merged with the plinth's border is not left open by default: $(fate "$tmp/edge.json" 2 4 -111)"
@@ -147,8 +148,11 @@ far="$(new_points "$tmp/edge_m.ply" True) $(new_points "$tmp/edge_m.ply" "math.d
 ok '[[ ${far% *} -gt 50 && ${far#* } == 0 ]]' "the in-part fill: ${far% *} new points, ${far#* } over 40 from the cut (the plinth's bottom capped?)"
 read -r plinth longest _ <<<"$(boundary "$tmp/edge_mm.ply" 0 9 -112 60)"
 ok '[[ $plinth -ge 1 && $longest -ge 150 ]]' "the plinth's bottom is not left open by the in-part fill: ${plinth:-?} loops there, the longest ${longest:-?} edges"
-expect 1 "no closed rim" -- "$relief" depth-fill "$tmp/edge.ply" -o "$tmp/bad.ply" --hole-mask ball:26.75,-68.85,-100,18 --quiet
-ok '[[ ! -e "$tmp/bad.ply" ]]' "depth-fill left an output when it patched nothing"
+expect 0 "" -- "$relief" depth-fill "$tmp/edge.ply" -o "$tmp/edge_d.ply" --hole-mask ball:26.75,-68.85,-100,18 --resolution 96 --quiet
+far="$(new_points "$tmp/edge_d.ply" True) $(new_points "$tmp/edge_d.ply" "math.dist((x, y, z), (26.75, -68.85, -100)) > 40")"
+ok '[[ ${far% *} -gt 20 && ${far#* } == 0 ]]' "depth-fill's notch: ${far% *} new vertices, ${far#* } over 40 from the cut"
+read -r plinth longest _ <<<"$(boundary "$tmp/edge_d.ply" 0 9 -112 60)"
+ok '[[ $plinth -ge 1 && $longest -ge 150 ]]' "depth-fill's notch closed the plinth's bottom: ${plinth:-?} loops there, the longest ${longest:-?} edges"
 
 # Nothing to fill: every rim wider than a tiny max_hole.
 expect 1 "nothing to fill" -- "$relief" complete-points "$tmp/angel.ply" -o "$tmp/bad.ply" --max-hole 0.001
@@ -187,8 +191,11 @@ ok '[[ $longest == 0 ]]' "depth-fill --solid is not closed: a loop of $longest e
 # the outer face of its thin wall only (the inner face is captured too).
 # depth-fill's patch follows the flutes: at each new vertex on the outer
 # wall, its radius about the pot's axis against the truth's at the same
-# angle and height, both less their means, correlate (0.83 here) and
-# differ by about the flutes' own spread (RMS 2.2, the truth's SD 2.0).
+# angle and height, both less their means, correlate (0.83 here with the
+# solid's skin; 0.76 with the faired patch of issue 61, which takes the
+# capture's density: 22 vertices on the wall where the skin had the
+# voxels', over 200) and differ by about the flutes' own spread (RMS 2.2,
+# the truth's SD 2.0).
 # complete and complete-points do not (correlation 0.06: the base's
 # implicit surface wanders between the two faces; README).
 if [[ $full == 1 ]]; then
@@ -218,7 +225,7 @@ print(len(pairs), "%.3f" % (sab / math.sqrt(saa * sbb)),
       "%.3f" % math.sqrt(sbb / len(pairs)))
 PY
 )"
-ok 'python3 -c "import sys; sys.exit(not ($n >= 200 and $corr >= 0.6 and $rms <= 1.5 * $sd))"' "depth-fill does not continue the pot's flutes: ${n:-?} new vertices on the wall, correlation ${corr:-?} with the truth's radius (0.6 wanted), RMS ${rms:-?} against the flutes' SD ${sd:-?}"
+ok 'python3 -c "import sys; sys.exit(not ($n >= 15 and $corr >= 0.6 and $rms <= 1.5 * $sd))"' "depth-fill does not continue the pot's flutes: ${n:-?} new vertices on the wall, correlation ${corr:-?} with the truth's radius (0.6 wanted), RMS ${rms:-?} against the flutes' SD ${sd:-?}"
 fi
 expect 1 "nothing to fill" -- "$relief" depth-fill "$tmp/vase.ply" -o "$tmp/bad.ply" --hole-mask ball:0,0,1000,1
 ok '[[ ! -e "$tmp/bad.ply" ]]' "output left behind when depth-fill fills nothing"
