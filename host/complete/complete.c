@@ -134,6 +134,11 @@ static relief_status smooth_base(relief_complete_run *r, relief_error *err)
         r->holes = prep.holes; /* taken: the report's list */
         memset(&prep.holes, 0, sizeof prep.holes);
         r->has_holes = 1;
+        /* what the base's surface has open at the holes it filled, as
+         * counted on it (points/patch_mesh.h) */
+        r->closed_checked = 1;
+        r->open_loops = prep.open_loops;
+        r->open_edges = prep.open_edges;
         relief_points_report_free(&prep);
     }
     return st;
@@ -229,6 +234,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                                  : relief_params_rotations(&r->st.params, r->s->fit.prim.model);
     if (!r->smooth_base) /* else the fit is only reported */
         note_surface(r);
+    relief_complete_note_open_rims(r);
     st = relief_complete_holes_closed(r, err);
     if (st != RELIEF_OK)
         return st;
@@ -608,6 +614,7 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_complete_pa
     if (st == RELIEF_OK) {
         own.seconds_smooth = relief_seconds() - r.t0;
         note_surface(&r);
+        relief_complete_note_open_rims(&r);
         st = relief_complete_holes_closed(&r, err);
     }
     if (st == RELIEF_OK) {

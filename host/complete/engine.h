@@ -79,6 +79,10 @@ typedef struct relief_complete_run {
 relief_status relief_complete_holes(relief_complete_run *r, relief_error *err);
 void relief_complete_holes_free(relief_complete_run *r);
 
+/* A note naming the widest rims the hole model left open by its rule (an
+ * outer border, an opening wider than max_hole) and what would fill each. */
+void relief_complete_note_open_rims(relief_complete_run *r);
+
 /* Once the surface is built over a primitive with only holes filled: the
  * loops of its boundary that no opening the capture keeps by design (a
  * rim not filled: its outer border, a mouth, a notch) explains, most of

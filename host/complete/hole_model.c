@@ -101,11 +101,41 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
     return RELIEF_OK;
 }
 
+void relief_complete_note_open_rims(relief_complete_run *r)
+{
+    const relief_hole_info *h = &r->holes;
+    char list[520];
+    if (!r->has_holes || h->n_borders + h->n_too_large == 0)
+        return;
+    relief_holes_open_list(h, 2, 0, list, sizeof list);
+    relief_complete_note(r, 0, "left open: %u outer border(s), %u opening(s) wider than "
+                         "max_hole %.4g%s", h->n_borders, h->n_too_large, h->max_across, list);
+}
+
+/* A selection told which holes to fill: one left open is a failure. */
+static relief_status told_hole_open(relief_complete_run *r, relief_error *err)
+{
+    if (!r->open_loops || !(r->cp->has_hole_ball || r->cp->hole_labels))
+        return RELIEF_OK;
+    return relief_fail_reason(err, RELIEF_E_RANGE, RELIEF_REASON_HOLES_LEFT_OPEN,
+                              "the hole the selection names is not closed: %zu loop(s) of the "
+                              "completed surface (%zu boundary vertices) are open where it "
+                              "filled", r->open_loops, r->open_edges);
+}
+
 relief_status relief_complete_holes_closed(relief_complete_run *r, relief_error *err)
 {
     const relief_mesh *m = r->s ? r->s->mesh : NULL;
     relief_open_loops o;
     relief_status st;
+    if (r->smooth_base && r->closed_checked) { /* counted on the base (smooth_base) */
+        if (r->open_loops)
+            relief_complete_note(r, 1, "%zu loop%s of the completed surface (%zu boundary "
+                                 "edges) %s open where holes were filled",
+                                 r->open_loops, r->open_loops == 1 ? "" : "s", r->open_edges,
+                                 r->open_loops == 1 ? "is" : "are");
+        return told_hole_open(r, err);
+    }
     if (!r->has_holes || r->smooth_base || !m || r->s->fill.region != RELIEF_FILL_HOLES)
         return RELIEF_OK;
     st = relief_holes_not_closed(r->capture, r->rim, m, 2.0 * r->s->spacing, &o, err);
@@ -114,6 +144,8 @@ relief_status relief_complete_holes_closed(relief_complete_run *r, relief_error 
     r->closed_checked = 1;
     r->open_loops = o.loops;
     r->open_edges = o.vertices;
+    if (o.loops && (r->cp->has_hole_ball || r->cp->hole_labels))
+        return told_hole_open(r, err);
     if (o.loops)
         relief_complete_note(r, 1, "%zu loop%s of the completed surface (%zu boundary vertices, "
                              "the largest %zu at (%.4g, %.4g, %.4g)) %s open where no opening of "

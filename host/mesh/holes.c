@@ -402,17 +402,19 @@ double relief_hole_size_limit(const double *pos, size_t n, double max_hole)
              : 0.0;
 }
 
-/* No hole is filled: say what was found, the widest rims left open and
- * what would fill each, on one line. */
-relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err)
+size_t relief_holes_open_list(const relief_hole_info *h, int k, int unselected, char *buf,
+                              size_t size)
 {
-    char list[400] = "";
     size_t len = 0;
     uint8_t *shown = calloc(h->n_rims + 1, 1);
-    for (int k = 0; k < 3 && shown; ++k) {
+    if (size)
+        buf[0] = '\0';
+    for (int i = 0; i < k && shown; ++i) {
         uint32_t best = UINT32_MAX;
         for (uint32_t r = 0; r < h->n_rims; ++r)
-            if (!shown[r] && h->rims[r].fate != RELIEF_RIM_TOO_SMALL &&
+            if (!shown[r] && (h->rims[r].fate == RELIEF_RIM_BORDER ||
+                              h->rims[r].fate == RELIEF_RIM_TOO_LARGE ||
+                              (unselected && h->rims[r].fate == RELIEF_RIM_NOT_SELECTED)) &&
                 (best == UINT32_MAX || h->rims[r].across > h->rims[best].across))
                 best = r;
         if (best == UINT32_MAX)
@@ -422,15 +424,26 @@ relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *
         char larger[48] = "";
         if (r->fate == RELIEF_RIM_TOO_LARGE)
             relief_snprintf_c(larger, sizeof larger, "max_hole %.4g or ", 1.01 * r->across);
-        len += (size_t)relief_snprintf_c(list + len, len < sizeof list ? sizeof list - len : 0,
+        len += (size_t)relief_snprintf_c(buf + len, len < size ? size - len : 0,
                                          "; %s rim of %u points, %.4g across at (%.4g, %.4g, "
-                                         "%.4g): %shole_ball %.4g,%.4g,%.4g,%.4g fills it",
+                                         "%.4g): %shole_ball %.4g,%.4g,%.4g,%.4g fills it%s",
                                          relief_rim_fate_name(r->fate), r->points, r->across,
                                          r->centre[0], r->centre[1], r->centre[2], larger,
                                          r->centre[0], r->centre[1], r->centre[2],
-                                         0.6 * r->across);
+                                         0.6 * r->across,
+                                         r->fate == RELIEF_RIM_BORDER ? " (a ball at a notch "
+                                         "of it fills the notch)" : "");
     }
     free(shown);
+    return len;
+}
+
+/* No hole is filled: say what was found, the widest rims left open and
+ * what would fill each, on one line. */
+relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err)
+{
+    char list[600];
+    relief_holes_open_list(h, 3, 1, list, sizeof list);
     return relief_fail_reason(err, RELIEF_E_RANGE, RELIEF_REASON_NOTHING_TO_FILL,
                        RELIEF_HOLES_NONE_FILLED " no hole to fill among %u rim(s) "
                        "(%u outer border(s), %u wider than max_hole %.4g, %u not selected, %u "

@@ -99,6 +99,13 @@ void relief_hole_info_free(relief_hole_info *info);
  * the diagonal of the n points' bounding box. */
 double relief_hole_size_limit(const double *pos, size_t n, double max_hole);
 
+/* The k widest rims the model leaves open by its rule (outer borders,
+ * wider than max_across; with `unselected`, those a selection misses too), each as "; FATE rim of N points, W across at
+ * (X, Y, Z): [max_hole L or ]hole_ball X,Y,Z,R fills it" into buf (size
+ * bytes, always terminated); the length it would take is returned. */
+size_t relief_holes_open_list(const relief_hole_info *h, int k, int unselected, char *buf,
+                              size_t size);
+
 /* How relief_holes_none_filled's message begins. */
 #define RELIEF_HOLES_NONE_FILLED "nothing to fill:"
 

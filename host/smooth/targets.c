@@ -722,6 +722,22 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *
         goto done;
 
     region_stats(&rg, &cov, param, stats);
+    if (fill == RELIEF_FILL_AUTO && pr->model != RELIEF_FIT_PLANE && !extent &&
+        stats->all_round && stats->holes == 0 && rg.pts.n > 0) {
+        /* Issue 61: a band all round a cylinder whose cut merged with its
+         * border has no enclosed hole; its whole would be the primitive
+         * beyond the capture, not a hidden side. */
+        st = relief_fail_param(err, RELIEF_E_RANGE, "fill", "the capture goes all round the "
+                               "%s and encloses no hole: fill auto would complete the %s beyond "
+                               "it (%zu targets, %.0f%% of the captured extent uncovered); a "
+                               "cut that reaches the capture's border is filled with "
+                               "hole_ball (--hole-mask ball:X,Y,Z,R), the whole with fill "
+                               "whole (--fill whole)",
+                               relief_fit_model_name(pr->model),
+                               relief_fit_model_name(pr->model), rg.pts.n,
+                               100.0 * (1.0 - stats->cover));
+        goto done;
+    }
     if (fill == RELIEF_FILL_AUTO)
         fill = auto_fill(pr, extent, stats);
     stats->region = fill;
