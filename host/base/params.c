@@ -42,7 +42,8 @@ relief_search_mode relief_params_search(const relief_params *params, size_t ns, 
 {
     if (params->search != RELIEF_SEARCH_AUTO)
         return params->search;
-    return (double)ns * rotations * (double)n_targets > RELIEF_SEARCH_AUTO_WORK
+    return (double)ns * rotations * (double)n_targets >
+                   (params->told_holes ? RELIEF_SEARCH_AUTO_WORK_TOLD : RELIEF_SEARCH_AUTO_WORK)
                ? RELIEF_SEARCH_COHERENT : RELIEF_SEARCH_EXHAUSTIVE;
 }
 

@@ -79,7 +79,7 @@ static const relief_param table[] = {
     RP_ENUM(T, search, "S", searches, "auto (default), exhaustive or coherent: score every "
             "sample for each target (paper 000), or only those that continue its "
             "neighbours' patches and their K most similar (k-coherence: sub-quadratic); "
-            "auto is coherent above 2.5e7 samples x R x targets"),
+            "auto is coherent above 2.5e7 samples x R x targets (2.5e6 when --hole-mask tells the holes)"),
     RP_INT(T, search_k, "K", 1, 64, "similar samples per patch for the coherent search, "
            "1..64 (default 8)"),
     RP_INT(T, levels, "M", 1, 8, "hierarchy levels, 1..8 (default 1: mono-scale)"),

@@ -138,6 +138,7 @@ void relief_complete_stages_make(const relief_complete_params *p, relief_complet
     g->seed = p->seed;
     g->coherence = p->coherence;
     g->search = p->search;
+    g->told_holes = p->has_hole_ball || p->hole_labels;
     g->search_k = p->search_k;
     g->levels = p->levels;
     g->backend = p->run.backend;

@@ -496,13 +496,29 @@ relief_status relief_holes_selection(const relief_mesh *m, int labels, int has_b
                            "`label` property)");
     if (!labels && !has_ball)
         return RELIEF_OK;
-    if (!(*select = calloc(m->nv + 1, 1)))
+    double *reach = labels ? NULL : calloc(m->nv + 1, sizeof *reach);
+    if (!(*select = calloc(m->nv + 1, 1)) || (!labels && !reach)) {
+        free(*select), free(reach);
+        *select = NULL;
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole selection");
+    }
+    /* A ball selects the vertices whose star it reaches: within R and the
+     * vertex's longest edge. The ball a hole was cut with (relief cut
+     * --ball) holds none of the hole's rim, which lies just outside it. */
+    for (size_t t = 0; reach && t < m->nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
+            double e[3], len;
+            sub3(m->pos + 3 * (size_t)a, m->pos + 3 * (size_t)b, e);
+            len = sqrt(dot3(e, e));
+            reach[a] = fmax(reach[a], len), reach[b] = fmax(reach[b], len);
+        }
     for (size_t v = 0; v < m->nv; ++v) {
         double d[3];
         sub3(m->pos + 3 * v, ball, d);
-        (*select)[v] = labels ? m->label[v] != 0 : dot3(d, d) <= ball[3] * ball[3];
+        (*select)[v] = labels ? m->label[v] != 0 : sqrt(dot3(d, d)) <= ball[3] + reach[v];
     }
+    free(reach);
     return RELIEF_OK;
 }
 

@@ -126,7 +126,9 @@ relief_status relief_hole_ball_check(const char *name, const double ball[4],
 
 /* A selection of a mesh's vertices (*select: nv bytes, owned, 1 when
  * selected): those with a non-zero label (labels; RELIEF_E_USAGE when the
- * mesh has none) or within ball (has_ball); NULL when neither is asked. */
+ * mesh has none) or whose star the ball reaches (has_ball: within its
+ * radius and the vertex's longest edge, so that the ball a hole was cut
+ * with selects its rim); NULL when neither is asked. */
 relief_status relief_holes_selection(const relief_mesh *m, int labels, int has_ball,
                                      const double ball[4], uint8_t **select, relief_error *err);
 
