@@ -13,6 +13,7 @@
 #include "base/union_find.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
+#include "mesh/mesh_check.h"
 
 
 static const char *const fate_names[] = {"", "filled", "too_small", "border", "too_large",
@@ -228,12 +229,6 @@ relief_status relief_holes_label(const double *pos, size_t n, const uint8_t *mar
     return RELIEF_OK;
 }
 
-static int u64_cmp(const void *x, const void *y)
-{
-    uint64_t a = *(const uint64_t *)x, b = *(const uint64_t *)y;
-    return (a > b) - (a < b);
-}
-
 /* The boundary of nt triangles over n vertices: mark[v] 1 on a boundary
  * edge (an undirected edge met once), parent joining the ends of each such
  * edge, piece (when not NULL) every triangle's corners. parent and piece
@@ -242,15 +237,9 @@ static int boundary_marks(const uint32_t *tri, size_t nt, size_t n, uint8_t *mar
                           uint32_t *parent, uint32_t *piece, size_t *n_edges)
 {
     const size_t m = 3 * nt;
-    uint64_t *e = malloc(m * sizeof *e + 1);
+    uint64_t *e = relief_edge_keys(tri, nt);
     if (!e)
         return 0;
-    for (size_t t = 0; t < nt; ++t)
-        for (int c = 0; c < 3; ++c) {
-            uint64_t a = tri[3 * t + c], b = tri[3 * t + (c + 1) % 3];
-            e[3 * t + c] = a < b ? (a << 32 | b) : (b << 32 | a);
-        }
-    qsort(e, m, sizeof *e, u64_cmp);
     for (size_t i = 0; i < n; ++i) {
         parent[i] = (uint32_t)i;
         if (piece)

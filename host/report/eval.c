@@ -1,6 +1,7 @@
-/* relief_eval (relief/eval.h): the measures of a completion (measures.h)
- * and its pattern distances (pattern.h), as the figures a caller reads
- * and as the JSON and the lines `relief eval` prints. */
+/* relief_eval (relief/eval.h): the measures of a completion (measures.h),
+ * its pattern distances (pattern.h) and its closure where it completed
+ * (mesh/mesh_check.h), as the figures a caller reads and as the JSON and
+ * the lines `relief eval` prints. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,8 +11,17 @@
 #include "base/error.h"
 #include "base/json.h"
 #include "base/numtext.h"
+#include "mesh/mesh.h"
+#include "mesh/mesh_check.h"
 #include "report/measures.h"
 #include "report/pattern.h"
+
+/* What relief_eval measured, for its renderings. */
+typedef struct eval_measures {
+    const relief_measures *m;
+    const relief_pattern *pat;
+    relief_closure closure;
+} eval_measures;
 
 static void print_measures_text(FILE *f, const relief_measures *m)
 {
@@ -62,31 +72,39 @@ static void print_pattern_text(FILE *f, const char *what, const relief_pattern_d
     fputc('\n', f);
 }
 
-static void write_text(FILE *f, const relief_measures *m, const relief_pattern *pat)
+static void write_text(FILE *f, const eval_measures *e)
 {
-    print_measures_text(f, m);
+    const relief_pattern *pat = e->pat;
+    print_measures_text(f, e->m);
     print_pattern_text(f, "", &pat->d_height, pat->has_truth ? &pat->d_truth_height : NULL,
                        pat->height, pat->has_truth ? pat->truth_height : NULL);
     if (pat->has_colour)
         print_pattern_text(f, "_colour", &pat->d_colour,
                            pat->has_truth_colour ? &pat->d_truth_colour : NULL, pat->colour,
                            pat->has_truth_colour ? pat->truth_colour : NULL);
+    fprintf(f, "open_loops_completed: %zu\nopen_edges_completed: %zu\n",
+            e->closure.open_loops, e->closure.open_edges);
+    fprintf(f, "nonmanifold_edges_completed: %zu\nself_intersections_completed: %zu\n",
+            e->closure.nonmanifold_edges, e->closure.self_intersections);
 }
 
-static void write_json(FILE *f, const relief_measures *m, const relief_pattern *pat)
+static void write_json(FILE *f, const eval_measures *e)
 {
     relief_json j;
     rj_init(&j, f);
     rj_begin_object(&j, NULL);
-    relief_report_measures_fields(&j, m);
-    relief_pattern_json_fields(&j, pat);
+    relief_report_measures_fields(&j, e->m);
+    relief_pattern_json_fields(&j, e->pat);
+    rj_int(&j, "open_loops_completed", (long long)e->closure.open_loops);
+    rj_int(&j, "open_edges_completed", (long long)e->closure.open_edges);
+    rj_int(&j, "nonmanifold_edges_completed", (long long)e->closure.nonmanifold_edges);
+    rj_int(&j, "self_intersections_completed", (long long)e->closure.self_intersections);
     rj_end_object(&j);
 }
 
-/* What write(f, m, pat) writes, as a string, its numbers in the C locale
+/* What write(f, e) writes, as a string, its numbers in the C locale
  * ("0.5" whatever the caller's); NULL when out of memory. */
-static char *render(void (*write)(FILE *, const relief_measures *, const relief_pattern *),
-                    const relief_measures *m, const relief_pattern *pat)
+static char *render(void (*write)(FILE *, const eval_measures *), const eval_measures *e)
 {
     char *buf = NULL;
     size_t len = 0;
@@ -95,7 +113,7 @@ static char *render(void (*write)(FILE *, const relief_measures *, const relief_
     if (!f)
         return NULL;
     relief_numtext_begin(&c);
-    write(f, m, pat);
+    write(f, e);
     relief_numtext_end(&c);
     if (fclose(f) != 0) {
         free(buf);
@@ -104,8 +122,9 @@ static char *render(void (*write)(FILE *, const relief_measures *, const relief_
     return buf;
 }
 
-static void fill(relief_eval_result *out, const relief_measures *m, const relief_pattern *pat)
+static void fill(relief_eval_result *out, const eval_measures *e)
 {
+    const relief_measures *m = e->m;
     out->prim = m->prim;
     out->captured = m->n_captured;
     out->completed = m->n_completed;
@@ -115,9 +134,13 @@ static void fill(relief_eval_result *out, const relief_measures *m, const relief
     out->hist_distance_displacement = m->hist_distance_displacement;
     out->hist_distance_colour = m->has_colour ? m->hist_distance_colour : NAN;
     out->seam_ratio = m->seam_ratio;
-    out->pattern_spectrum_distance = pat->d_height.spectrum;
+    out->pattern_spectrum_distance = e->pat->d_height.spectrum;
     out->has_truth = m->has_truth;
     out->truth_rms = m->has_truth ? m->truth_rms : NAN;
+    out->open_loops_completed = e->closure.open_loops;
+    out->open_edges_completed = e->closure.open_edges;
+    out->nonmanifold_edges_completed = e->closure.nonmanifold_edges;
+    out->self_intersections_completed = e->closure.self_intersections;
 }
 
 relief_status relief_eval(const relief_mesh *completed, const relief_mesh *truth,
@@ -127,6 +150,7 @@ relief_status relief_eval(const relief_mesh *completed, const relief_mesh *truth
     relief_measures *m;
     relief_pattern *pat;
     relief_eval_result r;
+    eval_measures e;
     relief_status st;
     if (!completed || !out)
         return relief_fail(err, RELIEF_E_USAGE, "%s is NULL", !completed ? "completed" : "out");
@@ -137,10 +161,14 @@ relief_status relief_eval(const relief_mesh *completed, const relief_mesh *truth
                   : relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the measures");
     if (st == RELIEF_OK)
         st = relief_pattern_measure(completed, &m->prim, truth, pat, err);
+    e.m = m, e.pat = pat;
+    if (st == RELIEF_OK) /* relief_measure has checked the labels are there */
+        st = relief_closure_check(completed->pos, completed->nv, completed->tri, completed->nt,
+                                  completed->label, &e.closure, err);
     if (st == RELIEF_OK) {
-        fill(&r, m, pat);
-        r.json = render(write_json, m, pat);
-        r.text = render(write_text, m, pat);
+        fill(&r, &e);
+        r.json = render(write_json, &e);
+        r.text = render(write_text, &e);
         if (!r.json || !r.text) {
             relief_eval_result_free(&r);
             st = relief_fail(err, RELIEF_E_NOMEM, "cannot write the measures");

@@ -3,7 +3,9 @@
  * to the captured part: the mean surface integral of each part (paper
  * 001's MSI, mean |D.n|) and their difference, histogram distances, the
  * seam, dominant frequencies, pattern distances between the parts' height
- * spectra, and, against a truth, the RMS relief error. */
+ * spectra, against a truth the RMS relief error, and whether the
+ * completed part is closed (no open or non-manifold edge, no crossing
+ * triangle there). */
 #ifndef RELIEF_EVAL_H
 #define RELIEF_EVAL_H
 
@@ -39,6 +41,18 @@ typedef struct relief_eval_result {
                                    (owned) */
     char *text;                 /* the same as lines of "name: value", as `relief
                                    eval` prints them (owned) */
+    /* Whether the completion closed what it filled (issue 61), on the
+       completed surface near its completed part: a completed vertex (label
+       != 0) or a neighbour of one through a triangle, where a patch meets
+       its rim. All 0 for a hole closed well. */
+    size_t open_loops_completed;  /* boundary loops with a vertex near it */
+    size_t open_edges_completed;  /* boundary edges (of one triangle) with an
+                                     end near it */
+    size_t nonmanifold_edges_completed; /* edges of three triangles or more
+                                     with an end near it */
+    size_t self_intersections_completed; /* triangles with a completed vertex
+                                     that cross or touch another elsewhere
+                                     than where the two are joined */
 } relief_eval_result;
 
 /* Free what the result owns and zero it. NULL accepted. */
