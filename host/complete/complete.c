@@ -573,6 +573,8 @@ relief_status relief_complete(const relief_mesh *capture, const relief_complete_
         st = prepare_growth(&r, err);
     if (st == RELIEF_OK)
         st = grow(&r, err);
+    if (st == RELIEF_OK)
+        st = relief_complete_untangle(&r, err);
     if (st == RELIEF_OK && relief_progress_step(&r.progress, 1.0))
         st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress callback after "
                          "the growth");

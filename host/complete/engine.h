@@ -79,6 +79,10 @@ typedef struct relief_complete_run {
 relief_status relief_complete_holes(relief_complete_run *r, relief_error *err);
 void relief_complete_holes_free(relief_complete_run *r);
 
+/* After the growth: the targets of crossing triangles drawn back toward
+ * the base (untangle.c); a remark counts them. RELIEF_E_NOMEM. */
+relief_status relief_complete_untangle(relief_complete_run *r, relief_error *err);
+
 /* A note naming the widest rims the hole model left open by its rule (an
  * outer border, an opening wider than max_hole) and what would fill each. */
 void relief_complete_note_open_rims(relief_complete_run *r);
