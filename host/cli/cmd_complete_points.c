@@ -188,6 +188,8 @@ static void summary(const points_cli *pc, const relief_complete_points_params *p
                         "wider than max_hole %.4g (--max-hole), %u not selected by the hole "
                         "mask (the report lists each)\n",
                 r->outer_borders, r->holes_too_large, r->max_hole, r->holes_not_selected);
+    if (r->holes_left[0])
+        fprintf(stderr, "relief complete-points: %s\n", r->holes_left);
 }
 
 /* Read IN (and the clone), complete, write the outputs. */

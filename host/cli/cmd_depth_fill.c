@@ -335,6 +335,8 @@ static int mesh_mode(depth_args *a)
     if (st == RELIEF_OK && !a->cm.quiet) {
         if (r.backend_note[0])
             fprintf(stderr, "relief depth-fill: %s\n", r.backend_note);
+        if (r.holes_left[0])
+            fprintf(stderr, "relief depth-fill: %s\n", r.holes_left);
         fprintf(stderr, "relief depth-fill: %s: %d x %d x %d voxels of %.4g; six depth images, "
                 "%zu pixels seen through holes, %zu repaired (variant %s); %zu inside voxels; "
                 "%zu vertices, %zu triangles; %.2f s\n", a->in, r.grid[0], r.grid[1], r.grid[2],

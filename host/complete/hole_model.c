@@ -103,13 +103,12 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
 
 void relief_complete_note_open_rims(relief_complete_run *r)
 {
-    const relief_hole_info *h = &r->holes;
-    char list[520];
-    if (!r->has_holes || h->n_borders + h->n_too_large == 0)
+    char line[640];
+    if (!r->has_holes)
         return;
-    relief_holes_open_list(h, 2, 0, list, sizeof list);
-    relief_complete_note(r, 0, "left open: %u outer border(s), %u opening(s) wider than "
-                         "max_hole %.4g%s", h->n_borders, h->n_too_large, h->max_across, list);
+    relief_holes_left_line(&r->holes, line, sizeof line);
+    if (line[0])
+        relief_complete_note(r, 0, "%s", line);
 }
 
 /* A selection told which holes to fill: one left open is a failure. */

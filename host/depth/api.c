@@ -593,6 +593,8 @@ relief_status relief_depth_fill_mesh(const relief_mesh *in, const relief_depth_f
     relief_patch_scorer_destroy(scorer);
     if (st == RELIEF_OK) {
         report_mesh(&r, truth ? &m : NULL, o, &local);
+        if (!p->solid)
+            relief_holes_left_line(&holes, local.holes_left, sizeof local.holes_left);
         local.seconds_total = relief_seconds() - t0;
         local.json = relief_depth_mesh_json(&p->run, &mp, &r, truth ? &m : NULL,
                                             p->solid ? NULL : &holes,

@@ -427,6 +427,18 @@ size_t relief_holes_open_list(const relief_hole_info *h, int k, int unselected, 
     return len;
 }
 
+void relief_holes_left_line(const relief_hole_info *h, char *buf, size_t size)
+{
+    char list[520];
+    if (size)
+        buf[0] = '\0';
+    if (h->n_borders + h->n_too_large == 0)
+        return;
+    relief_holes_open_list(h, 2, 0, list, sizeof list);
+    relief_snprintf_c(buf, size, "left open: %u outer border(s), %u opening(s) wider than "
+                      "max_hole %.4g%s", h->n_borders, h->n_too_large, h->max_across, list);
+}
+
 /* No hole is filled: say what was found, the widest rims left open and
  * what would fill each, on one line. */
 relief_status relief_holes_none_filled(const relief_hole_info *h, relief_error *err)

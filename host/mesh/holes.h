@@ -106,6 +106,11 @@ double relief_hole_size_limit(const double *pos, size_t n, double max_hole);
 size_t relief_holes_open_list(const relief_hole_info *h, int k, int unselected, char *buf,
                               size_t size);
 
+/* "" when no rim is left open by the rule, else "left open: B outer
+ * border(s), L opening(s) wider than max_hole M" and the two widest as
+ * relief_holes_open_list gives them, into buf (size bytes). */
+void relief_holes_left_line(const relief_hole_info *h, char *buf, size_t size);
+
 /* How relief_holes_none_filled's message begins. */
 #define RELIEF_HOLES_NONE_FILLED "nothing to fill:"
 

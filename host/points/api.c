@@ -356,6 +356,8 @@ static void write_json(relief_json *j, const void *ctx)
         rj_int(j, "triangles", (long long)r->mesh_triangles);
         if (!r->mesh_of_points) {
             rj_int(j, "copies_welded", (long long)r->copies_welded);
+            rj_int(j, "untangled", (long long)r->untangled);
+            rj_int(j, "crossing_left", (long long)r->crossing_left);
             rj_int(j, "open_loops", (long long)r->open_loops);
             rj_int(j, "open_edges", (long long)r->open_edges);
         }
@@ -407,6 +409,7 @@ static relief_status make_report(const relief_complete_points_params *p,
                                           relief_rim_fate_name(m->fate)};
     }
     out->n_hole_list = r->holes.n_rims;
+    relief_holes_left_line(&r->holes, out->holes_left, sizeof out->holes_left);
     out->spacing = r->spacing;
     out->detail_rms = r->detail_rms;
     out->reconstruction_rms = r->recon_rms;

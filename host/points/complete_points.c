@@ -14,6 +14,7 @@
 #include "base/vec3.h"
 #include "mesh/hole_fill.h"
 #include "mesh/mesh.h"
+#include "mesh/untangle.h"
 #include "mesh/weld.h"
 #include "points/analysis.h"
 #include "points/flow.h"
@@ -678,6 +679,12 @@ static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
     if (st != RELIEF_OK)
         return st;
     rep->patch_triangles = out->nt - in->nt;
+    /* the detail synthesised along the base's normals can push a new
+     * point next to the rim through the capture (issue 61) */
+    st = relief_untangle(out->pos, w->tpos, w->N, w->n, out->tri, out->nt, &rep->untangled,
+                         &rep->crossing_left, err);
+    if (st != RELIEF_OK)
+        return st;
     return relief_points_open_loops(out->tri, out->nt, w->N, w->n, w->rim, &rep->open_edges,
                                     &rep->open_loops, err);
 }

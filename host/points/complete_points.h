@@ -103,6 +103,9 @@ typedef struct relief_points_report {
                              hole or a new point left open, and the loops they make
                              (relief_points_open_loops) */
     size_t mesh_triangles;   /* all of *out's triangles (p->mesh) */
+    size_t untangled;        /* new points drawn back toward the base where their
+                                detail crossed the surface (mesh/untangle.h; p->mesh) */
+    size_t crossing_left;    /* triangles with a new point still crossing another */
     size_t copies_welded;    /* a split vertex's copies welded again where the patch
                              closed the pinch (p->mesh; mesh/weld.h) */
     int mesh_of_points;      /* 1: they are a point set's surface, counted below */
