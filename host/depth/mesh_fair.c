@@ -10,6 +10,7 @@
 #include "depth/mesh_patch.h"
 #include "mesh/hole_fill.h"
 #include "mesh/mesh.h"
+#include "mesh/untangle.h"
 
 /* The output: `in`, then the patches' vertices (labelled 1, coloured as
  * their rim on average) and triangles. */
@@ -171,6 +172,18 @@ relief_status relief_mesh_fair_holes(const relief_mesh *in, const relief_mesh *s
                 for (int e = 0; e < 3; ++e)
                     o->pos[3 * (in->nv + i) + e] += d[i] * ring[i] / 3.0 * u[3 * i + e];
         }
+    }
+    if (st == RELIEF_OK && hp.nv_new) { /* the offsets, or the patch, crossing the capture */
+        double *base = malloc(o->nv * 3 * sizeof *base);
+        if (!base)
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patches' offsets");
+        if (st == RELIEF_OK) {
+            memcpy(base, in->pos, in->nv * 3 * sizeof *base);
+            memcpy(base + 3 * in->nv, hp.pos, hp.nv_new * 3 * sizeof *base);
+            st = relief_untangle(o->pos, base, o->nv, in->nv, o->tri, o->nt, &rep->untangled,
+                                 &rep->crossing_left, err);
+        }
+        free(base);
     }
     if (st == RELIEF_OK) {
         rep->holes_patched = hp.polygons;

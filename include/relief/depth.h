@@ -267,6 +267,11 @@ typedef struct relief_depth_fill_report {
     double seconds_total;
     char *json;              /* the report as `relief depth-fill --report` writes
                                 it (owned) */
+    char holes_left[640];    /* mesh: "" or one line naming the widest rims the
+                                hole model left open by its rule (an outer
+                                border, an opening wider than max_hole), each
+                                with its size, centre and the max_hole or
+                                hole_ball that fills it */
 } relief_depth_fill_report;
 
 /* Free what the report owns and zero it. NULL accepted. */

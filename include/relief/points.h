@@ -223,6 +223,11 @@ typedef struct relief_complete_points_report {
                                 writes it, "input" and "output" from
                                 run.input_name and output_name (null when
                                 NULL) (owned) */
+    char holes_left[640];    /* "" or one line naming the widest rims the hole
+                                model left open by its rule (an outer border,
+                                an opening wider than max_hole), each with its
+                                size, centre and the max_hole or hole_ball that
+                                fills it */
 } relief_complete_points_report;
 
 /* Free what the report owns and zero it. NULL accepted. */

@@ -502,8 +502,11 @@ def fill_mesh_holes(vertices, faces, colours=None, *, resolution=None, seed=1, b
     """Fill a mesh's holes through the six depth images of its bounding box
     (paper 003, ``relief depth-fill`` on a mesh): the holes the hole model
     fills (``max_hole``, ``hole_mask="ball:X,Y,Z,R"``; a vessel's mouth and a
-    scan's border stay open) get a skin of the repaired solid zipped into
-    their rims; ``solid=True`` returns the whole closed solid instead.
+    scan's border stay open, a notch a ball selects in a border is closed by
+    its chord) are each closed by a faired patch made from the rim's own
+    edges, given the repaired solid's relief where it lies within 3 voxels;
+    ``skin=True`` zips the solid's skin into the rims instead (paper 003's
+    surface); ``solid=True`` returns the whole closed solid.
     ``resolution``: voxels along the box's longest side. Returns (vertices,
     faces, colours, labels): the input's first, in order, then the patches'
     (label 1)."""
