@@ -89,6 +89,8 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
         st = check_flag("seam", p->seam, err);
     if (st == RELIEF_OK)
         st = check_flag("solid", p->solid, err);
+    if (st == RELIEF_OK)
+        st = check_flag("skin", p->skin, err);
     return st;
 }
 

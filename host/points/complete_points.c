@@ -622,6 +622,26 @@ static relief_status result_points(work *w, relief_mesh **out_mesh, relief_error
     return st;
 }
 
+/* 5a'. A mesh's patches (fill_mesh_holes): the detail synthesised along
+ * the base's normals can push a new point next to the rim through the
+ * capture (issue 61); such points are drawn back toward the base
+ * (mesh/untangle.h), with or without p->mesh, so that the points are the
+ * same either way. */
+static relief_status untangle(work *w, relief_mesh *out, relief_error *err)
+{
+    const relief_mesh *in = w->in;
+    uint32_t *tri = malloc((in->nt + w->pnt) * 3 * sizeof *tri + 1);
+    relief_status st;
+    if (!tri)
+        return nomem(w, err);
+    memcpy(tri, in->tri, in->nt * 3 * sizeof *tri);
+    memcpy(tri + 3 * in->nt, w->ptri, w->pnt * 3 * sizeof *tri);
+    st = relief_untangle(out->pos, w->tpos, w->N, w->n, tri, in->nt + w->pnt,
+                         &w->rep->untangled, &w->rep->crossing_left, err);
+    free(tri);
+    return st;
+}
+
 /* 5b. The result's triangles (p->mesh): a bare point set's surface through
  * all its points, or a mesh's own triangles and patches over its holes. */
 static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
@@ -679,12 +699,6 @@ static relief_status result_mesh(work *w, relief_mesh *out, relief_error *err)
     if (st != RELIEF_OK)
         return st;
     rep->patch_triangles = out->nt - in->nt;
-    /* the detail synthesised along the base's normals can push a new
-     * point next to the rim through the capture (issue 61) */
-    st = relief_untangle(out->pos, w->tpos, w->N, w->n, out->tri, out->nt, &rep->untangled,
-                         &rep->crossing_left, err);
-    if (st != RELIEF_OK)
-        return st;
     return relief_points_open_loops(out->tri, out->nt, w->N, w->n, w->rim, &rep->open_edges,
                                     &rep->open_loops, err);
 }
@@ -719,6 +733,8 @@ static relief_status run_stages(work *w, relief_mesh **out, relief_error *err)
     }
     if (st == RELIEF_OK)
         st = result_points(w, out, err);
+    if (st == RELIEF_OK && w->ptri)
+        st = untangle(w, *out, err);
     if (st == RELIEF_OK && w->p->mesh)
         st = result_mesh(w, *out, err);
     if (st == RELIEF_OK && relief_progress_step(w->p->progress, 1.0))

@@ -723,10 +723,12 @@ relief_status relief_targets_lay(const relief_mesh *capture, const relief_mesh *
 
     region_stats(&rg, &cov, param, stats);
     if (fill == RELIEF_FILL_AUTO && pr->model != RELIEF_FIT_PLANE && !extent &&
-        stats->all_round && stats->holes == 0 && rg.pts.n > 0) {
+        stats->all_round && stats->holes == 0 && rg.pts.n > 0 && stats->cover >= 0.75) {
         /* Issue 61: a band all round a cylinder whose cut merged with its
          * border has no enclosed hole; its whole would be the primitive
-         * beyond the capture, not a hidden side. */
+         * beyond the capture, not a hidden side. (A capture that covers
+         * under 3/4 of its extent, as a sphere's dimples round a cylinder
+         * fitted poorly, has a side to complete.) */
         st = relief_fail_param(err, RELIEF_E_RANGE, "fill", "the capture goes all round the "
                                "%s and encloses no hole: fill auto would complete the %s beyond "
                                "it (%zu targets, %.0f%% of the captured extent uncovered); a "
