@@ -63,7 +63,8 @@ static const cli_own own[] = {
      "colour, with a 'label' property: 1 for the filled ones"},
     {"hole-mask", DF_HOLE_MASK, "WHAT", "(mesh) fill exactly the holes whose rims touch WHAT, "
      "whatever their size (a border, or a rim wider than max_hole, only where WHAT touches "
-     "it: not patched here): ball:X,Y,Z,R or label (the vertices with a non-zero PLY label)"},
+     "it: the notch, closed by its chord): ball:X,Y,Z,R or label (the vertices with a "
+     "non-zero PLY label)"},
     {NULL, 0, NULL, NULL}};
 
 static cli_spec spec(void)

@@ -67,6 +67,8 @@ typedef struct relief_complete_run {
     relief_hole_info holes;     /* every boundary loop and its fate */
     uint32_t *rim;              /* capture->nv: 0, or the filled hole's label */
     uint32_t *rim_index;        /* per label - 1: its index in holes.rims */
+    struct relief_rim_arc *arcs; /* the notches filled in part (mesh/hole_fill.h) */
+    size_t n_arcs;
     int closed_checked;         /* relief_complete_holes_closed ran: */
     size_t open_loops, open_edges; /* the surface's boundary loops where holes were
                                       filled, their vertices */

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "mesh/hole_fill.h"
 #include "mesh/mesh.h"
 #include "smooth/surface.h"
 
@@ -57,14 +58,27 @@ static int keep_region(void *ctx, const double *pts, size_t n)
 static int keep_point(void *ctx, const double *p)
 {
     const relief_complete_run *r = ctx;
-    for (uint32_t i = 0; i < r->holes.n_rims; ++i) {
-        const relief_rim *m = r->holes.rims + i;
-        double d2 = 0.0;
-        if (m->fate != RELIEF_RIM_FILLED || !m->part)
+    for (size_t i = 0; i < r->n_arcs; ++i) {
+        const relief_rim_arc *a = r->arcs + i;
+        const relief_rim *m = r->holes.rims + r->rim_index[a->label - 1];
+        const double *A = r->capture->pos + 3 * (size_t)a->first;
+        const double *B = r->capture->pos + 3 * (size_t)a->last;
+        double d2 = 0.0, mid[3], c[3], d[3], q[3], cc, t;
+        if (!m->part)
             continue;
-        for (int c = 0; c < 3; ++c)
-            d2 += (p[c] - m->centre[c]) * (p[c] - m->centre[c]);
-        if (sqrt(d2) <= 0.5 * m->across)
+        for (int e = 0; e < 3; ++e)
+            d2 += (p[e] - m->centre[e]) * (p[e] - m->centre[e]);
+        if (sqrt(d2) > 0.5 * m->across)
+            continue;
+        /* and on the notch's side of the chord across its ends (issue 61:
+         * the disc alone reached past the scan's border) */
+        for (int e = 0; e < 3; ++e)
+            mid[e] = 0.5 * (A[e] + B[e]), c[e] = B[e] - A[e], d[e] = a->mean[e] - mid[e];
+        cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+        t = cc > 0 ? (d[0] * c[0] + d[1] * c[1] + d[2] * c[2]) / cc : 0.0;
+        for (int e = 0; e < 3; ++e)
+            d[e] -= t * c[e], q[e] = p[e] - mid[e];
+        if (q[0] * d[0] + q[1] * d[1] + q[2] * d[2] >= 0.0)
             return 1;
     }
     return 0;
@@ -94,6 +108,11 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
     for (uint32_t i = 0; i < r->holes.n_rims; ++i)
         if (r->holes.rims[i].fate == RELIEF_RIM_FILLED && r->holes.rims[i].part)
             r->st.smooth.holes.keep_point = keep_point;
+    if (r->st.smooth.holes.keep_point) {
+        st = relief_rim_arcs(c->pos, c->nv, c->tri, c->nt, r->rim, &r->arcs, &r->n_arcs, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
     r->st.smooth.holes.ctx = r;
     r->st.smooth.holes.on_plane = selected || cp->max_hole > 0.0;
     if (selected && r->st.smooth.fill == RELIEF_FILL_AUTO)
@@ -160,6 +179,8 @@ void relief_complete_holes_free(relief_complete_run *r)
     relief_hole_info_free(&r->holes);
     free(r->rim);
     free(r->rim_index);
+    free(r->arcs);
     r->rim = r->rim_index = NULL;
+    r->arcs = NULL, r->n_arcs = 0;
     r->has_holes = 0;
 }

@@ -95,4 +95,17 @@ relief_status relief_fill_rims(const double *pos, size_t nv, const uint32_t *tri
                                const uint32_t *rim, const relief_hole_fill_options *o,
                                relief_hole_patches *out, relief_error *err);
 
+/* The arcs relief_fill_rims closes (a notch a selection takes of a
+ * border's loop): each one's label, its first and last vertex (the
+ * chord's ends) and its vertices' mean position; *arcs malloc'ed (NULL
+ * when none). RELIEF_E_NOMEM. */
+typedef struct relief_rim_arc {
+    uint32_t label, first, last;
+    double mean[3];
+} relief_rim_arc;
+
+relief_status relief_rim_arcs(const double *pos, size_t nv, const uint32_t *tri, size_t nt,
+                              const uint32_t *rim, relief_rim_arc **arcs, size_t *n_arcs,
+                              relief_error *err);
+
 #endif

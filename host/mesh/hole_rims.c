@@ -239,37 +239,89 @@ static size_t walk_loop(fill_job *j, uint32_t v, uint8_t *seen, uint32_t *poly)
     return ok && u == v ? n : 0;
 }
 
-/* The loop's fill: the whole loop when one label covers it, else the arc
- * from the first labelled vertex to the last, round the other way from the
- * longest stretch without the label (a notch's rim weaves in and out of a
- * ball that selects it: the stretches it leaves inside are bridged). A
- * loop that carries two labels closes the first's arc only. */
-static relief_status close_loop(fill_job *j, uint32_t *poly, size_t n, uint32_t *run,
-                                relief_error *err)
+/* The arc of a loop (poly, n) partly labelled: its label *h, and its m
+ * vertices from poly[*first] on, round the other way from the longest
+ * stretch without the label (a notch's rim weaves in and out of a ball
+ * that selects it: the stretches it leaves inside are bridged). A loop
+ * that carries two labels gives the first's. 0: the loop is whole (one
+ * label covers it; *h that label, or 0). */
+static int arc_of(const uint32_t *rim, const uint32_t *poly, size_t n, uint32_t *h,
+                  size_t *first, size_t *m)
 {
-    const uint32_t *rim = j->rim;
-    size_t all = 1, gap = 0, gap_end = 0, m = 0;
-    uint32_t h = 0;
+    size_t all = 1, gap = 0, gap_end = 0;
+    *h = 0;
     for (size_t i = 0; i < n; ++i) {
         all &= rim[poly[i]] == rim[poly[0]];
-        if (!h && rim[poly[i]])
-            h = rim[poly[i]];
+        if (!*h && rim[poly[i]])
+            *h = rim[poly[i]];
     }
     if (all)
-        return h ? close_polygon(j, poly, n, 1, h, err) : RELIEF_OK;
-    /* the longest stretch off h, walked twice round to see it whole */
-    for (size_t i = 0, len = 0; i < 2 * n; ++i) {
-        len = rim[poly[i % n]] == h ? 0 : len + 1;
+        return 0;
+    for (size_t i = 0, len = 0; i < 2 * n; ++i) { /* twice round, to see it whole */
+        len = rim[poly[i % n]] == *h ? 0 : len + 1;
         if (len > gap && len <= n)
             gap = len, gap_end = i % n;
     }
-    for (size_t i = 1; i + gap <= n; ++i)
-        run[m++] = poly[(gap_end + i) % n];
+    *first = (gap_end + 1) % n, *m = n - gap;
+    return 1;
+}
+
+/* The loop's fill: the whole loop when one label covers it, else its arc. */
+static relief_status close_loop(fill_job *j, uint32_t *poly, size_t n, uint32_t *run,
+                                relief_error *err)
+{
+    uint32_t h;
+    size_t first, m;
+    if (!arc_of(j->rim, poly, n, &h, &first, &m))
+        return h ? close_polygon(j, poly, n, 1, h, err) : RELIEF_OK;
+    for (size_t i = 0; i < m; ++i)
+        run[i] = poly[(first + i) % n];
     if (m < 3) {
         ++j->out->skipped;
         return RELIEF_OK;
     }
     return close_polygon(j, run, m, 0, h, err);
+}
+
+relief_status relief_rim_arcs(const double *pos, size_t nv, const uint32_t *tri, size_t nt,
+                              const uint32_t *rim, relief_rim_arc **arcs, size_t *n_arcs,
+                              relief_error *err)
+{
+    rim_walk w = {0};
+    fill_job j = {pos, nv, rim, NULL, {0}, {0}, NULL, NULL, 0, 0};
+    uint8_t *seen = calloc(nv + 1, 1);
+    uint32_t *poly = malloc((nv + 1) * sizeof *poly);
+    relief_status st = seen && poly ? boundary_successors(tri, nt, nv, &w, err)
+                                    : relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the "
+                                                  "rims of %zu vertices", nv);
+    *arcs = NULL, *n_arcs = 0;
+    j.w = w;
+    for (size_t v = 0; st == RELIEF_OK && v < nv; ++v) {
+        size_t n, first, m;
+        uint32_t h;
+        relief_rim_arc *a;
+        if (!rim[v] || seen[v] || w.succ[v] == UINT32_MAX)
+            continue;
+        n = walk_loop(&j, (uint32_t)v, seen, poly);
+        if (!n || !arc_of(rim, poly, n, &h, &first, &m) || m < 3)
+            continue;
+        a = realloc(*arcs, (*n_arcs + 1) * sizeof *a);
+        if (!a) {
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the rims' arcs");
+            break;
+        }
+        *arcs = a, a += (*n_arcs)++;
+        a->label = h;
+        a->first = poly[first], a->last = poly[(first + m - 1) % n];
+        a->mean[0] = a->mean[1] = a->mean[2] = 0.0;
+        for (size_t i = 0; i < m; ++i)
+            for (int e = 0; e < 3; ++e)
+                a->mean[e] += pos[3 * (size_t)poly[(first + i) % n] + e] / (double)m;
+    }
+    if (st != RELIEF_OK)
+        free(*arcs), *arcs = NULL, *n_arcs = 0;
+    free(w.succ), free(w.opp), free(w.pinch), free(seen), free(poly);
+    return st;
 }
 
 relief_status relief_fill_rims(const double *pos, size_t nv, const uint32_t *tri, size_t nt,
