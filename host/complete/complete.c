@@ -200,6 +200,17 @@ static relief_status overlap_base(relief_complete_run *r, relief_error *err)
     return RELIEF_OK;
 }
 
+/* Does a selection fill part of a border's loop (a notch, mesh/holes.h)? */
+static int told_notch(const relief_complete_run *r)
+{
+    if (!r->has_holes || !(r->cp->has_hole_ball || r->cp->hole_labels))
+        return 0;
+    for (uint32_t i = 0; i < r->holes.n_rims; ++i)
+        if (r->holes.rims[i].fate == RELIEF_RIM_FILLED && r->holes.rims[i].part)
+            return 1;
+    return 0;
+}
+
 static relief_status build_base(relief_complete_run *r, relief_error *err)
 {
     const relief_complete_params *cp = r->cp;
@@ -208,6 +219,13 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
     double t0 = relief_seconds();
     if (cp->base == RELIEF_BASE_SMOOTH) {
         st = smooth_base(r, err);
+    } else if (cp->base == RELIEF_BASE_AUTO && told_notch(r)) {
+        st = smooth_base(r, err);
+        if (st == RELIEF_OK)
+            relief_complete_note(r, 0, "the hole told reaches the capture's border: its notch "
+                                 "is closed by the chord across its ends on the capture's "
+                                 "smoothed base (base smooth), where a primitive's lattice "
+                                 "would run on past the border (base primitive keeps it)");
     } else if (auto_may_go_smooth(r) &&
                relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK &&
                pre.poor_fit) {
