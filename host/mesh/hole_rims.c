@@ -266,6 +266,38 @@ static int arc_of(const uint32_t *rim, const uint32_t *poly, size_t n, uint32_t 
     return 1;
 }
 
+/* 1 when the patch's triangle on the arc's rim edge (a, b) (in the
+ * patch's order; the mesh's triangle across it is (b, a, opp[b])) would
+ * fold onto the mesh: x, the arc's far end, lies on the mesh's side of
+ * the edge. */
+static int folds(const fill_job *j, uint32_t a, uint32_t b, uint32_t x)
+{
+    const double *A = j->pos + 3 * (size_t)a, *B = j->pos + 3 * (size_t)b;
+    const double *O = j->pos + 3 * (size_t)j->w.opp[b], *X = j->pos + 3 * (size_t)x;
+    double e[3], o[3], q[3], n[3], so[3], sx[3];
+    sub3(B, A, e), sub3(O, A, o), sub3(X, A, q);
+    cross3(o, e, n); /* the mesh triangle (b, a, O)'s normal, up to length */
+    cross3(e, o, so), cross3(e, q, sx);
+    return dot3(so, n) * dot3(sx, n) > 0.0;
+}
+
+/* Trim an arc's ends (run, *m in the patch's order) while the chord's
+ * far end lies on the mesh's side of the end's rim edge: where a border
+ * is convex, a ball's selection runs on along it past the notch, and the
+ * patch's first triangle there would lie over the capture. */
+static void trim_arc(const fill_job *j, uint32_t *run, size_t *m)
+{
+    for (int trimmed = 1; trimmed && *m > 3;) {
+        trimmed = 0;
+        if (folds(j, run[0], run[1], run[*m - 1])) {
+            memmove(run, run + 1, (*m - 1) * sizeof *run);
+            --*m, trimmed = 1;
+        }
+        if (*m > 3 && folds(j, run[*m - 2], run[*m - 1], run[0]))
+            --*m, trimmed = 1;
+    }
+}
+
 /* The loop's fill: the whole loop when one label covers it, else its arc. */
 static relief_status close_loop(fill_job *j, uint32_t *poly, size_t n, uint32_t *run,
                                 relief_error *err)
@@ -276,6 +308,7 @@ static relief_status close_loop(fill_job *j, uint32_t *poly, size_t n, uint32_t 
         return h ? close_polygon(j, poly, n, 1, h, err) : RELIEF_OK;
     for (size_t i = 0; i < m; ++i)
         run[i] = poly[(first + i) % n];
+    trim_arc(j, run, &m);
     if (m < 3) {
         ++j->out->skipped;
         return RELIEF_OK;

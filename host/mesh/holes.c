@@ -81,6 +81,8 @@ static uint32_t take_part(const double *pos, size_t n, const uint8_t *mark, cons
         r->fate = open;
         return k;
     }
+    if (2 * (size_t)k >= r->points) /* most of it: the hole told, whole (the */
+        return k;                   /* ball a cap was cut with misses a few) */
     for (int e = 0; e < 3; ++e)
         c[e] /= k;
     for (size_t i = 0; i < n; ++i)

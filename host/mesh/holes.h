@@ -29,8 +29,9 @@
  * loop, and the selection says which part is the hole. Only its selected
  * points are labelled, so the fill keeps to them (relief_rim.part); with
  * fewer than 3 (a point set: k) selected it keeps its fate, whole, and is
- * not filled. A selection that takes all of such a rim's points (the
- * hole_ball relief_holes_none_filled suggests) fills it whole.
+ * not filled. A selection that takes half or more of such a rim's points
+ * (the hole_ball relief_holes_none_filled suggests; the ball a sphere's
+ * cap was cut with, which misses a few rim points) fills it whole.
  *
  * Output: rim[i] = 0 off any rim, h in 1..n_holes on hole h's rim. */
 #ifndef RELIEF_HOST_MESH_HOLES_H

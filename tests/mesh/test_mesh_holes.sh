@@ -70,13 +70,28 @@ tell=(--hole-mask ball:26.75,-68.85,-100,15)
 expect 0 "" -- "$relief" complete "$tmp/edge.ply" -o "$tmp/edge_c.ply" "${tell[@]}" --quiet
 clean "complete's notch" "$tmp/edge_c.ply" 1
 expect 0 "" -- "$relief" depth-fill "$tmp/edge.ply" -o "$tmp/edge_d.ply" "${tell[@]}" --resolution 96 --quiet
-# Left: depth-fill fairs through the capture's own jagged rim, and at the
-# plinth's corner two patch triangles fold against two of the capture's
-# (4 crossing, measured; untangling cannot move a fold whose far corners
-# are the rim's). complete fairs over the smoothed base and has none.
-clean "depth-fill's notch" "$tmp/edge_d.ply" 1 4
+# (Before the arc's ends were trimmed where the chord's far end lies on
+# the capture's side of the end's edge, two patch triangles folded onto
+# the capture at the plinth's corner: 4 crossing.)
+clean "depth-fill's notch" "$tmp/edge_d.ply" 1
 n=$(labelled "$tmp/edge_d.ply")
 ok '[[ ${n:-0} -gt 20 ]]' "depth-fill's notch added ${n:-?} vertices"
+
+# A notch in a convex border (a range scan's crown, meshlab_rangemap_lato):
+# the ball's selection runs on along the border past the notch; the arc's
+# ends are trimmed so that no patch triangle lies over the capture there
+# (16 to 29 crossing before).
+lato=$2/real/meshlab_rangemap_lato/lato000.ply
+if [[ -f $lato ]]; then
+  "$relief" cut "$lato" --ball -6.3111,17.3783,-736.722,6 -o "$tmp/crown.ply" 2>/dev/null || exit 2
+  tell=(--hole-mask ball:-6.3111,17.3783,-736.722,6)
+  expect 0 "" -- "$relief" depth-fill "$tmp/crown.ply" -o "$tmp/crown_d.ply" "${tell[@]}" --resolution 96 --quiet
+  clean "depth-fill's notch in the crown" "$tmp/crown_d.ply" 1
+  if [[ $full == 1 ]]; then
+    expect 0 "the hole told reaches the capture's border" -- "$relief" complete "$tmp/crown.ply" -o "$tmp/crown_c.ply" "${tell[@]}"
+    clean "complete's notch in the crown" "$tmp/crown_c.ply" 1
+  fi
+fi
 
 # The sphere's cap, its truth known: told the cap, complete lands on the
 # sphere (the fitted primitive: RMS 0.003 of the radius measured, its

@@ -163,6 +163,25 @@ def test_fill_mesh_holes_same_bytes_as_cli(tmp_path):
     assert (lab == 1).sum() > 0 and len(f) > len(cut.faces)
 
 
+def test_fill_mesh_holes_sphere_cap(tmp_path):
+    # Issue 61: a sphere's cap came back a flat, stepped plate that crossed
+    # itself, 35 632 vertices added to a 2 989-vertex sphere. Now the cap is
+    # closed by a faired patch at the sphere's density, near the sphere.
+    cli("synth", "sphere-dimples", "-o", tmp_path / "s.ply", "--truth", tmp_path / "t.ply",
+        "--vertices", 3000)
+    cli("cut", tmp_path / "t.ply", "-o", tmp_path / "cap.ply", "--ball", "0,0,1,0.6")
+    cap = relief.read_mesh(tmp_path / "cap.ply")
+    v, f, _, lab = relief.fill_mesh_holes(cap.vertices, cap.faces, resolution=96,
+                                         hole_mask="ball:0,0,1,0.6")
+    new = v[lab == 1]
+    assert 100 < len(new) < 800, len(new)  # the cut took 267 vertices
+    radius = np.linalg.norm(new, axis=1)
+    assert np.abs(radius - 1).max() < 0.1, np.abs(radius - 1).max()  # a flat lid sags 0.2
+    edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    _, count = np.unique(edges, axis=0, return_counts=True)
+    assert (count == 2).all(), "the filled sphere is not closed"
+
+
 @pytest.mark.parametrize("call, words", [
     (lambda: relief.image_fill(np.zeros((8, 8), np.int32), np.zeros((8, 8))), "image: dtype"),
     (lambda: relief.image_fill(np.zeros((8, 8, 5), np.uint8), np.zeros((8, 8))), "channels"),
