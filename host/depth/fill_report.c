@@ -174,6 +174,7 @@ static void write_mesh(relief_json *j, const void *ctx)
         rj_int(j, "strip_triangles", (long long)c->patch->strip_triangles);
         rj_int(j, "mended_triangles", (long long)c->patch->mended_triangles);
         rj_int(j, "mended_vertices", (long long)c->patch->mended_vertices);
+        rj_int(j, "copies_welded", (long long)c->patch->copies_welded);
         rj_int(j, "untangled", (long long)c->patch->untangled);
         rj_int(j, "crossing_left", (long long)c->patch->crossing_left);
         rj_end_object(j);

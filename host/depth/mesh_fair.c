@@ -10,6 +10,7 @@
 #include "depth/mesh_patch.h"
 #include "mesh/hole_fill.h"
 #include "mesh/mesh.h"
+#include "mesh/weld.h"
 #include "mesh/untangle.h"
 
 /* The output: `in`, then the patches' vertices (labelled 1, coloured as
@@ -156,6 +157,11 @@ relief_status relief_mesh_fair_holes(const relief_mesh *in, const relief_mesh *s
     st = relief_fill_rims(in->pos, in->nv, in->tri, in->nt, rim, NULL, &hp, err);
     if (st == RELIEF_OK)
         st = assemble(in, &hp, rim, &o, err);
+    /* a rim through a split bow-tie vertex passes it twice, and the patch
+     * joins the copies with a triangle of no area: welded where that
+     * closed the pinch (mesh/weld.h), as complete-points --mesh does */
+    if (st == RELIEF_OK)
+        st = relief_weld_copies(o->pos, o->nv, o->tri, &o->nt, &rep->copies_welded, err);
     if (st == RELIEF_OK && solid && hp.nv_new) {
         d = malloc(hp.nv_new * sizeof *d);
         u = malloc(hp.nv_new * 3 * sizeof *u);

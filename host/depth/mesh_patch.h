@@ -26,6 +26,8 @@ typedef struct relief_mesh_patch_report {
     size_t mended_triangles; /* dropped by the final relief_mesh_repair (an edge
                                 the strips made non-manifold, ...) */
     size_t mended_vertices;  /* non-manifold vertices it split */
+    size_t copies_welded;    /* faired patches: a split vertex's copies welded
+                                where a patch closed the pinch (mesh/weld.h) */
     size_t untangled;        /* faired patches: vertices drawn back where they
                                 crossed the capture (mesh/untangle.h) */
     size_t crossing_left;    /* triangles of the patches still crossing another */
