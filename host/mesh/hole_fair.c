@@ -64,16 +64,9 @@ static int patch_adjacency(const hole_patch *p, size_t **start, uint32_t **nbr)
 static int row_push(fair_rows *r, uint32_t col, double val)
 {
     size_t k = r->start[r->nr + 1];
-    if (k == r->cap) {
-        size_t cap = r->cap * 2 + 64;
-        uint32_t *c = realloc(r->col, cap * sizeof *c);
-        double *v = c ? realloc(r->val, cap * sizeof *v) : NULL;
-        if (c)
-            r->col = c;
-        if (!v)
-            return 0;
-        r->val = v, r->cap = cap;
-    }
+    if (!hole_grow((void **)&r->col, sizeof *r->col, (void **)&r->val, sizeof *r->val, &r->cap,
+                   k + 1))
+        return 0;
     r->col[k] = col, r->val[k] = val;
     r->start[r->nr + 1] = k + 1;
     return 1;

@@ -29,24 +29,9 @@ void relief_hole_patches_free(relief_hole_patches *p)
 
 int hole_patch_reserve(hole_patch *p, size_t more_x, size_t more_t)
 {
-    if (p->nx + more_x > p->cap_x) {
-        size_t cap = (p->nx + more_x) * 2 + 16;
-        double *x = realloc(p->x, cap * 3 * sizeof *x);
-        double *s = x ? realloc(p->sigma, cap * sizeof *s) : NULL;
-        if (x)
-            p->x = x;
-        if (!s)
-            return 0;
-        p->sigma = s, p->cap_x = cap;
-    }
-    if (p->nt + more_t > p->cap_t) {
-        size_t cap = (p->nt + more_t) * 2 + 16;
-        uint32_t *t = realloc(p->t, cap * 3 * sizeof *t);
-        if (!t)
-            return 0;
-        p->t = t, p->cap_t = cap;
-    }
-    return 1;
+    return hole_grow((void **)&p->x, 3 * sizeof *p->x, (void **)&p->sigma, sizeof *p->sigma,
+                     &p->cap_x, p->nx + more_x) &&
+           hole_grow((void **)&p->t, 3 * sizeof *p->t, NULL, 0, &p->cap_t, p->nt + more_t);
 }
 
 /* ------------------------------------------------ step 1: triangulation */

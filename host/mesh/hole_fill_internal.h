@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include "relief/relief.h"
 #include "mesh/mesh.h"
@@ -27,6 +28,28 @@ typedef struct hole_patch {
     size_t n_blocked;
     size_t max_new;    /* 0: no limit */
 } hole_patch;
+
+/* Grow the arrays *a (elements of asz bytes) and, when b is not NULL, *b
+ * (bsz bytes) together to hold `need` elements (capacity *cap, doubled
+ * past need). 0 on allocation failure (what was reallocated is kept). */
+static inline int hole_grow(void **a, size_t asz, void **b, size_t bsz, size_t *cap,
+                            size_t need)
+{
+    size_t c = need * 2 + 16;
+    void *na, *nb;
+    if (need <= *cap)
+        return 1;
+    if (!(na = realloc(*a, c * asz)))
+        return 0;
+    *a = na;
+    if (b) {
+        if (!(nb = realloc(*b, c * bsz)))
+            return 0;
+        *b = nb;
+    }
+    *cap = c;
+    return 1;
+}
 
 /* Make room for n more vertices / triangles. 0 on allocation failure. */
 int hole_patch_reserve(hole_patch *p, size_t more_x, size_t more_t);

@@ -79,27 +79,10 @@ typedef struct fill_job {
 static int out_reserve(fill_job *j, size_t more_v, size_t more_t)
 {
     relief_hole_patches *o = j->out;
-    if (o->nv_new + more_v > j->cap_v) {
-        size_t cap = (o->nv_new + more_v) * 2;
-        double *p = realloc(o->pos, cap * 3 * sizeof *p);
-        uint32_t *h = p ? realloc(o->hole, cap * sizeof *h) : NULL;
-        if (p)
-            o->pos = p;
-        if (!h)
-            return 0;
-        o->hole = h, j->cap_v = cap;
-    }
-    if (o->nt_new + more_t > j->cap_t) {
-        size_t cap = (o->nt_new + more_t) * 2;
-        uint32_t *t = realloc(o->tri, cap * 3 * sizeof *t);
-        uint32_t *h = t ? realloc(o->tri_hole, cap * sizeof *h) : NULL;
-        if (t)
-            o->tri = t;
-        if (!h)
-            return 0;
-        o->tri_hole = h, j->cap_t = cap;
-    }
-    return 1;
+    return hole_grow((void **)&o->pos, 3 * sizeof *o->pos, (void **)&o->hole, sizeof *o->hole,
+                     &j->cap_v, o->nv_new + more_v) &&
+           hole_grow((void **)&o->tri, 3 * sizeof *o->tri, (void **)&o->tri_hole,
+                     sizeof *o->tri_hole, &j->cap_t, o->nt_new + more_t);
 }
 
 /* The rim vertices' wanted edge length (their mean edge in the mesh), the
