@@ -25,9 +25,11 @@ static relief_status assemble(const relief_mesh *in, const relief_hole_patches *
     if (st != RELIEF_OK)
         return st;
     memcpy((*out)->pos, in->pos, nv * 3 * sizeof *in->pos);
-    memcpy((*out)->pos + 3 * nv, hp->pos, hp->nv_new * 3 * sizeof *hp->pos);
+    if (hp->nv_new) /* NULL when no patch added a vertex */
+        memcpy((*out)->pos + 3 * nv, hp->pos, hp->nv_new * 3 * sizeof *hp->pos);
     memcpy((*out)->tri, in->tri, in->nt * 3 * sizeof *in->tri);
-    memcpy((*out)->tri + 3 * in->nt, hp->tri, hp->nt_new * 3 * sizeof *hp->tri);
+    if (hp->nt_new)
+        memcpy((*out)->tri + 3 * in->nt, hp->tri, hp->nt_new * 3 * sizeof *hp->tri);
     for (size_t v = 0; v < nv; ++v)
         (*out)->label[v] = in->label ? in->label[v] : 0;
     memset((*out)->label + nv, 1, hp->nv_new);

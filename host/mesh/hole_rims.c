@@ -142,7 +142,8 @@ static int gather(fill_job *j, const hole_patch *p, uint32_t h)
     size_t base = j->nv + o->nv_new, nn = p->nx - p->n_rim;
     if (!out_reserve(j, nn, p->nt))
         return 0;
-    memcpy(o->pos + 3 * o->nv_new, p->x + 3 * p->n_rim, nn * 3 * sizeof *o->pos);
+    if (nn) /* a small hole's patch may add none */
+        memcpy(o->pos + 3 * o->nv_new, p->x + 3 * p->n_rim, nn * 3 * sizeof *o->pos);
     for (size_t i = 0; i < nn; ++i)
         o->hole[o->nv_new + i] = h;
     for (size_t t = 0; t < p->nt; ++t) {

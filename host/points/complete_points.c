@@ -371,9 +371,11 @@ static relief_status fill_mesh_holes(work *w, size_t max_new, relief_error *err)
         goto done;
     }
     memcpy(bm.pos, w->base, w->n * 3 * sizeof *bm.pos);
-    memcpy(bm.pos + 3 * w->n, hp.pos, hp.nv_new * 3 * sizeof *bm.pos);
+    if (hp.nv_new) /* NULL when no patch added a vertex */
+        memcpy(bm.pos + 3 * w->n, hp.pos, hp.nv_new * 3 * sizeof *bm.pos);
     memcpy(bm.tri, in->tri, in->nt * 3 * sizeof *bm.tri);
-    memcpy(bm.tri + 3 * in->nt, hp.tri, hp.nt_new * 3 * sizeof *bm.tri);
+    if (hp.nt_new)
+        memcpy(bm.tri + 3 * in->nt, hp.tri, hp.nt_new * 3 * sizeof *bm.tri);
     relief_mesh_vertex_normals(&bm, vn);
     for (size_t i = 0; i < hp.nv_new; ++i) {
         const double *v = vn + 3 * (w->n + i);
