@@ -23,44 +23,6 @@ typedef struct fair_rows {
     size_t cap;
 } fair_rows;
 
-/* The patch's local adjacency (CSR, repeats removed). */
-static int patch_adjacency(const hole_patch *p, size_t **start, uint32_t **nbr)
-{
-    size_t n = p->nx, *s = calloc(n + 1, sizeof *s), *at = malloc((n + 1) * sizeof *at);
-    uint32_t *a = malloc((6 * p->nt + 1) * sizeof *a);
-    if (!s || !at || !a) {
-        free(s), free(at), free(a);
-        return 0;
-    }
-    for (size_t t = 0; t < 3 * p->nt; ++t)
-        s[p->t[t] + 1] += 2;
-    for (size_t v = 0; v < n; ++v)
-        s[v + 1] += s[v];
-    memcpy(at, s, (n + 1) * sizeof *at);
-    for (size_t t = 0; t < p->nt; ++t)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t v = p->t[3 * t + k];
-            a[at[v]++] = p->t[3 * t + (k + 1) % 3];
-            a[at[v]++] = p->t[3 * t + (k + 2) % 3];
-        }
-    /* compact left, dropping repeats: at[] becomes the new starts */
-    for (size_t v = 0, w = 0; v < n; ++v) {
-        size_t from = w;
-        at[v] = from;
-        for (size_t i = s[v]; i < s[v + 1]; ++i) {
-            int dup = 0;
-            for (size_t k = from; k < w && !dup; ++k)
-                dup = a[k] == a[i];
-            if (!dup)
-                a[w++] = a[i];
-        }
-        at[n] = w;
-    }
-    free(s);
-    *start = at, *nbr = a;
-    return 1;
-}
-
 static int row_push(fair_rows *r, uint32_t col, double val)
 {
     size_t k = r->start[r->nr + 1];
@@ -92,14 +54,14 @@ static int row_term(fair_rows *r, row_acc *a, const double *xr, const double *xu
 
 /* Row of local vertex v: its patch neighbours, and for a rim vertex its
  * mesh neighbours not already among them. */
-static int make_row(fair_rows *r, const hole_patch *p, size_t v, const size_t *ps,
-                    const uint32_t *pn, const double *pos, const relief_adjacency *adj)
+static int make_row(fair_rows *r, const hole_patch *p, size_t v, const relief_adjacency *pa,
+                    const double *pos, const relief_adjacency *adj)
 {
     row_acc a = {0, {0, 0, 0}};
     size_t first = r->start[r->nr];
     const double *xr = p->x + 3 * v;
-    for (size_t k = ps[v]; k < ps[v + 1]; ++k) {
-        uint32_t u = pn[k];
+    for (uint32_t k = pa->start[v]; k < pa->start[v + 1]; ++k) {
+        uint32_t u = pa->nbr[k];
         if (!row_term(r, &a, xr, p->x + 3 * u, u >= p->n_rim ? (long)(u - p->n_rim) : -1))
             return 0;
     }
@@ -108,8 +70,8 @@ static int make_row(fair_rows *r, const hole_patch *p, size_t v, const size_t *p
         for (uint32_t k = adj->start[g]; k < adj->start[g + 1]; ++k) {
             uint32_t u = adj->nbr[k];
             int dup = 0;
-            for (size_t i = ps[v]; i < ps[v + 1] && !dup; ++i)
-                dup = pn[i] < p->n_rim && p->gid[pn[i]] == u;
+            for (uint32_t i = pa->start[v]; i < pa->start[v + 1] && !dup; ++i)
+                dup = pa->nbr[i] < p->n_rim && p->gid[pa->nbr[i]] == u;
             if (!dup && !row_term(r, &a, xr, pos + 3 * (size_t)u, -1))
                 return 0;
         }
@@ -186,17 +148,22 @@ static void cgls(const fair_rows *r, const double *b, double *y, double *w)
 relief_status hole_fair(hole_patch *p, int continuity, const double *pos,
                         const relief_adjacency *adj, relief_error *err)
 {
-    size_t nf = p->nx - p->n_rim, nrows = continuity >= 2 ? p->nx : nf, *ps = NULL;
-    uint32_t *pn = NULL;
+    size_t nf = p->nx - p->n_rim, nrows = continuity >= 2 ? p->nx : nf;
+    /* the patch's own adjacency, in its local indices */
+    relief_mesh pm = {.nv = p->nx, .nt = p->nt, .pos = p->x, .tri = p->t};
+    relief_adjacency pa = {0};
     fair_rows r = {0, nf, calloc(nrows + 2, sizeof *r.start), NULL, NULL,
                    malloc(3 * nrows * sizeof *r.c), 0};
     double *b = malloc(nrows * sizeof *b), *y = malloc(nf * sizeof *y);
     double *w = malloc((2 * nrows + 3 * nf) * sizeof *w);
     relief_status st = RELIEF_OK;
-    if (!r.start || !r.c || !b || !y || !w || !patch_adjacency(p, &ps, &pn))
+    if (!r.start || !r.c || !b || !y || !w)
         goto nomem;
+    st = relief_mesh_adjacency(&pm, &pa, err);
+    if (st != RELIEF_OK)
+        goto done;
     for (size_t v = continuity >= 2 ? 0 : p->n_rim; v < p->nx; ++v)
-        if (!make_row(&r, p, v, ps, pn, pos, adj))
+        if (!make_row(&r, p, v, &pa, pos, adj))
             goto nomem;
     for (int e = 0; e < 3; ++e) {
         for (size_t i = 0; i < r.nr; ++i)
@@ -212,6 +179,6 @@ nomem:
     st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the fairing of %zu vertices", nf);
 done:
     free(r.start), free(r.col), free(r.val), free(r.c), free(b), free(y), free(w);
-    free(ps), free(pn);
+    relief_adjacency_free(&pa);
     return st;
 }
