@@ -203,12 +203,8 @@ static relief_status overlap_base(relief_complete_run *r, relief_error *err)
 /* Does a selection fill part of a border's loop (a notch, mesh/holes.h)? */
 static int told_notch(const relief_complete_run *r)
 {
-    if (!r->has_holes || !(r->cp->has_hole_ball || r->cp->hole_labels))
-        return 0;
-    for (uint32_t i = 0; i < r->holes.n_rims; ++i)
-        if (r->holes.rims[i].fate == RELIEF_RIM_FILLED && r->holes.rims[i].part)
-            return 1;
-    return 0;
+    return r->has_holes && (r->cp->has_hole_ball || r->cp->hole_labels) &&
+           relief_holes_in_part(&r->holes);
 }
 
 static relief_status build_base(relief_complete_run *r, relief_error *err)

@@ -105,10 +105,8 @@ relief_status relief_complete_holes(relief_complete_run *r, relief_error *err)
             r->rim_index[h++] = i;
     r->has_holes = 1;
     r->st.smooth.holes.keep = keep_region;
-    for (uint32_t i = 0; i < r->holes.n_rims; ++i)
-        if (r->holes.rims[i].fate == RELIEF_RIM_FILLED && r->holes.rims[i].part)
-            r->st.smooth.holes.keep_point = keep_point;
-    if (r->st.smooth.holes.keep_point) {
+    if (relief_holes_in_part(&r->holes)) {
+        r->st.smooth.holes.keep_point = keep_point;
         st = relief_rim_arcs(c->pos, c->nv, c->tri, c->nt, r->rim, &r->arcs, &r->n_arcs, err);
         if (st != RELIEF_OK)
             return st;

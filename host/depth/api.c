@@ -517,9 +517,7 @@ static relief_status mesh_holes(const relief_mesh *in, const relief_depth_fill_p
 /* No hole could be patched: RELIEF_E_RANGE saying why it may be. */
 static relief_status nothing_patched(const relief_hole_info *h, relief_error *err)
 {
-    int part = 0;
-    for (uint32_t i = 0; i < h->n_rims; ++i)
-        part |= h->rims[i].fate == RELIEF_RIM_FILLED && h->rims[i].part;
+    int part = relief_holes_in_part(h);
     return relief_fail(err, RELIEF_E_RANGE, "nothing filled: none of the %u hole(s) the hole "
                        "model fills could be patched (%s; complete or complete-points fill "
                        "it; --solid gives the closed volume)", h->n_holes,

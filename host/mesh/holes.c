@@ -429,6 +429,14 @@ size_t relief_holes_open_list(const relief_hole_info *h, int k, int unselected, 
     return len;
 }
 
+int relief_holes_in_part(const relief_hole_info *h)
+{
+    for (uint32_t i = 0; i < h->n_rims; ++i)
+        if (h->rims[i].fate == RELIEF_RIM_FILLED && h->rims[i].part)
+            return 1;
+    return 0;
+}
+
 void relief_holes_left_line(const relief_hole_info *h, char *buf, size_t size)
 {
     char list[520];

@@ -93,6 +93,10 @@ typedef struct relief_hole_info {
     uint32_t n_rims;
 } relief_hole_info;
 
+/* 1 when a rim is filled in part (a notch a selection takes of a border
+ * or of an opening wider than max_across). */
+int relief_holes_in_part(const relief_hole_info *h);
+
 /* Free the rims and zero the info. */
 void relief_hole_info_free(relief_hole_info *info);
 
