@@ -27,6 +27,14 @@
  * 0.0044). */
 #define RELIEF_SEARCH_AUTO_WORK_TOLD 2.5e6
 
+/* The samples a told hole's targets are matched against (the pool,
+ * match_data.h's relief_match_data_keep_near): the capture nearest the
+ * hole, RELIEF_TOLD_POOL_PER_TARGET per target and never fewer than
+ * RELIEF_TOLD_POOL_MIN, so a small hole in a large capture costs what the
+ * hole does (issue 61: a told fill within 3 x CGAL's time). */
+#define RELIEF_TOLD_POOL_MIN 1024
+#define RELIEF_TOLD_POOL_PER_TARGET 16
+
 /* Parameters of `relief complete` and `relief smooth`. Lengths are in the
  * input's units; 0 for spacing means "derive from the capture". */
 typedef struct relief_params {
@@ -45,7 +53,9 @@ typedef struct relief_params {
                                000's draw alone); 0, or [1, 100] */
     relief_search_mode search; /* default auto */
     int told_holes;         /* 1: a selection tells the holes: auto's bound is
-                               RELIEF_SEARCH_AUTO_WORK_TOLD */
+                               RELIEF_SEARCH_AUTO_WORK_TOLD, and a mono-scale
+                               growth matches against the pool
+                               RELIEF_TOLD_POOL_* */
     int search_k;           /* similar pairs per pair in the coherent
                                search; 8, [1, 64] */
     int levels;             /* M hierarchy levels; 1 (mono-scale), [1, 8] */

@@ -212,6 +212,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
     const relief_complete_params *cp = r->cp;
     relief_fit_result pre;
     relief_status st;
+    int fitted = 0;
     double t0 = relief_seconds();
     if (cp->base == RELIEF_BASE_SMOOTH) {
         st = smooth_base(r, err);
@@ -223,12 +224,16 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                                  "smoothed base (base smooth), where a primitive's lattice "
                                  "would run on past the border (base primitive keeps it)");
     } else if (auto_may_go_smooth(r) &&
-               relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) == RELIEF_OK &&
+               (fitted = relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) ==
+                         RELIEF_OK) &&
                pre.poor_fit) {
         st = auto_base(r, &pre, err);
     } else {
         relief_error why = {0};
+        /* the fit just made, auto's as the params' (auto_may_go_smooth) */
+        r->st.smooth.fitted = fitted ? &pre : NULL;
         st = relief_surface_build(r->capture, &r->st.params, &r->st.smooth, &r->s, &why);
+        r->st.smooth.fitted = NULL;
         /* surface_check.c's fold refusal, the one a smooth base cures */
         if (st == RELIEF_E_MESH && auto_may_go_smooth(r) &&
             why.reason == RELIEF_REASON_FOLD_REFUSED)
@@ -297,14 +302,22 @@ static relief_status inject_device_failure(void *ctx, relief_error *err)
                        "(injected by RELIEF_TEST_DEVICE_FAIL_AFTER=%zu)", r->fail_after);
 }
 
-/* The matcher of a mono-scale growth over its match data. */
+/* How many samples a told hole's targets are matched against. */
+static size_t told_pool(size_t n_targets)
+{
+    const size_t n = RELIEF_TOLD_POOL_PER_TARGET * n_targets;
+    return n > RELIEF_TOLD_POOL_MIN ? n : RELIEF_TOLD_POOL_MIN;
+}
+
+/* The matcher of a mono-scale growth over its match data; a told hole's,
+ * over the samples around it. */
 static relief_status make_matcher(relief_complete_run *r, relief_error *err)
 {
     const relief_params *p = &r->st.params;
     const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
-    relief_status st = relief_match_data_build(
-        r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL), &r->d,
-        err);
+    relief_status st = relief_match_data_build_near(
+        r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL),
+        p->told_holes ? told_pool(r->s->n_targets) : SIZE_MAX, 2 * p->window + 2, &r->d, err);
     if (st == RELIEF_OK)
         st = relief_matcher_create(p->backend, p->device, p->threads, r->d, &r->m,
                                    r->choice, sizeof r->choice, &r->choice_reason, err);

@@ -407,8 +407,8 @@ static int coherent_best(const relief_surface *s, const relief_match_data *d,
         for (int j = 0; j < 3; ++j)
             o[j] = (float)(nf[3 * j] * (tp[0] - np[0]) + nf[3 * j + 1] * (tp[1] - np[1]) +
                            nf[3 * j + 2] * (tp[2] - np[2]));
-        v2 = relief_continue_patch(d, o, c / R, r);
-        if (v2 >= d->ns) /* not a sample (samples are vertices 0..ns-1) */
+        v2 = relief_match_sample_of(d, relief_continue_patch(d, o, c / R, r));
+        if (v2 == UINT32_MAX) /* no candidate centre */
             continue;
         cand = v2 * R + r;
         for (k = 0; k < nseen && seen[k] != cand; ++k)

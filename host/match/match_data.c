@@ -32,6 +32,7 @@ void relief_match_data_destroy(relief_match_data *d)
     free(d->lslot);
     free(d->litems);
     free(d->sample);
+    free(d->sample_of);
     free(d->s_proj);
     free(d->s_frame);
     free(d->cos_r);
@@ -187,6 +188,7 @@ static double box_max2(const double lo[3], const double hi[3], const double p[3]
  * active cells; the scratch candidates and the lists made so far. */
 typedef struct list_build {
     relief_match_data *d;
+    const uint8_t *near; /* nv, or NULL: lists only about the vertices set */
     double org[3], h, m;
     uint64_t *pair;                /* nv: cell << 32 | vertex, ascending */
     uint32_t *run_start, *run_len; /* nrun: each occupied cell's run in pair */
@@ -307,13 +309,27 @@ static uint32_t run_at(const list_build *b, int i, int j, int l)
     return b->occ.key[slot] == RM_EMPTY ? UINT32_MAX : b->run_of[slot];
 }
 
-/* Active cells: the occupied ones and their neighbours, ascending. */
+/* Does run r hold a vertex near the pool (every run when no pool)? */
+static int run_near(const list_build *b, uint32_t r)
+{
+    if (!b->near)
+        return 1;
+    for (uint32_t e = 0; e < b->run_len[r]; ++e)
+        if (b->near[(uint32_t)b->pair[b->run_start[r] + e]])
+            return 1;
+    return 0;
+}
+
+/* Active cells: the occupied ones near the pool and their neighbours,
+ * ascending. */
 static relief_status lists_active(list_build *b, relief_error *err)
 {
     const relief_match_data *d = b->d;
     uint32_t n = 0;
     for (uint32_t r = 0; r < b->nrun; ++r) {
         int c[3];
+        if (!run_near(b, r))
+            continue;
         cell_coords(d, (uint32_t)(b->pair[b->run_start[r]] >> 32), c);
         for (int dl = -1; dl <= 1; ++dl)
             for (int dj = -1; dj <= 1; ++dj)
@@ -512,7 +528,8 @@ static relief_status lists_table(list_build *b, relief_error *err)
  * from the octant to a vertex nearby). The box is enlarged by a margin
  * that covers the float rounding of the kernel's cell index and distances,
  * so the list always holds the vertex the kernel would pick from all. */
-static relief_status build_lists(relief_match_data *d, double spacing, relief_error *err)
+static relief_status build_lists(relief_match_data *d, double spacing, const uint8_t *near,
+                                 relief_error *err)
 {
     list_build b;
     relief_status st;
@@ -528,6 +545,7 @@ static relief_status build_lists(relief_match_data *d, double spacing, relief_er
         return RELIEF_OK; /* no lists: the rings answer every query */
     memset(&b, 0, sizeof b);
     b.d = d;
+    b.near = near;
     lists_grid(&b, spacing);
     st = lists_occupied(&b, err);
     if (st == RELIEF_OK)
@@ -553,10 +571,18 @@ static relief_status build_lists(relief_match_data *d, double spacing, relief_er
 relief_status relief_match_data_build(const relief_surface *s, int rotations, double mu,
                                       relief_match_data **out, relief_error *err)
 {
+    return relief_match_data_build_near(s, rotations, mu, SIZE_MAX, 0, out, err);
+}
+
+relief_status relief_match_data_build_near(const relief_surface *s, int rotations, double mu,
+                                           size_t n_keep, int margin,
+                                           relief_match_data **out, relief_error *err)
+{
     const relief_mesh *m = s->mesh;
     relief_match_data *d = calloc(1, sizeof *d);
     relief_status st = RELIEF_OK;
     double hmin = INFINITY, hmax = -INFINITY;
+    uint8_t *near = NULL;
 
     if (!d)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate match data");
@@ -614,10 +640,13 @@ relief_status relief_match_data_build(const relief_surface *s, int rotations, do
         d->cos_r[r] = (float)cos(a);
         d->sin_r[r] = (float)sin(a);
     }
-    st = build_grid(d, s->spacing, err);
+    st = relief_match_pool(d, n_keep, margin, &near, err);
     if (st == RELIEF_OK)
-        st = build_lists(d, s->spacing, err);
+        st = build_grid(d, s->spacing, err);
+    if (st == RELIEF_OK)
+        st = build_lists(d, s->spacing, near, err);
 done:
+    free(near);
     if (st != RELIEF_OK) {
         relief_match_data_destroy(d);
         return st;

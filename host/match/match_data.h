@@ -43,7 +43,11 @@ typedef struct relief_match_data {
     uint32_t *lslot;      /* (lmask + 1) x 3 */
     uint32_t *litems;     /* n_litems vertex ids */
     size_t n_litems;
-    uint32_t *sample;     /* ns vertex ids of the samples */
+    uint32_t *sample;     /* ns vertex ids of the samples, ascending */
+    uint32_t *sample_of;  /* nv: vertex v's index into sample, or UINT32_MAX
+                             (a target, or a sample left out of the pool);
+                             NULL while every sample is a centre
+                             (sample[i] == i): relief_match_sample_of */
     float *s_proj;        /* ns x 3 s' */
     float *s_frame;       /* ns x 9 R_s as rows u, v, n */
     int rotations;        /* R */
@@ -62,6 +66,35 @@ typedef struct relief_match_data {
 relief_status relief_match_data_build(const relief_surface *s, int rotations, double mu,
                                       relief_match_data **out, relief_error *err);
 void relief_match_data_destroy(relief_match_data *d);
+
+/* relief_match_data_build for a told hole: the candidate centres are only
+ * the n_keep samples nearest the targets in edge hops over the surface (a
+ * breadth-first search from every target at once, ties in the order
+ * found), in ascending vertex order, and the closest-vertex lists cover
+ * only the vertices within `margin` hops more (elsewhere the rings answer
+ * the same). Every sample stays matchable: a neighbour may land on it. The
+ * hole is matched against the capture around it, and its search costs
+ * what the hole does, not the capture (issue 61). Every sample is a centre
+ * when n_keep >= ns, or when the search reaches fewer (a hole on a piece
+ * of its own). */
+relief_status relief_match_data_build_near(const relief_surface *s, int rotations, double mu,
+                                           size_t n_keep, int margin,
+                                           relief_match_data **out, relief_error *err);
+
+/* The pool of relief_match_data_build_near, on d's samples: compacts them
+ * and sets *near (nv flags, the caller's to free; NULL when every sample
+ * stays a centre). */
+relief_status relief_match_pool(relief_match_data *d, size_t n_keep, int margin,
+                                uint8_t **near, relief_error *err);
+
+/* The sample index of vertex v, or UINT32_MAX when v is no candidate
+ * centre. */
+static inline uint32_t relief_match_sample_of(const relief_match_data *d, uint32_t v)
+{
+    if (!d->sample_of)
+        return v < d->ns ? v : UINT32_MAX;
+    return v < d->nv ? d->sample_of[v] : UINT32_MAX;
+}
 
 /* One target's textured neighbourhood, transformed into its frame. */
 typedef struct relief_match_query {

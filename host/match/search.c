@@ -312,7 +312,8 @@ uint32_t relief_search_candidates(relief_search *S, const relief_surface *s,
             const uint32_t v = nbr[i];
             const double *vp = s->proj + 3 * (size_t)v, *vf = s->frame + 9 * (size_t)v;
             const int is_sample = v < s->n_samples;
-            const uint32_t c0 = is_sample ? v * R : src[v];
+            const uint32_t vs = relief_match_sample_of(d, v);
+            const uint32_t c0 = !is_sample ? src[v] : vs == UINT32_MAX ? UINT32_MAX : vs * R;
             float o[3];
             if (c0 == UINT32_MAX || (pass == 0 && is_sample))
                 continue; /* a sample's own continuation is t, not a sample */
@@ -326,9 +327,10 @@ uint32_t relief_search_candidates(relief_search *S, const relief_surface *s,
                 uint32_t v2;
                 if (c == UINT32_MAX)
                     continue;
-                v2 = relief_continue_patch(d, o, c / R, j < 0 ? c % R : (c % R + c0 % R) % R);
-                if (v2 >= d->ns || S->stamp[v2] == S->now)
-                    continue; /* not a sample (samples are vertices 0..ns-1), or listed */
+                v2 = relief_match_sample_of(
+                    d, relief_continue_patch(d, o, c / R, j < 0 ? c % R : (c % R + c0 % R) % R));
+                if (v2 == UINT32_MAX || S->stamp[v2] == S->now)
+                    continue; /* no candidate centre, or listed */
                 S->stamp[v2] = S->now;
                 S->cand[m++] = v2;
             }

@@ -87,6 +87,8 @@ relief_status relief_untangle(double *pos, const double *base, size_t nv, size_t
         st = relief_self_intersections(pos, nv, tri, nt, focus, hit, left, err);
         if (st != RELIEF_OK || !*left || r == rounds || !mark_hit(&t, hit))
             break; /* done, out of rounds, or only fixed triangles cross */
+        for (size_t v = first; v < nv; ++v)
+            t.mark[v] |= ever[v];
         if (base && r < RELIEF_UNTANGLE_ROUNDS)
             halve(&t);
         else if ((st = relax(&t, err)) != RELIEF_OK)

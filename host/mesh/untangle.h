@@ -3,7 +3,10 @@
  * (index >= first) of triangles that cross another (mesh/mesh_check.h)
  * are drawn back toward their base positions, halfway, round after round
  * (RELIEF_UNTANGLE_ROUNDS), then moved to their neighbours' mean, round
- * after round, until none crosses or the rounds run out. Deterministic:
+ * after round, until none crosses or the rounds run out. A vertex once
+ * moved goes on moving with those of later rounds (else one drawn back
+ * early leaves a step to a neighbour drawn back late, which crosses in
+ * turn). Deterministic:
  * the same input gives the same bytes. */
 #ifndef RELIEF_HOST_MESH_UNTANGLE_H
 #define RELIEF_HOST_MESH_UNTANGLE_H

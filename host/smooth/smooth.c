@@ -51,6 +51,7 @@ relief_smooth_options relief_smooth_options_default(void)
     o.holes.on_plane = 0;
     o.max_growth = RELIEF_MAX_GROWTH;
     o.spike_k = RELIEF_SPIKE_K;
+    o.fitted = NULL;
     return o;
 }
 
@@ -347,7 +348,11 @@ static relief_status surface_fit(surface_build *b, relief_error *err)
     relief_surface *s = b->s;
     const relief_fit_primitive *pr = &s->fit.prim;
     double t0 = relief_seconds();
-    relief_status st = relief_fit_mesh(b->capture, b->params->fit, &s->fit, err);
+    relief_status st = RELIEF_OK;
+    if (b->opts->fitted)
+        s->fit = *b->opts->fitted;
+    else
+        st = relief_fit_mesh(b->capture, b->params->fit, &s->fit, err);
     s->seconds[RELIEF_STAGE_FIT] = relief_seconds() - t0;
     if (st != RELIEF_OK)
         return st;

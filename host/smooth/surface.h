@@ -76,6 +76,10 @@ typedef struct relief_smooth_options {
                                   (a nearly flat patch fitted as a huge
                                   cylinder or sphere); default
                                   RELIEF_MAX_GROWTH, 0: no limit */
+    const relief_fit_result *fitted; /* the capture's fit with the params'
+                                  model, when the caller has made it (complete's
+                                  base auto does, to choose the base): taken,
+                                  not fitted again; default NULL */
 } relief_smooth_options;
 
 /* Default relief_smooth_options.max_growth: targets per captured vertex. A
