@@ -117,23 +117,30 @@ static relief_status smooth_base(relief_complete_run *r, relief_error *err)
     const relief_complete_params *cp = r->cp;
     relief_points_params pp = relief_points_params_default();
     relief_points_report prep;
-    uint8_t *select = NULL;
+    uint8_t *select = NULL, *crop_select = NULL;
     relief_status st = relief_holes_selection(r->capture, cp->hole_labels, cp->has_hole_ball,
                                               cp->hole_ball, &select, err);
-    if (st != RELIEF_OK)
+    if (st == RELIEF_OK && select)
+        st = relief_complete_crop(r, select, &crop_select, err);
+    if (st != RELIEF_OK) {
+        free(select);
         return st;
+    }
     pp.max_hole = cp->max_hole;
-    pp.hole_select = select;
+    pp.hole_select = r->crop ? crop_select : select;
     /* as complete-points: scalar on one thread, else the threads asked */
     pp.threads = r->st.params.backend == RELIEF_BACKEND_SCALAR ? 1 : r->st.params.threads;
-    st = relief_points_base_surface(r->capture, &pp, &r->s, &prep, err);
+    st = relief_points_base_surface(r->crop ? r->crop : r->capture, &pp, &r->s, &prep, err);
     free(select);
+    free(crop_select);
     r->smooth_base = st == RELIEF_OK;
     if (st == RELIEF_OK) {
-        relief_complete_holes_free(r);
-        r->holes = prep.holes; /* taken: the report's list */
-        memset(&prep.holes, 0, sizeof prep.holes);
-        r->has_holes = 1;
+        if (!r->crop) { /* else the whole capture's list, already made */
+            relief_complete_holes_free(r);
+            r->holes = prep.holes; /* taken: the report's list */
+            memset(&prep.holes, 0, sizeof prep.holes);
+            r->has_holes = 1;
+        }
         /* what the base's surface has open at the holes it filled, as
          * counted on it (points/patch_mesh.h) */
         r->closed_checked = 1;
@@ -549,6 +556,7 @@ static void run_free(relief_complete_run *r)
     relief_mesh_destroy(r->before);
     relief_checkpoint_destroy(r->resume);
     relief_complete_holes_free(r);
+    relief_complete_crop_free(r);
     free(r->level_share);
 }
 
@@ -565,12 +573,15 @@ static void run_init(relief_complete_run *r, const relief_mesh *capture,
     relief_progress_init(&r->progress, p->run.progress, p->run.progress_ctx);
 }
 
-/* The surface's mesh, taken from it: the call's output. */
-static relief_mesh *take_mesh(relief_complete_run *r)
+/* The surface's mesh, taken from it (sewn into the whole capture when
+ * the base was a crop's): the call's output. */
+static relief_status take_mesh(relief_complete_run *r, relief_mesh **out, relief_error *err)
 {
-    relief_mesh *m = r->s->mesh;
+    if (r->crop)
+        return relief_complete_uncrop(r, out, err);
+    *out = r->s->mesh;
     r->s->mesh = NULL;
-    return m;
+    return RELIEF_OK;
 }
 
 relief_status relief_complete(const relief_mesh *capture, const relief_complete_params *p,
@@ -607,10 +618,10 @@ relief_status relief_complete(const relief_mesh *capture, const relief_complete_
                          "the growth");
     if (st == RELIEF_OK && rep)
         st = finish_report(&r, 0, err);
-    if (st == RELIEF_OK) {
+    if (st == RELIEF_OK)
+        st = take_mesh(&r, out, err);
+    if (st == RELIEF_OK)
         drop_checkpoint(&r);
-        *out = take_mesh(&r);
-    }
     if (st == RELIEF_OK && rep)
         *rep = own;
     else
@@ -653,7 +664,7 @@ relief_status relief_smooth(const relief_mesh *capture, const relief_complete_pa
     if (st == RELIEF_OK && rep)
         st = finish_report(&r, 1, err);
     if (st == RELIEF_OK)
-        *out = take_mesh(&r);
+        st = take_mesh(&r, out, err);
     if (st == RELIEF_OK && rep)
         *rep = own;
     else

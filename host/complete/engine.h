@@ -69,6 +69,9 @@ typedef struct relief_complete_run {
     uint32_t *rim_index;        /* per label - 1: its index in holes.rims */
     struct relief_rim_arc *arcs; /* the notches filled in part (mesh/hole_fill.h) */
     size_t n_arcs;
+    relief_mesh *crop;          /* the capture about the told holes, the
+                                   smoothed base's (crop.c), or NULL */
+    uint32_t *crop_to;          /* crop->nv: each crop vertex's in capture */
     int closed_checked;         /* relief_complete_holes_closed ran: */
     size_t open_loops, open_edges; /* the surface's boundary loops where holes were
                                       filled, their vertices */
@@ -80,6 +83,23 @@ typedef struct relief_complete_run {
  * (smooth/surface.h); hole_ball turns fill auto into holes. */
 relief_status relief_complete_holes(relief_complete_run *r, relief_error *err);
 void relief_complete_holes_free(relief_complete_run *r);
+
+/* Told holes closed whole (no notch) in a capture much larger than they
+ * need: r->crop, the capture about them (their rims' vertices and rings
+ * of neighbours enough for the smoothing and the pool of samples), on
+ * which the smoothed base is built; *crop_select: `select` (capture->nv
+ * flags, or NULL) on the crop, the caller's to free. Nothing is cropped
+ * (r->crop NULL) when the crop would hold half the capture, or the
+ * selection reaches its border. RELIEF_E_NOMEM. */
+relief_status relief_complete_crop(relief_complete_run *r, const uint8_t *select,
+                                   uint8_t **crop_select, relief_error *err);
+void relief_complete_crop_free(relief_complete_run *r);
+
+/* The whole capture completed: r->capture with the completed crop's
+ * (r->s->mesh's) new vertices and faces sewn in (and any crop face the
+ * completion replaced, gone). */
+relief_status relief_complete_uncrop(const relief_complete_run *r, relief_mesh **out,
+                                     relief_error *err);
 
 /* After the growth: the targets of crossing triangles drawn back toward
  * the base (untangle.c); a remark counts them. RELIEF_E_NOMEM. */
