@@ -65,13 +65,13 @@ static int make_row(fair_rows *r, const hole_patch *p, size_t v, const relief_ad
         if (!row_term(r, &a, xr, p->x + 3 * u, u >= p->n_rim ? (long)(u - p->n_rim) : -1))
             return 0;
     }
-    if (v < p->n_rim) {
+    if (v < p->n_mesh) {
         uint32_t g = p->gid[v];
         for (uint32_t k = adj->start[g]; k < adj->start[g + 1]; ++k) {
             uint32_t u = adj->nbr[k];
             int dup = 0;
             for (uint32_t i = pa->start[v]; i < pa->start[v + 1] && !dup; ++i)
-                dup = pa->nbr[i] < p->n_rim && p->gid[pa->nbr[i]] == u;
+                dup = pa->nbr[i] < p->n_mesh && p->gid[pa->nbr[i]] == u;
             if (!dup && !row_term(r, &a, xr, pos + 3 * (size_t)u, -1))
                 return 0;
         }
@@ -148,7 +148,7 @@ static void cgls(const fair_rows *r, const double *b, double *y, double *w)
 relief_status hole_fair(hole_patch *p, int continuity, const double *pos,
                         const relief_adjacency *adj, relief_error *err)
 {
-    size_t nf = p->nx - p->n_rim, nrows = continuity >= 2 ? p->nx : nf;
+    size_t nf = p->nx - p->n_rim, nrows = continuity >= 2 ? nf + p->n_mesh : nf;
     /* the patch's own adjacency, in its local indices */
     relief_mesh pm = {.nv = p->nx, .nt = p->nt, .pos = p->x, .tri = p->t};
     relief_adjacency pa = {0};
@@ -162,8 +162,10 @@ relief_status hole_fair(hole_patch *p, int continuity, const double *pos,
     st = relief_mesh_adjacency(&pm, &pa, err);
     if (st != RELIEF_OK)
         goto done;
+    /* a chord point has no row: the patch's open border, with no tangent
+     * plane to continue (free, the border points fold away) */
     for (size_t v = continuity >= 2 ? 0 : p->n_rim; v < p->nx; ++v)
-        if (!make_row(&r, p, v, &pa, pos, adj))
+        if ((v < p->n_mesh || v >= p->n_rim) && !make_row(&r, p, v, &pa, pos, adj))
             goto nomem;
     for (int e = 0; e < 3; ++e) {
         for (size_t i = 0; i < r.nr; ++i)

@@ -32,8 +32,11 @@
  *
  * An arc of a loop (a notch of a border chosen by a ball: some of the
  * loop's vertices chosen, the rest not) is closed as a polygon by the
- * chord between its ends; the chord is left an open edge, the border it
- * belongs to being open by design.
+ * chord between its ends, cut into new vertices at the ends' edge length;
+ * the chord is left open, the border it belongs to being open by design.
+ * An arc's patch that crosses itself or the mesh near a chord's end (the
+ * arc runs on along the chord there) is made again with that end
+ * trimmed (RELIEF_NOTCH_TRIMS).
  *
  * Arrays row-major; lengths in the mesh's units. The mesh must be an
  * oriented manifold about the chosen rims (relief's readers repair one on
@@ -46,6 +49,18 @@
 #include <stdint.h>
 
 #include "relief/relief.h"
+
+/* An arc's patch that crosses the capture near an end of its chord is
+ * made again with that end trimmed, at most this many times. */
+#define RELIEF_NOTCH_TRIMS 16
+
+/* Two loops bound one hole (a tube) when each runs on one way this much
+ * (hole_loop_facing's |dir|, 1 at a cylinder's band) toward the other. */
+#define RELIEF_TUBE_FACING 0.7
+/* and has at least this many vertices */
+#define RELIEF_TUBE_MIN_LOOP 8
+/* A tube's strip is searched over (n_a + 1) (n_b + 1) cells, at most. */
+#define RELIEF_TUBE_DP_MAX (1u << 24)
 
 /* Larger polygons are cut by ears (1 above). */
 #define RELIEF_HOLE_DP_MAX 400

@@ -2,7 +2,8 @@
  * (the patch is flat), a sphere's cap (the faired patch keeps near the
  * sphere, closer than a membrane), a notch in a grid's border (closed as
  * the notch, its chord left open), a hole round a neck (no edge made
- * twice), and the patches' edges: every edge of the filled mesh has two
+ * twice), a band cut all round a cylinder (one strip between its two
+ * loops), and the patches' edges: every edge of the filled mesh has two
  * triangles except the border's. */
 #include <math.h>
 #include <stdlib.h>
@@ -77,6 +78,35 @@ static tmesh sphere_cut(int rings, int seg, double cut)
                 if (z > cut)
                     continue;
                 memcpy(m.tri + 3 * m.nt++, q[k], sizeof q[k]);
+            }
+        }
+    return m;
+}
+
+/* A cylinder of radius 1 about z, z in [0, 2] (rings + 1 rings of seg
+ * vertices), open at both ends, without the triangles whose centroid lies
+ * within band of z = 1: a band cut all round, two loops bounding one
+ * hole. */
+static tmesh cylinder_band(int rings, int seg, double band)
+{
+    size_t nv = (size_t)(rings + 1) * seg;
+    tmesh m = {malloc(nv * 3 * sizeof(double)), malloc((size_t)rings * seg * 6 * sizeof(uint32_t)),
+               nv, 0};
+    for (int i = 0; i <= rings; ++i)
+        for (int j = 0; j < seg; ++j) {
+            double ph = 2 * RELIEF_PI * (j + 0.5 * (i % 2)) / seg, *p = m.pos + 3 * (i * seg + j);
+            p[0] = cos(ph), p[1] = sin(ph), p[2] = 2.0 * i / rings;
+        }
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < seg; ++j) {
+            uint32_t a = (uint32_t)(i * seg + j), b = (uint32_t)(i * seg + (j + 1) % seg);
+            uint32_t c = (uint32_t)((i + 1) * seg + j), d = (uint32_t)((i + 1) * seg + (j + 1) % seg);
+            uint32_t q[2][3] = {{a, b, c}, {b, d, c}};
+            for (int k = 0; k < 2; ++k) {
+                double z = (m.pos[3 * q[k][0] + 2] + m.pos[3 * q[k][1] + 2] +
+                            m.pos[3 * q[k][2] + 2]) / 3;
+                if (fabs(z - 1.0) >= band)
+                    memcpy(m.tri + 3 * m.nt++, q[k], sizeof q[k]);
             }
         }
     return m;
@@ -205,10 +235,43 @@ static void test_notch(void)
     free(rim), free(m.pos), free(m.tri);
 }
 
+/* A band cut all round a cylinder: its two loops (the ends left open)
+ * are one hole, bridged by one patch that keeps near the cylinder, not
+ * two caps across it. */
+static void test_tube(void)
+{
+    tmesh m = cylinder_band(20, 48, 0.2);
+    uint32_t *rim = label_rims(&m, (double[3]){0, 0, 1}, 1.2);
+    relief_hole_patches p;
+    relief_error err = {0};
+    size_t open, over;
+    double worst = 0, zlo = INFINITY, zhi = -INFINITY;
+    CHECK(relief_fill_rims(m.pos, m.nv, m.tri, m.nt, rim, NULL, &p, &err) == RELIEF_OK, "%s",
+          err.message);
+    CHECK(p.polygons == 1 && p.arcs == 0 && p.skipped == 0, "one patch for the two loops: %zu "
+          "polygons, %zu skipped", p.polygons, p.skipped);
+    for (size_t i = 0; i < p.nv_new; ++i) {
+        const double *x = p.pos + 3 * i;
+        worst = fmax(worst, fabs(hypot(x[0], x[1]) - 1.0));
+        zlo = fmin(zlo, x[2]), zhi = fmax(zhi, x[2]);
+    }
+    printf("tube: %zu new vertices, radius off by up to %g, z %g..%g\n", p.nv_new, worst, zlo,
+           zhi);
+    CHECK(p.nv_new > 100 && worst < 0.02, "the strip keeps to the cylinder: %zu vertices, radius "
+          "off by up to %g", p.nv_new, worst);
+    CHECK(zlo > 0.7 && zhi < 1.3, "the strip stays in the band: z %g..%g", zlo, zhi);
+    census(&m, &p, &open, &over);
+    CHECK(over == 0 && open == 2 * 48, "only the cylinder's ends are open: %zu open, %zu over",
+          open, over);
+    relief_hole_patches_free(&p);
+    free(rim), free(m.pos), free(m.tri);
+}
+
 int main(void)
 {
     test_flat();
     test_sphere_cap();
     test_notch();
+    test_tube();
     return check_result();
 }

@@ -121,5 +121,13 @@ clean "complete told the band's notch" "$tmp/band_c.ply" 1
 n=$(labelled "$tmp/band_c.ply")
 ok '[[ ${n:-0} -gt 50 && ${n:-0} -lt 1000 ]]' "the band's notch took ${n:-?} targets (the cut removed 206 vertices)"
 
+# A band cut all round a cylinder (bench/mesh_holes.sh's cylinder-band):
+# its two loops bound one hole, and depth-fill told it bridges them with
+# one tube, not two caps across the cylinder.
+"$relief" synth cylinder-bands -o "$tmp/cb.ply" --truth "$tmp/cb_t.ply" --vertices 6000 2>/dev/null || exit 2
+"$relief" cut "$tmp/cb_t.ply" --slab 0,0,1,0,0,1,0.15 -o "$tmp/cb_cut.ply" 2>/dev/null || exit 2
+expect 0 "" -- "$relief" depth-fill "$tmp/cb_cut.ply" -o "$tmp/cb_d.ply" --hole-mask ball:0,0,1,1.17 --quiet
+clean "depth-fill told the cylinder's band" "$tmp/cb_d.ply"
+
 echo "$pass passed, $fail failed"
 [[ $fail == 0 ]]
