@@ -214,6 +214,13 @@ static int told_notch(const relief_complete_run *r)
            relief_holes_in_part(&r->holes);
 }
 
+/* Does a selection tell holes closed whole (no notch)? */
+static int told_whole(const relief_complete_run *r)
+{
+    return r->has_holes && (r->cp->has_hole_ball || r->cp->hole_labels) &&
+           r->holes.n_holes > 0 && !relief_holes_in_part(&r->holes);
+}
+
 static relief_status build_base(relief_complete_run *r, relief_error *err)
 {
     const relief_complete_params *cp = r->cp;
@@ -235,6 +242,19 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                          RELIEF_OK) &&
                pre.poor_fit) {
         st = auto_base(r, &pre, err);
+    } else if (fitted && told_whole(r)) {
+        st = smooth_base(r, err);
+        if (st == RELIEF_OK) {
+            relief_complete_guide(r, &pre);
+            relief_complete_note(r, 0, "the hole%s told closed from %s rim%s and laid on the "
+                                 "fitted %s; the rest of the capture as it is (base "
+                                 "primitive completes over the %s's lattice instead)",
+                                 r->holes.n_holes == 1 ? "" : "s",
+                                 r->holes.n_holes == 1 ? "its" : "their",
+                                 r->holes.n_holes == 1 ? "" : "s",
+                                 relief_fit_model_name(pre.prim.model),
+                                 relief_fit_model_name(pre.prim.model));
+        }
     } else {
         relief_error why = {0};
         /* the fit just made, auto's as the params' (auto_may_go_smooth) */
