@@ -245,7 +245,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
     } else if (fitted && told_whole(r)) {
         st = smooth_base(r, err);
         if (st == RELIEF_OK) {
-            relief_complete_guide(r, &pre);
+            relief_surface_lay_on(r->s, &pre);
             relief_complete_note(r, 0, "the hole%s told closed from %s rim%s and laid on the "
                                  "fitted %s; the rest of the capture as it is (base "
                                  "primitive completes over the %s's lattice instead)",

@@ -101,12 +101,6 @@ void relief_complete_crop_free(relief_complete_run *r);
 relief_status relief_complete_uncrop(const relief_complete_run *r, relief_mesh **out,
                                      relief_error *err);
 
-/* Base auto over a primitive that fits, the holes told and closed whole:
- * the smoothed base's targets (its patches' inner vertices) laid on the
- * primitive `fit`, and every vertex's base, normal, frame and displacement
- * the primitive's, as over the primitive's lattice (guide.c). */
-void relief_complete_guide(relief_complete_run *r, const relief_fit_result *fit);
-
 /* After the growth: the targets of crossing triangles drawn back toward
  * the base (untangle.c); a remark counts them. RELIEF_E_NOMEM. */
 relief_status relief_complete_untangle(relief_complete_run *r, relief_error *err);

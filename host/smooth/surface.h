@@ -192,6 +192,14 @@ relief_status relief_surface_build(const relief_mesh *capture, const relief_para
 
 void relief_surface_destroy(relief_surface *s);
 
+/* A smoothed base (free_form, points/base_surface.h) laid on the primitive
+ * `fit`: its targets (the patches' inner vertices) moved onto it, and every
+ * vertex's base, normal (on the side of the base's own), frame and
+ * displacement made the primitive's, as relief_surface_build's over its
+ * lattice. complete's told holes over a primitive that fits (issue 61):
+ * a sphere's cap is filled on the sphere, from the cap's own rim. */
+void relief_surface_lay_on(relief_surface *s, const relief_fit_result *fit);
+
 /* A sub-surface of s for the hierarchy (hierarchy.c): the vertices with
  * keep[v] != 0 (s->mesh->nv entries), in s's order (so samples first),
  * with their per-vertex state, labels and colours, re-triangulated as

@@ -1,18 +1,14 @@
-/* Told holes over a primitive that fits: closed from their own rims on
- * the capture's smoothed base, as any told hole is, and the patch laid on
- * the primitive (issue 61), so that a sphere's cap is filled on the sphere
- * while the capture comes back verbatim and no other opening is touched. */
-#include "complete/engine.h"
-
+/* relief_surface_lay_on (smooth/surface.h): complete's told holes over a
+ * primitive that fits (issue 61). */
 #include <string.h>
 
 #include "kernels/relief_math.h"
 #include "mesh/mesh.h"
 #include "smooth/fit.h"
+#include "smooth/surface.h"
 
-void relief_complete_guide(relief_complete_run *r, const relief_fit_result *fit)
+void relief_surface_lay_on(relief_surface *s, const relief_fit_result *fit)
 {
-    relief_surface *s = r->s;
     for (size_t v = 0; v < s->mesh->nv; ++v) {
         double *p = s->proj + 3 * v, *n = s->nrm + 3 * v, *f = s->frame + 9 * v;
         double *x = s->mesh->pos + 3 * v, pn[3];
