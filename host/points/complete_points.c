@@ -672,11 +672,13 @@ static relief_status texture_run(work *w, relief_error *err)
         n_ex += w->exemplar[i] != 0, n_unk += w->unknown[i] != 0;
     /* A fill larger than what it is to look like would repeat the few
      * exemplars over it, not continue the surface: refused (no exemplar at
-     * all: texopt says so). Not over a mesh's patches: they continue the
+     * all: texopt says so). Not over a mesh's patches when the exemplars
+     * are the whole capture outside the band: the patches continue the
      * surface themselves, and what is synthesised on them is the relief
      * alone, which may repeat (a band all round a cylinder, the capture
-     * about it masked: 5862 points to synthesise from 3014). */
-    if (n_ex > 0 && n_ex < n_unk && !w->low)
+     * about it masked: 5862 points to synthesise from 3014). A sample
+     * region or a clone the caller chose is still held to it. */
+    if (n_ex > 0 && n_ex < n_unk && !(w->low && !nc && !p->sample_mask))
         return relief_fail(err, RELIEF_E_RANGE, "the holes are larger than the sample region: "
                            "%zu points to synthesise from %zu exemplar points%s; give a "
                            "larger %s", n_unk, n_ex,
