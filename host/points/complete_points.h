@@ -63,7 +63,8 @@ typedef struct relief_points_params {
                              matched to the exemplars' about the hole (texopt.h's
                              histogram bit): the averaging of overlapping matches and
                              their leaning to smooth exemplars narrow it; 0: as the
-                             optimisation left it (README has both measured) */
+                             optimisation left it (README has both measured); never
+                             over a mesh's faired patches (complete_points.c) */
     int mesh;             /* 1: *out also gets triangles: a mesh input's own and the
                              filled holes' patches (points/patch_mesh.h); for a point
                              set, a surface through all the output's points

@@ -20,7 +20,8 @@ static const relief_param table[] = {
             "baseline of paper 002's Fig. 9g)"),
     RP_FLAG(T, detail_histogram, "the new points' detail takes the distribution of the "
             "capture about the hole, by histogram matching: as rough as the scan's own "
-            "(default: on; off leaves it as the texture optimisation averaged it)"),
+            "(default: on; off leaves it as the texture optimisation averaged it; a mesh's "
+            "faired patches never take it)"),
     RP_FLAG(T, mesh, "the output also gets triangles: a mesh's own and patches over the "
             "filled holes; for a point set, local Delaunay umbrellas through all the "
             "points"),

@@ -74,8 +74,11 @@ fi
 expect 1 "not one of kdtree, brute" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --grid-search fast; nothing "--grid-search fast"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fs.ply" --smooth-only --quiet
 ok '! cmp -s "$tmp/f.ply" "$tmp/fs.ply"' "--smooth-only made the same points"
+# A mesh's faired patches never take the histogram (issue 61: matched to
+# the clusters about a small hole it stretched the relief 4 times): the
+# same bytes either way there; a bare cloud's fill takes it (milk, below).
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fh.ply" --no-detail-histogram --iterations 10 --report "$tmp/fh.json" --quiet
-ok '! cmp -s "$tmp/f.ply" "$tmp/fh.ply" && grep -q "\"detail_histogram\": false" "$tmp/fh.json"' "--no-detail-histogram changed nothing or is not in the report"
+ok 'cmp -s "$tmp/f.ply" "$tmp/fh.ply" && grep -q "\"detail_histogram\": false" "$tmp/fh.json"' "--no-detail-histogram changed a mesh's fill or is not in the report"
 if [[ $rerun == 1 ]]; then
   expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fd.ply" --detail-histogram --iterations 10 --quiet
   ok 'cmp -s "$tmp/f.ply" "$tmp/fd.ply"' "--detail-histogram (the default) changed the output"
@@ -169,6 +172,8 @@ expect 1 "has no colour" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$t
 expect 0 "added over" -- "$relief" complete-points "$milk" -o "$tmp/mc.ply" --mesh "$tmp/mc_m.ply" --iterations 3 --report "$tmp/mc.json"
 ok 'grep -q "\"boundary_edges\": [0-9]" "$tmp/mc.json" && grep -q "\"bare_points\": [0-9]" "$tmp/mc.json"' "the report lacks the cloud surface's counts"
 ok '[[ $(( $(head -c 800 "$tmp/mc_m.ply" | grep -a "element face" | cut -d" " -f3) * 10 )) -gt $(( $(head -c 800 "$tmp/mc.ply" | grep -a "element vertex" | cut -d" " -f3) * 18 )) ]]' "the cloud's surface has fewer than 1.8 triangles a point"
+expect 0 "" -- "$relief" complete-points "$milk" -o "$tmp/mch.ply" --no-detail-histogram --iterations 3 --quiet
+ok '! cmp -s "$tmp/mc.ply" "$tmp/mch.ply"' "--no-detail-histogram changed nothing on a bare cloud's fill"
 expect 1 "leaves out" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --clone-from "$fert" --smooth-only
 expect 1 "cannot" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/bad.ply" --clone-from "$tmp/none.ply"; nothing "a missing clone"
 expect 0 "" -- "$relief" complete-points "$tmp/fert_cut.ply" -o "$tmp/fc.ply" --clone-from "$data/real/max_planck/decimated-max.obj" --iterations 5 --report "$tmp/fc.json" --quiet
