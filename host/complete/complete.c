@@ -603,11 +603,13 @@ static void run_init(relief_complete_run *r, const relief_mesh *capture,
     relief_progress_init(&r->progress, p->run.progress, p->run.progress_ctx);
 }
 
-/* The surface's mesh, taken from it (sewn into the whole capture when
- * the base was a crop's): the call's output. */
+/* The surface's mesh, taken from it: the call's output. Told holes on the
+ * smoothed base are sewn into the capture as it was given (crop.c), so it
+ * comes back verbatim, even its vertices in no triangle, which the base
+ * leaves out. */
 static relief_status take_mesh(relief_complete_run *r, relief_mesh **out, relief_error *err)
 {
-    if (r->crop)
+    if (r->crop || (r->smooth_base && (r->cp->has_hole_ball || r->cp->hole_labels)))
         return relief_complete_uncrop(r, out, err);
     *out = r->s->mesh;
     r->s->mesh = NULL;

@@ -145,7 +145,7 @@ void relief_complete_crop_free(relief_complete_run *r)
     r->crop_to = NULL;
 }
 
-/* A crop face's vertices, ascending, for finding it again. */
+/* A face's vertices, ascending, for finding it again. */
 typedef struct face_key {
     uint32_t v[3];
 } face_key;
@@ -159,109 +159,176 @@ static int cmp_face(const void *a, const void *b)
     return 0;
 }
 
-static face_key key_of(const uint32_t *t)
+/* t's vertices through map (NULL: as they are), ascending. */
+static face_key key_of(const uint32_t *t, const uint32_t *map)
 {
-    face_key k = {{t[0], t[1], t[2]}};
+    face_key k = {{map ? map[t[0]] : t[0], map ? map[t[1]] : t[1], map ? map[t[2]] : t[2]}};
     qsort(k.v, 3, sizeof *k.v, relief_cmp_u32);
     return k;
 }
 
-/* Which of the completed crop's faces are new (`fresh`), and which of the
- * crop's own it kept (`kept`, by the crop's face order). */
-static relief_status sort_faces(const relief_mesh *crop, const relief_mesh *done, uint8_t *kept,
-                                uint8_t *fresh, relief_error *err)
+/* What the sewing knows: the part of the capture the base was built on
+ * (the crop, or the capture itself, `to` NULL), the completed surface, and
+ * each of its vertices' index in the part (its samples) or past it (its
+ * targets: part->nv + j). */
+typedef struct sewing {
+    const relief_mesh *c, *part, *done;
+    const uint32_t *to;  /* part->nv: the capture's vertex, or NULL: itself */
+    uint32_t *in_part;   /* done->nv */
+    uint8_t *kept;       /* part->nt: the completion kept the face */
+    uint8_t *fresh;      /* done->nt: a face the completion made */
+} sewing;
+
+/* in_part: the completed surface's samples are the part's vertices in
+ * order, those in no triangle left out (points/base_surface.h); matched by
+ * their positions, which the base never moves. 0 when they are not. */
+static int match_samples(sewing *w, size_t n_samples)
 {
-    face_key *keys = malloc(crop->nt * sizeof *keys + 1);
-    uint32_t *order = malloc(crop->nt * sizeof *order + 1);
-    if (!keys || !order) {
-        free(keys), free(order);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the crop's faces");
+    size_t i = 0;
+    for (size_t j = 0; j < w->done->nv; ++j) {
+        if (j >= n_samples) {
+            w->in_part[j] = (uint32_t)(w->part->nv + (j - n_samples));
+            continue;
+        }
+        while (i < w->part->nv &&
+               memcmp(w->part->pos + 3 * i, w->done->pos + 3 * j, 3 * sizeof(double)) != 0)
+            ++i;
+        if (i == w->part->nv)
+            return 0;
+        w->in_part[j] = (uint32_t)i++;
     }
-    for (size_t f = 0; f < crop->nt; ++f)
-        keys[f] = key_of(crop->tri + 3 * f);
-    qsort(keys, crop->nt, sizeof *keys, cmp_face);
-    memset(kept, 0, crop->nt);
+    return 1;
+}
+
+/* Which of the completed surface's faces are new (fresh), and which of
+ * the part's own it kept (kept, in the part's face order). */
+static relief_status sort_faces(sewing *w, relief_error *err)
+{
+    const relief_mesh *part = w->part, *done = w->done;
+    face_key *keys = malloc(part->nt * sizeof *keys + 1);
+    uint8_t *seen = calloc(part->nt + 1, 1);
+    if (!keys || !seen) {
+        free(keys), free(seen);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's faces");
+    }
+    for (size_t f = 0; f < part->nt; ++f)
+        keys[f] = key_of(part->tri + 3 * f, NULL);
+    qsort(keys, part->nt, sizeof *keys, cmp_face);
     for (size_t f = 0; f < done->nt; ++f) {
-        face_key k = key_of(done->tri + 3 * f);
-        const face_key *at = bsearch(&k, keys, crop->nt, sizeof *keys, cmp_face);
-        fresh[f] = at == NULL;
+        face_key k = key_of(done->tri + 3 * f, w->in_part);
+        const face_key *at = bsearch(&k, keys, part->nt, sizeof *keys, cmp_face);
+        w->fresh[f] = at == NULL;
         if (at)
-            kept[at - keys] = 1;
+            seen[at - keys] = 1;
     }
-    /* kept[] is by sorted key: back to the crop's order */
-    for (size_t f = 0; f < crop->nt; ++f) {
-        face_key k = key_of(crop->tri + 3 * f);
-        order[f] = kept[(const face_key *)bsearch(&k, keys, crop->nt, sizeof *keys, cmp_face) -
-                        keys];
+    for (size_t f = 0; f < part->nt; ++f) { /* back to the part's order */
+        face_key k = key_of(part->tri + 3 * f, NULL);
+        w->kept[f] = seen[(const face_key *)bsearch(&k, keys, part->nt, sizeof *keys,
+                                                    cmp_face) - keys];
     }
-    for (size_t f = 0; f < crop->nt; ++f)
-        kept[f] = (uint8_t)order[f];
-    free(keys), free(order);
+    free(keys), free(seen);
     return RELIEF_OK;
 }
 
-/* Vertex v of the output: the completed crop's vertex i (UINT32_MAX: the
- * capture's own v, untouched by the crop). */
-static void copy_vertex(relief_mesh *out, size_t v, const relief_mesh *c, const relief_mesh *done,
-                        uint32_t i)
+/* Vertex v of the output from the completed surface's vertex j
+ * (UINT32_MAX: the capture's own v). */
+static void copy_vertex(relief_mesh *out, size_t v, const sewing *w, uint32_t j)
 {
-    const relief_mesh *from = i == UINT32_MAX ? c : done;
-    const size_t at = i == UINT32_MAX ? v : i;
+    const relief_mesh *from = j == UINT32_MAX ? w->c : w->done;
+    const size_t at = j == UINT32_MAX ? v : j;
     memcpy(out->pos + 3 * v, from->pos + 3 * at, 3 * sizeof *out->pos);
     if (out->col && from->col)
         memcpy(out->col + 3 * v, from->col + 3 * at, 3 * sizeof *out->col);
     if (out->nrm && from->nrm)
         memcpy(out->nrm + 3 * v, from->nrm + 3 * at, 3 * sizeof *out->nrm);
     if (out->label)
-        out->label[v] = i == UINT32_MAX ? RELIEF_LABEL_CAPTURED
-                        : done->label   ? done->label[i]
-                                        : RELIEF_LABEL_CAPTURED;
+        out->label[v] = j != UINT32_MAX && w->done->label ? w->done->label[j]
+                                                         : RELIEF_LABEL_CAPTURED;
 }
 
-/* The whole capture with the completed crop's new vertices and faces in
- * place of the crop's (the faces the crop's completion dropped, dropped). */
-static relief_status sew(const relief_complete_run *r, const uint32_t *to_crop,
-                         const uint8_t *kept, const uint8_t *fresh, relief_mesh **out,
-                         relief_error *err)
+/* The capture's index of the part's vertex i, or the output's of target
+ * i - part->nv. */
+static uint32_t out_index(const sewing *w, uint32_t i)
 {
-    const relief_mesh *c = r->capture, *crop = r->crop, *done = r->s->mesh;
-    const size_t added = done->nv - crop->nv;
-    size_t nt = c->nt, f = 0;
+    if (i >= w->part->nv)
+        return (uint32_t)(w->c->nv + (i - w->part->nv));
+    return w->to ? w->to[i] : i;
+}
+
+/* The part's faces in the capture's order: drop[t] for those the
+ * completion replaced; their count. */
+static size_t dropped_faces(const sewing *w, uint8_t *drop)
+{
+    const relief_mesh *c = w->c;
+    uint32_t *of = NULL;
+    size_t n = 0, pt = 0;
+    if (!w->to) { /* the part is the capture */
+        for (size_t t = 0; t < c->nt; ++t)
+            n += drop[t] = !w->kept[t];
+        return n;
+    }
+    of = malloc(c->nv * sizeof *of + 1);
+    if (!of)
+        return SIZE_MAX;
+    for (size_t v = 0; v < c->nv; ++v)
+        of[v] = UINT32_MAX;
+    for (size_t i = 0; i < w->part->nv; ++i)
+        of[w->to[i]] = (uint32_t)i;
+    for (size_t t = 0; t < c->nt; ++t) { /* relief_mesh_subset kept them in order */
+        const uint32_t *v = c->tri + 3 * t;
+        if (of[v[0]] == UINT32_MAX || of[v[1]] == UINT32_MAX || of[v[2]] == UINT32_MAX)
+            continue;
+        n += drop[t] = !w->kept[pt++];
+    }
+    free(of);
+    return n;
+}
+
+/* The whole capture with the completed surface's targets and new faces,
+ * less the faces the completion replaced. */
+static relief_status sew(const sewing *w, relief_mesh **out, relief_error *err)
+{
+    const relief_mesh *c = w->c, *done = w->done;
+    size_t added = 0;
     uint8_t *drop = calloc(c->nt + 1, 1);
+    uint32_t *last = malloc((c->nv + 1) * sizeof *last);
+    size_t nt = c->nt, f = 0, nd;
     relief_mesh *o;
     relief_status st;
-    if (!drop)
+    if (!drop || !last || (nd = dropped_faces(w, drop)) == SIZE_MAX) {
+        free(drop), free(last);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the completed capture");
-    for (size_t t = 0, ct = 0; t < c->nt; ++t) { /* the crop's faces in capture order */
-        const uint32_t *v = c->tri + 3 * t;
-        if (to_crop[v[0]] == UINT32_MAX || to_crop[v[1]] == UINT32_MAX ||
-            to_crop[v[2]] == UINT32_MAX)
-            continue;
-        drop[t] = !kept[ct++];
-        nt -= drop[t];
     }
+    nt -= nd;
+    for (size_t j = 0; j < done->nv; ++j)
+        added += w->in_part[j] >= w->part->nv;
     for (size_t t = 0; t < done->nt; ++t)
-        nt += fresh[t];
+        nt += w->fresh[t];
     st = relief_mesh_create(c->nv + added, nt, done->attrs | c->attrs, &o, err);
     if (st != RELIEF_OK) {
-        free(drop);
+        free(drop), free(last);
         return st;
     }
     for (size_t v = 0; v < c->nv; ++v)
-        copy_vertex(o, v, c, done, to_crop[v]);
-    for (size_t i = 0; i < added; ++i)
-        copy_vertex(o, c->nv + i, c, done, (uint32_t)(crop->nv + i));
+        last[v] = UINT32_MAX;
+    for (size_t j = 0; j < done->nv; ++j) /* the capture's vertices the part holds */
+        if (w->in_part[j] < w->part->nv)
+            last[out_index(w, w->in_part[j])] = (uint32_t)j;
+    for (size_t v = 0; v < c->nv; ++v)
+        copy_vertex(o, v, w, last[v]);
+    for (size_t j = 0; j < done->nv; ++j)
+        if (w->in_part[j] >= w->part->nv)
+            copy_vertex(o, out_index(w, w->in_part[j]), w, (uint32_t)j);
     for (size_t t = 0; t < c->nt; ++t)
         if (!drop[t])
             memcpy(o->tri + 3 * f++, c->tri + 3 * t, 3 * sizeof *o->tri);
     for (size_t t = 0; t < done->nt; ++t)
-        for (int k = 0; fresh[t] && k < 3; ++k) {
-            const uint32_t v = done->tri[3 * t + (size_t)k];
-            o->tri[3 * f + (size_t)k] =
-                v < crop->nv ? r->crop_to[v] : (uint32_t)(c->nv + (v - crop->nv));
-            f += k == 2;
+        if (w->fresh[t]) {
+            for (int k = 0; k < 3; ++k)
+                o->tri[3 * f + (size_t)k] = out_index(w, w->in_part[done->tri[3 * t + (size_t)k]]);
+            ++f;
         }
-    free(drop);
+    free(drop), free(last);
     *out = o;
     return RELIEF_OK;
 }
@@ -269,24 +336,21 @@ static relief_status sew(const relief_complete_run *r, const uint32_t *to_crop,
 relief_status relief_complete_uncrop(const relief_complete_run *r, relief_mesh **out,
                                      relief_error *err)
 {
-    const relief_mesh *c = r->capture, *done = r->s->mesh;
-    uint32_t *to_crop = malloc(c->nv * sizeof *to_crop + 1);
-    uint8_t *kept = malloc(r->crop->nt + 1), *fresh = malloc(done->nt + 1);
-    relief_status st;
-    if (!to_crop || !kept || !fresh) {
+    sewing w = {r->capture, r->crop ? r->crop : r->capture, r->s->mesh, r->crop_to,
+                NULL, NULL, NULL};
+    relief_status st = RELIEF_OK;
+    w.in_part = malloc(w.done->nv * sizeof *w.in_part + 1);
+    w.kept = malloc(w.part->nt + 1);
+    w.fresh = malloc(w.done->nt + 1);
+    if (!w.in_part || !w.kept || !w.fresh)
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the completed capture");
-    } else if (done->nv < r->crop->nv) {
-        st = relief_fail(err, RELIEF_E_MESH, "the completed crop lost vertices (%zu of %zu)",
-                         done->nv, r->crop->nv);
-    } else {
-        for (size_t v = 0; v < c->nv; ++v)
-            to_crop[v] = UINT32_MAX;
-        for (size_t i = 0; i < r->crop->nv; ++i)
-            to_crop[r->crop_to[i]] = (uint32_t)i;
-        st = sort_faces(r->crop, done, kept, fresh, err);
-        if (st == RELIEF_OK)
-            st = sew(r, to_crop, kept, fresh, out, err);
-    }
-    free(to_crop), free(kept), free(fresh);
+    else if (w.done->nv == 0 || !match_samples(&w, r->s->n_samples))
+        st = relief_fail(err, RELIEF_E_MESH, "the completed surface does not hold the "
+                         "capture's vertices in order: it cannot be sewn back");
+    if (st == RELIEF_OK)
+        st = sort_faces(&w, err);
+    if (st == RELIEF_OK)
+        st = sew(&w, out, err);
+    free(w.in_part), free(w.kept), free(w.fresh);
     return st;
 }

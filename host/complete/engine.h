@@ -95,9 +95,11 @@ relief_status relief_complete_crop(relief_complete_run *r, const uint8_t *select
                                    uint8_t **crop_select, relief_error *err);
 void relief_complete_crop_free(relief_complete_run *r);
 
-/* The whole capture completed: r->capture with the completed crop's
- * (r->s->mesh's) new vertices and faces sewn in (and any crop face the
- * completion replaced, gone). */
+/* The whole capture completed: r->capture, verbatim, with the new
+ * vertices and faces of the surface completed on the crop (r->crop) or on
+ * the capture itself (r->s->mesh) sewn in, and any of its faces the
+ * completion replaced gone. RELIEF_E_MESH when the surface's samples are
+ * not the capture's vertices in order; RELIEF_E_NOMEM. */
 relief_status relief_complete_uncrop(const relief_complete_run *r, relief_mesh **out,
                                      relief_error *err);
 
