@@ -477,12 +477,14 @@ static void test_told_real(const char *data, const char *file, const double ball
                   memcmp(relief_mesh_triangles(out), relief_mesh_triangles(again),
                          3 * relief_mesh_triangle_count(out) * sizeof(uint32_t)) == 0,
               "the told %s: the host threads' bytes differ from the reference's", name);
+        memset(&ev, 0, sizeof ev);
         CHECK_STATUS(relief_eval(out, NULL, &ev, &err), RELIEF_OK, err, NULL);
         CHECK(ev.open_loops_completed == 0 && ev.nonmanifold_edges_completed == 0 &&
                   ev.self_intersections_completed == 0,
               "the told %s: %zu open loops, %zu non-manifold edges, %zu crossing triangles "
               "where completed", name, ev.open_loops_completed, ev.nonmanifold_edges_completed,
               ev.self_intersections_completed);
+        relief_eval_result_free(&ev);
     }
     relief_mesh_destroy(again);
     relief_mesh_destroy(out);
