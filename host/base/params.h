@@ -28,12 +28,19 @@
 #define RELIEF_SEARCH_AUTO_WORK_TOLD 2.5e6
 
 /* The samples a told hole's targets are matched against (the pool,
- * match_data.h's relief_match_data_keep_near): the capture nearest the
+ * match_data.h's relief_match_data_build_near): the capture nearest the
  * hole, RELIEF_TOLD_POOL_PER_TARGET per target and never fewer than
  * RELIEF_TOLD_POOL_MIN, so a small hole in a large capture costs what the
  * hole does (issue 61: a told fill within 3 x CGAL's time). */
 #define RELIEF_TOLD_POOL_MIN 1024
 #define RELIEF_TOLD_POOL_PER_TARGET 16
+
+/* The pool's size for n_targets targets (a count, or an estimate). */
+static inline double relief_told_pool(double n_targets)
+{
+    const double n = RELIEF_TOLD_POOL_PER_TARGET * n_targets;
+    return n > RELIEF_TOLD_POOL_MIN ? n : RELIEF_TOLD_POOL_MIN;
+}
 
 /* Parameters of `relief complete` and `relief smooth`. Lengths are in the
  * input's units; 0 for spacing means "derive from the capture". */

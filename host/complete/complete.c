@@ -343,13 +343,6 @@ static relief_status inject_device_failure(void *ctx, relief_error *err)
                        "(injected by RELIEF_TEST_DEVICE_FAIL_AFTER=%zu)", r->fail_after);
 }
 
-/* How many samples a told hole's targets are matched against. */
-static size_t told_pool(size_t n_targets)
-{
-    const size_t n = RELIEF_TOLD_POOL_PER_TARGET * n_targets;
-    return n > RELIEF_TOLD_POOL_MIN ? n : RELIEF_TOLD_POOL_MIN;
-}
-
 /* The matcher of a mono-scale growth over its match data; a told hole's,
  * over the samples around it. */
 static relief_status make_matcher(relief_complete_run *r, relief_error *err)
@@ -358,7 +351,7 @@ static relief_status make_matcher(relief_complete_run *r, relief_error *err)
     const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
     relief_status st = relief_match_data_build_near(
         r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL),
-        p->told_holes ? told_pool(r->s->n_targets) : SIZE_MAX, 2 * p->window + 2, &r->d, err);
+        p->told_holes ? (size_t)relief_told_pool((double)r->s->n_targets) : SIZE_MAX, 2 * p->window + 2, &r->d, err);
     if (st == RELIEF_OK)
         st = relief_matcher_create(p->backend, p->device, p->threads, r->d, &r->m,
                                    r->choice, sizeof r->choice, &r->choice_reason, err);

@@ -14,9 +14,9 @@
 #include "mesh/mesh.h"
 
 /* The crop holds CROP_PER_POOL x the samples a told growth matches against
- * (complete.c's pool: RELIEF_TOLD_POOL_*), then CROP_MARGIN rings more, so
- * the base's smoothing and the pool's windows see what the whole capture
- * would give them there; a crop over half the capture is not made. */
+ * (relief_told_pool), then CROP_MARGIN rings more, so the base's smoothing
+ * and the pool's windows see what the whole capture would give them there;
+ * a crop of 3/4 of the capture or more is not made. */
 #define CROP_PER_POOL 3
 #define CROP_MARGIN 6
 
@@ -33,7 +33,7 @@ static size_t crop_wanted(const relief_complete_run *r, size_t *n_seeds)
         targets += (double)m->points * (double)m->points / (4.0 * RELIEF_PI);
         *n_seeds += m->points;
     }
-    pool = fmax(RELIEF_TOLD_POOL_MIN, RELIEF_TOLD_POOL_PER_TARGET * targets);
+    pool = relief_told_pool(targets);
     return (size_t)fmin(CROP_PER_POOL * pool, (double)SIZE_MAX / 2);
 }
 
@@ -145,11 +145,13 @@ void relief_complete_crop_free(relief_complete_run *r)
     r->crop_to = NULL;
 }
 
-/* A face's vertices, ascending, for finding it again. */
+/* A face's vertices, ascending, for finding it again, and its index. */
 typedef struct face_key {
     uint32_t v[3];
+    size_t face;
 } face_key;
 
+/* By the vertices alone: equal keys are the same face. */
 static int cmp_face(const void *a, const void *b)
 {
     const face_key *x = a, *y = b;
@@ -162,7 +164,7 @@ static int cmp_face(const void *a, const void *b)
 /* t's vertices through map (NULL: as they are), ascending. */
 static face_key key_of(const uint32_t *t, const uint32_t *map)
 {
-    face_key k = {{map ? map[t[0]] : t[0], map ? map[t[1]] : t[1], map ? map[t[2]] : t[2]}};
+    face_key k = {{map ? map[t[0]] : t[0], map ? map[t[1]] : t[1], map ? map[t[2]] : t[2]}, 0};
     qsort(k.v, 3, sizeof *k.v, relief_cmp_u32);
     return k;
 }
@@ -206,27 +208,25 @@ static relief_status sort_faces(sewing *w, relief_error *err)
 {
     const relief_mesh *part = w->part, *done = w->done;
     face_key *keys = malloc(part->nt * sizeof *keys + 1);
-    uint8_t *seen = calloc(part->nt + 1, 1);
-    if (!keys || !seen) {
-        free(keys), free(seen);
+    if (!keys)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the capture's faces");
-    }
-    for (size_t f = 0; f < part->nt; ++f)
+    for (size_t f = 0; f < part->nt; ++f) {
         keys[f] = key_of(part->tri + 3 * f, NULL);
+        keys[f].face = f;
+    }
     qsort(keys, part->nt, sizeof *keys, cmp_face);
+    memset(w->kept, 0, part->nt);
     for (size_t f = 0; f < done->nt; ++f) {
         face_key k = key_of(done->tri + 3 * f, w->in_part);
-        const face_key *at = bsearch(&k, keys, part->nt, sizeof *keys, cmp_face);
+        const face_key *at = bsearch(&k, keys, part->nt, sizeof *keys, cmp_face), *e;
         w->fresh[f] = at == NULL;
-        if (at)
-            seen[at - keys] = 1;
+        /* every copy of the face (a capture may repeat one) */
+        for (e = at; e && e >= keys && cmp_face(e, at) == 0; --e)
+            w->kept[e->face] = 1;
+        for (e = at; e && e < keys + part->nt && cmp_face(e, at) == 0; ++e)
+            w->kept[e->face] = 1;
     }
-    for (size_t f = 0; f < part->nt; ++f) { /* back to the part's order */
-        face_key k = key_of(part->tri + 3 * f, NULL);
-        w->kept[f] = seen[(const face_key *)bsearch(&k, keys, part->nt, sizeof *keys,
-                                                    cmp_face) - keys];
-    }
-    free(keys), free(seen);
+    free(keys);
     return RELIEF_OK;
 }
 

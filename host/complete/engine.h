@@ -89,8 +89,8 @@ void relief_complete_holes_free(relief_complete_run *r);
  * of neighbours enough for the smoothing and the pool of samples), on
  * which the smoothed base is built; *crop_select: `select` (capture->nv
  * flags, or NULL) on the crop, the caller's to free. Nothing is cropped
- * (r->crop NULL) when the crop would hold half the capture, or the
- * selection reaches its border. RELIEF_E_NOMEM. */
+ * (r->crop NULL) for a notch, when the crop would hold 3/4 of the capture
+ * or more, or when the selection reaches its border. RELIEF_E_NOMEM. */
 relief_status relief_complete_crop(relief_complete_run *r, const uint8_t *select,
                                    uint8_t **crop_select, relief_error *err);
 void relief_complete_crop_free(relief_complete_run *r);
