@@ -37,6 +37,18 @@ static size_t crop_wanted(const relief_complete_run *r, size_t *n_seeds)
     return (size_t)fmin(CROP_PER_POOL * pool, (double)SIZE_MAX / 2);
 }
 
+/* The crop's search: done once `want` vertices are reached. */
+typedef struct crop_count {
+    size_t reached, want;
+} crop_count;
+
+static int count_vertex(void *ctx, uint32_t v)
+{
+    crop_count *c = ctx;
+    (void)v;
+    return ++c->reached >= c->want;
+}
+
 /* Breadth-first from the filled rims' vertices over the triangles, a ring
  * at a time, until `want` vertices are reached, then CROP_MARGIN rings
  * more; keep[v] marks them. Returns how many. queue: nv. */
@@ -44,28 +56,14 @@ static size_t crop_reach(const relief_complete_run *r, const uint32_t *vt_start,
                          const uint32_t *vt, size_t want, uint32_t *queue, uint8_t *keep)
 {
     const relief_mesh *c = r->capture;
-    size_t head = 0, tail = 0;
-    int past = -1;
+    crop_count n = {0, want};
     for (size_t v = 0; v < c->nv; ++v)
         if (r->rim[v]) {
-            queue[tail++] = (uint32_t)v;
+            queue[n.reached++] = (uint32_t)v;
             keep[v] = 1;
         }
-    while (head < tail && past < CROP_MARGIN) {
-        const size_t ring_end = tail;
-        for (; head < ring_end; ++head)
-            for (uint32_t i = vt_start[queue[head]]; i < vt_start[queue[head] + 1]; ++i)
-                for (int k = 0; k < 3; ++k) {
-                    const uint32_t w = c->tri[3 * (size_t)vt[i] + (size_t)k];
-                    if (!keep[w]) {
-                        keep[w] = 1;
-                        queue[tail++] = w;
-                    }
-                }
-        if (tail >= want)
-            ++past;
-    }
-    return tail;
+    return relief_mesh_rings(c->tri, vt_start, vt, queue, n.reached, keep, n.reached >= want,
+                             CROP_MARGIN, count_vertex, &n);
 }
 
 /* Does the selection lie inside the crop, off its border? Else the crop's

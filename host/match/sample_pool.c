@@ -5,6 +5,25 @@
 
 #include "base/error.h"
 #include "match/match_data.h"
+#include "mesh/mesh.h"
+
+/* The pool as the search from the targets finds it: the first n_keep
+ * samples reached. */
+typedef struct pool_reach {
+    uint32_t ns;
+    size_t n_keep, found;
+    uint8_t *keep;
+} pool_reach;
+
+static int take_sample(void *ctx, uint32_t v)
+{
+    pool_reach *p = ctx;
+    if (v < p->ns && p->found < p->n_keep) {
+        p->keep[v] = 1;
+        ++p->found;
+    }
+    return p->found == p->n_keep;
+}
 
 /* Breadth-first from every target (vertices ns..nv-1; the samples are
  * 0..ns-1 while no pool is kept) over the triangles, a ring at a time:
@@ -14,33 +33,14 @@
 static size_t reach_samples(const relief_match_data *d, size_t n_keep, int margin,
                             uint32_t *queue, uint8_t *near, uint8_t *keep)
 {
-    size_t head = 0, tail = 0, found = 0;
-    int past = -1; /* rings since the pool was complete */
+    pool_reach p = {d->ns, n_keep, 0, keep};
+    size_t n = 0;
     for (uint32_t v = d->ns; v < d->nv; ++v) {
-        queue[tail++] = v;
+        queue[n++] = v;
         near[v] = 1;
     }
-    while (head < tail && past < margin) {
-        const size_t ring_end = tail;
-        for (; head < ring_end; ++head) {
-            const uint32_t v = queue[head];
-            for (uint32_t i = d->vt_start[v]; i < d->vt_start[v + 1]; ++i)
-                for (int k = 0; k < 3; ++k) {
-                    const uint32_t w = d->tri[3 * (size_t)d->vt[i] + (size_t)k];
-                    if (near[w])
-                        continue;
-                    near[w] = 1;
-                    queue[tail++] = w;
-                    if (w < d->ns && found < n_keep) {
-                        keep[w] = 1;
-                        ++found;
-                    }
-                }
-        }
-        if (found == n_keep)
-            ++past;
-    }
-    return found;
+    relief_mesh_rings(d->tri, d->vt_start, d->vt, queue, n, near, 0, margin, take_sample, &p);
+    return p.found;
 }
 
 /* Compact the sample arrays to the kept samples, in vertex order, and map

@@ -334,3 +334,27 @@ relief_status relief_mesh_copy(const relief_mesh *m, relief_mesh **out, relief_e
     free(keep);
     return st;
 }
+
+size_t relief_mesh_rings(const uint32_t *tri, const uint32_t *vt_start, const uint32_t *vt,
+                         uint32_t *queue, size_t n_seeds, uint8_t *seen, int done, int margin,
+                         int (*visit)(void *ctx, uint32_t v), void *ctx)
+{
+    size_t head = 0, tail = n_seeds;
+    int past = -1; /* rings since the search had what it wanted */
+    while (head < tail && past < margin) {
+        const size_t ring_end = tail;
+        for (; head < ring_end; ++head)
+            for (uint32_t i = vt_start[queue[head]]; i < vt_start[queue[head] + 1]; ++i)
+                for (int k = 0; k < 3; ++k) {
+                    const uint32_t w = tri[3 * (size_t)vt[i] + (size_t)k];
+                    if (seen[w])
+                        continue;
+                    seen[w] = 1;
+                    queue[tail++] = w;
+                    done |= visit(ctx, w);
+                }
+        if (done)
+            ++past;
+    }
+    return tail;
+}

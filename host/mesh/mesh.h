@@ -40,6 +40,17 @@ void relief_adjacency_free(relief_adjacency *adj);
  * 3 nt entries, both the caller's. */
 void relief_mesh_vertex_triangles(const relief_mesh *m, uint32_t *start, uint32_t *ids);
 
+/* Breadth-first over the triangles tri (vertex-to-triangle lists vt_start,
+ * vt as relief_mesh_vertex_triangles gives them), a ring at a time, from
+ * the n_seeds vertices in queue (marked in seen): each vertex newly reached
+ * is marked, queued and passed to visit(ctx, v), which answers 1 once the
+ * search has what it wants (done: already so); the search then goes on
+ * `margin` rings past the ring where that happened, or until nothing is
+ * left. Returns how many vertices are queued. queue: nv entries. */
+size_t relief_mesh_rings(const uint32_t *tri, const uint32_t *vt_start, const uint32_t *vt,
+                         uint32_t *queue, size_t n_seeds, uint8_t *seen, int done, int margin,
+                         int (*visit)(void *ctx, uint32_t v), void *ctx);
+
 /* Area-weighted vertex normals vn (nv x 3, not normalised: the sum of the
  * unnormalised cross products (b - a) x (c - a) of the triangles around
  * each vertex; zero rows for vertices in no triangle). */
