@@ -123,8 +123,12 @@ static void note_surface(relief_complete_run *r)
 
 /* The capture's own smoothed, hole-filled base (points/base_surface.h),
  * its holes chosen by max_hole or the selection (hole_ball, hole_labels),
- * as complete-points chooses them; the hole model goes to the report. */
-static relief_status smooth_base(relief_complete_run *r, relief_error *err)
+ * as complete-points chooses them; the hole model goes to the report.
+ * fit: the capture's primitive when already fitted (or NULL). laid: the
+ * base is to be laid on that primitive (relief_surface_lay_on), so the
+ * curvature flow that smooths it would be thrown away: not run. */
+static relief_status smooth_base(relief_complete_run *r, const relief_fit_result *fit,
+                                 int laid, relief_error *err)
 {
     const relief_complete_params *cp = r->cp;
     relief_points_params pp = relief_points_params_default();
@@ -142,9 +146,12 @@ static relief_status smooth_base(relief_complete_run *r, relief_error *err)
     if (cp->has_hole_ball || cp->hole_labels)
         pp.max_detail = BASE_MAX_DETAIL_TOLD;
     pp.hole_select = r->crop ? crop_select : select;
+    if (laid)
+        pp.smooth_steps = 0;
     /* as complete-points: scalar on one thread, else the threads asked */
     pp.threads = r->st.params.backend == RELIEF_BACKEND_SCALAR ? 1 : r->st.params.threads;
-    st = relief_points_base_surface(r->crop ? r->crop : r->capture, &pp, &r->s, &prep, err);
+    st = relief_points_base_surface(r->crop ? r->crop : r->capture, &pp, fit, &r->s, &prep,
+                                    err);
     free(select);
     free(crop_select);
     r->smooth_base = st == RELIEF_OK;
@@ -172,7 +179,7 @@ static relief_status auto_base(relief_complete_run *r, const relief_fit_result *
                                relief_error *err)
 {
     relief_error why = {0};
-    relief_status st = smooth_base(r, &why);
+    relief_status st = smooth_base(r, pre, 0, &why);
     /* The user's selection fills nothing there: that is the answer, not
      * the primitive's poor fit. */
     if (st == RELIEF_E_RANGE && (r->cp->has_hole_ball || r->cp->hole_labels) &&
@@ -213,7 +220,7 @@ static relief_status overlap_base(relief_complete_run *r, relief_error *err)
     relief_error why = {0};
     char fold[RELIEF_ERROR_MESSAGE_MAX];
     snprintf(fold, sizeof fold, "%s", err->message);
-    if (smooth_base(r, &why) != RELIEF_OK)
+    if (smooth_base(r, NULL, 0, &why) != RELIEF_OK)
         return relief_fail(err, RELIEF_E_MESH, "%s; and the smoothed base (base smooth) could "
                            "not be built either (%s)", fold, why.message);
     relief_complete_note(r, 0, "the capture is no height field over its primitive (%s): "
@@ -243,9 +250,9 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
     int fitted = 0;
     double t0 = relief_seconds();
     if (cp->base == RELIEF_BASE_SMOOTH) {
-        st = smooth_base(r, err);
+        st = smooth_base(r, NULL, 0, err);
     } else if (cp->base == RELIEF_BASE_AUTO && told_notch(r)) {
-        st = smooth_base(r, err);
+        st = smooth_base(r, NULL, 0, err);
         if (st == RELIEF_OK)
             relief_complete_note(r, 0, "the hole told reaches the capture's border: its notch "
                                  "is closed by the chord across its ends on the capture's "
@@ -257,7 +264,7 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                pre.poor_fit) {
         st = auto_base(r, &pre, err);
     } else if (fitted && told_whole(r)) {
-        st = smooth_base(r, err);
+        st = smooth_base(r, &pre, 1, err);
         if (st == RELIEF_OK) {
             relief_surface_lay_on(r->s, &pre);
             relief_complete_note(r, 0, "the hole%s told closed from %s rim%s and laid on the "

@@ -100,7 +100,8 @@ static void set_counts(relief_surface *s, const relief_points_report *rep, size_
 }
 
 relief_status relief_points_base_surface(const relief_mesh *capture,
-                                         const relief_points_params *pp, relief_surface **out,
+                                         const relief_points_params *pp,
+                                         const relief_fit_result *fitted, relief_surface **out,
                                          relief_points_report *rep_out, relief_error *err)
 {
     relief_points_params p = *pp;
@@ -140,7 +141,9 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
     if (!s)
         goto nomem;
     /* The best primitive, for the report and the measures only. */
-    if (relief_fit_mesh(capture, RELIEF_FIT_AUTO, &s->fit, NULL) != RELIEF_OK) {
+    if (fitted) {
+        s->fit = *fitted;
+    } else if (relief_fit_mesh(capture, RELIEF_FIT_AUTO, &s->fit, NULL) != RELIEF_OK) {
         memset(&s->fit, 0, sizeof s->fit);
         s->fit.prim.model = RELIEF_FIT_PLANE;
         s->fit.prim.dir[2] = 1.0;

@@ -11,7 +11,8 @@
  * no triangle (a crack between patches) is left out, since the growth
  * could not reach it. Frames
  * follow paper 000's rule on the normal. `fit` holds the primitive the
- * capture fits best, for the report and the measures only: nothing of the
+ * capture fits best (the caller's `fitted` when given, else
+ * relief_fit_mesh's), for the report and the measures only: nothing of the
  * growth depends on it. `free_form` is set: the hierarchy (--levels)
  * coarsens this triangulation by collapses rather than re-triangulating
  * in a parameter domain the base does not have. */
@@ -24,11 +25,14 @@
 
 /* capture: a mesh (triangles required: RELIEF_E_RANGE otherwise). p: the
  * point-set parameters (relief_points_params_default(); the texture ones
- * unused). rep (may be NULL): what the base's construction found.
+ * unused). fitted (may be NULL): the capture's primitive, already fitted
+ * by the caller with RELIEF_FIT_AUTO, so it is not fitted twice. rep (may
+ * be NULL): what the base's construction found.
  * RELIEF_E_RANGE as relief_points_complete (no hole, too few points, ...);
  * RELIEF_E_NOMEM. *out only on success. */
 relief_status relief_points_base_surface(const relief_mesh *capture,
-                                         const relief_points_params *p, relief_surface **out,
+                                         const relief_points_params *p,
+                                         const relief_fit_result *fitted, relief_surface **out,
                                          relief_points_report *rep, relief_error *err);
 
 #endif
