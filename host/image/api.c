@@ -15,11 +15,13 @@
 #include "base/file.h"
 #include "base/json.h"
 #include "base/memlimit.h"
+#include "base/parallel.h"
 #include "base/progress.h"
 #include "image/fill.h"
 #include "image/image_io.h"
 #include "image/patch.h"
 #include "image/raster.h"
+#include "image/vote_fill.h"
 
 _Static_assert(RELIEF_IMAGE_MAX_SIDE == RELIEF_RASTER_MAX_SIDE,
                "the public and the internal image sides agree");
@@ -167,8 +169,13 @@ void relief_image_free(relief_image *img)
 relief_image_fill_params relief_image_fill_params_default(void)
 {
     relief_fill_params f = relief_fill_params_default();
+    relief_vote_params v = relief_vote_params_default();
     relief_image_fill_params p;
     memset(&p, 0, sizeof p);
+    p.method = RELIEF_IMAGE_FILL_JAIN; /* until wexler meets issue 62's bar */
+    p.patch = v.patch;
+    p.em_steps = v.em_steps;
+    p.pm_steps = v.pm_steps;
     p.window = f.window;
     p.min_window = f.min_window;
     p.tau = f.tau;
@@ -203,6 +210,20 @@ static relief_fill_params engine_params(const relief_image_fill_params *p,
     return f;
 }
 
+/* The patch voting's parameters for these. */
+static relief_vote_params vote_params(const relief_image_fill_params *p,
+                                      relief_progress *progress, int threads)
+{
+    relief_vote_params v = relief_vote_params_default();
+    v.patch = p->patch;
+    v.em_steps = p->em_steps;
+    v.pm_steps = p->pm_steps;
+    v.seed = p->seed;
+    v.threads = threads;
+    v.progress = progress;
+    return v;
+}
+
 relief_status relief_image_fill_params_validate(const relief_image_fill_params *p,
                                                 relief_error *err)
 {
@@ -217,6 +238,16 @@ relief_status relief_image_fill_params_validate(const relief_image_fill_params *
     if (p->interp != 0 && p->interp != 1)
         return relief_fail_param(err, RELIEF_E_RANGE, "interp", "interp %d out of range: "
                                  "expected 0 or 1", p->interp);
+    if (p->method != RELIEF_IMAGE_FILL_WEXLER && p->method != RELIEF_IMAGE_FILL_JAIN)
+        return relief_fail_param(err, RELIEF_E_RANGE, "method", "method %d out of range: "
+                                 "expected wexler (%d) or jain (%d)", (int)p->method,
+                                 RELIEF_IMAGE_FILL_WEXLER, RELIEF_IMAGE_FILL_JAIN);
+    {
+        relief_vote_params v = vote_params(p, NULL, 1);
+        st = relief_vote_params_check(&v, err);
+        if (st != RELIEF_OK)
+            return st;
+    }
     f = engine_params(p, NULL);
     st = relief_fill_params_check(&f, err);
     if (st == RELIEF_OK)
@@ -248,6 +279,7 @@ typedef struct fill_call {
     char note[1024];
     relief_reason note_reason; /* RELIEF_REASON_DEVICE_FELL_BACK: a warning */
     relief_fill_report fr;
+    relief_vote_report vr;        /* method wexler */
     double t0;
 } fill_call;
 
@@ -264,7 +296,12 @@ relief_status relief_image_fill_check_memory(int width, int height, int channels
     relief_status st = check_shape("image", width, height, channels, err);
     if (st != RELIEF_OK)
         return st;
-    need = relief_fill_estimate(width, height, channels) + (uint64_t)width * (uint64_t)height;
+    need = q->method == RELIEF_IMAGE_FILL_JAIN
+               ? relief_fill_estimate(width, height, channels)
+               : relief_raster_bytes(width, height, channels) +
+                     relief_vote_fill_estimate(width, height, channels) +
+                     (uint64_t)width * (uint64_t)height; /* the hole's copy */
+    need += (uint64_t)width * (uint64_t)height;
     snprintf(what, sizeof what, "filling an image of %d x %d pixels and %d channel%s", width,
              height, channels, channels == 1 ? "" : "s");
     return relief_memory_check(what, need, limit, "", err);
@@ -335,6 +372,51 @@ static relief_status start_scorer(fill_call *c, relief_error *err)
                                       err);
 }
 
+/* Method wexler: the 1-D pass (when interp), then the patch voting over
+ * what it left, on the scorer's threads (one for scalar; the host's for
+ * host and, until the voting has kernels of its own, for opencl). */
+static relief_status run_vote(fill_call *c, relief_error *err)
+{
+    const relief_patch_scorer *s = c->scorer;
+    int threads = s->backend == RELIEF_BACKEND_SCALAR ? 1
+                  : c->p->run.threads > 0        ? c->p->run.threads
+                                                 : relief_cpus_available();
+    size_t n = (size_t)c->work.width * (size_t)c->work.height, left = 0;
+    uint8_t *hole = malloc(n);
+    relief_vote_params v;
+    relief_status st = RELIEF_OK;
+    double t0 = relief_seconds();
+    if (!hole)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole mask");
+    memcpy(hole, c->hole, n);
+    memset(&c->fr, 0, sizeof c->fr);
+    relief_fill_thresholds(&c->fp, c->image->bit_depth, &c->fr.tau, &c->fr.interp_diff,
+                           &c->fr.interp_sd);
+    c->fr.hole_pixels = c->holes;
+    c->fr.start_level = -1;
+    if (c->p->interp)
+        relief_fill_interp(&c->work, hole, &c->fp, &c->fr.by_rows, &c->fr.by_columns,
+                           c->fr.interp_roughness);
+    c->fr.seconds_interp = relief_seconds() - t0;
+    for (size_t q = 0; q < n; ++q)
+        left += hole[q] != 0;
+    v = vote_params(c->p, &c->progress, threads);
+    if (left)
+        st = relief_vote_fill(&c->work, hole, &v, &c->vr, err);
+    c->fr.by_copy = left;
+    c->fr.levels = c->vr.levels;
+    c->fr.candidates = c->vr.distances;
+    c->fr.seconds_copy = c->vr.seconds;
+    c->fr.seconds_score = c->vr.seconds;
+    if (s->backend == RELIEF_BACKEND_OPENCL)
+        snprintf(c->note + strlen(c->note), sizeof c->note - strlen(c->note),
+                 "%sthe patch voting ran on the host's %d thread%s (its OpenCL kernels are "
+                 "to come; the bytes are the same)", c->note[0] ? "; " : "", threads,
+                 threads == 1 ? "" : "s");
+    free(hole);
+    return st;
+}
+
 /* Fill the copy. Nothing to fill: no copy, the thresholds reported. */
 static relief_status run_fill(fill_call *c, relief_error *err)
 {
@@ -347,8 +429,10 @@ static relief_status run_fill(fill_call *c, relief_error *err)
         return RELIEF_OK;
     }
     st = raster_of(c->image, &c->work, err);
-    if (st == RELIEF_OK)
+    if (st == RELIEF_OK && c->p->method == RELIEF_IMAGE_FILL_JAIN)
         st = relief_fill(&c->work, c->hole, &c->fp, c->scorer, &c->fr, err);
+    else if (st == RELIEF_OK)
+        st = run_vote(c, err);
     return st;
 }
 
@@ -394,6 +478,10 @@ static void write_json(relief_json *j, const void *ctx)
     rj_int(j, "bit_depth", c->image->bit_depth);
     rj_end_object(j);
     rj_begin_object(j, "parameters");
+    rj_string(j, "method", p->method == RELIEF_IMAGE_FILL_JAIN ? "jain" : "wexler");
+    rj_int(j, "patch", p->patch);
+    rj_int(j, "em_steps", p->em_steps);
+    rj_int(j, "pm_steps", p->pm_steps);
     rj_int(j, "window", p->window);
     rj_int(j, "min_window", p->min_window);
     rj_number(j, "tau", r->tau);
@@ -427,6 +515,8 @@ static void write_json(relief_json *j, const void *ctx)
     rj_int(j, "pyramid_levels", r->pyramid_levels);
     rj_int(j, "start_level", r->start_level);
     rj_int(j, "top_m", r->top_m);
+    rj_int(j, "em_steps", (long long)r->em_steps);
+    rj_int(j, "targets", (long long)r->targets);
     rj_end_object(j);
     rj_begin_object(j, "seconds");
     rj_number(j, "interp", r->seconds_interp);
@@ -456,6 +546,8 @@ static relief_status make_report(const fill_call *c, relief_image_fill_report *r
     r->windows_accepted = fr->accepted;
     r->candidates = fr->candidates;
     r->pyramid_levels = fr->levels;
+    r->em_steps = c->vr.em_steps;
+    r->targets = c->vr.targets;
     r->start_level = fr->start_level;
     r->top_m = fr->top_m;
     r->tau = fr->tau;

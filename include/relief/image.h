@@ -68,7 +68,27 @@ RELIEF_API void relief_image_free(relief_image *img);
 
 /* ------------------------------------------------------------ image fill */
 
+/* How the hole is filled. */
+typedef enum relief_image_fill_method {
+    RELIEF_IMAGE_FILL_WEXLER = 0, /* multi-scale patch voting (Wexler,
+                                     Shechtman and Irani 2007, with PatchMatch's
+                                     search, Barnes et al. 2009): every filled
+                                     pixel a vote of the P x P patches that cover
+                                     it, coarse to fine; patch, em_steps and
+                                     pm_steps, seed, interp and the backend apply */
+    RELIEF_IMAGE_FILL_JAIN = 1    /* the default, for now: paper 004's copy-paste
+                                     synthesis, window by
+                                     window from the boundary (the bytes of relief
+                                     before issue 62); window .. search_radius,
+                                     exhaustive, seed, interp apply */
+} relief_image_fill_method;
+
 typedef struct relief_image_fill_params {
+    relief_image_fill_method method; /* RELIEF_IMAGE_FILL_JAIN (default) or _WEXLER */
+    int patch;           /* wexler: the patch side P, odd pixels; 7, [3, 15] */
+    int em_steps;        /* wexler: vote-and-search steps at the coarsest
+                            level (finer levels fewer, at least 2); 10, [1, 50] */
+    int pm_steps;        /* wexler: PatchMatch iterations per step; 3, [1, 20] */
     int window;          /* starting window w, odd pixels; 17, [3, 1025]
                             (paper 004: 129 for texture atlases) */
     int min_window;      /* smallest window before the 3 x 3 fallback, odd;
@@ -140,8 +160,12 @@ typedef struct relief_image_fill_report {
     size_t queries;           /* boundary pixels a search started from */
     size_t windows_tried;     /* window searches, every size */
     size_t windows_accepted;  /* of them, matches under tau */
-    size_t candidates;        /* windows scored, all levels */
+    size_t candidates;        /* windows scored, all levels (wexler: patch
+                                 distances evaluated) */
     int pyramid_levels;       /* 1: full resolution only */
+    size_t em_steps;          /* wexler: vote-and-search steps, every level */
+    size_t targets;           /* wexler: patches holding a hole pixel at full
+                                 resolution */
     int start_level, top_m;   /* where the search starts; matches kept there */
     double tau, interp_diff, interp_sd; /* the thresholds used */
     relief_backend backend;   /* scalar or opencl */

@@ -338,6 +338,74 @@ static void test_fill(void)
     free(mask.data);
 }
 
+/* Method wexler (issue 62): a 64 x 64 hole in brick.png filled by patch
+ * voting, the pixels outside it bit for bit, as textured as the cut square
+ * (a standard deviation within 0.6..1.4 of its 29) and nearer the truth than
+ * a flat fill of the image's mean; one thread (scalar) and two (host) give
+ * the same bytes, and another seed other bytes. */
+static void test_wexler(void)
+{
+    relief_image truth, img[3], mask;
+    relief_error err = {0};
+    relief_image_fill_report rep;
+    size_t n, changed_out = 0, k = 0;
+    double se = 0, se_flat = 0, mean_all = 0, s1 = 0, s2 = 0, t1 = 0, t2 = 0;
+    if (relief_image_read(brick, 0, &truth, &err) != RELIEF_OK ||
+        !cut_brick(180, 220, 64, &img[0], &mask))
+        return;
+    n = image_bytes(&truth);
+    for (int i = 1; i < 3; ++i) {
+        relief_image m2;
+        if (!cut_brick(180, 220, 64, &img[i], &m2))
+            return;
+        free(m2.data);
+    }
+    for (int i = 0; i < 3; ++i) {
+        relief_image_fill_params p = relief_image_fill_params_default();
+        p.method = RELIEF_IMAGE_FILL_WEXLER;
+        p.interp = 0;
+        p.run.backend = i == 1 ? RELIEF_BACKEND_HOST : RELIEF_BACKEND_SCALAR;
+        p.run.threads = i == 1 ? 2 : 0;
+        p.seed = i == 2 ? 7 : 1;
+        CHECK_STATUS(relief_image_fill(&img[i], &mask, &p, i == 0 ? &rep : NULL, &err),
+                     RELIEF_OK, err, NULL);
+    }
+    for (size_t i = 0; i < n; ++i)
+        mean_all += ((uint8_t *)truth.data)[i] / (double)n;
+    for (size_t i = 0; i < n; ++i) {
+        const double v = ((uint8_t *)img[0].data)[i], t = ((uint8_t *)truth.data)[i];
+        if (!((uint8_t *)mask.data)[i]) {
+            changed_out += v != t;
+            continue;
+        }
+        ++k, se += (v - t) * (v - t), se_flat += (mean_all - t) * (mean_all - t);
+        s1 += v, s2 += v * v, t1 += t, t2 += t * t;
+    }
+    {
+        const double sd = sqrt(s2 / k - (s1 / k) * (s1 / k));
+        const double tsd = sqrt(t2 / k - (t1 / k) * (t1 / k));
+        printf("wexler fill of brick.png's 64 x 64 hole: rms %.1f (flat %.1f), sd %.1f "
+               "(truth %.1f), %d levels, %zu steps\n", sqrt(se / k), sqrt(se_flat / k), sd,
+               tsd, rep.pyramid_levels, rep.em_steps);
+        CHECK(changed_out == 0, "wexler: %zu samples changed outside the hole", changed_out);
+        CHECK(sd > 0.6 * tsd && sd < 1.4 * tsd, "wexler: sd %.1f against the truth's %.1f", sd,
+              tsd);
+        CHECK(se < se_flat, "wexler: rms %.1f, no nearer the truth than a flat %.1f",
+              sqrt(se / k), sqrt(se_flat / k));
+    }
+    CHECK(memcmp(img[0].data, img[1].data, n) == 0, "wexler: scalar and host (2 threads) differ");
+    CHECK(memcmp(img[0].data, img[2].data, n) != 0, "wexler: seeds 1 and 7 gave the same bytes");
+    CHECK(rep.pyramid_levels > 1 && rep.em_steps > 0 && rep.targets > 64 * 64 &&
+              rep.by_copy == 64 * 64 && strstr(rep.json, "\"method\": \"wexler\""),
+          "wexler report: %d levels, %zu steps, %zu targets, %zu voted", rep.pyramid_levels,
+          rep.em_steps, rep.targets, rep.by_copy);
+    relief_image_fill_report_free(&rep);
+    for (int i = 0; i < 3; ++i)
+        relief_image_free(&img[i]);
+    relief_image_free(&truth);
+    free(mask.data);
+}
+
 typedef struct cancel_ctx {
     double last;
     int calls, decreasing;
@@ -359,7 +427,7 @@ static int cancel_half(void *ctx, double fraction)
 
 /* Cancelled half-way: RELIEF_E_CANCELLED, the buffer and the report as
  * they were. */
-static void test_cancel(void)
+static void test_cancel(relief_image_fill_method method)
 {
     relief_image img, mask;
     relief_image_fill_params p = relief_image_fill_params_default();
@@ -376,6 +444,7 @@ static void test_cancel(void)
     memcpy(before, img.data, n);
     memset(&rep, 0x5a, sizeof rep);
     p.run.backend = RELIEF_BACKEND_SCALAR;
+    p.method = method;
     p.interp = 0; /* so that the pastes take the hole from 0 to 1 */
     p.run.progress = cancel_half;
     p.run.progress_ctx = &c;
@@ -567,7 +636,9 @@ int main(int argc, char **argv)
     test_bad_images();
     test_files();
     test_fill();
-    test_cancel();
+    test_wexler();
+    test_cancel(RELIEF_IMAGE_FILL_JAIN);
+    test_cancel(RELIEF_IMAGE_FILL_WEXLER);
     test_threads(RELIEF_BACKEND_SCALAR);
     test_threads(RELIEF_BACKEND_HOST);
     {

@@ -1,0 +1,743 @@
+/* Multi-scale patch voting (vote_fill.h). */
+#include "image/vote_fill.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/clock.h"
+#include "base/error.h"
+#include "base/parallel.h"
+#include "base/progress.h"
+
+#define VF_MAX_LEVELS 16
+#define VF_WEIGHT_ONE (1u << 28)
+/* Wexler's confidence: a patch centred d pixels deep in the hole votes
+ * with VF_GAMMA^-min(d, VF_DEPTH_MAX) of the weight of one on its rim, so
+ * that what the rim shows reaches into the fill rather than being
+ * outvoted by the fill's own, self-consistent, patches. */
+#define VF_GAMMA 1.3
+#define VF_DEPTH_MAX 40
+
+relief_vote_params relief_vote_params_default(void)
+{
+    relief_vote_params p;
+    memset(&p, 0, sizeof p);
+    p.patch = 7;
+    p.em_steps = 10;
+    p.pm_steps = 3;
+    p.seed = 1;
+    p.threads = 1;
+    return p;
+}
+
+/* One level of the pyramid. The targets are the pixels within r (either
+ * axis) of a hole pixel: the centres of the patches that hold one. */
+typedef struct level {
+    int w, h;
+    uint16_t *v;        /* w x h x C colour samples, hole pixels the estimate */
+    uint8_t *hole;      /* w x h: 1 to fill */
+    int bx, by, bw, bh; /* the targets' bounding box */
+    int32_t *tmap;      /* bw x bh: target index, or -1 */
+    uint32_t *tgt;      /* nt pixels, y * w + x, row-major */
+    size_t nt;
+    uint32_t *nnf, *nnf2;   /* nt source centres (y * w + x), and the step's next */
+    uint64_t *dist, *dist2; /* nt patch distances, and the step's next */
+    uint32_t *wt;           /* nt vote weights, 1..VF_WEIGHT_ONE */
+    uint16_t *depth;        /* nt depths in the hole (level_depths) */
+    int thickness;          /* the largest */
+} level;
+
+typedef struct vf {
+    const relief_vote_params *p;
+    int C, r, L;
+    level lv[VF_MAX_LEVELS];
+    uint64_t distances;
+    size_t em_total;
+} vf;
+
+/* ------------------------------------------------------------ the levels */
+
+static int target_at(const level *l, int x, int y)
+{
+    x -= l->bx, y -= l->by;
+    if (x < 0 || y < 0 || x >= l->bw || y >= l->bh)
+        return -1;
+    return l->tmap[(size_t)y * l->bw + x];
+}
+
+/* Can a source patch be centred at (x, y): inside the level, no hole? */
+static int source_ok(const level *l, int r, int x, int y)
+{
+    return x >= r && y >= r && x < l->w - r && y < l->h - r && target_at(l, x, y) < 0;
+}
+
+static void level_free(level *l)
+{
+    free(l->v);
+    free(l->hole);
+    free(l->tmap);
+    free(l->tgt);
+    free(l->nnf);
+    free(l->nnf2);
+    free(l->dist);
+    free(l->dist2);
+    free(l->wt);
+    free(l->depth);
+    memset(l, 0, sizeof *l);
+}
+
+static int level_depths(level *l);
+
+/* The targets of a level whose v and hole are set: the hole's bounding
+ * box grown by r, each pixel there within r of a hole pixel. */
+static relief_status level_targets(level *l, int r, relief_error *err)
+{
+    int x0 = l->w, y0 = l->h, x1 = -1, y1 = -1;
+    for (int y = 0; y < l->h; ++y)
+        for (int x = 0; x < l->w; ++x)
+            if (l->hole[(size_t)y * l->w + x]) {
+                x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+                y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+            }
+    l->bx = x0 - r < 0 ? 0 : x0 - r;
+    l->by = y0 - r < 0 ? 0 : y0 - r;
+    l->bw = (x1 + r >= l->w ? l->w - 1 : x1 + r) - l->bx + 1;
+    l->bh = (y1 + r >= l->h ? l->h - 1 : y1 + r) - l->by + 1;
+    l->tmap = malloc((size_t)l->bw * l->bh * sizeof *l->tmap);
+    l->tgt = malloc((size_t)l->bw * l->bh * sizeof *l->tgt);
+    if (!l->tmap || !l->tgt)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's targets");
+    /* A pixel is a target when a hole pixel lies within r: rows then
+     * columns of a running count, over the box. */
+    l->nt = 0;
+    for (int y = 0; y < l->bh; ++y)
+        for (int x = 0; x < l->bw; ++x) {
+            int hit = 0;
+            for (int dy = -r; dy <= r && !hit; ++dy) {
+                int yy = l->by + y + dy;
+                if (yy < 0 || yy >= l->h)
+                    continue;
+                for (int dx = -r; dx <= r && !hit; ++dx) {
+                    int xx = l->bx + x + dx;
+                    hit = xx >= 0 && xx < l->w && l->hole[(size_t)yy * l->w + xx];
+                }
+            }
+            l->tmap[(size_t)y * l->bw + x] = hit ? (int32_t)l->nt : -1;
+            if (hit)
+                l->tgt[l->nt++] = (uint32_t)((size_t)(l->by + y) * l->w + (l->bx + x));
+        }
+    l->nnf = malloc(l->nt * sizeof *l->nnf);
+    l->nnf2 = malloc(l->nt * sizeof *l->nnf2);
+    l->dist = malloc(l->nt * sizeof *l->dist);
+    l->dist2 = malloc(l->nt * sizeof *l->dist2);
+    l->wt = malloc(l->nt * sizeof *l->wt);
+    l->depth = malloc(l->nt * sizeof *l->depth);
+    if (!l->nnf || !l->nnf2 || !l->dist || !l->dist2 || !l->wt || !l->depth ||
+        (l->thickness = level_depths(l)) < 0)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's field "
+                           "of %zu targets", l->nt);
+    return RELIEF_OK;
+}
+
+/* Every target's depth in the hole: its distance (either axis, pixels) to
+ * the nearest known pixel, 0 for a known one, by two chamfer passes over
+ * the box (tdepth); returns the largest, the hole's thickness, or -1 when
+ * out of memory. */
+static int level_depths(level *l)
+{
+    const int W = l->bw, H = l->bh;
+    int best = 0;
+    uint16_t *d = malloc((size_t)W * H * sizeof *d);
+    if (!d)
+        return -1;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int k = 0; k < W * H; ++k) {
+            int i = pass ? W * H - 1 - k : k, x = i % W, y = i / W, s = pass ? 1 : -1;
+            int m;
+            if (!pass) {
+                if (!l->hole[(size_t)(l->by + y) * l->w + l->bx + x]) {
+                    d[i] = 0;
+                    continue;
+                }
+                d[i] = UINT16_MAX;
+            }
+            m = d[i];
+            for (int dy = 0; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int xx = x + s * dx, yy = y + s * dy;
+                    if ((dy == 0 && dx != 1) || xx < 0 || xx >= W || yy < 0 || yy >= H)
+                        continue;
+                    if (d[yy * W + xx] + 1 < m)
+                        m = d[yy * W + xx] + 1;
+                }
+            d[i] = (uint16_t)m;
+            if (pass && m > best)
+                best = m;
+        }
+    for (size_t t = 0; t < l->nt; ++t)
+        l->depth[t] = d[(size_t)((int)(l->tgt[t] / l->w) - l->by) * W +
+                        ((int)(l->tgt[t] % l->w) - l->bx)];
+    free(d);
+    return best;
+}
+
+/* Level `to`, half of `from` (sides rounded up): a pixel is a hole when any
+ * of its 2 x 2 is, else the rounded mean of them. */
+static relief_status level_halve(const level *from, level *to, int C, relief_error *err)
+{
+    to->w = (from->w + 1) / 2, to->h = (from->h + 1) / 2;
+    to->v = calloc((size_t)to->w * to->h * C, sizeof *to->v);
+    to->hole = calloc((size_t)to->w * to->h, 1);
+    if (!to->v || !to->hole)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's pyramid");
+    for (int y = 0; y < to->h; ++y)
+        for (int x = 0; x < to->w; ++x) {
+            uint32_t sum[4] = {0, 0, 0, 0}, n = 0;
+            int hole = 0;
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx) {
+                    int xx = 2 * x + dx, yy = 2 * y + dy;
+                    size_t q = (size_t)yy * from->w + xx;
+                    if (xx >= from->w || yy >= from->h)
+                        continue;
+                    hole |= from->hole[q];
+                    for (int c = 0; c < C; ++c)
+                        sum[c] += from->v[q * C + c];
+                    ++n;
+                }
+            to->hole[(size_t)y * to->w + x] = (uint8_t)hole;
+            if (!hole)
+                for (int c = 0; c < C; ++c)
+                    to->v[((size_t)y * to->w + x) * C + c] = (uint16_t)((sum[c] + n / 2) / n);
+        }
+    return RELIEF_OK;
+}
+
+/* Does the level keep a source patch for its targets to match? */
+static int level_has_source(const level *l, int r)
+{
+    for (int y = r; y < l->h - r; ++y)
+        for (int x = r; x < l->w - r; ++x)
+            if (source_ok(l, r, x, y))
+                return 1;
+    return 0;
+}
+
+/* -------------------------------------------------------- random choices */
+
+static uint64_t mix64(uint64_t x)
+{
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+/* The k-th draw of pixel `pix` at (level, step): independent of the order
+ * in which pixels are visited. */
+static uint64_t draw(uint32_t seed, int level, int step, uint32_t pix, int k)
+{
+    uint64_t x = mix64((uint64_t)seed * 0x9e3779b97f4a7c15ull + (uint64_t)(level * 1024 + step));
+    x = mix64(x ^ ((uint64_t)pix << 8 | (uint64_t)k));
+    return x;
+}
+
+/* A source centre drawn at random: up to 64 tries in the level's inner
+ * rectangle, then the first source after the last try, row-major. */
+static uint32_t random_source(const level *l, int r, uint32_t seed, int li, int step,
+                              uint32_t pix)
+{
+    const int iw = l->w - 2 * r, ih = l->h - 2 * r;
+    int x = r, y = r;
+    for (int k = 0; k < 64; ++k) {
+        uint64_t u = draw(seed, li, step, pix, 64 + k);
+        x = r + (int)((u & 0xffffffffu) % (uint32_t)iw);
+        y = r + (int)((u >> 32) % (uint32_t)ih);
+        if (source_ok(l, r, x, y))
+            return (uint32_t)((size_t)y * l->w + x);
+    }
+    for (size_t k = 0; k < (size_t)iw * ih; ++k) {
+        size_t i = ((size_t)(y - r) * iw + (x - r) + k) % ((size_t)iw * ih);
+        int xx = r + (int)(i % iw), yy = r + (int)(i / iw);
+        if (source_ok(l, r, xx, yy))
+            return (uint32_t)((size_t)yy * l->w + xx);
+    }
+    return 0; /* level_has_source said there is one */
+}
+
+/* ------------------------------------------------------------ distances */
+
+/* Sum of squared differences between the target patch at (tx, ty), clipped
+ * to the level, and the source patch at (sx, sy), every colour channel;
+ * stops once it reaches `bound` (then only known to be >= bound). */
+static uint64_t patch_dist(const level *l, int C, int r, int tx, int ty, int sx, int sy,
+                           uint64_t bound)
+{
+    const int x0 = tx - r < 0 ? -tx : -r, x1 = tx + r >= l->w ? l->w - 1 - tx : r;
+    uint64_t d = 0;
+    for (int dy = -r; dy <= r; ++dy) {
+        const int y = ty + dy;
+        const uint16_t *a, *b;
+        uint64_t row = 0;
+        if (y < 0 || y >= l->h)
+            continue;
+        a = l->v + ((size_t)y * l->w + tx + x0) * C;
+        b = l->v + ((size_t)(sy + dy) * l->w + sx + x0) * C;
+        for (int i = 0; i < (x1 - x0 + 1) * C; ++i) {
+            const int64_t e = (int64_t)a[i] - (int64_t)b[i];
+            row += (uint64_t)(e * e);
+        }
+        d += row;
+        if (d >= bound)
+            return d;
+    }
+    return d;
+}
+
+/* Pixels of the target patch at (tx, ty) inside the level. */
+static int patch_pixels(const level *l, int r, int tx, int ty)
+{
+    const int x0 = tx - r < 0 ? 0 : tx - r, x1 = tx + r >= l->w ? l->w - 1 : tx + r;
+    const int y0 = ty - r < 0 ? 0 : ty - r, y1 = ty + r >= l->h ? l->h - 1 : ty + r;
+    return (x1 - x0 + 1) * (y1 - y0 + 1);
+}
+
+/* ---------------------------------------------------------- the E step */
+
+typedef struct estep {
+    vf *f;
+    level *l;
+    int li, step, jump;
+} estep;
+
+/* Try source (sx, sy) for target (tx, ty) against the best so far. */
+static void try_source(const estep *e, int tx, int ty, int sx, int sy, uint32_t *best,
+                       uint64_t *bd, uint64_t *count)
+{
+    const level *l = e->l;
+    const uint32_t s = (uint32_t)((size_t)sy * l->w + sx);
+    uint64_t d;
+    if (s == *best || !source_ok(l, e->f->r, sx, sy))
+        return;
+    d = patch_dist(l, e->f->C, e->f->r, tx, ty, sx, sy, *bd);
+    ++*count;
+    if (d < *bd)
+        *best = s, *bd = d;
+}
+
+/* Every target's distance to its current source. */
+static int dist_share(void *ctx, size_t lo, size_t hi)
+{
+    const estep *e = ctx;
+    const level *l = e->l;
+    for (size_t i = lo; i < hi; ++i) {
+        const int tx = (int)(l->tgt[i] % l->w), ty = (int)(l->tgt[i] / l->w);
+        const int sx = (int)(l->nnf[i] % l->w), sy = (int)(l->nnf[i] / l->w);
+        l->dist[i] = patch_dist(l, e->f->C, e->f->r, tx, ty, sx, sy, UINT64_MAX);
+    }
+    return 0;
+}
+
+/* One PatchMatch iteration over targets [lo, hi): the sources of the four
+ * neighbours at 1 and at the jump, shifted back (propagation, read from the
+ * field before the step), then a random search about the best at halving
+ * radii; the result into nnf2, dist2. */
+static int pm_share(void *ctx, size_t lo, size_t hi)
+{
+    const estep *e = ctx;
+    const level *l = e->l;
+    const int r = e->f->r;
+    static const int dir[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    uint64_t count = 0;
+    for (size_t i = lo; i < hi; ++i) {
+        const int tx = (int)(l->tgt[i] % l->w), ty = (int)(l->tgt[i] / l->w);
+        uint32_t best = l->nnf[i];
+        uint64_t bd = l->dist[i];
+        for (int j = 0; j < (e->jump > 1 ? 2 : 1); ++j)
+            for (int k = 0; k < 4; ++k) {
+                const int s = j ? e->jump : 1, dx = dir[k][0] * s, dy = dir[k][1] * s;
+                const int n = target_at(l, tx + dx, ty + dy);
+                if (n < 0)
+                    continue;
+                try_source(e, tx, ty, (int)(l->nnf[n] % l->w) - dx,
+                           (int)(l->nnf[n] / l->w) - dy, &best, &bd, &count);
+            }
+        for (int R = (l->w > l->h ? l->w : l->h) / 2, k = 0; R >= 1; R /= 2, ++k) {
+            const uint64_t u = draw(e->f->p->seed, e->li, e->step, l->tgt[i], k);
+            int sx = (int)(best % l->w) + (int)((u & 0xffffffffu) % (uint32_t)(2 * R + 1)) - R;
+            int sy = (int)(best / l->w) + (int)((u >> 32) % (uint32_t)(2 * R + 1)) - R;
+            sx = sx < r ? r : sx > l->w - 1 - r ? l->w - 1 - r : sx;
+            sy = sy < r ? r : sy > l->h - 1 - r ? l->h - 1 - r : sy;
+            try_source(e, tx, ty, sx, sy, &best, &bd, &count);
+        }
+        l->nnf2[i] = best;
+        l->dist2[i] = bd;
+    }
+    __atomic_fetch_add(&e->f->distances, count, __ATOMIC_RELAXED);
+    return 0;
+}
+
+static void e_step(vf *f, int li, int steps, int *step_no)
+{
+    level *l = &f->lv[li];
+    estep e = {f, l, li, 0, 1};
+    relief_parallel_ranges(l->nt, f->p->threads, dist_share, &e);
+    for (int k = 0; k < steps; ++k) {
+        uint32_t *t = l->nnf;
+        uint64_t *d = l->dist;
+        e.step = (*step_no)++;
+        e.jump = 1 << (steps - 1 - k < 3 ? steps - 1 - k : 3);
+        relief_parallel_ranges(l->nt, f->p->threads, pm_share, &e);
+        l->nnf = l->nnf2, l->nnf2 = t;
+        l->dist = l->dist2, l->dist2 = d;
+    }
+}
+
+/* ---------------------------------------------------------- the M step */
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The vote weights: exp(-d / (2 sigma^2)), d the mean square difference per
+ * sample, sigma^2 its 75th percentile, quantised to 1..VF_WEIGHT_ONE.
+ * Serial: the same on every backend. `uniform`: every weight one. */
+static relief_status vote_weights(vf *f, level *l, int uniform, relief_error *err)
+{
+    double *d, s2;
+    if (uniform) {
+        for (size_t i = 0; i < l->nt; ++i)
+            l->wt[i] = VF_WEIGHT_ONE;
+        return RELIEF_OK;
+    }
+    d = malloc(l->nt * sizeof *d);
+    if (!d)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the vote's weights");
+    for (size_t i = 0; i < l->nt; ++i) {
+        const int tx = (int)(l->tgt[i] % l->w), ty = (int)(l->tgt[i] / l->w);
+        d[i] = (double)l->dist[i] / ((double)patch_pixels(l, f->r, tx, ty) * f->C);
+    }
+    {
+        double *sorted = malloc(l->nt * sizeof *sorted);
+        if (!sorted) {
+            free(d);
+            return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the vote's weights");
+        }
+        memcpy(sorted, d, l->nt * sizeof *d);
+        qsort(sorted, l->nt, sizeof *sorted, cmp_double);
+        s2 = sorted[(l->nt * 3) / 4];
+        free(sorted);
+    }
+    for (size_t i = 0; i < l->nt; ++i) {
+        double w = s2 > 0.0 ? exp(-d[i] / (2.0 * s2)) : d[i] > 0.0 ? 0.0 : 1.0;
+        long q;
+        w *= pow(VF_GAMMA, -(double)(l->depth[i] < VF_DEPTH_MAX ? l->depth[i] : VF_DEPTH_MAX));
+        q = lround(w * VF_WEIGHT_ONE);
+        l->wt[i] = (uint32_t)(q < 1 ? 1 : q > (long)VF_WEIGHT_ONE ? VF_WEIGHT_ONE : q);
+    }
+    free(d);
+    return RELIEF_OK;
+}
+
+typedef struct mstep {
+    vf *f;
+    level *l;
+    int best; /* 1: the best covering patch's pixel, not the weighted mean */
+} mstep;
+
+/* The vote of the hole pixels in rows [lo, hi) of the targets' box. Only
+ * hole pixels are written and sources hold none, so the votes read no
+ * pixel another share writes. */
+static int vote_share(void *ctx, size_t lo, size_t hi)
+{
+    const mstep *m = ctx;
+    level *l = m->l;
+    const int r = m->f->r, C = m->f->C;
+    for (size_t yy = lo; yy < hi; ++yy)
+        for (int xx = 0; xx < l->bw; ++xx) {
+            const int x = l->bx + xx, y = l->by + (int)yy;
+            const size_t q = (size_t)y * l->w + x;
+            uint64_t acc[4] = {0, 0, 0, 0}, den = 0, bd = UINT64_MAX;
+            if (!l->hole[q])
+                continue;
+            for (int dy = -r; dy <= r; ++dy)
+                for (int dx = -r; dx <= r; ++dx) {
+                    const int t = target_at(l, x - dx, y - dy);
+                    const uint16_t *s;
+                    if (t < 0)
+                        continue;
+                    s = l->v + ((size_t)(l->nnf[t] / l->w + dy) * l->w +
+                                (l->nnf[t] % l->w + dx)) * C;
+                    if (m->best) {
+                        if (l->dist[t] < bd) {
+                            bd = l->dist[t];
+                            for (int c = 0; c < C; ++c)
+                                acc[c] = s[c];
+                            den = 1;
+                        }
+                        continue;
+                    }
+                    for (int c = 0; c < C; ++c)
+                        acc[c] += (uint64_t)l->wt[t] * s[c];
+                    den += l->wt[t];
+                }
+            for (int c = 0; c < C; ++c)
+                l->v[q * C + c] = (uint16_t)((acc[c] + den / 2) / den);
+        }
+    return 0;
+}
+
+static void m_step(vf *f, level *l, int best)
+{
+    mstep m = {f, l, best};
+    relief_parallel_ranges((size_t)l->bh, f->p->threads, vote_share, &m);
+}
+
+/* ------------------------------------------------------ the coarse start */
+
+/* The coarsest hole filled from its rim inwards: each ring of hole pixels
+ * next to known ones takes the rounded mean of those (8-neighbours), the
+ * ring made known before the next. */
+static relief_status onion_fill(level *l, int C, relief_error *err)
+{
+    uint8_t *known = malloc((size_t)l->w * l->h);
+    uint32_t *ring = malloc((size_t)l->w * l->h * sizeof *ring);
+    size_t left = 0;
+    if (!known || !ring) {
+        free(known);
+        free(ring);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the coarse fill");
+    }
+    for (size_t q = 0; q < (size_t)l->w * l->h; ++q) {
+        known[q] = !l->hole[q];
+        left += l->hole[q];
+    }
+    while (left) {
+        size_t n = 0;
+        for (int y = 0; y < l->h; ++y)
+            for (int x = 0; x < l->w; ++x) {
+                uint32_t sum[4] = {0, 0, 0, 0}, k = 0;
+                const size_t q = (size_t)y * l->w + x;
+                if (known[q])
+                    continue;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int xx = x + dx, yy = y + dy;
+                        const size_t p = (size_t)yy * l->w + xx;
+                        if (xx < 0 || yy < 0 || xx >= l->w || yy >= l->h || known[p] != 1)
+                            continue;
+                        for (int c = 0; c < C; ++c)
+                            sum[c] += l->v[p * C + c];
+                        ++k;
+                    }
+                if (!k)
+                    continue;
+                for (int c = 0; c < C; ++c)
+                    l->v[q * C + c] = (uint16_t)((sum[c] + k / 2) / k);
+                ring[n++] = (uint32_t)q;
+            }
+        for (size_t i = 0; i < n; ++i)
+            known[ring[i]] = 1;
+        left -= n;
+        if (!n)
+            break; /* no known pixel at all: level_has_source refused it */
+    }
+    free(known);
+    free(ring);
+    return RELIEF_OK;
+}
+
+/* The field of level li from level li + 1's: each source doubled, at the
+ * target's place in its 2 x 2, or a random one where that is no source. */
+static void upsample_field(vf *f, int li)
+{
+    level *l = &f->lv[li];
+    const level *c = &f->lv[li + 1];
+    const int r = f->r;
+    for (size_t i = 0; i < l->nt; ++i) {
+        const int x = (int)(l->tgt[i] % l->w), y = (int)(l->tgt[i] / l->w);
+        const int t = target_at(c, x / 2, y / 2);
+        int sx = -1, sy = -1;
+        if (t >= 0) {
+            sx = 2 * (int)(c->nnf[t] % c->w) + (x & 1);
+            sy = 2 * (int)(c->nnf[t] / c->w) + (y & 1);
+            sx = sx < r ? r : sx > l->w - 1 - r ? l->w - 1 - r : sx;
+            sy = sy < r ? r : sy > l->h - 1 - r ? l->h - 1 - r : sy;
+        }
+        l->nnf[i] = t >= 0 && source_ok(l, r, sx, sy)
+                        ? (uint32_t)((size_t)sy * l->w + sx)
+                        : random_source(l, r, f->p->seed, li, -1, l->tgt[i]);
+    }
+}
+
+/* ------------------------------------------------------------ the driver */
+
+relief_status relief_vote_params_check(const relief_vote_params *p, relief_error *err)
+{
+    if (p->patch < 3 || p->patch > 15 || p->patch % 2 == 0)
+        return relief_fail_param(err, RELIEF_E_RANGE, "patch", "patch %d out of range: "
+                                 "expected an odd number of pixels in 3..15", p->patch);
+    if (p->em_steps < 1 || p->em_steps > 50)
+        return relief_fail_param(err, RELIEF_E_RANGE, "em_steps", "em_steps %d out of range: "
+                                 "expected 1..50", p->em_steps);
+    if (p->pm_steps < 1 || p->pm_steps > 20)
+        return relief_fail_param(err, RELIEF_E_RANGE, "pm_steps", "pm_steps %d out of range: "
+                                 "expected 1..20", p->pm_steps);
+    return RELIEF_OK;
+}
+
+/* Level 0 from the raster: its colour samples and the hole. */
+static relief_status level_zero(vf *f, const relief_raster *img, const uint8_t *hole,
+                                relief_error *err)
+{
+    level *l = &f->lv[0];
+    const int CH = img->channels;
+    l->w = img->width, l->h = img->height;
+    l->v = malloc((size_t)l->w * l->h * f->C * sizeof *l->v);
+    l->hole = malloc((size_t)l->w * l->h);
+    if (!l->v || !l->hole)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's image");
+    for (size_t q = 0; q < (size_t)l->w * l->h; ++q) {
+        l->hole[q] = hole[q] != 0;
+        for (int c = 0; c < f->C; ++c)
+            l->v[q * f->C + c] =
+                l->hole[q] ? 0 : (uint16_t)img->v[q * CH + c]; /* integers, exactly */
+    }
+    return RELIEF_OK;
+}
+
+/* Halve until the hole is about a patch thick, the level keeps sides of
+ * 4 patches and a source, or VF_MAX_LEVELS. */
+static relief_status build_pyramid(vf *f, relief_error *err)
+{
+    relief_status st = level_targets(&f->lv[0], f->r, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (!level_has_source(&f->lv[0], f->r))
+        return relief_fail(err, RELIEF_E_RANGE, "no %d x %d patch of the %d x %d image lies "
+                           "outside the hole: nothing to copy from", f->p->patch, f->p->patch,
+                           f->lv[0].w, f->lv[0].h);
+    f->L = 1;
+    while (f->L < VF_MAX_LEVELS && f->lv[f->L - 1].thickness > f->r) {
+        level *from = &f->lv[f->L - 1], *to = &f->lv[f->L];
+        if ((from->w + 1) / 2 < 4 * f->p->patch || (from->h + 1) / 2 < 4 * f->p->patch)
+            break;
+        st = level_halve(from, to, f->C, err);
+        if (st == RELIEF_OK)
+            st = level_targets(to, f->r, err);
+        if (st != RELIEF_OK)
+            return st;
+        if (!level_has_source(to, f->r)) {
+            level_free(to);
+            break;
+        }
+        ++f->L;
+    }
+    return RELIEF_OK;
+}
+
+/* E-M steps at level li: em_steps at the coarsest, falling to 2 at full
+ * resolution, where a step costs the most and starts nearest its end. */
+static int level_steps(const vf *f, int li)
+{
+    return li == f->L - 1 ? f->p->em_steps
+                          : 2 + (f->p->em_steps - 2) * li / (f->L > 1 ? f->L - 1 : 1);
+}
+
+/* E-M at every level, coarsest first; the progress told after each step,
+ * in targets searched of all the levels' steps. */
+static relief_status run_levels(vf *f, relief_error *err)
+{
+    int step_no = 0;
+    size_t done = 0, total = 0;
+    relief_status st;
+    for (int li = 0; li < f->L; ++li)
+        total += f->lv[li].nt * (size_t)level_steps(f, li);
+    for (int li = f->L - 1; li >= 0; --li) {
+        level *l = &f->lv[li];
+        const int em = level_steps(f, li);
+        if (li == f->L - 1) {
+            st = onion_fill(l, f->C, err);
+            for (size_t i = 0; st == RELIEF_OK && i < l->nt; ++i)
+                l->nnf[i] = random_source(l, f->r, f->p->seed, li, -1, l->tgt[i]);
+        } else {
+            upsample_field(f, li);
+            st = vote_weights(f, l, 1, err);
+            if (st == RELIEF_OK)
+                m_step(f, l, 0);
+        }
+        for (int k = 0; st == RELIEF_OK && k < em; ++k) {
+            e_step(f, li, f->p->pm_steps, &step_no);
+            ++f->em_total;
+            st = vote_weights(f, l, 0, err);
+            if (st == RELIEF_OK)
+                m_step(f, l, li == 0 && k == em - 1);
+            done += l->nt;
+            if (st == RELIEF_OK && relief_progress_count(f->p->progress, done, total))
+                return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress "
+                                   "callback");
+        }
+        if (st != RELIEF_OK)
+            return st;
+    }
+    return RELIEF_OK;
+}
+
+uint64_t relief_vote_fill_estimate(int width, int height, int channels)
+{
+    /* level 0 and the halvings (< 4/3 of it): samples, hole, targets' map,
+     * list, two fields, two distances, weights, with every pixel a target */
+    const uint64_t px = (uint64_t)width * (uint64_t)height;
+    return px * 4 / 3 * (uint64_t)(2 * channels + 1 + 4 + 4 + 8 + 16 + 2) + px * 2;
+}
+
+relief_status relief_vote_fill(relief_raster *img, const uint8_t *hole,
+                               const relief_vote_params *p, relief_vote_report *rep,
+                               relief_error *err)
+{
+    vf f;
+    relief_status st;
+    const double t0 = relief_seconds();
+    const int CH = img->channels;
+    st = relief_vote_params_check(p, err);
+    if (st != RELIEF_OK)
+        return st;
+    if (img->bit_depth != 8 && img->bit_depth != 16)
+        return relief_fail(err, RELIEF_E_RANGE, "patch voting fills 8- or 16-bit images, not "
+                           "bit depth %d", img->bit_depth);
+    memset(&f, 0, sizeof f);
+    f.p = p;
+    f.r = p->patch / 2;
+    f.C = relief_raster_has_alpha(img) ? CH - 1 : CH;
+    st = level_zero(&f, img, hole, err);
+    if (st == RELIEF_OK)
+        st = build_pyramid(&f, err);
+    if (st == RELIEF_OK)
+        st = run_levels(&f, err);
+    if (st == RELIEF_OK) {
+        const level *l = &f.lv[0];
+        const float amax = relief_raster_max_value(img);
+        for (size_t q = 0; q < (size_t)l->w * l->h; ++q) {
+            if (!l->hole[q])
+                continue;
+            for (int c = 0; c < f.C; ++c)
+                img->v[q * CH + c] = (float)l->v[q * f.C + c];
+            if (f.C < CH)
+                img->v[q * CH + f.C] = amax;
+        }
+        if (rep) {
+            rep->levels = f.L;
+            rep->targets = l->nt;
+            rep->distances = f.distances;
+            rep->em_steps = f.em_total;
+            rep->seconds = relief_seconds() - t0;
+        }
+    }
+    for (int li = 0; li < VF_MAX_LEVELS; ++li)
+        level_free(&f.lv[li]);
+    return st;
+}
