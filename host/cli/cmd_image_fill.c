@@ -99,6 +99,11 @@ static void summary(const cli_common *cm, const char *in, const relief_image_fil
         fprintf(stderr, "relief image-fill: %s: no hole pixels (%s): writing the image "
                 "unchanged\n", in, cm->mask ? "the mask is all zero" : "no pixel is "
                 "transparent");
+    else if (r->em_steps)
+        fprintf(stderr, "relief image-fill: %zu hole pixels: %zu by rows, %zu by columns, %zu "
+                "voted (%d levels, %zu vote-and-search steps); %.2f s on %s\n", r->hole_pixels,
+                r->by_rows, r->by_columns, r->by_copy, r->pyramid_levels, r->em_steps,
+                r->seconds_total, r->device);
     else
         fprintf(stderr, "relief image-fill: %zu hole pixels: %zu by rows, %zu by columns, %zu "
                 "copied (%zu of %zu windows accepted), %zu by the fallback; %.2f s on %s\n",

@@ -373,8 +373,8 @@ static relief_status start_scorer(fill_call *c, relief_error *err)
 }
 
 /* Method wexler: the 1-D pass (when interp), then the patch voting over
- * what it left, on the scorer's threads (one for scalar; the host's for
- * host and, until the voting has kernels of its own, for opencl). */
+ * what it left: on the scorer's device when it is OpenCL's (vote_cl.h),
+ * else on one thread (scalar) or the host's. */
 static relief_status run_vote(fill_call *c, relief_error *err)
 {
     const relief_patch_scorer *s = c->scorer;
@@ -384,6 +384,7 @@ static relief_status run_vote(fill_call *c, relief_error *err)
     size_t n = (size_t)c->work.width * (size_t)c->work.height, left = 0;
     uint8_t *hole = malloc(n);
     relief_vote_params v;
+    relief_vote_cl *dev = NULL;
     relief_status st = RELIEF_OK;
     double t0 = relief_seconds();
     if (!hole)
@@ -401,18 +402,16 @@ static relief_status run_vote(fill_call *c, relief_error *err)
     for (size_t q = 0; q < n; ++q)
         left += hole[q] != 0;
     v = vote_params(c->p, &c->progress, threads);
-    if (left)
-        st = relief_vote_fill(&c->work, hole, &v, &c->vr, err);
+    if (left && s->backend == RELIEF_BACKEND_OPENCL)
+        st = relief_vote_cl_create(c->p->run.device, &dev, err);
+    if (st == RELIEF_OK && left)
+        st = relief_vote_fill(&c->work, hole, &v, dev, &c->vr, err);
+    relief_vote_cl_destroy(dev);
     c->fr.by_copy = left;
     c->fr.levels = c->vr.levels;
     c->fr.candidates = c->vr.distances;
     c->fr.seconds_copy = c->vr.seconds;
     c->fr.seconds_score = c->vr.seconds;
-    if (s->backend == RELIEF_BACKEND_OPENCL)
-        snprintf(c->note + strlen(c->note), sizeof c->note - strlen(c->note),
-                 "%sthe patch voting ran on the host's %d thread%s (its OpenCL kernels are "
-                 "to come; the bytes are the same)", c->note[0] ? "; " : "", threads,
-                 threads == 1 ? "" : "s");
     free(hole);
     return st;
 }

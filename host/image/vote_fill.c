@@ -9,6 +9,8 @@
 #include "base/error.h"
 #include "base/parallel.h"
 #include "base/progress.h"
+#include "image/vote_cl.h"
+#include "kernels/vote_math.h"
 
 #define VF_MAX_LEVELS 16
 #define VF_WEIGHT_ONE (1u << 28)
@@ -18,6 +20,10 @@
  * outvoted by the fill's own, self-consistent, patches. */
 #define VF_GAMMA 1.3
 #define VF_DEPTH_MAX 40
+/* A pixel's weight in a patch distance: VF_CW_KNOWN where known, falling
+ * by VF_GAMMA a pixel into the hole (at least 1): a patch on the rim is
+ * matched for what the rim shows before what the fill has guessed. */
+#define VF_CW_KNOWN 16
 
 relief_vote_params relief_vote_params_default(void)
 {
@@ -45,6 +51,7 @@ typedef struct level {
     uint64_t *dist, *dist2; /* nt patch distances, and the step's next */
     uint32_t *wt;           /* nt vote weights, 1..VF_WEIGHT_ONE */
     uint16_t *depth;        /* nt depths in the hole (level_depths) */
+    uint8_t *cw;            /* w x h: each pixel's weight in a patch distance */
     int thickness;          /* the largest */
 } level;
 
@@ -54,22 +61,29 @@ typedef struct vf {
     level lv[VF_MAX_LEVELS];
     uint64_t distances;
     size_t em_total;
+    relief_vote_cl *dev; /* NULL: the host's threads */
 } vf;
 
 /* ------------------------------------------------------------ the levels */
 
+/* The level as vote_math.h's per-item functions read it. */
+static vm_level view(const level *l, int C, int r)
+{
+    vm_level L = {l->w, l->h, C, r, l->bx, l->by, l->bw, l->bh};
+    return L;
+}
+
 static int target_at(const level *l, int x, int y)
 {
-    x -= l->bx, y -= l->by;
-    if (x < 0 || y < 0 || x >= l->bw || y >= l->bh)
-        return -1;
-    return l->tmap[(size_t)y * l->bw + x];
+    const vm_level L = view(l, 1, 0);
+    return vm_target_at(l->tmap, &L, x, y);
 }
 
 /* Can a source patch be centred at (x, y): inside the level, no hole? */
 static int source_ok(const level *l, int r, int x, int y)
 {
-    return x >= r && y >= r && x < l->w - r && y < l->h - r && target_at(l, x, y) < 0;
+    const vm_level L = view(l, 1, r);
+    return vm_source_ok(l->tmap, &L, x, y);
 }
 
 static void level_free(level *l)
@@ -84,6 +98,7 @@ static void level_free(level *l)
     free(l->dist2);
     free(l->wt);
     free(l->depth);
+    free(l->cw);
     memset(l, 0, sizeof *l);
 }
 
@@ -133,7 +148,8 @@ static relief_status level_targets(level *l, int r, relief_error *err)
     l->dist2 = malloc(l->nt * sizeof *l->dist2);
     l->wt = malloc(l->nt * sizeof *l->wt);
     l->depth = malloc(l->nt * sizeof *l->depth);
-    if (!l->nnf || !l->nnf2 || !l->dist || !l->dist2 || !l->wt || !l->depth ||
+    l->cw = malloc((size_t)l->w * l->h);
+    if (!l->cw || !l->nnf || !l->nnf2 || !l->dist || !l->dist2 || !l->wt || !l->depth ||
         (l->thickness = level_depths(l)) < 0)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's field "
                            "of %zu targets", l->nt);
@@ -175,6 +191,12 @@ static int level_depths(level *l)
             if (pass && m > best)
                 best = m;
         }
+    memset(l->cw, VF_CW_KNOWN, (size_t)l->w * l->h);
+    for (size_t i = 0; i < (size_t)W * H; ++i) {
+        const double c = (double)VF_CW_KNOWN * pow(VF_GAMMA, -(double)d[i]);
+        l->cw[(size_t)(l->by + (int)(i / W)) * l->w + l->bx + (int)(i % W)] =
+            (uint8_t)(c < 1.0 ? 1 : lround(c));
+    }
     for (size_t t = 0; t < l->nt; ++t)
         l->depth[t] = d[(size_t)((int)(l->tgt[t] / l->w) - l->by) * W +
                         ((int)(l->tgt[t] % l->w) - l->bx)];
@@ -226,24 +248,6 @@ static int level_has_source(const level *l, int r)
 
 /* -------------------------------------------------------- random choices */
 
-static uint64_t mix64(uint64_t x)
-{
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ull;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
-
-/* The k-th draw of pixel `pix` at (level, step): independent of the order
- * in which pixels are visited. */
-static uint64_t draw(uint32_t seed, int level, int step, uint32_t pix, int k)
-{
-    uint64_t x = mix64((uint64_t)seed * 0x9e3779b97f4a7c15ull + (uint64_t)(level * 1024 + step));
-    x = mix64(x ^ ((uint64_t)pix << 8 | (uint64_t)k));
-    return x;
-}
-
 /* A source centre drawn at random: up to 64 tries in the level's inner
  * rectangle, then the first source after the last try, row-major. */
 static uint32_t random_source(const level *l, int r, uint32_t seed, int li, int step,
@@ -252,7 +256,7 @@ static uint32_t random_source(const level *l, int r, uint32_t seed, int li, int 
     const int iw = l->w - 2 * r, ih = l->h - 2 * r;
     int x = r, y = r;
     for (int k = 0; k < 64; ++k) {
-        uint64_t u = draw(seed, li, step, pix, 64 + k);
+        uint64_t u = vm_draw(seed, li, step, pix, 64 + k);
         x = r + (int)((u & 0xffffffffu) % (uint32_t)iw);
         y = r + (int)((u >> 32) % (uint32_t)ih);
         if (source_ok(l, r, x, y))
@@ -269,33 +273,6 @@ static uint32_t random_source(const level *l, int r, uint32_t seed, int li, int 
 
 /* ------------------------------------------------------------ distances */
 
-/* Sum of squared differences between the target patch at (tx, ty), clipped
- * to the level, and the source patch at (sx, sy), every colour channel;
- * stops once it reaches `bound` (then only known to be >= bound). */
-static uint64_t patch_dist(const level *l, int C, int r, int tx, int ty, int sx, int sy,
-                           uint64_t bound)
-{
-    const int x0 = tx - r < 0 ? -tx : -r, x1 = tx + r >= l->w ? l->w - 1 - tx : r;
-    uint64_t d = 0;
-    for (int dy = -r; dy <= r; ++dy) {
-        const int y = ty + dy;
-        const uint16_t *a, *b;
-        uint64_t row = 0;
-        if (y < 0 || y >= l->h)
-            continue;
-        a = l->v + ((size_t)y * l->w + tx + x0) * C;
-        b = l->v + ((size_t)(sy + dy) * l->w + sx + x0) * C;
-        for (int i = 0; i < (x1 - x0 + 1) * C; ++i) {
-            const int64_t e = (int64_t)a[i] - (int64_t)b[i];
-            row += (uint64_t)(e * e);
-        }
-        d += row;
-        if (d >= bound)
-            return d;
-    }
-    return d;
-}
-
 /* Pixels of the target patch at (tx, ty) inside the level. */
 static int patch_pixels(const level *l, int r, int tx, int ty)
 {
@@ -309,90 +286,66 @@ static int patch_pixels(const level *l, int r, int tx, int ty)
 typedef struct estep {
     vf *f;
     level *l;
+    vm_level L;
     int li, step, jump;
 } estep;
-
-/* Try source (sx, sy) for target (tx, ty) against the best so far. */
-static void try_source(const estep *e, int tx, int ty, int sx, int sy, uint32_t *best,
-                       uint64_t *bd, uint64_t *count)
-{
-    const level *l = e->l;
-    const uint32_t s = (uint32_t)((size_t)sy * l->w + sx);
-    uint64_t d;
-    if (s == *best || !source_ok(l, e->f->r, sx, sy))
-        return;
-    d = patch_dist(l, e->f->C, e->f->r, tx, ty, sx, sy, *bd);
-    ++*count;
-    if (d < *bd)
-        *best = s, *bd = d;
-}
 
 /* Every target's distance to its current source. */
 static int dist_share(void *ctx, size_t lo, size_t hi)
 {
     const estep *e = ctx;
     const level *l = e->l;
-    for (size_t i = lo; i < hi; ++i) {
-        const int tx = (int)(l->tgt[i] % l->w), ty = (int)(l->tgt[i] / l->w);
-        const int sx = (int)(l->nnf[i] % l->w), sy = (int)(l->nnf[i] / l->w);
-        l->dist[i] = patch_dist(l, e->f->C, e->f->r, tx, ty, sx, sy, UINT64_MAX);
-    }
+    for (size_t i = lo; i < hi; ++i)
+        l->dist[i] = vm_dist(l->v, l->cw, &e->L, (int)(l->tgt[i] % l->w),
+                             (int)(l->tgt[i] / l->w), (int)(l->nnf[i] % l->w),
+                             (int)(l->nnf[i] / l->w), UINT64_MAX);
     return 0;
 }
 
-/* One PatchMatch iteration over targets [lo, hi): the sources of the four
- * neighbours at 1 and at the jump, shifted back (propagation, read from the
- * field before the step), then a random search about the best at halving
- * radii; the result into nnf2, dist2. */
+/* One PatchMatch iteration over targets [lo, hi) (vm_pm_target). */
 static int pm_share(void *ctx, size_t lo, size_t hi)
 {
     const estep *e = ctx;
     const level *l = e->l;
-    const int r = e->f->r;
-    static const int dir[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
     uint64_t count = 0;
-    for (size_t i = lo; i < hi; ++i) {
-        const int tx = (int)(l->tgt[i] % l->w), ty = (int)(l->tgt[i] / l->w);
-        uint32_t best = l->nnf[i];
-        uint64_t bd = l->dist[i];
-        for (int j = 0; j < (e->jump > 1 ? 2 : 1); ++j)
-            for (int k = 0; k < 4; ++k) {
-                const int s = j ? e->jump : 1, dx = dir[k][0] * s, dy = dir[k][1] * s;
-                const int n = target_at(l, tx + dx, ty + dy);
-                if (n < 0)
-                    continue;
-                try_source(e, tx, ty, (int)(l->nnf[n] % l->w) - dx,
-                           (int)(l->nnf[n] / l->w) - dy, &best, &bd, &count);
-            }
-        for (int R = (l->w > l->h ? l->w : l->h) / 2, k = 0; R >= 1; R /= 2, ++k) {
-            const uint64_t u = draw(e->f->p->seed, e->li, e->step, l->tgt[i], k);
-            int sx = (int)(best % l->w) + (int)((u & 0xffffffffu) % (uint32_t)(2 * R + 1)) - R;
-            int sy = (int)(best / l->w) + (int)((u >> 32) % (uint32_t)(2 * R + 1)) - R;
-            sx = sx < r ? r : sx > l->w - 1 - r ? l->w - 1 - r : sx;
-            sy = sy < r ? r : sy > l->h - 1 - r ? l->h - 1 - r : sy;
-            try_source(e, tx, ty, sx, sy, &best, &bd, &count);
-        }
-        l->nnf2[i] = best;
-        l->dist2[i] = bd;
-    }
+    for (size_t i = lo; i < hi; ++i)
+        count += vm_pm_target(l->v, l->cw, l->tmap, l->tgt, l->nnf, l->dist, l->nnf2, l->dist2,
+                              &e->L, (int)i, e->f->p->seed, e->li, e->step, e->jump);
     __atomic_fetch_add(&e->f->distances, count, __ATOMIC_RELAXED);
     return 0;
 }
 
-static void e_step(vf *f, int li, int steps, int *step_no)
+/* The jump of PatchMatch iteration k of `steps`: 8, 4, 2, then 1s. */
+static int step_jump(int steps, int k)
+{
+    return 1 << (steps - 1 - k < 3 ? steps - 1 - k : 3);
+}
+
+/* E: the field's distances again (the fill changed), then pm_steps
+ * PatchMatch iterations; on the device the distances come back for the
+ * weights. */
+static relief_status e_step(vf *f, int li, int steps, int *step_no, relief_error *err)
 {
     level *l = &f->lv[li];
-    estep e = {f, l, li, 0, 1};
+    estep e = {f, l, view(l, f->C, f->r), li, 0, 1};
+    if (f->dev) {
+        relief_status st = relief_vote_cl_dist(f->dev, err);
+        for (int k = 0; st == RELIEF_OK && k < steps; ++k)
+            st = relief_vote_cl_pm(f->dev, f->p->seed, li, (*step_no)++, step_jump(steps, k),
+                                   err);
+        return st == RELIEF_OK ? relief_vote_cl_read_dist(f->dev, l->dist, err) : st;
+    }
     relief_parallel_ranges(l->nt, f->p->threads, dist_share, &e);
     for (int k = 0; k < steps; ++k) {
         uint32_t *t = l->nnf;
         uint64_t *d = l->dist;
         e.step = (*step_no)++;
-        e.jump = 1 << (steps - 1 - k < 3 ? steps - 1 - k : 3);
+        e.jump = step_jump(steps, k);
         relief_parallel_ranges(l->nt, f->p->threads, pm_share, &e);
         l->nnf = l->nnf2, l->nnf2 = t;
         l->dist = l->dist2, l->dist2 = d;
     }
+    return RELIEF_OK;
 }
 
 /* ---------------------------------------------------------- the M step */
@@ -444,57 +397,33 @@ static relief_status vote_weights(vf *f, level *l, int uniform, relief_error *er
 }
 
 typedef struct mstep {
-    vf *f;
     level *l;
+    vm_level L;
     int best; /* 1: the best covering patch's pixel, not the weighted mean */
 } mstep;
 
-/* The vote of the hole pixels in rows [lo, hi) of the targets' box. Only
- * hole pixels are written and sources hold none, so the votes read no
- * pixel another share writes. */
+/* The votes of the hole pixels in rows [lo, hi) of the targets' box
+ * (vm_vote_pixel). */
 static int vote_share(void *ctx, size_t lo, size_t hi)
 {
     const mstep *m = ctx;
     level *l = m->l;
-    const int r = m->f->r, C = m->f->C;
     for (size_t yy = lo; yy < hi; ++yy)
         for (int xx = 0; xx < l->bw; ++xx) {
             const int x = l->bx + xx, y = l->by + (int)yy;
-            const size_t q = (size_t)y * l->w + x;
-            uint64_t acc[4] = {0, 0, 0, 0}, den = 0, bd = UINT64_MAX;
-            if (!l->hole[q])
-                continue;
-            for (int dy = -r; dy <= r; ++dy)
-                for (int dx = -r; dx <= r; ++dx) {
-                    const int t = target_at(l, x - dx, y - dy);
-                    const uint16_t *s;
-                    if (t < 0)
-                        continue;
-                    s = l->v + ((size_t)(l->nnf[t] / l->w + dy) * l->w +
-                                (l->nnf[t] % l->w + dx)) * C;
-                    if (m->best) {
-                        if (l->dist[t] < bd) {
-                            bd = l->dist[t];
-                            for (int c = 0; c < C; ++c)
-                                acc[c] = s[c];
-                            den = 1;
-                        }
-                        continue;
-                    }
-                    for (int c = 0; c < C; ++c)
-                        acc[c] += (uint64_t)l->wt[t] * s[c];
-                    den += l->wt[t];
-                }
-            for (int c = 0; c < C; ++c)
-                l->v[q * C + c] = (uint16_t)((acc[c] + den / 2) / den);
+            if (l->hole[(size_t)y * l->w + x])
+                vm_vote_pixel(l->v, l->tmap, l->nnf, l->dist, l->wt, &m->L, x, y, m->best);
         }
     return 0;
 }
 
-static void m_step(vf *f, level *l, int best)
+static relief_status m_step(vf *f, level *l, int best, relief_error *err)
 {
-    mstep m = {f, l, best};
+    mstep m = {l, view(l, f->C, f->r), best};
+    if (f->dev)
+        return relief_vote_cl_vote(f->dev, l->wt, best, err);
     relief_parallel_ranges((size_t)l->bh, f->p->threads, vote_share, &m);
+    return RELIEF_OK;
 }
 
 /* ------------------------------------------------------ the coarse start */
@@ -648,39 +577,61 @@ static int level_steps(const vf *f, int li)
                           : 2 + (f->p->em_steps - 2) * li / (f->L > 1 ? f->L - 1 : 1);
 }
 
+/* Level li's start: the coarsest filled from its rim and a random field,
+ * a finer one the field of the level below and a first, even, vote; on
+ * the device the level is sent before that vote. */
+static relief_status level_start(vf *f, int li, relief_error *err)
+{
+    level *l = &f->lv[li];
+    relief_status st = RELIEF_OK;
+    if (li == f->L - 1) {
+        st = onion_fill(l, f->C, err);
+        for (size_t i = 0; st == RELIEF_OK && i < l->nt; ++i)
+            l->nnf[i] = random_source(l, f->r, f->p->seed, li, -1, l->tgt[i]);
+    } else {
+        upsample_field(f, li);
+    }
+    if (st == RELIEF_OK && f->dev) {
+        const vm_level L = view(l, f->C, f->r);
+        st = relief_vote_cl_level(f->dev, &L, l->v, l->hole, l->cw, l->tmap, l->tgt, l->nt,
+                                  l->nnf, err);
+    }
+    if (st == RELIEF_OK && li < f->L - 1) {
+        st = vote_weights(f, l, 1, err);
+        if (st == RELIEF_OK)
+            st = m_step(f, l, 0, err);
+    }
+    return st;
+}
+
 /* E-M at every level, coarsest first; the progress told after each step,
  * in targets searched of all the levels' steps. */
 static relief_status run_levels(vf *f, relief_error *err)
 {
     int step_no = 0;
     size_t done = 0, total = 0;
-    relief_status st;
     for (int li = 0; li < f->L; ++li)
         total += f->lv[li].nt * (size_t)level_steps(f, li);
     for (int li = f->L - 1; li >= 0; --li) {
         level *l = &f->lv[li];
         const int em = level_steps(f, li);
-        if (li == f->L - 1) {
-            st = onion_fill(l, f->C, err);
-            for (size_t i = 0; st == RELIEF_OK && i < l->nt; ++i)
-                l->nnf[i] = random_source(l, f->r, f->p->seed, li, -1, l->tgt[i]);
-        } else {
-            upsample_field(f, li);
-            st = vote_weights(f, l, 1, err);
-            if (st == RELIEF_OK)
-                m_step(f, l, 0);
-        }
+        relief_status st = level_start(f, li, err);
         for (int k = 0; st == RELIEF_OK && k < em; ++k) {
-            e_step(f, li, f->p->pm_steps, &step_no);
+            st = e_step(f, li, f->p->pm_steps, &step_no, err);
             ++f->em_total;
-            st = vote_weights(f, l, 0, err);
             if (st == RELIEF_OK)
-                m_step(f, l, li == 0 && k == em - 1);
+                st = vote_weights(f, l, 0, err);
+            if (st == RELIEF_OK)
+                st = m_step(f, l, li == 0 && k == em - 1, err);
             done += l->nt;
             if (st == RELIEF_OK && relief_progress_count(f->p->progress, done, total))
-                return relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress "
-                                   "callback");
+                st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress "
+                                 "callback");
         }
+        /* the field for the next level; the pixels at full resolution */
+        if (st == RELIEF_OK && f->dev)
+            st = relief_vote_cl_read(f->dev, l->nnf, li == 0 ? l->v : NULL, &f->distances,
+                                     err);
         if (st != RELIEF_OK)
             return st;
     }
@@ -696,8 +647,8 @@ uint64_t relief_vote_fill_estimate(int width, int height, int channels)
 }
 
 relief_status relief_vote_fill(relief_raster *img, const uint8_t *hole,
-                               const relief_vote_params *p, relief_vote_report *rep,
-                               relief_error *err)
+                               const relief_vote_params *p, relief_vote_cl *dev,
+                               relief_vote_report *rep, relief_error *err)
 {
     vf f;
     relief_status st;
@@ -711,6 +662,7 @@ relief_status relief_vote_fill(relief_raster *img, const uint8_t *hole,
                            "bit depth %d", img->bit_depth);
     memset(&f, 0, sizeof f);
     f.p = p;
+    f.dev = dev;
     f.r = p->patch / 2;
     f.C = relief_raster_has_alpha(img) ? CH - 1 : CH;
     st = level_zero(&f, img, hole, err);

@@ -38,6 +38,7 @@
 
 #include "relief/relief.h"
 #include "image/raster.h"
+#include "image/vote_cl.h"
 
 typedef struct relief_vote_params {
     int patch;        /* P, odd, 3..15 pixels (default 7) */
@@ -68,12 +69,14 @@ typedef struct relief_vote_report {
 uint64_t relief_vote_fill_estimate(int width, int height, int channels);
 
 /* Fill the pixels of `img` (bit_depth 8 or 16) where hole[y * width + x] is
- * non-zero, in place; the others keep their values bit for bit.
+ * non-zero, in place; the others keep their values bit for bit. dev: the
+ * OpenCL device the searches and votes run on (vote_cl.h), or NULL for
+ * the host's p->threads: the same bytes either way.
  * RELIEF_E_RANGE when no P x P patch of the image lies outside the hole;
  * RELIEF_E_CANCELLED when the progress says so (img then untouched);
  * RELIEF_E_NOMEM. rep may be NULL. */
 relief_status relief_vote_fill(relief_raster *img, const uint8_t *hole,
-                               const relief_vote_params *p, relief_vote_report *rep,
-                               relief_error *err);
+                               const relief_vote_params *p, relief_vote_cl *dev,
+                               relief_vote_report *rep, relief_error *err);
 
 #endif

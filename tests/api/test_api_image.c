@@ -341,11 +341,15 @@ static void test_fill(void)
 /* Method wexler (issue 62): a 64 x 64 hole in brick.png filled by patch
  * voting, the pixels outside it bit for bit, as textured as the cut square
  * (a standard deviation within 0.6..1.4 of its 29) and nearer the truth than
- * a flat fill of the image's mean; one thread (scalar) and two (host) give
- * the same bytes, and another seed other bytes. */
+ * a flat fill of the image's mean; one thread (scalar), two (host) and an
+ * OpenCL device where one runs give the same bytes, and another seed other
+ * bytes. */
 static void test_wexler(void)
 {
-    relief_image truth, img[3], mask;
+    relief_image truth, img[4], mask;
+    size_t n_dev = 0;
+    const int runs = relief_devices(NULL, 0, &n_dev, &(relief_error){0}) == RELIEF_OK && n_dev
+                         ? 4 : 3;
     relief_error err = {0};
     relief_image_fill_report rep;
     size_t n, changed_out = 0, k = 0;
@@ -354,17 +358,18 @@ static void test_wexler(void)
         !cut_brick(180, 220, 64, &img[0], &mask))
         return;
     n = image_bytes(&truth);
-    for (int i = 1; i < 3; ++i) {
+    for (int i = 1; i < runs; ++i) {
         relief_image m2;
         if (!cut_brick(180, 220, 64, &img[i], &m2))
             return;
         free(m2.data);
     }
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < runs; ++i) {
         relief_image_fill_params p = relief_image_fill_params_default();
         p.method = RELIEF_IMAGE_FILL_WEXLER;
         p.interp = 0;
-        p.run.backend = i == 1 ? RELIEF_BACKEND_HOST : RELIEF_BACKEND_SCALAR;
+        p.run.backend = i == 1 ? RELIEF_BACKEND_HOST
+                        : i == 3 ? RELIEF_BACKEND_OPENCL : RELIEF_BACKEND_SCALAR;
         p.run.threads = i == 1 ? 2 : 0;
         p.seed = i == 2 ? 7 : 1;
         CHECK_STATUS(relief_image_fill(&img[i], &mask, &p, i == 0 ? &rep : NULL, &err),
@@ -395,12 +400,16 @@ static void test_wexler(void)
     }
     CHECK(memcmp(img[0].data, img[1].data, n) == 0, "wexler: scalar and host (2 threads) differ");
     CHECK(memcmp(img[0].data, img[2].data, n) != 0, "wexler: seeds 1 and 7 gave the same bytes");
+    CHECK(runs < 4 || memcmp(img[0].data, img[3].data, n) == 0,
+          "wexler: scalar and OpenCL differ");
+    if (runs < 4)
+        printf("no OpenCL device: wexler's OpenCL bytes are not compared\n");
     CHECK(rep.pyramid_levels > 1 && rep.em_steps > 0 && rep.targets > 64 * 64 &&
               rep.by_copy == 64 * 64 && strstr(rep.json, "\"method\": \"wexler\""),
           "wexler report: %d levels, %zu steps, %zu targets, %zu voted", rep.pyramid_levels,
           rep.em_steps, rep.targets, rep.by_copy);
     relief_image_fill_report_free(&rep);
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < runs; ++i)
         relief_image_free(&img[i]);
     relief_image_free(&truth);
     free(mask.data);
