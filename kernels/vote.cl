@@ -38,7 +38,8 @@ __kernel void vote_pm(__global const ushort *v, __global const uchar *cw,
 }
 
 /* The vote of the hole pixel at (bx + x, by + y), for every (x, y) of the
- * box. */
+ * box: with `best`, the best patch's pixel where the hole is thick (hole
+ * 1), the mean where it is thin (2). */
 __kernel void vote_vote(__global ushort *v, __global const uchar *hole,
                         __global const int *tmap, __global const uint *nnf,
                         __global const ulong *dist, __global const uint *wt, int best,
@@ -48,5 +49,5 @@ __kernel void vote_vote(__global ushort *v, __global const uchar *hole,
     const vm_level L = VM_LEVEL_INIT;
     if (x >= bx + bw || y >= by + bh || !hole[y * w + x])
         return;
-    vm_vote_pixel(v, tmap, nnf, dist, wt, &L, x, y, best);
+    vm_vote_pixel(v, tmap, nnf, dist, wt, &L, x, y, best && hole[y * w + x] == 1);
 }

@@ -166,8 +166,9 @@ VM_FN VM_U32 vm_pm_target(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const
 
 /* The vote of hole pixel (x, y): over the targets whose patches cover it
  * (offsets row-major), the source's pixel at the same place, weighted by
- * wt (mean, rounded) or, with `best`, the one of the least distance (the
- * first of equals). Writes the pixel's C samples in v: only hole pixels
+ * wt (mean, rounded) or, with `best` (the caller's for the pixels of the
+ * hole's thick parts), the one of the least distance (the first of
+ * equals). Writes the pixel's C samples in v: only hole pixels
  * are written and sources hold none, so no vote reads what another
  * writes. */
 VM_FN void vm_vote_pixel(VM_G VM_U16 *v, VM_G const VM_I32 *tmap, VM_G const VM_U32 *nnf,

@@ -172,7 +172,7 @@ relief_image_fill_params relief_image_fill_params_default(void)
     relief_vote_params v = relief_vote_params_default();
     relief_image_fill_params p;
     memset(&p, 0, sizeof p);
-    p.method = RELIEF_IMAGE_FILL_JAIN; /* until wexler meets issue 62's bar */
+    p.method = RELIEF_IMAGE_FILL_WEXLER;
     p.patch = v.patch;
     p.em_steps = v.em_steps;
     p.pm_steps = v.pm_steps;
@@ -382,11 +382,14 @@ static relief_status run_vote(fill_call *c, relief_error *err)
                   : c->p->run.threads > 0        ? c->p->run.threads
                                                  : relief_cpus_available();
     size_t n = (size_t)c->work.width * (size_t)c->work.height, left = 0;
-    uint8_t *hole = malloc(n);
+    uint8_t *hole = c->holes == n ? NULL : malloc(n);
     relief_vote_params v;
     relief_vote_cl *dev = NULL;
     relief_status st = RELIEF_OK;
     double t0 = relief_seconds();
+    if (c->holes == n)
+        return relief_fail(err, RELIEF_E_RANGE, "every pixel of the image is in the hole: "
+                           "there is nothing to fill it from");
     if (!hole)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole mask");
     memcpy(hole, c->hole, n);

@@ -18,7 +18,7 @@ static const relief_param table[] = {
     RP_INT(T, patch, "P", 3, 15, "wexler: the patch side, an odd number of pixels in 3..15 "
            "(default 7)"),
     RP_INT(T, em_steps, "N", 1, 50, "wexler: vote-and-search steps at the coarsest level, "
-           "1..50 (default 10; finer levels take fewer, at least 2)"),
+           "1..50 (default 10; finer levels fewer, at least 4)"),
     RP_INT(T, pm_steps, "N", 1, 20, "wexler: PatchMatch iterations per step, 1..20 "
            "(default 3)"),
     RP_INT(T, window, "W", 3, 1025, "jain: the starting window, an odd number of pixels in "

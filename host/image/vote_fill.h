@@ -43,7 +43,7 @@
 typedef struct relief_vote_params {
     int patch;        /* P, odd, 3..15 pixels (default 7) */
     int em_steps;     /* E-M steps at the coarsest level, 1..50 (default 10); finer
-                         levels take fewer, at least 2 */
+                         levels take fewer, at least 4 */
     int pm_steps;     /* PatchMatch iterations per E step, 1..20 (default 3) */
     uint32_t seed;    /* the random initialisation and search (default 1) */
     int threads;      /* host threads (1: the serial reference; the bytes do not

@@ -87,7 +87,7 @@ typedef struct relief_image_fill_params {
     relief_image_fill_method method; /* RELIEF_IMAGE_FILL_JAIN (default) or _WEXLER */
     int patch;           /* wexler: the patch side P, odd pixels; 7, [3, 15] */
     int em_steps;        /* wexler: vote-and-search steps at the coarsest
-                            level (finer levels fewer, at least 2); 10, [1, 50] */
+                            level (finer levels fewer, at least 4); 10, [1, 50] */
     int pm_steps;        /* wexler: PatchMatch iterations per step; 3, [1, 20] */
     int window;          /* starting window w, odd pixels; 17, [3, 1025]
                             (paper 004: 129 for texture atlases) */

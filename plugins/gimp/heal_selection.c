@@ -1,7 +1,10 @@
 /* GIMP 2.10 plug-in: Filters > Enhance > Heal Selection (relief), procedure
  * plug-in-relief-heal-selection. Fills the active drawable's selection with
- * relief_image_fill (paper 004) sampled from the rest of the drawable, in
- * one undo step, with GIMP's progress bar.
+ * relief_image_fill's default method (multi-scale patch voting, issue 62)
+ * sampled from the rest of the drawable, in one undo step, with GIMP's
+ * progress bar. The window argument is paper 004's (--method jain), kept
+ * so that scripts calling the procedure keep working; the default method
+ * does not read it.
  *
  * Arguments: run-mode, image, drawable, window (odd pixels, 3..1025; 17),
  * seed (0..2^31 - 1; 1). Interactive runs ask for window and seed in a
@@ -41,15 +44,17 @@ static void query(void)
         {GIMP_PDB_INT32, "run-mode", "The run mode { RUN-INTERACTIVE (0), RUN-NONINTERACTIVE (1) }"},
         {GIMP_PDB_IMAGE, "image", "Input image"},
         {GIMP_PDB_DRAWABLE, "drawable", "The drawable whose selected pixels are filled"},
-        {GIMP_PDB_INT32, "window", "Starting window, odd pixels (3..1025; 17)"},
-        {GIMP_PDB_INT32, "seed", "Seed of the fallback's random choice (1)"},
+        {GIMP_PDB_INT32, "window", "Paper 004's starting window, odd pixels (3..1025; 17); "
+                                   "the default patch voting does not read it"},
+        {GIMP_PDB_INT32, "seed", "Seed of the random start and search (1)"},
     };
     gimp_install_procedure(PROC, "Fill the selection with texture sampled from the rest of the "
                                  "drawable (relief)",
-                           "Fills the selected pixels of the drawable by relief's image fill "
-                           "(paper 004): a 1-D pass where a gap's ends agree and are smooth, "
-                           "then copy-paste of windows matched coarse to fine. Pixels outside "
-                           "the selection are not changed.",
+                           "Fills the selected pixels of the drawable by relief's image fill: "
+                           "a 1-D pass where a gap's ends agree and are smooth, then "
+                           "multi-scale patch voting (Wexler et al. 2007 with PatchMatch's "
+                           "search), coarse to fine. Pixels outside the selection are not "
+                           "changed.",
                            "the relief authors", "the relief authors (BSD-3-Clause)", "2026",
                            "_Heal Selection (relief)...", "RGB*, GRAY*", GIMP_PLUGIN,
                            G_N_ELEMENTS(args), 0, args, NULL);

@@ -19,7 +19,10 @@ if [[ ! -f $brick ]]; then echo "$brick not found: skipped"; exit 77; fi
 # A fill: exit 0, the pixels outside the hole unchanged, the report.
 expect 0 "4096 hole pixels" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/f.png" --report "$tmp/r.json" --backend scalar
 expect 0 "0 values differ outside the hole" -- "$tool" outside "$brick" "$tmp/f.png" "$tmp/m.png"
-ok 'grep -q "\"by_copy\"" "$tmp/r.json" && grep -q "\"pyramid_levels\": 3" "$tmp/r.json"' "report lacks counts or levels"
+ok 'grep -q "\"by_copy\": 4096" "$tmp/r.json" && grep -q "\"method\": \"wexler\"" "$tmp/r.json" && grep -q "\"em_steps\": [1-9]" "$tmp/r.json"' "report lacks counts, method or steps"
+# Paper 004's method kept: its pyramid of 3 levels over brick.png.
+expect 0 "copied" -- "$relief" image-fill "$brick" --mask "$tmp/m.png" -o "$tmp/j.png" --report "$tmp/rj.json" --backend scalar --method jain
+ok 'grep -q "\"pyramid_levels\": 3" "$tmp/rj.json" && grep -q "\"method\": \"jain\"" "$tmp/rj.json"' "jain's report lacks its levels"
 ok 'grep -q "\"interp_roughness\"" "$tmp/r.json"' "report lacks the 1-D pass's roughness limit"
 # The OpenCL backend gives the same bytes (when a device runs).
 if "$relief" devices >/dev/null 2>&1 && [[ -n $("$relief" devices 2>/dev/null | grep -i "cpu\|gpu") ]]; then
