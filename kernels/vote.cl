@@ -9,22 +9,20 @@
 #define VM_LEVEL_INIT {w, h, C, r, bx, by, bw, bh}
 
 /* dist[i]: target i's distance to its source nnf[i]. */
-__kernel void vote_dist(__global const ushort *v, __global const uchar *cw,
-                        __global const uint *tgt, __global const uint *nnf,
+__kernel void vote_dist(__global const ushort *v, __global const uint *tgt, __global const uint *nnf,
                         __global ulong *dist, int nt, VM_LEVEL_ARGS)
 {
     const int i = get_global_id(0);
     const vm_level L = VM_LEVEL_INIT;
     if (i >= nt)
         return;
-    dist[i] = vm_dist(v, cw, &L, (int)(tgt[i] % (uint)w), (int)(tgt[i] / (uint)w),
+    dist[i] = vm_dist(v, &L, (int)(tgt[i] % (uint)w), (int)(tgt[i] / (uint)w),
                       (int)(nnf[i] % (uint)w), (int)(nnf[i] / (uint)w), VM_U64_MAX);
 }
 
 /* One PatchMatch iteration of target i into nnf2, dist2; cnt[i] counts the
  * distances it evaluated. */
-__kernel void vote_pm(__global const ushort *v, __global const uchar *cw,
-                      __global const int *tmap, __global const uint *tgt,
+__kernel void vote_pm(__global const ushort *v, __global const int *tmap, __global const uint *tgt,
                       __global const uint *nnf, __global const ulong *dist,
                       __global uint *nnf2, __global ulong *dist2, __global uint *cnt, int nt,
                       uint seed, int level, int step, int jump, VM_LEVEL_ARGS)
@@ -33,7 +31,7 @@ __kernel void vote_pm(__global const ushort *v, __global const uchar *cw,
     const vm_level L = VM_LEVEL_INIT;
     if (i >= nt)
         return;
-    cnt[i] += vm_pm_target(v, cw, tmap, tgt, nnf, dist, nnf2, dist2, &L, i, seed, level, step,
+    cnt[i] += vm_pm_target(v, tmap, tgt, nnf, dist, nnf2, dist2, &L, i, seed, level, step,
                            jump);
 }
 

@@ -4,8 +4,7 @@
  * target's search and every pixel's vote alike. Integer arithmetic only:
  * the same bits everywhere, whatever the compiler contracts or reorders.
  *
- * A level is `v`, h x w x C samples (ushort, row-major), with `cw`, h x w
- * bytes: each pixel's weight in a patch distance (vote_fill.h). Its
+ * A level is `v`, h x w x C samples (ushort, row-major). Its
  * targets (the centres of the P x P patches, P = 2 r + 1, that hold a hole
  * pixel) are listed in `tgt` (y * w + x) and mapped by `tmap`, bw x bh
  * ints over the box at (bx, by): a target's index, or -1. A source is a
@@ -58,12 +57,12 @@ VM_FN int vm_source_ok(VM_G const VM_I32 *tmap, const vm_level *L, int x, int y)
            vm_target_at(tmap, L, x, y) < 0;
 }
 
-/* The weighted sum of squared differences between the target patch at
+/* The sum of squared differences between the target patch at
  * (tx, ty), clipped to the level, and the source patch at (sx, sy), every
  * channel, rows top to bottom; it stops once it reaches `bound` (then only
  * known to be >= bound). */
-VM_FN VM_U64 vm_dist(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, const vm_level *L, int tx,
-                     int ty, int sx, int sy, VM_U64 bound)
+VM_FN VM_U64 vm_dist(VM_G const VM_U16 *v, const vm_level *L, int tx, int ty, int sx, int sy,
+                     VM_U64 bound)
 {
     const int r = L->r, C = L->C;
     const int x0 = tx - r < 0 ? -tx : -r, x1 = tx + r >= L->w ? L->w - 1 - tx : r;
@@ -81,7 +80,7 @@ VM_FN VM_U64 vm_dist(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, const vm_level 
                 const VM_I64 e = (VM_I64)v[a + c] - (VM_I64)v[b + c];
                 e2 += (VM_U64)(e * e);
             }
-            row += (VM_U64)cw[(long)y * L->w + tx + x0 + i] * e2;
+            row += e2;
         }
         d += row;
         if (d >= bound)
@@ -110,7 +109,7 @@ VM_FN VM_U64 vm_draw(VM_U32 seed, int level, int step, VM_U32 pix, int k)
 }
 
 /* Try source (sx, sy) for target (tx, ty) against the best so far. */
-VM_FN void vm_try(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const VM_I32 *tmap,
+VM_FN void vm_try(VM_G const VM_U16 *v, VM_G const VM_I32 *tmap,
                   const vm_level *L, int tx, int ty, int sx, int sy, VM_U32 *best,
                   VM_U64 *bd, VM_U32 *count)
 {
@@ -118,7 +117,7 @@ VM_FN void vm_try(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const VM_I32 
     VM_U64 d;
     if (s == *best || !vm_source_ok(tmap, L, sx, sy))
         return;
-    d = vm_dist(v, cw, L, tx, ty, sx, sy, *bd);
+    d = vm_dist(v, L, tx, ty, sx, sy, *bd);
     ++*count;
     if (d < *bd) {
         *best = s;
@@ -131,7 +130,7 @@ VM_FN void vm_try(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const VM_I32 
  * read from the field before the step: nnf), then a random search about
  * the best at halving radii from half the level's longer side. Writes
  * nnf2[i], dist2[i]; returns the distances evaluated. */
-VM_FN VM_U32 vm_pm_target(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const VM_I32 *tmap,
+VM_FN VM_U32 vm_pm_target(VM_G const VM_U16 *v, VM_G const VM_I32 *tmap,
                           VM_G const VM_U32 *tgt, VM_G const VM_U32 *nnf,
                           VM_G const VM_U64 *dist, VM_G VM_U32 *nnf2, VM_G VM_U64 *dist2,
                           const vm_level *L, int i, VM_U32 seed, int level, int step,
@@ -147,7 +146,7 @@ VM_FN VM_U32 vm_pm_target(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const
             const int n = vm_target_at(tmap, L, tx + dx, ty + dy);
             if (n < 0)
                 continue;
-            vm_try(v, cw, tmap, L, tx, ty, (int)(nnf[n] % (VM_U32)L->w) - dx,
+            vm_try(v, tmap, L, tx, ty, (int)(nnf[n] % (VM_U32)L->w) - dx,
                    (int)(nnf[n] / (VM_U32)L->w) - dy, &best, &bd, &count);
         }
     for (int R = (L->w > L->h ? L->w : L->h) / 2, k = 0; R >= 1; R /= 2, ++k) {
@@ -157,7 +156,7 @@ VM_FN VM_U32 vm_pm_target(VM_G const VM_U16 *v, VM_G const VM_U8 *cw, VM_G const
         int sy = (int)(best / (VM_U32)L->w) + (int)((VM_U32)(u >> 32) % span) - R;
         sx = sx < L->r ? L->r : sx > L->w - 1 - L->r ? L->w - 1 - L->r : sx;
         sy = sy < L->r ? L->r : sy > L->h - 1 - L->r ? L->h - 1 - L->r : sy;
-        vm_try(v, cw, tmap, L, tx, ty, sx, sy, &best, &bd, &count);
+        vm_try(v, tmap, L, tx, ty, sx, sy, &best, &bd, &count);
     }
     nnf2[i] = best;
     dist2[i] = bd;

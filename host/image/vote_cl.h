@@ -27,12 +27,12 @@ void relief_vote_cl_destroy(relief_vote_cl *d);
 /* Its name, for reports. */
 const char *relief_vote_cl_name(const relief_vote_cl *d);
 
-/* Send a level: its samples v (h x w x C), hole (h x w), cw (h x w), the
- * targets' tmap (bw x bh) and list tgt (nt), and the field nnf (nt). */
+/* Send a level: its samples v (h x w x C), hole (h x w: 1 thick, 2 thin),
+ * the targets' tmap (bw x bh) and list tgt (nt), and the field nnf (nt). */
 relief_status relief_vote_cl_level(relief_vote_cl *d, const vm_level *L, const uint16_t *v,
-                                   const uint8_t *hole, const uint8_t *cw,
-                                   const int32_t *tmap, const uint32_t *tgt, size_t nt,
-                                   const uint32_t *nnf, relief_error *err);
+                                   const uint8_t *hole, const int32_t *tmap,
+                                   const uint32_t *tgt, size_t nt, const uint32_t *nnf,
+                                   relief_error *err);
 /* Every target's distance to its source, then one PatchMatch iteration
  * (vm_pm_target), then the distances read back into dist (nt). */
 relief_status relief_vote_cl_dist(relief_vote_cl *d, relief_error *err);

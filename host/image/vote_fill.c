@@ -20,10 +20,6 @@
  * outvoted by the fill's own, self-consistent, patches. */
 #define VF_GAMMA 1.3
 #define VF_DEPTH_MAX 40
-/* A pixel's weight in a patch distance: VF_CW_KNOWN where known, falling
- * by VF_GAMMA a pixel into the hole (at least 1): a patch on the rim is
- * matched for what the rim shows before what the fill has guessed. */
-#define VF_CW_KNOWN 16
 
 relief_vote_params relief_vote_params_default(void)
 {
@@ -51,7 +47,6 @@ typedef struct level {
     uint64_t *dist, *dist2; /* nt patch distances, and the step's next */
     uint32_t *wt;           /* nt vote weights, 1..VF_WEIGHT_ONE */
     uint16_t *depth;        /* nt depths in the hole (level_depths) */
-    uint8_t *cw;            /* w x h: each pixel's weight in a patch distance */
     int thickness;          /* the largest */
 } level;
 
@@ -98,7 +93,6 @@ static void level_free(level *l)
     free(l->dist2);
     free(l->wt);
     free(l->depth);
-    free(l->cw);
     memset(l, 0, sizeof *l);
 }
 
@@ -107,9 +101,10 @@ static int level_depths(level *l);
 /* The thin parts of the hole (issue 62's scratches): a hole pixel whose
  * depths within VF_THIN_REACH pixels (either axis) are all at most
  * VF_THIN_DEPTH lies in a gap a few pixels wide; its hole value becomes 2,
- * and its vote stays the patches' weighted mean (vm_vote_pixel), which
- * continues the structure smoothly, where a thicker part takes the best
- * patch's pixel, which keeps the texture. d: the box's depths. */
+ * and even the last vote leaves it the patches' weighted mean
+ * (vm_vote_pixel), which continues the structure smoothly across the gap,
+ * where a thicker part then takes the best patch's pixel, which keeps the
+ * texture. d: the box's depths. */
 #define VF_THIN_DEPTH 3
 #define VF_THIN_REACH 4
 static void mark_thin(level *l, const uint16_t *d)
@@ -171,8 +166,7 @@ static relief_status level_targets(level *l, int r, relief_error *err)
     l->dist2 = malloc(l->nt * sizeof *l->dist2);
     l->wt = malloc(l->nt * sizeof *l->wt);
     l->depth = malloc(l->nt * sizeof *l->depth);
-    l->cw = malloc((size_t)l->w * l->h);
-    if (!l->cw || !l->nnf || !l->nnf2 || !l->dist || !l->dist2 || !l->wt || !l->depth ||
+    if (!l->nnf || !l->nnf2 || !l->dist || !l->dist2 || !l->wt || !l->depth ||
         (l->thickness = level_depths(l)) < 0)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's field "
                            "of %zu targets", l->nt);
@@ -214,12 +208,6 @@ static int level_depths(level *l)
             if (pass && m > best)
                 best = m;
         }
-    memset(l->cw, VF_CW_KNOWN, (size_t)l->w * l->h);
-    for (size_t i = 0; i < (size_t)W * H; ++i) {
-        const double c = (double)VF_CW_KNOWN * pow(VF_GAMMA, -(double)d[i]);
-        l->cw[(size_t)(l->by + (int)(i / W)) * l->w + l->bx + (int)(i % W)] =
-            (uint8_t)(c < 1.0 ? 1 : lround(c));
-    }
     for (size_t t = 0; t < l->nt; ++t)
         l->depth[t] = d[(size_t)((int)(l->tgt[t] / l->w) - l->by) * W +
                         ((int)(l->tgt[t] % l->w) - l->bx)];
@@ -320,7 +308,7 @@ static int dist_share(void *ctx, size_t lo, size_t hi)
     const estep *e = ctx;
     const level *l = e->l;
     for (size_t i = lo; i < hi; ++i)
-        l->dist[i] = vm_dist(l->v, l->cw, &e->L, (int)(l->tgt[i] % l->w),
+        l->dist[i] = vm_dist(l->v, &e->L, (int)(l->tgt[i] % l->w),
                              (int)(l->tgt[i] / l->w), (int)(l->nnf[i] % l->w),
                              (int)(l->nnf[i] / l->w), UINT64_MAX);
     return 0;
@@ -333,7 +321,7 @@ static int pm_share(void *ctx, size_t lo, size_t hi)
     const level *l = e->l;
     uint64_t count = 0;
     for (size_t i = lo; i < hi; ++i)
-        count += vm_pm_target(l->v, l->cw, l->tmap, l->tgt, l->nnf, l->dist, l->nnf2, l->dist2,
+        count += vm_pm_target(l->v, l->tmap, l->tgt, l->nnf, l->dist, l->nnf2, l->dist2,
                               &e->L, (int)i, e->f->p->seed, e->li, e->step, e->jump);
     __atomic_fetch_add(&e->f->distances, count, __ATOMIC_RELAXED);
     return 0;
@@ -623,8 +611,8 @@ static relief_status level_start(vf *f, int li, relief_error *err)
     }
     if (st == RELIEF_OK && f->dev) {
         const vm_level L = view(l, f->C, f->r);
-        st = relief_vote_cl_level(f->dev, &L, l->v, l->hole, l->cw, l->tmap, l->tgt, l->nt,
-                                  l->nnf, err);
+        st = relief_vote_cl_level(f->dev, &L, l->v, l->hole, l->tmap, l->tgt, l->nt, l->nnf,
+                                  err);
     }
     if (st == RELIEF_OK && li < f->L - 1) {
         st = vote_weights(f, l, 1, err);
@@ -652,7 +640,7 @@ static relief_status run_levels(vf *f, relief_error *err)
             if (st == RELIEF_OK)
                 st = vote_weights(f, l, 0, err);
             if (st == RELIEF_OK)
-                st = m_step(f, l, 1, err);
+                st = m_step(f, l, li == 0 && k == em - 1, err);
             done += l->nt;
             if (st == RELIEF_OK && relief_progress_count(f->p->progress, done, total))
                 st = relief_fail(err, RELIEF_E_CANCELLED, "cancelled by the progress "

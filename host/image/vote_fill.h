@@ -19,8 +19,12 @@
  *      sample, sigma^2 its 75th percentile over the level's targets).
  * The field is carried to the next finer level (a source doubled), which
  * votes its first estimate. The last step at full resolution takes each
- * hole pixel from the best of its covering patches rather than their
- * mean, so texture is copied, not averaged away.
+ * pixel of the hole's thick parts from the best of its covering patches
+ * rather than their mean, so texture is copied, not averaged away; a thin
+ * part (a scratch a few pixels wide) keeps the mean, smooth across it.
+ * Every earlier vote is the mean: a best-patch vote at every step left
+ * the fill a mosaic of blocks, each copied whole from another place, with
+ * hard seams between them (bench/image_fill.sh's strips).
  *
  * Everything the result depends on is integer arithmetic over the
  * samples (8 or 16 bits): patch distances are exact uint64 sums, weights

@@ -26,7 +26,7 @@ struct relief_vote_cl {
     char name[256];
     vm_level L;
     size_t nt;
-    cl_mem v, hole, cw, tmap, tgt, nnf, nnf2, dist, dist2, cnt, wt;
+    cl_mem v, hole, tmap, tgt, nnf, nnf2, dist, dist2, cnt, wt;
 };
 
 static relief_status cl_fail(relief_error *err, const char *what, cl_int rc)
@@ -41,8 +41,7 @@ static relief_status cl_fail(relief_error *err, const char *what, cl_int rc)
 
 static void release_level(relief_vote_cl *d)
 {
-    cl_mem *m[] = {&d->v, &d->hole, &d->cw, &d->tmap, &d->tgt, &d->nnf,
-                   &d->nnf2, &d->dist, &d->dist2, &d->cnt, &d->wt};
+    cl_mem *m[] = {&d->v, &d->hole, &d->tmap, &d->tgt, &d->nnf, &d->nnf2, &d->dist, &d->dist2, &d->cnt, &d->wt};
     for (size_t i = 0; i < sizeof m / sizeof m[0]; ++i) {
         if (*m[i])
             clReleaseMemObject(*m[i]);
@@ -127,9 +126,9 @@ static relief_status buffer(relief_vote_cl *d, cl_mem *m, size_t n, const void *
 }
 
 relief_status relief_vote_cl_level(relief_vote_cl *d, const vm_level *L, const uint16_t *v,
-                                   const uint8_t *hole, const uint8_t *cw,
-                                   const int32_t *tmap, const uint32_t *tgt, size_t nt,
-                                   const uint32_t *nnf, relief_error *err)
+                                   const uint8_t *hole, const int32_t *tmap,
+                                   const uint32_t *tgt, size_t nt, const uint32_t *nnf,
+                                   relief_error *err)
 {
     const size_t px = (size_t)L->w * (size_t)L->h;
     relief_status st;
@@ -139,8 +138,6 @@ relief_status relief_vote_cl_level(relief_vote_cl *d, const vm_level *L, const u
     st = buffer(d, &d->v, px * (size_t)L->C * sizeof *v, v, err);
     if (st == RELIEF_OK)
         st = buffer(d, &d->hole, px, hole, err);
-    if (st == RELIEF_OK)
-        st = buffer(d, &d->cw, px, cw, err);
     if (st == RELIEF_OK)
         st = buffer(d, &d->tmap, (size_t)L->bw * (size_t)L->bh * sizeof *tmap, tmap, err);
     if (st == RELIEF_OK)
@@ -195,13 +192,13 @@ static cl_int run_1d(relief_vote_cl *d, cl_kernel k)
 
 relief_status relief_vote_cl_dist(relief_vote_cl *d, relief_error *err)
 {
-    cl_mem *m[5] = {&d->v, &d->cw, &d->tgt, &d->nnf, &d->dist};
+    cl_mem *m[4] = {&d->v, &d->tgt, &d->nnf, &d->dist};
     const int nt = (int)d->nt;
-    cl_int rc = set_mems(d->k_dist, 5, m);
+    cl_int rc = set_mems(d->k_dist, 4, m);
     if (rc == CL_SUCCESS)
-        rc = clSetKernelArg(d->k_dist, 5, sizeof nt, &nt);
+        rc = clSetKernelArg(d->k_dist, 4, sizeof nt, &nt);
     if (rc == CL_SUCCESS)
-        rc = set_level(d->k_dist, 6, &d->L);
+        rc = set_level(d->k_dist, 5, &d->L);
     if (rc == CL_SUCCESS)
         rc = run_1d(d, d->k_dist);
     return rc == CL_SUCCESS ? RELIEF_OK : cl_fail(err, "vote_dist", rc);
@@ -210,23 +207,22 @@ relief_status relief_vote_cl_dist(relief_vote_cl *d, relief_error *err)
 relief_status relief_vote_cl_pm(relief_vote_cl *d, uint32_t seed, int level, int step,
                                 int jump, relief_error *err)
 {
-    cl_mem *m[9] = {&d->v, &d->cw, &d->tmap, &d->tgt, &d->nnf, &d->dist, &d->nnf2, &d->dist2,
-                    &d->cnt};
+    cl_mem *m[8] = {&d->v, &d->tmap, &d->tgt, &d->nnf, &d->dist, &d->nnf2, &d->dist2, &d->cnt};
     const int nt = (int)d->nt;
     const cl_uint s = seed;
-    cl_int rc = set_mems(d->k_pm, 9, m);
+    cl_int rc = set_mems(d->k_pm, 8, m);
     if (rc == CL_SUCCESS)
-        rc = clSetKernelArg(d->k_pm, 9, sizeof nt, &nt);
+        rc = clSetKernelArg(d->k_pm, 8, sizeof nt, &nt);
     if (rc == CL_SUCCESS)
-        rc = clSetKernelArg(d->k_pm, 10, sizeof s, &s);
+        rc = clSetKernelArg(d->k_pm, 9, sizeof s, &s);
     if (rc == CL_SUCCESS)
-        rc = clSetKernelArg(d->k_pm, 11, sizeof level, &level);
+        rc = clSetKernelArg(d->k_pm, 10, sizeof level, &level);
     if (rc == CL_SUCCESS)
-        rc = clSetKernelArg(d->k_pm, 12, sizeof step, &step);
+        rc = clSetKernelArg(d->k_pm, 11, sizeof step, &step);
     if (rc == CL_SUCCESS)
-        rc = clSetKernelArg(d->k_pm, 13, sizeof jump, &jump);
+        rc = clSetKernelArg(d->k_pm, 12, sizeof jump, &jump);
     if (rc == CL_SUCCESS)
-        rc = set_level(d->k_pm, 14, &d->L);
+        rc = set_level(d->k_pm, 13, &d->L);
     if (rc == CL_SUCCESS)
         rc = run_1d(d, d->k_pm);
     if (rc == CL_SUCCESS) { /* the step's field is the next one's to read */
@@ -314,11 +310,11 @@ const char *relief_vote_cl_name(const relief_vote_cl *d)
 
 #define NOT_BUILT return relief_fail(err, RELIEF_E_NOT_BUILT, "relief was built without OpenCL")
 relief_status relief_vote_cl_level(relief_vote_cl *d, const vm_level *L, const uint16_t *v,
-                                   const uint8_t *hole, const uint8_t *cw,
-                                   const int32_t *tmap, const uint32_t *tgt, size_t nt,
-                                   const uint32_t *nnf, relief_error *err)
+                                   const uint8_t *hole, const int32_t *tmap,
+                                   const uint32_t *tgt, size_t nt, const uint32_t *nnf,
+                                   relief_error *err)
 {
-    (void)d, (void)L, (void)v, (void)hole, (void)cw, (void)tmap, (void)tgt, (void)nt, (void)nnf;
+    (void)d, (void)L, (void)v, (void)hole, (void)tmap, (void)tgt, (void)nt, (void)nnf;
     NOT_BUILT;
 }
 relief_status relief_vote_cl_dist(relief_vote_cl *d, relief_error *err)

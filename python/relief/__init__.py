@@ -207,16 +207,19 @@ def _float32(name, a, zero_missing=False, note=""):
 
 # ------------------------------------------------------------------ images
 
-def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None, cancel=None,
-               return_report=False, **params):
-    """Fill the pixels of ``image`` where ``mask`` is non-zero (paper 004:
-    a 1-D pass where a gap's ends agree and are smooth, then copy-paste of
-    windows matched coarse to fine).
+def image_fill(image, mask, *, method="wexler", window=17, seed=1, backend="auto",
+               progress=None, cancel=None, return_report=False, **params):
+    """Fill the pixels of ``image`` where ``mask`` is non-zero: a 1-D pass
+    where a gap's ends agree and are smooth, then, with ``method="wexler"``
+    (the default), multi-scale patch voting (Wexler et al. 2007 with
+    PatchMatch's search; ``patch``, ``em_steps``, ``pm_steps``), or with
+    ``method="jain"`` paper 004's copy-paste of windows matched coarse to
+    fine (``window`` and its other parameters).
 
     image: (H, W) or (H, W, C), C 1 to 4 (grey, grey + alpha, RGB, RGBA),
     uint8, uint16 or float32 (float is filled on a 16-bit scale of its own
     range outside the mask; the pixels outside the mask keep their values).
-    mask: (H, W), non-zero = fill. window: the starting window, odd pixels.
+    mask: (H, W), non-zero = fill. window: jain's starting window, odd pixels.
     Returns a new array like ``image`` (and the report as a dict when
     ``return_report``). Alpha is not matched; a filled pixel becomes opaque.
     ``max_memory`` is checked from the shapes before anything is copied.
@@ -232,7 +235,7 @@ def image_fill(image, mask, *, window=17, seed=1, backend="auto", progress=None,
     if work.shape[0] < 1 or work.shape[1] < 1:
         _fail("usage", f"image: shape {img.shape} is empty")
     m = _mask_view(mask, work.shape[:2])
-    kw = _params(dict(params, window=window, seed=seed, backend=backend))
+    kw = _params(dict(params, method=method, window=window, seed=seed, backend=backend))
     _check(_relief.image_fill_check_memory(*work.shape, kw))
     m = _mask_bits(m)
     lo = scale = None
