@@ -37,6 +37,9 @@
 #define VM_U64_MAX UINT64_MAX
 #endif
 
+/* Channels a level may hold: 3 colours and 2 texture features. */
+#define VM_MAX_CHANNELS 6
+
 /* The level as the per-item functions read it. */
 typedef struct vm_level {
     int w, h, C, r;
@@ -175,7 +178,7 @@ VM_FN void vm_vote_pixel(VM_G VM_U16 *v, VM_G const VM_I32 *tmap, VM_G const VM_
                          int x, int y, int best)
 {
     const int r = L->r, C = L->C;
-    VM_U64 acc[4] = {0, 0, 0, 0}, den = 0, bd = VM_U64_MAX;
+    VM_U64 acc[VM_MAX_CHANNELS] = {0}, den = 0, bd = VM_U64_MAX;
     for (int dy = -r; dy <= r; ++dy)
         for (int dx = -r; dx <= r; ++dx) {
             const int t = vm_target_at(tmap, L, x - dx, y - dy);

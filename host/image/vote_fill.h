@@ -32,6 +32,11 @@
  * ratios, and the random choices come from a hash of (seed, level, step,
  * pixel): the same bytes on one thread, many, or a device.
  *
+ * The patches match colour and two texture features (Newson et al.: the
+ * mean |horizontal| and |vertical| grey differences about each pixel),
+ * which the votes carry into the hole like colour, so a textured part of
+ * the hole is filled with texture.
+ *
  * Units: pixels and sample values (0..255 or 0..65535). Alpha (2 or 4
  * channels) is not matched; a filled pixel becomes opaque. */
 #ifndef RELIEF_HOST_IMAGE_VOTE_FILL_H
