@@ -3,7 +3,8 @@
  * (width and height 1..32, channels 0..5, bit depth 8, 16 or 12, the
  * padding after each row), the mask's (NULL: the image's alpha; its own
  * channels and bit depth), a few parameters (window, min_window, tau,
- * max_hole_fraction, search_radius, interp, exhaustive, seed) and when the
+ * max_hole_fraction, search_radius, interp, exhaustive, seed; the method,
+ * and wexler's patch and steps) and when the
  * progress callback cancels; the rest supplies the pixels, then the mask
  * (cycled when short). tests/fuzz/image_fill_seeds.py writes the seeds.
  *
@@ -85,6 +86,12 @@ static void choose(const uint8_t *h, relief_image *img, relief_image *mask, int 
     p->max_hole_fraction = (h[11] % 100) / 100.0;
     p->interp_diff = h[12] == 255 ? INFINITY : h[12] < 128 ? -1.0 : h[12] - 128.0;
     p->run.backend = RELIEF_BACKEND_SCALAR;
+    /* The method (issue 62): bit 4 of the last byte; wexler's patch from
+     * its top bits, its steps from the seed's bytes. */
+    p->method = (h[13] & 0x10) ? RELIEF_IMAGE_FILL_JAIN : RELIEF_IMAGE_FILL_WEXLER;
+    p->patch = 3 + 2 * ((h[13] >> 5) % 7);
+    p->em_steps = 1 + h[9] % 5;
+    p->pm_steps = 1 + h[10] % 4;
     c->after = h[13] % 16;
     c->calls = 0;
 }
