@@ -21,7 +21,7 @@
 #include "depth/frame.h"
 
 enum { OC_DEPTH = OPT_COMMAND, OC_SCALE, OC_OVERLAY, OC_BG_MESH, OC_SAVE_MASK, OC_POINTS,
-       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_WINDOW, OC_DEPTH_VARIANT, OC_VIEWS, OC_POSES };
+       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_METHOD, OC_FILL_WINDOW, OC_DEPTH_VARIANT, OC_VIEWS, OC_POSES };
 
 static const char *const frame_help =
     "IN is an organised PCD with colour (x y z rgb: a depth camera's frame), or a colour "
@@ -51,8 +51,10 @@ static const cli_own remove_own[] = {
      "picture"},
     {"points", OC_POINTS, "OUT.ply", "the frame's points after the removal, coloured, with a "
      "'label' property: 1 for the points put behind the occluders"},
-    {"fill-window", OC_FILL_WINDOW, "W", "image-fill's starting window for the colour "
-     "(default 17)"},
+    {"fill-method", OC_FILL_METHOD, "M", "image-fill's method for the colour: wexler "
+     "(default: multi-scale patch voting) or jain (paper 004's copy-paste)"},
+    {"fill-window", OC_FILL_WINDOW, "W", "image-fill's starting window for the colour with "
+     "--fill-method jain (default 17)"},
     {"depth-variant", OC_DEPTH_VARIANT, "V", "depth-fill's variant for the depth behind: "
      "plain, haar or decompose (default)"},
     {NULL, 0, NULL, NULL}};
@@ -88,7 +90,8 @@ static cli_spec spec(int remove)
              "reverse. %s", frame_help);
     snprintf(about[1], sizeof about[1], "Remove the occluders of an RGB-D frame: the mask "
              "(found as `relief occluders` finds it, or --mask), the colour behind filled by "
-             "image-fill (paper 004, chapter 3) and the depth behind repaired by depth-fill "
+             "image-fill (its default, multi-scale patch voting; --fill-method jain: paper 004, "
+             "chapter 3) and the depth behind repaired by depth-fill "
              "(paper 003) as the residual about the background, so that the new points lie on "
              "the background with its own roughness. %s OUT is written as IN: a PCD (the "
              "occluders' points replaced, the other pixels' bits kept), or the colour image "
@@ -125,6 +128,13 @@ static int take(void *ctx, int c, const char *arg)
     case OC_COLOUR_OUT: a->colour_out = arg; return 1;
     case OC_VIEWS: a->views_arg = arg; return 1;
     case OC_POSES: a->poses = arg; return 1;
+    case OC_FILL_METHOD: {
+        static const char *const methods[] = {"wexler", "jain"};
+        if (!CLI_PARSE_ENUM(cmd, "--fill-method", arg, methods, &v))
+            return 0;
+        a->p.colour.method = (relief_image_fill_method)v;
+        return 1;
+    }
     case OC_FILL_WINDOW:
         if (!cli_parse_long(cmd, "--fill-window", arg, 3, 1025, &w))
             return 0;

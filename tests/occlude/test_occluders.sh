@@ -58,6 +58,9 @@ ok 'grep -q "property uchar label" "$tmp/p.ply"' "the points have no label"
 # The same with the mask given, and for the PNG pair.
 expect 0 "" -- "$relief" remove-occluders "$tmp/scene.pcd" -o "$tmp/out2.pcd" --mask "$tmp/m.png" --quiet
 ok 'cmp -s "$tmp/out.pcd" "$tmp/out2.pcd"' "a given mask (the found one) gave other bytes"
+# Paper 004's colour fill kept by name (issue 62): other bytes than the default's.
+expect 0 "" -- "$relief" remove-occluders "$tmp/scene.pcd" -o "$tmp/out3.pcd" --mask "$tmp/m.png" --fill-method jain --quiet
+ok '! cmp -s "$tmp/out.pcd" "$tmp/out3.pcd"' "--fill-method jain gave the default's bytes"
 expect 0 "" -- "$relief" remove-occluders "$tmp/colour.png" --depth "$tmp/depth.png" \
   -o "$tmp/c2.png" --depth-out "$tmp/d2.png" --quiet
 
@@ -92,6 +95,7 @@ bad "" -- occluders "$tmp/missing.pcd" -o "$tmp/bad.png"
 bad "" -- occluders "$tmp/scene.pcd" -o "$tmp"
 bad "" -- remove-occluders "$tmp/scene.pcd" -o "$tmp/scene.pcd"
 bad "--depth-out" -- remove-occluders "$tmp/colour.png" --depth "$tmp/depth.png" -o "$tmp/bad.png"
+bad "--fill-method" -- remove-occluders "$tmp/scene.pcd" -o "$tmp/bad.pcd" --fill-method paper
 bad "nothing to remove" -- remove-occluders "$tmp/scene.pcd" -o "$tmp/bad.pcd" --mask "$tmp/empty.png"
 printf 'VERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 4\nHEIGHT 4\nPOINTS 16\nDATA binary\n' > "$tmp/short.pcd"
 bad "" -- occluders "$tmp/short.pcd" -o "$tmp/bad.png"
