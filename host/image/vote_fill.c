@@ -546,19 +546,26 @@ relief_status relief_vote_params_check(const relief_vote_params *p, relief_error
  * ring: 35.2). Scale 1: 0.79; 8: 0.83 but scratches' RMS 14.3 against 13.4. */
 #define VF_TEX_REACH 2
 #define VF_TEX_SCALE 4
-static relief_status texture_features(vf *f, level *l, relief_error *err)
+typedef struct texture_job {
+    const vf *f;
+    level *l;
+    const uint32_t *g; /* the grey level, w x h */
+} texture_job;
+
+static uint32_t absdiff(uint32_t a, uint32_t b)
 {
-    const int W = l->w, H = l->h, C = f->C, K = f->K, R = VF_TEX_REACH;
-    uint32_t *g = malloc((size_t)W * H * sizeof *g);
-    if (!g)
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the texture features");
-    for (size_t q = 0; q < (size_t)W * H; ++q) {
-        uint32_t sum = 0;
-        for (int c = 0; c < C; ++c)
-            sum += l->v[q * K + c];
-        g[q] = sum / (uint32_t)C;
-    }
-    for (int y = 0; y < H; ++y)
+    return a > b ? a - b : b - a;
+}
+
+/* The features of the known pixels of rows [lo, hi): each row its own, so
+ * the bytes do not depend on the threads. */
+static int texture_rows(void *ctx, size_t lo, size_t hi)
+{
+    const texture_job *j = ctx;
+    level *l = j->l;
+    const uint32_t *g = j->g;
+    const int W = l->w, H = l->h, C = j->f->C, K = j->f->K, R = VF_TEX_REACH;
+    for (int y = (int)lo; y < (int)hi; ++y)
         for (int x = 0; x < W; ++x) {
             uint64_t sx = 0, sy = 0, n = 0;
             const size_t q = (size_t)y * W + x;
@@ -570,8 +577,8 @@ static relief_status texture_features(vf *f, level *l, relief_error *err)
                     if (yy < 1 || xx < 1 || yy >= H - 1 || xx >= W - 1 || l->hole[p] ||
                         l->hole[p - 1] || l->hole[p + 1] || l->hole[p - W] || l->hole[p + W])
                         continue;
-                    sx += (uint64_t)(g[p + 1] > g[p - 1] ? g[p + 1] - g[p - 1] : g[p - 1] - g[p + 1]);
-                    sy += (uint64_t)(g[p + W] > g[p - W] ? g[p + W] - g[p - W] : g[p - W] - g[p + W]);
+                    sx += absdiff(g[p + 1], g[p - 1]);
+                    sy += absdiff(g[p + W], g[p - W]);
                     ++n;
                 }
             for (int k = 0; k < 2; ++k) {
@@ -579,6 +586,24 @@ static relief_status texture_features(vf *f, level *l, relief_error *err)
                 l->v[q * K + C + k] = (uint16_t)(v > UINT16_MAX ? UINT16_MAX : v);
             }
         }
+    return 0;
+}
+
+static relief_status texture_features(vf *f, level *l, relief_error *err)
+{
+    const int C = f->C, K = f->K;
+    const size_t n = (size_t)l->w * l->h;
+    uint32_t *g = malloc(n * sizeof *g);
+    texture_job j = {f, l, g};
+    if (!g)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the texture features");
+    for (size_t q = 0; q < n; ++q) {
+        uint32_t sum = 0;
+        for (int c = 0; c < C; ++c)
+            sum += l->v[q * K + c];
+        g[q] = sum / (uint32_t)C;
+    }
+    relief_parallel_ranges((size_t)l->h, f->p->threads, texture_rows, &j);
     free(g);
     return RELIEF_OK;
 }
