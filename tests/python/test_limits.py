@@ -34,8 +34,12 @@ relief._EXIT_WAIT_S = float(sys.argv[2])
 rng = np.random.default_rng(1)
 img = rng.integers(0, 255, (600, 600, 3), dtype=np.uint8)
 hole = np.zeros(img.shape[:2], np.uint8); hole[100:400, 100:400] = 1
-y, x = np.mgrid[0:720, 0:960]
-colour = rng.integers(0, 255, (720, 960, 3), dtype=np.uint8)
+# A frame large enough (about 1 s a call here) that the plain case's exit
+# rarely comes while its thread, a call just ended, waits for the GIL to
+# start the next: at 720 x 960 (0.3 s a call) a loaded CI caught it there
+# once, with no call in flight to report.
+y, x = np.mgrid[0:1440, 0:1920]
+colour = rng.integers(0, 255, (1440, 1920, 3), dtype=np.uint8)
 depth = (2000 + x + y // 2).astype(np.uint16)
 started = threading.Event()
 
