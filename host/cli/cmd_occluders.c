@@ -129,7 +129,7 @@ static int take(void *ctx, int c, const char *arg)
     case OC_VIEWS: a->views_arg = arg; return 1;
     case OC_POSES: a->poses = arg; return 1;
     case OC_FILL_METHOD: {
-        static const char *const methods[] = {"wexler", "jain"};
+        static const char *const methods[] = CLI_NAMES(RELIEF_IMAGE_FILL_METHOD_LIST);
         if (!CLI_PARSE_ENUM(cmd, "--fill-method", arg, methods, &v))
             return 0;
         a->p.colour.method = (relief_image_fill_method)v;

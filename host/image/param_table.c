@@ -8,7 +8,9 @@
 
 #define T relief_image_fill_params
 
-static const char *const methods[] = {"wexler", "jain", NULL};
+#define METHOD_NAME(code, name) name,
+static const char *const methods[] = {RELIEF_IMAGE_FILL_METHOD_LIST(METHOD_NAME) NULL};
+#undef METHOD_NAME
 
 static const relief_param table[] = {
     RP_ENUM(T, method, "M", methods, "jain (default: paper 004's window-by-window "

@@ -68,23 +68,31 @@ RELIEF_API void relief_image_free(relief_image *img);
 
 /* ------------------------------------------------------------ image fill */
 
-/* How the hole is filled. */
+/* How the hole is filled:
+ *   wexler  (the default) multi-scale patch voting (Wexler, Shechtman and
+ *           Irani 2007, with PatchMatch's search, Barnes et al. 2009): every
+ *           filled pixel a vote of the P x P patches that cover it, coarse
+ *           to fine; patch, em_steps, pm_steps, seed, interp and the backend
+ *           apply;
+ *   jain    paper 004's copy-paste synthesis, window by window from the
+ *           boundary (the bytes of relief before issue 62); window ..
+ *           search_radius, exhaustive, seed, interp apply.
+ * X(code, name) */
+#define RELIEF_IMAGE_FILL_METHOD_LIST(X)                                        \
+    X(RELIEF_IMAGE_FILL_WEXLER, "wexler")                                       \
+    X(RELIEF_IMAGE_FILL_JAIN, "jain")
+
 typedef enum relief_image_fill_method {
-    RELIEF_IMAGE_FILL_WEXLER = 0, /* multi-scale patch voting (Wexler,
-                                     Shechtman and Irani 2007, with PatchMatch's
-                                     search, Barnes et al. 2009): every filled
-                                     pixel a vote of the P x P patches that cover
-                                     it, coarse to fine; patch, em_steps and
-                                     pm_steps, seed, interp and the backend apply */
-    RELIEF_IMAGE_FILL_JAIN = 1    /* the default, for now: paper 004's copy-paste
-                                     synthesis, window by
-                                     window from the boundary (the bytes of relief
-                                     before issue 62); window .. search_radius,
-                                     exhaustive, seed, interp apply */
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_IMAGE_FILL_METHOD_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
 } relief_image_fill_method;
 
+/* "wexler" or "jain" ("unknown" for another value). */
+RELIEF_API const char *relief_image_fill_method_name(relief_image_fill_method method);
+
 typedef struct relief_image_fill_params {
-    relief_image_fill_method method; /* RELIEF_IMAGE_FILL_JAIN (default) or _WEXLER */
+    relief_image_fill_method method; /* RELIEF_IMAGE_FILL_WEXLER (default) or _JAIN */
     int patch;           /* wexler: the patch side P, odd pixels; 7, [3, 15] */
     int em_steps;        /* wexler: vote-and-search steps at the coarsest
                             level (finer levels fewer, at least 4); 10, [1, 50] */

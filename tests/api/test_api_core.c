@@ -18,6 +18,8 @@ static void test_status(void)
     CHECK(strcmp(relief_backend_name((relief_backend)99), "unknown") == 0, "bad backend");
     CHECK(strcmp(relief_depth_variant_name(RELIEF_DEPTH_DECOMPOSE), "decompose") == 0, "variant");
     CHECK(strcmp(relief_membrane_name(RELIEF_MEMBRANE_THIN_PLATE), "thin-plate") == 0, "membrane");
+    CHECK(strcmp(relief_image_fill_method_name(RELIEF_IMAGE_FILL_JAIN), "jain") == 0,
+          "image fill method");
     CHECK(strcmp(relief_points_what_name(RELIEF_POINTS_COLOUR_ONLY), "colour") == 0, "what");
     CHECK(strcmp(relief_fill_region_name(RELIEF_FILL_WHOLE), "whole") == 0, "fill");
 }
