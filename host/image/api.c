@@ -15,7 +15,7 @@
 #include "base/file.h"
 #include "base/json.h"
 #include "base/memlimit.h"
-#include "base/parallel.h"
+#include "base/pool.h"
 #include "base/progress.h"
 #include "image/fill.h"
 #include "image/image_io.h"
@@ -378,18 +378,16 @@ static relief_status start_scorer(fill_call *c, relief_error *err)
 static relief_status run_vote(fill_call *c, relief_error *err)
 {
     const relief_patch_scorer *s = c->scorer;
-    int threads = s->backend == RELIEF_BACKEND_SCALAR ? 1
-                  : c->p->run.threads > 0        ? c->p->run.threads
-                                                 : relief_cpus_available();
-    size_t n = (size_t)c->work.width * (size_t)c->work.height, left = 0;
-    uint8_t *hole = c->holes == n ? NULL : malloc(n);
+    const int threads = s->backend == RELIEF_BACKEND_SCALAR
+                            ? 1
+                            : relief_pool_threads_for(c->p->run.threads);
+    const size_t n = (size_t)c->work.width * (size_t)c->work.height;
+    uint8_t *hole = malloc(n);
     relief_vote_params v;
     relief_vote_cl *dev = NULL;
     relief_status st = RELIEF_OK;
+    size_t left;
     double t0 = relief_seconds();
-    if (c->holes == n)
-        return relief_fail(err, RELIEF_E_RANGE, "every pixel of the image is in the hole: "
-                           "there is nothing to fill it from");
     if (!hole)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the hole mask");
     memcpy(hole, c->hole, n);
@@ -402,8 +400,7 @@ static relief_status run_vote(fill_call *c, relief_error *err)
         relief_fill_interp(&c->work, hole, &c->fp, &c->fr.by_rows, &c->fr.by_columns,
                            c->fr.interp_roughness);
     c->fr.seconds_interp = relief_seconds() - t0;
-    for (size_t q = 0; q < n; ++q)
-        left += hole[q] != 0;
+    left = c->holes - c->fr.by_rows - c->fr.by_columns;
     v = vote_params(c->p, &c->progress, threads);
     if (left && s->backend == RELIEF_BACKEND_OPENCL)
         st = relief_vote_cl_create(c->p->run.device, &dev, err);
@@ -430,6 +427,9 @@ static relief_status run_fill(fill_call *c, relief_error *err)
                                &c->fr.interp_sd);
         return RELIEF_OK;
     }
+    if (c->holes == (size_t)c->image->width * (size_t)c->image->height)
+        return relief_fail(err, RELIEF_E_RANGE, "every pixel of the image is in the hole: "
+                           "there is nothing to fill it from");
     st = raster_of(c->image, &c->work, err);
     if (st == RELIEF_OK && c->p->method == RELIEF_IMAGE_FILL_JAIN)
         st = relief_fill(&c->work, c->hole, &c->fp, c->scorer, &c->fr, err);
@@ -480,7 +480,7 @@ static void write_json(relief_json *j, const void *ctx)
     rj_int(j, "bit_depth", c->image->bit_depth);
     rj_end_object(j);
     rj_begin_object(j, "parameters");
-    rj_string(j, "method", p->method == RELIEF_IMAGE_FILL_JAIN ? "jain" : "wexler");
+    rj_string(j, "method", relief_image_fill_method_name(p->method));
     rj_int(j, "patch", p->patch);
     rj_int(j, "em_steps", p->em_steps);
     rj_int(j, "pm_steps", p->pm_steps);

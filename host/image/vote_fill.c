@@ -37,8 +37,9 @@ relief_vote_params relief_vote_params_default(void)
  * axis) of a hole pixel: the centres of the patches that hold one. */
 typedef struct level {
     int w, h;
-    uint16_t *v;        /* w x h x C colour samples, hole pixels the estimate */
-    uint8_t *hole;      /* w x h: 1 to fill */
+    uint16_t *v;        /* w x h x K: colour, then the texture features (vf's K);
+                           hole pixels the estimate */
+    uint8_t *hole;      /* w x h: 0 known, 1 to fill, 2 to fill in a thin part */
     int bx, by, bw, bh; /* the targets' bounding box */
     int32_t *tmap;      /* bw x bh: target index, or -1 */
     uint32_t *tgt;      /* nt pixels, y * w + x, row-major */
@@ -141,8 +142,7 @@ static relief_status level_targets(level *l, int r, relief_error *err)
     l->tgt = malloc((size_t)l->bw * l->bh * sizeof *l->tgt);
     if (!l->tmap || !l->tgt)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the patch voting's targets");
-    /* A pixel is a target when a hole pixel lies within r: rows then
-     * columns of a running count, over the box. */
+    /* A pixel of the box is a target when a hole pixel lies within r. */
     l->nt = 0;
     for (int y = 0; y < l->bh; ++y)
         for (int x = 0; x < l->bw; ++x) {
@@ -175,8 +175,8 @@ static relief_status level_targets(level *l, int r, relief_error *err)
 
 /* Every target's depth in the hole: its distance (either axis, pixels) to
  * the nearest known pixel, 0 for a known one, by two chamfer passes over
- * the box (tdepth); returns the largest, the hole's thickness, or -1 when
- * out of memory. */
+ * the box; the thin parts marked (mark_thin). Returns the largest depth,
+ * the hole's thickness, or -1 when out of memory. */
 static int level_depths(level *l)
 {
     const int W = l->bw, H = l->bh;
@@ -327,7 +327,8 @@ static int pm_share(void *ctx, size_t lo, size_t hi)
     return 0;
 }
 
-/* The jump of PatchMatch iteration k of `steps`: 8, 4, 2, then 1s. */
+/* The jump of PatchMatch iteration k of `steps`: halving to 1 at the last
+ * iteration, at most 8 (8, 8, 4, 2, 1 for 5). */
 static int step_jump(int steps, int k)
 {
     return 1 << (steps - 1 - k < 3 ? steps - 1 - k : 3);
@@ -457,7 +458,7 @@ static relief_status onion_fill(level *l, int C, relief_error *err)
     }
     for (size_t q = 0; q < (size_t)l->w * l->h; ++q) {
         known[q] = !l->hole[q];
-        left += l->hole[q];
+        left += !known[q];
     }
     while (left) {
         size_t n = 0;
@@ -533,7 +534,6 @@ relief_status relief_vote_params_check(const relief_vote_params *p, relief_error
     return RELIEF_OK;
 }
 
-/* Level 0 from the raster: its colour samples and the hole. */
 /* Newson et al.'s texture features (2014): each known pixel's mean
  * |horizontal| and |vertical| grey difference over the known pixels of the
  * VF_TEX_REACH box about it, times VF_TEX_SCALE, as two more channels
@@ -626,7 +626,7 @@ static relief_status level_zero(vf *f, const relief_raster *img, const uint8_t *
             l->v[q * f->K + c] =
                 l->hole[q] ? 0 : (uint16_t)img->v[q * CH + c]; /* integers, exactly */
     }
-    return f->K > f->C ? texture_features(f, l, err) : RELIEF_OK;
+    return texture_features(f, l, err);
 }
 
 /* Halve until the hole is about a patch thick, the level keeps sides of
