@@ -57,6 +57,8 @@ def run():
 
 threading.Thread(target=run, daemon=True).start()
 started.wait()
+if sys.argv[1] == "plain":  # the GIL let go, so the thread enters its call even on a
+    time.sleep(0.3)         # loaded machine (a call lasts about 1 s)
 # A finalisation long enough for the worker's next progress step, which
 # took the GIL of a finalising interpreter before issue 60 (exit 134).
 junk = [{"k": i} for i in range(1_000_000)]
