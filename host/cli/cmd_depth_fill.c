@@ -46,19 +46,22 @@ static const char *kind_name(in_kind k)
 typedef struct depth_args {
     cli_common cm;
     relief_depth_fill_params p;
-    const char *in, *truth, *points;
+    const char *in, *truth, *points, *colour;
     double scale; /* --scale; 0: the default */
     in_kind kind;
     cli_output outs[3]; /* -o, --points, --report */
 } depth_args;
 
-enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK };
+enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK, DF_COLOUR };
 
 static const cli_own own[] = {
     {"scale", DF_SCALE, "S", "16-bit PNG: values per metre (default 5000, TUM and Kinect)"},
     {"truth", DF_TRUTH, "T", "measure against T (IN's format): RMS over the filled pixels "
      "and the slope jump at the rim; for a mesh, the complete mesh: surface distances and "
      "voxel IoU"},
+    {"colour", DF_COLOUR, "C", "(PNG, PFM) the frame's registered colour image, of its "
+     "size: where a hole lies across a depth step (edges layers), its colour edges part "
+     "the surfaces, as a PCD's own colour does"},
     {"points", DF_POINTS, "OUT.ply", "(PCD) the repaired points, coloured where IN has "
      "colour, with a 'label' property: 1 for the filled ones"},
     {"hole-mask", DF_HOLE_MASK, "WHAT", "(mesh) fill exactly the holes whose rims touch WHAT, "
@@ -100,6 +103,7 @@ static int take(void *ctx, int c, const char *arg)
     case DF_SCALE: return cli_parse_real("depth-fill", "--scale", arg, &a->scale);
     case DF_TRUTH: a->truth = arg; return 1;
     case DF_POINTS: a->points = arg; return 1;
+    case DF_COLOUR: a->colour = arg; return 1;
     case DF_HOLE_MASK:
         return cli_parse_hole_mask("depth-fill", arg, &a->p.hole_labels, &a->p.has_hole_ball,
                                    a->p.hole_ball);
@@ -122,6 +126,9 @@ static int check_files(depth_args *a)
     if (a->kind == IN_MESH && (a->cm.mask || a->points))
         return cli_usage_error("depth-fill", "%s--mask and --points are for depth images, "
                                 "not meshes", "");
+    if (a->colour && (a->kind == IN_PCD || a->kind == IN_MESH))
+        return cli_usage_error("depth-fill", "--colour '%s': a PCD carries its own colour "
+                                "and a mesh none: --colour is for a PNG or PFM", a->colour);
     if (a->points && a->kind != IN_PCD)
         return cli_usage_error("depth-fill", "--points: '%s': points need an organised PCD "
                                 "input (a depth image has no camera)", a->points);
@@ -190,6 +197,38 @@ static relief_status read_frame(const depth_args *a, const char *path, relief_de
     return st;
 }
 
+/* --colour: the frame's colour as 8-bit RGB into f->rgb (owned by f: the
+ * PNG and PFM writers ignore it). Grey is repeated, alpha dropped, 16 bits
+ * taken to their high byte. */
+static relief_status read_colour(const depth_args *a, relief_depth_image *f, relief_error *err)
+{
+    relief_image c = {0, 0, 0, 0, 0, NULL};
+    relief_status st = relief_image_read(a->colour, read_limit(a), &c, err);
+    size_t n = (size_t)f->width * f->height;
+    if (st == RELIEF_OK && (c.width != f->width || c.height != f->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "--colour %s is %d x %d pixels, %s is %d x %d: "
+                         "they must be the same size", a->colour, c.width, c.height, a->in,
+                         f->width, f->height);
+    if (st == RELIEF_OK && !(f->rgb = malloc(3 * n)))
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the colour of %s", a->colour);
+    for (size_t i = 0; st == RELIEF_OK && i < n; ++i) {
+        const uint8_t *row = (const uint8_t *)c.data +
+                             (i / (size_t)c.width) * (c.stride ? c.stride
+                                                      : (size_t)c.width * c.channels *
+                                                            (size_t)c.bit_depth / 8);
+        size_t x = i % (size_t)c.width, bytes = (size_t)c.bit_depth / 8;
+        for (int k = 0; k < 3; ++k) {
+            int ch = c.channels < 3 ? 0 : k;
+            /* 16-bit samples are native-endian uint16: the high byte */
+            const uint8_t *s = row + (x * c.channels + ch) * bytes;
+            f->rgb[3 * i + k] = bytes == 2 ? (uint8_t)(*(const uint16_t *)(const void *)s >> 8)
+                                           : *s;
+        }
+    }
+    relief_image_free(&c);
+    return st;
+}
+
 /* What write_one writes: OUT (a frame, or a mesh), --points, --report
  * with the names of the files the engine did not read. */
 typedef struct depth_out {
@@ -241,6 +280,12 @@ static void say_image(const depth_args *a, const relief_depth_image *f,
             100.0 * r->missing / n, r->filled, r->outside, relief_depth_variant_name(a->p.variant),
             r->by_synthesis, relief_depth_order_name(r->order_kept), r->by_membrane,
             r->by_fallback, r->seconds_total, r->device);
+    if (a->p.edges == RELIEF_DEPTH_EDGES_LAYERS && r->stepped_holes)
+        fprintf(stderr, "relief depth-fill: edges layers: %zu holes across a depth step (over "
+                "%g x the noise measured, %.3g%s), filled surface by surface, %zu pixels by a "
+                "nearer surface than the farthest%s\n", r->stepped_holes, a->p.edge_step,
+                r->noise, f->format == RELIEF_DEPTH_PFM ? "" : " z^2", r->front_pixels,
+                f->rgb ? " (parted by colour)" : "");
     if (r->measured)
         fprintf(stderr, "relief depth-fill: against %s: RMS %.6g over %zu pixels; slope jump "
                 "at the rim %.3g (fill %.4g, the truth's own %.4g, the capture's second "
@@ -273,6 +318,8 @@ static int image_mode(depth_args *a)
                              "%d: they must be the same size", a->cm.mask, mask.width,
                              mask.height, a->in, f.width, f.height);
     }
+    if (st == RELIEF_OK && a->colour)
+        st = read_colour(a, &f, &err);
     if (st == RELIEF_OK && a->truth) {
         st = read_frame(a, a->truth, &truth, &err);
         if (st == RELIEF_OK && (truth.width != f.width || truth.height != f.height))

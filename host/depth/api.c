@@ -42,6 +42,8 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.lambda = 0.0;
     p.membrane = RELIEF_MEMBRANE_AUTO;
     p.seam = 1;
+    p.edges = RELIEF_DEPTH_EDGES_LAYERS;
+    p.edge_step = r.layer.step;
     p.resolution = relief_mesh_fill_params_default().resolution;
     p.solid = 0;
     p.max_hole = 0.0;
@@ -72,6 +74,12 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     if (p->order < RELIEF_DEPTH_ORDER_BOTH || p->order > RELIEF_DEPTH_ORDER_VERTICAL)
         return relief_fail_param(err, RELIEF_E_RANGE, "order", "order %d is not one of both, "
                                  "horizontal, vertical", (int)p->order);
+    if (p->edges < RELIEF_DEPTH_EDGES_LAYERS || p->edges > RELIEF_DEPTH_EDGES_ACROSS)
+        return relief_fail_param(err, RELIEF_E_RANGE, "edges", "edges %d is not one of "
+                                 "layers, across", (int)p->edges);
+    if (!(p->edge_step >= 1.0 && p->edge_step <= 1000.0))
+        return relief_fail_param(err, RELIEF_E_RANGE, "edge_step", "edge_step %g out of "
+                                 "range: expected 1..1000 noise units", p->edge_step);
     if (p->membrane < RELIEF_MEMBRANE_AUTO || p->membrane > RELIEF_MEMBRANE_THIN_PLATE)
         return relief_fail_param(err, RELIEF_E_RANGE, "membrane", "membrane %d is not one of "
                                  "auto, harmonic, thin-plate", (int)p->membrane);
@@ -175,6 +183,8 @@ static relief_depth_repair_params repair_params(const relief_depth_fill_params *
     if (p->membrane != RELIEF_MEMBRANE_AUTO)
         r.thin_plate = p->membrane == RELIEF_MEMBRANE_THIN_PLATE;
     r.seam = p->seam;
+    r.layered = !mesh && p->edges == RELIEF_DEPTH_EDGES_LAYERS;
+    r.layer.step = p->edge_step;
     return r;
 }
 
@@ -349,6 +359,9 @@ static relief_status report_image(image_job *job, relief_error *err)
     rep->lambda = r->lambda;
     rep->order_kept = public_order(r->kept);
     rep->candidates = r->candidates;
+    rep->stepped_holes = r->stepped_holes;
+    rep->front_pixels = r->front_pixels;
+    rep->noise = job->rp.layered ? r->layer_noise : NAN;
     rep->measured = job->p->truth != NULL;
     rep->compared = m->compared;
     rep->rms = m->rms;
@@ -404,6 +417,12 @@ relief_status relief_depth_fill(relief_depth_image *f, const relief_image *mask,
     job.f = f;
     job.p = p;
     job.rp = repair_params(p, 0);
+    /* A PFM holds disparities (nearer is larger); the frame's colour, a
+     * cloud's or a pair's, parts the layers where it can. */
+    job.rp.layer.far_sign = f->format == RELIEF_DEPTH_PFM ? -1 : 1;
+    job.rp.layer.rgb = f->rgb;
+    if (f->rgb)
+        job.rp.layer.near_weight = 1.5;
     job.t0 = relief_seconds();
     relief_progress_init(&job.pr, p->run.progress, p->run.progress_ctx);
     st = prepare_image(&job, mask, err);

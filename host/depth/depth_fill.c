@@ -23,6 +23,7 @@ relief_depth_repair_params relief_depth_repair_params_default(void)
     p.membrane_iterations = 5000;
     p.thin_plate = 0;
     p.seam = 1;
+    p.layer = relief_layer_params_default();
     return p;
 }
 
@@ -742,6 +743,109 @@ static relief_status run_variant(float *z, const uint8_t *missing, const uint8_t
     return st;
 }
 
+/* Pass r of a layered repair: the pixels of rank r (and, in the first,
+ * those of no stepped hole) to fill; every other ranked pixel, a rim's
+ * piece of another rank or a hole pixel of another, is missing and no
+ * neighbour, so that nothing couples across the step. Returns the pixels
+ * to fill. */
+static size_t layer_masks(const uint8_t *missing, const uint8_t *inside, const uint8_t *rank,
+                          size_t n, int r, uint8_t *miss_r, uint8_t *in_r)
+{
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        int own = rank[i] == RELIEF_LAYER_NONE ? r == 0 : rank[i] == r;
+        miss_r[i] = missing[i] || !own;
+        in_r[i] = inside[i] && own;
+        count += in_r[i];
+    }
+    return count;
+}
+
+/* The layered repair (layers.h): one run_variant per rank, each on a copy
+ * of z, its share of the progress its share of the pixels; lambda, when
+ * automatic, is the first pass's for all. */
+static relief_status run_passes(float *z, const uint8_t *missing, const uint8_t *inside,
+                                const relief_layers *lay, int W, int H,
+                                const relief_depth_repair_params *p,
+                                relief_patch_scorer *scorer, int64_t *source,
+                                relief_depth_repair_report *rep, relief_error *err)
+{
+    size_t n = (size_t)W * H, done = 0;
+    uint8_t *miss_r = malloc(n), *in_r = malloc(n);
+    float *z_r = malloc(n * sizeof *z_r);
+    int64_t *src_r = source ? malloc(n * sizeof *src_r) : NULL;
+    relief_depth_repair_params q = *p;
+    relief_progress *pr = p->progress;
+    double lo = pr ? pr->lo : 0.0, hi = pr ? pr->hi : 1.0;
+    relief_status st = RELIEF_OK;
+    if (!miss_r || !in_r || !z_r || (source && !src_r))
+        st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate a layered repair's masks");
+    for (int r = 0; r < lay->ranks && st == RELIEF_OK; ++r) {
+        size_t m = layer_masks(missing, inside, lay->rank, n, r, miss_r, in_r);
+        if (m == 0)
+            continue;
+        if (pr)
+            relief_progress_stage(pr, lo + (hi - lo) * done / rep->filled,
+                                  lo + (hi - lo) * (done + m) / rep->filled);
+        memcpy(z_r, z, n * sizeof *z);
+        for (size_t i = 0; src_r && i < n; ++i)
+            src_r[i] = -1;
+        st = run_variant(z_r, miss_r, in_r, W, H, &q, scorer, src_r, rep, err);
+        if (st == RELIEF_E_RANGE && q.variant == RELIEF_DEPTH_HAAR && r > 0) {
+            /* A front layer thinner than the coarsest Haar block (a chair's
+             * leg) has no known coefficient there: decompose fills it. */
+            relief_depth_repair_params d = q;
+            d.variant = RELIEF_DEPTH_DECOMPOSE;
+            memset(err, 0, sizeof *err);
+            memcpy(z_r, z, n * sizeof *z);
+            st = run_variant(z_r, miss_r, in_r, W, H, &d, scorer, src_r, rep, err);
+            rep->layer_decomposed += m;
+        }
+        q.lambda = rep->lambda;
+        ++rep->layer_passes;
+        for (size_t i = 0; i < n && st == RELIEF_OK; ++i)
+            if (in_r[i]) {
+                z[i] = z_r[i];
+                if (source)
+                    source[i] = src_r[i];
+            }
+        done += m;
+    }
+    if (pr)
+        relief_progress_stage(pr, lo, hi);
+    free(miss_r);
+    free(in_r);
+    free(z_r);
+    free(src_r);
+    return st;
+}
+
+/* The repair, layer by layer where p->layered and a hole crosses a step. */
+static relief_status run_repair(float *z, const uint8_t *missing, const uint8_t *inside,
+                                int layered, int W, int H, const relief_depth_repair_params *p,
+                                relief_patch_scorer *scorer, int64_t *source,
+                                relief_depth_repair_report *rep, relief_error *err)
+{
+    relief_layers lay;
+    relief_status st;
+    if (!layered)
+        return run_variant(z, missing, inside, W, H, p, scorer, source, rep, err);
+    st = relief_layers_find(z, missing, inside, W, H, &p->layer, &lay, err);
+    if (st != RELIEF_OK)
+        return st;
+    rep->stepped_holes = lay.stepped_holes;
+    rep->front_pixels = lay.front_pixels;
+    rep->layer_noise = lay.noise;
+    if (lay.ranks > 1) {
+        st = run_passes(z, missing, inside, &lay, W, H, p, scorer, source, rep, err);
+    } else {
+        rep->layer_passes = 1;
+        st = run_variant(z, missing, inside, W, H, p, scorer, source, rep, err);
+    }
+    relief_layers_free(&lay);
+    return st;
+}
+
 relief_status relief_depth_repair(float *z, const uint8_t *missing, int width, int height,
                                 const relief_depth_repair_params *p, relief_patch_scorer *scorer,
                                 int64_t *source, relief_depth_repair_report *rep,
@@ -814,7 +918,8 @@ relief_status relief_depth_repair_targets(float *z, const uint8_t *missing, cons
                            "column): the hole touches every border around the data, and "
                            "filling it would be extrapolation", holes);
     }
-    st = run_variant(z, missing, inside, width, height, p, scorer, source, rep, err);
+    st = run_repair(z, missing, inside, p->layered && !target && !p->synth.tileable, width,
+                    height, p, scorer, source, rep, err);
     /* Missing pixels outside the capture are missing in the result too,
      * whatever they held (a masked pixel keeps no stale depth). */
     if (st == RELIEF_OK)

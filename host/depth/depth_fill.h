@@ -21,6 +21,7 @@
 #include "base/progress.h"
 #include "image/patch.h"
 #include "image/pixel_synth.h"
+#include "depth/layers.h"
 
 typedef struct relief_depth_repair_params {
     relief_depth_variant variant; /* decompose */
@@ -45,6 +46,12 @@ typedef struct relief_depth_repair_params {
                                      in the gradient domain (relief_depth_seam); 0: the
                                      synthesis's copies as they are (paper 003). Not with
                                      synth.tileable (the blend does not wrap) */
+    int layered;                  /* 1: a hole across a depth step is filled layer by
+                                     layer (layers.h), each from its own rim; 0
+                                     (default here; relief_depth_fill's images set it):
+                                     every hole from its whole rim (paper 003). Not with
+                                     targets (a mesh's z-buffers) nor synth.tileable */
+    relief_layer_params layer;    /* the layers' parameters (layers.h) */
     relief_progress *progress;    /* NULL (default): none. The repair reports within
                                      the progress's current stage (the smooth parts
                                      first, then the synthesis, pixel by pixel) and
@@ -71,6 +78,12 @@ typedef struct relief_depth_repair_report {
     double energy[2];            /* its energies, as relief_pixsyn_report */
     size_t candidates;           /* windows scored */
     int levels;                  /* haar: levels used */
+    size_t stepped_holes;        /* layered: holes across a depth step */
+    size_t front_pixels;         /* layered: their pixels given a front layer */
+    int layer_passes;            /* layered: repairs run, one per rank (1: none stepped) */
+    double layer_noise;          /* layered: the frame's noise unit (layers.h) */
+    size_t layer_decomposed;     /* layered haar: front pixels filled by decompose, their
+                                    layer too thin for the coarsest Haar block */
     double seconds_transform;    /* Haar / ROF / membrane */
     double seconds_synthesis;    /* texture synthesis, every band */
     double seconds_score;        /* of which scoring windows */

@@ -64,6 +64,9 @@ static void image_parameters(relief_json *j, const relief_depth_repair_params *p
     rj_number(j, "lambda", lambda);
     rj_string(j, "membrane", p->thin_plate ? "thin-plate" : "harmonic");
     rj_bool(j, "seam", p->seam);
+    rj_string(j, "edges", p->layered ? "layers" : "across");
+    if (p->layered)
+        rj_number(j, "edge_step", p->layer.step);
     rj_int(j, "seed", p->synth.seed);
     rj_end_object(j);
 }
@@ -98,6 +101,15 @@ static void write_image(relief_json *j, const void *ctx)
     rj_int(j, "membrane_iterations", r->membrane_iterations);
     rj_int(j, "seam_edges", (long long)r->seam_edges);
     rj_end_object(j);
+    if (c->p->layered) {
+        rj_begin_object(j, "layers");
+        rj_number(j, "noise", r->layer_noise);
+        rj_int(j, "stepped_holes", (long long)r->stepped_holes);
+        rj_int(j, "front_pixels", (long long)r->front_pixels);
+        rj_int(j, "passes", r->layer_passes);
+        rj_int(j, "haar_pixels_by_decompose", (long long)r->layer_decomposed);
+        rj_end_object(j);
+    }
     rj_begin_object(j, "measures");
     rj_int(j, "compared", (long long)m->compared);
     rj_number(j, "rms", m->rms);

@@ -11,6 +11,7 @@
 static const char *const variants[] = {"plain", "haar", "decompose", NULL};
 static const char *const orders[] = {"both", "horizontal", "vertical", NULL};
 static const char *const membranes[] = {"auto", "harmonic", "thin-plate", NULL};
+static const char *const edges[] = {"layers", "across", NULL};
 
 static const relief_param table[] = {
     RP_ENUM(T, variant, "V", variants, "plain: synthesis on the depths; haar: the coarsest "
@@ -44,6 +45,12 @@ static const relief_param table[] = {
     RP_FLAG(T, seam, "blend each hole's rim in the gradient domain, so that the fill "
             "continues the capture's slope (default: on; off leaves the rims as "
             "synthesised)"),
+    RP_ENUM(T, edges, "E", edges, "images: a hole across a depth step filled by layers "
+            "(default: each pixel from the rim of the surface it belongs to, so the "
+            "background continues behind and the foreground's silhouette stays) or across "
+            "(paper 003: from the whole rim, a ramp between the surfaces)"),
+    RP_REAL(T, edge_step, "K", 1, 1000, "images, edges layers: a step between surfaces is "
+            "a difference over K times the frame's measured noise, 1..1000 (default 8)"),
     RP_INT(T, resolution, "N", 8, 1024, "meshes: voxels along the box's longest side, "
            "8..1024 (default 256)"),
     RP_FLAG(T, solid, "meshes: return the whole repaired solid, every opening capped and "

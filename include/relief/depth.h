@@ -140,7 +140,26 @@ typedef enum relief_membrane {
 #undef RELIEF_X_ENUM
 } relief_membrane;
 
+/* A hole across a depth step (a camera's shadow beside an object, a
+ * stereo occlusion): layers (default) fills each pixel by the surface it
+ * belongs to, from that surface's part of the rim only, so the background
+ * continues behind and the foreground's silhouette stays where it was
+ * captured (with the frame's colour, where the colour parts them);
+ * across fills it from the whole rim (paper 003), a ramp from one
+ * surface to the other. A step is a difference over edge_step times the
+ * frame's noise, measured on it. */
+#define RELIEF_DEPTH_EDGES_LIST(X)                                              \
+    X(RELIEF_DEPTH_EDGES_LAYERS, "layers")                                      \
+    X(RELIEF_DEPTH_EDGES_ACROSS, "across")
+
+typedef enum relief_depth_edges {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_DEPTH_EDGES_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_depth_edges;
+
 RELIEF_API const char *relief_depth_variant_name(relief_depth_variant variant);
+RELIEF_API const char *relief_depth_edges_name(relief_depth_edges edges);
 RELIEF_API const char *relief_depth_order_name(relief_depth_order order);
 RELIEF_API const char *relief_membrane_name(relief_membrane membrane);
 
@@ -207,6 +226,13 @@ typedef struct relief_depth_fill_params {
                             rim's own edges (closed, no crossing at the
                             seam), given the solid's relief where the solid
                             lies within 3 voxels of it */
+    relief_depth_edges edges; /* images: default layers (issue 63); across is
+                            paper 003's */
+    double edge_step;    /* images, layers: a step between two surfaces is a
+                            difference over this many noise units (the
+                            median non-zero |second difference| of the
+                            frame, over z^2 for depths, as it is for a PFM's
+                            disparities); 8, [1, 1000] */
 } relief_depth_fill_params;
 
 /* The defaults above. */
@@ -235,6 +261,11 @@ typedef struct relief_depth_fill_report {
     double lambda;           /* decompose: the lambda used */
     relief_depth_order order_kept;
     size_t candidates;       /* windows scored */
+    size_t stepped_holes;    /* image, edges layers: holes across a depth step */
+    size_t front_pixels;     /* of their pixels, those given a nearer surface
+                                than the farthest (the rest continue it) */
+    double noise;            /* image, edges layers: the noise unit measured
+                                (z^2's factor, or a disparity) */
     int camera_fitted;       /* an organised cloud: 1 when a camera was fitted
                                 to its points, so the filled pixels have points;
                                 0: their points are NaN */
