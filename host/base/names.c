@@ -27,6 +27,7 @@ NAME_FN(relief_depth_variant_name, relief_depth_variant, RELIEF_DEPTH_VARIANT_LI
 NAME_FN(relief_depth_order_name, relief_depth_order, RELIEF_DEPTH_ORDER_LIST)
 NAME_FN(relief_membrane_name, relief_membrane, RELIEF_MEMBRANE_LIST)
 NAME_FN(relief_depth_edges_name, relief_depth_edges, RELIEF_DEPTH_EDGES_LIST)
+NAME_FN(relief_depth_values_name, relief_depth_values, RELIEF_DEPTH_VALUES_LIST)
 NAME_FN(relief_points_what_name, relief_points_what, RELIEF_POINTS_WHAT_LIST)
 NAME_FN(relief_grid_search_name, relief_grid_search, RELIEF_GRID_SEARCH_LIST)
 NAME_FN(relief_background_name, relief_background, RELIEF_BACKGROUND_LIST)

@@ -44,6 +44,7 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.seam = 1;
     p.edges = RELIEF_DEPTH_EDGES_LAYERS;
     p.edge_step = r.layer.step;
+    p.values = RELIEF_DEPTH_VALUES_AUTO;
     p.resolution = relief_mesh_fill_params_default().resolution;
     p.solid = 0;
     p.max_hole = 0.0;
@@ -77,6 +78,9 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     if (p->edges < RELIEF_DEPTH_EDGES_LAYERS || p->edges > RELIEF_DEPTH_EDGES_ACROSS)
         return relief_fail_param(err, RELIEF_E_RANGE, "edges", "edges %d is not one of "
                                  "layers, across", (int)p->edges);
+    if (p->values < RELIEF_DEPTH_VALUES_AUTO || p->values > RELIEF_DEPTH_VALUES_DISPARITY)
+        return relief_fail_param(err, RELIEF_E_RANGE, "values", "values %d is not one of "
+                                 "auto, depth, disparity", (int)p->values);
     if (!(p->edge_step >= 1.0 && p->edge_step <= 1000.0))
         return relief_fail_param(err, RELIEF_E_RANGE, "edge_step", "edge_step %g out of "
                                  "range: expected 1..1000 noise units", p->edge_step);
@@ -417,9 +421,13 @@ relief_status relief_depth_fill(relief_depth_image *f, const relief_image *mask,
     job.f = f;
     job.p = p;
     job.rp = repair_params(p, 0);
-    /* A PFM holds disparities (nearer is larger); the frame's colour, a
-     * cloud's or a pair's, parts the layers where it can. */
-    job.rp.layer.far_sign = f->format == RELIEF_DEPTH_PFM ? -1 : 1;
+    /* Disparities (a PFM's, unless told) put the larger in front; the
+     * frame's colour, a cloud's or a pair's, parts the layers where it can. */
+    job.rp.layer.far_sign = p->values == RELIEF_DEPTH_VALUES_DISPARITY ||
+                                    (p->values == RELIEF_DEPTH_VALUES_AUTO &&
+                                     f->format == RELIEF_DEPTH_PFM)
+                                ? -1
+                                : 1;
     job.rp.layer.rgb = f->rgb;
     if (f->rgb)
         job.rp.layer.near_weight = 1.5;

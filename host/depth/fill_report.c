@@ -65,8 +65,10 @@ static void image_parameters(relief_json *j, const relief_depth_repair_params *p
     rj_string(j, "membrane", p->thin_plate ? "thin-plate" : "harmonic");
     rj_bool(j, "seam", p->seam);
     rj_string(j, "edges", p->layered ? "layers" : "across");
-    if (p->layered)
+    if (p->layered) {
         rj_number(j, "edge_step", p->layer.step);
+        rj_string(j, "values", p->layer.far_sign < 0 ? "disparity" : "depth");
+    }
     rj_int(j, "seed", p->synth.seed);
     rj_end_object(j);
 }

@@ -12,6 +12,7 @@ static const char *const variants[] = {"plain", "haar", "decompose", NULL};
 static const char *const orders[] = {"both", "horizontal", "vertical", NULL};
 static const char *const membranes[] = {"auto", "harmonic", "thin-plate", NULL};
 static const char *const edges[] = {"layers", "across", NULL};
+static const char *const values[] = {"auto", "depth", "disparity", NULL};
 
 static const relief_param table[] = {
     RP_ENUM(T, variant, "V", variants, "plain: synthesis on the depths; haar: the coarsest "
@@ -51,6 +52,9 @@ static const relief_param table[] = {
             "(paper 003: from the whole rim, a ramp between the surfaces)"),
     RP_REAL(T, edge_step, "K", 1, 1000, "images, edges layers: a step between surfaces is "
             "a difference over K times the frame's measured noise, 1..1000 (default 8)"),
+    RP_ENUM(T, values, "V", values, "images, edges layers: what the values are, so which "
+            "surface is in front: auto (default: a PFM's disparities, larger nearer; any "
+            "other frame depths), depth or disparity"),
     RP_INT(T, resolution, "N", 8, 1024, "meshes: voxels along the box's longest side, "
            "8..1024 (default 256)"),
     RP_FLAG(T, solid, "meshes: return the whole repaired solid, every opening capped and "

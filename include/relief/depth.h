@@ -158,7 +158,22 @@ typedef enum relief_depth_edges {
 #undef RELIEF_X_ENUM
 } relief_depth_edges;
 
+/* What a frame's values are, for the layers' order (which surface is in
+ * front): auto (a PFM read by relief holds disparities, any other frame
+ * depths), depth (larger is farther) or disparity (larger is nearer). */
+#define RELIEF_DEPTH_VALUES_LIST(X)                                             \
+    X(RELIEF_DEPTH_VALUES_AUTO, "auto")                                         \
+    X(RELIEF_DEPTH_VALUES_DEPTH, "depth")                                       \
+    X(RELIEF_DEPTH_VALUES_DISPARITY, "disparity")
+
+typedef enum relief_depth_values {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_DEPTH_VALUES_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_depth_values;
+
 RELIEF_API const char *relief_depth_variant_name(relief_depth_variant variant);
+RELIEF_API const char *relief_depth_values_name(relief_depth_values values);
 RELIEF_API const char *relief_depth_edges_name(relief_depth_edges edges);
 RELIEF_API const char *relief_depth_order_name(relief_depth_order order);
 RELIEF_API const char *relief_membrane_name(relief_membrane membrane);
@@ -233,6 +248,7 @@ typedef struct relief_depth_fill_params {
                             median non-zero |second difference| of the
                             frame, over z^2 for depths, as it is for a PFM's
                             disparities); 8, [1, 1000] */
+    relief_depth_values values; /* default auto */
 } relief_depth_fill_params;
 
 /* The defaults above. */

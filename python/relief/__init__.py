@@ -173,6 +173,22 @@ def _mask_view(mask, shape, name="mask"):
     return m
 
 
+def _colour_view(colour, shape, name="colour"):
+    """A registered colour image as the engines take it: uint8 (H, W, 3),
+    grey repeated, alpha dropped."""
+    c = _array(name, colour, (2, 3))
+    if c.dtype != np.uint8:
+        _fail("usage", f"{name}: dtype {c.dtype}, expected uint8")
+    if c.ndim == 2:
+        c = np.repeat(c[:, :, None], 3, axis=2)
+    if c.shape[2] not in (3, 4):
+        _fail("usage", f"{name}: {c.shape[2]} channels, expected 3 (RGB) or 4 (RGBA)")
+    if c.shape[:2] != tuple(shape):
+        _fail("usage", f"{name}: shape {c.shape[:2]}, depth {tuple(shape)}: they must be the "
+              "same size (registered)")
+    return np.ascontiguousarray(c[:, :, :3])
+
+
 def _mask_bits(m):
     """A checked mask as the engines take it: uint8, 1 = fill."""
     return np.ascontiguousarray(m != 0, dtype=np.uint8)
@@ -289,11 +305,14 @@ def _depth_out(d, z, filled, png_scale):
     return np.where(filled, np.clip(v, 0, 65535), d).astype(np.uint16)
 
 
-def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
+def depth_fill(depth, mask=None, *, colour=None, variant="decompose", seed=1, backend="auto",
                png_scale=5000.0, progress=None, cancel=None, return_report=False, **params):
     """Repair a depth frame (paper 003): its missing pixels (0, NaN or inf,
     or non-zero in ``mask``) inside the capture are filled; those outside it
-    (a camera's invalid margin) stay missing.
+    (a camera's invalid margin) stay missing. A hole across a depth step is
+    filled surface by surface (``edges="layers"``, the default; ``"across"``
+    is paper 003's ramp); ``colour``, the frame's registered (H, W, 3) uint8
+    image, parts the surfaces where its colour changes.
 
     depth: (H, W) uint16 (a depth PNG's values, ``png_scale`` per metre, 0
     missing) or float32 / float64 (NaN missing; a finite float64 that
@@ -312,7 +331,8 @@ def depth_fill(depth, mask=None, *, variant="decompose", seed=1, backend="auto",
     _check(_relief.depth_fill_check_memory(*d.shape, kw))
     z = _depth_in(d, png_scale)
     m = None if m is None else _mask_bits(m)
-    (report,) = _check(_relief.depth_fill(z, m, kw, progress, cancel))
+    c = None if colour is None else _colour_view(colour, d.shape)
+    (report,) = _check(_relief.depth_fill(z, m, c, kw, progress, cancel))
     filled = (d == 0) | (m != 0 if m is not None else False)
     out = _depth_out(d, z, filled, png_scale)
     return (out, _report(report, True)) if return_report else out
@@ -329,18 +349,8 @@ used (H, W) bool."""
 def _rgbd(colour, depth, points, png_scale):
     """The frame's arrays for the extension: z float32 (NaN missing), rgb
     uint8 (H, W, 3), xyz float32 (H, W, 3) or None."""
-    c = _array("colour", colour, (2, 3))
-    if c.dtype != np.uint8:
-        _fail("usage", f"colour: dtype {c.dtype}, expected uint8")
-    if c.ndim == 2:
-        c = np.repeat(c[:, :, None], 3, axis=2)
-    if c.shape[2] not in (3, 4):
-        _fail("usage", f"colour: {c.shape[2]} channels, expected 3 (RGB) or 4 (RGBA)")
-    rgb = np.ascontiguousarray(c[:, :, :3])
     d = _array("depth", depth, (2,))
-    if d.shape != rgb.shape[:2]:
-        _fail("usage", f"depth: shape {d.shape}, colour {rgb.shape[:2]}: they must be the "
-              "same size (registered)")
+    rgb = _colour_view(colour, d.shape)
     if d.size == 0:
         _fail("usage", f"depth: shape {d.shape} is empty")
     z = _depth_in(d, png_scale)

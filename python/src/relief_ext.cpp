@@ -476,9 +476,10 @@ nb::tuple image_fill(nb::ndarray<nb::numpy, nb::c_contig, nb::device::cpu> image
 }
 
 // z: H x W float32 (NaN where missing), filled in place on success; mask:
-// H x W uint8 or None.
-nb::tuple depth_fill(carray<float> z, nb::object mask, nb::dict kw, nb::object progress,
-                     nb::object cancel)
+// H x W uint8 or None; colour: H x W x 3 uint8 or None (the layers' guide).
+// The values are depths (a PFM's disparities come only from its reader).
+nb::tuple depth_fill(carray<float> z, nb::object mask, nb::object colour, nb::dict kw,
+                     nb::object progress, nb::object cancel)
 {
     call_scope scope; // first: it outlives everything the call holds
     relief_depth_fill_params p = relief_depth_fill_params_default();
@@ -490,6 +491,9 @@ nb::tuple depth_fill(carray<float> z, nb::object mask, nb::dict kw, nb::object p
     relief_depth_image f;
     std::memset(&f, 0, sizeof f);
     f.width = int(z.shape(1)), f.height = int(z.shape(0)), f.z = z.data();
+    f.format = RELIEF_DEPTH_PNG16;
+    if (!colour.is_none())
+        f.rgb = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(colour).data());
     relief_image m{f.width, f.height, 1, 8, 0, nullptr};
     if (!mask.is_none())
         m.data = const_cast<uint8_t *>(nb::cast<carray<const uint8_t>>(mask).data());
@@ -511,6 +515,7 @@ relief_depth_image rgbd_frame(float *z, nb::object xyz, uint8_t *rgb, size_t h, 
     relief_depth_image f;
     std::memset(&f, 0, sizeof f);
     f.width = int(w), f.height = int(h), f.z = z, f.rgb = rgb;
+    f.format = RELIEF_DEPTH_PNG16; // depths, not a PFM's disparities
     if (!xyz.is_none())
         f.xyz = nb::cast<carray<float>>(xyz).data();
     return f;
@@ -841,8 +846,8 @@ NB_MODULE(_relief, m)
     m.def("status_name", [](int s) { return std::string(relief_status_name(relief_status(s))); });
     m.def("image_fill", &image_fill, "image"_a, "mask"_a, "params"_a, "progress"_a.none(),
           "cancel"_a.none());
-    m.def("depth_fill", &depth_fill, "z"_a, "mask"_a.none(), "params"_a, "progress"_a.none(),
-          "cancel"_a.none());
+    m.def("depth_fill", &depth_fill, "z"_a, "mask"_a.none(), "colour"_a.none(), "params"_a,
+          "progress"_a.none(), "cancel"_a.none());
     m.def("image_fill_check_memory", &image_fill_check_memory, "height"_a, "width"_a,
           "channels"_a, "params"_a);
     m.def("depth_fill_check_memory", &depth_fill_check_memory, "height"_a, "width"_a,

@@ -78,7 +78,7 @@ def test_depth_fill_same_bytes_as_cli(tmp_path):
     relief.write_depth(tmp_path / "in.pfm", crop)
     cli("depth-fill", tmp_path / "in.pfm", "-o", tmp_path / "out.pfm", "--quiet")
     want = relief.read_depth(tmp_path / "out.pfm")
-    got = relief.depth_fill(crop)
+    got = relief.depth_fill(crop, values="disparity")  # a PFM's, as the CLI reads it
     assert got.dtype == np.float32
     assert np.array_equal(np.isnan(got), np.isnan(want))
     assert np.array_equal(np.nan_to_num(got), np.nan_to_num(want))
@@ -272,3 +272,28 @@ def test_no_memory_growth_over_200_calls():
         relief.image_fill(img, mask, return_report=True)
     grown = rss() - before
     assert grown < 8 << 20, f"resident memory grew by {grown / 2**20:.1f} MiB over 200 calls"
+
+
+def test_depth_fill_edges_layers_and_colour():
+    """A box 1.5 m away before a wall at 3 m with the camera's shadow beside
+    it (issue 63): layers (the default) continue the wall into the shadow,
+    across (paper 003) draws a ramp; a colour image parts the surfaces
+    where its colour changes, and a wrong-sized one is refused."""
+    rng = np.random.default_rng(3)
+    z = np.full((64, 96), 3.0, np.float32)
+    z[14:50, 24:52] = 1.5
+    z += (0.003 * z * z * rng.uniform(-1, 1, z.shape)).astype(np.float32)
+    hole = np.zeros(z.shape, bool)
+    hole[14:50, 52:59] = True
+    z[hole] = np.nan
+    layers, rep = relief.depth_fill(z, return_report=True)
+    across = relief.depth_fill(z, edges="across")
+    assert np.abs(layers[hole] - 3.0).max() < 0.1
+    assert (np.abs(across[hole] - 3.0) > 0.3).sum() > 20
+    assert rep["layers"]["stepped_holes"] == 1 and rep["parameters"]["edges"] == "layers"
+    colour = np.full(z.shape + (3,), 200, np.uint8)
+    colour[14:50, 24:52] = (40, 40, 160)
+    guided = relief.depth_fill(z, colour=colour)
+    assert np.abs(guided[hole] - 3.0).max() < 0.1
+    with pytest.raises(relief.ReliefError, match="same size"):
+        relief.depth_fill(z, colour=colour[:10])
