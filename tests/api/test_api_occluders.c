@@ -8,7 +8,9 @@
  * wall's; the bad inputs' messages.
  *   test_api_occluders                 the checks
  *   test_api_occluders --write DIR     the frame as DIR/scene.pcd,
- *                                      colour.png, depth.png, truth.png; the
+ *                                      colour.png, depth.png, truth.png
+ *                                      (colour.ppm, depth.pgm: the same as
+ *                                      binary Netpbm); the
  *                                      bad ones: nocolour.pcd (no rgb),
  *                                      flat.pcd (nothing in front),
  *                                      noise.pcd (no background),
@@ -471,6 +473,30 @@ static int write_views(const char *dir, relief_error *err)
     return ok;
 }
 
+/* The colour as a P6 and the depth as a 16-bit P5 (big-endian, 5000 a
+ * metre, 0 missing: as depth.png holds them). */
+static int write_pnm(const scene *s, const char *dir)
+{
+    char path[4096];
+    FILE *fp;
+    int ok;
+    snprintf(path, sizeof path, "%s/colour.ppm", dir);
+    ok = (fp = fopen(path, "wb")) != NULL;
+    ok = ok && fprintf(fp, "P6\n%d %d\n255\n", W, H) > 0 &&
+         fwrite(s->rgb, 3, (size_t)W * H, fp) == (size_t)W * H;
+    ok = fp && fclose(fp) == 0 && ok;
+    snprintf(path, sizeof path, "%s/depth.pgm", dir);
+    ok = ok && (fp = fopen(path, "wb")) != NULL;
+    ok = ok && fprintf(fp, "P5\n%d %d\n65535\n", W, H) > 0;
+    for (size_t i = 0; ok && i < (size_t)W * H; ++i) {
+        double v = isfinite(s->z[i]) ? fmax(1.0, floor(s->z[i] * 5000.0 + 0.5)) : 0.0;
+        unsigned u = v > 65535.0 ? 65535u : (unsigned)v;
+        ok = fputc((int)(u >> 8), fp) != EOF && fputc((int)(u & 255), fp) != EOF;
+    }
+    ok = fp && fclose(fp) == 0 && ok;
+    return ok;
+}
+
 static int write_files(scene *s, const char *dir)
 {
     char path[4096];
@@ -505,6 +531,8 @@ static int write_files(scene *s, const char *dir)
     ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, &err) == RELIEF_OK;
     ok = ok && write_bad(s, dir, 0, &err) && write_bad(s, dir, 1, &err);
     ok = ok && write_views(dir, &err);
+    if (ok && !write_pnm(s, dir))
+        return fprintf(stderr, "test_api_occluders: cannot write %s's PNM files\n", dir), 1;
     if (!ok)
         fprintf(stderr, "test_api_occluders: %s\n", err.message);
     return ok ? 0 : 1;
