@@ -152,7 +152,8 @@ static int joins(const grower *g, size_t p, size_t q, size_t **count, occ_counts
     if (g->mask[q] || abs((int)(q % (size_t)w) - (int)(o % (size_t)w)) > half ||
         abs((int)(q / (size_t)w) - (int)(o / (size_t)w)) > half)
         return 0;
-    if (delta_e(g->lab + 3 * p, g->lab + 3 * q) > g->p->colour_distance)
+    /* A placeholder has no colour to be constant: growth never steps on it. */
+    if (occ_no_colour(s, q) || delta_e(g->lab + 3 * p, g->lab + 3 * q) > g->p->colour_distance)
         return 0;
     cue = occ_views_cue(g->views, q);
     if (cue == OCC_CUE_BACKGROUND)

@@ -143,12 +143,29 @@ typedef struct relief_occluder_plane {
     double offset;           /* depth units */
     size_t inliers;          /* captured points within the margin */
     double rms;              /* their RMS distance to it */
+    size_t region;           /* its region: the captured pixels within 3
+                                sigma(z) of it, in its connected support (the
+                                4-connected parts of that band holding at
+                                least 5 % of it) */
+    double marked;           /* the share of the region in the mask (a
+                                support surface, a table or a floor, should
+                                be near 0); NaN: not measured */
 } relief_occluder_plane;
 
 typedef struct relief_occluder_report {
     int width, height;
     size_t captured;         /* pixels with a finite depth */
     size_t missing;          /* pixels without */
+    int has_placeholder;     /* 1: the frame gives its missing points one
+                                colour (a PCD writer's fill, as (192, 0, 0)):
+                                the colour of over half of them, and of under
+                                1 % of the captured. Those pixels have no
+                                colour: growth never enters them, the removal
+                                never copies them (they are holes of its
+                                colour fill too, left as they were outside
+                                the mask) */
+    uint8_t placeholder[3];  /* that colour */
+    size_t placeholder_pixels; /* missing pixels of that colour */
     int planes;              /* background planes found (0 for a mesh) */
     relief_occluder_plane plane[RELIEF_OCCLUDER_MAX_PLANES];
     size_t on_background;    /* captured points within the margin of it */

@@ -280,6 +280,55 @@ static void test_remove(scene *s)
     free(out);
 }
 
+/* A capture that colours its missing points (192, 0, 0), as a PCD writer
+ * may: the placeholder is found, no removed pixel gets it, and the mask
+ * is still the objects. */
+static void test_placeholder(const scene *s)
+{
+    static const uint8_t red[3] = {192, 0, 0};
+    relief_error err = {0};
+    relief_remove_params p = relief_remove_params_default();
+    relief_remove_report r;
+    scene *out = malloc(sizeof *out);
+    relief_depth_image f;
+    size_t red_removed = 0, removed = 0, missing = 0;
+    if (!out)
+        return;
+    *out = *s;
+    for (size_t i = 0; i < (size_t)W * H; ++i)
+        if (isnan(out->z[i]))
+            memcpy(out->rgb + 3 * i, red, 3), ++missing;
+    f = frame_of(out, 1);
+    CHECK_STATUS(relief_remove_occluders(&f, NULL, &p, &r, &err), RELIEF_OK, err, NULL);
+    if (r.mask) {
+        for (size_t i = 0; i < (size_t)W * H; ++i) {
+            removed += r.mask[i] != 0;
+            red_removed += r.mask[i] && !memcmp(out->rgb + 3 * i, red, 3);
+        }
+        printf("placeholder: %zu of %zu missing pixels red; %zu of %zu removed pixels red after, "
+               "IoU %.4f\n", r.find.placeholder_pixels, missing, red_removed, removed,
+               iou(r.mask, s->truth, (size_t)W * H));
+        CHECK(r.find.has_placeholder && !memcmp(r.find.placeholder, red, 3) &&
+                  r.find.placeholder_pixels == missing,
+              "placeholder %d (%d, %d, %d) on %zu pixels, expected (192, 0, 0) on %zu",
+              r.find.has_placeholder, r.find.placeholder[0], r.find.placeholder[1],
+              r.find.placeholder[2], r.find.placeholder_pixels, missing);
+        CHECK(red_removed == 0, "%zu removed pixels have the placeholder's colour", red_removed);
+        CHECK(iou(r.mask, s->truth, (size_t)W * H) >= 0.9, "IoU %.4f with a placeholder",
+              iou(r.mask, s->truth, (size_t)W * H));
+        CHECK(r.json && strstr(r.json, "\"placeholder_pixels\""), "the report's placeholder");
+    }
+    relief_remove_report_free(&r);
+    /* The frame as rendered has none: its missing points have the scene's
+     * colours. */
+    *out = *s;
+    f = frame_of(out, 1);
+    CHECK_STATUS(relief_remove_occluders(&f, NULL, &p, &r, &err), RELIEF_OK, err, NULL);
+    CHECK(!r.find.has_placeholder, "a placeholder found in a frame without one");
+    relief_remove_report_free(&r);
+    free(out);
+}
+
 /* The share of box B's pixels in the mask. */
 static double recall_b(const scene *s, const uint8_t *mask)
 {
@@ -577,6 +626,7 @@ int main(int argc, char **argv)
     }
     test_find(s);
     test_remove(s);
+    test_placeholder(s);
     test_views();
     test_bad(s);
     free(s);
