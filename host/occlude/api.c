@@ -80,6 +80,9 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
     RELIEF_ENTRY_ERR(err);
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "params: NULL");
+    if ((unsigned)p->seeding > RELIEF_SEEDING_HYSTERESIS)
+        return relief_fail_param(err, RELIEF_E_RANGE, "seeding", "seeding %d out of range: "
+                                 "expected hysteresis or margin", (int)p->seeding);
     if ((unsigned)p->background > RELIEF_BACKGROUND_MESH)
         return relief_fail_param(err, RELIEF_E_RANGE, "background", "background %d out of range: "
                                  "expected planes, plane or mesh", (int)p->background);
@@ -160,6 +163,7 @@ static void params_json(relief_json *j, const relief_occluder_params *p)
 {
     rj_begin_object(j, "parameters");
     rj_string(j, "background", relief_background_name(p->background));
+    rj_string(j, "seeding", relief_seeding_name(p->seeding));
     rj_int(j, "max_planes", p->max_planes);
     rj_number(j, "min_support", p->min_support);
     rj_number(j, "margin", p->margin);
@@ -223,6 +227,7 @@ static void find_body(relief_json *j, const relief_occluder_params *p,
     rj_int(j, "seeds", (long long)r->seeds);
     rj_int(j, "seed_groups", (long long)r->seed_groups);
     rj_int(j, "seeds_dropped", (long long)r->seeds_dropped);
+    rj_int(j, "weak_seeds", (long long)r->weak_seeds);
     rj_int(j, "grown_missing", (long long)r->grown_missing);
     rj_int(j, "grown_edge", (long long)r->grown_edge);
     rj_int(j, "parallax_seeds", (long long)r->parallax_seeds);
@@ -344,7 +349,8 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
     if (st != RELIEF_OK)
         return st;
     scene_report(s, r);
-    r->seeds = c.seeds, r->seed_groups = c.seed_groups, r->seeds_dropped = c.seeds_dropped;
+    r->seeds = c.seeds + c.weak_seeds, r->seed_groups = c.seed_groups;
+    r->seeds_dropped = c.seeds_dropped, r->weak_seeds = c.weak_seeds;
     r->grown_missing = c.grown_missing, r->grown_edge = c.grown_edge;
     r->dilated = c.dilated, r->occluder_pixels = c.total;
     r->views = p->n_views, r->parallax_seeds = c.parallax_seeds;

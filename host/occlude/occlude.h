@@ -118,7 +118,8 @@ void occ_views_free(occ_views *v);
 
 /* What the mask's stages counted (relief_occluder_report's fields). */
 typedef struct occ_counts {
-    size_t seeds, seed_groups, seeds_dropped, grown_missing, grown_edge, dilated, total;
+    size_t seeds, seed_groups, seeds_dropped, weak_seeds, grown_missing, grown_edge, dilated;
+    size_t total;
     size_t parallax_seeds, view_fg, view_bg, view_unknown;
 } occ_counts;
 

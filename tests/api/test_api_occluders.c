@@ -203,6 +203,19 @@ static void test_find(scene *s)
     relief_image_free(&m2);
     relief_image_free(&m);
     relief_occluder_report_free(&r);
+    /* Hysteresis seeding: the objects' lower rims join, the mask stays the
+     * objects. */
+    p.seeding = RELIEF_SEEDING_HYSTERESIS;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m, &r, &err), RELIEF_OK, err, NULL);
+    if (m.data) {
+        j = iou(m.data, s->truth, (size_t)W * H);
+        printf("hysteresis: IoU %.4f, %zu weak seeds\n", j, r.weak_seeds);
+        CHECK(j >= 0.9 && r.weak_seeds > 0, "hysteresis: IoU %.4f, %zu weak seeds", j,
+              r.weak_seeds);
+    }
+    relief_image_free(&m);
+    relief_occluder_report_free(&r);
+    p.seeding = RELIEF_SEEDING_MARGIN;
     /* A depth image and its intrinsics. */
     f = frame_of(s, 0);
     p.has_intrinsics = 1;

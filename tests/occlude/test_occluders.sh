@@ -98,6 +98,7 @@ bad "expects a binary PGM" -- occluders "$tmp/colour.png" --depth "$tmp/depth.pn
   --depth-format nyu -o "$tmp/bad.png"
 bad "--depth-format" -- occluders "$tmp/colour.png" --depth "$tmp/depth.png" \
   --depth-format kinect -o "$tmp/bad.png"
+bad "--seeding" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --seeding canny
 bad "the mask is a PNG" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.jpg"
 bad "window" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --window 60
 bad "margin" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --margin nan
