@@ -23,6 +23,7 @@ NAME_FN(relief_oversample_scheme_name, relief_oversample_scheme,
         RELIEF_OVERSAMPLE_SCHEME_LIST)
 NAME_FN(relief_search_name, relief_search_mode, RELIEF_SEARCH_LIST)
 NAME_FN(relief_depth_format_name, relief_depth_format, RELIEF_DEPTH_FORMAT_LIST)
+NAME_FN(relief_depth_encoding_name, relief_depth_encoding, RELIEF_DEPTH_ENCODING_LIST)
 NAME_FN(relief_depth_variant_name, relief_depth_variant, RELIEF_DEPTH_VARIANT_LIST)
 NAME_FN(relief_depth_order_name, relief_depth_order, RELIEF_DEPTH_ORDER_LIST)
 NAME_FN(relief_membrane_name, relief_membrane, RELIEF_MEMBRANE_LIST)
@@ -31,6 +32,7 @@ NAME_FN(relief_depth_values_name, relief_depth_values, RELIEF_DEPTH_VALUES_LIST)
 NAME_FN(relief_points_what_name, relief_points_what, RELIEF_POINTS_WHAT_LIST)
 NAME_FN(relief_grid_search_name, relief_grid_search, RELIEF_GRID_SEARCH_LIST)
 NAME_FN(relief_background_name, relief_background, RELIEF_BACKGROUND_LIST)
+NAME_FN(relief_seeding_name, relief_seeding, RELIEF_SEEDING_LIST)
 NAME_FN(relief_image_fill_method_name, relief_image_fill_method,
         RELIEF_IMAGE_FILL_METHOD_LIST)
 

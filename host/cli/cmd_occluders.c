@@ -21,17 +21,25 @@
 #include "depth/frame.h"
 
 enum { OC_DEPTH = OPT_COMMAND, OC_SCALE, OC_OVERLAY, OC_BG_MESH, OC_SAVE_MASK, OC_POINTS,
-       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_METHOD, OC_FILL_WINDOW, OC_DEPTH_VARIANT, OC_VIEWS, OC_POSES };
+       OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_METHOD, OC_FILL_WINDOW, OC_DEPTH_VARIANT, OC_VIEWS, OC_POSES,
+       OC_DEPTH_FORMAT };
 
 static const char *const frame_help =
     "IN is an organised PCD with colour (x y z rgb: a depth camera's frame), or a colour "
-    "image (PNG or JPEG) with --depth, its registered 16-bit depth PNG (--scale values per "
-    "metre, default 5000; --intrinsics, default a Kinect's scaled to the width).";
+    "image (PNG, JPEG, or binary PPM / PGM) with --depth, its registered 16-bit depth PNG or "
+    "PGM (--scale values per metre, default 5000; --depth-format for NYU's and SUN RGB-D's "
+    "encodings; --intrinsics, default a Kinect's scaled to the width).";
 
 /* The options both commands take: the frame, the background, the views. */
 #define FIND_OWN                                                                          \
-    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth"},   \
-    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect)"}, \
+    {"depth", OC_DEPTH, "DEPTH.png", "IN is a colour image: its registered 16-bit depth "   \
+     "(PNG or PGM)"},                                                                        \
+    {"scale", OC_SCALE, "S", "DEPTH.png's values per metre (default 5000, TUM and Kinect; " \
+     "sun: 1000)"},                                                                          \
+    {"depth-format", OC_DEPTH_FORMAT, "F", "how --depth's samples are depths: auto "        \
+     "(default: a PNG or PGM at --scale, by its first bytes), png, pgm (big-endian, as "    \
+     "Netpbm says), nyu (NYU Depth v2's raw Kinect disparities, a PGM stored "              \
+     "little-endian) or sun (SUN RGB-D's PNG, bits rotated, millimetres)"},                 \
     {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "  \
      "the frame's camera coordinates), not planes found in the depth"},                    \
     {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},          \
@@ -70,6 +78,8 @@ typedef struct occ_args {
     uint8_t *view_rgb[RELIEF_OCCLUDER_MAX_VIEWS]; /* owned */
     int n_views;
     double scale;
+    relief_depth_encoding encoding; /* --depth-format */
+    int encoding_given;
     cli_output outs[7]; /* -o, --overlay, --report, --occluders, --points, --depth-out,
                            --colour-out */
 } occ_args;
@@ -128,6 +138,14 @@ static int take(void *ctx, int c, const char *arg)
     case OC_COLOUR_OUT: a->colour_out = arg; return 1;
     case OC_VIEWS: a->views_arg = arg; return 1;
     case OC_POSES: a->poses = arg; return 1;
+    case OC_DEPTH_FORMAT: {
+        static const char *const encodings[] = CLI_NAMES(RELIEF_DEPTH_ENCODING_LIST);
+        if (!CLI_PARSE_ENUM(cmd, "--depth-format", arg, encodings, &v))
+            return 0;
+        a->encoding = (relief_depth_encoding)v;
+        a->encoding_given = 1;
+        return 1;
+    }
     case OC_FILL_METHOD: {
         static const char *const methods[] = CLI_NAMES(RELIEF_IMAGE_FILL_METHOD_LIST);
         if (!CLI_PARSE_ENUM(cmd, "--fill-method", arg, methods, &v))
@@ -149,10 +167,12 @@ static int take(void *ctx, int c, const char *arg)
     return 0;
 }
 
-static int is_image_name(const char *path)
+/* A colour image relief writes (out) or reads (also binary Netpbm). */
+static int is_image_name(const char *path, int out)
 {
     const char *e = cli_ext_of(path);
-    return !strcasecmp(e, ".png") || !strcasecmp(e, ".jpg") || !strcasecmp(e, ".jpeg");
+    return !strcasecmp(e, ".png") || !strcasecmp(e, ".jpg") || !strcasecmp(e, ".jpeg") ||
+           (!out && (!strcasecmp(e, ".ppm") || !strcasecmp(e, ".pgm") || !strcasecmp(e, ".pnm")));
 }
 
 /* --views into view_names, with --poses: 1 when they fit together. */
@@ -185,9 +205,12 @@ static int check_files(occ_args *a, int argc, char **argv)
         return EXIT_USAGE;
     out = a->cm.out;
     pcd = !strcasecmp(cli_ext_of(a->in), ".pcd");
-    if (!pcd && !is_image_name(a->in))
+    if (!pcd && !is_image_name(a->in, 0))
         return cli_usage_error(cmd, "IN: '%s' is neither an organised PCD (.pcd) nor a colour "
-                                "image (.png, .jpg) with --depth", a->in);
+                                "image (.png, .jpg, .ppm) with --depth", a->in);
+    if (a->encoding_given && !a->depth)
+        return cli_usage_error(cmd, "--depth-format %s: it says how --depth's samples are "
+                                "depths; give --depth", relief_depth_encoding_name(a->encoding));
     if (pcd == (a->depth != NULL))
         return cli_usage_error(cmd, pcd ? "--depth %s: a PCD carries its own depth"
                                          : "IN '%s' is a colour image: give its depth with "
@@ -197,7 +220,7 @@ static int check_files(occ_args *a, int argc, char **argv)
                                 "input: give both or neither", "");
     if (!a->remove && strcasecmp(cli_ext_of(out), ".png"))
         return cli_usage_error(cmd, "-o: '%s': the mask is a PNG", out);
-    if (a->remove && (pcd ? strcasecmp(cli_ext_of(out), ".pcd") != 0 : !is_image_name(out)))
+    if (a->remove && (pcd ? strcasecmp(cli_ext_of(out), ".pcd") != 0 : !is_image_name(out, 1)))
         return cli_usage_error(cmd, "-o: '%s': OUT is written as IN: give it IN's kind "
                                 "(.pcd, or .png / .jpg for a colour image)", out);
     if (a->depth_out && strcasecmp(cli_ext_of(a->depth_out), ".png"))
@@ -215,7 +238,7 @@ static int check_files(occ_args *a, int argc, char **argv)
     a->outs[4] = (cli_output){"--points", a->points, CLI_OUT_FILE};
     a->outs[5] = (cli_output){"--depth-out", a->depth_out, CLI_OUT_FILE};
     a->outs[6] = (cli_output){"--colour-out", a->colour_out, CLI_OUT_FILE};
-    if (a->colour_out && !is_image_name(a->colour_out))
+    if (a->colour_out && !is_image_name(a->colour_out, 1))
         return cli_usage_error(cmd, "--colour-out '%s': a PNG or JPEG", a->colour_out);
     return cli_check_outputs(cmd, ins, 5 + (size_t)a->n_views, a->outs, 7);
 }
@@ -285,8 +308,8 @@ static void colour_of(const relief_image *c, uint8_t *rgb)
 static relief_status read_frame(const occ_args *a, relief_depth_image *f, relief_error *err)
 {
     relief_image c = {0, 0, 0, 0, 0, NULL};
-    relief_status st = relief_depth_read(a->depth ? a->depth : a->in, a->scale,
-                                         read_limit(a) / 64, f, err);
+    relief_status st = relief_depth_read_as(a->depth ? a->depth : a->in, a->encoding, a->scale,
+                                            read_limit(a) / 64, f, err);
     if (st == RELIEF_OK && !a->depth && f->format == RELIEF_DEPTH_PFM)
         st = relief_fail(err, RELIEF_E_FORMAT, "%s is a PFM named .pcd", a->in);
     if (st == RELIEF_OK && !a->depth && !f->rgb)
@@ -294,8 +317,8 @@ static relief_status read_frame(const occ_args *a, relief_depth_image *f, relief
                          "are grown by colour; give a PCD with rgb, or a colour image with "
                          "--depth", a->in);
     if (st == RELIEF_OK && a->depth && f->format != RELIEF_DEPTH_PNG16)
-        st = relief_fail(err, RELIEF_E_FORMAT, "--depth %s: expected a 16-bit depth PNG, "
-                         "not a %s file", a->depth, relief_depth_format_name(f->format));
+        st = relief_fail(err, RELIEF_E_FORMAT, "--depth %s: expected a 16-bit depth PNG or "
+                         "PGM, not a %s file", a->depth, relief_depth_format_name(f->format));
     if (st == RELIEF_OK && a->depth)
         st = relief_image_read(a->in, read_limit(a), &c, err);
     if (st == RELIEF_OK && a->depth && (c.width != f->width || c.height != f->height))

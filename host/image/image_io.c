@@ -17,6 +17,7 @@
 #include "base/error.h"
 #include "base/file.h"
 #include "base/memlimit.h"
+#include "image/pnm.h"
 #include "report/png.h"
 
 relief_image_format relief_image_format_of_name(const char *path)
@@ -366,7 +367,23 @@ done:
     return st;
 }
 
-/* PNG or JPEG by the first bytes, into *out (out->data NULL on failure);
+/* ---------------------------------------------------------------- PNM */
+
+/* A binary PNM's intensities, scaled to 8 or 16 bits whatever its maxval:
+ * a picture's 0..maxval means black to white. */
+static relief_status decode_pnm(const uint8_t *data, size_t n, const char *name,
+                                const relief_image_limit *lim, int samples, relief_image *out,
+                                relief_error *err)
+{
+    relief_pnm h;
+    relief_status st = relief_pnm_header(data, n, name, &h, err);
+    if (st == RELIEF_OK)
+        st = check_size(name, (uint32_t)h.width, (uint32_t)h.height, h.channels,
+                        h.maxval > 255 ? 16 : 8, lim, samples, err);
+    return st == RELIEF_OK ? relief_pnm_samples(data, n, name, &h, 1, out, err) : st;
+}
+
+/* PNG, JPEG or PNM by the first bytes, into *out (out->data NULL on failure);
  * samples: lim bounds the samples at the file's bit depth, not the raster
  * (check_size). */
 static relief_status decode(const uint8_t *data, size_t n, const char *name,
@@ -379,10 +396,12 @@ static relief_status decode(const uint8_t *data, size_t n, const char *name,
         return decode_png(data, n, name, lim, samples, out, err);
     if (n >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff)
         return decode_jpeg(data, n, name, lim, samples, out, err);
+    if (relief_pnm_sniff(data, n))
+        return decode_pnm(data, n, name, lim, samples, out, err);
     if (n == 0)
         return relief_fail(err, RELIEF_E_FORMAT, "%s: the file is empty", name);
-    return relief_fail(err, RELIEF_E_FORMAT, "%s: not a PNG or JPEG image (by its first "
-                       "bytes)", name);
+    return relief_fail(err, RELIEF_E_FORMAT, "%s: not a PNG, JPEG or binary PNM image (by "
+                       "its first bytes)", name);
 }
 
 relief_status relief_raster_decode(const uint8_t *data, size_t n, const char *name,

@@ -80,6 +80,9 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
     RELIEF_ENTRY_ERR(err);
     if (!p)
         return relief_fail(err, RELIEF_E_USAGE, "params: NULL");
+    if ((unsigned)p->seeding > RELIEF_SEEDING_HYSTERESIS)
+        return relief_fail_param(err, RELIEF_E_RANGE, "seeding", "seeding %d out of range: "
+                                 "expected hysteresis or margin", (int)p->seeding);
     if ((unsigned)p->background > RELIEF_BACKGROUND_MESH)
         return relief_fail_param(err, RELIEF_E_RANGE, "background", "background %d out of range: "
                                  "expected planes, plane or mesh", (int)p->background);
@@ -151,6 +154,8 @@ static void plane_json(relief_json *j, const relief_occluder_plane *pl)
     rj_number(j, "offset", pl->offset);
     rj_int(j, "inliers", (long long)pl->inliers);
     rj_number(j, "rms", pl->rms);
+    rj_int(j, "region", (long long)pl->region);
+    rj_number(j, "marked", pl->marked);
     rj_end_object(j);
 }
 
@@ -158,6 +163,7 @@ static void params_json(relief_json *j, const relief_occluder_params *p)
 {
     rj_begin_object(j, "parameters");
     rj_string(j, "background", relief_background_name(p->background));
+    rj_string(j, "seeding", relief_seeding_name(p->seeding));
     rj_int(j, "max_planes", p->max_planes);
     rj_number(j, "min_support", p->min_support);
     rj_number(j, "margin", p->margin);
@@ -190,6 +196,15 @@ static void find_body(relief_json *j, const relief_occluder_params *p,
     rj_int(j, "height", r->height);
     rj_int(j, "captured", (long long)r->captured);
     rj_int(j, "missing", (long long)r->missing);
+    if (r->has_placeholder) {
+        rj_begin_array(j, "placeholder");
+        for (int k = 0; k < 3; ++k)
+            rj_int(j, NULL, r->placeholder[k]);
+        rj_end_array(j);
+    } else {
+        rj_null(j, "placeholder");
+    }
+    rj_int(j, "placeholder_pixels", (long long)r->placeholder_pixels);
     rj_end_object(j);
     params_json(j, p);
     rj_begin_array(j, "camera");
@@ -212,6 +227,7 @@ static void find_body(relief_json *j, const relief_occluder_params *p,
     rj_int(j, "seeds", (long long)r->seeds);
     rj_int(j, "seed_groups", (long long)r->seed_groups);
     rj_int(j, "seeds_dropped", (long long)r->seeds_dropped);
+    rj_int(j, "weak_seeds", (long long)r->weak_seeds);
     rj_int(j, "grown_missing", (long long)r->grown_missing);
     rj_int(j, "grown_edge", (long long)r->grown_edge);
     rj_int(j, "parallax_seeds", (long long)r->parallax_seeds);
@@ -312,6 +328,9 @@ static void scene_report(const occ_scene *s, relief_occluder_report *r)
     memcpy(r->plane, s->plane, sizeof r->plane);
     memcpy(r->camera, s->cam, sizeof r->camera);
     r->noise = s->noise;
+    r->has_placeholder = s->has_placeholder;
+    memcpy(r->placeholder, s->placeholder, sizeof r->placeholder);
+    r->placeholder_pixels = s->placeholder_pixels;
     r->margin = occ_margin(s, s->median_z);
     background_counts(s, r);
 }
@@ -330,12 +349,14 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
     if (st != RELIEF_OK)
         return st;
     scene_report(s, r);
-    r->seeds = c.seeds, r->seed_groups = c.seed_groups, r->seeds_dropped = c.seeds_dropped;
+    r->seeds = c.seeds + c.weak_seeds, r->seed_groups = c.seed_groups;
+    r->seeds_dropped = c.seeds_dropped, r->weak_seeds = c.weak_seeds;
     r->grown_missing = c.grown_missing, r->grown_edge = c.grown_edge;
     r->dilated = c.dilated, r->occluder_pixels = c.total;
     r->views = p->n_views, r->parallax_seeds = c.parallax_seeds;
     r->view_foreground = c.view_fg;
     r->view_background = c.view_bg, r->view_unknown = c.view_unknown;
+    occ_plane_regions(s, mask, r->plane, r->planes);
     if (c.seeds == 0)
         return relief_fail(err, RELIEF_E_RANGE, "nothing in front of the background: no "
                            "captured point is more than the margin (%.4g at the median depth) "
@@ -495,6 +516,7 @@ static relief_status mask_counted(const occ_scene *s, const removal *w,
                                   relief_occluder_report *r, relief_error *err)
 {
     scene_report(s, r);
+    occ_plane_regions(s, w->mask, r->plane, r->planes);
     for (size_t i = 0; i < w->n; ++i)
         r->occluder_pixels += w->mask[i];
     if (r->occluder_pixels == 0)
@@ -505,15 +527,26 @@ static relief_status mask_counted(const occ_scene *s, const removal *w,
     return RELIEF_OK;
 }
 
-/* The colour of the occluders, filled by paper 004's chapter 3. */
-static relief_status fill_colour(const relief_depth_image *f, removal *w,
+/* The colour of the occluders, filled by paper 004's chapter 3. The
+ * placeholder pixels are holes too, so that their colour is never copied;
+ * only the mask's pixels are written back. */
+static relief_status fill_colour(const relief_depth_image *f, const occ_scene *s, removal *w,
                                  const relief_remove_params *p, relief_image_fill_report *rep,
                                  relief_error *err)
 {
     relief_image img = {f->width, f->height, 3, 8, 0, w->rgb};
-    relief_image m = {f->width, f->height, 1, 8, 0, w->mask};
+    uint8_t *hole = s->has_placeholder ? malloc(w->n) : w->mask;
+    relief_image m = {f->width, f->height, 1, 8, 0, hole};
+    relief_status st;
+    if (!hole)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the colour's holes");
+    for (size_t i = 0; hole != w->mask && i < w->n; ++i)
+        hole[i] = w->mask[i] || occ_no_colour(s, i);
     memcpy(w->rgb, f->rgb, w->n * 3);
-    return relief_image_fill(&img, &m, &p->colour, rep, err);
+    st = relief_image_fill(&img, &m, &p->colour, rep, err);
+    if (hole != w->mask)
+        free(hole);
+    return st;
 }
 
 /* The depth behind them: the residual about the background surface, known
@@ -610,7 +643,7 @@ static relief_status remove_run(relief_depth_image *f, const relief_image *mask,
     }
     if (st == RELIEF_OK) {
         t = relief_seconds();
-        st = fill_colour(f, w, p, &cr, err);
+        st = fill_colour(f, s, w, p, &cr, err);
         r->seconds_colour = relief_seconds() - t;
     }
     if (st == RELIEF_OK) {

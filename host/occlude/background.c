@@ -71,6 +71,41 @@ static int camera_of(const relief_depth_image *f, const relief_occluder_params *
     return 1;
 }
 
+/* A placeholder is the colour of over half the missing points (a majority
+ * vote, then a count) that at most this share of the captured ones has:
+ * a real scene's colours are spread, a writer's fill value is not. */
+#define PLACEHOLDER_RARE 0.01
+
+static uint32_t packed_at(const uint8_t *rgb, size_t i)
+{
+    return (uint32_t)rgb[3 * i] << 16 | (uint32_t)rgb[3 * i + 1] << 8 | rgb[3 * i + 2];
+}
+
+static void find_placeholder(occ_scene *s)
+{
+    size_t n = (size_t)s->width * s->height, votes = 0, missing = 0, on_missing = 0, on_cap = 0;
+    uint32_t cand = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (isfinite(s->pts[3 * i + 2]))
+            continue;
+        if (votes == 0)
+            cand = packed_at(s->rgb, i), votes = 1;
+        else
+            votes += packed_at(s->rgb, i) == cand ? 1 : (size_t)-1;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        int miss = !isfinite(s->pts[3 * i + 2]), same = packed_at(s->rgb, i) == cand;
+        missing += miss, on_missing += miss && same, on_cap += !miss && same;
+    }
+    if (missing == 0 || 2 * on_missing <= missing ||
+        (double)on_cap > PLACEHOLDER_RARE * (double)s->captured)
+        return;
+    s->has_placeholder = 1;
+    s->placeholder[0] = (uint8_t)(cand >> 16), s->placeholder[1] = (uint8_t)(cand >> 8);
+    s->placeholder[2] = (uint8_t)cand;
+    s->placeholder_pixels = on_missing;
+}
+
 relief_status occ_scene_points(const relief_depth_image *f, const relief_occluder_params *p,
                                occ_scene *s, relief_error *err)
 {
@@ -108,6 +143,9 @@ relief_status occ_scene_points(const relief_depth_image *f, const relief_occlude
         s->median_z = zs[m / 2];
     }
     free(zs);
+    s->rgb = f->rgb;
+    if (f->rgb)
+        find_placeholder(s);
     if (m < 3) {
         occ_scene_free(s);
         return relief_fail(err, RELIEF_E_RANGE, "%zu of %zu pixels have a depth: too few to "

@@ -6,6 +6,7 @@
 #ifndef RELIEF_HOST_OCCLUDE_OCCLUDE_H
 #define RELIEF_HOST_OCCLUDE_OCCLUDE_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -34,7 +35,21 @@ typedef struct occ_scene {
     double margin;       /* a constant margin (depth units), or 0: margin_k x
                             sigma(z) */
     double margin_k;
+    /* The colour a capture gives its missing points (a PCD's (192, 0, 0),
+     * say), when it has one: no texture, so never grown on nor copied. */
+    int has_placeholder;
+    uint8_t placeholder[3];
+    size_t placeholder_pixels; /* missing-depth pixels of that colour */
+    const uint8_t *rgb;  /* the frame's colour (the caller's) */
 } occ_scene;
+
+/* Is pixel i a missing point with the placeholder colour (no colour)? */
+static inline int occ_no_colour(const occ_scene *s, size_t i)
+{
+    const uint8_t *c = s->rgb + 3 * i;
+    return s->has_placeholder && isnan(s->pts[3 * i + 2]) &&
+           c[0] == s->placeholder[0] && c[1] == s->placeholder[1] && c[2] == s->placeholder[2];
+}
 
 /* The margin a point at depth z must clear to be a seed. */
 static inline double occ_margin(const occ_scene *s, double z)
@@ -42,7 +57,20 @@ static inline double occ_margin(const occ_scene *s, double z)
     return s->margin > 0.0 ? s->margin : s->margin_k * s->noise * z * z;
 }
 
+/* The depth noise at depth z: one standard deviation (depth units). */
+static inline double occ_sigma(const occ_scene *s, double z)
+{
+    return s->noise * z * z;
+}
+
 void occ_scene_free(occ_scene *s);
+
+/* Each of planes[0..n_planes)'s region (the captured pixels within 3
+ * sigma(z) of it, in its connected support) and the share of it `mask`
+ * (width x height, non-zero = occluder) marks: planes[k].region, .marked
+ * (NaN when memory runs out). */
+void occ_plane_regions(const occ_scene *s, const uint8_t *mask, relief_occluder_plane *planes,
+                       int n_planes);
 
 /* The camera and the points of `f`: an organised cloud's xyz and the
  * camera fitted to them, or z through p's intrinsics (or the default
@@ -90,7 +118,8 @@ void occ_views_free(occ_views *v);
 
 /* What the mask's stages counted (relief_occluder_report's fields). */
 typedef struct occ_counts {
-    size_t seeds, seed_groups, seeds_dropped, grown_missing, grown_edge, dilated, total;
+    size_t seeds, seed_groups, seeds_dropped, weak_seeds, grown_missing, grown_edge, dilated;
+    size_t total;
     size_t parallax_seeds, view_fg, view_bg, view_unknown;
 } occ_counts;
 

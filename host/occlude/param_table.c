@@ -9,6 +9,7 @@
 #define T relief_occluder_params
 
 static const char *const backgrounds[] = {"planes", "plane", "mesh", NULL};
+static const char *const seedings[] = {"margin", "hysteresis", NULL};
 
 static const relief_param table[] = {
     RP_ENUM(T, background, "B", backgrounds, "planes (default: up to max_planes planes by "
@@ -20,6 +21,9 @@ static const relief_param table[] = {
     RP_REAL(T, margin, "M", -HUGE_VAL, 1e9, "seeds lie more than M (depth units: metres) in "
             "front of the background; <= 0 (default): 4 sigma(z), the noise measured on it as "
             "sigma(z) = a z^2 (a structured-light camera's)"),
+    RP_ENUM(T, seeding, "S", seedings, "margin (default, paper 004's: the points beyond the "
+            "margin) or hysteresis (also those over 3/4 of it in front connected to them: "
+            "legs, a chair's base; it can spread into walls that are not quite plane)"),
     RP_INT(T, window, "W", 3, 1025, "the growth's square around each seed, odd pixels "
            "(default 61, the paper's)"),
     RP_REAL(T, colour_distance, "D", 0, 200, "the growth's step: neighbours whose colours "

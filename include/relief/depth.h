@@ -61,8 +61,8 @@ typedef struct relief_depth_image {
 #define RELIEF_DEPTH_PNG_SCALE 5000.0
 
 /* Read a depth frame: an organised PCD (x y z [rgb]; ascii, binary or
- * binary_compressed), a PFM or a 16-bit grey PNG, told by the first bytes
- * (a PNG: z = value / png_scale, 0 missing; png_scale 0:
+ * binary_compressed), a PFM, a 16-bit grey PNG or a binary PGM, told by
+ * the first bytes (a PNG or PGM: z = value / png_scale, 0 missing; png_scale 0:
  * RELIEF_DEPTH_PNG_SCALE, else (0, 1e9] values per metre).
  * max_pixels (0: none) refuses larger frames before they are allocated
  * (RELIEF_E_NOMEM). RELIEF_E_IO naming the path; RELIEF_E_PARSE (the line
@@ -71,6 +71,46 @@ typedef struct relief_depth_image {
 RELIEF_API relief_status relief_depth_read(const char *path, double png_scale,
                                            uint64_t max_pixels, relief_depth_image *out,
                                            relief_error *err);
+
+/* How a depth image's 16-bit samples are depths, for relief_depth_read_as
+ * (colour + depth pairs as the RGB-D datasets store them):
+ *   auto  told by the first bytes: a PCD or a PFM as they are, a 16-bit PNG
+ *         or PGM as png and pgm say (what relief_depth_read does);
+ *   png   a 16-bit grey PNG: value / scale metres, 0 missing;
+ *   pgm   a binary PGM (P5, 8 or 16 bits; two bytes big-endian, as Netpbm
+ *         says): the same;
+ *   nyu   NYU Depth v2's raw Kinect frame: a 16-bit PGM whose samples are
+ *         disparities d stored little-endian (against Netpbm's rule);
+ *         depth = 351.3 / (1092.5 - d) metres, missing where d >= 2047 or
+ *         that is not positive (scale unused);
+ *   sun   SUN RGB-D's 16-bit PNG, its bits rotated: d = (v >> 3) | (v << 13)
+ *         as 16 bits, then d / scale metres (scale 0: 1000, millimetres).
+ * The frame read is RELIEF_DEPTH_PNG16 (what it is written back as).
+ * X(code, name) */
+#define RELIEF_DEPTH_ENCODING_LIST(X)                                           \
+    X(RELIEF_DEPTH_ENCODING_AUTO, "auto")                                       \
+    X(RELIEF_DEPTH_ENCODING_PNG, "png")                                         \
+    X(RELIEF_DEPTH_ENCODING_PGM, "pgm")                                         \
+    X(RELIEF_DEPTH_ENCODING_NYU, "nyu")                                         \
+    X(RELIEF_DEPTH_ENCODING_SUN, "sun")
+
+typedef enum relief_depth_encoding {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_DEPTH_ENCODING_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_depth_encoding;
+
+/* "auto", ...; "unknown" out of range. */
+RELIEF_API const char *relief_depth_encoding_name(relief_depth_encoding encoding);
+
+/* relief_depth_read with the samples' encoding named: `scale` is png_scale
+ * (png, pgm: 0 is RELIEF_DEPTH_PNG_SCALE; sun: 0 is 1000). RELIEF_E_FORMAT
+ * when the file is not what the encoding says (a nyu or pgm that is no
+ * 16-bit PGM, a png or sun that is no 16-bit grey PNG), RELIEF_E_RANGE for
+ * an encoding out of the list; else relief_depth_read's errors. */
+RELIEF_API relief_status relief_depth_read_as(const char *path, relief_depth_encoding encoding,
+                                              double scale, uint64_t max_pixels,
+                                              relief_depth_image *out, relief_error *err);
 
 /* The same from `n` bytes in memory (PCD or PFM); `name` names them. */
 RELIEF_API relief_status relief_depth_decode(const void *data, size_t n, const char *name,

@@ -24,7 +24,8 @@
  *    of any of them.
  * 3. Seeds: the captured points whose clearance exceeds `margin` (the
  *    paper's foreground scan points), in connected groups of at least
- *    `min_area` pixels.
+ *    `min_area` pixels; with `seeding` hysteresis, also the points over 3/4
+ *    of the margin in front connected to them through such points.
  * 4. Growth (the paper's flood fill): from each seed, inside the `window`
  *    square around it, into 4-neighbours whose colour differs from the
  *    pixel they are reached from by at most `colour_distance` (CIELAB
@@ -74,6 +75,27 @@ typedef enum relief_background {
 
 RELIEF_API const char *relief_background_name(relief_background background);
 
+/* Which points are seeds:
+ *   margin      (default) paper 004's: those beyond the margin only;
+ *   hysteresis  also the points more than 3/4 of the margin in front that
+ *               touch them through such points: a chair's legs and base, a
+ *               box's lower edge, which stand within the margin of the floor
+ *               they rest on. On the shared real frames it also spreads
+ *               into walls that are not quite plane (docs/occluders.md), so
+ *               it is not the default.
+ * X(code, name) */
+#define RELIEF_SEEDING_LIST(X)                                                  \
+    X(RELIEF_SEEDING_MARGIN, "margin")                                          \
+    X(RELIEF_SEEDING_HYSTERESIS, "hysteresis")
+
+typedef enum relief_seeding {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_SEEDING_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_seeding;
+
+RELIEF_API const char *relief_seeding_name(relief_seeding seeding);
+
 /* Most neighbouring views a call takes. */
 #define RELIEF_OCCLUDER_MAX_VIEWS 16
 
@@ -122,6 +144,7 @@ typedef struct relief_occluder_params {
                                 [1, 32] */
     uint32_t seed;           /* RANSAC's draws; 1 */
     relief_run_options run;  /* max_memory, progress, names; backend unused */
+    relief_seeding seeding;  /* default margin */
 } relief_occluder_params;
 
 /* The defaults above. */
@@ -143,12 +166,29 @@ typedef struct relief_occluder_plane {
     double offset;           /* depth units */
     size_t inliers;          /* captured points within the margin */
     double rms;              /* their RMS distance to it */
+    size_t region;           /* its region: the captured pixels within 3
+                                sigma(z) of it, in its connected support (the
+                                4-connected parts of that band holding at
+                                least 5 % of it) */
+    double marked;           /* the share of the region in the mask (a
+                                support surface, a table or a floor, should
+                                be near 0); NaN: not measured */
 } relief_occluder_plane;
 
 typedef struct relief_occluder_report {
     int width, height;
     size_t captured;         /* pixels with a finite depth */
     size_t missing;          /* pixels without */
+    int has_placeholder;     /* 1: the frame gives its missing points one
+                                colour (a PCD writer's fill, as (192, 0, 0)):
+                                the colour of over half of them, and of under
+                                1 % of the captured. Those pixels have no
+                                colour: growth never enters them, the removal
+                                never copies them (they are holes of its
+                                colour fill too, left as they were outside
+                                the mask) */
+    uint8_t placeholder[3];  /* that colour */
+    size_t placeholder_pixels; /* missing pixels of that colour */
     int planes;              /* background planes found (0 for a mesh) */
     relief_occluder_plane plane[RELIEF_OCCLUDER_MAX_PLANES];
     size_t on_background;    /* captured points within the margin of it */
@@ -160,6 +200,8 @@ typedef struct relief_occluder_report {
     size_t seeds;            /* seed pixels kept */
     size_t seed_groups;      /* their connected groups */
     size_t seeds_dropped;    /* seed pixels in groups under min_area */
+    size_t weak_seeds;       /* of the seeds, those hysteresis added: within
+                                the margin, over 3/4 of it */
     size_t grown_missing;    /* added by growth: depth missing */
     size_t grown_edge;       /* added by growth: background depth at the rim */
     size_t dilated;          /* added by the dilation */

@@ -610,10 +610,20 @@ def write_depth(path, depth, *, format="pfm", png_scale=0.0):
                                format, float(png_scale)))
 
 
-def read_depth(path, png_scale=0.0):
-    """Read a depth frame (organised PCD, PFM, 16-bit PNG): (H, W) float32,
-    metres for a PCD or PNG (PNG values / png_scale, 0: 5000), NaN missing."""
-    (z,) = _check(_relief.read_depth(os.fspath(path), float(png_scale)))
+_DEPTH_ENCODINGS = ("auto", "png", "pgm", "nyu", "sun")
+
+
+def read_depth(path, png_scale=0.0, encoding="auto"):
+    """Read a depth frame (organised PCD, PFM, 16-bit PNG or PGM): (H, W)
+    float32, metres for a PCD, PNG or PGM (values / png_scale, 0: 5000), NaN
+    missing. encoding says how a depth image's samples are depths, as
+    ``relief occluders --depth-format`` does: "auto" (by the first bytes),
+    "png", "pgm" (big-endian), "nyu" (NYU Depth v2's raw disparity PGM,
+    stored little-endian) or "sun" (SUN RGB-D's PNG, bits rotated,
+    millimetres unless png_scale)."""
+    if encoding not in _DEPTH_ENCODINGS:
+        raise ValueError("encoding %r: expected one of %s" % (encoding, ", ".join(_DEPTH_ENCODINGS)))
+    (z,) = _check(_relief.read_depth(os.fspath(path), float(png_scale), encoding))
     return z
 
 

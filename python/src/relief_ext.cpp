@@ -775,15 +775,21 @@ nb::tuple write_depth(const std::string &path, carray<const float> z, const std:
     return nb::make_tuple(int(s), std::string(err.message));
 }
 
-// (status, message, z as H x W float32, NaN where missing)
-nb::tuple read_depth(const std::string &path, double png_scale)
+// (status, message, z as H x W float32, NaN where missing); encoding as
+// relief_depth_encoding_name spells it (checked by the Python side).
+nb::tuple read_depth(const std::string &path, double png_scale, const std::string &encoding)
 {
     call_scope scope; // first: it outlives everything the call holds
     relief_error err{};
     relief_depth_image f;
     std::memset(&f, 0, sizeof f);
+    int enc = 0;
+    while (enc <= RELIEF_DEPTH_ENCODING_SUN &&
+           encoding != relief_depth_encoding_name(relief_depth_encoding(enc)))
+        ++enc;
     relief_status s = without_gil(scope, &err, [&] {
-        return relief_depth_read(path.c_str(), png_scale, 0, &f, &err);
+        return relief_depth_read_as(path.c_str(), relief_depth_encoding(enc), png_scale, 0, &f,
+                                    &err);
     });
     nb::object z = nb::none();
     if (s == RELIEF_OK) {

@@ -205,6 +205,73 @@ static void test_bad_arguments(void)
     CHECK(f.z == NULL && f.width == 0, "a failed read leaves an empty frame");
 }
 
+static void write_bytes(const char *path, const void *d, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    CHECK(fp && fwrite(d, 1, n, fp) == n, "cannot write %s", path);
+    if (fp)
+        fclose(fp);
+}
+
+/* Read `path` as `enc` at `scale`: its three depths must be `want` (NaN:
+ * missing). */
+static void check_encoded(const char *path, relief_depth_encoding enc, double scale,
+                          const float want[3])
+{
+    relief_depth_image r;
+    relief_error err = {0};
+    CHECK_STATUS(relief_depth_read_as(path, enc, scale, 0, &r, &err), RELIEF_OK, err, NULL);
+    CHECK(r.width == 3 && r.height == 1 && r.format == RELIEF_DEPTH_PNG16 && !r.xyz,
+          "%s as %s: %d x %d", path, relief_depth_encoding_name(enc), r.width, r.height);
+    for (int i = 0; i < 3 && r.z && r.width == 3; ++i)
+        CHECK(isnan(want[i]) ? isnan(r.z[i]) : fabsf(r.z[i] - want[i]) < 1e-5f,
+              "%s as %s: pixel %d is %g, expected %g", path, relief_depth_encoding_name(enc), i,
+              r.z[i], want[i]);
+    relief_depth_image_free(&r);
+}
+
+/* The RGB-D datasets' depth encodings (relief_depth_read_as): a PGM's
+ * big-endian counts, NYU's little-endian disparities, SUN's rotated bits. */
+static void test_encodings(void)
+{
+    /* 0 (missing), 5000, 10000 big-endian */
+    static const char pgm[] = "P5\n3 1\n65535\n\0\0\x13\x88\x27\x10";
+    /* disparities 768, 2047 (none), 1100 (behind the fit's pole) little-endian */
+    static const char nyu[] = "P5\n3 1\n65535\n\0\3\xff\7\x4c\4";
+    /* 0, then 1500 mm and 2 m rotated left by 3 bits, as SUN stores them */
+    uint16_t sun[3] = {0, 12000, 16000};
+    relief_image img = {3, 1, 1, 16, 0, sun};
+    const float at_pgm[3] = {NAN, 1.0f, 2.0f}, at_nyu[3] = {(float)(351.3 / 324.5), NAN, NAN};
+    const float at_sun[3] = {NAN, 1.5f, 2.0f}, at_1000[3] = {NAN, 5.0f, 10.0f};
+    relief_depth_image r;
+    relief_error err = {0};
+    char p_pgm[512], p_nyu[512], p_sun[512];
+    snprintf(p_pgm, sizeof p_pgm, "%s/e.pgm", tmpdir);
+    snprintf(p_nyu, sizeof p_nyu, "%s/nyu.pgm", tmpdir);
+    snprintf(p_sun, sizeof p_sun, "%s/sun.png", tmpdir);
+    write_bytes(p_pgm, pgm, sizeof pgm - 1);
+    write_bytes(p_nyu, nyu, sizeof nyu - 1);
+    CHECK_STATUS(relief_image_write(&img, p_sun, &err), RELIEF_OK, err, NULL);
+    check_encoded(p_pgm, RELIEF_DEPTH_ENCODING_PGM, 0, at_pgm);
+    check_encoded(p_pgm, RELIEF_DEPTH_ENCODING_AUTO, 1000, at_1000);
+    check_encoded(p_nyu, RELIEF_DEPTH_ENCODING_NYU, 0, at_nyu);
+    check_encoded(p_sun, RELIEF_DEPTH_ENCODING_SUN, 0, at_sun);
+    CHECK_STATUS(relief_depth_read_as(p_sun, RELIEF_DEPTH_ENCODING_NYU, 0, 0, &r, &err),
+                 RELIEF_E_FORMAT, err, "expects a binary PGM");
+    CHECK_STATUS(relief_depth_read_as(p_nyu, RELIEF_DEPTH_ENCODING_SUN, 0, 0, &r, &err),
+                 RELIEF_E_FORMAT, err, "expects a 16-bit PNG");
+    CHECK_STATUS(relief_depth_read_as(p_pgm, (relief_depth_encoding)9, 0, 0, &r, &err),
+                 RELIEF_E_RANGE, err, "encoding");
+    CHECK_STATUS(relief_depth_read_as(p_pgm, RELIEF_DEPTH_ENCODING_PGM, 0, 2, &r, &err),
+                 RELIEF_E_NOMEM, err, "3 x 1");
+    CHECK(strcmp(relief_depth_encoding_name(RELIEF_DEPTH_ENCODING_SUN), "sun") == 0 &&
+              strcmp(relief_depth_encoding_name((relief_depth_encoding)9), "unknown") == 0,
+          "encoding names");
+    remove(p_pgm);
+    remove(p_nyu);
+    remove(p_sun);
+}
+
 /* A crop written as PCD binary_compressed, PFM and PNG16, read back. */
 static void test_round_trips(const relief_depth_image *office)
 {
@@ -561,6 +628,7 @@ int main(int argc, char **argv)
     test_bad_params();
     test_bad_arguments();
     test_round_trips(&office);
+    test_encodings();
     test_repair(&office);
     test_cancel(&office);
     test_threads(&office);

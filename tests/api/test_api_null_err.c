@@ -503,6 +503,12 @@ static void test_depth_files(void)
     NULL_ERR(RELIEF_E_FORMAT, relief_depth_read, (at(2, "text.pfm"), 0, 0, &out, E));
     NULL_ERR(RELIEF_E_NOMEM, relief_depth_read, (at(0, "ok.pfm"), 0, 10, &out, E));
     NULL_ERR(RELIEF_E_RANGE, relief_depth_read, (at(0, "ok.pfm"), -1, 0, &out, E));
+    NULL_ERR(RELIEF_E_USAGE, relief_depth_read_as,
+             (NULL, RELIEF_DEPTH_ENCODING_AUTO, 0, 0, &out, E));
+    NULL_ERR(RELIEF_E_RANGE, relief_depth_read_as,
+             (at(0, "ok.pfm"), (relief_depth_encoding)9, 0, 0, &out, E));
+    NULL_ERR(RELIEF_E_FORMAT, relief_depth_read_as,
+             (at(0, "ok.pfm"), RELIEF_DEPTH_ENCODING_NYU, 0, 0, &out, E));
     NULL_ERR(RELIEF_E_USAGE, relief_depth_decode, (NULL, 10, "x", 0, &out, E));
     NULL_ERR(RELIEF_E_USAGE, relief_depth_decode, (pfm, strlen(pfm), "x", 0, NULL, E));
     NULL_ERR(RELIEF_E_PARSE, relief_depth_decode, (pfm, strlen(pfm), NULL, 0, &out, E));

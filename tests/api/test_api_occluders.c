@@ -8,7 +8,9 @@
  * wall's; the bad inputs' messages.
  *   test_api_occluders                 the checks
  *   test_api_occluders --write DIR     the frame as DIR/scene.pcd,
- *                                      colour.png, depth.png, truth.png; the
+ *                                      colour.png, depth.png, truth.png
+ *                                      (colour.ppm, depth.pgm: the same as
+ *                                      binary Netpbm); the
  *                                      bad ones: nocolour.pcd (no rgb),
  *                                      flat.pcd (nothing in front),
  *                                      noise.pcd (no background),
@@ -201,6 +203,19 @@ static void test_find(scene *s)
     relief_image_free(&m2);
     relief_image_free(&m);
     relief_occluder_report_free(&r);
+    /* Hysteresis seeding: the objects' lower rims join, the mask stays the
+     * objects. */
+    p.seeding = RELIEF_SEEDING_HYSTERESIS;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m, &r, &err), RELIEF_OK, err, NULL);
+    if (m.data) {
+        j = iou(m.data, s->truth, (size_t)W * H);
+        printf("hysteresis: IoU %.4f, %zu weak seeds\n", j, r.weak_seeds);
+        CHECK(j >= 0.9 && r.weak_seeds > 0, "hysteresis: IoU %.4f, %zu weak seeds", j,
+              r.weak_seeds);
+    }
+    relief_image_free(&m);
+    relief_occluder_report_free(&r);
+    p.seeding = RELIEF_SEEDING_MARGIN;
     /* A depth image and its intrinsics. */
     f = frame_of(s, 0);
     p.has_intrinsics = 1;
@@ -274,6 +289,55 @@ static void test_remove(scene *s)
               "[0.7, 1.4]", t_fill / t_wall);
     }
     CHECK(r.json && strstr(r.json, "remove-occluders"), "the removal's report");
+    relief_remove_report_free(&r);
+    free(out);
+}
+
+/* A capture that colours its missing points (192, 0, 0), as a PCD writer
+ * may: the placeholder is found, no removed pixel gets it, and the mask
+ * is still the objects. */
+static void test_placeholder(const scene *s)
+{
+    static const uint8_t red[3] = {192, 0, 0};
+    relief_error err = {0};
+    relief_remove_params p = relief_remove_params_default();
+    relief_remove_report r;
+    scene *out = malloc(sizeof *out);
+    relief_depth_image f;
+    size_t red_removed = 0, removed = 0, missing = 0;
+    if (!out)
+        return;
+    *out = *s;
+    for (size_t i = 0; i < (size_t)W * H; ++i)
+        if (isnan(out->z[i]))
+            memcpy(out->rgb + 3 * i, red, 3), ++missing;
+    f = frame_of(out, 1);
+    CHECK_STATUS(relief_remove_occluders(&f, NULL, &p, &r, &err), RELIEF_OK, err, NULL);
+    if (r.mask) {
+        for (size_t i = 0; i < (size_t)W * H; ++i) {
+            removed += r.mask[i] != 0;
+            red_removed += r.mask[i] && !memcmp(out->rgb + 3 * i, red, 3);
+        }
+        printf("placeholder: %zu of %zu missing pixels red; %zu of %zu removed pixels red after, "
+               "IoU %.4f\n", r.find.placeholder_pixels, missing, red_removed, removed,
+               iou(r.mask, s->truth, (size_t)W * H));
+        CHECK(r.find.has_placeholder && !memcmp(r.find.placeholder, red, 3) &&
+                  r.find.placeholder_pixels == missing,
+              "placeholder %d (%d, %d, %d) on %zu pixels, expected (192, 0, 0) on %zu",
+              r.find.has_placeholder, r.find.placeholder[0], r.find.placeholder[1],
+              r.find.placeholder[2], r.find.placeholder_pixels, missing);
+        CHECK(red_removed == 0, "%zu removed pixels have the placeholder's colour", red_removed);
+        CHECK(iou(r.mask, s->truth, (size_t)W * H) >= 0.9, "IoU %.4f with a placeholder",
+              iou(r.mask, s->truth, (size_t)W * H));
+        CHECK(r.json && strstr(r.json, "\"placeholder_pixels\""), "the report's placeholder");
+    }
+    relief_remove_report_free(&r);
+    /* The frame as rendered has none: its missing points have the scene's
+     * colours. */
+    *out = *s;
+    f = frame_of(out, 1);
+    CHECK_STATUS(relief_remove_occluders(&f, NULL, &p, &r, &err), RELIEF_OK, err, NULL);
+    CHECK(!r.find.has_placeholder, "a placeholder found in a frame without one");
     relief_remove_report_free(&r);
     free(out);
 }
@@ -471,6 +535,30 @@ static int write_views(const char *dir, relief_error *err)
     return ok;
 }
 
+/* The colour as a P6 and the depth as a 16-bit P5 (big-endian, 5000 a
+ * metre, 0 missing: as depth.png holds them). */
+static int write_pnm(const scene *s, const char *dir)
+{
+    char path[4096];
+    FILE *fp;
+    int ok;
+    snprintf(path, sizeof path, "%s/colour.ppm", dir);
+    ok = (fp = fopen(path, "wb")) != NULL;
+    ok = ok && fprintf(fp, "P6\n%d %d\n255\n", W, H) > 0 &&
+         fwrite(s->rgb, 3, (size_t)W * H, fp) == (size_t)W * H;
+    ok = fp && fclose(fp) == 0 && ok;
+    snprintf(path, sizeof path, "%s/depth.pgm", dir);
+    ok = ok && (fp = fopen(path, "wb")) != NULL;
+    ok = ok && fprintf(fp, "P5\n%d %d\n65535\n", W, H) > 0;
+    for (size_t i = 0; ok && i < (size_t)W * H; ++i) {
+        double v = isfinite(s->z[i]) ? fmax(1.0, floor(s->z[i] * 5000.0 + 0.5)) : 0.0;
+        unsigned u = v > 65535.0 ? 65535u : (unsigned)v;
+        ok = fputc((int)(u >> 8), fp) != EOF && fputc((int)(u & 255), fp) != EOF;
+    }
+    ok = fp && fclose(fp) == 0 && ok;
+    return ok;
+}
+
 static int write_files(scene *s, const char *dir)
 {
     char path[4096];
@@ -505,6 +593,8 @@ static int write_files(scene *s, const char *dir)
     ok = ok && relief_depth_write(&f, path, RELIEF_DEPTH_PCD_BINARY, 0, &err) == RELIEF_OK;
     ok = ok && write_bad(s, dir, 0, &err) && write_bad(s, dir, 1, &err);
     ok = ok && write_views(dir, &err);
+    if (ok && !write_pnm(s, dir))
+        return fprintf(stderr, "test_api_occluders: cannot write %s's PNM files\n", dir), 1;
     if (!ok)
         fprintf(stderr, "test_api_occluders: %s\n", err.message);
     return ok ? 0 : 1;
@@ -549,6 +639,7 @@ int main(int argc, char **argv)
     }
     test_find(s);
     test_remove(s);
+    test_placeholder(s);
     test_views();
     test_bad(s);
     free(s);

@@ -1,8 +1,10 @@
 /* libFuzzer harness for the image readers (image/image_io.c): the input's
  * bytes go to relief_raster_decode, the path every image command's reading
  * takes after the file's bytes are in memory (PNG through libpng, JPEG
- * through libjpeg, told apart by the first bytes), and to the public
- * relief_image_decode, which returns the samples without a raster.
+ * through libjpeg, binary PNM by relief's own reader, told apart by the
+ * first bytes), and to the public relief_image_decode, which returns the
+ * samples without a raster. A PNM goes also to the depth readers' entry,
+ * its samples as stored (relief_pnm_samples without scaling).
  *
  * Besides the sanitizers, it checks what the API promises: a decode that
  * succeeds gives 1 to 4 channels of 8 or 16 bits, every value an integer
@@ -17,6 +19,7 @@
 #include <string.h>
 
 #include "image/image_io.h"
+#include "image/pnm.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -62,6 +65,40 @@ static void check_public(const uint8_t *data, size_t size, relief_status st,
     relief_image_free(&img);
 }
 
+/* A PNM's samples as stored: they decode exactly when the scaled ones
+ * do (the memory limit aside), in the same shape, none over maxval. */
+static void check_pnm_raw(const uint8_t *data, size_t size, relief_status st,
+                          const relief_raster *r)
+{
+    relief_error err = {0};
+    relief_pnm h;
+    relief_image img = {0, 0, 0, 0, 0, NULL};
+    relief_status pst = relief_pnm_header(data, size, "input", &h, &err);
+    if (!relief_pnm_sniff(data, size))
+        return;
+    if (pst == RELIEF_OK && (uint64_t)h.width * h.height * h.channels > (16u << 20))
+        return; /* the raster's limit refused it: not decoded here either */
+    if (pst == RELIEF_OK)
+        pst = relief_pnm_samples(data, size, "input", &h, 0, &img, &err);
+    if (pst != RELIEF_OK) {
+        if (img.data)
+            fail("a failed PNM decode left samples", err.message);
+        if (st == RELIEF_OK)
+            fail("the raw PNM decode refused what the raster read", err.message);
+        return;
+    }
+    if (st == RELIEF_OK && (img.width != r->width || img.height != r->height ||
+                            img.channels != r->channels || img.bit_depth != r->bit_depth))
+        fail("the raw PNM decode's shape differs", "");
+    for (size_t i = 0; i < (size_t)img.width * img.height * img.channels; ++i) {
+        unsigned v = img.bit_depth == 16 ? ((const uint16_t *)img.data)[i]
+                                         : ((const uint8_t *)img.data)[i];
+        if (v > h.maxval)
+            fail("a raw PNM sample over maxval", "");
+    }
+    relief_image_free(&img);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     /* 64 MiB of raster at most: a header may claim 65535 x 65535 pixels. */
@@ -71,6 +108,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     relief_status st = relief_raster_decode(data, size, "input", &lim, &r, &err);
 
     check_public(data, size, st, &r);
+    check_pnm_raw(data, size, st, &r);
 
     if (st != RELIEF_OK) {
         if (r.v)

@@ -1,4 +1,4 @@
-/* image/image_io.c: PNG and JPEG round trips, the real images of
+/* image/image_io.c: PNG and JPEG round trips, binary PNM (P5, P6), the real images of
  * ../shared/data/images, and every way a file can be bad.
  *   test_image_io IMAGES_DIR */
 #include <math.h>
@@ -191,6 +191,48 @@ static void test_png_fields(void)
     }
 }
 
+/* A decode of `text` (n bytes, the header and samples) must succeed. */
+static void good_pnm(const char *text, size_t n, int w, int h, int c, int depth,
+                     const float *want, const char *what)
+{
+    relief_raster r;
+    relief_error err = {0};
+    relief_status st = relief_raster_decode((const uint8_t *)text, n, "x", NULL, &r, &err);
+    CHECK(st == RELIEF_OK, "%s: %s", what, err.message);
+    if (st != RELIEF_OK)
+        return;
+    CHECK(r.width == w && r.height == h && r.channels == c && r.bit_depth == depth,
+          "%s: %d x %d x %d, %d bits", what, r.width, r.height, r.channels, r.bit_depth);
+    for (int i = 0; i < w * h * c && r.width == w && r.channels == c; ++i)
+        CHECK(r.v[i] == want[i], "%s: sample %d is %g, expected %g", what, i, r.v[i], want[i]);
+    relief_raster_free(&r);
+}
+
+/* ---- binary PNM: 8 and 16 bits, a maxval scaled to the full range,
+ * comments in the header; every truncation and bad field refused. */
+static void test_pnm(void)
+{
+    static const float grey[] = {0, 128, 255, 7}, rgb16[] = {1, 258, 65535, 0, 0, 256};
+    static const float half[] = {0, 255, 128, 51};
+    static const char p6[] = "P6\n2 1\n65535\n\0\1\1\2\xff\xff\0\0\0\0\1\0";
+    static const char p5[] = "P5 # grey\n2 2 255\n\0\x80\xff\7";
+    char c[64];
+    good_pnm(p5, sizeof p5 - 1, 2, 2, 1, 8, grey, "a P5 with a comment");
+    good_pnm(p6, sizeof p6 - 1, 2, 1, 3, 16, rgb16, "a 16-bit P6, big-endian");
+    good_pnm("P5\n2 2\n10\n\0\12\5\2", 14, 2, 2, 1, 8, half, "a P5 of maxval 10");
+    for (size_t n = 0; n + 1 < sizeof p6 - 1; ++n)
+        bad((const uint8_t *)p6, n, n ? 0 : RELIEF_E_FORMAT, "a truncated P6");
+    bad((const uint8_t *)"P3\n1 1\n255\n1 2 3\n", 17, RELIEF_E_FORMAT, "an ascii P3");
+    bad((const uint8_t *)"P5\n2 x\n255\n\0\0", 14, RELIEF_E_PARSE, "a P5 height 'x'");
+    bad((const uint8_t *)"P5\n0 2\n255\n", 12, RELIEF_E_FORMAT, "a P5 of width 0");
+    bad((const uint8_t *)"P5\n70000 1\n255\n", 16, RELIEF_E_RANGE, "a P5 too wide");
+    bad((const uint8_t *)"P5\n1 1\n0\n\0", 11, RELIEF_E_PARSE, "a P5 of maxval 0");
+    bad((const uint8_t *)"P5\n1 1\n65536\n\0\0", 16, RELIEF_E_PARSE, "a P5 of maxval 65536");
+    bad((const uint8_t *)"P5\n1 1\n9\n\12", 11, RELIEF_E_PARSE, "a P5 sample over maxval");
+    snprintf(c, sizeof c, "P5\n1 1\n255");
+    bad((const uint8_t *)c, strlen(c), RELIEF_E_PARSE, "a P5 ending in its header");
+}
+
 int main(int argc, char **argv)
 {
     const char *images = argc > 1 ? argv[1] : "../shared/data/images";
@@ -310,6 +352,7 @@ int main(int argc, char **argv)
     free(png);
     free(jpg);
     test_png_fields();
+    test_pnm();
     st = relief_raster_read("/nonexistent/x.png", NULL, &r, &err);
     CHECK(st == RELIEF_E_IO && strstr(err.message, "/nonexistent/x.png"), "missing: %s",
           err.message);

@@ -28,6 +28,12 @@ ok '[[ -s $tmp/o.png ]]' "no overlay"
 expect 0 "" -- "$relief" occluders "$tmp/colour.png" --depth "$tmp/depth.png" -o "$tmp/m2.png" --quiet
 v=$(iou "$tmp/m2.png"); echo "colour.png + depth.png: IoU $v"
 ok 'at_least "$v" 0.9' "colour and depth: IoU $v under 0.9"
+# The same pair as binary Netpbm (a P6 and a big-endian 16-bit P5): the same mask.
+expect 0 "" -- "$relief" occluders "$tmp/colour.ppm" --depth "$tmp/depth.pgm" -o "$tmp/m3.png" --quiet
+ok 'cmp -s "$tmp/m2.png" "$tmp/m3.png"' "colour.ppm + depth.pgm: another mask than the PNG pair"
+expect 0 "" -- "$relief" occluders "$tmp/colour.ppm" --depth "$tmp/depth.pgm" --depth-format pgm \
+  -o "$tmp/m4.png" --quiet
+ok 'cmp -s "$tmp/m2.png" "$tmp/m4.png"' "--depth-format pgm: another mask than auto"
 # A given background plane count of one: the floor's points then stand in
 # front of the wall, so the mask grows (marking more, never less).
 expect 0 "1 plane " -- "$relief" occluders "$tmp/scene.pcd" -o "$tmp/m1.png" --background plane
@@ -87,6 +93,12 @@ bad "no background found" -- occluders "$tmp/noise.pcd" -o "$tmp/bad.png"
 bad "same size" -- occluders "$tmp/colour.png" --depth "$tmp/half.png" -o "$tmp/bad.png"
 bad "give its depth" -- occluders "$tmp/colour.png" -o "$tmp/bad.png"
 bad "a PCD carries its own depth" -- occluders "$tmp/scene.pcd" --depth "$tmp/depth.png" -o "$tmp/bad.png"
+bad "give --depth" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --depth-format nyu
+bad "expects a binary PGM" -- occluders "$tmp/colour.png" --depth "$tmp/depth.png" \
+  --depth-format nyu -o "$tmp/bad.png"
+bad "--depth-format" -- occluders "$tmp/colour.png" --depth "$tmp/depth.png" \
+  --depth-format kinect -o "$tmp/bad.png"
+bad "--seeding" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --seeding canny
 bad "the mask is a PNG" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.jpg"
 bad "window" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --window 60
 bad "margin" -- occluders "$tmp/scene.pcd" -o "$tmp/bad.png" --margin nan

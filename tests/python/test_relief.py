@@ -87,6 +87,20 @@ def test_depth_fill_same_bytes_as_cli(tmp_path):
     assert np.array_equal(got[known], crop[known])
 
 
+def test_read_depth_encodings(tmp_path):
+    # A PGM's counts big-endian; NYU's raw disparities little-endian.
+    (tmp_path / "d.pgm").write_bytes(b"P5\n3 1\n65535\n" + np.array([0, 5000, 768], ">u2").tobytes())
+    z = relief.read_depth(tmp_path / "d.pgm")
+    assert np.isnan(z[0, 0]) and z[0, 1] == np.float32(1.0)
+    d = np.frombuffer(np.array([0, 5000, 768], ">u2").tobytes(), "<u2")
+    nyu = relief.read_depth(tmp_path / "d.pgm", encoding="nyu")
+    want = np.where(d < 2047, 351.3 / (1092.5 - d.astype(np.float64)), np.nan)
+    want[want <= 0] = np.nan
+    assert np.allclose(nyu[0], want, equal_nan=True)
+    with pytest.raises(ValueError):
+        relief.read_depth(tmp_path / "d.pgm", encoding="kinect")
+
+
 def test_threads_give_the_default_result(brick, tmp_path):
     """threads= (issue 60): 1, 3 or the default (the CPUs this process may
     run on), the same arrays from each engine; out of range raises naming
