@@ -2,7 +2,9 @@
 row gaps whose two captured ends differ by more than STEP (0.3 m), the
 share within NEAR (0.1 m) of either end. A fill that ramps across a step
 scores low; one that continues each surface to the silhouette scores 1.
-Also printed: its 2-D reading (a pixel in a stepped gap along its row or
+Also printed: the share within 0.1 m or the camera's own depth step at the
+end (z^2 / 348 m, a Kinect's: 0.28 m at 9.8 m, where 0.1 m is under one
+step, so a right fill of a far wall reads as wrong); its 2-D reading (a pixel in a stepped gap along its row or
 its column, within NEAR of an end of either) and its interior part (row
 gaps with a captured pixel above and below: not a row at the edge of the
 frame's invalid margin, where a third surface shows between the row's
@@ -51,9 +53,14 @@ def read(path, scale, fmt, tool):
     return z
 
 
-def gap_marks(before, after, step, near):
+KINECT_STEP = 1.0 / 348.0  # a structured-light camera's depth step over z^2 (metres)
+
+
+def gap_marks(before, after, step, near, quantum=0.0):
     """Along rows: in[y, x] where a filled pixel lies in a gap whose ends
-    differ by over step, ok[y, x] where it lies within near of an end."""
+    differ by over step, ok[y, x] where it lies within near of an end (or,
+    quantum > 0, within quantum x z^2 of it, the camera's own step there,
+    when that is more)."""
     inside = np.zeros(before.shape, bool)
     ok = np.zeros(before.shape, bool)
     for y in range(before.shape[0]):
@@ -65,7 +72,9 @@ def gap_marks(before, after, step, near):
             f = after[y, a + 1:b]
             filled = np.isfinite(f)
             inside[y, a + 1:b] |= filled
-            ok[y, a + 1:b] |= filled & (np.minimum(abs(f - row[a]), abs(f - row[b])) <= near)
+            ta = max(near, quantum * row[a] * row[a])
+            tb = max(near, quantum * row[b] * row[b])
+            ok[y, a + 1:b] |= filled & ((abs(f - row[a]) <= ta) | (abs(f - row[b]) <= tb))
     return inside, ok
 
 
@@ -87,9 +96,12 @@ def share(before, after, step=0.3, near=0.1):
     n, k = int(r_in.sum()), int(r_ok.sum())
     n2, k2 = int(both_in.sum()), int(both_ok.sum())
     n3, k3 = int(inner.sum()), int((inner & r_ok).sum())
+    _, q_ok = gap_marks(before, after, step, near, KINECT_STEP)
+    k4 = int(q_ok.sum())
     return dict(filled=n, within=k, share=k / n if n else None,
                 filled_2d=n2, within_2d=k2, share_2d=k2 / n2 if n2 else None,
-                filled_interior=n3, within_interior=k3, share_interior=k3 / n3 if n3 else None)
+                filled_interior=n3, within_interior=k3, share_interior=k3 / n3 if n3 else None,
+                within_step=k4, share_step=k4 / n if n else None)
 
 
 def main():

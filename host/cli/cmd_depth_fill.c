@@ -19,12 +19,14 @@
 #include "mesh/mesh.h"
 #include "depth/frame.h"
 
+/* A PGM (NYU's raw frames) is read as a PNG depth is, and written as a
+ * 16-bit PNG: IN_PNG, its name's only difference. */
 typedef enum in_kind { IN_PNG, IN_PFM, IN_PCD, IN_MESH } in_kind;
 
 static int kind_of_name(const char *path, in_kind *k)
 {
     const char *ext = cli_ext_of(path);
-    if (strcasecmp(ext, ".png") == 0)
+    if (strcasecmp(ext, ".png") == 0 || strcasecmp(ext, ".pgm") == 0)
         *k = IN_PNG;
     else if (strcasecmp(ext, ".pfm") == 0)
         *k = IN_PFM;
@@ -48,17 +50,22 @@ typedef struct depth_args {
     relief_depth_fill_params p;
     const char *in, *truth, *points, *colour;
     double scale; /* --scale; 0: the default */
+    relief_depth_encoding encoding; /* --depth-format (auto) */
     in_kind kind;
     cli_output outs[3]; /* -o, --points, --report */
 } depth_args;
 
-enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK, DF_COLOUR };
+enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK, DF_COLOUR, DF_FORMAT };
 
 static const cli_own own[] = {
     {"scale", DF_SCALE, "S", "16-bit PNG: values per metre (default 5000, TUM and Kinect)"},
     {"truth", DF_TRUTH, "T", "measure against T (IN's format): RMS over the filled pixels "
      "and the slope jump at the rim; for a mesh, the complete mesh: surface distances and "
      "voxel IoU"},
+    {"depth-format", DF_FORMAT, "F", "(PNG, PGM) how the samples are depths: auto (default: "
+     "a PNG or big-endian PGM at --scale), png, pgm, nyu (NYU Depth v2's raw Kinect "
+     "disparities) or sun (SUN RGB-D's rotated bits, millimetres); OUT is a 16-bit PNG "
+     "at --scale"},
     {"colour", DF_COLOUR, "C", "(PNG, PFM) the frame's registered colour image, of its "
      "size: where a hole lies across a depth step (edges layers), its colour edges part "
      "the surfaces, as a PCD's own colour does"},
@@ -104,6 +111,17 @@ static int take(void *ctx, int c, const char *arg)
     case DF_TRUTH: a->truth = arg; return 1;
     case DF_POINTS: a->points = arg; return 1;
     case DF_COLOUR: a->colour = arg; return 1;
+    case DF_FORMAT: {
+        static const char *const encodings[] = CLI_NAMES(RELIEF_DEPTH_ENCODING_LIST);
+        int v;
+        if (!CLI_PARSE_ENUM("depth-fill", "--depth-format", arg, encodings, &v))
+            return 0;
+        a->encoding = (relief_depth_encoding)v;
+        /* NYU's and SUN's depths are millimetres: written back at that */
+        if (a->scale == 0.0 && (v == RELIEF_DEPTH_ENCODING_NYU || v == RELIEF_DEPTH_ENCODING_SUN))
+            a->scale = 1000.0;
+        return 1;
+    }
     case DF_HOLE_MASK:
         return cli_parse_hole_mask("depth-fill", arg, &a->p.hole_labels, &a->p.has_hole_ball,
                                    a->p.hole_ball);
@@ -120,6 +138,12 @@ static int check_files(depth_args *a)
     if (!kind_of_name(a->in, &a->kind))
         return cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm, .png or "
                                 "a mesh's .ply, .obj, .off, .stl", a->in);
+    if (a->encoding != RELIEF_DEPTH_ENCODING_AUTO && a->kind != IN_PNG)
+        return cli_usage_error("depth-fill", "--depth-format: '%s' is no PNG or PGM depth "
+                                "image", a->in);
+    if (a->kind == IN_PNG && strcasecmp(cli_ext_of(out), ".png") != 0)
+        return cli_usage_error("depth-fill", "-o: '%s': a PNG's or PGM's repair is written as "
+                                "a 16-bit PNG: give OUT the .png extension", out);
     if (!kind_of_name(out, &kout) || kout != a->kind)
         return cli_usage_error("depth-fill", "-o: '%s': OUT is written in IN's format: give "
                                 "it IN's extension (a mesh: .ply, .obj, .off or .stl)", out);
@@ -184,7 +208,8 @@ static uint64_t read_limit(const depth_args *a)
 static relief_status read_frame(const depth_args *a, const char *path, relief_depth_image *f,
                                 relief_error *err)
 {
-    relief_status st = relief_depth_read(path, a->scale, read_limit(a) / 64, f, err);
+    relief_status st = relief_depth_read_as(path, a->encoding, a->scale, read_limit(a) / 64, f,
+                                            err);
     relief_depth_format want = a->kind == IN_PFM ? RELIEF_DEPTH_PFM : RELIEF_DEPTH_PNG16;
     if (st != RELIEF_OK)
         return st;
