@@ -122,6 +122,26 @@ expect 1 "odd" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --win
 expect 1 "not one of plain, haar, decompose" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant median
 expect 1 "IN's extension" -- "$relief" depth-fill "$tmp/x.ply" -o "$tmp/bad.pcd"
 expect 1 "levels 5 leaves" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --variant haar --levels 5; nothing levels
+# Depth edges (issue 63): layers by default, reported; across is paper
+# 003's; --colour for a PNG's registered colour (any image of its size);
+# NYU's raw PGM by --depth-format, written as a 16-bit PNG. The whole
+# office frame: a chair, a desk and their shadows on the wall.
+"$tool" png16 "$office" 5000 "$tmp/full.png" || exit 2
+expect 0 "" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/e_l.png" --report "$tmp/r_e.json" --quiet
+ok 'grep -q "\"edges\": \"layers\"" "$tmp/r_e.json" && grep -q "\"stepped_holes\": [1-9]" "$tmp/r_e.json"' "the report lacks the layers"
+expect 0 "" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/e_a.png" --edges across --quiet
+ok '! cmp -s "$tmp/e_l.png" "$tmp/e_a.png"' "edges across gave the layers' bytes"
+"$itool" mask "$tmp/c.png" 640 480 0 0 320 480 || exit 2
+expect 0 "parted by colour" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/e_c.png" --colour "$tmp/c.png"
+expect 1 "same size" -- "$relief" depth-fill "$tmp/office.png" -o "$tmp/bad.png" --colour "$tmp/m2.png"; nothing "colour size"
+expect 1 "carries its own colour" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --colour "$tmp/c.png"; nothing "colour with a PCD"
+expect 1 "not one of layers, across" -- "$relief" depth-fill "$tmp/office.png" -o "$tmp/bad.png" --edges ramp; nothing "edges"
+nyu=$depth/../rgbd/nyu/NYU_depth.pgm
+if [[ -f $nyu ]]; then
+  expect 0 "holes across a depth step" -- "$relief" depth-fill "$nyu" --depth-format nyu -o "$tmp/nyu.png"
+  expect 1 "16-bit PNG" -- "$relief" depth-fill "$nyu" --depth-format nyu -o "$tmp/bad.pgm"; nothing "PGM out"
+fi
+expect 1 "no PNG or PGM" -- "$relief" depth-fill "$tmp/office.pcd" --depth-format nyu -o "$tmp/bad.pcd"; nothing "format of a PCD"
 ok 'cmp -s "$tmp/office.pcd" <("$tool" crop "$office" 0 0 240 180 "$tmp/again.pcd" && cat "$tmp/again.pcd")' "the input was changed"
 
 echo "$pass passed, $fail failed"
