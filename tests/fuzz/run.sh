@@ -6,12 +6,12 @@
 # 1, N executions per image and depth reader, N / 4 per mesh reader (OpenMesh
 # and the repair on reading: some 600 a second), 30 N
 # for the command line and N / 100 for
-# the image fill and the occluders (each run a whole fill of up to 32 x 32
+# the image fill, the occluders and the depth fill (each run a whole fill of up to 32 x 32
 # pixels, some 5 to 10 a second under the coverage instrumentation), from the checked-in seeds
 # and regressions only, so that the suite's verdict does not depend on the
 # machine's speed or on earlier runs.
 # TARGETs (default all): read_ply read_obj read_off read_stl read_image image_fill
-# read_depth occluders cli. Each starts from its working corpus in BUILD_DIR/corpus/TARGET
+# read_depth occluders depth_fill cli. Each starts from its working corpus in BUILD_DIR/corpus/TARGET
 # (kept between runs), the seeds in tests/fuzz/corpus/TARGET and the inputs of
 # past crashes in tests/fuzz/regressions/TARGET. A crash, leak, hang (10 s) or out-of-memory
 # (2 GiB) leaves the input in BUILD_DIR/artifacts/TARGET/ and fails the run:
@@ -25,7 +25,7 @@ build=$1 secs=$2; shift 2
 runs=
 if [[ $secs == runs=* ]]; then runs=${secs#runs=}; fi
 targets=("$@")
-[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl read_image image_fill read_depth occluders cli)
+[[ ${#targets[@]} -gt 0 ]] || targets=(read_ply read_obj read_off read_stl read_image image_fill read_depth occluders depth_fill cli)
 
 for cc in clang clang++; do
   command -v $cc >/dev/null || { echo "fuzz: $cc not found; skipped (setup.sh installs clang)"; exit 77; }
@@ -56,12 +56,12 @@ for t in "${targets[@]}"; do
     cli) dict=(-dict="$src/tests/fuzz/cli.dict") ;;
     read_image) dict=(-dict="$src/tests/fuzz/image.dict") ;;
     read_depth) dict=(-dict="$src/tests/fuzz/depth.dict") ;;
-    image_fill|occluders) dict=() ;; # a binary header: no words to offer
+    image_fill|occluders|depth_fill) dict=() ;; # a binary header: no words to offer
     *) dict=(-dict="$src/tests/fuzz/mesh.dict") ;;
   esac
   work=$build/corpus/$t art=$build/artifacts/$t log=$build/fuzz_$t.log
   if [[ -n $runs ]]; then
-    n=$runs; [[ $t == cli ]] && n=$((runs * 30)); [[ $t == image_fill || $t == occluders ]] && n=$((runs / 100))
+    n=$runs; [[ $t == cli ]] && n=$((runs * 30)); [[ $t == image_fill || $t == occluders || $t == depth_fill ]] && n=$((runs / 100))
     [[ $t == read_ply || $t == read_obj || $t == read_off || $t == read_stl ]] && n=$((runs / 4))
     bound=(-seed=1 -runs="$n")
     work=$build/corpus-repro/$t
