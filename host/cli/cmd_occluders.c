@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,16 +20,18 @@
 #include "depth/depth_io.h"
 #include "image/image_io.h"
 #include "depth/frame.h"
+#include "cli/camera_files.h"
 
 enum { OC_DEPTH = OPT_COMMAND, OC_SCALE, OC_OVERLAY, OC_BG_MESH, OC_SAVE_MASK, OC_POINTS,
        OC_DEPTH_OUT, OC_COLOUR_OUT, OC_FILL_METHOD, OC_FILL_WINDOW, OC_DEPTH_VARIANT, OC_VIEWS, OC_POSES,
-       OC_DEPTH_FORMAT };
+       OC_DEPTH_FORMAT, OC_INTRINSICS, OC_VIEW_INTRINSICS, OC_FRAME_INDEX, OC_VIEW_INDEX };
 
 static const char *const frame_help =
     "IN is an organised PCD with colour (x y z rgb: a depth camera's frame), or a colour "
     "image (PNG, JPEG, or binary PPM / PGM) with --depth, its registered 16-bit depth PNG or "
     "PGM (--scale values per metre, default 5000; --depth-format for NYU's and SUN RGB-D's "
-    "encodings; --intrinsics, default a Kinect's scaled to the width).";
+    "encodings; --intrinsics, numbers or Open3D's camera JSON, default a Kinect's scaled to "
+    "the width).";
 
 /* The options both commands take: the frame, the background, the views. */
 #define FIND_OWN                                                                          \
@@ -43,12 +46,32 @@ static const char *const frame_help =
     {"background-mesh", OC_BG_MESH, "MESH", "the background is MESH (PLY, OBJ, OFF, STL; "  \
      "the frame's camera coordinates), not planes found in the depth"},                    \
     {"overlay", OC_OVERLAY, "O.png", "the colour with the occluders tinted red"},          \
+    {"intrinsics", OC_INTRINSICS, "FX,FY,CX,CY|CAMERA.json", "a depth image's pinhole "    \
+     "camera, pixels, or Open3D's camera JSON (width, height, intrinsic_matrix column by "  \
+     "column) of IN's size (default: a PCD's camera fitted to its points; for a depth "    \
+     "image fx = fy = 525 x width / 640 and the centre)"},                                  \
     {"views", OC_VIEWS, "V1,V2", "registered neighbouring views (PNG, JPEG, or PCD with "   \
-     "colour; IN's size and camera): paper 004's second cue, eq. 2.1"},                    \
-    {"poses", OC_POSES, "P.txt", "the views' poses, one line each: R and t as 12 numbers, " \
-     "row by row (x_view = R x + t, x in IN's camera coordinates); '#' starts a comment"}
+     "colour; through IN's camera, or --view-intrinsics): paper 004's second cue, eq. 2.1"}, \
+    {"poses", OC_POSES, "P.txt", "the views' poses: one line each of R and t as 12 "       \
+     "numbers, row by row (x_view = R x + t, x in IN's camera coordinates; '#' starts a "  \
+     "comment), or Open3D's trajectory log (camera-to-world 4 x 4 per entry; each view's " \
+     "pose inverse(T_view) T_frame)"},                                                      \
+    {"frame-index", OC_FRAME_INDEX, "I", "with a trajectory log: IN's entry, from 0 "      \
+     "(default 0)"},                                                                        \
+    {"view-index", OC_VIEW_INDEX, "J,K", "with a trajectory log: the views' entries, one " \
+     "per view (default: the entries in order, IN's left out)"},                            \
+    {"view-intrinsics", OC_VIEW_INTRINSICS, "FX,FY,CX,CY|CAMERA.json", "the views' camera " \
+     "(every view's), as --intrinsics; then the views may be of another size (default: "  \
+     "IN's camera and size)"}
 
-static const cli_own find_own[] = {FIND_OWN, {NULL, 0, NULL, NULL}};
+static const cli_own find_own[] = {
+    FIND_OWN,
+    {"points", OC_POINTS, "OUT.ply", "the frame's points, coloured, with a 'label' property: "
+     "1 on the occluders (a colour and depth input is back-projected through its camera)"},
+    {NULL, 0, NULL, NULL}};
+
+/* --intrinsics is the command's own: it also takes a camera file. */
+static const char *const skip[] = {"intrinsics", NULL};
 
 static const cli_own remove_own[] = {
     FIND_OWN,
@@ -58,7 +81,8 @@ static const cli_own remove_own[] = {
     {"colour-out", OC_COLOUR_OUT, "C.png", "(PCD input) the colour after the removal as a "
      "picture"},
     {"points", OC_POINTS, "OUT.ply", "the frame's points after the removal, coloured, with a "
-     "'label' property: 1 for the points put behind the occluders"},
+     "'label' property: 1 for the points put behind the occluders (a colour and depth input "
+     "is back-projected through its camera)"},
     {"fill-method", OC_FILL_METHOD, "M", "image-fill's method for the colour: wexler "
      "(default: multi-scale patch voting) or jain (paper 004's copy-paste)"},
     {"fill-window", OC_FILL_WINDOW, "W", "image-fill's starting window for the colour with "
@@ -73,6 +97,11 @@ typedef struct occ_args {
     int remove;
     const char *in, *depth, *overlay, *bg_mesh, *save_mask, *points, *depth_out, *colour_out;
     const char *views_arg, *poses;
+    const char *camera_file, *view_camera_file; /* --intrinsics, --view-intrinsics files */
+    cli_camera view_camera;                     /* --view-intrinsics */
+    int has_view_camera;
+    cli_pose_pick pick;                         /* --frame-index, --view-index */
+    int view_index[RELIEF_OCCLUDER_MAX_VIEWS], n_view_index, pick_given;
     relief_occluder_view views[RELIEF_OCCLUDER_MAX_VIEWS];
     char view_names[RELIEF_OCCLUDER_MAX_VIEWS][1024];
     uint8_t *view_rgb[RELIEF_OCCLUDER_MAX_VIEWS]; /* owned */
@@ -89,7 +118,7 @@ static cli_spec spec(int remove)
     cli_spec s = {"occluders", "IN -o MASK.png [--depth DEPTH.png] [options]",
                   NULL, CLI_OUTPUT | CLI_REPORT | CLI_QUIET,
                   "the mask, a PNG of IN's size: 255 on the occluders; required",
-                  NULL, NULL, 0, NULL, find_own, NULL};
+                  NULL, NULL, 0, skip, find_own, NULL};
     static char about[2][1400];
     snprintf(about[0], sizeof about[0], "Find the occluders of an RGB-D frame from its depth "
              "(paper 004, section 2.1): the background's planes by RANSAC (those with nearly "
@@ -120,6 +149,26 @@ static cli_spec spec(int remove)
     return s;
 }
 
+/* --view-index J,K,...: log entries, one per view. */
+static int view_indices(occ_args *a, const char *cmd, const char *arg)
+{
+    const char *at = arg;
+    a->n_view_index = 0, a->pick_given = 1;
+    while (*at) {
+        char *end;
+        long e = strtol(at, &end, 10);
+        if (end == at || e < 0 || e > 1000000 || (*end && *end != ',') ||
+            a->n_view_index == RELIEF_OCCLUDER_MAX_VIEWS)
+            return !cli_usage_error(cmd, "--view-index '%s': expected 1 to 16 log entries "
+                                    "(whole numbers from 0), comma separated", arg);
+        a->view_index[a->n_view_index++] = (int)e;
+        at = end + (*end == ',');
+    }
+    if (a->n_view_index == 0)
+        return !cli_usage_error(cmd, "--view-index '%s': expected 1 to 16 log entries", arg);
+    return 1;
+}
+
 static int take(void *ctx, int c, const char *arg)
 {
     occ_args *a = ctx;
@@ -138,6 +187,26 @@ static int take(void *ctx, int c, const char *arg)
     case OC_COLOUR_OUT: a->colour_out = arg; return 1;
     case OC_VIEWS: a->views_arg = arg; return 1;
     case OC_POSES: a->poses = arg; return 1;
+    case OC_INTRINSICS: {
+        cli_camera c;
+        a->camera_file = NULL, a->p.find.has_intrinsics = 0;
+        if (!cli_camera_numbers(arg, &c))
+            a->camera_file = arg; /* read with the frame */
+        else
+            a->p.find.has_intrinsics = 1, memcpy(a->p.find.intrinsics, c.k, sizeof c.k);
+        return 1;
+    }
+    case OC_VIEW_INTRINSICS:
+        a->view_camera_file = NULL, a->has_view_camera = 1;
+        if (!cli_camera_numbers(arg, &a->view_camera))
+            a->view_camera_file = arg;
+        return 1;
+    case OC_FRAME_INDEX:
+        if (!cli_parse_long(cmd, "--frame-index", arg, 0, 1000000, &w))
+            return 0;
+        a->pick.frame = (int)w, a->pick_given = 1;
+        return 1;
+    case OC_VIEW_INDEX: return view_indices(a, cmd, arg);
     case OC_DEPTH_FORMAT: {
         static const char *const encodings[] = CLI_NAMES(RELIEF_DEPTH_ENCODING_LIST);
         if (!CLI_PARSE_ENUM(cmd, "--depth-format", arg, encodings, &v))
@@ -192,6 +261,17 @@ static int split_views(occ_args *a)
         a->view_names[a->n_views++][len] = '\0';
         at += len + (at[len] == ',');
     }
+    if (a->pick_given && !a->poses)
+        return !cli_usage_error(cmd, "%s--frame-index and --view-index pick entries of --poses' "
+                                "trajectory log: give --views and --poses", "");
+    if (a->n_view_index && a->n_view_index != a->n_views)
+        return !cli_usage_error(cmd, "--view-index: one entry per view; %s", a->n_views == 1
+                                ? "1 view given" : "a different number of views given");
+    if (a->has_view_camera && !a->views_arg)
+        return !cli_usage_error(cmd, "%s--view-intrinsics is the views' camera: give --views",
+                                "");
+    a->pick.n_views = a->n_views;
+    a->pick.view = a->n_view_index ? a->view_index : NULL;
     return 1;
 }
 
@@ -199,7 +279,7 @@ static int split_views(occ_args *a)
  * exit status (said). */
 static int check_files(occ_args *a, int argc, char **argv)
 {
-    const char *cmd = a->cm.cmd, *out, *ins[5 + RELIEF_OCCLUDER_MAX_VIEWS];
+    const char *cmd = a->cm.cmd, *out, *ins[7 + RELIEF_OCCLUDER_MAX_VIEWS];
     int pcd;
     if (!cli_one_input(&a->cm, argc, argv, "input IN", &a->in))
         return EXIT_USAGE;
@@ -228,9 +308,9 @@ static int check_files(occ_args *a, int argc, char **argv)
     if (!split_views(a))
         return EXIT_USAGE;
     ins[0] = a->in, ins[1] = a->depth, ins[2] = a->cm.mask, ins[3] = a->bg_mesh;
-    ins[4] = a->poses;
+    ins[4] = a->poses, ins[5] = a->camera_file, ins[6] = a->view_camera_file;
     for (int k = 0; k < a->n_views; ++k)
-        ins[5 + k] = a->view_names[k];
+        ins[7 + k] = a->view_names[k];
     a->outs[0] = (cli_output){"-o", out, CLI_OUT_FILE};
     a->outs[1] = (cli_output){"--overlay", a->overlay, CLI_OUT_FILE};
     a->outs[2] = (cli_output){"--report", a->cm.report, CLI_OUT_FILE};
@@ -240,7 +320,7 @@ static int check_files(occ_args *a, int argc, char **argv)
     a->outs[6] = (cli_output){"--colour-out", a->colour_out, CLI_OUT_FILE};
     if (a->colour_out && !is_image_name(a->colour_out, 1))
         return cli_usage_error(cmd, "--colour-out '%s': a PNG or JPEG", a->colour_out);
-    return cli_check_outputs(cmd, ins, 5 + (size_t)a->n_views, a->outs, 7);
+    return cli_check_outputs(cmd, ins, 7 + (size_t)a->n_views, a->outs, 7);
 }
 
 static int parse_args(int argc, char **argv, occ_args *a, int remove)
@@ -444,58 +524,65 @@ static relief_status read_view(occ_args *a, int k, const relief_depth_image *f,
         st = relief_image_read(path, read_limit(a), &c, err);
         w = c.width, h = c.height;
     }
-    if (st == RELIEF_OK && (w != f->width || h != f->height))
+    if (st == RELIEF_OK && !a->has_view_camera && (w != f->width || h != f->height))
         st = relief_fail(err, RELIEF_E_USAGE, "--views %s is %d x %d pixels, %s is %d x %d: "
-                         "they must be the same size (the same camera)", path, w, h, a->in,
-                         f->width, f->height);
+                         "through IN's camera they must be the same size (or give "
+                         "--view-intrinsics)", path, w, h, a->in, f->width, f->height);
+    if (st == RELIEF_OK && a->view_camera.width &&
+        (w != a->view_camera.width || h != a->view_camera.height))
+        st = relief_fail(err, RELIEF_E_USAGE, "--views %s is %d x %d pixels, --view-intrinsics "
+                         "%s is a camera of %d x %d", path, w, h, a->view_camera_file,
+                         a->view_camera.width, a->view_camera.height);
     if (st == RELIEF_OK && !(a->view_rgb[k] = malloc((size_t)w * h * 3)))
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate view %s", path);
     if (st == RELIEF_OK && d.rgb)
         memcpy(a->view_rgb[k], d.rgb, (size_t)w * h * 3);
     else if (st == RELIEF_OK)
         colour_of(&c, a->view_rgb[k]);
-    a->views[k] = (relief_occluder_view){w, h, a->view_rgb[k], {0}};
+    memset(&a->views[k], 0, sizeof a->views[k]);
+    a->views[k].width = w, a->views[k].height = h, a->views[k].rgb = a->view_rgb[k];
+    if (a->has_view_camera)
+        memcpy(a->views[k].intrinsics, a->view_camera.k, sizeof a->view_camera.k);
     relief_depth_image_free(&d);
     relief_image_free(&c);
     return st;
 }
 
-/* The poses file: one line of 12 numbers per view ('#' comments, blank
- * lines skipped; spaces or commas between). */
-static relief_status read_poses(occ_args *a, relief_error *err)
+/* The cameras given as files (--intrinsics, --view-intrinsics): read,
+ * IN's checked against its size. */
+static relief_status read_cameras(occ_args *a, const relief_depth_image *f, relief_error *err)
 {
-    char line[4096];
-    int k = 0, no = 0;
-    FILE *fp = fopen(a->poses, "r");
-    if (!fp)
-        return relief_fail(err, RELIEF_E_IO, "--poses %s: cannot be read", a->poses);
-    while (fgets(line, sizeof line, fp)) {
-        char *at = line, *end;
-        int n = 0;
-        ++no;
-        line[strcspn(line, "#")] = '\0';
-        if (strspn(line, " \t\r\n,") == strlen(line))
-            continue;
-        for (; k < a->n_views && n < 12; ++n, at = end) {
-            at += strspn(at, " \t,");
-            a->views[k].pose[n] = relief_strtod(at, &end);
-            if (end == at)
-                break;
-        }
-        at += strspn(at, " \t\r\n,");
-        if (k >= a->n_views || n != 12 || *at) {
-            fclose(fp);
-            return relief_fail(err, RELIEF_E_PARSE, "--poses %s line %d: %s", a->poses, no,
-                               k >= a->n_views ? "more poses than --views"
-                                               : "expected 12 numbers (R row by row, then t)");
-        }
-        ++k;
+    cli_camera c;
+    relief_status st = RELIEF_OK;
+    if (a->camera_file)
+        st = cli_read_camera_json("--intrinsics", a->camera_file, &c, err);
+    if (st == RELIEF_OK && a->camera_file && (c.width != f->width || c.height != f->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "--intrinsics %s is a camera of %d x %d pixels, "
+                         "%s is %d x %d", a->camera_file, c.width, c.height, a->in, f->width,
+                         f->height);
+    if (st == RELIEF_OK && a->camera_file) {
+        a->p.find.has_intrinsics = 1;
+        memcpy(a->p.find.intrinsics, c.k, sizeof c.k);
     }
-    fclose(fp);
-    if (k != a->n_views)
-        return relief_fail(err, RELIEF_E_PARSE, "--poses %s: %d poses for %d views", a->poses,
-                           k, a->n_views);
-    return RELIEF_OK;
+    if (st == RELIEF_OK && a->view_camera_file)
+        st = cli_read_camera_json("--view-intrinsics", a->view_camera_file, &a->view_camera,
+                                  err);
+    return st;
+}
+
+/* The views' colours and poses. */
+static relief_status read_views(occ_args *a, const relief_depth_image *f, relief_error *err)
+{
+    double pose[RELIEF_OCCLUDER_MAX_VIEWS][12];
+    int is_log;
+    relief_status st = RELIEF_OK;
+    for (int k = 0; st == RELIEF_OK && k < a->n_views; ++k)
+        st = read_view(a, k, f, err);
+    if (st == RELIEF_OK && a->n_views)
+        st = cli_read_poses(a->poses, &a->pick, a->pick_given, pose, &is_log, err);
+    for (int k = 0; st == RELIEF_OK && k < a->n_views; ++k)
+        memcpy(a->views[k].pose, pose[k], sizeof pose[k]);
+    return st;
 }
 
 /* The inputs: the frame, the background mesh, the given mask. */
@@ -503,10 +590,10 @@ static relief_status read_inputs(occ_args *a, relief_depth_image *f, relief_mesh
                                  relief_image *mask, relief_error *err)
 {
     relief_status st = read_frame(a, f, err);
-    for (int k = 0; st == RELIEF_OK && k < a->n_views; ++k)
-        st = read_view(a, k, f, err);
-    if (st == RELIEF_OK && a->n_views)
-        st = read_poses(a, err);
+    if (st == RELIEF_OK)
+        st = read_cameras(a, f, err);
+    if (st == RELIEF_OK)
+        st = read_views(a, f, err);
     a->p.find.views = a->n_views ? a->views : NULL;
     a->p.find.n_views = a->n_views;
     if (st == RELIEF_OK && a->bg_mesh)
@@ -519,6 +606,26 @@ static relief_status read_inputs(occ_args *a, relief_depth_image *f, relief_mesh
                          "they must be the same size", a->cm.mask, mask->width, mask->height,
                          a->in, f->width, f->height);
     return st;
+}
+
+/* A colour and depth frame's points for --points: each pixel's depth
+ * back-projected through the camera the finding used (the report's: x / z
+ * = c0 u + c1, y / z = c2 v + c3), as a PCD carries them. */
+static relief_status give_points(relief_depth_image *f, const double cam[4], relief_error *err)
+{
+    if (f->xyz)
+        return RELIEF_OK;
+    if (!(f->xyz = malloc((size_t)f->width * f->height * 3 * sizeof *f->xyz)))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the frame's points");
+    for (int v = 0; v < f->height; ++v)
+        for (int u = 0; u < f->width; ++u) {
+            size_t i = (size_t)v * f->width + u;
+            float z = isfinite(f->z[i]) && f->z[i] > 0.0f ? f->z[i] : NAN;
+            f->xyz[3 * i] = (float)((cam[0] * u + cam[1]) * z);
+            f->xyz[3 * i + 1] = (float)((cam[2] * v + cam[3]) * z);
+            f->xyz[3 * i + 2] = z;
+        }
+    return RELIEF_OK;
 }
 
 static void free_views(occ_args *a)
@@ -540,6 +647,8 @@ static int find_mode(occ_args *a)
     st = read_inputs(a, &f, &bg, &none, &err);
     if (st == RELIEF_OK)
         st = relief_find_occluders(&f, &a->p.find, &found, &r, &err);
+    if (st == RELIEF_OK && a->points)
+        st = give_points(&f, r.camera, &err);
     if (st == RELIEF_OK) {
         occ_out o = {a, &f, &f, found.data, r.json};
         for (size_t i = 0; i < (size_t)f.width * f.height; ++i)
@@ -599,9 +708,6 @@ static int remove_mode(occ_args *a)
     memset(&f, 0, sizeof f);
     memset(&g, 0, sizeof g);
     memset(&r, 0, sizeof r);
-    if (a->points && a->depth)
-        return cli_usage_error(a->cm.cmd, "--points %s: points need an organised PCD input",
-                               a->points);
     st = read_inputs(a, &f, &bg, &mask, &err);
     if (st == RELIEF_OK)
         st = copy_frame(&f, &g, &err);
@@ -611,6 +717,8 @@ static int remove_mode(occ_args *a)
         cli_progress_end(&pr);
         cli_progress_explain(&pr, st, &err);
     }
+    if (st == RELIEF_OK && a->points)
+        st = give_points(&g, r.find.camera, &err);
     if (st == RELIEF_OK && !(label = malloc((size_t)f.width * f.height)))
         st = relief_fail(&err, RELIEF_E_NOMEM, "cannot allocate the labels");
     if (st == RELIEF_OK)

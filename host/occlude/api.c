@@ -61,11 +61,20 @@ static relief_status check_views(const relief_occluder_params *p, relief_error *
                                  "expected 0..%d", p->n_views, RELIEF_OCCLUDER_MAX_VIEWS);
     if (p->n_views > 0 && !p->views)
         return relief_fail(err, RELIEF_E_USAGE, "views: NULL with n_views %d", p->n_views);
-    for (int k = 0; k < p->n_views; ++k)
+    for (int k = 0; k < p->n_views; ++k) {
+        const double *in = p->views[k].intrinsics;
         for (int i = 0; i < 12; ++i)
             if (!isfinite(p->views[k].pose[i]))
                 return relief_fail_param(err, RELIEF_E_RANGE, "views", "view %d: pose element %d "
                                          "is not finite", k, i);
+        if ((in[0] != 0.0 || in[1] != 0.0 || in[2] != 0.0 || in[3] != 0.0) &&
+            !(in[0] > 0.0 && in[1] > 0.0 && isfinite(in[0]) && isfinite(in[1]) &&
+              isfinite(in[2]) && isfinite(in[3])))
+            return relief_fail_param(err, RELIEF_E_RANGE, "views", "view %d: intrinsics %g,%g,"
+                                     "%g,%g out of range: expected fx,fy > 0 and finite cx,cy "
+                                     "(pixels), or all 0 for the frame's camera", k, in[0],
+                                     in[1], in[2], in[3]);
+    }
     if (!(p->parallax >= 0.1 && p->parallax <= 64.0))
         return relief_fail_param(err, RELIEF_E_RANGE, "parallax", "parallax %g out of range: "
                                  "expected 0.1..64 pixels", p->parallax);
@@ -240,6 +249,14 @@ static void find_body(relief_json *j, const relief_occluder_params *p,
     rj_int(j, "foreground", (long long)r->view_foreground);
     rj_int(j, "background", (long long)r->view_background);
     rj_int(j, "unknown", (long long)r->view_unknown);
+    rj_begin_object(j, "in_front");
+    rj_int(j, "foreground", (long long)r->front_view_foreground);
+    rj_int(j, "background", (long long)r->front_view_background);
+    rj_end_object(j);
+    rj_begin_object(j, "on_background");
+    rj_int(j, "background", (long long)r->on_view_background);
+    rj_int(j, "foreground", (long long)r->on_view_foreground);
+    rj_end_object(j);
     rj_end_object(j);
 }
 
@@ -296,6 +313,17 @@ static relief_status check_memory(const relief_depth_image *f, const relief_run_
     return relief_memory_check("finding the occluders", need,
                                run->max_memory ? run->max_memory : relief_default_memory_limit(),
                                "", err);
+}
+
+/* The views' L* (4 bytes a view's pixel) per pixel of the frame, rounded
+ * up: views may be of another size than the frame. */
+static uint64_t view_bytes(const relief_depth_image *f, const relief_occluder_params *p)
+{
+    uint64_t all = 0, n = (uint64_t)f->width * f->height;
+    for (int k = 0; k < p->n_views && p->views; ++k)
+        all += 4u * (uint64_t)(p->views[k].width > 0 ? p->views[k].width : 0) *
+               (uint64_t)(p->views[k].height > 0 ? p->views[k].height : 0);
+    return n ? (all + n - 1) / n : 0;
 }
 
 /* Counts of the background's verdicts on the captured points. */
@@ -356,6 +384,8 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
     r->views = p->n_views, r->parallax_seeds = c.parallax_seeds;
     r->view_foreground = c.view_fg;
     r->view_background = c.view_bg, r->view_unknown = c.view_unknown;
+    r->front_view_foreground = c.front_fg, r->front_view_background = c.front_bg;
+    r->on_view_background = c.on_bg, r->on_view_foreground = c.on_fg;
     occ_plane_regions(s, mask, r->plane, r->planes);
     if (c.seeds == 0)
         return relief_fail(err, RELIEF_E_RANGE, "nothing in front of the background: no "
@@ -387,7 +417,7 @@ relief_status relief_find_occluders(const relief_depth_image *f, const relief_oc
     if (st == RELIEF_OK)
         st = check_mesh(p, err);
     if (st == RELIEF_OK)
-        st = check_memory(f, &p->run, 4u * (unsigned)p->n_views, err);
+        st = check_memory(f, &p->run, view_bytes(f, p), err);
     if (st != RELIEF_OK)
         return st;
     n = (size_t)f->width * f->height;
@@ -685,7 +715,7 @@ relief_status relief_remove_occluders(relief_depth_image *f, const relief_image 
     if (st == RELIEF_OK)
         st = relief_depth_fill_params_validate(&p->depth, err);
     if (st == RELIEF_OK)
-        st = check_memory(f, &p->find.run, 32u + 4u * (unsigned)p->find.n_views, err);
+        st = check_memory(f, &p->find.run, 32u + view_bytes(f, &p->find), err);
     if (st != RELIEF_OK)
         return st;
     memset(&w, 0, sizeof w);

@@ -150,6 +150,32 @@ static void weak_seeds(const occ_scene *s, uint8_t *seed, size_t *queue, occ_cou
     }
 }
 
+/* Every pixel with a background behind it judged by the views, so that
+ * their counts describe the frame and can be set against the depth's:
+ * the captured points beyond the margin (in front) and within it (on the
+ * background). The verdicts are cached: the mask's stages ask again for
+ * free. */
+static void judge_frame(const occ_scene *s, occ_views *v, occ_counts *c)
+{
+    size_t n = (size_t)s->width * s->height;
+    if (!v->cue)
+        return;
+    for (size_t i = 0; i < n; ++i) {
+        double cl = s->clearance[i], m;
+        int cue;
+        if (!isfinite(s->surface[i]))
+            continue;
+        cue = occ_views_cue(v, i);
+        if (!isfinite(cl) || cue == OCC_CUE_UNKNOWN)
+            continue;
+        m = occ_margin(s, s->pts[3 * i + 2]);
+        if (cl > m)
+            ++*(cue == OCC_CUE_FOREGROUND ? &c->front_fg : &c->front_bg);
+        else if (fabs(cl) <= m)
+            ++*(cue == OCC_CUE_BACKGROUND ? &c->on_bg : &c->on_fg);
+    }
+}
+
 /* Seeds where the depth is missing and the views see parallax. */
 static void parallax_seeds(const occ_scene *s, occ_views *v, uint8_t *seed, occ_counts *c)
 {
@@ -246,6 +272,7 @@ static relief_status mask_stages(const occ_scene *s, const relief_occluder_param
     g->views = &views;
     for (size_t i = 0; i < n; ++i)
         g->mask[i] = s->clearance[i] > occ_margin(s, s->pts[3 * i + 2]); /* NaN: 0 */
+    judge_frame(s, &views, c);
     parallax_seeds(s, &views, g->mask, c);
     drop_small(g->mask, s->width, s->height, p->min_area, g->queue, c);
     if (p->seeding == RELIEF_SEEDING_HYSTERESIS)

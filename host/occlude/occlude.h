@@ -98,18 +98,26 @@ enum {
     OCC_CUE_FOREGROUND = 1  /* over it */
 };
 
+/* One view's camera: its size and pinhole (pixel = f y / z + c). */
+typedef struct occ_view_camera {
+    int width, height;
+    double fx, fy, cx, cy;
+    const float *lum;       /* width x height: its L* (in occ_views.lum) */
+} occ_view_camera;
+
 typedef struct occ_views {
     const occ_scene *s;
     const relief_occluder_params *p;
     const float *lab;       /* the frame's CIELAB, width x height x 3 */
-    float *lum;             /* n_views x width x height: each view's L* */
+    float *lum;             /* every view's L*, one after the other */
+    occ_view_camera cam[RELIEF_OCCLUDER_MAX_VIEWS];
     int8_t *cue;            /* per pixel: OCC_CUE_*, computed when asked */
     size_t fg, bg, unknown; /* the verdicts given */
 } occ_views;
 
 /* The views of p (none: v->cue stays NULL and every cue is UNKNOWN) over
- * scene s and the frame's `lab`. RELIEF_E_USAGE for a view of another
- * size or without colour; RELIEF_E_NOMEM. */
+ * scene s and the frame's `lab`. RELIEF_E_USAGE for a view through the
+ * frame's camera of another size, or without colour; RELIEF_E_NOMEM. */
 relief_status occ_views_init(occ_views *v, const occ_scene *s, const float *lab,
                              const relief_occluder_params *p, relief_error *err);
 /* Pixel i's verdict, computed on its first asking. */
@@ -121,6 +129,7 @@ typedef struct occ_counts {
     size_t seeds, seed_groups, seeds_dropped, weak_seeds, grown_missing, grown_edge, dilated;
     size_t total;
     size_t parallax_seeds, view_fg, view_bg, view_unknown;
+    size_t front_fg, front_bg, on_bg, on_fg; /* the views against the depth */
 } occ_counts;
 
 /* The occluder mask (width x height, 1 = occluder) of scene s with the

@@ -23,35 +23,79 @@
  * best (the sensor's noise between two views). */
 #define ZERO_SLACK 1.25
 
+/* View k's camera: its own intrinsics, or the frame's (x / z = cam[0] u +
+ * cam[1] inverted: u = x / z / cam[0] - cam[1] / cam[0]). */
+static relief_status view_camera(const occ_scene *s, const relief_occluder_view *w, int k,
+                                 occ_view_camera *c, relief_error *err)
+{
+    const double *in = w->intrinsics;
+    int own = in[0] != 0.0 || in[1] != 0.0 || in[2] != 0.0 || in[3] != 0.0;
+    if (!w->rgb)
+        return relief_fail(err, RELIEF_E_USAGE, "view %d: rgb: NULL", k);
+    if (!own && (w->width != s->width || w->height != s->height))
+        return relief_fail(err, RELIEF_E_USAGE, "view %d is %d x %d pixels, the frame %d x %d: "
+                           "a view through the frame's camera is of its size (give the view's "
+                           "intrinsics)", k, w->width, w->height, s->width, s->height);
+    if (w->width < 2 * HALF + 1 || w->height < 2 * HALF + 1)
+        return relief_fail(err, RELIEF_E_RANGE, "view %d is %d x %d pixels: expected at least "
+                           "%d x %d", k, w->width, w->height, 2 * HALF + 1, 2 * HALF + 1);
+    c->width = w->width, c->height = w->height;
+    if (own)
+        c->fx = in[0], c->fy = in[1], c->cx = in[2], c->cy = in[3];
+    else
+        c->fx = 1.0 / s->cam[0], c->cx = -s->cam[1] / s->cam[0],
+        c->fy = 1.0 / s->cam[2], c->cy = -s->cam[3] / s->cam[2];
+    return RELIEF_OK;
+}
+
+/* Each view's L*, one after the other in v->lum. */
+static relief_status view_lightness(occ_views *v, size_t total, relief_error *err)
+{
+    size_t at = 0, most = 0;
+    float *tmp;
+    for (int k = 0; k < v->p->n_views; ++k)
+        if ((size_t)v->cam[k].width * v->cam[k].height > most)
+            most = (size_t)v->cam[k].width * v->cam[k].height;
+    v->lum = malloc(total * sizeof *v->lum);
+    tmp = malloc(most * 3 * sizeof *tmp);
+    if (!v->lum || !tmp) {
+        free(tmp);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the views' %zu pixels", total);
+    }
+    for (int k = 0; k < v->p->n_views; ++k) {
+        size_t m = (size_t)v->cam[k].width * v->cam[k].height;
+        occ_lab(v->p->views[k].rgb, m, tmp);
+        for (size_t i = 0; i < m; ++i)
+            v->lum[at + i] = tmp[3 * i];
+        v->cam[k].lum = v->lum + at;
+        at += m;
+    }
+    free(tmp);
+    return RELIEF_OK;
+}
+
 relief_status occ_views_init(occ_views *v, const occ_scene *s, const float *lab,
                              const relief_occluder_params *p, relief_error *err)
 {
-    size_t n = (size_t)s->width * s->height;
-    float *tmp;
+    size_t n = (size_t)s->width * s->height, total = 0;
+    relief_status st;
     memset(v, 0, sizeof *v);
     v->s = s, v->p = p, v->lab = lab;
     if (p->n_views == 0)
         return RELIEF_OK;
-    for (int k = 0; k < p->n_views; ++k)
-        if (p->views[k].width != s->width || p->views[k].height != s->height ||
-            !p->views[k].rgb)
-            return relief_fail(err, RELIEF_E_USAGE, "view %d: %s", k, p->views[k].rgb
-                               ? "not the frame's size (the views share the frame's camera)"
-                               : "rgb: NULL");
-    v->lum = malloc((size_t)p->n_views * n * sizeof *v->lum);
-    v->cue = malloc(n);
-    tmp = malloc(n * 3 * sizeof *tmp);
-    if (!v->lum || !v->cue || !tmp) {
-        free(tmp);
-        occ_views_free(v);
-        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the views' %zu pixels", n);
-    }
     for (int k = 0; k < p->n_views; ++k) {
-        occ_lab(p->views[k].rgb, n, tmp);
-        for (size_t i = 0; i < n; ++i)
-            v->lum[(size_t)k * n + i] = tmp[3 * i];
+        if ((st = view_camera(s, &p->views[k], k, &v->cam[k], err)) != RELIEF_OK)
+            return st;
+        total += (size_t)v->cam[k].width * v->cam[k].height;
     }
-    free(tmp);
+    if ((st = view_lightness(v, total, err)) != RELIEF_OK) {
+        occ_views_free(v);
+        return st;
+    }
+    if (!(v->cue = malloc(n))) {
+        occ_views_free(v);
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the views' verdicts");
+    }
     memset(v->cue, OCC_CUE_UNSEEN, n);
     return RELIEF_OK;
 }
@@ -63,18 +107,18 @@ void occ_views_free(occ_views *v)
     v->lum = NULL, v->cue = NULL;
 }
 
-/* SSD of the frame's window at (u, v) against view lum's at (x, y); -1
- * when the view's window leaves the image. */
-static double ssd(const occ_views *v, const float *lum, int u, int y0, int x, int y)
+/* SSD of the frame's window at (u, y0) against view c's at (x, y); -1
+ * when the view's window leaves the view. */
+static double ssd(const occ_views *v, const occ_view_camera *c, int u, int y0, int x, int y)
 {
     const occ_scene *s = v->s;
     double sum = 0.0;
-    if (x < HALF || y < HALF || x + HALF >= s->width || y + HALF >= s->height)
+    if (x < HALF || y < HALF || x + HALF >= c->width || y + HALF >= c->height)
         return -1.0;
     for (int dy = -HALF; dy <= HALF; ++dy)
         for (int dx = -HALF; dx <= HALF; ++dx) {
             double d = v->lab[3 * ((size_t)(y0 + dy) * s->width + (u + dx))] -
-                       lum[(size_t)(y + dy) * s->width + (x + dx)];
+                       c->lum[(size_t)(y + dy) * c->width + (x + dx)];
             sum += d * d;
         }
     return sum;
@@ -85,14 +129,14 @@ static double ssd(const occ_views *v, const float *lum, int u, int y0, int x, in
 static int project(const occ_views *v, int k, const double p[3], double *px, double *py)
 {
     const double *m = v->p->views[k].pose;
-    const double *cam = v->s->cam;
+    const occ_view_camera *c = &v->cam[k];
     double y[3];
     for (int r = 0; r < 3; ++r)
         y[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
     if (!(y[2] > 0.0))
         return 0;
-    *px = (y[0] / y[2] - cam[1]) / cam[0];
-    *py = (y[1] / y[2] - cam[3]) / cam[2];
+    *px = c->fx * y[0] / y[2] + c->cx;
+    *py = c->fy * y[1] / y[2] + c->cy;
     return 1;
 }
 
@@ -104,7 +148,7 @@ static int project(const occ_views *v, int k, const double p[3], double *px, dou
 static double displacement(const occ_views *v, int k, int u, int y0, const double x[3],
                            int *ok)
 {
-    const float *lum = v->lum + (size_t)k * v->s->width * v->s->height;
+    const occ_view_camera *c = &v->cam[k];
     double qx, qy, nx, ny, near[3] = {0.5 * x[0], 0.5 * x[1], 0.5 * x[2]}, len;
     double best = HUGE_VAL, total = 0.0, zero = -1.0;
     int r = v->p->view_radius, bt = 0, n = 0;
@@ -117,7 +161,7 @@ static double displacement(const occ_views *v, int k, int u, int y0, const doubl
         return 0.0; /* the views' baseline shows no parallax here */
     nx /= len, ny /= len;
     for (int t = -r; t <= r; ++t) {
-        double e = ssd(v, lum, u, y0, (int)lround(qx + t * nx), (int)lround(qy + t * ny));
+        double e = ssd(v, c, u, y0, (int)lround(qx + t * nx), (int)lround(qy + t * ny));
         if (e < 0.0)
             continue;
         if (t == 0)

@@ -100,13 +100,24 @@ RELIEF_API const char *relief_seeding_name(relief_seeding seeding);
 #define RELIEF_OCCLUDER_MAX_VIEWS 16
 
 /* A registered neighbouring view of the frame (paper 004: the previous and
- * the next image): its colour, of the frame's size and seen through the
- * frame's camera, and its pose. */
+ * the next image): its colour, its camera and its pose. A view through the
+ * frame's own camera (intrinsics all 0, as a zeroed struct has them) is of
+ * the frame's size; one with its own intrinsics may be of any size (another
+ * camera, another resolution). A point x in the frame's camera coordinates
+ * is y = R x + t in the view's, seen at pixel (fx y0 / y2 + cx,
+ * fy y1 / y2 + cy), pixel centres at whole numbers. For a sequence of
+ * camera-to-world poses T (Open3D's trajectory log, a SLAM system's output)
+ * [R | t] is the top 3 rows of inverse(T_view) T_frame. */
 typedef struct relief_occluder_view {
-    int width, height;   /* the frame's */
+    int width, height;   /* the view's pixels; the frame's when intrinsics
+                            are 0 */
     const uint8_t *rgb;  /* height x width x 3, sRGB */
     double pose[12];     /* [R | t], 3 x 4 row-major: a point x in the frame's
                             camera coordinates is R x + t in this view's */
+    double intrinsics[4]; /* the view's fx, fy, cx, cy in pixels (fx, fy > 0,
+                            cx, cy finite); all 0 (default): the frame's
+                            camera (its intrinsics, or the camera fitted to
+                            its points) */
 } relief_occluder_view;
 
 typedef struct relief_occluder_params {
@@ -207,9 +218,19 @@ typedef struct relief_occluder_report {
     size_t dilated;          /* added by the dilation */
     int views;               /* neighbouring views used */
     size_t parallax_seeds;   /* seeds where the depth is missing, by the views */
-    size_t view_foreground;  /* pixels the views judged: over parallax */
+    size_t view_foreground;  /* pixels the views judged: over parallax (every
+                                pixel with a background behind it is judged,
+                                so these count the frame) */
     size_t view_background;  /* at most parallax, on texture */
     size_t view_unknown;     /* no texture, or seen by no view */
+    /* How the views agree with the depth, on the captured points: */
+    size_t front_view_foreground; /* in front of the background by over the
+                                margin (the depth's foreground), judged
+                                foreground by the views */
+    size_t front_view_background; /* ... judged background */
+    size_t on_view_background; /* within the margin of the background, judged
+                                background */
+    size_t on_view_foreground; /* ... judged foreground */
     size_t occluder_pixels;  /* the mask's */
     double camera[4];        /* x / z = c0 u + c1, y / z = c2 v + c3 */
     double seconds_total;

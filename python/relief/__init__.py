@@ -43,7 +43,7 @@ from . import _relief
 __all__ = ["ReliefError", "Mesh", "cancel_all", "image_fill", "depth_fill", "complete_mesh",
            "fill_mesh_holes", "complete_points", "find_occluders", "remove_occluders", "Removed",
            "read_mesh", "write_mesh", "read_image", "write_image",
-           "read_depth", "write_depth",
+           "read_depth", "read_pcd", "Frame", "write_depth",
            "devices", "parameters", "__version__"]
 
 __version__ = _relief.version()
@@ -363,22 +363,34 @@ def _rgbd(colour, depth, points, png_scale):
 
 
 def _views(views, shape):
-    """views: [(colour (H, W, 3) uint8, pose (3, 4)), ...] as two lists."""
+    """views: [(colour (H, W, 3) uint8, pose (3, 4)[, intrinsics]), ...] as
+    two lists: the colours, and each pose flattened with the view's
+    intrinsics after it (0s: the frame's camera)."""
     colours, poses = [], []
     for k, view in enumerate(views or ()):
         try:
-            colour, pose = view
+            colour, pose, *cam = view
         except (TypeError, ValueError):
-            _fail("usage", f"views[{k}]: expected a (colour, pose) pair")
+            _fail("usage", f"views[{k}]: expected a (colour, pose) pair or a (colour, pose, "
+                  "intrinsics) triple")
+        if len(cam) > 1:
+            _fail("usage", f"views[{k}]: {len(view)} items, expected (colour, pose[, intrinsics])")
         c = _array(f"views[{k}] colour", colour, (3,))
-        if c.dtype != np.uint8 or c.shape[:2] != tuple(shape) or c.shape[2] < 3:
+        own = bool(cam) and cam[0] is not None
+        if c.dtype != np.uint8 or c.shape[2] < 3 or (not own and c.shape[:2] != tuple(shape)):
             _fail("usage", f"views[{k}] colour: {c.dtype} {c.shape}, expected uint8 "
-                  f"{tuple(shape) + (3,)} (the frame's size)")
+                  f"{tuple(shape) + (3,)} (the frame's size; another with the view's intrinsics)")
         m = np.array(_array(f"views[{k}] pose", pose, (2,)), dtype=np.float64, order="C")
         if m.shape != (3, 4):
             _fail("usage", f"views[{k}] pose: shape {m.shape}, expected (3, 4): [R | t]")
+        k4 = np.zeros(4)
+        if own:
+            k4 = np.asarray(cam[0], dtype=np.float64).ravel()
+            if k4.shape != (4,):
+                _fail("usage", f"views[{k}] intrinsics: {k4.shape[0]} values, expected 4: "
+                      "fx, fy, cx, cy")
         colours.append(np.ascontiguousarray(c[:, :, :3]))
-        poses.append(m)
+        poses.append(np.concatenate([m.ravel(), k4]))
     return colours, poses
 
 
@@ -398,8 +410,10 @@ def find_occluders(colour, depth, *, points=None, intrinsics=None, views=None,
     NaN missing). points: (H, W, 3) an organised cloud's xyz (the camera is
     fitted to them), or None with ``intrinsics`` (fx, fy, cx, cy; default a
     Kinect's scaled to the width). views: registered neighbouring views,
-    [(colour, pose)], pose (3, 4) [R | t] with x_view = R x + t (paper 004's
-    eq. 2.1). Returns an (H, W) bool mask, True on the occluders (and the
+    [(colour, pose)] or [(colour, pose, intrinsics)], pose (3, 4) [R | t]
+    with x_view = R x + t (paper 004's eq. 2.1), intrinsics the view's fx,
+    fy, cx, cy (then its colour may be of any size; without them the view
+    is seen through the frame's camera, of its size). Returns an (H, W) bool mask, True on the occluders (and the
     report as a dict when ``return_report``).
     """
     _, z, xyz, rgb = _rgbd(colour, depth, points, png_scale)
@@ -623,8 +637,31 @@ def read_depth(path, png_scale=0.0, encoding="auto"):
     millimetres unless png_scale)."""
     if encoding not in _DEPTH_ENCODINGS:
         raise ValueError("encoding %r: expected one of %s" % (encoding, ", ".join(_DEPTH_ENCODINGS)))
-    (z,) = _check(_relief.read_depth(os.fspath(path), float(png_scale), encoding))
+    z, *_ = _check(_relief.read_depth(os.fspath(path), float(png_scale), encoding))
     return z
+
+
+Frame = namedtuple("Frame", "depth colour points")
+Frame.__doc__ = """What read_pcd returns: the depth (H, W) float32 (metres, NaN
+missing), the colour (H, W, 3) uint8 or None (no rgb field) and the points
+(H, W, 3) float32 (x, y, z in the camera's coordinates, NaN missing): the
+three arguments find_occluders and remove_occluders take."""
+
+
+def read_pcd(path):
+    """Read an organised PCD (ascii, binary or binary_compressed, as
+    ``relief occluders`` reads one): a :class:`Frame` of its depth, colour
+    and points, so that ``find_occluders(f.colour, f.depth,
+    points=f.points)`` runs on it. Another depth file (PNG, PGM, PFM) has no
+    points: read it with :func:`read_depth`."""
+    z, rgb, xyz, fmt = _check(_relief.read_depth(os.fspath(path), 0.0, "auto"))
+    if not fmt.startswith("pcd"):
+        _fail("usage", f"{os.fspath(path)} is a {fmt} file, not a PCD: read its depth with "
+              "read_depth (and its colour from its own image)")
+    shape = z.shape
+    colour = None if rgb is None else np.asarray(rgb).reshape(shape + (3,))
+    points = np.asarray(xyz).reshape(shape + (3,))
+    return Frame(z, colour, points)
 
 
 def devices():

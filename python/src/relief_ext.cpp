@@ -521,17 +521,20 @@ relief_depth_image rgbd_frame(float *z, nb::object xyz, uint8_t *rgb, size_t h, 
     return f;
 }
 
-// The neighbouring views: colours (each H x W x 3 uint8) and poses (each
-// 3 x 4 float64), both lists of the same length (checked by the package).
-std::vector<relief_occluder_view> views_of(const nb::list &colours, const nb::list &poses,
-                                           size_t h, size_t w)
+// The neighbouring views: colours (each h x w x 3 uint8, its own size) and
+// poses (each 3 x 4 float64, then 4 float64: the view's fx, fy, cx, cy, all
+// 0 for the frame's camera), lists of the same length (checked by the
+// package).
+std::vector<relief_occluder_view> views_of(const nb::list &colours, const nb::list &poses)
 {
     std::vector<relief_occluder_view> v(nb::len(colours));
     for (size_t k = 0; k < v.size(); ++k) {
         auto c = nb::cast<carray<const uint8_t>>(colours[k]);
         auto m = nb::cast<carray<const double>>(poses[k]);
-        v[k].width = int(w), v[k].height = int(h), v[k].rgb = c.data();
+        std::memset(&v[k], 0, sizeof v[k]);
+        v[k].width = int(c.shape(1)), v[k].height = int(c.shape(0)), v[k].rgb = c.data();
         std::memcpy(v[k].pose, m.data(), sizeof v[k].pose);
+        std::memcpy(v[k].intrinsics, m.data() + 12, sizeof v[k].intrinsics);
     }
     return v;
 }
@@ -549,7 +552,7 @@ nb::tuple find_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb, n
         return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
                               nb::none());
     relief_depth_image f = rgbd_frame(z.data(), xyz, rgb.data(), z.shape(0), z.shape(1));
-    std::vector<relief_occluder_view> views = views_of(colours, poses, z.shape(0), z.shape(1));
+    std::vector<relief_occluder_view> views = views_of(colours, poses);
     p.views = views.empty() ? nullptr : views.data(), p.n_views = int(views.size());
     relief_image mask{0, 0, 0, 0, 0, nullptr};
     relief_occluder_report rep;
@@ -588,7 +591,7 @@ nb::tuple remove_occluders(carray<float> z, nb::object xyz, carray<uint8_t> rgb,
         return nb::make_tuple(int(ps.err.status), std::string(ps.err.message), nb::none(),
                               nb::none());
     relief_depth_image f = rgbd_frame(z.data(), xyz, rgb.data(), z.shape(0), z.shape(1));
-    std::vector<relief_occluder_view> views = views_of(colours, poses, z.shape(0), z.shape(1));
+    std::vector<relief_occluder_view> views = views_of(colours, poses);
     p.find.views = views.empty() ? nullptr : views.data(), p.find.n_views = int(views.size());
     relief_image m{f.width, f.height, 1, 8, 0, nullptr};
     if (!mask.is_none())
@@ -775,8 +778,10 @@ nb::tuple write_depth(const std::string &path, carray<const float> z, const std:
     return nb::make_tuple(int(s), std::string(err.message));
 }
 
-// (status, message, z as H x W float32, NaN where missing); encoding as
-// relief_depth_encoding_name spells it (checked by the Python side).
+// (status, message, z as H x W float32, NaN where missing, rgb as (H W) x 3
+// uint8 or None, xyz as (H W) x 3 float32 or None, the format's name);
+// encoding as relief_depth_encoding_name spells it (checked by the Python
+// side).
 nb::tuple read_depth(const std::string &path, double png_scale, const std::string &encoding)
 {
     call_scope scope; // first: it outlives everything the call holds
@@ -791,16 +796,18 @@ nb::tuple read_depth(const std::string &path, double png_scale, const std::strin
         return relief_depth_read_as(path.c_str(), relief_depth_encoding(enc), png_scale, 0, &f,
                                     &err);
     });
-    nb::object z = nb::none();
+    nb::object z = nb::none(), rgb = nb::none(), xyz = nb::none(), format = nb::none();
     if (s == RELIEF_OK) {
-        const size_t shape[2] = {size_t(f.height), size_t(f.width)};
+        const size_t shape[2] = {size_t(f.height), size_t(f.width)}, n = shape[0] * shape[1];
         auto *buf = new float[shape[0] * shape[1] + 1];
         std::memcpy(buf, f.z, shape[0] * shape[1] * sizeof(float));
         nb::capsule own(buf, [](void *q) noexcept { delete[] static_cast<float *>(q); });
         z = nb::cast(carray<float>(buf, 2, shape, own));
+        rgb = new_array(f.rgb, n, 3), xyz = new_array(f.xyz, n, 3);
+        format = nb::str(relief_depth_format_name(f.format));
     }
     relief_depth_image_free(&f);
-    return nb::make_tuple(int(s), std::string(err.message), z);
+    return nb::make_tuple(int(s), std::string(err.message), z, rgb, xyz, format);
 }
 
 nb::tuple devices()

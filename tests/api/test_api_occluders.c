@@ -407,6 +407,97 @@ static void test_views(void)
     free(s), free(left), free(right);
 }
 
+/* A view's part: the (w x h) window of s's colour from (x0, y0), owned. */
+static uint8_t *crop(const scene *s, int x0, int y0, int w, int h)
+{
+    uint8_t *rgb = malloc((size_t)w * h * 3);
+    for (int y = 0; rgb && y < h; ++y)
+        memcpy(rgb + (size_t)y * w * 3, s->rgb + ((size_t)(y0 + y) * W + x0) * 3, (size_t)w * 3);
+    return rgb;
+}
+
+/* test_views' frame with views through cameras of their own: the frame a
+ * depth image through (FX, CX, CY), the views windows of the rendered
+ * left and right images, of other sizes and principal points (the same
+ * pixels: nothing resampled). The views given the frame's intrinsics
+ * explicitly give the bytes of the views given none; the cropped views
+ * find the dark box as the frame's size views do. */
+static void test_view_cameras(void)
+{
+    relief_error err = {0};
+    relief_occluder_params p = relief_occluder_params_default();
+    relief_occluder_report r;
+    relief_occluder_view views[2];
+    relief_image m0 = {0, 0, 0, 0, 0, NULL}, m1 = {0, 0, 0, 0, 0, NULL};
+    scene *s = malloc(sizeof *s), *side[2] = {malloc(sizeof *s), malloc(sizeof *s)};
+    uint8_t *part[2] = {NULL, NULL};
+    relief_depth_image f;
+    static const int x0[2] = {24, 8}, y0[2] = {16, 30}, w[2] = {272, 300}, h[2] = {200, 190};
+    double full = 0.0, cropped = 0.0, b_cropped = 0.0;
+    if (!s || !side[0] || !side[1])
+        goto done;
+    render(s, 0.0, 1);
+    render(side[0], -0.1, 0);
+    render(side[1], 0.1, 0);
+    f = frame_of(s, 0);
+    p.has_intrinsics = 1;
+    p.intrinsics[0] = p.intrinsics[1] = FX, p.intrinsics[2] = CX, p.intrinsics[3] = CY;
+    for (int k = 0; k < 2; ++k) {
+        memset(&views[k], 0, sizeof views[k]);
+        views[k].width = W, views[k].height = H, views[k].rgb = side[k]->rgb;
+        views[k].pose[0] = views[k].pose[5] = views[k].pose[10] = 1.0;
+        views[k].pose[3] = k ? -0.1 : 0.1;
+    }
+    p.views = views, p.n_views = 2;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m0, NULL, &err), RELIEF_OK, err, NULL);
+    for (int k = 0; k < 2; ++k)
+        views[k].intrinsics[0] = views[k].intrinsics[1] = FX,
+        views[k].intrinsics[2] = CX, views[k].intrinsics[3] = CY;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m1, NULL, &err), RELIEF_OK, err, NULL);
+    CHECK(m0.data && m1.data && !memcmp(m0.data, m1.data, (size_t)W * H),
+          "views given the frame's intrinsics: another mask than through the frame's camera");
+    if (m0.data)
+        full = iou(m0.data, s->truth, (size_t)W * H);
+    relief_image_free(&m1);
+    for (int k = 0; k < 2; ++k) {
+        part[k] = crop(side[k], x0[k], y0[k], w[k], h[k]);
+        views[k].width = w[k], views[k].height = h[k], views[k].rgb = part[k];
+        views[k].intrinsics[2] = CX - x0[k], views[k].intrinsics[3] = CY - y0[k];
+    }
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m1, &r, &err), RELIEF_OK, err, NULL);
+    if (m1.data)
+        cropped = iou(m1.data, s->truth, (size_t)W * H), b_cropped = recall_b(s, m1.data);
+    printf("views of their own size and camera (%d x %d, %d x %d): IoU %.4f (the frame's size "
+           "%.4f), the dark box's recall %.3f; in front %zu foreground, %zu background; on the "
+           "background %zu background, %zu foreground\n",
+           w[0], h[0], w[1], h[1], cropped, full, b_cropped, r.front_view_foreground,
+           r.front_view_background, r.on_view_background, r.on_view_foreground);
+    CHECK(b_cropped >= 0.65, "cropped views: the dark box's recall %.3f, expected at least 0.65",
+          b_cropped);
+    CHECK(fabs(cropped - full) < 0.02, "cropped views: IoU %.4f, the frame's size %.4f",
+          cropped, full);
+    /* In front but judged background: the objects' lowest rows, within the
+     * parallax of the floor they stand on (test_views). */
+    CHECK(r.front_view_foreground > 3 * r.front_view_background &&
+          r.on_view_background > 20 * r.on_view_foreground,
+          "the views disagree with the depth: in front %zu foreground, %zu background; on the "
+          "background %zu background, %zu foreground", r.front_view_foreground,
+          r.front_view_background, r.on_view_background, r.on_view_foreground);
+    relief_image_free(&m1);
+    relief_occluder_report_free(&r);
+    /* Another size through the frame's camera, a camera that is none. */
+    memset(views[1].intrinsics, 0, sizeof views[1].intrinsics);
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m1, NULL, &err), RELIEF_E_USAGE, err,
+                 "give the view's intrinsics");
+    views[1].intrinsics[0] = -FX, views[1].intrinsics[1] = FX;
+    CHECK_STATUS(relief_find_occluders(&f, &p, &m1, NULL, &err), RELIEF_E_RANGE, err,
+                 "view 1: intrinsics");
+done:
+    relief_image_free(&m0);
+    free(part[0]), free(part[1]);
+    free(s), free(side[0]), free(side[1]);
+}
+
 static void test_bad(scene *s)
 {
     relief_error err = {0};
@@ -641,6 +732,7 @@ int main(int argc, char **argv)
     test_remove(s);
     test_placeholder(s);
     test_views();
+    test_view_cameras();
     test_bad(s);
     free(s);
     API_TEST_END();

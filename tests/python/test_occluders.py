@@ -11,7 +11,7 @@ import pytest
 
 import relief
 
-from common import CLI
+from common import CLI, DATA
 
 
 @pytest.fixture(scope="module")
@@ -80,6 +80,54 @@ def test_views_match_cli(frame):
         relief.find_occluders(colour, depth, views=[(views[0][0], np.eye(3))])
     with pytest.raises(relief.ReliefError, match="frame's size"):
         relief.find_occluders(colour, depth, views=[(views[0][0][:-1], pose[0])])
+
+
+def test_views_of_their_own_camera(frame):
+    """Views cropped (other sizes, other principal points) and given their
+    intrinsics find what the frame's size views find (issue 63)."""
+    d, colour, depth, truth = frame
+    pose = [np.array([[1, 0, 0, t], [0, 1, 0, 0], [0, 0, 1, 0]], float) for t in (0.1, -0.1)]
+    side = [relief.read_image(str(d / n)) for n in ("left.png", "right.png")]
+    dark_colour = relief.read_image(str(d / "dark_colour.png"))
+    dark_depth = read_png16(d / "dark_depth.png")
+    cam = (262.5, 262.5, 159.5, 119.5)
+    full = relief.find_occluders(dark_colour, dark_depth, intrinsics=cam,
+                                 views=list(zip(side, pose)))
+    same = relief.find_occluders(dark_colour, dark_depth, intrinsics=cam,
+                                 views=[(s, p, cam) for s, p in zip(side, pose)])
+    assert np.array_equal(same, full)
+    crops = [(s[y:y + h, x:x + w], p, (262.5, 262.5, 159.5 - x, 119.5 - y))
+             for s, p, (x, y, w, h) in zip(side, pose, ((24, 16, 272, 200), (8, 30, 300, 190)))]
+    mask, report = relief.find_occluders(dark_colour, dark_depth, intrinsics=cam, views=crops,
+                                         return_report=True)
+    iou = lambda m: (m & truth).sum() / (m | truth).sum()
+    assert abs(iou(mask) - iou(full)) < 0.02, (iou(mask), iou(full))
+    front = report["views"]["in_front"]
+    assert front["foreground"] > 3 * front["background"], front
+    with pytest.raises(relief.ReliefError, match="intrinsics"):
+        relief.find_occluders(dark_colour, dark_depth, views=[(crops[0][0], pose[0], (1, 2))])
+    with pytest.raises(relief.ReliefError, match="another with the view's intrinsics"):
+        relief.find_occluders(dark_colour, dark_depth, views=[(crops[0][0], pose[0])])
+
+
+def test_read_pcd_office1(tmp_path):
+    """A PCD's depth, colour and points from Python: find_occluders on
+    office1.pcd gives the command line's mask (issue 63)."""
+    path = os.path.join(DATA, "depth", "office1.pcd")
+    if not os.path.exists(path):
+        pytest.skip(f"{path}: not there")
+    f = relief.read_pcd(path)
+    assert f.depth.shape == (480, 640) and f.depth.dtype == np.float32
+    assert f.colour.shape == (480, 640, 3) and f.colour.dtype == np.uint8
+    assert f.points.shape == (480, 640, 3)
+    seen = ~np.isnan(f.depth)
+    assert np.array_equal(f.points[..., 2][seen], f.depth[seen])
+    assert np.array_equal(relief.read_depth(path), f.depth, equal_nan=True)
+    mask = relief.find_occluders(f.colour, f.depth, points=f.points)
+    run("occluders", path, "-o", tmp_path / "m.png", "--quiet")
+    assert np.array_equal(relief.read_image(str(tmp_path / "m.png")) != 0, mask)
+    with pytest.raises(relief.ReliefError, match="not a PCD"):
+        relief.read_pcd(os.path.join(DATA, "rgbd", "sequence", "depth", "00000.png"))
 
 
 def test_bad_arguments(frame):
