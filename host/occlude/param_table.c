@@ -40,8 +40,9 @@ static const relief_param table[] = {
              "depth image fx = fy = 525 x width / 640 and the centre)"),
     RP_REAL(T, parallax, "P", 0.1, 64, "with neighbouring views: a correspondence error "
             "(eq. 2.1) over P pixels is foreground, 0.1..64 (default 2)"),
-    RP_INT(T, view_radius, "R", 1, 32, "with neighbouring views: the colour search's radius "
-           "around where the background says, pixels (default 6)"),
+    RP_INT(T, view_radius, "R", 1, 32, "with neighbouring views: the colour search's reach "
+           "behind where the background says, and its least reach in front (it goes on to "
+           "where the ray's point at half the depth projects, up to 64), pixels (default 6)"),
     RP_SEED(T, seed, "RANSAC's seed (default 1)"),
     RP_BACKEND(T, "remove-occluders: the colour's and the depth's fills, auto (default), "
                "scalar, host or opencl; outputs are identical"),

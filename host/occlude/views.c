@@ -22,6 +22,8 @@
 /* ... and the zero displacement is kept when within this factor of the
  * best (the sensor's noise between two views). */
 #define ZERO_SLACK 1.25
+/* The farthest a search goes along the epipolar line, pixels. */
+#define MAX_REACH 64
 
 /* View k's camera: its own intrinsics, or the frame's (x / z = cam[0] u +
  * cam[1] inverted: u = x / z / cam[0] - cam[1] / cam[0]). */
@@ -143,7 +145,8 @@ static int project(const occ_views *v, int k, const double p[3], double *px, dou
 /* The displacement (pixels, signed) of pixel (u, y0)'s window in view k
  * along its epipolar line: 0 where its background point x (depth z)
  * projects, positive towards where nearer points of its ray project.
- * Searched over view_radius pixels either side. 0 and *ok = 0 when no
+ * Searched from view_radius pixels behind to where the ray's point at half
+ * the depth projects (at least view_radius). 0 and *ok = 0 when no
  * match is trusted (no texture, no parallax possible, out of the view). */
 static double displacement(const occ_views *v, int k, int u, int y0, const double x[3],
                            int *ok)
@@ -151,7 +154,7 @@ static double displacement(const occ_views *v, int k, int u, int y0, const doubl
     const occ_view_camera *c = &v->cam[k];
     double qx, qy, nx, ny, near[3] = {0.5 * x[0], 0.5 * x[1], 0.5 * x[2]}, len;
     double best = HUGE_VAL, total = 0.0, zero = -1.0;
-    int r = v->p->view_radius, bt = 0, n = 0;
+    int r = v->p->view_radius, hi, bt = 0, n = 0;
     *ok = 0;
     if (!project(v, k, x, &qx, &qy) || !project(v, k, near, &nx, &ny))
         return 0.0;
@@ -160,7 +163,14 @@ static double displacement(const occ_views *v, int k, int u, int y0, const doubl
     if (!(len > 0.5))
         return 0.0; /* the views' baseline shows no parallax here */
     nx /= len, ny /= len;
-    for (int t = -r; t <= r; ++t) {
+    /* Forwards the search reaches where the ray's point at half the
+     * background's depth projects (len pixels: an occluder anywhere in
+     * the nearer half of the ray is found, whatever the baseline), and
+     * view_radius at least; backwards view_radius. */
+    hi = len > r ? (int)ceil(len) : r;
+    if (hi > MAX_REACH)
+        hi = MAX_REACH;
+    for (int t = -r; t <= hi; ++t) {
         double e = ssd(v, c, u, y0, (int)lround(qx + t * nx), (int)lround(qy + t * ny));
         if (e < 0.0)
             continue;

@@ -151,8 +151,11 @@ typedef struct relief_occluder_params {
     int n_views;             /* 0 (default) .. RELIEF_OCCLUDER_MAX_VIEWS */
     double parallax;         /* views: a correspondence error over this is
                                 foreground; 2 pixels, [0.1, 64] */
-    int view_radius;         /* views: the colour search's radius; 6 pixels,
-                                [1, 32] */
+    int view_radius;         /* views: the colour search's reach behind where
+                                the background point projects, and its least
+                                reach in front (it goes on to where the ray's
+                                point at half the depth projects, at most 64
+                                pixels); 6 pixels, [1, 32] */
     uint32_t seed;           /* RANSAC's draws; 1 */
     relief_run_options run;  /* max_memory, progress, names; backend unused */
     relief_seeding seeding;  /* default margin */
