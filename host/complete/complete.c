@@ -358,7 +358,8 @@ static relief_status make_matcher(relief_complete_run *r, relief_error *err)
     const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
     relief_status st = relief_match_data_build_near(
         r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL),
-        p->told_holes ? (size_t)relief_told_pool((double)r->s->n_targets) : SIZE_MAX, 2 * p->window + 2, &r->d, err);
+        p->told_holes ? (size_t)relief_told_pool((double)r->s->n_targets) : SIZE_MAX,
+        2 * p->window + 2, p->threads, &r->d, err);
     if (st == RELIEF_OK)
         st = relief_matcher_create(p->backend, p->device, p->threads, r->d, &r->m,
                                    r->choice, sizeof r->choice, &r->choice_reason, err);
