@@ -259,7 +259,8 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                                  "smoothed base (base smooth), where a primitive's lattice "
                                  "would run on past the border (base primitive keeps it)");
     } else if (auto_may_go_smooth(r) &&
-               (fitted = relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) ==
+               (fitted = relief_fit_mesh_threads(r->capture, RELIEF_FIT_AUTO,
+                                                  r->st.params.threads, &pre, NULL) ==
                          RELIEF_OK) &&
                pre.poor_fit) {
         st = auto_base(r, &pre, err);

@@ -11,6 +11,7 @@
 #include "base/error.h"
 #include "base/linalg.h"
 #include "base/numtext.h"
+#include "base/pool.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "smooth/fit_robust.h"
@@ -455,6 +456,13 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
                          relief_fit_model model, relief_fit_result *out,
                          relief_error *err)
 {
+    return relief_fit_threads(pts, normals, n, model, 1, out, err);
+}
+
+relief_status relief_fit_threads(const double *pts, const double *normals, size_t n,
+                                 relief_fit_model model, int threads, relief_fit_result *out,
+                                 relief_error *err)
+{
     RELIEF_ENTRY_ERR(err);
     relief_status st;
     fit_run f;
@@ -470,6 +478,7 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
     st = fit_check_input(pts, out, n, model, err);
     if (st == RELIEF_OK)
         st = fit_normalise(&f, err);
+    f.w.threads = relief_pool_threads_for(threads);
     if (st == RELIEF_OK)
         st = fit_shape(&f, err);
     if (st == RELIEF_OK)
@@ -491,6 +500,12 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
 
 relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
                               relief_fit_result *out, relief_error *err)
+{
+    return relief_fit_mesh_threads(mesh, model, 1, out, err);
+}
+
+relief_status relief_fit_mesh_threads(const relief_mesh *mesh, relief_fit_model model,
+                                      int threads, relief_fit_result *out, relief_error *err)
 {
     RELIEF_ENTRY_ERR(err);
     relief_status st = RELIEF_OK;
@@ -529,7 +544,7 @@ relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
             relief_normalize3(nrm + 3 * v);
         use = nrm;
     }
-    st = relief_fit(mesh->pos, use, mesh->nv, model, out, err);
+    st = relief_fit_threads(mesh->pos, use, mesh->nv, model, threads, out, err);
 
 done:
     free(nrm);

@@ -3,9 +3,11 @@
 #include "smooth/fit_robust.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/linalg.h"
+#include "base/parallel.h"
 #include "base/vec3.h"
 
 /* ------------------------------------------------------ starting values */
@@ -326,6 +328,65 @@ int fit_robust(fit_work *w, const relief_fit_primitive *start,
     return ok;
 }
 
+/* The cylinder's start axes, each screened alone (relief_parallel_ranges):
+ * axis a's refinement on every point (mask all set, read only), its
+ * primitive and median |distance| in prim[a], med[a] (NAN when it gave
+ * none), tmp n scratch per axis. */
+typedef struct axis_screen {
+    const fit_work *w;
+    const double (*axes)[3];
+    relief_fit_primitive *prim;
+    double *med, *tmp;
+    size_t stride; /* tmp's per axis: n, or 0 for one shared */
+} axis_screen;
+
+static int screen_axes(void *ctx, size_t lo, size_t hi)
+{
+    const axis_screen *j = ctx;
+    const fit_work *w = j->w;
+    for (size_t a = lo; a < hi; ++a) {
+        double *tmp = j->tmp + a * j->stride;
+        j->med[a] = NAN;
+        if (!cylinder_start(w, j->axes[a], &j->prim[a]) ||
+            !refine(w, w->mask, LM_ITERATIONS_SCREEN, &j->prim[a]))
+            continue;
+        for (size_t i = 0; i < w->n; ++i)
+            tmp[i] = fabs(relief_fit_distance(&j->prim[a], w->q + 3 * i));
+        j->med[a] = relief_select_median(tmp, w->n);
+    }
+    return 0;
+}
+
+/* The best of the cylinder's start axes (the lowest median, the first on a
+ * tie) into *start; 0 when none gave a cylinder. The axes are screened on
+ * w->threads, or on this thread where the scratch cannot be had. */
+static int best_axis(fit_work *w, const double (*axes)[3], int n_axes,
+                     relief_fit_primitive *start)
+{
+    relief_fit_primitive prim[AXES_IN_PLANE + 2];
+    double med[AXES_IN_PLANE + 2], best_med = INFINITY;
+    const int threads = n_axes > 1 && w->threads > 1 ? w->threads : 1;
+    axis_screen j = {w, axes, prim, med, NULL, w->n};
+    double *own = threads > 1 ? malloc((size_t)n_axes * w->n * sizeof *own) : NULL;
+    int ok = 0;
+    memset(w->mask, 1, w->n);
+    if (own) {
+        j.tmp = own;
+        relief_parallel_ranges((size_t)n_axes, threads, screen_axes, &j);
+    } else {
+        j.tmp = w->tmp, j.stride = 0;
+        screen_axes(&j, 0, (size_t)n_axes);
+    }
+    free(own);
+    for (int a = 0; a < n_axes; ++a)
+        if (med[a] < best_med) { /* NAN never is */
+            best_med = med[a];
+            *start = prim[a];
+            ok = 1;
+        }
+    return ok;
+}
+
 /* Fit one model robustly. The cylinder's start axes (n_axes x 3, unit) are
  * ranked by a short refinement on all points, scored by the median
  * |distance| (which outliers cannot sway); only the best is fitted robustly.
@@ -333,8 +394,7 @@ int fit_robust(fit_work *w, const relief_fit_primitive *start,
 int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
                   const double (*axes)[3], int n_axes, fit_candidate *out)
 {
-    relief_fit_primitive start, trial;
-    double best_med = INFINITY;
+    relief_fit_primitive start;
     int ok = 0;
 
     memset(&start, 0, sizeof start);
@@ -344,22 +404,7 @@ int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
     } else if (model == RELIEF_FIT_SPHERE) {
         ok = sphere_start(w, &start) && fit_robust(w, &start, need, out);
     } else {
-        memset(w->mask, 1, w->n);
-        for (int a = 0; a < n_axes; ++a) {
-            double med;
-            if (!cylinder_start(w, axes[a], &trial) ||
-                !refine(w, w->mask, LM_ITERATIONS_SCREEN, &trial))
-                continue;
-            for (size_t i = 0; i < w->n; ++i)
-                w->tmp[i] = fabs(relief_fit_distance(&trial, w->q + 3 * i));
-            med = relief_select_median(w->tmp, w->n);
-            if (med < best_med) {
-                best_med = med;
-                start = trial;
-                ok = 1;
-            }
-        }
-        ok = ok && fit_robust(w, &start, need, out);
+        ok = best_axis(w, axes, n_axes, &start) && fit_robust(w, &start, need, out);
     }
     return ok;
 }

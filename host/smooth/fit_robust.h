@@ -44,6 +44,8 @@ typedef struct fit_work {
     double *r;           /* n signed distances to the current primitive */
     double *tmp;         /* n scratch for medians */
     uint8_t *mask;       /* n, 1 = inlier of the current primitive */
+    int threads;         /* host threads that rank the cylinder's start axes
+                            (each axis its own: the same choice for any) */
 } fit_work;
 
 /* One model's robust fit, in normalised coordinates. */
