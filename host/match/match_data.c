@@ -111,6 +111,8 @@ static relief_status build_grid(relief_match_data *d, double spacing, relief_err
 /* ------------------------------------------------ closest-vertex lists */
 
 #define LIST_MAX 64 /* a cell whose list would be longer uses the rings */
+#define LAYERS 5    /* grid layers a share keeps as planes: a cell's list
+                       reads the layers within two of its own */
 
 /* An open-addressing hash set of cell ids (host side, growable). */
 typedef struct cellset {
@@ -212,6 +214,13 @@ typedef struct list_share {
     uint32_t *items;    /* n_items of items_cap */
     size_t n_items, items_cap;
     uint32_t *res, nres; /* nres x 3, as list_build's */
+    /* The runs of the grid layers l0 .. l0 + LAYERS - 1 as dense planes of
+     * ldims[0] x ldims[1] (layer l in plane l % LAYERS, layer_of[] saying
+     * which it holds, UINT32_MAX none): the cells go in ascending order, so
+     * each layer is laid once, and a look-up there is a load where the
+     * hash set's takes a hash and its probes. NULL: the hash set. */
+    uint32_t *layer;
+    uint32_t layer_of[LAYERS];
     relief_status st;
     relief_error err;
 } list_share;
@@ -311,14 +320,44 @@ static uint32_t cell_at(const relief_match_data *d, int i, int j, int l)
     return ((uint32_t)l * d->ldims[1] + (uint32_t)j) * d->ldims[0] + (uint32_t)i;
 }
 
+/* Lay grid layer l's runs into plane k of sh->layer: the runs are in cell
+ * order, so the layer's are the ones from the first at or past its first
+ * cell. */
+static void load_layer(list_share *sh, uint32_t l, int k)
+{
+    const list_build *b = sh->b;
+    const size_t plane = (size_t)b->d->ldims[0] * b->d->ldims[1];
+    const uint64_t first = (uint64_t)l * plane, end = first + plane;
+    uint32_t *dst = sh->layer + (size_t)k * plane, lo = 0, hi = b->nrun;
+    memset(dst, 0xff, plane * sizeof *dst);
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if ((b->pair[b->run_start[mid]] >> 32) < first)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    for (uint32_t r = lo; r < b->nrun && (b->pair[b->run_start[r]] >> 32) < end; ++r)
+        dst[(b->pair[b->run_start[r]] >> 32) - first] = r;
+    sh->layer_of[k] = l;
+}
+
 /* The run of the vertices in the cell at (i, j, l); UINT32_MAX when it is
  * outside the grid or empty. */
-static uint32_t run_at(const list_build *b, int i, int j, int l)
+static uint32_t run_at(list_share *sh, int i, int j, int l)
 {
+    const list_build *b = sh->b;
     const uint32_t cell = cell_at(b->d, i, j, l);
     uint32_t slot;
     if (cell == UINT32_MAX)
         return UINT32_MAX;
+    if (sh->layer) {
+        const size_t plane = (size_t)b->d->ldims[0] * b->d->ldims[1];
+        const int k = l % LAYERS;
+        if (sh->layer_of[k] != (uint32_t)l)
+            load_layer(sh, (uint32_t)l, k);
+        return sh->layer[(size_t)k * plane + (cell - (size_t)l * plane)];
+    }
     slot = set_slot(&b->occ, cell);
     return b->occ.key[slot] == RM_EMPTY ? UINT32_MAX : b->run_of[slot];
 }
@@ -386,7 +425,7 @@ static relief_status ring_vertices(list_share *sh, const int c[3], uint32_t *n,
     for (int dl = -1; dl <= 1; ++dl)
         for (int dj = -1; dj <= 1; ++dj)
             for (int di = -1; di <= 1; ++di) {
-                const uint32_t r = run_at(b, c[0] + di, c[1] + dj, c[2] + dl);
+                const uint32_t r = run_at(sh, c[0] + di, c[1] + dj, c[2] + dl);
                 if (r == UINT32_MAX)
                     continue;
                 if (*n + b->run_len[r] > sh->ncand_cap) {
@@ -439,7 +478,7 @@ static relief_status reach_vertices(list_share *sh, const int c[3], int ring,
     for (int dl = -ring; dl <= ring; ++dl)
         for (int dj = -ring; dj <= ring; ++dj)
             for (int di = -ring; di <= ring; ++di) {
-                const uint32_t r = run_at(b, c[0] + di, c[1] + dj, c[2] + dl);
+                const uint32_t r = run_at(sh, c[0] + di, c[1] + dj, c[2] + dl);
                 if (r == UINT32_MAX)
                     continue;
                 for (uint32_t e = 0; e < b->run_len[r]; ++e) {
@@ -516,16 +555,32 @@ typedef struct list_shares {
     size_t n;
 } list_shares;
 
+/* Do dense layers (list_share) pay? An active cell makes up to 152
+ * look-ups (its ring, then up to two rings about it), each a hash and its
+ * probes, where laying a plane's cell is a store: with at most 64 cells of
+ * the grid per active cell the layers cost a fraction of what they save
+ * (sphere-cap: 5 cells per active cell, its lists 0.13 -> 0.08 s on one
+ * busy thread; angel-knee: 32). A share's planes stay within 4 MiB. */
+static int layers_pay(const list_build *b)
+{
+    const uint32_t *n = b->d->ldims;
+    const double cells = (double)n[0] * n[1] * n[2];
+    return cells <= 64.0 * b->active.n && (double)LAYERS * n[0] * n[1] <= (1 << 20);
+}
+
 /* Shares [lo, hi) (one each when there are as many threads as shares),
  * for relief_parallel_ranges: their cells' lists, in cell order. */
 static int share_lists(void *ctx, size_t lo, size_t hi)
 {
     const list_shares *ls = ctx;
+    const size_t plane = (size_t)ls->sh[0].b->d->ldims[0] * ls->sh[0].b->d->ldims[1];
     for (size_t i = lo; i < hi; ++i) {
         list_share *sh = &ls->sh[i];
         const size_t n_act = sh->b->active.n;
         const size_t a0 = n_act * i / ls->n, a1 = n_act * (i + 1) / ls->n;
         sh->res = malloc((a1 - a0 + 1) * 3 * sizeof *sh->res);
+        sh->layer = layers_pay(sh->b) ? malloc(LAYERS * plane * sizeof *sh->layer) : NULL;
+        memset(sh->layer_of, 0xff, sizeof sh->layer_of);
         sh->st = sh->res ? RELIEF_OK
                          : relief_fail(&sh->err, RELIEF_E_NOMEM,
                                        "cannot allocate the closest-vertex lists");
@@ -589,6 +644,7 @@ static relief_status lists_cells(list_build *b, int threads, relief_error *err)
     st = join_lists(b, &ls, err);
     for (size_t i = 0; i < ls.n; ++i) {
         free(sh[i].res);
+        free(sh[i].layer);
         free(sh[i].items);
         free(sh[i].cand);
     }
