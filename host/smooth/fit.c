@@ -331,14 +331,24 @@ static relief_fit_model fit_auto_best(fit_run *f)
 static relief_status fit_choose(fit_run *f, relief_error *err)
 {
     const size_t n = f->n;
+    relief_fit_model models[3];
+    size_t need[3];
+    fit_candidate cand[3];
+    int ok[3], m = 0;
     for (int i = 0; i < 3; ++i) {
         relief_fit_model mm = fit_models[i];
         if (f->model != RELIEF_FIT_AUTO && f->model != mm)
             continue;
         if (n < min_points(mm) || (mm == RELIEF_FIT_SPHERE && f->coplanar))
             continue;
-        f->have[mm] = fit_one_model(&f->sel, mm, min_points(mm),
-                                    (const double(*)[3])f->axes, f->n_axes, &f->cand[mm]);
+        models[m] = mm, need[m++] = min_points(mm);
+    }
+    fit_each_model(&f->sel, m, models, need, (const double(*)[3])f->axes, f->n_axes, cand,
+                   ok);
+    for (int i = 0; i < m; ++i) {
+        f->have[models[i]] = ok[i];
+        if (ok[i])
+            f->cand[models[i]] = cand[i];
     }
     if (f->model != RELIEF_FIT_AUTO) {
         if (!f->have[f->model])

@@ -328,63 +328,30 @@ int fit_robust(fit_work *w, const relief_fit_primitive *start,
     return ok;
 }
 
-/* The cylinder's start axes, each screened alone (relief_parallel_ranges):
- * axis a's refinement on every point (mask all set, read only), its
- * primitive and median |distance| in prim[a], med[a] (NAN when it gave
- * none), tmp n scratch per axis. */
-typedef struct axis_screen {
-    const fit_work *w;
-    const double (*axes)[3];
-    relief_fit_primitive *prim;
-    double *med, *tmp;
-    size_t stride; /* tmp's per axis: n, or 0 for one shared */
-} axis_screen;
-
-static int screen_axes(void *ctx, size_t lo, size_t hi)
+/* Screen one cylinder start axis: its short refinement on the points
+ * mask sets, and its median |distance| over all of them (tmp: n
+ * scratch); NAN when it gives no cylinder. */
+static double screen_axis(const fit_work *w, const uint8_t *mask, const double axis[3],
+                          double *tmp, relief_fit_primitive *prim)
 {
-    const axis_screen *j = ctx;
-    const fit_work *w = j->w;
-    for (size_t a = lo; a < hi; ++a) {
-        double *tmp = j->tmp + a * j->stride;
-        j->med[a] = NAN;
-        if (!cylinder_start(w, j->axes[a], &j->prim[a]) ||
-            !refine(w, w->mask, LM_ITERATIONS_SCREEN, &j->prim[a]))
-            continue;
-        for (size_t i = 0; i < w->n; ++i)
-            tmp[i] = fabs(relief_fit_distance(&j->prim[a], w->q + 3 * i));
-        j->med[a] = relief_select_median(tmp, w->n);
-    }
-    return 0;
+    if (!cylinder_start(w, axis, prim) || !refine(w, mask, LM_ITERATIONS_SCREEN, prim))
+        return NAN;
+    for (size_t i = 0; i < w->n; ++i)
+        tmp[i] = fabs(relief_fit_distance(prim, w->q + 3 * i));
+    return relief_select_median(tmp, w->n);
 }
 
-/* The best of the cylinder's start axes (the lowest median, the first on a
- * tie) into *start; 0 when none gave a cylinder. The axes are screened on
- * w->threads, or on this thread where the scratch cannot be had. */
-static int best_axis(fit_work *w, const double (*axes)[3], int n_axes,
-                     relief_fit_primitive *start)
+/* The axis of the lowest median (the first on a tie; a NAN never), or -1. */
+static int best_of(const double *med, int n_axes)
 {
-    relief_fit_primitive prim[AXES_IN_PLANE + 2];
-    double med[AXES_IN_PLANE + 2], best_med = INFINITY;
-    const int threads = n_axes > 1 && w->threads > 1 ? w->threads : 1;
-    axis_screen j = {w, axes, prim, med, NULL, w->n};
-    double *own = threads > 1 ? malloc((size_t)n_axes * w->n * sizeof *own) : NULL;
-    int ok = 0;
-    memset(w->mask, 1, w->n);
-    if (own) {
-        j.tmp = own;
-        relief_parallel_ranges((size_t)n_axes, threads, screen_axes, &j);
-    } else {
-        j.tmp = w->tmp, j.stride = 0;
-        screen_axes(&j, 0, (size_t)n_axes);
-    }
-    free(own);
+    double best_med = INFINITY;
+    int best = -1;
     for (int a = 0; a < n_axes; ++a)
-        if (med[a] < best_med) { /* NAN never is */
+        if (med[a] < best_med) {
             best_med = med[a];
-            *start = prim[a];
-            ok = 1;
+            best = a;
         }
-    return ok;
+    return best;
 }
 
 /* Fit one model robustly. The cylinder's start axes (n_axes x 3, unit) are
@@ -394,17 +361,88 @@ static int best_axis(fit_work *w, const double (*axes)[3], int n_axes,
 int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
                   const double (*axes)[3], int n_axes, fit_candidate *out)
 {
-    relief_fit_primitive start;
-    int ok = 0;
+    relief_fit_primitive start, prim[AXES_IN_PLANE + 2];
+    double med[AXES_IN_PLANE + 2];
+    int best;
 
     memset(&start, 0, sizeof start);
     start.model = model;
-    if (model == RELIEF_FIT_PLANE) {
-        ok = fit_robust(w, &start, need, out);
-    } else if (model == RELIEF_FIT_SPHERE) {
-        ok = sphere_start(w, &start) && fit_robust(w, &start, need, out);
-    } else {
-        ok = best_axis(w, axes, n_axes, &start) && fit_robust(w, &start, need, out);
+    if (model == RELIEF_FIT_PLANE)
+        return fit_robust(w, &start, need, out);
+    if (model == RELIEF_FIT_SPHERE)
+        return sphere_start(w, &start) && fit_robust(w, &start, need, out);
+    memset(w->mask, 1, w->n);
+    for (int a = 0; a < n_axes; ++a)
+        med[a] = screen_axis(w, w->mask, axes[a], w->tmp, &prim[a]);
+    best = best_of(med, n_axes);
+    return best >= 0 && fit_robust(w, &prim[best], need, out);
+}
+
+/* fit_each_model's jobs, each alone (relief_parallel_ranges): job k < n_plain
+ * fits models[k], a plane or a sphere, on scratch of its own; job
+ * n_plain + a screens the cylinder's start axis a into prim[a], med[a]. */
+typedef struct fit_jobs {
+    const fit_work *w;
+    int n_plain;
+    const relief_fit_model *models;
+    const size_t *need;
+    fit_candidate *out;
+    int *ok;
+    const double (*axes)[3];
+    relief_fit_primitive prim[AXES_IN_PLANE + 2];
+    double med[AXES_IN_PLANE + 2];
+    double *scratch; /* 2 n a job */
+    uint8_t *mask;   /* n a job, then n set: every point */
+} fit_jobs;
+
+static int run_fit_jobs(void *ctx, size_t lo, size_t hi)
+{
+    fit_jobs *j = ctx;
+    const fit_work *w = j->w;
+    for (size_t k = lo; k < hi; ++k) {
+        double *r = j->scratch + 2 * k * w->n;
+        if ((int)k < j->n_plain) {
+            fit_work own = {w->n, w->q, r, r + w->n, j->mask + k * w->n, 1};
+            j->ok[k] = fit_one_model(&own, j->models[k], j->need[k], NULL, 0, &j->out[k]);
+        } else {
+            const int a = (int)k - j->n_plain;
+            j->med[a] = screen_axis(w, j->mask + (size_t)j->n_plain * w->n, j->axes[a], r,
+                                    &j->prim[a]);
+        }
     }
-    return ok;
+    return 0;
+}
+
+void fit_each_model(fit_work *w, int n_models, const relief_fit_model *models,
+                    const size_t *need, const double (*axes)[3], int n_axes, fit_candidate *out,
+                    int *ok)
+{
+    fit_jobs j = {w, 0, models, need, out, ok, axes, {{0}}, {0}, NULL, NULL};
+    int cyl = -1, jobs;
+    for (int i = 0; i < n_models; ++i)
+        if (models[i] == RELIEF_FIT_CYLINDER)
+            cyl = i;
+    j.n_plain = cyl < 0 ? n_models : n_models - 1;
+    jobs = j.n_plain + (cyl < 0 ? 0 : n_axes);
+    /* The cylinder last among the models, so the plain ones are jobs
+     * 0 .. n_plain - 1 in their order. */
+    if (w->threads > 1 && jobs > 1 && (cyl < 0 || cyl == n_models - 1)) {
+        j.scratch = malloc((size_t)jobs * 2 * w->n * sizeof *j.scratch);
+        j.mask = malloc(((size_t)j.n_plain + 1) * w->n);
+    }
+    if (!j.scratch || !j.mask) {
+        free(j.scratch);
+        free(j.mask);
+        for (int i = 0; i < n_models; ++i)
+            ok[i] = fit_one_model(w, models[i], need[i], axes, n_axes, &out[i]);
+        return;
+    }
+    memset(j.mask + (size_t)j.n_plain * w->n, 1, w->n);
+    relief_parallel_ranges((size_t)jobs, w->threads, run_fit_jobs, &j);
+    if (cyl >= 0) {
+        const int best = best_of(j.med, n_axes);
+        ok[cyl] = best >= 0 && fit_robust(w, &j.prim[best], need[cyl], &out[cyl]);
+    }
+    free(j.scratch);
+    free(j.mask);
 }
