@@ -164,23 +164,12 @@ static int set_add(cellset *t, uint32_t cell)
     return 1;
 }
 
-/* Squared distance from p to the box [lo, hi] (0 inside), and to the
- * box's farthest point. */
+/* Squared distance from p to the box [lo, hi] (0 inside). */
 static double box_min2(const double lo[3], const double hi[3], const double p[3])
 {
     double s = 0.0;
     for (int k = 0; k < 3; ++k) {
         double e = p[k] < lo[k] ? lo[k] - p[k] : p[k] > hi[k] ? p[k] - hi[k] : 0.0;
-        s += e * e;
-    }
-    return s;
-}
-
-static double box_max2(const double lo[3], const double hi[3], const double p[3])
-{
-    double s = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        double e = fmax(fabs(p[k] - lo[k]), fabs(p[k] - hi[k]));
         s += e * e;
     }
     return s;
@@ -447,21 +436,32 @@ static double box_reach(const list_share *sh, const double blo[3], const double 
                         uint32_t n)
 {
     const list_build *b = sh->b;
-    double r2 = 0.0;
-    for (int oct = 0; oct < 8; ++oct) {
-        double olo[3], ohi[3], best = INFINITY;
+    double mid[3], best[8], r2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+        mid[k] = 0.5 * (blo[k] + bhi[k]);
+    for (int oct = 0; oct < 8; ++oct)
+        best[oct] = INFINITY;
+    /* Each octant's squared distance to its farthest point, its terms
+     * worked out once per half-axis (octant oct spans [mid, bhi] along k
+     * where bit k is set, else [blo, mid]) and summed in k's order. */
+    for (uint32_t e = 0; e < n; ++e) {
+        const float *pf = b->d->proj + 3 * (size_t)sh->cand[e];
+        double t[3][2];
         for (int k = 0; k < 3; ++k) {
-            double mid = 0.5 * (blo[k] + bhi[k]);
-            olo[k] = (oct >> k) & 1 ? mid : blo[k];
-            ohi[k] = (oct >> k) & 1 ? bhi[k] : mid;
+            const double p = pf[k];
+            double lo = fmax(fabs(p - blo[k]), fabs(p - mid[k]));
+            double hi = fmax(fabs(p - mid[k]), fabs(p - bhi[k]));
+            t[k][0] = lo * lo, t[k][1] = hi * hi;
         }
-        for (uint32_t e = 0; e < n; ++e) {
-            const float *pf = b->d->proj + 3 * (size_t)sh->cand[e];
-            double p[3] = {pf[0], pf[1], pf[2]};
-            best = fmin(best, box_max2(olo, ohi, p));
+        for (int oct = 0; oct < 8; ++oct) {
+            double s = 0.0;
+            for (int k = 0; k < 3; ++k)
+                s += t[k][(oct >> k) & 1];
+            best[oct] = fmin(best[oct], s);
         }
-        r2 = fmax(r2, best);
     }
+    for (int oct = 0; oct < 8; ++oct)
+        r2 = fmax(r2, best[oct]);
     return sqrt(r2) * (1.0 + 1e-5) + b->m;
 }
 
