@@ -3,6 +3,7 @@
 #include "smooth/fit_robust.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -378,12 +379,16 @@ int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
     return best >= 0 && fit_robust(w, &prim[best], need, out);
 }
 
-/* fit_each_model's jobs, each alone (relief_parallel_ranges): job k < n_plain
- * fits models[k], a plane or a sphere, on scratch of its own; job
- * n_plain + a screens the cylinder's start axis a into prim[a], med[a]. */
+/* fit_each_model's jobs, each alone, taken in turn by whichever worker
+ * is free (what a job computes does not depend on who runs it): the
+ * cylinder's start axes first, a = 0 .. n_axes - 1, each screened into
+ * prim[a], med[a]; the worker that screens the last of them then fits the
+ * cylinder from the best (on w's own scratch) while the others take the
+ * plain models, job n_axes + i fitting models[i] (a plane or a sphere) on
+ * scratch of its own. */
 typedef struct fit_jobs {
-    const fit_work *w;
-    int n_plain;
+    fit_work *w;
+    int n_plain, n_axes, cyl;
     const relief_fit_model *models;
     const size_t *need;
     fit_candidate *out;
@@ -391,25 +396,44 @@ typedef struct fit_jobs {
     const double (*axes)[3];
     relief_fit_primitive prim[AXES_IN_PLANE + 2];
     double med[AXES_IN_PLANE + 2];
-    double *scratch; /* 2 n a job */
-    uint8_t *mask;   /* n a job, then n set: every point */
+    double *scratch;  /* 2 n a job */
+    uint8_t *mask;    /* n a plain model, then n set: every point */
+    atomic_int next;  /* the next job to take */
+    atomic_int axes_done;
 } fit_jobs;
 
-static int run_fit_jobs(void *ctx, size_t lo, size_t hi)
+static void cylinder_from_best(fit_jobs *j)
+{
+    const int best = best_of(j->med, j->n_axes);
+    j->ok[j->cyl] =
+        best >= 0 && fit_robust(j->w, &j->prim[best], j->need[j->cyl], &j->out[j->cyl]);
+}
+
+static void run_fit_job(fit_jobs *j, int k)
+{
+    const fit_work *w = j->w;
+    double *r = j->scratch + 2 * (size_t)k * w->n;
+    if (k < j->n_axes) {
+        j->med[k] = screen_axis(w, j->mask + (size_t)j->n_plain * w->n, j->axes[k], r,
+                                &j->prim[k]);
+        if (atomic_fetch_add(&j->axes_done, 1) == j->n_axes - 1)
+            cylinder_from_best(j);
+    } else {
+        const int i = k - j->n_axes;
+        fit_work own = {w->n, w->q, r, r + w->n, j->mask + (size_t)i * w->n, 1};
+        j->ok[i] = fit_one_model(&own, j->models[i], j->need[i], NULL, 0, &j->out[i]);
+    }
+}
+
+/* One worker (relief_parallel_ranges over the workers): jobs until none
+ * is left. */
+static int fit_worker(void *ctx, size_t lo, size_t hi)
 {
     fit_jobs *j = ctx;
-    const fit_work *w = j->w;
-    for (size_t k = lo; k < hi; ++k) {
-        double *r = j->scratch + 2 * k * w->n;
-        if ((int)k < j->n_plain) {
-            fit_work own = {w->n, w->q, r, r + w->n, j->mask + k * w->n, 1};
-            j->ok[k] = fit_one_model(&own, j->models[k], j->need[k], NULL, 0, &j->out[k]);
-        } else {
-            const int a = (int)k - j->n_plain;
-            j->med[a] = screen_axis(w, j->mask + (size_t)j->n_plain * w->n, j->axes[a], r,
-                                    &j->prim[a]);
-        }
-    }
+    const int jobs = j->n_axes + j->n_plain;
+    (void)lo, (void)hi;
+    for (int k; (k = atomic_fetch_add(&j->next, 1)) < jobs;)
+        run_fit_job(j, k);
     return 0;
 }
 
@@ -417,16 +441,17 @@ void fit_each_model(fit_work *w, int n_models, const relief_fit_model *models,
                     const size_t *need, const double (*axes)[3], int n_axes, fit_candidate *out,
                     int *ok)
 {
-    fit_jobs j = {w, 0, models, need, out, ok, axes, {{0}}, {0}, NULL, NULL};
-    int cyl = -1, jobs;
+    fit_jobs j = {w, 0, 0, -1, models, need, out, ok, axes, {{0}}, {0}, NULL, NULL, 0, 0};
+    int jobs;
     for (int i = 0; i < n_models; ++i)
         if (models[i] == RELIEF_FIT_CYLINDER)
-            cyl = i;
-    j.n_plain = cyl < 0 ? n_models : n_models - 1;
-    jobs = j.n_plain + (cyl < 0 ? 0 : n_axes);
-    /* The cylinder last among the models, so the plain ones are jobs
+            j.cyl = i;
+    j.n_plain = j.cyl < 0 ? n_models : n_models - 1;
+    j.n_axes = j.cyl < 0 ? 0 : n_axes;
+    jobs = j.n_plain + j.n_axes;
+    /* The cylinder last among the models, so the plain ones are models
      * 0 .. n_plain - 1 in their order. */
-    if (w->threads > 1 && jobs > 1 && (cyl < 0 || cyl == n_models - 1)) {
+    if (w->threads > 1 && jobs > 1 && j.n_axes > 0 && j.cyl == n_models - 1) {
         j.scratch = malloc((size_t)jobs * 2 * w->n * sizeof *j.scratch);
         j.mask = malloc(((size_t)j.n_plain + 1) * w->n);
     }
@@ -438,11 +463,8 @@ void fit_each_model(fit_work *w, int n_models, const relief_fit_model *models,
         return;
     }
     memset(j.mask + (size_t)j.n_plain * w->n, 1, w->n);
-    relief_parallel_ranges((size_t)jobs, w->threads, run_fit_jobs, &j);
-    if (cyl >= 0) {
-        const int best = best_of(j.med, n_axes);
-        ok[cyl] = best >= 0 && fit_robust(w, &j.prim[best], need[cyl], &out[cyl]);
-    }
+    relief_parallel_ranges((size_t)(w->threads < jobs ? w->threads : jobs), w->threads,
+                           fit_worker, &j);
     free(j.scratch);
     free(j.mask);
 }

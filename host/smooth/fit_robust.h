@@ -72,11 +72,11 @@ int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
                   const double (*axes)[3], int n_axes, fit_candidate *out);
 
 /* fit_one_model of n_models models (distinct, a cylinder last), into
- * out[i] and ok[i]: on w->threads, the plane's and the sphere's fits and
- * each of the cylinder's start axes a job of its own with scratch of its
- * own, then the cylinder's fit from its best axis; on this thread one
- * after another where the scratch cannot be had. The same fits either
- * way. */
+ * out[i] and ok[i]: on w->threads, each of the cylinder's start axes and
+ * the plane's and the sphere's fits a job of its own with scratch of its
+ * own, the cylinder's fit from its best axis as soon as the axes are
+ * screened, beside the others; on this thread one after another where
+ * the scratch cannot be had. The same fits either way. */
 void fit_each_model(fit_work *w, int n_models, const relief_fit_model *models,
                     const size_t *need, const double (*axes)[3], int n_axes, fit_candidate *out,
                     int *ok);
