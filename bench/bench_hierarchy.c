@@ -69,7 +69,7 @@ static relief_status run(const config *c, const relief_mesh *cap, const relief_m
                                      relief_grow_mu(&p, cap->col != NULL), &d,
                                      err);
         if (st == RELIEF_OK)
-            st = relief_matcher_create(c->backend, -1, 0, d, &m, NULL, 0, NULL, err);
+            st = relief_matcher_create(c->backend, -1, 0, 0.0, d, &m, NULL, 0, NULL, err);
         if (st == RELIEF_OK)
             st = relief_grow(s, d, m, &p, &go, &gs, err);
         if (st == RELIEF_OK)

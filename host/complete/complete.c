@@ -259,7 +259,8 @@ static relief_status build_base(relief_complete_run *r, relief_error *err)
                                  "smoothed base (base smooth), where a primitive's lattice "
                                  "would run on past the border (base primitive keeps it)");
     } else if (auto_may_go_smooth(r) &&
-               (fitted = relief_fit_mesh(r->capture, RELIEF_FIT_AUTO, &pre, NULL) ==
+               (fitted = relief_fit_mesh_threads(r->capture, RELIEF_FIT_AUTO,
+                                                  r->st.params.threads, &pre, NULL) ==
                          RELIEF_OK) &&
                pre.poor_fit) {
         st = auto_base(r, &pre, err);
@@ -350,6 +351,27 @@ static relief_status inject_device_failure(void *ctx, relief_error *err)
                        "(injected by RELIEF_TEST_DEVICE_FAIL_AFTER=%zu)", r->fail_after);
 }
 
+/* The candidate scores a told hole's growth is expected to ask, for auto's
+ * choice of a device (matcher.h): every target scores each candidate
+ * centre's R rotations under the exhaustive search, and under the coherent
+ * search at most the continuations, k + 1 per vertex of its window (about
+ * 1 + 3 W (W + 1) on a regular triangulation). 0 (not known: auto asks
+ * OpenCL as ever) for an untold completion, whose holes may be large. */
+static double told_work(const relief_complete_run *r)
+{
+    const relief_params *p = &r->st.params;
+    const double ns = r->d->ns, targets = (double)r->s->n_targets;
+    double centres = ns, cont;
+    if (!p->told_holes)
+        return 0.0;
+    if (relief_params_search(p, r->d->ns, r->d->rotations, r->s->n_targets) ==
+        RELIEF_SEARCH_COHERENT) {
+        cont = (p->search_k + 1.0) * (1.0 + 3.0 * p->window * (p->window + 1.0));
+        centres = cont < ns ? cont : ns;
+    }
+    return targets * centres * r->d->rotations;
+}
+
 /* The matcher of a mono-scale growth over its match data; a told hole's,
  * over the samples around it. */
 static relief_status make_matcher(relief_complete_run *r, relief_error *err)
@@ -358,9 +380,10 @@ static relief_status make_matcher(relief_complete_run *r, relief_error *err)
     const char *fail_env = getenv("RELIEF_TEST_DEVICE_FAIL_AFTER");
     relief_status st = relief_match_data_build_near(
         r->s, p->rotations, relief_grow_mu(p, r->capture->col != NULL),
-        p->told_holes ? (size_t)relief_told_pool((double)r->s->n_targets) : SIZE_MAX, 2 * p->window + 2, &r->d, err);
+        p->told_holes ? (size_t)relief_told_pool((double)r->s->n_targets) : SIZE_MAX,
+        2 * p->window + 2, p->threads, &r->d, err);
     if (st == RELIEF_OK)
-        st = relief_matcher_create(p->backend, p->device, p->threads, r->d, &r->m,
+        st = relief_matcher_create(p->backend, p->device, p->threads, told_work(r), r->d, &r->m,
                                    r->choice, sizeof r->choice, &r->choice_reason, err);
     if (st != RELIEF_OK)
         return st;

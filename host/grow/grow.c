@@ -471,7 +471,8 @@ static relief_status grow_choose_search(grow_run *g, relief_error *err)
                                               g->s->n_targets);
     if (g->stats->search != RELIEF_SEARCH_COHERENT)
         return RELIEF_OK;
-    st = relief_search_create(g->s, g->d, params->window, params->search_k, &g->search, err);
+    st = relief_search_create(g->s, g->d, params->window, params->search_k, params->threads,
+                              &g->search, err);
     if (st != RELIEF_OK)
         return st;
     g->stats->search_seconds = relief_search_build_seconds(g->search);

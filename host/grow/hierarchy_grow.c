@@ -606,7 +606,7 @@ static relief_status level_matcher(hier_run *g, int ki, level_work *w, relief_er
      * program, and only the surface's buffers change. */
     if (g->m)
         return relief_matcher_rebind(g->m, w->d, err);
-    st = relief_matcher_create(g->ho->backend, g->ho->device, g->ho->threads, w->d, &g->m,
+    st = relief_matcher_create(g->ho->backend, g->ho->device, g->ho->threads, 0.0, w->d, &g->m,
                                lnote, sizeof lnote, &why, err);
     if (st == RELIEF_OK && lnote[0] && g->note && g->note_size && !g->note[0]) {
         snprintf(g->note, g->note_size, "%s", lnote);

@@ -76,9 +76,11 @@ void relief_match_data_destroy(relief_match_data *d);
  * hole is matched against the capture around it, and its search costs
  * what the hole does, not the capture (issue 61). Every sample is a centre
  * when n_keep >= ns, or when the search reaches fewer (a hole on a piece
- * of its own). */
+ * of its own). The closest-vertex lists are built on `threads` host
+ * threads (0: the default, relief_pool_threads_for), the same bytes for
+ * any count; relief_match_data_build builds them on one. */
 relief_status relief_match_data_build_near(const relief_surface *s, int rotations, double mu,
-                                           size_t n_keep, int margin,
+                                           size_t n_keep, int margin, int threads,
                                            relief_match_data **out, relief_error *err);
 
 /* The pool of relief_match_data_build_near, on d's samples: compacts them

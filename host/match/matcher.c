@@ -81,10 +81,31 @@ static int pick_device(char *why, size_t why_size, relief_reason *code)
     return -1;
 }
 
+/* auto without --device: is the work too small for any device to pay
+ * off? The host scores about 3e6 candidates a thread-second (sphere-cap's
+ * exhaustive growth, 12 912 576 candidates in 2.04 s on 2 threads), so
+ * under RELIEF_MATCHER_DEVICE_MIN_WORK a thread its whole growth takes a
+ * third of a second or less, about what a device costs before it scores
+ * anything: OpenCL's platforms asked (25 ms for PoCL alone here), a
+ * context, the program from its cache and the surface uploaded, then a
+ * launch and a read-back per query. Then the device is not asked for, and
+ * why[] says so. */
+static int too_small(double work, int host_threads, char *why, size_t why_size)
+{
+    const double bound = RELIEF_MATCHER_DEVICE_MIN_WORK * host_threads;
+    if (!(work > 0.0) || work >= bound)
+        return 0;
+    snprintf(why, why_size, "about %.2g candidates to score, under the %.2g that %d host "
+             "thread%s in about a third of a second, too few for a device to pay off its "
+             "start; OpenCL not asked", work, bound, host_threads,
+             host_threads == 1 ? " scores" : "s score");
+    return 1;
+}
+
 relief_status relief_matcher_create(relief_backend backend, int device, int threads,
-                                    const relief_match_data *d, relief_matcher **out,
-                                    char *note, size_t note_size, relief_reason *why_code,
-                                    relief_error *err)
+                                    double work, const relief_match_data *d,
+                                    relief_matcher **out, char *note, size_t note_size,
+                                    relief_reason *why_code, relief_error *err)
 {
     const int host_threads = relief_score_pool_threads_for(threads);
     relief_status st;
@@ -113,7 +134,8 @@ relief_status relief_matcher_create(relief_backend backend, int device, int thre
     if (st != RELIEF_OK)
         return st;
     if (backend == RELIEF_BACKEND_AUTO && !named &&
-        (device = pick_device(why, sizeof why, why_code)) < 0)
+        (too_small(work, host_threads, why, sizeof why) ||
+         (device = pick_device(why, sizeof why, why_code)) < 0))
         st = RELIEF_E_DEVICE; /* the host, for the reason in why[] */
     else {
         st = device_fits(device, d, err);

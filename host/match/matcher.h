@@ -22,7 +22,10 @@
  * the default, at most RELIEF_SCORE_POOL_MAX), scalar on one. For auto:
  * OpenCL on `device` when one is named (>= 0), else on the first GPU or
  * accelerator; the host matcher when there is none, or when that device
- * cannot run; which one and why is written to `note` (may be NULL),
+ * cannot run, or, without asking OpenCL, when `work` (the candidate scores
+ * the growth is expected to ask; 0: not known) is under
+ * RELIEF_MATCHER_DEVICE_MIN_WORK per host thread; which one and why is
+ * written to `note` (may be NULL),
  * and *why (may be NULL) is RELIEF_REASON_DEVICE_FELL_BACK when OpenCL
  * could not be used (no platform, or the device failed to start): a
  * warning, where the others (RELIEF_REASON_NONE) are a plain choice. OpenCL is refused
@@ -32,9 +35,13 @@
  * of is refused (RELIEF_E_RANGE). */
 #define RELIEF_MATCHER_UNAVAILABLE "OpenCL unavailable"
 relief_status relief_matcher_create(relief_backend backend, int device, int threads,
-                                    const relief_match_data *d, relief_matcher **out,
-                                    char *note, size_t note_size, relief_reason *why,
-                                    relief_error *err);
+                                    double work, const relief_match_data *d,
+                                    relief_matcher **out, char *note, size_t note_size,
+                                    relief_reason *why, relief_error *err);
+
+/* Candidate scores per host thread below which auto does not ask OpenCL
+ * for a device (matcher.c says why). */
+#define RELIEF_MATCHER_DEVICE_MIN_WORK 1e6
 
 /* Score through the matcher, timing it. */
 relief_status relief_matcher_score(relief_matcher *m, const relief_match_data *d,

@@ -10,6 +10,8 @@
 #include "base/error.h"
 #include "base/knn.h"
 #include "base/linalg.h"
+#include "base/parallel.h"
+#include "base/pool.h"
 #include "base/vec3.h"
 
 #define RM_REAL float
@@ -50,21 +52,38 @@ size_t relief_search_bytes(size_t ns, int rotations, int k)
            2 * ns * sizeof(uint32_t);
 }
 
-/* The descriptor of pair (si, r) into out[POINTS x (1 or 2)] (search.h). */
-static void describe(const relief_match_data *d, uint32_t si, int r, float step, float *out)
+/* What every descriptor shares: point p's place (x0, y0) before the
+ * rotation and its weights, worked out once rather than per pair (the
+ * same floats: each is a function of p, step and mu alone). */
+typedef struct ring_points {
+    float x0[POINTS], y0[POINTS], wshape[POINTS], wcol[POINTS];
+} ring_points;
+
+static void ring_points_init(const relief_match_data *d, float step, ring_points *rp)
 {
-    const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
-    const float cr = d->cos_r[r], sr = d->sin_r[r], inv_b = sqrtf(d->inv_b2);
-    const int colour = d->mu < 1.0f;
     for (int p = 0; p < POINTS; ++p) {
         const int ring = p == 0 ? 0 : 1 + (p - 1) / RELIEF_SEARCH_ANGLES;
         const int angle = p == 0 ? 0 : (p - 1) % RELIEF_SEARCH_ANGLES;
         const float rho = (float)ring * step;
         const double phi = 2.0 * RELIEF_PI * angle / RELIEF_SEARCH_ANGLES;
-        const float x0 = rho * (float)cos(phi), y0 = rho * (float)sin(phi);
-        const float a = cr * x0 - sr * y0, b = sr * x0 + cr * y0;
         const float rel = (float)ring / RELIEF_SEARCH_RINGS;
         const float g = expf(-0.5f * rel * rel);
+        rp->x0[p] = rho * (float)cos(phi);
+        rp->y0[p] = rho * (float)sin(phi);
+        rp->wshape[p] = sqrtf(d->mu * g);
+        rp->wcol[p] = sqrtf((1.0f - d->mu) * g);
+    }
+}
+
+/* The descriptor of pair (si, r) into out[POINTS x (1 or 2)] (search.h). */
+static void describe(const relief_match_data *d, const ring_points *rp, uint32_t si, int r,
+                     float *out)
+{
+    const float *sp = d->s_proj + 3 * (size_t)si, *sf = d->s_frame + 9 * (size_t)si;
+    const float cr = d->cos_r[r], sr = d->sin_r[r], inv_b = sqrtf(d->inv_b2);
+    const int colour = d->mu < 1.0f;
+    for (int p = 0; p < POINTS; ++p) {
+        const float a = cr * rp->x0[p] - sr * rp->y0[p], b = sr * rp->x0[p] + cr * rp->y0[p];
         float x[3], h = 0.0f;
         uint32_t v2;
         for (int k = 0; k < 3; ++k)
@@ -74,33 +93,74 @@ static void describe(const relief_match_data *d, uint32_t si, int r, float step,
                                       d->litems);
         for (int k = 0; k < 3; ++k)
             h += sf[6 + k] * (d->pos[3 * (size_t)v2 + k] - sp[k]);
-        out[p] = sqrtf(d->mu * g) * h * inv_b;
+        out[p] = rp->wshape[p] * h * inv_b;
         if (colour) {
             const float *c = d->col + 3 * (size_t)v2;
-            out[POINTS + p] = sqrtf((1.0f - d->mu) * g) *
-                              (0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]);
+            out[POINTS + p] = rp->wcol[p] * (0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]);
         }
     }
 }
 
-/* Principal axes of the descriptors over an even stride of the pairs:
- * mean[dims] and axes[RELIEF_SEARCH_DIMS x dims] (row i the i-th axis). */
-static relief_status principal_axes(const relief_match_data *d, int dims, float step,
-                                    double *mean, double *axes, relief_error *err)
+/* Descriptor rows shared over threads (relief_parallel_ranges): each row
+ * is written by one thread alone, so the rows are the same bytes however
+ * many run. Row i describes pair i x stride into desc; with axes set, row
+ * i is pair i projected into red (from desc's row i when desc holds every
+ * pair, else described anew). */
+typedef struct desc_job {
+    const relief_match_data *d;
+    const ring_points *rp;
+    int dims;
+    size_t stride;
+    float *desc;
+    const double *mean, *axes;
+    float *red;
+} desc_job;
+
+static int describe_rows(void *ctx, size_t lo, size_t hi)
 {
-    const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
-    const size_t stride = pairs > PCA_ROWS ? (pairs + PCA_ROWS - 1) / PCA_ROWS : 1;
-    const size_t rows = (pairs + stride - 1) / stride;
-    /* The strided descriptors, described once for the mean and the
-     * covariance both. */
-    float *desc = malloc(rows * (size_t)dims * sizeof *desc);
+    const desc_job *j = ctx;
+    const size_t R = (size_t)j->d->rotations;
+    float one[2 * POINTS];
+    for (size_t i = lo; i < hi; ++i) {
+        const size_t c = i * j->stride;
+        describe(j->d, j->rp, (uint32_t)(c / R), (int)(c % R), one);
+        memcpy(j->desc + i * (size_t)j->dims, one, (size_t)j->dims * sizeof *one);
+    }
+    return 0;
+}
+
+static int project_rows(void *ctx, size_t lo, size_t hi)
+{
+    const desc_job *j = ctx;
+    const size_t R = (size_t)j->d->rotations;
+    const int dims = j->dims;
+    float one[2 * POINTS];
+    for (size_t c = lo; c < hi; ++c) {
+        const float *x = one;
+        if (j->stride == 1)
+            x = j->desc + c * (size_t)dims;
+        else
+            describe(j->d, j->rp, (uint32_t)(c / R), (int)(c % R), one);
+        for (int a = 0; a < RELIEF_SEARCH_DIMS; ++a) {
+            double sum = 0.0;
+            for (int i = 0; i < dims; ++i)
+                sum += j->axes[dims * a + i] * (x[i] - j->mean[i]);
+            j->red[c * RELIEF_SEARCH_DIMS + a] = (float)sum;
+        }
+    }
+    return 0;
+}
+
+/* Principal axes of the rows of desc (rows x dims): mean[dims] and
+ * axes[RELIEF_SEARCH_DIMS x dims] (row i the i-th axis). */
+static relief_status principal_axes(const float *desc, size_t rows, int dims, double *mean,
+                                    double *axes, relief_error *err)
+{
     double *cov = calloc((size_t)dims * (size_t)dims, sizeof *cov);
     double *evec = malloc((size_t)dims * (size_t)dims * sizeof *evec);
     double *work = malloc(2 * (size_t)dims * (size_t)dims * sizeof *work);
     double eval[2 * POINTS];
-    float one[2 * POINTS];
-    if (!desc || !cov || !evec || !work) {
-        free(desc);
+    if (!cov || !evec || !work) {
         free(cov);
         free(evec);
         free(work);
@@ -108,14 +168,9 @@ static relief_status principal_axes(const relief_match_data *d, int dims, float 
                            "covariance over %zu descriptors", dims, dims, rows);
     }
     memset(mean, 0, (size_t)dims * sizeof *mean);
-    for (size_t i = 0; i < rows; ++i) {
-        const size_t c = i * stride;
-        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
-                 one);
-        memcpy(desc + i * (size_t)dims, one, (size_t)dims * sizeof *desc);
+    for (size_t i = 0; i < rows; ++i)
         for (int k = 0; k < dims; ++k)
-            mean[k] += one[k];
-    }
+            mean[k] += desc[i * (size_t)dims + k];
     for (int k = 0; k < dims; ++k)
         mean[k] /= (double)rows;
     for (size_t r = 0; r < rows; ++r) {
@@ -134,27 +189,34 @@ static relief_status principal_axes(const relief_match_data *d, int dims, float 
     free(work);
     free(evec);
     free(cov);
-    free(desc);
     return RELIEF_OK;
 }
 
-/* Every sample rotation's descriptor (describe) projected on the principal
- * axes about `mean`: red, pairs x RELIEF_SEARCH_DIMS. */
-static void reduce_descriptors(const relief_match_data *d, int dims, float step,
-                               const double *mean, const double *axes, float *red)
+/* Every sample rotation's descriptor projected on the principal axes of
+ * an even stride of them (at most PCA_ROWS): red, pairs x
+ * RELIEF_SEARCH_DIMS. When the stride is 1 the strided rows are every
+ * pair, described once for the axes and the projection both. */
+static relief_status reduce_descriptors(const relief_match_data *d, int dims, float step,
+                                        int threads, float *red, relief_error *err)
 {
     const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
-    float desc[2 * POINTS];
-    for (size_t c = 0; c < pairs; ++c) {
-        describe(d, (uint32_t)(c / (size_t)d->rotations), (int)(c % (size_t)d->rotations), step,
-                 desc);
-        for (int a = 0; a < RELIEF_SEARCH_DIMS; ++a) {
-            double sum = 0.0;
-            for (int i = 0; i < dims; ++i)
-                sum += axes[dims * a + i] * (desc[i] - mean[i]);
-            red[c * RELIEF_SEARCH_DIMS + a] = (float)sum;
-        }
-    }
+    const size_t stride = pairs > PCA_ROWS ? (pairs + PCA_ROWS - 1) / PCA_ROWS : 1;
+    const size_t rows = (pairs + stride - 1) / stride;
+    double mean[2 * POINTS], axes[RELIEF_SEARCH_DIMS * 2 * POINTS];
+    ring_points rp;
+    desc_job j = {d, &rp, dims, stride, NULL, mean, axes, red};
+    relief_status st;
+    ring_points_init(d, step, &rp);
+    j.desc = malloc(rows * (size_t)dims * sizeof *j.desc);
+    if (!j.desc)
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the search's %zu x %d "
+                           "descriptors", rows, dims);
+    relief_parallel_ranges(rows, threads, describe_rows, &j);
+    st = principal_axes(j.desc, rows, dims, mean, axes, err);
+    if (st == RELIEF_OK)
+        relief_parallel_ranges(pairs, threads, project_rows, &j);
+    free(j.desc);
+    return st;
 }
 
 /* Sample si's k similar sample rotations into sim (k of them, UINT32_MAX
@@ -207,13 +269,13 @@ static relief_status find_similar(flann_index_t index, struct FLANNParameters *f
 }
 
 relief_status relief_search_create(const relief_surface *s, const relief_match_data *d,
-                                   int window, int k, relief_search **out, relief_error *err)
+                                   int window, int k, int threads, relief_search **out,
+                                   relief_error *err)
 {
     const size_t pairs = (size_t)d->ns * (size_t)d->rotations;
     const int dims = d->mu < 1.0f ? 2 * POINTS : POINTS;
     const float step = (float)(window * s->spacing / RELIEF_SEARCH_RINGS);
     const double exclude = window * s->spacing, t0 = relief_seconds();
-    double mean[2 * POINTS], axes[RELIEF_SEARCH_DIMS * 2 * POINTS];
     struct FLANNParameters fp = relief_knn_exact_params();
     flann_index_t index = NULL;
     relief_search *S;
@@ -253,10 +315,9 @@ relief_status relief_search_create(const relief_surface *s, const relief_match_d
                          relief_search_bytes(d->ns, d->rotations, k));
         goto done;
     }
-    st = principal_axes(d, dims, step, mean, axes, err);
+    st = reduce_descriptors(d, dims, step, relief_pool_threads_for(threads), red, err);
     if (st != RELIEF_OK)
         goto done;
-    reduce_descriptors(d, dims, step, mean, axes, red);
     index = flann_build_index_float(red, (int)pairs, RELIEF_SEARCH_DIMS, &speedup, &fp);
     if (!index) {
         st = relief_fail(err, RELIEF_E_NOMEM, "FLANN could not index %zu search descriptors",

@@ -58,9 +58,12 @@ size_t relief_search_bytes(size_t ns, int rotations, int k);
 /* Precompute the k most similar pairs of every sample of d at rotation 0
  * (k 1..RELIEF_SEARCH_K_MAX), reading the surface within `window` hops of
  * spacing s->spacing. d's samples and their colours must be final (the
- * growth never changes them). */
+ * growth never changes them). The descriptors are worked out on `threads`
+ * host threads (0: the default, relief_pool_threads_for), the same bytes
+ * for any count. */
 relief_status relief_search_create(const relief_surface *s, const relief_match_data *d,
-                                   int window, int k, relief_search **out, relief_error *err);
+                                   int window, int k, int threads, relief_search **out,
+                                   relief_error *err);
 
 /* The vertex that continues the patch of sample si at rotation r by the
  * offset o (in the frame of the vertex that copied it): the closest vertex

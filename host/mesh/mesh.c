@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/compare.h"
 #include "base/error.h"
 #include "base/vec3.h"
 
@@ -222,42 +223,58 @@ done:
     return st;
 }
 
-static int edge_cmp(const void *x, const void *y)
+/* Sort a vertex's few neighbours ascending: insertion sort, qsort past
+ * a fan's worth. */
+static void sort_small(uint32_t *a, size_t n)
 {
-    const uint32_t *a = x, *b = y;
-    if (a[0] != b[0])
-        return a[0] < b[0] ? -1 : 1;
-    return (a[1] > b[1]) - (a[1] < b[1]);
+    if (n > 32) {
+        qsort(a, n, sizeof *a, relief_cmp_u32);
+        return;
+    }
+    for (size_t i = 1; i < n; ++i) {
+        uint32_t x = a[i];
+        size_t j = i;
+        for (; j > 0 && a[j - 1] > x; --j)
+            a[j] = a[j - 1];
+        a[j] = x;
+    }
 }
 
+/* Each triangle edge in both directions, bucketed by its first vertex
+ * (a counting sort), each bucket sorted and its repeats dropped: the
+ * (from, to) order of sorting every edge whole, without its n log n. */
 relief_status relief_mesh_adjacency(const relief_mesh *m, relief_adjacency *adj,
                                     relief_error *err)
 {
     size_t ne = 6 * m->nt, k = 0;
-    uint32_t *e = malloc((ne + 1) * 2 * sizeof *e);
+    uint32_t *e = malloc((ne + 1) * sizeof *e);
+    size_t *fill = calloc(m->nv + 1, sizeof *fill);
     adj->start = calloc(m->nv + 1, sizeof *adj->start);
     adj->nbr = malloc((ne + 1) * sizeof *adj->nbr);
-    if (!e || !adj->start || !adj->nbr) {
+    if (!e || !fill || !adj->start || !adj->nbr) {
         free(e);
+        free(fill);
         relief_adjacency_free(adj);
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the vertex adjacency");
     }
+    for (size_t i = 0; i < 3 * m->nt; ++i)
+        fill[m->tri[i] + 1] += 2; /* each corner starts two directed edges' worth */
+    for (size_t v = 0; v < m->nv; ++v)
+        fill[v + 1] += fill[v];
     for (size_t t = 0; t < m->nt; ++t)
         for (int i = 0; i < 3; ++i) {
             uint32_t a = m->tri[3 * t + i], b = m->tri[3 * t + (i + 1) % 3];
-            e[2 * k] = a, e[2 * k + 1] = b, ++k;
-            e[2 * k] = b, e[2 * k + 1] = a, ++k;
+            e[fill[a]++] = b;
+            e[fill[b]++] = a;
         }
-    qsort(e, ne, 2 * sizeof *e, edge_cmp);
-    k = 0;
-    for (size_t i = 0; i < ne; ++i) {
-        if (i > 0 && e[2 * i] == e[2 * i - 2] && e[2 * i + 1] == e[2 * i - 1])
-            continue;
-        adj->nbr[k++] = e[2 * i + 1];
-        ++adj->start[e[2 * i] + 1];
+    for (size_t v = 0, lo = 0; v < m->nv; lo = fill[v++]) {
+        sort_small(e + lo, fill[v] - lo);
+        for (size_t i = lo; i < fill[v]; ++i)
+            if (i == lo || e[i] != e[i - 1])
+                adj->nbr[k++] = e[i];
+        adj->start[v + 1] = (uint32_t)k;
     }
-    for (size_t v = 0; v < m->nv; ++v)
-        adj->start[v + 1] += adj->start[v];
+    free(fill);
     free(e);
     return RELIEF_OK;
 }

@@ -118,6 +118,7 @@ relief_status relief_points_base_surface(const relief_mesh *capture,
                            "set)");
     p.what = RELIEF_POINTS_GEOMETRY_ONLY;
     p.smooth_only = 1, p.mesh = 1, p.keep_base = 1;
+    p.no_normals = 1; /* set_frames drops them: the base's are s->nrm */
     p.hole_mask = NULL;
     st = relief_points_complete(capture, &p, &m, &rep, err);
     if (st != RELIEF_OK)

@@ -742,14 +742,21 @@ static relief_status result_points(work *w, relief_mesh **out_mesh, relief_error
             out->col[3 * i + c] = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
         }
     }
-    /* Each normal agreeing with the one it had. */
-    st = relief_knn_graph_build(out->pos, N, p->k, threads_of(p), &g2, err);
-    if (st != RELIEF_OK)
-        return st;
-    memcpy(w->tnrm, w->nrm, n * 3 * sizeof *w->tnrm);
-    st = relief_points_normals(out->pos, &g2, w->tnrm, NULL, threads_of(p), out->nrm, NULL,
-                               err);
-    relief_knn_graph_free(&g2);
+    if (p->no_normals) {
+        free(out->nrm);
+        out->nrm = NULL;
+        out->attrs &= ~(unsigned)RELIEF_MESH_NORMALS;
+        st = RELIEF_OK;
+    } else {
+        /* Each normal agreeing with the one it had. */
+        st = relief_knn_graph_build(out->pos, N, p->k, threads_of(p), &g2, err);
+        if (st != RELIEF_OK)
+            return st;
+        memcpy(w->tnrm, w->nrm, n * 3 * sizeof *w->tnrm);
+        st = relief_points_normals(out->pos, &g2, w->tnrm, NULL, threads_of(p), out->nrm,
+                                   NULL, err);
+        relief_knn_graph_free(&g2);
+    }
     if (st == RELIEF_OK && p->keep_base) {
         /* w->tnrm becomes the base's normals, handed to the report. */
         memcpy(w->tnrm, w->base_nrm, n * 3 * sizeof *w->tnrm);

@@ -71,6 +71,9 @@ typedef struct relief_points_params {
                              (points/surface_mesh.h) */
     int keep_base;        /* 1: the report keeps the base (rep->base, rep->base_nrm),
                              and the mesh's hole patches join the points on it */
+    int no_normals;       /* 1: *out has no normals: its caller sets its own
+                             (base_surface.h), so the k-NN graph over every
+                             output point that estimates them is not built */
     size_t max_new;       /* refuse more new points than this (default 0: 4 x the input) */
     int mesh_patch;       /* a mesh's holes: RELIEF_MESH_PATCH_FAIR (0, the default)
                              closes each on the base by mesh/hole_fill.h, its

@@ -11,6 +11,7 @@
 #include "base/error.h"
 #include "base/linalg.h"
 #include "base/numtext.h"
+#include "base/pool.h"
 #include "base/vec3.h"
 #include "mesh/mesh.h"
 #include "smooth/fit_robust.h"
@@ -330,14 +331,24 @@ static relief_fit_model fit_auto_best(fit_run *f)
 static relief_status fit_choose(fit_run *f, relief_error *err)
 {
     const size_t n = f->n;
+    relief_fit_model models[3];
+    size_t need[3];
+    fit_candidate cand[3];
+    int ok[3], m = 0;
     for (int i = 0; i < 3; ++i) {
         relief_fit_model mm = fit_models[i];
         if (f->model != RELIEF_FIT_AUTO && f->model != mm)
             continue;
         if (n < min_points(mm) || (mm == RELIEF_FIT_SPHERE && f->coplanar))
             continue;
-        f->have[mm] = fit_one_model(&f->sel, mm, min_points(mm),
-                                    (const double(*)[3])f->axes, f->n_axes, &f->cand[mm]);
+        models[m] = mm, need[m++] = min_points(mm);
+    }
+    fit_each_model(&f->sel, m, models, need, (const double(*)[3])f->axes, f->n_axes, cand,
+                   ok);
+    for (int i = 0; i < m; ++i) {
+        f->have[models[i]] = ok[i];
+        if (ok[i])
+            f->cand[models[i]] = cand[i];
     }
     if (f->model != RELIEF_FIT_AUTO) {
         if (!f->have[f->model])
@@ -455,6 +466,13 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
                          relief_fit_model model, relief_fit_result *out,
                          relief_error *err)
 {
+    return relief_fit_threads(pts, normals, n, model, 1, out, err);
+}
+
+relief_status relief_fit_threads(const double *pts, const double *normals, size_t n,
+                                 relief_fit_model model, int threads, relief_fit_result *out,
+                                 relief_error *err)
+{
     RELIEF_ENTRY_ERR(err);
     relief_status st;
     fit_run f;
@@ -470,6 +488,7 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
     st = fit_check_input(pts, out, n, model, err);
     if (st == RELIEF_OK)
         st = fit_normalise(&f, err);
+    f.w.threads = relief_pool_threads_for(threads);
     if (st == RELIEF_OK)
         st = fit_shape(&f, err);
     if (st == RELIEF_OK)
@@ -491,6 +510,12 @@ relief_status relief_fit(const double *pts, const double *normals, size_t n,
 
 relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
                               relief_fit_result *out, relief_error *err)
+{
+    return relief_fit_mesh_threads(mesh, model, 1, out, err);
+}
+
+relief_status relief_fit_mesh_threads(const relief_mesh *mesh, relief_fit_model model,
+                                      int threads, relief_fit_result *out, relief_error *err)
 {
     RELIEF_ENTRY_ERR(err);
     relief_status st = RELIEF_OK;
@@ -529,7 +554,7 @@ relief_status relief_fit_mesh(const relief_mesh *mesh, relief_fit_model model,
             relief_normalize3(nrm + 3 * v);
         use = nrm;
     }
-    st = relief_fit(mesh->pos, use, mesh->nv, model, out, err);
+    st = relief_fit_threads(mesh->pos, use, mesh->nv, model, threads, out, err);
 
 done:
     free(nrm);

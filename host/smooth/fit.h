@@ -71,6 +71,15 @@ extern "C" {
 /* relief_fit_primitive, relief_fit_result, relief_fit, relief_fit_mesh
  * and relief_fit_distance are public: relief/complete.h. */
 
+/* relief_fit and relief_fit_mesh (which run on one thread) with the
+ * cylinder's start axes ranked on `threads` host threads (0: the default,
+ * relief_pool_threads_for): the same result for any count. */
+relief_status relief_fit_threads(const double *pts, const double *normals, size_t n,
+                                 relief_fit_model model, int threads, relief_fit_result *out,
+                                 relief_error *err);
+relief_status relief_fit_mesh_threads(const relief_mesh *mesh, relief_fit_model model,
+                                      int threads, relief_fit_result *out, relief_error *err);
+
 /* Unit outward normal of the primitive at the foot of p, written to
  * nrm[3]: the plane's dir; (p - centre) / |p - centre| for a sphere; the
  * radial direction from the axis for a cylinder. At a sphere's centre or on

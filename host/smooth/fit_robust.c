@@ -3,9 +3,12 @@
 #include "smooth/fit_robust.h"
 
 #include <math.h>
+#include <stdatomic.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/linalg.h"
+#include "base/parallel.h"
 #include "base/vec3.h"
 
 /* ------------------------------------------------------ starting values */
@@ -326,6 +329,32 @@ int fit_robust(fit_work *w, const relief_fit_primitive *start,
     return ok;
 }
 
+/* Screen one cylinder start axis: its short refinement on the points
+ * mask sets, and its median |distance| over all of them (tmp: n
+ * scratch); NAN when it gives no cylinder. */
+static double screen_axis(const fit_work *w, const uint8_t *mask, const double axis[3],
+                          double *tmp, relief_fit_primitive *prim)
+{
+    if (!cylinder_start(w, axis, prim) || !refine(w, mask, LM_ITERATIONS_SCREEN, prim))
+        return NAN;
+    for (size_t i = 0; i < w->n; ++i)
+        tmp[i] = fabs(relief_fit_distance(prim, w->q + 3 * i));
+    return relief_select_median(tmp, w->n);
+}
+
+/* The axis of the lowest median (the first on a tie; a NAN never), or -1. */
+static int best_of(const double *med, int n_axes)
+{
+    double best_med = INFINITY;
+    int best = -1;
+    for (int a = 0; a < n_axes; ++a)
+        if (med[a] < best_med) {
+            best_med = med[a];
+            best = a;
+        }
+    return best;
+}
+
 /* Fit one model robustly. The cylinder's start axes (n_axes x 3, unit) are
  * ranked by a short refinement on all points, scored by the median
  * |distance| (which outliers cannot sway); only the best is fitted robustly.
@@ -333,33 +362,109 @@ int fit_robust(fit_work *w, const relief_fit_primitive *start,
 int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
                   const double (*axes)[3], int n_axes, fit_candidate *out)
 {
-    relief_fit_primitive start, trial;
-    double best_med = INFINITY;
-    int ok = 0;
+    relief_fit_primitive start, prim[AXES_IN_PLANE + 2];
+    double med[AXES_IN_PLANE + 2];
+    int best;
 
     memset(&start, 0, sizeof start);
     start.model = model;
-    if (model == RELIEF_FIT_PLANE) {
-        ok = fit_robust(w, &start, need, out);
-    } else if (model == RELIEF_FIT_SPHERE) {
-        ok = sphere_start(w, &start) && fit_robust(w, &start, need, out);
+    if (model == RELIEF_FIT_PLANE)
+        return fit_robust(w, &start, need, out);
+    if (model == RELIEF_FIT_SPHERE)
+        return sphere_start(w, &start) && fit_robust(w, &start, need, out);
+    memset(w->mask, 1, w->n);
+    for (int a = 0; a < n_axes; ++a)
+        med[a] = screen_axis(w, w->mask, axes[a], w->tmp, &prim[a]);
+    best = best_of(med, n_axes);
+    return best >= 0 && fit_robust(w, &prim[best], need, out);
+}
+
+/* fit_each_model's jobs, each alone, taken in turn by whichever worker
+ * is free (what a job computes does not depend on who runs it): the
+ * cylinder's start axes first, a = 0 .. n_axes - 1, each screened into
+ * prim[a], med[a]; the worker that screens the last of them then fits the
+ * cylinder from the best (on w's own scratch) while the others take the
+ * plain models, job n_axes + i fitting models[i] (a plane or a sphere) on
+ * scratch of its own. */
+typedef struct fit_jobs {
+    fit_work *w;
+    int n_plain, n_axes, cyl;
+    const relief_fit_model *models;
+    const size_t *need;
+    fit_candidate *out;
+    int *ok;
+    const double (*axes)[3];
+    relief_fit_primitive prim[AXES_IN_PLANE + 2];
+    double med[AXES_IN_PLANE + 2];
+    double *scratch;  /* 2 n a job */
+    uint8_t *mask;    /* n a plain model, then n set: every point */
+    atomic_int next;  /* the next job to take */
+    atomic_int axes_done;
+} fit_jobs;
+
+static void cylinder_from_best(fit_jobs *j)
+{
+    const int best = best_of(j->med, j->n_axes);
+    j->ok[j->cyl] =
+        best >= 0 && fit_robust(j->w, &j->prim[best], j->need[j->cyl], &j->out[j->cyl]);
+}
+
+static void run_fit_job(fit_jobs *j, int k)
+{
+    const fit_work *w = j->w;
+    double *r = j->scratch + 2 * (size_t)k * w->n;
+    if (k < j->n_axes) {
+        j->med[k] = screen_axis(w, j->mask + (size_t)j->n_plain * w->n, j->axes[k], r,
+                                &j->prim[k]);
+        if (atomic_fetch_add(&j->axes_done, 1) == j->n_axes - 1)
+            cylinder_from_best(j);
     } else {
-        memset(w->mask, 1, w->n);
-        for (int a = 0; a < n_axes; ++a) {
-            double med;
-            if (!cylinder_start(w, axes[a], &trial) ||
-                !refine(w, w->mask, LM_ITERATIONS_SCREEN, &trial))
-                continue;
-            for (size_t i = 0; i < w->n; ++i)
-                w->tmp[i] = fabs(relief_fit_distance(&trial, w->q + 3 * i));
-            med = relief_select_median(w->tmp, w->n);
-            if (med < best_med) {
-                best_med = med;
-                start = trial;
-                ok = 1;
-            }
-        }
-        ok = ok && fit_robust(w, &start, need, out);
+        const int i = k - j->n_axes;
+        fit_work own = {w->n, w->q, r, r + w->n, j->mask + (size_t)i * w->n, 1};
+        j->ok[i] = fit_one_model(&own, j->models[i], j->need[i], NULL, 0, &j->out[i]);
     }
-    return ok;
+}
+
+/* One worker (relief_parallel_ranges over the workers): jobs until none
+ * is left. */
+static int fit_worker(void *ctx, size_t lo, size_t hi)
+{
+    fit_jobs *j = ctx;
+    const int jobs = j->n_axes + j->n_plain;
+    (void)lo, (void)hi;
+    for (int k; (k = atomic_fetch_add(&j->next, 1)) < jobs;)
+        run_fit_job(j, k);
+    return 0;
+}
+
+void fit_each_model(fit_work *w, int n_models, const relief_fit_model *models,
+                    const size_t *need, const double (*axes)[3], int n_axes, fit_candidate *out,
+                    int *ok)
+{
+    fit_jobs j = {w, 0, 0, -1, models, need, out, ok, axes, {{0}}, {0}, NULL, NULL, 0, 0};
+    int jobs;
+    for (int i = 0; i < n_models; ++i)
+        if (models[i] == RELIEF_FIT_CYLINDER)
+            j.cyl = i;
+    j.n_plain = j.cyl < 0 ? n_models : n_models - 1;
+    j.n_axes = j.cyl < 0 ? 0 : n_axes;
+    jobs = j.n_plain + j.n_axes;
+    /* The cylinder last among the models, so the plain ones are models
+     * 0 .. n_plain - 1 in their order. */
+    if (w->threads > 1 && jobs > 1 && j.n_axes > 0 && j.cyl == n_models - 1) {
+        j.scratch = malloc((size_t)jobs * 2 * w->n * sizeof *j.scratch);
+        j.mask = malloc(((size_t)j.n_plain + 1) * w->n);
+    }
+    if (!j.scratch || !j.mask) {
+        free(j.scratch);
+        free(j.mask);
+        for (int i = 0; i < n_models; ++i)
+            ok[i] = fit_one_model(w, models[i], need[i], axes, n_axes, &out[i]);
+        return;
+    }
+    memset(j.mask + (size_t)j.n_plain * w->n, 1, w->n);
+    relief_parallel_ranges((size_t)(w->threads < jobs ? w->threads : jobs), w->threads,
+                           fit_worker, &j);
+    free(j.scratch);
+    free(j.mask);
 }

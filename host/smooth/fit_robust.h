@@ -44,6 +44,8 @@ typedef struct fit_work {
     double *r;           /* n signed distances to the current primitive */
     double *tmp;         /* n scratch for medians */
     uint8_t *mask;       /* n, 1 = inlier of the current primitive */
+    int threads;         /* host threads of fit_each_model (each job its own:
+                            the same fits for any count) */
 } fit_work;
 
 /* One model's robust fit, in normalised coordinates. */
@@ -68,6 +70,16 @@ int fit_robust(fit_work *w, const relief_fit_primitive *start,
  * Returns 0 when nothing could be fitted. */
 int fit_one_model(fit_work *w, relief_fit_model model, size_t need,
                   const double (*axes)[3], int n_axes, fit_candidate *out);
+
+/* fit_one_model of n_models models (distinct, a cylinder last), into
+ * out[i] and ok[i]: on w->threads, each of the cylinder's start axes and
+ * the plane's and the sphere's fits a job of its own with scratch of its
+ * own, the cylinder's fit from its best axis as soon as the axes are
+ * screened, beside the others; on this thread one after another where
+ * the scratch cannot be had. The same fits either way. */
+void fit_each_model(fit_work *w, int n_models, const relief_fit_model *models,
+                    const size_t *need, const double (*axes)[3], int n_axes, fit_candidate *out,
+                    int *ok);
 
 /* Move a cylinder's axis point to the axis point nearest the origin. The
  * axis point slides freely along the axis; pinning it near the data keeps
