@@ -33,6 +33,7 @@ NAME_FN(relief_points_what_name, relief_points_what, RELIEF_POINTS_WHAT_LIST)
 NAME_FN(relief_grid_search_name, relief_grid_search, RELIEF_GRID_SEARCH_LIST)
 NAME_FN(relief_background_name, relief_background, RELIEF_BACKGROUND_LIST)
 NAME_FN(relief_seeding_name, relief_seeding, RELIEF_SEEDING_LIST)
+NAME_FN(relief_noise_model_name, relief_noise_model, RELIEF_NOISE_MODEL_LIST)
 NAME_FN(relief_image_fill_method_name, relief_image_fill_method,
         RELIEF_IMAGE_FILL_METHOD_LIST)
 

@@ -39,6 +39,7 @@ relief_occluder_params relief_occluder_params_default(void)
     p.parallax = 2.0;
     p.view_radius = 6;
     p.seed = 1;
+    p.front_sigmas = 3.0;
     p.run = relief_run_options_default();
     return p;
 }
@@ -92,6 +93,12 @@ relief_status relief_occluder_params_validate(const relief_occluder_params *p, r
     if ((unsigned)p->seeding > RELIEF_SEEDING_HYSTERESIS)
         return relief_fail_param(err, RELIEF_E_RANGE, "seeding", "seeding %d out of range: "
                                  "expected hysteresis or margin", (int)p->seeding);
+    if ((unsigned)p->noise_model > RELIEF_NOISE_FRAME)
+        return relief_fail_param(err, RELIEF_E_RANGE, "noise_model", "noise_model %d out of "
+                                 "range: expected plane or frame", (int)p->noise_model);
+    if (!(p->front_sigmas >= 0.0 && p->front_sigmas <= 64.0))
+        return relief_fail_param(err, RELIEF_E_RANGE, "front_sigmas", "front_sigmas %g out of "
+                                 "range: expected 0..64 (sigmas; 0: off)", p->front_sigmas);
     if ((unsigned)p->background > RELIEF_BACKGROUND_MESH)
         return relief_fail_param(err, RELIEF_E_RANGE, "background", "background %d out of range: "
                                  "expected planes, plane or mesh", (int)p->background);
@@ -163,6 +170,8 @@ static void plane_json(relief_json *j, const relief_occluder_plane *pl)
     rj_number(j, "offset", pl->offset);
     rj_int(j, "inliers", (long long)pl->inliers);
     rj_number(j, "rms", pl->rms);
+    rj_number(j, "noise", pl->noise);
+    rj_number(j, "local_noise", pl->local_noise);
     rj_int(j, "region", (long long)pl->region);
     rj_number(j, "marked", pl->marked);
     rj_end_object(j);
@@ -173,9 +182,11 @@ static void params_json(relief_json *j, const relief_occluder_params *p)
     rj_begin_object(j, "parameters");
     rj_string(j, "background", relief_background_name(p->background));
     rj_string(j, "seeding", relief_seeding_name(p->seeding));
+    rj_string(j, "noise_model", relief_noise_model_name(p->noise_model));
     rj_int(j, "max_planes", p->max_planes);
     rj_number(j, "min_support", p->min_support);
     rj_number(j, "margin", p->margin);
+    rj_number(j, "front_sigmas", p->front_sigmas);
     rj_int(j, "window", p->window);
     rj_number(j, "colour_distance", p->colour_distance);
     rj_int(j, "edge", p->edge);
@@ -239,6 +250,7 @@ static void find_body(relief_json *j, const relief_occluder_params *p,
     rj_int(j, "weak_seeds", (long long)r->weak_seeds);
     rj_int(j, "grown_missing", (long long)r->grown_missing);
     rj_int(j, "grown_edge", (long long)r->grown_edge);
+    rj_int(j, "grown_front", (long long)r->grown_front);
     rj_int(j, "parallax_seeds", (long long)r->parallax_seeds);
     rj_int(j, "dilated", (long long)r->dilated);
     rj_int(j, "occluder_pixels", (long long)r->occluder_pixels);
@@ -331,7 +343,7 @@ static void background_counts(const occ_scene *s, relief_occluder_report *r)
 {
     size_t n = (size_t)s->width * s->height;
     for (size_t i = 0; i < n; ++i) {
-        double c = s->clearance[i], m = occ_margin(s, s->pts[3 * i + 2]);
+        double c = s->clearance[i], m = occ_margin_at(s, i);
         r->no_background += !isfinite(s->surface[i]);
         r->on_background += isfinite(c) && fabs(c) <= m;
         r->behind += isfinite(c) && c < -m;
@@ -380,6 +392,7 @@ static relief_status find(const relief_depth_image *f, const relief_occluder_par
     r->seeds = c.seeds + c.weak_seeds, r->seed_groups = c.seed_groups;
     r->seeds_dropped = c.seeds_dropped, r->weak_seeds = c.weak_seeds;
     r->grown_missing = c.grown_missing, r->grown_edge = c.grown_edge;
+    r->grown_front = c.grown_front;
     r->dilated = c.dilated, r->occluder_pixels = c.total;
     r->views = p->n_views, r->parallax_seeds = c.parallax_seeds;
     r->view_foreground = c.view_fg;
@@ -593,7 +606,7 @@ static relief_status fill_depth(const relief_depth_image *f, const occ_scene *s,
     size_t known = 0;
     for (size_t i = 0; i < w->n; ++i) {
         double c = s->clearance[i];
-        int bg = fabs(c) <= occ_margin(s, s->pts[3 * i + 2]) && isfinite(s->surface[i]);
+        int bg = fabs(c) <= occ_margin_at(s, i) && isfinite(s->surface[i]);
         float r = (float)(f->z[i] - s->surface[i]);
         /* depth-fill takes 0 for missing: an exact 0 known is the least float */
         w->residual[i] = bg && !w->mask[i] ? (r == 0.0f ? FLT_MIN : r) : NAN;

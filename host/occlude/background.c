@@ -34,6 +34,11 @@
 /* RANSAC's consensus band and the default margin, in sigma(z). */
 #define BAND_SIGMAS 3.0
 #define MARGIN_SIGMAS 4.0
+/* A plane's own noise is at least this share of the first plane's: a
+ * plane seen nearly edge-on (a floor far off) or a smooth painted wall has
+ * residuals under the camera's own step, which a margin must still
+ * clear. */
+#define NOISE_FLOOR_SHARE 0.5
 
 void occ_scene_free(occ_scene *s)
 {
@@ -42,6 +47,8 @@ void occ_scene_free(occ_scene *s)
     free(s->pts);
     free(s->surface);
     free(s->clearance);
+    free(s->near);
+    free(s->lift);
     memset(s, 0, sizeof *s);
 }
 
@@ -343,15 +350,15 @@ static double plane_noise(const occ_scene *s, const relief_occluder_plane *pl, c
     return fmax(1.4826 * med, MIN_NOISE);
 }
 
-/* Mark the points within the margin of plane k taken; its inliers and RMS. */
+/* Mark the points within plane k's own margin taken; its inliers and RMS. */
 static void claim(occ_scene *s, int k, uint8_t *taken)
 {
     size_t n = (size_t)s->width * s->height, m = 0;
     double ss = 0.0;
     relief_occluder_plane *pl = &s->plane[k];
     for (size_t i = 0; i < n; ++i) {
-        double d = signed_dist(pl, s->pts + 3 * i);
-        if (fabs(d) <= occ_margin(s, s->pts[3 * i + 2])) {
+        double d = signed_dist(pl, s->pts + 3 * i), z = s->pts[3 * i + 2];
+        if (fabs(d) <= (s->margin > 0.0 ? s->margin : s->margin_k * pl->noise * z * z)) {
             taken[i] = 1;
             ss += d * d;
             ++m;
@@ -397,8 +404,14 @@ static relief_status find_planes(occ_scene *s, const relief_occluder_params *p, 
         m = found ? polish(&ps, &pl, sel) : 0;
         if (!found || m < need || coherence(s, sel) < MIN_COHERENCE)
             break;
-        if (k == 0 && (ps.noise = s->noise = plane_noise(s, &pl, sel)) < 0.0)
+        if ((pl.noise = plane_noise(s, &pl, sel)) < 0.0)
             return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the noise's residuals");
+        if (k == 0)
+            ps.noise = s->noise = pl.noise;
+        if (p->noise_model == RELIEF_NOISE_FRAME)
+            pl.noise = s->noise;
+        else
+            pl.noise = fmax(pl.noise, NOISE_FLOOR_SHARE * s->noise);
         s->plane[k] = pl;
         s->n_planes = k + 1;
         claim(s, k, taken);
@@ -414,24 +427,29 @@ static relief_status find_planes(occ_scene *s, const relief_occluder_params *p, 
 
 /* Every pixel's background depth and clearance from the planes: the free
  * space they bound is the intersection of their front sides, so a ray
- * leaves it at its nearest hit and a point's clearance is its smallest
- * distance in front of any of them. */
+ * leaves it at its nearest hit and a point's clearance is its distance in
+ * front of the plane it is fewest of that plane's sigmas in front of
+ * (near[i]); with one noise for all, its smallest distance in front of
+ * any. */
 static void plane_clearance(occ_scene *s)
 {
     size_t n = (size_t)s->width * s->height;
     for (size_t i = 0; i < n; ++i) {
-        double r[3], zs = INFINITY, c = INFINITY;
+        double r[3], zs = INFINITY, c = NAN, best = INFINITY;
         const double *q = s->pts + 3 * i;
         ray_of(s, i, r);
+        s->near[i] = 0;
         for (int k = 0; k < s->n_planes; ++k) {
             const relief_occluder_plane *pl = &s->plane[k];
             double dn = pl->normal[0] * r[0] + pl->normal[1] * r[1] + pl->normal[2] * r[2];
+            double ck = -signed_dist(pl, q);
             if (dn > 0.0)
                 zs = fmin(zs, pl->offset / dn);
-            c = fmin(c, -signed_dist(pl, q));
+            if (ck / pl->noise < best) /* NaN (no point): never */
+                best = ck / pl->noise, c = ck, s->near[i] = (uint8_t)k;
         }
         s->surface[i] = isfinite(zs) ? (float)zs : NAN;
-        s->clearance[i] = isfinite(q[2]) ? (float)c : NAN;
+        s->clearance[i] = (float)c;
     }
 }
 
@@ -522,8 +540,12 @@ relief_status occ_background(occ_scene *s, const relief_occluder_params *p, reli
         st = mesh_clearance(s, p, err);
     } else if (st == RELIEF_OK) {
         st = find_planes(s, p, taken, sel, sub, err);
+        if (st == RELIEF_OK && !(s->near = malloc(n)))
+            st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the planes' %zu pixels", n);
         if (st == RELIEF_OK)
             plane_clearance(s);
+        if (st == RELIEF_OK)
+            st = occ_local_lift(s, err);
     }
     free(taken);
     free(sel);

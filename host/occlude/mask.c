@@ -142,7 +142,7 @@ static void weak_seeds(const occ_scene *s, uint8_t *seed, size_t *queue, occ_cou
                 if (x + dx < 0 || x + dx >= w || y + dy < 0 || y + dy >= h)
                     continue;
                 j = (size_t)(y + dy) * w + (x + dx);
-                if (seed[j] || !(s->clearance[j] > WEAK_SHARE * occ_margin(s, s->pts[3 * j + 2])))
+                if (seed[j] || !(s->clearance[j] > WEAK_SHARE * occ_margin_at(s, j)))
                     continue; /* NaN: not a point, or no background */
                 seed[j] = 1, ++c->weak_seeds;
                 queue[tail++] = j;
@@ -168,7 +168,7 @@ static void judge_frame(const occ_scene *s, occ_views *v, occ_counts *c)
         cue = occ_views_cue(v, i);
         if (!isfinite(cl) || cue == OCC_CUE_UNKNOWN)
             continue;
-        m = occ_margin(s, s->pts[3 * i + 2]);
+        m = occ_margin_at(s, i);
         if (cl > m)
             ++*(cue == OCC_CUE_FOREGROUND ? &c->front_fg : &c->front_bg);
         else if (fabs(cl) <= m)
@@ -220,8 +220,10 @@ static int joins(const grower *g, size_t p, size_t q, size_t **count, occ_counts
     if (!isfinite(s->pts[3 * q + 2]))
         *count = &c->grown_missing;
     else if (g->near_seed[q] <= g->p->edge &&
-             !(s->clearance[q] < -occ_margin(s, s->pts[3 * q + 2])))
+             !(s->clearance[q] < -occ_margin_at(s, q)))
         *count = &c->grown_edge; /* the rim, not what lies behind the background */
+    else if (g->p->front_sigmas > 0.0 && occ_lifted(s, q, g->p->front_sigmas))
+        *count = &c->grown_front; /* standing on the plane, under its margin */
     else
         return 0;
     return 1;
@@ -252,7 +254,9 @@ static void grow(grower *g, occ_counts *c)
             if (!joins(g, p, q, &count, c))
                 continue;
             g->mask[q] = 1;
-            g->origin[q] = g->origin[p];
+            /* A point lifted off its plane is evidence as a seed is: the
+             * window restarts there (a runner is longer than the window). */
+            g->origin[q] = count == &c->grown_front ? (uint32_t)q : g->origin[p];
             ++*count;
             g->queue[tail++] = q;
         }
@@ -271,7 +275,7 @@ static relief_status mask_stages(const occ_scene *s, const relief_occluder_param
         return st;
     g->views = &views;
     for (size_t i = 0; i < n; ++i)
-        g->mask[i] = s->clearance[i] > occ_margin(s, s->pts[3 * i + 2]); /* NaN: 0 */
+        g->mask[i] = s->clearance[i] > occ_margin_at(s, i); /* NaN: 0 */
     judge_frame(s, &views, c);
     parallax_seeds(s, &views, g->mask, c);
     drop_small(g->mask, s->width, s->height, p->min_area, g->queue, c);

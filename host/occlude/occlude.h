@@ -30,8 +30,14 @@ typedef struct occ_scene {
                             the point is missing or has no background */
     /* The depth noise, a structured-light camera's: sigma(z) = noise x z^2
      * (its disparity quantised: steps of about z^2 / 350 m for a Kinect),
-     * measured on the background. */
+     * measured on the first plane (or the mesh). Each plane has its own,
+     * plane[k].noise, and each point is judged against one plane, near[i]
+     * (NULL for a mesh: the noise above). */
     double noise;
+    uint8_t *near;       /* width x height: the plane of the clearance */
+    float *lift;         /* width x height: the clearance less the local level
+                            of near[i]'s points (local.c); NaN where missing,
+                            NULL for a mesh */
     double margin;       /* a constant margin (depth units), or 0: margin_k x
                             sigma(z) */
     double margin_k;
@@ -51,16 +57,31 @@ static inline int occ_no_colour(const occ_scene *s, size_t i)
            c[0] == s->placeholder[0] && c[1] == s->placeholder[1] && c[2] == s->placeholder[2];
 }
 
-/* The margin a point at depth z must clear to be a seed. */
+/* The noise coefficient a of pixel i's point: sigma(z) = a z^2 of the
+ * plane it is judged against. */
+static inline double occ_noise_at(const occ_scene *s, size_t i)
+{
+    return s->near ? s->plane[s->near[i]].noise : s->noise;
+}
+
+/* The depth noise of pixel i's point: one standard deviation (depth units;
+ * NaN where the point is missing). */
+static inline double occ_sigma_at(const occ_scene *s, size_t i)
+{
+    double z = s->pts[3 * i + 2];
+    return occ_noise_at(s, i) * z * z;
+}
+
+/* The margin pixel i's point must clear to be a seed. */
+static inline double occ_margin_at(const occ_scene *s, size_t i)
+{
+    return s->margin > 0.0 ? s->margin : s->margin_k * occ_sigma_at(s, i);
+}
+
+/* The margin at depth z against the first plane (the report's). */
 static inline double occ_margin(const occ_scene *s, double z)
 {
     return s->margin > 0.0 ? s->margin : s->margin_k * s->noise * z * z;
-}
-
-/* The depth noise at depth z: one standard deviation (depth units). */
-static inline double occ_sigma(const occ_scene *s, double z)
-{
-    return s->noise * z * z;
 }
 
 void occ_scene_free(occ_scene *s);
@@ -84,6 +105,21 @@ relief_status occ_scene_points(const relief_depth_image *f, const relief_occlude
  * naming why when none is found; RELIEF_E_NOMEM. */
 relief_status occ_background(occ_scene *s, const relief_occluder_params *p,
                              relief_error *err);
+
+/* s->lift and each plane's local_noise, from the planes' clearance.
+ * RELIEF_E_NOMEM. */
+relief_status occ_local_lift(occ_scene *s, relief_error *err);
+
+/* Does pixel i's point stand over k local sigmas above its plane's local
+ * level, and over one of the plane's own sigmas in front of it? The
+ * second keeps the bumps of a wall that is not quite plane, which its own
+ * noise measures, from counting. */
+static inline int occ_lifted(const occ_scene *s, size_t i, double k)
+{
+    double z = s->pts[3 * i + 2];
+    return s->lift && s->lift[i] > k * s->plane[s->near[i]].local_noise * z * z &&
+           s->clearance[i] > occ_sigma_at(s, i);
+}
 
 /* CIELAB (D65) of n sRGB byte triples: lab n x 3. */
 void occ_lab(const uint8_t *rgb, size_t n, float *lab);
@@ -127,6 +163,7 @@ void occ_views_free(occ_views *v);
 /* What the mask's stages counted (relief_occluder_report's fields). */
 typedef struct occ_counts {
     size_t seeds, seed_groups, seeds_dropped, weak_seeds, grown_missing, grown_edge, dilated;
+    size_t grown_front;
     size_t total;
     size_t parallax_seeds, view_fg, view_bg, view_unknown;
     size_t front_fg, front_bg, on_bg, on_fg; /* the views against the depth */

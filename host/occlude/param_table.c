@@ -10,6 +10,7 @@
 
 static const char *const backgrounds[] = {"planes", "plane", "mesh", NULL};
 static const char *const seedings[] = {"margin", "hysteresis", NULL};
+static const char *const noise_models[] = {"plane", "frame", NULL};
 
 static const relief_param table[] = {
     RP_ENUM(T, background, "B", backgrounds, "planes (default: up to max_planes planes by "
@@ -24,10 +25,18 @@ static const relief_param table[] = {
     RP_ENUM(T, seeding, "S", seedings, "margin (default, paper 004's: the points beyond the "
             "margin) or hysteresis (also those over 3/4 of it in front connected to them: "
             "legs, a chair's base; it can spread into walls that are not quite plane)"),
+    RP_ENUM(T, noise_model, "N", noise_models, "whose noise the margin is measured in: "
+            "plane (default: each background plane's own sigma_k(z) = a_k z^2, from its "
+            "inliers, at least half the first plane's; a point is judged against the plane "
+            "it is fewest sigmas in front of) or frame (the first plane's for every plane)"),
     RP_INT(T, window, "W", 3, 1025, "the growth's square around each seed, odd pixels "
            "(default 61, the paper's)"),
     RP_REAL(T, colour_distance, "D", 0, 200, "the growth's step: neighbours whose colours "
             "differ by at most D (CIELAB delta E 1976) join, 0..200 (default 12)"),
+    RP_REAL(T, front_sigmas, "K", 0, 64, "growth also enters captured points over K sigmas "
+            "above their plane's local level (the mean of its points in a 31-pixel square; "
+            "sigma: their noise about it): thin things on a floor, a chair's runners; 0: never, "
+            "paper 004's growth, 0..64 (default 3)"),
     RP_INT(T, edge, "N", 0, 64, "growth onto background depth within N pixels of a seed "
            "(a depth camera's misregistered rim), 0..64 (default 3)"),
     RP_INT(T, min_area, "N", 1, 100000000, "seed groups under N pixels are noise (default "

@@ -21,14 +21,15 @@ static double plane_distance(const relief_occluder_plane *pl, const double *q)
     return pl->normal[0] * q[0] + pl->normal[1] * q[1] + pl->normal[2] * q[2] - pl->offset;
 }
 
-/* Plane pl's band (in) joined into 4-connected components (parent). */
+/* Plane pl's band (in: within REGION_SIGMAS of its own noise) joined into
+ * 4-connected components (parent). */
 static size_t band_components(const occ_scene *s, const relief_occluder_plane *pl,
                               uint8_t *in, uint32_t *parent)
 {
     size_t n = (size_t)s->width * s->height, m = 0;
     for (size_t i = 0; i < n; ++i) {
         const double *q = s->pts + 3 * i;
-        double sigma = occ_sigma(s, q[2]);
+        double sigma = pl->noise * q[2] * q[2];
         in[i] = isfinite(q[2]) && fabs(plane_distance(pl, q)) <= REGION_SIGMAS * sigma;
         parent[i] = (uint32_t)i;
         m += in[i];

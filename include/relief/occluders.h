@@ -31,7 +31,8 @@
  *    pixel they are reached from by at most `colour_distance` (CIELAB
  *    delta E 1976) and whose depth is missing or, within `edge` pixels of
  *    a seed, not behind the background (the misregistered rim of a depth
- *    camera).
+ *    camera), or which stand over `front_sigmas` above their plane's local
+ *    level (thin things on a floor; the window restarts there).
  * 5. The mask, dilated by `dilate` pixels: marking background as
  *    foreground is preferred to the reverse.
  * With registered neighbouring views (the paper's eq. 2.1), each pixel's
@@ -96,6 +97,26 @@ typedef enum relief_seeding {
 
 RELIEF_API const char *relief_seeding_name(relief_seeding seeding);
 
+/* Whose noise a point's margin is measured by (when `margin` <= 0):
+ *   plane  (default) the plane it is judged against: each background plane's
+ *          own sigma_k(z) = a_k z^2, measured on its own inliers (not below
+ *          half the first plane's a), and a point is judged against the plane
+ *          it is fewest of those sigmas in front of. A floor seen edge-on,
+ *          or a wall that is not quite plane, each keeps its own margin.
+ *   frame  issue 63's first measure: the first plane's a for every plane.
+ * X(code, name) */
+#define RELIEF_NOISE_MODEL_LIST(X)                                              \
+    X(RELIEF_NOISE_PLANE, "plane")                                              \
+    X(RELIEF_NOISE_FRAME, "frame")
+
+typedef enum relief_noise_model {
+#define RELIEF_X_ENUM(code, name) code,
+    RELIEF_NOISE_MODEL_LIST(RELIEF_X_ENUM)
+#undef RELIEF_X_ENUM
+} relief_noise_model;
+
+RELIEF_API const char *relief_noise_model_name(relief_noise_model model);
+
 /* Most neighbouring views a call takes. */
 #define RELIEF_OCCLUDER_MAX_VIEWS 16
 
@@ -159,6 +180,13 @@ typedef struct relief_occluder_params {
     uint32_t seed;           /* RANSAC's draws; 1 */
     relief_run_options run;  /* max_memory, progress, names; backend unused */
     relief_seeding seeding;  /* default margin */
+    relief_noise_model noise_model; /* default plane */
+    double front_sigmas;     /* growth also enters captured points more than
+                                this many sigmas over their plane's local
+                                level (the mean of its points in a 31-pixel
+                                square; sigma: the plane's local_noise z^2):
+                                thin things on a floor, a chair's runners;
+                                0: never (paper 004's growth); 3, [0, 64] */
 } relief_occluder_params;
 
 /* The defaults above. */
@@ -180,6 +208,12 @@ typedef struct relief_occluder_plane {
     double offset;           /* depth units */
     size_t inliers;          /* captured points within the margin */
     double rms;              /* their RMS distance to it */
+    double noise;            /* its a_k: sigma_k(z) = a_k z^2, the margin's
+                                unit against it (noise_model plane; frame:
+                                the report's noise) */
+    double local_noise;      /* its points' noise about their local level
+                                (the mean of its points in a 31-pixel square):
+                                front_sigmas' unit */
     size_t region;           /* its region: the captured pixels within 3
                                 sigma(z) of it, in its connected support (the
                                 4-connected parts of that band holding at
@@ -218,6 +252,7 @@ typedef struct relief_occluder_report {
                                 the margin, over 3/4 of it */
     size_t grown_missing;    /* added by growth: depth missing */
     size_t grown_edge;       /* added by growth: background depth at the rim */
+    size_t grown_front;      /* added by growth: over front_sigmas in front */
     size_t dilated;          /* added by the dilation */
     int views;               /* neighbouring views used */
     size_t parallax_seeds;   /* seeds where the depth is missing, by the views */
