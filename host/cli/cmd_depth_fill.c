@@ -305,7 +305,7 @@ static void say_image(const depth_args *a, const relief_depth_image *f,
             100.0 * r->missing / n, r->filled, r->outside, relief_depth_variant_name(a->p.variant),
             r->by_synthesis, relief_depth_order_name(r->order_kept), r->by_membrane,
             r->by_fallback, r->seconds_total, r->device);
-    if (a->p.edges == RELIEF_DEPTH_EDGES_LAYERS && r->stepped_holes)
+    if (a->p.edges != RELIEF_DEPTH_EDGES_ACROSS && r->stepped_holes)
         fprintf(stderr, "relief depth-fill: edges layers: %zu holes across a depth step (over "
                 "%g x the noise measured, %.3g%s), filled surface by surface, %zu pixels by a "
                 "nearer surface than the farthest%s\n", r->stepped_holes, a->p.edge_step,

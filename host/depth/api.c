@@ -42,7 +42,7 @@ relief_depth_fill_params relief_depth_fill_params_default(void)
     p.lambda = 0.0;
     p.membrane = RELIEF_MEMBRANE_AUTO;
     p.seam = 1;
-    p.edges = RELIEF_DEPTH_EDGES_LAYERS;
+    p.edges = RELIEF_DEPTH_EDGES_AUTO;
     p.edge_step = r.layer.step;
     p.values = RELIEF_DEPTH_VALUES_AUTO;
     p.resolution = relief_mesh_fill_params_default().resolution;
@@ -75,9 +75,9 @@ static relief_status check_choices(const relief_depth_fill_params *p, relief_err
     if (p->order < RELIEF_DEPTH_ORDER_BOTH || p->order > RELIEF_DEPTH_ORDER_VERTICAL)
         return relief_fail_param(err, RELIEF_E_RANGE, "order", "order %d is not one of both, "
                                  "horizontal, vertical", (int)p->order);
-    if (p->edges < RELIEF_DEPTH_EDGES_LAYERS || p->edges > RELIEF_DEPTH_EDGES_ACROSS)
+    if (p->edges < RELIEF_DEPTH_EDGES_AUTO || p->edges > RELIEF_DEPTH_EDGES_ACROSS)
         return relief_fail_param(err, RELIEF_E_RANGE, "edges", "edges %d is not one of "
-                                 "layers, across", (int)p->edges);
+                                 "auto, layers, across", (int)p->edges);
     if (p->values < RELIEF_DEPTH_VALUES_AUTO || p->values > RELIEF_DEPTH_VALUES_DISPARITY)
         return relief_fail_param(err, RELIEF_E_RANGE, "values", "values %d is not one of "
                                  "auto, depth, disparity", (int)p->values);
@@ -187,7 +187,7 @@ static relief_depth_repair_params repair_params(const relief_depth_fill_params *
     if (p->membrane != RELIEF_MEMBRANE_AUTO)
         r.thin_plate = p->membrane == RELIEF_MEMBRANE_THIN_PLATE;
     r.seam = p->seam;
-    r.layered = !mesh && p->edges == RELIEF_DEPTH_EDGES_LAYERS;
+    r.layered = !mesh && p->edges != RELIEF_DEPTH_EDGES_ACROSS; /* auto: the frame's (below) */
     r.layer.step = p->edge_step;
     return r;
 }
@@ -428,6 +428,8 @@ relief_status relief_depth_fill(relief_depth_image *f, const relief_image *mask,
                                      f->format == RELIEF_DEPTH_PFM)
                                 ? -1
                                 : 1;
+    if (p->edges == RELIEF_DEPTH_EDGES_AUTO && job.rp.layer.far_sign < 0)
+        job.rp.layered = 0; /* disparities: across (relief/depth.h) */
     job.rp.layer.rgb = f->rgb;
     if (f->rgb)
         job.rp.layer.near_weight = 1.5;

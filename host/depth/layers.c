@@ -418,8 +418,75 @@ static void paths(lay_run *L, uint32_t t, const int *rank, int r)
     }
 }
 
+/* Hole pixel k's same-rank region (4-connected, labelled `label` in
+ * L->parent by hole index, L->heap_i its queue): whether it touches a rim
+ * pixel of its rank, and in near[r] how often it touches rank r. Returns
+ * its size. */
+static size_t region(lay_run *L, uint32_t t, size_t k, uint32_t label, int *anchored,
+                     size_t *near)
+{
+    static const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+    uint8_t r = L->rank[L->hole[k]];
+    size_t head = 0, tail = 0;
+    *anchored = 0;
+    L->parent[k] = label;
+    L->heap_i[tail++] = (uint32_t)k;
+    while (head < tail) {
+        size_t p = L->hole[L->heap_i[head++]];
+        int x = (int)(p % (uint32_t)L->W), y = (int)(p / (uint32_t)L->W);
+        for (int j = 0; j < 4; ++j) {
+            int u = x + dx[j], v = y + dy[j];
+            size_t q;
+            uint8_t rq;
+            if (u < 0 || u >= L->W || v < 0 || v >= L->H)
+                continue;
+            q = (size_t)v * L->W + u;
+            if (L->stamp[q] != t || (L->missing[q] && !L->inside[q]))
+                continue;
+            rq = L->rank[q];
+            if (rq < RELIEF_LAYERS_MAX && rq != r)
+                ++near[rq];
+            if (!L->inside[q]) {
+                *anchored |= rq == r;
+            } else if (rq == r && L->parent[L->at[q]] != label) {
+                L->parent[L->at[q]] = label;
+                L->heap_i[tail++] = L->at[q];
+            }
+        }
+    }
+    return tail;
+}
+
+/* A layer's pixels cut off from its rim (their path to it crossed another
+ * layer) would be filled with no boundary: each such region joins the
+ * layer it borders most, until every region touches its own rim. */
+static void anchor(lay_run *L, uint32_t t)
+{
+    for (int round = 0, moved = 1; moved && round < 2 * RELIEF_LAYERS_MAX; ++round) {
+        moved = 0;
+        for (size_t k = 0; k < L->nhole; ++k)
+            L->parent[k] = UINT32_MAX;
+        for (size_t k = 0; k < L->nhole; ++k) {
+            size_t near[RELIEF_LAYERS_MAX] = {0}, m;
+            int anchored, to = -1;
+            if (L->parent[k] != UINT32_MAX)
+                continue;
+            m = region(L, t, k, (uint32_t)k, &anchored, near);
+            for (int r = 0; r < RELIEF_LAYERS_MAX; ++r)
+                if (near[r] && (to < 0 || near[r] > near[to]))
+                    to = r;
+            if (anchored || to < 0)
+                continue;
+            for (size_t i = 0; i < m; ++i)
+                L->rank[L->hole[L->heap_i[i]]] = (uint8_t)to;
+            moved = 1;
+        }
+    }
+}
+
 /* Each hole pixel's rank: the nearest rim by path, a front layer's paths
- * weighted; and the rim's pieces' ranks. Returns the front pixels. */
+ * weighted, every region anchored to its own rim; and the rim's pieces'
+ * ranks. Returns the front pixels. */
 static size_t assign(lay_run *L, uint32_t t, const int *rank, int top)
 {
     size_t front = 0;
@@ -434,11 +501,13 @@ static size_t assign(lay_run *L, uint32_t t, const int *rank, int top)
                 best = r, bd = dr;
         }
         L->rank[L->hole[k]] = (uint8_t)best;
-        front += best > 0;
     }
     for (size_t k = 0; k < L->nrim; ++k)
         L->rank[L->rim[k]] = L->piece[k] == UINT32_MAX ? RELIEF_LAYER_IGNORED
                                                         : (uint8_t)rank[L->piece[k]];
+    anchor(L, t);
+    for (size_t k = 0; k < L->nhole; ++k)
+        front += L->rank[L->hole[k]] > 0;
     return front;
 }
 

@@ -11,7 +11,7 @@
 static const char *const variants[] = {"plain", "haar", "decompose", NULL};
 static const char *const orders[] = {"both", "horizontal", "vertical", NULL};
 static const char *const membranes[] = {"auto", "harmonic", "thin-plate", NULL};
-static const char *const edges[] = {"layers", "across", NULL};
+static const char *const edges[] = {"auto", "layers", "across", NULL};
 static const char *const values[] = {"auto", "depth", "disparity", NULL};
 
 static const relief_param table[] = {
@@ -47,9 +47,11 @@ static const relief_param table[] = {
             "continues the capture's slope (default: on; off leaves the rims as "
             "synthesised)"),
     RP_ENUM(T, edges, "E", edges, "images: a hole across a depth step filled by layers "
-            "(default: each pixel from the rim of the surface it belongs to, so the "
-            "background continues behind and the foreground's silhouette stays) or across "
-            "(paper 003: from the whole rim, a ramp between the surfaces)"),
+            "(each pixel from the rim of the surface it belongs to, so the background "
+            "continues behind and the foreground's silhouette stays) or across (paper 003: "
+            "from the whole rim, a ramp between the surfaces); auto (default): layers for "
+            "depths, across for disparities (a noise-free disparity map has no noise to "
+            "tell its slopes from steps)"),
     RP_REAL(T, edge_step, "K", 1, 1000, "images, edges layers: a step between surfaces is "
             "a difference over K times the frame's measured noise, 1..1000 (default 8)"),
     RP_ENUM(T, values, "V", values, "images, edges layers: what the values are, so which "

@@ -181,14 +181,18 @@ typedef enum relief_membrane {
 } relief_membrane;
 
 /* A hole across a depth step (a camera's shadow beside an object, a
- * stereo occlusion): layers (default) fills each pixel by the surface it
- * belongs to, from that surface's part of the rim only, so the background
+ * stereo occlusion): layers fills each pixel by the surface it belongs
+ * to, from that surface's part of the rim only, so the background
  * continues behind and the foreground's silhouette stays where it was
  * captured (with the frame's colour, where the colour parts them);
  * across fills it from the whole rim (paper 003), a ramp from one
- * surface to the other. A step is a difference over edge_step times the
- * frame's noise, measured on it. */
+ * surface to the other; auto (default) is layers for depths and across
+ * for disparities (values): a step is a difference over edge_step times
+ * the noise measured on the frame, and a noise-free disparity map (a
+ * stereo benchmark's ground truth) has none to measure, so its slopes
+ * would read as steps. */
 #define RELIEF_DEPTH_EDGES_LIST(X)                                              \
+    X(RELIEF_DEPTH_EDGES_AUTO, "auto")                                          \
     X(RELIEF_DEPTH_EDGES_LAYERS, "layers")                                      \
     X(RELIEF_DEPTH_EDGES_ACROSS, "across")
 
@@ -281,8 +285,8 @@ typedef struct relief_depth_fill_params {
                             rim's own edges (closed, no crossing at the
                             seam), given the solid's relief where the solid
                             lies within 3 voxels of it */
-    relief_depth_edges edges; /* images: default layers (issue 63); across is
-                            paper 003's */
+    relief_depth_edges edges; /* images: default auto (layers for depths, across
+                            for disparities; issue 63); across is paper 003's */
     double edge_step;    /* images, layers: a step between two surfaces is a
                             difference over this many noise units (the
                             median non-zero |second difference| of the

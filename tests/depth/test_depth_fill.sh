@@ -135,7 +135,7 @@ ok '! cmp -s "$tmp/e_l.png" "$tmp/e_a.png"' "edges across gave the layers' bytes
 expect 0 "parted by colour" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/e_c.png" --colour "$tmp/c.png"
 expect 1 "same size" -- "$relief" depth-fill "$tmp/office.png" -o "$tmp/bad.png" --colour "$tmp/m2.png"; nothing "colour size"
 expect 1 "carries its own colour" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --colour "$tmp/c.png"; nothing "colour with a PCD"
-expect 1 "not one of layers, across" -- "$relief" depth-fill "$tmp/office.png" -o "$tmp/bad.png" --edges ramp; nothing "edges"
+expect 1 "not one of auto, layers, across" -- "$relief" depth-fill "$tmp/office.png" -o "$tmp/bad.png" --edges ramp; nothing "edges"
 nyu=$depth/../rgbd/nyu/NYU_depth.pgm
 if [[ -f $nyu ]]; then
   expect 0 "holes across a depth step" -- "$relief" depth-fill "$nyu" --depth-format nyu -o "$tmp/nyu.png"

@@ -51,8 +51,9 @@ static void choose(const uint8_t *h, int *w, int *hh, int *flags, relief_depth_f
     *flags = h[2];
     p->variant = (relief_depth_variant)(h[3] % 3);
     p->window = 3 + 2 * ((h[3] >> 2) % 3) - ((h[3] >> 4) & 1); /* evens refused */
-    p->edges = (h[4] & 0xC0) == 0xC0 ? (relief_depth_edges)2 /* refused */
+    p->edges = (h[4] & 0xC0) == 0xC0 ? (relief_depth_edges)3 /* refused */
                : (h[4] & 1)         ? RELIEF_DEPTH_EDGES_ACROSS
+               : (h[4] & 0x40)      ? RELIEF_DEPTH_EDGES_AUTO
                                     : RELIEF_DEPTH_EDGES_LAYERS;
     p->edge_step = h[5] == 255 ? NAN : h[5] == 0 ? 0.5 : h[5] / 8.0; /* 0.5 and NaN refused */
     p->values = (relief_depth_values)((h[4] >> 1) % 4);             /* 3 refused */
