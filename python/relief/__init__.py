@@ -310,9 +310,10 @@ def depth_fill(depth, mask=None, *, colour=None, variant="decompose", seed=1, ba
     """Repair a depth frame (paper 003): its missing pixels (0, NaN or inf,
     or non-zero in ``mask``) inside the capture are filled; those outside it
     (a camera's invalid margin) stay missing. A hole across a depth step is
-    filled surface by surface (``edges="layers"``, the default; ``"across"``
-    is paper 003's ramp); ``colour``, the frame's registered (H, W, 3) uint8
-    image, parts the surfaces where its colour changes.
+    filled surface by surface (``edges="auto"``, the default, takes
+    ``"layers"`` for depths and ``"across"``, paper 003's ramp, for
+    ``values="disparity"``); ``colour``, the frame's registered (H, W, 3)
+    uint8 image, parts the surfaces where its colour changes.
 
     depth: (H, W) uint16 (a depth PNG's values, ``png_scale`` per metre, 0
     missing) or float32 / float64 (NaN missing; a finite float64 that
