@@ -5,6 +5,7 @@
 #include "cli/commands.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +15,7 @@
 #include "base/error.h"
 #include "base/memlimit.h"
 #include "cli/batch.h"
+#include "cli/camera_files.h"
 #include "cli/options.h"
 #include "depth/depth_io.h"
 #include "mesh/mesh.h"
@@ -49,13 +51,17 @@ typedef struct depth_args {
     cli_common cm;
     relief_depth_fill_params p;
     const char *in, *truth, *points, *colour;
+    const char *camera_file; /* --intrinsics CAMERA.json */
+    int has_camera;          /* --intrinsics given */
+    cli_camera camera;       /* its numbers (a file's once read) */
     double scale; /* --scale; 0: the default */
     relief_depth_encoding encoding; /* --depth-format (auto) */
     in_kind kind;
     cli_output outs[3]; /* -o, --points, --report */
 } depth_args;
 
-enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK, DF_COLOUR, DF_FORMAT };
+enum { DF_SCALE = OPT_COMMAND, DF_TRUTH, DF_POINTS, DF_HOLE_MASK, DF_COLOUR, DF_FORMAT,
+       DF_INTRINSICS };
 
 static const cli_own own[] = {
     {"scale", DF_SCALE, "S", "16-bit PNG: values per metre (default 5000, TUM and Kinect)"},
@@ -69,7 +75,10 @@ static const cli_own own[] = {
     {"colour", DF_COLOUR, "C", "(PNG, PFM) the frame's registered colour image, of its "
      "size: where a hole lies across a depth step (edges layers), its colour edges part "
      "the surfaces, as a PCD's own colour does"},
-    {"points", DF_POINTS, "OUT.ply", "(PCD) the repaired points, coloured where IN has "
+    {"intrinsics", DF_INTRINSICS, "FX,FY,CX,CY|CAMERA.json", "(PNG, PGM) the depth "
+     "image's pinhole camera, pixels, or Open3D's camera JSON of its size: --points then "
+     "back-projects every pixel through it"},
+    {"points", DF_POINTS, "OUT.ply", "(PCD; PNG or PGM with --intrinsics) the repaired points, coloured where IN (or --colour) has "
      "colour, with a 'label' property: 1 for the filled ones"},
     {"hole-mask", DF_HOLE_MASK, "WHAT", "(mesh) fill exactly the holes whose rims touch WHAT, "
      "whatever their size (a border, or a rim wider than max_hole, only where WHAT touches "
@@ -111,6 +120,10 @@ static int take(void *ctx, int c, const char *arg)
     case DF_TRUTH: a->truth = arg; return 1;
     case DF_POINTS: a->points = arg; return 1;
     case DF_COLOUR: a->colour = arg; return 1;
+    case DF_INTRINSICS:
+        a->has_camera = 1;
+        a->camera_file = cli_camera_numbers(arg, &a->camera) ? NULL : arg;
+        return 1;
     case DF_FORMAT: {
         static const char *const encodings[] = CLI_NAMES(RELIEF_DEPTH_ENCODING_LIST);
         int v;
@@ -133,7 +146,7 @@ static int take(void *ctx, int c, const char *arg)
  * together, else the exit status (said). */
 static int check_files(depth_args *a)
 {
-    const char *out = a->cm.out, *ins[3];
+    const char *out = a->cm.out, *ins[5];
     in_kind kout, kt;
     if (!kind_of_name(a->in, &a->kind))
         return cli_usage_error("depth-fill", "IN: '%s' does not end in .pcd, .pfm, .png or "
@@ -153,9 +166,12 @@ static int check_files(depth_args *a)
     if (a->colour && (a->kind == IN_PCD || a->kind == IN_MESH))
         return cli_usage_error("depth-fill", "--colour '%s': a PCD carries its own colour "
                                 "and a mesh none: --colour is for a PNG or PFM", a->colour);
-    if (a->points && a->kind != IN_PCD)
-        return cli_usage_error("depth-fill", "--points: '%s': points need an organised PCD "
-                                "input (a depth image has no camera)", a->points);
+    if (a->has_camera && a->kind != IN_PNG)
+        return cli_usage_error("depth-fill", "--intrinsics: '%s' is no PNG or PGM depth image "
+                                "(a PCD carries its points)", a->in);
+    if (a->points && a->kind != IN_PCD && !a->has_camera)
+        return cli_usage_error("depth-fill", "--points: '%s': points need an organised PCD, or "
+                                "a depth image's camera (--intrinsics)", a->points);
     if (a->truth && a->kind == IN_MESH && !cli_known_mesh_ext(a->truth))
         return cli_usage_error("depth-fill", "--truth '%s': a mesh's truth is the complete "
                                 "mesh (.ply, .obj, .off or .stl)", a->truth);
@@ -164,11 +180,12 @@ static int check_files(depth_args *a)
                 a->truth, kind_name(a->kind));
         return EXIT_USAGE;
     }
-    ins[0] = a->in, ins[1] = a->cm.mask, ins[2] = a->truth;
+    ins[0] = a->in, ins[1] = a->cm.mask, ins[2] = a->truth, ins[3] = a->colour;
+    ins[4] = a->camera_file;
     a->outs[0] = (cli_output){"-o", out, CLI_OUT_FILE};
     a->outs[1] = (cli_output){"--points", a->points, CLI_OUT_FILE};
     a->outs[2] = (cli_output){"--report", a->cm.report, CLI_OUT_FILE};
-    return cli_check_outputs("depth-fill", ins, 3, a->outs, 3);
+    return cli_check_outputs("depth-fill", ins, 5, a->outs, 3);
 }
 
 /* The options into *a: -1 to go on, else the exit status. */
@@ -252,6 +269,37 @@ static relief_status read_colour(const depth_args *a, relief_depth_image *f, rel
     }
     relief_image_free(&c);
     return st;
+}
+
+/* --intrinsics CAMERA.json: its numbers, its size IN's. */
+static relief_status read_camera(depth_args *a, const relief_depth_image *f, relief_error *err)
+{
+    relief_status st = cli_read_camera_json("--intrinsics", a->camera_file, &a->camera, err);
+    if (st == RELIEF_OK && a->camera.width &&
+        (a->camera.width != f->width || a->camera.height != f->height))
+        st = relief_fail(err, RELIEF_E_USAGE, "--intrinsics %s is a camera of %d x %d pixels, "
+                         "%s is %d x %d", a->camera_file, a->camera.width, a->camera.height,
+                         a->in, f->width, f->height);
+    return st;
+}
+
+/* The repaired depth image's points for --points: each pixel back-projected
+ * through --intrinsics (NaN where still missing), as a PCD carries them. */
+static relief_status camera_points(const depth_args *a, relief_depth_image *f,
+                                   relief_error *err)
+{
+    const double *k = a->camera.k;
+    if (!(f->xyz = malloc((size_t)f->width * f->height * 3 * sizeof *f->xyz)))
+        return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the frame's points");
+    for (int v = 0; v < f->height; ++v)
+        for (int u = 0; u < f->width; ++u) {
+            size_t i = (size_t)v * f->width + u;
+            float z = isfinite(f->z[i]) && f->z[i] > 0.0f ? f->z[i] : NAN;
+            f->xyz[3 * i] = (float)((u - k[2]) / k[0] * z);
+            f->xyz[3 * i + 1] = (float)((v - k[3]) / k[1] * z);
+            f->xyz[3 * i + 2] = z;
+        }
+    return RELIEF_OK;
 }
 
 /* What write_one writes: OUT (a frame, or a mesh), --points, --report
@@ -345,6 +393,8 @@ static int image_mode(depth_args *a)
     }
     if (st == RELIEF_OK && a->colour)
         st = read_colour(a, &f, &err);
+    if (st == RELIEF_OK && a->camera_file)
+        st = read_camera(a, &f, &err);
     if (st == RELIEF_OK && a->truth) {
         st = read_frame(a, a->truth, &truth, &err);
         if (st == RELIEF_OK && (truth.width != f.width || truth.height != f.height))
@@ -366,6 +416,8 @@ static int image_mode(depth_args *a)
         cli_progress_end(&pr);
         cli_progress_explain(&pr, st, &err);
     }
+    if (st == RELIEF_OK && a->points && !f.xyz)
+        st = camera_points(a, &f, &err);
     if (st == RELIEF_OK) {
         depth_out o = {a, &f, NULL, label, rep.json, NULL};
         st = cli_write_outputs(a->outs, 3, write_one, &o, NULL, &err);

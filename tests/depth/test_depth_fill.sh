@@ -142,6 +142,18 @@ if [[ -f $nyu ]]; then
   expect 1 "16-bit PNG" -- "$relief" depth-fill "$nyu" --depth-format nyu -o "$tmp/bad.pgm"; nothing "PGM out"
 fi
 expect 1 "no PNG or PGM" -- "$relief" depth-fill "$tmp/office.pcd" --depth-format nyu -o "$tmp/bad.pcd"; nothing "format of a PCD"
+# A depth image's points through its camera (--intrinsics numbers or
+# Open3D's camera JSON): every pixel, the filled ones labelled 1.
+expect 0 "" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/e_p.png" --intrinsics 525,525,319.5,239.5 --points "$tmp/e_p.ply" --quiet
+ok 'grep -aq "element vertex" "$tmp/e_p.ply" && grep -aq "property uchar label" "$tmp/e_p.ply" && cmp -s "$tmp/e_p.png" "$tmp/e_l.png"' "a PNG's points through --intrinsics"
+expect 1 "depth image's camera" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/bad.png" --points "$tmp/bad.ply"; nothing "points without a camera"
+expect 1 "a PCD carries its points" -- "$relief" depth-fill "$tmp/office.pcd" -o "$tmp/bad.pcd" --intrinsics 525,525,320,240; nothing "intrinsics with a PCD"
+cam=$depth/../rgbd/sequence/camera_primesense.json
+if [[ -f $cam ]]; then
+  expect 0 "" -- "$relief" depth-fill "$tmp/full.png" -o "$tmp/e_j.png" --intrinsics "$cam" --points "$tmp/e_j.ply" --quiet
+  ok 'cmp -s "$tmp/e_j.ply" "$tmp/e_p.ply"' "the camera JSON gave other points than its numbers"
+  expect 1 "is a camera of 640 x 480" -- "$relief" depth-fill "$tmp/office.png" -o "$tmp/bad.png" --intrinsics "$cam" --points "$tmp/bad.ply"; nothing "camera size"
+fi
 ok 'cmp -s "$tmp/office.pcd" <("$tool" crop "$office" 0 0 240 180 "$tmp/again.pcd" && cat "$tmp/again.pcd")' "the input was changed"
 
 echo "$pass passed, $fail failed"
