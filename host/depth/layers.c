@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "base/error.h"
+#include "base/linalg.h"
 #include "base/union_find.h"
 
 #define MIN_PIECE 3     /* rim pixels a piece needs to bound a layer */
@@ -32,36 +33,6 @@ void relief_layers_free(relief_layers *l)
 
 /* ------------------------------------------------------------- the noise */
 
-static float select_k(float *a, size_t n, size_t k)
-{
-    size_t lo = 0, hi = n - 1;
-    while (lo < hi) {
-        float pivot = a[lo + (hi - lo) / 2];
-        size_t i = lo, j = hi;
-        while (i <= j) {
-            while (a[i] < pivot)
-                ++i;
-            while (a[j] > pivot)
-                --j;
-            if (i <= j) {
-                float t = a[i];
-                a[i] = a[j], a[j] = t;
-                ++i;
-                if (j == 0)
-                    break;
-                --j;
-            }
-        }
-        if (k <= j)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            break;
-    }
-    return a[k];
-}
-
 /* The frame's noise unit (layers.h): the median non-zero |second
  * difference| over known triples along rows and columns, over z^2 for
  * depths. 0 when none is non-zero (a synthetic, noiseless frame). */
@@ -69,7 +40,7 @@ static relief_status frame_noise(const float *z, const uint8_t *missing, int W, 
                                  int far_sign, double *noise, relief_error *err)
 {
     size_t n = 0;
-    float *d = malloc(2 * (size_t)W * H * sizeof *d);
+    double *d = malloc(2 * (size_t)W * H * sizeof *d);
     if (!d)
         return relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the frame's noise estimate");
     for (int y = 0; y < H; ++y)
@@ -86,10 +57,10 @@ static relief_status frame_noise(const float *z, const uint8_t *missing, int W, 
                     continue;
                 d2 = fabs((double)z[i - s] - 2.0 * z[i] + z[i + s]);
                 if (d2 > 0.0 && isfinite(d2))
-                    d[n++] = (float)(d2 / scale);
+                    d[n++] = d2 / scale;
             }
         }
-    *noise = n ? select_k(d, n, n / 2) : 0.0;
+    *noise = n ? relief_select_median(d, n) : 0.0;
     free(d);
     return RELIEF_OK;
 }
@@ -362,59 +333,47 @@ static float step_cost(const lay_run *L, size_t a, size_t b)
     return (float)(1.0 + d2 / (COLOUR_UNIT * COLOUR_UNIT));
 }
 
-/* dist[r][k]: hole pixel k's shortest path through the hole from a rim
- * pixel of rank r (INFINITY where none), by Dijkstra with lazy deletion:
- * a pixel is pushed at most once per neighbour, so 4 entries a pixel. */
-static void paths(lay_run *L, uint32_t t, const int *rank, int r)
+/* Relax pixel p's 4-neighbours in this hole (stamp t) from `base`: a
+ * neighbour's path through p costs base plus the step (Dijkstra's relax,
+ * lazy deletion: a pixel is pushed at most once per neighbour, so 4
+ * entries a pixel). */
+static void relax(lay_run *L, uint32_t t, size_t p, float base, float *d)
 {
     static const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
+    int x = (int)(p % (uint32_t)L->W), y = (int)(p / (uint32_t)L->W);
+    for (int j = 0; j < 4; ++j) {
+        int u = x + dx[j], v = y + dy[j];
+        size_t q;
+        float c;
+        if (u < 0 || u >= L->W || v < 0 || v >= L->H)
+            continue;
+        q = (size_t)v * L->W + u;
+        if (L->stamp[q] != t || !L->inside[q])
+            continue;
+        c = base + step_cost(L, p, q);
+        if (c < d[L->at[q]]) {
+            d[L->at[q]] = c;
+            heap_push(L, c, L->at[q]);
+        }
+    }
+}
+
+/* dist[r][k]: hole pixel k's shortest path through the hole from a rim
+ * pixel of rank r (INFINITY where none), by Dijkstra from the rank's rim. */
+static void paths(lay_run *L, uint32_t t, const int *rank, int r)
+{
     float *d = L->dist[r];
     for (size_t k = 0; k < L->nhole; ++k)
         d[k] = INFINITY;
     L->heap_n = 0;
-    for (size_t k = 0; k < L->nrim; ++k) { /* the sources: the rank's rim */
-        size_t p = L->rim[k];
-        int x = (int)(p % (uint32_t)L->W), y = (int)(p / (uint32_t)L->W);
-        if (L->piece[k] == UINT32_MAX || rank[L->piece[k]] != r)
-            continue;
-        for (int j = 0; j < 4; ++j) {
-            int u = x + dx[j], v = y + dy[j];
-            size_t q;
-            float c;
-            if (u < 0 || u >= L->W || v < 0 || v >= L->H)
-                continue;
-            q = (size_t)v * L->W + u;
-            if (L->stamp[q] != t || !L->inside[q])
-                continue;
-            c = step_cost(L, p, q);
-            if (c < d[L->at[q]]) {
-                d[L->at[q]] = c;
-                heap_push(L, c, L->at[q]);
-            }
-        }
-    }
+    for (size_t k = 0; k < L->nrim; ++k)
+        if (L->piece[k] != UINT32_MAX && rank[L->piece[k]] == r)
+            relax(L, t, L->rim[k], 0.0f, d);
     while (L->heap_n > 0) {
         float key;
         uint32_t k = heap_pop(L, &key);
-        size_t p = L->hole[k];
-        int x = (int)(p % (uint32_t)L->W), y = (int)(p / (uint32_t)L->W);
-        if (key > d[k])
-            continue; /* a stale entry */
-        for (int j = 0; j < 4; ++j) {
-            int u = x + dx[j], v = y + dy[j];
-            size_t q;
-            float c;
-            if (u < 0 || u >= L->W || v < 0 || v >= L->H)
-                continue;
-            q = (size_t)v * L->W + u;
-            if (L->stamp[q] != t || !L->inside[q])
-                continue;
-            c = key + step_cost(L, p, q);
-            if (c < d[L->at[q]]) {
-                d[L->at[q]] = c;
-                heap_push(L, c, L->at[q]);
-            }
-        }
+        if (key <= d[k]) /* else a stale entry */
+            relax(L, t, L->hole[k], key, d);
     }
 }
 
