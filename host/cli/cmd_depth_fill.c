@@ -253,20 +253,8 @@ static relief_status read_colour(const depth_args *a, relief_depth_image *f, rel
                          f->width, f->height);
     if (st == RELIEF_OK && !(f->rgb = malloc(3 * n)))
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the colour of %s", a->colour);
-    for (size_t i = 0; st == RELIEF_OK && i < n; ++i) {
-        const uint8_t *row = (const uint8_t *)c.data +
-                             (i / (size_t)c.width) * (c.stride ? c.stride
-                                                      : (size_t)c.width * c.channels *
-                                                            (size_t)c.bit_depth / 8);
-        size_t x = i % (size_t)c.width, bytes = (size_t)c.bit_depth / 8;
-        for (int k = 0; k < 3; ++k) {
-            int ch = c.channels < 3 ? 0 : k;
-            /* 16-bit samples are native-endian uint16: the high byte */
-            const uint8_t *s = row + (x * c.channels + ch) * bytes;
-            f->rgb[3 * i + k] = bytes == 2 ? (uint8_t)(*(const uint16_t *)(const void *)s >> 8)
-                                           : *s;
-        }
-    }
+    if (st == RELIEF_OK)
+        cli_image_rgb8(&c, f->rgb);
     relief_image_free(&c);
     return st;
 }

@@ -366,24 +366,6 @@ static uint64_t read_limit(const occ_args *a)
     return a->p.find.run.max_memory ? a->p.find.run.max_memory : relief_default_memory_limit();
 }
 
-/* A colour image's samples as the frame's rgb bytes (grey expanded, alpha
- * dropped, 16 bits to their high byte). */
-static void colour_of(const relief_image *c, uint8_t *rgb)
-{
-    size_t stride = c->stride ? c->stride : (size_t)c->width * c->channels * c->bit_depth / 8;
-    for (int y = 0; y < c->height; ++y)
-        for (int x = 0; x < c->width; ++x)
-            for (int k = 0; k < 3; ++k) {
-                int ch = c->channels >= 3 ? k : 0;
-                const uint8_t *row = (const uint8_t *)c->data + (size_t)y * stride;
-                size_t i = (size_t)x * c->channels + ch;
-                uint16_t v = row[i];
-                if (c->bit_depth == 16)
-                    memcpy(&v, row + 2 * i, sizeof v), v >>= 8;
-                rgb[3 * ((size_t)y * c->width + x) + k] = (uint8_t)v;
-            }
-}
-
 /* The frame: a PCD with colour, or a colour image and its depth. */
 static relief_status read_frame(const occ_args *a, relief_depth_image *f, relief_error *err)
 {
@@ -409,7 +391,7 @@ static relief_status read_frame(const occ_args *a, relief_depth_image *f, relief
         !(f->rgb = malloc((size_t)f->width * f->height * 3)))
         st = relief_fail(err, RELIEF_E_NOMEM, "cannot allocate the frame's colour");
     if (st == RELIEF_OK && a->depth)
-        colour_of(&c, f->rgb);
+        cli_image_rgb8(&c, f->rgb);
     relief_image_free(&c);
     if (st != RELIEF_OK)
         relief_depth_image_free(f);
@@ -538,7 +520,7 @@ static relief_status read_view(occ_args *a, int k, const relief_depth_image *f,
     if (st == RELIEF_OK && d.rgb)
         memcpy(a->view_rgb[k], d.rgb, (size_t)w * h * 3);
     else if (st == RELIEF_OK)
-        colour_of(&c, a->view_rgb[k]);
+        cli_image_rgb8(&c, a->view_rgb[k]);
     memset(&a->views[k], 0, sizeof a->views[k]);
     a->views[k].width = w, a->views[k].height = h, a->views[k].rgb = a->view_rgb[k];
     if (a->has_view_camera)

@@ -650,3 +650,19 @@ void cli_repair_json(const relief_read_info *info, char *text, size_t size)
              r->vertices_added, r->small_components, r->small_component_triangles,
              r->unstorable_triangles, r->vertices_unused);
 }
+
+void cli_image_rgb8(const relief_image *c, uint8_t *rgb)
+{
+    size_t stride = c->stride ? c->stride : (size_t)c->width * c->channels * c->bit_depth / 8;
+    for (int y = 0; y < c->height; ++y)
+        for (int x = 0; x < c->width; ++x)
+            for (int k = 0; k < 3; ++k) {
+                int ch = c->channels >= 3 ? k : 0;
+                const uint8_t *row = (const uint8_t *)c->data + (size_t)y * stride;
+                size_t i = (size_t)x * c->channels + ch;
+                uint16_t v = row[i];
+                if (c->bit_depth == 16)
+                    memcpy(&v, row + 2 * i, sizeof v), v >>= 8;
+                rgb[3 * ((size_t)y * c->width + x) + k] = (uint8_t)v;
+            }
+}

@@ -198,6 +198,10 @@ int cli_parse_hole_mask(const char *cmd, const char *arg, int *labels, int *has_
 /* The extension of `path` with its dot ("" when none). */
 const char *cli_ext_of(const char *path);
 
+/* A colour image's samples as a frame's packed RGB bytes (height x width x
+ * 3): grey expanded, alpha dropped, 16 bits to their high byte. */
+void cli_image_rgb8(const relief_image *c, uint8_t *rgb);
+
 /* Does `path` end in a mesh extension relief writes (.ply .obj .off .stl)? */
 int cli_known_mesh_ext(const char *path);
 
