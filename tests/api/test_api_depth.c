@@ -3,8 +3,8 @@
  * it names, the files' round trips (PCD binary_compressed, PFM, 16-bit
  * PNG), a real repair of a hole cut in the office frame measured against
  * the frame, a cancel that leaves the frame as it was, two threads giving
- * the bytes of two serial calls, and a holed sphere repaired into a closed
- * mesh.
+ * the bytes of two serial calls, a hole across a depth step filled by
+ * layers or across, and a holed sphere repaired into a closed mesh.
  *   test_api_depth DEPTH_DIR   (office1.pcd) */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 
@@ -123,6 +123,10 @@ static void test_bad_params(void)
     BAD("exhaustive", p.exhaustive = 2);
     BAD("order", p.order = (relief_depth_order)7);
     BAD("tileable", p.tileable = -1);
+    BAD("edges", p.edges = (relief_depth_edges)3);
+    BAD("edge_step", p.edge_step = 0.5);
+    BAD("edge_step", p.edge_step = NAN);
+    BAD("values", p.values = (relief_depth_values)3);
     BAD("levels", p.levels = 7);
     BAD("levels", p.levels = 0);
     BAD("lambda", p.lambda = NAN);
@@ -605,6 +609,58 @@ static void test_mesh(void)
     relief_mesh_destroy(whole);
 }
 
+/* A box 1.5 m away before a wall at 3 m, the camera's shadow beside it
+ * (issue 63), through relief_depth_fill: edges auto (the default) and
+ * layers continue the wall into the shadow, across draws a ramp; a colour
+ * guide keeps the wall; the same values read as disparities (values) take
+ * across under auto (out-of-range edges, edge_step and values:
+ * test_bad_params). */
+static void test_edges(void)
+{
+    enum { W = 96, H = 64 };
+    static float z0[W * H], z[W * H];
+    static uint8_t rgb[W * H * 3];
+    relief_depth_fill_params p = relief_depth_fill_params_default();
+    relief_depth_fill_report rep;
+    relief_error err = {0};
+    uint32_t seed = 7;
+    for (int i = 0; i < W * H; ++i) {
+        int x = i % W, y = i / W, box = x >= 24 && x < 52 && y >= 14 && y < 50;
+        double base = box ? 1.5 : 3.0;
+        seed = seed * 1664525u + 1013904223u;
+        z0[i] = (float)(base + 0.003 * base * base * ((seed >> 8) % 2001 / 1000.0 - 1.0));
+        if (x >= 52 && x < 59 && y >= 14 && y < 50)
+            z0[i] = NAN;
+        rgb[3 * i] = rgb[3 * i + 1] = box ? 40 : 200, rgb[3 * i + 2] = box ? 160 : 180;
+    }
+    CHECK(p.edges == RELIEF_DEPTH_EDGES_AUTO && p.values == RELIEF_DEPTH_VALUES_AUTO &&
+              p.edge_step == 8.0, "edges' defaults");
+    for (int mode = 0; mode < 5; ++mode) {
+        relief_depth_image f = {W, H, z, NULL, mode == 2 ? rgb : NULL, RELIEF_DEPTH_PNG16};
+        int off = 0, ramp = 0;
+        memcpy(z, z0, sizeof z);
+        p = relief_depth_fill_params_default();
+        p.edges = mode == 1 ? RELIEF_DEPTH_EDGES_ACROSS
+                  : mode == 3 ? RELIEF_DEPTH_EDGES_LAYERS : RELIEF_DEPTH_EDGES_AUTO;
+        p.values = mode == 4 ? RELIEF_DEPTH_VALUES_DISPARITY : RELIEF_DEPTH_VALUES_AUTO;
+        CHECK(relief_depth_fill(&f, NULL, &p, &rep, &err) == RELIEF_OK, "edges %d: %s", mode,
+              err.message);
+        for (int i = 0; i < W * H; ++i)
+            if (isnan(z0[i])) {
+                off += fabsf(z[i] - 3.0f) > 0.1f;
+                ramp += fabsf(z[i] - 3.0f) > 0.3f && fabsf(z[i] - 1.5f) > 0.3f;
+            }
+        if (mode == 1 || mode == 4)
+            CHECK(ramp > 20 && rep.stepped_holes == 0, "mode %d (across): %d pixels on a ramp, "
+                  "%zu stepped holes", mode, ramp, rep.stepped_holes);
+        else
+            CHECK(off == 0 && rep.stepped_holes == 1 && rep.noise > 0.0,
+                  "mode %d (layers): %d shadow pixels off the wall, %zu stepped holes", mode,
+                  off, rep.stepped_holes);
+        relief_depth_fill_report_free(&rep);
+    }
+}
+
 int main(int argc, char **argv)
 {
     relief_depth_image office;
@@ -630,6 +686,7 @@ int main(int argc, char **argv)
     test_round_trips(&office);
     test_encodings();
     test_repair(&office);
+    test_edges();
     test_cancel(&office);
     test_threads(&office);
     test_mesh();
